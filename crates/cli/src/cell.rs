@@ -1,0 +1,165 @@
+//! `vibroatlas cell`: simulate one cell and print its classification.
+
+use crate::args::CellArgs;
+use crate::common::{setup, write_atomically};
+use anyhow::{anyhow, Result};
+use serde_json::{json, Map, Value};
+use solver::{run_cell, CellResult, Simulator, System};
+use std::fmt::Write as _;
+
+/// Runs the command.
+pub fn run(a: CellArgs) -> Result<()> {
+    let s = setup(&a.sim)?;
+    if a.trace_samples == 0 {
+        return Err(anyhow!("--trace-samples: must be >= 1"));
+    }
+    let model = s.scene.evaluate(&s.overrides)?;
+    let y0 = model.initial_state();
+    let sys = System::new(model)?;
+    let cell = run_cell(&sys, &s.accuracy, s.method, &y0);
+    if let Some(path) = &a.trace {
+        let periods = cell.n.unwrap_or(cell.section.len().max(1));
+        write_atomically(
+            path,
+            trace_csv(&sys, &s, &cell, periods, a.trace_samples)?.as_bytes(),
+        )?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);
+    } else {
+        print!("{}", to_text(&sys, &s, &cell));
+    }
+    Ok(())
+}
+
+fn names<T: Copy>(sys: &System, values: &[T]) -> Map<String, Value>
+where
+    Value: From<T>,
+{
+    sys.model
+        .stops
+        .iter()
+        .zip(values)
+        .map(|(s, &v)| (s.name.clone(), Value::from(v)))
+        .collect()
+}
+
+/// The JSON object of a cell (the contract of `cell --json`).
+pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value {
+    let labels: Map<String, Value> = c
+        .labels
+        .iter()
+        .map(|l| (l.mass.clone(), Value::from(l.label.clone())))
+        .collect();
+    let params: Map<String, Value> = sys
+        .model
+        .parameters
+        .iter()
+        .map(|(k, v)| (k.clone(), json!(v)))
+        .collect();
+    json!({
+        "scene": sys.model.name,
+        "parameters": params,
+        "preset": s.preset.name(),
+        "integrator": s.method.name(),
+        "class": c.class.name(),
+        "n": c.n,
+        "labels": labels,
+        "impacts": names(sys, &c.impacts),
+        "chatter": names(sys, &c.chatter),
+        "sticking": names(sys, &c.sticking),
+        "symmetry": c.symmetry.map(|x| x.name()),
+        "final_state": c.final_state,
+        "period_section": c.section,
+        "periods_simulated": c.periods,
+        "events": c.events,
+        "reason": c.reason,
+    })
+}
+
+fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
+    let mut o = String::new();
+    let params: Vec<String> = sys
+        .model
+        .parameters
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect();
+    let _ = writeln!(o, "scene     {} ({})", sys.model.name, params.join(" "));
+    let _ = writeln!(
+        o,
+        "settings  preset {}, integrator {}",
+        s.preset.name(),
+        s.method.name()
+    );
+    let _ = write!(o, "class     {}", c.class.name());
+    if let Some(n) = c.n {
+        let _ = write!(o, ", n = {n}");
+    }
+    if let Some(sym) = c.symmetry {
+        let _ = write!(o, ", symmetry {}", sym.name());
+    }
+    let _ = writeln!(o);
+    if let Some(r) = &c.reason {
+        let _ = writeln!(o, "reason    {r}");
+    }
+    for l in &c.labels {
+        let _ = writeln!(o, "label     {:<6} {}", l.mass, l.label);
+    }
+    let _ = writeln!(o, "stop      impacts  chatter  sticking");
+    for (k, st) in sys.model.stops.iter().enumerate() {
+        let _ = writeln!(
+            o,
+            "  {:<8}{:>7}  {:<8} {}",
+            st.name, c.impacts[k], c.chatter[k], c.sticking[k]
+        );
+    }
+    let _ = writeln!(o, "final     {:?}", c.final_state);
+    let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);
+    o
+}
+
+/// Dense samples (and every event) of `periods` periods from the window start.
+fn trace_csv(
+    sys: &System,
+    s: &crate::common::Setup,
+    c: &CellResult,
+    periods: usize,
+    samples: usize,
+) -> Result<String> {
+    struct Rows<'a>(&'a mut String);
+    impl solver::Observer for Rows<'_> {
+        fn event(&mut self, t: f64, y: &solver::DVector<f64>) {
+            row(self.0, t, y.as_slice(), 1);
+        }
+        fn sample(&mut self, t: f64, y: &solver::DVector<f64>) {
+            row(self.0, t, y.as_slice(), 0);
+        }
+    }
+    fn row(out: &mut String, t: f64, y: &[f64], event: u8) {
+        let _ = write!(out, "{t:.15e}");
+        for v in y {
+            let _ = write!(out, ",{v:.15e}");
+        }
+        let _ = writeln!(out, ",{event}");
+    }
+    let mut out = String::from("t");
+    for m in &sys.model.masses {
+        let _ = write!(out, ",x_{}", m.name);
+    }
+    for m in &sys.model.masses {
+        let _ = write!(out, ",v_{}", m.name);
+    }
+    out.push_str(",event\n");
+    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start)
+        .map_err(|h| anyhow!("trace: {h:?}"))?;
+    row(&mut out, 0.0, &c.window_start, 0);
+    let times: Vec<f64> = (1..samples)
+        .map(|i| sys.period * i as f64 / samples as f64)
+        .collect();
+    for _ in 0..periods {
+        sim.run_period(&times, false, &mut Rows(&mut out))
+            .map_err(|h| anyhow!("trace: {h:?}"))?;
+    }
+    Ok(out)
+}

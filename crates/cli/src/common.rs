@@ -1,0 +1,87 @@
+//! Validation shared by commands: scene loading, `--set`, presets, integrators,
+//! and writing output files atomically.
+
+use crate::args::SimArgs;
+use anyhow::{anyhow, bail, Context, Result};
+use scene::Scene;
+use solver::{Accuracy, Method, Preset};
+use std::path::Path;
+
+/// A validated simulation setup.
+pub struct Setup {
+    pub scene: Scene,
+    pub overrides: Vec<(String, f64)>,
+    pub accuracy: Accuracy,
+    pub preset: Preset,
+    pub method: Method,
+}
+
+/// Parses `NAME=VALUE` with a finite value; `flag` names the option in errors.
+pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
+    let (name, value) = text
+        .split_once('=')
+        .ok_or_else(|| anyhow!("{flag} {text}: expected NAME=VALUE"))?;
+    let name = name.trim().to_string();
+    let v: f64 = value
+        .trim()
+        .parse()
+        .map_err(|_| anyhow!("{flag} {name}: '{}' is not a number", value.trim()))?;
+    if !v.is_finite() {
+        bail!("{flag} {name}: not a finite number, got {value}");
+    }
+    Ok((name, v))
+}
+
+/// Loads the scene and validates every option of [`SimArgs`].
+pub fn setup(a: &SimArgs) -> Result<Setup> {
+    let text = std::fs::read_to_string(&a.scene)
+        .with_context(|| format!("cannot read scene file {}", a.scene.display()))?;
+    let scene = Scene::parse(&text).map_err(|e| anyhow!("{}: {e}", a.scene.display()))?;
+    let overrides = a
+        .set
+        .iter()
+        .map(|s| parse_assignment(s, "--set"))
+        .collect::<Result<Vec<_>>>()?;
+    for (name, _) in &overrides {
+        scene.check_parameter(name, &format!("--set {name}"))?;
+    }
+    let preset = Preset::parse(&a.preset).ok_or_else(|| {
+        anyhow!(
+            "--preset: expected fast, standard or precise, got '{}'",
+            a.preset
+        )
+    })?;
+    let mut accuracy = Accuracy::preset(preset);
+    for s in &a.accuracy {
+        let (k, v) = parse_assignment(s, "--accuracy")?;
+        accuracy.set(&k, v)?;
+    }
+    let method = Method::parse(&a.integrator).ok_or_else(|| {
+        anyhow!(
+            "--integrator: expected exact or rk4, got '{}'",
+            a.integrator
+        )
+    })?;
+    Ok(Setup {
+        scene,
+        overrides,
+        accuracy,
+        preset,
+        method,
+    })
+}
+
+/// Writes `contents` to `path` through a temporary file in the same folder and a
+/// rename, so that a failure never leaves a half-written file under the final name.
+pub fn write_atomically(path: &Path, contents: &[u8]) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let name = path
+        .file_name()
+        .ok_or_else(|| anyhow!("{}: not a file path", path.display()))?;
+    let tmp = dir.join(format!(".{}.partial", name.to_string_lossy()));
+    std::fs::write(&tmp, contents).with_context(|| format!("cannot write {}", path.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
+}

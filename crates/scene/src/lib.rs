@@ -1,0 +1,537 @@
+//! Scene files for vibroatlas.
+//!
+//! A scene is data: masses, linear links (spring + damper), harmonic forcing,
+//! rigid stops, friction contacts and the label map, in TOML, with every number
+//! allowed to be an expression of named parameters. [`Scene::parse`] reads and
+//! checks the file once; [`Scene::evaluate`] produces the numeric [`Model`] of one
+//! cell for given parameter overrides.
+//!
+//! ```
+//! let text = r#"
+//! name = "oscillator"
+//! [parameters]
+//! omega = 0.5
+//! zeta = { value = 0.1, range = "[0, inf)" }
+//! [forcing]
+//! omega = "omega"
+//! [[masses]]
+//! name = "M1"
+//! mass = 1
+//! force = 1
+//! [[links]]
+//! masses = ["M1"]
+//! stiffness = 1
+//! damping = "2*zeta"
+//! "#;
+//! let scene = scene::Scene::parse(text).unwrap();
+//! let model = scene.evaluate(&[("zeta".into(), 0.2)]).unwrap();
+//! assert_eq!(model.links[0].damping, 0.4);
+//! assert!(scene.evaluate(&[("zeta".into(), -1.0)]).is_err());
+//! ```
+#![deny(missing_docs)]
+#![deny(clippy::float_cmp)]
+
+mod error;
+mod expr;
+mod model;
+mod schema;
+
+pub use error::SceneError;
+pub use model::{Friction, Label, Link, Mass, Model, Side, Stop, StopGeometry};
+
+use expr::{Compiled, Range};
+use schema::{Num, ParamSpec, SceneFile};
+
+/// Compiled values of one `[[stops]]` entry.
+#[derive(Debug, Clone)]
+enum StopPlace {
+    Frame {
+        mass: usize,
+        side: Side,
+        position: Compiled,
+    },
+    Pair {
+        first: usize,
+        second: usize,
+        gap: Compiled,
+    },
+}
+
+/// A parsed and structurally checked scene, ready to be evaluated for any parameters.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    source: String,
+    file: SceneFile,
+    names: Vec<String>,
+    params: Vec<(Compiled, Option<Range>)>,
+    omega: Compiled,
+    tau: Compiled,
+    masses: Vec<[Compiled; 4]>,
+    links: Vec<(usize, Option<usize>, Compiled, Compiled)>,
+    stops: Vec<(StopPlace, Compiled)>,
+    friction: Vec<(usize, usize, Compiled, Compiled)>,
+    labels: Vec<(usize, Option<usize>, Option<usize>)>,
+}
+
+fn index_of(names: &[String], name: &str, field: &str, what: &str) -> Result<usize, SceneError> {
+    names.iter().position(|n| n == name).ok_or_else(|| {
+        SceneError::field(
+            field,
+            format!("unknown {what} '{name}' (known: {})", names.join(", ")),
+        )
+    })
+}
+
+fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
+    for (i, n) in names.iter().enumerate() {
+        if n.is_empty() {
+            return Err(SceneError::field(
+                format!("{field}[{i}].name"),
+                "must not be empty",
+            ));
+        }
+        if names[..i].contains(n) {
+            return Err(SceneError::field(
+                format!("{field}[{i}].name"),
+                format!("duplicate name '{n}'"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+impl Scene {
+    /// Parses a scene from TOML text, resolving names and compiling expressions.
+    pub fn parse(text: &str) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text).map_err(|e| SceneError::Syntax {
+            message: e.to_string().trim().replace('\n', " "),
+        })?;
+        let names: Vec<String> = file.parameters.keys().cloned().collect();
+        let params = file
+            .parameters
+            .iter()
+            .map(|(name, spec)| {
+                let field = format!("parameters.{name}");
+                let (num, range) = match spec {
+                    ParamSpec::Plain(n) => (n, None),
+                    ParamSpec::Ranged(r) => (
+                        &r.value,
+                        r.range
+                            .as_deref()
+                            .map(|t| Range::parse(t, &field))
+                            .transpose()?,
+                    ),
+                };
+                Ok((Compiled::new(num, &names, &field)?, range))
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        let c = |n: &Num, f: String| Compiled::new(n, &names, &f);
+
+        if file.masses.is_empty() {
+            return Err(SceneError::field(
+                "masses",
+                "a scene needs at least one mass",
+            ));
+        }
+        let mass_names: Vec<String> = file.masses.iter().map(|m| m.name.clone()).collect();
+        unique(&mass_names, "masses")?;
+        let masses = file
+            .masses
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                Ok([
+                    c(&m.mass, format!("masses[{i}].mass"))?,
+                    c(&m.force, format!("masses[{i}].force"))?,
+                    c(&m.x0, format!("masses[{i}].x0"))?,
+                    c(&m.v0, format!("masses[{i}].v0"))?,
+                ])
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+
+        let mass = |name: &str, field: String| index_of(&mass_names, name, &field, "mass");
+        let links = file
+            .links
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let f = format!("links[{i}].masses");
+                let (a, b) = match l.masses.as_slice() {
+                    [a] => (mass(a, f)?, None),
+                    [a, b] => {
+                        let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
+                        if a == b {
+                            return Err(SceneError::field(f, "a link cannot tie a mass to itself"));
+                        }
+                        (a, Some(b))
+                    }
+                    _ => return Err(SceneError::field(f, "give one mass (to the frame) or two")),
+                };
+                Ok((
+                    a,
+                    b,
+                    c(&l.stiffness, format!("links[{i}].stiffness"))?,
+                    c(&l.damping, format!("links[{i}].damping"))?,
+                ))
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+
+        let stop_names: Vec<String> = file.stops.iter().map(|s| s.name.clone()).collect();
+        unique(&stop_names, "stops")?;
+        let stops = file
+            .stops
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let f = |k: &str| format!("stops[{i}].{k}");
+                let place = match (&s.mass, &s.masses) {
+                    (Some(m), None) => {
+                        if s.gap.is_some() {
+                            return Err(SceneError::field(
+                                f("gap"),
+                                "a frame stop has a position, not a gap",
+                            ));
+                        }
+                        StopPlace::Frame {
+                            mass: mass(m, f("mass"))?,
+                            side: s.side.ok_or_else(|| {
+                                SceneError::field(f("side"), "missing: \"below\" or \"above\"")
+                            })?,
+                            position: c(
+                                s.position
+                                    .as_ref()
+                                    .ok_or_else(|| SceneError::field(f("position"), "missing"))?,
+                                f("position"),
+                            )?,
+                        }
+                    }
+                    (None, Some(ms)) => {
+                        if s.side.is_some() || s.position.is_some() {
+                            return Err(SceneError::field(
+                                f("masses"),
+                                "a pair stop has a gap, not a side or position",
+                            ));
+                        }
+                        let [a, b] = ms.as_slice() else {
+                            return Err(SceneError::field(
+                                f("masses"),
+                                "a pair stop names exactly two masses",
+                            ));
+                        };
+                        let (first, second) = (mass(a, f("masses"))?, mass(b, f("masses"))?);
+                        if first == second {
+                            return Err(SceneError::field(
+                                f("masses"),
+                                "a stop cannot be between a mass and itself",
+                            ));
+                        }
+                        StopPlace::Pair {
+                            first,
+                            second,
+                            gap: c(
+                                s.gap
+                                    .as_ref()
+                                    .ok_or_else(|| SceneError::field(f("gap"), "missing"))?,
+                                f("gap"),
+                            )?,
+                        }
+                    }
+                    _ => {
+                        return Err(SceneError::field(
+                            format!("stops[{i}]"),
+                            "give either `mass` (a frame stop) or `masses` (a pair stop)",
+                        ))
+                    }
+                };
+                Ok((place, c(&s.restitution, f("restitution"))?))
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+
+        let friction = file
+            .friction
+            .iter()
+            .enumerate()
+            .map(|(i, fr)| {
+                let f = format!("friction[{i}].masses");
+                let [a, b] = fr.masses.as_slice() else {
+                    return Err(SceneError::field(
+                        f,
+                        "friction acts between exactly two masses",
+                    ));
+                };
+                let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
+                if a == b {
+                    return Err(SceneError::field(
+                        f,
+                        "friction cannot act between a mass and itself",
+                    ));
+                }
+                Ok((
+                    a,
+                    b,
+                    c(&fr.kinetic, format!("friction[{i}].kinetic"))?,
+                    c(&fr.static_limit, format!("friction[{i}].static"))?,
+                ))
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+
+        let mut labels = Vec::new();
+        for (name, spec) in &file.labels {
+            let m = mass(name, format!("labels.{name}"))?;
+            let stop = |s: &Option<String>, k: &str| {
+                s.as_deref()
+                    .map(|s| index_of(&stop_names, s, &format!("labels.{name}.{k}"), "stop"))
+                    .transpose()
+            };
+            labels.push((m, stop(&spec.p, "p")?, stop(&spec.q, "q")?));
+        }
+        labels.sort_by_key(|l| l.0);
+
+        let scene = Scene {
+            source: text.to_string(),
+            omega: c(&file.forcing.omega, "forcing.omega".into())?,
+            tau: c(&file.forcing.phase, "forcing.phase".into())?,
+            names,
+            params,
+            masses,
+            links,
+            stops,
+            friction,
+            labels,
+            file,
+        };
+        // Evaluate the defaults once so that a broken scene fails at load time.
+        scene.evaluate(&[])?;
+        Ok(scene)
+    }
+
+    /// The scene's name.
+    pub fn name(&self) -> &str {
+        &self.file.name
+    }
+
+    /// The scene's description (equations, source), as written in the file.
+    pub fn description(&self) -> &str {
+        &self.file.description
+    }
+
+    /// The TOML text the scene was parsed from.
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// Parameter names, in scene order.
+    pub fn parameter_names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Checks that `name` is a parameter of the scene.
+    pub fn check_parameter(&self, name: &str, field: &str) -> Result<(), SceneError> {
+        index_of(&self.names, name, field, "parameter").map(|_| ())
+    }
+
+    /// Evaluates every value for the default parameters with `overrides` applied
+    /// (an override replaces the parameter's expression), and checks the physics.
+    pub fn evaluate(&self, overrides: &[(String, f64)]) -> Result<Model, SceneError> {
+        let n = self.names.len();
+        let mut values = vec![f64::NAN; n];
+        let mut known = vec![false; n];
+        for (name, v) in overrides {
+            let i = index_of(&self.names, name, &format!("--set {name}"), "parameter")?;
+            if !v.is_finite() {
+                return Err(SceneError::field(
+                    format!("--set {name}"),
+                    format!("not a finite number, got {v}"),
+                ));
+            }
+            values[i] = *v;
+            known[i] = true;
+        }
+        // Resolve parameters defined by expressions in dependency order.
+        loop {
+            let mut progressed = false;
+            for i in 0..n {
+                if !known[i] && self.params[i].0.dependencies().iter().all(|&d| known[d]) {
+                    values[i] = self.params[i]
+                        .0
+                        .eval(&values, &format!("parameters.{}", self.names[i]))?;
+                    known[i] = true;
+                    progressed = true;
+                }
+            }
+            if !progressed {
+                break;
+            }
+        }
+        if let Some(i) = known.iter().position(|k| !k) {
+            return Err(SceneError::field(
+                format!("parameters.{}", self.names[i]),
+                "circular definition among parameters",
+            ));
+        }
+        for (i, (_, range)) in self.params.iter().enumerate() {
+            if let Some(r) = range {
+                if !r.contains(values[i]) {
+                    return Err(SceneError::field(
+                        format!("parameters.{}", self.names[i]),
+                        format!("must be in {r}, got {}", values[i]),
+                    ));
+                }
+            }
+        }
+        self.build(&values)
+    }
+
+    fn build(&self, values: &[f64]) -> Result<Model, SceneError> {
+        let ev = |c: &Compiled, f: String| c.eval(values, &f);
+        let nonneg = |v: f64, f: String| {
+            if v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(SceneError::field(f, format!("must be >= 0, got {v}")))
+            }
+        };
+        let omega = ev(&self.omega, "forcing.omega".into())?;
+        if omega <= 0.0 {
+            return Err(SceneError::field(
+                "forcing.omega",
+                format!("must be > 0, got {omega}"),
+            ));
+        }
+        let tau = ev(&self.tau, "forcing.phase".into())?;
+        let masses = self
+            .masses
+            .iter()
+            .zip(&self.file.masses)
+            .enumerate()
+            .map(|(i, ([m, f, x0, v0], spec))| {
+                let mass = ev(m, format!("masses[{i}].mass"))?;
+                if mass <= 0.0 {
+                    return Err(SceneError::field(
+                        format!("masses[{i}].mass"),
+                        format!("must be > 0, got {mass}"),
+                    ));
+                }
+                Ok(Mass {
+                    name: spec.name.clone(),
+                    mass,
+                    force: ev(f, format!("masses[{i}].force"))?,
+                    x0: ev(x0, format!("masses[{i}].x0"))?,
+                    v0: ev(v0, format!("masses[{i}].v0"))?,
+                })
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        let links = self
+            .links
+            .iter()
+            .enumerate()
+            .map(|(i, (a, b, k, c))| {
+                Ok(Link {
+                    a: *a,
+                    b: *b,
+                    stiffness: nonneg(
+                        ev(k, format!("links[{i}].stiffness"))?,
+                        format!("links[{i}].stiffness"),
+                    )?,
+                    damping: nonneg(
+                        ev(c, format!("links[{i}].damping"))?,
+                        format!("links[{i}].damping"),
+                    )?,
+                })
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        let stops = self
+            .stops
+            .iter()
+            .zip(&self.file.stops)
+            .enumerate()
+            .map(|(i, ((place, r), spec))| {
+                let f = |k: &str| format!("stops[{i}].{k}");
+                let restitution = ev(r, f("restitution"))?;
+                if !(0.0..=1.0).contains(&restitution) {
+                    return Err(SceneError::field(
+                        f("restitution"),
+                        format!("must be in [0, 1], got {restitution}"),
+                    ));
+                }
+                let geometry = match place {
+                    StopPlace::Frame {
+                        mass,
+                        side,
+                        position,
+                    } => StopGeometry::Frame {
+                        mass: *mass,
+                        side: *side,
+                        position: ev(position, f("position"))?,
+                    },
+                    StopPlace::Pair { first, second, gap } => StopGeometry::Pair {
+                        first: *first,
+                        second: *second,
+                        gap: nonneg(ev(gap, f("gap"))?, f("gap"))?,
+                    },
+                };
+                Ok(Stop {
+                    name: spec.name.clone(),
+                    geometry,
+                    restitution,
+                })
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        let friction = self
+            .friction
+            .iter()
+            .enumerate()
+            .map(|(i, (a, b, k, s))| {
+                let kinetic = nonneg(
+                    ev(k, format!("friction[{i}].kinetic"))?,
+                    format!("friction[{i}].kinetic"),
+                )?;
+                let static_limit = ev(s, format!("friction[{i}].static"))?;
+                if static_limit < kinetic {
+                    return Err(SceneError::field(
+                        format!("friction[{i}].static"),
+                        format!("must be >= the kinetic force {kinetic}, got {static_limit}"),
+                    ));
+                }
+                Ok(Friction {
+                    a: *a,
+                    b: *b,
+                    kinetic,
+                    static_limit,
+                })
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        let model = Model {
+            name: self.file.name.clone(),
+            symmetric: self.file.symmetric,
+            omega,
+            tau,
+            masses,
+            links,
+            stops,
+            friction,
+            labels: self
+                .labels
+                .iter()
+                .map(|&(mass, p, q)| Label { mass, p, q })
+                .collect(),
+            parameters: self
+                .names
+                .iter()
+                .cloned()
+                .zip(values.iter().copied())
+                .collect(),
+        };
+        let x0: Vec<f64> = model.masses.iter().map(|m| m.x0).collect();
+        for (i, s) in model.stops.iter().enumerate() {
+            let g = model.gap(i, &x0);
+            if g < -1e-12 {
+                return Err(SceneError::field(
+                    "masses.x0",
+                    format!("the initial state penetrates stop {} by {}", s.name, -g),
+                ));
+            }
+        }
+        Ok(model)
+    }
+}

@@ -1,0 +1,157 @@
+//! The numeric model of one cell: every expression evaluated, every value checked.
+//!
+//! Units are dimensionless throughout. The equations of motion are
+//! `M x'' + C x' + K x = P sin(omega t + tau) + friction + stop reactions`, with
+//! `M` diagonal (the masses), `C`, `K` assembled from the links.
+
+pub use crate::schema::Side;
+
+/// A point mass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mass {
+    /// Name (`M1`).
+    pub name: String,
+    /// Mass (> 0).
+    pub mass: f64,
+    /// Amplitude of the harmonic force `force * sin(omega t + tau)` on it.
+    pub force: f64,
+    /// Initial displacement.
+    pub x0: f64,
+    /// Initial velocity.
+    pub v0: f64,
+}
+
+/// A spring and damper in parallel, from mass `a` to mass `b` or to the frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Link {
+    /// First mass (index into [`Model::masses`]).
+    pub a: usize,
+    /// Second mass, or `None` for the frame.
+    pub b: Option<usize>,
+    /// Stiffness (>= 0).
+    pub stiffness: f64,
+    /// Damping coefficient (>= 0).
+    pub damping: f64,
+}
+
+/// Where a rigid stop is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StopGeometry {
+    /// A fixed stop: `x_mass >= position` (below) or `x_mass <= position` (above).
+    Frame {
+        /// Index of the mass.
+        mass: usize,
+        /// Which side of the mass the stop is on.
+        side: Side,
+        /// Position of the stop.
+        position: f64,
+    },
+    /// Two masses that collide when `x_first - x_second` reaches `gap`.
+    Pair {
+        /// Index of the first mass.
+        first: usize,
+        /// Index of the second mass.
+        second: usize,
+        /// Clearance (>= 0).
+        gap: f64,
+    },
+}
+
+/// A rigid stop with Newton's restitution law.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stop {
+    /// Name (`A12`).
+    pub name: String,
+    /// Geometry.
+    pub geometry: StopGeometry,
+    /// Coefficient of restitution in [0, 1].
+    pub restitution: f64,
+}
+
+/// Coulomb friction between masses `a` and `b`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Friction {
+    /// First mass.
+    pub a: usize,
+    /// Second mass.
+    pub b: usize,
+    /// Kinetic force (>= 0).
+    pub kinetic: f64,
+    /// Static limit (>= kinetic).
+    pub static_limit: f64,
+}
+
+/// The stops counted in one mass's n-p-q label.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Label {
+    /// The labelled mass.
+    pub mass: usize,
+    /// Stop counted as p, if any.
+    pub p: Option<usize>,
+    /// Stop counted as q, if any.
+    pub q: Option<usize>,
+}
+
+/// A fully evaluated scene for one set of parameter values.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Model {
+    /// Scene name.
+    pub name: String,
+    /// Mirror symmetry `x -> -x` with a half-period shift.
+    pub symmetric: bool,
+    /// Forcing frequency (> 0).
+    pub omega: f64,
+    /// Forcing phase.
+    pub tau: f64,
+    /// Masses in state order.
+    pub masses: Vec<Mass>,
+    /// Links.
+    pub links: Vec<Link>,
+    /// Stops.
+    pub stops: Vec<Stop>,
+    /// Friction contacts.
+    pub friction: Vec<Friction>,
+    /// Label definitions, in mass order.
+    pub labels: Vec<Label>,
+    /// Parameter values used, in scene order.
+    pub parameters: Vec<(String, f64)>,
+}
+
+impl Model {
+    /// Value of a parameter by name.
+    pub fn parameter(&self, name: &str) -> Option<f64> {
+        self.parameters
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, v)| v)
+    }
+
+    /// Forcing period `2 pi / omega`.
+    pub fn period(&self) -> f64 {
+        2.0 * std::f64::consts::PI / self.omega
+    }
+
+    /// Initial state `[x_1..x_m, v_1..v_m]`.
+    pub fn initial_state(&self) -> Vec<f64> {
+        let mut s: Vec<f64> = self.masses.iter().map(|m| m.x0).collect();
+        s.extend(self.masses.iter().map(|m| m.v0));
+        s
+    }
+
+    /// Signed distance to contact of a stop at positions `x` (>= 0 when admissible).
+    pub fn gap(&self, stop: usize, x: &[f64]) -> f64 {
+        match self.stops[stop].geometry {
+            StopGeometry::Frame {
+                mass,
+                side: Side::Below,
+                position,
+            } => x[mass] - position,
+            StopGeometry::Frame {
+                mass,
+                side: Side::Above,
+                position,
+            } => position - x[mass],
+            StopGeometry::Pair { first, second, gap } => gap - (x[first] - x[second]),
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! The TOML schema of a scene file, as written by users (numbers or expressions).
+//!
+//! Every number may be a TOML number or a string holding an expression of the
+//! scene's parameters (`"mu_m/(1-mu_m)"`, `"-delta"`, `"PI/2"`). Unknown keys are
+//! rejected so that a typo never silently falls back to a default.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// A number or an expression of the parameters.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum Num {
+    /// A literal number.
+    Value(f64),
+    /// An expression of parameters, evaluated per cell.
+    Expr(String),
+}
+
+impl Default for Num {
+    fn default() -> Self {
+        Num::Value(0.0)
+    }
+}
+
+/// A parameter: a plain number/expression, or a table with an allowed range.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum ParamSpec {
+    /// `delta = 0.6` or `delta1 = "delta"`.
+    Plain(Num),
+    /// `mu_m = { value = 0.5, range = "(0, 1)" }`.
+    Ranged(RangedParam),
+}
+
+/// A parameter with the interval its values must lie in.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RangedParam {
+    /// Default value or expression.
+    pub value: Num,
+    /// Interval in mathematical notation: `"(0, 1)"`, `"[0, 1]"`, `"[0, inf)"`.
+    pub range: Option<String>,
+    /// What the parameter means; documentation for readers of the file.
+    #[serde(default, rename = "doc")]
+    pub _doc: String,
+}
+
+/// Whole scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Short name of the scene.
+    pub name: String,
+    /// One-paragraph description (equations, source).
+    #[serde(default)]
+    pub description: String,
+    /// Whether the scene is invariant under the mirror `x -> -x` combined with a
+    /// half forcing period shift; enables the `S`/`AS` symmetry report.
+    #[serde(default)]
+    pub symmetric: bool,
+    /// Named parameters (numbers or expressions of other parameters).
+    pub parameters: BTreeMap<String, ParamSpec>,
+    /// Harmonic forcing `sin(omega t + phase)`.
+    pub forcing: ForcingSpec,
+    /// Point masses, in the order of the state vector.
+    pub masses: Vec<MassSpec>,
+    /// Springs and dampers, to the frame or between two masses.
+    #[serde(default)]
+    pub links: Vec<LinkSpec>,
+    /// Rigid stops (mass against the frame, or two masses against each other).
+    #[serde(default)]
+    pub stops: Vec<StopSpec>,
+    /// Coulomb friction contacts between two masses.
+    #[serde(default)]
+    pub friction: Vec<FrictionSpec>,
+    /// Which stops are the p-stop and the q-stop of each mass in its n-p-q label.
+    #[serde(default)]
+    pub labels: BTreeMap<String, LabelSpec>,
+}
+
+/// `[forcing]`: frequency and phase of `sin(omega t + phase)`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForcingSpec {
+    /// Forcing frequency ω (> 0).
+    pub omega: Num,
+    /// Phase τ.
+    #[serde(default)]
+    pub phase: Num,
+}
+
+/// `[[masses]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MassSpec {
+    /// Name used in labels and output (`M1`).
+    pub name: String,
+    /// Mass (> 0).
+    pub mass: Num,
+    /// Amplitude of the harmonic force on this mass.
+    #[serde(default)]
+    pub force: Num,
+    /// Initial displacement.
+    #[serde(default)]
+    pub x0: Num,
+    /// Initial velocity.
+    #[serde(default)]
+    pub v0: Num,
+}
+
+/// `[[links]]`: a spring and a damper in parallel.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinkSpec {
+    /// One mass (tied to the frame) or two masses (tied to each other).
+    pub masses: Vec<String>,
+    /// Spring stiffness (>= 0).
+    #[serde(default)]
+    pub stiffness: Num,
+    /// Viscous damping coefficient (>= 0).
+    #[serde(default)]
+    pub damping: Num,
+}
+
+/// Side of a frame stop relative to its mass.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Side {
+    /// The stop is below the mass: `x >= position`.
+    Below,
+    /// The stop is above the mass: `x <= position`.
+    Above,
+}
+
+/// `[[stops]]`: either `mass` + `side` + `position`, or `masses = [a, b]` + `gap`
+/// meaning `x_a - x_b <= gap`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StopSpec {
+    /// Name used in output (`A1`).
+    pub name: String,
+    /// Mass of a frame stop.
+    pub mass: Option<String>,
+    /// Side of a frame stop.
+    pub side: Option<Side>,
+    /// Position of a frame stop.
+    pub position: Option<Num>,
+    /// The two masses of a pair stop, `x_a - x_b <= gap`.
+    pub masses: Option<Vec<String>>,
+    /// Gap of a pair stop (>= 0).
+    pub gap: Option<Num>,
+    /// Coefficient of restitution in [0, 1].
+    pub restitution: Num,
+}
+
+/// `[[friction]]`: Coulomb friction between two masses.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrictionSpec {
+    /// The two masses in contact.
+    pub masses: Vec<String>,
+    /// Kinetic friction force (>= 0).
+    pub kinetic: Num,
+    /// Static friction limit (>= kinetic).
+    #[serde(rename = "static")]
+    pub static_limit: Num,
+}
+
+/// `[labels.M1]`: the p-stop and q-stop of a mass.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LabelSpec {
+    /// Stop counted as p.
+    pub p: Option<String>,
+    /// Stop counted as q.
+    pub q: Option<String>,
+}

@@ -1,0 +1,169 @@
+//! Accuracy knobs: one `Copy` struct built from a named preset and overridable.
+//!
+//! Every field states its unit (times are in the dimensionless time of the
+//! equations, displacements and velocities in their dimensionless units), its
+//! `standard` default and what it trades.
+
+use crate::error::SolverError;
+
+/// Named accuracy presets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Preset {
+    /// Looser tolerances and shorter records: the quick look.
+    Fast,
+    /// The default: labels agree with `precise` on nearly every cell.
+    Standard,
+    /// Tight tolerances and long records: the reference.
+    Precise,
+}
+
+impl Preset {
+    /// Parses `fast`, `standard` or `precise`.
+    pub fn parse(name: &str) -> Option<Preset> {
+        match name {
+            "fast" => Some(Preset::Fast),
+            "standard" => Some(Preset::Standard),
+            "precise" => Some(Preset::Precise),
+            _ => None,
+        }
+    }
+
+    /// The preset's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Fast => "fast",
+            Preset::Standard => "standard",
+            Preset::Precise => "precise",
+        }
+    }
+}
+
+/// All accuracy knobs of a cell simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Accuracy {
+    /// Time tolerance of event location (standard 1e-12). Smaller costs a few more
+    /// advancement steps per event.
+    pub event_tol: f64,
+    /// A gap below this counts as contact (standard 1e-11). It is also the largest
+    /// penetration of a stop the solver allows.
+    pub contact_tol: f64,
+    /// Impacts with a normal velocity below this are plastic and may start sticking
+    /// (standard 1e-7). Larger ends chatter sooner and cheaper, and less exactly.
+    pub stick_velocity: f64,
+    /// Jump to the accumulation point of a geometric chatter sequence once its
+    /// impact velocity is below this (standard 1e-4; 0 disables the jump).
+    pub chatter_velocity: f64,
+    /// Periods always simulated before periodicity is tested (standard 8).
+    pub min_transient: usize,
+    /// Periods after which a cell without a period is declared non-periodic
+    /// (standard 600). Longer finds slowly converging orbits; costs linearly.
+    pub max_periods: usize,
+    /// Two period-section points closer than this (max norm, relative to
+    /// 1 + |state|) are the same point (standard 1e-7).
+    pub periodic_tol: f64,
+    /// Largest period n tested, in forcing periods (standard 32).
+    pub n_max: usize,
+    /// Impacts at one stop in n periods from which a motion is flagged chattering (6).
+    pub chatter_impacts: usize,
+    /// Event budget of one cell; past it the cell is `unresolved` (standard 400 000).
+    pub max_events: usize,
+    /// Step of the RK4 integrator (0.01, the literature's value).
+    pub rk4_step: f64,
+    /// RK4 refines a crossing by dividing the step by 10 until it is below this (1e-10).
+    pub rk4_min_step: f64,
+}
+
+impl Accuracy {
+    /// The knobs of a preset.
+    pub fn preset(p: Preset) -> Accuracy {
+        let standard = Accuracy {
+            event_tol: 1e-12,
+            contact_tol: 1e-11,
+            stick_velocity: 1e-7,
+            chatter_velocity: 1e-4,
+            min_transient: 8,
+            max_periods: 600,
+            periodic_tol: 1e-7,
+            n_max: 32,
+            chatter_impacts: 6,
+            max_events: 400_000,
+            rk4_step: 0.01,
+            rk4_min_step: 1e-10,
+        };
+        match p {
+            Preset::Standard => standard,
+            Preset::Fast => Accuracy {
+                event_tol: 1e-10,
+                contact_tol: 1e-9,
+                stick_velocity: 1e-6,
+                chatter_velocity: 1e-3,
+                min_transient: 4,
+                max_periods: 300,
+                periodic_tol: 1e-6,
+                max_events: 100_000,
+                ..standard
+            },
+            Preset::Precise => Accuracy {
+                event_tol: 1e-14,
+                contact_tol: 1e-12,
+                stick_velocity: 1e-9,
+                chatter_velocity: 1e-6,
+                min_transient: 32,
+                max_periods: 3000,
+                periodic_tol: 1e-9,
+                max_events: 4_000_000,
+                ..standard
+            },
+        }
+    }
+
+    /// Sets a knob by name (for `--accuracy name=value` overrides).
+    pub fn set(&mut self, name: &str, value: f64) -> Result<(), SolverError> {
+        let err = |m: &str| SolverError::Accuracy {
+            field: name.to_string(),
+            message: m.to_string(),
+        };
+        if !value.is_finite() || value < 0.0 {
+            return Err(err(&format!("must be a finite number >= 0, got {value}")));
+        }
+        let count = || -> Result<usize, SolverError> {
+            if value.fract() != 0.0 || value < 1.0 {
+                Err(err(&format!("must be a whole number >= 1, got {value}")))
+            } else {
+                Ok(value as usize)
+            }
+        };
+        let positive = || {
+            if value > 0.0 {
+                Ok(value)
+            } else {
+                Err(err("must be > 0"))
+            }
+        };
+        match name {
+            "event_tol" => self.event_tol = positive()?,
+            "contact_tol" => self.contact_tol = positive()?,
+            "stick_velocity" => self.stick_velocity = positive()?,
+            "chatter_velocity" => self.chatter_velocity = value,
+            "min_transient" => self.min_transient = count()?,
+            "max_periods" => self.max_periods = count()?,
+            "periodic_tol" => self.periodic_tol = positive()?,
+            "n_max" => self.n_max = count()?,
+            "chatter_impacts" => self.chatter_impacts = count()?,
+            "max_events" => self.max_events = count()?,
+            "rk4_step" => self.rk4_step = positive()?,
+            "rk4_min_step" => self.rk4_min_step = positive()?,
+            _ => return Err(err("unknown accuracy knob")),
+        }
+        if self.max_periods < self.min_transient {
+            return Err(err("max_periods must be >= min_transient"));
+        }
+        Ok(())
+    }
+}
+
+impl Default for Accuracy {
+    fn default() -> Self {
+        Accuracy::preset(Preset::Standard)
+    }
+}

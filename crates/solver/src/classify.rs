@@ -1,0 +1,265 @@
+//! Classification of the steady motion of a cell as n-p-q.
+//!
+//! Periods are simulated until the period (stroboscopic, `t = kT`) section
+//! repeats: the smallest `n <= n_max` such that the last `2n` section points each
+//! equal the point `n` periods earlier (within `periodic_tol`), with the same
+//! impacts per stop, is the period. Then `p`, `q` are the impacts of each mass
+//! at its p-stop and q-stop over those n periods (`S` where the mass sticks to the
+//! stop). No period within `max_periods`: class `chaotic`, label `C`. A cell that
+//! exhausts its event budget or stalls is `unresolved`, label `U`.
+
+use crate::accuracy::Accuracy;
+use crate::flow::Method;
+use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
+use crate::system::System;
+use nalgebra::DVector;
+use std::collections::VecDeque;
+
+/// Kind of steady motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Class {
+    /// Periodic with period n forcing periods.
+    Periodic,
+    /// No period up to `n_max` within `max_periods` (chaotic or long-period).
+    Chaotic,
+    /// The event budget ran out or an event search stalled.
+    Unresolved,
+}
+
+impl Class {
+    /// Lower-case name used in output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Periodic => "periodic",
+            Class::Chaotic => "chaotic",
+            Class::Unresolved => "unresolved",
+        }
+    }
+}
+
+/// Mirror symmetry of a periodic orbit of a symmetric scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Symmetry {
+    /// `x(t + nT/2) = -x(t)` (up to a whole number of periods).
+    Symmetric,
+    /// Not symmetric.
+    Asymmetric,
+}
+
+impl Symmetry {
+    /// `S` or `AS`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Symmetry::Symmetric => "S",
+            Symmetry::Asymmetric => "AS",
+        }
+    }
+}
+
+/// The label of one mass.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MassLabel {
+    /// Mass name.
+    pub mass: String,
+    /// `n-p-q`, `C` or `U`.
+    pub label: String,
+}
+
+/// Everything known about a cell's steady motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellResult {
+    /// Kind of motion.
+    pub class: Class,
+    /// Period in forcing periods, when periodic.
+    pub n: Option<usize>,
+    /// Label per labelled mass.
+    pub labels: Vec<MassLabel>,
+    /// Impacts per stop over the n periods (over the last `n_max` periods when not periodic).
+    pub impacts: Vec<u32>,
+    /// Chattering flag per stop (at least `chatter_impacts` impacts in the window).
+    pub chatter: Vec<bool>,
+    /// Sticking flag per stop (the stop held its mass during the window).
+    pub sticking: Vec<bool>,
+    /// Symmetry of a periodic orbit of a symmetric scene.
+    pub symmetry: Option<Symmetry>,
+    /// Full state `[x; v]` at the end of the simulation (at `t = kT`).
+    pub final_state: Vec<f64>,
+    /// State at the start of the classified window (for traces and sections).
+    pub window_start: Vec<f64>,
+    /// Period-section points of the window (n points when periodic).
+    pub section: Vec<Vec<f64>>,
+    /// Forcing periods simulated.
+    pub periods: u64,
+    /// Events handled.
+    pub events: usize,
+    /// Why the cell is unresolved.
+    pub reason: Option<String>,
+}
+
+fn close(a: &DVector<f64>, b: &DVector<f64>, tol: f64) -> bool {
+    let scale = 1.0 + a.amax();
+    a.iter()
+        .zip(b.iter())
+        .all(|(x, y)| (x - y).abs() <= tol * scale)
+}
+
+fn repeats(h: &VecDeque<PeriodRecord>, i: usize, n: usize, tol: f64) -> bool {
+    let (a, b) = (&h[i], &h[i - n]);
+    a.end_held == b.end_held && a.impacts == b.impacts && close(&a.end, &b.end, tol)
+}
+
+/// Smallest n whose last 2n section points repeat with period n.
+fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
+    let len = h.len();
+    (1..=acc.n_max).find(|&n| {
+        len >= 3 * n
+            && repeats(h, len - 1, n, acc.periodic_tol)
+            && (len - 2 * n..len).all(|i| repeats(h, i, n, acc.periodic_tol))
+    })
+}
+
+/// Simulates a cell from full state `y0` and classifies its steady motion.
+pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> CellResult {
+    let stops = sys.stops.len();
+    let symmetric = sys.model.symmetric;
+    let unresolved = |reason: String, periods: u64, events: usize, y: Vec<f64>| CellResult {
+        class: Class::Unresolved,
+        n: None,
+        labels: sys
+            .model
+            .labels
+            .iter()
+            .map(|l| MassLabel {
+                mass: sys.model.masses[l.mass].name.clone(),
+                label: "U".into(),
+            })
+            .collect(),
+        impacts: vec![0; stops],
+        chatter: vec![false; stops],
+        sticking: vec![false; stops],
+        symmetry: None,
+        window_start: y.clone(),
+        final_state: y,
+        section: Vec::new(),
+        periods,
+        events,
+        reason: Some(reason),
+    };
+    let halt_reason = |h: Halt| match h {
+        Halt::Budget => format!("event budget of {} events exhausted", acc.max_events),
+        Halt::Stalled => "event location stalled at a degenerate contact".to_string(),
+        Halt::Error(e) => e.to_string(),
+    };
+    let mut sim = match Simulator::new(sys, *acc, method, y0) {
+        Ok(s) => s,
+        Err(h) => return unresolved(halt_reason(h), 0, 0, y0.to_vec()),
+    };
+    let cap = 3 * acc.n_max + 1;
+    let mut hist: VecDeque<PeriodRecord> = VecDeque::with_capacity(cap + 1);
+    let mut found = None;
+    while (sim.periods as usize) < acc.max_periods {
+        match sim.run_period(&[], symmetric, &mut Ignore) {
+            Ok(rec) => {
+                if hist.len() == cap {
+                    hist.pop_front();
+                }
+                hist.push_back(rec);
+            }
+            Err(h) => {
+                return unresolved(
+                    halt_reason(h),
+                    sim.periods,
+                    sim.events,
+                    sim.y.as_slice().to_vec(),
+                )
+            }
+        }
+        if sim.periods as usize >= acc.min_transient {
+            if let Some(n) = detect(&hist, acc) {
+                found = Some(n);
+                break;
+            }
+        }
+    }
+    let len = hist.len();
+    let window = found.unwrap_or(acc.n_max.min(len));
+    let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
+    let mut impacts = vec![0u32; stops];
+    let mut held = 0u32;
+    for r in &recs {
+        for (a, b) in impacts.iter_mut().zip(&r.impacts) {
+            *a += b;
+        }
+        held |= r.held;
+    }
+    let sticking: Vec<bool> = (0..stops).map(|k| held & (1 << k) != 0).collect();
+    let chatter: Vec<bool> = impacts
+        .iter()
+        .map(|&c| c as usize >= acc.chatter_impacts)
+        .collect();
+    let labels = sys
+        .model
+        .labels
+        .iter()
+        .map(|l| {
+            let count = |s: Option<usize>| match s {
+                Some(k) if sticking[k] => "S".to_string(),
+                Some(k) => impacts[k].to_string(),
+                None => "0".to_string(),
+            };
+            let label = match found {
+                Some(n) => format!("{n}-{}-{}", count(l.p), count(l.q)),
+                None => "C".to_string(),
+            };
+            MassLabel {
+                mass: sys.model.masses[l.mass].name.clone(),
+                label,
+            }
+        })
+        .collect();
+    let symmetry = match (symmetric, found) {
+        (true, Some(n)) => Some(symmetry_of(&hist, n, acc)),
+        _ => None,
+    };
+    let window_start = if len > window {
+        hist[len - window - 1].end.as_slice().to_vec()
+    } else {
+        y0.to_vec()
+    };
+    CellResult {
+        class: if found.is_some() {
+            Class::Periodic
+        } else {
+            Class::Chaotic
+        },
+        n: found,
+        labels,
+        impacts,
+        chatter,
+        sticking,
+        symmetry,
+        final_state: sim.y.as_slice().to_vec(),
+        window_start,
+        section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),
+        periods: sim.periods,
+        events: sim.events,
+        reason: None,
+    }
+}
+
+/// Symmetric when, for some shift m, the state half a period after the start of
+/// period j + m is the mirror image of the state at the start of period j.
+fn symmetry_of(h: &VecDeque<PeriodRecord>, n: usize, acc: &Accuracy) -> Symmetry {
+    let len = h.len();
+    let tol = 10.0 * acc.periodic_tol;
+    let mirrored = |j: usize, m: usize| match &h[j + m].half {
+        Some(half) => close(half, &(-&h[j - 1].end), tol),
+        None => false,
+    };
+    let symmetric = (0..n).any(|m| (len - 2 * n..len - n).all(|j| j >= 1 && mirrored(j, m)));
+    if symmetric {
+        Symmetry::Symmetric
+    } else {
+        Symmetry::Asymmetric
+    }
+}

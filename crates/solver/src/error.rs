@@ -1,0 +1,31 @@
+//! Errors of the solver. Running out of the event budget is not an error but an
+//! outcome (`unresolved`); these are conditions under which no answer exists.
+
+use thiserror::Error;
+
+/// Why a system cannot be simulated.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SolverError {
+    /// A linear mode could not be decomposed accurately.
+    #[error("ill-conditioned linear mode: {message}")]
+    IllConditioned {
+        /// Details.
+        message: String,
+    },
+    /// The scene uses something this solver does not model.
+    #[error("{field}: {message}")]
+    Unsupported {
+        /// Scene field.
+        field: String,
+        /// What is not supported.
+        message: String,
+    },
+    /// An accuracy setting is out of range.
+    #[error("accuracy.{field}: {message}")]
+    Accuracy {
+        /// Name of the knob.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
+}

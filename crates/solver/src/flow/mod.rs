@@ -1,0 +1,121 @@
+//! Integrators: advance a mode's augmented state to a horizon or to its first event.
+//!
+//! Two methods behind one trait, so that accuracy and speed are compared on equal
+//! terms: [`exact::Exact`], the closed-form flow with guaranteed event location,
+//! and [`rk4::Rk4`], the fixed-step Runge–Kutta method of the literature.
+
+pub mod exact;
+pub mod rk4;
+pub mod spectral;
+
+use crate::accuracy::Accuracy;
+use crate::mode::Mode;
+use nalgebra::DVector;
+
+/// Why an advance stopped.
+#[derive(Debug, Clone)]
+pub enum Advance {
+    /// The horizon was reached with no event; the augmented state there.
+    Horizon(DVector<f64>),
+    /// Guard `guard` of the mode reached zero after `time`; the state there.
+    Event {
+        /// Index into [`Mode::guards`].
+        guard: usize,
+        /// Time since the start of the advance.
+        time: f64,
+        /// Augmented state at the event.
+        state: DVector<f64>,
+    },
+    /// The step budget of one advance ran out (a stalled event search).
+    Stalled,
+}
+
+/// Which integrator a simulation uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Closed-form flow, conservative advancement and refinement to `event_tol`.
+    Exact,
+    /// Classic RK4 with step `rk4_step`, step-back refinement to `rk4_min_step`.
+    Rk4,
+}
+
+impl Method {
+    /// Parses `exact` or `rk4`.
+    pub fn parse(name: &str) -> Option<Method> {
+        match name {
+            "exact" => Some(Method::Exact),
+            "rk4" => Some(Method::Rk4),
+            _ => None,
+        }
+    }
+
+    /// The method's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Exact => "exact",
+            Method::Rk4 => "rk4",
+        }
+    }
+
+    /// Advances `s0` in `mode` for at most `horizon`, stopping at the first event.
+    pub fn advance(self, mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> Advance {
+        match self {
+            Method::Exact => exact::advance(mode, s0, horizon, acc),
+            Method::Rk4 => rk4::advance(mode, s0, horizon, acc),
+        }
+    }
+}
+
+/// How a guard that starts at zero behaves, from its first non-negligible derivative.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Start {
+    /// The guard is positive: nothing special.
+    Clear,
+    /// At zero and moving to negative values: an event now.
+    Approaching,
+    /// At zero and moving to positive values; `order`-th derivative `rate > 0`
+    /// (order 0 when every derivative up to the fourth vanishes).
+    Departing {
+        /// Order of the first non-negligible derivative.
+        order: usize,
+        /// Its value.
+        rate: f64,
+    },
+}
+
+/// Classifies a guard from its value and derivatives `d[0..=4]` at one instant.
+/// `tol[j]` is the size below which the j-th derivative counts as zero.
+pub fn classify_start(d: &[f64; 5], tol: &[f64; 5]) -> Start {
+    if d[0] > tol[0] {
+        return Start::Clear;
+    }
+    for j in 1..5 {
+        if d[j].abs() > tol[j] {
+            return if d[j] < 0.0 {
+                Start::Approaching
+            } else {
+                Start::Departing {
+                    order: j,
+                    rate: d[j],
+                }
+            };
+        }
+    }
+    Start::Departing {
+        order: 0,
+        rate: 0.0,
+    }
+}
+
+/// Tolerances of [`classify_start`] for a guard: the contact tolerance for its
+/// value, the stick velocity for a gap's rate, rounding level for higher derivatives.
+pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5]) -> [f64; 5] {
+    let mut tol = [acc.contact_tol, 0.0, 0.0, 0.0, 0.0];
+    for j in 1..5 {
+        tol[j] = 1e-11 * scale[j].max(1e-300);
+    }
+    if is_gap {
+        tol[1] = tol[1].max(acc.stick_velocity);
+    }
+    tol
+}

@@ -1,0 +1,450 @@
+//! Exact solution of a linear autonomous system `s' = Â s` by a clustered
+//! spectral decomposition.
+//!
+//! The augmented state of a mode is `s = [q; q'; sin φ; cos φ; 1]` with
+//! `φ = ω t + τ`, so harmonic and constant forcing are part of `Â` and the flow
+//! is `s(u) = e^{Â u} s(0)`. Eigenvalues closer than a tolerance are grouped
+//! into clusters; on each cluster's invariant subspace (basis `V_c`, dual rows
+//! `W_c`) the matrix acts as `μ_c I + N_c`, hence
+//!
+//! ```text
+//! e^{Â u} = Σ_c V_c e^{μ_c u} Σ_j (u^j / j!) N_c^j W_c .
+//! ```
+//!
+//! For a defective eigenvalue (a free mass: `x'' = 0`; undamped resonance) `N_c`
+//! is nilpotent and the sum is finite, so rigid-body drift and secular growth are
+//! exact polynomials, never perturbed eigenvalues. For nearly equal but distinct
+//! eigenvalues `N_c` is tiny and the series is summed until it is below rounding
+//! over the horizon. Conjugate clusters are folded: a cluster in the upper half
+//! plane contributes `2 Re(...)`, a real cluster `Re(...)`.
+
+use crate::error::SolverError;
+use nalgebra::{DMatrix, DVector, Schur};
+use num_complex::Complex64 as C64;
+
+/// One term `weight · e^{μ u} u^j / j!` of the expansion.
+#[derive(Debug, Clone, Copy)]
+pub struct Term {
+    /// Cluster eigenvalue μ.
+    pub lambda: C64,
+    /// Power j of `u^j / j!`.
+    pub power: usize,
+    /// 1 for a real cluster, 2 for an upper-half-plane cluster (conjugate folded).
+    pub weight: f64,
+    /// 1 / j!.
+    inv_factorial: f64,
+}
+
+#[derive(Debug, Clone)]
+struct Cluster {
+    v: DMatrix<C64>,
+    w: DMatrix<C64>,
+    n: DMatrix<C64>,
+    powers: usize,
+}
+
+/// Clustered spectral decomposition of an augmented mode matrix.
+#[derive(Debug, Clone)]
+pub struct Spectral {
+    dim: usize,
+    clusters: Vec<Cluster>,
+    terms: Vec<Term>,
+}
+
+/// The modal coefficients of one initial state: `s(u) = Σ_t Re(f_t(u) Y_t)`.
+#[derive(Debug, Clone)]
+pub struct Modal {
+    y: Vec<DVector<C64>>,
+}
+
+fn null_space_real(m: &DMatrix<f64>, k: usize) -> Option<DMatrix<C64>> {
+    let svd = m.clone().try_svd(false, true, f64::EPSILON, 10_000)?;
+    let vt = svd.v_t?;
+    let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+    order.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
+    let cols: Vec<DVector<C64>> = order[..k]
+        .iter()
+        .map(|&i| vt.row(i).transpose().map(|x| C64::new(x, 0.0)))
+        .collect();
+    Some(DMatrix::from_columns(&cols))
+}
+
+fn null_space_complex(m: &DMatrix<C64>, k: usize) -> Option<DMatrix<C64>> {
+    let svd = m.clone().try_svd(false, true, f64::EPSILON, 10_000)?;
+    let vt = svd.v_t?;
+    let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+    order.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
+    let cols: Vec<DVector<C64>> = order[..k].iter().map(|&i| vt.row(i).adjoint()).collect();
+    Some(DMatrix::from_columns(&cols))
+}
+
+fn ill(msg: impl Into<String>) -> SolverError {
+    SolverError::IllConditioned {
+        message: msg.into(),
+    }
+}
+
+impl Spectral {
+    /// Decomposes `a`; the expansion is accurate to rounding for `0 <= u <= horizon`.
+    pub fn new(a: &DMatrix<f64>, horizon: f64) -> Result<Spectral, SolverError> {
+        let dim = a.nrows();
+        let scale = a.amax().max(1.0);
+        let tol = 1e-5 * scale;
+        let eig = Schur::try_new(a.clone(), f64::EPSILON, 10_000)
+            .ok_or_else(|| ill("Schur decomposition did not converge"))?
+            .complex_eigenvalues();
+
+        // Union-find clustering of eigenvalues closer than `tol`.
+        let mut parent: Vec<usize> = (0..dim).collect();
+        fn root(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        for i in 0..dim {
+            for j in 0..i {
+                if (eig[i] - eig[j]).norm() <= tol {
+                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                    parent[ri.max(rj)] = ri.min(rj);
+                }
+            }
+        }
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        let mut group_of = vec![usize::MAX; dim];
+        for i in 0..dim {
+            let r = root(&mut parent, i);
+            if group_of[r] == usize::MAX {
+                group_of[r] = groups.len();
+                groups.push(Vec::new());
+            }
+            groups[group_of[r]].push(i);
+        }
+
+        // Invariant subspace of each real or upper cluster; lower ones are conjugates.
+        let id = DMatrix::<f64>::identity(dim, dim);
+        let ac = a.map(|x| C64::new(x, 0.0));
+        let mut kept: Vec<(C64, f64, DMatrix<C64>)> = Vec::new();
+        let (mut upper, mut lower) = (0usize, 0usize);
+        for g in &groups {
+            let k = g.len();
+            let mu = g.iter().map(|&i| eig[i]).sum::<C64>() / k as f64;
+            if mu.im.abs() <= tol {
+                let shifted = a - &id * mu.re;
+                let mut p = shifted.clone();
+                for _ in 1..k {
+                    p = &p * &shifted;
+                }
+                let v = null_space_real(&p, k).ok_or_else(|| ill("SVD did not converge"))?;
+                kept.push((C64::new(mu.re, 0.0), 1.0, v));
+            } else if mu.im > 0.0 {
+                upper += k;
+                let shifted = &ac - DMatrix::<C64>::identity(dim, dim) * mu;
+                let mut p = shifted.clone();
+                for _ in 1..k {
+                    p = &p * &shifted;
+                }
+                let v = null_space_complex(&p, k).ok_or_else(|| ill("SVD did not converge"))?;
+                kept.push((mu, 2.0, v));
+            } else {
+                lower += k;
+            }
+        }
+        if upper != lower {
+            return Err(ill("eigenvalues are not in conjugate pairs"));
+        }
+
+        // Full basis (kept clusters, then conjugates of upper ones) and its inverse.
+        let mut cols: Vec<DVector<C64>> = Vec::with_capacity(dim);
+        for (_, _, v) in &kept {
+            cols.extend(v.column_iter().map(|c| c.into_owned()));
+        }
+        for (_, weight, v) in &kept {
+            if *weight > 1.0 {
+                cols.extend(v.column_iter().map(|c| c.map(|x| x.conj())));
+            }
+        }
+        if cols.len() != dim {
+            return Err(ill("invariant subspaces do not span the state space"));
+        }
+        let full = DMatrix::from_columns(&cols);
+        let inv = full
+            .try_inverse()
+            .ok_or_else(|| ill("invariant subspaces are linearly dependent"))?;
+
+        let mut clusters = Vec::with_capacity(kept.len());
+        let mut terms = Vec::new();
+        let mut offset = 0;
+        let mut rebuilt = DMatrix::<f64>::zeros(dim, dim);
+        for (_, weight, v) in kept {
+            let k = v.ncols();
+            let w = inv.rows(offset, k).into_owned();
+            offset += k;
+            let b = &w * &ac * &v;
+            let mu = if weight > 1.0 {
+                b.trace() / k as f64
+            } else {
+                C64::new(b.trace().re / k as f64, 0.0)
+            };
+            let mut n = &b - DMatrix::<C64>::identity(k, k) * mu;
+            rebuilt += (&v * &b * &w).map(|x| x.re * weight);
+            // Number of series terms needed over the horizon.
+            let powers = if n.iter().all(|x| x.norm() <= 1e-13 * scale) {
+                n.fill(C64::new(0.0, 0.0));
+                1
+            } else {
+                let nn = n.norm();
+                let mut p = DMatrix::<C64>::identity(k, k);
+                let mut j = 1;
+                let mut coeff = 1.0;
+                loop {
+                    p = &n * &p;
+                    coeff *= horizon / j as f64;
+                    if p.norm() * coeff <= 1e-17 * (1.0 + nn * horizon) {
+                        break j;
+                    }
+                    j += 1;
+                    if j > 60 {
+                        return Err(ill("cluster series does not converge over the period"));
+                    }
+                }
+            };
+            let mut inv_factorial = 1.0;
+            for j in 0..powers {
+                if j > 0 {
+                    inv_factorial /= j as f64;
+                }
+                terms.push(Term {
+                    lambda: mu,
+                    power: j,
+                    weight,
+                    inv_factorial,
+                });
+            }
+            clusters.push(Cluster { v, w, n, powers });
+        }
+        let err = (&rebuilt - a).amax();
+        if !(err <= 1e-9 * scale) {
+            return Err(ill(format!("spectral reconstruction error {err:e}")));
+        }
+        Ok(Spectral {
+            dim,
+            clusters,
+            terms,
+        })
+    }
+
+    /// Terms of the expansion, in the order used by [`Modal`] and [`Spectral::factors`].
+    pub fn terms(&self) -> &[Term] {
+        &self.terms
+    }
+
+    /// Modal coefficients `Y_t = V_c N_c^j W_c s0` of an initial state.
+    pub fn modal(&self, s0: &DVector<f64>) -> Modal {
+        let s = s0.map(|x| C64::new(x, 0.0));
+        let mut y = Vec::with_capacity(self.terms.len());
+        for c in &self.clusters {
+            let mut d = &c.w * &s;
+            for j in 0..c.powers {
+                if j > 0 {
+                    d = &c.n * d;
+                }
+                y.push(&c.v * &d);
+            }
+        }
+        Modal { y }
+    }
+
+    /// Fills `out[t] = weight_t e^{μ_t u} u^j / j!` for every term.
+    pub fn factors(&self, u: f64, out: &mut [C64]) {
+        let mut last = (C64::new(f64::NAN, f64::NAN), C64::new(0.0, 0.0));
+        for (t, term) in self.terms.iter().enumerate() {
+            if term.lambda != last.0 {
+                last = (term.lambda, (term.lambda * u).exp());
+            }
+            let poly = if term.power == 0 {
+                1.0
+            } else {
+                u.powi(term.power as i32) * term.inv_factorial
+            };
+            out[t] = last.1 * (term.weight * poly);
+        }
+    }
+
+    /// Upper bound of `|weight e^{μ u} u^j/j!|` over `u ∈ [a, b]`, per term.
+    pub fn factor_bounds(&self, a: f64, b: f64, out: &mut [f64]) {
+        for (t, term) in self.terms.iter().enumerate() {
+            let re = term.lambda.re;
+            let e = (re * if re > 0.0 { b } else { a }).exp();
+            let poly = if term.power == 0 {
+                1.0
+            } else {
+                b.powi(term.power as i32) * term.inv_factorial
+            };
+            out[t] = term.weight * e * poly;
+        }
+    }
+
+    /// Dimension of the augmented state.
+    pub fn dim(&self) -> usize {
+        self.dim
+    }
+}
+
+impl Modal {
+    /// The state at the time whose factors are `f`.
+    pub fn state(&self, f: &[C64]) -> DVector<f64> {
+        let mut s = DVector::zeros(self.y[0].len());
+        for (y, &ft) in self.y.iter().zip(f) {
+            for (si, yi) in s.iter_mut().zip(y.iter()) {
+                *si += (ft * yi).re;
+            }
+        }
+        s
+    }
+
+    /// Coefficients `β_t = row · Y_t` of a linear functional of the state.
+    pub fn functional(&self, row: &DVector<f64>) -> Vec<C64> {
+        self.y
+            .iter()
+            .map(|y| y.iter().zip(row.iter()).map(|(a, &b)| a * b).sum())
+            .collect()
+    }
+}
+
+/// Coefficients of the time derivative of `Σ_t Re(f_t β_t)`:
+/// `β'_{c,j} = μ_c β_{c,j} + β_{c,j+1}`.
+pub fn differentiate(terms: &[Term], beta: &[C64]) -> Vec<C64> {
+    let mut out = Vec::with_capacity(beta.len());
+    for t in 0..beta.len() {
+        let next = if t + 1 < beta.len() && terms[t + 1].power == terms[t].power + 1 {
+            beta[t + 1]
+        } else {
+            C64::new(0.0, 0.0)
+        };
+        out.push(terms[t].lambda * beta[t] + next);
+    }
+    out
+}
+
+/// `Σ_t Re(f_t β_t)`.
+pub fn evaluate(f: &[C64], beta: &[C64]) -> f64 {
+    f.iter()
+        .zip(beta)
+        .map(|(a, b)| a.re * b.re - a.im * b.im)
+        .sum()
+}
+
+/// `Σ_t |β_t| bound_t`.
+pub fn bound(bounds: &[f64], beta: &[C64]) -> f64 {
+    bounds.iter().zip(beta).map(|(b, x)| b * x.norm()).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn augmented(a: &DMatrix<f64>, b: &[f64], b0: &[f64], omega: f64) -> DMatrix<f64> {
+        let d = a.nrows();
+        let mut m = DMatrix::zeros(d + 3, d + 3);
+        m.view_mut((0, 0), (d, d)).copy_from(a);
+        for i in 0..d {
+            m[(i, d)] = b[i];
+            m[(i, d + 2)] = b0[i];
+        }
+        m[(d, d + 1)] = omega;
+        m[(d + 1, d)] = -omega;
+        m
+    }
+
+    fn check_against_expm(m: &DMatrix<f64>, horizon: f64) {
+        let sp = Spectral::new(m, horizon).unwrap();
+        let s0 = DVector::from_fn(m.nrows(), |i, _| 0.3 + 0.1 * i as f64);
+        let modal = sp.modal(&s0);
+        let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
+        for &u in &[0.0, 0.37, 1.0, horizon / 2.0, horizon] {
+            sp.factors(u, &mut f);
+            let exact = (m * u).exp() * &s0;
+            let got = modal.state(&f);
+            let err = (&got - &exact).amax() / exact.amax().max(1.0);
+            assert!(
+                err < 1e-11,
+                "u = {u}: relative error {err:e}\n{got}\n{exact}"
+            );
+        }
+    }
+
+    #[test]
+    fn damped_oscillator_matches_matrix_exponential() {
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, -0.2]);
+        check_against_expm(&augmented(&a, &[0.0, 1.0], &[0.0, 0.0], 0.33), 19.0);
+    }
+
+    #[test]
+    fn identical_uncoupled_oscillators_are_exact() {
+        let a = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 0.0, -0.2, 0.0, 0.0, -1.0, 0.0, -0.2,
+            ],
+        );
+        check_against_expm(&augmented(&a, &[0.0, 0.0, 1.0, 0.0], &[0.0; 4], 2.5), 2.6);
+    }
+
+    #[test]
+    fn free_mass_with_constant_force_is_a_polynomial() {
+        // x'' = 0.5 (constant force): Jordan block of size 3 with the constant state.
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]);
+        let m = augmented(&a, &[0.0, 0.0], &[0.0, 0.5], 1.3);
+        check_against_expm(&m, 5.0);
+        let sp = Spectral::new(&m, 5.0).unwrap();
+        let s0 = DVector::from_vec(vec![0.1, -0.2, 0.0, 1.0, 1.0]);
+        let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
+        sp.factors(4.0, &mut f);
+        let x = sp.modal(&s0).state(&f)[0];
+        assert!((x - (0.1 - 0.2 * 4.0 + 0.25 * 16.0)).abs() < 1e-13);
+    }
+
+    #[test]
+    fn undamped_resonance_grows_linearly() {
+        // x'' + x = sin t: x(t) = (sin t - t cos t)/2 from rest.
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, 0.0]);
+        let m = augmented(&a, &[0.0, 1.0], &[0.0, 0.0], 1.0);
+        check_against_expm(&m, 6.3);
+        let sp = Spectral::new(&m, 6.3).unwrap();
+        let s0 = DVector::from_vec(vec![0.0, 0.0, 0.0, 1.0, 1.0]);
+        let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
+        let t: f64 = 5.0;
+        sp.factors(t, &mut f);
+        let x = sp.modal(&s0).state(&f)[0];
+        assert!((x - (t.sin() - t * t.cos()) / 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn critically_damped_oscillator_is_exact() {
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, -2.0]);
+        check_against_expm(&augmented(&a, &[0.0, 1.0], &[0.0, 0.3], 0.7), 9.0);
+    }
+
+    #[test]
+    fn derivative_coefficients_match_finite_differences() {
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, 0.0, 0.0]);
+        let m = augmented(&a, &[0.0, 0.7], &[0.0, 0.5], 1.3);
+        let sp = Spectral::new(&m, 5.0).unwrap();
+        let s0 = DVector::from_vec(vec![0.1, -0.2, 0.3, (1.0f64 - 0.09).sqrt(), 1.0]);
+        let modal = sp.modal(&s0);
+        let row = DVector::from_vec(vec![1.0, 0.0, 0.0, 0.0, 0.0]);
+        let beta = modal.functional(&row);
+        let d1 = differentiate(sp.terms(), &beta);
+        let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
+        let (u, h) = (2.0, 1e-6);
+        sp.factors(u + h, &mut f);
+        let p = evaluate(&f, &beta);
+        sp.factors(u - h, &mut f);
+        let q = evaluate(&f, &beta);
+        sp.factors(u, &mut f);
+        assert!(((p - q) / (2.0 * h) - evaluate(&f, &d1)).abs() < 1e-8);
+    }
+}

@@ -1,0 +1,41 @@
+//! The vibroatlas solver: exact event-driven simulation of piecewise-linear
+//! vibro-impact systems under harmonic forcing, and n-p-q classification.
+//!
+//! Physics stages, one module each: [`system`] (matrices of `M x'' + C x' + K x =
+//! P sin(ωt+τ)` and stop gaps), [`mode`] (the linear system with held stops),
+//! [`flow`] (exact modal flow and RK4, event location), [`impact`] (Newton's law
+//! with momentum exchange), [`chatter`] and [`stick`] (accumulation and sticking),
+//! [`simulate`] (the event loop, period by period), [`classify`] (period detection,
+//! labels). No I/O, no threads.
+//!
+//! ```
+//! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/multi-stop.toml")).unwrap();
+//! let scene = scene::Scene::parse(&text).unwrap();
+//! let model = scene.evaluate(&[("omega".into(), 2.5), ("delta".into(), 1.2)]).unwrap();
+//! let y0 = model.initial_state();
+//! let sys = solver::System::new(model).unwrap();
+//! let cell = solver::run_cell(&sys, &solver::Accuracy::default(), solver::Method::Exact, &y0);
+//! assert_eq!(cell.labels[0].label, "1-0-0");
+//! ```
+#![deny(missing_docs)]
+#![deny(clippy::float_cmp)]
+
+pub mod accuracy;
+pub mod chatter;
+pub mod classify;
+pub mod error;
+pub mod flow;
+pub mod impact;
+pub mod mode;
+pub mod simulate;
+pub mod stick;
+pub mod system;
+
+pub use accuracy::{Accuracy, Preset};
+pub use classify::{run_cell, CellResult, Class, MassLabel, Symmetry};
+pub use error::SolverError;
+pub use flow::Method;
+/// Column vector type of states passed to observers.
+pub use nalgebra::DVector;
+pub use simulate::{Halt, Ignore, Observer, PeriodRecord, Simulator};
+pub use system::System;

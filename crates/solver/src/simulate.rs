@@ -1,0 +1,260 @@
+//! The event loop: one forcing period at a time, from event to event.
+//!
+//! Time is kept as (period index, time within the period) so that the forcing
+//! phase `ω t + τ` never loses precision over long runs. Each period ends exactly
+//! at `t = kT`, where the stroboscopic (period) section is sampled. Events are
+//! contacts (impact law, then sticking decision), chatter accumulation (pass to
+//! sticking) and releases (a held stop's reaction reaching zero).
+
+use crate::accuracy::Accuracy;
+use crate::chatter::ChatterTracker;
+use crate::error::SolverError;
+use crate::flow::{Advance, Method};
+use crate::impact;
+use crate::mode::GuardKind;
+use crate::stick::{candidates, settle, ModeCache};
+use crate::system::System;
+use nalgebra::DVector;
+
+/// Receives what happens during a simulation; section recorders and traces are
+/// observers, so nothing is stored unless asked.
+pub trait Observer {
+    /// An impact at `stop` at absolute time `time`, states before and after.
+    fn impact(&mut self, _time: f64, _stop: usize, _before: &DVector<f64>, _after: &DVector<f64>) {}
+    /// Any event (impact, stick, release) after it was handled.
+    fn event(&mut self, _time: f64, _y: &DVector<f64>) {}
+    /// A requested sample time within a period was reached.
+    fn sample(&mut self, _time: f64, _y: &DVector<f64>) {}
+}
+
+/// An observer that keeps nothing.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Ignore;
+impl Observer for Ignore {}
+
+/// What happened during one forcing period.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodRecord {
+    /// Impacts per stop.
+    pub impacts: Vec<u32>,
+    /// Stops that held their mass at some time during the period (bit mask).
+    pub held: u32,
+    /// Full state at the end of the period (the period-section point).
+    pub end: DVector<f64>,
+    /// Held stops at the end of the period.
+    pub end_held: u32,
+    /// State at the middle of the period, when asked for.
+    pub half: Option<DVector<f64>>,
+}
+
+/// Why a simulation stopped before its end.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Halt {
+    /// The event budget ran out (runaway chatter, or a too long run).
+    Budget,
+    /// An event search made no progress (a degenerate contact).
+    Stalled,
+    /// The system cannot be simulated.
+    Error(SolverError),
+}
+
+impl From<SolverError> for Halt {
+    fn from(e: SolverError) -> Self {
+        Halt::Error(e)
+    }
+}
+
+/// A running simulation of one cell.
+#[derive(Debug, Clone)]
+pub struct Simulator<'s> {
+    sys: &'s System,
+    acc: Accuracy,
+    method: Method,
+    cache: ModeCache,
+    chatter: ChatterTracker,
+    /// Full state `[x; v]`.
+    pub y: DVector<f64>,
+    /// Mask of held stops.
+    pub held: u32,
+    /// Time within the current period.
+    pub clock: f64,
+    /// Completed periods.
+    pub periods: u64,
+    /// Events handled so far.
+    pub events: usize,
+    zero_steps: usize,
+}
+
+impl<'s> Simulator<'s> {
+    /// Starts at full state `y0` at `t = 0`; stops in contact at rest are held.
+    pub fn new(sys: &'s System, acc: Accuracy, method: Method, y0: &[f64]) -> Result<Self, Halt> {
+        let y = DVector::from_column_slice(y0);
+        let mut sim = Simulator {
+            sys,
+            acc,
+            method,
+            cache: ModeCache::default(),
+            chatter: ChatterTracker::new(sys.stops.len()),
+            y,
+            held: 0,
+            clock: 0.0,
+            periods: 0,
+            events: 0,
+            zero_steps: 0,
+        };
+        let cand = candidates(sys, &acc, &sim.y);
+        let phase = sim.phase();
+        sim.held = settle(sys, &acc, &mut sim.cache, &sim.y, phase, cand)?;
+        sim.snap()?;
+        Ok(sim)
+    }
+
+    fn phase(&self) -> f64 {
+        self.sys.omega * self.clock + self.sys.tau
+    }
+
+    /// Absolute time.
+    pub fn time(&self) -> f64 {
+        self.periods as f64 * self.sys.period + self.clock
+    }
+
+    /// Projects the state onto the held constraints.
+    fn snap(&mut self) -> Result<(), Halt> {
+        if self.held != 0 {
+            let phase = self.phase();
+            let mode = self.cache.get(self.sys, self.held)?.ok_or(Halt::Stalled)?;
+            self.y = mode.lift(&mode.project(&self.y, phase));
+        }
+        Ok(())
+    }
+
+    /// Simulates one forcing period. `samples` are extra times within the period
+    /// (ascending, in `(0, T)`) at which the observer gets the state; with `half`
+    /// the record keeps the state at `T/2`.
+    pub fn run_period(
+        &mut self,
+        samples: &[f64],
+        half: bool,
+        obs: &mut dyn Observer,
+    ) -> Result<PeriodRecord, Halt> {
+        let sys = self.sys;
+        let period = sys.period;
+        let mut rec = PeriodRecord {
+            impacts: vec![0; sys.stops.len()],
+            held: self.held,
+            end: DVector::zeros(0),
+            end_held: 0,
+            half: None,
+        };
+        let mut targets: Vec<f64> = samples
+            .iter()
+            .copied()
+            .filter(|&t| t > self.clock && t < period)
+            .collect();
+        if half && self.clock < period / 2.0 {
+            targets.push(period / 2.0);
+        }
+        targets.sort_by(f64::total_cmp);
+        targets.dedup();
+        targets.push(period);
+        let mut ti = 0;
+        while ti < targets.len() {
+            let target = targets[ti];
+            let phase = self.phase();
+            let mode = self.cache.get(sys, self.held)?.ok_or(Halt::Stalled)?;
+            let s0 = mode.project(&self.y, phase);
+            match self
+                .method
+                .advance(mode, &s0, target - self.clock, &self.acc)
+            {
+                Advance::Horizon(s) => {
+                    self.y = mode.lift(&s);
+                    self.clock = target;
+                    ti += 1;
+                    if half && target == period / 2.0 {
+                        rec.half = Some(self.y.clone());
+                    }
+                    if target < period {
+                        obs.sample(self.time(), &self.y);
+                    }
+                }
+                Advance::Event { guard, time, state } => {
+                    let g = &mode.guards[guard];
+                    let (kind, stop) = (g.kind, g.stop);
+                    self.y = mode.lift(&state);
+                    self.clock = (self.clock + time).min(target);
+                    self.events += 1;
+                    self.zero_steps = if time > 0.0 { 0 } else { self.zero_steps + 1 };
+                    if self.events > self.acc.max_events {
+                        return Err(Halt::Budget);
+                    }
+                    if self.zero_steps > 64 {
+                        return Err(Halt::Stalled);
+                    }
+                    self.handle(kind, stop, &mut rec, obs)?;
+                    rec.held |= self.held;
+                    obs.event(self.time(), &self.y);
+                }
+                Advance::Stalled => return Err(Halt::Stalled),
+            }
+        }
+        self.clock = 0.0;
+        self.periods += 1;
+        rec.end = self.y.clone();
+        rec.end_held = self.held;
+        obs.sample(self.time(), &self.y);
+        Ok(rec)
+    }
+
+    fn handle(
+        &mut self,
+        kind: GuardKind,
+        stop: usize,
+        rec: &mut PeriodRecord,
+        obs: &mut dyn Observer,
+    ) -> Result<(), Halt> {
+        let sys = self.sys;
+        match kind {
+            GuardKind::Gap => {
+                let mut contacts: Vec<usize> = (0..sys.stops.len())
+                    .filter(|&k| {
+                        k == stop || sys.gap(k, &self.y).abs() <= 10.0 * self.acc.contact_tol
+                    })
+                    .collect();
+                contacts.sort_unstable();
+                let before = self.y.clone();
+                let hits = impact::resolve(sys, &contacts, self.acc.stick_velocity, &mut self.y);
+                let t = self.time();
+                let mut accumulate = Vec::new();
+                for h in &hits {
+                    rec.impacts[h.stop] += 1;
+                    if self
+                        .chatter
+                        .record(h.stop, t, h.speed, self.acc.chatter_velocity)
+                        .is_some()
+                    {
+                        accumulate.push(h.stop);
+                    }
+                }
+                if !hits.is_empty() {
+                    obs.impact(t, hits[0].stop, &before, &self.y);
+                }
+                // The rest of a geometric chatter sequence is the sticking motion it converges to.
+                for k in accumulate {
+                    impact::apply(sys, k, 0.0, &mut self.y);
+                }
+            }
+            GuardKind::Reaction => self.held &= !(1 << stop),
+        }
+        let cand = candidates(sys, &self.acc, &self.y) | self.held;
+        let phase = self.phase();
+        let held = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand)?;
+        for k in 0..sys.stops.len() {
+            if held & !self.held & (1 << k) != 0 {
+                self.chatter.reset(k);
+            }
+        }
+        self.held = held;
+        self.snap()
+    }
+}

@@ -1,0 +1,163 @@
+//! The linear system of a scene: `M x'' + C x' + K x = P sin(ω t + τ)` plus stop
+//! reactions, and each stop as a gap function `g(x) = n·x + c >= 0`.
+//!
+//! Frame stop below mass i: `n = e_i`, `c = -position`; above: `n = -e_i`,
+//! `c = position`; pair stop `x_a - x_b <= gap`: `n = e_b - e_a`, `c = gap`.
+
+use crate::error::SolverError;
+use nalgebra::{DMatrix, DVector};
+use scene::{Model, Side, StopGeometry};
+
+/// A stop as a linear gap function of the positions.
+#[derive(Debug, Clone)]
+pub struct StopRow {
+    /// Normal `n`: `g = n·x + c`.
+    pub normal: DVector<f64>,
+    /// Offset `c`.
+    pub offset: f64,
+    /// Coefficient of restitution.
+    pub restitution: f64,
+    /// `M^{-1} n`, the velocity change per unit impulse.
+    pub inv_mass_normal: DVector<f64>,
+    /// `nᵀ M^{-1} n`, the inverse effective mass of the contact.
+    pub inv_effective_mass: f64,
+}
+
+/// Matrices of the equations of motion, built once per cell.
+#[derive(Debug, Clone)]
+pub struct System {
+    /// The evaluated scene.
+    pub model: Model,
+    /// Masses (diagonal of M).
+    pub mass: DVector<f64>,
+    /// Damping matrix C.
+    pub damping: DMatrix<f64>,
+    /// Stiffness matrix K.
+    pub stiffness: DMatrix<f64>,
+    /// Harmonic force amplitudes P.
+    pub forcing: DVector<f64>,
+    /// Stops as gap rows.
+    pub stops: Vec<StopRow>,
+    /// Forcing frequency ω.
+    pub omega: f64,
+    /// Forcing phase τ.
+    pub tau: f64,
+    /// Forcing period `2π/ω`.
+    pub period: f64,
+}
+
+impl System {
+    /// Assembles the matrices of a model.
+    pub fn new(model: Model) -> Result<System, SolverError> {
+        if !model.friction.is_empty() {
+            return Err(SolverError::Unsupported {
+                field: "friction".into(),
+                message: "friction contacts are not modelled by this version of the solver".into(),
+            });
+        }
+        if model.stops.len() > 16 {
+            return Err(SolverError::Unsupported {
+                field: "stops".into(),
+                message: format!("at most 16 stops are supported, got {}", model.stops.len()),
+            });
+        }
+        let m = model.masses.len();
+        let mass = DVector::from_iterator(m, model.masses.iter().map(|x| x.mass));
+        let mut damping = DMatrix::zeros(m, m);
+        let mut stiffness = DMatrix::zeros(m, m);
+        for l in &model.links {
+            let add = |mat: &mut DMatrix<f64>, v: f64| {
+                mat[(l.a, l.a)] += v;
+                if let Some(b) = l.b {
+                    mat[(b, b)] += v;
+                    mat[(l.a, b)] -= v;
+                    mat[(b, l.a)] -= v;
+                }
+            };
+            add(&mut damping, l.damping);
+            add(&mut stiffness, l.stiffness);
+        }
+        let forcing = DVector::from_iterator(m, model.masses.iter().map(|x| x.force));
+        let stops = model
+            .stops
+            .iter()
+            .map(|s| {
+                let mut normal = DVector::zeros(m);
+                let offset = match s.geometry {
+                    StopGeometry::Frame {
+                        mass,
+                        side: Side::Below,
+                        position,
+                    } => {
+                        normal[mass] = 1.0;
+                        -position
+                    }
+                    StopGeometry::Frame {
+                        mass,
+                        side: Side::Above,
+                        position,
+                    } => {
+                        normal[mass] = -1.0;
+                        position
+                    }
+                    StopGeometry::Pair { first, second, gap } => {
+                        normal[first] = -1.0;
+                        normal[second] = 1.0;
+                        gap
+                    }
+                };
+                let inv_mass_normal = normal.component_div(&mass);
+                let inv_effective_mass = normal.dot(&inv_mass_normal);
+                StopRow {
+                    normal,
+                    offset,
+                    restitution: s.restitution,
+                    inv_mass_normal,
+                    inv_effective_mass,
+                }
+            })
+            .collect();
+        let period = model.period();
+        Ok(System {
+            mass,
+            damping,
+            stiffness,
+            forcing,
+            stops,
+            omega: model.omega,
+            tau: model.tau,
+            period,
+            model,
+        })
+    }
+
+    /// Number of masses (degrees of freedom).
+    pub fn dof(&self) -> usize {
+        self.mass.len()
+    }
+
+    /// Gap of a stop at full state `y = [x; v]`.
+    pub fn gap(&self, stop: usize, y: &DVector<f64>) -> f64 {
+        let s = &self.stops[stop];
+        s.normal.dot(&y.rows(0, self.dof())) + s.offset
+    }
+
+    /// Rate of change of a stop's gap at full state `y` (negative when closing).
+    pub fn gap_rate(&self, stop: usize, y: &DVector<f64>) -> f64 {
+        self.stops[stop].normal.dot(&y.rows(self.dof(), self.dof()))
+    }
+
+    /// Kinetic energy `½ vᵀ M v`.
+    pub fn kinetic_energy(&self, y: &DVector<f64>) -> f64 {
+        let m = self.dof();
+        (0..m)
+            .map(|i| 0.5 * self.mass[i] * y[m + i] * y[m + i])
+            .sum()
+    }
+
+    /// Momentum `Σ M_i v_i`.
+    pub fn momentum(&self, y: &DVector<f64>) -> f64 {
+        let m = self.dof();
+        (0..m).map(|i| self.mass[i] * y[m + i]).sum()
+    }
+}
