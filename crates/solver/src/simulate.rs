@@ -218,7 +218,7 @@ impl<'s> Simulator<'s> {
             GuardKind::Gap => {
                 let mut contacts: Vec<usize> = (0..sys.stops.len())
                     .filter(|&k| {
-                        k == stop || sys.gap(k, &self.y).abs() <= 10.0 * self.acc.contact_tol
+                        k == stop || sys.gap(k, &self.y) <= 10.0 * self.acc.contact_tol
                     })
                     .collect();
                 contacts.sort_unstable();

@@ -2,7 +2,10 @@
 //! the method of the literature: step `h` (0.01); when a guard changes sign over
 //! a step, go back and divide the step by 10 until it is below `rk4_min_step`
 //! (1e-10); the event is then placed at the end of that step. Grazing events
-//! between two samples are missed, as in the literature. The forcing `sin φ`,
+//! between two samples are missed, as in the literature. A guard that starts at
+//! zero and moves away (just after an impact) counts as crossed when it falls
+//! below its starting value less the contact tolerance, so that a bounce shorter
+//! than one step is still caught at its landing. The forcing `sin φ`,
 //! `cos φ` is evaluated exactly at each stage, not integrated.
 
 use super::{classify_start, start_tolerances, Advance, Start};
@@ -32,8 +35,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
         d
     };
 
-    // Guards armed only once positive; a guard at zero that approaches is an event now.
-    let mut armed = vec![true; mode.guards.len()];
+    // A guard crosses when it falls below its threshold; at zero and approaching: an event now.
+    let mut threshold = vec![0.0; mode.guards.len()];
     for (gi, g) in mode.guards.iter().enumerate() {
         let mut d = [0.0; 5];
         let mut scale = [0.0; 5];
@@ -54,7 +57,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
                     state: s0.clone(),
                 }
             }
-            Start::Departing { .. } => armed[gi] = false,
+            Start::Departing { .. } => threshold[gi] = d[0].min(0.0) - acc.contact_tol,
         }
     }
 
@@ -84,7 +87,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             .guards
             .iter()
             .enumerate()
-            .filter(|&(gi, g)| armed[gi] && g.row.dot(&next) < 0.0)
+            .filter(|&(gi, g)| g.row.dot(&next) < threshold[gi])
             .min_by(|a, b| a.1.row.dot(&next).total_cmp(&b.1.row.dot(&next)))
             .map(|(gi, _)| gi);
         match crossed {
@@ -99,11 +102,6 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             None => {
                 s = next;
                 u = t_next;
-                for (gi, g) in mode.guards.iter().enumerate() {
-                    if !armed[gi] && g.row.dot(&s) > acc.contact_tol {
-                        armed[gi] = true;
-                    }
-                }
             }
         }
     }
