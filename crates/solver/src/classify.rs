@@ -96,11 +96,26 @@ pub struct CellResult {
     pub reason: Option<String>,
 }
 
-fn close(a: &DVector<f64>, b: &DVector<f64>, tol: f64) -> bool {
-    let scale = 1.0 + a.amax();
-    a.iter()
+/// Distance of two section points, relative to `1 + |a|` (max norm).
+fn distance(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    let d = a
+        .iter()
         .zip(b.iter())
-        .all(|(x, y)| (x - y).abs() <= tol * scale)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    d / (1.0 + a.amax())
+}
+
+fn close(a: &DVector<f64>, b: &DVector<f64>, tol: f64) -> bool {
+    distance(a, b) <= tol
+}
+
+/// Largest distance between each of the last `2n` points and the point `lag` earlier.
+fn residual(h: &VecDeque<PeriodRecord>, n: usize, lag: usize) -> f64 {
+    let len = h.len();
+    (len - 2 * n..len)
+        .map(|i| distance(&h[i].end, &h[i - lag].end))
+        .fold(0.0, f64::max)
 }
 
 fn repeats(h: &VecDeque<PeriodRecord>, i: usize, n: usize, tol: f64) -> bool {
@@ -108,14 +123,22 @@ fn repeats(h: &VecDeque<PeriodRecord>, i: usize, n: usize, tol: f64) -> bool {
     a.end_held == b.end_held && a.impacts == b.impacts && close(&a.end, &b.end, tol)
 }
 
-/// Smallest n whose last 2n section points repeat with period n.
+/// Smallest n whose last 2n section points repeat with period n. A candidate is
+/// refused (and the run goes on) while a proper divisor d of n nearly repeats
+/// too, within 1000 times the residual: that is a transient still converging to
+/// a period-d orbit (e.g. one that flips sign every period), not a period-n orbit.
 fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
     let len = h.len();
-    (1..=acc.n_max).find(|&n| {
+    let n = (1..=acc.n_max).find(|&n| {
         len >= 3 * n
             && repeats(h, len - 1, n, acc.periodic_tol)
             && (len - 2 * n..len).all(|i| repeats(h, i, n, acc.periodic_tol))
-    })
+    })?;
+    let res = residual(h, n, n);
+    let converging_divisor = (1..n)
+        .filter(|d| n % d == 0)
+        .any(|d| residual(h, n, d) <= 1e3 * res);
+    (!converging_divisor).then_some(n)
 }
 
 /// Simulates a cell from full state `y0` and classifies its steady motion.

@@ -217,9 +217,7 @@ impl<'s> Simulator<'s> {
         match kind {
             GuardKind::Gap => {
                 let mut contacts: Vec<usize> = (0..sys.stops.len())
-                    .filter(|&k| {
-                        k == stop || sys.gap(k, &self.y) <= 10.0 * self.acc.contact_tol
-                    })
+                    .filter(|&k| k == stop || sys.gap(k, &self.y) <= 10.0 * self.acc.contact_tol)
                     .collect();
                 contacts.sort_unstable();
                 let before = self.y.clone();

@@ -81,7 +81,7 @@ fn releasing(mode: &Mode, acc: &Accuracy, s: &DVector<f64>) -> Option<usize> {
             d[j] = g.row.dot(&p);
             scale[j] = g.row.abs().dot(&p.abs());
         }
-        let tol = start_tolerances(acc, false, &scale);
+        let tol = start_tolerances(acc, false, &scale, &d);
         if classify_start(&d, &tol) == Start::Approaching || d[0] < -tol[0] {
             if worst.is_none_or(|(v, _)| d[0] < v) {
                 worst = Some((d[0], g.stop));

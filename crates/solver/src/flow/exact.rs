@@ -61,7 +61,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             bound(fb, &b[3]),
             bound(fb, &b[4]),
         ];
-        let tol = start_tolerances(acc, mode.guards[gi].kind == GuardKind::Gap, &scale);
+        let tol = start_tolerances(acc, mode.guards[gi].kind == GuardKind::Gap, &scale, &d);
         match classify_start(&d, &tol) {
             Start::Clear => None,
             Start::Approaching => Some(true),

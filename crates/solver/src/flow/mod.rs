@@ -107,12 +107,22 @@ pub fn classify_start(d: &[f64; 5], tol: &[f64; 5]) -> Start {
     }
 }
 
-/// Tolerances of [`classify_start`] for a guard: the contact tolerance for its
-/// value, the stick velocity for a gap's rate, rounding level for higher derivatives.
-pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5]) -> [f64; 5] {
+/// Tolerances of [`classify_start`] for a guard with derivatives `d` and
+/// derivative bounds `scale`: the contact tolerance for its value, the stick
+/// velocity for a gap's rate, and for every derivative the larger of rounding
+/// level and what the next derivative changes within 100 time resolutions (the
+/// coarser of `event_tol` and `rk4_min_step`), so that the residual of an event
+/// located to that resolution counts as zero.
+pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5], d: &[f64; 5]) -> [f64; 5] {
     let mut tol = [acc.contact_tol, 0.0, 0.0, 0.0, 0.0];
     for j in 1..5 {
-        tol[j] = 1e-11 * scale[j].max(1e-300);
+        let resolution = acc.event_tol.max(acc.rk4_min_step);
+        let next = if j < 4 {
+            100.0 * resolution * d[j + 1].abs()
+        } else {
+            0.0
+        };
+        tol[j] = (1e-11 * scale[j]).max(next).max(1e-300);
     }
     if is_gap {
         tol[1] = tol[1].max(acc.stick_velocity);

@@ -47,7 +47,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             d[j] = g.row.dot(&p);
             scale[j] = g.row.abs().dot(&p.abs());
         }
-        let tol = start_tolerances(acc, g.kind == GuardKind::Gap, &scale);
+        let tol = start_tolerances(acc, g.kind == GuardKind::Gap, &scale, &d);
         match classify_start(&d, &tol) {
             Start::Clear => {}
             Start::Approaching => {

@@ -1,0 +1,72 @@
+//! Closed-form answers of reference problems, shared by tests and benches.
+//!
+//! # Free (no-impact) steady state
+//! `x'' + 2ζx' + x = sin(ωt + τ)` has the steady amplitude
+//! `1/√((1-ω²)² + (2ζω)²)`.
+//!
+//! # Single-stop (1, n) orbits
+//! `x'' + x = cos(ωt)` (ζ = 0), stop `x <= σ`, restitution r: one impact every n
+//! forcing periods, `Θ = 2πn/ω`. Between impacts `x = γ cos(ωt) + h(t)` with
+//! `γ = 1/(1-ω²)` and `h` a free oscillation. Let the impact be at phase `φ = ωt₀`
+//! with speed `V > 0`: `x = σ`, `x'(t₀⁻) = V`, `x'(t₀⁺) = -rV`. As `γ cos` is
+//! Θ-periodic, `h(0) = h(Θ) = h₀ = σ - γ cos φ`, `h'(0) = -rV + a`,
+//! `h'(Θ) = V + a` with `a = γω sin φ`. With `c = cos Θ`, `s = sin Θ`,
+//! `h(Θ) = h₀ c + h'(0) s` and `h'(Θ) = -h₀ s + h'(0) c` give
+//! `h'(0) s = h₀(1-c)` and `-h₀ s + h'(0) c = V + a`. Eliminating `h₀` with
+//! `s² = (1-c)(1+c)`: `-2a(1-c) = V(1-c)(1-r)`, so `a = -V(1-r)/2`, i.e.
+//! `γ sin φ = -V rm/2` with `rm = (1-r)/ω`; and `h₀ = -V cs/2` with
+//! `cs = s(1+r)/(1-c)`, i.e. `γ cos φ = σ + V cs/2`. Adding the squares:
+//!
+//! ```text
+//! (cs² + rm²) V²/4 + cs σ V + σ² - γ² = 0 .
+//! ```
+
+/// Steady amplitude of `x'' + 2ζx' + x = sin(ωt + τ)`.
+pub fn free_amplitude(omega: f64, zeta: f64) -> f64 {
+    1.0 / ((1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2)).sqrt()
+}
+
+/// Positive impact speeds `V` of (1, n) orbits of the undamped single-stop
+/// oscillator (see the module doc); unstable and inadmissible ones included.
+pub fn single_stop_impact_speeds(omega: f64, sigma: f64, r: f64, n: u32) -> Vec<f64> {
+    let gamma = 1.0 / (1.0 - omega * omega);
+    let theta = 2.0 * std::f64::consts::PI * n as f64 / omega;
+    let (s, c) = theta.sin_cos();
+    let cs = s * (1.0 + r) / (1.0 - c);
+    let rm = (1.0 - r) / omega;
+    let (qa, qb, qc) = (
+        (cs * cs + rm * rm) / 4.0,
+        cs * sigma,
+        sigma * sigma - gamma * gamma,
+    );
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc < 0.0 {
+        return Vec::new();
+    }
+    let sq = disc.sqrt();
+    // Numerically stable pair of roots.
+    let q = -0.5 * (qb + qb.signum() * sq);
+    let mut roots = vec![q / qa, qc / q];
+    roots.retain(|v| v.is_finite() && *v > 0.0);
+    roots
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roots_solve_the_quadratic() {
+        let (omega, sigma, r) = (2.5f64, 0.1, 0.8);
+        for v in single_stop_impact_speeds(omega, sigma, r, 1) {
+            let gamma = 1.0 / (1.0 - omega * omega);
+            let th = 2.0 * std::f64::consts::PI / omega;
+            let cs = th.sin() * (1.0 + r) / (1.0 - th.cos());
+            let rm = (1.0 - r) / omega;
+            let res =
+                (cs * cs + rm * rm) * v * v / 4.0 + cs * sigma * v + sigma * sigma - gamma * gamma;
+            assert!(res.abs() < 1e-12);
+        }
+        assert!((free_amplitude(0.0, 0.3) - 1.0).abs() < 1e-15);
+    }
+}

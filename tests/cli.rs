@@ -1,0 +1,138 @@
+//! `vibroatlas cell` end to end (issue 2).
+
+use crate::util::{cell_json, run};
+
+/// Issue 2: the published labels of the multi-stop scene.
+#[test]
+fn published_labels() {
+    let cases = [
+        ("0.33", "0.6", "1-4-4"),
+        ("0.295", "0.6", "1-5-6"),
+        ("0.20", "0.6", "1-S-S"),
+        ("2.5", "1.2", "1-0-0"),
+    ];
+    for (omega, delta, label) in cases {
+        let j = cell_json(&[
+            "configs/multi-stop.toml",
+            "--set",
+            &format!("omega={omega}"),
+            "--set",
+            &format!("delta={delta}"),
+        ]);
+        assert_eq!(j["labels"]["M1"], label, "omega {omega} delta {delta}: {j}");
+        assert_eq!(j["class"], "periodic");
+    }
+    // Complete chattering sticks at both of M1's stops (A1 below, A12 at M2).
+    let j = cell_json(&[
+        "configs/multi-stop.toml",
+        "--set",
+        "omega=0.2",
+        "--set",
+        "delta=0.6",
+    ]);
+    assert_eq!(j["sticking"]["A1"], true);
+    assert_eq!(j["sticking"]["A12"], true);
+    assert_eq!(j["chatter"]["A1"], true);
+}
+
+/// Issue 2: the JSON object carries every documented field.
+#[test]
+fn json_shape() {
+    let j = cell_json(&[
+        "configs/multi-stop.toml",
+        "--set",
+        "omega=0.33",
+        "--set",
+        "delta=0.6",
+    ]);
+    for key in [
+        "class",
+        "n",
+        "labels",
+        "impacts",
+        "chatter",
+        "sticking",
+        "symmetry",
+        "final_state",
+        "periods_simulated",
+        "events",
+    ] {
+        assert!(j.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(j["n"], 1);
+    assert_eq!(j["impacts"]["A1"], 4);
+    assert_eq!(j["impacts"]["A12"], 4);
+    assert_eq!(j["final_state"].as_array().unwrap().len(), 4);
+    assert!(j["symmetry"].is_null());
+    let j = cell_json(&["configs/impact-damper.toml", "--set", "omega=1.0"]);
+    assert!(j["symmetry"] == "S" || j["symmetry"] == "AS", "{j}");
+}
+
+/// Issue 2: the same cell gives bit-identical JSON twice, with either integrator.
+#[test]
+fn deterministic_output() {
+    for integ in ["exact", "rk4"] {
+        let args = [
+            "cell",
+            "configs/multi-stop.toml",
+            "--set",
+            "omega=0.295",
+            "--set",
+            "delta=0.6",
+            "--integrator",
+            integ,
+            "--json",
+        ];
+        let (a, b) = (run(&args), run(&args));
+        assert!(a.status.success());
+        assert_eq!(a.stdout, b.stdout);
+    }
+}
+
+/// Issue 2: RK4 (the literature's method) reaches the same published labels.
+#[test]
+fn rk4_reaches_the_published_labels() {
+    for (omega, label) in [("0.33", "1-4-4"), ("0.20", "1-S-S")] {
+        let j = cell_json(&[
+            "configs/multi-stop.toml",
+            "--set",
+            &format!("omega={omega}"),
+            "--integrator",
+            "rk4",
+        ]);
+        assert_eq!(j["labels"]["M1"], label);
+        assert_eq!(j["integrator"], "rk4");
+    }
+}
+
+/// Issue 2: `--trace` writes the classified window as CSV with a header naming
+/// every coordinate and velocity.
+#[test]
+fn trace_csv() {
+    let dir = std::env::temp_dir().join(format!("vibroatlas-trace-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("trace.csv");
+    let out = run(&[
+        "cell",
+        "configs/multi-stop.toml",
+        "--trace",
+        path.to_str().unwrap(),
+        "--trace-samples",
+        "50",
+    ]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap(), "t,x_M1,x_M2,v_M1,v_M2,event");
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    // One period of samples plus the 8 impact events of a 1-4-4 motion.
+    assert_eq!(rows.len(), 51 + 8);
+    assert_eq!(rows.iter().filter(|r| r[5] == 1.0).count(), 8);
+    // No sample penetrates a stop (delta = 0.6).
+    for r in &rows {
+        assert!(r[1] >= -0.6 - 1e-9 && r[1] - r[2] <= 0.6 + 1e-9 && r[2] >= -0.6 - 1e-9);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,8 @@
+//! Integration tests, one module per concern. Each test names the issue whose
+//! contract it checks.
+
+mod agreement;
+mod bad_input;
+mod cli;
+mod closed_form;
+mod util;
