@@ -67,6 +67,10 @@ pub struct Accuracy {
     pub chatter_impacts: usize,
     /// Event budget of one cell; past it the cell is `unresolved` (standard 400 000).
     pub max_events: usize,
+    /// Accelerate slowly contracting transients by Newton's method on the period
+    /// map once the impact pattern repeats (standard and fast: on; precise: off,
+    /// so that the reference is plain simulation).
+    pub newton: bool,
     /// Step of the RK4 integrator (0.01, the literature's value).
     pub rk4_step: f64,
     /// RK4 refines a crossing by dividing the step by 10 until it is below this (1e-10).
@@ -87,6 +91,7 @@ impl Accuracy {
             n_max: 32,
             chatter_impacts: 6,
             max_events: 400_000,
+            newton: true,
             rk4_step: 0.01,
             rk4_min_step: 1e-10,
         };
@@ -112,6 +117,7 @@ impl Accuracy {
                 max_periods: 3000,
                 periodic_tol: 1e-9,
                 max_events: 4_000_000,
+                newton: false,
                 ..standard
             },
         }
@@ -151,6 +157,8 @@ impl Accuracy {
             "n_max" => self.n_max = count()?,
             "chatter_impacts" => self.chatter_impacts = count()?,
             "max_events" => self.max_events = count()?,
+            "newton" if value == 0.0 || value == 1.0 => self.newton = value == 1.0,
+            "newton" => return Err(err(&format!("must be 0 or 1, got {value}"))),
             "rk4_step" => self.rk4_step = positive()?,
             "rk4_min_step" => self.rk4_min_step = positive()?,
             _ => return Err(err("unknown accuracy knob")),

@@ -10,6 +10,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::flow::Method;
+use crate::newton::{fixed_point, Pattern};
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
@@ -141,6 +142,31 @@ fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
     (!converging_divisor).then_some(n)
 }
 
+/// The smallest n whose impact pattern repeated over the last 3n periods while
+/// the section points still move and contract too slowly: at the observed rate
+/// `ρ = |s_k - s_{k-n}| / |s_{k-n} - s_{k-2n}|`, reaching `periodic_tol` would
+/// take longer than a Newton solve (about `3 (dim + 1) n` periods).
+fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(usize, Pattern)> {
+    let len = h.len();
+    let dim = h.back()?.end.len() as f64;
+    let n = (1..=acc.n_max).find(|&n| {
+        len > 3 * n
+            && (len - 2 * n..len)
+                .all(|i| h[i].impacts == h[i - n].impacts && h[i].end_held == h[i - n].end_held)
+            && {
+                let e1 = distance(&h[len - 1].end, &h[len - 1 - n].end);
+                let e2 = distance(&h[len - 1 - n].end, &h[len - 1 - 2 * n].end);
+                let rho = e1 / e2;
+                let remaining = (acc.periodic_tol / e1).ln() / rho.ln() * n as f64;
+                e1 > acc.periodic_tol && rho < 1.0 && remaining > 3.0 * (dim + 1.0) * n as f64
+            }
+    })?;
+    Some((
+        n,
+        h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(),
+    ))
+}
+
 /// Simulates a cell from full state `y0` and classifies its steady motion.
 pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> CellResult {
     let stops = sys.stops.len();
@@ -180,6 +206,8 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     let cap = 3 * acc.n_max + 1;
     let mut hist: VecDeque<PeriodRecord> = VecDeque::with_capacity(cap + 1);
     let mut found = None;
+    let mut probe: Option<Simulator> = None;
+    let (mut newton_tries, mut newton_next) = (0, 0);
     while (sim.periods as usize) < acc.max_periods {
         match sim.run_period(&[], symmetric, &mut Ignore) {
             Ok(rec) => {
@@ -197,13 +225,27 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                 )
             }
         }
-        if sim.periods as usize >= acc.min_transient {
-            if let Some(n) = detect(&hist, acc) {
-                found = Some(n);
-                break;
+        if (sim.periods as usize) < acc.min_transient {
+            continue;
+        }
+        if let Some(n) = detect(&hist, acc) {
+            found = Some(n);
+            break;
+        }
+        if acc.newton && newton_tries < 3 && sim.periods >= newton_next {
+            if let Some((n, pattern)) = contracting_pattern(&hist, acc) {
+                newton_tries += 1;
+                newton_next = sim.periods + 3 * n as u64;
+                let p = probe.get_or_insert_with(|| sim.clone());
+                if let Some(x) = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol) {
+                    if sim.restart(x.as_slice()).is_ok() {
+                        hist.clear();
+                    }
+                }
             }
         }
     }
+    let (extra_periods, extra_events) = probe.map_or((0, 0), |p| (p.periods, p.events));
     let len = hist.len();
     let window = found.unwrap_or(acc.n_max.min(len));
     let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
@@ -264,8 +306,8 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         final_state: sim.y.as_slice().to_vec(),
         window_start,
         section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),
-        periods: sim.periods,
-        events: sim.events,
+        periods: sim.periods + extra_periods,
+        events: sim.events + extra_events,
         reason: None,
     }
 }

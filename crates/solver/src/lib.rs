@@ -27,6 +27,7 @@ pub mod error;
 pub mod flow;
 pub mod impact;
 pub mod mode;
+pub mod newton;
 pub mod reference;
 pub mod simulate;
 pub mod stick;

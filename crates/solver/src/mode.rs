@@ -192,6 +192,9 @@ impl Mode {
     pub fn lift(&self, s: &DVector<f64>) -> DVector<f64> {
         let m = self.basis.nrows();
         let r = self.basis.ncols();
+        if self.held == 0 {
+            return s.rows(0, 2 * m).into_owned();
+        }
         let mut y = DVector::zeros(2 * m);
         y.rows_mut(0, m)
             .copy_from(&(&self.basis * s.rows(0, r) + &self.offset));

@@ -9,6 +9,7 @@
 use crate::accuracy::Accuracy;
 use crate::chatter::ChatterTracker;
 use crate::error::SolverError;
+use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
 use crate::impact;
 use crate::mode::GuardKind;
@@ -71,6 +72,7 @@ pub struct Simulator<'s> {
     acc: Accuracy,
     method: Method,
     cache: ModeCache,
+    work: Workspace,
     chatter: ChatterTracker,
     /// Full state `[x; v]`.
     pub y: DVector<f64>,
@@ -88,25 +90,34 @@ pub struct Simulator<'s> {
 impl<'s> Simulator<'s> {
     /// Starts at full state `y0` at `t = 0`; stops in contact at rest are held.
     pub fn new(sys: &'s System, acc: Accuracy, method: Method, y0: &[f64]) -> Result<Self, Halt> {
-        let y = DVector::from_column_slice(y0);
         let mut sim = Simulator {
             sys,
             acc,
             method,
             cache: ModeCache::default(),
+            work: Workspace::default(),
             chatter: ChatterTracker::new(sys.stops.len()),
-            y,
+            y: DVector::zeros(y0.len()),
             held: 0,
             clock: 0.0,
             periods: 0,
             events: 0,
             zero_steps: 0,
         };
-        let cand = candidates(sys, &acc, &sim.y);
-        let phase = sim.phase();
-        sim.held = settle(sys, &acc, &mut sim.cache, &sim.y, phase, cand)?;
-        sim.snap()?;
+        sim.restart(y0)?;
         Ok(sim)
+    }
+
+    /// Restarts from full state `y0` at `t = 0` (counters and built modes are kept).
+    pub fn restart(&mut self, y0: &[f64]) -> Result<(), Halt> {
+        self.y = DVector::from_column_slice(y0);
+        self.clock = 0.0;
+        self.zero_steps = 0;
+        self.chatter = ChatterTracker::new(self.sys.stops.len());
+        let cand = candidates(self.sys, &self.acc, &self.y);
+        let phase = self.phase();
+        self.held = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand)?;
+        self.snap()
     }
 
     fn phase(&self) -> f64 {
@@ -165,7 +176,7 @@ impl<'s> Simulator<'s> {
             let s0 = mode.project(&self.y, phase);
             match self
                 .method
-                .advance(mode, &s0, target - self.clock, &self.acc)
+                .advance(mode, &s0, target - self.clock, &self.acc, &mut self.work)
             {
                 Advance::Horizon(s) => {
                     self.y = mode.lift(&s);

@@ -9,7 +9,7 @@
 //! A guard starting at zero and moving away is masked for the time in which its
 //! leading Taylor term provably dominates (`g >= g^(j) u^j/j! - G_{j+1} u^{j+1}/(j+1)!`).
 
-use super::spectral::{bound, differentiate, evaluate};
+use super::spectral::{bound, differentiate_into, evaluate, Modal, Term};
 use super::{classify_start, start_tolerances, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::{GuardKind, Mode};
@@ -19,108 +19,187 @@ use num_complex::Complex64 as C64;
 /// Steps allowed in one advance before it is declared stalled.
 const MAX_STEPS: usize = 20_000;
 
-/// Advances `s0` for at most `horizon` in `mode` (see the module doc).
-pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> Advance {
-    let sp = &mode.spectral;
-    let nt = sp.terms().len();
-    let modal = sp.modal(s0);
-    // beta[g][j]: coefficients of the j-th derivative of guard g, j = 0..=5.
-    let beta: Vec<[Vec<C64>; 6]> = mode
-        .guards
-        .iter()
-        .map(|g| {
-            let b0 = modal.functional(&g.row);
-            let b1 = differentiate(sp.terms(), &b0);
-            let b2 = differentiate(sp.terms(), &b1);
-            let b3 = differentiate(sp.terms(), &b2);
-            let b4 = differentiate(sp.terms(), &b3);
-            let b5 = differentiate(sp.terms(), &b4);
-            [b0, b1, b2, b3, b4, b5]
-        })
-        .collect();
-    let mut f = vec![C64::new(0.0, 0.0); nt];
-    let mut fb = vec![0.0; nt];
-    let mut masked_until = vec![0.0f64; mode.guards.len()];
-    let mut u = 0.0f64;
+/// Buffers reused by every advance of a simulation (no allocation once warm).
+#[derive(Debug, Clone, Default)]
+pub struct Workspace {
+    modal: Modal,
+    f: Vec<C64>,
+    fb: Vec<f64>,
+    /// Per guard: coefficients of the guard, its rate and its acceleration.
+    beta: Vec<C64>,
+    /// Per guard: `|re| + |im|` of the acceleration coefficients, an upper bound of
+    /// their moduli (for `G₂`).
+    moduli: Vec<f64>,
+    masked: Vec<f64>,
+    high: Vec<C64>,
+    high_moduli: Vec<f64>,
+}
 
-    // Decide, at time u, whether guard gi is at contact and approaching (Some(true)),
-    // at contact and departing (masks it; Some(false)), or clear (None).
-    let contact = |gi: usize, f: &[C64], fb: &[f64], masked: &mut f64, u: f64| -> Option<bool> {
-        let b = &beta[gi];
-        let d = [
-            evaluate(f, &b[0]),
-            evaluate(f, &b[1]),
-            evaluate(f, &b[2]),
-            evaluate(f, &b[3]),
-            evaluate(f, &b[4]),
-        ];
-        let scale = [
-            0.0,
-            bound(fb, &b[1]),
-            bound(fb, &b[2]),
-            bound(fb, &b[3]),
-            bound(fb, &b[4]),
-        ];
-        let tol = start_tolerances(acc, mode.guards[gi].kind == GuardKind::Gap, &scale, &d);
-        match classify_start(&d, &tol) {
-            Start::Clear => None,
-            Start::Approaching => Some(true),
-            Start::Departing { order, rate } => {
-                let escape = if order == 0 {
-                    acc.event_tol * 1e3
+/// What a guard at zero does next (see [`Start`]); masks it while it departs.
+#[allow(clippy::too_many_arguments)]
+fn at_contact(
+    terms: &[Term],
+    beta: &[C64],
+    high: &mut [C64],
+    high_moduli: &mut [f64],
+    f: &[C64],
+    fb: &[f64],
+    is_gap: bool,
+    acc: &Accuracy,
+    u: f64,
+    horizon: f64,
+    masked: &mut f64,
+) -> bool {
+    let nt = terms.len();
+    // Coefficients of derivatives 0..=5: three kept per guard, three more here.
+    high[..3 * nt].copy_from_slice(beta);
+    for j in 3..6 {
+        let (done, rest) = high.split_at_mut(j * nt);
+        differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
+    }
+    for (m, b) in high_moduli.iter_mut().zip(high.iter()) {
+        *m = b.l1_norm();
+    }
+    let coef = |j: usize| &high[j * nt..(j + 1) * nt];
+    let modl = |j: usize| &high_moduli[j * nt..(j + 1) * nt];
+    let d = [
+        evaluate(f, coef(0)),
+        evaluate(f, coef(1)),
+        evaluate(f, coef(2)),
+        evaluate(f, coef(3)),
+        evaluate(f, coef(4)),
+    ];
+    let scale = [
+        0.0,
+        bound(fb, modl(1)),
+        bound(fb, modl(2)),
+        bound(fb, modl(3)),
+        bound(fb, modl(4)),
+    ];
+    match classify_start(&d, &start_tolerances(acc, is_gap, &scale, &d)) {
+        Start::Clear => false,
+        Start::Approaching => true,
+        Start::Departing { order, rate } => {
+            let escape = if order == 0 {
+                acc.event_tol * 1e3
+            } else {
+                let g_next = bound(fb, modl(order + 1));
+                if g_next > 0.0 {
+                    (order + 1) as f64 * rate / g_next
                 } else {
-                    let g_next = bound(fb, &b[order + 1]);
-                    if g_next > 0.0 {
-                        (order + 1) as f64 * rate / g_next
-                    } else {
-                        horizon
-                    }
-                };
-                *masked = u + 0.5 * escape.max(acc.event_tol);
-                Some(false)
-            }
+                    horizon
+                }
+            };
+            *masked = u + 0.5 * escape.max(acc.event_tol);
+            false
         }
+    }
+}
+
+/// Advances `s0` for at most `horizon` in `mode` (see the module doc).
+pub fn advance(
+    mode: &Mode,
+    s0: &DVector<f64>,
+    horizon: f64,
+    acc: &Accuracy,
+    w: &mut Workspace,
+) -> Advance {
+    let sp = &mode.spectral;
+    let terms = sp.terms();
+    let nt = terms.len();
+    let ng = mode.guards.len();
+    sp.modal_into(s0.as_slice(), &mut w.modal);
+    w.f.resize(nt, C64::new(0.0, 0.0));
+    w.fb.resize(nt, 0.0);
+    w.beta.resize(3 * nt * ng, C64::new(0.0, 0.0));
+    w.moduli.resize(nt * ng, 0.0);
+    w.high.resize(6 * nt, C64::new(0.0, 0.0));
+    w.high_moduli.resize(6 * nt, 0.0);
+    w.masked.clear();
+    w.masked.resize(ng, 0.0);
+    for (gi, g) in mode.guards.iter().enumerate() {
+        let b = &mut w.beta[3 * nt * gi..3 * nt * (gi + 1)];
+        w.modal.functional_into(g.row.as_slice(), &mut b[..nt]);
+        for j in 1..3 {
+            let (done, rest) = b.split_at_mut(j * nt);
+            differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
+        }
+        for (m, x) in w.moduli[nt * gi..nt * (gi + 1)]
+            .iter_mut()
+            .zip(&b[2 * nt..])
+        {
+            *m = x.l1_norm();
+        }
+    }
+    let event = |w: &Workspace, guard: usize, time: f64| {
+        let mut state = DVector::zeros(s0.len());
+        w.modal.state_into(&w.f, state.as_mut_slice());
+        Advance::Event { guard, time, state }
     };
 
-    sp.factors(0.0, &mut f);
-    sp.factor_bounds(0.0, horizon, &mut fb);
-    for gi in 0..mode.guards.len() {
-        if contact(gi, &f, &fb, &mut masked_until[gi], 0.0) == Some(true) {
-            return Advance::Event {
-                guard: gi,
-                time: 0.0,
-                state: s0.clone(),
-            };
+    let mut u = 0.0f64;
+    sp.factors(0.0, &mut w.f);
+    sp.factor_bounds(0.0, horizon, &mut w.fb);
+    for gi in 0..ng {
+        let b = &w.beta[3 * nt * gi..3 * nt * (gi + 1)];
+        if evaluate(&w.f, &b[..nt]) <= acc.contact_tol {
+            let is_gap = mode.guards[gi].kind == GuardKind::Gap;
+            if at_contact(
+                terms,
+                b,
+                &mut w.high,
+                &mut w.high_moduli,
+                &w.f,
+                &w.fb,
+                is_gap,
+                acc,
+                0.0,
+                horizon,
+                &mut w.masked[gi],
+            ) {
+                return Advance::Event {
+                    guard: gi,
+                    time: 0.0,
+                    state: s0.clone(),
+                };
+            }
         }
     }
 
     for _ in 0..MAX_STEPS {
         if u > 0.0 {
-            sp.factors(u, &mut f);
-            sp.factor_bounds(u, horizon, &mut fb);
+            sp.factors(u, &mut w.f);
+            sp.factor_bounds(u, horizon, &mut w.fb);
         }
         let mut h = horizon - u;
         let mut which = None;
-        for gi in 0..mode.guards.len() {
-            let cand = if u < masked_until[gi] {
-                masked_until[gi] - u
+        for gi in 0..ng {
+            let cand = if u < w.masked[gi] {
+                w.masked[gi] - u
             } else {
-                let b = &beta[gi];
-                let g = evaluate(&f, &b[0]);
-                let gd = evaluate(&f, &b[1]);
+                let b = &w.beta[3 * nt * gi..3 * nt * (gi + 1)];
+                let g = evaluate(&w.f, &b[..nt]);
                 if g <= acc.contact_tol {
-                    match contact(gi, &f, &fb, &mut masked_until[gi], u) {
-                        Some(true) => {
-                            return Advance::Event {
-                                guard: gi,
-                                time: u,
-                                state: modal.state(&f),
-                            }
-                        }
-                        _ => masked_until[gi] - u,
+                    let is_gap = mode.guards[gi].kind == GuardKind::Gap;
+                    if at_contact(
+                        terms,
+                        b,
+                        &mut w.high,
+                        &mut w.high_moduli,
+                        &w.f,
+                        &w.fb,
+                        is_gap,
+                        acc,
+                        u,
+                        horizon,
+                        &mut w.masked[gi],
+                    ) {
+                        return event(w, gi, u);
                     }
+                    w.masked[gi] - u
                 } else {
-                    let g2 = bound(&fb, &b[2]);
+                    let gd = evaluate(&w.f, &b[nt..2 * nt]);
+                    let g2 = bound(&w.fb, &w.moduli[nt * gi..nt * (gi + 1)]);
                     let root = if g2 > 0.0 {
                         (gd + (gd * gd + 2.0 * g2 * g).sqrt()) / g2
                     } else if gd < 0.0 {
@@ -131,12 +210,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
                     if root < h && root <= acc.event_tol {
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;
-                        sp.factors(t, &mut f);
-                        return Advance::Event {
-                            guard: gi,
-                            time: t,
-                            state: modal.state(&f),
-                        };
+                        sp.factors(t, &mut w.f);
+                        return event(w, gi, t);
                     }
                     root
                 }
@@ -147,8 +222,10 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             }
         }
         if which.is_none() {
-            sp.factors(horizon, &mut f);
-            return Advance::Horizon(modal.state(&f));
+            sp.factors(horizon, &mut w.f);
+            let mut state = DVector::zeros(s0.len());
+            w.modal.state_into(&w.f, state.as_mut_slice());
+            return Advance::Horizon(state);
         }
         u += h;
     }

@@ -58,9 +58,16 @@ impl Method {
     }
 
     /// Advances `s0` in `mode` for at most `horizon`, stopping at the first event.
-    pub fn advance(self, mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> Advance {
+    pub fn advance(
+        self,
+        mode: &Mode,
+        s0: &DVector<f64>,
+        horizon: f64,
+        acc: &Accuracy,
+        work: &mut exact::Workspace,
+    ) -> Advance {
         match self {
-            Method::Exact => exact::advance(mode, s0, horizon, acc),
+            Method::Exact => exact::advance(mode, s0, horizon, acc, work),
             Method::Rk4 => rk4::advance(mode, s0, horizon, acc),
         }
     }

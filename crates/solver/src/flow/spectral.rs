@@ -52,9 +52,10 @@ pub struct Spectral {
 }
 
 /// The modal coefficients of one initial state: `s(u) = Σ_t Re(f_t(u) Y_t)`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Modal {
-    y: Vec<DVector<C64>>,
+    dim: usize,
+    y: Vec<C64>,
 }
 
 fn null_space_real(m: &DMatrix<f64>, k: usize) -> Option<DMatrix<C64>> {
@@ -242,18 +243,39 @@ impl Spectral {
 
     /// Modal coefficients `Y_t = V_c N_c^j W_c s0` of an initial state.
     pub fn modal(&self, s0: &DVector<f64>) -> Modal {
-        let s = s0.map(|x| C64::new(x, 0.0));
-        let mut y = Vec::with_capacity(self.terms.len());
+        let mut m = Modal::default();
+        self.modal_into(s0.as_slice(), &mut m);
+        m
+    }
+
+    /// [`Spectral::modal`] into a reused buffer (no allocation once warm).
+    pub fn modal_into(&self, s0: &[f64], out: &mut Modal) {
+        let dim = self.dim;
+        out.dim = dim;
+        out.y.clear();
+        out.y.resize(self.terms.len() * dim, C64::new(0.0, 0.0));
+        let mut t = 0;
+        let mut d = [C64::new(0.0, 0.0); 16];
+        let mut e = [C64::new(0.0, 0.0); 16];
         for c in &self.clusters {
-            let mut d = &c.w * &s;
+            let k = c.v.ncols();
+            for (r, dr) in d.iter_mut().enumerate().take(k) {
+                *dr = (0..dim).map(|j| c.w[(r, j)] * s0[j]).sum();
+            }
             for j in 0..c.powers {
                 if j > 0 {
-                    d = &c.n * d;
+                    for (r, er) in e.iter_mut().enumerate().take(k) {
+                        *er = (0..k).map(|q| c.n[(r, q)] * d[q]).sum();
+                    }
+                    d[..k].copy_from_slice(&e[..k]);
                 }
-                y.push(&c.v * &d);
+                let row = &mut out.y[t * dim..(t + 1) * dim];
+                for (i, yi) in row.iter_mut().enumerate() {
+                    *yi = (0..k).map(|q| c.v[(i, q)] * d[q]).sum();
+                }
+                t += 1;
             }
         }
-        Modal { y }
     }
 
     /// Fills `out[t] = weight_t e^{μ_t u} u^j / j!` for every term.
@@ -295,37 +317,54 @@ impl Spectral {
 impl Modal {
     /// The state at the time whose factors are `f`.
     pub fn state(&self, f: &[C64]) -> DVector<f64> {
-        let mut s = DVector::zeros(self.y[0].len());
-        for (y, &ft) in self.y.iter().zip(f) {
-            for (si, yi) in s.iter_mut().zip(y.iter()) {
-                *si += (ft * yi).re;
-            }
-        }
+        let mut s = DVector::zeros(self.dim);
+        self.state_into(f, s.as_mut_slice());
         s
     }
 
+    /// [`Modal::state`] into a slice.
+    pub fn state_into(&self, f: &[C64], out: &mut [f64]) {
+        out.fill(0.0);
+        for (y, &ft) in self.y.chunks_exact(self.dim).zip(f) {
+            for (si, yi) in out.iter_mut().zip(y) {
+                *si += ft.re * yi.re - ft.im * yi.im;
+            }
+        }
+    }
+
     /// Coefficients `β_t = row · Y_t` of a linear functional of the state.
-    pub fn functional(&self, row: &DVector<f64>) -> Vec<C64> {
-        self.y
-            .iter()
-            .map(|y| y.iter().zip(row.iter()).map(|(a, &b)| a * b).sum())
-            .collect()
+    pub fn functional(&self, row: &[f64]) -> Vec<C64> {
+        let mut out = vec![C64::new(0.0, 0.0); self.y.len() / self.dim.max(1)];
+        self.functional_into(row, &mut out);
+        out
+    }
+
+    /// [`Modal::functional`] into a slice (one entry per term).
+    pub fn functional_into(&self, row: &[f64], out: &mut [C64]) {
+        for (y, o) in self.y.chunks_exact(self.dim).zip(out.iter_mut()) {
+            *o = y.iter().zip(row).map(|(a, &b)| a * b).sum();
+        }
     }
 }
 
 /// Coefficients of the time derivative of `Σ_t Re(f_t β_t)`:
 /// `β'_{c,j} = μ_c β_{c,j} + β_{c,j+1}`.
 pub fn differentiate(terms: &[Term], beta: &[C64]) -> Vec<C64> {
-    let mut out = Vec::with_capacity(beta.len());
+    let mut out = vec![C64::new(0.0, 0.0); beta.len()];
+    differentiate_into(terms, beta, &mut out);
+    out
+}
+
+/// [`differentiate`] into a slice.
+pub fn differentiate_into(terms: &[Term], beta: &[C64], out: &mut [C64]) {
     for t in 0..beta.len() {
         let next = if t + 1 < beta.len() && terms[t + 1].power == terms[t].power + 1 {
             beta[t + 1]
         } else {
             C64::new(0.0, 0.0)
         };
-        out.push(terms[t].lambda * beta[t] + next);
+        out[t] = terms[t].lambda * beta[t] + next;
     }
-    out
 }
 
 /// `Σ_t Re(f_t β_t)`.
@@ -336,9 +375,9 @@ pub fn evaluate(f: &[C64], beta: &[C64]) -> f64 {
         .sum()
 }
 
-/// `Σ_t |β_t| bound_t`.
-pub fn bound(bounds: &[f64], beta: &[C64]) -> f64 {
-    bounds.iter().zip(beta).map(|(b, x)| b * x.norm()).sum()
+/// `Σ_t |β_t| bound_t`, with `moduli[t] = |β_t|`.
+pub fn bound(bounds: &[f64], moduli: &[f64]) -> f64 {
+    bounds.iter().zip(moduli).map(|(b, x)| b * x).sum()
 }
 
 #[cfg(test)]
@@ -436,7 +475,7 @@ mod tests {
         let s0 = DVector::from_vec(vec![0.1, -0.2, 0.3, (1.0f64 - 0.09).sqrt(), 1.0]);
         let modal = sp.modal(&s0);
         let row = DVector::from_vec(vec![1.0, 0.0, 0.0, 0.0, 0.0]);
-        let beta = modal.functional(&row);
+        let beta = modal.functional(row.as_slice());
         let d1 = differentiate(sp.terms(), &beta);
         let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
         let (u, h) = (2.0, 1e-6);
