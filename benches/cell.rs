@@ -11,23 +11,15 @@ use std::time::Duration;
 const CELLS: [(f64, f64); 3] = [(0.3, 0.6), (1.0, 1.2), (2.5, 0.6)];
 
 fn system(omega: f64, delta: f64) -> System {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/configs/multi-stop.toml"
-    ))
-    .unwrap();
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/multi-stop.toml")).unwrap();
     let scene = scene::Scene::parse(&text).unwrap();
-    let model = scene
-        .evaluate(&[("omega".into(), omega), ("delta".into(), delta)])
-        .unwrap();
+    let model = scene.evaluate(&[("omega".into(), omega), ("delta".into(), delta)]).unwrap();
     System::new(model).unwrap()
 }
 
 fn bench_cells(c: &mut Criterion) {
     let mut g = c.benchmark_group("cell");
-    g.warm_up_time(Duration::from_millis(500))
-        .measurement_time(Duration::from_secs(2))
-        .sample_size(20);
+    g.warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2)).sample_size(20);
     for &(omega, delta) in &CELLS {
         let sys = system(omega, delta);
         let y0 = sys.model.initial_state();
@@ -38,11 +30,9 @@ fn bench_cells(c: &mut Criterion) {
             ("rk4-h0.01", Method::Rk4, Preset::Standard),
         ] {
             let acc = Accuracy::preset(preset);
-            g.bench_with_input(
-                BenchmarkId::new(name, format!("w{omega}-d{delta}")),
-                &acc,
-                |b, acc| b.iter(|| black_box(run_cell(&sys, acc, method, &y0))),
-            );
+            g.bench_with_input(BenchmarkId::new(name, format!("w{omega}-d{delta}")), &acc, |b, acc| {
+                b.iter(|| black_box(run_cell(&sys, acc, method, &y0)))
+            });
         }
     }
     g.finish();

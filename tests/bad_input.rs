@@ -34,109 +34,53 @@ fn malformed_toml() {
 
 #[test]
 fn unknown_key() {
-    let p = scene_file(
-        "unknown.toml",
-        &multi_stop_with("restitution = \"R\"", "restitution = \"R\"\nelasticity = 1"),
-    );
+    let p = scene_file("unknown.toml", &multi_stop_with("restitution = \"R\"", "restitution = \"R\"\nelasticity = 1"));
     expect_error(&["cell", p.to_str().unwrap()], "elasticity");
 }
 
 #[test]
 fn missing_parameter_in_expression() {
-    let p = scene_file(
-        "missing.toml",
-        &multi_stop_with("position = \"-delta1\"", "position = \"-delta9\""),
-    );
+    let p = scene_file("missing.toml", &multi_stop_with("position = \"-delta1\"", "position = \"-delta9\""));
     expect_error(&["cell", p.to_str().unwrap()], "stops[0].position");
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "omgea=0.3"],
-        "omgea",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "omgea=0.3"], "omgea");
 }
 
 #[test]
 fn mass_ratio_outside_unit_interval() {
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "mu_m=1.5"],
-        "parameters.mu_m",
-    );
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "mu_k=0"],
-        "parameters.mu_k",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "mu_m=1.5"], "parameters.mu_m");
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "mu_k=0"], "parameters.mu_k");
 }
 
 #[test]
 fn restitution_outside_unit_interval() {
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "R=1.2"],
-        "parameters.R",
-    );
-    expect_error(
-        &["cell", "configs/single-stop.toml", "--set", "r=-0.1"],
-        "parameters.r",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "R=1.2"], "parameters.R");
+    expect_error(&["cell", "configs/single-stop.toml", "--set", "r=-0.1"], "parameters.r");
     // Without a declared range the stop itself refuses it.
     let p = scene_file(
         "r.toml",
-        &multi_stop_with(
-            "R = { value = 0.8, range = \"[0, 1]\", doc = \"coefficient of restitution\" }",
-            "R = 1.2",
-        ),
+        &multi_stop_with("R = { value = 0.8, range = \"[0, 1]\", doc = \"coefficient of restitution\" }", "R = 1.2"),
     );
     expect_error(&["cell", p.to_str().unwrap()], "stops[0].restitution");
 }
 
 #[test]
 fn negative_clearance() {
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "delta=-0.1"],
-        "delta",
-    );
-    expect_error(
-        &["cell", "configs/impact-damper.toml", "--set", "delta=-1"],
-        "delta",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "delta=-0.1"], "delta");
+    expect_error(&["cell", "configs/impact-damper.toml", "--set", "delta=-1"], "delta");
 }
 
 #[test]
 fn nan_in_set() {
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "omega=nan"],
-        "--set omega",
-    );
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "omega=abc"],
-        "--set omega",
-    );
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--set", "omega"],
-        "--set",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "omega=nan"], "--set omega");
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "omega=abc"], "--set omega");
+    expect_error(&["cell", "configs/multi-stop.toml", "--set", "omega"], "--set");
 }
 
 #[test]
 fn bad_options() {
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--preset", "quick"],
-        "--preset",
-    );
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--integrator", "euler"],
-        "--integrator",
-    );
-    expect_error(
-        &["cell", "configs/multi-stop.toml", "--accuracy", "n_max=0"],
-        "n_max",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--preset", "quick"], "--preset");
+    expect_error(&["cell", "configs/multi-stop.toml", "--integrator", "euler"], "--integrator");
+    expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "n_max=0"], "n_max");
     expect_error(&["cell", "configs/missing.toml"], "configs/missing.toml");
-    expect_error(
-        &[
-            "cell",
-            "configs/multi-stop.toml",
-            "--trace",
-            "/nonexistent-dir/t.csv",
-        ],
-        "/nonexistent-dir/t.csv",
-    );
+    expect_error(&["cell", "configs/multi-stop.toml", "--trace", "/nonexistent-dir/t.csv"], "/nonexistent-dir/t.csv");
 }

@@ -5,12 +5,8 @@ use crate::util::{cell_json, run};
 /// Issue 2: the published labels of the multi-stop scene.
 #[test]
 fn published_labels() {
-    let cases = [
-        ("0.33", "0.6", "1-4-4"),
-        ("0.295", "0.6", "1-5-6"),
-        ("0.20", "0.6", "1-S-S"),
-        ("2.5", "1.2", "1-0-0"),
-    ];
+    let cases =
+        [("0.33", "0.6", "1-4-4"), ("0.295", "0.6", "1-5-6"), ("0.20", "0.6", "1-S-S"), ("2.5", "1.2", "1-0-0")];
     for (omega, delta, label) in cases {
         let j = cell_json(&[
             "configs/multi-stop.toml",
@@ -23,13 +19,7 @@ fn published_labels() {
         assert_eq!(j["class"], "periodic");
     }
     // Complete chattering sticks at both of M1's stops (A1 below, A12 at M2).
-    let j = cell_json(&[
-        "configs/multi-stop.toml",
-        "--set",
-        "omega=0.2",
-        "--set",
-        "delta=0.6",
-    ]);
+    let j = cell_json(&["configs/multi-stop.toml", "--set", "omega=0.2", "--set", "delta=0.6"]);
     assert_eq!(j["sticking"]["A1"], true);
     assert_eq!(j["sticking"]["A12"], true);
     assert_eq!(j["chatter"]["A1"], true);
@@ -38,13 +28,7 @@ fn published_labels() {
 /// Issue 2: the JSON object carries every documented field.
 #[test]
 fn json_shape() {
-    let j = cell_json(&[
-        "configs/multi-stop.toml",
-        "--set",
-        "omega=0.33",
-        "--set",
-        "delta=0.6",
-    ]);
+    let j = cell_json(&["configs/multi-stop.toml", "--set", "omega=0.33", "--set", "delta=0.6"]);
     for key in [
         "class",
         "n",
@@ -93,13 +77,7 @@ fn deterministic_output() {
 #[test]
 fn rk4_reaches_the_published_labels() {
     for (omega, label) in [("0.33", "1-4-4"), ("0.20", "1-S-S")] {
-        let j = cell_json(&[
-            "configs/multi-stop.toml",
-            "--set",
-            &format!("omega={omega}"),
-            "--integrator",
-            "rk4",
-        ]);
+        let j = cell_json(&["configs/multi-stop.toml", "--set", &format!("omega={omega}"), "--integrator", "rk4"]);
         assert_eq!(j["labels"]["M1"], label);
         assert_eq!(j["integrator"], "rk4");
     }
@@ -112,21 +90,12 @@ fn trace_csv() {
     let dir = std::env::temp_dir().join(format!("vibroatlas-trace-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("trace.csv");
-    let out = run(&[
-        "cell",
-        "configs/multi-stop.toml",
-        "--trace",
-        path.to_str().unwrap(),
-        "--trace-samples",
-        "50",
-    ]);
+    let out = run(&["cell", "configs/multi-stop.toml", "--trace", path.to_str().unwrap(), "--trace-samples", "50"]);
     assert!(out.status.success());
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next().unwrap(), "t,x_M1,x_M2,v_M1,v_M2,event");
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let rows: Vec<Vec<f64>> = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
     // One period of samples plus the 8 impact events of a 1-4-4 motion.
     assert_eq!(rows.len(), 51 + 8);
     assert_eq!(rows.iter().filter(|r| r[5] == 1.0).count(), 8);

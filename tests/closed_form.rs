@@ -15,20 +15,14 @@ fn tight() -> Accuracy {
 #[test]
 fn free_steady_state_amplitude() {
     for &(omega, zeta) in &[(0.5, 0.1), (1.3, 0.1), (2.5, 0.06), (0.9, 0.25)] {
-        let sys = system(
-            "multi-stop.toml",
-            &[("omega", omega), ("zeta", zeta), ("delta", 8.0)],
-        );
+        let sys = system("multi-stop.toml", &[("omega", omega), ("zeta", zeta), ("delta", 8.0)]);
         let cell = run_cell(&sys, &tight(), Method::Exact, &sys.model.initial_state());
         assert_eq!(cell.class, Class::Periodic);
-        assert_eq!(cell.labels[0].label, "1-0-0");
+        assert_eq!(cell.labels[0].to_string(), "1-0-0");
         let (x, v) = (cell.final_state[0], cell.final_state[2]);
         let amp = (x * x + (v / omega).powi(2)).sqrt();
         let exact = free_amplitude(omega, zeta);
-        assert!(
-            (amp - exact).abs() < 1e-10,
-            "omega {omega}: {amp} vs {exact}"
-        );
+        assert!((amp - exact).abs() < 1e-10, "omega {omega}: {amp} vs {exact}");
     }
 }
 
@@ -44,28 +38,15 @@ fn single_stop_impact_speed() {
         (4.0, 0.0, 0.8, 2),
     ];
     for &(omega, sigma, r, n) in &cases {
-        let sys = system(
-            "single-stop.toml",
-            &[("omega", omega), ("sigma", sigma), ("r", r)],
-        );
+        let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", r)]);
         let cell = run_cell(&sys, &tight(), Method::Exact, &sys.model.initial_state());
-        assert_eq!(
-            cell.n,
-            Some(n as usize),
-            "omega {omega} sigma {sigma} r {r}"
-        );
+        assert_eq!(cell.n, Some(n as usize), "omega {omega} sigma {sigma} r {r}");
         assert_eq!(cell.impacts, vec![1]);
         let (rec, _) = record(&sys, &tight(), Method::Exact, &cell.final_state, n as usize);
         let v = rec.impacts[0].before[1];
         let roots = single_stop_impact_speeds(omega, sigma, r, n);
-        let best = roots
-            .iter()
-            .map(|x| (x - v).abs())
-            .fold(f64::INFINITY, f64::min);
-        assert!(
-            best < 1e-9,
-            "omega {omega} sigma {sigma} r {r}: V = {v}, roots {roots:?}"
-        );
+        let best = roots.iter().map(|x| (x - v).abs()).fold(f64::INFINITY, f64::min);
+        assert!(best < 1e-9, "omega {omega} sigma {sigma} r {r}: V = {v}, roots {roots:?}");
         // And the rebound follows the restitution law.
         assert!((rec.impacts[0].after[1] + r * v).abs() < 1e-14);
     }
@@ -75,24 +56,10 @@ fn single_stop_impact_speed() {
 /// two-mass impact; kinetic energy never increases at an impact.
 #[test]
 fn impact_laws_hold_at_every_impact() {
-    for &(omega, delta, mu_m) in &[
-        (0.33, 0.6, 0.5),
-        (0.295, 0.6, 0.25),
-        (0.2, 0.6, 0.75),
-        (1.1, 0.2, 0.05),
-    ] {
-        let sys = system(
-            "multi-stop.toml",
-            &[("omega", omega), ("delta", delta), ("mu_m", mu_m)],
-        );
+    for &(omega, delta, mu_m) in &[(0.33, 0.6, 0.5), (0.295, 0.6, 0.25), (0.2, 0.6, 0.75), (1.1, 0.2, 0.05)] {
+        let sys = system("multi-stop.toml", &[("omega", omega), ("delta", delta), ("mu_m", mu_m)]);
         let r = sys.model.parameter("R").unwrap();
-        let (rec, _) = record(
-            &sys,
-            &Accuracy::default(),
-            Method::Exact,
-            &sys.model.initial_state(),
-            40,
-        );
+        let (rec, _) = record(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state(), 40);
         assert!(rec.impacts.len() > 20);
         let mut pair = 0;
         for imp in &rec.impacts {
@@ -101,15 +68,9 @@ fn impact_laws_hold_at_every_impact() {
             if sys.model.stops[imp.stop].name == "A12" {
                 pair += 1;
                 let (pb, pa) = (sys.momentum(b), sys.momentum(a));
-                assert!(
-                    (pa - pb).abs() <= 1e-13 * (1.0 + pb.abs()),
-                    "momentum {pb} -> {pa}"
-                );
+                assert!((pa - pb).abs() <= 1e-13 * (1.0 + pb.abs()), "momentum {pb} -> {pa}");
                 let (rb, ra) = (b[2] - b[3], a[2] - a[3]);
-                assert!(
-                    (ra + r * rb).abs() <= 1e-13 * (1.0 + rb.abs()),
-                    "relative velocity {rb} -> {ra}"
-                );
+                assert!((ra + r * rb).abs() <= 1e-13 * (1.0 + rb.abs()), "relative velocity {rb} -> {ra}");
             }
         }
         assert!(pair > 0, "omega {omega}: no two-mass impact");
@@ -120,30 +81,14 @@ fn impact_laws_hold_at_every_impact() {
 /// between impacts (zero eigenvalues handled exactly, not perturbed).
 #[test]
 fn free_mass_flight_is_exact() {
-    let sys = system(
-        "impact-damper.toml",
-        &[("omega", 1.0), ("delta", 0.5), ("mu", 0.2)],
-    );
-    let (rec, _) = record(
-        &sys,
-        &Accuracy::default(),
-        Method::Exact,
-        &[0.3, 0.0, 0.0, 0.7],
-        30,
-    );
+    let sys = system("impact-damper.toml", &[("omega", 1.0), ("delta", 0.5), ("mu", 0.2)]);
+    let (rec, _) = record(&sys, &Accuracy::default(), Method::Exact, &[0.3, 0.0, 0.0, 0.7], 30);
     assert!(rec.impacts.len() > 20);
     for w in rec.impacts.windows(2) {
         let (a, b) = (&w[0], &w[1]);
         let dt = b.time - a.time;
-        assert!(
-            (b.before[3] - a.after[3]).abs() < 1e-13,
-            "velocity changed in flight"
-        );
+        assert!((b.before[3] - a.after[3]).abs() < 1e-13, "velocity changed in flight");
         let x = a.after[1] + a.after[3] * dt;
-        assert!(
-            (b.before[1] - x).abs() < 1e-11 * (1.0 + dt),
-            "position off the line by {}",
-            b.before[1] - x
-        );
+        assert!((b.before[1] - x).abs() < 1e-11 * (1.0 + dt), "position off the line by {}", b.before[1] - x);
     }
 }

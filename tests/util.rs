@@ -6,9 +6,7 @@ use std::process::{Command, Output};
 
 /// Path of a shipped config.
 pub fn config(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("configs")
-        .join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("configs").join(name)
 }
 
 /// The evaluated system of a shipped scene with parameter overrides.
@@ -37,12 +35,7 @@ pub struct Recorder {
 
 impl Observer for Recorder {
     fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
-        self.impacts.push(Impact {
-            time,
-            stop,
-            before: before.clone(),
-            after: after.clone(),
-        });
+        self.impacts.push(Impact { time, stop, before: before.clone(), after: after.clone() });
     }
     fn event(&mut self, time: f64, y: &DVector<f64>) {
         self.events.push((time, y.clone()));
@@ -67,11 +60,7 @@ pub fn record<'s>(
 
 /// Runs the real binary.
 pub fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap()
+    Command::new(env!("CARGO_BIN_EXE_vibroatlas")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
 }
 
 /// Runs `cell ... --json` and parses its one JSON object.
@@ -80,10 +69,6 @@ pub fn cell_json(args: &[&str]) -> serde_json::Value {
     all.extend_from_slice(args);
     all.push("--json");
     let out = run(&all);
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).unwrap()
 }

@@ -16,6 +16,16 @@ pub struct Cli {
 pub enum Command {
     /// Simulate one cell (one set of parameters) and classify its steady motion.
     Cell(CellArgs),
+    /// Continuation along one parameter (a bifurcation diagram).
+    Sweep(SweepArgs),
+    /// Map a parameter plane in parallel, fresh or by up/down continuation.
+    Atlas(AtlasArgs),
+    /// Draw the coloured map of an atlas file.
+    Render(RenderArgs),
+    /// Merge shard files into one atlas.
+    Merge(MergeArgs),
+    /// Print a summary of an atlas file.
+    Inspect(InspectArgs),
 }
 
 /// Options shared by every command that simulates a scene.
@@ -53,4 +63,101 @@ pub struct CellArgs {
     /// Samples per forcing period in the trace.
     #[arg(long, default_value_t = 200, value_name = "N")]
     pub trace_samples: usize,
+}
+
+/// Options of commands that compute many cells.
+#[derive(Debug, Args, Clone)]
+pub struct RunArgs {
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Largest number of points kept per raw section per cell.
+    #[arg(long, default_value_t = 16, value_name = "N")]
+    pub section_cap: usize,
+    /// No progress bar or progress lines.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct AtlasArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// Horizontal axis, NAME=START:STOP:COUNT (ascending).
+    #[arg(long, value_name = "NAME=START:STOP:COUNT")]
+    pub x: String,
+    /// Vertical axis, NAME=START:STOP:COUNT (ascending).
+    #[arg(long, value_name = "NAME=START:STOP:COUNT")]
+    pub y: String,
+    /// fresh (independent cells), up, down (continuation), or both (up and down).
+    #[arg(long, default_value = "fresh")]
+    pub sweep: String,
+    /// Axis the continuation chains follow: x (rows) or y (columns).
+    #[arg(long, default_value = "x")]
+    pub along: String,
+    /// Compute only shard K of N (whole lines); merge the parts with `vibroatlas merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Continue an interrupted run from its journal.
+    #[arg(long)]
+    pub resume: bool,
+    /// Output HDF5 file.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: std::path::PathBuf,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// Swept parameter, NAME=START:STOP:COUNT, run in that order (START > STOP sweeps down).
+    #[arg(long, value_name = "NAME=START:STOP:COUNT")]
+    pub axis: String,
+    /// Run in the given order (default), or up, down, or both directions.
+    #[arg(long)]
+    pub direction: Option<String>,
+    /// Output HDF5 file (same layout as an atlas with one row).
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<std::path::PathBuf>,
+    /// Bifurcation diagram PNG.
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<std::path::PathBuf>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Shard files to merge.
+    #[arg(required = true)]
+    pub parts: Vec<std::path::PathBuf>,
+    /// Output HDF5 file.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct InspectArgs {
+    /// Atlas file.
+    pub file: std::path::PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Atlas file.
+    pub file: std::path::PathBuf,
+    /// Output PNG.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: std::path::PathBuf,
+    /// Labelled mass to draw (default: the first).
+    #[arg(long)]
+    pub mass: Option<String>,
+    /// fresh, up, down, or hysteresis (up labels with hysteresis cells marked).
+    #[arg(long)]
+    pub sweep: Option<String>,
 }

@@ -19,10 +19,7 @@ pub fn run(a: CellArgs) -> Result<()> {
     let cell = run_cell(&sys, &s.accuracy, s.method, &y0);
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
-        write_atomically(
-            path,
-            trace_csv(&sys, &s, &cell, periods, a.trace_samples)?.as_bytes(),
-        )?;
+        write_atomically(path, trace_csv(&sys, &s, &cell, periods, a.trace_samples)?.as_bytes())?;
     }
     if a.json {
         println!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);
@@ -36,27 +33,13 @@ fn names<T: Copy>(sys: &System, values: &[T]) -> Map<String, Value>
 where
     Value: From<T>,
 {
-    sys.model
-        .stops
-        .iter()
-        .zip(values)
-        .map(|(s, &v)| (s.name.clone(), Value::from(v)))
-        .collect()
+    sys.model.stops.iter().zip(values).map(|(s, &v)| (s.name.clone(), Value::from(v))).collect()
 }
 
 /// The JSON object of a cell (the contract of `cell --json`).
 pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value {
-    let labels: Map<String, Value> = c
-        .labels
-        .iter()
-        .map(|l| (l.mass.clone(), Value::from(l.label.clone())))
-        .collect();
-    let params: Map<String, Value> = sys
-        .model
-        .parameters
-        .iter()
-        .map(|(k, v)| (k.clone(), json!(v)))
-        .collect();
+    let labels: Map<String, Value> = c.labels.iter().map(|l| (l.mass.clone(), Value::from(l.to_string()))).collect();
+    let params: Map<String, Value> = sys.model.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect();
     json!({
         "scene": sys.model.name,
         "parameters": params,
@@ -79,19 +62,9 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
 
 fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
     let mut o = String::new();
-    let params: Vec<String> = sys
-        .model
-        .parameters
-        .iter()
-        .map(|(k, v)| format!("{k}={v}"))
-        .collect();
+    let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect();
     let _ = writeln!(o, "scene     {} ({})", sys.model.name, params.join(" "));
-    let _ = writeln!(
-        o,
-        "settings  preset {}, integrator {}",
-        s.preset.name(),
-        s.method.name()
-    );
+    let _ = writeln!(o, "settings  preset {}, integrator {}", s.preset.name(), s.method.name());
     let _ = write!(o, "class     {}", c.class.name());
     if let Some(n) = c.n {
         let _ = write!(o, ", n = {n}");
@@ -104,15 +77,11 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
         let _ = writeln!(o, "reason    {r}");
     }
     for l in &c.labels {
-        let _ = writeln!(o, "label     {:<6} {}", l.mass, l.label);
+        let _ = writeln!(o, "label     {:<6} {}", l.mass, l.to_string());
     }
     let _ = writeln!(o, "stop      impacts  chatter  sticking");
     for (k, st) in sys.model.stops.iter().enumerate() {
-        let _ = writeln!(
-            o,
-            "  {:<8}{:>7}  {:<8} {}",
-            st.name, c.impacts[k], c.chatter[k], c.sticking[k]
-        );
+        let _ = writeln!(o, "  {:<8}{:>7}  {:<8} {}", st.name, c.impacts[k], c.chatter[k], c.sticking[k]);
     }
     let _ = writeln!(o, "final     {:?}", c.final_state);
     let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);
@@ -120,13 +89,7 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
 }
 
 /// Dense samples (and every event) of `periods` periods from the window start.
-fn trace_csv(
-    sys: &System,
-    s: &crate::common::Setup,
-    c: &CellResult,
-    periods: usize,
-    samples: usize,
-) -> Result<String> {
+fn trace_csv(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Result<String> {
     struct Rows<'a>(&'a mut String);
     impl solver::Observer for Rows<'_> {
         fn event(&mut self, t: f64, y: &solver::DVector<f64>) {
@@ -151,15 +114,11 @@ fn trace_csv(
         let _ = write!(out, ",v_{}", m.name);
     }
     out.push_str(",event\n");
-    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start)
-        .map_err(|h| anyhow!("trace: {h:?}"))?;
+    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start).map_err(|h| anyhow!("trace: {h:?}"))?;
     row(&mut out, 0.0, &c.window_start, 0);
-    let times: Vec<f64> = (1..samples)
-        .map(|i| sys.period * i as f64 / samples as f64)
-        .collect();
+    let times: Vec<f64> = (1..samples).map(|i| sys.period * i as f64 / samples as f64).collect();
     for _ in 0..periods {
-        sim.run_period(&times, false, &mut Rows(&mut out))
-            .map_err(|h| anyhow!("trace: {h:?}"))?;
+        sim.run_period(&times, false, &mut Rows(&mut out)).map_err(|h| anyhow!("trace: {h:?}"))?;
     }
     Ok(out)
 }

@@ -12,20 +12,17 @@ pub struct Setup {
     pub scene: Scene,
     pub overrides: Vec<(String, f64)>,
     pub accuracy: Accuracy,
+    /// The `--accuracy` overrides as given.
+    pub accuracy_overrides: Vec<(String, f64)>,
     pub preset: Preset,
     pub method: Method,
 }
 
 /// Parses `NAME=VALUE` with a finite value; `flag` names the option in errors.
 pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
-    let (name, value) = text
-        .split_once('=')
-        .ok_or_else(|| anyhow!("{flag} {text}: expected NAME=VALUE"))?;
+    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{flag} {text}: expected NAME=VALUE"))?;
     let name = name.trim().to_string();
-    let v: f64 = value
-        .trim()
-        .parse()
-        .map_err(|_| anyhow!("{flag} {name}: '{}' is not a number", value.trim()))?;
+    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{flag} {name}: '{}' is not a number", value.trim()))?;
     if !v.is_finite() {
         bail!("{flag} {name}: not a finite number, got {value}");
     }
@@ -34,40 +31,38 @@ pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
 
 /// Loads the scene and validates every option of [`SimArgs`].
 pub fn setup(a: &SimArgs) -> Result<Setup> {
-    let text = std::fs::read_to_string(&a.scene)
-        .with_context(|| format!("cannot read scene file {}", a.scene.display()))?;
+    let text =
+        std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read scene file {}", a.scene.display()))?;
     let scene = Scene::parse(&text).map_err(|e| anyhow!("{}: {e}", a.scene.display()))?;
-    let overrides = a
-        .set
-        .iter()
-        .map(|s| parse_assignment(s, "--set"))
-        .collect::<Result<Vec<_>>>()?;
+    let overrides = a.set.iter().map(|s| parse_assignment(s, "--set")).collect::<Result<Vec<_>>>()?;
     for (name, _) in &overrides {
         scene.check_parameter(name, &format!("--set {name}"))?;
     }
-    let preset = Preset::parse(&a.preset).ok_or_else(|| {
-        anyhow!(
-            "--preset: expected fast, standard or precise, got '{}'",
-            a.preset
-        )
-    })?;
+    let preset = Preset::parse(&a.preset)
+        .ok_or_else(|| anyhow!("--preset: expected fast, standard or precise, got '{}'", a.preset))?;
     let mut accuracy = Accuracy::preset(preset);
+    let mut accuracy_overrides = Vec::new();
     for s in &a.accuracy {
         let (k, v) = parse_assignment(s, "--accuracy")?;
         accuracy.set(&k, v)?;
+        accuracy_overrides.push((k, v));
     }
-    let method = Method::parse(&a.integrator).ok_or_else(|| {
-        anyhow!(
-            "--integrator: expected exact or rk4, got '{}'",
-            a.integrator
-        )
-    })?;
-    Ok(Setup {
-        scene,
-        overrides,
-        accuracy,
-        preset,
-        method,
+    let method = Method::parse(&a.integrator)
+        .ok_or_else(|| anyhow!("--integrator: expected exact or rk4, got '{}'", a.integrator))?;
+    Ok(Setup { scene, overrides, accuracy, accuracy_overrides, preset, method })
+}
+
+/// The grid's cell set-up for a validated [`Setup`].
+pub fn cell_setup(s: &Setup, section_cap: usize) -> Result<grid::CellSetup> {
+    if section_cap > 100_000 {
+        bail!("--section-cap: at most 100000, got {section_cap}");
+    }
+    Ok(grid::CellSetup {
+        scene: s.scene.clone(),
+        base: s.overrides.clone(),
+        accuracy: s.accuracy,
+        method: s.method,
+        section_cap,
     })
 }
 
@@ -78,9 +73,7 @@ pub fn write_atomically(path: &Path, contents: &[u8]) -> Result<()> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let name = path
-        .file_name()
-        .ok_or_else(|| anyhow!("{}: not a file path", path.display()))?;
+    let name = path.file_name().ok_or_else(|| anyhow!("{}: not a file path", path.display()))?;
     let tmp = dir.join(format!(".{}.partial", name.to_string_lossy()));
     std::fs::write(&tmp, contents).with_context(|| format!("cannot write {}", path.display()))?;
     std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))

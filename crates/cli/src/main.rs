@@ -3,8 +3,16 @@
 //! stderr and exit code 2.
 
 mod args;
+mod atlas;
 mod cell;
 mod common;
+mod inspect;
+mod merge;
+mod plan;
+mod progress;
+mod render_cmd;
+mod summary;
+mod sweep;
 
 use clap::Parser;
 
@@ -12,6 +20,11 @@ fn main() {
     let cli = args::Cli::parse();
     let result = match cli.command {
         args::Command::Cell(a) => cell::run(a),
+        args::Command::Sweep(a) => sweep::run(a),
+        args::Command::Atlas(a) => atlas::run(a),
+        args::Command::Render(a) => render_cmd::run(a),
+        args::Command::Merge(a) => merge::run(a),
+        args::Command::Inspect(a) => inspect::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -1,1 +1,23 @@
-//! placeholder
+//! The vibroatlas grid scheduler: parameter axes, planes of cells computed in
+//! parallel (fresh tiles or continuation chains up and down), hysteresis,
+//! shards for clusters and parameter studies. The only user of threads; no file
+//! I/O (the store and the CLI write results).
+#![deny(missing_docs)]
+#![deny(clippy::float_cmp)]
+
+pub mod atlas;
+pub mod axis;
+pub mod cell;
+pub mod error;
+pub mod hysteresis;
+pub mod plane;
+pub mod shard;
+pub mod sweep;
+
+pub use atlas::{Atlas, Map, Meta};
+pub use axis::Axis;
+pub use cell::{label_text, CellData, CellSetup, STUCK};
+pub use error::GridError;
+pub use plane::{Along, Line, Plane};
+pub use shard::Shard;
+pub use sweep::{chain, Progress, Silent, SweepKind};

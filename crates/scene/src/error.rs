@@ -27,9 +27,6 @@ pub enum SceneError {
 impl SceneError {
     /// Builds a [`SceneError::Field`].
     pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
-        SceneError::Field {
-            field: field.into(),
-            message: message.into(),
-        }
+        SceneError::Field { field: field.into(), message: message.into() }
     }
 }

@@ -30,26 +30,18 @@ impl Compiled {
         match num {
             Num::Value(v) => Ok(Compiled::Value(*v)),
             Num::Expr(source) => {
-                let expr = exmex::parse::<f64>(source).map_err(|e| {
-                    SceneError::field(field, format!("cannot parse expression '{source}': {e}"))
-                })?;
+                let expr = exmex::parse::<f64>(source)
+                    .map_err(|e| SceneError::field(field, format!("cannot parse expression '{source}': {e}")))?;
                 let vars = expr
                     .var_names()
                     .iter()
                     .map(|v| {
                         names.iter().position(|n| n == v).ok_or_else(|| {
-                            SceneError::field(
-                                field,
-                                format!("unknown parameter '{v}' in expression '{source}'"),
-                            )
+                            SceneError::field(field, format!("unknown parameter '{v}' in expression '{source}'"))
                         })
                     })
                     .collect::<Result<Vec<_>, _>>()?;
-                Ok(Compiled::Expr {
-                    source: source.clone(),
-                    expr,
-                    vars,
-                })
+                Ok(Compiled::Expr { source: source.clone(), expr, vars })
             }
         }
     }
@@ -68,9 +60,7 @@ impl Compiled {
             Compiled::Value(v) => *v,
             Compiled::Expr { source, expr, vars } => {
                 let args: Vec<f64> = vars.iter().map(|&i| values[i]).collect();
-                expr.eval(&args).map_err(|e| {
-                    SceneError::field(field, format!("cannot evaluate '{source}': {e}"))
-                })?
+                expr.eval(&args).map_err(|e| SceneError::field(field, format!("cannot evaluate '{source}': {e}")))?
             }
         };
         if v.is_finite() {
@@ -80,10 +70,7 @@ impl Compiled {
                 Compiled::Value(_) => String::new(),
                 Compiled::Expr { source, .. } => format!(" ('{source}')"),
             };
-            Err(SceneError::field(
-                field,
-                format!("not a finite number{what}, got {v}"),
-            ))
+            Err(SceneError::field(field, format!("not a finite number{what}, got {v}")))
         }
     }
 }
@@ -100,12 +87,8 @@ pub struct Range {
 impl Range {
     /// Parses interval notation; `field` names the parameter in errors.
     pub fn parse(text: &str, field: &str) -> Result<Self, SceneError> {
-        let bad = || {
-            SceneError::field(
-                field,
-                format!("range must look like \"(0, 1)\" or \"[0, inf)\", got \"{text}\""),
-            )
-        };
+        let bad =
+            || SceneError::field(field, format!("range must look like \"(0, 1)\" or \"[0, inf)\", got \"{text}\""));
         let t = text.trim();
         let lo_open = match t.chars().next() {
             Some('(') => true,
@@ -130,26 +113,13 @@ impl Range {
         if lo.is_nan() || hi.is_nan() || lo > hi {
             return Err(bad());
         }
-        Ok(Range {
-            lo,
-            hi,
-            lo_open,
-            hi_open,
-        })
+        Ok(Range { lo, hi, lo_open, hi_open })
     }
 
     /// Whether `v` lies in the interval.
     pub fn contains(&self, v: f64) -> bool {
-        let above = if self.lo_open {
-            v > self.lo
-        } else {
-            v >= self.lo
-        };
-        let below = if self.hi_open {
-            v < self.hi
-        } else {
-            v <= self.hi
-        };
+        let above = if self.lo_open { v > self.lo } else { v >= self.lo };
+        let below = if self.hi_open { v < self.hi } else { v <= self.hi };
         above && below
     }
 }
@@ -199,10 +169,7 @@ mod tests {
         let v = c.eval(&[2.0, 0.5], "f").unwrap();
         assert!((v - 3.0).abs() < 1e-15);
         let e = Compiled::new(&Num::Expr("delt".into()), &names, "masses[0].x0").unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "masses[0].x0: unknown parameter 'delt' in expression 'delt'"
-        );
+        assert_eq!(e.to_string(), "masses[0].x0: unknown parameter 'delt' in expression 'delt'");
         let c = Compiled::new(&Num::Expr("1/(1-mu_m)".into()), &names, "m").unwrap();
         assert!(c.eval(&[0.0, 1.0], "m").is_err());
     }

@@ -45,16 +45,8 @@ use schema::{Num, ParamSpec, SceneFile};
 /// Compiled values of one `[[stops]]` entry.
 #[derive(Debug, Clone)]
 enum StopPlace {
-    Frame {
-        mass: usize,
-        side: Side,
-        position: Compiled,
-    },
-    Pair {
-        first: usize,
-        second: usize,
-        gap: Compiled,
-    },
+    Frame { mass: usize, side: Side, position: Compiled },
+    Pair { first: usize, second: usize, gap: Compiled },
 }
 
 /// A parsed and structurally checked scene, ready to be evaluated for any parameters.
@@ -74,27 +66,19 @@ pub struct Scene {
 }
 
 fn index_of(names: &[String], name: &str, field: &str, what: &str) -> Result<usize, SceneError> {
-    names.iter().position(|n| n == name).ok_or_else(|| {
-        SceneError::field(
-            field,
-            format!("unknown {what} '{name}' (known: {})", names.join(", ")),
-        )
-    })
+    names
+        .iter()
+        .position(|n| n == name)
+        .ok_or_else(|| SceneError::field(field, format!("unknown {what} '{name}' (known: {})", names.join(", "))))
 }
 
 fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
     for (i, n) in names.iter().enumerate() {
         if n.is_empty() {
-            return Err(SceneError::field(
-                format!("{field}[{i}].name"),
-                "must not be empty",
-            ));
+            return Err(SceneError::field(format!("{field}[{i}].name"), "must not be empty"));
         }
         if names[..i].contains(n) {
-            return Err(SceneError::field(
-                format!("{field}[{i}].name"),
-                format!("duplicate name '{n}'"),
-            ));
+            return Err(SceneError::field(format!("{field}[{i}].name"), format!("duplicate name '{n}'")));
         }
     }
     Ok(())
@@ -103,9 +87,8 @@ fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
 impl Scene {
     /// Parses a scene from TOML text, resolving names and compiling expressions.
     pub fn parse(text: &str) -> Result<Scene, SceneError> {
-        let file: SceneFile = toml::from_str(text).map_err(|e| SceneError::Syntax {
-            message: e.to_string().trim().replace('\n', " "),
-        })?;
+        let file: SceneFile = toml::from_str(text)
+            .map_err(|e| SceneError::Syntax { message: e.to_string().trim().replace('\n', " ") })?;
         let names: Vec<String> = file.parameters.keys().cloned().collect();
         let params = file
             .parameters
@@ -114,13 +97,9 @@ impl Scene {
                 let field = format!("parameters.{name}");
                 let (num, range) = match spec {
                     ParamSpec::Plain(n) => (n, None),
-                    ParamSpec::Ranged(r) => (
-                        &r.value,
-                        r.range
-                            .as_deref()
-                            .map(|t| Range::parse(t, &field))
-                            .transpose()?,
-                    ),
+                    ParamSpec::Ranged(r) => {
+                        (&r.value, r.range.as_deref().map(|t| Range::parse(t, &field)).transpose()?)
+                    }
                 };
                 Ok((Compiled::new(num, &names, &field)?, range))
             })
@@ -128,10 +107,7 @@ impl Scene {
         let c = |n: &Num, f: String| Compiled::new(n, &names, &f);
 
         if file.masses.is_empty() {
-            return Err(SceneError::field(
-                "masses",
-                "a scene needs at least one mass",
-            ));
+            return Err(SceneError::field("masses", "a scene needs at least one mass"));
         }
         let mass_names: Vec<String> = file.masses.iter().map(|m| m.name.clone()).collect();
         unique(&mass_names, "masses")?;
@@ -187,20 +163,15 @@ impl Scene {
                 let place = match (&s.mass, &s.masses) {
                     (Some(m), None) => {
                         if s.gap.is_some() {
-                            return Err(SceneError::field(
-                                f("gap"),
-                                "a frame stop has a position, not a gap",
-                            ));
+                            return Err(SceneError::field(f("gap"), "a frame stop has a position, not a gap"));
                         }
                         StopPlace::Frame {
                             mass: mass(m, f("mass"))?,
-                            side: s.side.ok_or_else(|| {
-                                SceneError::field(f("side"), "missing: \"below\" or \"above\"")
-                            })?,
+                            side: s
+                                .side
+                                .ok_or_else(|| SceneError::field(f("side"), "missing: \"below\" or \"above\""))?,
                             position: c(
-                                s.position
-                                    .as_ref()
-                                    .ok_or_else(|| SceneError::field(f("position"), "missing"))?,
+                                s.position.as_ref().ok_or_else(|| SceneError::field(f("position"), "missing"))?,
                                 f("position"),
                             )?,
                         }
@@ -213,27 +184,16 @@ impl Scene {
                             ));
                         }
                         let [a, b] = ms.as_slice() else {
-                            return Err(SceneError::field(
-                                f("masses"),
-                                "a pair stop names exactly two masses",
-                            ));
+                            return Err(SceneError::field(f("masses"), "a pair stop names exactly two masses"));
                         };
                         let (first, second) = (mass(a, f("masses"))?, mass(b, f("masses"))?);
                         if first == second {
-                            return Err(SceneError::field(
-                                f("masses"),
-                                "a stop cannot be between a mass and itself",
-                            ));
+                            return Err(SceneError::field(f("masses"), "a stop cannot be between a mass and itself"));
                         }
                         StopPlace::Pair {
                             first,
                             second,
-                            gap: c(
-                                s.gap
-                                    .as_ref()
-                                    .ok_or_else(|| SceneError::field(f("gap"), "missing"))?,
-                                f("gap"),
-                            )?,
+                            gap: c(s.gap.as_ref().ok_or_else(|| SceneError::field(f("gap"), "missing"))?, f("gap"))?,
                         }
                     }
                     _ => {
@@ -254,17 +214,11 @@ impl Scene {
             .map(|(i, fr)| {
                 let f = format!("friction[{i}].masses");
                 let [a, b] = fr.masses.as_slice() else {
-                    return Err(SceneError::field(
-                        f,
-                        "friction acts between exactly two masses",
-                    ));
+                    return Err(SceneError::field(f, "friction acts between exactly two masses"));
                 };
                 let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
                 if a == b {
-                    return Err(SceneError::field(
-                        f,
-                        "friction cannot act between a mass and itself",
-                    ));
+                    return Err(SceneError::field(f, "friction cannot act between a mass and itself"));
                 }
                 Ok((
                     a,
@@ -279,9 +233,7 @@ impl Scene {
         for (name, spec) in &file.labels {
             let m = mass(name, format!("labels.{name}"))?;
             let stop = |s: &Option<String>, k: &str| {
-                s.as_deref()
-                    .map(|s| index_of(&stop_names, s, &format!("labels.{name}.{k}"), "stop"))
-                    .transpose()
+                s.as_deref().map(|s| index_of(&stop_names, s, &format!("labels.{name}.{k}"), "stop")).transpose()
             };
             labels.push((m, stop(&spec.p, "p")?, stop(&spec.q, "q")?));
         }
@@ -325,6 +277,11 @@ impl Scene {
         &self.names
     }
 
+    /// Whether parameter `name` is a plain number (not an expression of others).
+    pub fn is_plain(&self, name: &str) -> bool {
+        self.names.iter().position(|n| n == name).is_some_and(|i| matches!(self.params[i].0, Compiled::Value(_)))
+    }
+
     /// Checks that `name` is a parameter of the scene.
     pub fn check_parameter(&self, name: &str, field: &str) -> Result<(), SceneError> {
         index_of(&self.names, name, field, "parameter").map(|_| ())
@@ -339,10 +296,7 @@ impl Scene {
         for (name, v) in overrides {
             let i = index_of(&self.names, name, &format!("--set {name}"), "parameter")?;
             if !v.is_finite() {
-                return Err(SceneError::field(
-                    format!("--set {name}"),
-                    format!("not a finite number, got {v}"),
-                ));
+                return Err(SceneError::field(format!("--set {name}"), format!("not a finite number, got {v}")));
             }
             values[i] = *v;
             known[i] = true;
@@ -352,9 +306,7 @@ impl Scene {
             let mut progressed = false;
             for i in 0..n {
                 if !known[i] && self.params[i].0.dependencies().iter().all(|&d| known[d]) {
-                    values[i] = self.params[i]
-                        .0
-                        .eval(&values, &format!("parameters.{}", self.names[i]))?;
+                    values[i] = self.params[i].0.eval(&values, &format!("parameters.{}", self.names[i]))?;
                     known[i] = true;
                     progressed = true;
                 }
@@ -393,10 +345,7 @@ impl Scene {
         };
         let omega = ev(&self.omega, "forcing.omega".into())?;
         if omega <= 0.0 {
-            return Err(SceneError::field(
-                "forcing.omega",
-                format!("must be > 0, got {omega}"),
-            ));
+            return Err(SceneError::field("forcing.omega", format!("must be > 0, got {omega}")));
         }
         let tau = ev(&self.tau, "forcing.phase".into())?;
         let masses = self
@@ -407,10 +356,7 @@ impl Scene {
             .map(|(i, ([m, f, x0, v0], spec))| {
                 let mass = ev(m, format!("masses[{i}].mass"))?;
                 if mass <= 0.0 {
-                    return Err(SceneError::field(
-                        format!("masses[{i}].mass"),
-                        format!("must be > 0, got {mass}"),
-                    ));
+                    return Err(SceneError::field(format!("masses[{i}].mass"), format!("must be > 0, got {mass}")));
                 }
                 Ok(Mass {
                     name: spec.name.clone(),
@@ -429,14 +375,8 @@ impl Scene {
                 Ok(Link {
                     a: *a,
                     b: *b,
-                    stiffness: nonneg(
-                        ev(k, format!("links[{i}].stiffness"))?,
-                        format!("links[{i}].stiffness"),
-                    )?,
-                    damping: nonneg(
-                        ev(c, format!("links[{i}].damping"))?,
-                        format!("links[{i}].damping"),
-                    )?,
+                    stiffness: nonneg(ev(k, format!("links[{i}].stiffness"))?, format!("links[{i}].stiffness"))?,
+                    damping: nonneg(ev(c, format!("links[{i}].damping"))?, format!("links[{i}].damping"))?,
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
@@ -449,32 +389,19 @@ impl Scene {
                 let f = |k: &str| format!("stops[{i}].{k}");
                 let restitution = ev(r, f("restitution"))?;
                 if !(0.0..=1.0).contains(&restitution) {
-                    return Err(SceneError::field(
-                        f("restitution"),
-                        format!("must be in [0, 1], got {restitution}"),
-                    ));
+                    return Err(SceneError::field(f("restitution"), format!("must be in [0, 1], got {restitution}")));
                 }
                 let geometry = match place {
-                    StopPlace::Frame {
-                        mass,
-                        side,
-                        position,
-                    } => StopGeometry::Frame {
-                        mass: *mass,
-                        side: *side,
-                        position: ev(position, f("position"))?,
-                    },
+                    StopPlace::Frame { mass, side, position } => {
+                        StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, f("position"))? }
+                    }
                     StopPlace::Pair { first, second, gap } => StopGeometry::Pair {
                         first: *first,
                         second: *second,
                         gap: nonneg(ev(gap, f("gap"))?, f("gap"))?,
                     },
                 };
-                Ok(Stop {
-                    name: spec.name.clone(),
-                    geometry,
-                    restitution,
-                })
+                Ok(Stop { name: spec.name.clone(), geometry, restitution })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
         let friction = self
@@ -482,10 +409,7 @@ impl Scene {
             .iter()
             .enumerate()
             .map(|(i, (a, b, k, s))| {
-                let kinetic = nonneg(
-                    ev(k, format!("friction[{i}].kinetic"))?,
-                    format!("friction[{i}].kinetic"),
-                )?;
+                let kinetic = nonneg(ev(k, format!("friction[{i}].kinetic"))?, format!("friction[{i}].kinetic"))?;
                 let static_limit = ev(s, format!("friction[{i}].static"))?;
                 if static_limit < kinetic {
                     return Err(SceneError::field(
@@ -493,12 +417,7 @@ impl Scene {
                         format!("must be >= the kinetic force {kinetic}, got {static_limit}"),
                     ));
                 }
-                Ok(Friction {
-                    a: *a,
-                    b: *b,
-                    kinetic,
-                    static_limit,
-                })
+                Ok(Friction { a: *a, b: *b, kinetic, static_limit })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
         let model = Model {
@@ -510,17 +429,8 @@ impl Scene {
             links,
             stops,
             friction,
-            labels: self
-                .labels
-                .iter()
-                .map(|&(mass, p, q)| Label { mass, p, q })
-                .collect(),
-            parameters: self
-                .names
-                .iter()
-                .cloned()
-                .zip(values.iter().copied())
-                .collect(),
+            labels: self.labels.iter().map(|&(mass, p, q)| Label { mass, p, q }).collect(),
+            parameters: self.names.iter().cloned().zip(values.iter().copied()).collect(),
         };
         let x0: Vec<f64> = model.masses.iter().map(|m| m.x0).collect();
         for (i, s) in model.stops.iter().enumerate() {

@@ -120,10 +120,7 @@ pub struct Model {
 impl Model {
     /// Value of a parameter by name.
     pub fn parameter(&self, name: &str) -> Option<f64> {
-        self.parameters
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|&(_, v)| v)
+        self.parameters.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
     }
 
     /// Forcing period `2 pi / omega`.
@@ -141,16 +138,8 @@ impl Model {
     /// Signed distance to contact of a stop at positions `x` (>= 0 when admissible).
     pub fn gap(&self, stop: usize, x: &[f64]) -> f64 {
         match self.stops[stop].geometry {
-            StopGeometry::Frame {
-                mass,
-                side: Side::Below,
-                position,
-            } => x[mass] - position,
-            StopGeometry::Frame {
-                mass,
-                side: Side::Above,
-                position,
-            } => position - x[mass],
+            StopGeometry::Frame { mass, side: Side::Below, position } => x[mass] - position,
+            StopGeometry::Frame { mass, side: Side::Above, position } => position - x[mass],
             StopGeometry::Pair { first, second, gap } => gap - (x[first] - x[second]),
         }
     }

@@ -125,10 +125,7 @@ impl Accuracy {
 
     /// Sets a knob by name (for `--accuracy name=value` overrides).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), SolverError> {
-        let err = |m: &str| SolverError::Accuracy {
-            field: name.to_string(),
-            message: m.to_string(),
-        };
+        let err = |m: &str| SolverError::Accuracy { field: name.to_string(), message: m.to_string() };
         if !value.is_finite() || value < 0.0 {
             return Err(err(&format!("must be a finite number >= 0, got {value}")));
         }

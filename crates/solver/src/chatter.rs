@@ -17,10 +17,7 @@ pub struct ChatterTracker {
 impl ChatterTracker {
     /// A tracker for `stops` stops.
     pub fn new(stops: usize) -> Self {
-        ChatterTracker {
-            last: vec![[(0.0, 0.0); 3]; stops],
-            count: vec![0; stops],
-        }
+        ChatterTracker { last: vec![[(0.0, 0.0); 3]; stops], count: vec![0; stops] }
     }
 
     /// Forgets the sequence at `stop` (after sticking, or an impact elsewhere).
@@ -43,8 +40,7 @@ impl ChatterTracker {
         let (r1, r2) = (v1 / v0, v2 / v1);
         let (d1, d2) = (t1 - t0, t2 - t1);
         let rho = d2 / d1;
-        let geometric =
-            r1 < 1.0 && r2 < 1.0 && (r1 - r2).abs() < 0.05 && (rho - r2).abs() < 0.1 && rho < 1.0;
+        let geometric = r1 < 1.0 && r2 < 1.0 && (r1 - r2).abs() < 0.05 && (rho - r2).abs() < 0.1 && rho < 1.0;
         geometric.then(|| t2 + d2 * rho / (1.0 - rho))
     }
 }

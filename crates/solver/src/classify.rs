@@ -57,13 +57,43 @@ impl Symmetry {
     }
 }
 
-/// The label of one mass.
-#[derive(Debug, Clone, PartialEq)]
+/// Impacts at one stop in a label, or `S` when the mass sticks to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Count {
+    /// Impacts in n periods.
+    Impacts(u32),
+    /// The stop held the mass (complete chattering), written `S`.
+    Stuck,
+}
+
+impl std::fmt::Display for Count {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Count::Impacts(c) => write!(f, "{c}"),
+            Count::Stuck => write!(f, "S"),
+        }
+    }
+}
+
+/// The n-p-q label of one mass; prints as `1-4-4`, `1-S-S`, `C` or `U`.
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MassLabel {
     /// Mass name.
     pub mass: String,
-    /// `n-p-q`, `C` or `U`.
-    pub label: String,
+    /// `(n, p, q)` of a periodic motion; `None` for chaotic and unresolved cells.
+    pub npq: Option<(u32, Count, Count)>,
+    /// Class of the cell, which names non-periodic labels.
+    pub class: Class,
+}
+
+impl std::fmt::Display for MassLabel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.npq, self.class) {
+            (Some((n, p, q)), _) => write!(f, "{n}-{p}-{q}"),
+            (None, Class::Unresolved) => write!(f, "U"),
+            (None, _) => write!(f, "C"),
+        }
+    }
 }
 
 /// Everything known about a cell's steady motion.
@@ -99,11 +129,7 @@ pub struct CellResult {
 
 /// Distance of two section points, relative to `1 + |a|` (max norm).
 fn distance(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
-    let d = a
-        .iter()
-        .zip(b.iter())
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
+    let d = a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
     d / (1.0 + a.amax())
 }
 
@@ -114,9 +140,7 @@ fn close(a: &DVector<f64>, b: &DVector<f64>, tol: f64) -> bool {
 /// Largest distance between each of the last `2n` points and the point `lag` earlier.
 fn residual(h: &VecDeque<PeriodRecord>, n: usize, lag: usize) -> f64 {
     let len = h.len();
-    (len - 2 * n..len)
-        .map(|i| distance(&h[i].end, &h[i - lag].end))
-        .fold(0.0, f64::max)
+    (len - 2 * n..len).map(|i| distance(&h[i].end, &h[i - lag].end)).fold(0.0, f64::max)
 }
 
 fn repeats(h: &VecDeque<PeriodRecord>, i: usize, n: usize, tol: f64) -> bool {
@@ -136,9 +160,7 @@ fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
             && (len - 2 * n..len).all(|i| repeats(h, i, n, acc.periodic_tol))
     })?;
     let res = residual(h, n, n);
-    let converging_divisor = (1..n)
-        .filter(|d| n % d == 0)
-        .any(|d| residual(h, n, d) <= 1e3 * res);
+    let converging_divisor = (1..n).filter(|d| n % d == 0).any(|d| residual(h, n, d) <= 1e3 * res);
     (!converging_divisor).then_some(n)
 }
 
@@ -151,8 +173,7 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
     let dim = h.back()?.end.len() as f64;
     let n = (1..=acc.n_max).find(|&n| {
         len > 3 * n
-            && (len - 2 * n..len)
-                .all(|i| h[i].impacts == h[i - n].impacts && h[i].end_held == h[i - n].end_held)
+            && (len - 2 * n..len).all(|i| h[i].impacts == h[i - n].impacts && h[i].end_held == h[i - n].end_held)
             && {
                 let e1 = distance(&h[len - 1].end, &h[len - 1 - n].end);
                 let e2 = distance(&h[len - 1 - n].end, &h[len - 1 - 2 * n].end);
@@ -161,10 +182,7 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
                 e1 > acc.periodic_tol && rho < 1.0 && remaining > 3.0 * (dim + 1.0) * n as f64
             }
     })?;
-    Some((
-        n,
-        h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(),
-    ))
+    Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect()))
 }
 
 /// Simulates a cell from full state `y0` and classifies its steady motion.
@@ -178,10 +196,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
             .model
             .labels
             .iter()
-            .map(|l| MassLabel {
-                mass: sys.model.masses[l.mass].name.clone(),
-                label: "U".into(),
-            })
+            .map(|l| MassLabel { mass: sys.model.masses[l.mass].name.clone(), npq: None, class: Class::Unresolved })
             .collect(),
         impacts: vec![0; stops],
         chatter: vec![false; stops],
@@ -216,14 +231,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                 }
                 hist.push_back(rec);
             }
-            Err(h) => {
-                return unresolved(
-                    halt_reason(h),
-                    sim.periods,
-                    sim.events,
-                    sim.y.as_slice().to_vec(),
-                )
-            }
+            Err(h) => return unresolved(halt_reason(h), sim.periods, sim.events, sim.y.as_slice().to_vec()),
         }
         if (sim.periods as usize) < acc.min_transient {
             continue;
@@ -258,27 +266,21 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         held |= r.held;
     }
     let sticking: Vec<bool> = (0..stops).map(|k| held & (1 << k) != 0).collect();
-    let chatter: Vec<bool> = impacts
-        .iter()
-        .map(|&c| c as usize >= acc.chatter_impacts)
-        .collect();
+    let chatter: Vec<bool> = impacts.iter().map(|&c| c as usize >= acc.chatter_impacts).collect();
     let labels = sys
         .model
         .labels
         .iter()
         .map(|l| {
             let count = |s: Option<usize>| match s {
-                Some(k) if sticking[k] => "S".to_string(),
-                Some(k) => impacts[k].to_string(),
-                None => "0".to_string(),
-            };
-            let label = match found {
-                Some(n) => format!("{n}-{}-{}", count(l.p), count(l.q)),
-                None => "C".to_string(),
+                Some(k) if sticking[k] => Count::Stuck,
+                Some(k) => Count::Impacts(impacts[k]),
+                None => Count::Impacts(0),
             };
             MassLabel {
                 mass: sys.model.masses[l.mass].name.clone(),
-                label,
+                npq: found.map(|n| (n as u32, count(l.p), count(l.q))),
+                class: if found.is_some() { Class::Periodic } else { Class::Chaotic },
             }
         })
         .collect();
@@ -286,17 +288,9 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         (true, Some(n)) => Some(symmetry_of(&hist, n, acc)),
         _ => None,
     };
-    let window_start = if len > window {
-        hist[len - window - 1].end.as_slice().to_vec()
-    } else {
-        y0.to_vec()
-    };
+    let window_start = if len > window { hist[len - window - 1].end.as_slice().to_vec() } else { y0.to_vec() };
     CellResult {
-        class: if found.is_some() {
-            Class::Periodic
-        } else {
-            Class::Chaotic
-        },
+        class: if found.is_some() { Class::Periodic } else { Class::Chaotic },
         n: found,
         labels,
         impacts,

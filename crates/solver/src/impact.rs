@@ -38,12 +38,7 @@ pub struct Hit {
 /// Resolves all closing contacts among `contacts` (stops at zero gap) by
 /// sequential impulses. Contacts closing faster than `stick_velocity` bounce with
 /// their restitution (and are reported); slower ones are made plastic.
-pub fn resolve(
-    sys: &System,
-    contacts: &[usize],
-    stick_velocity: f64,
-    y: &mut DVector<f64>,
-) -> Vec<Hit> {
+pub fn resolve(sys: &System, contacts: &[usize], stick_velocity: f64, y: &mut DVector<f64>) -> Vec<Hit> {
     let mut hits = Vec::new();
     for _round in 0..64 {
         let mut any = false;
@@ -51,10 +46,7 @@ pub fn resolve(
             let vn = sys.gap_rate(k, y);
             if vn < -stick_velocity {
                 apply(sys, k, sys.stops[k].restitution, y);
-                hits.push(Hit {
-                    stop: k,
-                    speed: -vn,
-                });
+                hits.push(Hit { stop: k, speed: -vn });
                 any = true;
             } else if vn < 0.0 {
                 apply(sys, k, 0.0, y);

@@ -15,7 +15,7 @@
 //! let y0 = model.initial_state();
 //! let sys = solver::System::new(model).unwrap();
 //! let cell = solver::run_cell(&sys, &solver::Accuracy::default(), solver::Method::Exact, &y0);
-//! assert_eq!(cell.labels[0].label, "1-0-0");
+//! assert_eq!(cell.labels[0].to_string(), "1-0-0");
 //! ```
 #![deny(missing_docs)]
 #![deny(clippy::float_cmp)]
@@ -29,12 +29,13 @@ pub mod impact;
 pub mod mode;
 pub mod newton;
 pub mod reference;
+pub mod section;
 pub mod simulate;
 pub mod stick;
 pub mod system;
 
 pub use accuracy::{Accuracy, Preset};
-pub use classify::{run_cell, CellResult, Class, MassLabel, Symmetry};
+pub use classify::{run_cell, CellResult, Class, Count, MassLabel, Symmetry};
 pub use error::SolverError;
 pub use flow::Method;
 /// Column vector type of states passed to observers.

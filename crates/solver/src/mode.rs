@@ -58,18 +58,12 @@ impl Mode {
     /// linearly dependent (no such mode).
     pub fn new(sys: &System, held: u32) -> Result<Option<Mode>, SolverError> {
         let m = sys.dof();
-        let held_list: Vec<usize> = (0..sys.stops.len())
-            .filter(|j| held & (1 << j) != 0)
-            .collect();
+        let held_list: Vec<usize> = (0..sys.stops.len()).filter(|j| held & (1 << j) != 0).collect();
         let h = held_list.len();
         let g = DMatrix::from_fn(h, m, |r, c| sys.stops[held_list[r]].normal[c]);
         let c = DVector::from_fn(h, |r, _| sys.stops[held_list[r]].offset);
         let (basis, offset, ggt_inv) = if h == 0 {
-            (
-                DMatrix::identity(m, m),
-                DVector::zeros(m),
-                DMatrix::zeros(0, 0),
-            )
+            (DMatrix::identity(m, m), DVector::zeros(m), DMatrix::zeros(0, 0))
         } else {
             let ggt = &g * g.transpose();
             let Some(ggt_inv) = ggt.clone().try_inverse() else {
@@ -83,15 +77,8 @@ impl Mode {
             let eig = SymmetricEigen::new(proj);
             let mut idx: Vec<usize> = (0..m).filter(|&i| eig.eigenvalues[i] > 0.5).collect();
             idx.sort_unstable();
-            let cols: Vec<DVector<f64>> = idx
-                .iter()
-                .map(|&i| eig.eigenvectors.column(i).into_owned())
-                .collect();
-            let basis = if cols.is_empty() {
-                DMatrix::zeros(m, 0)
-            } else {
-                DMatrix::from_columns(&cols)
-            };
+            let cols: Vec<DVector<f64>> = idx.iter().map(|&i| eig.eigenvectors.column(i).into_owned()).collect();
+            let basis = if cols.is_empty() { DMatrix::zeros(m, 0) } else { DMatrix::from_columns(&cols) };
             if basis.ncols() != m - h {
                 return Ok(None);
             }
@@ -107,9 +94,7 @@ impl Mode {
             DMatrix::zeros(0, 0)
         } else {
             mr.cholesky()
-                .ok_or_else(|| SolverError::IllConditioned {
-                    message: "reduced mass matrix is not positive".into(),
-                })?
+                .ok_or_else(|| SolverError::IllConditioned { message: "reduced mass matrix is not positive".into() })?
                 .inverse()
         };
         let kr = basis.transpose() * &sys.stiffness * &basis;
@@ -131,44 +116,25 @@ impl Mode {
         for (k, stop) in sys.stops.iter().enumerate() {
             if held & (1 << k) == 0 {
                 let mut row = DVector::zeros(dim);
-                row.rows_mut(0, r)
-                    .copy_from(&(basis.transpose() * &stop.normal));
+                row.rows_mut(0, r).copy_from(&(basis.transpose() * &stop.normal));
                 row[one] = stop.normal.dot(&offset) + stop.offset;
-                guards.push(Guard {
-                    kind: GuardKind::Gap,
-                    stop: k,
-                    row,
-                });
+                guards.push(Guard { kind: GuardKind::Gap, stop: k, row });
             }
         }
         if h > 0 {
             // Residual force r(s) = M N q'' + C N q' + K (N q + x_c) - P sin φ, linear in s.
             let mut res = &mdiag * &basis * aug.rows(r, r);
-            res.view_mut((0, 0), (m, r))
-                .add_assign(&(&sys.stiffness * &basis));
-            res.view_mut((0, r), (m, r))
-                .add_assign(&(&sys.damping * &basis));
+            res.view_mut((0, 0), (m, r)).add_assign(&(&sys.stiffness * &basis));
+            res.view_mut((0, r), (m, r)).add_assign(&(&sys.damping * &basis));
             res.view_mut((0, sin), (m, 1)).add_assign(&(-&sys.forcing));
-            res.view_mut((0, one), (m, 1))
-                .add_assign(&(&sys.stiffness * &offset));
+            res.view_mut((0, one), (m, 1)).add_assign(&(&sys.stiffness * &offset));
             let lambda = &ggt_inv * &g * res;
             for (i, &j) in held_list.iter().enumerate() {
-                guards.push(Guard {
-                    kind: GuardKind::Reaction,
-                    stop: j,
-                    row: lambda.row(i).transpose(),
-                });
+                guards.push(Guard { kind: GuardKind::Reaction, stop: j, row: lambda.row(i).transpose() });
             }
         }
         let spectral = Spectral::new(&aug, sys.period)?;
-        Ok(Some(Mode {
-            held,
-            basis,
-            offset,
-            aug,
-            spectral,
-            guards,
-        }))
+        Ok(Some(Mode { held, basis, offset, aug, spectral, guards }))
     }
 
     /// Augmented state of full state `y = [x; v]` at forcing phase `phase = ω t + τ`.
@@ -179,8 +145,7 @@ impl Mode {
         let mut s = DVector::zeros(2 * r + 3);
         let x = y.rows(0, m) - &self.offset;
         s.rows_mut(0, r).copy_from(&(self.basis.transpose() * x));
-        s.rows_mut(r, r)
-            .copy_from(&(self.basis.transpose() * y.rows(m, m)));
+        s.rows_mut(r, r).copy_from(&(self.basis.transpose() * y.rows(m, m)));
         let (sn, cs) = phase.sin_cos();
         s[2 * r] = sn;
         s[2 * r + 1] = cs;
@@ -196,8 +161,7 @@ impl Mode {
             return s.rows(0, 2 * m).into_owned();
         }
         let mut y = DVector::zeros(2 * m);
-        y.rows_mut(0, m)
-            .copy_from(&(&self.basis * s.rows(0, r) + &self.offset));
+        y.rows_mut(0, m).copy_from(&(&self.basis * s.rows(0, r) + &self.offset));
         y.rows_mut(m, m).copy_from(&(&self.basis * s.rows(r, r)));
         y
     }

@@ -34,11 +34,7 @@ pub fn single_stop_impact_speeds(omega: f64, sigma: f64, r: f64, n: u32) -> Vec<
     let (s, c) = theta.sin_cos();
     let cs = s * (1.0 + r) / (1.0 - c);
     let rm = (1.0 - r) / omega;
-    let (qa, qb, qc) = (
-        (cs * cs + rm * rm) / 4.0,
-        cs * sigma,
-        sigma * sigma - gamma * gamma,
-    );
+    let (qa, qb, qc) = ((cs * cs + rm * rm) / 4.0, cs * sigma, sigma * sigma - gamma * gamma);
     let disc = qb * qb - 4.0 * qa * qc;
     if disc < 0.0 {
         return Vec::new();
@@ -63,8 +59,7 @@ mod tests {
             let th = 2.0 * std::f64::consts::PI / omega;
             let cs = th.sin() * (1.0 + r) / (1.0 - th.cos());
             let rm = (1.0 - r) / omega;
-            let res =
-                (cs * cs + rm * rm) * v * v / 4.0 + cs * sigma * v + sigma * sigma - gamma * gamma;
+            let res = (cs * cs + rm * rm) * v * v / 4.0 + cs * sigma * v + sigma * sigma - gamma * gamma;
             assert!(res.abs() < 1e-12);
         }
         assert!((free_amplitude(0.0, 0.3) - 1.0).abs() < 1e-15);

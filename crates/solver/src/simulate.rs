@@ -142,12 +142,7 @@ impl<'s> Simulator<'s> {
     /// Simulates one forcing period. `samples` are extra times within the period
     /// (ascending, in `(0, T)`) at which the observer gets the state; with `half`
     /// the record keeps the state at `T/2`.
-    pub fn run_period(
-        &mut self,
-        samples: &[f64],
-        half: bool,
-        obs: &mut dyn Observer,
-    ) -> Result<PeriodRecord, Halt> {
+    pub fn run_period(&mut self, samples: &[f64], half: bool, obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
         let sys = self.sys;
         let period = sys.period;
         let mut rec = PeriodRecord {
@@ -157,11 +152,7 @@ impl<'s> Simulator<'s> {
             end_held: 0,
             half: None,
         };
-        let mut targets: Vec<f64> = samples
-            .iter()
-            .copied()
-            .filter(|&t| t > self.clock && t < period)
-            .collect();
+        let mut targets: Vec<f64> = samples.iter().copied().filter(|&t| t > self.clock && t < period).collect();
         if half && self.clock < period / 2.0 {
             targets.push(period / 2.0);
         }
@@ -174,10 +165,7 @@ impl<'s> Simulator<'s> {
             let phase = self.phase();
             let mode = self.cache.get(sys, self.held)?.ok_or(Halt::Stalled)?;
             let s0 = mode.project(&self.y, phase);
-            match self
-                .method
-                .advance(mode, &s0, target - self.clock, &self.acc, &mut self.work)
-            {
+            match self.method.advance(mode, &s0, target - self.clock, &self.acc, &mut self.work) {
                 Advance::Horizon(s) => {
                     self.y = mode.lift(&s);
                     self.clock = target;
@@ -237,11 +225,7 @@ impl<'s> Simulator<'s> {
                 let mut accumulate = Vec::new();
                 for h in &hits {
                     rec.impacts[h.stop] += 1;
-                    if self
-                        .chatter
-                        .record(h.stop, t, h.speed, self.acc.chatter_velocity)
-                        .is_some()
-                    {
+                    if self.chatter.record(h.stop, t, h.speed, self.acc.chatter_velocity).is_some() {
                         accumulate.push(h.stop);
                     }
                 }

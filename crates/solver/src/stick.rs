@@ -38,10 +38,7 @@ impl ModeCache {
 /// Stops in contact (gap and closing speed below tolerance) at full state `y`.
 pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
     (0..sys.stops.len())
-        .filter(|&k| {
-            sys.gap(k, y) <= 10.0 * acc.contact_tol
-                && sys.gap_rate(k, y).abs() <= acc.stick_velocity
-        })
+        .filter(|&k| sys.gap(k, y) <= 10.0 * acc.contact_tol && sys.gap_rate(k, y).abs() <= acc.stick_velocity)
         .fold(0, |m, k| m | (1 << k))
 }
 

@@ -84,19 +84,11 @@ impl System {
             .map(|s| {
                 let mut normal = DVector::zeros(m);
                 let offset = match s.geometry {
-                    StopGeometry::Frame {
-                        mass,
-                        side: Side::Below,
-                        position,
-                    } => {
+                    StopGeometry::Frame { mass, side: Side::Below, position } => {
                         normal[mass] = 1.0;
                         -position
                     }
-                    StopGeometry::Frame {
-                        mass,
-                        side: Side::Above,
-                        position,
-                    } => {
+                    StopGeometry::Frame { mass, side: Side::Above, position } => {
                         normal[mass] = -1.0;
                         position
                     }
@@ -108,27 +100,11 @@ impl System {
                 };
                 let inv_mass_normal = normal.component_div(&mass);
                 let inv_effective_mass = normal.dot(&inv_mass_normal);
-                StopRow {
-                    normal,
-                    offset,
-                    restitution: s.restitution,
-                    inv_mass_normal,
-                    inv_effective_mass,
-                }
+                StopRow { normal, offset, restitution: s.restitution, inv_mass_normal, inv_effective_mass }
             })
             .collect();
         let period = model.period();
-        Ok(System {
-            mass,
-            damping,
-            stiffness,
-            forcing,
-            stops,
-            omega: model.omega,
-            tau: model.tau,
-            period,
-            model,
-        })
+        Ok(System { mass, damping, stiffness, forcing, stops, omega: model.omega, tau: model.tau, period, model })
     }
 
     /// Number of masses (degrees of freedom).
@@ -150,9 +126,7 @@ impl System {
     /// Kinetic energy `½ vᵀ M v`.
     pub fn kinetic_energy(&self, y: &DVector<f64>) -> f64 {
         let m = self.dof();
-        (0..m)
-            .map(|i| 0.5 * self.mass[i] * y[m + i] * y[m + i])
-            .sum()
+        (0..m).map(|i| 0.5 * self.mass[i] * y[m + i] * y[m + i]).sum()
     }
 
     /// Momentum `Σ M_i v_i`.

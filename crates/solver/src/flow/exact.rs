@@ -62,20 +62,9 @@ fn at_contact(
     }
     let coef = |j: usize| &high[j * nt..(j + 1) * nt];
     let modl = |j: usize| &high_moduli[j * nt..(j + 1) * nt];
-    let d = [
-        evaluate(f, coef(0)),
-        evaluate(f, coef(1)),
-        evaluate(f, coef(2)),
-        evaluate(f, coef(3)),
-        evaluate(f, coef(4)),
-    ];
-    let scale = [
-        0.0,
-        bound(fb, modl(1)),
-        bound(fb, modl(2)),
-        bound(fb, modl(3)),
-        bound(fb, modl(4)),
-    ];
+    let d =
+        [evaluate(f, coef(0)), evaluate(f, coef(1)), evaluate(f, coef(2)), evaluate(f, coef(3)), evaluate(f, coef(4))];
+    let scale = [0.0, bound(fb, modl(1)), bound(fb, modl(2)), bound(fb, modl(3)), bound(fb, modl(4))];
     match classify_start(&d, &start_tolerances(acc, is_gap, &scale, &d)) {
         Start::Clear => false,
         Start::Approaching => true,
@@ -97,13 +86,7 @@ fn at_contact(
 }
 
 /// Advances `s0` for at most `horizon` in `mode` (see the module doc).
-pub fn advance(
-    mode: &Mode,
-    s0: &DVector<f64>,
-    horizon: f64,
-    acc: &Accuracy,
-    w: &mut Workspace,
-) -> Advance {
+pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: &mut Workspace) -> Advance {
     let sp = &mode.spectral;
     let terms = sp.terms();
     let nt = terms.len();
@@ -124,10 +107,7 @@ pub fn advance(
             let (done, rest) = b.split_at_mut(j * nt);
             differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
         }
-        for (m, x) in w.moduli[nt * gi..nt * (gi + 1)]
-            .iter_mut()
-            .zip(&b[2 * nt..])
-        {
+        for (m, x) in w.moduli[nt * gi..nt * (gi + 1)].iter_mut().zip(&b[2 * nt..]) {
             *m = x.l1_norm();
         }
     }
@@ -157,11 +137,7 @@ pub fn advance(
                 horizon,
                 &mut w.masked[gi],
             ) {
-                return Advance::Event {
-                    guard: gi,
-                    time: 0.0,
-                    state: s0.clone(),
-                };
+                return Advance::Event { guard: gi, time: 0.0, state: s0.clone() };
             }
         }
     }

@@ -98,20 +98,10 @@ pub fn classify_start(d: &[f64; 5], tol: &[f64; 5]) -> Start {
     }
     for j in 1..5 {
         if d[j].abs() > tol[j] {
-            return if d[j] < 0.0 {
-                Start::Approaching
-            } else {
-                Start::Departing {
-                    order: j,
-                    rate: d[j],
-                }
-            };
+            return if d[j] < 0.0 { Start::Approaching } else { Start::Departing { order: j, rate: d[j] } };
         }
     }
-    Start::Departing {
-        order: 0,
-        rate: 0.0,
-    }
+    Start::Departing { order: 0, rate: 0.0 }
 }
 
 /// Tolerances of [`classify_start`] for a guard with derivatives `d` and
@@ -124,11 +114,7 @@ pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5], d: &[f64
     let mut tol = [acc.contact_tol, 0.0, 0.0, 0.0, 0.0];
     for j in 1..5 {
         let resolution = acc.event_tol.max(acc.rk4_min_step);
-        let next = if j < 4 {
-            100.0 * resolution * d[j + 1].abs()
-        } else {
-            0.0
-        };
+        let next = if j < 4 { 100.0 * resolution * d[j + 1].abs() } else { 0.0 };
         tol[j] = (1e-11 * scale[j]).max(next).max(1e-300);
     }
     if is_gap {

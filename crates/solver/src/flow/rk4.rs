@@ -50,13 +50,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
         let tol = start_tolerances(acc, g.kind == GuardKind::Gap, &scale, &d);
         match classify_start(&d, &tol) {
             Start::Clear => {}
-            Start::Approaching => {
-                return Advance::Event {
-                    guard: gi,
-                    time: 0.0,
-                    state: s0.clone(),
-                }
-            }
+            Start::Approaching => return Advance::Event { guard: gi, time: 0.0, state: s0.clone() },
             Start::Departing { .. } => threshold[gi] = d[0].min(0.0) - acc.contact_tol,
         }
     }
@@ -92,11 +86,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             .map(|(gi, _)| gi);
         match crossed {
             Some(gi) if hh <= acc.rk4_min_step => {
-                return Advance::Event {
-                    guard: gi,
-                    time: t_next,
-                    state: next,
-                };
+                return Advance::Event { guard: gi, time: t_next, state: next };
             }
             Some(_) => h = hh / 10.0,
             None => {

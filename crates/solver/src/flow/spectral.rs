@@ -63,10 +63,7 @@ fn null_space_real(m: &DMatrix<f64>, k: usize) -> Option<DMatrix<C64>> {
     let vt = svd.v_t?;
     let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
     order.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
-    let cols: Vec<DVector<C64>> = order[..k]
-        .iter()
-        .map(|&i| vt.row(i).transpose().map(|x| C64::new(x, 0.0)))
-        .collect();
+    let cols: Vec<DVector<C64>> = order[..k].iter().map(|&i| vt.row(i).transpose().map(|x| C64::new(x, 0.0))).collect();
     Some(DMatrix::from_columns(&cols))
 }
 
@@ -80,9 +77,7 @@ fn null_space_complex(m: &DMatrix<C64>, k: usize) -> Option<DMatrix<C64>> {
 }
 
 fn ill(msg: impl Into<String>) -> SolverError {
-    SolverError::IllConditioned {
-        message: msg.into(),
-    }
+    SolverError::IllConditioned { message: msg.into() }
 }
 
 impl Spectral {
@@ -170,9 +165,7 @@ impl Spectral {
             return Err(ill("invariant subspaces do not span the state space"));
         }
         let full = DMatrix::from_columns(&cols);
-        let inv = full
-            .try_inverse()
-            .ok_or_else(|| ill("invariant subspaces are linearly dependent"))?;
+        let inv = full.try_inverse().ok_or_else(|| ill("invariant subspaces are linearly dependent"))?;
 
         let mut clusters = Vec::with_capacity(kept.len());
         let mut terms = Vec::new();
@@ -183,11 +176,7 @@ impl Spectral {
             let w = inv.rows(offset, k).into_owned();
             offset += k;
             let b = &w * &ac * &v;
-            let mu = if weight > 1.0 {
-                b.trace() / k as f64
-            } else {
-                C64::new(b.trace().re / k as f64, 0.0)
-            };
+            let mu = if weight > 1.0 { b.trace() / k as f64 } else { C64::new(b.trace().re / k as f64, 0.0) };
             let mut n = &b - DMatrix::<C64>::identity(k, k) * mu;
             rebuilt += (&v * &b * &w).map(|x| x.re * weight);
             // Number of series terms needed over the horizon.
@@ -216,12 +205,7 @@ impl Spectral {
                 if j > 0 {
                     inv_factorial /= j as f64;
                 }
-                terms.push(Term {
-                    lambda: mu,
-                    power: j,
-                    weight,
-                    inv_factorial,
-                });
+                terms.push(Term { lambda: mu, power: j, weight, inv_factorial });
             }
             clusters.push(Cluster { v, w, n, powers });
         }
@@ -229,11 +213,7 @@ impl Spectral {
         if !(err <= 1e-9 * scale) {
             return Err(ill(format!("spectral reconstruction error {err:e}")));
         }
-        Ok(Spectral {
-            dim,
-            clusters,
-            terms,
-        })
+        Ok(Spectral { dim, clusters, terms })
     }
 
     /// Terms of the expansion, in the order used by [`Modal`] and [`Spectral::factors`].
@@ -285,11 +265,7 @@ impl Spectral {
             if term.lambda != last.0 {
                 last = (term.lambda, (term.lambda * u).exp());
             }
-            let poly = if term.power == 0 {
-                1.0
-            } else {
-                u.powi(term.power as i32) * term.inv_factorial
-            };
+            let poly = if term.power == 0 { 1.0 } else { u.powi(term.power as i32) * term.inv_factorial };
             out[t] = last.1 * (term.weight * poly);
         }
     }
@@ -299,11 +275,7 @@ impl Spectral {
         for (t, term) in self.terms.iter().enumerate() {
             let re = term.lambda.re;
             let e = (re * if re > 0.0 { b } else { a }).exp();
-            let poly = if term.power == 0 {
-                1.0
-            } else {
-                b.powi(term.power as i32) * term.inv_factorial
-            };
+            let poly = if term.power == 0 { 1.0 } else { b.powi(term.power as i32) * term.inv_factorial };
             out[t] = term.weight * e * poly;
         }
     }
@@ -369,10 +341,7 @@ pub fn differentiate_into(terms: &[Term], beta: &[C64], out: &mut [C64]) {
 
 /// `Σ_t Re(f_t β_t)`.
 pub fn evaluate(f: &[C64], beta: &[C64]) -> f64 {
-    f.iter()
-        .zip(beta)
-        .map(|(a, b)| a.re * b.re - a.im * b.im)
-        .sum()
+    f.iter().zip(beta).map(|(a, b)| a.re * b.re - a.im * b.im).sum()
 }
 
 /// `Σ_t |β_t| bound_t`, with `moduli[t] = |β_t|`.
@@ -407,10 +376,7 @@ mod tests {
             let exact = (m * u).exp() * &s0;
             let got = modal.state(&f);
             let err = (&got - &exact).amax() / exact.amax().max(1.0);
-            assert!(
-                err < 1e-11,
-                "u = {u}: relative error {err:e}\n{got}\n{exact}"
-            );
+            assert!(err < 1e-11, "u = {u}: relative error {err:e}\n{got}\n{exact}");
         }
     }
 
@@ -425,9 +391,7 @@ mod tests {
         let a = DMatrix::from_row_slice(
             4,
             4,
-            &[
-                0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 0.0, -0.2, 0.0, 0.0, -1.0, 0.0, -0.2,
-            ],
+            &[0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, -1.0, 0.0, -0.2, 0.0, 0.0, -1.0, 0.0, -0.2],
         );
         check_against_expm(&augmented(&a, &[0.0, 0.0, 1.0, 0.0], &[0.0; 4], 2.5), 2.6);
     }

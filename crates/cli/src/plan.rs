@@ -1,0 +1,169 @@
+//! A validated plan for computing a plane (atlas or sweep) and its execution:
+//! journal, one writer thread, atomic HDF5 output.
+
+use crate::progress::Bar;
+use anyhow::{anyhow, bail, Context, Result};
+use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
+use std::path::PathBuf;
+use std::time::Instant;
+use store::{fingerprint, journal_path, Journal, RunInfo};
+
+/// Everything a run needs, checked before any work starts.
+pub struct Plan {
+    pub setup: CellSetup,
+    pub meta: Meta,
+    pub threads: usize,
+    pub shard: Option<Shard>,
+    pub output: Option<PathBuf>,
+    pub resume: bool,
+    pub quiet: bool,
+    pub command: String,
+}
+
+/// The command line as one string (for the file's `command` attribute).
+pub fn command_line() -> String {
+    std::env::args().collect::<Vec<_>>().join(" ")
+}
+
+/// Worker threads: the option, or every core.
+pub fn threads(opt: Option<usize>) -> Result<usize> {
+    match opt {
+        Some(0) => bail!("--threads: must be >= 1"),
+        Some(n) if n > 1024 => bail!("--threads: at most 1024, got {n}"),
+        Some(n) => Ok(n),
+        None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
+    }
+}
+
+/// Memory the machine has available, bytes (from /proc/meminfo, else 4 GiB).
+fn available_memory() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("MemAvailable:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map_or(4 << 30, |kb| kb * 1024)
+}
+
+/// Bytes one stored cell can take at most.
+fn cell_bytes(meta: &Meta) -> u64 {
+    let (dim, cap, stops, masses) =
+        (meta.dim as u64, meta.section_cap as u64, meta.stops.len() as u64, meta.masses.len() as u64);
+    // struct + labels + final state + sections (period: dim, impacts: 1 + dim per row) + vector headers,
+    // twice over for the journal line and the file being written.
+    2 * (160 + 8 * masses + 8 * dim + cap * 8 * dim + stops * cap * 8 * (dim + 1) + 24 * (cap + stops * cap))
+}
+
+impl Plan {
+    /// Refuses a plane whose results would not fit in memory.
+    pub fn check_memory(&self) -> Result<()> {
+        let cells = self.meta.plane.cells() as u64 * self.meta.sweeps.len() as u64;
+        let need = cells.saturating_mul(cell_bytes(&self.meta));
+        let have = available_memory();
+        if need > have / 10 * 8 {
+            bail!(
+                "grid: {} cells x {} sweeps need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, --shard, or a smaller --section-cap",
+                self.meta.plane.cells(),
+                self.meta.sweeps.len(),
+                need as f64 / (1u64 << 30) as f64,
+                have as f64 / (1u64 << 30) as f64
+            );
+        }
+        Ok(())
+    }
+
+    /// Runs the plan; returns the atlas (complete for this shard) and the wall time.
+    pub fn execute(&self, label: &str) -> Result<(Atlas, f64)> {
+        let start = Instant::now();
+        let key = fingerprint(&format!("{:?} {:?}", self.meta, self.shard));
+        let mut atlas = Atlas::new(self.meta.clone());
+        let journal = match &self.output {
+            Some(out) => {
+                let jp = journal_path(out);
+                let (j, lines) = if self.resume {
+                    Journal::resume(&jp, &key)?
+                } else {
+                    (
+                        Journal::create(&jp, &key).with_context(|| format!("cannot write beside {}", out.display()))?,
+                        Vec::new(),
+                    )
+                };
+                for l in lines {
+                    atlas.insert(l);
+                }
+                Some(j)
+            }
+            None => None,
+        };
+        let plane: &Plane = &self.meta.plane;
+        let mut jobs = Vec::new();
+        for &sweep in &self.meta.sweeps {
+            let done = atlas.lines_done(sweep);
+            for line in 0..plane.lines() {
+                if self.shard.is_none_or(|s| s.owns(line)) && !done[line] {
+                    jobs.push((sweep, line));
+                }
+            }
+        }
+        let owned = (0..plane.lines()).filter(|&l| self.shard.is_none_or(|s| s.owns(l))).count();
+        let total = (owned * plane.line_len() * self.meta.sweeps.len()) as u64;
+        let todo = (jobs.len() * plane.line_len()) as u64;
+        let bar = Bar::new(label, total, total - todo, self.quiet);
+
+        let (tx, rx) = std::sync::mpsc::channel::<Line>();
+        let writer = std::thread::spawn(move || -> Result<(Atlas, Option<Journal>)> {
+            let mut journal = journal;
+            for line in rx {
+                if let Some(j) = journal.as_mut() {
+                    j.append(&line)?;
+                }
+                atlas.insert(line);
+            }
+            Ok((atlas, journal))
+        });
+        let sink = move |line: Line| {
+            // A closed channel means the writer failed; its error is reported below.
+            let _ = tx.send(line);
+        };
+        let ran = plane.run(&self.setup, &jobs, self.threads, &bar, &sink);
+        drop(sink);
+        bar.finish();
+        let (atlas, journal) = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
+        ran?;
+        let elapsed = start.elapsed().as_secs_f64();
+        if let (Some(out), Some(j)) = (&self.output, journal) {
+            let info = RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard };
+            store::write(out, &atlas, &info)?;
+            j.remove()?;
+        }
+        Ok((atlas, elapsed))
+    }
+}
+
+/// Meta of a plane for a setup.
+pub fn meta(
+    setup: &CellSetup,
+    s: &crate::common::Setup,
+    plane: Plane,
+    sweeps: Vec<SweepKind>,
+    accuracy: Vec<(String, f64)>,
+) -> Result<Meta> {
+    let model = setup.scene.evaluate(&setup.base)?;
+    Ok(Meta {
+        scene_name: model.name.clone(),
+        scene_toml: setup.scene.source().to_string(),
+        overrides: setup.base.clone(),
+        preset: s.preset.name().to_string(),
+        accuracy,
+        integrator: s.method.name().to_string(),
+        plane,
+        sweeps,
+        masses: model.labels.iter().map(|l| model.masses[l.mass].name.clone()).collect(),
+        stops: model.stops.iter().map(|st| st.name.clone()).collect(),
+        dim: 2 * model.masses.len(),
+        section_cap: setup.section_cap,
+    })
+}

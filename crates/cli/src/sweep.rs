@@ -1,0 +1,131 @@
+//! `vibroatlas sweep`: continuation along one parameter. Computed as a plane of
+//! one row (the other axis is a plain parameter held at its value), so the file,
+//! the renderer and the hysteresis logic are those of the atlas.
+
+use crate::args::SweepArgs;
+use crate::common::{cell_setup, setup};
+use crate::plan::{command_line, meta, threads, Plan};
+use anyhow::{anyhow, bail, Result};
+use grid::{Along, Atlas, Axis, CellData, Plane, SweepKind};
+use serde_json::{json, Map, Value};
+
+/// Runs the command.
+pub fn run(a: SweepArgs) -> Result<()> {
+    let s = setup(&a.sim)?;
+    let cs = cell_setup(&s, a.run.section_cap)?;
+    let axis = Axis::parse(&a.axis, "--axis")?;
+    let given = if axis.start <= axis.stop { SweepKind::Up } else { SweepKind::Down };
+    let sweeps = match a.direction.as_deref() {
+        None => vec![given],
+        Some("up") => vec![SweepKind::Up],
+        Some("down") => vec![SweepKind::Down],
+        Some("both") => vec![SweepKind::Up, SweepKind::Down],
+        Some(other) => bail!("--direction: expected up, down or both, got '{other}'"),
+    };
+    let x = if given == SweepKind::Up { axis.clone() } else { axis.reversed() };
+    let model = cs.scene.evaluate(&cs.base)?;
+    let (held, value) = model
+        .parameters
+        .iter()
+        .find(|(n, _)| *n != x.name && cs.scene.is_plain(n))
+        .cloned()
+        .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
+    let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)?;
+    plane.validate(&cs).map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
+    let plan = Plan {
+        meta: meta(&cs, &s, plane, sweeps.clone(), s.accuracy_overrides.clone())?,
+        setup: cs,
+        threads: threads(a.run.threads)?,
+        shard: None,
+        output: a.output.clone(),
+        resume: false,
+        quiet: a.run.quiet || a.json,
+        command: command_line(),
+    };
+    plan.check_memory()?;
+    let (atlas, _) = plan.execute("sweep")?;
+    if let Some(png) = &a.png {
+        render::bifurcation(&atlas, png)?;
+    }
+    let first = if sweeps.contains(&given) { given } else { sweeps[0] };
+    if a.json {
+        let mut o = json!({
+            "axis": axis.name,
+            "direction": a.direction.as_deref().unwrap_or(first.name()),
+            "points": points(&atlas, first, given == SweepKind::Down),
+        });
+        if sweeps.len() == 2 {
+            o["up"] = points(&atlas, SweepKind::Up, false);
+            o["down"] = points(&atlas, SweepKind::Down, true);
+            o["hysteresis"] = hysteresis(&atlas);
+        }
+        println!("{}", serde_json::to_string(&o)?);
+    } else {
+        print_text(&atlas, &sweeps);
+    }
+    Ok(())
+}
+
+fn labels(atlas: &Atlas, c: &CellData) -> Value {
+    let m: Map<String, Value> =
+        atlas.meta.masses.iter().enumerate().map(|(i, name)| (name.clone(), Value::from(c.label_text(i)))).collect();
+    Value::Object(m)
+}
+
+fn point(atlas: &Atlas, ix: usize, c: &CellData) -> Value {
+    json!({
+        "value": atlas.meta.plane.x.value(ix),
+        "class": c.class.name(),
+        "n": (c.class == solver::Class::Periodic).then(|| c.labels.first().map_or(0, |l| l[0])),
+        "labels": labels(atlas, c),
+        "symmetry": c.symmetry.map(|s| s.name()),
+    })
+}
+
+/// The points of one sweep in the order they were computed.
+fn points(atlas: &Atlas, sweep: SweepKind, descending: bool) -> Value {
+    let Some(map) = atlas.map(sweep) else { return Value::Array(Vec::new()) };
+    let mut v: Vec<Value> =
+        map.cells.iter().enumerate().filter_map(|(ix, c)| c.as_ref().map(|c| point(atlas, ix, c))).collect();
+    if descending {
+        v.reverse();
+    }
+    Value::Array(v)
+}
+
+/// Values where up and down end on different periodic motions.
+fn hysteresis(atlas: &Atlas) -> Value {
+    let (Some(h), Some(up), Some(down)) = (atlas.hysteresis(), atlas.map(SweepKind::Up), atlas.map(SweepKind::Down))
+    else {
+        return Value::Array(Vec::new());
+    };
+    Value::Array(
+        h.iter()
+            .enumerate()
+            .filter(|(_, &v)| v == 1)
+            .filter_map(|(ix, _)| {
+                let (u, d) = (up.cells[ix].as_ref()?, down.cells[ix].as_ref()?);
+                Some(json!({"value": atlas.meta.plane.x.value(ix), "up": labels(atlas, u), "down": labels(atlas, d)}))
+            })
+            .collect(),
+    )
+}
+
+fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) {
+    let p = &atlas.meta.plane;
+    let header: Vec<String> = sweeps.iter().map(|s| format!("{:<24}", s.name())).collect();
+    println!("{:<12} {}", p.x.name, header.join(""));
+    for ix in 0..p.x.count {
+        let cols: Vec<String> = sweeps
+            .iter()
+            .map(|&s| {
+                let c = atlas.map(s).and_then(|m| m.cells[ix].as_ref());
+                let text = c.map_or(String::new(), |c| {
+                    (0..atlas.meta.masses.len()).map(|i| c.label_text(i)).collect::<Vec<_>>().join(" ")
+                });
+                format!("{text:<24}")
+            })
+            .collect();
+        println!("{:<12.6} {}", p.x.value(ix), cols.join(""));
+    }
+}

@@ -1,0 +1,123 @@
+//! An atlas in memory: what was computed (scene, plane, settings) and, per
+//! sweep, the cells of the plane (row-major, `None` where not computed, e.g. in
+//! a shard). Stores, renderers and summaries all read this one structure.
+
+use crate::cell::{label_text, CellData};
+use crate::hysteresis::mask;
+use crate::plane::{Line, Plane};
+use crate::sweep::SweepKind;
+use std::collections::BTreeMap;
+
+/// What an atlas is a map of; two atlases with equal `Meta` can be merged.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Meta {
+    /// Scene name.
+    pub scene_name: String,
+    /// Scene TOML text.
+    pub scene_toml: String,
+    /// Parameter overrides common to every cell.
+    pub overrides: Vec<(String, f64)>,
+    /// Accuracy preset name.
+    pub preset: String,
+    /// Accuracy knobs overridden on the command line, as given.
+    pub accuracy: Vec<(String, f64)>,
+    /// Integrator name.
+    pub integrator: String,
+    /// The plane.
+    pub plane: Plane,
+    /// Sweeps computed.
+    pub sweeps: Vec<SweepKind>,
+    /// Labelled masses, in label order.
+    pub masses: Vec<String>,
+    /// Stops, in scene order.
+    pub stops: Vec<String>,
+    /// State dimension `2 × masses of the scene`.
+    pub dim: usize,
+    /// Largest number of points kept per section per cell.
+    pub section_cap: usize,
+}
+
+/// The cells of one sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Map {
+    /// Which sweep.
+    pub sweep: SweepKind,
+    /// `ny × nx` cells, row-major.
+    pub cells: Vec<Option<CellData>>,
+}
+
+/// A whole atlas.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Atlas {
+    /// What it is a map of.
+    pub meta: Meta,
+    /// One map per sweep, in `meta.sweeps` order.
+    pub maps: Vec<Map>,
+}
+
+impl Atlas {
+    /// An atlas with no cell computed yet.
+    pub fn new(meta: Meta) -> Atlas {
+        let n = meta.plane.cells();
+        let maps = meta.sweeps.iter().map(|&sweep| Map { sweep, cells: vec![None; n] }).collect();
+        Atlas { meta, maps }
+    }
+
+    /// The map of one sweep.
+    pub fn map(&self, sweep: SweepKind) -> Option<&Map> {
+        self.maps.iter().find(|m| m.sweep == sweep)
+    }
+
+    /// Puts a computed line in place.
+    pub fn insert(&mut self, line: Line) {
+        let plane = self.meta.plane.clone();
+        let nx = plane.x.count;
+        if let Some(map) = self.maps.iter_mut().find(|m| m.sweep == line.sweep) {
+            for (pos, cell) in line.cells.into_iter().enumerate() {
+                let (iy, ix) = plane.cell(line.index, pos);
+                map.cells[iy * nx + ix] = Some(cell);
+            }
+        }
+    }
+
+    /// Whether each line of `sweep` is fully computed.
+    pub fn lines_done(&self, sweep: SweepKind) -> Vec<bool> {
+        let p = &self.meta.plane;
+        let nx = p.x.count;
+        match self.map(sweep) {
+            Some(map) => (0..p.lines())
+                .map(|l| {
+                    (0..p.line_len()).all(|pos| {
+                        let (iy, ix) = p.cell(l, pos);
+                        map.cells[iy * nx + ix].is_some()
+                    })
+                })
+                .collect(),
+            None => vec![false; p.lines()],
+        }
+    }
+
+    /// Whether every cell of every sweep is computed.
+    pub fn complete(&self) -> bool {
+        self.maps.iter().all(|m| m.cells.iter().all(Option::is_some))
+    }
+
+    /// Hysteresis mask (1 where up and down give different periodic labels), when
+    /// both sweeps are present.
+    pub fn hysteresis(&self) -> Option<Vec<u8>> {
+        Some(mask(&self.map(SweepKind::Up)?.cells, &self.map(SweepKind::Down)?.cells))
+    }
+
+    /// Labels of mass `m` in a sweep with their cell counts, most frequent first.
+    pub fn legend(&self, sweep: SweepKind, m: usize) -> Vec<(String, u64)> {
+        let mut counts: BTreeMap<String, u64> = BTreeMap::new();
+        if let Some(map) = self.map(sweep) {
+            for c in map.cells.iter().flatten() {
+                *counts.entry(label_text(c.class, c.labels[m])).or_default() += 1;
+            }
+        }
+        let mut v: Vec<(String, u64)> = counts.into_iter().collect();
+        v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        v
+    }
+}

@@ -1,0 +1,118 @@
+//! A parameter axis `NAME=START:STOP:COUNT`: COUNT equally spaced values from
+//! START to STOP inclusive.
+
+use crate::error::GridError;
+
+/// One swept parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    /// Scene parameter name.
+    pub name: String,
+    /// First value.
+    pub start: f64,
+    /// Last value.
+    pub stop: f64,
+    /// Number of values (>= 1).
+    pub count: usize,
+}
+
+impl Axis {
+    /// Parses `NAME=START:STOP:COUNT`; `flag` names the option in errors.
+    pub fn parse(text: &str, flag: &str) -> Result<Axis, GridError> {
+        let bad = |m: &str| GridError::field(flag, format!("{m} (expected NAME=START:STOP:COUNT, got '{text}')"));
+        let (name, range) = text.split_once('=').ok_or_else(|| bad("missing '='"))?;
+        let parts: Vec<&str> = range.split(':').collect();
+        let [a, b, c] = parts.as_slice() else { return Err(bad("need three fields")) };
+        let num = |s: &str, what: &str| -> Result<f64, GridError> {
+            let v: f64 = s.trim().parse().map_err(|_| bad(&format!("{what} '{}' is not a number", s.trim())))?;
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(bad(&format!("{what} must be finite")))
+            }
+        };
+        let (start, stop) = (num(a, "START")?, num(b, "STOP")?);
+        let count: usize = c.trim().parse().map_err(|_| bad(&format!("COUNT '{}' is not a whole number", c.trim())))?;
+        let flag_name = format!("{flag} {}", name.trim());
+        if name.trim().is_empty() {
+            return Err(bad("empty parameter name"));
+        }
+        if count == 0 {
+            return Err(GridError::field(flag_name, "COUNT must be >= 1, got 0"));
+        }
+        if count > 1 && start == stop {
+            return Err(GridError::field(flag_name, format!("empty range {start}:{stop} with {count} values")));
+        }
+        Ok(Axis { name: name.trim().to_string(), start, stop, count })
+    }
+
+    /// Refuses a descending axis (planes are stored ascending; sweep direction is separate).
+    pub fn ascending(self, flag: &str) -> Result<Axis, GridError> {
+        if self.start > self.stop {
+            return Err(GridError::field(
+                format!("{flag} {}", self.name),
+                format!(
+                    "inverted range {}:{} (give it ascending; use --sweep down to sweep downwards)",
+                    self.start, self.stop
+                ),
+            ));
+        }
+        Ok(self)
+    }
+
+    /// The i-th value.
+    pub fn value(&self, i: usize) -> f64 {
+        if self.count == 1 {
+            self.start
+        } else {
+            self.start + (self.stop - self.start) * i as f64 / (self.count - 1) as f64
+        }
+    }
+
+    /// All values in order.
+    pub fn values(&self) -> Vec<f64> {
+        (0..self.count).map(|i| self.value(i)).collect()
+    }
+
+    /// The same values in the opposite order.
+    pub fn reversed(&self) -> Axis {
+        Axis { name: self.name.clone(), start: self.stop, stop: self.start, count: self.count }
+    }
+}
+
+impl std::fmt::Display for Axis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}={}:{}:{}", self.name, self.start, self.stop, self.count)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_and_spaces_values() {
+        let a = Axis::parse("omega=0.1:0.3:3", "--x").unwrap();
+        assert_eq!(a.name, "omega");
+        assert_eq!(a.values().len(), 3);
+        assert!((a.value(1) - 0.2).abs() < 1e-15 && a.value(2) == 0.3);
+        assert_eq!(Axis::parse("d=1:1:1", "--y").unwrap().values(), vec![1.0]);
+    }
+
+    #[test]
+    fn refuses_bad_axes() {
+        for bad in [
+            "omega",
+            "omega=1:2",
+            "omega=a:2:3",
+            "omega=1:2:0",
+            "omega=1:1:5",
+            "=1:2:3",
+            "omega=1:inf:3",
+            "omega=1:2:-1",
+        ] {
+            assert!(Axis::parse(bad, "--x").is_err(), "{bad}");
+        }
+        assert!(Axis::parse("omega=2:1:3", "--x").unwrap().ascending("--x").is_err());
+    }
+}

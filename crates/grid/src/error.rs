@@ -1,0 +1,34 @@
+//! Errors of grid set-up: one line naming the option or field.
+
+use thiserror::Error;
+
+/// What is wrong with a plane, a sweep, a shard or a study.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GridError {
+    /// An option or field has a bad value.
+    #[error("{field}: {message}")]
+    Field {
+        /// The option (`--x`, `--shard`) or study field.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A cell's parameters do not make a valid scene.
+    #[error("cell {params}: {source}")]
+    Cell {
+        /// The cell's parameter values.
+        params: String,
+        /// The scene's complaint.
+        source: scene::SceneError,
+    },
+    /// The solver refuses the scene.
+    #[error(transparent)]
+    Solver(#[from] solver::SolverError),
+}
+
+impl GridError {
+    /// Builds a [`GridError::Field`].
+    pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
+        GridError::Field { field: field.into(), message: message.into() }
+    }
+}

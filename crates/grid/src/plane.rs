@@ -1,0 +1,181 @@
+//! A parameter plane: two axes, cells `(iy, ix)` stored row-major, and lines
+//! (rows along x, or columns with `--along y`) as the units of parallel work,
+//! sharding and resuming. Fresh lines tile their cells across cores; up and
+//! down lines are continuation chains, run in parallel with each other. Every
+//! line's result depends only on its inputs, so the plane is identical whatever
+//! the number of threads or the order in which lines finish.
+
+use crate::axis::Axis;
+use crate::cell::{CellData, CellSetup};
+use crate::error::GridError;
+use crate::sweep::{chain, Progress, SweepKind};
+use rayon::prelude::*;
+
+/// Which axis the continuation chains follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Along {
+    /// Chains are rows: x varies.
+    X,
+    /// Chains are columns: y varies.
+    Y,
+}
+
+impl Along {
+    /// `x` or `y`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Along::X => "x",
+            Along::Y => "y",
+        }
+    }
+
+    /// Parses `x` or `y`.
+    pub fn parse(text: &str) -> Result<Along, GridError> {
+        match text {
+            "x" => Ok(Along::X),
+            "y" => Ok(Along::Y),
+            _ => Err(GridError::field("--along", format!("expected x or y, got '{text}'"))),
+        }
+    }
+}
+
+/// Two axes and the direction of continuation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plane {
+    /// Horizontal axis (columns).
+    pub x: Axis,
+    /// Vertical axis (rows).
+    pub y: Axis,
+    /// Direction of continuation chains.
+    pub along: Along,
+}
+
+/// The cells of one line, in increasing position along it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Line {
+    /// Which sweep.
+    pub sweep: SweepKind,
+    /// Line index (row for `along x`, column for `along y`).
+    pub index: usize,
+    /// Cells in increasing position.
+    pub cells: Vec<CellData>,
+}
+
+impl Plane {
+    /// Builds a plane; axes must be ascending and name different parameters.
+    pub fn new(x: Axis, y: Axis, along: Along) -> Result<Plane, GridError> {
+        let x = x.ascending("--x")?;
+        let y = y.ascending("--y")?;
+        if x.name == y.name {
+            return Err(GridError::field("--y", format!("both axes sweep '{}'", x.name)));
+        }
+        Ok(Plane { x, y, along })
+    }
+
+    /// Number of cells.
+    pub fn cells(&self) -> usize {
+        self.x.count * self.y.count
+    }
+
+    /// Number of lines.
+    pub fn lines(&self) -> usize {
+        match self.along {
+            Along::X => self.y.count,
+            Along::Y => self.x.count,
+        }
+    }
+
+    /// Cells per line.
+    pub fn line_len(&self) -> usize {
+        match self.along {
+            Along::X => self.x.count,
+            Along::Y => self.y.count,
+        }
+    }
+
+    /// `(iy, ix)` of position `pos` on line `line`.
+    pub fn cell(&self, line: usize, pos: usize) -> (usize, usize) {
+        match self.along {
+            Along::X => (line, pos),
+            Along::Y => (pos, line),
+        }
+    }
+
+    /// Parameter values of cell `(iy, ix)`.
+    pub fn params(&self, iy: usize, ix: usize) -> Vec<(String, f64)> {
+        vec![(self.x.name.clone(), self.x.value(ix)), (self.y.name.clone(), self.y.value(iy))]
+    }
+
+    /// Checks that every cell's parameters make a valid scene, before any work.
+    pub fn validate(&self, setup: &CellSetup) -> Result<(), GridError> {
+        setup
+            .scene
+            .check_parameter(&self.x.name, &format!("--x {}", self.x.name))
+            .map_err(|e| GridError::field("--x", e.to_string()))?;
+        setup
+            .scene
+            .check_parameter(&self.y.name, &format!("--y {}", self.y.name))
+            .map_err(|e| GridError::field("--y", e.to_string()))?;
+        for iy in 0..self.y.count {
+            for ix in 0..self.x.count {
+                setup.system(&self.params(iy, ix))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Computes one line of one sweep.
+    pub fn line(
+        &self,
+        setup: &CellSetup,
+        sweep: SweepKind,
+        index: usize,
+        progress: &dyn Progress,
+    ) -> Result<Line, GridError> {
+        let len = self.line_len();
+        let point = |pos: usize| {
+            let (iy, ix) = self.cell(index, pos);
+            self.params(iy, ix)
+        };
+        let cells = match sweep {
+            SweepKind::Fresh => (0..len)
+                .into_par_iter()
+                .map(|pos| {
+                    let c = setup.run(&point(pos), None);
+                    progress.advance(1);
+                    c
+                })
+                .collect::<Result<Vec<_>, _>>()?,
+            SweepKind::Up => chain(setup, &(0..len).map(point).collect::<Vec<_>>(), progress)?,
+            SweepKind::Down => {
+                let mut c = chain(setup, &(0..len).rev().map(point).collect::<Vec<_>>(), progress)?;
+                c.reverse();
+                c
+            }
+        };
+        Ok(Line { sweep, index, cells })
+    }
+
+    /// Computes the given `(sweep, line)` jobs on `threads` threads, handing each
+    /// finished line to `sink` (from the worker thread that computed it).
+    pub fn run(
+        &self,
+        setup: &CellSetup,
+        jobs: &[(SweepKind, usize)],
+        threads: usize,
+        progress: &dyn Progress,
+        sink: &(dyn Fn(Line) + Sync),
+    ) -> Result<(), GridError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| GridError::field("--threads", e.to_string()))?;
+        pool.install(|| {
+            jobs.par_iter().with_max_len(1).try_for_each(|&(sweep, index)| {
+                let line = self.line(setup, sweep, index, progress)?;
+                sink(line);
+                Ok(())
+            })
+        })
+    }
+}

@@ -1,0 +1,55 @@
+//! Shards `K/N` of a plane for cluster job arrays: shard K takes every line
+//! (continuation chain: row or column) whose index i has `i mod N = K - 1`, so
+//! shards are disjoint, cover the plane, and balance rows of every kind.
+
+use crate::error::GridError;
+
+/// Shard K of N (1-based K).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// This shard, 1..=n.
+    pub k: usize,
+    /// Number of shards.
+    pub n: usize,
+}
+
+impl Shard {
+    /// Parses `K/N`.
+    pub fn parse(text: &str) -> Result<Shard, GridError> {
+        let bad = |m: String| GridError::field("--shard", m);
+        let (k, n) = text.split_once('/').ok_or_else(|| bad(format!("expected K/N, got '{text}'")))?;
+        let k: usize = k.trim().parse().map_err(|_| bad(format!("K '{k}' is not a whole number")))?;
+        let n: usize = n.trim().parse().map_err(|_| bad(format!("N '{n}' is not a whole number")))?;
+        if n == 0 || k == 0 || k > n {
+            return Err(bad(format!("need 1 <= K <= N, got {k}/{n}")));
+        }
+        Ok(Shard { k, n })
+    }
+
+    /// Whether line `i` belongs to this shard.
+    pub fn owns(&self, i: usize) -> bool {
+        i % self.n == self.k - 1
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.k, self.n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shards_partition_lines() {
+        let shards: Vec<Shard> = (1..=3).map(|k| Shard::parse(&format!("{k}/3")).unwrap()).collect();
+        for i in 0..10 {
+            assert_eq!(shards.iter().filter(|s| s.owns(i)).count(), 1);
+        }
+        for bad in ["0/2", "3/2", "1/0", "x/2", "1-2"] {
+            assert!(Shard::parse(bad).is_err(), "{bad}");
+        }
+    }
+}

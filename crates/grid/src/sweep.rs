@@ -1,0 +1,79 @@
+//! Continuation sweeps: a chain of cells along one parameter in which every
+//! cell starts from the final state of the one before, so that a motion is
+//! followed for as long as it exists; run up and down, the two chains disagree
+//! where motions coexist (hysteresis).
+
+use crate::cell::{CellData, CellSetup};
+use crate::error::GridError;
+
+/// Direction of a sweep, or a fresh (independent cells) map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum SweepKind {
+    /// Every cell from the scene's initial state.
+    Fresh,
+    /// Continuation in increasing parameter order.
+    Up,
+    /// Continuation in decreasing parameter order.
+    Down,
+}
+
+impl SweepKind {
+    /// `fresh`, `up` or `down`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepKind::Fresh => "fresh",
+            SweepKind::Up => "up",
+            SweepKind::Down => "down",
+        }
+    }
+
+    /// Parses a name.
+    pub fn parse(name: &str) -> Option<SweepKind> {
+        match name {
+            "fresh" => Some(SweepKind::Fresh),
+            "up" => Some(SweepKind::Up),
+            "down" => Some(SweepKind::Down),
+            _ => None,
+        }
+    }
+
+    /// The sweeps of a `--sweep` value: `fresh`, `up`, `down` or `both` (up and down).
+    pub fn parse_set(text: &str, flag: &str) -> Result<Vec<SweepKind>, GridError> {
+        match text {
+            "both" => Ok(vec![SweepKind::Up, SweepKind::Down]),
+            other => SweepKind::parse(other)
+                .map(|k| vec![k])
+                .ok_or_else(|| GridError::field(flag, format!("expected fresh, up, down or both, got '{text}'"))),
+        }
+    }
+}
+
+/// Receives progress in cells; implemented by the CLI's progress bar.
+pub trait Progress: Sync {
+    /// `cells` more cells are done.
+    fn advance(&self, cells: u64);
+}
+
+/// A progress sink that shows nothing.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Silent;
+impl Progress for Silent {
+    fn advance(&self, _cells: u64) {}
+}
+
+/// Runs cells in the given order, each from the previous cell's final state
+/// (the first from the scene's initial state).
+pub fn chain(
+    setup: &CellSetup,
+    points: &[Vec<(String, f64)>],
+    progress: &dyn Progress,
+) -> Result<Vec<CellData>, GridError> {
+    let mut out: Vec<CellData> = Vec::with_capacity(points.len());
+    for p in points {
+        let start = out.last().map(|c| c.final_state.as_slice());
+        let cell = setup.run(p, start)?;
+        out.push(cell);
+        progress.advance(1);
+    }
+    Ok(out)
+}

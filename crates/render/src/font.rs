@@ -1,0 +1,36 @@
+//! The font of every picture: DejaVu Sans from Debian's `fonts-dejavu-core`
+//! (installed by `scripts/setup.sh`), registered once with plotters.
+
+use crate::RenderError;
+use std::sync::OnceLock;
+
+const CANDIDATES: [&str; 3] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+];
+
+static FONT: OnceLock<Result<(), String>> = OnceLock::new();
+
+/// Registers the font as `sans-serif` (once).
+pub fn ensure() -> Result<(), RenderError> {
+    FONT.get_or_init(|| {
+        let path = std::env::var("VIBROATLAS_FONT")
+            .ok()
+            .into_iter()
+            .chain(CANDIDATES.iter().map(|s| s.to_string()))
+            .find(|p| std::path::Path::new(p).exists());
+        let Some(path) = path else {
+            return Err(
+                "no TrueType font found: install fonts-dejavu-core (scripts/setup.sh does) or set VIBROATLAS_FONT"
+                    .into(),
+            );
+        };
+        let bytes = std::fs::read(&path).map_err(|e| format!("{path}: {e}"))?;
+        let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+        plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, bytes)
+            .map_err(|_| format!("{path}: not a usable font"))
+    })
+    .clone()
+    .map_err(|message| RenderError { message })
+}

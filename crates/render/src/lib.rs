@@ -1,0 +1,19 @@
+//! Pictures of atlases: coloured label maps, bifurcation diagrams, and contact
+//! sheets of studies, as PNG files (plotters, bitmap backend).
+#![deny(missing_docs)]
+
+mod bifurcation;
+mod font;
+mod map;
+mod palette;
+
+pub use bifurcation::bifurcation;
+pub use map::{map, View};
+
+/// A picture could not be drawn or written.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("render: {message}")]
+pub struct RenderError {
+    /// What failed.
+    pub message: String,
+}

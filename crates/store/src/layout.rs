@@ -1,0 +1,105 @@
+//! Every HDF5 path, attribute name and code of the atlas file, in one place.
+//!
+//! ```text
+//! /                       attrs: software, version, scene, scene_name, preset, accuracy,
+//!                                integrator, command, created, run_time_s, x, y, along,
+//!                                sweeps, overrides, masses, stops, dim, section_cap, [shard]
+//! /axes/<x>, /axes/<y>    f64 [n]  coordinate vectors (attrs CLASS=DIMENSION_SCALE, NAME, start, stop)
+//! /<sweep>/               one group per sweep: fresh, up, down
+//!     label_<mass>        u16 [ny, nx, 3]  (n, p, q); 65535 = S (sticking); n = 0 when not periodic
+//!     class               u8  [ny, nx]     0 periodic, 1 chaotic, 2 unresolved, 255 not computed
+//!     flags               u8  [ny, nx]     bit k: stop k chatters; bit 4+k: stop k sticks (u32, bits k and 16+k, beyond 4 stops)
+//!     symmetry            u8  [ny, nx]     0 none/not symmetric scene, 1 S, 2 AS
+//!     final_state         f64 [ny, nx, dim]
+//!     periods, events     u64 [ny, nx]     work per cell
+//!     lines_done          u8  [lines]      1 where the line (row, or column with along=y) is computed
+//!     sections/period/values   f64 [N, dim]      states at t = kT
+//!     sections/<stop>/values   f64 [N, 1 + dim]  (phase t mod T, state just before impact)
+//!     sections/<name>/offsets  u64 [ny*nx + 1]   CSR: cell i = iy*nx + ix owns rows offsets[i]..offsets[i+1]
+//! /hysteresis             u8  [ny, nx]     1 where up and down are periodic with different labels
+//! /legend/<sweep>/<mass>/label   strings, most frequent first
+//! /legend/<sweep>/<mass>/count   u64
+//! ```
+
+/// Name of the software attribute value.
+pub const SOFTWARE: &str = "vibroatlas";
+/// Group of the axes.
+pub const AXES: &str = "axes";
+/// Group of the legends.
+pub const LEGEND: &str = "legend";
+/// Hysteresis mask dataset.
+pub const HYSTERESIS: &str = "hysteresis";
+/// Sections group inside a sweep group.
+pub const SECTIONS: &str = "sections";
+/// Period section name.
+pub const PERIOD_SECTION: &str = "period";
+/// Class code of a cell not computed (shards).
+pub const NOT_COMPUTED: u8 = 255;
+/// Code of an `S` count in labels.
+pub const STUCK: u16 = grid::STUCK;
+/// Description of the class codes, stored as an attribute.
+pub const CLASS_CODES: &str = "0 periodic, 1 chaotic, 2 unresolved, 255 not computed";
+/// Description of the symmetry codes.
+pub const SYMMETRY_CODES: &str = "0 none, 1 S (symmetric), 2 AS (asymmetric)";
+
+/// Dataset of mass labels in a sweep group.
+pub fn label(mass: &str) -> String {
+    format!("label_{mass}")
+}
+
+/// Description of the flag bits for `stops`.
+pub fn flag_bits(stops: &[String]) -> String {
+    let shift = if stops.len() <= 4 { 4 } else { 16 };
+    stops
+        .iter()
+        .enumerate()
+        .map(|(k, s)| format!("bit {k}: {s} chatters; bit {}: {s} sticks", k + shift))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// Bit shift of sticking flags for this many stops.
+pub fn sticking_shift(stops: usize) -> u32 {
+    if stops <= 4 {
+        4
+    } else {
+        16
+    }
+}
+
+/// Class code of a solver class.
+pub fn class_code(c: solver::Class) -> u8 {
+    match c {
+        solver::Class::Periodic => 0,
+        solver::Class::Chaotic => 1,
+        solver::Class::Unresolved => 2,
+    }
+}
+
+/// Solver class of a code (`None` for not computed).
+pub fn class_of(code: u8) -> Option<solver::Class> {
+    match code {
+        0 => Some(solver::Class::Periodic),
+        1 => Some(solver::Class::Chaotic),
+        2 => Some(solver::Class::Unresolved),
+        _ => None,
+    }
+}
+
+/// Symmetry code.
+pub fn symmetry_code(s: Option<solver::Symmetry>) -> u8 {
+    match s {
+        None => 0,
+        Some(solver::Symmetry::Symmetric) => 1,
+        Some(solver::Symmetry::Asymmetric) => 2,
+    }
+}
+
+/// Symmetry of a code.
+pub fn symmetry_of(code: u8) -> Option<solver::Symmetry> {
+    match code {
+        1 => Some(solver::Symmetry::Symmetric),
+        2 => Some(solver::Symmetry::Asymmetric),
+        _ => None,
+    }
+}

@@ -1,0 +1,19 @@
+//! HDF5 files of vibroatlas: the layout (every path in [`layout`]), writing
+//! atomically, reading back, merging shards, and the resume journal.
+//!
+//! The files are self-describing and read by h5py or MATLAB with no project
+//! code: see [`layout`] for the datasets and their codes.
+#![deny(missing_docs)]
+
+pub mod error;
+pub mod journal;
+pub mod layout;
+pub mod merge;
+pub mod read;
+pub mod write;
+
+pub use error::StoreError;
+pub use journal::{fingerprint, journal_path, Journal};
+pub use merge::merge;
+pub use read::{read, Loaded};
+pub use write::{partial_path, write, RunInfo};

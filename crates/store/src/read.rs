@@ -1,0 +1,153 @@
+//! Reading an atlas file back into memory (for merge, render, inspect, resume
+//! checks and round-trip tests).
+
+use crate::error::StoreError;
+use crate::layout::*;
+use crate::write::RunInfo;
+use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
+use hdf5::types::VarLenUnicode;
+use std::path::Path;
+
+/// An atlas file's contents.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    /// The atlas.
+    pub atlas: Atlas,
+    /// How it was produced.
+    pub info: RunInfo,
+    /// Creation time (RFC 3339).
+    pub created: String,
+}
+
+fn attr(f: &hdf5::Location, name: &str) -> hdf5::Result<String> {
+    Ok(f.attr(name)?.read_scalar::<VarLenUnicode>()?.to_string())
+}
+
+fn list(s: &str) -> Vec<String> {
+    if s.is_empty() {
+        Vec::new()
+    } else {
+        s.split(',').map(str::to_string).collect()
+    }
+}
+
+fn pairs(s: &str) -> Result<Vec<(String, f64)>, String> {
+    list(s)
+        .iter()
+        .map(|kv| {
+            let (k, v) = kv.split_once('=').ok_or_else(|| format!("bad pair '{kv}'"))?;
+            Ok((k.to_string(), v.parse::<f64>().map_err(|_| format!("bad number in '{kv}'"))?))
+        })
+        .collect()
+}
+
+/// Reads an atlas file.
+pub fn read(path: &Path) -> Result<Loaded, StoreError> {
+    let fmt = |m: String| StoreError::format(path, m);
+    let h = |e: hdf5::Error| StoreError::hdf5(path, e);
+    if !path.exists() {
+        return Err(StoreError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "no such file")));
+    }
+    let f = hdf5::File::open(path).map_err(h)?;
+    if attr(&f, "software").map_err(h)? != SOFTWARE {
+        return Err(fmt("not a vibroatlas file".into()));
+    }
+    let axis = |name: &str| -> Result<Axis, StoreError> {
+        let d = f.dataset(&format!("{AXES}/{name}")).map_err(h)?;
+        Ok(Axis {
+            name: name.to_string(),
+            start: d.attr("start").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
+            stop: d.attr("stop").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
+            count: d.size(),
+        })
+    };
+    let x = axis(&attr(&f, "x").map_err(h)?)?;
+    let y = axis(&attr(&f, "y").map_err(h)?)?;
+    let along = Along::parse(&attr(&f, "along").map_err(h)?).map_err(|e| fmt(e.to_string()))?;
+    let sweeps = list(&attr(&f, "sweeps").map_err(h)?)
+        .iter()
+        .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
+        .collect::<Result<Vec<_>, _>>()?;
+    let meta = Meta {
+        scene_name: attr(&f, "scene_name").map_err(h)?,
+        scene_toml: attr(&f, "scene").map_err(h)?,
+        overrides: pairs(&attr(&f, "overrides").map_err(h)?).map_err(fmt)?,
+        preset: attr(&f, "preset").map_err(h)?,
+        accuracy: pairs(&attr(&f, "accuracy").map_err(h)?).map_err(fmt)?,
+        integrator: attr(&f, "integrator").map_err(h)?,
+        plane: Plane { x, y, along },
+        sweeps,
+        masses: list(&attr(&f, "masses").map_err(h)?),
+        stops: list(&attr(&f, "stops").map_err(h)?),
+        dim: f.attr("dim").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+        section_cap: f.attr("section_cap").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+    };
+    let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
+    let n = nx * ny;
+    let shift = sticking_shift(meta.stops.len());
+    let mut maps = Vec::new();
+    for &sweep in &meta.sweeps {
+        let g = f.group(sweep.name()).map_err(h)?;
+        let raw_u8 = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<u8>()).map_err(h);
+        let raw_u64 = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<u64>()).map_err(h);
+        let class = raw_u8("class")?;
+        let sym = raw_u8("symmetry")?;
+        let flags = g.dataset("flags").and_then(|d| d.read_raw::<u32>()).map_err(h)?;
+        let fs = g.dataset("final_state").and_then(|d| d.read_raw::<f64>()).map_err(h)?;
+        let (periods, events) = (raw_u64("periods")?, raw_u64("events")?);
+        let labels = meta
+            .masses
+            .iter()
+            .map(|m| g.dataset(&label(m)).and_then(|d| d.read_raw::<u16>()).map_err(h))
+            .collect::<Result<Vec<_>, _>>()?;
+        if class.len() != n || fs.len() != n * dim || labels.iter().any(|l| l.len() != 3 * n) {
+            return Err(fmt(format!("datasets of /{} do not match the {ny} x {nx} grid", sweep.name())));
+        }
+        let section = |name: &str| -> Result<(Vec<f64>, Vec<u64>, usize), StoreError> {
+            let s = g.group(&format!("{SECTIONS}/{name}")).map_err(h)?;
+            let vd = s.dataset("values").map_err(h)?;
+            let cols = vd.shape().get(1).copied().unwrap_or(1);
+            Ok((
+                vd.read_raw::<f64>().map_err(h)?,
+                s.dataset("offsets").and_then(|d| d.read_raw::<u64>()).map_err(h)?,
+                cols,
+            ))
+        };
+        let rows = |sec: &(Vec<f64>, Vec<u64>, usize), i: usize| -> Vec<Vec<f64>> {
+            let (v, o, cols) = sec;
+            (o[i] as usize..o[i + 1] as usize).map(|r| v[r * cols..(r + 1) * cols].to_vec()).collect()
+        };
+        let period = section(PERIOD_SECTION)?;
+        let impacts = meta.stops.iter().map(|s| section(s)).collect::<Result<Vec<_>, _>>()?;
+        let cells = (0..n)
+            .map(|i| {
+                class_of(class[i]).map(|c| CellData {
+                    class: c,
+                    labels: labels.iter().map(|l| [l[3 * i], l[3 * i + 1], l[3 * i + 2]]).collect(),
+                    chatter: flags[i] & ((1 << shift) - 1),
+                    sticking: flags[i] >> shift,
+                    symmetry: symmetry_of(sym[i]),
+                    final_state: fs[i * dim..(i + 1) * dim].to_vec(),
+                    periods: periods[i],
+                    events: events[i],
+                    period_section: rows(&period, i),
+                    impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
+                })
+            })
+            .collect();
+        maps.push(Map { sweep, cells });
+    }
+    let shard = match attr(&f, "shard") {
+        Ok(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
+        Err(_) => None,
+    };
+    Ok(Loaded {
+        atlas: Atlas { meta, maps },
+        info: RunInfo {
+            command: attr(&f, "command").map_err(h)?,
+            run_time_s: f.attr("run_time_s").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
+            shard,
+        },
+        created: attr(&f, "created").map_err(h)?,
+    })
+}
