@@ -84,3 +84,53 @@ fn bad_options() {
     expect_error(&["cell", "configs/missing.toml"], "configs/missing.toml");
     expect_error(&["cell", "configs/multi-stop.toml", "--trace", "/nonexistent-dir/t.csv"], "/nonexistent-dir/t.csv");
 }
+
+/// Issue 3: bad planes, shards, outputs and merges are refused before any work,
+/// with nothing left under the final name.
+#[test]
+fn atlas_bad_input() {
+    let dir = std::env::temp_dir().join(format!("vibroatlas-atlas-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("a.h5");
+    let o = out.to_str().unwrap();
+    let base = ["atlas", "configs/multi-stop.toml"];
+    let with = |extra: &[&str]| -> Vec<String> { base.iter().chain(extra).map(|s| s.to_string()).collect() };
+    let check = |args: Vec<String>, field: &str| {
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        expect_error(&a, field);
+        assert!(!out.exists());
+    };
+    check(with(&["--x", "omega=1:1:5", "--y", "delta=0.1:1:3", "-o", o]), "--x omega");
+    check(with(&["--x", "omega=2:1:5", "--y", "delta=0.1:1:3", "-o", o]), "--x omega");
+    check(with(&["--x", "omega=0.1:1:0", "--y", "delta=0.1:1:3", "-o", o]), "--x omega");
+    check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1", "-o", o]), "--y");
+    check(with(&["--x", "omega=0.1:1:5", "--y", "omega=0.1:1:3", "-o", o]), "--y");
+    check(with(&["--x", "omgea=0.1:1:5", "--y", "delta=0.1:1:3", "-o", o]), "omgea");
+    check(with(&["--x", "omega=0.1:1:5", "--y", "mu_m=0.5:1.5:3", "-o", o]), "mu_m");
+    check(with(&["--x", "omega=0.1:3:100000", "--y", "delta=0:2:100000", "-o", o]), "GiB");
+    check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--shard", "3/2", "-o", o]), "--shard");
+    check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--sweep", "sideways", "-o", o]), "--sweep");
+    check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--threads", "0", "-o", o]), "--threads");
+    expect_error(&["atlas", "configs/multi-stop.toml", "--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "-o", "/nonexistent-dir/a.h5"], "/nonexistent-dir/a.h5");
+    expect_error(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.3:0.3:4"], "--axis omega");
+    expect_error(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.3:0.4:4", "--direction", "left"], "--direction");
+
+    // Merging files of different grids or scenes.
+    let part = |name: &str, args: &[&str]| -> String {
+        let p = dir.join(name);
+        let mut all = vec!["atlas", args[0], "--x", args[1], "--y", "delta=0.5:1:2", "--quiet", "-o", p.to_str().unwrap()];
+        all.extend_from_slice(&args[2..]);
+        let r = run(&all);
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        p.to_str().unwrap().to_string()
+    };
+    let a = part("p1.h5", &["configs/multi-stop.toml", "omega=1:2:3", "--shard", "1/2"]);
+    let b = part("p2.h5", &["configs/multi-stop.toml", "omega=1:2:4", "--shard", "2/2"]);
+    let c = part("p3.h5", &["configs/symmetric-stops.toml", "omega=1:2:3", "--shard", "2/2"]);
+    let merged = dir.join("m.h5");
+    expect_error(&["merge", &a, &b, "-o", merged.to_str().unwrap()], "grid");
+    expect_error(&["merge", &a, &c, "-o", merged.to_str().unwrap()], "scene");
+    expect_error(&["merge", &a, "configs/multi-stop.toml", "-o", merged.to_str().unwrap()], "configs/multi-stop.toml");
+    assert!(!merged.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -2,6 +2,7 @@
 //! contract it checks.
 
 mod agreement;
+mod atlas;
 mod bad_input;
 mod cli;
 mod closed_form;

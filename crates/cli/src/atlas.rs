@@ -17,7 +17,6 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     if a.output.as_os_str().is_empty() {
         bail!("--output: empty path");
     }
-    plane.validate(&cs)?;
     let plan = Plan {
         meta: meta(&cs, &s, plane, sweeps, s.accuracy_overrides.clone())?,
         setup: cs,
@@ -29,6 +28,7 @@ pub fn run(a: AtlasArgs) -> Result<()> {
         command: command_line(),
     };
     plan.check_memory()?;
+    plan.meta.plane.validate(&plan.setup)?;
     let (atlas, secs) = plan.execute("atlas")?;
     if !a.run.quiet {
         print_summary(&atlas, secs, plan.threads);

@@ -31,7 +31,6 @@ pub fn run(a: SweepArgs) -> Result<()> {
         .cloned()
         .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
     let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)?;
-    plane.validate(&cs).map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
     let plan = Plan {
         meta: meta(&cs, &s, plane, sweeps.clone(), s.accuracy_overrides.clone())?,
         setup: cs,
@@ -43,6 +42,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         command: command_line(),
     };
     plan.check_memory()?;
+    plan.meta.plane.validate(&plan.setup).map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
     let (atlas, _) = plan.execute("sweep")?;
     if let Some(png) = &a.png {
         render::bifurcation(&atlas, png)?;
