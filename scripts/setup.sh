@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Installs what vibroatlas needs on a fresh Debian machine with Rust, and nothing
 # that is already there. Safe to run repeatedly.
+#   libhdf5-dev, pkg-config   HDF5 library the hdf5-metno crate links to
+#   fonts-dejavu-core         the font of every PNG
+#   python3-h5py              Debian's h5py, for scripts/check_atlas.py (/usr/bin/python3)
 set -euo pipefail
 
-APT_PACKAGES=(pkg-config)
+APT_PACKAGES=(pkg-config libhdf5-dev fonts-dejavu-core python3-h5py)
 
 if ! command -v cargo >/dev/null 2>&1; then
     echo "setup: cargo not found; install a Rust toolchain (rustup) first" >&2
@@ -19,5 +22,5 @@ if [ ${#missing[@]} -gt 0 ]; then
     SUDO=""
     [ "$(id -u)" -eq 0 ] || SUDO="sudo"
     $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi

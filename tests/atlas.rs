@@ -60,7 +60,13 @@ fn shards_merge_into_the_single_run() {
     atlas(&d.join("p2.h5"), &["--shard", "2/2"]);
     let part = load(&d.join("p1.h5"));
     assert!(!part.complete());
-    let o = run(&["merge", d.join("p2.h5").to_str().unwrap(), d.join("p1.h5").to_str().unwrap(), "-o", d.join("merged.h5").to_str().unwrap()]);
+    let o = run(&[
+        "merge",
+        d.join("p2.h5").to_str().unwrap(),
+        d.join("p1.h5").to_str().unwrap(),
+        "-o",
+        d.join("merged.h5").to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(load(&d.join("merged.h5")), load(&d.join("all.h5")));
     std::fs::remove_dir_all(&d).unwrap();
@@ -72,14 +78,32 @@ fn shards_merge_into_the_single_run() {
 fn killed_run_resumes_to_the_same_file() {
     let d = scratch("resume");
     let args = |out: &Path| -> Vec<String> {
-        ["atlas", "configs/multi-stop.toml", "--x", "omega=0.15:1.5:40", "--y", "delta=0.1:1.2:16", "--sweep", "up", "--threads", "1", "--quiet", "-o", out.to_str().unwrap()]
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
+        [
+            "atlas",
+            "configs/multi-stop.toml",
+            "--x",
+            "omega=0.15:1.5:40",
+            "--y",
+            "delta=0.1:1.2:16",
+            "--sweep",
+            "up",
+            "--threads",
+            "1",
+            "--quiet",
+            "-o",
+            out.to_str().unwrap(),
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
     };
     let out = d.join("resumed.h5");
     let journal = d.join(".resumed.h5.journal");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vibroatlas")).args(args(&out)).current_dir(env!("CARGO_MANIFEST_DIR")).spawn().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
+        .args(args(&out))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .spawn()
+        .unwrap();
     let lines = |p: &Path| std::fs::read_to_string(p).map(|t| t.lines().count()).unwrap_or(0);
     let t0 = std::time::Instant::now();
     while lines(&journal) < 4 && t0.elapsed().as_secs() < 60 {
@@ -94,11 +118,19 @@ fn killed_run_resumes_to_the_same_file() {
     }
     let mut resume = args(&out);
     resume.push("--resume".into());
-    let o = Command::new(env!("CARGO_BIN_EXE_vibroatlas")).args(&resume).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
+        .args(&resume)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!journal.exists(), "journal left behind");
     let full = d.join("full.h5");
-    let o = Command::new(env!("CARGO_BIN_EXE_vibroatlas")).args(args(&full)).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
+        .args(args(&full))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
     assert!(o.status.success());
     assert_eq!(load(&out), load(&full));
     std::fs::remove_dir_all(&d).unwrap();
@@ -108,7 +140,17 @@ fn killed_run_resumes_to_the_same_file() {
 /// somewhere in [0.3145, 0.3151] (hysteresis between 1-3-3 and 1-3-4).
 #[test]
 fn hysteresis_between_1_3_3_and_1_3_4() {
-    let o = run(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.313:0.317:81", "--set", "delta=0.7", "--direction", "both", "--json"]);
+    let o = run(&[
+        "sweep",
+        "configs/multi-stop.toml",
+        "--axis",
+        "omega=0.313:0.317:81",
+        "--set",
+        "delta=0.7",
+        "--direction",
+        "both",
+        "--json",
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(j["axis"], "omega");
@@ -117,10 +159,15 @@ fn hysteresis_between_1_3_3_and_1_3_4() {
         p["labels"]["M1"].as_str().unwrap().to_string()
     };
     let values: Vec<f64> = j["up"].as_array().unwrap().iter().map(|p| p["value"].as_f64().unwrap()).collect();
-    let inside: Vec<(String, String)> =
-        values.iter().filter(|&&v| (0.3145..=0.3151).contains(&v)).map(|&v| (label("up", v), label("down", v))).collect();
+    let inside: Vec<(String, String)> = values
+        .iter()
+        .filter(|&&v| (0.3145..=0.3151).contains(&v))
+        .map(|&v| (label("up", v), label("down", v)))
+        .collect();
     assert!(
-        inside.iter().any(|(u, d)| u != d && [u.as_str(), d.as_str()].contains(&"1-3-3") && [u.as_str(), d.as_str()].contains(&"1-3-4")),
+        inside.iter().any(|(u, d)| u != d
+            && [u.as_str(), d.as_str()].contains(&"1-3-3")
+            && [u.as_str(), d.as_str()].contains(&"1-3-4")),
         "{inside:?}"
     );
     assert!(!j["hysteresis"].as_array().unwrap().is_empty());
@@ -148,7 +195,17 @@ fn render_inspect_and_bifurcation_pictures() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("13 x delta") && text.contains("hysteresis"), "{text}");
     let png = d.join("bif.png");
-    let o = run(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.25:0.4:16", "--direction", "both", "--quiet", "--png", png.to_str().unwrap()]);
+    let o = run(&[
+        "sweep",
+        "configs/multi-stop.toml",
+        "--axis",
+        "omega=0.25:0.4:16",
+        "--direction",
+        "both",
+        "--quiet",
+        "--png",
+        png.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(&std::fs::read(&png).unwrap()[..4], b"\x89PNG");
     std::fs::remove_dir_all(&d).unwrap();

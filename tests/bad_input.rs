@@ -111,14 +111,30 @@ fn atlas_bad_input() {
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--shard", "3/2", "-o", o]), "--shard");
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--sweep", "sideways", "-o", o]), "--sweep");
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--threads", "0", "-o", o]), "--threads");
-    expect_error(&["atlas", "configs/multi-stop.toml", "--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "-o", "/nonexistent-dir/a.h5"], "/nonexistent-dir/a.h5");
+    expect_error(
+        &[
+            "atlas",
+            "configs/multi-stop.toml",
+            "--x",
+            "omega=0.1:1:5",
+            "--y",
+            "delta=0.1:1:3",
+            "-o",
+            "/nonexistent-dir/a.h5",
+        ],
+        "/nonexistent-dir/a.h5",
+    );
     expect_error(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.3:0.3:4"], "--axis omega");
-    expect_error(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.3:0.4:4", "--direction", "left"], "--direction");
+    expect_error(
+        &["sweep", "configs/multi-stop.toml", "--axis", "omega=0.3:0.4:4", "--direction", "left"],
+        "--direction",
+    );
 
     // Merging files of different grids or scenes.
     let part = |name: &str, args: &[&str]| -> String {
         let p = dir.join(name);
-        let mut all = vec!["atlas", args[0], "--x", args[1], "--y", "delta=0.5:1:2", "--quiet", "-o", p.to_str().unwrap()];
+        let mut all =
+            vec!["atlas", args[0], "--x", args[1], "--y", "delta=0.5:1:2", "--quiet", "-o", p.to_str().unwrap()];
         all.extend_from_slice(&args[2..]);
         let r = run(&all);
         assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));

@@ -20,6 +20,8 @@ pub enum Command {
     Sweep(SweepArgs),
     /// Map a parameter plane in parallel, fresh or by up/down continuation.
     Atlas(AtlasArgs),
+    /// One atlas per value of a parameter, and a contact sheet comparing them.
+    Study(StudyArgs),
     /// Draw the coloured map of an atlas file.
     Render(RenderArgs),
     /// Merge shard files into one atlas.
@@ -160,4 +162,18 @@ pub struct RenderArgs {
     /// fresh, up, down, or hysteresis (up labels with hysteresis cells marked).
     #[arg(long)]
     pub sweep: Option<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    /// Study file (TOML): scene, parameter, values, axes, sweep.
+    pub study: std::path::PathBuf,
+    /// Output folder: one atlas and map per value, and contact-sheet.png.
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    pub output: std::path::PathBuf,
+    /// Accuracy preset: fast, standard or precise.
+    #[arg(long, default_value = "standard")]
+    pub preset: String,
+    #[command(flatten)]
+    pub run: RunArgs,
 }

@@ -11,6 +11,7 @@ mod merge;
 mod plan;
 mod progress;
 mod render_cmd;
+mod study;
 mod summary;
 mod sweep;
 
@@ -22,6 +23,7 @@ fn main() {
         args::Command::Cell(a) => cell::run(a),
         args::Command::Sweep(a) => sweep::run(a),
         args::Command::Atlas(a) => atlas::run(a),
+        args::Command::Study(a) => study::run(a),
         args::Command::Render(a) => render_cmd::run(a),
         args::Command::Merge(a) => merge::run(a),
         args::Command::Inspect(a) => inspect::run(a),

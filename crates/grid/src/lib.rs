@@ -12,6 +12,7 @@ pub mod error;
 pub mod hysteresis;
 pub mod plane;
 pub mod shard;
+pub mod study;
 pub mod sweep;
 
 pub use atlas::{Atlas, Map, Meta};
@@ -20,4 +21,5 @@ pub use cell::{label_text, CellData, CellSetup, STUCK};
 pub use error::GridError;
 pub use plane::{Along, Line, Plane};
 pub use shard::Shard;
+pub use study::Study;
 pub use sweep::{chain, Progress, Silent, SweepKind};

@@ -8,7 +8,7 @@ mod map;
 mod palette;
 
 pub use bifurcation::bifurcation;
-pub use map::{map, View};
+pub use map::{map, sheet, View};
 
 /// A picture could not be drawn or written.
 #[derive(Debug, Clone, thiserror::Error)]

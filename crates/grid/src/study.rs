@@ -1,0 +1,94 @@
+//! Parameter studies: one atlas per value of a parameter, around a reference
+//! scene (e.g. the mass ratio μm ∈ {0.05, 0.25, 0.75, 0.95}).
+//!
+//! ```toml
+//! scene = "../multi-stop.toml"     # relative to the study file
+//! parameter = "mu_m"
+//! values = [0.05, 0.25, 0.75, 0.95]
+//! x = "omega=0.1:3.05:120"
+//! y = "delta=0.05:2:80"
+//! sweep = "fresh"                   # fresh, up, down or both
+//! along = "x"
+//! [set]                             # optional overrides for every atlas
+//! zeta = 0.1
+//! ```
+
+use crate::error::GridError;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// A study file as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Study {
+    /// Scene file, relative to the study file.
+    pub scene: String,
+    /// Varied parameter.
+    pub parameter: String,
+    /// Its values, one atlas each.
+    pub values: Vec<f64>,
+    /// Horizontal axis `NAME=START:STOP:COUNT`.
+    pub x: String,
+    /// Vertical axis.
+    pub y: String,
+    /// Sweep kind (`fresh` by default).
+    #[serde(default = "fresh")]
+    pub sweep: String,
+    /// Direction of continuation chains (`x` by default).
+    #[serde(default = "along_x")]
+    pub along: String,
+    /// Overrides common to every atlas.
+    #[serde(default)]
+    pub set: BTreeMap<String, f64>,
+}
+
+fn fresh() -> String {
+    "fresh".into()
+}
+
+fn along_x() -> String {
+    "x".into()
+}
+
+impl Study {
+    /// Parses and checks a study file's text.
+    pub fn parse(text: &str) -> Result<Study, GridError> {
+        let s: Study = toml::from_str(text)
+            .map_err(|e| GridError::field("study file", e.to_string().trim().replace('\n', " ")))?;
+        if s.values.is_empty() {
+            return Err(GridError::field("values", "give at least one value"));
+        }
+        if let Some(v) = s.values.iter().find(|v| !v.is_finite()) {
+            return Err(GridError::field("values", format!("not a finite number: {v}")));
+        }
+        if let Some((k, _)) = s.set.iter().find(|(_, v)| !v.is_finite()) {
+            return Err(GridError::field(format!("set.{k}"), "not a finite number"));
+        }
+        Ok(s)
+    }
+
+    /// File-name stem of the atlas of one value, e.g. `mu_m=0.25`.
+    pub fn stem(&self, value: f64) -> String {
+        format!("{}={value}", self.parameter)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_and_refuses() {
+        let s = Study::parse(
+            "scene = \"a.toml\"\nparameter = \"mu_m\"\nvalues = [0.25]\nx = \"omega=1:2:3\"\ny = \"delta=1:2:3\"\n",
+        )
+        .unwrap();
+        assert_eq!(s.sweep, "fresh");
+        assert_eq!(s.stem(0.25), "mu_m=0.25");
+        assert!(Study::parse("scene = \"a.toml\"\nparameter = \"mu_m\"\nvalues = []\nx = \"\"\ny = \"\"\n").is_err());
+        assert!(Study::parse(
+            "scene = \"a.toml\"\nparameter = \"mu_m\"\nvalues = [1]\nx = \"\"\ny = \"\"\ncolour = 1\n"
+        )
+        .is_err());
+    }
+}
