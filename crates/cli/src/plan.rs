@@ -99,11 +99,13 @@ impl Plan {
             None => None,
         };
         let plane: &Plane = &self.meta.plane;
+        // Line-major, both directions of a line together: lines are taken in this
+        // order, and neighbouring lines cost alike.
+        let done: Vec<Vec<bool>> = self.meta.sweeps.iter().map(|&s| atlas.lines_done(s)).collect();
         let mut jobs = Vec::new();
-        for &sweep in &self.meta.sweeps {
-            let done = atlas.lines_done(sweep);
-            for line in 0..plane.lines() {
-                if self.shard.is_none_or(|s| s.owns(line)) && !done[line] {
+        for line in (0..plane.lines()).filter(|&l| self.shard.is_none_or(|s| s.owns(l))) {
+            for (si, &sweep) in self.meta.sweeps.iter().enumerate() {
+                if !done[si][line] {
                     jobs.push((sweep, line));
                 }
             }

@@ -10,6 +10,8 @@ use crate::cell::{CellData, CellSetup};
 use crate::error::GridError;
 use crate::sweep::{chain, Progress, SweepKind};
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// Which axis the continuation chains follow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,7 +159,9 @@ impl Plane {
     }
 
     /// Computes the given `(sweep, line)` jobs on `threads` threads, handing each
-    /// finished line to `sink` (from the worker thread that computed it).
+    /// finished line to `sink` (from the worker thread that computed it). Workers
+    /// take jobs first come, first served in the order given, so that a caller
+    /// listing expensive lines first keeps both cores busy to the end.
     pub fn run(
         &self,
         setup: &CellSetup,
@@ -170,12 +174,22 @@ impl Plane {
             .num_threads(threads)
             .build()
             .map_err(|e| GridError::field("--threads", e.to_string()))?;
-        pool.install(|| {
-            jobs.par_iter().with_max_len(1).try_for_each(|&(sweep, index)| {
-                let line = self.line(setup, sweep, index, progress)?;
-                sink(line);
-                Ok(())
-            })
-        })
+        let next = AtomicUsize::new(0);
+        let failed: Mutex<Option<GridError>> = Mutex::new(None);
+        pool.broadcast(|_| loop {
+            let i = next.fetch_add(1, Ordering::Relaxed);
+            let Some(&(sweep, index)) = jobs.get(i) else { break };
+            match self.line(setup, sweep, index, progress) {
+                Ok(line) => sink(line),
+                Err(e) => {
+                    failed.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);
+                    next.store(jobs.len(), Ordering::Relaxed);
+                }
+            }
+        });
+        match failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
     }
 }

@@ -1,0 +1,52 @@
+//! Atlas throughput on the reference plane of the multi-stop scene (64 x 64
+//! cells over ω ∈ [0.1, 3.05], δ ∈ [0.05, 2]), fresh and both sweeps, on 1 and 2
+//! threads. Criterion reports time per atlas; cells/s = 4096 (fresh) or 8192
+//! (both) divided by it. Run with `cargo bench --bench atlas`.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use grid::{Along, Axis, CellSetup, Line, Plane, Silent, SweepKind};
+use solver::{Accuracy, Method};
+use std::hint::black_box;
+use std::time::Duration;
+
+fn setup() -> CellSetup {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/multi-stop.toml")).unwrap();
+    CellSetup {
+        scene: scene::Scene::parse(&text).unwrap(),
+        base: Vec::new(),
+        accuracy: Accuracy::default(),
+        method: Method::Exact,
+        section_cap: 16,
+    }
+}
+
+fn bench_atlas(c: &mut Criterion) {
+    let cs = setup();
+    let plane = Plane::new(
+        Axis::parse("omega=0.1:3.05:64", "--x").unwrap(),
+        Axis::parse("delta=0.05:2:64", "--y").unwrap(),
+        Along::X,
+    )
+    .unwrap();
+    let mut g = c.benchmark_group("atlas64");
+    g.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(8));
+    for (name, sweeps) in [("fresh", vec![SweepKind::Fresh]), ("both", vec![SweepKind::Up, SweepKind::Down])] {
+        let jobs: Vec<(SweepKind, usize)> =
+            (0..plane.lines()).flat_map(|l| sweeps.iter().map(move |&s| (s, l))).collect();
+        g.throughput(Throughput::Elements((plane.cells() * sweeps.len()) as u64));
+        for threads in [1, 2] {
+            g.bench_with_input(BenchmarkId::new(name, format!("{threads}-threads")), &threads, |b, &t| {
+                b.iter(|| {
+                    let sink = |l: Line| {
+                        black_box(l);
+                    };
+                    plane.run(&cs, &jobs, t, &Silent, &sink).unwrap()
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_atlas);
+criterion_main!(benches);
