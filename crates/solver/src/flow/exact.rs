@@ -112,36 +112,16 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
         }
     }
     let event = |w: &Workspace, guard: usize, time: f64| {
-        let mut state = DVector::zeros(s0.len());
-        w.modal.state_into(&w.f, state.as_mut_slice());
+        let mut state = s0.clone();
+        if time > 0.0 {
+            w.modal.state_into(&w.f, state.as_mut_slice());
+        }
         Advance::Event { guard, time, state }
     };
 
     let mut u = 0.0f64;
     sp.factors(0.0, &mut w.f);
     sp.factor_bounds(0.0, horizon, &mut w.fb);
-    for gi in 0..ng {
-        let b = &w.beta[3 * nt * gi..3 * nt * (gi + 1)];
-        if evaluate(&w.f, &b[..nt]) <= acc.contact_tol {
-            let is_gap = mode.guards[gi].kind == GuardKind::Gap;
-            if at_contact(
-                terms,
-                b,
-                &mut w.high,
-                &mut w.high_moduli,
-                &w.f,
-                &w.fb,
-                is_gap,
-                acc,
-                0.0,
-                horizon,
-                &mut w.masked[gi],
-            ) {
-                return Advance::Event { guard: gi, time: 0.0, state: s0.clone() };
-            }
-        }
-    }
-
     for _ in 0..MAX_STEPS {
         if u > 0.0 {
             sp.factors(u, &mut w.f);
