@@ -6,4 +6,5 @@ mod atlas;
 mod bad_input;
 mod cli;
 mod closed_form;
+mod extremes;
 mod util;

@@ -244,8 +244,13 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
             if let Some((n, pattern)) = contracting_pattern(&hist, acc) {
                 newton_tries += 1;
                 newton_next = sim.periods + 3 * n as u64;
-                let p = probe.get_or_insert_with(|| sim.clone());
-                if let Some(x) = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol) {
+                let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
+                let p = probe.get_or_insert_with(|| sim.probe(0));
+                p.set_budget(acc.max_events.saturating_sub(spent) + p.events);
+                let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
+                // One budget per cell: what the probe spent is the simulation's no more.
+                sim.set_budget(acc.max_events.saturating_sub(p.events));
+                if let Some(x) = solved {
                     if sim.restart(x.as_slice()).is_ok() {
                         hist.clear();
                     }

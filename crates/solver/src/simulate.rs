@@ -108,6 +108,21 @@ impl<'s> Simulator<'s> {
         Ok(sim)
     }
 
+    /// A copy sharing nothing but the built modes, with zeroed counters and an
+    /// event budget of `budget` (for Newton probes within one cell's budget).
+    pub fn probe(&self, budget: usize) -> Self {
+        let mut p = self.clone();
+        p.periods = 0;
+        p.events = 0;
+        p.acc.max_events = budget;
+        p
+    }
+
+    /// Sets the event budget.
+    pub fn set_budget(&mut self, budget: usize) {
+        self.acc.max_events = budget;
+    }
+
     /// Restarts from full state `y0` at `t = 0` (counters and built modes are kept).
     pub fn restart(&mut self, y0: &[f64]) -> Result<(), Halt> {
         self.y = DVector::from_column_slice(y0);
@@ -220,6 +235,11 @@ impl<'s> Simulator<'s> {
                     .collect();
                 contacts.sort_unstable();
                 let before = self.y.clone();
+                // The event judged this stop's normal rate zero or closing: a rate
+                // below the stick velocity, of either sign, is a plastic contact.
+                if sys.gap_rate(stop, &self.y) >= -self.acc.stick_velocity {
+                    impact::apply(sys, stop, 0.0, &mut self.y);
+                }
                 let hits = impact::resolve(sys, &contacts, self.acc.stick_velocity, &mut self.y);
                 let t = self.time();
                 let mut accumulate = Vec::new();
@@ -239,7 +259,9 @@ impl<'s> Simulator<'s> {
             }
             GuardKind::Reaction => self.held &= !(1 << stop),
         }
-        let cand = candidates(sys, &self.acc, &self.y) | self.held;
+        // A stop released by its reaction (zero and decreasing) cannot hold now.
+        let released = if kind == GuardKind::Reaction { 1 << stop } else { 0 };
+        let cand = (candidates(sys, &self.acc, &self.y) | self.held) & !released;
         let phase = self.phase();
         let held = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand)?;
         for k in 0..sys.stops.len() {

@@ -2,16 +2,16 @@
 //!
 //! A stop is a candidate when its gap and its closing speed are both below the
 //! contact and stick tolerances (the end of a chatter sequence, a plastic impact,
-//! a mass resting on a stop). Candidates are held together; then, while some held
-//! stop's reaction is negative or zero and decreasing (the net force pulls the mass
-//! off the stop), the most negative one is released and the rest re-checked. In a
-//! single-stop scene this is the literature's condition: M1 stays on A1 while
+//! a mass resting on a stop). Among the candidates, the held set satisfies the
+//! complementarity conditions of rigid contact (see [`settle`]): held stops push
+//! (reaction >= 0), released ones do not close. In a single-stop scene this is the
+//! literature's condition: M1 stays on A1 while
 //! `F1 = (1-f20) sin(ωt+τ) - x1 - 2ζ x1' < 0`.
 
 use crate::accuracy::Accuracy;
 use crate::error::SolverError;
-use crate::flow::{classify_start, start_tolerances, Start};
-use crate::mode::{GuardKind, Mode};
+use crate::flow::{classify_start, start_tolerances, value_tol, Start};
+use crate::mode::{Guard, GuardKind, Mode};
 use crate::system::System;
 use nalgebra::DVector;
 
@@ -42,7 +42,13 @@ pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
         .fold(0, |m, k| m | (1 << k))
 }
 
-/// Chooses the held set among `cand` at full state `y` and forcing phase `phase`.
+/// Chooses the held set among the candidate stops `cand` at full state `y` and
+/// forcing phase `phase`: the largest subset (ties: smallest mask) whose
+/// constraints are independent, whose reactions are not negative (nor zero and
+/// decreasing), and whose released candidates do not accelerate into their
+/// stops — the complementarity conditions of rigid contact. With more than six
+/// candidates, or no consistent subset, the most negative reaction is released
+/// one at a time instead.
 pub fn settle(
     sys: &System,
     acc: &Accuracy,
@@ -51,39 +57,62 @@ pub fn settle(
     phase: f64,
     mut cand: u32,
 ) -> Result<u32, SolverError> {
+    let stops: Vec<usize> = (0..32).filter(|k| cand & (1 << k) != 0).collect();
+    if stops.len() <= 6 {
+        let mut subsets: Vec<u32> = (0..1u32 << stops.len())
+            .map(|bits| {
+                stops.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(0, |m, (_, &k)| m | (1 << k))
+            })
+            .collect();
+        subsets.sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
+        for mask in subsets {
+            let Some(mode) = cache.get(sys, mask)? else { continue };
+            let s = mode.project(y, phase);
+            let consistent = mode.guards.iter().all(|g| match g.kind {
+                GuardKind::Reaction => !releasing(mode, acc, g, &s),
+                GuardKind::Gap => cand & (1 << g.stop) == 0 || start(mode, acc, g, &s) != Start::Approaching,
+            });
+            if consistent {
+                return Ok(mask);
+            }
+        }
+    }
     while cand != 0 {
         let Some(mode) = cache.get(sys, cand)? else {
             cand &= !(1 << (31 - cand.leading_zeros()));
             continue;
         };
         let s = mode.project(y, phase);
-        match releasing(mode, acc, &s) {
-            Some(stop) => cand &= !(1 << stop),
+        let worst = mode
+            .guards
+            .iter()
+            .filter(|g| g.kind == GuardKind::Reaction && releasing(mode, acc, g, &s))
+            .map(|g| (g.row.dot(&s), g.stop))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match worst {
+            Some((_, stop)) => cand &= !(1 << stop),
             None => break,
         }
     }
     Ok(cand)
 }
 
-/// The held stop whose reaction is most negative, or zero and decreasing.
-fn releasing(mode: &Mode, acc: &Accuracy, s: &DVector<f64>) -> Option<usize> {
-    let mut worst: Option<(f64, usize)> = None;
-    for g in mode.guards.iter().filter(|g| g.kind == GuardKind::Reaction) {
-        let mut d = [0.0; 5];
-        let mut scale = [0.0; 5];
-        let mut p = s.clone();
-        d[0] = g.row.dot(&p);
-        for j in 1..5 {
-            p = &mode.aug * p;
-            d[j] = g.row.dot(&p);
-            scale[j] = g.row.abs().dot(&p.abs());
-        }
-        let tol = start_tolerances(acc, false, &scale, &d);
-        if classify_start(&d, &tol) == Start::Approaching || d[0] < -tol[0] {
-            if worst.is_none_or(|(v, _)| d[0] < v) {
-                worst = Some((d[0], g.stop));
-            }
-        }
+/// How guard `g` of `mode` behaves from augmented state `s`.
+fn start(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> Start {
+    let mut d = [0.0; 5];
+    let mut scale = [0.0; 5];
+    let mut p = s.clone();
+    d[0] = g.row.dot(&p);
+    scale[0] = g.row.abs().dot(&p.abs());
+    for j in 1..5 {
+        p = &mode.aug * p;
+        d[j] = g.row.dot(&p);
+        scale[j] = g.row.abs().dot(&p.abs());
     }
-    worst.map(|(_, stop)| stop)
+    classify_start(&d, &start_tolerances(acc, g.kind == GuardKind::Gap, &scale, &d))
+}
+
+/// Whether a held stop's reaction is negative, or zero and decreasing.
+fn releasing(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> bool {
+    g.row.dot(s) < -value_tol(acc, false, g.row.abs().dot(&s.abs())) || start(mode, acc, g, s) == Start::Approaching
 }

@@ -10,14 +10,19 @@
 //! leading Taylor term provably dominates (`g >= g^(j) u^j/j! - G_{j+1} u^{j+1}/(j+1)!`).
 
 use super::spectral::{bound, differentiate_into, evaluate, Modal, Term};
-use super::{classify_start, start_tolerances, Advance, Start};
+use super::{classify_start, start_tolerances, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::{GuardKind, Mode};
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
 
-/// Steps allowed in one advance before it is declared stalled.
+/// Steps allowed in one advance before it is declared stalled, plus
+/// [`STEPS_PER_OSCILLATION`] for every oscillation of the fastest mode over the
+/// horizon (a stiff light mass under slow forcing oscillates thousands of times
+/// per period, and conservative advancement needs a few steps for each).
 const MAX_STEPS: usize = 20_000;
+/// Extra steps allowed per oscillation of the fastest mode.
+const STEPS_PER_OSCILLATION: f64 = 64.0;
 
 /// Buffers reused by every advance of a simulation (no allocation once warm).
 #[derive(Debug, Clone, Default)]
@@ -31,6 +36,8 @@ pub struct Workspace {
     /// their moduli (for `G₂`).
     moduli: Vec<f64>,
     masked: Vec<f64>,
+    /// Per guard: value below which it counts as zero ([`value_tol`]).
+    zero: Vec<f64>,
     high: Vec<C64>,
     high_moduli: Vec<f64>,
 }
@@ -45,6 +52,7 @@ fn at_contact(
     f: &[C64],
     fb: &[f64],
     is_gap: bool,
+    magnitude: f64,
     acc: &Accuracy,
     u: f64,
     horizon: f64,
@@ -64,13 +72,20 @@ fn at_contact(
     let modl = |j: usize| &high_moduli[j * nt..(j + 1) * nt];
     let d =
         [evaluate(f, coef(0)), evaluate(f, coef(1)), evaluate(f, coef(2)), evaluate(f, coef(3)), evaluate(f, coef(4))];
-    let scale = [0.0, bound(fb, modl(1)), bound(fb, modl(2)), bound(fb, modl(3)), bound(fb, modl(4))];
+    let scale = [magnitude, bound(fb, modl(1)), bound(fb, modl(2)), bound(fb, modl(3)), bound(fb, modl(4))];
     match classify_start(&d, &start_tolerances(acc, is_gap, &scale, &d)) {
         Start::Clear => false,
         Start::Approaching => true,
         Start::Departing { order, rate } => {
             let escape = if order == 0 {
-                acc.event_tol * 1e3
+                // Every derivative vanishes: a guard bounded below the contact
+                // tolerance over the rest of the horizon never crosses (a held stop
+                // with an identically zero reaction); otherwise creep past it.
+                if bound(fb, modl(0)) <= value_tol(acc, is_gap, 0.0) {
+                    2.0 * (horizon - u)
+                } else {
+                    acc.event_tol * 1e3
+                }
             } else {
                 let g_next = bound(fb, modl(order + 1));
                 if g_next > 0.0 {
@@ -100,6 +115,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
     w.high_moduli.resize(6 * nt, 0.0);
     w.masked.clear();
     w.masked.resize(ng, 0.0);
+    w.zero.clear();
     for (gi, g) in mode.guards.iter().enumerate() {
         let b = &mut w.beta[3 * nt * gi..3 * nt * (gi + 1)];
         w.modal.functional_into(g.row.as_slice(), &mut b[..nt]);
@@ -110,6 +126,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
         for (m, x) in w.moduli[nt * gi..nt * (gi + 1)].iter_mut().zip(&b[2 * nt..]) {
             *m = x.l1_norm();
         }
+        w.zero.push(value_tol(acc, g.kind == GuardKind::Gap, g.row.abs().dot(&s0.abs())));
     }
     let event = |w: &Workspace, guard: usize, time: f64| {
         let mut state = s0.clone();
@@ -122,7 +139,9 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
     let mut u = 0.0f64;
     sp.factors(0.0, &mut w.f);
     sp.factor_bounds(0.0, horizon, &mut w.fb);
-    for _ in 0..MAX_STEPS {
+    let fastest = terms.iter().map(|t| t.lambda.norm()).fold(0.0, f64::max);
+    let budget = MAX_STEPS + (STEPS_PER_OSCILLATION * horizon * fastest / std::f64::consts::TAU) as usize;
+    for _ in 0..budget {
         if u > 0.0 {
             sp.factors(u, &mut w.f);
             sp.factor_bounds(u, horizon, &mut w.fb);
@@ -135,7 +154,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
             } else {
                 let b = &w.beta[3 * nt * gi..3 * nt * (gi + 1)];
                 let g = evaluate(&w.f, &b[..nt]);
-                if g <= acc.contact_tol {
+                if g <= w.zero[gi] {
                     let is_gap = mode.guards[gi].kind == GuardKind::Gap;
                     if at_contact(
                         terms,
@@ -145,6 +164,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                         &w.f,
                         &w.fb,
                         is_gap,
+                        mode.guards[gi].row.abs().dot(&s0.abs()),
                         acc,
                         u,
                         horizon,

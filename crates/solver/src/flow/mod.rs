@@ -104,14 +104,25 @@ pub fn classify_start(d: &[f64; 5], tol: &[f64; 5]) -> Start {
     Start::Departing { order: 0, rate: 0.0 }
 }
 
+/// Value below which a guard counts as zero: the contact tolerance for a gap
+/// (a length), rounding level of its own `magnitude` for a reaction (a force,
+/// located in time like any root so that a released stop starts exactly at rest).
+pub fn value_tol(acc: &Accuracy, is_gap: bool, magnitude: f64) -> f64 {
+    if is_gap {
+        acc.contact_tol
+    } else {
+        1e-12 * (1.0 + magnitude)
+    }
+}
+
 /// Tolerances of [`classify_start`] for a guard with derivatives `d` and
-/// derivative bounds `scale`: the contact tolerance for its value, the stick
-/// velocity for a gap's rate, and for every derivative the larger of rounding
-/// level and what the next derivative changes within 100 time resolutions (the
-/// coarser of `event_tol` and `rk4_min_step`), so that the residual of an event
-/// located to that resolution counts as zero.
+/// bounds `scale` (`scale[0]`: magnitude of the guard): [`value_tol`] for its
+/// value, the stick velocity for a gap's rate, and for every derivative the
+/// larger of rounding level and what the next derivative changes within 100 time
+/// resolutions (the coarser of `event_tol` and `rk4_min_step`), so that the
+/// residual of an event located to that resolution counts as zero.
 pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5], d: &[f64; 5]) -> [f64; 5] {
-    let mut tol = [acc.contact_tol, 0.0, 0.0, 0.0, 0.0];
+    let mut tol = [value_tol(acc, is_gap, scale[0]), 0.0, 0.0, 0.0, 0.0];
     for j in 1..5 {
         let resolution = acc.event_tol.max(acc.rk4_min_step);
         let next = if j < 4 { 100.0 * resolution * d[j + 1].abs() } else { 0.0 };

@@ -8,7 +8,7 @@
 //! than one step is still caught at its landing. The forcing `sin φ`,
 //! `cos φ` is evaluated exactly at each stage, not integrated.
 
-use super::{classify_start, start_tolerances, Advance, Start};
+use super::{classify_start, start_tolerances, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::{GuardKind, Mode};
 use nalgebra::DVector;
@@ -42,6 +42,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
         let mut scale = [0.0; 5];
         let mut p = s0.clone();
         d[0] = g.row.dot(&p);
+        scale[0] = g.row.abs().dot(&p.abs());
         for j in 1..5 {
             p = a * p;
             d[j] = g.row.dot(&p);
@@ -51,7 +52,9 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
         match classify_start(&d, &tol) {
             Start::Clear => {}
             Start::Approaching => return Advance::Event { guard: gi, time: 0.0, state: s0.clone() },
-            Start::Departing { .. } => threshold[gi] = d[0].min(0.0) - acc.contact_tol,
+            Start::Departing { .. } => {
+                threshold[gi] = d[0].min(0.0) - value_tol(acc, g.kind == GuardKind::Gap, scale[0])
+            }
         }
     }
 
