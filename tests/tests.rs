@@ -7,4 +7,5 @@ mod bad_input;
 mod cli;
 mod closed_form;
 mod extremes;
+mod properties;
 mod util;

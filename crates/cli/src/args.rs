@@ -26,6 +26,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Merge shard files into one atlas.
     Merge(MergeArgs),
+    /// Measure throughput on 1 and 2 threads and the speed/accuracy trade.
+    Bench(BenchArgs),
     /// Print a summary of an atlas file.
     Inspect(InspectArgs),
 }
@@ -176,4 +178,29 @@ pub struct StudyArgs {
     pub preset: String,
     #[command(flatten)]
     pub run: RunArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Thread counts to measure, comma-separated.
+    #[arg(long, default_value = "1,2")]
+    pub threads: String,
+    /// Grid size N (N x N cells of the reference plane ω ∈ [0.1, 3.05], δ ∈ [0.05, 2]).
+    #[arg(long, default_value_t = 48)]
+    pub grid: usize,
+    /// Scene (default: the shipped multi-stop scene).
+    #[arg(long)]
+    pub scene: Option<std::path::PathBuf>,
+    /// Also measure the speed/accuracy trade of every preset and of RK4 against `precise`.
+    #[arg(long)]
+    pub trade: bool,
+    /// Timed repetitions of each throughput measurement (the best is reported).
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Folder for trade.png (the Pareto front of agreement against cells/s).
+    #[arg(short = 'o', long = "output", value_name = "DIR")]
+    pub output: Option<std::path::PathBuf>,
 }

@@ -4,6 +4,7 @@
 
 mod args;
 mod atlas;
+mod bench;
 mod cell;
 mod common;
 mod inspect;
@@ -27,6 +28,7 @@ fn main() {
         args::Command::Render(a) => render_cmd::run(a),
         args::Command::Merge(a) => merge::run(a),
         args::Command::Inspect(a) => inspect::run(a),
+        args::Command::Bench(a) => bench::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -6,9 +6,11 @@ mod bifurcation;
 mod font;
 mod map;
 mod palette;
+mod trade;
 
 pub use bifurcation::bifurcation;
 pub use map::{map, sheet, View};
+pub use trade::trade;
 
 /// A picture could not be drawn or written.
 #[derive(Debug, Clone, thiserror::Error)]

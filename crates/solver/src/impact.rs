@@ -58,3 +58,39 @@ pub fn resolve(sys: &System, contacts: &[usize], stick_velocity: f64, y: &mut DV
     }
     hits
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn system(m1: f64, m2: f64, r: f64) -> System {
+        let text = format!(
+            "name = \"t\"\n[parameters]\nomega = 1\n[forcing]\nomega = \"omega\"\n[[masses]]\nname = \"A\"\nmass = {m1}\n[[masses]]\nname = \"B\"\nmass = {m2}\n\
+             [[stops]]\nname = \"AB\"\nmasses = [\"A\", \"B\"]\ngap = 0.5\nrestitution = {r}\n[[stops]]\nname = \"F\"\nmass = \"A\"\nside = \"below\"\nposition = -1\nrestitution = {r}\n"
+        );
+        let model = scene::Scene::parse(&text).unwrap().evaluate(&[]).unwrap();
+        System::new(model).unwrap()
+    }
+
+    proptest! {
+        /// Issue 5: at every impact momentum (two masses) and the restitution law
+        /// hold, and kinetic energy never increases.
+        #[test]
+        fn impact_laws(m1 in 0.01f64..100.0, m2 in 0.01f64..100.0, r in 0.0f64..=1.0, v1 in -10.0f64..10.0, v2 in -10.0f64..10.0) {
+            let sys = system(m1, m2, r);
+            let mut y = DVector::from_vec(vec![0.0, -0.5, v1, v2]);
+            let before = y.clone();
+            apply(&sys, 0, r, &mut y);
+            let (pb, pa) = (sys.momentum(&before), sys.momentum(&y));
+            prop_assert!((pa - pb).abs() <= 1e-12 * (1.0 + pb.abs() + m1 * v1.abs() + m2 * v2.abs()));
+            prop_assert!((sys.gap_rate(0, &y) + r * sys.gap_rate(0, &before)).abs() <= 1e-12 * (1.0 + v1.abs() + v2.abs()));
+            prop_assert!(sys.kinetic_energy(&y) <= sys.kinetic_energy(&before) * (1.0 + 1e-14) + 1e-300);
+            // A frame stop: v+ = -R v-.
+            let mut z = before.clone();
+            apply(&sys, 1, r, &mut z);
+            prop_assert!((z[2] + r * v1).abs() <= 1e-12 * (1.0 + v1.abs()));
+            prop_assert!(z[3] == v2);
+        }
+    }
+}

@@ -30,7 +30,9 @@ fn scaled(v: &DVector<f64>, x: &DVector<f64>) -> f64 {
 }
 
 /// Solves `Pⁿ(x) = x` from `x0`, keeping `pattern`; returns the fixed point once
-/// `|F|` is below `tol` (relative to `1 + |x|`), or `None`.
+/// `|F|` is below `tol` (relative to `1 + |x|`) and the orbit is stable (every
+/// eigenvalue of the last Jacobian `DPⁿ` inside the unit circle), or `None`: a
+/// transient that lingers near an unstable orbit must not be labelled by it.
 pub fn fixed_point(
     probe: &mut Simulator<'_>,
     x0: &DVector<f64>,
@@ -40,6 +42,7 @@ pub fn fixed_point(
 ) -> Option<DVector<f64>> {
     let dim = x0.len();
     let mut x = x0.clone();
+    let mut stable = false;
     for _ in 0..6 {
         let (fx, p) = map(probe, &x, n)?;
         if &p != pattern {
@@ -47,7 +50,7 @@ pub fn fixed_point(
         }
         let r = &fx - &x;
         if scaled(&r, &x) <= tol {
-            return Some(x);
+            return stable.then_some(x);
         }
         let mut jac = DMatrix::<f64>::zeros(dim, dim);
         for j in 0..dim {
@@ -60,6 +63,7 @@ pub fn fixed_point(
             }
             jac.set_column(j, &((fp - &fx) / h));
         }
+        stable = jac.complex_eigenvalues().iter().all(|m| m.norm() < 1.0);
         jac -= DMatrix::identity(dim, dim);
         let dx = jac.lu().solve(&(-&r))?;
         if !dx.iter().all(|v| v.is_finite()) || scaled(&dx, &x) > 0.1 {

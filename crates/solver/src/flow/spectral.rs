@@ -477,3 +477,40 @@ mod tests {
         assert!(((p - q) / (2.0 * h) - evaluate(&f, &d1)).abs() < 1e-8);
     }
 }
+
+#[cfg(test)]
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Issue 5: the exact flow composes, `flow(t1 + t2) = flow(t2) ∘ flow(t1)`,
+        /// for damped two-mass systems with a free or bound second mass.
+        #[test]
+        fn flow_composes(k2 in 0.0f64..50.0, c1 in 0.0f64..1.0, c2 in 0.0f64..5.0, m2 in 0.05f64..20.0,
+                         omega in 0.05f64..5.0, t1 in 0.0f64..3.0, t2 in 0.0f64..3.0,
+                         x in prop::array::uniform4(-1.0f64..1.0)) {
+            let a = DMatrix::from_row_slice(4, 4, &[
+                0.0, 0.0, 1.0, 0.0,
+                0.0, 0.0, 0.0, 1.0,
+                -1.0, 0.0, -c1, 0.0,
+                0.0, -k2 / m2, 0.0, -c2 / m2,
+            ]);
+            let mut m = DMatrix::zeros(7, 7);
+            m.view_mut((0, 0), (4, 4)).copy_from(&a);
+            m[(2, 4)] = 1.0;
+            m[(4, 5)] = omega;
+            m[(5, 4)] = -omega;
+            let sp = Spectral::new(&m, 6.0).unwrap();
+            let s0 = DVector::from_vec(vec![x[0], x[1], x[2], x[3], 0.3, 0.9539392014169456, 1.0]);
+            let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
+            sp.factors(t1, &mut f);
+            let mid = sp.modal(&s0).state(&f);
+            sp.factors(t2, &mut f);
+            let two = sp.modal(&mid).state(&f);
+            sp.factors(t1 + t2, &mut f);
+            let one = sp.modal(&s0).state(&f);
+            prop_assert!((&one - &two).amax() <= 1e-11 * (1.0 + one.amax()), "{} vs {}", one, two);
+        }
+    }
+}

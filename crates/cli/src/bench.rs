@@ -1,0 +1,179 @@
+//! `vibroatlas bench`: atlas throughput on 1 and 2 threads (fresh and both
+//! sweeps, best of repeated runs) and, with `--trade`, the measured speed and
+//! accuracy of every preset and of RK4 against the `precise` reference.
+
+use crate::args::BenchArgs;
+use crate::common::{cell_setup, Setup};
+use crate::plan::{command_line, meta, Plan};
+use anyhow::{anyhow, bail, Context, Result};
+use grid::{Along, Atlas, Axis, Plane, SweepKind};
+use scene::Scene;
+use serde_json::{json, Value};
+use solver::{Accuracy, Method, Preset};
+
+/// The reference scene, shipped with the binary.
+const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
+
+struct Measured {
+    atlas: Atlas,
+    secs: f64,
+}
+
+fn run_plane(
+    scene: &Scene,
+    plane: &Plane,
+    sweeps: &[SweepKind],
+    preset: Preset,
+    method: Method,
+    rk4_step: Option<f64>,
+    threads: usize,
+) -> Result<Measured> {
+    let mut accuracy = Accuracy::preset(preset);
+    if let Some(h) = rk4_step {
+        accuracy.rk4_step = h;
+    }
+    let s =
+        Setup { scene: scene.clone(), overrides: Vec::new(), accuracy, accuracy_overrides: Vec::new(), preset, method };
+    let cs = cell_setup(&s, 0)?;
+    let plan = Plan {
+        meta: meta(&cs, &s, plane.clone(), sweeps.to_vec(), Vec::new())?,
+        setup: cs,
+        threads,
+        shard: None,
+        output: None,
+        resume: false,
+        quiet: true,
+        command: command_line(),
+    };
+    let (atlas, secs) = plan.execute("bench")?;
+    Ok(Measured { atlas, secs })
+}
+
+fn cells(a: &Atlas) -> usize {
+    a.maps.iter().map(|m| m.cells.len()).sum()
+}
+
+/// Runs the command.
+pub fn run(a: BenchArgs) -> Result<()> {
+    let threads: Vec<usize> = a
+        .threads
+        .split(',')
+        .map(|t| t.trim().parse::<usize>().ok().filter(|&n| (1..=1024).contains(&n)))
+        .collect::<Option<Vec<_>>>()
+        .ok_or_else(|| anyhow!("--threads: expected a comma-separated list of counts 1..1024, got '{}'", a.threads))?;
+    if !(2..=2000).contains(&a.grid) {
+        bail!("--grid: must be in 2..=2000, got {}", a.grid);
+    }
+    if a.repeat == 0 {
+        bail!("--repeat: must be >= 1");
+    }
+    let text = match &a.scene {
+        Some(p) => std::fs::read_to_string(p).with_context(|| format!("cannot read scene file {}", p.display()))?,
+        None => REFERENCE_SCENE.to_string(),
+    };
+    let scene = Scene::parse(&text).map_err(|e| anyhow!("scene: {e}"))?;
+    let n = a.grid;
+    let plane = Plane::new(
+        Axis::parse(&format!("omega=0.1:3.05:{n}"), "--grid")?,
+        Axis::parse(&format!("delta=0.05:2:{n}"), "--grid")?,
+        Along::X,
+    )?;
+
+    let mut throughput = Vec::new();
+    for (name, sweeps) in [("fresh", vec![SweepKind::Fresh]), ("both", vec![SweepKind::Up, SweepKind::Down])] {
+        let mut base = None;
+        for &t in &threads {
+            let mut best = f64::INFINITY;
+            let mut count = 0;
+            for _ in 0..a.repeat {
+                let m = run_plane(&scene, &plane, &sweeps, Preset::Standard, Method::Exact, None, t)?;
+                best = best.min(m.secs);
+                count = cells(&m.atlas);
+            }
+            let rate = count as f64 / best;
+            let (t0, r0) = *base.get_or_insert((t, rate));
+            let efficiency = rate / r0 / (t as f64 / t0 as f64);
+            if !a.json {
+                println!("throughput {name:<5} {t} thread(s): {count} cells in {best:.2} s, {rate:.0} cells/s, parallel efficiency {efficiency:.2}");
+            }
+            throughput.push(json!({"sweep": name, "threads": t, "cells": count, "seconds": best, "cells_per_s": rate, "efficiency": efficiency}));
+        }
+    }
+
+    let mut trade = Vec::new();
+    if a.trade {
+        let t = *threads.iter().max().unwrap_or(&1);
+        let fresh = [SweepKind::Fresh];
+        let reference = run_plane(&scene, &plane, &fresh, Preset::Precise, Method::Exact, None, t)?;
+        let settings: [(&str, Preset, Method, Option<f64>); 5] = [
+            ("fast", Preset::Fast, Method::Exact, None),
+            ("standard", Preset::Standard, Method::Exact, None),
+            ("precise", Preset::Precise, Method::Exact, None),
+            ("rk4 h=0.01", Preset::Standard, Method::Rk4, Some(0.01)),
+            ("rk4 h=0.001", Preset::Standard, Method::Rk4, Some(0.001)),
+        ];
+        if !a.json {
+            println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
+            println!(
+                "{:<12} {:>11} {:>16} {:>16} {:>19}",
+                "setting", "cells/s", "label agreement", "class agreement", "median |d state|"
+            );
+        }
+        let rc = &reference.atlas.maps[0].cells;
+        for (name, preset, method, step) in settings {
+            let m = if name == "precise" {
+                Measured { atlas: reference.atlas.clone(), secs: reference.secs }
+            } else {
+                run_plane(&scene, &plane, &fresh, preset, method, step, t)?
+            };
+            let mc = &m.atlas.maps[0].cells;
+            let pairs: Vec<_> = rc.iter().zip(mc).filter_map(|(a, b)| Some((a.as_ref()?, b.as_ref()?))).collect();
+            let total = pairs.len().max(1) as f64;
+            let labels =
+                pairs.iter().filter(|(a, b)| a.class == b.class && a.labels == b.labels).count() as f64 / total;
+            let classes = pairs.iter().filter(|(a, b)| a.class == b.class).count() as f64 / total;
+            let mut errs: Vec<f64> = pairs
+                .iter()
+                .map(|(a, b)| a.final_state.iter().zip(&b.final_state).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max))
+                .collect();
+            errs.sort_by(f64::total_cmp);
+            let median = errs.get(errs.len() / 2).copied().unwrap_or(0.0);
+            let rate = cells(&m.atlas) as f64 / m.secs;
+            if !a.json {
+                println!(
+                    "{name:<12} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e}",
+                    100.0 * labels,
+                    100.0 * classes
+                );
+            }
+            trade.push(json!({"setting": name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median}));
+        }
+        if let Some(dir) = &a.output {
+            std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+            let points: Vec<(String, f64, f64)> = trade
+                .iter()
+                .map(|t| {
+                    (
+                        t["setting"].as_str().unwrap_or("").to_string(),
+                        t["cells_per_s"].as_f64().unwrap_or(0.0),
+                        t["label_agreement"].as_f64().unwrap_or(0.0),
+                    )
+                })
+                .collect();
+            let png = dir.join("trade.png");
+            render::trade(&points, &png)?;
+            if !a.json {
+                println!("wrote {}", png.display());
+            }
+        }
+    }
+    if a.json {
+        println!(
+            "{}",
+            serde_json::to_string(
+                &json!({"grid": n, "trade": Value::Array(trade), "throughput": Value::Array(throughput)})
+            )?
+        );
+    }
+    Ok(())
+}

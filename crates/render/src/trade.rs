@@ -1,0 +1,50 @@
+//! The speed/accuracy trade as a picture: label agreement with the `precise`
+//! reference against cells per second (log scale), one point per setting; the
+//! settings that no other beats in both are joined as the Pareto front.
+
+use crate::{font, RenderError};
+use plotters::prelude::*;
+use std::path::Path;
+
+fn err<E: std::fmt::Debug>(e: E) -> RenderError {
+    RenderError { message: format!("{e:?}") }
+}
+
+/// Draws `(setting, cells/s, label agreement)` points to a PNG.
+pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderError> {
+    font::ensure()?;
+    let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
+    let (lo, hi) = if lo.is_finite() && hi > 0.0 { (lo / 2.0, hi * 2.0) } else { (1.0, 10.0) };
+    let amin = points.iter().map(|p| p.2).fold(1.0f64, f64::min);
+    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(err)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption("speed / accuracy trade (reference: precise)", ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d((lo..hi).log_scale(), (amin - 0.05).max(0.0)..1.01)
+        .map_err(err)?;
+    chart
+        .configure_mesh()
+        .x_desc("cells per second")
+        .y_desc("label agreement")
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()
+        .map_err(err)?;
+    let mut front: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|p| !points.iter().any(|q| q.1 > p.1 && q.2 >= p.2 || q.1 >= p.1 && q.2 > p.2))
+        .map(|p| (p.1, p.2))
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0));
+    chart.draw_series(LineSeries::new(front, BLUE.stroke_width(2))).map_err(err)?;
+    for (name, rate, agree) in points {
+        chart.draw_series(std::iter::once(Circle::new((*rate, *agree), 6, RED.filled()))).map_err(err)?;
+        chart
+            .draw_series(std::iter::once(Text::new(name.clone(), (*rate, *agree), ("sans-serif", 15).into_font())))
+            .map_err(err)?;
+    }
+    root.present().map_err(err)
+}
