@@ -5,9 +5,7 @@ use crate::util::{cell_json, run};
 /// Issue 2: the published labels of the multi-stop scene.
 #[test]
 fn published_labels() {
-    let cases =
-        [("0.33", "0.6", "1-4-4"), ("0.295", "0.6", "1-5-6"), ("0.20", "0.6", "1-S-S"), ("2.5", "1.2", "1-0-0")];
-    for (omega, delta, label) in cases {
+    for (omega, delta, label) in solver::reference::PUBLISHED_MULTI_STOP {
         let j = cell_json(&[
             "configs/multi-stop.toml",
             "--set",

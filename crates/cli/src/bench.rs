@@ -14,26 +14,53 @@ use solver::{Accuracy, Method, Preset};
 /// The reference scene, shipped with the binary.
 const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
 
+/// A setting of the trade: preset, integrator, and for RK4 its step and
+/// whether Newton acceleration is on.
+#[derive(Clone, Copy)]
+struct Setting {
+    name: &'static str,
+    preset: Preset,
+    method: Method,
+    rk4: Option<(f64, bool)>,
+}
+
+/// The exact solver at the default preset.
+const STANDARD: Setting = Setting { name: "standard", preset: Preset::Standard, method: Method::Exact, rk4: None };
+
+/// The reference of the trade.
+const PRECISE: Setting = Setting { name: "precise", preset: Preset::Precise, method: Method::Exact, rk4: None };
+
+/// Settings of the trade, in table order. The RK4 rows are the literature's
+/// method: RK4 with step-back refinement and a plainly simulated transient
+/// (standard tolerances, no Newton); the last row shows what Newton adds to RK4.
+const SETTINGS: [Setting; 6] = [
+    Setting { name: "fast", preset: Preset::Fast, method: Method::Exact, rk4: None },
+    STANDARD,
+    PRECISE,
+    Setting { name: "rk4 h=0.01", preset: Preset::Standard, method: Method::Rk4, rk4: Some((0.01, false)) },
+    Setting { name: "rk4 h=0.001", preset: Preset::Standard, method: Method::Rk4, rk4: Some((0.001, false)) },
+    Setting { name: "rk4 h=0.01 newton", preset: Preset::Standard, method: Method::Rk4, rk4: Some((0.01, true)) },
+];
+
 struct Measured {
     atlas: Atlas,
     secs: f64,
 }
 
-fn run_plane(
-    scene: &Scene,
-    plane: &Plane,
-    sweeps: &[SweepKind],
-    preset: Preset,
-    method: Method,
-    rk4_step: Option<f64>,
-    threads: usize,
-) -> Result<Measured> {
-    let mut accuracy = Accuracy::preset(preset);
-    if let Some(h) = rk4_step {
+fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
+    let mut accuracy = Accuracy::preset(setting.preset);
+    if let Some((h, newton)) = setting.rk4 {
         accuracy.rk4_step = h;
+        accuracy.newton = newton;
     }
-    let s =
-        Setup { scene: scene.clone(), overrides: Vec::new(), accuracy, accuracy_overrides: Vec::new(), preset, method };
+    let s = Setup {
+        scene: scene.clone(),
+        overrides: Vec::new(),
+        accuracy,
+        accuracy_overrides: Vec::new(),
+        preset: setting.preset,
+        method: setting.method,
+    };
     let cs = cell_setup(&s, 0)?;
     let plan = Plan {
         meta: meta(&cs, &s, plane.clone(), sweeps.to_vec(), Vec::new())?,
@@ -51,6 +78,25 @@ fn run_plane(
 
 fn cells(a: &Atlas) -> usize {
     a.maps.iter().map(|m| m.cells.len()).sum()
+}
+
+/// Label agreement, class agreement and median state error of `m` against `reference`.
+fn compare(reference: &Atlas, m: &Atlas) -> (f64, f64, f64) {
+    let pairs: Vec<_> = reference.maps[0]
+        .cells
+        .iter()
+        .zip(&m.maps[0].cells)
+        .filter_map(|(a, b)| Some((a.as_ref()?, b.as_ref()?)))
+        .collect();
+    let total = pairs.len().max(1) as f64;
+    let labels = pairs.iter().filter(|(a, b)| a.class == b.class && a.labels == b.labels).count() as f64 / total;
+    let classes = pairs.iter().filter(|(a, b)| a.class == b.class).count() as f64 / total;
+    let mut errs: Vec<f64> = pairs
+        .iter()
+        .map(|(a, b)| a.final_state.iter().zip(&b.final_state).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max))
+        .collect();
+    errs.sort_by(f64::total_cmp);
+    (labels, classes, errs.get(errs.len() / 2).copied().unwrap_or(0.0))
 }
 
 /// Runs the command.
@@ -86,7 +132,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             let mut best = f64::INFINITY;
             let mut count = 0;
             for _ in 0..a.repeat {
-                let m = run_plane(&scene, &plane, &sweeps, Preset::Standard, Method::Exact, None, t)?;
+                let m = run_plane(&scene, &plane, &sweeps, STANDARD, t)?;
                 best = best.min(m.secs);
                 count = cells(&m.atlas);
             }
@@ -94,7 +140,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
             let (t0, r0) = *base.get_or_insert((t, rate));
             let efficiency = rate / r0 / (t as f64 / t0 as f64);
             if !a.json {
-                println!("throughput {name:<5} {t} thread(s): {count} cells in {best:.2} s, {rate:.0} cells/s, parallel efficiency {efficiency:.2}");
+                println!(
+                    "throughput {name:<5} {t} thread(s): {count} cells in {best:.2} s, {rate:.0} cells/s, parallel efficiency {efficiency:.2}"
+                );
             }
             throughput.push(json!({"sweep": name, "threads": t, "cells": count, "seconds": best, "cells_per_s": rate, "efficiency": efficiency}));
         }
@@ -104,60 +152,39 @@ pub fn run(a: BenchArgs) -> Result<()> {
     if a.trade {
         let t = *threads.iter().max().unwrap_or(&1);
         let fresh = [SweepKind::Fresh];
-        let reference = run_plane(&scene, &plane, &fresh, Preset::Precise, Method::Exact, None, t)?;
-        let settings: [(&str, Preset, Method, Option<f64>); 5] = [
-            ("fast", Preset::Fast, Method::Exact, None),
-            ("standard", Preset::Standard, Method::Exact, None),
-            ("precise", Preset::Precise, Method::Exact, None),
-            ("rk4 h=0.01", Preset::Standard, Method::Rk4, Some(0.01)),
-            ("rk4 h=0.001", Preset::Standard, Method::Rk4, Some(0.001)),
-        ];
+        let reference = run_plane(&scene, &plane, &fresh, PRECISE, t)?;
         if !a.json {
             println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
             println!(
-                "{:<12} {:>11} {:>16} {:>16} {:>19}",
+                "{:<18} {:>11} {:>16} {:>16} {:>19}",
                 "setting", "cells/s", "label agreement", "class agreement", "median |d state|"
             );
         }
-        let rc = &reference.atlas.maps[0].cells;
-        for (name, preset, method, step) in settings {
-            let m = if name == "precise" {
+        for setting in SETTINGS {
+            let m = if setting.name == PRECISE.name {
                 Measured { atlas: reference.atlas.clone(), secs: reference.secs }
             } else {
-                run_plane(&scene, &plane, &fresh, preset, method, step, t)?
+                run_plane(&scene, &plane, &fresh, setting, t)?
             };
-            let mc = &m.atlas.maps[0].cells;
-            let pairs: Vec<_> = rc.iter().zip(mc).filter_map(|(a, b)| Some((a.as_ref()?, b.as_ref()?))).collect();
-            let total = pairs.len().max(1) as f64;
-            let labels =
-                pairs.iter().filter(|(a, b)| a.class == b.class && a.labels == b.labels).count() as f64 / total;
-            let classes = pairs.iter().filter(|(a, b)| a.class == b.class).count() as f64 / total;
-            let mut errs: Vec<f64> = pairs
-                .iter()
-                .map(|(a, b)| a.final_state.iter().zip(&b.final_state).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max))
-                .collect();
-            errs.sort_by(f64::total_cmp);
-            let median = errs.get(errs.len() / 2).copied().unwrap_or(0.0);
+            let (labels, classes, median) = compare(&reference.atlas, &m.atlas);
             let rate = cells(&m.atlas) as f64 / m.secs;
             if !a.json {
                 println!(
-                    "{name:<12} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e}",
+                    "{:<18} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e}",
+                    setting.name,
                     100.0 * labels,
                     100.0 * classes
                 );
             }
-            trade.push(json!({"setting": name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median}));
+            trade.push(json!({"setting": setting.name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median}));
         }
         if let Some(dir) = &a.output {
             std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
             let points: Vec<(String, f64, f64)> = trade
                 .iter()
                 .map(|t| {
-                    (
-                        t["setting"].as_str().unwrap_or("").to_string(),
-                        t["cells_per_s"].as_f64().unwrap_or(0.0),
-                        t["label_agreement"].as_f64().unwrap_or(0.0),
-                    )
+                    let num = |k: &str| t[k].as_f64().unwrap_or(0.0);
+                    (t["setting"].as_str().unwrap_or("").to_string(), num("cells_per_s"), num("label_agreement"))
                 })
                 .collect();
             let png = dir.join("trade.png");

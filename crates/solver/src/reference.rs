@@ -21,6 +21,21 @@
 //! (cs² + rm²) V²/4 + cs σ V + σ² - γ² = 0 .
 //! ```
 
+/// Published labels of M1 in the multi-stop scene at the reference parameters:
+/// `(ω, δ, label)` (models.md §1), shared by tests and benches.
+pub const PUBLISHED_MULTI_STOP: [(f64, f64, &str); 4] =
+    [(0.33, 0.6, "1-4-4"), (0.295, 0.6, "1-5-6"), (0.20, 0.6, "1-S-S"), (2.5, 1.2, "1-0-0")];
+
+/// One multi-stop cell per regime, `(name, ω, δ)`: no impact, one impact per
+/// stop, several impacts, chattering, complete chattering (sticking).
+pub const REGIMES_MULTI_STOP: [(&str, f64, f64); 5] = [
+    ("no-impact", 2.5, 1.2),
+    ("1-1-1", 1.0, 1.2),
+    ("1-4-4", 0.33, 0.6),
+    ("chattering", 0.295, 0.6),
+    ("sticking", 0.20, 0.6),
+];
+
 /// Steady amplitude of `x'' + 2ζx' + x = sin(ωt + τ)`.
 pub fn free_amplitude(omega: f64, zeta: f64) -> f64 {
     1.0 / ((1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2)).sqrt()

@@ -6,8 +6,10 @@
 //! bounds `|g''|` over the rest of the horizon from the modal amplitudes. Stepping
 //! by that root never jumps over a root, including a grazing one (a gap dipping
 //! to zero between samples), and converges quadratically onto transversal roots.
-//! A guard starting at zero and moving away is masked for the time in which its
-//! leading Taylor term provably dominates (`g >= g^(j) u^j/j! - G_{j+1} u^{j+1}/(j+1)!`).
+//! (A cubic bound with the true curvature was measured: its steps are not long
+//! enough to pay for finding its root.) A guard starting at zero and moving away
+//! is masked for the time in which its leading Taylor term provably dominates
+//! (`g >= g^(j) u^j/j! - G_{j+1} u^{j+1}/(j+1)!`).
 
 use super::spectral::{bound, differentiate_into, evaluate, Modal, Term};
 use super::{classify_start, start_tolerances, value_tol, Advance, Start};
@@ -23,6 +25,8 @@ use num_complex::Complex64 as C64;
 const MAX_STEPS: usize = 20_000;
 /// Extra steps allowed per oscillation of the fastest mode.
 const STEPS_PER_OSCILLATION: f64 = 64.0;
+/// Derivative levels kept per guard: value, rate, acceleration.
+const LEVELS: usize = 3;
 
 /// Buffers reused by every advance of a simulation (no allocation once warm).
 #[derive(Debug, Clone, Default)]
@@ -32,17 +36,21 @@ pub struct Workspace {
     fb: Vec<f64>,
     /// Per guard: coefficients of the guard, its rate and its acceleration.
     beta: Vec<C64>,
-    /// Per guard: `|re| + |im|` of the acceleration coefficients, an upper bound of
-    /// their moduli (for `G₂`).
+    /// Per guard: `|re| + |im|` (an upper bound of the modulus) of the
+    /// acceleration coefficients (for `G₂`).
     moduli: Vec<f64>,
     masked: Vec<f64>,
     /// Per guard: value below which it counts as zero ([`value_tol`]).
     zero: Vec<f64>,
+    /// Per guard: `|row|·|s0|`, the magnitude of the guard.
+    magnitude: Vec<f64>,
     high: Vec<C64>,
     high_moduli: Vec<f64>,
 }
 
-/// What a guard at zero does next (see [`Start`]); masks it while it departs.
+/// What a guard at zero does next (see [`Start`]): `true` when it approaches
+/// (an event now); when it departs it is masked for as long as it provably stays
+/// positive.
 #[allow(clippy::too_many_arguments)]
 fn at_contact(
     terms: &[Term],
@@ -59,9 +67,9 @@ fn at_contact(
     masked: &mut f64,
 ) -> bool {
     let nt = terms.len();
-    // Coefficients of derivatives 0..=5: three kept per guard, three more here.
-    high[..3 * nt].copy_from_slice(beta);
-    for j in 3..6 {
+    // Coefficients of derivatives 0..=5: the kept levels, then two more here.
+    high[..LEVELS * nt].copy_from_slice(beta);
+    for j in LEVELS..6 {
         let (done, rest) = high.split_at_mut(j * nt);
         differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
     }
@@ -78,7 +86,7 @@ fn at_contact(
         Start::Approaching => true,
         Start::Departing { order, rate } => {
             let escape = if order == 0 {
-                // Every derivative vanishes: a guard bounded below the contact
+                // Every derivative vanishes: a guard bounded below its zero
                 // tolerance over the rest of the horizon never crosses (a held stop
                 // with an identically zero reaction); otherwise creep past it.
                 if bound(fb, modl(0)) <= value_tol(acc, is_gap, 0.0) {
@@ -100,6 +108,17 @@ fn at_contact(
     }
 }
 
+/// First positive root of `g + g' h - G₂ h²/2` (`g > 0`), infinite when none.
+fn quadratic_root(g: f64, gd: f64, g2: f64) -> f64 {
+    if g2 > 0.0 {
+        (gd + (gd * gd + 2.0 * g2 * g).sqrt()) / g2
+    } else if gd < 0.0 {
+        g / -gd
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Advances `s0` for at most `horizon` in `mode` (see the module doc).
 pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: &mut Workspace) -> Advance {
     let sp = &mode.spectral;
@@ -109,24 +128,27 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
     sp.modal_into(s0.as_slice(), &mut w.modal);
     w.f.resize(nt, C64::new(0.0, 0.0));
     w.fb.resize(nt, 0.0);
-    w.beta.resize(3 * nt * ng, C64::new(0.0, 0.0));
+    w.beta.resize(LEVELS * nt * ng, C64::new(0.0, 0.0));
     w.moduli.resize(nt * ng, 0.0);
     w.high.resize(6 * nt, C64::new(0.0, 0.0));
     w.high_moduli.resize(6 * nt, 0.0);
     w.masked.clear();
     w.masked.resize(ng, 0.0);
     w.zero.clear();
+    w.magnitude.clear();
     for (gi, g) in mode.guards.iter().enumerate() {
-        let b = &mut w.beta[3 * nt * gi..3 * nt * (gi + 1)];
+        let b = &mut w.beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
         w.modal.functional_into(g.row.as_slice(), &mut b[..nt]);
-        for j in 1..3 {
+        for j in 1..LEVELS {
             let (done, rest) = b.split_at_mut(j * nt);
             differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
         }
         for (m, x) in w.moduli[nt * gi..nt * (gi + 1)].iter_mut().zip(&b[2 * nt..]) {
             *m = x.l1_norm();
         }
-        w.zero.push(value_tol(acc, g.kind == GuardKind::Gap, g.row.abs().dot(&s0.abs())));
+        let magnitude = g.row.abs().dot(&s0.abs());
+        w.magnitude.push(magnitude);
+        w.zero.push(value_tol(acc, g.kind == GuardKind::Gap, magnitude));
     }
     let event = |w: &Workspace, guard: usize, time: f64| {
         let mut state = s0.clone();
@@ -136,26 +158,22 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
         Advance::Event { guard, time, state }
     };
 
-    let mut u = 0.0f64;
-    sp.factors(0.0, &mut w.f);
-    sp.factor_bounds(0.0, horizon, &mut w.fb);
     let fastest = terms.iter().map(|t| t.lambda.norm()).fold(0.0, f64::max);
     let budget = MAX_STEPS + (STEPS_PER_OSCILLATION * horizon * fastest / std::f64::consts::TAU) as usize;
+    let mut u = 0.0f64;
     for _ in 0..budget {
-        if u > 0.0 {
-            sp.factors(u, &mut w.f);
-            sp.factor_bounds(u, horizon, &mut w.fb);
-        }
+        sp.factors_and_bounds(u, horizon, &mut w.f, &mut w.fb);
         let mut h = horizon - u;
         let mut which = None;
         for gi in 0..ng {
             let cand = if u < w.masked[gi] {
                 w.masked[gi] - u
             } else {
-                let b = &w.beta[3 * nt * gi..3 * nt * (gi + 1)];
+                let b = &w.beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
                 let g = evaluate(&w.f, &b[..nt]);
                 if g <= w.zero[gi] {
                     let is_gap = mode.guards[gi].kind == GuardKind::Gap;
+                    let magnitude = w.magnitude[gi];
                     if at_contact(
                         terms,
                         b,
@@ -164,7 +182,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                         &w.f,
                         &w.fb,
                         is_gap,
-                        mode.guards[gi].row.abs().dot(&s0.abs()),
+                        magnitude,
                         acc,
                         u,
                         horizon,
@@ -175,18 +193,11 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                     w.masked[gi] - u
                 } else {
                     let gd = evaluate(&w.f, &b[nt..2 * nt]);
-                    let g2 = bound(&w.fb, &w.moduli[nt * gi..nt * (gi + 1)]);
-                    let root = if g2 > 0.0 {
-                        (gd + (gd * gd + 2.0 * g2 * g).sqrt()) / g2
-                    } else if gd < 0.0 {
-                        g / -gd
-                    } else {
-                        f64::INFINITY
-                    };
-                    if root < h && root <= acc.event_tol {
+                    let root = quadratic_root(g, gd, bound(&w.fb, &w.moduli[nt * gi..nt * (gi + 1)]));
+                    if root <= acc.event_tol && root < h {
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;
-                        sp.factors(t, &mut w.f);
+                        sp.factors_and_bounds(t, horizon, &mut w.f, &mut w.fb);
                         return event(w, gi, t);
                     }
                     root
@@ -198,7 +209,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
             }
         }
         if which.is_none() {
-            sp.factors(horizon, &mut w.f);
+            sp.factors_and_bounds(horizon, horizon, &mut w.f, &mut w.fb);
             let mut state = DVector::zeros(s0.len());
             w.modal.state_into(&w.f, state.as_mut_slice());
             return Advance::Horizon(state);

@@ -276,13 +276,18 @@ impl Spectral {
         }
     }
 
-    /// Upper bound of `|weight e^{μ u} u^j/j!|` over `u ∈ [a, b]`, per term.
-    pub fn factor_bounds(&self, a: f64, b: f64, out: &mut [f64]) {
+    /// [`Spectral::factors`] at `u` and, in the same pass (one exponential per
+    /// term), upper bounds of `|weight e^{μ s} s^j/j!|` over `s ∈ [u, b]`.
+    pub fn factors_and_bounds(&self, u: f64, b: f64, out: &mut [C64], bounds: &mut [f64]) {
         for (t, term) in self.terms.iter().enumerate() {
             let re = term.lambda.re;
-            let e = (re * if re > 0.0 { b } else { a }).exp();
-            let poly = if term.power == 0 { 1.0 } else { b.powi(term.power as i32) * term.inv_factorial };
-            out[t] = term.weight * e * poly;
+            let r = (re * u).exp();
+            let (sn, cs) = (term.lambda.im * u).sin_cos();
+            let poly = if term.power == 0 { 1.0 } else { u.powi(term.power as i32) * term.inv_factorial };
+            out[t] = C64::new(r * cs, r * sn) * (term.weight * poly);
+            let grow = if re > 0.0 { (re * b).exp() } else { r };
+            let poly_b = if term.power == 0 { 1.0 } else { b.powi(term.power as i32) * term.inv_factorial };
+            bounds[t] = term.weight * grow * poly_b;
         }
     }
 
