@@ -10,7 +10,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::error::SolverError;
-use crate::flow::{classify_start, start_tolerances, value_tol, Start};
+use crate::flow::{guard_start, value_tol, Start};
 use crate::mode::{Guard, GuardKind, Mode};
 use crate::system::System;
 use nalgebra::DVector;
@@ -99,20 +99,11 @@ pub fn settle(
 
 /// How guard `g` of `mode` behaves from augmented state `s`.
 fn start(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> Start {
-    let mut d = [0.0; 5];
-    let mut scale = [0.0; 5];
-    let mut p = s.clone();
-    d[0] = g.row.dot(&p);
-    scale[0] = g.row.abs().dot(&p.abs());
-    for j in 1..5 {
-        p = &mode.aug * p;
-        d[j] = g.row.dot(&p);
-        scale[j] = g.row.abs().dot(&p.abs());
-    }
-    classify_start(&d, &start_tolerances(acc, g.kind == GuardKind::Gap, &scale, &d))
+    guard_start(acc, g, &mode.aug, s).0
 }
 
 /// Whether a held stop's reaction is negative, or zero and decreasing.
 fn releasing(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> bool {
-    g.row.dot(s) < -value_tol(acc, false, g.row.abs().dot(&s.abs())) || start(mode, acc, g, s) == Start::Approaching
+    let (start, value, magnitude) = guard_start(acc, g, &mode.aug, s);
+    value < -value_tol(acc, false, magnitude) || start == Start::Approaching
 }

@@ -9,8 +9,8 @@ pub mod rk4;
 pub mod spectral;
 
 use crate::accuracy::Accuracy;
-use crate::mode::Mode;
-use nalgebra::DVector;
+use crate::mode::{Guard, GuardKind, Mode};
+use nalgebra::{DMatrix, DVector};
 
 /// Why an advance stopped.
 #[derive(Debug, Clone)]
@@ -102,6 +102,31 @@ pub fn classify_start(d: &[f64; 5], tol: &[f64; 5]) -> Start {
         }
     }
     Start::Departing { order: 0, rate: 0.0 }
+}
+
+/// A guard's value and first four derivatives `ℓ·Â^j·s`, with their scales
+/// `|ℓ|·|Â^j s|`, at augmented state `s` (computed by matrix powers).
+pub fn derivatives(guard: &Guard, aug: &DMatrix<f64>, s: &DVector<f64>) -> ([f64; 5], [f64; 5]) {
+    let mut d = [0.0; 5];
+    let mut scale = [0.0; 5];
+    let mut p = s.clone();
+    let row_abs = guard.row.abs();
+    for j in 0..5 {
+        if j > 0 {
+            p = aug * p;
+        }
+        d[j] = guard.row.dot(&p);
+        scale[j] = row_abs.dot(&p.abs());
+    }
+    (d, scale)
+}
+
+/// How a guard behaves from augmented state `s` ([`classify_start`] on its
+/// [`derivatives`]), with its value and magnitude.
+pub fn guard_start(acc: &Accuracy, guard: &Guard, aug: &DMatrix<f64>, s: &DVector<f64>) -> (Start, f64, f64) {
+    let (d, scale) = derivatives(guard, aug, s);
+    let start = classify_start(&d, &start_tolerances(acc, guard.kind == GuardKind::Gap, &scale, &d));
+    (start, d[0], scale[0])
 }
 
 /// Value below which a guard counts as zero: the contact tolerance for a gap

@@ -8,7 +8,7 @@
 //! than one step is still caught at its landing. The forcing `sin φ`,
 //! `cos φ` is evaluated exactly at each stage, not integrated.
 
-use super::{classify_start, start_tolerances, value_tol, Advance, Start};
+use super::{guard_start, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::{GuardKind, Mode};
 use nalgebra::DVector;
@@ -38,22 +38,11 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
     // A guard crosses when it falls below its threshold; at zero and approaching: an event now.
     let mut threshold = vec![0.0; mode.guards.len()];
     for (gi, g) in mode.guards.iter().enumerate() {
-        let mut d = [0.0; 5];
-        let mut scale = [0.0; 5];
-        let mut p = s0.clone();
-        d[0] = g.row.dot(&p);
-        scale[0] = g.row.abs().dot(&p.abs());
-        for j in 1..5 {
-            p = a * p;
-            d[j] = g.row.dot(&p);
-            scale[j] = g.row.abs().dot(&p.abs());
-        }
-        let tol = start_tolerances(acc, g.kind == GuardKind::Gap, &scale, &d);
-        match classify_start(&d, &tol) {
-            Start::Clear => {}
-            Start::Approaching => return Advance::Event { guard: gi, time: 0.0, state: s0.clone() },
-            Start::Departing { .. } => {
-                threshold[gi] = d[0].min(0.0) - value_tol(acc, g.kind == GuardKind::Gap, scale[0])
+        match guard_start(acc, g, a, s0) {
+            (Start::Clear, _, _) => {}
+            (Start::Approaching, _, _) => return Advance::Event { guard: gi, time: 0.0, state: s0.clone() },
+            (Start::Departing { .. }, value, magnitude) => {
+                threshold[gi] = value.min(0.0) - value_tol(acc, g.kind == GuardKind::Gap, magnitude)
             }
         }
     }
