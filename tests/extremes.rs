@@ -49,8 +49,7 @@ fn corners_of_the_parameter_space() {
     assert_eq!(cells.len(), 576);
     // A smaller event budget than standard keeps the runaway (elastic, R = 1)
     // corners short; the property checked is that the budget ends them.
-    let mut acc = Accuracy::default();
-    acc.max_events = 100_000;
+    let acc = Accuracy { max_events: 100_000, ..Accuracy::default() };
     let next = AtomicUsize::new(0);
     let unresolved = AtomicUsize::new(0);
     let worker = || {

@@ -13,8 +13,7 @@ proptest! {
     fn random_cells_stay_admissible(mu_m in 0.05f64..0.95, mu_k in 0.05f64..0.95, mu_c in 0.05f64..0.95,
                                     zeta in 0.0f64..0.3, r in 0.0f64..1.0, delta in 0.01f64..2.0, omega in 0.1f64..4.0) {
         let sys = system("multi-stop.toml", &[("mu_m", mu_m), ("mu_k", mu_k), ("mu_c", mu_c), ("zeta", zeta), ("R", r), ("delta", delta), ("omega", omega)]);
-        let mut acc = Accuracy::default();
-        acc.max_events = 20_000;
+        let acc = Accuracy { max_events: 20_000, ..Accuracy::default() };
         let mut sim = match solver::Simulator::new(&sys, acc, Method::Exact, &sys.model.initial_state()) {
             Ok(s) => s,
             Err(h) => return Err(TestCaseError::fail(format!("{h:?}"))),

@@ -77,7 +77,7 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
         let _ = writeln!(o, "reason    {r}");
     }
     for l in &c.labels {
-        let _ = writeln!(o, "label     {:<6} {}", l.mass, l.to_string());
+        let _ = writeln!(o, "label     {:<6} {}", l.mass, l);
     }
     let _ = writeln!(o, "stop      impacts  chatter  sticking");
     for (k, st) in sys.model.stops.iter().enumerate() {

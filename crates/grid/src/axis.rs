@@ -40,7 +40,7 @@ impl Axis {
         if count == 0 {
             return Err(GridError::field(flag_name, "COUNT must be >= 1, got 0"));
         }
-        if count > 1 && start == stop {
+        if count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
             return Err(GridError::field(flag_name, format!("empty range {start}:{stop} with {count} values")));
         }
         Ok(Axis { name: name.trim().to_string(), start, stop, count })
@@ -95,7 +95,7 @@ mod tests {
         let a = Axis::parse("omega=0.1:0.3:3", "--x").unwrap();
         assert_eq!(a.name, "omega");
         assert_eq!(a.values().len(), 3);
-        assert!((a.value(1) - 0.2).abs() < 1e-15 && a.value(2) == 0.3);
+        assert!((a.value(1) - 0.2).abs() < 1e-15 && (a.value(2) - 0.3).abs() < 1e-15);
         assert_eq!(Axis::parse("d=1:1:1", "--y").unwrap().values(), vec![1.0]);
     }
 

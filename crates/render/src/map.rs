@@ -32,6 +32,7 @@ impl Colours {
 }
 
 /// Draws the cells of one sweep (and hysteresis crosses) into `area`.
+#[allow(clippy::too_many_arguments)]
 fn draw_cells<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     atlas: &Atlas,
@@ -168,7 +169,7 @@ pub fn sheet(panels: &[(String, Atlas)], sweep: SweepKind, mass: usize, path: &P
     let mut legend: Vec<(String, u64)> = total.into_iter().collect();
     legend.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     let colours = Colours(assign(&legend));
-    let cols = panels.len().min(2).max(1);
+    let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols);
     let root = BitMapBackend::new(path, (560 * cols as u32 + 320, 420 * rows as u32)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;

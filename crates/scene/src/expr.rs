@@ -17,8 +17,8 @@ pub enum Compiled {
     Expr {
         /// Source text, kept for messages.
         source: String,
-        /// The compiled expression.
-        expr: FlatEx<f64>,
+        /// The compiled expression (boxed: it is much larger than a number).
+        expr: Box<FlatEx<f64>>,
         /// Parameter index of each variable, in exmex's variable order.
         vars: Vec<usize>,
     },
@@ -41,7 +41,7 @@ impl Compiled {
                         })
                     })
                     .collect::<Result<Vec<_>, _>>()?;
-                Ok(Compiled::Expr { source: source.clone(), expr, vars })
+                Ok(Compiled::Expr { source: source.clone(), expr: Box::new(expr), vars })
             }
         }
     }

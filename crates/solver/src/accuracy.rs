@@ -154,8 +154,14 @@ impl Accuracy {
             "n_max" => self.n_max = count()?,
             "chatter_impacts" => self.chatter_impacts = count()?,
             "max_events" => self.max_events = count()?,
-            "newton" if value == 0.0 || value == 1.0 => self.newton = value == 1.0,
-            "newton" => return Err(err(&format!("must be 0 or 1, got {value}"))),
+            "newton" => {
+                // A switch given as a number: exactly 0 or 1.
+                self.newton = match value.to_bits() {
+                    b if b == 0f64.to_bits() => false,
+                    b if b == 1f64.to_bits() => true,
+                    _ => return Err(err(&format!("must be 0 or 1, got {value}"))),
+                }
+            }
             "rk4_step" => self.rk4_step = positive()?,
             "rk4_min_step" => self.rk4_min_step = positive()?,
             _ => return Err(err("unknown accuracy knob")),

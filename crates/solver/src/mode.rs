@@ -70,7 +70,7 @@ impl Mode {
                 return Ok(None);
             };
             let cond = ggt.norm() * ggt_inv.norm();
-            if !(cond < 1e10) {
+            if cond.is_nan() || cond >= 1e10 {
                 return Ok(None);
             }
             let proj = DMatrix::identity(m, m) - g.transpose() * &ggt_inv * &g;

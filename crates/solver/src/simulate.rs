@@ -185,7 +185,8 @@ impl<'s> Simulator<'s> {
                     self.y = mode.lift(&s);
                     self.clock = target;
                     ti += 1;
-                    if half && target == period / 2.0 {
+                    // Targets are copied, never computed: compare them bit for bit.
+                    if half && target.to_bits() == (period / 2.0).to_bits() {
                         rec.half = Some(self.y.clone());
                     }
                     if target < period {

@@ -67,7 +67,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
         at(&mut tmp, u + hh);
         let k4 = deriv(&tmp);
         let mut next = &s + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (hh / 6.0);
-        let t_next = if hh == remaining { horizon } else { u + hh };
+        // The last step lands exactly on the horizon.
+        let t_next = if hh >= remaining { horizon } else { u + hh };
         at(&mut next, t_next);
         let crossed = mode
             .guards

@@ -216,7 +216,7 @@ impl Spectral {
             clusters.push(Cluster { v, w, n, powers });
         }
         let err = (&rebuilt - a).amax();
-        if !(err <= 1e-9 * scale) {
+        if err.is_nan() || err > 1e-9 * scale {
             return Err(ill(format!("spectral reconstruction error {err:e}")));
         }
         Ok(Spectral { dim, clusters, terms })
