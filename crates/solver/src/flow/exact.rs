@@ -7,7 +7,9 @@
 //! by that root never jumps over a root, including a grazing one (a gap dipping
 //! to zero between samples), and converges quadratically onto transversal roots.
 //! (A cubic bound with the true curvature was measured: its steps are not long
-//! enough to pay for finding its root.) A guard starting at zero and moving away
+//! enough to pay for finding its root.) A guard whose constant part exceeds the
+//! bound of everything that varies cannot vanish before the horizon and is not
+//! looked at again in this segment. A guard starting at zero and moving away
 //! is masked for the time in which its leading Taylor term provably dominates
 //! (`g >= g^(j) u^j/j! - G_{j+1} u^{j+1}/(j+1)!`).
 
@@ -37,7 +39,8 @@ pub struct Workspace {
     /// Per guard: coefficients of the guard, its rate and its acceleration.
     beta: Vec<C64>,
     /// Per guard: `|re| + |im|` (an upper bound of the modulus) of the
-    /// acceleration coefficients (for `G₂`).
+    /// coefficients of the guard and of its acceleration (for the global bound
+    /// and for `G₂`).
     moduli: Vec<f64>,
     masked: Vec<f64>,
     /// Per guard: value below which it counts as zero ([`value_tol`]).
@@ -129,7 +132,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
     w.f.resize(nt, C64::new(0.0, 0.0));
     w.fb.resize(nt, 0.0);
     w.beta.resize(LEVELS * nt * ng, C64::new(0.0, 0.0));
-    w.moduli.resize(nt * ng, 0.0);
+    w.moduli.resize(2 * nt * ng, 0.0);
     w.high.resize(6 * nt, C64::new(0.0, 0.0));
     w.high_moduli.resize(6 * nt, 0.0);
     w.masked.clear();
@@ -143,8 +146,13 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
             let (done, rest) = b.split_at_mut(j * nt);
             differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
         }
-        for (m, x) in w.moduli[nt * gi..nt * (gi + 1)].iter_mut().zip(&b[2 * nt..]) {
-            *m = x.l1_norm();
+        let m = &mut w.moduli[2 * nt * gi..2 * nt * (gi + 1)];
+        for (t, (m0, x)) in m[..nt].iter_mut().zip(&b[..nt]).enumerate() {
+            // Constant terms do not vary: they enter the global bound by value.
+            *m0 = if terms[t].constant { 0.0 } else { x.l1_norm() };
+        }
+        for (m2, x) in m[nt..].iter_mut().zip(&b[2 * nt..3 * nt]) {
+            *m2 = x.l1_norm();
         }
         let magnitude = g.row.abs().dot(&s0.abs());
         w.magnitude.push(magnitude);
@@ -192,8 +200,16 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                     }
                     w.masked[gi] - u
                 } else {
+                    let m = &w.moduli[2 * nt * gi..2 * nt * (gi + 1)];
+                    // Global bound: the constant part less everything that varies.
+                    let constant: f64 =
+                        (0..nt).filter(|&t| terms[t].constant).map(|t| w.f[t].re * b[t].re - w.f[t].im * b[t].im).sum();
+                    if constant - bound(&w.fb, &m[..nt]) > w.zero[gi] {
+                        w.masked[gi] = horizon;
+                        continue;
+                    }
                     let gd = evaluate(&w.f, &b[nt..2 * nt]);
-                    let root = quadratic_root(g, gd, bound(&w.fb, &w.moduli[nt * gi..nt * (gi + 1)]));
+                    let root = quadratic_root(g, gd, bound(&w.fb, &m[nt..]));
                     if root <= acc.event_tol && root < h {
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;

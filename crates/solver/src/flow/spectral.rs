@@ -33,6 +33,9 @@ pub struct Term {
     pub weight: f64,
     /// 1 / j!.
     inv_factorial: f64,
+    /// The term is exactly constant in time (μ = 0, j = 0): the constant state,
+    /// a rigid offset.
+    pub constant: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -183,6 +186,10 @@ impl Spectral {
             offset += k;
             let b = &w * &ac * &v;
             let mu = if weight > 1.0 { b.trace() / k as f64 } else { C64::new(b.trace().re / k as f64, 0.0) };
+            // A zero eigenvalue is exactly zero (the constant state, a free mass):
+            // rounding in its trace goes to N, where it is below rounding anyway.
+            let zero = mu.norm() <= 1e-13 * radius;
+            let mu = if zero { C64::new(0.0, 0.0) } else { mu };
             let mut n = &b - DMatrix::<C64>::identity(k, k) * mu;
             rebuilt += (&v * &b * &w).map(|x| x.re * weight);
             // Number of series terms needed over the horizon.
@@ -211,7 +218,7 @@ impl Spectral {
                 if j > 0 {
                     inv_factorial /= j as f64;
                 }
-                terms.push(Term { lambda: mu, power: j, weight, inv_factorial });
+                terms.push(Term { lambda: mu, power: j, weight, inv_factorial, constant: zero && j == 0 });
             }
             clusters.push(Cluster { v, w, n, powers });
         }
