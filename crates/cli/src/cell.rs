@@ -64,6 +64,9 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
     let mut o = String::new();
     let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect();
     let _ = writeln!(o, "scene     {} ({})", sys.model.name, params.join(" "));
+    if let Some(about) = s.scene.description().lines().find(|l| !l.trim().is_empty()) {
+        let _ = writeln!(o, "about     {}", about.trim());
+    }
     let _ = writeln!(o, "settings  preset {}, integrator {}", s.preset.name(), s.method.name());
     let _ = write!(o, "class     {}", c.class.name());
     if let Some(n) = c.n {

@@ -272,11 +272,6 @@ impl Scene {
         &self.source
     }
 
-    /// Parameter names, in scene order.
-    pub fn parameter_names(&self) -> &[String] {
-        &self.names
-    }
-
     /// Whether parameter `name` is a plain number (not an expression of others).
     pub fn is_plain(&self, name: &str) -> bool {
         self.names.iter().position(|n| n == name).is_some_and(|i| matches!(self.params[i].0, Compiled::Value(_)))

@@ -297,11 +297,6 @@ impl Spectral {
             bounds[t] = term.weight * grow * poly_b;
         }
     }
-
-    /// Dimension of the augmented state.
-    pub fn dim(&self) -> usize {
-        self.dim
-    }
 }
 
 impl Modal {
