@@ -167,8 +167,10 @@ fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
 /// The smallest n whose impact pattern repeated over the last 3n periods while
 /// the section points still move and contract too slowly: at the observed rate
 /// `ρ = |s_k - s_{k-n}| / |s_{k-n} - s_{k-2n}|`, reaching `periodic_tol` would
-/// take longer than a Newton solve (about `3 (dim + 1) n` periods).
-fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(usize, Pattern)> {
+/// take longer than a Newton solve (about `3 (dim + 1) n` periods). Returns n,
+/// the pattern, and the distance the trajectory still has to go at that rate,
+/// `|s_k - s_{k-n}| / (1 - ρ)`.
+fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(usize, Pattern, f64)> {
     let len = h.len();
     let dim = h.back()?.end.len() as f64;
     let n = (1..=acc.n_max).find(|&n| {
@@ -182,7 +184,9 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
                 e1 > acc.periodic_tol && rho < 1.0 && remaining > 3.0 * (dim + 1.0) * n as f64
             }
     })?;
-    Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect()))
+    let e1 = distance(&h[len - 1].end, &h[len - 1 - n].end);
+    let rho = e1 / distance(&h[len - 1 - n].end, &h[len - 1 - 2 * n].end);
+    Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(), e1 / (1.0 - rho)))
 }
 
 /// Simulates a cell from full state `y0` and classifies its steady motion.
@@ -241,7 +245,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
             break;
         }
         if acc.newton && newton_tries < 3 && sim.periods >= newton_next {
-            if let Some((n, pattern)) = contracting_pattern(&hist, acc) {
+            if let Some((n, pattern, to_go)) = contracting_pattern(&hist, acc) {
                 newton_tries += 1;
                 newton_next = sim.periods + 3 * n as u64;
                 let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
@@ -250,7 +254,10 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                 let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
                 // One budget per cell: what the probe spent is the simulation's no more.
                 sim.set_budget(acc.max_events.saturating_sub(p.events));
-                if let Some(x) = solved {
+                // The fixed point must be where this trajectory is heading: a stable
+                // orbit much farther away than the remaining contraction reaches
+                // belongs to another attractor, and brute force goes on.
+                if let Some(x) = solved.filter(|x| distance(&sim.y, x) <= 10.0 * to_go) {
                     if sim.restart(x.as_slice()).is_ok() {
                         hist.clear();
                     }
