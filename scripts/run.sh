@@ -4,5 +4,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+mkdir -p out   # the conventional output folder of the README's commands (git-ignored)
 cargo build --release --quiet
 exec target/release/vibroatlas "$@"

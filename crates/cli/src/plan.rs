@@ -2,7 +2,7 @@
 //! journal, one writer thread, atomic HDF5 output.
 
 use crate::progress::Bar;
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{anyhow, bail, Result};
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -83,14 +83,8 @@ impl Plan {
         let journal = match &self.output {
             Some(out) => {
                 let jp = journal_path(out);
-                let (j, lines) = if self.resume {
-                    Journal::resume(&jp, &key)?
-                } else {
-                    (
-                        Journal::create(&jp, &key).with_context(|| format!("cannot write beside {}", out.display()))?,
-                        Vec::new(),
-                    )
-                };
+                let (j, lines) =
+                    if self.resume { Journal::resume(&jp, &key)? } else { (Journal::create(&jp, &key)?, Vec::new()) };
                 for l in lines {
                     atlas.insert(l);
                 }

@@ -76,7 +76,7 @@ impl CellSetup {
     pub fn system(&self, params: &[(String, f64)]) -> Result<System, GridError> {
         let mut all = self.base.clone();
         all.extend_from_slice(params);
-        let model = self.scene.evaluate(&all).map_err(|source| GridError::Cell { params: describe(params), source })?;
+        let model = self.scene.evaluate(&all).map_err(|cause| GridError::Cell { params: describe(params), cause })?;
         Ok(System::new(model)?)
     }
 

@@ -14,12 +14,12 @@ pub enum GridError {
         message: String,
     },
     /// A cell's parameters do not make a valid scene.
-    #[error("cell {params}: {source}")]
+    #[error("cell {params}: {cause}")]
     Cell {
         /// The cell's parameter values.
         params: String,
-        /// The scene's complaint.
-        source: scene::SceneError,
+        /// The scene's complaint (printed in the message, not chained).
+        cause: scene::SceneError,
     },
     /// The solver refuses the scene.
     #[error(transparent)]

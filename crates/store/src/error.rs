@@ -14,12 +14,12 @@ pub enum StoreError {
         message: String,
     },
     /// Operating-system I/O error.
-    #[error("{path}: {source}")]
+    #[error("{path}: {cause}")]
     Io {
         /// File.
         path: String,
-        /// Cause.
-        source: std::io::Error,
+        /// Cause (printed in the message, so not chained as a source).
+        cause: std::io::Error,
     },
     /// The file is not an atlas of this layout, or does not fit with others.
     #[error("{path}: {message}")]
@@ -38,8 +38,8 @@ impl StoreError {
     }
 
     /// Wraps an I/O error with the file's path.
-    pub fn io(path: &std::path::Path, source: std::io::Error) -> Self {
-        StoreError::Io { path: path.display().to_string(), source }
+    pub fn io(path: &std::path::Path, cause: std::io::Error) -> Self {
+        StoreError::Io { path: path.display().to_string(), cause }
     }
 
     /// A format error for `path`.
