@@ -83,8 +83,14 @@ impl Plan {
         let journal = match &self.output {
             Some(out) => {
                 let jp = journal_path(out);
-                let (j, lines) =
-                    if self.resume { Journal::resume(&jp, &key)? } else { (Journal::create(&jp, &key)?, Vec::new()) };
+                let (j, lines) = if self.resume {
+                    Journal::resume(&jp, &key)?
+                } else {
+                    // Name the file the user asked for; the journal is ours.
+                    let j = Journal::create(&jp, &key)
+                        .map_err(|e| anyhow!("{}: cannot write beside it ({e})", out.display()))?;
+                    (j, Vec::new())
+                };
                 for l in lines {
                     atlas.insert(l);
                 }
