@@ -27,8 +27,12 @@ pub fn bifurcation(atlas: &Atlas, path: &Path) -> Result<(), RenderError> {
     let panels = 1 + m.stops.len();
     let root = BitMapBackend::new(path, (1100, 260 * panels as u32 + 40)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let root =
-        root.titled(&format!("{}: continuation in {} (up-sweep blue, down-sweep red)", m.scene_name, x.name), ("sans-serif", 22)).map_err(err)?;
+    let root = root
+        .titled(
+            &format!("{}: continuation in {} (up-sweep blue, down-sweep red)", m.scene_name, x.name),
+            ("sans-serif", 22),
+        )
+        .map_err(err)?;
     let areas = root.split_evenly((panels, 1));
     for (pi, area) in areas.iter().enumerate() {
         // Points (parameter, value, sweep) of this panel.
