@@ -3,8 +3,8 @@
 //! accuracy of every preset and of RK4 against the `precise` reference.
 
 use crate::args::BenchArgs;
-use crate::common::{cell_setup, Setup};
-use crate::plan::{command_line, meta, Plan};
+use crate::common::{write_atomically, Setup};
+use crate::plan::Plan;
 use anyhow::{anyhow, bail, Context, Result};
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
@@ -61,17 +61,8 @@ fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Settin
         preset: setting.preset,
         method: setting.method,
     };
-    let cs = cell_setup(&s, 0)?;
-    let plan = Plan {
-        meta: meta(&cs, &s, plane.clone(), sweeps.to_vec(), Vec::new())?,
-        setup: cs,
-        threads,
-        shard: None,
-        output: None,
-        resume: false,
-        quiet: true,
-        command: command_line(),
-    };
+    let mut plan = Plan::new(&s, 0, plane.clone(), sweeps.to_vec(), threads)?;
+    plan.quiet = true;
     let (atlas, secs) = plan.execute("bench")?;
     Ok(Measured { atlas, secs })
 }
@@ -188,7 +179,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 })
                 .collect();
             let png = dir.join("trade.png");
-            render::trade(&points, &png)?;
+            write_atomically(&png, |tmp| render::trade(&points, tmp))?;
             if !a.json {
                 println!("wrote {}", png.display());
             }

@@ -19,7 +19,8 @@ pub fn run(a: CellArgs) -> Result<()> {
     let cell = run_cell(&sys, &s.accuracy, s.method, &y0);
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
-        write_atomically(path, trace_csv(&sys, &s, &cell, periods, a.trace_samples)?.as_bytes())?;
+        let csv = trace_csv(&sys, &s, &cell, periods, a.trace_samples)?;
+        write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
     }
     if a.json {
         println!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);

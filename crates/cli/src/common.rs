@@ -66,15 +66,14 @@ pub fn cell_setup(s: &Setup, section_cap: usize) -> Result<grid::CellSetup> {
     })
 }
 
-/// Writes `contents` to `path` through a temporary file in the same folder and a
-/// rename, so that a failure never leaves a half-written file under the final name.
-pub fn write_atomically(path: &Path, contents: &[u8]) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let name = path.file_name().ok_or_else(|| anyhow!("{}: not a file path", path.display()))?;
-    let tmp = dir.join(format!(".{}.partial", name.to_string_lossy()));
-    std::fs::write(&tmp, contents).with_context(|| format!("cannot write {}", path.display()))?;
+/// Writes `path` through `write`, which fills a temporary file beside it (same
+/// extension, see [`store::partial_path`]); the temporary replaces `path` only
+/// once complete, so a failure never leaves a half-written file under its name.
+pub fn write_atomically<E: std::fmt::Display>(path: &Path, write: impl FnOnce(&Path) -> Result<(), E>) -> Result<()> {
+    let tmp = store::partial_path(path);
+    if let Err(e) = write(&tmp) {
+        let _ = std::fs::remove_file(&tmp);
+        bail!("{}: {e}", path.display());
+    }
     std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
 }

@@ -1,6 +1,7 @@
 //! A validated plan for computing a plane (atlas or sweep) and its execution:
 //! journal, one writer thread, atomic HDF5 output.
 
+use crate::common::{cell_setup, Setup};
 use crate::progress::Bar;
 use anyhow::{anyhow, bail, Result};
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
@@ -59,7 +60,7 @@ fn cell_bytes(meta: &Meta) -> u64 {
 
 impl Plan {
     /// Refuses a plane whose results would not fit in memory.
-    pub fn check_memory(&self) -> Result<()> {
+    fn check_memory(&self) -> Result<()> {
         let cells = self.meta.plane.cells() as u64 * self.meta.sweeps.len() as u64;
         let need = cells.saturating_mul(cell_bytes(&self.meta));
         let have = available_memory();
@@ -145,27 +146,43 @@ impl Plan {
     }
 }
 
-/// Meta of a plane for a setup.
-pub fn meta(
-    setup: &CellSetup,
-    s: &crate::common::Setup,
-    plane: Plane,
-    sweeps: Vec<SweepKind>,
-    accuracy: Vec<(String, f64)>,
-) -> Result<Meta> {
-    let model = setup.scene.evaluate(&setup.base)?;
-    Ok(Meta {
-        scene_name: model.name.clone(),
-        scene_toml: setup.scene.source().to_string(),
-        overrides: setup.base.clone(),
-        preset: s.preset.name().to_string(),
-        accuracy,
-        integrator: s.method.name().to_string(),
-        plane,
-        sweeps,
-        masses: model.labels.iter().map(|l| model.masses[l.mass].name.clone()).collect(),
-        stops: model.stops.iter().map(|st| st.name.clone()).collect(),
-        dim: 2 * model.masses.len(),
-        section_cap: setup.section_cap,
-    })
+impl Plan {
+    /// A plan for `sweeps` of `plane` with the validated simulation set-up `s`:
+    /// no output, shard or resume, progress shown; callers set what differs.
+    pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
+        let setup = cell_setup(s, section_cap)?;
+        let model = setup.scene.evaluate(&setup.base)?;
+        let meta = Meta {
+            scene_name: model.name.clone(),
+            scene_toml: setup.scene.source().to_string(),
+            overrides: setup.base.clone(),
+            preset: s.preset.name().to_string(),
+            accuracy: s.accuracy_overrides.clone(),
+            integrator: s.method.name().to_string(),
+            plane,
+            sweeps,
+            masses: model.labels.iter().map(|l| model.masses[l.mass].name.clone()).collect(),
+            stops: model.stops.iter().map(|st| st.name.clone()).collect(),
+            dim: 2 * model.masses.len(),
+            section_cap,
+        };
+        Ok(Plan {
+            setup,
+            meta,
+            threads,
+            shard: None,
+            output: None,
+            resume: false,
+            quiet: false,
+            command: command_line(),
+        })
+    }
+
+    /// Checks, before any work, that the results fit in memory and that every
+    /// cell's parameters make a valid scene.
+    pub fn check(&self) -> Result<()> {
+        self.check_memory()?;
+        self.meta.plane.validate(&self.setup)?;
+        Ok(())
+    }
 }

@@ -1,6 +1,7 @@
 //! `vibroatlas render`: the coloured map of an atlas file.
 
 use crate::args::RenderArgs;
+use crate::common::write_atomically;
 use anyhow::{anyhow, Result};
 use grid::SweepKind;
 use render::View;
@@ -27,11 +28,5 @@ pub fn run(a: RenderArgs) -> Result<()> {
             )
         })?),
     };
-    let tmp = store::partial_path(&a.output);
-    render::map(&l.atlas, view, mass, &tmp).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        anyhow!("{}: {e}", a.output.display())
-    })?;
-    std::fs::rename(&tmp, &a.output).map_err(|e| anyhow!("{}: {e}", a.output.display()))?;
-    Ok(())
+    write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp))
 }

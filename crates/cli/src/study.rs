@@ -2,8 +2,8 @@
 //! and a contact sheet comparing them.
 
 use crate::args::{SimArgs, StudyArgs};
-use crate::common::{cell_setup, setup};
-use crate::plan::{command_line, meta, threads, Plan};
+use crate::common::{setup, write_atomically};
+use crate::plan::{threads, Plan};
 use anyhow::{anyhow, Context, Result};
 use grid::{Along, Axis, Plane, Study, SweepKind};
 use render::View;
@@ -33,19 +33,10 @@ pub fn run(a: StudyArgs) -> Result<()> {
                 integrator: "exact".into(),
             };
             let s = setup(&sim)?;
-            let cs = cell_setup(&s, a.run.section_cap)?;
-            let plan = Plan {
-                meta: meta(&cs, &s, plane.clone(), sweeps.clone(), Vec::new())?,
-                setup: cs,
-                threads,
-                shard: None,
-                output: Some(a.output.join(format!("{}.h5", study.stem(v)))),
-                resume: false,
-                quiet: a.run.quiet,
-                command: command_line(),
-            };
-            plan.check_memory()?;
-            plan.meta.plane.validate(&plan.setup)?;
+            let mut plan = Plan::new(&s, a.run.section_cap, plane.clone(), sweeps.clone(), threads)?;
+            plan.output = Some(a.output.join(format!("{}.h5", study.stem(v))));
+            plan.quiet = a.run.quiet;
+            plan.check()?;
             Ok((v, plan))
         })
         .collect::<Result<Vec<_>>>()?;
@@ -53,7 +44,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
     for (v, plan) in plans {
         let (atlas, secs) = plan.execute(&study.stem(v))?;
         let png = a.output.join(format!("{}.png", study.stem(v)));
-        render::map(&atlas, View::Sweep(sweeps[0]), 0, &png)?;
+        write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, tmp))?;
         if !a.run.quiet {
             println!(
                 "{}: {} cells in {secs:.1} s -> {}",
@@ -65,7 +56,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
         panels.push((format!("{} = {v}", study.parameter), atlas));
     }
     let sheet = a.output.join("contact-sheet.png");
-    render::sheet(&panels, sweeps[0], 0, &sheet)?;
+    write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, tmp))?;
     println!("wrote {}", sheet.display());
     Ok(())
 }

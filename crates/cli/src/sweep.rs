@@ -3,8 +3,8 @@
 //! the renderer and the hysteresis logic are those of the atlas.
 
 use crate::args::SweepArgs;
-use crate::common::{cell_setup, setup};
-use crate::plan::{command_line, meta, threads, Plan};
+use crate::common::{setup, write_atomically};
+use crate::plan::{threads, Plan};
 use anyhow::{anyhow, bail, Result};
 use grid::{Along, Atlas, Axis, CellData, Plane, SweepKind};
 use serde_json::{json, Map, Value};
@@ -12,7 +12,6 @@ use serde_json::{json, Map, Value};
 /// Runs the command.
 pub fn run(a: SweepArgs) -> Result<()> {
     let s = setup(&a.sim)?;
-    let cs = cell_setup(&s, a.run.section_cap)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
     let given = if axis.start <= axis.stop { SweepKind::Up } else { SweepKind::Down };
     let sweeps = match a.direction.as_deref() {
@@ -23,29 +22,21 @@ pub fn run(a: SweepArgs) -> Result<()> {
         Some(other) => bail!("--direction: expected up, down or both, got '{other}'"),
     };
     let x = if given == SweepKind::Up { axis.clone() } else { axis.reversed() };
-    let model = cs.scene.evaluate(&cs.base)?;
+    let model = s.scene.evaluate(&s.overrides)?;
     let (held, value) = model
         .parameters
         .iter()
-        .find(|(n, _)| *n != x.name && cs.scene.is_plain(n))
+        .find(|(n, _)| *n != x.name && s.scene.is_plain(n))
         .cloned()
         .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
     let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)?;
-    let plan = Plan {
-        meta: meta(&cs, &s, plane, sweeps.clone(), s.accuracy_overrides.clone())?,
-        setup: cs,
-        threads: threads(a.run.threads)?,
-        shard: None,
-        output: a.output.clone(),
-        resume: false,
-        quiet: a.run.quiet || a.json,
-        command: command_line(),
-    };
-    plan.check_memory()?;
-    plan.meta.plane.validate(&plan.setup).map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
+    let mut plan = Plan::new(&s, a.run.section_cap, plane, sweeps.clone(), threads(a.run.threads)?)?;
+    plan.output = a.output.clone();
+    plan.quiet = a.run.quiet || a.json;
+    plan.check().map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
     let (atlas, _) = plan.execute("sweep")?;
     if let Some(png) = &a.png {
-        render::bifurcation(&atlas, png)?;
+        write_atomically(png, |tmp| render::bifurcation(&atlas, tmp))?;
     }
     let first = if sweeps.contains(&given) { given } else { sweeps[0] };
     if a.json {

@@ -5,14 +5,10 @@
 //! number of branches at a parameter value is n (period panel) or the impacts
 //! per n periods at that stop.
 
-use crate::{font, RenderError};
+use crate::{err, font, RenderError};
 use grid::{Atlas, SweepKind};
 use plotters::prelude::*;
 use std::path::Path;
-
-fn err<E: std::fmt::Debug>(e: E) -> RenderError {
-    RenderError { message: format!("{e:?}") }
-}
 
 /// Draws the diagram of the first row of `atlas` to a PNG.
 pub fn bifurcation(atlas: &Atlas, path: &Path) -> Result<(), RenderError> {

@@ -12,6 +12,11 @@ pub use bifurcation::bifurcation;
 pub use map::{map, sheet, View};
 pub use trade::trade;
 
+/// Wraps a drawing, scene or solver error.
+fn err<E: std::fmt::Display>(e: E) -> RenderError {
+    RenderError { message: e.to_string() }
+}
+
 /// A picture could not be drawn or written.
 #[derive(Debug, Clone, thiserror::Error)]
 #[error("render: {message}")]

@@ -4,7 +4,7 @@
 //! cells where up and down differ crossed out.
 
 use crate::palette::{assign, Swatch};
-use crate::{font, RenderError};
+use crate::{err, font, RenderError};
 use grid::{label_text, Atlas, SweepKind};
 use plotters::prelude::*;
 use std::path::Path;
@@ -16,10 +16,6 @@ pub enum View {
     Sweep(SweepKind),
     /// Up-sweep labels with hysteresis cells marked.
     Hysteresis,
-}
-
-fn err<E: std::fmt::Debug>(e: E) -> RenderError {
-    RenderError { message: format!("{e:?}") }
 }
 
 /// Colour lookup for a legend.

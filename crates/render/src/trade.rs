@@ -2,13 +2,9 @@
 //! reference against cells per second (log scale), one point per setting; the
 //! settings that no other beats in both are joined as the Pareto front.
 
-use crate::{font, RenderError};
+use crate::{err, font, RenderError};
 use plotters::prelude::*;
 use std::path::Path;
-
-fn err<E: std::fmt::Debug>(e: E) -> RenderError {
-    RenderError { message: format!("{e:?}") }
-}
 
 /// Draws `(setting, cells/s, label agreement)` points to a PNG.
 pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderError> {

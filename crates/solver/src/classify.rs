@@ -173,19 +173,17 @@ fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
 fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(usize, Pattern, f64)> {
     let len = h.len();
     let dim = h.back()?.end.len() as f64;
-    let n = (1..=acc.n_max).find(|&n| {
-        len > 3 * n
-            && (len - 2 * n..len).all(|i| h[i].impacts == h[i - n].impacts && h[i].end_held == h[i - n].end_held)
-            && {
-                let e1 = distance(&h[len - 1].end, &h[len - 1 - n].end);
-                let e2 = distance(&h[len - 1 - n].end, &h[len - 1 - 2 * n].end);
-                let rho = e1 / e2;
-                let remaining = (acc.periodic_tol / e1).ln() / rho.ln() * n as f64;
-                e1 > acc.periodic_tol && rho < 1.0 && remaining > 3.0 * (dim + 1.0) * n as f64
-            }
+    let (n, e1, rho) = (1..=acc.n_max).find_map(|n| {
+        if len <= 3 * n
+            || !(len - 2 * n..len).all(|i| h[i].impacts == h[i - n].impacts && h[i].end_held == h[i - n].end_held)
+        {
+            return None;
+        }
+        let e1 = distance(&h[len - 1].end, &h[len - 1 - n].end);
+        let rho = e1 / distance(&h[len - 1 - n].end, &h[len - 1 - 2 * n].end);
+        let remaining = (acc.periodic_tol / e1).ln() / rho.ln() * n as f64;
+        (e1 > acc.periodic_tol && rho < 1.0 && remaining > 3.0 * (dim + 1.0) * n as f64).then_some((n, e1, rho))
     })?;
-    let e1 = distance(&h[len - 1].end, &h[len - 1 - n].end);
-    let rho = e1 / distance(&h[len - 1 - n].end, &h[len - 1 - 2 * n].end);
     Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(), e1 / (1.0 - rho)))
 }
 
@@ -249,7 +247,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                 newton_tries += 1;
                 newton_next = sim.periods + 3 * n as u64;
                 let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
-                let p = probe.get_or_insert_with(|| sim.probe(0));
+                let p = probe.get_or_insert_with(|| sim.probe());
                 p.set_budget(acc.max_events.saturating_sub(spent) + p.events);
                 let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
                 // One budget per cell: what the probe spent is the simulation's no more.

@@ -13,7 +13,7 @@ use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
 use crate::impact;
 use crate::mode::GuardKind;
-use crate::stick::{candidates, settle, ModeCache};
+use crate::stick::{candidates, settle, touching, ModeCache};
 use crate::system::System;
 use nalgebra::DVector;
 
@@ -108,13 +108,12 @@ impl<'s> Simulator<'s> {
         Ok(sim)
     }
 
-    /// A copy sharing nothing but the built modes, with zeroed counters and an
-    /// event budget of `budget` (for Newton probes within one cell's budget).
-    pub fn probe(&self, budget: usize) -> Self {
+    /// A copy sharing nothing but the built modes, with zeroed counters (for
+    /// Newton probes; their budget is set with [`Simulator::set_budget`]).
+    pub fn probe(&self) -> Self {
         let mut p = self.clone();
         p.periods = 0;
         p.events = 0;
-        p.acc.max_events = budget;
         p
     }
 
@@ -231,10 +230,8 @@ impl<'s> Simulator<'s> {
         let sys = self.sys;
         match kind {
             GuardKind::Gap => {
-                let mut contacts: Vec<usize> = (0..sys.stops.len())
-                    .filter(|&k| k == stop || sys.gap(k, &self.y) <= 10.0 * self.acc.contact_tol)
-                    .collect();
-                contacts.sort_unstable();
+                let contacts: Vec<usize> =
+                    (0..sys.stops.len()).filter(|&k| k == stop || touching(sys, &self.acc, k, &self.y)).collect();
                 let before = self.y.clone();
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.
@@ -243,18 +240,18 @@ impl<'s> Simulator<'s> {
                 }
                 let hits = impact::resolve(sys, &contacts, self.acc.stick_velocity, &mut self.y);
                 let t = self.time();
-                let mut accumulate = Vec::new();
+                let mut accumulate = 0u32;
                 for h in &hits {
                     rec.impacts[h.stop] += 1;
                     if self.chatter.record(h.stop, t, h.speed, self.acc.chatter_velocity).is_some() {
-                        accumulate.push(h.stop);
+                        accumulate |= 1 << h.stop;
                     }
                 }
                 if !hits.is_empty() {
                     obs.impact(t, hits[0].stop, &before, &self.y);
                 }
                 // The rest of a geometric chatter sequence is the sticking motion it converges to.
-                for k in accumulate {
+                for k in (0..sys.stops.len()).filter(|k| accumulate & (1 << k) != 0) {
                     impact::apply(sys, k, 0.0, &mut self.y);
                 }
             }

@@ -35,10 +35,16 @@ impl ModeCache {
     }
 }
 
-/// Stops in contact (gap and closing speed below tolerance) at full state `y`.
+/// Whether stop `k` touches at full state `y`: its gap is within the contact
+/// band (ten contact tolerances, penetration included).
+pub fn touching(sys: &System, acc: &Accuracy, k: usize, y: &DVector<f64>) -> bool {
+    sys.gap(k, y) <= 10.0 * acc.contact_tol
+}
+
+/// Stops in contact (touching, closing speed below the stick velocity) at full state `y`.
 pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
     (0..sys.stops.len())
-        .filter(|&k| sys.gap(k, y) <= 10.0 * acc.contact_tol && sys.gap_rate(k, y).abs() <= acc.stick_velocity)
+        .filter(|&k| touching(sys, acc, k, y) && sys.gap_rate(k, y).abs() <= acc.stick_velocity)
         .fold(0, |m, k| m | (1 << k))
 }
 
