@@ -41,7 +41,7 @@ where
 pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value {
     let labels: Map<String, Value> = c.labels.iter().map(|l| (l.mass.clone(), Value::from(l.to_string()))).collect();
     let params: Map<String, Value> = sys.model.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect();
-    json!({
+    let mut out = json!({
         "scene": sys.model.name,
         "parameters": params,
         "preset": s.preset.name(),
@@ -58,7 +58,19 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
         "periods_simulated": c.periods,
         "events": c.events,
         "reason": c.reason,
-    })
+    });
+    if !sys.model.friction.is_empty() {
+        let stuck: Map<String, Value> =
+            friction_names(sys).into_iter().zip(&c.friction_stick).map(|(n, &b)| (n, Value::from(b))).collect();
+        out["friction_stick"] = Value::Object(stuck);
+    }
+    out
+}
+
+/// Names of the friction contacts, `M1-M2` from their masses.
+fn friction_names(sys: &System) -> Vec<String> {
+    let m = &sys.model.masses;
+    sys.model.friction.iter().map(|f| format!("{}-{}", m[f.a].name, m[f.b].name)).collect()
 }
 
 fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
@@ -86,6 +98,9 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
     let _ = writeln!(o, "stop      impacts  chatter  sticking");
     for (k, st) in sys.model.stops.iter().enumerate() {
         let _ = writeln!(o, "  {:<8}{:>7}  {:<8} {}", st.name, c.impacts[k], c.chatter[k], c.sticking[k]);
+    }
+    for (name, stuck) in friction_names(sys).iter().zip(&c.friction_stick) {
+        let _ = writeln!(o, "friction  {name:<8} {}", if *stuck { "sticks" } else { "slips throughout" });
     }
     let _ = writeln!(o, "final     {:?}", c.final_state);
     let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);

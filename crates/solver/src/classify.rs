@@ -111,6 +111,8 @@ pub struct CellResult {
     pub chatter: Vec<bool>,
     /// Sticking flag per stop (the stop held its mass during the window).
     pub sticking: Vec<bool>,
+    /// Per friction contact: whether it stuck during the window.
+    pub friction_stick: Vec<bool>,
     /// Symmetry of a periodic orbit of a symmetric scene.
     pub symmetry: Option<Symmetry>,
     /// Full state `[x; v]` at the end of the simulation (at `t = kT`).
@@ -145,7 +147,7 @@ fn residual(h: &VecDeque<PeriodRecord>, n: usize, lag: usize) -> f64 {
 
 fn repeats(h: &VecDeque<PeriodRecord>, i: usize, n: usize, tol: f64) -> bool {
     let (a, b) = (&h[i], &h[i - n]);
-    a.end_held == b.end_held && a.impacts == b.impacts && close(&a.end, &b.end, tol)
+    a.end_key == b.end_key && a.impacts == b.impacts && close(&a.end, &b.end, tol)
 }
 
 /// Smallest n whose last 2n section points repeat with period n. A candidate is
@@ -175,7 +177,7 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
     let dim = h.back()?.end.len() as f64;
     let (n, e1, rho) = (1..=acc.n_max).find_map(|n| {
         if len <= 3 * n
-            || !(len - 2 * n..len).all(|i| h[i].impacts == h[i - n].impacts && h[i].end_held == h[i - n].end_held)
+            || !(len - 2 * n..len).all(|i| h[i].impacts == h[i - n].impacts && h[i].end_key == h[i - n].end_key)
         {
             return None;
         }
@@ -203,6 +205,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         impacts: vec![0; stops],
         chatter: vec![false; stops],
         sticking: vec![false; stops],
+        friction_stick: vec![false; sys.frictions.len()],
         symmetry: None,
         window_start: y.clone(),
         final_state: y,
@@ -268,12 +271,13 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     let window = found.unwrap_or(acc.n_max.min(len));
     let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
     let mut impacts = vec![0u32; stops];
-    let mut held = 0u32;
+    let (mut held, mut stuck) = (0u32, 0u32);
     for r in &recs {
         for (a, b) in impacts.iter_mut().zip(&r.impacts) {
             *a += b;
         }
         held |= r.held;
+        stuck |= r.stuck;
     }
     let sticking: Vec<bool> = (0..stops).map(|k| held & (1 << k) != 0).collect();
     let chatter: Vec<bool> = impacts.iter().map(|&c| c as usize >= acc.chatter_impacts).collect();
@@ -306,6 +310,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         impacts,
         chatter,
         sticking,
+        friction_stick: (0..sys.frictions.len()).map(|i| stuck & (1 << i) != 0).collect(),
         symmetry,
         final_state: sim.y.as_slice().to_vec(),
         window_start,

@@ -4,7 +4,10 @@
 //! phase `ω t + τ` never loses precision over long runs. Each period ends exactly
 //! at `t = kT`, where the stroboscopic (period) section is sampled. Events are
 //! contacts (impact law, then sticking decision), chatter accumulation (pass to
-//! sticking) and releases (a held stop's reaction reaching zero).
+//! sticking), releases (a held stop's reaction reaching zero), and the friction
+//! events: a slip ending (relative velocity zero: stick or reverse) and a
+//! breakaway (the stuck friction force reaching the static limit). After every
+//! event [`settle`] chooses the next mode.
 
 use crate::accuracy::Accuracy;
 use crate::chatter::ChatterTracker;
@@ -12,7 +15,7 @@ use crate::error::SolverError;
 use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
 use crate::impact;
-use crate::mode::GuardKind;
+use crate::mode::{GuardKind, Key};
 use crate::stick::{candidates, settle, touching, ModeCache};
 use crate::system::System;
 use nalgebra::DVector;
@@ -40,10 +43,12 @@ pub struct PeriodRecord {
     pub impacts: Vec<u32>,
     /// Stops that held their mass at some time during the period (bit mask).
     pub held: u32,
+    /// Friction contacts stuck at some time during the period (bit mask).
+    pub stuck: u32,
     /// Full state at the end of the period (the period-section point).
     pub end: DVector<f64>,
-    /// Held stops at the end of the period.
-    pub end_held: u32,
+    /// Mode (held stops, friction states) at the end of the period.
+    pub end_key: Key,
     /// State at the middle of the period, when asked for.
     pub half: Option<DVector<f64>>,
 }
@@ -76,8 +81,8 @@ pub struct Simulator<'s> {
     chatter: ChatterTracker,
     /// Full state `[x; v]`.
     pub y: DVector<f64>,
-    /// Mask of held stops.
-    pub held: u32,
+    /// The current mode: held stops and friction states.
+    pub key: Key,
     /// Time within the current period.
     pub clock: f64,
     /// Completed periods.
@@ -98,7 +103,7 @@ impl<'s> Simulator<'s> {
             work: Workspace::default(),
             chatter: ChatterTracker::new(sys.stops.len()),
             y: DVector::zeros(y0.len()),
-            held: 0,
+            key: Key::default(),
             clock: 0.0,
             periods: 0,
             events: 0,
@@ -130,7 +135,7 @@ impl<'s> Simulator<'s> {
         self.chatter = ChatterTracker::new(self.sys.stops.len());
         let cand = candidates(self.sys, &self.acc, &self.y);
         let phase = self.phase();
-        self.held = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand)?;
+        self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0)?;
         self.snap()
     }
 
@@ -143,11 +148,11 @@ impl<'s> Simulator<'s> {
         self.periods as f64 * self.sys.period + self.clock
     }
 
-    /// Projects the state onto the held constraints.
+    /// Projects the state onto the constraints of held stops and stuck contacts.
     fn snap(&mut self) -> Result<(), Halt> {
-        if self.held != 0 {
+        if self.key.held != 0 || self.key.stuck != 0 {
             let phase = self.phase();
-            let mode = self.cache.get(self.sys, self.held)?.ok_or(Halt::Stalled)?;
+            let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
             self.y = mode.lift(&mode.project(&self.y, phase));
         }
         Ok(())
@@ -161,9 +166,10 @@ impl<'s> Simulator<'s> {
         let period = sys.period;
         let mut rec = PeriodRecord {
             impacts: vec![0; sys.stops.len()],
-            held: self.held,
+            held: self.key.held,
+            stuck: self.key.stuck,
             end: DVector::zeros(0),
-            end_held: 0,
+            end_key: Key::default(),
             half: None,
         };
         let mut targets: Vec<f64> = samples.iter().copied().filter(|&t| t > self.clock && t < period).collect();
@@ -177,7 +183,7 @@ impl<'s> Simulator<'s> {
         while ti < targets.len() {
             let target = targets[ti];
             let phase = self.phase();
-            let mode = self.cache.get(sys, self.held)?.ok_or(Halt::Stalled)?;
+            let mode = self.cache.get(sys, self.key)?.ok_or(Halt::Stalled)?;
             let s0 = mode.project(&self.y, phase);
             match self.method.advance(mode, &s0, target - self.clock, &self.acc, &mut self.work) {
                 Advance::Horizon(s) => {
@@ -206,7 +212,8 @@ impl<'s> Simulator<'s> {
                         return Err(Halt::Stalled);
                     }
                     self.handle(kind, stop, &mut rec, obs)?;
-                    rec.held |= self.held;
+                    rec.held |= self.key.held;
+                    rec.stuck |= self.key.stuck;
                     obs.event(self.time(), &self.y);
                 }
                 Advance::Stalled => return Err(Halt::Stalled),
@@ -215,7 +222,7 @@ impl<'s> Simulator<'s> {
         self.clock = 0.0;
         self.periods += 1;
         rec.end = self.y.clone();
-        rec.end_held = self.held;
+        rec.end_key = self.key;
         obs.sample(self.time(), &self.y);
         Ok(rec)
     }
@@ -255,19 +262,22 @@ impl<'s> Simulator<'s> {
                     impact::apply(sys, k, 0.0, &mut self.y);
                 }
             }
-            GuardKind::Reaction => self.held &= !(1 << stop),
+            GuardKind::Reaction => self.key.held &= !(1 << stop),
+            GuardKind::Grip | GuardKind::Slip => {}
         }
-        // A stop released by its reaction (zero and decreasing) cannot hold now.
+        // A stop released by its reaction (zero and decreasing) cannot hold now,
+        // nor can a contact that broke away stick at once.
         let released = if kind == GuardKind::Reaction { 1 << stop } else { 0 };
-        let cand = (candidates(sys, &self.acc, &self.y) | self.held) & !released;
+        let broke = if kind == GuardKind::Grip { 1 << stop } else { 0 };
+        let cand = (candidates(sys, &self.acc, &self.y) | self.key.held) & !released;
         let phase = self.phase();
-        let held = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand)?;
+        let key = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand, broke)?;
         for k in 0..sys.stops.len() {
-            if held & !self.held & (1 << k) != 0 {
+            if key.held & !self.key.held & (1 << k) != 0 {
                 self.chatter.reset(k);
             }
         }
-        self.held = held;
+        self.key = key;
         self.snap()
     }
 }

@@ -7,27 +7,33 @@
 //! (reaction >= 0), released ones do not close. In a single-stop scene this is the
 //! literature's condition: M1 stays on A1 while
 //! `F1 = (1-f20) sin(ωt+τ) - x1 - 2ζ x1' < 0`.
+//!
+//! Friction contacts are decided in the same search: a contact slipping faster
+//! than the stick velocity keeps slipping its way; one at rest relative to its
+//! partner sticks when the friction force that keeps it stuck is within the
+//! static limit (and not at the limit and growing), and otherwise slips the way
+//! its relative acceleration points under kinetic friction.
 
 use crate::accuracy::Accuracy;
 use crate::error::SolverError;
 use crate::flow::{guard_start, value_tol, Start};
-use crate::mode::{Guard, GuardKind, Mode};
+use crate::mode::{Guard, GuardKind, Key, Mode};
 use crate::system::System;
 use nalgebra::DVector;
 
-/// Lazily built modes of one system, keyed by the mask of held stops.
+/// Lazily built modes of one system, keyed by held stops and friction states.
 #[derive(Debug, Clone, Default)]
 pub struct ModeCache {
-    modes: Vec<(u32, Option<Mode>)>,
+    modes: Vec<(Key, Option<Mode>)>,
 }
 
 impl ModeCache {
-    /// The mode holding `held`, or `None` when those constraints are dependent.
-    pub fn get(&mut self, sys: &System, held: u32) -> Result<Option<&Mode>, SolverError> {
-        let i = match self.modes.iter().position(|(h, _)| *h == held) {
+    /// The mode of `key`, or `None` when its constraints are dependent.
+    pub fn get(&mut self, sys: &System, key: Key) -> Result<Option<&Mode>, SolverError> {
+        let i = match self.modes.iter().position(|(k, _)| *k == key) {
             Some(i) => i,
             None => {
-                self.modes.push((held, Mode::new(sys, held)?));
+                self.modes.push((key, Mode::new(sys, key)?));
                 self.modes.len() - 1
             }
         };
@@ -48,13 +54,37 @@ pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
         .fold(0, |m, k| m | (1 << k))
 }
 
-/// Chooses the held set among the candidate stops `cand` at full state `y` and
-/// forcing phase `phase`: the largest subset (ties: smallest mask) whose
-/// constraints are independent, whose reactions are not negative (nor zero and
-/// decreasing), and whose released candidates do not accelerate into their
+/// The states a friction contact may take after an event.
+fn friction_options(sys: &System, acc: &Accuracy, y: &DVector<f64>, i: usize, may_stick: bool) -> Vec<Key> {
+    let rate = sys.slip_rate(i, y);
+    let bit = 1 << i;
+    let stuck = Key { held: 0, stuck: bit, negative: 0 };
+    let positive = Key::default();
+    let negative = Key { held: 0, stuck: 0, negative: bit };
+    if rate > acc.stick_velocity {
+        vec![positive]
+    } else if rate < -acc.stick_velocity {
+        vec![negative]
+    } else if may_stick {
+        vec![stuck, positive, negative]
+    } else {
+        vec![positive, negative]
+    }
+}
+
+/// Chooses the mode after an event at full state `y` and forcing phase `phase`.
+///
+/// Stops: among the candidates `cand`, the largest subset (ties: smallest mask)
+/// whose constraints are independent, whose reactions are not negative (nor zero
+/// and decreasing), and whose released candidates do not accelerate into their
 /// stops — the complementarity conditions of rigid contact. With more than six
 /// candidates, or no consistent subset, the most negative reaction is released
 /// one at a time instead.
+///
+/// Friction contacts (within each stop subset, sticking preferred): a slipping
+/// contact keeps its direction; one at relative rest sticks unless its friction
+/// force is beyond the static limit (or at it and growing), or it is in
+/// `no_stick` (it just broke away); otherwise it slips the way it departs.
 pub fn settle(
     sys: &System,
     acc: &Accuracy,
@@ -62,7 +92,23 @@ pub fn settle(
     y: &DVector<f64>,
     phase: f64,
     mut cand: u32,
-) -> Result<u32, SolverError> {
+    no_stick: u32,
+) -> Result<Key, SolverError> {
+    // Every combination of the contacts' options, first options first.
+    let mut frictions = vec![Key::default()];
+    for i in 0..sys.frictions.len() {
+        let options = friction_options(sys, acc, y, i, no_stick & (1 << i) == 0);
+        frictions = frictions
+            .iter()
+            .flat_map(|f| {
+                options.iter().map(move |o| Key {
+                    held: 0,
+                    stuck: f.stuck | o.stuck,
+                    negative: f.negative | o.negative,
+                })
+            })
+            .collect();
+    }
     let stops: Vec<usize> = (0..32).filter(|k| cand & (1 << k) != 0).collect();
     if stops.len() <= 6 {
         let mut subsets: Vec<u32> = (0..1u32 << stops.len())
@@ -72,19 +118,24 @@ pub fn settle(
             .collect();
         subsets.sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
         for mask in subsets {
-            let Some(mode) = cache.get(sys, mask)? else { continue };
-            let s = mode.project(y, phase);
-            let consistent = mode.guards.iter().all(|g| match g.kind {
-                GuardKind::Reaction => !releasing(mode, acc, g, &s),
-                GuardKind::Gap => cand & (1 << g.stop) == 0 || start(mode, acc, g, &s) != Start::Approaching,
-            });
-            if consistent {
-                return Ok(mask);
+            for f in &frictions {
+                let key = Key { held: mask, ..*f };
+                let Some(mode) = cache.get(sys, key)? else { continue };
+                let s = mode.project(y, phase);
+                let consistent = mode.guards.iter().all(|g| match g.kind {
+                    GuardKind::Reaction | GuardKind::Grip => !releasing(mode, acc, g, &s),
+                    GuardKind::Gap => cand & (1 << g.stop) == 0 || start(mode, acc, g, &s) != Start::Approaching,
+                    GuardKind::Slip => start(mode, acc, g, &s) != Start::Approaching,
+                });
+                if consistent {
+                    return Ok(key);
+                }
             }
         }
     }
+    let friction = frictions[0];
     while cand != 0 {
-        let Some(mode) = cache.get(sys, cand)? else {
+        let Some(mode) = cache.get(sys, Key { held: cand, ..friction })? else {
             cand &= !(1 << (31 - cand.leading_zeros()));
             continue;
         };
@@ -100,7 +151,7 @@ pub fn settle(
             None => break,
         }
     }
-    Ok(cand)
+    Ok(Key { held: cand, ..friction })
 }
 
 /// How guard `g` of `mode` behaves from augmented state `s`.
@@ -108,7 +159,8 @@ fn start(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> Start {
     guard_start(acc, g, &mode.aug, s).0
 }
 
-/// Whether a held stop's reaction is negative, or zero and decreasing.
+/// Whether a held stop's reaction (or a stuck contact's static margin) is
+/// negative, or zero and decreasing.
 fn releasing(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> bool {
     let (start, value, magnitude) = guard_start(acc, g, &mode.aug, s);
     value < -value_tol(acc, false, magnitude) || start == Start::Approaching

@@ -3,6 +3,10 @@
 //!
 //! Frame stop below mass i: `n = e_i`, `c = -position`; above: `n = -e_i`,
 //! `c = position`; pair stop `x_a - x_b <= gap`: `n = e_b - e_a`, `c = gap`.
+//!
+//! A friction contact between masses a and b acts on the relative coordinate
+//! `n·x = x_a - x_b` with `n = e_a - e_b`: a force `F` on a and `-F` on b, with
+//! `F = -f_k sgn(x_a' - x_b')` while slipping and `|F| <= f_s` while stuck.
 
 use crate::error::SolverError;
 use nalgebra::{DMatrix, DVector};
@@ -23,6 +27,17 @@ pub struct StopRow {
     pub inv_effective_mass: f64,
 }
 
+/// A Coulomb friction contact on the relative coordinate `n·x = x_a - x_b`.
+#[derive(Debug, Clone)]
+pub struct FrictionRow {
+    /// `n = e_a - e_b`.
+    pub normal: DVector<f64>,
+    /// Kinetic force `f_k` (>= 0).
+    pub kinetic: f64,
+    /// Static limit `f_s` (>= f_k).
+    pub static_limit: f64,
+}
+
 /// Matrices of the equations of motion, built once per cell.
 #[derive(Debug, Clone)]
 pub struct System {
@@ -38,6 +53,8 @@ pub struct System {
     pub forcing: DVector<f64>,
     /// Stops as gap rows.
     pub stops: Vec<StopRow>,
+    /// Friction contacts.
+    pub frictions: Vec<FrictionRow>,
     /// Forcing frequency ω.
     pub omega: f64,
     /// Forcing phase τ.
@@ -49,16 +66,16 @@ pub struct System {
 impl System {
     /// Assembles the matrices of a model.
     pub fn new(model: Model) -> Result<System, SolverError> {
-        if !model.friction.is_empty() {
-            return Err(SolverError::Unsupported {
-                field: "friction".into(),
-                message: "friction contacts are not modelled by this version of the solver".into(),
-            });
-        }
         if model.stops.len() > 16 {
             return Err(SolverError::Unsupported {
                 field: "stops".into(),
                 message: format!("at most 16 stops are supported, got {}", model.stops.len()),
+            });
+        }
+        if model.friction.len() > 8 {
+            return Err(SolverError::Unsupported {
+                field: "friction".into(),
+                message: format!("at most 8 friction contacts are supported, got {}", model.friction.len()),
             });
         }
         let m = model.masses.len();
@@ -103,8 +120,29 @@ impl System {
                 StopRow { normal, offset, restitution: s.restitution, inv_mass_normal, inv_effective_mass }
             })
             .collect();
+        let frictions = model
+            .friction
+            .iter()
+            .map(|f| {
+                let mut normal = DVector::zeros(m);
+                normal[f.a] = 1.0;
+                normal[f.b] = -1.0;
+                FrictionRow { normal, kinetic: f.kinetic, static_limit: f.static_limit }
+            })
+            .collect();
         let period = model.period();
-        Ok(System { mass, damping, stiffness, forcing, stops, omega: model.omega, tau: model.tau, period, model })
+        Ok(System {
+            mass,
+            damping,
+            stiffness,
+            forcing,
+            stops,
+            frictions,
+            omega: model.omega,
+            tau: model.tau,
+            period,
+            model,
+        })
     }
 
     /// Number of masses (degrees of freedom).
@@ -121,6 +159,11 @@ impl System {
     /// Rate of change of a stop's gap at full state `y` (negative when closing).
     pub fn gap_rate(&self, stop: usize, y: &DVector<f64>) -> f64 {
         self.stops[stop].normal.dot(&y.rows(self.dof(), self.dof()))
+    }
+
+    /// Relative velocity `x_a' - x_b'` of friction contact `i` at full state `y`.
+    pub fn slip_rate(&self, i: usize, y: &DVector<f64>) -> f64 {
+        self.frictions[i].normal.dot(&y.rows(self.dof(), self.dof()))
     }
 
     /// Kinetic energy `½ vᵀ M v`.

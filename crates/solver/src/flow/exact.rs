@@ -16,7 +16,7 @@
 use super::spectral::{bound, differentiate_into, evaluate, Modal, Term};
 use super::{classify_start, start_tolerances, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
-use crate::mode::{GuardKind, Mode};
+use crate::mode::Mode;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
 
@@ -156,7 +156,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
         }
         let magnitude = g.row.abs().dot(&s0.abs());
         w.magnitude.push(magnitude);
-        w.zero.push(value_tol(acc, g.kind == GuardKind::Gap, magnitude));
+        w.zero.push(value_tol(acc, g.kind.is_gap(), magnitude));
     }
     let event = |w: &Workspace, guard: usize, time: f64| {
         let mut state = s0.clone();
@@ -180,7 +180,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                 let b = &w.beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
                 let g = evaluate(&w.f, &b[..nt]);
                 if g <= w.zero[gi] {
-                    let is_gap = mode.guards[gi].kind == GuardKind::Gap;
+                    let is_gap = mode.guards[gi].kind.is_gap();
                     let magnitude = w.magnitude[gi];
                     if at_contact(
                         terms,

@@ -9,7 +9,7 @@ pub mod rk4;
 pub mod spectral;
 
 use crate::accuracy::Accuracy;
-use crate::mode::{Guard, GuardKind, Mode};
+use crate::mode::{Guard, Mode};
 use nalgebra::{DMatrix, DVector};
 
 /// Why an advance stopped.
@@ -125,7 +125,7 @@ pub fn derivatives(guard: &Guard, aug: &DMatrix<f64>, s: &DVector<f64>) -> ([f64
 /// [`derivatives`]), with its value and magnitude.
 pub fn guard_start(acc: &Accuracy, guard: &Guard, aug: &DMatrix<f64>, s: &DVector<f64>) -> (Start, f64, f64) {
     let (d, scale) = derivatives(guard, aug, s);
-    let start = classify_start(&d, &start_tolerances(acc, guard.kind == GuardKind::Gap, &scale, &d));
+    let start = classify_start(&d, &start_tolerances(acc, guard.kind.is_gap(), &scale, &d));
     (start, d[0], scale[0])
 }
 

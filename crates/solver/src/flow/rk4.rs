@@ -10,7 +10,7 @@
 
 use super::{guard_start, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
-use crate::mode::{GuardKind, Mode};
+use crate::mode::Mode;
 use nalgebra::DVector;
 
 /// Steps allowed in one advance before it is declared stalled.
@@ -42,7 +42,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             (Start::Clear, _, _) => {}
             (Start::Approaching, _, _) => return Advance::Event { guard: gi, time: 0.0, state: s0.clone() },
             (Start::Departing { .. }, value, magnitude) => {
-                threshold[gi] = value.min(0.0) - value_tol(acc, g.kind == GuardKind::Gap, magnitude)
+                threshold[gi] = value.min(0.0) - value_tol(acc, g.kind.is_gap(), magnitude)
             }
         }
     }
