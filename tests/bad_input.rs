@@ -150,3 +150,26 @@ fn atlas_bad_input() {
     assert!(!merged.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+fn dry_friction_with(from: &str, to: &str) -> String {
+    let text = std::fs::read_to_string(crate::util::config("dry-friction.toml")).unwrap();
+    assert!(text.contains(from));
+    text.replacen(from, to, 1)
+}
+
+/// Issue 4: negative kinetic friction, a static limit below it, friction of a
+/// mass with itself.
+#[test]
+fn friction_bad_input() {
+    expect_error(&["cell", "configs/dry-friction.toml", "--set", "fk=-0.01"], "fk");
+    expect_error(&["cell", "configs/dry-friction.toml", "--set", "fs_ratio=0.5"], "fs_ratio");
+    let p = scene_file("fk.toml", &dry_friction_with("kinetic = \"fk\"", "kinetic = \"-0.01\""));
+    expect_error(&["cell", p.to_str().unwrap()], "friction[0].kinetic");
+    let p = scene_file("fs.toml", &dry_friction_with("static = \"fs_ratio*fk\"", "static = \"0.5*fk\""));
+    expect_error(&["cell", p.to_str().unwrap()], "friction[0].static");
+    let p = scene_file(
+        "self.toml",
+        &dry_friction_with("masses = [\"M1\", \"M2\"]\nkinetic", "masses = [\"M1\", \"M1\"]\nkinetic"),
+    );
+    expect_error(&["cell", p.to_str().unwrap()], "friction[0].masses");
+}

@@ -7,5 +7,6 @@ mod bad_input;
 mod cli;
 mod closed_form;
 mod extremes;
+mod friction;
 mod properties;
 mod util;
