@@ -1,6 +1,7 @@
 //! Hot paths: one multi-stop cell per regime (no impact, 1-1-1, 1-4-4,
 //! chattering, sticking) with the exact solver at `standard`, and one
-//! continuation chain of 64 cells. Run with `cargo bench --bench regimes`.
+//! continuation chain of 64 cells; dry-friction cells at ω = 2, 5, 7.5 (fk = 0.01).
+//! Run with `cargo bench --bench regimes`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use grid::{chain, CellSetup, Silent};
@@ -9,13 +10,13 @@ use solver::{run_cell, Accuracy, Method, System};
 use std::hint::black_box;
 use std::time::Duration;
 
-fn scene() -> scene::Scene {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/configs/multi-stop.toml")).unwrap();
+fn scene(file: &str) -> scene::Scene {
+    let text = std::fs::read_to_string(format!("{}/configs/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
     scene::Scene::parse(&text).unwrap()
 }
 
 fn bench_regimes(c: &mut Criterion) {
-    let sc = scene();
+    let sc = scene("multi-stop.toml");
     let acc = Accuracy::default();
     let mut g = c.benchmark_group("regime");
     g.warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2)).sample_size(30);
@@ -23,6 +24,16 @@ fn bench_regimes(c: &mut Criterion) {
         let sys = System::new(sc.evaluate(&[("omega".into(), omega), ("delta".into(), delta)]).unwrap()).unwrap();
         let y0 = sys.model.initial_state();
         g.bench_function(name, |b| b.iter(|| black_box(run_cell(&sys, &acc, Method::Exact, &y0))));
+    }
+    g.finish();
+
+    let friction = scene("dry-friction.toml");
+    let mut g = c.benchmark_group("dry-friction");
+    g.warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3)).sample_size(20);
+    for omega in [2.0, 5.0, 7.5] {
+        let sys = System::new(friction.evaluate(&[("omega".into(), omega)]).unwrap()).unwrap();
+        let y0 = sys.model.initial_state();
+        g.bench_function(format!("omega-{omega}"), |b| b.iter(|| black_box(run_cell(&sys, &acc, Method::Exact, &y0))));
     }
     g.finish();
 
