@@ -9,4 +9,5 @@ mod closed_form;
 mod extremes;
 mod friction;
 mod properties;
+mod stability;
 mod util;

@@ -14,7 +14,8 @@
 //! sequential impulses in stop order until no contact is closing.
 
 use crate::system::System;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
+use std::ops::AddAssign;
 
 /// Applies the impact law of `stop` with restitution `restitution` to the velocities of `y`.
 pub fn apply(sys: &System, stop: usize, restitution: f64, y: &mut DVector<f64>) {
@@ -24,6 +25,17 @@ pub fn apply(sys: &System, stop: usize, restitution: f64, y: &mut DVector<f64>) 
     let j = -(1.0 + restitution) * vn / s.inv_effective_mass;
     let mut v = y.rows_mut(m, m);
     v.axpy(j, &s.inv_mass_normal, 1.0);
+}
+
+/// Jacobian `∂y+/∂y-` of [`apply`]: positions kept, velocities mapped by
+/// `I - (1 + R) M^{-1} n nᵀ / (nᵀ M^{-1} n)`.
+pub fn jacobian(sys: &System, stop: usize, restitution: f64) -> DMatrix<f64> {
+    let m = sys.dof();
+    let s = &sys.stops[stop];
+    let mut j = DMatrix::identity(2 * m, 2 * m);
+    let update = &s.inv_mass_normal * s.normal.transpose() * (-(1.0 + restitution) / s.inv_effective_mass);
+    j.view_mut((m, m), (m, m)).add_assign(&update);
+    j
 }
 
 /// One impact of a sequence: stop index and closing speed `-n·v-` (> 0).
@@ -37,8 +49,15 @@ pub struct Hit {
 
 /// Resolves all closing contacts among `contacts` (stops at zero gap) by
 /// sequential impulses. Contacts closing faster than `stick_velocity` bounce with
-/// their restitution (and are reported); slower ones are made plastic.
-pub fn resolve(sys: &System, contacts: &[usize], stick_velocity: f64, y: &mut DVector<f64>) -> Vec<Hit> {
+/// their restitution (and are reported); slower ones are made plastic. Every
+/// impulse applied, `(stop, restitution)` in order, is appended to `applied`.
+pub fn resolve(
+    sys: &System,
+    contacts: &[usize],
+    stick_velocity: f64,
+    y: &mut DVector<f64>,
+    applied: &mut Vec<(usize, f64)>,
+) -> Vec<Hit> {
     let mut hits = Vec::new();
     for _round in 0..64 {
         let mut any = false;
@@ -46,10 +65,12 @@ pub fn resolve(sys: &System, contacts: &[usize], stick_velocity: f64, y: &mut DV
             let vn = sys.gap_rate(k, y);
             if vn < -stick_velocity {
                 apply(sys, k, sys.stops[k].restitution, y);
+                applied.push((k, sys.stops[k].restitution));
                 hits.push(Hit { stop: k, speed: -vn });
                 any = true;
             } else if vn < 0.0 {
                 apply(sys, k, 0.0, y);
+                applied.push((k, 0.0));
             }
         }
         if !any {

@@ -24,6 +24,7 @@ pub mod accuracy;
 pub mod chatter;
 pub mod classify;
 pub mod error;
+pub mod floquet;
 pub mod flow;
 pub mod impact;
 pub mod mode;
@@ -37,8 +38,14 @@ pub mod system;
 pub use accuracy::{Accuracy, Preset};
 pub use classify::{run_cell, CellResult, Class, Count, MassLabel, Symmetry};
 pub use error::SolverError;
+pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
+/// Matrix type of Jacobians and monodromy matrices.
+pub use nalgebra::DMatrix;
 /// Column vector type of states passed to observers.
 pub use nalgebra::DVector;
+pub use newton::{solve, MapKind, Solution};
+/// Complex numbers of Floquet multipliers.
+pub use num_complex::Complex64;
 pub use simulate::{Halt, Ignore, Observer, PeriodRecord, Simulator};
 pub use system::System;

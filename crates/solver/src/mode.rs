@@ -274,6 +274,33 @@ impl Mode {
         s
     }
 
+    /// The linear map `y ↦ s` of [`Mode::project`] without its constant rows
+    /// (`sin φ`, `cos φ`, `1` do not depend on `y`): `∂s/∂y`.
+    pub fn project_matrix(&self) -> DMatrix<f64> {
+        let m = self.basis.nrows();
+        let r = self.basis.ncols();
+        let hf = self.frozen.nrows();
+        let mut p = DMatrix::zeros(2 * r + hf + 3, 2 * m);
+        p.view_mut((0, 0), (r, m)).copy_from(&self.basis.transpose());
+        p.view_mut((r, m), (r, m)).copy_from(&self.basis.transpose());
+        p.view_mut((2 * r, 0), (hf, m)).copy_from(&self.frozen);
+        p
+    }
+
+    /// The linear map `s ↦ y` of [`Mode::lift`] (with `x_c` as the column of `1`).
+    pub fn lift_matrix(&self) -> DMatrix<f64> {
+        let m = self.basis.nrows();
+        let r = self.basis.ncols();
+        let hf = self.frozen.nrows();
+        let dim = 2 * r + hf + 3;
+        let mut l = DMatrix::zeros(2 * m, dim);
+        l.view_mut((0, 0), (m, r)).copy_from(&self.basis);
+        l.view_mut((m, r), (m, r)).copy_from(&self.basis);
+        l.view_mut((0, 2 * r), (m, hf)).copy_from(&self.spread);
+        l.view_mut((0, dim - 1), (m, 1)).copy_from(&self.offset);
+        l
+    }
+
     /// Full state `[x; v]` of an augmented state.
     pub fn lift(&self, s: &DVector<f64>) -> DVector<f64> {
         let m = self.basis.nrows();

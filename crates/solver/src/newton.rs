@@ -1,38 +1,144 @@
-//! Periodic orbits by Newton's method on the n-period map.
+//! Periodic orbits by Newton's method on the n-period map, with its exact Jacobian.
 //!
 //! The period map `P` takes the state at `t = kT` to the state at `t = (k+1)T`;
 //! a period-n orbit is a zero of `F(x) = Pⁿ(x) - x`. Newton's iteration
-//! `x ← x - (DPⁿ - I)⁻¹ F(x)` converges in a few steps where brute-force
-//! simulation contracts only like `|μ|^k` (μ the leading Floquet multiplier,
-//! close to 1 near a bifurcation). The Jacobian here is taken by forward
-//! differences along each coordinate; every evaluation must keep the impact
-//! pattern of the orbit (the same impacts per stop in each period), otherwise
-//! the iteration gives up and brute force continues.
+//! `x ← x - (DPⁿ - I)⁻¹ F(x)` converges quadratically, also to unstable orbits,
+//! where brute-force simulation contracts only like `|μ|^k` (μ the leading
+//! Floquet multiplier). `DPⁿ` is the simulator's tangent map (flow transition
+//! matrices and saltation matrices, see [`Simulator::track_tangent`]).
+//!
+//! A symmetric orbit of a mirror-symmetric scene (`x → -x` with a half-period
+//! shift) is a fixed point of the half map `H(x) = -Φ_{T/2}(x)`, with
+//! `P = H∘H`: solving `H` keeps the symmetry exactly, and its multipliers tell a
+//! symmetry-breaking pitchfork (−1 of `H`) from a period doubling.
+//!
+//! Every evaluation must keep the orbit's impact pattern (impacts per stop in
+//! each period), so that the iteration stays on one smooth branch of the map.
 
-use crate::simulate::{Ignore, Simulator};
+use crate::simulate::{Halt, Ignore, Simulator};
 use nalgebra::{DMatrix, DVector};
 
 /// Impacts per stop in each of the n periods: the event pattern an orbit must keep.
 pub type Pattern = Vec<Vec<u32>>;
 
-/// Simulates n periods from `x` with `probe`; the end state and the pattern.
-fn map(probe: &mut Simulator<'_>, x: &DVector<f64>, n: usize) -> Option<(DVector<f64>, Pattern)> {
-    probe.restart(x.as_slice()).ok()?;
-    let mut pattern = Vec::with_capacity(n);
-    for _ in 0..n {
-        pattern.push(probe.run_period(&[], false, &mut Ignore).ok()?.impacts);
+/// Which map a fixed point is sought of.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapKind {
+    /// `Pⁿ`, n forcing periods.
+    Periods(usize),
+    /// The half map `H(x) = -Φ_{T/2}(x)` of a symmetric period-one orbit.
+    Half,
+}
+
+impl MapKind {
+    /// Forcing periods simulated per evaluation.
+    fn periods(self) -> usize {
+        match self {
+            MapKind::Periods(n) => n,
+            MapKind::Half => 1,
+        }
     }
-    Some((probe.y.clone(), pattern))
+}
+
+/// One evaluation of a map: image, exact Jacobian, impact pattern.
+#[derive(Debug, Clone)]
+pub struct Image {
+    /// The image of the state.
+    pub value: DVector<f64>,
+    /// Its Jacobian.
+    pub jacobian: DMatrix<f64>,
+    /// Impacts per stop in each simulated period.
+    pub pattern: Pattern,
+}
+
+/// Evaluates `map` at `x` with `sim` (which must track its tangent).
+pub fn evaluate(sim: &mut Simulator<'_>, x: &DVector<f64>, map: MapKind) -> Result<Image, Halt> {
+    sim.restart(x.as_slice())?;
+    let mut pattern = Vec::with_capacity(map.periods());
+    let mut half = None;
+    for _ in 0..map.periods() {
+        let rec = sim.run_period(&[], map == MapKind::Half, &mut Ignore)?;
+        pattern.push(rec.impacts);
+        if map == MapKind::Half {
+            half = rec.half.zip(rec.half_tangent);
+        }
+    }
+    let (value, jacobian) = match map {
+        MapKind::Periods(_) => (sim.y.clone(), sim.tangent().ok_or(Halt::Stalled)?.clone()),
+        MapKind::Half => {
+            let (y, j) = half.ok_or(Halt::Stalled)?;
+            (-y, -j)
+        }
+    };
+    Ok(Image { value, jacobian, pattern })
 }
 
 fn scaled(v: &DVector<f64>, x: &DVector<f64>) -> f64 {
     v.amax() / (1.0 + x.amax())
 }
 
+/// A converged fixed point.
+#[derive(Debug, Clone)]
+pub struct Solution {
+    /// The fixed point.
+    pub x: DVector<f64>,
+    /// The map's Jacobian there.
+    pub jacobian: DMatrix<f64>,
+    /// The impact pattern there.
+    pub pattern: Pattern,
+    /// Final residual `|F(x)|/(1 + |x|)`.
+    pub residual: f64,
+    /// Newton steps taken.
+    pub iterations: usize,
+}
+
+/// Solves `map(x) = x` from `x0` to residual `tol` (relative to `1 + |x|`) in at
+/// most `max_iter` steps, keeping `pattern` when given (otherwise the pattern of
+/// the first evaluation). `None` when an evaluation fails, the pattern changes,
+/// a step is too large (more than `max_step` relative) or it does not converge.
+pub fn solve(
+    sim: &mut Simulator<'_>,
+    x0: &DVector<f64>,
+    map: MapKind,
+    pattern: Option<&Pattern>,
+    tol: f64,
+    max_iter: usize,
+    max_step: f64,
+) -> Option<Solution> {
+    if sim.tangent().is_none() {
+        sim.track_tangent();
+    }
+    let dim = x0.len();
+    let mut x = x0.clone();
+    let mut keep: Option<Pattern> = pattern.cloned();
+    for iterations in 0..=max_iter {
+        let image = evaluate(sim, &x, map).ok()?;
+        if keep.get_or_insert_with(|| image.pattern.clone()) != &image.pattern {
+            return None;
+        }
+        let r = &image.value - &x;
+        let residual = scaled(&r, &x);
+        if residual <= tol {
+            return Some(Solution { x, jacobian: image.jacobian, pattern: image.pattern, residual, iterations });
+        }
+        if iterations == max_iter {
+            return None;
+        }
+        let jac = &image.jacobian - DMatrix::identity(dim, dim);
+        let dx = jac.lu().solve(&(-&r))?;
+        if !dx.iter().all(|v| v.is_finite()) || scaled(&dx, &x) > max_step {
+            return None;
+        }
+        x += dx;
+    }
+    None
+}
+
 /// Solves `Pⁿ(x) = x` from `x0`, keeping `pattern`; returns the fixed point once
-/// `|F|` is below `tol` (relative to `1 + |x|`) and the orbit is stable (every
-/// eigenvalue of the last Jacobian `DPⁿ` inside the unit circle), or `None`: a
-/// transient that lingers near an unstable orbit must not be labelled by it.
+/// `|F|` is below `tol` and the orbit is stable (every eigenvalue of `DPⁿ`
+/// inside the unit circle), or `None`: a transient that lingers near an
+/// unstable orbit must not be labelled by it. (The acceleration of
+/// [`crate::classify::run_cell`].)
 pub fn fixed_point(
     probe: &mut Simulator<'_>,
     x0: &DVector<f64>,
@@ -40,36 +146,6 @@ pub fn fixed_point(
     pattern: &Pattern,
     tol: f64,
 ) -> Option<DVector<f64>> {
-    let dim = x0.len();
-    let mut x = x0.clone();
-    let mut stable = false;
-    for _ in 0..6 {
-        let (fx, p) = map(probe, &x, n)?;
-        if &p != pattern {
-            return None;
-        }
-        let r = &fx - &x;
-        if scaled(&r, &x) <= tol {
-            return stable.then_some(x);
-        }
-        let mut jac = DMatrix::<f64>::zeros(dim, dim);
-        for j in 0..dim {
-            let h = 1e-7 * (1.0 + x[j].abs());
-            let mut xp = x.clone();
-            xp[j] += h;
-            let (fp, pp) = map(probe, &xp, n)?;
-            if &pp != pattern {
-                return None;
-            }
-            jac.set_column(j, &((fp - &fx) / h));
-        }
-        stable = jac.complex_eigenvalues().iter().all(|m| m.norm() < 1.0);
-        jac -= DMatrix::identity(dim, dim);
-        let dx = jac.lu().solve(&(-&r))?;
-        if !dx.iter().all(|v| v.is_finite()) || scaled(&dx, &x) > 0.1 {
-            return None;
-        }
-        x += dx;
-    }
-    None
+    let sol = solve(probe, x0, MapKind::Periods(n), Some(pattern), tol, 6, 0.1)?;
+    sol.jacobian.complex_eigenvalues().iter().all(|m| m.norm() < 1.0).then_some(sol.x)
 }

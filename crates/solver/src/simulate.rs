@@ -18,7 +18,7 @@ use crate::impact;
 use crate::mode::{GuardKind, Key};
 use crate::stick::{candidates, settle, touching, ModeCache};
 use crate::system::System;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
 /// Receives what happens during a simulation; section recorders and traces are
 /// observers, so nothing is stored unless asked.
@@ -51,6 +51,8 @@ pub struct PeriodRecord {
     pub end_key: Key,
     /// State at the middle of the period, when asked for.
     pub half: Option<DVector<f64>>,
+    /// Tangent map at the middle of the period, when asked for and tracked.
+    pub half_tangent: Option<DMatrix<f64>>,
 }
 
 /// Why a simulation stopped before its end.
@@ -90,6 +92,10 @@ pub struct Simulator<'s> {
     /// Events handled so far.
     pub events: usize,
     zero_steps: usize,
+    /// Impulses applied while handling the current event.
+    applied: Vec<(usize, f64)>,
+    /// Tangent map `∂y(t)/∂y(0)` since the last restart, when tracked.
+    tangent: Option<DMatrix<f64>>,
 }
 
 impl<'s> Simulator<'s> {
@@ -108,6 +114,8 @@ impl<'s> Simulator<'s> {
             periods: 0,
             events: 0,
             zero_steps: 0,
+            applied: Vec::new(),
+            tangent: None,
         };
         sim.restart(y0)?;
         Ok(sim)
@@ -127,8 +135,28 @@ impl<'s> Simulator<'s> {
         self.acc.max_events = budget;
     }
 
+    /// Tracks the tangent map `∂y(t)/∂y(0)` from now on (from the identity at
+    /// every restart): the state-transition matrix `L e^{Â h} P` of each flow
+    /// segment and the saltation matrix of each event,
+    /// `S = J + (f⁺ - J f⁻) ∇hᵀ / ḣ`, with `J` the Jacobian of the reset (impulses,
+    /// projection onto new constraints), `f∓` the vector fields before and after
+    /// and `h` the event's guard. Exact except at grazing (`ḣ = 0`, where the map
+    /// is not differentiable; the jump is then taken alone) and at a chatter
+    /// sequence's accumulation point.
+    pub fn track_tangent(&mut self) {
+        self.tangent = Some(DMatrix::identity(self.y.len(), self.y.len()));
+    }
+
+    /// The tangent map since the last restart, when tracked.
+    pub fn tangent(&self) -> Option<&DMatrix<f64>> {
+        self.tangent.as_ref()
+    }
+
     /// Restarts from full state `y0` at `t = 0` (counters and built modes are kept).
     pub fn restart(&mut self, y0: &[f64]) -> Result<(), Halt> {
+        if let Some(t) = self.tangent.as_mut() {
+            t.fill_with_identity();
+        }
         self.y = DVector::from_column_slice(y0);
         self.clock = 0.0;
         self.zero_steps = 0;
@@ -171,6 +199,7 @@ impl<'s> Simulator<'s> {
             end: DVector::zeros(0),
             end_key: Key::default(),
             half: None,
+            half_tangent: None,
         };
         let mut targets: Vec<f64> = samples.iter().copied().filter(|&t| t > self.clock && t < period).collect();
         if half && self.clock < period / 2.0 {
@@ -187,12 +216,16 @@ impl<'s> Simulator<'s> {
             let s0 = mode.project(&self.y, phase);
             match self.method.advance(mode, &s0, target - self.clock, &self.acc, &mut self.work) {
                 Advance::Horizon(s) => {
+                    if let Some(t) = self.tangent.as_mut() {
+                        *t = segment(mode, target - self.clock) * &*t;
+                    }
                     self.y = mode.lift(&s);
                     self.clock = target;
                     ti += 1;
                     // Targets are copied, never computed: compare them bit for bit.
                     if half && target.to_bits() == (period / 2.0).to_bits() {
                         rec.half = Some(self.y.clone());
+                        rec.half_tangent = self.tangent.clone();
                     }
                     if target < period {
                         obs.sample(self.time(), &self.y);
@@ -201,6 +234,17 @@ impl<'s> Simulator<'s> {
                 Advance::Event { guard, time, state } => {
                     let g = &mode.guards[guard];
                     let (kind, stop) = (g.kind, g.stop);
+                    // Flow to the event, and what the saltation needs from before it.
+                    let before = self.tangent.is_some().then(|| {
+                        let rate = &mode.aug * &state;
+                        let lift = mode.lift_matrix();
+                        (
+                            segment(mode, time),
+                            &lift * &rate,
+                            mode.project_matrix().transpose() * &g.row,
+                            g.row.dot(&rate),
+                        )
+                    });
                     self.y = mode.lift(&state);
                     self.clock = (self.clock + time).min(target);
                     self.events += 1;
@@ -211,7 +255,22 @@ impl<'s> Simulator<'s> {
                     if self.zero_steps > 64 {
                         return Err(Halt::Stalled);
                     }
+                    let y_before = self.y.clone();
                     self.handle(kind, stop, &mut rec, obs)?;
+                    if let Some((flow, f_before, grad, rate)) = before {
+                        let jump = self.jump(&y_before)?;
+                        let phase = self.phase();
+                        let mode = self.cache.get(sys, self.key)?.ok_or(Halt::Stalled)?;
+                        let f_after = mode.lift_matrix() * (&mode.aug * mode.project(&self.y, phase));
+                        let mut salt = jump.clone();
+                        // At grazing (ḣ = 0) the map is not differentiable: keep the jump.
+                        if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
+                            salt += (f_after - &jump * f_before) * (grad.transpose() / rate);
+                        }
+                        if let Some(t) = self.tangent.as_mut() {
+                            *t = salt * flow * &*t;
+                        }
+                    }
                     rec.held |= self.key.held;
                     rec.stuck |= self.key.stuck;
                     obs.event(self.time(), &self.y);
@@ -242,10 +301,12 @@ impl<'s> Simulator<'s> {
                 let before = self.y.clone();
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.
+                self.applied.clear();
                 if sys.gap_rate(stop, &self.y) >= -self.acc.stick_velocity {
                     impact::apply(sys, stop, 0.0, &mut self.y);
+                    self.applied.push((stop, 0.0));
                 }
-                let hits = impact::resolve(sys, &contacts, self.acc.stick_velocity, &mut self.y);
+                let hits = impact::resolve(sys, &contacts, self.acc.stick_velocity, &mut self.y, &mut self.applied);
                 let t = self.time();
                 let mut accumulate = 0u32;
                 for h in &hits {
@@ -260,10 +321,14 @@ impl<'s> Simulator<'s> {
                 // The rest of a geometric chatter sequence is the sticking motion it converges to.
                 for k in (0..sys.stops.len()).filter(|k| accumulate & (1 << k) != 0) {
                     impact::apply(sys, k, 0.0, &mut self.y);
+                    self.applied.push((k, 0.0));
                 }
             }
-            GuardKind::Reaction => self.key.held &= !(1 << stop),
-            GuardKind::Grip | GuardKind::Slip => {}
+            GuardKind::Reaction => {
+                self.applied.clear();
+                self.key.held &= !(1 << stop);
+            }
+            GuardKind::Grip | GuardKind::Slip => self.applied.clear(),
         }
         // A stop released by its reaction (zero and decreasing) cannot hold now,
         // nor can a contact that broke away stick at once.
@@ -280,4 +345,23 @@ impl<'s> Simulator<'s> {
         self.key = key;
         self.snap()
     }
+
+    /// Jacobian `J` of the reset just handled from `y_before`: the impulses
+    /// applied, then the projection onto the new mode's constraints.
+    fn jump(&mut self, y_before: &DVector<f64>) -> Result<DMatrix<f64>, Halt> {
+        let mut j = DMatrix::identity(y_before.len(), y_before.len());
+        for &(k, r) in &self.applied {
+            j = impact::jacobian(self.sys, k, r) * j;
+        }
+        if self.key.held != 0 || self.key.stuck != 0 {
+            let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
+            j = mode.lift_matrix() * mode.project_matrix() * j;
+        }
+        Ok(j)
+    }
+}
+
+/// State-transition matrix `∂y(h)/∂y(0) = L e^{Â h} P` of a flow segment of `mode`.
+fn segment(mode: &crate::mode::Mode, h: f64) -> DMatrix<f64> {
+    mode.lift_matrix() * mode.spectral.transition(h) * mode.project_matrix()
 }

@@ -271,6 +271,26 @@ impl Spectral {
         }
     }
 
+    /// The state-transition matrix `e^{Â u}` (the same expansion as the state).
+    pub fn transition(&self, u: f64) -> DMatrix<f64> {
+        let mut f = vec![C64::new(0.0, 0.0); self.terms.len()];
+        self.factors(u, &mut f);
+        let mut out = DMatrix::zeros(self.dim, self.dim);
+        let mut t = 0;
+        for c in &self.clusters {
+            let mut nw = c.w.clone();
+            for j in 0..c.powers {
+                if j > 0 {
+                    nw = &c.n * nw;
+                }
+                let m = &c.v * &nw;
+                out.zip_apply(&m, |o, z| *o += (f[t] * z).re);
+                t += 1;
+            }
+        }
+        out
+    }
+
     /// Fills `out[t] = weight_t e^{μ_t u} u^j / j!` for every term.
     pub fn factors(&self, u: f64, out: &mut [C64]) {
         let mut last = (C64::new(f64::NAN, f64::NAN), C64::new(0.0, 0.0));

@@ -1,0 +1,92 @@
+//! Floquet multipliers of periodic orbits and the kind of a lost stability.
+//!
+//! The multipliers are the eigenvalues of the monodromy matrix (the Jacobian of
+//! the period map at its fixed point). The orbit is stable when all lie inside
+//! the unit circle; stability is lost where one crosses it: at +1 a saddle-node
+//! (or a pitchfork in a symmetric scene), at −1 a period doubling, as a complex
+//! pair a Neimark–Sacker bifurcation (an invariant circle is born). For a
+//! symmetric orbit solved through its half map `H` (`P = H∘H`), a −1 of `H` is a
+//! symmetry-breaking pitchfork (+1 of `P`), a +1 of `H` a saddle-node, and a
+//! pair at `±i` of `H` a period doubling (−1 of `P`).
+
+use nalgebra::DMatrix;
+use num_complex::Complex64 as C64;
+
+/// Eigenvalues of `m`, largest modulus first (ties: larger real part, then
+/// larger imaginary part).
+pub fn multipliers(m: &DMatrix<f64>) -> Vec<C64> {
+    let mut mu: Vec<C64> = m.complex_eigenvalues().iter().copied().collect();
+    mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(b.im.total_cmp(&a.im)));
+    mu
+}
+
+/// Largest modulus of `mu` (0 when empty).
+pub fn spectral_radius(mu: &[C64]) -> f64 {
+    mu.iter().map(|m| m.norm()).fold(0.0, f64::max)
+}
+
+/// A local bifurcation of a periodic orbit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bifurcation {
+    /// Period doubling (a multiplier of the period map at −1).
+    PeriodDoubling,
+    /// Saddle-node (fold) (+1, the symmetry kept).
+    SaddleNode,
+    /// Symmetry-breaking pitchfork (+1 of the period map, −1 of the half map).
+    Pitchfork,
+    /// Neimark–Sacker (a complex pair on the unit circle).
+    NeimarkSacker,
+    /// Grazing: a stop's gap touches zero with zero velocity and the event
+    /// sequence changes.
+    Grazing,
+}
+
+impl Bifurcation {
+    /// Short name: `PD`, `SN`, `PF`, `NS`, `grazing`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Bifurcation::PeriodDoubling => "PD",
+            Bifurcation::SaddleNode => "SN",
+            Bifurcation::Pitchfork => "PF",
+            Bifurcation::NeimarkSacker => "NS",
+            Bifurcation::Grazing => "grazing",
+        }
+    }
+}
+
+/// The kind of bifurcation where multiplier `mu` (of the solved map) sits on
+/// the unit circle; `half` when the map is the half map of a symmetric orbit.
+/// Arguments within `0.05` rad of 0, π (or ±π/2 for the half map) count as real.
+pub fn kind(mu: C64, half: bool) -> Bifurcation {
+    let arg = mu.arg().abs();
+    let near = |a: f64| (arg - a).abs() < 0.05;
+    match (half, near(0.0), near(std::f64::consts::PI), near(std::f64::consts::FRAC_PI_2)) {
+        (_, true, _, _) => Bifurcation::SaddleNode,
+        (false, _, true, _) => Bifurcation::PeriodDoubling,
+        (true, _, true, _) => Bifurcation::Pitchfork,
+        (true, _, _, true) => Bifurcation::PeriodDoubling,
+        _ => Bifurcation::NeimarkSacker,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kinds_of_crossings() {
+        assert_eq!(kind(C64::new(1.0, 0.0), false), Bifurcation::SaddleNode);
+        assert_eq!(kind(C64::new(-1.0, 0.0), false), Bifurcation::PeriodDoubling);
+        assert_eq!(kind(C64::new(-1.0, 0.0), true), Bifurcation::Pitchfork);
+        assert_eq!(kind(C64::new(0.0, 1.0), true), Bifurcation::PeriodDoubling);
+        assert_eq!(kind(C64::from_polar(1.0, 1.0), false), Bifurcation::NeimarkSacker);
+    }
+
+    #[test]
+    fn multipliers_sorted_by_modulus() {
+        let m = DMatrix::from_row_slice(2, 2, &[0.5, 0.0, 0.0, -2.0]);
+        let mu = multipliers(&m);
+        assert!((mu[0].re + 2.0).abs() < 1e-15 && (mu[1].re - 0.5).abs() < 1e-15);
+        assert!((spectral_radius(&mu) - 2.0).abs() < 1e-15);
+    }
+}
