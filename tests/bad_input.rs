@@ -173,3 +173,14 @@ fn friction_bad_input() {
     );
     expect_error(&["cell", p.to_str().unwrap()], "friction[0].masses");
 }
+
+/// Issue 6: `orbit` and `continue` refuse bad periods, axes and non-periodic
+/// cells without a period.
+#[test]
+fn orbit_and_continue_bad_input() {
+    expect_error(&["orbit", "configs/single-stop.toml", "--n", "0"], "--n");
+    expect_error(&["orbit", "configs/dry-friction.toml", "--set", "omega=2"], "--n");
+    expect_error(&["continue", "configs/single-stop.toml", "--axis", "omega=1:2:1"], "--axis");
+    expect_error(&["continue", "configs/single-stop.toml", "--axis", "nope=1:2:5"], "nope");
+    expect_error(&["continue", "configs/single-stop.toml", "--axis", "omega=1:2"], "--axis");
+}

@@ -64,7 +64,9 @@ fn corners_of_the_parameter_space() {
                 Class::Unresolved => {
                     unresolved.fetch_add(1, Ordering::Relaxed);
                 }
-                Class::Chaotic => {}
+                Class::Chaotic | Class::Quasiperiodic => {
+                    assert!(a.lyapunov.is_none_or(f64::is_finite), "{p:?}: exponent {:?}", a.lyapunov)
+                }
             }
             let b = run_cell(&sys, &acc, Method::Exact, &y0);
             assert_eq!(a, b, "{p:?}: not deterministic");

@@ -87,3 +87,135 @@ fn jacobian_through_events_matches_finite_differences() {
         }
     }
 }
+
+/// Issue 6: the largest Lyapunov exponent of a periodic orbit equals
+/// `ln|μ_max| / (nT)`, to 1e-6.
+#[test]
+fn lyapunov_exponent_of_a_periodic_orbit() {
+    // Orbits whose leading multiplier is real (with a complex leading pair a
+    // finite average oscillates about the limit by O(1/periods)).
+    for (file, sets) in [("multi-stop.toml", vec![("omega", 0.295), ("delta", 0.6)]), ("symmetric-stops.toml", vec![])]
+    {
+        let sys = system(file, &sets);
+        let (_, n) = settled(&sys);
+        let sol = orbit(&sys, MapKind::Periods(n));
+        let mu = multipliers(&sol.jacobian);
+        assert!(mu[0].im.abs() < 1e-12 && mu[0].norm() > mu[1].norm() + 0.05, "{file}: leading multipliers {mu:?}");
+        let expected = mu[0].norm().ln() / (n as f64 * sys.period);
+        let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, sol.x.as_slice()).unwrap();
+        let (lambda, _) = solver::lyapunov::largest_exponent(&mut sim, 200, 100 * n).unwrap();
+        assert!((lambda - expected).abs() < 1e-6, "{file}: λ = {lambda} against ln|μ|/T = {expected}");
+    }
+}
+
+/// Issue 6: the Newton fixed point (from a perturbed start, also valid for an
+/// orbit simulation reaches only slowly) reproduces the impact phases of the
+/// orbit reached by long plain simulation, to 1e-10.
+#[test]
+fn newton_fixed_point_reproduces_simulated_impact_phases() {
+    let sys = system("multi-stop.toml", &[("omega", 0.33), ("delta", 0.6)]);
+    let acc = Accuracy { newton: false, max_periods: 3000, periodic_tol: 1e-13, ..Accuracy::default() };
+    let cell = solver::run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+    assert_eq!(cell.n, Some(1));
+    let phases = |x: &[f64]| {
+        let (rec, _) = crate::util::record(&sys, &Accuracy::default(), Method::Exact, x, 1);
+        rec.impacts.iter().map(|i| (i.stop, i.time)).collect::<Vec<_>>()
+    };
+    let simulated = phases(&cell.final_state);
+    let mut start = DVector::from_vec(cell.final_state.clone());
+    start.iter_mut().for_each(|v| *v *= 1.0 + 1e-3);
+    let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, start.as_slice()).unwrap();
+    let sol = solve(&mut sim, &start, MapKind::Periods(1), None, 1e-13, 20, 0.5).unwrap();
+    let solved = phases(sol.x.as_slice());
+    assert_eq!(simulated.len(), solved.len());
+    assert!(simulated.len() >= 8);
+    for (a, b) in simulated.iter().zip(&solved) {
+        assert_eq!(a.0, b.0);
+        assert!((a.1 - b.1).abs() < 1e-10, "impact time {} against {}", a.1, b.1);
+    }
+}
+
+fn json_of(args: &[&str]) -> serde_json::Value {
+    let out = crate::util::run(args);
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// Issue 6: a period doubling seen in a sweep (1-3-2 at ω = 1.1825, 2-6-4 at
+/// 1.18, δ = 0.2) is located by `continue` within that sweep step, with a
+/// multiplier at −1.
+#[test]
+fn continue_locates_the_period_doubling_of_a_sweep() {
+    let sweep = json_of(&[
+        "sweep",
+        "configs/multi-stop.toml",
+        "--set",
+        "delta=0.2",
+        "--axis",
+        "omega=1.19:1.175:7",
+        "--json",
+        "--quiet",
+    ]);
+    let labels: Vec<(f64, String)> = sweep["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["value"].as_f64().unwrap(), p["labels"]["M1"].as_str().unwrap().to_string()))
+        .collect();
+    let step = labels.windows(2).find(|w| w[0].1 == "1-3-2" && w[1].1 == "2-6-4").expect("1-3-2 → 2-6-4 in the sweep");
+    let cont = json_of(&[
+        "continue",
+        "configs/multi-stop.toml",
+        "--set",
+        "delta=0.2",
+        "--axis",
+        "omega=1.2:1.17:13",
+        "--json",
+    ]);
+    let pd: Vec<&serde_json::Value> =
+        cont["bifurcations"].as_array().unwrap().iter().filter(|b| b["kind"] == "PD").collect();
+    assert_eq!(pd.len(), 1, "{cont}");
+    let v = pd[0]["value"].as_f64().unwrap();
+    assert!(v <= step[0].0 && v >= step[1].0, "PD at {v}, sweep step [{}, {}]", step[1].0, step[0].0);
+    let critical = &pd[0]["critical"];
+    assert!((critical["re"].as_f64().unwrap() + 1.0).abs() < 1e-6, "{critical}");
+    // The branch is stable before and unstable after.
+    let branch = cont["branch"].as_array().unwrap();
+    assert_eq!(branch[0]["stable"], true);
+    assert_eq!(branch.last().unwrap()["stable"], false);
+}
+
+/// Issue 6: the impact damper's symmetric period-one double-impact orbit loses
+/// stability by a Neimark–Sacker bifurcation; past it the impacts are
+/// quasi-periodic, and further on chaotic.
+#[test]
+fn impact_damper_neimark_sacker_then_torus_then_chaos() {
+    let sets = ["--set", "R=0.8", "--set", "mu=0.2", "--set", "zeta=0.1", "--set", "delta=2.0"];
+    let mut args = vec!["continue", "configs/impact-damper.toml"];
+    args.extend_from_slice(&sets);
+    args.extend_from_slice(&["--axis", "omega=1.3:1.6:31", "--json"]);
+    let cont = json_of(&args);
+    let first = &cont["branch"][0];
+    assert_eq!(first["labels"]["M2"], "1-1-1");
+    assert_eq!(first["symmetry"], "S");
+    let ns = cont["bifurcations"].as_array().unwrap().iter().find(|b| b["kind"] == "NS").expect("an NS point");
+    let v = ns["value"].as_f64().unwrap();
+    let c = &ns["critical"];
+    assert!((c["abs"].as_f64().unwrap() - 1.0).abs() < 1e-6, "{c}");
+    let arg = c["arg"].as_f64().unwrap().abs();
+    assert!(arg > 0.1 && (arg - std::f64::consts::PI).abs() > 0.1, "a complex pair: arg {arg}");
+    // Follow the attractor up in ω (a sweep continues from each cell's end state).
+    let mut args = vec!["sweep", "configs/impact-damper.toml"];
+    args.extend_from_slice(&sets);
+    args.extend_from_slice(&["--axis", "omega=1.3:1.6:31", "--json", "--quiet"]);
+    let sweep = json_of(&args);
+    let class_at = |w: f64| {
+        let distance = |p: &&serde_json::Value| (p["value"].as_f64().unwrap() - w).abs();
+        let p = sweep["points"].as_array().unwrap().iter().min_by(|a, b| distance(a).total_cmp(&distance(b))).unwrap();
+        p["class"].as_str().unwrap().to_string()
+    };
+    // Grid step 0.01: the last point before the NS value, the first after it.
+    assert_eq!(class_at(v - 0.006), "periodic");
+    assert_eq!(class_at(v + 0.006), "quasiperiodic", "just past the NS point at {v}");
+    assert_eq!(class_at(v + 0.05), "chaotic");
+}

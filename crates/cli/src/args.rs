@@ -30,6 +30,10 @@ pub enum Command {
     Bench(BenchArgs),
     /// Print a summary of an atlas file.
     Inspect(InspectArgs),
+    /// Solve one periodic orbit by Newton's method: fixed point, impacts, Floquet multipliers.
+    Orbit(OrbitArgs),
+    /// Follow one periodic orbit along a parameter and locate its bifurcations.
+    Continue(ContinueArgs),
 }
 
 /// Options shared by every command that simulates a scene.
@@ -46,7 +50,7 @@ pub struct SimArgs {
     /// Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable).
     /// Knobs: event_tol, contact_tol, stick_velocity, chatter_velocity,
     /// min_transient, max_periods, periodic_tol, n_max, chatter_impacts,
-    /// max_events, rk4_step, rk4_min_step.
+    /// max_events, newton, lyapunov_periods, rk4_step, rk4_min_step.
     #[arg(long = "accuracy", value_name = "KNOB=VALUE")]
     pub accuracy: Vec<String>,
     /// Integrator: exact (closed-form flow) or rk4 (fixed step, the literature's method).
@@ -67,6 +71,36 @@ pub struct CellArgs {
     /// Samples per forcing period in the trace.
     #[arg(long, default_value_t = 200, value_name = "N")]
     pub trace_samples: usize,
+}
+
+#[derive(Debug, Args)]
+pub struct OrbitArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// Period in forcing periods (default: the period of the simulated cell).
+    #[arg(long, value_name = "N")]
+    pub n: Option<usize>,
+    /// Print one JSON object instead of the human-readable summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct ContinueArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// Parameter to follow, NAME=START:STOP:COUNT (the orbit is found at START).
+    #[arg(long, value_name = "NAME=START:STOP:COUNT")]
+    pub axis: String,
+    /// Period of the orbit in forcing periods (default: the period of the cell at START).
+    #[arg(long, value_name = "N")]
+    pub n: Option<usize>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Draw the branch (stable solid, unstable light, bifurcations marked) to a PNG.
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
 }
 
 /// Options of commands that compute many cells.

@@ -53,6 +53,7 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
         "chatter": names(sys, &c.chatter),
         "sticking": names(sys, &c.sticking),
         "symmetry": c.symmetry.map(|x| x.name()),
+        "lyapunov": c.lyapunov,
         "final_state": c.final_state,
         "period_section": c.section,
         "periods_simulated": c.periods,
@@ -89,6 +90,9 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
         let _ = write!(o, ", symmetry {}", sym.name());
     }
     let _ = writeln!(o);
+    if let Some(l) = c.lyapunov {
+        let _ = writeln!(o, "lyapunov  {l:.6} per unit time ({:.6} per forcing period)", l * sys.period);
+    }
     if let Some(r) = &c.reason {
         let _ = writeln!(o, "reason    {r}");
     }

@@ -7,8 +7,10 @@ mod atlas;
 mod bench;
 mod cell;
 mod common;
+mod continue_cmd;
 mod inspect;
 mod merge;
+mod orbit;
 mod plan;
 mod progress;
 mod render_cmd;
@@ -29,6 +31,8 @@ fn main() {
         args::Command::Merge(a) => merge::run(a),
         args::Command::Inspect(a) => inspect::run(a),
         args::Command::Bench(a) => bench::run(a),
+        args::Command::Orbit(a) => orbit::run(a),
+        args::Command::Continue(a) => continue_cmd::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

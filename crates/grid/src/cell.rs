@@ -48,7 +48,8 @@ pub fn label_text(class: Class, npq: [u16; 3]) -> String {
     match class {
         Class::Periodic => format!("{}-{}-{}", npq[0], c(npq[1]), c(npq[2])),
         Class::Unresolved => "U".into(),
-        _ => "C".into(),
+        Class::Quasiperiodic => "Q".into(),
+        Class::Chaotic => "C".into(),
     }
 }
 

@@ -3,12 +3,14 @@
 #![deny(missing_docs)]
 
 mod bifurcation;
+mod branch;
 mod font;
 mod map;
 mod palette;
 mod trade;
 
 pub use bifurcation::bifurcation;
+pub use branch::branch;
 pub use map::{map, sheet, View};
 pub use trade::trade;
 

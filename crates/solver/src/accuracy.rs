@@ -71,6 +71,10 @@ pub struct Accuracy {
     /// map once the impact pattern repeats (standard and fast: on; precise: off,
     /// so that the reference is plain simulation).
     pub newton: bool,
+    /// Periods over which the largest Lyapunov exponent of a cell without a
+    /// period is measured (standard 100; 0 skips it and leaves such cells `C`).
+    /// Costs about as much as that many periods of simulation, with tangents.
+    pub lyapunov_periods: usize,
     /// Step of the RK4 integrator (0.01, the literature's value).
     pub rk4_step: f64,
     /// RK4 refines a crossing by dividing the step by 10 until it is below this (1e-10).
@@ -92,6 +96,7 @@ impl Accuracy {
             chatter_impacts: 6,
             max_events: 400_000,
             newton: true,
+            lyapunov_periods: 100,
             rk4_step: 0.01,
             rk4_min_step: 1e-10,
         };
@@ -161,6 +166,12 @@ impl Accuracy {
                     b if b == 1f64.to_bits() => true,
                     _ => return Err(err(&format!("must be 0 or 1, got {value}"))),
                 }
+            }
+            "lyapunov_periods" => {
+                if value.fract() != 0.0 {
+                    return Err(err(&format!("must be a whole number >= 0, got {value}")));
+                }
+                self.lyapunov_periods = value as usize
             }
             "rk4_step" => self.rk4_step = positive()?,
             "rk4_min_step" => self.rk4_min_step = positive()?,

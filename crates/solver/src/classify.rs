@@ -10,6 +10,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::flow::Method;
+use crate::lyapunov::{fills_closed_curve, largest_exponent};
 use crate::newton::{fixed_point, Pattern};
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
@@ -21,8 +22,12 @@ use std::collections::VecDeque;
 pub enum Class {
     /// Periodic with period n forcing periods.
     Periodic,
-    /// No period up to `n_max` within `max_periods` (chaotic or long-period).
+    /// No period up to `n_max` within `max_periods`: chaotic (positive largest
+    /// Lyapunov exponent) or long-period / not decided (written `C`).
     Chaotic,
+    /// No period, a zero largest Lyapunov exponent and period-section points on
+    /// a closed curve: motion on an invariant torus (written `Q`).
+    Quasiperiodic,
     /// The event budget ran out or an event search stalled.
     Unresolved,
 }
@@ -33,6 +38,7 @@ impl Class {
         match self {
             Class::Periodic => "periodic",
             Class::Chaotic => "chaotic",
+            Class::Quasiperiodic => "quasiperiodic",
             Class::Unresolved => "unresolved",
         }
     }
@@ -91,10 +97,18 @@ impl std::fmt::Display for MassLabel {
         match (self.npq, self.class) {
             (Some((n, p, q)), _) => write!(f, "{n}-{p}-{q}"),
             (None, Class::Unresolved) => write!(f, "U"),
+            (None, Class::Quasiperiodic) => write!(f, "Q"),
             (None, _) => write!(f, "C"),
         }
     }
 }
+
+/// Periods of tangent alignment before the Lyapunov exponent is averaged.
+const LYAPUNOV_WARMUP: usize = 10;
+
+/// Largest `|λ T|` (growth per forcing period) of a quasi-periodic motion: a
+/// torus has `λ = 0`, and a finite average over 100 periods stays within this.
+pub const QUASIPERIODIC_EXPONENT: f64 = 0.01;
 
 /// Everything known about a cell's steady motion.
 #[derive(Debug, Clone, PartialEq)]
@@ -115,6 +129,9 @@ pub struct CellResult {
     pub friction_stick: Vec<bool>,
     /// Symmetry of a periodic orbit of a symmetric scene.
     pub symmetry: Option<Symmetry>,
+    /// Largest Lyapunov exponent (per unit time) of a cell without a period,
+    /// when measured.
+    pub lyapunov: Option<f64>,
     /// Full state `[x; v]` at the end of the simulation (at `t = kT`).
     pub final_state: Vec<f64>,
     /// State at the start of the classified window (for traces and sections).
@@ -207,6 +224,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         sticking: vec![false; stops],
         friction_stick: vec![false; sys.frictions.len()],
         symmetry: None,
+        lyapunov: None,
         window_start: y.clone(),
         final_state: y,
         section: Vec::new(),
@@ -266,7 +284,22 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
             }
         }
     }
-    let (extra_periods, extra_events) = probe.map_or((0, 0), |p| (p.periods, p.events));
+    let (mut extra_periods, mut extra_events) = probe.map_or((0, 0), |p| (p.periods, p.events));
+    // Without a period: the largest Lyapunov exponent tells chaos from a torus.
+    let mut class = if found.is_some() { Class::Periodic } else { Class::Chaotic };
+    let mut lyapunov = None;
+    if found.is_none() && acc.lyapunov_periods > 0 {
+        let mut tangent = sim.probe();
+        tangent.set_budget(acc.max_events.saturating_sub(sim.events + extra_events));
+        if let Ok((l, points)) = largest_exponent(&mut tangent, LYAPUNOV_WARMUP, acc.lyapunov_periods) {
+            lyapunov = Some(l);
+            if (l * sys.period).abs() <= QUASIPERIODIC_EXPONENT && fills_closed_curve(&points) {
+                class = Class::Quasiperiodic;
+            }
+        }
+        extra_periods += tangent.periods;
+        extra_events += tangent.events;
+    }
     let len = hist.len();
     let window = found.unwrap_or(acc.n_max.min(len));
     let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
@@ -281,8 +314,38 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     }
     let sticking: Vec<bool> = (0..stops).map(|k| held & (1 << k) != 0).collect();
     let chatter: Vec<bool> = impacts.iter().map(|&c| c as usize >= acc.chatter_impacts).collect();
-    let labels = sys
-        .model
+    let mut labels = label_masses(sys, found, &impacts, &sticking);
+    let symmetry = match (symmetric, found) {
+        (true, Some(n)) => Some(symmetry_of(&hist, n, acc)),
+        _ => None,
+    };
+    let window_start = if len > window { hist[len - window - 1].end.as_slice().to_vec() } else { y0.to_vec() };
+    for l in labels.iter_mut() {
+        l.class = class;
+    }
+    CellResult {
+        class,
+        n: found,
+        labels,
+        impacts,
+        chatter,
+        sticking,
+        friction_stick: (0..sys.frictions.len()).map(|i| stuck & (1 << i) != 0).collect(),
+        symmetry,
+        lyapunov,
+        final_state: sim.y.as_slice().to_vec(),
+        window_start,
+        section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),
+        periods: sim.periods + extra_periods,
+        events: sim.events + extra_events,
+        reason: None,
+    }
+}
+
+/// The n-p-q label of every labelled mass from the impacts per stop over n
+/// periods and the stops that held their mass (`None`: no period found).
+pub fn label_masses(sys: &System, n: Option<usize>, impacts: &[u32], sticking: &[bool]) -> Vec<MassLabel> {
+    sys.model
         .labels
         .iter()
         .map(|l| {
@@ -293,32 +356,11 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
             };
             MassLabel {
                 mass: sys.model.masses[l.mass].name.clone(),
-                npq: found.map(|n| (n as u32, count(l.p), count(l.q))),
-                class: if found.is_some() { Class::Periodic } else { Class::Chaotic },
+                npq: n.map(|n| (n as u32, count(l.p), count(l.q))),
+                class: if n.is_some() { Class::Periodic } else { Class::Chaotic },
             }
         })
-        .collect();
-    let symmetry = match (symmetric, found) {
-        (true, Some(n)) => Some(symmetry_of(&hist, n, acc)),
-        _ => None,
-    };
-    let window_start = if len > window { hist[len - window - 1].end.as_slice().to_vec() } else { y0.to_vec() };
-    CellResult {
-        class: if found.is_some() { Class::Periodic } else { Class::Chaotic },
-        n: found,
-        labels,
-        impacts,
-        chatter,
-        sticking,
-        friction_stick: (0..sys.frictions.len()).map(|i| stuck & (1 << i) != 0).collect(),
-        symmetry,
-        final_state: sim.y.as_slice().to_vec(),
-        window_start,
-        section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),
-        periods: sim.periods + extra_periods,
-        events: sim.events + extra_events,
-        reason: None,
-    }
+        .collect()
 }
 
 /// Symmetric when, for some shift m, the state half a period after the start of

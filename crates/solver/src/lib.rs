@@ -23,12 +23,15 @@
 pub mod accuracy;
 pub mod chatter;
 pub mod classify;
+pub mod continuation;
 pub mod error;
 pub mod floquet;
 pub mod flow;
 pub mod impact;
+pub mod lyapunov;
 pub mod mode;
 pub mod newton;
+pub mod orbit;
 pub mod reference;
 pub mod section;
 pub mod simulate;
@@ -47,5 +50,6 @@ pub use nalgebra::DVector;
 pub use newton::{solve, MapKind, Solution};
 /// Complex numbers of Floquet multipliers.
 pub use num_complex::Complex64;
+pub use orbit::{orbit_of_cell, Orbit, OrbitError};
 pub use simulate::{Halt, Ignore, Observer, PeriodRecord, Simulator};
 pub use system::System;

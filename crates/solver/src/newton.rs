@@ -92,6 +92,17 @@ pub struct Solution {
     pub iterations: usize,
 }
 
+/// Why Newton's method stopped without a fixed point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Failure {
+    /// An evaluation had another impact pattern than the one kept.
+    Pattern,
+    /// A step was too large or singular, or the iteration did not converge.
+    Diverged,
+    /// The simulation itself failed (budget, stall).
+    Simulation,
+}
+
 /// Solves `map(x) = x` from `x0` to residual `tol` (relative to `1 + |x|`) in at
 /// most `max_iter` steps, keeping `pattern` when given (otherwise the pattern of
 /// the first evaluation). `None` when an evaluation fails, the pattern changes,
@@ -105,6 +116,19 @@ pub fn solve(
     max_iter: usize,
     max_step: f64,
 ) -> Option<Solution> {
+    try_solve(sim, x0, map, pattern, tol, max_iter, max_step).ok()
+}
+
+/// [`solve`], telling why it failed.
+pub fn try_solve(
+    sim: &mut Simulator<'_>,
+    x0: &DVector<f64>,
+    map: MapKind,
+    pattern: Option<&Pattern>,
+    tol: f64,
+    max_iter: usize,
+    max_step: f64,
+) -> Result<Solution, Failure> {
     if sim.tangent().is_none() {
         sim.track_tangent();
     }
@@ -112,26 +136,26 @@ pub fn solve(
     let mut x = x0.clone();
     let mut keep: Option<Pattern> = pattern.cloned();
     for iterations in 0..=max_iter {
-        let image = evaluate(sim, &x, map).ok()?;
+        let image = evaluate(sim, &x, map).map_err(|_| Failure::Simulation)?;
         if keep.get_or_insert_with(|| image.pattern.clone()) != &image.pattern {
-            return None;
+            return Err(Failure::Pattern);
         }
         let r = &image.value - &x;
         let residual = scaled(&r, &x);
         if residual <= tol {
-            return Some(Solution { x, jacobian: image.jacobian, pattern: image.pattern, residual, iterations });
+            return Ok(Solution { x, jacobian: image.jacobian, pattern: image.pattern, residual, iterations });
         }
         if iterations == max_iter {
-            return None;
+            break;
         }
         let jac = &image.jacobian - DMatrix::identity(dim, dim);
-        let dx = jac.lu().solve(&(-&r))?;
+        let dx = jac.lu().solve(&(-&r)).ok_or(Failure::Diverged)?;
         if !dx.iter().all(|v| v.is_finite()) || scaled(&dx, &x) > max_step {
-            return None;
+            return Err(Failure::Diverged);
         }
         x += dx;
     }
-    None
+    Err(Failure::Diverged)
 }
 
 /// Solves `Pⁿ(x) = x` from `x0`, keeping `pattern`; returns the fixed point once

@@ -147,6 +147,18 @@ impl<'s> Simulator<'s> {
         self.tangent = Some(DMatrix::identity(self.y.len(), self.y.len()));
     }
 
+    /// Restarts the tracked tangent map from the identity at the current state.
+    pub fn reset_tangent(&mut self) {
+        if let Some(t) = self.tangent.as_mut() {
+            t.fill_with_identity();
+        }
+    }
+
+    /// The forcing period `T`.
+    pub fn period(&self) -> f64 {
+        self.sys.period
+    }
+
     /// The tangent map since the last restart, when tracked.
     pub fn tangent(&self) -> Option<&DMatrix<f64>> {
         self.tangent.as_ref()

@@ -7,7 +7,7 @@
 //! /axes/<x>, /axes/<y>    f64 [n]  coordinate vectors (attrs CLASS=DIMENSION_SCALE, NAME, start, stop)
 //! /<sweep>/               one group per sweep: fresh, up, down
 //!     label_<mass>        u16 [ny, nx, 3]  (n, p, q); 65535 = S (sticking); n = 0 when not periodic
-//!     class               u8  [ny, nx]     0 periodic, 1 chaotic, 2 unresolved, 255 not computed
+//!     class               u8  [ny, nx]     0 periodic, 1 chaotic, 2 unresolved, 3 quasiperiodic, 255 not computed
 //!     flags               u8  [ny, nx]     bit k: stop k chatters; bit 4+k: stop k sticks (u32, bits k and 16+k, beyond 4 stops)
 //!     symmetry            u8  [ny, nx]     0 none/not symmetric scene, 1 S, 2 AS
 //!     final_state         f64 [ny, nx, dim]
@@ -38,7 +38,7 @@ pub const NOT_COMPUTED: u8 = 255;
 /// Code of an `S` count in labels.
 pub const STUCK: u16 = grid::STUCK;
 /// Description of the class codes, stored as an attribute.
-pub const CLASS_CODES: &str = "0 periodic, 1 chaotic, 2 unresolved, 255 not computed";
+pub const CLASS_CODES: &str = "0 periodic, 1 chaotic, 2 unresolved, 3 quasiperiodic, 255 not computed";
 /// Description of the symmetry codes.
 pub const SYMMETRY_CODES: &str = "0 none, 1 S (symmetric), 2 AS (asymmetric)";
 
@@ -73,6 +73,7 @@ pub fn class_code(c: solver::Class) -> u8 {
         solver::Class::Periodic => 0,
         solver::Class::Chaotic => 1,
         solver::Class::Unresolved => 2,
+        solver::Class::Quasiperiodic => 3,
     }
 }
 
@@ -82,6 +83,7 @@ pub fn class_of(code: u8) -> Option<solver::Class> {
         0 => Some(solver::Class::Periodic),
         1 => Some(solver::Class::Chaotic),
         2 => Some(solver::Class::Unresolved),
+        3 => Some(solver::Class::Quasiperiodic),
         _ => None,
     }
 }

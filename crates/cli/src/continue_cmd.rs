@@ -1,0 +1,119 @@
+//! `vibroatlas continue`: follow one periodic orbit along a parameter and
+//! locate its bifurcations (PD, SN, PF, NS, grazing).
+
+use crate::args::ContinueArgs;
+use crate::common::{setup, write_atomically};
+use crate::orbit::multipliers_json;
+use anyhow::{anyhow, bail, Result};
+use grid::Axis;
+use serde_json::{json, Value};
+use solver::continuation::{follow, Branch};
+use solver::{orbit_of_cell, System};
+use std::fmt::Write as _;
+
+/// Runs the command.
+pub fn run(a: ContinueArgs) -> Result<()> {
+    let s = setup(&a.sim)?;
+    let axis = Axis::parse(&a.axis, "--axis")?;
+    s.scene.check_parameter(&axis.name, "--axis")?;
+    if axis.count < 2 {
+        bail!("--axis: COUNT must be at least 2, got {}", axis.count);
+    }
+    if a.n == Some(0) || a.n.is_some_and(|n| n > 1000) {
+        bail!("--n: expected a period between 1 and 1000, got {}", a.n.unwrap_or(0));
+    }
+    let values = axis.values();
+    let family = |v: f64| -> Option<System> {
+        let mut over = s.overrides.clone();
+        over.retain(|(k, _)| k != &axis.name);
+        over.push((axis.name.clone(), v));
+        System::new(s.scene.evaluate(&over).ok()?).ok()
+    };
+    let sys = family(values[0]).ok_or_else(|| anyhow!("--axis {}: the scene rejects {}", axis.name, values[0]))?;
+    let start = orbit_of_cell(&sys, &s.accuracy, &sys.model.initial_state(), a.n)
+        .map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;
+    let branch = follow(&family, &s.accuracy, &values, start);
+    if let Some(path) = &a.png {
+        let pts: Vec<(f64, f64, f64, bool)> = branch
+            .points
+            .iter()
+            .map(|p| {
+                (p.value, p.orbit.solution.x[0], solver::floquet::spectral_radius(&p.orbit.multipliers), p.orbit.stable)
+            })
+            .collect();
+        let marks: Vec<(f64, String)> =
+            branch.bifurcations.iter().map(|b| (b.value, b.kind.name().to_string())).collect();
+        let title = format!("{}: orbit continued in {}", sys.model.name, axis.name);
+        let first = sys.model.masses[0].name.clone();
+        write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &axis.name, &first, tmp))?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string(&to_json(&branch))?);
+    } else {
+        print!("{}", to_text(&axis.name, &branch));
+    }
+    Ok(())
+}
+
+fn to_json(b: &Branch) -> Value {
+    let branch: Vec<Value> = b
+        .points
+        .iter()
+        .map(|p| {
+            let labels: serde_json::Map<String, Value> =
+                p.orbit.labels.iter().map(|l| (l.mass.clone(), Value::from(l.to_string()))).collect();
+            json!({
+                "value": p.value,
+                "stable": p.orbit.stable,
+                "multipliers": multipliers_json(&p.orbit.multipliers),
+                "labels": labels,
+                "symmetry": p.orbit.symmetry.map(|x| x.name()),
+                "fixed_point": p.orbit.solution.x.as_slice(),
+            })
+        })
+        .collect();
+    let bifurcations: Vec<Value> = b
+        .bifurcations
+        .iter()
+        .map(|x| {
+            json!({
+                "kind": x.kind.name(),
+                "value": x.value,
+                "multipliers": multipliers_json(&x.multipliers),
+                "critical": {"re": x.critical.re, "im": x.critical.im, "abs": x.critical.norm(), "arg": x.critical.arg()},
+            })
+        })
+        .collect();
+    json!({"branch": branch, "bifurcations": bifurcations, "ended": b.ended})
+}
+
+fn to_text(name: &str, b: &Branch) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "{:<14} {:<10} {:<7} {:<14} label", name, "stable", "sym", "max |μ|");
+    for p in &b.points {
+        let labels: Vec<String> = p.orbit.labels.iter().map(|l| format!("{} {}", l.mass, l)).collect();
+        let _ = writeln!(
+            o,
+            "{:<14.9} {:<10} {:<7} {:<14.10} {}",
+            p.value,
+            p.orbit.stable,
+            p.orbit.symmetry.map_or("-", |x| x.name()),
+            solver::floquet::spectral_radius(&p.orbit.multipliers),
+            labels.join(", ")
+        );
+    }
+    for x in &b.bifurcations {
+        let _ = writeln!(
+            o,
+            "bifurcation {:<8} at {name} = {:.10}  critical multiplier |μ| = {:.8}, arg = {:+.6} rad",
+            x.kind.name(),
+            x.value,
+            x.critical.norm(),
+            x.critical.arg()
+        );
+    }
+    if let Some(e) = &b.ended {
+        let _ = writeln!(o, "ended: {e}");
+    }
+    o
+}

@@ -1,0 +1,162 @@
+//! A periodic orbit solved by Newton's method, with its Floquet multipliers,
+//! labels, symmetry and impacts.
+
+use crate::accuracy::Accuracy;
+use crate::classify::{label_masses, run_cell, MassLabel, Symmetry};
+use crate::floquet::multipliers;
+use crate::flow::Method;
+use crate::newton::{try_solve, Failure, MapKind, Pattern, Solution};
+use crate::simulate::{Observer, Simulator};
+use crate::system::System;
+use nalgebra::DVector;
+use num_complex::Complex64 as C64;
+
+/// Newton tolerance of an orbit (relative residual of the fixed-point equation).
+pub const ORBIT_TOL: f64 = 1e-12;
+
+/// One impact along an orbit.
+#[derive(Debug, Clone)]
+pub struct OrbitImpact {
+    /// Stop index.
+    pub stop: usize,
+    /// Time from the fixed point's section, in `[0, nT)`.
+    pub time: f64,
+    /// Forcing phase `ω t + τ` at the impact, in `[0, 2π)`.
+    pub phase: f64,
+    /// Normal velocity of the stop's gap before (negative: closing) and after.
+    pub velocity: (f64, f64),
+}
+
+/// A periodic orbit.
+#[derive(Debug, Clone)]
+pub struct Orbit {
+    /// Period in forcing periods.
+    pub n: usize,
+    /// The map whose fixed point was solved.
+    pub map: MapKind,
+    /// The Newton solution (fixed point at `t = 0`, the map's Jacobian).
+    pub solution: Solution,
+    /// Multipliers of the solved map, largest modulus first.
+    pub map_multipliers: Vec<C64>,
+    /// Multipliers of the n-period map (squares of the half map's), largest first.
+    pub multipliers: Vec<C64>,
+    /// All multipliers strictly inside the unit circle.
+    pub stable: bool,
+    /// Symmetry in a mirror-symmetric scene.
+    pub symmetry: Option<Symmetry>,
+    /// n-p-q labels.
+    pub labels: Vec<MassLabel>,
+    /// Impacts over the n periods, in time order.
+    pub impacts: Vec<OrbitImpact>,
+}
+
+#[derive(Default)]
+struct Impacts {
+    list: Vec<(f64, usize, DVector<f64>, DVector<f64>)>,
+}
+
+impl Observer for Impacts {
+    fn impact(&mut self, t: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+        self.list.push((t, stop, before.clone(), after.clone()));
+    }
+}
+
+/// Completes a Newton solution into an [`Orbit`] (multipliers, labels, impacts).
+pub fn describe(sys: &System, acc: &Accuracy, solution: Solution, map: MapKind, n: usize) -> Orbit {
+    let map_multipliers = multipliers(&solution.jacobian);
+    let mut full: Vec<C64> = match map {
+        MapKind::Half => map_multipliers.iter().map(|m| m * m).collect(),
+        MapKind::Periods(_) => map_multipliers.clone(),
+    };
+    full.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(b.im.total_cmp(&a.im)));
+    let stable = map_multipliers.iter().all(|m| m.norm() < 1.0);
+    let mut sim = Simulator::new(sys, *acc, Method::Exact, solution.x.as_slice()).ok();
+    let mut obs = Impacts::default();
+    let (mut impacts, mut held) = (vec![0u32; sys.stops.len()], 0u32);
+    if let Some(sim) = sim.as_mut() {
+        for _ in 0..n {
+            if let Ok(rec) = sim.run_period(&[], false, &mut obs) {
+                impacts.iter_mut().zip(&rec.impacts).for_each(|(a, b)| *a += b);
+                held |= rec.held;
+            }
+        }
+    }
+    let sticking: Vec<bool> = (0..sys.stops.len()).map(|k| held & (1 << k) != 0).collect();
+    let labels = label_masses(sys, Some(n), &impacts, &sticking);
+    let tau = std::f64::consts::TAU;
+    let orbit_impacts = obs
+        .list
+        .iter()
+        .map(|(t, k, before, after)| OrbitImpact {
+            stop: *k,
+            time: *t,
+            phase: (sys.omega * t + sys.tau).rem_euclid(tau),
+            velocity: (sys.gap_rate(*k, before), sys.gap_rate(*k, after)),
+        })
+        .collect();
+    let symmetry =
+        sys.model.symmetric.then_some(if map == MapKind::Half { Symmetry::Symmetric } else { Symmetry::Asymmetric });
+    Orbit { n, map, solution, map_multipliers, multipliers: full, stable, symmetry, labels, impacts: orbit_impacts }
+}
+
+/// Solves the orbit of `map` from `x0` (keeping `pattern` when given).
+pub fn solve_orbit(
+    sys: &System,
+    acc: &Accuracy,
+    x0: &DVector<f64>,
+    map: MapKind,
+    n: usize,
+    pattern: Option<&Pattern>,
+) -> Result<Orbit, Failure> {
+    let mut sim = Simulator::new(sys, *acc, Method::Exact, x0.as_slice()).map_err(|_| Failure::Simulation)?;
+    let solution = try_solve(&mut sim, x0, map, pattern, ORBIT_TOL, 40, 0.5)?;
+    Ok(describe(sys, acc, solution, map, n))
+}
+
+/// The map to solve for a period-`n` orbit of `sys` near `x0`: the half map for a
+/// period-one orbit of a symmetric scene when `x0` is (nearly) mirrored by it.
+pub fn natural_map(sys: &System, acc: &Accuracy, x0: &DVector<f64>, n: usize) -> MapKind {
+    if sys.model.symmetric && n == 1 {
+        if let Ok(mut sim) = Simulator::new(sys, *acc, Method::Exact, x0.as_slice()) {
+            if let Ok(rec) = sim.run_period(&[], true, &mut crate::simulate::Ignore) {
+                if let Some(h) = rec.half {
+                    let d = (&h + x0).amax() / (1.0 + x0.amax());
+                    if d < 1e-4 {
+                        return MapKind::Half;
+                    }
+                }
+            }
+        }
+    }
+    MapKind::Periods(n)
+}
+
+/// Why no orbit was found.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OrbitError {
+    /// The simulated cell is not periodic and no period was given.
+    NoPeriod(String),
+    /// Newton's method did not converge.
+    NoConvergence,
+}
+
+impl std::fmt::Display for OrbitError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            OrbitError::NoPeriod(class) => {
+                write!(f, "the simulated motion is {class}, not periodic; give its period with --n")
+            }
+            OrbitError::NoConvergence => write!(f, "Newton's method did not converge to a periodic orbit"),
+        }
+    }
+}
+
+/// Simulates the cell from `y0`, then solves the periodic orbit it settles on
+/// (period `n`, or the cell's period when `None`).
+pub fn orbit_of_cell(sys: &System, acc: &Accuracy, y0: &[f64], n: Option<usize>) -> Result<Orbit, OrbitError> {
+    let cell = run_cell(sys, acc, Method::Exact, y0);
+    let n = n.or(cell.n).ok_or_else(|| OrbitError::NoPeriod(cell.class.name().to_string()))?;
+    let x0 = DVector::from_vec(cell.final_state);
+    let map = natural_map(sys, acc, &x0, n);
+    solve_orbit(sys, acc, &x0, map, n, None).map_err(|_| OrbitError::NoConvergence)
+}
