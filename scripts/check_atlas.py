@@ -26,13 +26,17 @@ def check(path):
     for sweep in a["sweeps"].split(","):
         g = f[sweep]
         cls = g["class"][()]
-        assert cls.shape == (ny, nx) and set(np.unique(cls)) <= {0, 1, 2, 255}
+        assert cls.shape == (ny, nx) and set(np.unique(cls)) <= {0, 1, 2, 3, 255}
         for m in masses:
             lab = g[f"label_{m}"][()]
             assert lab.shape == (ny, nx, 3) and lab.dtype == np.uint16
             periodic = cls == 0
             assert (lab[..., 0][periodic] >= 1).all(), "periodic cells have n >= 1"
         assert g["flags"].shape == (ny, nx) and g["symmetry"].shape == (ny, nx)
+        lyap, mult = g["lyapunov"][()], g["multiplier"][()]
+        assert lyap.shape == (ny, nx) and mult.shape == (ny, nx)
+        assert np.isnan(lyap[cls == 0]).all() and np.isnan(mult[cls != 0]).all(), "exponent or multiplier, not both"
+        assert (mult[np.isfinite(mult)] >= 0).all()
         fs = g["final_state"][()]
         assert fs.shape == (ny, nx, dim) and np.isfinite(fs[cls != 255]).all()
         assert g["periods"].shape == (ny, nx) and g["events"].shape == (ny, nx)
@@ -43,7 +47,7 @@ def check(path):
             assert len(o) == nx * ny + 1 and o[0] == 0 and o[-1] == len(v) and (np.diff(o.astype(np.int64)) >= 0).all()
             assert np.isfinite(v).all()
             n_read += 2
-        n_read += 8 + len(masses)
+        n_read += 10 + len(masses)
         for m in masses:
             labels = [x.decode() if isinstance(x, bytes) else x for x in f["legend"][sweep][m]["label"][()]]
             counts = f["legend"][sweep][m]["count"][()]

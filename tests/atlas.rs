@@ -191,6 +191,20 @@ fn render_inspect_and_bifurcation_pictures() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         assert_eq!(&std::fs::read(&png).unwrap()[..4], b"\x89PNG");
     }
+    // Issue 6: the continuous maps of the exponent and the multiplier.
+    for view in ["lyapunov", "multiplier"] {
+        let png = d.join(format!("{view}.png"));
+        let o = run(&["render", f.to_str().unwrap(), "-o", png.to_str().unwrap(), "--sweep", "up", "--view", view]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(&std::fs::read(&png).unwrap()[..4], b"\x89PNG");
+    }
+    let loaded = store::read(&f).unwrap();
+    let up = loaded.atlas.map(grid::SweepKind::Up).unwrap();
+    for c in up.cells.iter().flatten() {
+        // A periodic cell has its multiplier, any other its exponent; never both.
+        assert_eq!(c.multiplier.is_some(), c.class == solver::Class::Periodic, "{c:?}");
+        assert!(c.lyapunov.is_none() || c.class != solver::Class::Periodic);
+    }
     let o = run(&["inspect", f.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("13 x delta") && text.contains("hysteresis"), "{text}");

@@ -218,4 +218,19 @@ fn impact_damper_neimark_sacker_then_torus_then_chaos() {
     assert_eq!(class_at(v - 0.006), "periodic");
     assert_eq!(class_at(v + 0.006), "quasiperiodic", "just past the NS point at {v}");
     assert_eq!(class_at(v + 0.05), "chaotic");
+    // A fresh cell too (the free mass thrown, so that it impacts from the start):
+    // quasi-periodic just past the NS point, chaotic further on, with its exponent.
+    let cell = |w: f64| {
+        let omega = format!("omega={w}");
+        let mut args = vec!["cell", "configs/impact-damper.toml", "--set", omega.as_str(), "--set", "v20=2"];
+        args.extend_from_slice(&sets);
+        args.push("--json");
+        json_of(&args)
+    };
+    let (q, c) = (cell(v + 0.01), cell(v + 0.06));
+    assert_eq!(q["class"], "quasiperiodic", "{q}");
+    assert_eq!(q["labels"]["M2"], "Q");
+    assert!(q["lyapunov"].as_f64().unwrap().abs() * 2.0 * std::f64::consts::PI / (v + 0.01) < 0.01);
+    assert_eq!(c["class"], "chaotic", "{c}");
+    assert!(c["lyapunov"].as_f64().unwrap() > 0.05, "{c}");
 }

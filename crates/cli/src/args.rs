@@ -50,7 +50,7 @@ pub struct SimArgs {
     /// Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable).
     /// Knobs: event_tol, contact_tol, stick_velocity, chatter_velocity,
     /// min_transient, max_periods, periodic_tol, n_max, chatter_impacts,
-    /// max_events, newton, lyapunov_periods, rk4_step, rk4_min_step.
+    /// max_events, newton, lyapunov_periods, multipliers, rk4_step, rk4_min_step.
     #[arg(long = "accuracy", value_name = "KNOB=VALUE")]
     pub accuracy: Vec<String>,
     /// Integrator: exact (closed-form flow) or rk4 (fixed step, the literature's method).
@@ -71,6 +71,13 @@ pub struct CellArgs {
     /// Samples per forcing period in the trace.
     #[arg(long, default_value_t = 200, value_name = "N")]
     pub trace_samples: usize,
+    /// Draw the Poincaré sections of the steady motion to a PNG: the period
+    /// section (first labelled mass, t = kT) and the impact section of each stop.
+    #[arg(long, value_name = "FILE")]
+    pub section_png: Option<PathBuf>,
+    /// Forcing periods simulated for the section PNG, from the final state.
+    #[arg(long, default_value_t = 1000, value_name = "N")]
+    pub section_periods: usize,
 }
 
 #[derive(Debug, Args)]
@@ -198,6 +205,10 @@ pub struct RenderArgs {
     /// fresh, up, down, or hysteresis (up labels with hysteresis cells marked).
     #[arg(long)]
     pub sweep: Option<String>,
+    /// labels (default), lyapunov (largest exponent of cells without a period) or
+    /// multiplier (largest |Floquet multiplier| of periodic cells), as a continuous map.
+    #[arg(long, default_value = "labels")]
+    pub view: String,
 }
 
 #[derive(Debug, Args)]

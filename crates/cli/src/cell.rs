@@ -22,6 +22,14 @@ pub fn run(a: CellArgs) -> Result<()> {
         let csv = trace_csv(&sys, &s, &cell, periods, a.trace_samples)?;
         write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
     }
+    if let Some(path) = &a.section_png {
+        if a.section_periods == 0 || a.section_periods > 1_000_000 {
+            return Err(anyhow!("--section-periods: expected 1 to 1000000, got {}", a.section_periods));
+        }
+        let panels = sections(&sys, &s, &cell, a.section_periods)?;
+        let title = format!("{}: Poincaré sections, {} periods", sys.model.name, a.section_periods);
+        write_atomically(path, |tmp| render::sections(&panels, &title, tmp))?;
+    }
     if a.json {
         println!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);
     } else {
@@ -54,6 +62,7 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
         "sticking": names(sys, &c.sticking),
         "symmetry": c.symmetry.map(|x| x.name()),
         "lyapunov": c.lyapunov,
+        "max_multiplier": c.multiplier,
         "final_state": c.final_state,
         "period_section": c.section,
         "periods_simulated": c.periods,
@@ -90,6 +99,14 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
         let _ = write!(o, ", symmetry {}", sym.name());
     }
     let _ = writeln!(o);
+    if let Some(m) = c.multiplier {
+        let verdict = match m {
+            m if (m - 1.0).abs() <= 1e-9 => "neutral",
+            m if m < 1.0 => "stable",
+            _ => "unstable",
+        };
+        let _ = writeln!(o, "stability largest |multiplier| {m:.8} ({verdict})");
+    }
     if let Some(l) = c.lyapunov {
         let _ = writeln!(o, "lyapunov  {l:.6} per unit time ({:.6} per forcing period)", l * sys.period);
     }
@@ -109,6 +126,34 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
     let _ = writeln!(o, "final     {:?}", c.final_state);
     let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);
     o
+}
+
+/// Panels `(x label, y label, points)` of the sections over `periods` periods
+/// from the final state: the first labelled mass's (x, v) at t = kT, then per
+/// stop (forcing phase mod 2π, impact speed).
+fn sections(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize) -> Result<Vec<render::Panel>> {
+    struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
+    impl solver::Observer for Points<'_> {
+        fn impact(&mut self, t: f64, stop: usize, before: &solver::DVector<f64>, _: &solver::DVector<f64>) {
+            let phase = (self.0.omega * t + self.0.tau).rem_euclid(std::f64::consts::TAU);
+            self.1[stop].push((phase, -self.0.gap_rate(stop, before)));
+        }
+    }
+    let mass = sys.model.labels.first().map_or(0, |l| l.mass);
+    let m = sys.dof();
+    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.final_state).map_err(|h| anyhow!("sections: {h:?}"))?;
+    let mut obs = Points(sys, vec![Vec::new(); sys.stops.len()]);
+    let mut period = Vec::with_capacity(periods);
+    for _ in 0..periods {
+        let rec = sim.run_period(&[], false, &mut obs).map_err(|h| anyhow!("sections: {h:?}"))?;
+        period.push((rec.end[mass], rec.end[m + mass]));
+    }
+    let name = &sys.model.masses[mass].name;
+    let mut panels = vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: period }];
+    for (stop, points) in sys.model.stops.iter().zip(obs.1) {
+        panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: "impact speed".into(), points });
+    }
+    Ok(panels)
 }
 
 /// Dense samples (and every event) of `periods` periods from the window start.

@@ -4,7 +4,7 @@ use crate::args::RenderArgs;
 use crate::common::write_atomically;
 use anyhow::{anyhow, Result};
 use grid::SweepKind;
-use render::View;
+use render::{Quantity, View};
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
@@ -28,5 +28,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
             )
         })?),
     };
-    write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp))
+    let quantity = match a.view.as_str() {
+        "labels" => None,
+        "lyapunov" => Some(Quantity::Lyapunov),
+        "multiplier" => Some(Quantity::Multiplier),
+        other => return Err(anyhow!("--view: expected labels, lyapunov or multiplier, got '{other}'")),
+    };
+    match (quantity, view) {
+        (None, _) => write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp)),
+        (Some(q), View::Sweep(sweep)) => write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, tmp)),
+        (Some(_), View::Hysteresis) => Err(anyhow!("--view {}: needs --sweep fresh, up or down", a.view)),
+    }
 }

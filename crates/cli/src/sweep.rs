@@ -70,6 +70,8 @@ fn point(atlas: &Atlas, ix: usize, c: &CellData) -> Value {
         "n": (c.class == solver::Class::Periodic).then(|| c.labels.first().map_or(0, |l| l[0])),
         "labels": labels(atlas, c),
         "symmetry": c.symmetry.map(|s| s.name()),
+        "lyapunov": c.lyapunov,
+        "max_multiplier": c.multiplier,
     })
 }
 

@@ -23,6 +23,10 @@ pub struct CellData {
     pub sticking: u32,
     /// Symmetry of periodic orbits of symmetric scenes.
     pub symmetry: Option<Symmetry>,
+    /// Largest Lyapunov exponent (per unit time) of a cell without a period.
+    pub lyapunov: Option<f64>,
+    /// Largest Floquet multiplier modulus of a periodic cell.
+    pub multiplier: Option<f64>,
     /// Final state `[x…, v…]`.
     pub final_state: Vec<f64>,
     /// Periods simulated.
@@ -111,6 +115,8 @@ impl CellSetup {
             chatter: mask(&cell.chatter),
             sticking: mask(&cell.sticking),
             symmetry: cell.symmetry,
+            lyapunov: cell.lyapunov,
+            multiplier: cell.multiplier,
             final_state: cell.final_state,
             periods: cell.periods,
             events: cell.events as u64,

@@ -7,11 +7,15 @@ mod branch;
 mod font;
 mod map;
 mod palette;
+mod scalar;
+mod section;
 mod trade;
 
 pub use bifurcation::bifurcation;
 pub use branch::branch;
 pub use map::{map, sheet, View};
+pub use scalar::{scalar_map, Quantity};
+pub use section::{sections, Panel};
 pub use trade::trade;
 
 /// Wraps a drawing, scene or solver error.

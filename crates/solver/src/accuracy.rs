@@ -75,6 +75,9 @@ pub struct Accuracy {
     /// period is measured (standard 100; 0 skips it and leaves such cells `C`).
     /// Costs about as much as that many periods of simulation, with tangents.
     pub lyapunov_periods: usize,
+    /// Measure the largest Floquet multiplier modulus of periodic cells (the
+    /// exact Jacobian over n more periods; standard: on, 0 or 1 as a knob).
+    pub multipliers: bool,
     /// Step of the RK4 integrator (0.01, the literature's value).
     pub rk4_step: f64,
     /// RK4 refines a crossing by dividing the step by 10 until it is below this (1e-10).
@@ -97,6 +100,7 @@ impl Accuracy {
             max_events: 400_000,
             newton: true,
             lyapunov_periods: 100,
+            multipliers: true,
             rk4_step: 0.01,
             rk4_min_step: 1e-10,
         };
@@ -141,6 +145,11 @@ impl Accuracy {
                 Ok(value as usize)
             }
         };
+        let switch = || match value.to_bits() {
+            b if b == 0f64.to_bits() => Ok(false),
+            b if b == 1f64.to_bits() => Ok(true),
+            _ => Err(err(&format!("must be 0 or 1, got {value}"))),
+        };
         let positive = || {
             if value > 0.0 {
                 Ok(value)
@@ -159,14 +168,9 @@ impl Accuracy {
             "n_max" => self.n_max = count()?,
             "chatter_impacts" => self.chatter_impacts = count()?,
             "max_events" => self.max_events = count()?,
-            "newton" => {
-                // A switch given as a number: exactly 0 or 1.
-                self.newton = match value.to_bits() {
-                    b if b == 0f64.to_bits() => false,
-                    b if b == 1f64.to_bits() => true,
-                    _ => return Err(err(&format!("must be 0 or 1, got {value}"))),
-                }
-            }
+            // Switches given as numbers: exactly 0 or 1.
+            "newton" => self.newton = switch()?,
+            "multipliers" => self.multipliers = switch()?,
             "lyapunov_periods" => {
                 if value.fract() != 0.0 {
                     return Err(err(&format!("must be a whole number >= 0, got {value}")));

@@ -9,9 +9,10 @@
 //! exhausts its event budget or stalls is `unresolved`, label `U`.
 
 use crate::accuracy::Accuracy;
+use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::lyapunov::{fills_closed_curve, largest_exponent};
-use crate::newton::{fixed_point, Pattern};
+use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
@@ -132,6 +133,9 @@ pub struct CellResult {
     /// Largest Lyapunov exponent (per unit time) of a cell without a period,
     /// when measured.
     pub lyapunov: Option<f64>,
+    /// Largest Floquet multiplier modulus of a periodic cell (the Jacobian of
+    /// the n-period map at the final state), when measured.
+    pub multiplier: Option<f64>,
     /// Full state `[x; v]` at the end of the simulation (at `t = kT`).
     pub final_state: Vec<f64>,
     /// State at the start of the classified window (for traces and sections).
@@ -225,6 +229,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         friction_stick: vec![false; sys.frictions.len()],
         symmetry: None,
         lyapunov: None,
+        multiplier: None,
         window_start: y.clone(),
         final_state: y,
         section: Vec::new(),
@@ -300,6 +305,20 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         extra_periods += tangent.periods;
         extra_events += tangent.events;
     }
+    // With a period: the stability of the orbit reached.
+    let mut multiplier = None;
+    if let (Some(n), true) = (found, acc.multipliers) {
+        let mut tangent = sim.probe();
+        tangent.set_budget(acc.max_events.saturating_sub(sim.events + extra_events));
+        tangent.track_tangent();
+        let x = sim.y.clone();
+        if let Ok(image) = evaluate(&mut tangent, &x, MapKind::Periods(n)) {
+            let mu = multipliers(&image.jacobian);
+            multiplier = (!mu.is_empty()).then(|| spectral_radius(&mu));
+        }
+        extra_periods += tangent.periods;
+        extra_events += tangent.events;
+    }
     let len = hist.len();
     let window = found.unwrap_or(acc.n_max.min(len));
     let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
@@ -333,6 +352,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         friction_stick: (0..sys.frictions.len()).map(|i| stuck & (1 << i) != 0).collect(),
         symmetry,
         lyapunov,
+        multiplier,
         final_state: sim.y.as_slice().to_vec(),
         window_start,
         section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),

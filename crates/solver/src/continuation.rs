@@ -24,6 +24,10 @@ use num_complex::Complex64 as C64;
 /// Parameter tolerance of located bifurcations.
 pub const PARAM_TOL: f64 = 1e-9;
 
+/// A multiplier of the solved map this close to +1 where Newton's method
+/// stops converging marks a fold.
+const FOLD_DISTANCE: f64 = 0.05;
+
 /// |ψ| below this is a neutral multiplier on the unit circle, not a crossing.
 const NEUTRAL: f64 = 1e-7;
 
@@ -63,6 +67,11 @@ pub struct Branch {
 
 /// The system at a parameter value (`None`: the value is not admissible).
 pub type Family<'a> = dyn Fn(f64) -> Option<System> + 'a;
+
+/// The leading multiplier of the solved map (NaN when none was computed).
+fn leading(o: &Orbit) -> C64 {
+    o.map_multipliers.first().copied().unwrap_or(C64::new(f64::NAN, f64::NAN))
+}
 
 fn psi(o: &Orbit) -> f64 {
     spectral_radius(&o.map_multipliers) - 1.0
@@ -133,7 +142,7 @@ fn locate_crossing(family: &Family, acc: &Accuracy, a: &BranchPoint, b: &BranchP
         }
     }
     let at = if f_lo.abs() <= f_hi.abs() { &lo } else { &hi };
-    let critical = at.orbit.map_multipliers[0];
+    let critical = leading(&at.orbit);
     Located {
         kind: kind(critical, at.orbit.map == MapKind::Half),
         value: 0.5 * (lo.value + hi.value),
@@ -189,19 +198,33 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                 None => {
                     let (edge, why) = locate_boundary(family, acc, &last, v);
                     // Past a grazing the impact pattern changes; on a smooth
-                    // branch Newton fails only at a fold (a multiplier at +1).
-                    let fold = why != Failure::Pattern;
-                    branch.bifurcations.push(Located {
-                        kind: if fold { Bifurcation::SaddleNode } else { Bifurcation::Grazing },
-                        value: edge.value,
-                        multipliers: edge.orbit.multipliers.clone(),
-                        critical: edge.orbit.map_multipliers[0],
-                    });
-                    if fold {
+                    // branch Newton fails at a fold, where a multiplier tends to +1.
+                    let one = C64::new(1.0, 0.0);
+                    let fold = edge.orbit.map_multipliers.iter().any(|m| (m - one).norm() < FOLD_DISTANCE);
+                    if why != Failure::Pattern {
+                        let value = edge.value;
+                        if fold {
+                            branch.bifurcations.push(Located {
+                                kind: Bifurcation::SaddleNode,
+                                value,
+                                multipliers: edge.orbit.multipliers.clone(),
+                                critical: leading(&edge.orbit),
+                            });
+                        }
                         branch.points.push(edge);
-                        branch.ended = Some("the branch folds back (natural continuation stops at a fold)".into());
+                        branch.ended = Some(if fold {
+                            format!("the branch folds back at {value:.9} (natural continuation stops at a fold)")
+                        } else {
+                            format!("Newton's method lost the branch at {value:.9} without a fold or grazing")
+                        });
                         return branch;
                     }
+                    branch.bifurcations.push(Located {
+                        kind: Bifurcation::Grazing,
+                        value: edge.value,
+                        multipliers: edge.orbit.multipliers.clone(),
+                        critical: leading(&edge.orbit),
+                    });
                     // Go on past the grazing with the new event sequence.
                     match solve_at(family, acc, &edge.orbit, v, &edge.orbit.solution.x, true) {
                         Some(o) => {

@@ -13,9 +13,26 @@ use nalgebra::DMatrix;
 use num_complex::Complex64 as C64;
 
 /// Eigenvalues of `m`, largest modulus first (ties: larger real part, then
-/// larger imaginary part).
+/// larger imaginary part); empty when `m` is not finite or the QR iteration
+/// does not converge even with shifts (nalgebra's plain `complex_eigenvalues`
+/// may never return).
 pub fn multipliers(m: &DMatrix<f64>) -> Vec<C64> {
-    let mut mu: Vec<C64> = m.complex_eigenvalues().iter().copied().collect();
+    if !m.iter().all(|v| v.is_finite()) {
+        return Vec::new();
+    }
+    // The QR iteration can cycle on a matrix with eigenvalues exactly on the
+    // unit circle (an undamped rotation); a shift `m + sI` moves them off it,
+    // and `s` is subtracted again.
+    let scale = m.amax().max(1e-300);
+    let n = m.nrows();
+    let Some(mut mu) = [0.0, 0.123_456_7, -0.314_159_3].iter().find_map(|&f| {
+        let shift = f * scale;
+        let shifted = m + DMatrix::identity(n, n) * shift;
+        nalgebra::Schur::try_new(shifted, f64::EPSILON, 1000 * n.max(1))
+            .map(|schur| schur.complex_eigenvalues().iter().map(|l| l - shift).collect::<Vec<C64>>())
+    }) else {
+        return Vec::new();
+    };
     mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(b.im.total_cmp(&a.im)));
     mu
 }

@@ -29,7 +29,9 @@ use crate::error::SolverError;
 use crate::flow::spectral::Spectral;
 use crate::system::System;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use num_complex::Complex64 as C64;
 use std::ops::AddAssign;
+use std::sync::OnceLock;
 
 /// What a guard watches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -94,6 +96,9 @@ pub struct Mode {
     pub spectral: Spectral,
     /// Event guards.
     pub guards: Vec<Guard>,
+    /// Per term of the spectral expansion, `L · V N^j W · P` (built on first use
+    /// by tangent tracking).
+    tangent_terms: OnceLock<Vec<DMatrix<C64>>>,
 }
 
 /// Whether `row` lies in the span of the rows of `g` (to rounding).
@@ -248,7 +253,18 @@ impl Mode {
         }
         let spectral = Spectral::new(&aug, sys.period)?;
         let frozen = g.rows(hs, hf).into_owned();
-        Ok(Some(Mode { key, locked, frozen, basis, offset, spread, aug, spectral, guards }))
+        Ok(Some(Mode {
+            key,
+            locked,
+            frozen,
+            basis,
+            offset,
+            spread,
+            aug,
+            spectral,
+            guards,
+            tangent_terms: OnceLock::new(),
+        }))
     }
 
     /// Augmented state of full state `y = [x; v]` at forcing phase `phase = ω t + τ`.
@@ -299,6 +315,24 @@ impl Mode {
         l.view_mut((0, 2 * r), (m, hf)).copy_from(&self.spread);
         l.view_mut((0, dim - 1), (m, 1)).copy_from(&self.offset);
         l
+    }
+
+    /// State-transition matrix `∂y(h)/∂y(0) = L e^{Â h} P` of a flow segment of
+    /// duration `h` in full coordinates.
+    pub fn transition(&self, h: f64) -> DMatrix<f64> {
+        let terms = self.tangent_terms.get_or_init(|| {
+            let (l, p) =
+                (self.lift_matrix().map(|v| C64::new(v, 0.0)), self.project_matrix().map(|v| C64::new(v, 0.0)));
+            self.spectral.coefficients().iter().map(|c| &l * c * &p).collect()
+        });
+        let mut f = vec![C64::new(0.0, 0.0); terms.len()];
+        self.spectral.factors(h, &mut f);
+        let n = self.basis.nrows() * 2;
+        let mut out = DMatrix::zeros(n, n);
+        for (t, ft) in terms.iter().zip(&f) {
+            out.zip_apply(t, |o, z| *o += ft.re * z.re - ft.im * z.im);
+        }
+        out
     }
 
     /// Full state `[x; v]` of an augmented state.

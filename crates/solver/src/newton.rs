@@ -171,5 +171,6 @@ pub fn fixed_point(
     tol: f64,
 ) -> Option<DVector<f64>> {
     let sol = solve(probe, x0, MapKind::Periods(n), Some(pattern), tol, 6, 0.1)?;
-    sol.jacobian.complex_eigenvalues().iter().all(|m| m.norm() < 1.0).then_some(sol.x)
+    let mu = crate::floquet::multipliers(&sol.jacobian);
+    (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0)).then_some(sol.x)
 }

@@ -69,7 +69,7 @@ pub fn describe(sys: &System, acc: &Accuracy, solution: Solution, map: MapKind, 
         MapKind::Periods(_) => map_multipliers.clone(),
     };
     full.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(b.im.total_cmp(&a.im)));
-    let stable = map_multipliers.iter().all(|m| m.norm() < 1.0);
+    let stable = !map_multipliers.is_empty() && map_multipliers.iter().all(|m| m.norm() < 1.0);
     let mut sim = Simulator::new(sys, *acc, Method::Exact, solution.x.as_slice()).ok();
     let mut obs = Impacts::default();
     let (mut impacts, mut held) = (vec![0u32; sys.stops.len()], 0u32);

@@ -229,7 +229,7 @@ impl<'s> Simulator<'s> {
             match self.method.advance(mode, &s0, target - self.clock, &self.acc, &mut self.work) {
                 Advance::Horizon(s) => {
                     if let Some(t) = self.tangent.as_mut() {
-                        *t = segment(mode, target - self.clock) * &*t;
+                        *t = mode.transition(target - self.clock) * &*t;
                     }
                     self.y = mode.lift(&s);
                     self.clock = target;
@@ -251,7 +251,7 @@ impl<'s> Simulator<'s> {
                         let rate = &mode.aug * &state;
                         let lift = mode.lift_matrix();
                         (
-                            segment(mode, time),
+                            mode.transition(time),
                             &lift * &rate,
                             mode.project_matrix().transpose() * &g.row,
                             g.row.dot(&rate),
@@ -371,9 +371,4 @@ impl<'s> Simulator<'s> {
         }
         Ok(j)
     }
-}
-
-/// State-transition matrix `∂y(h)/∂y(0) = L e^{Â h} P` of a flow segment of `mode`.
-fn segment(mode: &crate::mode::Mode, h: f64) -> DMatrix<f64> {
-    mode.lift_matrix() * mode.spectral.transition(h) * mode.project_matrix()
 }

@@ -23,6 +23,10 @@ struct JCell {
     chatter: u32,
     sticking: u32,
     symmetry: u8,
+    #[serde(default)]
+    lyapunov: Option<f64>,
+    #[serde(default)]
+    multiplier: Option<f64>,
     final_state: Vec<f64>,
     periods: u64,
     events: u64,
@@ -73,6 +77,8 @@ fn encode(line: &Line) -> JLine {
                 chatter: c.chatter,
                 sticking: c.sticking,
                 symmetry: crate::layout::symmetry_code(c.symmetry),
+                lyapunov: c.lyapunov,
+                multiplier: c.multiplier,
                 final_state: c.final_state.clone(),
                 periods: c.periods,
                 events: c.events,
@@ -97,6 +103,8 @@ fn decode(j: JLine) -> Option<Line> {
                     chatter: c.chatter,
                     sticking: c.sticking,
                     symmetry: crate::layout::symmetry_of(c.symmetry),
+                    lyapunov: c.lyapunov,
+                    multiplier: c.multiplier,
                     final_state: c.final_state,
                     periods: c.periods,
                     events: c.events,

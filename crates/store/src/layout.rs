@@ -10,6 +10,8 @@
 //!     class               u8  [ny, nx]     0 periodic, 1 chaotic, 2 unresolved, 3 quasiperiodic, 255 not computed
 //!     flags               u8  [ny, nx]     bit k: stop k chatters; bit 4+k: stop k sticks (u32, bits k and 16+k, beyond 4 stops)
 //!     symmetry            u8  [ny, nx]     0 none/not symmetric scene, 1 S, 2 AS
+//!     lyapunov            f64 [ny, nx]     largest Lyapunov exponent per unit time (cells without a period; NaN otherwise)
+//!     multiplier          f64 [ny, nx]     largest Floquet multiplier modulus (periodic cells; NaN otherwise)
 //!     final_state         f64 [ny, nx, dim]
 //!     periods, events     u64 [ny, nx]     work per cell
 //!     lines_done          u8  [lines]      1 where the line (row, or column with along=y) is computed

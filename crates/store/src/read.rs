@@ -94,6 +94,11 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         let sym = raw_u8("symmetry")?;
         let flags = g.dataset("flags").and_then(|d| d.read_raw::<u32>()).map_err(h)?;
         let fs = g.dataset("final_state").and_then(|d| d.read_raw::<f64>()).map_err(h)?;
+        // Files written before the stability datasets existed have none.
+        let scalar =
+            |name: &str| g.dataset(name).and_then(|d| d.read_raw::<f64>()).unwrap_or_else(|_| vec![f64::NAN; n]);
+        let (lyapunov, multiplier) = (scalar("lyapunov"), scalar("multiplier"));
+        let finite = |v: f64| v.is_finite().then_some(v);
         let (periods, events) = (raw_u64("periods")?, raw_u64("events")?);
         let labels = meta
             .masses
@@ -127,6 +132,8 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
                     chatter: flags[i] & ((1 << shift) - 1),
                     sticking: flags[i] >> shift,
                     symmetry: symmetry_of(sym[i]),
+                    lyapunov: lyapunov.get(i).copied().and_then(finite),
+                    multiplier: multiplier.get(i).copied().and_then(finite),
                     final_state: fs[i * dim..(i + 1) * dim].to_vec(),
                     periods: periods[i],
                     events: events[i],

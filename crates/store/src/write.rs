@@ -4,7 +4,7 @@
 
 use crate::error::StoreError;
 use crate::layout::*;
-use grid::Atlas;
+use grid::{Atlas, CellData};
 use hdf5::types::VarLenUnicode;
 use hdf5::{Group, H5Type, Location};
 use ndarray::{Array1, Array2, Array3};
@@ -132,6 +132,13 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         });
         let d = dataset(&g, "symmetry", &sym)?;
         attr_str(&d, "codes", SYMMETRY_CODES)?;
+        let scalar = |f: fn(&CellData) -> Option<f64>| {
+            Array2::from_shape_fn((ny, nx), |(iy, ix)| cells[iy * nx + ix].as_ref().and_then(f).unwrap_or(f64::NAN))
+        };
+        let d = dataset(&g, "lyapunov", &scalar(|c| c.lyapunov))?;
+        attr_str(&d, "meaning", "largest Lyapunov exponent per unit time of cells without a period (NaN: none)")?;
+        let d = dataset(&g, "multiplier", &scalar(|c| c.multiplier))?;
+        attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
         let fs = Array3::from_shape_fn((ny, nx, dim), |(iy, ix, k)| {
             cells[iy * nx + ix].as_ref().map_or(f64::NAN, |c| c.final_state[k])
         });

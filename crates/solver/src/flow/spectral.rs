@@ -271,21 +271,18 @@ impl Spectral {
         }
     }
 
-    /// The state-transition matrix `e^{Â u}` (the same expansion as the state).
-    pub fn transition(&self, u: f64) -> DMatrix<f64> {
-        let mut f = vec![C64::new(0.0, 0.0); self.terms.len()];
-        self.factors(u, &mut f);
-        let mut out = DMatrix::zeros(self.dim, self.dim);
-        let mut t = 0;
+    /// The matrix coefficient `V_c N_c^j W_c` of every term, so that the
+    /// state-transition matrix is `e^{Â u} = Σ_t Re(f_t(u) · coefficient_t)`
+    /// with the factors of [`Spectral::factors`].
+    pub fn coefficients(&self) -> Vec<DMatrix<C64>> {
+        let mut out = Vec::with_capacity(self.terms.len());
         for c in &self.clusters {
             let mut nw = c.w.clone();
             for j in 0..c.powers {
                 if j > 0 {
                     nw = &c.n * nw;
                 }
-                let m = &c.v * &nw;
-                out.zip_apply(&m, |o, z| *o += (f[t] * z).re);
-                t += 1;
+                out.push(&c.v * &nw);
             }
         }
         out
