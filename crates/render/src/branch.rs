@@ -29,7 +29,7 @@ pub fn branch(
         let (lo, hi) = ys.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
         let (lo, hi) = if pi == 1 { (lo.min(0.9), hi.max(1.1)) } else { (lo, hi) };
         let pad = if hi > lo { 0.05 * (hi - lo) } else { 1.0 };
-        let desc = if pi == 0 { format!("{mass} at the section") } else { "largest |multiplier|".to_string() };
+        let desc = if pi == 0 { format!("x_{mass} at the section") } else { "largest |multiplier|".to_string() };
         let mut chart = ChartBuilder::on(area)
             .margin(10)
             .x_label_area_size(35)
