@@ -203,3 +203,19 @@ fn frictionless_scenes_are_bit_identical() {
     }
     assert_eq!(got.lines().count(), expected.lines().count());
 }
+
+/// Issue 4: chattering at the clearance ends in complete chattering (M1 held
+/// against M2's wall, `1-S-S`) at low ω with strong friction, while with
+/// fk = 0.01 nothing sticks over the upper range.
+#[test]
+fn complete_chattering_at_the_clearance() {
+    let c = crate::util::cell_json(&["configs/dry-friction.toml", "--set", "fk=0.1", "--set", "omega=1.0"]);
+    assert_eq!(c["labels"]["M1"], "1-S-S", "{c}");
+    assert_eq!(c["sticking"]["right"], true);
+    assert_eq!(c["chatter"]["left"], true);
+    for omega in ["omega=2", "omega=5", "omega=7.5"] {
+        let c = crate::util::cell_json(&["configs/dry-friction.toml", "--set", omega]);
+        assert_eq!(c["friction_stick"]["M1-M2"], false, "{omega}: {c}");
+        assert_eq!(c["sticking"]["right"], false, "{omega}");
+    }
+}
