@@ -2,11 +2,15 @@
 //! vibro-impact systems under harmonic forcing, and n-p-q classification.
 //!
 //! Physics stages, one module each: [`system`] (matrices of `M x'' + C x' + K x =
-//! P sin(ωt+τ)` and stop gaps), [`mode`] (the linear system with held stops),
-//! [`flow`] (exact modal flow and RK4, event location), [`impact`] (Newton's law
-//! with momentum exchange), [`chatter`] and [`stick`] (accumulation and sticking),
-//! [`simulate`] (the event loop, period by period), [`classify`] (period detection,
-//! labels). No I/O, no threads.
+//! P sin(ωt+τ)`, stop gaps, friction contacts), [`mode`] (the linear system with
+//! held stops and stuck or slipping contacts), [`flow`] (exact modal flow and
+//! RK4, event location), [`impact`] (Newton's law with momentum exchange),
+//! [`chatter`] and [`stick`] (accumulation, sticking, stick/slip), [`simulate`]
+//! (the event loop, period by period, with exact tangent maps), [`classify`]
+//! (period detection, labels). Stability: [`newton`] (fixed points of period
+//! and half maps), [`floquet`] (multipliers, kinds of bifurcation), [`orbit`],
+//! [`continuation`] (branches and located bifurcations), [`lyapunov`]. No I/O,
+//! no threads.
 //!
 //! ```
 //! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/multi-stop.toml")).unwrap();
