@@ -1,8 +1,8 @@
 //! Integrators: advance a mode's augmented state to a horizon or to its first event.
 //!
 //! Two methods behind one trait, so that accuracy and speed are compared on equal
-//! terms: [`exact::Exact`], the closed-form flow with guaranteed event location,
-//! and [`rk4::Rk4`], the fixed-step Runge–Kutta method of the literature.
+//! terms: [`Method::Exact`], the closed-form flow with guaranteed event location,
+//! and [`Method::Rk4`], the fixed-step Runge–Kutta method of the literature.
 
 pub mod exact;
 pub mod rk4;
