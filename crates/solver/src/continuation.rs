@@ -187,8 +187,10 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                     let next = BranchPoint { value: v, orbit: o };
                     let (a, b) = (psi(&last.orbit), psi(&next.orbit));
                     // Multipliers pinned at the unit circle (a free body's drift)
-                    // are neutral, not crossing: their ψ is rounding noise.
-                    if (a < 0.0) != (b < 0.0) && a.abs().min(b.abs()) > NEUTRAL {
+                    // are neutral, not crossing: their ψ is rounding noise. Across a
+                    // grazing the map itself changes: no crossing is located there.
+                    let same = last.orbit.solution.pattern == next.orbit.solution.pattern;
+                    if same && (a < 0.0) != (b < 0.0) && a.abs().min(b.abs()) > NEUTRAL {
                         branch.bifurcations.push(locate_crossing(family, acc, &last, &next));
                     }
                     branch.points.push(next);
