@@ -18,10 +18,11 @@ pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) {
         let cells: Vec<_> = map.cells.iter().flatten().collect();
         let count = |c: Class| cells.iter().filter(|x| x.class == c).count();
         println!(
-            "sweep     {}: {} cells computed; periodic {}, chaotic {}, unresolved {}",
+            "sweep     {}: {} cells computed; periodic {}, quasiperiodic {}, chaotic {}, unresolved {}",
             map.sweep.name(),
             cells.len(),
             count(Class::Periodic),
+            count(Class::Quasiperiodic),
             count(Class::Chaotic),
             count(Class::Unresolved)
         );
