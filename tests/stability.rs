@@ -234,3 +234,18 @@ fn impact_damper_neimark_sacker_then_torus_then_chaos() {
     assert_eq!(c["class"], "chaotic", "{c}");
     assert!(c["lyapunov"].as_f64().unwrap() > 0.05, "{c}");
 }
+
+/// Issue 6: `continue` stops at the fold of the undamped single-stop (1,1)
+/// orbit (a saddle-node, a multiplier at +1) where the closed form puts it, to
+/// 1e-8 in the parameter.
+#[test]
+fn continue_locates_the_closed_form_fold() {
+    let cont = json_of(&["continue", "configs/single-stop.toml", "--axis", "sigma=0:-1.5:31", "--json"]);
+    let sn: Vec<&serde_json::Value> =
+        cont["bifurcations"].as_array().unwrap().iter().filter(|b| b["kind"] == "SN").collect();
+    assert_eq!(sn.len(), 1, "{}", cont["bifurcations"]);
+    let expected = solver::reference::single_stop_fold_sigma(2.5, 0.8, 1);
+    let got = sn[0]["value"].as_f64().unwrap();
+    assert!((got - expected).abs() < 1e-8, "fold at {got}, closed form {expected}");
+    assert!((sn[0]["critical"]["re"].as_f64().unwrap() - 1.0).abs() < 0.05);
+}

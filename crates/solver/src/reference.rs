@@ -62,6 +62,19 @@ pub fn single_stop_impact_speeds(omega: f64, sigma: f64, r: f64, n: u32) -> Vec<
     roots
 }
 
+/// The stop position `σ < 0` where the two (1, n) orbit families of
+/// [`single_stop_impact_speeds`] merge and vanish (a saddle-node): the
+/// quadratic's discriminant `σ² (c_s² - 4a) + 4aγ²` with `4a = c_s² + r_m²`
+/// vanishes at `σ² = (c_s² + r_m²) γ² / r_m²`.
+pub fn single_stop_fold_sigma(omega: f64, r: f64, n: u32) -> f64 {
+    let gamma = 1.0 / (1.0 - omega * omega);
+    let theta = 2.0 * std::f64::consts::PI * n as f64 / omega;
+    let (s, c) = theta.sin_cos();
+    let cs = s * (1.0 + r) / (1.0 - c);
+    let rm = (1.0 - r) / omega;
+    -(cs * cs + rm * rm).sqrt() * gamma.abs() / rm
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -78,5 +91,11 @@ mod tests {
             assert!(res.abs() < 1e-12);
         }
         assert!((free_amplitude(0.0, 0.3) - 1.0).abs() < 1e-15);
+        // At the fold the two roots merge; just beyond it there are none.
+        let f = single_stop_fold_sigma(omega, r, 1);
+        let roots = single_stop_impact_speeds(omega, f * (1.0 - 1e-9), r, 1);
+        assert_eq!(roots.len(), 2);
+        assert!((roots[0] - roots[1]).abs() < 1e-3 * roots[0]);
+        assert!(single_stop_impact_speeds(omega, f * (1.0 + 1e-9), r, 1).is_empty());
     }
 }
