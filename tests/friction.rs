@@ -219,3 +219,31 @@ fn complete_chattering_at_the_clearance() {
         assert_eq!(c["sticking"]["right"], false, "{omega}");
     }
 }
+
+/// Issues 4 and 6: the symmetric 1-1-1 orbit's pitchfork found by `continue`
+/// (a −1 of the half map) lies in the sweep step where the labels turn from
+/// S to AS.
+#[test]
+fn pitchfork_of_continue_matches_the_sweep() {
+    let cont = crate::util::run(&["continue", "configs/dry-friction.toml", "--axis", "omega=7.5:6.5:21", "--json"]);
+    let cont: serde_json::Value = serde_json::from_slice(&cont.stdout).unwrap();
+    let pf: Vec<f64> = cont["bifurcations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|b| b["kind"] == "PF")
+        .map(|b| b["value"].as_f64().unwrap())
+        .collect();
+    assert_eq!(pf.len(), 1, "{}", cont["bifurcations"]);
+    let out =
+        crate::util::run(&["sweep", "configs/dry-friction.toml", "--axis", "omega=6.86:6.83:31", "--json", "--quiet"]);
+    let sweep: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let points: Vec<(f64, String)> = sweep["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p["value"].as_f64().unwrap(), p["symmetry"].as_str().unwrap_or("-").to_string()))
+        .collect();
+    let step = points.windows(2).find(|w| w[0].1 == "S" && w[1].1 == "AS").expect("S then AS in the sweep");
+    assert!(pf[0] <= step[0].0 && pf[0] >= step[1].0, "PF at {}, sweep step [{}, {}]", pf[0], step[1].0, step[0].0);
+}

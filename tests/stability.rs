@@ -249,3 +249,23 @@ fn continue_locates_the_closed_form_fold() {
     assert!((got - expected).abs() < 1e-8, "fold at {got}, closed form {expected}");
     assert!((sn[0]["critical"]["re"].as_f64().unwrap() - 1.0).abs() < 0.05);
 }
+
+/// Issue 6: pseudo-arclength continuation goes around that fold: it locates it
+/// at the closed-form value and follows the unstable branch back.
+#[test]
+fn arclength_goes_around_the_fold() {
+    let cont = json_of(&["continue", "configs/single-stop.toml", "--axis", "sigma=0:-1.5:31", "--arclength", "--json"]);
+    let expected = solver::reference::single_stop_fold_sigma(2.5, 0.8, 1);
+    let sn = cont["bifurcations"].as_array().unwrap().iter().find(|b| b["kind"] == "SN").expect("a fold");
+    let got = sn["value"].as_f64().unwrap();
+    assert!((got - expected).abs() < 1e-8, "fold at {got}, closed form {expected}");
+    let branch = cont["branch"].as_array().unwrap();
+    let values: Vec<f64> = branch.iter().map(|p| p["value"].as_f64().unwrap()).collect();
+    let turn = values.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)).unwrap().0;
+    assert!(turn > 0 && turn + 5 < values.len(), "the branch turns back: {values:?}");
+    assert!(values[turn] >= expected - 1e-9, "never past the fold");
+    // Stable before the fold, unstable after it.
+    assert_eq!(branch[1]["stable"], true);
+    assert_eq!(branch[turn + 3]["stable"], false);
+    assert!(values[turn + 5] > values[turn + 1], "the parameter grows again on the unstable branch");
+}

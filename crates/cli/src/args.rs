@@ -108,6 +108,10 @@ pub struct ContinueArgs {
     /// Draw the branch (stable solid, unstable light, bifurcations marked) to a PNG.
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
+    /// Pseudo-arclength continuation (follows the branch around folds; the grid
+    /// step is the largest step) instead of natural continuation on the grid.
+    #[arg(long)]
+    pub arclength: bool,
 }
 
 /// Options of commands that compute many cells.

@@ -7,6 +7,7 @@ use crate::orbit::multipliers_json;
 use anyhow::{anyhow, bail, Result};
 use grid::Axis;
 use serde_json::{json, Value};
+use solver::arclength::follow_arclength;
 use solver::continuation::{follow, Branch};
 use solver::{orbit_of_cell, System};
 use std::fmt::Write as _;
@@ -32,7 +33,11 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     let sys = family(values[0]).ok_or_else(|| anyhow!("--axis {}: the scene rejects {}", axis.name, values[0]))?;
     let start = orbit_of_cell(&sys, &s.accuracy, &sys.model.initial_state(), a.n)
         .map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;
-    let branch = follow(&family, &s.accuracy, &values, start);
+    let branch = if a.arclength {
+        follow_arclength(&family, &s.accuracy, &values, start)
+    } else {
+        follow(&family, &s.accuracy, &values, start)
+    };
     if let Some(path) = &a.png {
         let pts: Vec<(f64, f64, f64, bool)> = branch
             .points

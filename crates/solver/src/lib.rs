@@ -9,7 +9,8 @@
 //! (the event loop, period by period, with exact tangent maps), [`classify`]
 //! (period detection, labels). Stability: [`newton`] (fixed points of period
 //! and half maps), [`floquet`] (multipliers, kinds of bifurcation), [`orbit`],
-//! [`continuation`] (branches and located bifurcations), [`lyapunov`]. No I/O,
+//! [`continuation`] and [`arclength`] (branches and located bifurcations),
+//! [`lyapunov`]. No I/O,
 //! no threads.
 //!
 //! ```
@@ -25,6 +26,7 @@
 #![deny(clippy::float_cmp)]
 
 pub mod accuracy;
+pub mod arclength;
 pub mod chatter;
 pub mod classify;
 pub mod continuation;
