@@ -17,8 +17,8 @@
 //! ends the branch, located the same way.
 
 use crate::accuracy::Accuracy;
-use crate::continuation::{Branch, BranchPoint, Family, Located, PARAM_TOL};
-use crate::floquet::{kind, spectral_radius, Bifurcation};
+use crate::continuation::{leading, psi, Branch, BranchPoint, Family, Located, PARAM_TOL};
+use crate::floquet::{kind, Bifurcation};
 use crate::newton::{evaluate, Failure, MapKind, Solution};
 use crate::orbit::{describe, Orbit, ORBIT_TOL};
 use crate::simulate::Simulator;
@@ -137,10 +137,6 @@ fn fold_test(lin: &Linear) -> f64 {
     lin.fx.determinant()
 }
 
-fn psi(o: &Orbit) -> f64 {
-    spectral_radius(&o.map_multipliers) - 1.0
-}
-
 /// Bisection on the secant from `a` to `b` for the sign change of `test`
 /// (evaluated on the corrected point); the located point's value and orbit.
 fn bisect(
@@ -226,7 +222,7 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                 } else if stability {
                     let test = |_: &Linear, o: &Orbit| psi(o);
                     if let Some((v, at)) = bisect(family, acc, &orbit, &z, &z_new, &test, psi(&orbit) < 0.0) {
-                        let critical = at.map_multipliers.first().copied().unwrap_or(C64::new(f64::NAN, f64::NAN));
+                        let critical = leading(&at);
                         branch.bifurcations.push(Located {
                             kind: kind(critical, at.map == MapKind::Half),
                             value: v,
@@ -277,7 +273,7 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                         kind: Bifurcation::Grazing,
                         value: v,
                         multipliers: o.multipliers.clone(),
-                        critical: o.map_multipliers.first().copied().unwrap_or(C64::new(f64::NAN, f64::NAN)),
+                        critical: leading(&o),
                     });
                     branch.ended = Some(format!("the impact pattern changes at {v:.9} (grazing)"));
                 } else {

@@ -69,11 +69,12 @@ pub struct Branch {
 pub type Family<'a> = dyn Fn(f64) -> Option<System> + 'a;
 
 /// The leading multiplier of the solved map (NaN when none was computed).
-fn leading(o: &Orbit) -> C64 {
+pub(crate) fn leading(o: &Orbit) -> C64 {
     o.map_multipliers.first().copied().unwrap_or(C64::new(f64::NAN, f64::NAN))
 }
 
-fn psi(o: &Orbit) -> f64 {
+/// The stability test function `max|μ| - 1` of the solved map.
+pub(crate) fn psi(o: &Orbit) -> f64 {
     spectral_radius(&o.map_multipliers) - 1.0
 }
 
