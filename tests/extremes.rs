@@ -58,7 +58,10 @@ fn corners_of_the_parameter_space() {
             let y0 = sys.model.initial_state();
             let a = run_cell(&sys, &acc, Method::Exact, &y0);
             assert!(finite(&a), "{p:?}: non-finite result {a:?}");
-            assert!(a.events <= acc.max_events + 1 && a.periods as usize <= 3 * acc.max_periods, "{p:?}");
+            assert!(
+                a.events <= acc.max_events + 1 && a.periods as usize <= (acc.extensions + 3) * acc.max_periods,
+                "{p:?}"
+            );
             match a.class {
                 Class::Periodic => assert!(a.n.is_some() && a.labels.iter().all(|l| l.npq.is_some()), "{p:?}"),
                 Class::Unresolved => {

@@ -227,7 +227,10 @@ fn impact_damper_neimark_sacker_then_torus_then_chaos() {
         args.push("--json");
         json_of(&args)
     };
-    let (q, c) = (cell(v + 0.01), cell(v + 0.06));
+    // A fresh cell's transient may also end on a drifting, non-impacting motion:
+    // ω = 1.6 is well inside the chaotic band.
+    assert!(v + 0.02 < 1.6);
+    let (q, c) = (cell(v + 0.01), cell(1.6));
     assert_eq!(q["class"], "quasiperiodic", "{q}");
     assert_eq!(q["labels"]["M2"], "Q");
     assert!(q["lyapunov"].as_f64().unwrap().abs() * 2.0 * std::f64::consts::PI / (v + 0.01) < 0.01);

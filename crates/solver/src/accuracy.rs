@@ -75,6 +75,11 @@ pub struct Accuracy {
     /// period is measured (standard 100; 0 skips it and leaves such cells `C`).
     /// Costs about as much as that many periods of simulation, with tangents.
     pub lyapunov_periods: usize,
+    /// Times the record of a cell without a period is extended by `max_periods`
+    /// when its largest Lyapunov exponent shows it still contracting (a long
+    /// transient, `λT < -0.002`): standard and precise 4, fast 1. Costs only on
+    /// such cells.
+    pub extensions: usize,
     /// Measure the largest Floquet multiplier modulus of periodic cells (the
     /// exact Jacobian over n more periods; standard: on, 0 or 1 as a knob).
     pub multipliers: bool,
@@ -100,6 +105,7 @@ impl Accuracy {
             max_events: 400_000,
             newton: true,
             lyapunov_periods: 100,
+            extensions: 4,
             multipliers: true,
             rk4_step: 0.01,
             rk4_min_step: 1e-10,
@@ -115,6 +121,7 @@ impl Accuracy {
                 max_periods: 300,
                 periodic_tol: 1e-6,
                 max_events: 100_000,
+                extensions: 1,
                 ..standard
             },
             Preset::Precise => Accuracy {
@@ -145,6 +152,13 @@ impl Accuracy {
                 Ok(value as usize)
             }
         };
+        let whole = || {
+            if value.fract() != 0.0 {
+                Err(err(&format!("must be a whole number >= 0, got {value}")))
+            } else {
+                Ok(value as usize)
+            }
+        };
         let switch = || match value.to_bits() {
             b if b == 0f64.to_bits() => Ok(false),
             b if b == 1f64.to_bits() => Ok(true),
@@ -171,12 +185,8 @@ impl Accuracy {
             // Switches given as numbers: exactly 0 or 1.
             "newton" => self.newton = switch()?,
             "multipliers" => self.multipliers = switch()?,
-            "lyapunov_periods" => {
-                if value.fract() != 0.0 {
-                    return Err(err(&format!("must be a whole number >= 0, got {value}")));
-                }
-                self.lyapunov_periods = value as usize
-            }
+            "extensions" => self.extensions = whole()?,
+            "lyapunov_periods" => self.lyapunov_periods = whole()?,
             "rk4_step" => self.rk4_step = positive()?,
             "rk4_min_step" => self.rk4_min_step = positive()?,
             _ => return Err(err("unknown accuracy knob")),

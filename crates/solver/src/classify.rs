@@ -12,8 +12,8 @@ use crate::accuracy::Accuracy;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::lyapunov::{fills_closed_curve, largest_exponent};
-use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
-use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
+use crate::newton::{evaluate, fixed_point, MapKind, Pattern, Solution};
+use crate::simulate::{Halt, Ignore, Observer, PeriodRecord, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 use std::collections::VecDeque;
@@ -107,6 +107,10 @@ impl std::fmt::Display for MassLabel {
 /// Periods of tangent alignment before the Lyapunov exponent is averaged.
 const LYAPUNOV_WARMUP: usize = 10;
 
+/// A cell without a period whose `λ T` is below minus this still contracts: a
+/// long transient, whose record is extended (see `Accuracy::extensions`).
+const CONTRACTING_EXPONENT: f64 = 2e-3;
+
 /// Largest `|λ T|` (growth per forcing period) of a quasi-periodic motion: a
 /// torus has `λ = 0`, and a finite average over 100 periods stays within this.
 pub const QUASIPERIODIC_EXPONENT: f64 = 0.01;
@@ -187,6 +191,58 @@ fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
     (!converging_divisor).then_some(n)
 }
 
+/// Largest distance (relative, max norm) from which a Newton solution is taken
+/// as the trajectory's destination: farther out a slowly attracting orbit may
+/// lose the trajectory to another attractor (a long transient passes near it).
+const NEWTON_REACH: f64 = 5e-3;
+
+/// Whether the trajectory, now at `y` after the records `h`, is heading to the
+/// Newton solution `sol` of its n-period map: within ten times the distance it
+/// still has to go (`to_go`) and within [`NEWTON_REACH`], closer than n periods ago, and its last n-period
+/// step is the orbit's linearisation `y - x* ≈ DPⁿ (y_prev - x*)`, with an error
+/// below half the contraction the linearisation predicts.
+fn heading_to(h: &VecDeque<PeriodRecord>, n: usize, y: &DVector<f64>, sol: &Solution, to_go: f64) -> bool {
+    let len = h.len();
+    if len <= n || distance(y, &sol.x) > (10.0 * to_go).min(NEWTON_REACH) {
+        return false;
+    }
+    let (now, before) = (y - &sol.x, &h[len - 1 - n].end - &sol.x);
+    let predicted = &sol.jacobian * &before;
+    // The part of the step the linearisation misses must be smaller than the
+    // contraction it predicts, or it may undo it (near |μ| = 1 it does).
+    let contraction = before.norm() - predicted.norm();
+    now.norm() < before.norm() && (&now - predicted).norm() <= 0.5 * contraction
+}
+
+/// Whether `y` lies well inside the orbit's smooth neighbourhood: its position
+/// deviation from the fixed point is below a quarter of the smallest gap that
+/// a stop the orbit never hits keeps along the orbit (64 samples per period).
+/// Closer to such a stop the trajectory may graze it and leave for another
+/// attractor although the orbit is stable. `None` when the orbit cannot be
+/// simulated.
+fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVector<f64>) -> Option<bool> {
+    struct Gaps<'a>(&'a System, Vec<f64>);
+    impl Observer for Gaps<'_> {
+        fn sample(&mut self, _t: f64, y: &DVector<f64>) {
+            for (k, g) in self.1.iter_mut().enumerate() {
+                *g = g.min(self.0.gap(k, y));
+            }
+        }
+    }
+    let sys = probe.system();
+    let mut gaps = Gaps(sys, vec![f64::INFINITY; sys.stops.len()]);
+    let times: Vec<f64> = (1..64).map(|i| sys.period * i as f64 / 64.0).collect();
+    probe.restart(sol.x.as_slice()).ok()?;
+    for _ in 0..n {
+        probe.run_period(&times, false, &mut gaps).ok()?;
+    }
+    let hit = |k: usize| sol.pattern.iter().any(|p| p[k] > 0);
+    let margin = (0..sys.stops.len()).filter(|&k| !hit(k)).map(|k| gaps.1[k]).fold(f64::INFINITY, f64::min);
+    let m = sys.dof();
+    let deviation = (0..m).map(|i| (y[i] - sol.x[i]).abs()).fold(0.0, f64::max);
+    Some(deviation <= 0.25 * margin)
+}
+
 /// The smallest n whose impact pattern repeated over the last 3n periods while
 /// the section points still move and contract too slowly: at the observed rate
 /// `ρ = |s_k - s_{k-n}| / |s_{k-n} - s_{k-2n}|`, reaching `periodic_tol` would
@@ -251,59 +307,85 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     let mut found = None;
     let mut probe: Option<Simulator> = None;
     let (mut newton_tries, mut newton_next) = (0, 0);
-    while (sim.periods as usize) < acc.max_periods {
-        match sim.run_period(&[], symmetric, &mut Ignore) {
-            Ok(rec) => {
-                if hist.len() == cap {
-                    hist.pop_front();
+    // A record that ends without a period but still contracts (negative largest
+    // Lyapunov exponent) is a long transient: it is extended.
+    let mut limit = acc.max_periods;
+    let mut extensions = 0;
+    let mut exponent: Option<(f64, Vec<DVector<f64>>)> = None;
+    let mut tangent_work = (0u64, 0usize);
+    loop {
+        while (sim.periods as usize) < limit {
+            match sim.run_period(&[], symmetric, &mut Ignore) {
+                Ok(rec) => {
+                    if hist.len() == cap {
+                        hist.pop_front();
+                    }
+                    hist.push_back(rec);
                 }
-                hist.push_back(rec);
+                Err(h) => return unresolved(halt_reason(h), sim.periods, sim.events, sim.y.as_slice().to_vec()),
             }
-            Err(h) => return unresolved(halt_reason(h), sim.periods, sim.events, sim.y.as_slice().to_vec()),
-        }
-        if (sim.periods as usize) < acc.min_transient {
-            continue;
-        }
-        if let Some(n) = detect(&hist, acc) {
-            found = Some(n);
-            break;
-        }
-        if acc.newton && newton_tries < 3 && sim.periods >= newton_next {
-            if let Some((n, pattern, to_go)) = contracting_pattern(&hist, acc) {
-                newton_tries += 1;
-                newton_next = sim.periods + 3 * n as u64;
-                let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
-                let p = probe.get_or_insert_with(|| sim.probe());
-                p.set_budget(acc.max_events.saturating_sub(spent) + p.events);
-                let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
-                // One budget per cell: what the probe spent is the simulation's no more.
-                sim.set_budget(acc.max_events.saturating_sub(p.events));
-                // The fixed point must be where this trajectory is heading: a stable
-                // orbit much farther away than the remaining contraction reaches
-                // belongs to another attractor, and brute force goes on.
-                if let Some(x) = solved.filter(|x| distance(&sim.y, x) <= 10.0 * to_go) {
-                    if sim.restart(x.as_slice()).is_ok() {
-                        hist.clear();
+            if (sim.periods as usize) < acc.min_transient {
+                continue;
+            }
+            if let Some(n) = detect(&hist, acc) {
+                found = Some(n);
+                break;
+            }
+            if acc.newton && newton_tries < 3 && sim.periods >= newton_next {
+                if let Some((n, pattern, to_go)) = contracting_pattern(&hist, acc) {
+                    newton_tries += 1;
+                    newton_next = sim.periods + 3 * n as u64;
+                    let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
+                    let p = probe.get_or_insert_with(|| sim.probe());
+                    p.set_budget(acc.max_events.saturating_sub(spent) + p.events);
+                    let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
+                    // One budget per cell: what the probe spent is the simulation's no more.
+                    sim.set_budget(acc.max_events.saturating_sub(p.events));
+                    // The fixed point must be where this trajectory is heading: a stable
+                    // orbit much farther away than the remaining contraction reaches
+                    // belongs to another attractor, and so does one whose linearisation
+                    // does not carry the trajectory's last n periods (it is outside the
+                    // orbit's linear neighbourhood, e.g. across a grazing): brute force
+                    // goes on.
+                    let heading = solved.filter(|s| {
+                        heading_to(&hist, n, &sim.y, s, to_go) && within_margin(p, s, n, &sim.y).unwrap_or(false)
+                    });
+                    if let Some(sol) = heading {
+                        if sim.restart(sol.x.as_slice()).is_ok() {
+                            hist.clear();
+                        }
                     }
                 }
             }
         }
+        if found.is_some() || acc.lyapunov_periods == 0 {
+            break;
+        }
+        // Without a period: the largest Lyapunov exponent tells chaos from a torus,
+        // and a contracting long transient from both.
+        let mut tangent = sim.probe();
+        let spent = sim.events + probe.as_ref().map_or(0, |p| p.events) + tangent_work.1;
+        tangent.set_budget(acc.max_events.saturating_sub(spent));
+        exponent = largest_exponent(&mut tangent, LYAPUNOV_WARMUP, acc.lyapunov_periods).ok();
+        tangent_work = (tangent_work.0 + tangent.periods, tangent_work.1 + tangent.events);
+        let contracting = exponent.as_ref().is_some_and(|(l, _)| l * sys.period < -CONTRACTING_EXPONENT);
+        if !(contracting && extensions < acc.extensions) {
+            break;
+        }
+        extensions += 1;
+        limit += acc.max_periods;
+        newton_tries = 0;
     }
     let (mut extra_periods, mut extra_events) = probe.map_or((0, 0), |p| (p.periods, p.events));
-    // Without a period: the largest Lyapunov exponent tells chaos from a torus.
+    extra_periods += tangent_work.0;
+    extra_events += tangent_work.1;
     let mut class = if found.is_some() { Class::Periodic } else { Class::Chaotic };
     let mut lyapunov = None;
-    if found.is_none() && acc.lyapunov_periods > 0 {
-        let mut tangent = sim.probe();
-        tangent.set_budget(acc.max_events.saturating_sub(sim.events + extra_events));
-        if let Ok((l, points)) = largest_exponent(&mut tangent, LYAPUNOV_WARMUP, acc.lyapunov_periods) {
-            lyapunov = Some(l);
-            if (l * sys.period).abs() <= QUASIPERIODIC_EXPONENT && fills_closed_curve(&points) {
-                class = Class::Quasiperiodic;
-            }
+    if let (None, Some((l, points))) = (found, &exponent) {
+        lyapunov = Some(*l);
+        if (l * sys.period).abs() <= QUASIPERIODIC_EXPONENT && fills_closed_curve(points) {
+            class = Class::Quasiperiodic;
         }
-        extra_periods += tangent.periods;
-        extra_events += tangent.events;
     }
     // With a period: the stability of the orbit reached.
     let mut multiplier = None;

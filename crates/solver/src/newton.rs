@@ -158,7 +158,7 @@ pub fn try_solve(
     Err(Failure::Diverged)
 }
 
-/// Solves `Pⁿ(x) = x` from `x0`, keeping `pattern`; returns the fixed point once
+/// Solves `Pⁿ(x) = x` from `x0`, keeping `pattern`; returns the solution once
 /// `|F|` is below `tol` and the orbit is stable (every eigenvalue of `DPⁿ`
 /// inside the unit circle), or `None`: a transient that lingers near an
 /// unstable orbit must not be labelled by it. (The acceleration of
@@ -169,8 +169,8 @@ pub fn fixed_point(
     n: usize,
     pattern: &Pattern,
     tol: f64,
-) -> Option<DVector<f64>> {
+) -> Option<Solution> {
     let sol = solve(probe, x0, MapKind::Periods(n), Some(pattern), tol, 6, 0.1)?;
     let mu = crate::floquet::multipliers(&sol.jacobian);
-    (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0)).then_some(sol.x)
+    (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0)).then_some(sol)
 }

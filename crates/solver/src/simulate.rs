@@ -159,6 +159,11 @@ impl<'s> Simulator<'s> {
         self.sys.period
     }
 
+    /// The system simulated.
+    pub fn system(&self) -> &'s System {
+        self.sys
+    }
+
     /// The tangent map since the last restart, when tracked.
     pub fn tangent(&self) -> Option<&DMatrix<f64>> {
         self.tangent.as_ref()
