@@ -247,9 +247,9 @@ fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVecto
 /// the section points still move and contract too slowly: at the observed rate
 /// `ρ = |s_k - s_{k-n}| / |s_{k-n} - s_{k-2n}|`, reaching `periodic_tol` would
 /// take longer than a Newton solve (about `3 (dim + 1) n` periods). Returns n,
-/// the pattern, and the distance the trajectory still has to go at that rate,
-/// `|s_k - s_{k-n}| / (1 - ρ)`.
-fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(usize, Pattern, f64)> {
+/// the pattern, the distance the trajectory still has to go at that rate,
+/// `|s_k - s_{k-n}| / (1 - ρ)`, and ρ.
+fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(usize, Pattern, f64, f64)> {
     let len = h.len();
     let dim = h.back()?.end.len() as f64;
     let (n, e1, rho) = (1..=acc.n_max).find_map(|n| {
@@ -263,7 +263,7 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
         let remaining = (acc.periodic_tol / e1).ln() / rho.ln() * n as f64;
         (e1 > acc.periodic_tol && rho < 1.0 && remaining > 3.0 * (dim + 1.0) * n as f64).then_some((n, e1, rho))
     })?;
-    Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(), e1 / (1.0 - rho)))
+    Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(), e1 / (1.0 - rho), rho))
 }
 
 /// Simulates a cell from full state `y0` and classifies its steady motion.
@@ -332,7 +332,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                 break;
             }
             if acc.newton && newton_tries < 3 && sim.periods >= newton_next {
-                if let Some((n, pattern, to_go)) = contracting_pattern(&hist, acc) {
+                if let Some((n, pattern, to_go, rho)) = contracting_pattern(&hist, acc) {
                     newton_tries += 1;
                     newton_next = sim.periods + 3 * n as u64;
                     let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
@@ -347,8 +347,21 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                     // does not carry the trajectory's last n periods (it is outside the
                     // orbit's linear neighbourhood, e.g. across a grazing): brute force
                     // goes on.
+                    let far = solved
+                        .as_ref()
+                        .map(|s| distance(&sim.y, &s.x))
+                        .filter(|&d| d > NEWTON_REACH && d <= 10.0 * to_go);
+                    if let Some(d) = far {
+                        // Heading there, not yet within reach: wait until the observed
+                        // contraction brings the trajectory in, without spending a try.
+                        let periods = ((NEWTON_REACH / d).ln() / rho.ln()).ceil().max(1.0);
+                        newton_next = sim.periods + periods as u64 * n as u64;
+                        newton_tries -= 1;
+                    }
                     let heading = solved.filter(|s| {
-                        heading_to(&hist, n, &sim.y, s, to_go) && within_margin(p, s, n, &sim.y).unwrap_or(false)
+                        far.is_none()
+                            && heading_to(&hist, n, &sim.y, s, to_go)
+                            && within_margin(p, s, n, &sim.y).unwrap_or(false)
                     });
                     if let Some(sol) = heading {
                         if sim.restart(sol.x.as_slice()).is_ok() {
