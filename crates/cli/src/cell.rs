@@ -1,7 +1,7 @@
 //! `vibroatlas cell`: simulate one cell and print its classification.
 
 use crate::args::CellArgs;
-use crate::common::{setup, write_atomically};
+use crate::common::{labels_json, setup, write_atomically};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
 use solver::{run_cell, CellResult, Simulator, System};
@@ -47,7 +47,6 @@ where
 
 /// The JSON object of a cell (the contract of `cell --json`).
 pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value {
-    let labels: Map<String, Value> = c.labels.iter().map(|l| (l.mass.clone(), Value::from(l.to_string()))).collect();
     let params: Map<String, Value> = sys.model.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect();
     let mut out = json!({
         "scene": sys.model.name,
@@ -56,7 +55,7 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
         "integrator": s.method.name(),
         "class": c.class.name(),
         "n": c.n,
-        "labels": labels,
+        "labels": labels_json(&c.labels),
         "impacts": names(sys, &c.impacts),
         "chatter": names(sys, &c.chatter),
         "sticking": names(sys, &c.sticking),
@@ -135,8 +134,7 @@ fn sections(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usi
     struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
     impl solver::Observer for Points<'_> {
         fn impact(&mut self, t: f64, stop: usize, before: &solver::DVector<f64>, _: &solver::DVector<f64>) {
-            let phase = (self.0.omega * t + self.0.tau).rem_euclid(std::f64::consts::TAU);
-            self.1[stop].push((phase, -self.0.gap_rate(stop, before)));
+            self.1[stop].push((self.0.phase_at(t), -self.0.gap_rate(stop, before)));
         }
     }
     let mass = sys.model.labels.first().map_or(0, |l| l.mass);

@@ -52,6 +52,24 @@ pub fn setup(a: &SimArgs) -> Result<Setup> {
     Ok(Setup { scene, overrides, accuracy, accuracy_overrides, preset, method })
 }
 
+/// Checks an orbit period given with `--n`: 1 to 1000 forcing periods.
+pub fn check_period(n: Option<usize>) -> Result<()> {
+    match n {
+        Some(n) if n == 0 || n > 1000 => bail!("--n: expected a period between 1 and 1000, got {n}"),
+        _ => Ok(()),
+    }
+}
+
+/// Labels as a JSON object `{"M1": "1-4-4", …}` (the contract of `cell`, `orbit`
+/// and `continue`).
+pub fn labels_json(labels: &[solver::MassLabel]) -> serde_json::Value {
+    labels
+        .iter()
+        .map(|l| (l.mass.clone(), serde_json::Value::from(l.to_string())))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}
+
 /// The grid's cell set-up for a validated [`Setup`].
 pub fn cell_setup(s: &Setup, section_cap: usize) -> Result<grid::CellSetup> {
     if section_cap > 100_000 {

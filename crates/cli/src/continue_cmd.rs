@@ -2,7 +2,7 @@
 //! locate its bifurcations (PD, SN, PF, NS, grazing).
 
 use crate::args::ContinueArgs;
-use crate::common::{setup, write_atomically};
+use crate::common::{check_period, labels_json, setup, write_atomically};
 use crate::orbit::multipliers_json;
 use anyhow::{anyhow, bail, Result};
 use grid::Axis;
@@ -20,9 +20,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     if axis.count < 2 {
         bail!("--axis: COUNT must be at least 2, got {}", axis.count);
     }
-    if a.n == Some(0) || a.n.is_some_and(|n| n > 1000) {
-        bail!("--n: expected a period between 1 and 1000, got {}", a.n.unwrap_or(0));
-    }
+    check_period(a.n)?;
     let values = axis.values();
     let family = |v: f64| -> Option<System> {
         let mut over = s.overrides.clone();
@@ -65,13 +63,11 @@ fn to_json(b: &Branch) -> Value {
         .points
         .iter()
         .map(|p| {
-            let labels: serde_json::Map<String, Value> =
-                p.orbit.labels.iter().map(|l| (l.mass.clone(), Value::from(l.to_string()))).collect();
             json!({
                 "value": p.value,
                 "stable": p.orbit.stable,
                 "multipliers": multipliers_json(&p.orbit.multipliers),
-                "labels": labels,
+                "labels": labels_json(&p.orbit.labels),
                 "symmetry": p.orbit.symmetry.map(|x| x.name()),
                 "fixed_point": p.orbit.solution.x.as_slice(),
             })

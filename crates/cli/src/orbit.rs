@@ -2,18 +2,16 @@
 //! and Floquet multipliers.
 
 use crate::args::OrbitArgs;
-use crate::common::setup;
-use anyhow::{anyhow, bail, Result};
-use serde_json::{json, Map, Value};
+use crate::common::{check_period, labels_json, setup};
+use anyhow::{anyhow, Result};
+use serde_json::{json, Value};
 use solver::{orbit_of_cell, Complex64, Orbit, System};
 use std::fmt::Write as _;
 
 /// Runs the command.
 pub fn run(a: OrbitArgs) -> Result<()> {
     let s = setup(&a.sim)?;
-    if a.n == Some(0) || a.n.is_some_and(|n| n > 1000) {
-        bail!("--n: expected a period between 1 and 1000, got {}", a.n.unwrap_or(0));
-    }
+    check_period(a.n)?;
     let model = s.scene.evaluate(&s.overrides)?;
     let y0 = model.initial_state();
     let sys = System::new(model)?;
@@ -33,7 +31,6 @@ pub fn multipliers_json(mu: &[Complex64]) -> Value {
 
 /// The JSON object of an orbit (the contract of `orbit --json`).
 pub fn to_json(sys: &System, o: &Orbit) -> Value {
-    let labels: Map<String, Value> = o.labels.iter().map(|l| (l.mass.clone(), Value::from(l.to_string()))).collect();
     let impacts: Vec<Value> = o
         .impacts
         .iter()
@@ -49,7 +46,7 @@ pub fn to_json(sys: &System, o: &Orbit) -> Value {
         .collect();
     json!({
         "scene": sys.model.name,
-        "labels": labels,
+        "labels": labels_json(&o.labels),
         "n": o.n,
         "period": sys.period * o.n as f64,
         "fixed_point": o.solution.x.as_slice(),

@@ -5,7 +5,9 @@
 
 use crate::palette::{assign, Swatch};
 use crate::{err, font, RenderError};
-use grid::{label_text, Atlas, SweepKind};
+use grid::{label_text, Atlas, Axis, CellData, Meta, SweepKind};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -16,6 +18,71 @@ pub enum View {
     Sweep(SweepKind),
     /// Up-sweep labels with hysteresis cells marked.
     Hysteresis,
+}
+
+/// The cells of one sweep of `atlas`, or an error naming the missing sweep.
+pub(crate) fn sweep_cells(atlas: &Atlas, sweep: SweepKind) -> Result<&[Option<CellData>], RenderError> {
+    atlas
+        .map(sweep)
+        .map(|m| m.cells.as_slice())
+        .ok_or_else(|| RenderError { message: format!("the file has no '{}' sweep", sweep.name()) })
+}
+
+/// Geometry of the plane's cells: cell i is centred on its axis values and
+/// spans one grid step in each direction.
+pub(crate) struct CellGrid<'a> {
+    x: &'a Axis,
+    y: &'a Axis,
+    dx: f64,
+    dy: f64,
+}
+
+impl<'a> CellGrid<'a> {
+    /// The cells of the plane of `meta`.
+    pub(crate) fn of(meta: &'a Meta) -> Self {
+        let (x, y) = (&meta.plane.x, &meta.plane.y);
+        let step = |a: &Axis| if a.count > 1 { (a.stop - a.start) / (a.count - 1) as f64 } else { 1.0 };
+        CellGrid { x, y, dx: step(x), dy: step(y) }
+    }
+
+    /// Centre of cell `i` (row-major, x fastest).
+    pub(crate) fn centre(&self, i: usize) -> (f64, f64) {
+        (self.x.value(i % self.x.count), self.y.value(i / self.x.count))
+    }
+
+    /// Corners of cell `i`.
+    pub(crate) fn rect(&self, i: usize) -> [(f64, f64); 2] {
+        let (cx, cy) = self.centre(i);
+        [(cx - self.dx / 2.0, cy - self.dy / 2.0), (cx + self.dx / 2.0, cy + self.dy / 2.0)]
+    }
+
+    /// A chart over the whole plane (half a cell of margin), axes named after
+    /// the parameters, text of size `font`.
+    pub(crate) fn chart<'b, DB: DrawingBackend>(
+        &self,
+        area: &'b DrawingArea<DB, Shift>,
+        title: &str,
+        font: u32,
+    ) -> Result<ChartContext<'b, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, RenderError> {
+        let (x, y, dx, dy) = (self.x, self.y, self.dx, self.dy);
+        let mut chart = ChartBuilder::on(area)
+            .caption(title, ("sans-serif", font + 6))
+            .margin(10)
+            .x_label_area_size(font * 3)
+            .y_label_area_size(font * 4)
+            .build_cartesian_2d(x.start - dx / 2.0..x.stop + dx / 2.0, y.start - dy / 2.0..y.stop + dy / 2.0)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(x.name.as_str())
+            .y_desc(y.name.as_str())
+            .label_style(("sans-serif", font))
+            .axis_desc_style(("sans-serif", font + 3))
+            .draw()
+            .map_err(err)?;
+        Ok(chart)
+    }
 }
 
 /// Colour lookup for a legend.
@@ -39,52 +106,23 @@ fn draw_cells<DB: DrawingBackend>(
     hyst: Option<&[u8]>,
     font: u32,
 ) -> Result<(), RenderError> {
-    let m = &atlas.meta;
-    let cells = &atlas
-        .map(sweep)
-        .ok_or_else(|| RenderError { message: format!("the file has no '{}' sweep", sweep.name()) })?
-        .cells;
-    let (x, y) = (&m.plane.x, &m.plane.y);
-    let step = |a: &grid::Axis| if a.count > 1 { (a.stop - a.start) / (a.count - 1) as f64 } else { 1.0 };
-    let (dx, dy) = (step(x), step(y));
-    let mut chart = ChartBuilder::on(area)
-        .caption(title, ("sans-serif", font + 6))
-        .margin(10)
-        .x_label_area_size(font * 3)
-        .y_label_area_size(font * 4)
-        .build_cartesian_2d(x.start - dx / 2.0..x.stop + dx / 2.0, y.start - dy / 2.0..y.stop + dy / 2.0)
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(x.name.as_str())
-        .y_desc(y.name.as_str())
-        .label_style(("sans-serif", font))
-        .axis_desc_style(("sans-serif", font + 3))
-        .draw()
-        .map_err(err)?;
-    let nx = x.count;
+    let cells = sweep_cells(atlas, sweep)?;
+    let grid = CellGrid::of(&atlas.meta);
+    let mut chart = grid.chart(area, title, font)?;
     chart
         .draw_series(cells.iter().enumerate().filter_map(|(i, c)| {
             let c = c.as_ref()?;
-            let (cx, cy) = (x.value(i % nx), y.value(i / nx));
             let colour = colours.of(&label_text(c.class, c.labels[mass]));
-            Some(Rectangle::new([(cx - dx / 2.0, cy - dy / 2.0), (cx + dx / 2.0, cy + dy / 2.0)], colour.filled()))
+            Some(Rectangle::new(grid.rect(i), colour.filled()))
         }))
         .map_err(err)?;
     if let Some(h) = hyst {
         chart
             .draw_series(h.iter().enumerate().filter(|(_, &v)| v == 1).flat_map(|(i, _)| {
-                let (cx, cy) = (x.value(i % nx), y.value(i / nx));
+                let [(x0, y0), (x1, y1)] = grid.rect(i);
                 [
-                    PathElement::new(
-                        vec![(cx - dx / 2.0, cy - dy / 2.0), (cx + dx / 2.0, cy + dy / 2.0)],
-                        BLACK.stroke_width(1),
-                    ),
-                    PathElement::new(
-                        vec![(cx - dx / 2.0, cy + dy / 2.0), (cx + dx / 2.0, cy - dy / 2.0)],
-                        RED.stroke_width(1),
-                    ),
+                    PathElement::new(vec![(x0, y0), (x1, y1)], BLACK.stroke_width(1)),
+                    PathElement::new(vec![(x0, y1), (x1, y0)], RED.stroke_width(1)),
                 ]
             }))
             .map_err(err)?;

@@ -3,6 +3,7 @@
 //! periodic cells (where stability is lost, it crosses 1). Cells without the
 //! number are light grey; a colour bar gives the scale.
 
+use crate::map::{sweep_cells, CellGrid};
 use crate::{err, font, RenderError};
 use grid::{Atlas, CellData, SweepKind};
 use plotters::prelude::*;
@@ -38,42 +39,20 @@ impl Quantity {
 pub fn scalar_map(atlas: &Atlas, sweep: SweepKind, quantity: Quantity, path: &Path) -> Result<(), RenderError> {
     font::ensure()?;
     let m = &atlas.meta;
-    let cells = &atlas
-        .map(sweep)
-        .ok_or_else(|| RenderError { message: format!("the file has no '{}' sweep", sweep.name()) })?
-        .cells;
+    let cells = sweep_cells(atlas, sweep)?;
     let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.of(c))).collect();
     let (lo, hi) = values.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
     let (lo, hi) = if lo.is_finite() && hi > lo { (lo, hi) } else { (lo.min(0.0), lo.max(0.0) + 1.0) };
     let root = BitMapBackend::new(path, (1000, 760)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let (left, right) = root.split_horizontally(860);
-    let (x, y) = (&m.plane.x, &m.plane.y);
-    let step = |a: &grid::Axis| if a.count > 1 { (a.stop - a.start) / (a.count - 1) as f64 } else { 1.0 };
-    let (dx, dy) = (step(x), step(y));
+    let grid = CellGrid::of(m);
     let title = format!("{} ({}): {}", m.scene_name, sweep.name(), quantity.title());
-    let mut chart = ChartBuilder::on(&left)
-        .caption(title, ("sans-serif", 19))
-        .margin(10)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x.start - dx / 2.0..x.stop + dx / 2.0, y.start - dy / 2.0..y.stop + dy / 2.0)
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(x.name.as_str())
-        .y_desc(y.name.as_str())
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 18))
-        .draw()
-        .map_err(err)?;
-    let nx = x.count;
+    let mut chart = grid.chart(&left, &title, 15)?;
     chart
         .draw_series(values.iter().enumerate().map(|(i, v)| {
-            let (cx, cy) = (x.value(i % nx), y.value(i / nx));
             let colour = v.map_or(RGBColor(225, 225, 225), |v| ViridisRGB.get_color_normalized(v, lo, hi));
-            Rectangle::new([(cx - dx / 2.0, cy - dy / 2.0), (cx + dx / 2.0, cy + dy / 2.0)], colour.filled())
+            Rectangle::new(grid.rect(i), colour.filled())
         }))
         .map_err(err)?;
     // Colour bar.

@@ -18,8 +18,8 @@
 
 use crate::accuracy::Accuracy;
 use crate::continuation::{leading, psi, Branch, BranchPoint, Family, Located, PARAM_TOL};
-use crate::floquet::{kind, Bifurcation};
-use crate::newton::{evaluate, Failure, MapKind, Solution};
+use crate::floquet::Bifurcation;
+use crate::newton::{evaluate, Failure, Solution};
 use crate::orbit::{describe, Orbit, ORBIT_TOL};
 use crate::simulate::Simulator;
 use crate::Method;
@@ -212,23 +212,12 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                             .copied()
                             .min_by(|a, b| (a - one).norm().total_cmp(&(b - one).norm()))
                             .unwrap_or(one);
-                        branch.bifurcations.push(Located {
-                            kind: Bifurcation::SaddleNode,
-                            value: v,
-                            multipliers: at.multipliers.clone(),
-                            critical,
-                        });
+                        branch.bifurcations.push(Located::new(Bifurcation::SaddleNode, v, &at, critical));
                     }
                 } else if stability {
                     let test = |_: &Linear, o: &Orbit| psi(o);
                     if let Some((v, at)) = bisect(family, acc, &orbit, &z, &z_new, &test, psi(&orbit) < 0.0) {
-                        let critical = leading(&at);
-                        branch.bifurcations.push(Located {
-                            kind: kind(critical, at.map == MapKind::Half),
-                            value: v,
-                            multipliers: at.multipliers.clone(),
-                            critical,
-                        });
+                        branch.bifurcations.push(Located::stability(v, &at));
                     }
                 }
                 branch.points.push(BranchPoint { value: p, orbit: o.clone() });
@@ -269,12 +258,7 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                             Err(_) => outside = mid,
                         }
                     }
-                    branch.bifurcations.push(Located {
-                        kind: Bifurcation::Grazing,
-                        value: v,
-                        multipliers: o.multipliers.clone(),
-                        critical: leading(&o),
-                    });
+                    branch.bifurcations.push(Located::new(Bifurcation::Grazing, v, &o, leading(&o)));
                     branch.ended = Some(format!("the impact pattern changes at {v:.9} (grazing)"));
                 } else {
                     branch.ended = Some(format!("the corrector failed at {:.9}", z[d]));

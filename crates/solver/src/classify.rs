@@ -191,6 +191,54 @@ fn detect(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<usize> {
     (!converging_divisor).then_some(n)
 }
 
+/// Newton acceleration of one cell: tries spent, when the next may start, and
+/// the probe simulator that evaluates the period map (its work counts towards
+/// the cell's budget).
+#[derive(Default)]
+struct Newton<'s> {
+    tries: usize,
+    next: u64,
+    probe: Option<Simulator<'s>>,
+}
+
+impl<'s> Newton<'s> {
+    /// Events the probe has spent.
+    fn events(&self) -> usize {
+        self.probe.as_ref().map_or(0, |p| p.events)
+    }
+
+    /// One attempt on a contracting pattern of the records `hist` of `sim`: the
+    /// state to restart from when the trajectory is heading to a stable orbit.
+    /// Farther than [`NEWTON_REACH`] it waits as many periods as the observed
+    /// contraction needs, without spending a try.
+    fn step(&mut self, sim: &mut Simulator<'s>, hist: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<DVector<f64>> {
+        let (n, pattern, to_go, rho) = contracting_pattern(hist, acc)?;
+        self.tries += 1;
+        self.next = sim.periods + 3 * n as u64;
+        let spent = sim.events + self.events();
+        let p = self.probe.get_or_insert_with(|| sim.probe());
+        p.set_budget(acc.max_events.saturating_sub(spent) + p.events);
+        let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
+        // One budget per cell: what the probe spent is the simulation's no more.
+        sim.set_budget(acc.max_events.saturating_sub(p.events));
+        let sol = solved?;
+        let d = distance(&sim.y, &sol.x);
+        if d > NEWTON_REACH && d <= 10.0 * to_go {
+            let periods = ((NEWTON_REACH / d).ln() / rho.ln()).ceil().max(1.0);
+            self.next = sim.periods + periods as u64 * n as u64;
+            self.tries -= 1;
+            return None;
+        }
+        // The fixed point must be where this trajectory is heading: a stable
+        // orbit much farther away than the remaining contraction reaches belongs
+        // to another attractor, and so does one whose linearisation does not
+        // carry the trajectory's last n periods (it is outside the orbit's linear
+        // neighbourhood, e.g. across a grazing): brute force goes on.
+        (heading_to(hist, n, &sim.y, &sol, to_go) && within_margin(p, &sol, n, &sim.y).unwrap_or(false))
+            .then_some(sol.x)
+    }
+}
+
 /// Largest distance (relative, max norm) from which a Newton solution is taken
 /// as the trajectory's destination: farther out a slowly attracting orbit may
 /// lose the trajectory to another attractor (a long transient passes near it).
@@ -305,8 +353,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     let cap = 3 * acc.n_max + 1;
     let mut hist: VecDeque<PeriodRecord> = VecDeque::with_capacity(cap + 1);
     let mut found = None;
-    let mut probe: Option<Simulator> = None;
-    let (mut newton_tries, mut newton_next) = (0, 0);
+    let mut newton = Newton::default();
     // A record that ends without a period but still contracts (negative largest
     // Lyapunov exponent) is a long transient: it is extended.
     let mut limit = acc.max_periods;
@@ -331,42 +378,10 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                 found = Some(n);
                 break;
             }
-            if acc.newton && newton_tries < 3 && sim.periods >= newton_next {
-                if let Some((n, pattern, to_go, rho)) = contracting_pattern(&hist, acc) {
-                    newton_tries += 1;
-                    newton_next = sim.periods + 3 * n as u64;
-                    let spent = sim.events + probe.as_ref().map_or(0, |p| p.events);
-                    let p = probe.get_or_insert_with(|| sim.probe());
-                    p.set_budget(acc.max_events.saturating_sub(spent) + p.events);
-                    let solved = fixed_point(p, &sim.y, n, &pattern, 1e-3 * acc.periodic_tol);
-                    // One budget per cell: what the probe spent is the simulation's no more.
-                    sim.set_budget(acc.max_events.saturating_sub(p.events));
-                    // The fixed point must be where this trajectory is heading: a stable
-                    // orbit much farther away than the remaining contraction reaches
-                    // belongs to another attractor, and so does one whose linearisation
-                    // does not carry the trajectory's last n periods (it is outside the
-                    // orbit's linear neighbourhood, e.g. across a grazing): brute force
-                    // goes on.
-                    let far = solved
-                        .as_ref()
-                        .map(|s| distance(&sim.y, &s.x))
-                        .filter(|&d| d > NEWTON_REACH && d <= 10.0 * to_go);
-                    if let Some(d) = far {
-                        // Heading there, not yet within reach: wait until the observed
-                        // contraction brings the trajectory in, without spending a try.
-                        let periods = ((NEWTON_REACH / d).ln() / rho.ln()).ceil().max(1.0);
-                        newton_next = sim.periods + periods as u64 * n as u64;
-                        newton_tries -= 1;
-                    }
-                    let heading = solved.filter(|s| {
-                        far.is_none()
-                            && heading_to(&hist, n, &sim.y, s, to_go)
-                            && within_margin(p, s, n, &sim.y).unwrap_or(false)
-                    });
-                    if let Some(sol) = heading {
-                        if sim.restart(sol.x.as_slice()).is_ok() {
-                            hist.clear();
-                        }
+            if acc.newton && newton.tries < 3 && sim.periods >= newton.next {
+                if let Some(x) = newton.step(&mut sim, &hist, acc) {
+                    if sim.restart(x.as_slice()).is_ok() {
+                        hist.clear();
                     }
                 }
             }
@@ -377,7 +392,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         // Without a period: the largest Lyapunov exponent tells chaos from a torus,
         // and a contracting long transient from both.
         let mut tangent = sim.probe();
-        let spent = sim.events + probe.as_ref().map_or(0, |p| p.events) + tangent_work.1;
+        let spent = sim.events + newton.events() + tangent_work.1;
         tangent.set_budget(acc.max_events.saturating_sub(spent));
         exponent = largest_exponent(&mut tangent, LYAPUNOV_WARMUP, acc.lyapunov_periods).ok();
         tangent_work = (tangent_work.0 + tangent.periods, tangent_work.1 + tangent.events);
@@ -387,9 +402,9 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         }
         extensions += 1;
         limit += acc.max_periods;
-        newton_tries = 0;
+        newton.tries = 0;
     }
-    let (mut extra_periods, mut extra_events) = probe.map_or((0, 0), |p| (p.periods, p.events));
+    let (mut extra_periods, mut extra_events) = newton.probe.map_or((0, 0), |p| (p.periods, p.events));
     extra_periods += tangent_work.0;
     extra_events += tangent_work.1;
     let mut class = if found.is_some() { Class::Periodic } else { Class::Chaotic };
@@ -428,15 +443,12 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     }
     let sticking: Vec<bool> = (0..stops).map(|k| held & (1 << k) != 0).collect();
     let chatter: Vec<bool> = impacts.iter().map(|&c| c as usize >= acc.chatter_impacts).collect();
-    let mut labels = label_masses(sys, found, &impacts, &sticking);
+    let labels = label_masses(sys, found, class, &impacts, &sticking);
     let symmetry = match (symmetric, found) {
         (true, Some(n)) => Some(symmetry_of(&hist, n, acc)),
         _ => None,
     };
     let window_start = if len > window { hist[len - window - 1].end.as_slice().to_vec() } else { y0.to_vec() };
-    for l in labels.iter_mut() {
-        l.class = class;
-    }
     CellResult {
         class,
         n: found,
@@ -457,9 +469,16 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     }
 }
 
-/// The n-p-q label of every labelled mass from the impacts per stop over n
-/// periods and the stops that held their mass (`None`: no period found).
-pub fn label_masses(sys: &System, n: Option<usize>, impacts: &[u32], sticking: &[bool]) -> Vec<MassLabel> {
+/// The n-p-q label of every labelled mass of a cell of class `class` from the
+/// impacts per stop over n periods and the stops that held their mass (`None`:
+/// no period found).
+pub fn label_masses(
+    sys: &System,
+    n: Option<usize>,
+    class: Class,
+    impacts: &[u32],
+    sticking: &[bool],
+) -> Vec<MassLabel> {
     sys.model
         .labels
         .iter()
@@ -472,7 +491,7 @@ pub fn label_masses(sys: &System, n: Option<usize>, impacts: &[u32], sticking: &
             MassLabel {
                 mass: sys.model.masses[l.mass].name.clone(),
                 npq: n.map(|n| (n as u32, count(l.p), count(l.q))),
-                class: if n.is_some() { Class::Periodic } else { Class::Chaotic },
+                class,
             }
         })
         .collect()

@@ -65,6 +65,21 @@ pub struct Branch {
     pub ended: Option<String>,
 }
 
+impl Located {
+    /// A bifurcation of `kind` at `value`, with the orbit there and the
+    /// multiplier of the solved map that crosses.
+    pub fn new(kind: Bifurcation, value: f64, orbit: &Orbit, critical: C64) -> Located {
+        Located { kind, value, multipliers: orbit.multipliers.clone(), critical }
+    }
+
+    /// A change of stability at `value`, named by where the leading multiplier
+    /// of the solved map sits on the unit circle.
+    pub fn stability(value: f64, orbit: &Orbit) -> Located {
+        let critical = leading(orbit);
+        Located::new(kind(critical, orbit.map == MapKind::Half), value, orbit, critical)
+    }
+}
+
 /// The system at a parameter value (`None`: the value is not admissible).
 pub type Family<'a> = dyn Fn(f64) -> Option<System> + 'a;
 
@@ -143,13 +158,7 @@ fn locate_crossing(family: &Family, acc: &Accuracy, a: &BranchPoint, b: &BranchP
         }
     }
     let at = if f_lo.abs() <= f_hi.abs() { &lo } else { &hi };
-    let critical = leading(&at.orbit);
-    Located {
-        kind: kind(critical, at.orbit.map == MapKind::Half),
-        value: 0.5 * (lo.value + hi.value),
-        multipliers: at.orbit.multipliers.clone(),
-        critical,
-    }
+    Located::stability(0.5 * (lo.value + hi.value), &at.orbit)
 }
 
 /// Locates where the branch stops being solvable between `good` and `v_bad`;
@@ -207,12 +216,13 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                     if why != Failure::Pattern {
                         let value = edge.value;
                         if fold {
-                            branch.bifurcations.push(Located {
-                                kind: Bifurcation::SaddleNode,
+                            let critical = leading(&edge.orbit);
+                            branch.bifurcations.push(Located::new(
+                                Bifurcation::SaddleNode,
                                 value,
-                                multipliers: edge.orbit.multipliers.clone(),
-                                critical: leading(&edge.orbit),
-                            });
+                                &edge.orbit,
+                                critical,
+                            ));
                         }
                         branch.points.push(edge);
                         branch.ended = Some(if fold {
@@ -222,12 +232,8 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                         });
                         return branch;
                     }
-                    branch.bifurcations.push(Located {
-                        kind: Bifurcation::Grazing,
-                        value: edge.value,
-                        multipliers: edge.orbit.multipliers.clone(),
-                        critical: leading(&edge.orbit),
-                    });
+                    let critical = leading(&edge.orbit);
+                    branch.bifurcations.push(Located::new(Bifurcation::Grazing, edge.value, &edge.orbit, critical));
                     // Go on past the grazing with the new event sequence.
                     match solve_at(family, acc, &edge.orbit, v, &edge.orbit.solution.x, true) {
                         Some(o) => {

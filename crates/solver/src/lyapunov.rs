@@ -28,7 +28,7 @@ pub fn largest_exponent(
     for k in 0..warmup + periods {
         sim.reset_tangent();
         sim.run_period(&[], false, &mut Ignore)?;
-        let w: DVector<f64> = sim.tangent().map_or_else(|| DMatrix::identity(dim, dim), |t| t.clone()) * &v;
+        let w: DVector<f64> = sim.tangent().ok_or(Halt::Stalled)? * &v;
         let norm = w.norm();
         if !(norm.is_finite() && norm > 0.0) {
             return Err(Halt::Stalled);

@@ -77,6 +77,18 @@ pub struct Key {
     pub negative: u32,
 }
 
+impl Key {
+    /// Free flight, every contact slipping forwards: the key of a scene without
+    /// held stops or friction.
+    pub const FREE: Key = Key { held: 0, stuck: 0, negative: 0 };
+
+    /// Whether the mode has constraints (held stops or stuck contacts), so that
+    /// a state must be projected onto them.
+    pub fn constrained(self) -> bool {
+        self.held != 0 || self.stuck != 0
+    }
+}
+
 /// A linear mode: constraints, reduced coordinates, augmented matrix, guards.
 #[derive(Debug, Clone)]
 pub struct Mode {
@@ -170,13 +182,16 @@ impl Mode {
                 .ok_or_else(|| SolverError::IllConditioned { message: "reduced mass matrix is not positive".into() })?
                 .inverse()
         };
-        // Kinetic friction of the slipping contacts: a constant force.
+        // Slipping contacts with the sign of their relative velocity, and their
+        // kinetic friction: a constant force.
+        let slipping: Vec<(usize, f64)> = (0..sys.frictions.len())
+            .filter(|i| (key.stuck | locked) & (1 << i) == 0)
+            .map(|i| (i, if key.negative & (1 << i) != 0 { -1.0 } else { 1.0 }))
+            .collect();
         let mut kinetic = DVector::zeros(m);
-        for (i, f) in sys.frictions.iter().enumerate() {
-            if (key.stuck | locked) & (1 << i) == 0 {
-                let sign = if key.negative & (1 << i) != 0 { -1.0 } else { 1.0 };
-                kinetic -= &f.normal * (sign * f.kinetic);
-            }
+        for &(i, sign) in &slipping {
+            let f = &sys.frictions[i];
+            kinetic -= &f.normal * (sign * f.kinetic);
         }
         let kr = basis.transpose() * &sys.stiffness * &basis;
         let cr = basis.transpose() * &sys.damping * &basis;
@@ -243,13 +258,10 @@ impl Mode {
                 }
             }
         }
-        for (i, f) in sys.frictions.iter().enumerate() {
-            if (key.stuck | locked) & (1 << i) == 0 {
-                let sign = if key.negative & (1 << i) != 0 { -1.0 } else { 1.0 };
-                let mut row = DVector::zeros(dim);
-                row.rows_mut(r, r).copy_from(&(basis.transpose() * &f.normal * sign));
-                guards.push(Guard { kind: GuardKind::Slip, stop: i, row });
-            }
+        for &(i, sign) in &slipping {
+            let mut row = DVector::zeros(dim);
+            row.rows_mut(r, r).copy_from(&(basis.transpose() * &sys.frictions[i].normal * sign));
+            guards.push(Guard { kind: GuardKind::Slip, stop: i, row });
         }
         let spectral = Spectral::new(&aug, sys.period)?;
         let frozen = g.rows(hs, hf).into_owned();

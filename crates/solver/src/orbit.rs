@@ -2,7 +2,7 @@
 //! labels, symmetry and impacts.
 
 use crate::accuracy::Accuracy;
-use crate::classify::{label_masses, run_cell, MassLabel, Symmetry};
+use crate::classify::{label_masses, run_cell, Class, MassLabel, Symmetry};
 use crate::floquet::multipliers;
 use crate::flow::Method;
 use crate::newton::{try_solve, Failure, MapKind, Pattern, Solution};
@@ -82,15 +82,14 @@ pub fn describe(sys: &System, acc: &Accuracy, solution: Solution, map: MapKind, 
         }
     }
     let sticking: Vec<bool> = (0..sys.stops.len()).map(|k| held & (1 << k) != 0).collect();
-    let labels = label_masses(sys, Some(n), &impacts, &sticking);
-    let tau = std::f64::consts::TAU;
+    let labels = label_masses(sys, Some(n), Class::Periodic, &impacts, &sticking);
     let orbit_impacts = obs
         .list
         .iter()
         .map(|(t, k, before, after)| OrbitImpact {
             stop: *k,
             time: *t,
-            phase: (sys.omega * t + sys.tau).rem_euclid(tau),
+            phase: sys.phase_at(*t),
             velocity: (sys.gap_rate(*k, before), sys.gap_rate(*k, after)),
         })
         .collect();

@@ -109,7 +109,7 @@ impl<'s> Simulator<'s> {
             work: Workspace::default(),
             chatter: ChatterTracker::new(sys.stops.len()),
             y: DVector::zeros(y0.len()),
-            key: Key::default(),
+            key: Key::FREE,
             clock: 0.0,
             periods: 0,
             events: 0,
@@ -195,7 +195,7 @@ impl<'s> Simulator<'s> {
 
     /// Projects the state onto the constraints of held stops and stuck contacts.
     fn snap(&mut self) -> Result<(), Halt> {
-        if self.key.held != 0 || self.key.stuck != 0 {
+        if self.key.constrained() {
             let phase = self.phase();
             let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
             self.y = mode.lift(&mode.project(&self.y, phase));
@@ -214,7 +214,7 @@ impl<'s> Simulator<'s> {
             held: self.key.held,
             stuck: self.key.stuck,
             end: DVector::zeros(0),
-            end_key: Key::default(),
+            end_key: Key::FREE,
             half: None,
             half_tangent: None,
         };
@@ -272,21 +272,9 @@ impl<'s> Simulator<'s> {
                     if self.zero_steps > 64 {
                         return Err(Halt::Stalled);
                     }
-                    let y_before = self.y.clone();
                     self.handle(kind, stop, &mut rec, obs)?;
-                    if let Some((flow, f_before, grad, rate)) = before {
-                        let jump = self.jump(&y_before)?;
-                        let phase = self.phase();
-                        let mode = self.cache.get(sys, self.key)?.ok_or(Halt::Stalled)?;
-                        let f_after = mode.lift_matrix() * (&mode.aug * mode.project(&self.y, phase));
-                        let mut salt = jump.clone();
-                        // At grazing (ḣ = 0) the map is not differentiable: keep the jump.
-                        if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
-                            salt += (f_after - &jump * f_before) * (grad.transpose() / rate);
-                        }
-                        if let Some(t) = self.tangent.as_mut() {
-                            *t = salt * flow * &*t;
-                        }
+                    if let Some(before) = before {
+                        self.saltate(before)?;
                     }
                     rec.held |= self.key.held;
                     rec.stuck |= self.key.stuck;
@@ -311,6 +299,7 @@ impl<'s> Simulator<'s> {
         obs: &mut dyn Observer,
     ) -> Result<(), Halt> {
         let sys = self.sys;
+        self.applied.clear();
         match kind {
             GuardKind::Gap => {
                 let contacts: Vec<usize> =
@@ -318,7 +307,6 @@ impl<'s> Simulator<'s> {
                 let before = self.y.clone();
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.
-                self.applied.clear();
                 if sys.gap_rate(stop, &self.y) >= -self.acc.stick_velocity {
                     impact::apply(sys, stop, 0.0, &mut self.y);
                     self.applied.push((stop, 0.0));
@@ -341,11 +329,8 @@ impl<'s> Simulator<'s> {
                     self.applied.push((k, 0.0));
                 }
             }
-            GuardKind::Reaction => {
-                self.applied.clear();
-                self.key.held &= !(1 << stop);
-            }
-            GuardKind::Grip | GuardKind::Slip => self.applied.clear(),
+            GuardKind::Reaction => self.key.held &= !(1 << stop),
+            GuardKind::Grip | GuardKind::Slip => {}
         }
         // A stop released by its reaction (zero and decreasing) cannot hold now,
         // nor can a contact that broke away stick at once.
@@ -363,17 +348,38 @@ impl<'s> Simulator<'s> {
         self.snap()
     }
 
-    /// Jacobian `J` of the reset just handled from `y_before`: the impulses
-    /// applied, then the projection onto the new mode's constraints.
-    fn jump(&mut self, y_before: &DVector<f64>) -> Result<DMatrix<f64>, Halt> {
-        let mut j = DMatrix::identity(y_before.len(), y_before.len());
+    /// Jacobian `J` of the reset just handled: the impulses applied, then the
+    /// projection onto the new mode's constraints.
+    fn jump(&mut self) -> Result<DMatrix<f64>, Halt> {
+        let dim = self.y.len();
+        let mut j = DMatrix::identity(dim, dim);
         for &(k, r) in &self.applied {
             j = impact::jacobian(self.sys, k, r) * j;
         }
-        if self.key.held != 0 || self.key.stuck != 0 {
+        if self.key.constrained() {
             let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
             j = mode.lift_matrix() * mode.project_matrix() * j;
         }
         Ok(j)
+    }
+
+    /// Composes the tracked tangent with the flow to the event just handled and
+    /// its saltation matrix `S = J + (f⁺ - J f⁻) ∇hᵀ / ḣ`; `before` holds the flow
+    /// transition, `f⁻`, `∇h` and `ḣ` taken before the event.
+    fn saltate(&mut self, before: (DMatrix<f64>, DVector<f64>, DVector<f64>, f64)) -> Result<(), Halt> {
+        let (flow, f_before, grad, rate) = before;
+        let jump = self.jump()?;
+        let phase = self.phase();
+        let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
+        let f_after = mode.lift_matrix() * (&mode.aug * mode.project(&self.y, phase));
+        let mut salt = jump.clone();
+        // At grazing (ḣ = 0) the map is not differentiable: keep the jump.
+        if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
+            salt += (f_after - &jump * f_before) * (grad.transpose() / rate);
+        }
+        if let Some(t) = self.tangent.as_mut() {
+            *t = salt * flow * &*t;
+        }
+        Ok(())
     }
 }

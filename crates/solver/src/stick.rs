@@ -59,7 +59,7 @@ fn friction_options(sys: &System, acc: &Accuracy, y: &DVector<f64>, i: usize, ma
     let rate = sys.slip_rate(i, y);
     let bit = 1 << i;
     let stuck = Key { held: 0, stuck: bit, negative: 0 };
-    let positive = Key::default();
+    let positive = Key::FREE;
     let negative = Key { held: 0, stuck: 0, negative: bit };
     if rate > acc.stick_velocity {
         vec![positive]
@@ -94,21 +94,29 @@ pub fn settle(
     mut cand: u32,
     no_stick: u32,
 ) -> Result<Key, SolverError> {
-    // Every combination of the contacts' options, first options first.
-    let mut frictions = vec![Key::default()];
-    for i in 0..sys.frictions.len() {
-        let options = friction_options(sys, acc, y, i, no_stick & (1 << i) == 0);
-        frictions = frictions
-            .iter()
-            .flat_map(|f| {
-                options.iter().map(move |o| Key {
-                    held: 0,
-                    stuck: f.stuck | o.stuck,
-                    negative: f.negative | o.negative,
+    // Every combination of the contacts' options, first options first (no
+    // allocation for a scene without friction: this runs at every event).
+    let combinations: Vec<Key>;
+    let frictions: &[Key] = if sys.frictions.is_empty() {
+        &[Key::FREE]
+    } else {
+        let mut all = vec![Key::FREE];
+        for i in 0..sys.frictions.len() {
+            let options = friction_options(sys, acc, y, i, no_stick & (1 << i) == 0);
+            all = all
+                .iter()
+                .flat_map(|f| {
+                    options.iter().map(move |o| Key {
+                        held: 0,
+                        stuck: f.stuck | o.stuck,
+                        negative: f.negative | o.negative,
+                    })
                 })
-            })
-            .collect();
-    }
+                .collect();
+        }
+        combinations = all;
+        &combinations
+    };
     let stops: Vec<usize> = (0..32).filter(|k| cand & (1 << k) != 0).collect();
     if stops.len() <= 6 {
         let mut subsets: Vec<u32> = (0..1u32 << stops.len())
@@ -118,7 +126,7 @@ pub fn settle(
             .collect();
         subsets.sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
         for mask in subsets {
-            for f in &frictions {
+            for f in frictions {
                 let key = Key { held: mask, ..*f };
                 let Some(mode) = cache.get(sys, key)? else { continue };
                 let s = mode.project(y, phase);

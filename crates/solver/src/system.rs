@@ -161,6 +161,11 @@ impl System {
         self.stops[stop].normal.dot(&y.rows(self.dof(), self.dof()))
     }
 
+    /// Forcing phase `ω t + τ` at absolute time `t`, reduced to `[0, 2π)`.
+    pub fn phase_at(&self, t: f64) -> f64 {
+        (self.omega * t + self.tau).rem_euclid(std::f64::consts::TAU)
+    }
+
     /// Relative velocity `x_a' - x_b'` of friction contact `i` at full state `y`.
     pub fn slip_rate(&self, i: usize, y: &DVector<f64>) -> f64 {
         self.frictions[i].normal.dot(&y.rows(self.dof(), self.dof()))
