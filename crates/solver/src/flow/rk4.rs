@@ -23,16 +23,20 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
     let (isin, icos) = (dim - 3, dim - 2);
     let (sin0, cos0) = (s0[isin], s0[icos]);
     let omega = a[(isin, icos)];
-    let at = |s: &mut DVector<f64>, u: f64| {
+    // The forcing `(sin φ, cos φ)` at time `u` of the advance, set into a state.
+    let forcing = |u: f64| {
         let (su, cu) = (omega * u).sin_cos();
-        s[isin] = sin0 * cu + cos0 * su;
-        s[icos] = cos0 * cu - sin0 * su;
+        (sin0 * cu + cos0 * su, cos0 * cu - sin0 * su)
     };
-    let deriv = |s: &DVector<f64>| {
-        let mut d = a * s;
+    let set = |s: &mut DVector<f64>, (sn, cs): (f64, f64)| {
+        s[isin] = sn;
+        s[icos] = cs;
+    };
+    // Derivative into a reused buffer: no allocation per step.
+    let deriv = |s: &DVector<f64>, d: &mut DVector<f64>| {
+        a.mul_to(s, d);
         d[isin] = 0.0;
         d[icos] = 0.0;
-        d
     };
 
     // A guard crosses when it falls below its threshold; at zero and approaching: an event now.
@@ -48,6 +52,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
     }
 
     let mut s = s0.clone();
+    let zero = || DVector::zeros(dim);
+    let (mut k1, mut k2, mut k3, mut k4, mut tmp, mut next) = (zero(), zero(), zero(), zero(), zero(), zero());
     let mut u = 0.0;
     let mut h = acc.rk4_step;
     for _ in 0..MAX_STEPS {
@@ -56,20 +62,26 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             break;
         }
         let hh = h.min(remaining);
-        let k1 = deriv(&s);
-        let mut tmp = &s + &k1 * (hh / 2.0);
-        at(&mut tmp, u + hh / 2.0);
-        let k2 = deriv(&tmp);
-        let mut tmp = &s + &k2 * (hh / 2.0);
-        at(&mut tmp, u + hh / 2.0);
-        let k3 = deriv(&tmp);
-        let mut tmp = &s + &k3 * hh;
-        at(&mut tmp, u + hh);
-        let k4 = deriv(&tmp);
-        let mut next = &s + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (hh / 6.0);
         // The last step lands exactly on the horizon.
         let t_next = if hh >= remaining { horizon } else { u + hh };
-        at(&mut next, t_next);
+        let (mid, end) = (forcing(u + hh / 2.0), forcing(t_next));
+        deriv(&s, &mut k1);
+        tmp.copy_from(&s);
+        tmp.axpy(hh / 2.0, &k1, 1.0);
+        set(&mut tmp, mid);
+        deriv(&tmp, &mut k2);
+        tmp.copy_from(&s);
+        tmp.axpy(hh / 2.0, &k2, 1.0);
+        set(&mut tmp, mid);
+        deriv(&tmp, &mut k3);
+        tmp.copy_from(&s);
+        tmp.axpy(hh, &k3, 1.0);
+        set(&mut tmp, end);
+        deriv(&tmp, &mut k4);
+        for i in 0..dim {
+            next[i] = s[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (hh / 6.0);
+        }
+        set(&mut next, end);
         let crossed = mode
             .guards
             .iter()
@@ -79,11 +91,11 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             .map(|(gi, _)| gi);
         match crossed {
             Some(gi) if hh <= acc.rk4_min_step => {
-                return Advance::Event { guard: gi, time: t_next, state: next };
+                return Advance::Event { guard: gi, time: t_next, state: next.clone() };
             }
             Some(_) => h = hh / 10.0,
             None => {
-                s = next;
+                std::mem::swap(&mut s, &mut next);
                 u = t_next;
             }
         }
