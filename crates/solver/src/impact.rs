@@ -50,15 +50,17 @@ pub struct Hit {
 /// Resolves all closing contacts among `contacts` (stops at zero gap) by
 /// sequential impulses. Contacts closing faster than `stick_velocity` bounce with
 /// their restitution (and are reported); slower ones are made plastic. Every
-/// impulse applied, `(stop, restitution)` in order, is appended to `applied`.
+/// impulse applied, `(stop, restitution)` in order, is appended to `applied`;
+/// the bounces are written to `hits`.
 pub fn resolve(
     sys: &System,
     contacts: &[usize],
     stick_velocity: f64,
     y: &mut DVector<f64>,
     applied: &mut Vec<(usize, f64)>,
-) -> Vec<Hit> {
-    let mut hits = Vec::new();
+    hits: &mut Vec<Hit>,
+) {
+    hits.clear();
     for _round in 0..64 {
         let mut any = false;
         for &k in contacts {
@@ -77,7 +79,6 @@ pub fn resolve(
             break;
         }
     }
-    hits
 }
 
 #[cfg(test)]

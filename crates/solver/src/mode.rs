@@ -283,11 +283,30 @@ impl Mode {
     /// Components normal to held stops and relative velocities of stuck contacts
     /// are dropped (projection onto the constraints).
     pub fn project(&self, y: &DVector<f64>, phase: f64) -> DVector<f64> {
+        let mut s = DVector::zeros(0);
+        self.project_into(y, phase, &mut s);
+        s
+    }
+
+    /// [`Mode::project`] into `s` (resized to the mode's dimension; no
+    /// allocation once sized in a mode without constraints).
+    pub fn project_into(&self, y: &DVector<f64>, phase: f64, s: &mut DVector<f64>) {
         let m = self.basis.nrows();
         let r = self.basis.ncols();
         let hf = self.frozen.nrows();
         let dim = 2 * r + hf + 3;
-        let mut s = DVector::zeros(dim);
+        if s.len() != dim {
+            *s = DVector::zeros(dim);
+        }
+        let (sn, cs) = phase.sin_cos();
+        s[dim - 3] = sn;
+        s[dim - 2] = cs;
+        s[dim - 1] = 1.0;
+        if !self.key.constrained() {
+            // Free of constraints the reduced coordinates are the full state.
+            s.rows_mut(0, 2 * m).copy_from(&y.rows(0, 2 * m));
+            return;
+        }
         let x = y.rows(0, m) - &self.offset;
         s.rows_mut(0, r).copy_from(&(self.basis.transpose() * x));
         s.rows_mut(r, r).copy_from(&(self.basis.transpose() * y.rows(m, m)));
@@ -295,11 +314,6 @@ impl Mode {
             // The frozen displacements: the stuck contacts' relative coordinates.
             s.rows_mut(2 * r, hf).copy_from(&(&self.frozen * y.rows(0, m)));
         }
-        let (sn, cs) = phase.sin_cos();
-        s[dim - 3] = sn;
-        s[dim - 2] = cs;
-        s[dim - 1] = 1.0;
-        s
     }
 
     /// The linear map `y ↦ s` of [`Mode::project`] without its constant rows
@@ -349,19 +363,26 @@ impl Mode {
 
     /// Full state `[x; v]` of an augmented state.
     pub fn lift(&self, s: &DVector<f64>) -> DVector<f64> {
+        let mut y = DVector::zeros(2 * self.basis.nrows());
+        self.lift_into(s, &mut y);
+        y
+    }
+
+    /// [`Mode::lift`] into `y` (of length `2m`; no allocation in a mode without
+    /// constraints).
+    pub fn lift_into(&self, s: &DVector<f64>, y: &mut DVector<f64>) {
         let m = self.basis.nrows();
         let r = self.basis.ncols();
         let hf = self.frozen.nrows();
         if self.key.held == 0 && hf == 0 {
-            return s.rows(0, 2 * m).into_owned();
+            y.copy_from(&s.rows(0, 2 * m));
+            return;
         }
-        let mut y = DVector::zeros(2 * m);
         let mut x = &self.basis * s.rows(0, r) + &self.offset;
         if hf > 0 {
             x += &self.spread * s.rows(2 * r, hf);
         }
         y.rows_mut(0, m).copy_from(&x);
         y.rows_mut(m, m).copy_from(&(&self.basis * s.rows(r, r)));
-        y
     }
 }

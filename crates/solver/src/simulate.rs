@@ -72,6 +72,23 @@ impl From<SolverError> for Halt {
     }
 }
 
+/// Buffers of the event loop, reused from event to event.
+#[derive(Debug, Clone, Default)]
+struct Buffers {
+    /// Augmented state at the start of an advance.
+    start: DVector<f64>,
+    /// Augmented state where an advance stopped.
+    end: DVector<f64>,
+    /// Full state before an impact.
+    before: DVector<f64>,
+    /// Times within a period at which an advance stops.
+    targets: Vec<f64>,
+    /// Stops in contact at an impact.
+    contacts: Vec<usize>,
+    /// Impacts of one contact event.
+    hits: Vec<impact::Hit>,
+}
+
 /// A running simulation of one cell.
 #[derive(Debug, Clone)]
 pub struct Simulator<'s> {
@@ -94,6 +111,8 @@ pub struct Simulator<'s> {
     zero_steps: usize,
     /// Impulses applied while handling the current event.
     applied: Vec<(usize, f64)>,
+    /// Reused buffers of the event loop (no allocation per event once warm).
+    buffers: Buffers,
     /// Tangent map `∂y(t)/∂y(0)` since the last restart, when tracked.
     tangent: Option<DMatrix<f64>>,
 }
@@ -115,6 +134,7 @@ impl<'s> Simulator<'s> {
             events: 0,
             zero_steps: 0,
             applied: Vec::new(),
+            buffers: Buffers::default(),
             tangent: None,
         };
         sim.restart(y0)?;
@@ -218,25 +238,52 @@ impl<'s> Simulator<'s> {
             half: None,
             half_tangent: None,
         };
-        let mut targets: Vec<f64> = samples.iter().copied().filter(|&t| t > self.clock && t < period).collect();
+        let mut targets = std::mem::take(&mut self.buffers.targets);
+        targets.clear();
+        targets.extend(samples.iter().copied().filter(|&t| t > self.clock && t < period));
         if half && self.clock < period / 2.0 {
             targets.push(period / 2.0);
         }
         targets.sort_by(f64::total_cmp);
         targets.dedup();
         targets.push(period);
+        let result = self.run_to_targets(&targets, half, &mut rec, obs);
+        self.buffers.targets = targets;
+        result?;
+        self.clock = 0.0;
+        self.periods += 1;
+        rec.end = self.y.clone();
+        rec.end_key = self.key;
+        obs.sample(self.time(), &self.y);
+        Ok(rec)
+    }
+
+    /// Simulates from the current time through the ascending `targets` of this
+    /// period (the last is the period's end), recording into `rec`.
+    fn run_to_targets(
+        &mut self,
+        targets: &[f64],
+        half: bool,
+        rec: &mut PeriodRecord,
+        obs: &mut dyn Observer,
+    ) -> Result<(), Halt> {
+        let sys = self.sys;
+        let period = sys.period;
         let mut ti = 0;
         while ti < targets.len() {
             let target = targets[ti];
             let phase = self.phase();
             let mode = self.cache.get(sys, self.key)?.ok_or(Halt::Stalled)?;
-            let s0 = mode.project(&self.y, phase);
-            match self.method.advance(mode, &s0, target - self.clock, &self.acc, &mut self.work) {
-                Advance::Horizon(s) => {
+            let b = &mut self.buffers;
+            mode.project_into(&self.y, phase, &mut b.start);
+            let advance =
+                self.method.advance(mode, &b.start, target - self.clock, &self.acc, &mut self.work, &mut b.end);
+            match advance {
+                Advance::Horizon => {
                     if let Some(t) = self.tangent.as_mut() {
                         *t = mode.transition(target - self.clock) * &*t;
                     }
-                    self.y = mode.lift(&s);
+                    mode.lift_into(&b.end, &mut self.y);
                     self.clock = target;
                     ti += 1;
                     // Targets are copied, never computed: compare them bit for bit.
@@ -248,12 +295,13 @@ impl<'s> Simulator<'s> {
                         obs.sample(self.time(), &self.y);
                     }
                 }
-                Advance::Event { guard, time, state } => {
+                Advance::Event { guard, time } => {
                     let g = &mode.guards[guard];
                     let (kind, stop) = (g.kind, g.stop);
+                    let state = &b.end;
                     // Flow to the event, and what the saltation needs from before it.
                     let before = self.tangent.is_some().then(|| {
-                        let rate = &mode.aug * &state;
+                        let rate = &mode.aug * state;
                         let lift = mode.lift_matrix();
                         (
                             mode.transition(time),
@@ -262,7 +310,7 @@ impl<'s> Simulator<'s> {
                             g.row.dot(&rate),
                         )
                     });
-                    self.y = mode.lift(&state);
+                    mode.lift_into(state, &mut self.y);
                     self.clock = (self.clock + time).min(target);
                     self.events += 1;
                     self.zero_steps = if time > 0.0 { 0 } else { self.zero_steps + 1 };
@@ -272,7 +320,7 @@ impl<'s> Simulator<'s> {
                     if self.zero_steps > 64 {
                         return Err(Halt::Stalled);
                     }
-                    self.handle(kind, stop, &mut rec, obs)?;
+                    self.handle(kind, stop, rec, obs)?;
                     if let Some(before) = before {
                         self.saltate(before)?;
                     }
@@ -283,12 +331,7 @@ impl<'s> Simulator<'s> {
                 Advance::Stalled => return Err(Halt::Stalled),
             }
         }
-        self.clock = 0.0;
-        self.periods += 1;
-        rec.end = self.y.clone();
-        rec.end_key = self.key;
-        obs.sample(self.time(), &self.y);
-        Ok(rec)
+        Ok(())
     }
 
     fn handle(
@@ -302,26 +345,27 @@ impl<'s> Simulator<'s> {
         self.applied.clear();
         match kind {
             GuardKind::Gap => {
-                let contacts: Vec<usize> =
-                    (0..sys.stops.len()).filter(|&k| k == stop || touching(sys, &self.acc, k, &self.y)).collect();
-                let before = self.y.clone();
+                let t = self.time();
+                let b = &mut self.buffers;
+                b.contacts.clear();
+                b.contacts.extend((0..sys.stops.len()).filter(|&k| k == stop || touching(sys, &self.acc, k, &self.y)));
+                b.before.clone_from(&self.y);
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.
                 if sys.gap_rate(stop, &self.y) >= -self.acc.stick_velocity {
                     impact::apply(sys, stop, 0.0, &mut self.y);
                     self.applied.push((stop, 0.0));
                 }
-                let hits = impact::resolve(sys, &contacts, self.acc.stick_velocity, &mut self.y, &mut self.applied);
-                let t = self.time();
+                impact::resolve(sys, &b.contacts, self.acc.stick_velocity, &mut self.y, &mut self.applied, &mut b.hits);
                 let mut accumulate = 0u32;
-                for h in &hits {
+                for h in &b.hits {
                     rec.impacts[h.stop] += 1;
                     if self.chatter.record(h.stop, t, h.speed, self.acc.chatter_velocity).is_some() {
                         accumulate |= 1 << h.stop;
                     }
                 }
-                if !hits.is_empty() {
-                    obs.impact(t, hits[0].stop, &before, &self.y);
+                if let Some(h) = b.hits.first() {
+                    obs.impact(t, h.stop, &b.before, &self.y);
                 }
                 // The rest of a geometric chatter sequence is the sticking motion it converges to.
                 for k in (0..sys.stops.len()).filter(|k| accumulate & (1 << k) != 0) {

@@ -117,18 +117,33 @@ pub fn settle(
         combinations = all;
         &combinations
     };
-    let stops: Vec<usize> = (0..32).filter(|k| cand & (1 << k) != 0).collect();
-    if stops.len() <= 6 {
-        let mut subsets: Vec<u32> = (0..1u32 << stops.len())
-            .map(|bits| {
-                stops.iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(0, |m, (_, &k)| m | (1 << k))
-            })
-            .collect();
+    let count = cand.count_ones() as usize;
+    if count <= 6 {
+        // Every subset of the candidates (no allocation: at most 64).
+        let mut stops = [0usize; 6];
+        for (slot, k) in stops.iter_mut().zip((0..32).filter(|k| cand & (1 << k) != 0)) {
+            *slot = k;
+        }
+        let mut subsets = [0u32; 64];
+        for (bits, subset) in subsets.iter_mut().enumerate().take(1 << count) {
+            *subset = stops[..count]
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| bits & (1 << i) != 0)
+                .fold(0, |m, (_, &k)| m | (1 << k));
+        }
+        let subsets = &mut subsets[..1 << count];
         subsets.sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
-        for mask in subsets {
+        for &mask in subsets.iter() {
             for f in frictions {
                 let key = Key { held: mask, ..*f };
                 let Some(mode) = cache.get(sys, key)? else { continue };
+                // A gap of a stop that is no candidate needs no check: free flight
+                // away from every stop is consistent without projecting.
+                let unchecked = |g: &Guard| g.kind == GuardKind::Gap && cand & (1 << g.stop) == 0;
+                if mode.guards.iter().all(unchecked) {
+                    return Ok(key);
+                }
                 let s = mode.project(y, phase);
                 let consistent = mode.guards.iter().all(|g| match g.kind {
                     GuardKind::Reaction | GuardKind::Grip => !releasing(mode, acc, g, &s),

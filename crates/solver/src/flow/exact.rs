@@ -123,7 +123,15 @@ fn quadratic_root(g: f64, gd: f64, g2: f64) -> f64 {
 }
 
 /// Advances `s0` for at most `horizon` in `mode` (see the module doc).
-pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: &mut Workspace) -> Advance {
+/// The state where it stops is written to `out` (of the length of `s0`).
+pub fn advance(
+    mode: &Mode,
+    s0: &DVector<f64>,
+    horizon: f64,
+    acc: &Accuracy,
+    w: &mut Workspace,
+    out: &mut DVector<f64>,
+) -> Advance {
     let sp = &mode.spectral;
     let terms = sp.terms();
     let nt = terms.len();
@@ -158,12 +166,13 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
         w.magnitude.push(magnitude);
         w.zero.push(value_tol(acc, g.kind.is_gap(), magnitude));
     }
-    let event = |w: &Workspace, guard: usize, time: f64| {
-        let mut state = s0.clone();
+    let event = |w: &Workspace, out: &mut DVector<f64>, guard: usize, time: f64| {
         if time > 0.0 {
-            w.modal.state_into(&w.f, state.as_mut_slice());
+            w.modal.state_into(&w.f, out.as_mut_slice());
+        } else {
+            out.copy_from(s0);
         }
-        Advance::Event { guard, time, state }
+        Advance::Event { guard, time }
     };
 
     let fastest = terms.iter().map(|t| t.lambda.norm()).fold(0.0, f64::max);
@@ -196,7 +205,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                         horizon,
                         &mut w.masked[gi],
                     ) {
-                        return event(w, gi, u);
+                        return event(w, out, gi, u);
                     }
                     w.masked[gi] - u
                 } else {
@@ -214,7 +223,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;
                         sp.factors_and_bounds(t, horizon, &mut w.f, &mut w.fb);
-                        return event(w, gi, t);
+                        return event(w, out, gi, t);
                     }
                     root
                 }
@@ -226,9 +235,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, w: 
         }
         if which.is_none() {
             sp.factors_and_bounds(horizon, horizon, &mut w.f, &mut w.fb);
-            let mut state = DVector::zeros(s0.len());
-            w.modal.state_into(&w.f, state.as_mut_slice());
-            return Advance::Horizon(state);
+            w.modal.state_into(&w.f, out.as_mut_slice());
+            return Advance::Horizon;
         }
         u += h;
     }

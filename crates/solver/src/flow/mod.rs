@@ -12,19 +12,18 @@ use crate::accuracy::Accuracy;
 use crate::mode::{Guard, Mode};
 use nalgebra::{DMatrix, DVector};
 
-/// Why an advance stopped.
-#[derive(Debug, Clone)]
+/// Why an advance stopped (the augmented state where it stopped is written to
+/// the advance's output vector).
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Advance {
-    /// The horizon was reached with no event; the augmented state there.
-    Horizon(DVector<f64>),
-    /// Guard `guard` of the mode reached zero after `time`; the state there.
+    /// The horizon was reached with no event.
+    Horizon,
+    /// Guard `guard` of the mode reached zero after `time`.
     Event {
         /// Index into [`Mode::guards`].
         guard: usize,
         /// Time since the start of the advance.
         time: f64,
-        /// Augmented state at the event.
-        state: DVector<f64>,
     },
     /// The step budget of one advance ran out (a stalled event search).
     Stalled,
@@ -57,7 +56,9 @@ impl Method {
         }
     }
 
-    /// Advances `s0` in `mode` for at most `horizon`, stopping at the first event.
+    /// Advances `s0` in `mode` for at most `horizon`, stopping at the first
+    /// event; the augmented state where it stops is written to `out` (resized to
+    /// the mode's dimension).
     pub fn advance(
         self,
         mode: &Mode,
@@ -65,10 +66,14 @@ impl Method {
         horizon: f64,
         acc: &Accuracy,
         work: &mut exact::Workspace,
+        out: &mut DVector<f64>,
     ) -> Advance {
+        if out.len() != s0.len() {
+            *out = DVector::zeros(s0.len());
+        }
         match self {
-            Method::Exact => exact::advance(mode, s0, horizon, acc, work),
-            Method::Rk4 => rk4::advance(mode, s0, horizon, acc),
+            Method::Exact => exact::advance(mode, s0, horizon, acc, work, out),
+            Method::Rk4 => rk4::advance(mode, s0, horizon, acc, out),
         }
     }
 }
@@ -109,14 +114,16 @@ pub fn classify_start(d: &[f64; 5], tol: &[f64; 5]) -> Start {
 pub fn derivatives(guard: &Guard, aug: &DMatrix<f64>, s: &DVector<f64>) -> ([f64; 5], [f64; 5]) {
     let mut d = [0.0; 5];
     let mut scale = [0.0; 5];
-    let mut p = s.clone();
+    let (mut p, mut next, mut p_abs) = (s.clone(), s.clone(), s.clone());
     let row_abs = guard.row.abs();
     for j in 0..5 {
         if j > 0 {
-            p = aug * p;
+            aug.mul_to(&p, &mut next);
+            std::mem::swap(&mut p, &mut next);
         }
         d[j] = guard.row.dot(&p);
-        scale[j] = row_abs.dot(&p.abs());
+        p_abs.zip_apply(&p, |a, x| *a = x.abs());
+        scale[j] = row_abs.dot(&p_abs);
     }
     (d, scale)
 }

@@ -17,7 +17,8 @@ use nalgebra::DVector;
 const MAX_STEPS: usize = 50_000_000;
 
 /// Advances `s0` for at most `horizon` in `mode` (see the module doc).
-pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> Advance {
+/// The state where it stops is written to `out` (of the length of `s0`).
+pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out: &mut DVector<f64>) -> Advance {
     let a = &mode.aug;
     let dim = s0.len();
     let (isin, icos) = (dim - 3, dim - 2);
@@ -44,7 +45,10 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
     for (gi, g) in mode.guards.iter().enumerate() {
         match guard_start(acc, g, a, s0) {
             (Start::Clear, _, _) => {}
-            (Start::Approaching, _, _) => return Advance::Event { guard: gi, time: 0.0, state: s0.clone() },
+            (Start::Approaching, _, _) => {
+                out.copy_from(s0);
+                return Advance::Event { guard: gi, time: 0.0 };
+            }
             (Start::Departing { .. }, value, magnitude) => {
                 threshold[gi] = value.min(0.0) - value_tol(acc, g.kind.is_gap(), magnitude)
             }
@@ -91,7 +95,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
             .map(|(gi, _)| gi);
         match crossed {
             Some(gi) if hh <= acc.rk4_min_step => {
-                return Advance::Event { guard: gi, time: t_next, state: next.clone() };
+                out.copy_from(&next);
+                return Advance::Event { guard: gi, time: t_next };
             }
             Some(_) => h = hh / 10.0,
             None => {
@@ -101,7 +106,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy) -> 
         }
     }
     if u >= horizon {
-        Advance::Horizon(s)
+        out.copy_from(&s);
+        Advance::Horizon
     } else {
         Advance::Stalled
     }
