@@ -64,6 +64,15 @@ pub struct Guard {
     pub stop: usize,
     /// Row `ℓ` over the augmented state.
     pub row: DVector<f64>,
+    /// `|ℓ|` entrywise (for the guard's magnitude `|ℓ|·|s|`).
+    pub row_abs: DVector<f64>,
+}
+
+impl Guard {
+    fn new(kind: GuardKind, stop: usize, row: DVector<f64>) -> Guard {
+        let row_abs = row.abs();
+        Guard { kind, stop, row, row_abs }
+    }
 }
 
 /// Which linear system holds: the held stops and the state of each friction contact.
@@ -229,7 +238,7 @@ impl Mode {
                     row.rows_mut(2 * r, hf).copy_from(&(spread.transpose() * &stop.normal));
                 }
                 row[one] = stop.normal.dot(&offset) + stop.offset;
-                guards.push(Guard { kind: GuardKind::Gap, stop: k, row });
+                guards.push(Guard::new(GuardKind::Gap, k, row));
             }
         }
         if h > 0 {
@@ -247,21 +256,21 @@ impl Mode {
             }
             let lambda = &ggt_inv * &g * res;
             for (i, &j) in held_list.iter().enumerate() {
-                guards.push(Guard { kind: GuardKind::Reaction, stop: j, row: lambda.row(i).transpose() });
+                guards.push(Guard::new(GuardKind::Reaction, j, lambda.row(i).transpose()));
             }
             for (i, &j) in frozen.iter().enumerate() {
                 let force = lambda.row(hs + i).transpose();
                 for sign in [-1.0, 1.0] {
                     let mut row = &force * sign;
                     row[one] += sys.frictions[j].static_limit;
-                    guards.push(Guard { kind: GuardKind::Grip, stop: j, row });
+                    guards.push(Guard::new(GuardKind::Grip, j, row));
                 }
             }
         }
         for &(i, sign) in &slipping {
             let mut row = DVector::zeros(dim);
             row.rows_mut(r, r).copy_from(&(basis.transpose() * &sys.frictions[i].normal * sign));
-            guards.push(Guard { kind: GuardKind::Slip, stop: i, row });
+            guards.push(Guard::new(GuardKind::Slip, i, row));
         }
         let spectral = Spectral::new(&aug, sys.period)?;
         let frozen = g.rows(hs, hf).into_owned();

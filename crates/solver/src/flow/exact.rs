@@ -45,6 +45,10 @@ pub struct Workspace {
     masked: Vec<f64>,
     /// Per guard: value below which it counts as zero ([`value_tol`]).
     zero: Vec<f64>,
+    /// Per guard: its constant part (the constant terms, which do not vary).
+    constant: Vec<f64>,
+    /// `|s0|` entrywise.
+    start_abs: DVector<f64>,
     /// Per guard: `|row|·|s0|`, the magnitude of the guard.
     magnitude: Vec<f64>,
     high: Vec<C64>,
@@ -143,9 +147,12 @@ pub fn advance(
     w.moduli.resize(2 * nt * ng, 0.0);
     w.high.resize(6 * nt, C64::new(0.0, 0.0));
     w.high_moduli.resize(6 * nt, 0.0);
+    w.start_abs.clone_from(s0);
+    w.start_abs.apply(|x| *x = x.abs());
     w.masked.clear();
     w.masked.resize(ng, 0.0);
     w.zero.clear();
+    w.constant.clear();
     w.magnitude.clear();
     for (gi, g) in mode.guards.iter().enumerate() {
         let b = &mut w.beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
@@ -162,7 +169,16 @@ pub fn advance(
         for (m2, x) in m[nt..].iter_mut().zip(&b[2 * nt..3 * nt]) {
             *m2 = x.l1_norm();
         }
-        let magnitude = g.row.abs().dot(&s0.abs());
+        // The constant terms' factors are their weights at every time.
+        let constant: f64 = (0..nt)
+            .filter(|&t| terms[t].constant)
+            .map(|t| {
+                let f = C64::new(terms[t].weight, 0.0);
+                f.re * b[t].re - f.im * b[t].im
+            })
+            .sum();
+        w.constant.push(constant);
+        let magnitude = g.row_abs.dot(&w.start_abs);
         w.magnitude.push(magnitude);
         w.zero.push(value_tol(acc, g.kind.is_gap(), magnitude));
     }
@@ -175,8 +191,7 @@ pub fn advance(
         Advance::Event { guard, time }
     };
 
-    let fastest = terms.iter().map(|t| t.lambda.norm()).fold(0.0, f64::max);
-    let budget = MAX_STEPS + (STEPS_PER_OSCILLATION * horizon * fastest / std::f64::consts::TAU) as usize;
+    let budget = MAX_STEPS + (STEPS_PER_OSCILLATION * horizon * sp.fastest() / std::f64::consts::TAU) as usize;
     let mut u = 0.0f64;
     for _ in 0..budget {
         sp.factors_and_bounds(u, horizon, &mut w.f, &mut w.fb);
@@ -211,14 +226,19 @@ pub fn advance(
                 } else {
                     let m = &w.moduli[2 * nt * gi..2 * nt * (gi + 1)];
                     // Global bound: the constant part less everything that varies.
-                    let constant: f64 =
-                        (0..nt).filter(|&t| terms[t].constant).map(|t| w.f[t].re * b[t].re - w.f[t].im * b[t].im).sum();
-                    if constant - bound(&w.fb, &m[..nt]) > w.zero[gi] {
+                    if w.constant[gi] - bound(&w.fb, &m[..nt]) > w.zero[gi] {
                         w.masked[gi] = horizon;
                         continue;
                     }
                     let gd = evaluate(&w.f, &b[nt..2 * nt]);
-                    let root = quadratic_root(g, gd, bound(&w.fb, &m[nt..]));
+                    let g2 = bound(&w.fb, &m[nt..]);
+                    // The lower bound is concave: still positive a little past the
+                    // step already chosen, its root lies beyond it (no square root).
+                    let past = h * (1.0 + 1e-6);
+                    if g + past * (gd - 0.5 * g2 * past) > 0.0 {
+                        continue;
+                    }
+                    let root = quadratic_root(g, gd, g2);
                     if root <= acc.event_tol && root < h {
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;

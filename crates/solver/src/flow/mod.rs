@@ -115,7 +115,7 @@ pub fn derivatives(guard: &Guard, aug: &DMatrix<f64>, s: &DVector<f64>) -> ([f64
     let mut d = [0.0; 5];
     let mut scale = [0.0; 5];
     let (mut p, mut next, mut p_abs) = (s.clone(), s.clone(), s.clone());
-    let row_abs = guard.row.abs();
+    let row_abs = &guard.row_abs;
     for j in 0..5 {
         if j > 0 {
             aug.mul_to(&p, &mut next);

@@ -52,6 +52,8 @@ pub struct Spectral {
     dim: usize,
     clusters: Vec<Cluster>,
     terms: Vec<Term>,
+    /// Largest eigenvalue modulus (angular rate of the fastest mode).
+    fastest: f64,
 }
 
 /// The modal coefficients of one initial state: `s(u) = Σ_t Re(f_t(u) Y_t)`.
@@ -226,12 +228,18 @@ impl Spectral {
         if err.is_nan() || err > 1e-9 * scale {
             return Err(ill(format!("spectral reconstruction error {err:e}")));
         }
-        Ok(Spectral { dim, clusters, terms })
+        let fastest = terms.iter().map(|t| t.lambda.norm()).fold(0.0, f64::max);
+        Ok(Spectral { dim, clusters, terms, fastest })
     }
 
     /// Terms of the expansion, in the order used by [`Modal`] and [`Spectral::factors`].
     pub fn terms(&self) -> &[Term] {
         &self.terms
+    }
+
+    /// Largest modulus of the terms' eigenvalues (the fastest mode's rate).
+    pub fn fastest(&self) -> f64 {
+        self.fastest
     }
 
     /// Modal coefficients `Y_t = V_c N_c^j W_c s0` of an initial state.
@@ -250,21 +258,24 @@ impl Spectral {
         let mut t = 0;
         let mut d = [C64::new(0.0, 0.0); 16];
         let mut e = [C64::new(0.0, 0.0); 16];
+        let s0 = &s0[..dim];
         for c in &self.clusters {
             let k = c.v.ncols();
+            // Column-major storage: entry (r, j) of a k-row matrix is at r + j k.
+            let (w, n, v) = (c.w.as_slice(), c.n.as_slice(), c.v.as_slice());
             for (r, dr) in d.iter_mut().enumerate().take(k) {
-                *dr = (0..dim).map(|j| c.w[(r, j)] * s0[j]).sum();
+                *dr = s0.iter().enumerate().map(|(j, &x)| w[r + j * k] * x).sum();
             }
             for j in 0..c.powers {
                 if j > 0 {
                     for (r, er) in e.iter_mut().enumerate().take(k) {
-                        *er = (0..k).map(|q| c.n[(r, q)] * d[q]).sum();
+                        *er = d[..k].iter().enumerate().map(|(q, &dq)| n[r + q * k] * dq).sum();
                     }
                     d[..k].copy_from_slice(&e[..k]);
                 }
                 let row = &mut out.y[t * dim..(t + 1) * dim];
                 for (i, yi) in row.iter_mut().enumerate() {
-                    *yi = (0..k).map(|q| c.v[(i, q)] * d[q]).sum();
+                    *yi = d[..k].iter().enumerate().map(|(q, &dq)| v[i + q * dim] * dq).sum();
                 }
                 t += 1;
             }
@@ -303,10 +314,22 @@ impl Spectral {
     /// [`Spectral::factors`] at `u` and, in the same pass (one exponential per
     /// term), upper bounds of `|weight e^{μ s} s^j/j!|` over `s ∈ [u, b]`.
     pub fn factors_and_bounds(&self, u: f64, b: f64, out: &mut [C64], bounds: &mut [f64]) {
+        // The exponential of the previous term's eigenvalue: the powers of one
+        // cluster share it. A zero real or imaginary part needs no libm call
+        // (`e^0 = 1`, `sin(±0) = ±0`, `cos 0 = 1`, all exact).
+        let mut last: Option<(C64, f64, f64, f64)> = None;
         for (t, term) in self.terms.iter().enumerate() {
             let re = term.lambda.re;
-            let r = (re * u).exp();
-            let (sn, cs) = (term.lambda.im * u).sin_cos();
+            let (r, sn, cs) = match last {
+                Some((lambda, r, sn, cs)) if lambda == term.lambda => (r, sn, cs),
+                _ => {
+                    let r = if re == 0.0 { 1.0 } else { (re * u).exp() };
+                    let (sn, cs) =
+                        if term.lambda.im == 0.0 { (term.lambda.im * u, 1.0) } else { (term.lambda.im * u).sin_cos() };
+                    last = Some((term.lambda, r, sn, cs));
+                    (r, sn, cs)
+                }
+            };
             let poly = if term.power == 0 { 1.0 } else { u.powi(term.power as i32) * term.inv_factorial };
             out[t] = C64::new(r * cs, r * sn) * (term.weight * poly);
             let grow = if re > 0.0 { (re * b).exp() } else { r };
