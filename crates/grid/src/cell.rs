@@ -4,8 +4,7 @@
 
 use crate::error::GridError;
 use scene::Scene;
-use solver::section::impact_sections;
-use solver::{run_cell, Accuracy, Class, Count, Method, Symmetry, System};
+use solver::{run_cell_with_sections, Accuracy, Class, Count, Method, Symmetry, System};
 
 /// Code of a `S` (sticking) count in stored labels.
 pub const STUCK: u16 = u16::MAX;
@@ -95,8 +94,7 @@ impl CellSetup {
             Some(s) if s.len() == init.len() && (0..sys.stops.len()).all(|k| sys.model.gap(k, &s[..m]) >= -1e-9) => s,
             _ => &init,
         };
-        let cell = run_cell(&sys, &self.accuracy, self.method, y0);
-        let impact = impact_sections(&sys, &self.accuracy, self.method, &cell, self.section_cap);
+        let (cell, impact) = run_cell_with_sections(&sys, &self.accuracy, self.method, y0, self.section_cap);
         let code = |c: Count| match c {
             Count::Impacts(v) => v.min(STUCK as u32 - 1) as u16,
             Count::Stuck => STUCK,

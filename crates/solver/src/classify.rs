@@ -13,6 +13,7 @@ use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::lyapunov::{fills_closed_curve, largest_exponent};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern, Solution};
+use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, Observer, PeriodRecord, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
@@ -316,6 +317,20 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
 
 /// Simulates a cell from full state `y0` and classifies its steady motion.
 pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> CellResult {
+    run_cell_with_sections(sys, acc, method, y0, 0).0
+}
+
+/// [`run_cell`] and the impact sections of its classified window, at most
+/// `section_cap` points per stop (see [`crate::section`]). The window is simulated
+/// again with the modes the classification built.
+pub fn run_cell_with_sections(
+    sys: &System,
+    acc: &Accuracy,
+    method: Method,
+    y0: &[f64],
+    section_cap: usize,
+) -> (CellResult, Vec<Vec<Vec<f64>>>) {
+    let no_sections = || vec![Vec::new(); sys.stops.len()];
     let stops = sys.stops.len();
     let symmetric = sys.model.symmetric;
     let unresolved = |reason: String, periods: u64, events: usize, y: Vec<f64>| CellResult {
@@ -348,7 +363,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
     };
     let mut sim = match Simulator::new(sys, *acc, method, y0) {
         Ok(s) => s,
-        Err(h) => return unresolved(halt_reason(h), 0, 0, y0.to_vec()),
+        Err(h) => return (unresolved(halt_reason(h), 0, 0, y0.to_vec()), no_sections()),
     };
     let cap = 3 * acc.n_max + 1;
     let mut hist: VecDeque<PeriodRecord> = VecDeque::with_capacity(cap + 1);
@@ -369,7 +384,10 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
                     }
                     hist.push_back(rec);
                 }
-                Err(h) => return unresolved(halt_reason(h), sim.periods, sim.events, sim.y.as_slice().to_vec()),
+                Err(h) => {
+                    let y = sim.y.as_slice().to_vec();
+                    return (unresolved(halt_reason(h), sim.periods, sim.events, y), no_sections());
+                }
             }
             if (sim.periods as usize) < acc.min_transient {
                 continue;
@@ -449,7 +467,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         _ => None,
     };
     let window_start = if len > window { hist[len - window - 1].end.as_slice().to_vec() } else { y0.to_vec() };
-    CellResult {
+    let cell = CellResult {
         class,
         n: found,
         labels,
@@ -466,7 +484,15 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
         periods: sim.periods + extra_periods,
         events: sim.events + extra_events,
         reason: None,
-    }
+    };
+    let sections = if section_cap == 0 {
+        no_sections()
+    } else {
+        let mut probe = sim.probe();
+        probe.set_budget(acc.max_events);
+        record_window(&mut probe, &cell.window_start, cell.section.len(), &cell.impacts, section_cap)
+    };
+    (cell, sections)
 }
 
 /// The n-p-q label of every labelled mass of a cell of class `class` from the

@@ -45,7 +45,7 @@ pub mod stick;
 pub mod system;
 
 pub use accuracy::{Accuracy, Preset};
-pub use classify::{run_cell, CellResult, Class, Count, MassLabel, Symmetry};
+pub use classify::{run_cell, run_cell_with_sections, CellResult, Class, Count, MassLabel, Symmetry};
 pub use error::SolverError;
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;

@@ -3,14 +3,11 @@
 //! σ_II, the period section, is the state at `t = kT` (stroboscopic): the
 //! classifier keeps those points. σ_I^s, the impact section of stop s, is the
 //! state just before each impact on s, with its forcing phase `t mod T`; it is
-//! recorded by re-simulating the classified window with [`ImpactRecorder`], so
-//! nothing is stored unless asked.
+//! recorded by re-simulating the classified window with [`ImpactRecorder`]
+//! ([`record_window`], called by [`crate::classify::run_cell_with_sections`]),
+//! so nothing is stored unless asked.
 
-use crate::accuracy::Accuracy;
-use crate::classify::CellResult;
-use crate::flow::Method;
 use crate::simulate::{Observer, Simulator};
-use crate::system::System;
 use nalgebra::DVector;
 
 /// Records up to `cap` impacts per stop: `[phase, x…, v…]` just before impact.
@@ -40,25 +37,27 @@ impl Observer for ImpactRecorder {
     }
 }
 
-/// Impact sections of the classified window of `cell` (n periods when periodic,
-/// the recorded window otherwise), at most `cap` points per stop. A cell that
-/// cannot be re-simulated (unresolved) has empty sections.
-pub fn impact_sections(
-    sys: &System,
-    acc: &Accuracy,
-    method: Method,
-    cell: &CellResult,
+/// Impact sections of a window of `periods` forcing periods from full state
+/// `start` (a classified window with `impacts` impacts per stop), simulated
+/// again by `sim`, at most `cap` points per stop; empty when there is no window
+/// or it cannot be simulated. The simulation stops once every stop has all the
+/// points it will get.
+pub fn record_window(
+    sim: &mut Simulator<'_>,
+    start: &[f64],
+    periods: usize,
+    impacts: &[u32],
     cap: usize,
 ) -> Vec<Vec<Vec<f64>>> {
+    let sys = sim.system();
     let mut rec = ImpactRecorder::new(sys.stops.len(), sys.period, cap);
-    if cell.section.is_empty() {
+    if periods == 0 || sim.restart(start).is_err() {
         return rec.rows;
     }
-    if let Ok(mut sim) = Simulator::new(sys, *acc, method, &cell.window_start) {
-        for _ in 0..cell.section.len() {
-            if sim.run_period(&[], false, &mut rec).is_err() {
-                break;
-            }
+    let complete = |rec: &ImpactRecorder| rec.rows.iter().zip(impacts).all(|(r, &n)| r.len() >= cap.min(n as usize));
+    for _ in 0..periods {
+        if complete(&rec) || sim.run_period(&[], false, &mut rec).is_err() {
+            break;
         }
     }
     rec.rows
