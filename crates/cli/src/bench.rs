@@ -71,6 +71,12 @@ fn cells(a: &Atlas) -> usize {
     a.maps.iter().map(|m| m.cells.len()).sum()
 }
 
+/// Forcing periods simulated over every cell of `a` (Newton, stability and
+/// section work included).
+fn periods(a: &Atlas) -> u64 {
+    a.maps.iter().flat_map(|m| m.cells.iter().flatten()).map(|c| c.periods).sum()
+}
+
 /// Label agreement, class agreement and median state error of `m` against `reference`.
 fn compare(reference: &Atlas, m: &Atlas) -> (f64, f64, f64) {
     let pairs: Vec<_> = reference.maps[0]
@@ -147,8 +153,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
         if !a.json {
             println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
             println!(
-                "{:<18} {:>11} {:>16} {:>16} {:>19}",
-                "setting", "cells/s", "label agreement", "class agreement", "median |d state|"
+                "{:<18} {:>11} {:>16} {:>16} {:>19} {:>10} {:>12}",
+                "setting", "cells/s", "label agreement", "class agreement", "median |d state|", "periods", "us/period"
             );
         }
         for setting in SETTINGS {
@@ -159,15 +165,18 @@ pub fn run(a: BenchArgs) -> Result<()> {
             };
             let (labels, classes, median) = compare(&reference.atlas, &m.atlas);
             let rate = cells(&m.atlas) as f64 / m.secs;
+            // Work per forcing period, in thread time: what the integrator costs.
+            let total = periods(&m.atlas);
+            let per_period = 1e6 * m.secs * t as f64 / total.max(1) as f64;
             if !a.json {
                 println!(
-                    "{:<18} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e}",
+                    "{:<18} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e} {total:>10} {per_period:>12.1}",
                     setting.name,
                     100.0 * labels,
                     100.0 * classes
                 );
             }
-            trade.push(json!({"setting": setting.name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median}));
+            trade.push(json!({"setting": setting.name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median, "periods": total, "us_per_period": per_period}));
         }
         if let Some(dir) = &a.output {
             std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
