@@ -184,3 +184,12 @@ fn orbit_and_continue_bad_input() {
     expect_error(&["continue", "configs/single-stop.toml", "--axis", "nope=1:2:5"], "nope");
     expect_error(&["continue", "configs/single-stop.toml", "--axis", "omega=1:2"], "--axis");
 }
+
+/// Issue 5: `bench` rejects a grid, thread list or repeat count it cannot run.
+#[test]
+fn bench_bad_input() {
+    expect_error(&["bench", "--grid", "1"], "--grid");
+    expect_error(&["bench", "--threads", "0"], "--threads");
+    expect_error(&["bench", "--threads", "two"], "--threads");
+    expect_error(&["bench", "--repeat", "0"], "--repeat");
+}

@@ -104,3 +104,58 @@ fn trace_csv() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 5: `bench --trade --json` prints one object with every setting of the
+/// trade (each against the `precise` reference) and the throughput of both
+/// sweeps on each thread count, and draws the Pareto front.
+#[test]
+fn bench_trade_json() {
+    let dir = std::env::temp_dir().join(format!("vibroatlas-bench-{}", std::process::id()));
+    let out = run(&[
+        "bench",
+        "--grid",
+        "4",
+        "--threads",
+        "1,2",
+        "--repeat",
+        "1",
+        "--trade",
+        "--json",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["grid"], 4);
+    let trade = j["trade"].as_array().unwrap();
+    let names: Vec<&str> = trade.iter().map(|t| t["setting"].as_str().unwrap()).collect();
+    for name in ["standard", "fast", "precise", "rk4 h=0.01", "rk4 h=0.001"] {
+        assert!(names.contains(&name), "{name} missing from {names:?}");
+    }
+    for t in trade {
+        assert!(t["cells_per_s"].as_f64().unwrap() > 0.0, "{t}");
+        assert!(t["periods"].as_u64().unwrap() >= 16, "at least a period per cell: {t}");
+        assert!(t["us_per_period"].as_f64().unwrap() > 0.0, "{t}");
+        for key in ["label_agreement", "class_agreement"] {
+            let share = t[key].as_f64().unwrap();
+            assert!((0.0..=1.0).contains(&share), "{t}");
+            assert!(t["class_agreement"].as_f64().unwrap() >= t["label_agreement"].as_f64().unwrap(), "{t}");
+        }
+        assert!(t["median_state_error"].as_f64().unwrap() >= 0.0);
+    }
+    let precise = trade.iter().find(|t| t["setting"] == "precise").unwrap();
+    assert_eq!(precise["label_agreement"], 1.0);
+    assert_eq!(precise["median_state_error"], 0.0);
+    let throughput = j["throughput"].as_array().unwrap();
+    assert_eq!(throughput.len(), 4, "fresh and both on 1 and 2 threads: {throughput:?}");
+    for (t, (sweep, threads, cells)) in
+        throughput.iter().zip([("fresh", 1, 16), ("fresh", 2, 16), ("both", 1, 32), ("both", 2, 32)])
+    {
+        assert_eq!(t["sweep"], sweep);
+        assert_eq!(t["threads"], threads);
+        assert_eq!(t["cells"], cells);
+        assert!(t["efficiency"].as_f64().unwrap() > 0.0);
+    }
+    assert!(std::fs::metadata(dir.join("trade.png")).unwrap().len() > 1000);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
