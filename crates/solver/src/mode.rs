@@ -117,6 +117,10 @@ pub struct Mode {
     pub spectral: Spectral,
     /// Event guards.
     pub guards: Vec<Guard>,
+    /// `P = ∂s/∂y`, see [`Mode::project_matrix`].
+    project_matrix: DMatrix<f64>,
+    /// `L`, see [`Mode::lift_matrix`].
+    lift_matrix: DMatrix<f64>,
     /// Per term of the spectral expansion, `L · V N^j W · P` (built on first use
     /// by tangent tracking).
     tangent_terms: OnceLock<Vec<DMatrix<C64>>>,
@@ -274,6 +278,16 @@ impl Mode {
         }
         let spectral = Spectral::new(&aug, sys.period)?;
         let frozen = g.rows(hs, hf).into_owned();
+        // The linear maps between full and augmented states.
+        let mut project_matrix = DMatrix::zeros(dim, 2 * m);
+        project_matrix.view_mut((0, 0), (r, m)).copy_from(&basis.transpose());
+        project_matrix.view_mut((r, m), (r, m)).copy_from(&basis.transpose());
+        project_matrix.view_mut((2 * r, 0), (hf, m)).copy_from(&frozen);
+        let mut lift_matrix = DMatrix::zeros(2 * m, dim);
+        lift_matrix.view_mut((0, 0), (m, r)).copy_from(&basis);
+        lift_matrix.view_mut((m, r), (m, r)).copy_from(&basis);
+        lift_matrix.view_mut((0, 2 * r), (m, hf)).copy_from(&spread);
+        lift_matrix.view_mut((0, one), (m, 1)).copy_from(&offset);
         Ok(Some(Mode {
             key,
             locked,
@@ -284,6 +298,8 @@ impl Mode {
             aug,
             spectral,
             guards,
+            project_matrix,
+            lift_matrix,
             tangent_terms: OnceLock::new(),
         }))
     }
@@ -327,29 +343,13 @@ impl Mode {
 
     /// The linear map `y ↦ s` of [`Mode::project`] without its constant rows
     /// (`sin φ`, `cos φ`, `1` do not depend on `y`): `∂s/∂y`.
-    pub fn project_matrix(&self) -> DMatrix<f64> {
-        let m = self.basis.nrows();
-        let r = self.basis.ncols();
-        let hf = self.frozen.nrows();
-        let mut p = DMatrix::zeros(2 * r + hf + 3, 2 * m);
-        p.view_mut((0, 0), (r, m)).copy_from(&self.basis.transpose());
-        p.view_mut((r, m), (r, m)).copy_from(&self.basis.transpose());
-        p.view_mut((2 * r, 0), (hf, m)).copy_from(&self.frozen);
-        p
+    pub fn project_matrix(&self) -> &DMatrix<f64> {
+        &self.project_matrix
     }
 
     /// The linear map `s ↦ y` of [`Mode::lift`] (with `x_c` as the column of `1`).
-    pub fn lift_matrix(&self) -> DMatrix<f64> {
-        let m = self.basis.nrows();
-        let r = self.basis.ncols();
-        let hf = self.frozen.nrows();
-        let dim = 2 * r + hf + 3;
-        let mut l = DMatrix::zeros(2 * m, dim);
-        l.view_mut((0, 0), (m, r)).copy_from(&self.basis);
-        l.view_mut((m, r), (m, r)).copy_from(&self.basis);
-        l.view_mut((0, 2 * r), (m, hf)).copy_from(&self.spread);
-        l.view_mut((0, dim - 1), (m, 1)).copy_from(&self.offset);
-        l
+    pub fn lift_matrix(&self) -> &DMatrix<f64> {
+        &self.lift_matrix
     }
 
     /// State-transition matrix `∂y(h)/∂y(0) = L e^{Â h} P` of a flow segment of
@@ -383,7 +383,7 @@ impl Mode {
         let m = self.basis.nrows();
         let r = self.basis.ncols();
         let hf = self.frozen.nrows();
-        if self.key.held == 0 && hf == 0 {
+        if !self.key.constrained() {
             y.copy_from(&s.rows(0, 2 * m));
             return;
         }

@@ -218,7 +218,9 @@ impl<'s> Simulator<'s> {
         if self.key.constrained() {
             let phase = self.phase();
             let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
-            self.y = mode.lift(&mode.project(&self.y, phase));
+            let start = &mut self.buffers.start;
+            mode.project_into(&self.y, phase, start);
+            mode.lift_into(start, &mut self.y);
         }
         Ok(())
     }
@@ -302,10 +304,9 @@ impl<'s> Simulator<'s> {
                     // Flow to the event, and what the saltation needs from before it.
                     let before = self.tangent.is_some().then(|| {
                         let rate = &mode.aug * state;
-                        let lift = mode.lift_matrix();
                         (
                             mode.transition(time),
-                            &lift * &rate,
+                            mode.lift_matrix() * &rate,
                             mode.project_matrix().transpose() * &g.row,
                             g.row.dot(&rate),
                         )

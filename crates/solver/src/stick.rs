@@ -140,16 +140,14 @@ pub fn settle(
                 let Some(mode) = cache.get(sys, key)? else { continue };
                 // A gap of a stop that is no candidate needs no check: free flight
                 // away from every stop is consistent without projecting.
-                let unchecked = |g: &Guard| g.kind == GuardKind::Gap && cand & (1 << g.stop) == 0;
-                if mode.guards.iter().all(unchecked) {
-                    return Ok(key);
-                }
-                let s = mode.project(y, phase);
-                let consistent = mode.guards.iter().all(|g| match g.kind {
-                    GuardKind::Reaction | GuardKind::Grip => !releasing(mode, acc, g, &s),
-                    GuardKind::Gap => cand & (1 << g.stop) == 0 || start(mode, acc, g, &s) != Start::Approaching,
-                    GuardKind::Slip => start(mode, acc, g, &s) != Start::Approaching,
-                });
+                let checked = |g: &&Guard| !(g.kind == GuardKind::Gap && cand & (1 << g.stop) == 0);
+                let consistent = !mode.guards.iter().any(|g| checked(&g)) || {
+                    let s = mode.project(y, phase);
+                    mode.guards.iter().filter(checked).all(|g| match g.kind {
+                        GuardKind::Reaction | GuardKind::Grip => !releasing(mode, acc, g, &s),
+                        GuardKind::Gap | GuardKind::Slip => start(mode, acc, g, &s) != Start::Approaching,
+                    })
+                };
                 if consistent {
                     return Ok(key);
                 }

@@ -169,15 +169,8 @@ pub fn advance(
         for (m2, x) in m[nt..].iter_mut().zip(&b[2 * nt..3 * nt]) {
             *m2 = x.l1_norm();
         }
-        // The constant terms' factors are their weights at every time.
-        let constant: f64 = (0..nt)
-            .filter(|&t| terms[t].constant)
-            .map(|t| {
-                let f = C64::new(terms[t].weight, 0.0);
-                f.re * b[t].re - f.im * b[t].im
-            })
-            .sum();
-        w.constant.push(constant);
+        // The constant terms' factors are their (real) weights at every time.
+        w.constant.push((0..nt).filter(|&t| terms[t].constant).map(|t| terms[t].weight * b[t].re).sum());
         let magnitude = g.row_abs.dot(&w.start_abs);
         w.magnitude.push(magnitude);
         w.zero.push(value_tol(acc, g.kind.is_gap(), magnitude));

@@ -55,6 +55,12 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out
         }
     }
 
+    // A stage's state `s + c k` at the forcing `f` of its time.
+    let stage = |tmp: &mut DVector<f64>, s: &DVector<f64>, c: f64, k: &DVector<f64>, f: (f64, f64)| {
+        tmp.copy_from(s);
+        tmp.axpy(c, k, 1.0);
+        set(tmp, f);
+    };
     let mut s = s0.clone();
     let zero = || DVector::zeros(dim);
     let (mut k1, mut k2, mut k3, mut k4, mut tmp, mut next) = (zero(), zero(), zero(), zero(), zero(), zero());
@@ -70,17 +76,11 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out
         let t_next = if hh >= remaining { horizon } else { u + hh };
         let (mid, end) = (forcing(u + hh / 2.0), forcing(t_next));
         deriv(&s, &mut k1);
-        tmp.copy_from(&s);
-        tmp.axpy(hh / 2.0, &k1, 1.0);
-        set(&mut tmp, mid);
+        stage(&mut tmp, &s, hh / 2.0, &k1, mid);
         deriv(&tmp, &mut k2);
-        tmp.copy_from(&s);
-        tmp.axpy(hh / 2.0, &k2, 1.0);
-        set(&mut tmp, mid);
+        stage(&mut tmp, &s, hh / 2.0, &k2, mid);
         deriv(&tmp, &mut k3);
-        tmp.copy_from(&s);
-        tmp.axpy(hh, &k3, 1.0);
-        set(&mut tmp, end);
+        stage(&mut tmp, &s, hh, &k3, end);
         deriv(&tmp, &mut k4);
         for i in 0..dim {
             next[i] = s[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (hh / 6.0);
