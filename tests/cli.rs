@@ -136,6 +136,8 @@ fn bench_trade_json() {
         assert!(t["cells_per_s"].as_f64().unwrap() > 0.0, "{t}");
         assert!(t["periods"].as_u64().unwrap() >= 16, "at least a period per cell: {t}");
         assert!(t["us_per_period"].as_f64().unwrap() > 0.0, "{t}");
+        assert!(t["nonperiodic_periods"].as_u64().unwrap() <= t["periods"].as_u64().unwrap(), "{t}");
+        assert!(t["speedup_vs_rk4"].as_f64().unwrap() > 0.0, "{t}");
         for key in ["label_agreement", "class_agreement"] {
             let share = t[key].as_f64().unwrap();
             assert!((0.0..=1.0).contains(&share), "{t}");
@@ -146,6 +148,11 @@ fn bench_trade_json() {
     let precise = trade.iter().find(|t| t["setting"] == "precise").unwrap();
     assert_eq!(precise["label_agreement"], 1.0);
     assert_eq!(precise["median_state_error"], 0.0);
+    let rk4 = trade.iter().find(|t| t["setting"] == "rk4 h=0.01").unwrap();
+    assert_eq!(rk4["speedup_vs_rk4"], 1.0);
+    let standard = trade.iter().find(|t| t["setting"] == "standard").unwrap();
+    let ratio = standard["cells_per_s"].as_f64().unwrap() / rk4["cells_per_s"].as_f64().unwrap();
+    assert!((standard["speedup_vs_rk4"].as_f64().unwrap() - ratio).abs() <= 1e-12 * ratio);
     let throughput = j["throughput"].as_array().unwrap();
     assert_eq!(throughput.len(), 4, "fresh and both on 1 and 2 threads: {throughput:?}");
     for (t, (sweep, threads, cells)) in

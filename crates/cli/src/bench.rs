@@ -9,7 +9,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
 use serde_json::{json, Value};
-use solver::{Accuracy, Method, Preset};
+use solver::{Accuracy, Class, Method, Preset};
 
 /// The reference scene, shipped with the binary.
 const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
@@ -76,6 +76,15 @@ fn cells(a: &Atlas) -> usize {
 fn periods(a: &Atlas) -> u64 {
     a.maps.iter().flat_map(|m| m.cells.iter().flatten()).map(|c| c.periods).sum()
 }
+
+/// Forcing periods simulated over the cells of `a` without a period (chaotic,
+/// quasi-periodic, unresolved): the records every method must simulate in full.
+fn periods_without_period(a: &Atlas) -> u64 {
+    a.maps.iter().flat_map(|m| m.cells.iter().flatten()).filter(|c| c.class != Class::Periodic).map(|c| c.periods).sum()
+}
+
+/// The setting all others are compared with for speed: the literature's method.
+const RK4_BASELINE: &str = "rk4 h=0.01";
 
 /// Label agreement, class agreement and median state error of `m` against `reference`.
 fn compare(reference: &Atlas, m: &Atlas) -> (f64, f64, f64) {
@@ -153,8 +162,15 @@ pub fn run(a: BenchArgs) -> Result<()> {
         if !a.json {
             println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
             println!(
-                "{:<18} {:>11} {:>16} {:>16} {:>19} {:>10} {:>12}",
-                "setting", "cells/s", "label agreement", "class agreement", "median |d state|", "periods", "us/period"
+                "{:<18} {:>11} {:>16} {:>16} {:>19} {:>10} {:>12} {:>17}",
+                "setting",
+                "cells/s",
+                "label agreement",
+                "class agreement",
+                "median |d state|",
+                "periods",
+                "us/period",
+                "no-period share"
             );
         }
         for setting in SETTINGS {
@@ -168,15 +184,38 @@ pub fn run(a: BenchArgs) -> Result<()> {
             // Work per forcing period, in thread time: what the integrator costs.
             let total = periods(&m.atlas);
             let per_period = 1e6 * m.secs * t as f64 / total.max(1) as f64;
+            let without = periods_without_period(&m.atlas);
             if !a.json {
                 println!(
-                    "{:<18} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e} {total:>10} {per_period:>12.1}",
+                    "{:<18} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e} {total:>10} {per_period:>12.1} {:>16.1}%",
                     setting.name,
                     100.0 * labels,
-                    100.0 * classes
+                    100.0 * classes,
+                    100.0 * without as f64 / total.max(1) as f64
                 );
             }
-            trade.push(json!({"setting": setting.name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median, "periods": total, "us_per_period": per_period}));
+            trade.push(json!({"setting": setting.name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median, "periods": total, "us_per_period": per_period, "nonperiodic_periods": without}));
+        }
+        // Speed of every setting against the literature's method.
+        let baseline = trade.iter().find(|r| r["setting"] == RK4_BASELINE).and_then(|r| r["cells_per_s"].as_f64());
+        if let Some(base) = baseline {
+            for row in &mut trade {
+                let speedup = row["cells_per_s"].as_f64().unwrap_or(0.0) / base;
+                row["speedup_vs_rk4"] = json!(speedup);
+            }
+            if !a.json {
+                let ratios: Vec<String> = trade
+                    .iter()
+                    .map(|r| {
+                        format!(
+                            "{} {:.1}x",
+                            r["setting"].as_str().unwrap_or(""),
+                            r["speedup_vs_rk4"].as_f64().unwrap_or(0.0)
+                        )
+                    })
+                    .collect();
+                println!("cells/s against {RK4_BASELINE}: {}", ratios.join(", "));
+            }
         }
         if let Some(dir) = &a.output {
             std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
