@@ -124,6 +124,9 @@ pub fn run(a: BenchArgs) -> Result<()> {
         None => REFERENCE_SCENE.to_string(),
     };
     let scene = Scene::parse(&text).map_err(|e| anyhow!("scene: {e}"))?;
+    for name in ["omega", "delta"] {
+        scene.check_parameter(name, "--scene").map_err(|e| anyhow!("{e} (bench maps the omega-delta plane)"))?;
+    }
     let n = a.grid;
     let plane = Plane::new(
         Axis::parse(&format!("omega=0.1:3.05:{n}"), "--grid")?,
