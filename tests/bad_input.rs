@@ -192,6 +192,7 @@ fn bench_bad_input() {
     expect_error(&["bench", "--threads", "0"], "--threads");
     expect_error(&["bench", "--threads", "two"], "--threads");
     expect_error(&["bench", "--repeat", "0"], "--repeat");
+    expect_error(&["bench", "--trade", "--trade-repeat", "0"], "--trade-repeat");
     // The dry-friction scene has no clearance delta: bench's plane is omega-delta.
     expect_error(&["bench", "--grid", "2", "--scene", "configs/dry-friction.toml"], "--scene");
 }
