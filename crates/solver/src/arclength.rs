@@ -171,6 +171,39 @@ fn bisect(
     best
 }
 
+/// Where the impact pattern of `like` (at `z`, tangent `t`) changes within a
+/// step `ds` along `t`: bisection on whether the corrector keeps the pattern.
+/// The parameter value and the last orbit that kept it.
+fn locate_grazing(
+    family: &Family,
+    acc: &Accuracy,
+    like: &Orbit,
+    z: &DVector<f64>,
+    t: &DVector<f64>,
+    ds: f64,
+) -> (f64, Orbit) {
+    let d = z.len() - 1;
+    let (mut inside, mut outside) = (0.0f64, ds);
+    let (mut v, mut o) = (z[d], like.clone());
+    for _ in 0..60 {
+        if (outside - inside) * t[d].abs() <= PARAM_TOL * (1.0 + v.abs()) {
+            break;
+        }
+        let mid = 0.5 * (inside + outside);
+        let kept = correct(family, acc, like, &(z + t * mid), t)
+            .ok()
+            .and_then(|(zm, lm, it)| Some((zm[d], orbit_at(family, acc, like, &zm, &lm, it)?)));
+        match kept {
+            Some(found) => {
+                inside = mid;
+                (v, o) = found;
+            }
+            None => outside = mid,
+        }
+    }
+    (v, o)
+}
+
 /// Follows `start` (the orbit at `values[0]`) by pseudo-arclength across the
 /// range of `values`, with their spacing as the largest step, for at most 20
 /// times as many points.
@@ -237,27 +270,8 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
             }
             Err(why) => {
                 if why == Failure::Pattern {
-                    // The event sequence changes within this smallest step: grazing,
-                    // located by bisection on whether the corrector keeps the pattern.
-                    let (mut inside, mut outside) = (0.0f64, ds);
-                    let (mut v, mut o) = (z[d], orbit.clone());
-                    for _ in 0..60 {
-                        if (outside - inside) * t[d].abs() <= PARAM_TOL * (1.0 + v.abs()) {
-                            break;
-                        }
-                        let mid = 0.5 * (inside + outside);
-                        let anchor = &z + &t * mid;
-                        match correct(family, acc, &orbit, &anchor, &t) {
-                            Ok((zm, lm, it)) => match orbit_at(family, acc, &orbit, &zm, &lm, it) {
-                                Some(om) => {
-                                    inside = mid;
-                                    (v, o) = (zm[d], om);
-                                }
-                                None => outside = mid,
-                            },
-                            Err(_) => outside = mid,
-                        }
-                    }
+                    // The event sequence changes within this smallest step: grazing.
+                    let (v, o) = locate_grazing(family, acc, &orbit, &z, &t, ds);
                     branch.bifurcations.push(Located::new(Bifurcation::Grazing, v, &o, leading(&o)));
                     branch.ended = Some(format!("the impact pattern changes at {v:.9} (grazing)"));
                 } else {
