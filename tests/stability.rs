@@ -108,6 +108,32 @@ fn lyapunov_exponent_of_a_periodic_orbit() {
     }
 }
 
+/// Issue 5: the early look of `chaos_check` ends the record of a chaotic cell
+/// at a third of the periods, with the same class and a positive exponent, and
+/// leaves a cell that settles only after it (a slow periodic transient) exactly
+/// as it was: the look runs on a copy of the trajectory.
+#[test]
+fn chaos_check_ends_chaotic_records_only() {
+    let run = |omega: f64, delta: f64, check: usize| {
+        let sys = system("multi-stop.toml", &[("omega", omega), ("delta", delta)]);
+        let acc = Accuracy { chaos_check: check, ..Accuracy::default() };
+        (solver::run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state()), sys.period)
+    };
+    for (omega, delta) in [(1.05, 0.05), (1.1, 0.2)] {
+        let ((full, period), (early, _)) = (run(omega, delta, 0), run(omega, delta, 100));
+        for c in [&full, &early] {
+            assert_eq!(c.class, solver::Class::Chaotic, "ω {omega}, δ {delta}");
+            assert!(c.lyapunov.unwrap() * period > 0.05, "ω {omega}: λ {:?}", c.lyapunov);
+        }
+        assert!(full.periods > 600 && early.periods < 300, "ω {omega}: {} and {} periods", full.periods, early.periods);
+    }
+    let ((full, _), (early, _)) = (run(0.98, 0.34, 0), run(0.98, 0.34, 100));
+    assert_eq!(full.n, Some(4));
+    // The early look happened (its tangent periods are counted) and changed nothing else.
+    assert!(early.periods >= full.periods + 100, "{} against {} periods", early.periods, full.periods);
+    assert_eq!((&early.labels, &early.final_state, &early.impacts), (&full.labels, &full.final_state, &full.impacts));
+}
+
 /// Issue 6: the Newton fixed point (from a perturbed start, also valid for an
 /// orbit simulation reaches only slowly) reproduces the impact phases of the
 /// orbit reached by long plain simulation, to 1e-10.

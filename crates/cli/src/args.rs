@@ -50,7 +50,7 @@ pub struct SimArgs {
     /// Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable).
     /// Knobs: event_tol, contact_tol, stick_velocity, chatter_velocity,
     /// min_transient, max_periods, periodic_tol, n_max, chatter_impacts,
-    /// max_events, newton, lyapunov_periods, extensions, multipliers, rk4_step,
+    /// max_events, newton, lyapunov_periods, chaos_check, extensions, multipliers, rk4_step,
     /// rk4_min_step.
     #[arg(long = "accuracy", value_name = "KNOB=VALUE")]
     pub accuracy: Vec<String>,

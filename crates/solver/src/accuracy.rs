@@ -75,6 +75,13 @@ pub struct Accuracy {
     /// period is measured (standard 100; 0 skips it and leaves such cells `C`).
     /// Costs about as much as that many periods of simulation, with tangents.
     pub lyapunov_periods: usize,
+    /// Periods after which a cell without a period has its largest Lyapunov
+    /// exponent measured early (0: off, every preset). A clearly chaotic cell
+    /// (`λT > 0.05`) ends there as `C` instead of simulating the rest of
+    /// `max_periods`; any other goes on. Saves most of the record of chaotic
+    /// cells and costs one more Lyapunov measurement on slow transients; a
+    /// chaotic transient that would settle on an orbit later stays `C`.
+    pub chaos_check: usize,
     /// Times the record of a cell without a period is extended by `max_periods`
     /// when its largest Lyapunov exponent shows it still contracting (a long
     /// transient, `λT < -0.002`): standard and precise 4, fast 1. Costs only on
@@ -105,6 +112,7 @@ impl Accuracy {
             max_events: 400_000,
             newton: true,
             lyapunov_periods: 100,
+            chaos_check: 0,
             extensions: 4,
             multipliers: true,
             rk4_step: 0.01,
@@ -187,6 +195,7 @@ impl Accuracy {
             "multipliers" => self.multipliers = switch()?,
             "extensions" => self.extensions = whole()?,
             "lyapunov_periods" => self.lyapunov_periods = whole()?,
+            "chaos_check" => self.chaos_check = whole()?,
             "rk4_step" => self.rk4_step = positive()?,
             "rk4_min_step" => self.rk4_min_step = positive()?,
             _ => return Err(err("unknown accuracy knob")),

@@ -112,6 +112,11 @@ const LYAPUNOV_WARMUP: usize = 10;
 /// long transient, whose record is extended (see `Accuracy::extensions`).
 const CONTRACTING_EXPONENT: f64 = 2e-3;
 
+/// Smallest `λ T` at which the early look of `Accuracy::chaos_check` ends a
+/// record as chaotic: five times the quasi-periodic band, so that a torus or a
+/// weakly chaotic motion gets the whole record.
+const CHAOTIC_EXPONENT: f64 = 0.05;
+
 /// Largest `|λ T|` (growth per forcing period) of a quasi-periodic motion: a
 /// torus has `λ = 0`, and a finite average over 100 periods stays within this.
 pub const QUASIPERIODIC_EXPONENT: f64 = 0.01;
@@ -370,8 +375,10 @@ pub fn run_cell_with_sections(
     let mut found = None;
     let mut newton = Newton::default();
     // A record that ends without a period but still contracts (negative largest
-    // Lyapunov exponent) is a long transient: it is extended.
-    let mut limit = acc.max_periods;
+    // Lyapunov exponent) is a long transient: it is extended. With an early look
+    // (`chaos_check`), a clearly chaotic record ends there.
+    let mut early_look = acc.chaos_check > 0 && acc.chaos_check < acc.max_periods && acc.lyapunov_periods > 0;
+    let mut limit = if early_look { acc.chaos_check } else { acc.max_periods };
     let mut extensions = 0;
     let mut exponent: Option<(f64, Vec<DVector<f64>>)> = None;
     let mut tangent_work = (0u64, 0usize);
@@ -414,6 +421,14 @@ pub fn run_cell_with_sections(
         tangent.set_budget(acc.max_events.saturating_sub(spent));
         exponent = largest_exponent(&mut tangent, LYAPUNOV_WARMUP, acc.lyapunov_periods).ok();
         tangent_work = (tangent_work.0 + tangent.periods, tangent_work.1 + tangent.events);
+        if early_look {
+            early_look = false;
+            if exponent.as_ref().is_some_and(|(l, _)| l * sys.period > CHAOTIC_EXPONENT) {
+                break;
+            }
+            limit = acc.max_periods;
+            continue;
+        }
         let contracting = exponent.as_ref().is_some_and(|(l, _)| l * sys.period < -CONTRACTING_EXPONENT);
         if !(contracting && extensions < acc.extensions) {
             break;
