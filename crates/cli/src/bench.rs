@@ -15,36 +15,52 @@ use solver::{Accuracy, Class, Method, Preset};
 /// The reference scene, shipped with the binary.
 const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
 
-/// A setting of the trade: preset, integrator, and for RK4 its step and
-/// whether Newton acceleration is on.
+/// A setting of the trade: preset, integrator, and the accuracy knobs it
+/// overrides.
 #[derive(Clone, Copy)]
 struct Setting {
     name: &'static str,
     preset: Preset,
     method: Method,
-    rk4: Option<(f64, bool)>,
+    knobs: &'static [(&'static str, f64)],
 }
 
 /// The exact solver at the default preset.
-const STANDARD: Setting = Setting { name: "standard", preset: Preset::Standard, method: Method::Exact, rk4: None };
+const STANDARD: Setting = Setting { name: "standard", preset: Preset::Standard, method: Method::Exact, knobs: &[] };
 
 /// The reference of the trade.
-const PRECISE: Setting = Setting { name: "precise", preset: Preset::Precise, method: Method::Exact, rk4: None };
+const PRECISE: Setting = Setting { name: "precise", preset: Preset::Precise, method: Method::Exact, knobs: &[] };
 
 /// The literature's method, the setting all others are compared with for speed.
-const RK4: Setting =
-    Setting { name: "rk4 h=0.01", preset: Preset::Standard, method: Method::Rk4, rk4: Some((0.01, false)) };
+const RK4: Setting = Setting {
+    name: "rk4 h=0.01",
+    preset: Preset::Standard,
+    method: Method::Rk4,
+    knobs: &[("rk4_step", 0.01), ("newton", 0.0)],
+};
 
 /// Settings of the trade, in table order. The RK4 rows are the literature's
 /// method: RK4 with step-back refinement and a plainly simulated transient
 /// (standard tolerances, no Newton); the last row shows what Newton adds to RK4.
-const SETTINGS: [Setting; 6] = [
-    Setting { name: "fast", preset: Preset::Fast, method: Method::Exact, rk4: None },
+/// `standard chaos_check=100` is the opt-in early end of chaotic records.
+const SETTINGS: [Setting; 7] = [
+    Setting { name: "fast", preset: Preset::Fast, method: Method::Exact, knobs: &[] },
     STANDARD,
+    Setting {
+        name: "standard chaos_check=100",
+        preset: Preset::Standard,
+        method: Method::Exact,
+        knobs: &[("chaos_check", 100.0)],
+    },
     PRECISE,
     RK4,
-    Setting { name: "rk4 h=0.001", preset: Preset::Standard, method: Method::Rk4, rk4: Some((0.001, false)) },
-    Setting { name: "rk4 h=0.01 newton", preset: Preset::Standard, method: Method::Rk4, rk4: Some((0.01, true)) },
+    Setting {
+        name: "rk4 h=0.001",
+        preset: Preset::Standard,
+        method: Method::Rk4,
+        knobs: &[("rk4_step", 0.001), ("newton", 0.0)],
+    },
+    Setting { name: "rk4 h=0.01 newton", preset: Preset::Standard, method: Method::Rk4, knobs: &[("rk4_step", 0.01)] },
 ];
 
 struct Measured {
@@ -54,9 +70,8 @@ struct Measured {
 
 fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
     let mut accuracy = Accuracy::preset(setting.preset);
-    if let Some((h, newton)) = setting.rk4 {
-        accuracy.rk4_step = h;
-        accuracy.newton = newton;
+    for &(knob, value) in setting.knobs {
+        accuracy.set(knob, value)?;
     }
     let s = Setup {
         scene: scene.clone(),
@@ -186,7 +201,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         if !a.json {
             println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
             println!(
-                "{:<18} {:>11} {:>16} {:>16} {:>19} {:>10} {:>12} {:>17}",
+                "{:<24} {:>11} {:>16} {:>16} {:>19} {:>10} {:>12} {:>17}",
                 "setting",
                 "cells/s",
                 "label agreement",
@@ -212,7 +227,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             let without = periods(&m.atlas, |c| c != Class::Periodic);
             if !a.json {
                 println!(
-                    "{:<18} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e} {total:>10} {per_period:>12.1} {:>16.1}%",
+                    "{:<24} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e} {total:>10} {per_period:>12.1} {:>16.1}%",
                     setting.name,
                     100.0 * labels,
                     100.0 * classes,
