@@ -1,6 +1,7 @@
 //! The speed/accuracy trade as a picture: label agreement with the `precise`
 //! reference against cells per second (log scale), one point per setting; the
-//! settings that no other beats in both are joined as the Pareto front.
+//! settings that no other beats in both are joined as the Pareto front, and a
+//! legend beside the chart names each setting's colour.
 
 use crate::{err, font, RenderError};
 use plotters::prelude::*;
@@ -11,15 +12,20 @@ pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderErr
     font::ensure()?;
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let (lo, hi) = if lo.is_finite() && hi > 0.0 { (lo / 2.0, hi * 2.0) } else { (1.0, 10.0) };
+    // Agreement axis from a little below the worst setting to just above 1, so
+    // that settings a few cells apart are told apart.
     let amin = points.iter().map(|p| p.2).fold(1.0f64, f64::min);
-    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+    let bottom = (amin - (0.5 * (1.0 - amin)).max(0.002)).max(0.0);
+    let top = 1.0 + 0.1 * (1.0 - bottom);
+    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let mut chart = ChartBuilder::on(&root)
+    let (plot, legend) = root.split_horizontally(780);
+    let mut chart = ChartBuilder::on(&plot)
         .caption("speed / accuracy trade (reference: precise)", ("sans-serif", 22))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(70)
-        .build_cartesian_2d((lo..hi).log_scale(), (amin - 0.05).max(0.0)..1.01)
+        .build_cartesian_2d((lo..hi).log_scale(), bottom..top)
         .map_err(err)?;
     chart
         .configure_mesh()
@@ -36,11 +42,14 @@ pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderErr
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));
     chart.draw_series(LineSeries::new(front, BLUE.stroke_width(2))).map_err(err)?;
-    for (name, rate, agree) in points {
-        chart.draw_series(std::iter::once(Circle::new((*rate, *agree), 6, RED.filled()))).map_err(err)?;
-        chart
-            .draw_series(std::iter::once(Text::new(name.clone(), (*rate, *agree), ("sans-serif", 15).into_font())))
-            .map_err(err)?;
+    // Settings close in both speed and agreement would overlap as text: each
+    // gets its own colour, named in the legend beside the chart.
+    for (i, (name, rate, agree)) in points.iter().enumerate() {
+        let color = Palette99::pick(i).to_rgba();
+        chart.draw_series(std::iter::once(Circle::new((*rate, *agree), 6, color.filled()))).map_err(err)?;
+        let y = 60 + 26 * i as i32;
+        legend.draw(&Circle::new((12, y), 6, color.filled())).map_err(err)?;
+        legend.draw(&Text::new(name.clone(), (26, y - 8), ("sans-serif", 15).into_font())).map_err(err)?;
     }
     root.present().map_err(err)
 }
