@@ -81,6 +81,8 @@ fn bad_options() {
     expect_error(&["cell", "configs/multi-stop.toml", "--preset", "quick"], "--preset");
     expect_error(&["cell", "configs/multi-stop.toml", "--integrator", "euler"], "--integrator");
     expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "n_max=0"], "n_max");
+    expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "chaos_check=2.5"], "chaos_check");
+    expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "chaos_check=-1"], "chaos_check");
     expect_error(&["cell", "configs/missing.toml"], "configs/missing.toml");
     expect_error(&["cell", "configs/multi-stop.toml", "--trace", "/nonexistent-dir/t.csv"], "/nonexistent-dir/t.csv");
 }
