@@ -5,8 +5,11 @@
 //! equal the point `n` periods earlier (within `periodic_tol`), with the same
 //! impacts per stop, is the period. Then `p`, `q` are the impacts of each mass
 //! at its p-stop and q-stop over those n periods (`S` where the mass sticks to the
-//! stop). No period within `max_periods`: class `chaotic`, label `C`. A cell that
-//! exhausts its event budget or stalls is `unresolved`, label `U`.
+//! stop). No period within `max_periods`: the largest Lyapunov exponent tells a
+//! long transient (contracting: the record is extended), a torus (`Q`) and chaos
+//! (class `chaotic`, label `C`); with `chaos_check` it is measured early too, and
+//! a clearly chaotic record ends there. A cell that exhausts its event budget or
+//! stalls is `unresolved`, label `U`.
 
 use crate::accuracy::Accuracy;
 use crate::floquet::{multipliers, spectral_radius};
