@@ -323,6 +323,46 @@ fn contracting_pattern(h: &VecDeque<PeriodRecord>, acc: &Accuracy) -> Option<(us
     Some((n, h.iter().skip(len - n).map(|r| r.impacts.clone()).collect(), e1 / (1.0 - rho), rho))
 }
 
+/// Period records kept: enough to test every period up to `n_max` and the
+/// 3n-period pattern Newton acceleration needs.
+fn history_len(acc: &Accuracy) -> usize {
+    3 * acc.n_max + 1
+}
+
+/// Simulates periods into `hist` until its section repeats (the period n,
+/// returned) or `limit` periods in all are simulated (`None`), with Newton
+/// acceleration of slowly contracting patterns on the way.
+fn record<'s>(
+    sim: &mut Simulator<'s>,
+    hist: &mut VecDeque<PeriodRecord>,
+    newton: &mut Newton<'s>,
+    limit: usize,
+    acc: &Accuracy,
+    symmetric: bool,
+) -> Result<Option<usize>, Halt> {
+    while (sim.periods as usize) < limit {
+        let rec = sim.run_period(&[], symmetric, &mut Ignore)?;
+        if hist.len() == history_len(acc) {
+            hist.pop_front();
+        }
+        hist.push_back(rec);
+        if (sim.periods as usize) < acc.min_transient {
+            continue;
+        }
+        if let Some(n) = detect(hist, acc) {
+            return Ok(Some(n));
+        }
+        if acc.newton && newton.tries < 3 && sim.periods >= newton.next {
+            if let Some(x) = newton.step(sim, hist, acc) {
+                if sim.restart(x.as_slice()).is_ok() {
+                    hist.clear();
+                }
+            }
+        }
+    }
+    Ok(None)
+}
+
 /// Simulates a cell from full state `y0` and classifies its steady motion.
 pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> CellResult {
     run_cell_with_sections(sys, acc, method, y0, 0).0
@@ -373,8 +413,7 @@ pub fn run_cell_with_sections(
         Ok(s) => s,
         Err(h) => return (unresolved(halt_reason(h), 0, 0, y0.to_vec()), no_sections()),
     };
-    let cap = 3 * acc.n_max + 1;
-    let mut hist: VecDeque<PeriodRecord> = VecDeque::with_capacity(cap + 1);
+    let mut hist: VecDeque<PeriodRecord> = VecDeque::with_capacity(history_len(acc) + 1);
     let mut found = None;
     let mut newton = Newton::default();
     // A record that ends without a period but still contracts (negative largest
@@ -386,35 +425,18 @@ pub fn run_cell_with_sections(
     let mut exponent: Option<(f64, Vec<DVector<f64>>)> = None;
     let mut tangent_work = (0u64, 0usize);
     loop {
-        while (sim.periods as usize) < limit {
-            match sim.run_period(&[], symmetric, &mut Ignore) {
-                Ok(rec) => {
-                    if hist.len() == cap {
-                        hist.pop_front();
-                    }
-                    hist.push_back(rec);
-                }
-                Err(h) => {
-                    let y = sim.y.as_slice().to_vec();
-                    return (unresolved(halt_reason(h), sim.periods, sim.events, y), no_sections());
-                }
-            }
-            if (sim.periods as usize) < acc.min_transient {
-                continue;
-            }
-            if let Some(n) = detect(&hist, acc) {
+        match record(&mut sim, &mut hist, &mut newton, limit, acc, symmetric) {
+            Ok(Some(n)) => {
                 found = Some(n);
                 break;
             }
-            if acc.newton && newton.tries < 3 && sim.periods >= newton.next {
-                if let Some(x) = newton.step(&mut sim, &hist, acc) {
-                    if sim.restart(x.as_slice()).is_ok() {
-                        hist.clear();
-                    }
-                }
+            Ok(None) => {}
+            Err(h) => {
+                let y = sim.y.as_slice().to_vec();
+                return (unresolved(halt_reason(h), sim.periods, sim.events, y), no_sections());
             }
         }
-        if found.is_some() || acc.lyapunov_periods == 0 {
+        if acc.lyapunov_periods == 0 {
             break;
         }
         // Without a period: the largest Lyapunov exponent tells chaos from a torus,
@@ -424,21 +446,21 @@ pub fn run_cell_with_sections(
         tangent.set_budget(acc.max_events.saturating_sub(spent));
         exponent = largest_exponent(&mut tangent, LYAPUNOV_WARMUP, acc.lyapunov_periods).ok();
         tangent_work = (tangent_work.0 + tangent.periods, tangent_work.1 + tangent.events);
-        if early_look {
+        // Growth per forcing period decides: the record ends, or goes on to a new limit.
+        let growth = exponent.as_ref().map(|(l, _)| l * sys.period);
+        limit = if early_look {
             early_look = false;
-            if exponent.as_ref().is_some_and(|(l, _)| l * sys.period > CHAOTIC_EXPONENT) {
+            if growth.is_some_and(|g| g > CHAOTIC_EXPONENT) {
                 break;
             }
-            limit = acc.max_periods;
-            continue;
-        }
-        let contracting = exponent.as_ref().is_some_and(|(l, _)| l * sys.period < -CONTRACTING_EXPONENT);
-        if !(contracting && extensions < acc.extensions) {
+            acc.max_periods
+        } else if growth.is_some_and(|g| g < -CONTRACTING_EXPONENT) && extensions < acc.extensions {
+            extensions += 1;
+            newton.tries = 0;
+            limit + acc.max_periods
+        } else {
             break;
-        }
-        extensions += 1;
-        limit += acc.max_periods;
-        newton.tries = 0;
+        };
     }
     let (mut extra_periods, mut extra_events) = newton.probe.map_or((0, 0), |p| (p.periods, p.events));
     extra_periods += tangent_work.0;
