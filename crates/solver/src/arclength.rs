@@ -17,7 +17,7 @@
 //! ends the branch, located the same way.
 
 use crate::accuracy::Accuracy;
-use crate::continuation::{leading, psi, Branch, BranchPoint, Family, Located, PARAM_TOL};
+use crate::continuation::{psi, Branch, BranchPoint, Family, Located, PARAM_TOL};
 use crate::floquet::Bifurcation;
 use crate::newton::{evaluate, Failure, Solution};
 use crate::orbit::{describe, Orbit, ORBIT_TOL};
@@ -272,7 +272,7 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                 if why == Failure::Pattern {
                     // The event sequence changes within this smallest step: grazing.
                     let (v, o) = locate_grazing(family, acc, &orbit, &z, &t, ds);
-                    branch.bifurcations.push(Located::new(Bifurcation::Grazing, v, &o, leading(&o)));
+                    branch.bifurcations.push(Located::at_leading(Bifurcation::Grazing, v, &o));
                     branch.ended = Some(format!("the impact pattern changes at {v:.9} (grazing)"));
                 } else {
                     branch.ended = Some(format!("the corrector failed at {:.9}", z[d]));

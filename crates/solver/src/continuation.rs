@@ -72,6 +72,12 @@ impl Located {
         Located { kind, value, multipliers: orbit.multipliers.clone(), critical }
     }
 
+    /// A bifurcation of `kind` at `value` whose critical multiplier is the
+    /// leading one of the orbit there.
+    pub fn at_leading(kind: Bifurcation, value: f64, orbit: &Orbit) -> Located {
+        Located::new(kind, value, orbit, leading(orbit))
+    }
+
     /// A change of stability at `value`, named by where the leading multiplier
     /// of the solved map sits on the unit circle.
     pub fn stability(value: f64, orbit: &Orbit) -> Located {
@@ -84,7 +90,7 @@ impl Located {
 pub type Family<'a> = dyn Fn(f64) -> Option<System> + 'a;
 
 /// The leading multiplier of the solved map (NaN when none was computed).
-pub(crate) fn leading(o: &Orbit) -> C64 {
+fn leading(o: &Orbit) -> C64 {
     o.map_multipliers.first().copied().unwrap_or(C64::new(f64::NAN, f64::NAN))
 }
 
@@ -216,13 +222,7 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                     if why != Failure::Pattern {
                         let value = edge.value;
                         if fold {
-                            let critical = leading(&edge.orbit);
-                            branch.bifurcations.push(Located::new(
-                                Bifurcation::SaddleNode,
-                                value,
-                                &edge.orbit,
-                                critical,
-                            ));
+                            branch.bifurcations.push(Located::at_leading(Bifurcation::SaddleNode, value, &edge.orbit));
                         }
                         branch.points.push(edge);
                         branch.ended = Some(if fold {
@@ -232,8 +232,7 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                         });
                         return branch;
                     }
-                    let critical = leading(&edge.orbit);
-                    branch.bifurcations.push(Located::new(Bifurcation::Grazing, edge.value, &edge.orbit, critical));
+                    branch.bifurcations.push(Located::at_leading(Bifurcation::Grazing, edge.value, &edge.orbit));
                     // Go on past the grazing with the new event sequence.
                     match solve_at(family, acc, &edge.orbit, v, &edge.orbit.solution.x, true) {
                         Some(o) => {
