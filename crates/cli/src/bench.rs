@@ -25,43 +25,65 @@ struct Setting {
     knobs: &'static [(&'static str, f64)],
 }
 
+/// A setting of the exact solver.
+const fn exact(name: &'static str, preset: Preset, knobs: &'static [(&'static str, f64)]) -> Setting {
+    Setting { name, preset, method: Method::Exact, knobs }
+}
+
+/// A setting of the RK4 integrator, at standard tolerances.
+const fn rk4(name: &'static str, knobs: &'static [(&'static str, f64)]) -> Setting {
+    Setting { name, preset: Preset::Standard, method: Method::Rk4, knobs }
+}
+
 /// The exact solver at the default preset.
-const STANDARD: Setting = Setting { name: "standard", preset: Preset::Standard, method: Method::Exact, knobs: &[] };
+const STANDARD: Setting = exact("standard", Preset::Standard, &[]);
 
 /// The reference of the trade.
-const PRECISE: Setting = Setting { name: "precise", preset: Preset::Precise, method: Method::Exact, knobs: &[] };
+const PRECISE: Setting = exact("precise", Preset::Precise, &[]);
 
 /// The literature's method, the setting all others are compared with for speed.
-const RK4: Setting = Setting {
-    name: "rk4 h=0.01",
-    preset: Preset::Standard,
-    method: Method::Rk4,
-    knobs: &[("rk4_step", 0.01), ("newton", 0.0)],
-};
+const RK4: Setting = rk4("rk4 h=0.01", &[("rk4_step", 0.01), ("newton", 0.0)]);
 
 /// Settings of the trade, in table order. The RK4 rows are the literature's
 /// method: RK4 with step-back refinement and a plainly simulated transient
 /// (standard tolerances, no Newton); the last row shows what Newton adds to RK4.
 /// `standard chaos_check=100` is the opt-in early end of chaotic records.
 const SETTINGS: [Setting; 7] = [
-    Setting { name: "fast", preset: Preset::Fast, method: Method::Exact, knobs: &[] },
+    exact("fast", Preset::Fast, &[]),
     STANDARD,
-    Setting {
-        name: "standard chaos_check=100",
-        preset: Preset::Standard,
-        method: Method::Exact,
-        knobs: &[("chaos_check", 100.0)],
-    },
+    exact("standard chaos_check=100", Preset::Standard, &[("chaos_check", 100.0)]),
     PRECISE,
     RK4,
-    Setting {
-        name: "rk4 h=0.001",
-        preset: Preset::Standard,
-        method: Method::Rk4,
-        knobs: &[("rk4_step", 0.001), ("newton", 0.0)],
-    },
-    Setting { name: "rk4 h=0.01 newton", preset: Preset::Standard, method: Method::Rk4, knobs: &[("rk4_step", 0.01)] },
+    rk4("rk4 h=0.001", &[("rk4_step", 0.001), ("newton", 0.0)]),
+    rk4("rk4 h=0.01 newton", &[("rk4_step", 0.01)]),
 ];
+
+/// One setting's measured speed and agreement with the reference.
+struct TradeRow {
+    setting: &'static str,
+    cells_per_s: f64,
+    label_agreement: f64,
+    class_agreement: f64,
+    median_state_error: f64,
+    /// Forcing periods simulated over the grid.
+    periods: u64,
+    /// Thread time per forcing period, µs.
+    us_per_period: f64,
+    /// Periods simulated in cells without a period.
+    nonperiodic_periods: u64,
+}
+
+impl TradeRow {
+    /// The row's JSON object (the contract of `bench --trade --json`), with its
+    /// cells/s over those of the RK4 baseline `base`.
+    fn json(&self, base: Option<f64>) -> Value {
+        let mut row = json!({"setting": self.setting, "cells_per_s": self.cells_per_s, "label_agreement": self.label_agreement, "class_agreement": self.class_agreement, "median_state_error": self.median_state_error, "periods": self.periods, "us_per_period": self.us_per_period, "nonperiodic_periods": self.nonperiodic_periods});
+        if let Some(base) = base {
+            row["speedup_vs_rk4"] = json!(self.cells_per_s / base);
+        }
+        row
+    }
+}
 
 struct Measured {
     atlas: Atlas,
@@ -212,6 +234,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 "no-period share"
             );
         }
+        let mut rows = Vec::new();
         for setting in SETTINGS {
             let m = if setting.name == PRECISE.name {
                 Measured { atlas: reference.atlas.clone(), secs: reference.secs }
@@ -219,53 +242,46 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 best_of(a.trade_repeat, &mut None, || run_plane(&scene, &plane, &fresh, setting, t))?
             };
             let (labels, classes, median) = compare(&reference.atlas, &m.atlas);
-            let rate = cells(&m.atlas) as f64 / m.secs;
             // Work per forcing period, in thread time: what the integrator costs.
             let total = periods(&m.atlas, |_| true);
-            let per_period = 1e6 * m.secs * t as f64 / total.max(1) as f64;
-            // Cells without a period: the records every method simulates in full.
-            let without = periods(&m.atlas, |c| c != Class::Periodic);
+            let row = TradeRow {
+                setting: setting.name,
+                cells_per_s: cells(&m.atlas) as f64 / m.secs,
+                label_agreement: labels,
+                class_agreement: classes,
+                median_state_error: median,
+                periods: total,
+                us_per_period: 1e6 * m.secs * t as f64 / total.max(1) as f64,
+                // Cells without a period: the records every method simulates in full.
+                nonperiodic_periods: periods(&m.atlas, |c| c != Class::Periodic),
+            };
             if !a.json {
                 println!(
-                    "{:<24} {rate:>11.0} {:>15.2}% {:>15.2}% {median:>19.2e} {total:>10} {per_period:>12.1} {:>16.1}%",
-                    setting.name,
-                    100.0 * labels,
-                    100.0 * classes,
-                    100.0 * without as f64 / total.max(1) as f64
+                    "{:<24} {:>11.0} {:>15.2}% {:>15.2}% {:>19.2e} {:>10} {:>12.1} {:>16.1}%",
+                    row.setting,
+                    row.cells_per_s,
+                    100.0 * row.label_agreement,
+                    100.0 * row.class_agreement,
+                    row.median_state_error,
+                    row.periods,
+                    row.us_per_period,
+                    100.0 * row.nonperiodic_periods as f64 / total.max(1) as f64
                 );
             }
-            trade.push(json!({"setting": setting.name, "cells_per_s": rate, "label_agreement": labels, "class_agreement": classes, "median_state_error": median, "periods": total, "us_per_period": per_period, "nonperiodic_periods": without}));
+            rows.push(row);
         }
         // Speed of every setting against the literature's method.
-        let baseline = trade.iter().find(|r| r["setting"] == RK4.name).and_then(|r| r["cells_per_s"].as_f64());
-        if let Some(base) = baseline {
-            for row in &mut trade {
-                let speedup = row["cells_per_s"].as_f64().unwrap_or(0.0) / base;
-                row["speedup_vs_rk4"] = json!(speedup);
-            }
-            if !a.json {
-                let ratios: Vec<String> = trade
-                    .iter()
-                    .map(|r| {
-                        format!(
-                            "{} {:.1}x",
-                            r["setting"].as_str().unwrap_or(""),
-                            r["speedup_vs_rk4"].as_f64().unwrap_or(0.0)
-                        )
-                    })
-                    .collect();
-                println!("cells/s against {}: {}", RK4.name, ratios.join(", "));
-            }
+        let base = rows.iter().find(|r| r.setting == RK4.name).map(|r| r.cells_per_s);
+        if let (Some(base), false) = (base, a.json) {
+            let ratios: Vec<String> =
+                rows.iter().map(|r| format!("{} {:.1}x", r.setting, r.cells_per_s / base)).collect();
+            println!("cells/s against {}: {}", RK4.name, ratios.join(", "));
         }
+        trade = rows.iter().map(|r| r.json(base)).collect();
         if let Some(dir) = &a.output {
             std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-            let points: Vec<(String, f64, f64)> = trade
-                .iter()
-                .map(|t| {
-                    let num = |k: &str| t[k].as_f64().unwrap_or(0.0);
-                    (t["setting"].as_str().unwrap_or("").to_string(), num("cells_per_s"), num("label_agreement"))
-                })
-                .collect();
+            let points: Vec<(String, f64, f64)> =
+                rows.iter().map(|r| (r.setting.to_string(), r.cells_per_s, r.label_agreement)).collect();
             let png = dir.join("trade.png");
             write_atomically(&png, |tmp| render::trade(&points, tmp))?;
             if !a.json {
