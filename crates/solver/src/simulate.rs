@@ -414,14 +414,16 @@ impl<'s> Simulator<'s> {
     fn saltate(&mut self, before: (DMatrix<f64>, DVector<f64>, DVector<f64>, f64)) -> Result<(), Halt> {
         let (flow, f_before, grad, rate) = before;
         let jump = self.jump()?;
-        let phase = self.phase();
-        let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
-        let f_after = mode.lift_matrix() * (&mode.aug * mode.project(&self.y, phase));
-        let mut salt = jump.clone();
         // At grazing (ḣ = 0) the map is not differentiable: keep the jump.
-        if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
-            salt += (f_after - &jump * f_before) * (grad.transpose() / rate);
-        }
+        let salt = if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
+            let phase = self.phase();
+            let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
+            let f_after = mode.lift_matrix() * (&mode.aug * mode.project(&self.y, phase));
+            let kick = (f_after - &jump * f_before) * (grad.transpose() / rate);
+            jump + kick
+        } else {
+            jump
+        };
         if let Some(t) = self.tangent.as_mut() {
             *t = salt * flow * &*t;
         }
