@@ -30,6 +30,31 @@ const STEPS_PER_OSCILLATION: f64 = 64.0;
 /// Derivative levels kept per guard: value, rate, acceleration.
 const LEVELS: usize = 3;
 
+/// One term of one guard, as the step loop reads it: the coefficients of the
+/// guard and of its rate, and the moduli (`|re| + |im|`, an upper bound of the
+/// modulus) of the guard's coefficient (0 for a constant term, which enters the
+/// global bound by value) and of its acceleration's (for `G₂`).
+#[derive(Debug, Clone, Copy, Default)]
+struct Coef {
+    value: C64,
+    rate: C64,
+    varying: f64,
+    accel: f64,
+}
+
+/// What the step loop keeps of one guard between steps.
+#[derive(Debug, Clone, Copy, Default)]
+struct Watch {
+    /// Time before which the guard provably stays positive.
+    masked: f64,
+    /// Value below which it counts as zero ([`value_tol`]).
+    zero: f64,
+    /// Its constant part (the constant terms, which do not vary).
+    constant: f64,
+    /// `|row|·|s0|`, the magnitude of the guard.
+    magnitude: f64,
+}
+
 /// Buffers reused by every advance of a simulation (no allocation once warm).
 #[derive(Debug, Clone, Default)]
 pub struct Workspace {
@@ -38,19 +63,11 @@ pub struct Workspace {
     fb: Vec<f64>,
     /// Per guard: coefficients of the guard, its rate and its acceleration.
     beta: Vec<C64>,
-    /// Per guard: `|re| + |im|` (an upper bound of the modulus) of the
-    /// coefficients of the guard and of its acceleration (for the global bound
-    /// and for `G₂`).
-    moduli: Vec<f64>,
-    masked: Vec<f64>,
-    /// Per guard: value below which it counts as zero ([`value_tol`]).
-    zero: Vec<f64>,
-    /// Per guard: its constant part (the constant terms, which do not vary).
-    constant: Vec<f64>,
+    /// Per guard and term: what the step loop reads (see [`Coef`]).
+    coef: Vec<Coef>,
+    watch: Vec<Watch>,
     /// `|s0|` entrywise.
     start_abs: DVector<f64>,
-    /// Per guard: `|row|·|s0|`, the magnitude of the guard.
-    magnitude: Vec<f64>,
     high: Vec<C64>,
     high_moduli: Vec<f64>,
 }
@@ -140,44 +157,46 @@ pub fn advance(
     let terms = sp.terms();
     let nt = terms.len();
     let ng = mode.guards.len();
-    sp.modal_into(s0.as_slice(), &mut w.modal);
-    w.f.resize(nt, C64::new(0.0, 0.0));
-    w.fb.resize(nt, 0.0);
-    w.beta.resize(LEVELS * nt * ng, C64::new(0.0, 0.0));
-    w.moduli.resize(2 * nt * ng, 0.0);
-    w.high.resize(6 * nt, C64::new(0.0, 0.0));
-    w.high_moduli.resize(6 * nt, 0.0);
-    w.start_abs.clone_from(s0);
-    w.start_abs.apply(|x| *x = x.abs());
-    w.masked.clear();
-    w.masked.resize(ng, 0.0);
-    w.zero.clear();
-    w.constant.clear();
-    w.magnitude.clear();
-    for (gi, g) in mode.guards.iter().enumerate() {
-        let b = &mut w.beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
-        w.modal.functional_into(g.row.as_slice(), &mut b[..nt]);
+    let Workspace { modal, f, fb, beta, coef, watch, start_abs, high, high_moduli } = w;
+    sp.modal_into(s0.as_slice(), modal);
+    f.resize(nt, C64::new(0.0, 0.0));
+    fb.resize(nt, 0.0);
+    beta.resize(LEVELS * nt * ng, C64::new(0.0, 0.0));
+    coef.resize(nt * ng, Coef::default());
+    high.resize(6 * nt, C64::new(0.0, 0.0));
+    high_moduli.resize(6 * nt, 0.0);
+    if start_abs.len() != s0.len() {
+        *start_abs = DVector::zeros(s0.len());
+    }
+    start_abs.zip_apply(s0, |a, x| *a = x.abs());
+    watch.clear();
+    for ((g, b), c) in mode.guards.iter().zip(beta.chunks_exact_mut(LEVELS * nt)).zip(coef.chunks_exact_mut(nt)) {
+        modal.functional_into(g.row.as_slice(), &mut b[..nt]);
         for j in 1..LEVELS {
             let (done, rest) = b.split_at_mut(j * nt);
             differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
         }
-        let m = &mut w.moduli[2 * nt * gi..2 * nt * (gi + 1)];
-        for (t, (m0, x)) in m[..nt].iter_mut().zip(&b[..nt]).enumerate() {
-            // Constant terms do not vary: they enter the global bound by value.
-            *m0 = if terms[t].constant { 0.0 } else { x.l1_norm() };
+        for (t, c) in c.iter_mut().enumerate() {
+            *c = Coef {
+                value: b[t],
+                rate: b[nt + t],
+                // Constant terms do not vary: they enter the global bound by value.
+                varying: if terms[t].constant { 0.0 } else { b[t].l1_norm() },
+                accel: b[2 * nt + t].l1_norm(),
+            };
         }
-        for (m2, x) in m[nt..].iter_mut().zip(&b[2 * nt..3 * nt]) {
-            *m2 = x.l1_norm();
-        }
-        // The constant terms' factors are their (real) weights at every time.
-        w.constant.push((0..nt).filter(|&t| terms[t].constant).map(|t| terms[t].weight * b[t].re).sum());
-        let magnitude = g.row_abs.dot(&w.start_abs);
-        w.magnitude.push(magnitude);
-        w.zero.push(value_tol(acc, g.kind.is_gap(), magnitude));
+        let magnitude = g.row_abs.dot(start_abs);
+        watch.push(Watch {
+            masked: 0.0,
+            zero: value_tol(acc, g.kind.is_gap(), magnitude),
+            // The constant terms' factors are their (real) weights at every time.
+            constant: (0..nt).filter(|&t| terms[t].constant).map(|t| terms[t].weight * b[t].re).sum(),
+            magnitude,
+        });
     }
-    let event = |w: &Workspace, out: &mut DVector<f64>, guard: usize, time: f64| {
+    let event = |modal: &Modal, f: &[C64], out: &mut DVector<f64>, guard: usize, time: f64| {
         if time > 0.0 {
-            w.modal.state_into(&w.f, out.as_mut_slice());
+            modal.state_into(f, out.as_mut_slice());
         } else {
             out.copy_from(s0);
         }
@@ -187,44 +206,48 @@ pub fn advance(
     let budget = MAX_STEPS + (STEPS_PER_OSCILLATION * horizon * sp.fastest() / std::f64::consts::TAU) as usize;
     let mut u = 0.0f64;
     for _ in 0..budget {
-        sp.factors_and_bounds(u, horizon, &mut w.f, &mut w.fb);
+        sp.factors_and_bounds(u, horizon, f, fb);
         let mut h = horizon - u;
-        let mut which = None;
-        for gi in 0..ng {
-            let cand = if u < w.masked[gi] {
-                w.masked[gi] - u
+        let mut bounded = false;
+        for (gi, (c, watch)) in coef.chunks_exact(nt).zip(watch.iter_mut()).enumerate() {
+            let cand = if u < watch.masked {
+                watch.masked - u
             } else {
-                let b = &w.beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
-                let g = evaluate(&w.f, &b[..nt]);
-                if g <= w.zero[gi] {
+                // One pass over the terms: the guard, its rate, the bound of what
+                // varies and the bound G₂ of its acceleration.
+                let (mut g, mut gd, mut varying, mut g2) = (-0.0, -0.0, -0.0, -0.0);
+                for ((c, f), fb) in c.iter().zip(f.iter()).zip(fb.iter()) {
+                    g += f.re * c.value.re - f.im * c.value.im;
+                    gd += f.re * c.rate.re - f.im * c.rate.im;
+                    varying += fb * c.varying;
+                    g2 += fb * c.accel;
+                }
+                if g <= watch.zero {
                     let is_gap = mode.guards[gi].kind.is_gap();
-                    let magnitude = w.magnitude[gi];
+                    let b = &beta[LEVELS * nt * gi..LEVELS * nt * (gi + 1)];
                     if at_contact(
                         terms,
                         b,
-                        &mut w.high,
-                        &mut w.high_moduli,
-                        &w.f,
-                        &w.fb,
+                        high,
+                        high_moduli,
+                        f,
+                        fb,
                         is_gap,
-                        magnitude,
+                        watch.magnitude,
                         acc,
                         u,
                         horizon,
-                        &mut w.masked[gi],
+                        &mut watch.masked,
                     ) {
-                        return event(w, out, gi, u);
+                        return event(modal, f, out, gi, u);
                     }
-                    w.masked[gi] - u
+                    watch.masked - u
                 } else {
-                    let m = &w.moduli[2 * nt * gi..2 * nt * (gi + 1)];
                     // Global bound: the constant part less everything that varies.
-                    if w.constant[gi] - bound(&w.fb, &m[..nt]) > w.zero[gi] {
-                        w.masked[gi] = horizon;
+                    if watch.constant - varying > watch.zero {
+                        watch.masked = horizon;
                         continue;
                     }
-                    let gd = evaluate(&w.f, &b[nt..2 * nt]);
-                    let g2 = bound(&w.fb, &m[nt..]);
                     // The lower bound is concave: still positive a little past the
                     // step already chosen, its root lies beyond it (no square root).
                     let past = h * (1.0 + 1e-6);
@@ -235,20 +258,20 @@ pub fn advance(
                     if root <= acc.event_tol && root < h {
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;
-                        sp.factors_and_bounds(t, horizon, &mut w.f, &mut w.fb);
-                        return event(w, out, gi, t);
+                        sp.factors_and_bounds(t, horizon, f, fb);
+                        return event(modal, f, out, gi, t);
                     }
                     root
                 }
             };
             if cand < h {
                 h = cand;
-                which = Some(gi);
+                bounded = true;
             }
         }
-        if which.is_none() {
-            sp.factors_and_bounds(horizon, horizon, &mut w.f, &mut w.fb);
-            w.modal.state_into(&w.f, out.as_mut_slice());
+        if !bounded {
+            sp.factors_and_bounds(horizon, horizon, f, fb);
+            modal.state_into(f, out.as_mut_slice());
             return Advance::Horizon;
         }
         u += h;

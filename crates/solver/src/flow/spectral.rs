@@ -33,6 +33,8 @@ pub struct Term {
     pub weight: f64,
     /// 1 / j!.
     inv_factorial: f64,
+    /// The cluster's highest power: the next term, if any, starts another cluster.
+    last: bool,
     /// The term is exactly constant in time (μ = 0, j = 0): the constant state,
     /// a rigid offset.
     pub constant: bool,
@@ -220,7 +222,14 @@ impl Spectral {
                 if j > 0 {
                     inv_factorial /= j as f64;
                 }
-                terms.push(Term { lambda: mu, power: j, weight, inv_factorial, constant: zero && j == 0 });
+                terms.push(Term {
+                    lambda: mu,
+                    power: j,
+                    weight,
+                    inv_factorial,
+                    last: j + 1 == powers,
+                    constant: zero && j == 0,
+                });
             }
             clusters.push(Cluster { v, w, n, powers });
         }
@@ -255,29 +264,36 @@ impl Spectral {
         out.dim = dim;
         out.y.clear();
         out.y.resize(self.terms.len() * dim, C64::new(0.0, 0.0));
-        let mut t = 0;
+        let mut rows = out.y.chunks_exact_mut(dim);
         let mut d = [C64::new(0.0, 0.0); 16];
         let mut e = [C64::new(0.0, 0.0); 16];
         let s0 = &s0[..dim];
         for c in &self.clusters {
             let k = c.v.ncols();
-            // Column-major storage: entry (r, j) of a k-row matrix is at r + j k.
-            let (w, n, v) = (c.w.as_slice(), c.n.as_slice(), c.v.as_slice());
-            for (r, dr) in d.iter_mut().enumerate().take(k) {
-                *dr = s0.iter().enumerate().map(|(j, &x)| w[r + j * k] * x).sum();
+            let (d, e) = (&mut d[..k], &mut e[..k]);
+            // Column-major storage: column j of a k-row matrix is its j-th chunk of k.
+            d.fill(C64::new(0.0, 0.0));
+            for (col, &x) in c.w.as_slice().chunks_exact(k).zip(s0) {
+                for (dr, &wr) in d.iter_mut().zip(col) {
+                    *dr += wr * x;
+                }
             }
             for j in 0..c.powers {
                 if j > 0 {
-                    for (r, er) in e.iter_mut().enumerate().take(k) {
-                        *er = d[..k].iter().enumerate().map(|(q, &dq)| n[r + q * k] * dq).sum();
+                    e.fill(C64::new(0.0, 0.0));
+                    for (col, &dq) in c.n.as_slice().chunks_exact(k).zip(d.iter()) {
+                        for (er, &nr) in e.iter_mut().zip(col) {
+                            *er += nr * dq;
+                        }
                     }
-                    d[..k].copy_from_slice(&e[..k]);
+                    d.copy_from_slice(e);
                 }
-                let row = &mut out.y[t * dim..(t + 1) * dim];
-                for (i, yi) in row.iter_mut().enumerate() {
-                    *yi = d[..k].iter().enumerate().map(|(q, &dq)| v[i + q * dim] * dq).sum();
+                let row = rows.next().expect("one row per term");
+                for (col, &dq) in c.v.as_slice().chunks_exact(dim).zip(d.iter()) {
+                    for (yi, &vi) in row.iter_mut().zip(col) {
+                        *yi += vi * dq;
+                    }
                 }
-                t += 1;
             }
         }
     }
@@ -315,26 +331,26 @@ impl Spectral {
     /// term), upper bounds of `|weight e^{μ s} s^j/j!|` over `s ∈ [u, b]`.
     pub fn factors_and_bounds(&self, u: f64, b: f64, out: &mut [C64], bounds: &mut [f64]) {
         // The exponential of the previous term's eigenvalue: the powers of one
-        // cluster share it. A zero real or imaginary part needs no libm call
-        // (`e^0 = 1`, `sin(±0) = ±0`, `cos 0 = 1`, all exact).
-        let mut last: Option<(C64, f64, f64, f64)> = None;
-        for (t, term) in self.terms.iter().enumerate() {
+        // cluster share it (the NaN of the first never equals an eigenvalue). A
+        // zero real or imaginary part needs no libm call (`e^0 = 1`,
+        // `sin(±0) = ±0`, `cos 0 = 1`, all exact).
+        let (mut lambda, mut r, mut sn, mut cs) = (C64::new(f64::NAN, f64::NAN), 1.0, 0.0, 1.0);
+        for ((term, o), bound) in self.terms.iter().zip(out.iter_mut()).zip(bounds.iter_mut()) {
             let re = term.lambda.re;
-            let (r, sn, cs) = match last {
-                Some((lambda, r, sn, cs)) if lambda == term.lambda => (r, sn, cs),
-                _ => {
-                    let r = if re == 0.0 { 1.0 } else { (re * u).exp() };
-                    let (sn, cs) =
-                        if term.lambda.im == 0.0 { (term.lambda.im * u, 1.0) } else { (term.lambda.im * u).sin_cos() };
-                    last = Some((term.lambda, r, sn, cs));
-                    (r, sn, cs)
-                }
-            };
-            let poly = if term.power == 0 { 1.0 } else { u.powi(term.power as i32) * term.inv_factorial };
-            out[t] = C64::new(r * cs, r * sn) * (term.weight * poly);
+            if term.lambda != lambda {
+                lambda = term.lambda;
+                r = if re == 0.0 { 1.0 } else { (re * u).exp() };
+                (sn, cs) = if lambda.im == 0.0 { (lambda.im * u, 1.0) } else { (lambda.im * u).sin_cos() };
+            }
             let grow = if re > 0.0 { (re * b).exp() } else { r };
-            let poly_b = if term.power == 0 { 1.0 } else { b.powi(term.power as i32) * term.inv_factorial };
-            bounds[t] = term.weight * grow * poly_b;
+            if term.power == 0 {
+                *o = C64::new(r * cs, r * sn) * term.weight;
+                *bound = term.weight * grow;
+            } else {
+                let poly = u.powi(term.power as i32) * term.inv_factorial;
+                *o = C64::new(r * cs, r * sn) * (term.weight * poly);
+                *bound = term.weight * grow * (b.powi(term.power as i32) * term.inv_factorial);
+            }
         }
     }
 }
@@ -381,14 +397,14 @@ pub fn differentiate(terms: &[Term], beta: &[C64]) -> Vec<C64> {
 }
 
 /// [`differentiate`] into a slice.
+#[inline]
 pub fn differentiate_into(terms: &[Term], beta: &[C64], out: &mut [C64]) {
-    for t in 0..beta.len() {
-        let next = if t + 1 < beta.len() && terms[t + 1].power == terms[t].power + 1 {
-            beta[t + 1]
-        } else {
-            C64::new(0.0, 0.0)
+    for (t, (o, term)) in out.iter_mut().zip(&terms[..beta.len()]).enumerate() {
+        let next = match beta.get(t + 1) {
+            Some(&b) if !term.last => b,
+            _ => C64::new(0.0, 0.0),
         };
-        out[t] = terms[t].lambda * beta[t] + next;
+        *o = term.lambda * beta[t] + next;
     }
 }
 
