@@ -43,7 +43,8 @@ pub struct Term {
 #[derive(Debug, Clone)]
 struct Cluster {
     v: DMatrix<C64>,
-    w: DMatrix<C64>,
+    /// `W_cᵀ`: column r is the dual row r, contiguous for [`Spectral::modal_into`].
+    wt: DMatrix<C64>,
     n: DMatrix<C64>,
     powers: usize,
 }
@@ -231,7 +232,7 @@ impl Spectral {
                     constant: zero && j == 0,
                 });
             }
-            clusters.push(Cluster { v, w, n, powers });
+            clusters.push(Cluster { v, wt: w.transpose(), n, powers });
         }
         let err = (&rebuilt - a).amax();
         if err.is_nan() || err > 1e-9 * scale {
@@ -271,11 +272,11 @@ impl Spectral {
         for c in &self.clusters {
             let k = c.v.ncols();
             let (d, e) = (&mut d[..k], &mut e[..k]);
-            // Column-major storage: column j of a k-row matrix is its j-th chunk of k.
-            d.fill(C64::new(0.0, 0.0));
-            for (col, &x) in c.w.as_slice().chunks_exact(k).zip(s0) {
-                for (dr, &wr) in d.iter_mut().zip(col) {
-                    *dr += wr * x;
+            // Column-major storage: column j of a matrix is its j-th chunk.
+            for (dr, row) in d.iter_mut().zip(c.wt.as_slice().chunks_exact(dim)) {
+                *dr = C64::new(0.0, 0.0);
+                for (&wj, &x) in row.iter().zip(s0) {
+                    *dr += wj * x;
                 }
             }
             for j in 0..c.powers {
@@ -304,7 +305,7 @@ impl Spectral {
     pub fn coefficients(&self) -> Vec<DMatrix<C64>> {
         let mut out = Vec::with_capacity(self.terms.len());
         for c in &self.clusters {
-            let mut nw = c.w.clone();
+            let mut nw = c.wt.transpose();
             for j in 0..c.powers {
                 if j > 0 {
                     nw = &c.n * nw;
