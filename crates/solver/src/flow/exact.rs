@@ -214,13 +214,15 @@ pub fn advance(
                 watch.masked - u
             } else {
                 // One pass over the terms: the guard, its rate, the bound of what
-                // varies and the bound G₂ of its acceleration.
+                // varies and the bound G₂ of its acceleration (the sums of
+                // `evaluate` and `bound`, term by term in their order, so the
+                // values are theirs bit for bit).
                 let (mut g, mut gd, mut varying, mut g2) = (-0.0, -0.0, -0.0, -0.0);
-                for ((c, f), fb) in c.iter().zip(f.iter()).zip(fb.iter()) {
-                    g += f.re * c.value.re - f.im * c.value.im;
-                    gd += f.re * c.rate.re - f.im * c.rate.im;
-                    varying += fb * c.varying;
-                    g2 += fb * c.accel;
+                for ((term, ft), bt) in c.iter().zip(f.iter()).zip(fb.iter()) {
+                    g += ft.re * term.value.re - ft.im * term.value.im;
+                    gd += ft.re * term.rate.re - ft.im * term.rate.im;
+                    varying += bt * term.varying;
+                    g2 += bt * term.accel;
                 }
                 if g <= watch.zero {
                     let is_gap = mode.guards[gi].kind.is_gap();
