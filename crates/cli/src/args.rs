@@ -247,7 +247,8 @@ pub struct BenchArgs {
     /// Timed repetitions of each throughput measurement (the best is reported).
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
-    /// Timed repetitions of each setting of the trade (the best is reported).
+    /// Rounds of the trade: each times every setting once, in table order (the
+    /// best of each setting is reported).
     #[arg(long, default_value_t = 1)]
     pub trade_repeat: usize,
     /// Print one JSON object.

@@ -1,7 +1,7 @@
 //! `vibroatlas bench`: atlas throughput on 1 and 2 threads (fresh and both
 //! sweeps, best of repeated runs, every run checked to give the same atlas)
 //! and, with `--trade`, the measured speed and accuracy of every preset and of
-//! RK4 against the `precise` reference.
+//! RK4 against the `precise` reference (in rounds of every setting, best kept).
 
 use crate::args::BenchArgs;
 use crate::common::{write_atomically, Setup};
@@ -109,26 +109,27 @@ fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Settin
     Ok(Measured { atlas, secs })
 }
 
-/// The fastest of `repeat` runs. Each run's atlas must equal `first` (set by
-/// the first run when `None`): results are deterministic, whatever the thread
-/// count and however often they are computed.
-fn best_of(repeat: usize, first: &mut Option<Atlas>, mut run: impl FnMut() -> Result<Measured>) -> Result<Measured> {
-    let mut checked = || -> Result<Measured> {
-        let m = run()?;
-        let reference = first.get_or_insert_with(|| m.atlas.clone());
-        if *reference != m.atlas {
-            bail!("results differ between runs of the same grid: the solver is not deterministic");
-        }
-        Ok(m)
-    };
-    let mut best = checked()?;
-    for _ in 1..repeat {
-        let m = checked()?;
-        if m.secs < best.secs {
-            best = m;
-        }
+/// Keeps in `best` the faster of it and `m`, once `m`'s atlas is checked to
+/// equal `first` (set by the first run when `None`): results are deterministic,
+/// whatever the thread count and however often they are computed.
+fn keep_faster(best: &mut Option<Measured>, first: &mut Option<Atlas>, m: Measured) -> Result<()> {
+    let reference = first.get_or_insert_with(|| m.atlas.clone());
+    if *reference != m.atlas {
+        bail!("results differ between runs of the same grid: the solver is not deterministic");
     }
-    Ok(best)
+    if best.as_ref().is_none_or(|b| m.secs < b.secs) {
+        *best = Some(m);
+    }
+    Ok(())
+}
+
+/// The fastest of `repeat` (>= 1) runs, each checked against `first`.
+fn best_of(repeat: usize, first: &mut Option<Atlas>, mut run: impl FnMut() -> Result<Measured>) -> Result<Measured> {
+    let mut best = None;
+    for _ in 0..repeat {
+        keep_faster(&mut best, first, run()?)?;
+    }
+    best.ok_or_else(|| anyhow!("no run"))
 }
 
 fn cells(a: &Atlas) -> usize {
@@ -219,7 +220,22 @@ pub fn run(a: BenchArgs) -> Result<()> {
     if a.trade {
         let t = *threads.iter().max().unwrap_or(&1);
         let fresh = [SweepKind::Fresh];
-        let reference = best_of(a.trade_repeat, &mut None, || run_plane(&scene, &plane, &fresh, PRECISE, t))?;
+        // Rounds of every setting once, best kept per setting: a slow spell of
+        // a shared machine falls on all settings alike, not on every run of one.
+        let mut runs: Vec<(Option<Measured>, Option<Atlas>)> = SETTINGS.iter().map(|_| (None, None)).collect();
+        for _ in 0..a.trade_repeat {
+            for ((best, first), &setting) in runs.iter_mut().zip(&SETTINGS) {
+                keep_faster(best, first, run_plane(&scene, &plane, &fresh, setting, t)?)?;
+            }
+        }
+        let measured: Vec<Measured> =
+            runs.into_iter().map(|(best, _)| best.ok_or_else(|| anyhow!("no run"))).collect::<Result<_>>()?;
+        let reference = SETTINGS
+            .iter()
+            .zip(&measured)
+            .find(|(s, _)| s.name == PRECISE.name)
+            .map(|(_, m)| &m.atlas)
+            .ok_or_else(|| anyhow!("no reference setting"))?;
         if !a.json {
             println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
             println!(
@@ -235,13 +251,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
             );
         }
         let mut rows = Vec::new();
-        for setting in SETTINGS {
-            let m = if setting.name == PRECISE.name {
-                Measured { atlas: reference.atlas.clone(), secs: reference.secs }
-            } else {
-                best_of(a.trade_repeat, &mut None, || run_plane(&scene, &plane, &fresh, setting, t))?
-            };
-            let (labels, classes, median) = compare(&reference.atlas, &m.atlas);
+        for (setting, m) in SETTINGS.iter().zip(&measured) {
+            let (labels, classes, median) = compare(reference, &m.atlas);
             // Work per forcing period, in thread time: what the integrator costs.
             let total = periods(&m.atlas, |_| true);
             let row = TradeRow {
