@@ -66,13 +66,22 @@ pub struct Guard {
     pub row: DVector<f64>,
     /// `|ℓ|` entrywise (for the guard's magnitude `|ℓ|·|s|`).
     pub row_abs: DVector<f64>,
+    /// The nonzero entries of `ℓ` (index, value), ascending: a guard reads a few
+    /// coordinates of the augmented state.
+    pub entries: Vec<(usize, f64)>,
 }
 
 impl Guard {
     fn new(kind: GuardKind, stop: usize, row: DVector<f64>) -> Guard {
         let row_abs = row.abs();
-        Guard { kind, stop, row, row_abs }
+        let entries = nonzero_entries(row.as_slice());
+        Guard { kind, stop, row, row_abs, entries }
     }
+}
+
+/// The nonzero entries (index, value) of `row`, ascending.
+pub fn nonzero_entries(row: &[f64]) -> Vec<(usize, f64)> {
+    row.iter().copied().enumerate().filter(|&(_, v)| v != 0.0).collect()
 }
 
 /// Which linear system holds: the held stops and the state of each friction contact.

@@ -72,6 +72,56 @@ pub struct Workspace {
     high_moduli: Vec<f64>,
 }
 
+impl Workspace {
+    /// Sizes the buffers for `mode` and computes, from the start `s0`, the modal
+    /// coefficients and each guard's coefficients, bounds and tolerances. Out of
+    /// line: once per advance, against the step loop's many iterations.
+    #[inline(never)]
+    fn prepare(&mut self, mode: &Mode, s0: &DVector<f64>, acc: &Accuracy) {
+        let sp = &mode.spectral;
+        let terms = sp.terms();
+        let nt = terms.len();
+        let ng = mode.guards.len();
+        let Workspace { modal, f, fb, beta, coef, watch, start_abs, high, high_moduli } = self;
+        sp.modal_into(s0.as_slice(), modal);
+        f.resize(nt, C64::new(0.0, 0.0));
+        fb.resize(nt, 0.0);
+        beta.resize(LEVELS * nt * ng, C64::new(0.0, 0.0));
+        coef.resize(nt * ng, Coef::default());
+        high.resize(6 * nt, C64::new(0.0, 0.0));
+        high_moduli.resize(6 * nt, 0.0);
+        if start_abs.len() != s0.len() {
+            *start_abs = DVector::zeros(s0.len());
+        }
+        start_abs.zip_apply(s0, |a, x| *a = x.abs());
+        watch.clear();
+        for ((g, b), c) in mode.guards.iter().zip(beta.chunks_exact_mut(LEVELS * nt)).zip(coef.chunks_exact_mut(nt)) {
+            modal.functional_into(&g.entries, &mut b[..nt]);
+            for j in 1..LEVELS {
+                let (done, rest) = b.split_at_mut(j * nt);
+                differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
+            }
+            for (t, c) in c.iter_mut().enumerate() {
+                *c = Coef {
+                    value: b[t],
+                    rate: b[nt + t],
+                    // Constant terms do not vary: they enter the global bound by value.
+                    varying: if terms[t].constant { 0.0 } else { b[t].l1_norm() },
+                    accel: b[2 * nt + t].l1_norm(),
+                };
+            }
+            let magnitude = g.row_abs.dot(start_abs);
+            watch.push(Watch {
+                masked: 0.0,
+                zero: value_tol(acc, g.kind.is_gap(), magnitude),
+                // The constant terms' factors are their (real) weights at every time.
+                constant: (0..nt).filter(|&t| terms[t].constant).map(|t| terms[t].weight * b[t].re).sum(),
+                magnitude,
+            });
+        }
+    }
+}
+
 /// What a guard at zero does next (see [`Start`]): `true` when it approaches
 /// (an event now); when it departs it is masked for as long as it provably stays
 /// positive. Kept out of line: contact is rare, and inlined into the step loop
@@ -158,44 +208,8 @@ pub fn advance(
     let sp = &mode.spectral;
     let terms = sp.terms();
     let nt = terms.len();
-    let ng = mode.guards.len();
-    let Workspace { modal, f, fb, beta, coef, watch, start_abs, high, high_moduli } = w;
-    sp.modal_into(s0.as_slice(), modal);
-    f.resize(nt, C64::new(0.0, 0.0));
-    fb.resize(nt, 0.0);
-    beta.resize(LEVELS * nt * ng, C64::new(0.0, 0.0));
-    coef.resize(nt * ng, Coef::default());
-    high.resize(6 * nt, C64::new(0.0, 0.0));
-    high_moduli.resize(6 * nt, 0.0);
-    if start_abs.len() != s0.len() {
-        *start_abs = DVector::zeros(s0.len());
-    }
-    start_abs.zip_apply(s0, |a, x| *a = x.abs());
-    watch.clear();
-    for ((g, b), c) in mode.guards.iter().zip(beta.chunks_exact_mut(LEVELS * nt)).zip(coef.chunks_exact_mut(nt)) {
-        modal.functional_into(g.row.as_slice(), &mut b[..nt]);
-        for j in 1..LEVELS {
-            let (done, rest) = b.split_at_mut(j * nt);
-            differentiate_into(terms, &done[(j - 1) * nt..], &mut rest[..nt]);
-        }
-        for (t, c) in c.iter_mut().enumerate() {
-            *c = Coef {
-                value: b[t],
-                rate: b[nt + t],
-                // Constant terms do not vary: they enter the global bound by value.
-                varying: if terms[t].constant { 0.0 } else { b[t].l1_norm() },
-                accel: b[2 * nt + t].l1_norm(),
-            };
-        }
-        let magnitude = g.row_abs.dot(start_abs);
-        watch.push(Watch {
-            masked: 0.0,
-            zero: value_tol(acc, g.kind.is_gap(), magnitude),
-            // The constant terms' factors are their (real) weights at every time.
-            constant: (0..nt).filter(|&t| terms[t].constant).map(|t| terms[t].weight * b[t].re).sum(),
-            magnitude,
-        });
-    }
+    w.prepare(mode, s0, acc);
+    let Workspace { modal, f, fb, beta, coef, watch, high, high_moduli, .. } = w;
     let event = |modal: &Modal, f: &[C64], out: &mut DVector<f64>, guard: usize, time: f64| {
         if time > 0.0 {
             modal.state_into(f, out.as_mut_slice());

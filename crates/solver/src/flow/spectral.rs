@@ -377,14 +377,17 @@ impl Modal {
     /// Coefficients `β_t = row · Y_t` of a linear functional of the state.
     pub fn functional(&self, row: &[f64]) -> Vec<C64> {
         let mut out = vec![C64::new(0.0, 0.0); self.y.len() / self.dim.max(1)];
-        self.functional_into(row, &mut out);
+        self.functional_into(&crate::mode::nonzero_entries(row), &mut out);
         out
     }
 
-    /// [`Modal::functional`] into a slice (one entry per term).
-    pub fn functional_into(&self, row: &[f64], out: &mut [C64]) {
+    /// [`Modal::functional`] into a slice (one entry per term), from the
+    /// functional's nonzero entries (index, value), ascending. The zero entries
+    /// a dense product would add are `±0` (the state is finite), which leave a
+    /// sum that starts at `+0` unchanged: the result is the dense one bit for bit.
+    pub fn functional_into(&self, entries: &[(usize, f64)], out: &mut [C64]) {
         for (y, o) in self.y.chunks_exact(self.dim).zip(out.iter_mut()) {
-            *o = y.iter().zip(row).map(|(a, &b)| a * b).sum();
+            *o = entries.iter().map(|&(i, b)| y[i] * b).sum();
         }
     }
 }
