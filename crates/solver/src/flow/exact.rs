@@ -14,11 +14,11 @@
 //! (`g >= g^(j) u^j/j! - G_{j+1} u^{j+1}/(j+1)!`).
 //!
 //! Cost, for the next engineer: an advance is prepared once
-//! ([`Workspace::prepare`]: modal coefficients of the start, each guard's terms
+//! (`Workspace::prepare`: modal coefficients of the start, each guard's terms
 //! and bounds), then every step pays one exponential factor per eigenvalue
 //! (libm `exp` and `sincos`, the largest single cost) and one pass over each
 //! watched guard's terms; a guard at contact is classified out of line
-//! ([`at_contact`]). Every sum is taken in a fixed order, so results are
+//! (`at_contact`). Every sum is taken in a fixed order, so results are
 //! bit for bit reproducible; a change that reorders one changes the last bits
 //! of every atlas (`tests/data/frictionless.*` will say so).
 
