@@ -110,12 +110,10 @@ fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Settin
 }
 
 /// Keeps in `best` the faster of it and `m`, once `m`'s atlas is checked to
-/// equal `first` (set by the first run when `None`): results are deterministic,
-/// whatever the thread count and however often they are computed.
-fn keep_faster(best: &mut Option<Measured>, first: &mut Option<Atlas>, m: Measured) -> Result<()> {
-    let reference = first.get_or_insert_with(|| m.atlas.clone());
-    if *reference != m.atlas {
-        bail!("results differ between runs of the same grid: the solver is not deterministic");
+/// equal `best`'s: results are deterministic, however often they are computed.
+fn keep_faster(best: &mut Option<Measured>, m: Measured) -> Result<()> {
+    if let Some(b) = best.as_ref() {
+        same_atlas(&b.atlas, &m.atlas)?;
     }
     if best.as_ref().is_none_or(|b| m.secs < b.secs) {
         *best = Some(m);
@@ -123,13 +121,25 @@ fn keep_faster(best: &mut Option<Measured>, first: &mut Option<Atlas>, m: Measur
     Ok(())
 }
 
-/// The fastest of `repeat` (>= 1) runs, each checked against `first`.
+/// An error unless two runs of the same grid gave the same atlas, bit for bit.
+fn same_atlas(a: &Atlas, b: &Atlas) -> Result<()> {
+    if a != b {
+        bail!("results differ between runs of the same grid: the solver is not deterministic");
+    }
+    Ok(())
+}
+
+/// The fastest of `repeat` (>= 1) runs, each checked to give the same atlas,
+/// which must also equal `first` (set by the first call when `None`), whatever
+/// the thread count.
 fn best_of(repeat: usize, first: &mut Option<Atlas>, mut run: impl FnMut() -> Result<Measured>) -> Result<Measured> {
     let mut best = None;
     for _ in 0..repeat {
-        keep_faster(&mut best, first, run()?)?;
+        keep_faster(&mut best, run()?)?;
     }
-    best.ok_or_else(|| anyhow!("no run"))
+    let best = best.ok_or_else(|| anyhow!("no run"))?;
+    same_atlas(first.get_or_insert_with(|| best.atlas.clone()), &best.atlas)?;
+    Ok(best)
 }
 
 fn cells(a: &Atlas) -> usize {
@@ -222,14 +232,14 @@ pub fn run(a: BenchArgs) -> Result<()> {
         let fresh = [SweepKind::Fresh];
         // Rounds of every setting once, best kept per setting: a slow spell of
         // a shared machine falls on all settings alike, not on every run of one.
-        let mut runs: Vec<(Option<Measured>, Option<Atlas>)> = SETTINGS.iter().map(|_| (None, None)).collect();
+        let mut runs: Vec<Option<Measured>> = SETTINGS.iter().map(|_| None).collect();
         for _ in 0..a.trade_repeat {
-            for ((best, first), &setting) in runs.iter_mut().zip(&SETTINGS) {
-                keep_faster(best, first, run_plane(&scene, &plane, &fresh, setting, t)?)?;
+            for (best, &setting) in runs.iter_mut().zip(&SETTINGS) {
+                keep_faster(best, run_plane(&scene, &plane, &fresh, setting, t)?)?;
             }
         }
         let measured: Vec<Measured> =
-            runs.into_iter().map(|(best, _)| best.ok_or_else(|| anyhow!("no run"))).collect::<Result<_>>()?;
+            runs.into_iter().map(|best| best.ok_or_else(|| anyhow!("no run"))).collect::<Result<_>>()?;
         let reference = SETTINGS
             .iter()
             .zip(&measured)

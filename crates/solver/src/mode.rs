@@ -26,7 +26,7 @@
 //! the contact is decided again when the stop releases.
 
 use crate::error::SolverError;
-use crate::flow::spectral::Spectral;
+use crate::flow::spectral::{nonzero_entries, Spectral};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use num_complex::Complex64 as C64;
@@ -77,11 +77,6 @@ impl Guard {
         let entries = nonzero_entries(row.as_slice());
         Guard { kind, stop, row, row_abs, entries }
     }
-}
-
-/// The nonzero entries (index, value) of `row`, ascending.
-pub fn nonzero_entries(row: &[f64]) -> Vec<(usize, f64)> {
-    row.iter().copied().enumerate().filter(|&(_, v)| v != 0.0).collect()
 }
 
 /// Which linear system holds: the held stops and the state of each friction contact.

@@ -344,14 +344,14 @@ impl Spectral {
                 (sn, cs) = if lambda.im == 0.0 { (lambda.im * u, 1.0) } else { (lambda.im * u).sin_cos() };
             }
             let grow = if re > 0.0 { (re * b).exp() } else { r };
-            if term.power == 0 {
-                *o = C64::new(r * cs, r * sn) * term.weight;
-                *bound = term.weight * grow;
+            let (poly, poly_b) = if term.power == 0 {
+                (1.0, 1.0)
             } else {
-                let poly = u.powi(term.power as i32) * term.inv_factorial;
-                *o = C64::new(r * cs, r * sn) * (term.weight * poly);
-                *bound = term.weight * grow * (b.powi(term.power as i32) * term.inv_factorial);
-            }
+                let p = term.power as i32;
+                (u.powi(p) * term.inv_factorial, b.powi(p) * term.inv_factorial)
+            };
+            *o = C64::new(r * cs, r * sn) * (term.weight * poly);
+            *bound = term.weight * grow * poly_b;
         }
     }
 }
@@ -377,7 +377,7 @@ impl Modal {
     /// Coefficients `β_t = row · Y_t` of a linear functional of the state.
     pub fn functional(&self, row: &[f64]) -> Vec<C64> {
         let mut out = vec![C64::new(0.0, 0.0); self.y.len() / self.dim.max(1)];
-        self.functional_into(&crate::mode::nonzero_entries(row), &mut out);
+        self.functional_into(&nonzero_entries(row), &mut out);
         out
     }
 
@@ -390,6 +390,12 @@ impl Modal {
             *o = entries.iter().map(|&(i, b)| y[i] * b).sum();
         }
     }
+}
+
+/// The nonzero entries (index, value) of `row`, ascending: what
+/// [`Modal::functional_into`] reads of a functional.
+pub fn nonzero_entries(row: &[f64]) -> Vec<(usize, f64)> {
+    row.iter().copied().enumerate().filter(|&(_, v)| v != 0.0).collect()
 }
 
 /// Coefficients of the time derivative of `Σ_t Re(f_t β_t)`:
