@@ -49,6 +49,12 @@ enum StopPlace {
     Pair { first: usize, second: usize, gap: Compiled },
 }
 
+/// Smallest forcing frequency a scene may have. Below it the forced velocities
+/// (of order ω times the displacements) fall under the stick velocity of the
+/// `standard` preset (1e-7), so that a slow approach to a stop cannot be told
+/// from rest; the solver then ends such cells unresolved. Refused up front.
+pub const OMEGA_MIN: f64 = 1e-6;
+
 /// A parsed and structurally checked scene, ready to be evaluated for any parameters.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -90,6 +96,9 @@ impl Scene {
         let file: SceneFile = toml::from_str(text)
             .map_err(|e| SceneError::Syntax { message: e.to_string().trim().replace('\n', " ") })?;
         let names: Vec<String> = file.parameters.keys().cloned().collect();
+        for n in &names {
+            expr::valid_parameter_name(n).map_err(|why| SceneError::field(format!("parameters.{n}"), why))?;
+        }
         let params = file
             .parameters
             .iter()
@@ -289,9 +298,9 @@ impl Scene {
         let mut values = vec![f64::NAN; n];
         let mut known = vec![false; n];
         for (name, v) in overrides {
-            let i = index_of(&self.names, name, &format!("--set {name}"), "parameter")?;
+            let i = index_of(&self.names, name, &format!("parameters.{name}"), "parameter")?;
             if !v.is_finite() {
-                return Err(SceneError::field(format!("--set {name}"), format!("not a finite number, got {v}")));
+                return Err(SceneError::field(format!("parameters.{name}"), format!("not a finite number, got {v}")));
             }
             values[i] = *v;
             known[i] = true;
@@ -339,8 +348,13 @@ impl Scene {
             }
         };
         let omega = ev(&self.omega, "forcing.omega".into())?;
-        if omega <= 0.0 {
-            return Err(SceneError::field("forcing.omega", format!("must be > 0, got {omega}")));
+        if !(omega >= OMEGA_MIN) {
+            return Err(SceneError::field(
+                "forcing.omega",
+                format!(
+                    "must be at least {OMEGA_MIN:e} (under slower forcing every velocity is below the solver's stick velocity and contacts cannot be told from rest), got {omega:e}"
+                ),
+            ));
         }
         let tau = ev(&self.tau, "forcing.phase".into())?;
         let masses = self
@@ -427,6 +441,9 @@ impl Scene {
             labels: self.labels.iter().map(|&(mass, p, q)| Label { mass, p, q }).collect(),
             parameters: self.names.iter().cloned().zip(values.iter().copied()).collect(),
         };
+        if model.symmetric {
+            check_mirror(&model.stops)?;
+        }
         let x0: Vec<f64> = model.masses.iter().map(|m| m.x0).collect();
         for (i, s) in model.stops.iter().enumerate() {
             let g = model.gap(i, &x0);
@@ -439,4 +456,39 @@ impl Scene {
         }
         Ok(model)
     }
+}
+
+/// Checks that a scene declared `symmetric` is: every stop has a mirror image
+/// under `x -> -x` among the stops (a frame stop at `p` on one side, one at `-p`
+/// on the other side of the same mass; a pair stop `x_a - x_b <= g`, one with
+/// the masses swapped), with the same restitution. Links and harmonic forces
+/// are odd under the mirror with a half-period shift whatever their values.
+fn check_mirror(stops: &[Stop]) -> Result<(), SceneError> {
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
+    for (i, s) in stops.iter().enumerate() {
+        let mirrored = stops.iter().any(|t| {
+            close(s.restitution, t.restitution)
+                && match (&s.geometry, &t.geometry) {
+                    (
+                        StopGeometry::Frame { mass, side, position },
+                        StopGeometry::Frame { mass: m2, side: s2, position: p2 },
+                    ) => mass == m2 && side != s2 && close(*position, -*p2),
+                    (
+                        StopGeometry::Pair { first, second, gap },
+                        StopGeometry::Pair { first: f2, second: s2, gap: g2 },
+                    ) => first == s2 && second == f2 && close(*gap, *g2),
+                    _ => false,
+                }
+        });
+        if !mirrored {
+            return Err(SceneError::field(
+                "symmetric",
+                format!(
+                    "true, but stop {} (stops[{i}]) has no mirror image under x -> -x; set symmetric = false",
+                    s.name
+                ),
+            ));
+        }
+    }
+    Ok(())
 }

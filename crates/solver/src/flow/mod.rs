@@ -149,7 +149,8 @@ pub fn value_tol(acc: &Accuracy, is_gap: bool, magnitude: f64) -> f64 {
 
 /// Tolerances of [`classify_start`] for a guard with derivatives `d` and
 /// bounds `scale` (`scale[0]`: magnitude of the guard): [`value_tol`] for its
-/// value, the stick velocity for a gap's rate, and for every derivative the
+/// value, the stick velocity for a gap's rate (less where the approach could
+/// carry the gap past the contact tolerance), and for every derivative the
 /// larger of rounding level and what the next derivative changes within 100 time
 /// resolutions (the coarser of `event_tol` and `rk4_min_step`), so that the
 /// residual of an event located to that resolution counts as zero.
@@ -161,7 +162,14 @@ pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5], d: &[f64
         tol[j] = (1e-11 * scale[j]).max(next).max(1e-300);
     }
     if is_gap {
-        tol[1] = tol[1].max(acc.stick_velocity);
+        // An approach slower than the stick velocity is a landing, not a miss,
+        // only while it cannot carry the gap past the contact tolerance before
+        // the acceleration turns it: `d1² / (2 |d2|) <= contact_tol`. (Under
+        // very slow forcing every velocity is below the stick velocity, and a
+        // slow approach with a tiny acceleration would otherwise pass through
+        // the stop.)
+        let landing = (2.0 * acc.contact_tol * d[2].abs()).sqrt();
+        tol[1] = tol[1].max(acc.stick_velocity.min(landing));
     }
     tol
 }

@@ -17,18 +17,32 @@
 //! eigenvalues `N_c` is tiny and the series is summed until it is below rounding
 //! over the horizon. Conjugate clusters are folded: a cluster in the upper half
 //! plane contributes `2 Re(...)`, a real cluster `Re(...)`.
+//!
+//! A cluster whose `N_c` is tiny (the slow forcing pair `±iω` merged with the
+//! constant state when ω is far below the natural frequencies) is summed in its
+//! own time scale `ν_c`, a power of two near `‖N_c‖`:
+//! `Σ_j ((ν u)^j / j!) (N_c/ν)^j`. Over a period of `2π/ω` the plain terms
+//! `u^j / j!` and `N_c^j` overflow and underflow f64 (ω = 1e-7: `u^40 ≈ 1e312`),
+//! and the scaled ones stay of order one. Scaling by a power of two is exact,
+//! so every product is the plain one bit for bit wherever the plain one was
+//! representable.
 
 use crate::error::SolverError;
 use nalgebra::{DMatrix, DVector, Schur};
 use num_complex::Complex64 as C64;
 
-/// One term `weight · e^{μ u} u^j / j!` of the expansion.
+/// `‖N_c‖` below which a cluster is summed in its own time scale ν.
+const TINY_N: f64 = 1.0 / 256.0;
+
+/// One term `weight · e^{μ u} (ν u)^j / j!` of the expansion.
 #[derive(Debug, Clone, Copy)]
 pub struct Term {
     /// Cluster eigenvalue μ.
     pub lambda: C64,
-    /// Power j of `u^j / j!`.
+    /// Power j of `(ν u)^j / j!`.
     pub power: usize,
+    /// The cluster's time scale ν (a power of two; 1 unless `N_c` is tiny).
+    scale: f64,
     /// 1 for a real cluster, 2 for an upper-half-plane cluster (conjugate folded).
     pub weight: f64,
     /// 1 / j!.
@@ -198,11 +212,18 @@ impl Spectral {
             let mut n = &b - DMatrix::<C64>::identity(k, k) * mu;
             rebuilt += (&v * &b * &w).map(|x| x.re * weight);
             // Number of series terms needed over the horizon.
+            let mut nu = 1.0;
             let powers = if n.iter().all(|x| x.norm() <= 1e-13 * scale) {
                 n.fill(C64::new(0.0, 0.0));
                 1
             } else {
                 let nn = n.norm();
+                if nn < TINY_N {
+                    // The cluster's own time scale (see the module doc).
+                    nu = f64::powi(2.0, nn.log2().ceil() as i32);
+                    n /= C64::new(nu, 0.0);
+                }
+                let (nn, horizon) = (nn / nu, horizon * nu);
                 let mut p = DMatrix::<C64>::identity(k, k);
                 let mut j = 1;
                 let mut coeff = 1.0;
@@ -226,6 +247,7 @@ impl Spectral {
                 terms.push(Term {
                     lambda: mu,
                     power: j,
+                    scale: nu,
                     weight,
                     inv_factorial,
                     last: j + 1 == powers,
@@ -323,7 +345,8 @@ impl Spectral {
             if term.lambda != last.0 {
                 last = (term.lambda, (term.lambda * u).exp());
             }
-            let poly = if term.power == 0 { 1.0 } else { u.powi(term.power as i32) * term.inv_factorial };
+            let poly =
+                if term.power == 0 { 1.0 } else { (term.scale * u).powi(term.power as i32) * term.inv_factorial };
             out[t] = last.1 * (term.weight * poly);
         }
     }
@@ -348,7 +371,8 @@ impl Spectral {
                 (1.0, 1.0)
             } else {
                 let p = term.power as i32;
-                (u.powi(p) * term.inv_factorial, b.powi(p) * term.inv_factorial)
+                let nu = term.scale;
+                ((nu * u).powi(p) * term.inv_factorial, (nu * b).powi(p) * term.inv_factorial)
             };
             *o = C64::new(r * cs, r * sn) * (term.weight * poly);
             *bound = term.weight * grow * poly_b;
@@ -399,7 +423,7 @@ pub fn nonzero_entries(row: &[f64]) -> Vec<(usize, f64)> {
 }
 
 /// Coefficients of the time derivative of `Σ_t Re(f_t β_t)`:
-/// `β'_{c,j} = μ_c β_{c,j} + β_{c,j+1}`.
+/// `β'_{c,j} = μ_c β_{c,j} + ν_c β_{c,j+1}`.
 pub fn differentiate(terms: &[Term], beta: &[C64]) -> Vec<C64> {
     let mut out = vec![C64::new(0.0, 0.0); beta.len()];
     differentiate_into(terms, beta, &mut out);
@@ -414,7 +438,7 @@ pub fn differentiate_into(terms: &[Term], beta: &[C64], out: &mut [C64]) {
             Some(&b) if !term.last => b,
             _ => C64::new(0.0, 0.0),
         };
-        *o = term.lambda * beta[t] + next;
+        *o = term.lambda * beta[t] + next * term.scale;
     }
 }
 
