@@ -64,6 +64,11 @@ fn corners_of_the_parameter_space() {
             );
             match a.class {
                 Class::Periodic => assert!(a.n.is_some() && a.labels.iter().all(|l| l.npq.is_some()), "{p:?}"),
+                // Cells whose exponent was measured but decides nothing (still
+                // contracting, or in the quasi-periodic band without a torus) are
+                // unresolved by design (issue 18); the budget and stalls are
+                // what this bounds.
+                Class::Unresolved if a.lyapunov.is_some() => {}
                 Class::Unresolved => {
                     unresolved.fetch_add(1, Ordering::Relaxed);
                 }

@@ -96,6 +96,29 @@ pub struct Accuracy {
     pub rk4_min_step: f64,
 }
 
+/// Largest value of each knob, and what a larger one would do: sizes bound the
+/// memory and time of one cell, tolerances must stay below the scale of the
+/// motion (of order one in the dimensionless models).
+pub const LIMITS: [(&str, f64, &str); 17] = [
+    ("event_tol", 1e-3, "a coarser event time is no longer an event"),
+    ("contact_tol", 1e-3, "a coarser contact is a visible penetration"),
+    ("stick_velocity", 1e-1, "faster impacts would be plastic"),
+    ("chatter_velocity", 1.0, "every impact would end a chatter sequence"),
+    ("min_transient", 1e6, "time per cell"),
+    ("max_periods", 1e7, "time per cell"),
+    ("periodic_tol", 1e-2, "distinct points would count as one"),
+    ("n_max", 1e4, "memory of the period history"),
+    ("chatter_impacts", 1e6, "no motion chatters beyond it"),
+    ("max_events", 1e10, "time per cell"),
+    ("newton", 1.0, "a switch"),
+    ("multipliers", 1.0, "a switch"),
+    ("extensions", 1e3, "time per cell"),
+    ("lyapunov_periods", 1e6, "memory of the section points kept for the exponent"),
+    ("chaos_check", 1e7, "beyond max_periods it never acts"),
+    ("rk4_step", 1.0, "RK4 would be unstable"),
+    ("rk4_min_step", 1.0, "above the step"),
+];
+
 impl Accuracy {
     /// The knobs of a preset.
     pub fn preset(p: Preset) -> Accuracy {
@@ -179,6 +202,11 @@ impl Accuracy {
                 Err(err("must be > 0"))
             }
         };
+        if let Some(&(_, max, why)) = LIMITS.iter().find(|(k, _, _)| *k == name) {
+            if value > max {
+                return Err(err(&format!("at most {max:e} ({why}), got {value:e}")));
+            }
+        }
         match name {
             "event_tol" => self.event_tol = positive()?,
             "contact_tol" => self.contact_tol = positive()?,

@@ -467,11 +467,10 @@ pub fn run_cell_with_sections(
     extra_events += tangent_work.1;
     let mut class = if found.is_some() { Class::Periodic } else { Class::Chaotic };
     let mut lyapunov = None;
+    let mut undecided = None;
     if let (None, Some((l, points))) = (found, &exponent) {
         lyapunov = Some(*l);
-        if (l * sys.period).abs() <= QUASIPERIODIC_EXPONENT && fills_closed_curve(points) {
-            class = Class::Quasiperiodic;
-        }
+        (class, undecided) = without_period(l * sys.period, || fills_closed_curve(points));
     }
     // With a period: the stability of the orbit reached.
     let mut multiplier = None;
@@ -500,7 +499,8 @@ pub fn run_cell_with_sections(
         stuck |= r.stuck;
     }
     let sticking: Vec<bool> = (0..stops).map(|k| held & (1 << k) != 0).collect();
-    let chatter: Vec<bool> = impacts.iter().map(|&c| c as usize >= acc.chatter_impacts).collect();
+    let chatter: Vec<bool> =
+        (0..stops).map(|k| recs.iter().any(|r| r.impacts[k] as usize >= acc.chatter_impacts)).collect();
     let labels = label_masses(sys, found, class, &impacts, &sticking);
     let symmetry = match (symmetric, found) {
         (true, Some(n)) => Some(symmetry_of(&hist, n, acc)),
@@ -523,7 +523,7 @@ pub fn run_cell_with_sections(
         section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),
         periods: sim.periods + extra_periods,
         events: sim.events + extra_events,
-        reason: None,
+        reason: undecided,
     };
     let sections = if section_cap == 0 {
         no_sections()
@@ -533,6 +533,31 @@ pub fn run_cell_with_sections(
         record_window(&mut probe, &cell.window_start, cell.section.len(), &cell.impacts, section_cap)
     };
     (cell, sections)
+}
+
+/// The class of a cell without a period from its largest Lyapunov exponent
+/// `growth = λT` per forcing period, and the reason when it is undecided:
+/// chaotic only when the exponent is positive beyond the quasi-periodic band;
+/// quasi-periodic inside the band when the period-section points lie on one
+/// closed curve; otherwise (inside the band without a closed curve, or still
+/// contracting after every extension: a transient longer than the record)
+/// unresolved, never chaotic.
+fn without_period(growth: f64, closed_curve: impl FnOnce() -> bool) -> (Class, Option<String>) {
+    if growth > QUASIPERIODIC_EXPONENT {
+        (Class::Chaotic, None)
+    } else if growth < -QUASIPERIODIC_EXPONENT {
+        let why = format!(
+            "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
+        );
+        (Class::Unresolved, Some(why))
+    } else if closed_curve() {
+        (Class::Quasiperiodic, None)
+    } else {
+        let why = format!(
+            "no period within the record; the largest Lyapunov exponent is in the quasi-periodic band (λT = {growth:.3e}) but the period section is not one closed curve"
+        );
+        (Class::Unresolved, Some(why))
+    }
 }
 
 /// The n-p-q label of every labelled mass of a cell of class `class` from the
