@@ -30,8 +30,19 @@ impl Compiled {
         match num {
             Num::Value(v) => Ok(Compiled::Value(*v)),
             Num::Expr(source) => {
-                let expr = exmex::parse::<f64>(source)
-                    .map_err(|e| SceneError::field(field, format!("cannot parse expression '{source}': {e}")))?;
+                let bad = |why: String| SceneError::field(field, format!("{why} in expression '{source}'"));
+                // A plain number, scientific notation included ("1e-3").
+                if let Ok(v) = source.trim().parse::<f64>() {
+                    if v.is_finite() {
+                        return Ok(Compiled::Value(v));
+                    }
+                    return Err(bad(format!("not a finite number, got {v}")));
+                }
+                let text = check(source, names).map_err(bad)?;
+                let expr = exmex::parse::<f64>(&text).map_err(|e| {
+                    let first = e.to_string().lines().next().unwrap_or_default().to_string();
+                    bad(format!("cannot parse ({first})"))
+                })?;
                 let vars = expr
                     .var_names()
                     .iter()
@@ -73,6 +84,155 @@ impl Compiled {
             Err(SceneError::field(field, format!("not a finite number{what}, got {v}")))
         }
     }
+}
+
+/// Functions an expression may call (exmex's float operators).
+pub const FUNCTIONS: [&str; 26] = [
+    "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "floor", "ceil",
+    "round", "trunc", "fract", "sqrt", "cbrt", "exp", "ln", "log", "log2", "log10", "abs", "signum",
+];
+/// Constants an expression may use.
+pub const CONSTANTS: [&str; 3] = ["PI", "π", "E"];
+
+/// Whether `name` may name a parameter: an identifier (a letter or `_`, then
+/// letters, digits, `_`) that is neither a function nor a constant.
+pub fn valid_parameter_name(name: &str) -> Result<(), String> {
+    let mut chars = name.chars();
+    let ident =
+        chars.next().is_some_and(|c| c.is_alphabetic() || c == '_') && chars.all(|c| c.is_alphanumeric() || c == '_');
+    if !ident {
+        return Err(format!("'{name}' is not a name (a letter or '_', then letters, digits or '_')"));
+    }
+    if FUNCTIONS.contains(&name) || CONSTANTS.contains(&name) {
+        return Err(format!("'{name}' is reserved (a function or constant of expressions)"));
+    }
+    Ok(())
+}
+
+/// Checks the tokens of an expression and returns the text exmex parses: every
+/// number written out without an exponent (exmex reads `1e-3` as `1 e - 3`).
+/// Errors say what is wrong: an unknown function or parameter, a missing
+/// operand, an unbalanced parenthesis, a stray character.
+fn check(source: &str, names: &[String]) -> Result<String, String> {
+    let chars: Vec<char> = source.chars().collect();
+    let mut out = String::new();
+    let mut depth = 0i32;
+    // Whether the last token ends an operand (a number, a name, ')').
+    let mut operand = false;
+    let mut last_op: Option<char> = None;
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        if c.is_whitespace() {
+            out.push(c);
+            i += 1;
+        } else if c.is_ascii_digit() || (c == '.' && chars.get(i + 1).is_some_and(|d| d.is_ascii_digit())) {
+            let start = i;
+            while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
+                i += 1;
+            }
+            if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
+                let mut j = i + 1;
+                if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
+                    j += 1;
+                }
+                if j < chars.len() && chars[j].is_ascii_digit() {
+                    while j < chars.len() && chars[j].is_ascii_digit() {
+                        j += 1;
+                    }
+                    i = j;
+                }
+            }
+            let literal: String = chars[start..i].iter().collect();
+            let v: f64 = literal.parse().map_err(|_| format!("'{literal}' is not a number"))?;
+            if !v.is_finite() {
+                return Err(format!("'{literal}' is not a finite number"));
+            }
+            if operand {
+                return Err(format!("expected an operator before '{literal}'"));
+            }
+            out.push_str(&plain(v));
+            operand = true;
+            last_op = None;
+        } else if c.is_alphabetic() || c == '_' {
+            let start = i;
+            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+                i += 1;
+            }
+            let name: String = chars[start..i].iter().collect();
+            let mut k = i;
+            while k < chars.len() && chars[k].is_whitespace() {
+                k += 1;
+            }
+            let call = chars.get(k) == Some(&'(');
+            if call && !FUNCTIONS.contains(&name.as_str()) {
+                return Err(format!("unknown function '{name}' (known: {})", FUNCTIONS.join(", ")));
+            }
+            if !call && !CONSTANTS.contains(&name.as_str()) && !names.contains(&name) {
+                return Err(if FUNCTIONS.contains(&name.as_str()) {
+                    format!("function '{name}' needs an argument in parentheses")
+                } else {
+                    format!("unknown parameter '{name}'")
+                });
+            }
+            if operand {
+                return Err(format!("expected an operator before '{name}'"));
+            }
+            out.push_str(&name);
+            operand = !call;
+            last_op = None;
+        } else if "+-*/^".contains(c) {
+            let unary = c == '+' || c == '-';
+            if !operand && !unary {
+                return Err(match last_op {
+                    Some(op) => format!("expected an operand after '{op}'"),
+                    None => format!("expected an operand before '{c}'"),
+                });
+            }
+            out.push(c);
+            operand = false;
+            last_op = Some(c);
+            i += 1;
+        } else if c == '(' {
+            if operand {
+                return Err("expected an operator before '('".into());
+            }
+            depth += 1;
+            out.push(c);
+            i += 1;
+        } else if c == ')' {
+            if !operand {
+                return Err(match last_op {
+                    Some(op) => format!("expected an operand after '{op}'"),
+                    None => "empty parentheses".into(),
+                });
+            }
+            depth -= 1;
+            if depth < 0 {
+                return Err("unbalanced parentheses: ')' without '('".into());
+            }
+            out.push(c);
+            i += 1;
+        } else {
+            return Err(format!("unexpected character '{c}'"));
+        }
+    }
+    if depth > 0 {
+        return Err("unbalanced parentheses: '(' without ')'".into());
+    }
+    if !operand {
+        return Err(match last_op {
+            Some(op) => format!("expected an operand after '{op}'"),
+            None => "empty expression".into(),
+        });
+    }
+    Ok(out)
+}
+
+/// `v` written without an exponent, as exmex reads numbers (Rust's `Display`
+/// of an f64 never uses one, and reads back to the same value).
+fn plain(v: f64) -> String {
+    format!("{v}")
 }
 
 /// An interval a parameter must lie in, written `"(0, 1)"`, `"[0, inf)"`.
@@ -170,6 +330,19 @@ mod tests {
         assert!((v - 3.0).abs() < 1e-15);
         let e = Compiled::new(&Num::Expr("delt".into()), &names, "masses[0].x0").unwrap_err();
         assert_eq!(e.to_string(), "masses[0].x0: unknown parameter 'delt' in expression 'delt'");
+        let value = |t: &str| Compiled::new(&Num::Expr(t.into()), &names, "f").and_then(|c| c.eval(&[2.0, 0.5], "f"));
+        assert!((value("1e-3").unwrap() - 1e-3).abs() < 1e-18);
+        assert!((value("2.5E2 * a").unwrap() - 500.0).abs() < 1e-12);
+        assert!((value("-1.5e-2 + mu_m").unwrap() - 0.485).abs() < 1e-15);
+        let err = |t: &str| value(t).unwrap_err().to_string();
+        assert_eq!(err("1e308*10"), "f: not a finite number ('1e308*10'), got inf");
+        assert_eq!(err("1 + * 2"), "f: expected an operand after '+' in expression '1 + * 2'");
+        assert!(err("foo(1)").starts_with("f: unknown function 'foo' (known: sin"), "{}", err("foo(1)"));
+        assert_eq!(err("(a + 1"), "f: unbalanced parentheses: '(' without ')' in expression '(a + 1'");
+        assert_eq!(err("a 2"), "f: expected an operator before '2' in expression 'a 2'");
+        assert_eq!(err("a $ 2"), "f: unexpected character '$' in expression 'a $ 2'");
+        assert!(valid_parameter_name("PI").is_err() && valid_parameter_name("sin").is_err());
+        assert!(valid_parameter_name("a b").is_err() && valid_parameter_name("mu_m").is_ok());
         let c = Compiled::new(&Num::Expr("1/(1-mu_m)".into()), &names, "m").unwrap();
         assert!(c.eval(&[0.0, 1.0], "m").is_err());
     }
