@@ -151,6 +151,9 @@ pub struct AtlasArgs {
     /// Continue an interrupted run from its journal.
     #[arg(long)]
     pub resume: bool,
+    /// Allow an output that exists and is not a regular file (a device, a pipe).
+    #[arg(long)]
+    pub force: bool,
     /// Output HDF5 file.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: std::path::PathBuf,
@@ -174,6 +177,9 @@ pub struct SweepArgs {
     /// Bifurcation diagram PNG.
     #[arg(long, value_name = "FILE")]
     pub png: Option<std::path::PathBuf>,
+    /// Allow an output that exists and is not a regular file (a device, a pipe).
+    #[arg(long)]
+    pub force: bool,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -189,12 +195,23 @@ pub struct MergeArgs {
     /// Output HDF5 file.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: std::path::PathBuf,
+    /// Write the merged file even when shards are missing (their cells stay
+    /// `not computed`); without it a missing shard is an error.
+    #[arg(long)]
+    pub allow_missing: bool,
+    /// Allow an output that exists and is not a regular file (a device, a pipe).
+    #[arg(long)]
+    pub force: bool,
 }
 
 #[derive(Debug, Args)]
 pub struct InspectArgs {
     /// Atlas file.
     pub file: std::path::PathBuf,
+    /// Print the summary as one JSON object (grid, sweeps, class and label
+    /// counts, hysteresis zones, run time).
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Args)]

@@ -4,13 +4,15 @@
 //! RK4 against the `precise` reference (in rounds of every setting, best kept).
 
 use crate::args::BenchArgs;
-use crate::common::{write_atomically, Setup};
+use crate::common::Setup;
+use crate::out::outln;
 use crate::plan::Plan;
 use anyhow::{anyhow, bail, Context, Result};
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
 use serde_json::{json, Value};
 use solver::{Accuracy, Class, Method, Preset};
+use store::write_atomically;
 
 /// The reference scene, shipped with the binary.
 const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
@@ -215,7 +217,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             let (t0, r0) = *base.get_or_insert((t, rate));
             let efficiency = rate / r0 / (t as f64 / t0 as f64);
             if !a.json {
-                println!(
+                outln!(
                     "throughput {name:<5} {t} thread(s): {count} cells in {best:.2} s, {rate:.0} cells/s, parallel efficiency {efficiency:.2}"
                 );
             }
@@ -223,7 +225,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         }
     }
     if !a.json {
-        println!("every run on {} thread(s) gave the same atlas, bit for bit", a.threads);
+        outln!("every run on {} thread(s) gave the same atlas, bit for bit", a.threads);
     }
 
     let mut trade = Vec::new();
@@ -247,8 +249,8 @@ pub fn run(a: BenchArgs) -> Result<()> {
             .map(|(_, m)| &m.atlas)
             .ok_or_else(|| anyhow!("no reference setting"))?;
         if !a.json {
-            println!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
-            println!(
+            outln!("\ntrade on {n} x {n} fresh cells, {t} thread(s), reference: precise (exact)");
+            outln!(
                 "{:<24} {:>11} {:>16} {:>16} {:>19} {:>10} {:>12} {:>17}",
                 "setting",
                 "cells/s",
@@ -277,7 +279,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 nonperiodic_periods: periods(&m.atlas, |c| c != Class::Periodic),
             };
             if !a.json {
-                println!(
+                outln!(
                     "{:<24} {:>11.0} {:>15.2}% {:>15.2}% {:>19.2e} {:>10} {:>12.1} {:>16.1}%",
                     row.setting,
                     row.cells_per_s,
@@ -296,7 +298,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         if let (Some(base), false) = (base, a.json) {
             let ratios: Vec<String> =
                 rows.iter().map(|r| format!("{} {:.1}x", r.setting, r.cells_per_s / base)).collect();
-            println!("cells/s against {}: {}", RK4.name, ratios.join(", "));
+            outln!("cells/s against {}: {}", RK4.name, ratios.join(", "));
         }
         trade = rows.iter().map(|r| r.json(base)).collect();
         if let Some(dir) = &a.output {
@@ -306,12 +308,12 @@ pub fn run(a: BenchArgs) -> Result<()> {
             let png = dir.join("trade.png");
             write_atomically(&png, |tmp| render::trade(&points, tmp))?;
             if !a.json {
-                println!("wrote {}", png.display());
+                outln!("wrote {}", png.display());
             }
         }
     }
     if a.json {
-        println!(
+        outln!(
             "{}",
             serde_json::to_string(
                 &json!({"grid": n, "trade": Value::Array(trade), "throughput": Value::Array(throughput)})

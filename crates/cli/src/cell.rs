@@ -1,17 +1,25 @@
 //! `vibroatlas cell`: simulate one cell and print its classification.
 
 use crate::args::CellArgs;
-use crate::common::{labels_json, setup, write_atomically};
+use crate::common::{labels_json, setup};
+use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
 use solver::{run_cell, CellResult, Simulator, System};
 use std::fmt::Write as _;
+use store::write_atomically;
+
+/// Largest `--trace-samples` (samples per forcing period): a trace of n periods
+/// holds about n × 100 000 rows.
+pub const MAX_TRACE_SAMPLES: usize = 100_000;
+/// Largest number of rows of a trace (about 1 GB of CSV for two masses).
+pub const MAX_TRACE_ROWS: usize = 10_000_000;
 
 /// Runs the command.
 pub fn run(a: CellArgs) -> Result<()> {
     let s = setup(&a.sim)?;
-    if a.trace_samples == 0 {
-        return Err(anyhow!("--trace-samples: must be >= 1"));
+    if a.trace_samples == 0 || a.trace_samples > MAX_TRACE_SAMPLES {
+        return Err(anyhow!("--trace-samples: expected 1 to {MAX_TRACE_SAMPLES}, got {}", a.trace_samples));
     }
     let model = s.scene.evaluate(&s.overrides)?;
     let y0 = model.initial_state();
@@ -19,6 +27,12 @@ pub fn run(a: CellArgs) -> Result<()> {
     let cell = run_cell(&sys, &s.accuracy, s.method, &y0);
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
+        if periods.saturating_mul(a.trace_samples) > MAX_TRACE_ROWS {
+            return Err(anyhow!(
+                "--trace-samples: {periods} periods x {} samples is more than {MAX_TRACE_ROWS} rows; take fewer samples",
+                a.trace_samples
+            ));
+        }
         let csv = trace_csv(&sys, &s, &cell, periods, a.trace_samples)?;
         write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
     }
@@ -31,9 +45,9 @@ pub fn run(a: CellArgs) -> Result<()> {
         write_atomically(path, |tmp| render::sections(&panels, &title, tmp))?;
     }
     if a.json {
-        println!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);
+        outln!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);
     } else {
-        print!("{}", to_text(&sys, &s, &cell));
+        outp!("{}", to_text(&sys, &s, &cell));
     }
     Ok(())
 }

@@ -5,7 +5,6 @@ use crate::args::SimArgs;
 use anyhow::{anyhow, bail, Context, Result};
 use scene::Scene;
 use solver::{Accuracy, Method, Preset};
-use std::path::Path;
 
 /// A validated simulation setup.
 pub struct Setup {
@@ -82,16 +81,4 @@ pub fn cell_setup(s: &Setup, section_cap: usize) -> Result<grid::CellSetup> {
         method: s.method,
         section_cap,
     })
-}
-
-/// Writes `path` through `write`, which fills a temporary file beside it (same
-/// extension, see [`store::partial_path`]); the temporary replaces `path` only
-/// once complete, so a failure never leaves a half-written file under its name.
-pub fn write_atomically<E: std::fmt::Display>(path: &Path, write: impl FnOnce(&Path) -> Result<(), E>) -> Result<()> {
-    let tmp = store::partial_path(path);
-    if let Err(e) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        bail!("{}: {e}", path.display());
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
 }

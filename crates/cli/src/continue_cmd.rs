@@ -2,8 +2,9 @@
 //! locate its bifurcations (PD, SN, PF, NS, grazing).
 
 use crate::args::ContinueArgs;
-use crate::common::{check_period, labels_json, setup, write_atomically};
+use crate::common::{check_period, labels_json, setup};
 use crate::orbit::multipliers_json;
+use crate::out::{outln, outp};
 use anyhow::{anyhow, bail, Result};
 use grid::Axis;
 use serde_json::{json, Value};
@@ -11,6 +12,7 @@ use solver::arclength::follow_arclength;
 use solver::continuation::{follow, Branch};
 use solver::{orbit_of_cell, System};
 use std::fmt::Write as _;
+use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: ContinueArgs) -> Result<()> {
@@ -51,9 +53,9 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &axis.name, &first, tmp))?;
     }
     if a.json {
-        println!("{}", serde_json::to_string(&to_json(&branch))?);
+        outln!("{}", serde_json::to_string(&to_json(&branch))?);
     } else {
-        print!("{}", to_text(&axis.name, &branch));
+        outp!("{}", to_text(&axis.name, &branch));
     }
     Ok(())
 }

@@ -11,6 +11,7 @@ mod continue_cmd;
 mod inspect;
 mod merge;
 mod orbit;
+mod out;
 mod plan;
 mod progress;
 mod render_cmd;
@@ -21,7 +22,18 @@ mod sweep;
 use clap::Parser;
 
 fn main() {
-    let cli = args::Cli::parse();
+    let cli = match args::Cli::try_parse() {
+        Ok(cli) => cli,
+        // Help and version go to standard output as clap prints them.
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            // One line: clap's first, without its usage and tips.
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments").trim_start_matches("error: ");
+            eprintln!("error: {first} (see vibroatlas --help)");
+            std::process::exit(2);
+        }
+    };
     let result = match cli.command {
         args::Command::Cell(a) => cell::run(a),
         args::Command::Sweep(a) => sweep::run(a),

@@ -2,17 +2,33 @@
 
 use crate::args::MergeArgs;
 use crate::plan::command_line;
-use anyhow::Result;
+use anyhow::{bail, Result};
 use store::RunInfo;
 
 /// Runs the command.
 pub fn run(a: MergeArgs) -> Result<()> {
-    let (atlas, run_time_s) = store::merge(&a.parts)?;
+    let inputs: Vec<&std::path::Path> = a.parts.iter().map(|p| p.as_path()).collect();
+    store::check_output(&a.output, &inputs, a.force)?;
+    let _lock = store::OutputLock::acquire(&a.output)?;
+    let merged = store::merge(&a.parts)?;
+    let atlas = &merged.atlas;
     if !atlas.complete() {
-        let missing: usize = atlas.maps.iter().map(|m| m.cells.iter().filter(|c| c.is_none()).count()).sum();
-        eprintln!("note: {missing} cells are in none of the parts (a shard is missing)");
+        let cells: usize = atlas.maps.iter().map(|m| m.cells.iter().filter(|c| c.is_none()).count()).sum();
+        let shards = if merged.missing.is_empty() {
+            String::new()
+        } else {
+            let list: Vec<String> = merged.missing.iter().map(|k| k.to_string()).collect();
+            format!(" (shards {} missing)", list.join(", "))
+        };
+        if !a.allow_missing {
+            bail!("merge: {cells} cells are in none of the parts{shards}; add the missing parts, or pass --allow-missing to write them as not computed");
+        }
+        eprintln!("warning: {cells} cells are in none of the parts{shards}; they are stored as not computed");
     }
-    store::write(&a.output, &atlas, &RunInfo { command: command_line(), run_time_s, shard: None })?;
-    println!("merged {} files into {}", a.parts.len(), a.output.display());
+    let mut command = merged.commands.join("\n");
+    command.push('\n');
+    command.push_str(&command_line());
+    store::write(&a.output, atlas, &RunInfo { command, run_time_s: merged.run_time_s, shard: None })?;
+    crate::out::line(&format!("merged {} files into {}", a.parts.len(), a.output.display()))?;
     Ok(())
 }

@@ -3,6 +3,7 @@
 
 use crate::args::OrbitArgs;
 use crate::common::{check_period, labels_json, setup};
+use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Value};
 use solver::{orbit_of_cell, Complex64, Orbit, System};
@@ -17,9 +18,9 @@ pub fn run(a: OrbitArgs) -> Result<()> {
     let sys = System::new(model)?;
     let orbit = orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("{e}"))?;
     if a.json {
-        println!("{}", serde_json::to_string(&to_json(&sys, &orbit))?);
+        outln!("{}", serde_json::to_string(&to_json(&sys, &orbit))?);
     } else {
-        print!("{}", to_text(&sys, &orbit));
+        outp!("{}", to_text(&sys, &orbit));
     }
     Ok(())
 }

@@ -19,6 +19,10 @@ pub struct Plan {
     pub resume: bool,
     pub quiet: bool,
     pub command: String,
+    /// Files the run reads, never to be overwritten by its output (the scene).
+    pub inputs: Vec<PathBuf>,
+    /// Allow a non-regular output file (`--force`).
+    pub force: bool,
 }
 
 /// The command line as one string (for the file's `command` attribute).
@@ -61,13 +65,16 @@ fn cell_bytes(meta: &Meta) -> u64 {
 impl Plan {
     /// Refuses a plane whose results would not fit in memory.
     fn check_memory(&self) -> Result<()> {
-        let cells = self.meta.plane.cells() as u64 * self.meta.sweeps.len() as u64;
+        // Only the lines of this run's shard are held.
+        let p = &self.meta.plane;
+        let lines = (0..p.lines()).filter(|&l| self.shard.is_none_or(|s| s.owns(l))).count() as u64;
+        let cells = lines.saturating_mul(p.line_len() as u64).saturating_mul(self.meta.sweeps.len() as u64);
         let need = cells.saturating_mul(cell_bytes(&self.meta));
         let have = available_memory();
         if need > have / 10 * 8 {
             bail!(
-                "grid: {} cells x {} sweeps need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, --shard, or a smaller --section-cap",
-                self.meta.plane.cells(),
+                "grid: {} cells x {} sweeps need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, more --shard parts, or a smaller --section-cap",
+                lines * p.line_len() as u64,
                 self.meta.sweeps.len(),
                 need as f64 / (1u64 << 30) as f64,
                 have as f64 / (1u64 << 30) as f64
@@ -79,13 +86,15 @@ impl Plan {
     /// Runs the plan; returns the atlas (complete for this shard) and the wall time.
     pub fn execute(&self, label: &str) -> Result<(Atlas, f64)> {
         let start = Instant::now();
+        // Held for the whole run: a second run on the same output is refused.
+        let _lock = self.output.as_deref().map(store::OutputLock::acquire).transpose()?;
         let key = fingerprint(&format!("{:?} {:?}", self.meta, self.shard));
         let mut atlas = Atlas::new(self.meta.clone());
         let journal = match &self.output {
             Some(out) => {
                 let jp = journal_path(out);
                 let (j, lines) = if self.resume {
-                    Journal::resume(&jp, &key)?
+                    Journal::resume(&jp, &key, &self.meta)?
                 } else {
                     // Name the file the user asked for; the journal is ours.
                     let j = Journal::create(&jp, &key)
@@ -150,6 +159,14 @@ impl Plan {
     /// A plan for `sweeps` of `plane` with the validated simulation set-up `s`:
     /// no output, shard or resume, progress shown; callers set what differs.
     pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
+        for axis in [&plane.x, &plane.y].into_iter().filter(|a| a.count > 1) {
+            if s.overrides.iter().any(|(name, _)| *name == axis.name) {
+                bail!(
+                    "--set {0}: {0} is also an axis of the run, which would override it; remove the --set",
+                    axis.name
+                );
+            }
+        }
         let setup = cell_setup(s, section_cap)?;
         let model = setup.scene.evaluate(&setup.base)?;
         let meta = Meta {
@@ -175,12 +192,18 @@ impl Plan {
             resume: false,
             quiet: false,
             command: command_line(),
+            inputs: Vec::new(),
+            force: false,
         })
     }
 
     /// Checks, before any work, that the results fit in memory and that every
     /// cell's parameters make a valid scene.
     pub fn check(&self) -> Result<()> {
+        if let Some(out) = &self.output {
+            let inputs: Vec<&std::path::Path> = self.inputs.iter().map(PathBuf::as_path).collect();
+            store::check_output(out, &inputs, self.force)?;
+        }
         self.check_memory()?;
         self.meta.plane.validate(&self.setup)?;
         Ok(())

@@ -1,10 +1,10 @@
 //! `vibroatlas render`: the coloured map of an atlas file.
 
 use crate::args::RenderArgs;
-use crate::common::write_atomically;
 use anyhow::{anyhow, Result};
 use grid::SweepKind;
 use render::{Quantity, View};
+use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
@@ -35,8 +35,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
         other => return Err(anyhow!("--view: expected labels, lyapunov or multiplier, got '{other}'")),
     };
     match (quantity, view) {
-        (None, _) => write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp)),
-        (Some(q), View::Sweep(sweep)) => write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, tmp)),
+        (None, _) => Ok(write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp))?),
+        (Some(q), View::Sweep(sweep)) => {
+            Ok(write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, tmp))?)
+        }
         (Some(_), View::Hysteresis) => Err(anyhow!("--view {}: needs --sweep fresh, up or down", a.view)),
     }
 }

@@ -2,11 +2,13 @@
 //! and a contact sheet comparing them.
 
 use crate::args::{SimArgs, StudyArgs};
-use crate::common::{setup, write_atomically};
+use crate::common::setup;
+use crate::out::outln;
 use crate::plan::{threads, Plan};
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use grid::{Along, Axis, Plane, Study, SweepKind};
 use render::View;
+use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: StudyArgs) -> Result<()> {
@@ -16,6 +18,13 @@ pub fn run(a: StudyArgs) -> Result<()> {
     let scene_path = a.study.parent().unwrap_or(std::path::Path::new(".")).join(&study.scene);
     let sweeps = SweepKind::parse_set(&study.sweep, "sweep")?;
     let plane = Plane::new(Axis::parse(&study.x, "x")?, Axis::parse(&study.y, "y")?, Along::parse(&study.along)?)?;
+    if [&plane.x.name, &plane.y.name].contains(&&study.parameter) {
+        bail!(
+            "{}: parameter '{}' is also an axis of the study's plane; vary another parameter",
+            a.study.display(),
+            study.parameter
+        );
+    }
     std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
     let threads = threads(a.run.threads)?;
     // Validate every value before computing any.
@@ -46,7 +55,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
         let png = a.output.join(format!("{}.png", study.stem(v)));
         write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, tmp))?;
         if !a.run.quiet {
-            println!(
+            outln!(
                 "{}: {} cells in {secs:.1} s -> {}",
                 study.stem(v),
                 plan.meta.plane.cells() * sweeps.len(),
@@ -57,6 +66,6 @@ pub fn run(a: StudyArgs) -> Result<()> {
     }
     let sheet = a.output.join("contact-sheet.png");
     write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, tmp))?;
-    println!("wrote {}", sheet.display());
+    outln!("wrote {}", sheet.display());
     Ok(())
 }

@@ -1,23 +1,24 @@
 //! Text summaries of atlases (after a run, and `vibroatlas inspect`).
 
+use crate::out::outln;
 use grid::hysteresis::zones;
 use grid::Atlas;
 use solver::Class;
 
 /// Prints grid, per-sweep class and label counts, hysteresis, and speed.
-pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) {
+pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) -> anyhow::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
-    println!("scene     {} (preset {}, integrator {})", m.scene_name, m.preset, m.integrator);
-    println!("grid      {} x {} = {} cells, continuation along {}", p.x, p.y, p.cells(), p.along.name());
+    outln!("scene     {} (preset {}, integrator {})", m.scene_name, m.preset, m.integrator);
+    outln!("grid      {} x {} = {} cells, continuation along {}", p.x, p.y, p.cells(), p.along.name());
     let computed: usize = atlas.maps.iter().map(|mp| mp.cells.iter().flatten().count()).sum();
     if secs > 0.0 {
-        println!("time      {secs:.2} s on {threads} threads, {:.0} cells/s", computed as f64 / secs);
+        outln!("time      {secs:.2} s on {threads} threads, {:.0} cells/s", computed as f64 / secs);
     }
     for map in &atlas.maps {
         let cells: Vec<_> = map.cells.iter().flatten().collect();
         let count = |c: Class| cells.iter().filter(|x| x.class == c).count();
-        println!(
+        outln!(
             "sweep     {}: {} cells computed; periodic {}, quasiperiodic {}, chaotic {}, unresolved {}",
             map.sweep.name(),
             cells.len(),
@@ -30,12 +31,68 @@ pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) {
             let legend = atlas.legend(map.sweep, mi);
             let shown: Vec<String> = legend.iter().take(12).map(|(l, c)| format!("{l} {c}")).collect();
             let more = if legend.len() > 12 { format!(", … {} more", legend.len() - 12) } else { String::new() };
-            println!("  {mass:<6} {}{more}", shown.join(", "));
+            outln!("  {mass:<6} {}{more}", shown.join(", "));
         }
     }
     if let Some(h) = atlas.hysteresis() {
         let z = zones(&h, p.x.count, p.y.count);
         let n: usize = h.iter().map(|&v| v as usize).sum();
-        println!("hysteresis {n} cells in {} zones (largest {:?})", z.len(), &z[..z.len().min(5)]);
+        outln!("hysteresis {n} cells in {} zones (largest {:?})", z.len(), &z[..z.len().min(5)]);
     }
+    Ok(())
+}
+
+/// The summary as one JSON object (`inspect --json`): grid, sweeps with class
+/// and label counts per mass, hysteresis cells and zone sizes.
+pub fn summary_json(atlas: &Atlas) -> serde_json::Value {
+    use serde_json::json;
+    let m = &atlas.meta;
+    let p = &m.plane;
+    let axis = |a: &grid::Axis| json!({"name": a.name, "start": a.start, "stop": a.stop, "count": a.count});
+    let sweeps: Vec<serde_json::Value> = atlas
+        .maps
+        .iter()
+        .map(|map| {
+            let cells: Vec<_> = map.cells.iter().flatten().collect();
+            let count = |c: Class| cells.iter().filter(|x| x.class == c).count();
+            let labels: serde_json::Map<String, serde_json::Value> = m
+                .masses
+                .iter()
+                .enumerate()
+                .map(|(mi, mass)| {
+                    let counts: serde_json::Map<String, serde_json::Value> =
+                        atlas.legend(map.sweep, mi).into_iter().map(|(l, c)| (l, c.into())).collect();
+                    (mass.clone(), counts.into())
+                })
+                .collect();
+            json!({
+                "sweep": map.sweep.name(),
+                "computed": cells.len(),
+                "classes": {
+                    "periodic": count(Class::Periodic),
+                    "quasiperiodic": count(Class::Quasiperiodic),
+                    "chaotic": count(Class::Chaotic),
+                    "unresolved": count(Class::Unresolved),
+                },
+                "labels": labels,
+            })
+        })
+        .collect();
+    let hysteresis = atlas.hysteresis().map(|h| {
+        let z = zones(&h, p.x.count, p.y.count);
+        json!({"cells": h.iter().map(|&v| v as usize).sum::<usize>(), "zones": z})
+    });
+    json!({
+        "scene": m.scene_name,
+        "preset": m.preset,
+        "integrator": m.integrator,
+        "x": axis(&p.x),
+        "y": axis(&p.y),
+        "along": p.along.name(),
+        "cells": p.cells(),
+        "masses": m.masses,
+        "stops": m.stops,
+        "sweeps": sweeps,
+        "hysteresis": hysteresis,
+    })
 }

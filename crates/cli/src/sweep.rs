@@ -3,11 +3,13 @@
 //! the renderer and the hysteresis logic are those of the atlas.
 
 use crate::args::SweepArgs;
-use crate::common::{setup, write_atomically};
+use crate::common::setup;
+use crate::out::outln;
 use crate::plan::{threads, Plan};
 use anyhow::{anyhow, bail, Result};
 use grid::{Along, Atlas, Axis, CellData, Plane, SweepKind};
 use serde_json::{json, Map, Value};
+use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: SweepArgs) -> Result<()> {
@@ -32,6 +34,8 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)?;
     let mut plan = Plan::new(&s, a.run.section_cap, plane, sweeps.clone(), threads(a.run.threads)?)?;
     plan.output = a.output.clone();
+    plan.inputs = vec![a.sim.scene.clone()];
+    plan.force = a.force;
     plan.quiet = a.run.quiet || a.json;
     plan.check().map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
     let (atlas, _) = plan.execute("sweep")?;
@@ -50,9 +54,9 @@ pub fn run(a: SweepArgs) -> Result<()> {
             o["down"] = points(&atlas, SweepKind::Down, true);
             o["hysteresis"] = hysteresis(&atlas);
         }
-        println!("{}", serde_json::to_string(&o)?);
+        outln!("{}", serde_json::to_string(&o)?);
     } else {
-        print_text(&atlas, &sweeps);
+        print_text(&atlas, &sweeps)?;
     }
     Ok(())
 }
@@ -104,10 +108,10 @@ fn hysteresis(atlas: &Atlas) -> Value {
     )
 }
 
-fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) {
+fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) -> Result<()> {
     let p = &atlas.meta.plane;
     let header: Vec<String> = sweeps.iter().map(|s| format!("{:<24}", s.name())).collect();
-    println!("{:<12} {}", p.x.name, header.join(""));
+    outln!("{:<12} {}", p.x.name, header.join(""));
     for ix in 0..p.x.count {
         let cols: Vec<String> = sweeps
             .iter()
@@ -119,6 +123,7 @@ fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) {
                 format!("{text:<24}")
             })
             .collect();
-        println!("{:<12.6} {}", p.x.value(ix), cols.join(""));
+        outln!("{:<12.6} {}", p.x.value(ix), cols.join(""));
     }
+    Ok(())
 }

@@ -3,6 +3,10 @@
 
 use crate::error::GridError;
 
+/// Largest number of values of one axis (a plane then has at most 10^12 cells,
+/// which the memory check refuses long before).
+pub const MAX_COUNT: usize = 1_000_000;
+
 /// One swept parameter.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Axis {
@@ -37,8 +41,8 @@ impl Axis {
         if name.trim().is_empty() {
             return Err(bad("empty parameter name"));
         }
-        if count == 0 {
-            return Err(GridError::field(flag_name, "COUNT must be >= 1, got 0"));
+        if count == 0 || count > MAX_COUNT {
+            return Err(GridError::field(flag_name, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
         }
         if count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
             return Err(GridError::field(flag_name, format!("empty range {start}:{stop} with {count} values")));

@@ -2,13 +2,17 @@
 //! per line, flushed and synced as each line finishes. An interrupted run
 //! leaves at most one torn last line, which is ignored on resume; the first
 //! line is a fingerprint of the run's settings so that a journal is never
-//! resumed into a different atlas.
+//! resumed into a different atlas. Every other line carries a checksum of its
+//! content and of that fingerprint, and is checked against the atlas's shape
+//! (sweep, line index, cells per line, masses, state dimension, stops): an
+//! edited, truncated or foreign line is refused with its line number, never
+//! taken into the output and never a panic.
 
 use crate::error::StoreError;
-use grid::{CellData, Line, SweepKind};
+use grid::{CellData, Line, Meta, SweepKind};
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
-use std::io::{BufRead, BufReader, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 #[derive(Serialize, Deserialize)]
@@ -41,11 +45,20 @@ struct JLine {
     cells: Vec<JCell>,
 }
 
+/// A journal line as written: the line and the checksum of its JSON text with
+/// the run's fingerprint.
+#[derive(Serialize, Deserialize)]
+struct Sealed {
+    checksum: String,
+    line: Box<serde_json::value::RawValue>,
+}
+
 /// An open journal.
 #[derive(Debug)]
 pub struct Journal {
     file: File,
     path: PathBuf,
+    fingerprint: String,
 }
 
 /// The journal path of an output file: `.<name>.journal` beside it.
@@ -89,31 +102,58 @@ fn encode(line: &Line) -> JLine {
     }
 }
 
-fn decode(j: JLine) -> Option<Line> {
-    Some(Line {
-        sweep: SweepKind::parse(&j.sweep)?,
-        index: j.index,
-        cells: j
-            .cells
-            .into_iter()
-            .map(|c| {
-                Some(CellData {
-                    class: crate::layout::class_of(c.class)?,
-                    labels: c.labels,
-                    chatter: c.chatter,
-                    sticking: c.sticking,
-                    symmetry: crate::layout::symmetry_of(c.symmetry),
-                    lyapunov: c.lyapunov,
-                    multiplier: c.multiplier,
-                    final_state: c.final_state,
-                    periods: c.periods,
-                    events: c.events,
-                    period_section: c.period_section,
-                    impact_sections: c.impact_sections,
-                })
+/// Checks a decoded line against the shape of the atlas it belongs to.
+fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
+    let sweep = SweepKind::parse(&j.sweep)
+        .filter(|s| meta.sweeps.contains(s))
+        .ok_or_else(|| format!("sweep '{}' is not one of this run's", j.sweep))?;
+    let p = &meta.plane;
+    if j.index >= p.lines() {
+        return Err(format!("line index {} is outside the grid's {} lines", j.index, p.lines()));
+    }
+    if j.cells.len() != p.line_len() {
+        return Err(format!("{} cells, the grid's lines have {}", j.cells.len(), p.line_len()));
+    }
+    let cells = j
+        .cells
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let bad = |what: &str| Err(format!("cell {i}: {what}"));
+            if c.labels.len() != meta.masses.len() {
+                return bad("wrong number of labels");
+            }
+            if c.final_state.len() != meta.dim || c.period_section.iter().any(|r| r.len() != meta.dim) {
+                return bad("state of the wrong dimension");
+            }
+            if c.impact_sections.len() != meta.stops.len()
+                || c.impact_sections.iter().flatten().any(|r| r.len() != meta.dim + 1)
+            {
+                return bad("impact sections of the wrong shape");
+            }
+            let Some(class) = crate::layout::class_of(c.class) else { return bad("unknown class code") };
+            Ok(CellData {
+                class,
+                labels: c.labels,
+                chatter: c.chatter,
+                sticking: c.sticking,
+                symmetry: crate::layout::symmetry_of(c.symmetry),
+                lyapunov: c.lyapunov,
+                multiplier: c.multiplier,
+                final_state: c.final_state,
+                periods: c.periods,
+                events: c.events,
+                period_section: c.period_section,
+                impact_sections: c.impact_sections,
             })
-            .collect::<Option<Vec<_>>>()?,
-    })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(Line { sweep, index: j.index, cells })
+}
+
+/// Checksum of a line's JSON text within the run `fingerprint`.
+fn seal(fingerprint_: &str, text: &str) -> String {
+    fingerprint(&format!("{fingerprint_}\n{text}"))
 }
 
 impl Journal {
@@ -121,28 +161,39 @@ impl Journal {
     pub fn create(path: &Path, fingerprint: &str) -> Result<Journal, StoreError> {
         let io = |e| StoreError::io(path, e);
         let mut file = File::create(path).map_err(io)?;
+        let fingerprint_ = fingerprint.to_string();
         let header = serde_json::to_string(&Header { fingerprint: fingerprint.to_string() })
             .map_err(|e| StoreError::format(path, e.to_string()))?;
         writeln!(file, "{header}").map_err(io)?;
         file.sync_data().map_err(io)?;
-        Ok(Journal { file, path: path.to_path_buf() })
+        Ok(Journal { file, path: path.to_path_buf(), fingerprint: fingerprint_ })
     }
 
-    /// Reopens a journal for a run with `fingerprint` and returns its finished
-    /// lines; a missing journal starts a new one.
-    pub fn resume(path: &Path, fingerprint: &str) -> Result<(Journal, Vec<Line>), StoreError> {
+    /// Reopens a journal for a run with `fingerprint` over the atlas `meta`
+    /// and returns its finished lines; a missing journal starts a new one. A
+    /// torn last line (an interrupted append) is dropped; any other line that
+    /// does not parse, fails its checksum or does not fit the atlas is an error.
+    pub fn resume(path: &Path, fingerprint: &str, meta: &Meta) -> Result<(Journal, Vec<Line>), StoreError> {
         if !path.exists() {
             return Ok((Journal::create(path, fingerprint)?, Vec::new()));
         }
         let io = |e| StoreError::io(path, e);
-        let reader = BufReader::new(File::open(path).map_err(io)?);
+        let bytes = std::fs::read(path).map_err(io)?;
         let mut lines = Vec::new();
         let mut good_bytes = 0u64;
-        for (i, text) in reader.split(b'\n').enumerate() {
-            let Ok(text) = text else { break };
+        let mut rows: Vec<&[u8]> = bytes.split(|&b| b == b'\n').collect();
+        // The text after the last newline is a torn append (or nothing).
+        let torn = rows.pop().unwrap_or_default();
+        let refuse = |n: usize, why: String| {
+            StoreError::format(
+                path,
+                format!("line {n}: {why}; the journal cannot be trusted: remove it (the run starts over) or run without --resume"),
+            )
+        };
+        for (i, text) in rows.iter().enumerate() {
             if i == 0 {
                 let h: Header =
-                    serde_json::from_slice(&text).map_err(|_| StoreError::format(path, "not a vibroatlas journal"))?;
+                    serde_json::from_slice(text).map_err(|_| StoreError::format(path, "not a vibroatlas journal"))?;
                 if h.fingerprint != fingerprint {
                     return Err(StoreError::format(
                         path,
@@ -150,16 +201,23 @@ impl Journal {
                     ));
                 }
             } else {
-                match serde_json::from_slice::<JLine>(&text).ok().and_then(decode) {
-                    Some(l) => lines.push(l),
-                    None => break,
+                let sealed: Sealed =
+                    serde_json::from_slice(text).map_err(|e| refuse(i + 1, format!("not a journal line ({e})")))?;
+                if seal(fingerprint, sealed.line.get()) != sealed.checksum {
+                    return Err(refuse(i + 1, "checksum mismatch (edited or corrupt)".into()));
                 }
+                let j: JLine =
+                    serde_json::from_str(sealed.line.get()).map_err(|e| refuse(i + 1, format!("malformed ({e})")))?;
+                lines.push(decode(j, meta).map_err(|why| refuse(i + 1, why))?);
             }
             good_bytes += text.len() as u64 + 1;
         }
+        if rows.is_empty() && !torn.is_empty() {
+            return Err(StoreError::format(path, "not a vibroatlas journal"));
+        }
         let file = OpenOptions::new().write(true).open(path).map_err(io)?;
         file.set_len(good_bytes).map_err(io)?;
-        let mut j = Journal { file, path: path.to_path_buf() };
+        let mut j = Journal { file, path: path.to_path_buf(), fingerprint: fingerprint.to_string() };
         use std::io::Seek;
         j.file.seek(std::io::SeekFrom::End(0)).map_err(io)?;
         Ok((j, lines))
@@ -168,7 +226,13 @@ impl Journal {
     /// Appends a finished line durably.
     pub fn append(&mut self, line: &Line) -> Result<(), StoreError> {
         let io = |e| StoreError::io(&self.path, e);
-        let mut text = serde_json::to_vec(&encode(line)).map_err(|e| StoreError::format(&self.path, e.to_string()))?;
+        let fmt = |e: serde_json::Error| StoreError::format(&self.path, e.to_string());
+        let inner = serde_json::to_string(&encode(line)).map_err(fmt)?;
+        let sealed = Sealed {
+            checksum: seal(&self.fingerprint, &inner),
+            line: serde_json::value::RawValue::from_string(inner).map_err(fmt)?,
+        };
+        let mut text = serde_json::to_vec(&sealed).map_err(fmt)?;
         text.push(b'\n');
         self.file.write_all(&text).map_err(io)?;
         self.file.sync_data().map_err(io)

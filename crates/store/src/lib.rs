@@ -8,12 +8,14 @@
 pub mod error;
 pub mod journal;
 pub mod layout;
+pub mod lock;
 pub mod merge;
 pub mod read;
 pub mod write;
 
 pub use error::StoreError;
 pub use journal::{fingerprint, journal_path, Journal};
-pub use merge::merge;
+pub use lock::{check_output, commit, lock_path, write_atomically, OutputLock};
+pub use merge::{merge, Merged};
 pub use read::{read, Loaded};
 pub use write::{partial_path, write, RunInfo};

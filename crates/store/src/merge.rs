@@ -3,7 +3,7 @@
 
 use crate::error::StoreError;
 use crate::read::read;
-use grid::{Atlas, Meta};
+use grid::{Atlas, Meta, Shard};
 use std::path::{Path, PathBuf};
 
 /// Why two atlases cannot be merged: the first field of [`Meta`] that differs.
@@ -25,19 +25,45 @@ fn difference(a: &Meta, b: &Meta) -> Option<&'static str> {
     }
 }
 
-/// Reads and merges `paths`; returns the atlas and the summed run time.
-pub fn merge(paths: &[PathBuf]) -> Result<(Atlas, f64), StoreError> {
+/// The result of merging parts.
+#[derive(Debug)]
+pub struct Merged {
+    /// The merged atlas (cells in none of the parts stay `None`).
+    pub atlas: Atlas,
+    /// Summed run time of the parts, seconds.
+    pub run_time_s: f64,
+    /// The command of each part, in the order given.
+    pub commands: Vec<String>,
+    /// Shards that no part holds (empty when complete, or when the parts are
+    /// not shards).
+    pub missing: Vec<Shard>,
+}
+
+/// Reads and merges `paths`. A part given twice (the same shard, or the same
+/// file), or a part of another run, is an error naming it.
+pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
     let Some(first) = paths.first() else {
         return Err(StoreError::format(Path::new("merge"), "no input files"));
     };
     let base = read(first)?;
     let mut atlas = base.atlas;
     let mut run_time = base.info.run_time_s;
+    let mut commands = vec![base.info.command];
+    let mut shards = vec![(base.info.shard, first.clone())];
     for p in &paths[1..] {
         let part = read(p)?;
         if let Some(what) = difference(&atlas.meta, &part.atlas.meta) {
-            return Err(StoreError::format(p, format!("cannot merge with {}: different {what}", first.display())));
+            return Err(StoreError::format(
+                p,
+                format!("is not a part of the same run as {}: different {what}", first.display()),
+            ));
         }
+        if let Some((_, other)) = shards.iter().find(|(s, _)| s.is_some() && *s == part.info.shard) {
+            let k = part.info.shard.map(|s| s.to_string()).unwrap_or_default();
+            return Err(StoreError::format(p, format!("shard {k} is given twice (also {})", other.display())));
+        }
+        shards.push((part.info.shard, p.clone()));
+        commands.push(part.info.command);
         run_time += part.info.run_time_s;
         for (into, from) in atlas.maps.iter_mut().zip(part.atlas.maps) {
             for (i, cell) in from.cells.into_iter().enumerate() {
@@ -55,5 +81,12 @@ pub fn merge(paths: &[PathBuf]) -> Result<(Atlas, f64), StoreError> {
             }
         }
     }
-    Ok((atlas, run_time))
+    let missing = match shards.iter().find_map(|(s, _)| *s) {
+        Some(s) => (1..=s.n)
+            .filter(|&k| !shards.iter().any(|(t, _)| t.is_some_and(|t| t.k == k)))
+            .map(|k| Shard { k, n: s.n })
+            .collect(),
+        None => Vec::new(),
+    };
+    Ok(Merged { atlas, run_time_s: run_time, commands, missing })
 }

@@ -62,7 +62,9 @@ pub fn write(path: &Path, atlas: &Atlas, info: &RunInfo) -> Result<(), StoreErro
         let _ = std::fs::remove_file(&tmp);
         return Err(e);
     }
-    std::fs::rename(&tmp, path).map_err(|e| StoreError::io(path, e))
+    crate::lock::commit(&tmp, path).inspect_err(|_| {
+        let _ = std::fs::remove_file(&tmp);
+    })
 }
 
 fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
