@@ -7,6 +7,7 @@ mod bad_input;
 mod cli;
 mod closed_form;
 mod extremes;
+mod faults;
 mod friction;
 mod properties;
 mod stability;
