@@ -291,3 +291,21 @@ fn numbers_the_solver_cannot_handle_are_refused_and_contraction_is_never_chaos()
         }
     }
 }
+
+#[test]
+fn small_clearances_resolve_instead_of_stalling() {
+    // δ from 1e-11 to 1e-5 stalled in zero-time events (a reaction slightly
+    // negative at a new contact, positive within the time resolution): the
+    // audit found 34 of 250 random points, 74 % of a log-uniform sample here.
+    // The δ → 0 limit is continuous: the label at ω = 1 is that of δ = 1e-3.
+    for d in ["1e-11", "1e-9", "1e-7", "1e-5", "1e-3"] {
+        let c =
+            crate::util::cell_json(&["configs/multi-stop.toml", "--set", "omega=1.0", "--set", &format!("delta={d}")]);
+        assert_eq!(c["labels"]["M1"], "1-5-3", "δ = {d}: {c}");
+    }
+    for w in ["0.45", "0.9", "1.7", "2.3"] {
+        let c =
+            crate::util::cell_json(&["configs/multi-stop.toml", "--set", &format!("omega={w}"), "--set", "delta=1e-7"]);
+        assert!(!c["reason"].as_str().is_some_and(|r| r.contains("stalled")), "ω = {w}: {c}");
+    }
+}

@@ -16,7 +16,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::error::SolverError;
-use crate::flow::{guard_start, value_tol, Start};
+use crate::flow::{classify_start, derivatives, guard_start, start_tolerances, time_resolution, Start};
 use crate::mode::{Guard, GuardKind, Key, Mode};
 use crate::system::System;
 use nalgebra::DVector;
@@ -182,7 +182,17 @@ fn start(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> Start {
 
 /// Whether a held stop's reaction (or a stuck contact's static margin) is
 /// negative, or zero and decreasing.
+///
+/// A stop's reaction at a new contact is located in time like any root: a
+/// value within what its rate changes in 100 time resolutions counts as zero,
+/// whichever its sign (otherwise a contact whose reaction turns positive within
+/// that time is released, closes again at once, and stalls in zero-time events:
+/// at small clearances most cells did).
 fn releasing(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> bool {
-    let (start, value, magnitude) = guard_start(acc, g, &mode.aug, s);
-    value < -value_tol(acc, false, magnitude) || start == Start::Approaching
+    let (d, scale) = derivatives(g, &mode.aug, s);
+    let mut tol = start_tolerances(acc, false, &scale, &d);
+    if g.kind == GuardKind::Reaction {
+        tol[0] = tol[0].max(100.0 * time_resolution(acc) * d[1].abs());
+    }
+    d[0] < -tol[0] || classify_start(&d, &tol) == Start::Approaching
 }

@@ -147,6 +147,12 @@ pub fn value_tol(acc: &Accuracy, is_gap: bool, magnitude: f64) -> f64 {
     }
 }
 
+/// The time to which events are located, by either integrator: the coarser of
+/// `event_tol` and `rk4_min_step`.
+pub fn time_resolution(acc: &Accuracy) -> f64 {
+    acc.event_tol.max(acc.rk4_min_step)
+}
+
 /// Tolerances of [`classify_start`] for a guard with derivatives `d` and
 /// bounds `scale` (`scale[0]`: magnitude of the guard): [`value_tol`] for its
 /// value, the stick velocity for a gap's rate (less where the approach could
@@ -156,8 +162,8 @@ pub fn value_tol(acc: &Accuracy, is_gap: bool, magnitude: f64) -> f64 {
 /// residual of an event located to that resolution counts as zero.
 pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5], d: &[f64; 5]) -> [f64; 5] {
     let mut tol = [value_tol(acc, is_gap, scale[0]), 0.0, 0.0, 0.0, 0.0];
+    let resolution = time_resolution(acc);
     for j in 1..5 {
-        let resolution = acc.event_tol.max(acc.rk4_min_step);
         let next = if j < 4 { 100.0 * resolution * d[j + 1].abs() } else { 0.0 };
         tol[j] = (1e-11 * scale[j]).max(next).max(1e-300);
     }
