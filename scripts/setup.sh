@@ -4,9 +4,14 @@
 #   libhdf5-dev, pkg-config   HDF5 library the hdf5-metno crate links to
 #   fonts-dejavu-core         the font of every PNG
 #   python3-h5py              Debian's h5py, for scripts/check_atlas.py (/usr/bin/python3)
+#   python3-xarray            xarray, to read the netCDF-4/CF layout (scripts/check_netcdf.py, plot_atlas.py)
+#   python3-h5netcdf          xarray's h5netcdf engine (netCDF-4 through h5py)
+#   python3-netcdf4           xarray's netcdf4 engine (the netCDF-C library)
+#   python3-matplotlib        scripts/plot_atlas.py, and the rendering check of check_netcdf.py
 set -euo pipefail
 
-APT_PACKAGES=(pkg-config libhdf5-dev fonts-dejavu-core python3-h5py)
+APT_PACKAGES=(pkg-config libhdf5-dev fonts-dejavu-core python3-h5py python3-xarray python3-h5netcdf
+    python3-netcdf4 python3-matplotlib)
 
 if ! command -v cargo >/dev/null 2>&1; then
     echo "setup: cargo not found; install a Rust toolchain (rustup) first" >&2

@@ -12,4 +12,11 @@ cargo test --workspace --release 2>&1 | tee "$tmp/test.log"
 target/release/vibroatlas atlas configs/multi-stop.toml --x omega=0.2:2.5:12 --y delta=0.1:1.5:5 \
     --sweep both --quiet -o "$tmp/check.h5"
 /usr/bin/python3 scripts/check_atlas.py "$tmp/check.h5"
-awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p + 1, f }' "$tmp/test.log"
+# netCDF-4/CF: both xarray engines, label decoding, and plot_atlas.py's colours.
+target/release/vibroatlas atlas configs/multi-stop.toml --x omega=0.13:0.53:5 --y delta=0.4:0.8:3 \
+    --sweep both --quiet -o "$tmp/netcdf.h5"
+target/release/vibroatlas sweep configs/multi-stop.toml --axis omega=0.2:0.5:7 --direction both --quiet \
+    -o "$tmp/sweep.h5" >/dev/null
+/usr/bin/python3 scripts/check_netcdf.py "$tmp/netcdf.h5" --expect up:M1:omega=0.33,delta=0.6:1-4-4
+/usr/bin/python3 scripts/check_netcdf.py "$tmp/sweep.h5" --expect up:M1:omega=0.35:1-4-4
+awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p + 3, f }' "$tmp/test.log"

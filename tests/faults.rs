@@ -158,8 +158,11 @@ fn merge_refuses_missing_duplicated_and_foreign_parts() {
     assert!(with_gap.status.success() && out.exists());
     assert!(run(&["merge", &p1, &p2, &p3, "-o", o]).status.success());
     let j: serde_json::Value = serde_json::from_slice(&run(&["inspect", o, "--json"]).stdout).unwrap();
-    let command = j["command"].as_str().unwrap();
-    assert!(command.contains("--shard 1/3") && command.contains("merge"), "{command}");
+    // The parts' commands are kept in the history, and the merge adds its own.
+    assert!(j["command"].as_str().unwrap().contains("merge"), "{j}");
+    let history: Vec<&str> = j["history"].as_array().unwrap().iter().map(|l| l.as_str().unwrap()).collect();
+    assert!(history.iter().any(|l| l.contains("--shard 1/3")) && history.iter().any(|l| l.contains("--shard 3/3")));
+    assert!(history.last().unwrap().contains("merge"), "{history:?}");
 }
 
 #[test]

@@ -13,6 +13,7 @@ pub fn run(a: InspectArgs) -> Result<()> {
         o["file"] = a.file.display().to_string().into();
         o["created"] = l.created.clone().into();
         o["command"] = l.info.command.clone().into();
+        o["history"] = l.info.history.clone().into();
         o["run_time_s"] = l.info.run_time_s.into();
         o["shard"] = l.info.shard.map(|s| s.to_string()).into();
         outln!("{}", serde_json::to_string(&o)?);

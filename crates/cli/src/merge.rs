@@ -25,10 +25,8 @@ pub fn run(a: MergeArgs) -> Result<()> {
         }
         eprintln!("warning: {cells} cells are in none of the parts{shards}; they are stored as not computed");
     }
-    let mut command = merged.commands.join("\n");
-    command.push('\n');
-    command.push_str(&command_line());
-    store::write(&a.output, atlas, &RunInfo { command, run_time_s: merged.run_time_s, shard: None })?;
+    let info = RunInfo { command: command_line(), run_time_s: merged.run_time_s, shard: None, history: merged.history };
+    store::write(&a.output, atlas, &info)?;
     crate::out::line(&format!("merged {} files into {}", a.parts.len(), a.output.display()))?;
     Ok(())
 }

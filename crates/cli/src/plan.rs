@@ -147,7 +147,8 @@ impl Plan {
         ran?;
         let elapsed = start.elapsed().as_secs_f64();
         if let (Some(out), Some(j)) = (&self.output, journal) {
-            let info = RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard };
+            let info =
+                RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
             store::write(out, &atlas, &info)?;
             j.remove()?;
         }
@@ -179,6 +180,12 @@ impl Plan {
             plane,
             sweeps,
             masses: model.labels.iter().map(|l| model.masses[l.mass].name.clone()).collect(),
+            state_masses: model.masses.iter().map(|m| m.name.clone()).collect(),
+            label_stops: model
+                .labels
+                .iter()
+                .map(|l| [l.p, l.q].map(|k| k.map_or(String::new(), |k| model.stops[k].name.clone())))
+                .collect(),
             stops: model.stops.iter().map(|st| st.name.clone()).collect(),
             dim: 2 * model.masses.len(),
             section_cap,

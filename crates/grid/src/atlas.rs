@@ -29,6 +29,10 @@ pub struct Meta {
     pub sweeps: Vec<SweepKind>,
     /// Labelled masses, in label order.
     pub masses: Vec<String>,
+    /// Every mass of the scene, in state order (`[x…, v…]`).
+    pub state_masses: Vec<String>,
+    /// Per labelled mass, the stops its p and q count (empty when none).
+    pub label_stops: Vec<[String; 2]>,
     /// Stops, in scene order.
     pub stops: Vec<String>,
     /// State dimension `2 × masses of the scene`.

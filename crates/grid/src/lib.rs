@@ -10,6 +10,7 @@ pub mod axis;
 pub mod cell;
 pub mod error;
 pub mod hysteresis;
+pub mod palette;
 pub mod plane;
 pub mod shard;
 pub mod study;

@@ -170,6 +170,31 @@ impl Accuracy {
         }
     }
 
+    /// Every knob by name with its value, in the order of [`LIMITS`]
+    /// (switches as 0 or 1), for provenance.
+    pub fn knobs(&self) -> Vec<(&'static str, f64)> {
+        let v = [
+            self.event_tol,
+            self.contact_tol,
+            self.stick_velocity,
+            self.chatter_velocity,
+            self.min_transient as f64,
+            self.max_periods as f64,
+            self.periodic_tol,
+            self.n_max as f64,
+            self.chatter_impacts as f64,
+            self.max_events as f64,
+            f64::from(u8::from(self.newton)),
+            f64::from(u8::from(self.multipliers)),
+            self.extensions as f64,
+            self.lyapunov_periods as f64,
+            self.chaos_check as f64,
+            self.rk4_step,
+            self.rk4_min_step,
+        ];
+        LIMITS.iter().map(|l| l.0).zip(v).collect()
+    }
+
     /// Sets a knob by name (for `--accuracy name=value` overrides).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), SolverError> {
         let err = |m: &str| SolverError::Accuracy { field: name.to_string(), message: m.to_string() };

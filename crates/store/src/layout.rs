@@ -23,6 +23,41 @@
 //! /legend/<sweep>/<mass>/count   u64
 //! ```
 
+/// Version of this layout (root attribute `layout_version`; files without it
+/// are version 1, read as well; newer versions are refused).
+pub const LAYOUT_VERSION: u64 = 2;
+/// Dimension of the (n, p, q) counts of a label.
+pub const NPQ: &str = "npq";
+/// Dimension and coordinate of the state components (`x_M1`, …, `v_M1`, …).
+pub const COMPONENT: &str = "component";
+/// Dimension and coordinate of an impact section's columns (`phase`, then the state).
+pub const IMPACT_COLUMN: &str = "impact_column";
+/// Dimension and coordinate of the labelled masses.
+pub const MASS: &str = "mass";
+/// Dimension and coordinate of a sweep's label table.
+pub const LABEL: &str = "label";
+/// Colours of the label table.
+pub const LABEL_COLOUR: &str = "label_colour";
+/// Dimension of an RGB triple.
+pub const RGB: &str = "rgb";
+/// Dimension of the lines of a plane.
+pub const LINE: &str = "line";
+/// Dimension of the rows of a ragged section.
+pub const POINT: &str = "point";
+/// Dimension of a section's CSR offsets (cells + 1).
+pub const CELL_EDGE: &str = "cell_edge";
+/// Dimension of a legend's entries.
+pub const ENTRY: &str = "entry";
+/// Label text of a cell a shard did not compute.
+pub const NOT_COMPUTED_LABEL: &str = "not-computed";
+/// What the label coordinate holds.
+pub const LABEL_COMMENT: &str = "n-p-q: period n in forcing periods, p and q impacts of the mass at its p-stop and q-stop over n periods (S: the mass sticks there, complete chattering); C chaotic, Q quasi-periodic, U unresolved";
+
+/// Dataset of the label codes of a mass (index into the label table).
+pub fn label_code(mass: &str) -> String {
+    format!("label_code_{mass}")
+}
+
 /// Name of the software attribute value.
 pub const SOFTWARE: &str = "vibroatlas";
 /// Group of the axes.

@@ -10,6 +10,7 @@ pub mod journal;
 pub mod layout;
 pub mod lock;
 pub mod merge;
+mod netcdf;
 pub mod read;
 pub mod write;
 

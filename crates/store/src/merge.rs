@@ -32,8 +32,8 @@ pub struct Merged {
     pub atlas: Atlas,
     /// Summed run time of the parts, seconds.
     pub run_time_s: f64,
-    /// The command of each part, in the order given.
-    pub commands: Vec<String>,
+    /// The history lines of the parts (`TIME: command`), each once, in the order given.
+    pub history: Vec<String>,
     /// Shards that no part holds (empty when complete, or when the parts are
     /// not shards).
     pub missing: Vec<Shard>,
@@ -48,7 +48,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
     let base = read(first)?;
     let mut atlas = base.atlas;
     let mut run_time = base.info.run_time_s;
-    let mut commands = vec![base.info.command];
+    let mut history = base.info.history;
     let mut shards = vec![(base.info.shard, first.clone())];
     for p in &paths[1..] {
         let part = read(p)?;
@@ -63,7 +63,11 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             return Err(StoreError::format(p, format!("shard {k} is given twice (also {})", other.display())));
         }
         shards.push((part.info.shard, p.clone()));
-        commands.push(part.info.command);
+        for line in part.info.history {
+            if !history.contains(&line) {
+                history.push(line);
+            }
+        }
         run_time += part.info.run_time_s;
         for (into, from) in atlas.maps.iter_mut().zip(part.atlas.maps) {
             for (i, cell) in from.cells.into_iter().enumerate() {
@@ -88,5 +92,5 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             .collect(),
         None => Vec::new(),
     };
-    Ok(Merged { atlas, run_time_s: run_time, commands, missing })
+    Ok(Merged { atlas, run_time_s: run_time, history, missing })
 }

@@ -63,11 +63,26 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     };
     let x = axis(&attr(&f, "x").map_err(h)?)?;
     let y = axis(&attr(&f, "y").map_err(h)?)?;
+    let version = f.attr("layout_version").and_then(|a| a.read_scalar::<u64>()).unwrap_or(1);
+    if version > LAYOUT_VERSION {
+        return Err(fmt(format!(
+            "layout version {version}, newer than this vibroatlas reads ({LAYOUT_VERSION}); use a newer vibroatlas"
+        )));
+    }
+    let dim = f.attr("dim").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
     let along = Along::parse(&attr(&f, "along").map_err(h)?).map_err(|e| fmt(e.to_string()))?;
     let sweeps = list(&attr(&f, "sweeps").map_err(h)?)
         .iter()
         .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
         .collect::<Result<Vec<_>, _>>()?;
+    let masses = list(&attr(&f, "masses").map_err(h)?);
+    // Layout 1 did not name the stops of each label.
+    let n_masses = masses.len();
+    let stops_of = |name: &str| {
+        let v: Vec<String> = attr(&f, name).map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
+        (0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default())
+    };
+    let label_stops = stops_of("p_stops").zip(stops_of("q_stops")).map(|(p, q)| [p, q]).collect();
     let meta = Meta {
         scene_name: attr(&f, "scene_name").map_err(h)?,
         scene_toml: attr(&f, "scene").map_err(h)?,
@@ -77,9 +92,14 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         integrator: attr(&f, "integrator").map_err(h)?,
         plane: Plane { x, y, along },
         sweeps,
-        masses: list(&attr(&f, "masses").map_err(h)?),
+        masses,
+        label_stops,
+        // Layout 1 did not name the scene's masses.
+        state_masses: attr(&f, "state_masses")
+            .map(|s| list(&s))
+            .unwrap_or_else(|_| (1..=dim / 2).map(|i| format!("mass{i}")).collect()),
         stops: list(&attr(&f, "stops").map_err(h)?),
-        dim: f.attr("dim").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+        dim,
         section_cap: f.attr("section_cap").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
     };
     let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
@@ -148,12 +168,20 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Ok(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
         Err(_) => None,
     };
+    // Layout 1 had no history: its command is the whole of it.
+    let command = attr(&f, "command").map_err(h)?;
+    let created = attr(&f, "created").map_err(h)?;
+    let history = match attr(&f, "history") {
+        Ok(text) => text.lines().map(str::to_string).collect(),
+        Err(_) => vec![format!("{created}: {command}")],
+    };
     Ok(Loaded {
         atlas: Atlas { meta, maps },
         info: RunInfo {
-            command: attr(&f, "command").map_err(h)?,
+            command,
             run_time_s: f.attr("run_time_s").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
             shard,
+            history,
         },
         created: attr(&f, "created").map_err(h)?,
     })

@@ -4,9 +4,10 @@
 
 use crate::error::StoreError;
 use crate::layout::*;
+use crate::netcdf::{self, attr_num, attr_str};
 use grid::{Atlas, CellData};
 use hdf5::types::VarLenUnicode;
-use hdf5::{Group, H5Type, Location};
+use hdf5::{Group, H5Type};
 use ndarray::{Array1, Array2, Array3};
 use std::path::{Path, PathBuf};
 
@@ -19,20 +20,13 @@ pub struct RunInfo {
     pub run_time_s: f64,
     /// Shard of a partial file.
     pub shard: Option<grid::Shard>,
+    /// Earlier history lines (`TIME: command`, oldest first): those of the
+    /// parts of a merge; the file adds its own.
+    pub history: Vec<String>,
 }
 
-fn text(s: &str) -> VarLenUnicode {
-    // Strings with NUL cannot be stored; scene files never contain one.
-    s.replace('\0', " ").parse().unwrap_or_default()
-}
-
-fn attr_str(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
-    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&text(value))
-}
-
-fn attr_num<T: H5Type + Copy>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
-    loc.new_attr::<T>().create(name)?.write_scalar(&value)
-}
+/// The git commit the binary was built from (`unknown` outside a checkout).
+pub const GIT_COMMIT: &str = env!("VIBROATLAS_GIT_COMMIT");
 
 fn dataset<T: H5Type, D: ndarray::Dimension>(
     g: &Group,
@@ -72,15 +66,25 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
     let p = &m.plane;
     let (nx, ny, dim) = (p.x.count, p.y.count, m.dim);
     let f = hdf5::File::create(path)?;
+    let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
+    attr_str(&f, "Conventions", "CF-1.8")?;
+    attr_str(&f, "title", &format!("vibroatlas map of the {} scene over ({}, {})", m.scene_name, p.x.name, p.y.name))?;
+    attr_str(&f, "source", &format!("vibroatlas {} (git {})", env!("CARGO_PKG_VERSION"), GIT_COMMIT))?;
+    let mut history = info.history.clone();
+    history.push(format!("{created}: {}", info.command));
+    attr_str(&f, "history", &history.join("\n"))?;
     attr_str(&f, "software", SOFTWARE)?;
     attr_str(&f, "version", env!("CARGO_PKG_VERSION"))?;
+    attr_str(&f, "git_commit", GIT_COMMIT)?;
+    attr_num(&f, "layout_version", LAYOUT_VERSION)?;
     attr_str(&f, "scene", &m.scene_toml)?;
     attr_str(&f, "scene_name", &m.scene_name)?;
     attr_str(&f, "preset", &m.preset)?;
     attr_str(&f, "accuracy", &pairs(&m.accuracy))?;
+    attr_str(&f, "knobs", &knobs(m))?;
     attr_str(&f, "integrator", &m.integrator)?;
     attr_str(&f, "command", &info.command)?;
-    attr_str(&f, "created", &humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string())?;
+    attr_str(&f, "created", &created)?;
     attr_num(&f, "run_time_s", info.run_time_s)?;
     attr_str(&f, "x", &p.x.name)?;
     attr_str(&f, "y", &p.y.name)?;
@@ -88,6 +92,9 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
     attr_str(&f, "sweeps", &m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, "overrides", &pairs(&m.overrides))?;
     attr_str(&f, "masses", &m.masses.join(","))?;
+    attr_str(&f, "state_masses", &m.state_masses.join(","))?;
+    attr_str(&f, "p_stops", &m.label_stops.iter().map(|s| s[0].as_str()).collect::<Vec<_>>().join(","))?;
+    attr_str(&f, "q_stops", &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, "stops", &m.stops.join(","))?;
     attr_num(&f, "dim", dim as u64)?;
     attr_num(&f, "section_cap", m.section_cap as u64)?;
@@ -98,89 +105,153 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
     let axes = f.create_group(AXES)?;
     for axis in [&p.x, &p.y] {
         let d = axes.new_dataset_builder().with_data(&Array1::from(axis.values())).create(axis.name.as_str())?;
-        attr_str(&d, "CLASS", "DIMENSION_SCALE")?;
-        attr_str(&d, "NAME", &axis.name)?;
         attr_num(&d, "start", axis.start)?;
         attr_num(&d, "stop", axis.stop)?;
     }
+    // Root coordinates, for the root's gridded datasets (hysteresis).
+    let root = Grid::new(&f, m)?;
 
     let shift = sticking_shift(m.stops.len());
+    let components: Vec<String> =
+        ["x", "v"].iter().flat_map(|q| m.state_masses.iter().map(move |n| format!("{q}_{n}"))).collect();
     for map in &atlas.maps {
         let g = f.create_group(map.sweep.name())?;
+        let grid = Grid::new(&g, m)?;
         let cells = &map.cells;
+        let cell = |iy: usize, ix: usize| cells[iy * nx + ix].as_ref();
+        let npq = netcdf::labels(&g, NPQ, &["n".into(), "p".into(), "q".into()], "counts of a label n-p-q")?;
+        let component = netcdf::labels(&g, COMPONENT, &components, "state component (position x, velocity v)")?;
+        let mut impact_columns = vec!["phase".to_string()];
+        impact_columns.extend(components.iter().cloned());
+        let impact_column =
+            netcdf::labels(&g, IMPACT_COLUMN, &impact_columns, "forcing phase, then the state before the impact")?;
+        netcdf::labels(&g, MASS, &m.masses, "labelled mass")?;
+
+        // Label tables: every label of the sweep, any mass, in a fixed order.
+        let texts: Vec<Vec<String>> = (0..m.masses.len())
+            .map(|mi| {
+                cells.iter().map(|c| c.as_ref().map_or(NOT_COMPUTED_LABEL.to_string(), |c| c.label_text(mi))).collect()
+            })
+            .collect();
+        let table = label_table(texts.iter().flatten());
+        let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
+        netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
+        let rgb = netcdf::dimension(&g, RGB, 3)?;
+        let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| grid::palette::colour(&table[i])[k]);
+        let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
+        netcdf::dims(&d, &[&label_dim, &rgb])?;
+        netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
+        let codes: Vec<i16> = (0..table.len() as i16).collect();
         for (mi, mass) in m.masses.iter().enumerate() {
-            let a = Array3::from_shape_fn((ny, nx, 3), |(iy, ix, k)| {
-                cells[iy * nx + ix].as_ref().map_or(0, |c| c.labels[mi][k])
-            });
+            let a = Array3::from_shape_fn((ny, nx, 3), |(iy, ix, k)| cell(iy, ix).map_or(0, |c| c.labels[mi][k]));
             let d = dataset(&g, &label(mass), &a)?;
-            attr_str(&d, "dims", "y, x, (n, p, q)")?;
-            attr_num(&d, "stuck_code", STUCK)?;
+            netcdf::dims(&d, &[&grid.y, &grid.x, &npq])?;
+            netcdf::attr_str(&d, "long_name", &format!("n, p, q of {mass}'s label ({} = S, the mass sticks)", STUCK))?;
+            netcdf::attr_str(&d, "units", "1")?;
+            netcdf::attr_str(&d, "dims", "y, x, (n, p, q)")?;
+            netcdf::attr_num(&d, "stuck_code", STUCK)?;
+            let index = |t: &String| table.iter().position(|l| l == t).unwrap_or(0) as i16;
+            let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| index(&texts[mi][iy * nx + ix]));
+            let d = dataset(&g, &label_code(mass), &code)?;
+            netcdf::dims(&d, &[&grid.y, &grid.x])?;
+            netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
+            netcdf::attr_array(&d, "flag_values", &codes)?;
+            netcdf::attr_str(&d, "flag_meanings", &table.join(" "))?;
         }
-        let class = Array2::from_shape_fn((ny, nx), |(iy, ix)| {
-            cells[iy * nx + ix].as_ref().map_or(NOT_COMPUTED, |c| class_code(c.class))
-        });
-        let d = dataset(&g, "class", &class)?;
-        attr_str(&d, "codes", CLASS_CODES)?;
-        let flag =
-            |iy: usize, ix: usize| cells[iy * nx + ix].as_ref().map_or(0u32, |c| c.chatter | (c.sticking << shift));
-        let flags = if m.stops.len() <= 4 {
-            dataset(&g, "flags", &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?
-        } else {
-            dataset(&g, "flags", &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?
+        let gridded = |d: &hdf5::Dataset, long_name: &str, units: &str| -> hdf5::Result<()> {
+            netcdf::dims(d, &[&grid.y, &grid.x])?;
+            netcdf::describe(d, long_name, units)
         };
-        attr_str(&flags, "bits", &flag_bits(&m.stops))?;
-        let sym = Array2::from_shape_fn((ny, nx), |(iy, ix)| {
-            cells[iy * nx + ix].as_ref().map_or(0, |c| symmetry_code(c.symmetry))
-        });
+        let class =
+            Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(NOT_COMPUTED, |c| class_code(c.class)));
+        let d = dataset(&g, "class", &class)?;
+        gridded(&d, "kind of steady motion", "1")?;
+        netcdf::attr_str(&d, "codes", CLASS_CODES)?;
+        netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2, 3])?;
+        netcdf::attr_str(&d, "flag_meanings", "periodic chaotic unresolved quasiperiodic")?;
+        netcdf::attr_num(&d, "_FillValue", NOT_COMPUTED)?;
+        let flag = |iy: usize, ix: usize| cell(iy, ix).map_or(0u32, |c| c.chatter | (c.sticking << shift));
+        let (masks, meanings) = flag_masks(&m.stops, shift);
+        let flags = if m.stops.len() <= 4 {
+            let d = dataset(&g, "flags", &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;
+            netcdf::attr_array(&d, "flag_masks", &masks.iter().map(|&v| v as u8).collect::<Vec<_>>())?;
+            d
+        } else {
+            let d = dataset(&g, "flags", &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?;
+            netcdf::attr_array(&d, "flag_masks", &masks)?;
+            d
+        };
+        gridded(&flags, "chattering and sticking at each stop (bit flags)", "1")?;
+        netcdf::attr_str(&flags, "flag_meanings", &meanings)?;
+        netcdf::attr_str(&flags, "bits", &flag_bits(&m.stops))?;
+        let sym = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| symmetry_code(c.symmetry)));
         let d = dataset(&g, "symmetry", &sym)?;
-        attr_str(&d, "codes", SYMMETRY_CODES)?;
+        gridded(&d, "mirror symmetry of the periodic orbit (symmetric scenes)", "1")?;
+        netcdf::attr_str(&d, "codes", SYMMETRY_CODES)?;
+        netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2])?;
+        netcdf::attr_str(&d, "flag_meanings", "none symmetric asymmetric")?;
         let scalar = |f: fn(&CellData) -> Option<f64>| {
-            Array2::from_shape_fn((ny, nx), |(iy, ix)| cells[iy * nx + ix].as_ref().and_then(f).unwrap_or(f64::NAN))
+            Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).and_then(f).unwrap_or(f64::NAN))
         };
         let d = dataset(&g, "lyapunov", &scalar(|c| c.lyapunov))?;
-        attr_str(&d, "meaning", "largest Lyapunov exponent per unit time of cells without a period (NaN: none)")?;
+        gridded(&d, "largest Lyapunov exponent per unit time (cells without a period)", "1")?;
+        netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+        netcdf::attr_str(
+            &d,
+            "meaning",
+            "largest Lyapunov exponent per unit time of cells without a period (NaN: none)",
+        )?;
         let d = dataset(&g, "multiplier", &scalar(|c| c.multiplier))?;
-        attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
-        let fs = Array3::from_shape_fn((ny, nx, dim), |(iy, ix, k)| {
-            cells[iy * nx + ix].as_ref().map_or(f64::NAN, |c| c.final_state[k])
-        });
-        dataset(&g, "final_state", &fs)?;
-        dataset(
-            &g,
-            "periods",
-            &Array2::from_shape_fn((ny, nx), |(iy, ix)| cells[iy * nx + ix].as_ref().map_or(0, |c| c.periods)),
-        )?;
-        dataset(
-            &g,
-            "events",
-            &Array2::from_shape_fn((ny, nx), |(iy, ix)| cells[iy * nx + ix].as_ref().map_or(0, |c| c.events)),
-        )?;
+        gridded(&d, "largest Floquet multiplier modulus (periodic cells)", "1")?;
+        netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+        netcdf::attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
+        let fs =
+            Array3::from_shape_fn((ny, nx, dim), |(iy, ix, k)| cell(iy, ix).map_or(f64::NAN, |c| c.final_state[k]));
+        let d = dataset(&g, "final_state", &fs)?;
+        netcdf::dims(&d, &[&grid.y, &grid.x, &component])?;
+        netcdf::describe(&d, "state at the end of the cell's record (a whole number of forcing periods)", "1")?;
+        netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+        let d =
+            dataset(&g, "periods", &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.periods)))?;
+        gridded(&d, "forcing periods simulated", "1")?;
+        let d =
+            dataset(&g, "events", &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.events)))?;
+        gridded(&d, "events handled", "1")?;
         let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
-        dataset(&g, "lines_done", &Array1::from(done))?;
+        let lines = netcdf::dimension(&g, LINE, done.len())?;
+        let d = dataset(&g, "lines_done", &Array1::from(done))?;
+        netcdf::dims(&d, &[&lines])?;
+        netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
 
         let sections = g.create_group(SECTIONS)?;
         write_section(
             &sections,
             PERIOD_SECTION,
-            dim,
+            &component,
             cells.iter().map(|c| c.as_ref().map(|c| c.period_section.as_slice())),
+            "state at t = kT (period section)",
         )?;
         for (k, stop) in m.stops.iter().enumerate() {
             write_section(
                 &sections,
                 stop,
-                dim + 1,
+                &impact_column,
                 cells.iter().map(|c| c.as_ref().map(|c| c.impact_sections[k].as_slice())),
+                &format!("forcing phase (t mod T) and state just before each impact at {stop}"),
             )?;
         }
     }
 
     if let Some(h) = atlas.hysteresis() {
-        dataset(
+        let d = dataset(
             &f,
             HYSTERESIS,
             &Array2::from_shape_vec((ny, nx), h).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
         )?;
+        netcdf::dims(&d, &[&root.y, &root.x])?;
+        netcdf::describe(&d, "1 where the up and down sweeps end on different periodic motions", "1")?;
+        netcdf::attr_array(&d, "flag_values", &[0u8, 1])?;
+        netcdf::attr_str(&d, "flag_meanings", "same_motion coexisting_motions")?;
     }
     let legend = f.create_group(LEGEND)?;
     for map in &atlas.maps {
@@ -188,21 +259,72 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         for (mi, mass) in m.masses.iter().enumerate() {
             let mg = g.create_group(mass)?;
             let entries = atlas.legend(map.sweep, mi);
-            let labels: Vec<VarLenUnicode> = entries.iter().map(|(l, _)| text(l)).collect();
+            let entry = netcdf::dimension(&mg, ENTRY, entries.len())?;
+            let labels: Vec<VarLenUnicode> = entries.iter().map(|(l, _)| netcdf::text(l)).collect();
             let counts: Vec<u64> = entries.iter().map(|&(_, c)| c).collect();
-            mg.new_dataset_builder().with_data(&Array1::from(labels)).create("label")?;
-            mg.new_dataset_builder().with_data(&Array1::from(counts)).create("count")?;
+            let d = mg.new_dataset_builder().with_data(&Array1::from(labels)).create("label")?;
+            netcdf::dims(&d, &[&entry])?;
+            let d = mg.new_dataset_builder().with_data(&Array1::from(counts)).create("count")?;
+            netcdf::dims(&d, &[&entry])?;
         }
     }
     f.flush()
 }
 
+/// The coordinate variables of a group's plane (dimension scales named after
+/// the parameters).
+struct Grid {
+    x: hdf5::Dataset,
+    y: hdf5::Dataset,
+}
+
+impl Grid {
+    fn new(g: &Group, m: &grid::Meta) -> hdf5::Result<Grid> {
+        let p = &m.plane;
+        Ok(Grid {
+            x: netcdf::coordinate(g, &p.x.name, &p.x.values(), &format!("parameter {}", p.x.name))?,
+            y: netcdf::coordinate(g, &p.y.name, &p.y.values(), &format!("parameter {}", p.y.name))?,
+        })
+    }
+}
+
+/// The labels of a sweep in a fixed order: periodic labels by (n, p, q), then
+/// C, Q, U, then `not-computed`.
+fn label_table<'a>(texts: impl Iterator<Item = &'a String>) -> Vec<String> {
+    let mut set: Vec<String> = texts.cloned().collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+    let key = |l: &String| -> (u8, Vec<u32>) {
+        let nums: Option<Vec<u32>> =
+            l.split('-').map(|t| if t == "S" { Some(u32::MAX) } else { t.parse().ok() }).collect();
+        match (l.as_str(), nums) {
+            (_, Some(v)) if v.len() == 3 => (0, v),
+            ("C", _) => (1, Vec::new()),
+            ("Q", _) => (2, Vec::new()),
+            ("U", _) => (3, Vec::new()),
+            _ => (4, Vec::new()),
+        }
+    };
+    set.sort_by_key(key);
+    set
+}
+
+/// CF flag masks and meanings of the flags dataset.
+fn flag_masks(stops: &[String], shift: u32) -> (Vec<u32>, String) {
+    let chatter = stops.iter().enumerate().map(|(k, s)| (1u32 << k, format!("{s}_chatters")));
+    let stick = stops.iter().enumerate().map(|(k, s)| (1u32 << (k as u32 + shift), format!("{s}_sticks")));
+    let (masks, names): (Vec<u32>, Vec<String>) = chatter.chain(stick).unzip();
+    (masks, names.join(" "))
+}
+
+/// One ragged section (CSR): `values [point, column]` and `offsets [cell_edge]`,
+/// cell `i = iy*nx + ix` owning rows `offsets[i]..offsets[i+1]`.
 fn write_section<'a>(
     g: &Group,
     name: &str,
-    cols: usize,
+    columns: &hdf5::Dataset,
     cells: impl Iterator<Item = Option<&'a [Vec<f64>]>>,
+    long_name: &str,
 ) -> hdf5::Result<()> {
+    let cols = columns.size();
     let s = g.create_group(name)?;
     let mut offsets = vec![0u64];
     let mut values: Vec<f64> = Vec::new();
@@ -214,9 +336,26 @@ fn write_section<'a>(
     }
     let n = values.len() / cols;
     let a = Array2::from_shape_vec((n, cols), values).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
-    dataset(&s, "values", &a)?;
-    dataset(&s, "offsets", &Array1::from(offsets))?;
+    let point = netcdf::dimension(&s, POINT, n)?;
+    let edge = netcdf::dimension(&s, CELL_EDGE, offsets.len())?;
+    let d = dataset(&s, "values", &a)?;
+    netcdf::dims(&d, &[&point, columns])?;
+    netcdf::describe(&d, long_name, "1")?;
+    let d = dataset(&s, "offsets", &Array1::from(offsets))?;
+    netcdf::dims(&d, &[&edge])?;
+    netcdf::attr_str(&d, "long_name", "CSR offsets: cell i = iy*nx + ix owns rows offsets[i]..offsets[i+1] of values")?;
     Ok(())
+}
+
+/// Every accuracy knob of the run (`k=v,…`): the preset's with the overrides applied.
+fn knobs(m: &grid::Meta) -> String {
+    let mut acc = solver::Accuracy::preset(solver::Preset::parse(&m.preset).unwrap_or(solver::Preset::Standard));
+    for (k, v) in &m.accuracy {
+        // The overrides were validated when the run started.
+        let _ = acc.set(k, *v);
+    }
+    let number = |v: f64| if v.fract() == 0.0 && v.abs() < 1e15 { format!("{v}") } else { format!("{v:e}") };
+    acc.knobs().iter().map(|(k, v)| format!("{k}={}", number(*v))).collect::<Vec<_>>().join(",")
 }
 
 /// `k=v,k=v` text of parameter pairs.

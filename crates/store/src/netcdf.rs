@@ -1,0 +1,99 @@
+//! netCDF-4 conventions on plain HDF5: dimension scales (the HL library's
+//! H5DS API, as netCDF-4 itself writes them), coordinate variables, and CF
+//! attributes, so that xarray (h5netcdf and netCDF4 engines), netCDF tools and
+//! h5py read the files with named dimensions and coordinates.
+
+use hdf5::types::VarLenUnicode;
+use hdf5::{Dataset, Group, H5Type, Location};
+use ndarray::Array1;
+use std::ffi::{c_char, c_uint, CString};
+
+extern "C" {
+    fn H5DSset_scale(dsid: hdf5_sys::h5i::hid_t, dimname: *const c_char) -> hdf5_sys::h5::herr_t;
+    fn H5DSattach_scale(did: hdf5_sys::h5i::hid_t, dsid: hdf5_sys::h5i::hid_t, idx: c_uint) -> hdf5_sys::h5::herr_t;
+}
+
+/// The NAME netCDF-4 gives a dimension that has no coordinate variable.
+const DIM_ONLY: &str = "This is a netCDF dimension but not a netCDF variable.";
+
+fn check(code: hdf5_sys::h5::herr_t, what: &str) -> hdf5::Result<()> {
+    if code < 0 {
+        Err(hdf5::Error::from(what))
+    } else {
+        Ok(())
+    }
+}
+
+/// Makes `ds` a dimension scale named `name`.
+pub fn set_scale(ds: &Dataset, name: &str) -> hdf5::Result<()> {
+    let c = CString::new(name).map_err(|_| hdf5::Error::from("dimension name with NUL"))?;
+    // SAFETY: a valid dataset id and a NUL-terminated name; the library lock is held.
+    hdf5::sync::sync(|| check(unsafe { H5DSset_scale(ds.id(), c.as_ptr()) }, "H5DSset_scale failed"))
+}
+
+/// Attaches the dimension scale `scale` to dimension `idx` of `var`.
+pub fn attach(var: &Dataset, scale: &Dataset, idx: usize) -> hdf5::Result<()> {
+    // SAFETY: valid dataset ids; the library lock is held.
+    hdf5::sync::sync(|| {
+        check(unsafe { H5DSattach_scale(var.id(), scale.id(), idx as c_uint) }, "H5DSattach_scale failed")
+    })
+}
+
+/// Attaches `scales` to the dimensions of `var`, in order.
+pub fn dims(var: &Dataset, scales: &[&Dataset]) -> hdf5::Result<()> {
+    for (i, s) in scales.iter().enumerate() {
+        attach(var, s, i)?;
+    }
+    Ok(())
+}
+
+/// A text value for HDF5 (a NUL, which HDF5 strings cannot hold, becomes a space).
+pub fn text(s: &str) -> VarLenUnicode {
+    s.replace('\0', " ").parse().unwrap_or_default()
+}
+
+/// A scalar text attribute.
+pub fn attr_str(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&text(value))
+}
+
+/// A scalar numeric attribute.
+pub fn attr_num<T: H5Type + Copy>(loc: &Location, name: &str, value: T) -> hdf5::Result<()> {
+    loc.new_attr::<T>().create(name)?.write_scalar(&value)
+}
+
+/// A 1-D numeric attribute (CF `flag_values`, `flag_masks`, `valid_range`).
+pub fn attr_array<T: H5Type + Copy>(loc: &Location, name: &str, values: &[T]) -> hdf5::Result<()> {
+    loc.new_attr::<T>().shape(values.len()).create(name)?.write(&Array1::from(values.to_vec()))
+}
+
+/// CF `long_name` and `units` of a variable.
+pub fn describe(ds: &Dataset, long_name: &str, units: &str) -> hdf5::Result<()> {
+    attr_str(ds, "long_name", long_name)?;
+    attr_str(ds, "units", units)
+}
+
+/// A numeric coordinate variable: a dimension scale named `name` holding `values`.
+pub fn coordinate(g: &Group, name: &str, values: &[f64], long_name: &str) -> hdf5::Result<Dataset> {
+    let ds = g.new_dataset_builder().with_data(&Array1::from(values.to_vec())).create(name)?;
+    set_scale(&ds, name)?;
+    describe(&ds, long_name, "1")?;
+    Ok(ds)
+}
+
+/// A string coordinate variable: a dimension scale named `name` holding `values`.
+pub fn labels(g: &Group, name: &str, values: &[String], long_name: &str) -> hdf5::Result<Dataset> {
+    let data: Vec<VarLenUnicode> = values.iter().map(|s| text(s)).collect();
+    let ds = g.new_dataset_builder().with_data(&Array1::from(data)).create(name)?;
+    set_scale(&ds, name)?;
+    attr_str(&ds, "long_name", long_name)?;
+    Ok(ds)
+}
+
+/// A dimension of length `len` without a coordinate variable (netCDF-4 writes
+/// such a dimension as an empty dataset with this NAME).
+pub fn dimension(g: &Group, name: &str, len: usize) -> hdf5::Result<Dataset> {
+    let ds = g.new_dataset::<f32>().shape(len).create(name)?;
+    set_scale(&ds, &format!("{DIM_ONLY}{len:>10}"))?;
+    Ok(ds)
+}
