@@ -174,9 +174,20 @@ pub struct SweepArgs {
     /// Output HDF5 file (same layout as an atlas with one row).
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<std::path::PathBuf>,
-    /// Bifurcation diagram PNG.
+    /// Bifurcation diagram (.png, .svg or .pdf): up and down sweeps both drawn.
     #[arg(long, value_name = "FILE")]
     pub png: Option<std::path::PathBuf>,
+    /// Section points kept per cell for the diagram (dense chaotic bands need
+    /// more; overrides --section-cap).
+    #[arg(long, value_name = "N")]
+    pub points: Option<usize>,
+    /// State component of the diagram's period-section panel, e.g. x_M1 or v_M2
+    /// (default: the position of the first labelled mass).
+    #[arg(long, value_name = "COMPONENT")]
+    pub variable: Option<String>,
+    /// What the diagram's impact panels show: speed or phase.
+    #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
+    pub impact: ImpactArg,
     /// Allow an output that exists and is not a regular file (a device, a pipe).
     #[arg(long)]
     pub force: bool,
@@ -218,7 +229,7 @@ pub struct InspectArgs {
 pub struct RenderArgs {
     /// Atlas file.
     pub file: std::path::PathBuf,
-    /// Output PNG.
+    /// Output picture: .png, .svg or .pdf.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: std::path::PathBuf,
     /// Labelled mass to draw (default: the first).
@@ -231,6 +242,25 @@ pub struct RenderArgs {
     /// multiplier (largest |Floquet multiplier| of periodic cells), as a continuous map.
     #[arg(long, default_value = "labels")]
     pub view: String,
+    /// Draw one row of the atlas as a bifurcation diagram: the row nearest to
+    /// NAME=VALUE of the y axis (a sweep file is drawn as a diagram anyway).
+    #[arg(long, value_name = "NAME=VALUE")]
+    pub row: Option<String>,
+    /// State component of a diagram's period-section panel, e.g. x_M1 or v_M2.
+    #[arg(long, value_name = "COMPONENT")]
+    pub variable: Option<String>,
+    /// What a diagram's impact panels show: speed or phase.
+    #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
+    pub impact: ImpactArg,
+}
+
+/// What the impact panels of a bifurcation diagram show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ImpactArg {
+    /// Normal impact speed.
+    Speed,
+    /// Forcing phase of the impact.
+    Phase,
 }
 
 #[derive(Debug, Args)]

@@ -8,6 +8,7 @@ mod bench;
 mod cell;
 mod common;
 mod continue_cmd;
+mod diagram;
 mod inspect;
 mod merge;
 mod orbit;

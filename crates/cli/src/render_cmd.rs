@@ -1,14 +1,19 @@
-//! `vibroatlas render`: the coloured map of an atlas file.
+//! `vibroatlas render`: the pictures of a stored file: the coloured label map
+//! of an atlas (one sweep, or the three-panel hysteresis view), a continuous
+//! map of the Lyapunov exponent or the Floquet multiplier, or a bifurcation
+//! diagram of a sweep file or of one row of an atlas (`--row`).
 
 use crate::args::RenderArgs;
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, bail, Result};
 use grid::SweepKind;
 use render::{Quantity, View};
 use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
-    let l = store::read(&a.file)?;
+    render::Format::of(&a.output)?;
+    store::check_output(&a.output, &[&a.file], false)?;
+    let mut l = store::read(&a.file)?;
     let m = &l.atlas.meta;
     let mass = match &a.mass {
         Some(name) => m
@@ -32,8 +37,24 @@ pub fn run(a: RenderArgs) -> Result<()> {
         "labels" => None,
         "lyapunov" => Some(Quantity::Lyapunov),
         "multiplier" => Some(Quantity::Multiplier),
-        other => return Err(anyhow!("--view: expected labels, lyapunov or multiplier, got '{other}'")),
+        other => bail!("--view: expected labels, lyapunov or multiplier, got '{other}'"),
     };
+    // A sweep file (one row), or one row of an atlas: a bifurcation diagram.
+    let row = match &a.row {
+        Some(text) => Some(nearest_row(&l.atlas, text)?),
+        None if m.plane.y.count == 1 && quantity.is_none() => Some(0),
+        None => None,
+    };
+    if let Some(row) = row {
+        if quantity.is_some() {
+            bail!("--row: draws a bifurcation diagram; leave out --view {}", a.view);
+        }
+        if let (Some(_), View::Sweep(s)) = (&a.sweep, view) {
+            l.atlas.maps.retain(|map| map.sweep == s);
+        }
+        let d = crate::diagram::diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
+        return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, tmp))?);
+    }
     match (quantity, view) {
         (None, _) => Ok(write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp))?),
         (Some(q), View::Sweep(sweep)) => {
@@ -41,4 +62,20 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         (Some(_), View::Hysteresis) => Err(anyhow!("--view {}: needs --sweep fresh, up or down", a.view)),
     }
+}
+
+/// The row of the y axis nearest to `NAME=VALUE`.
+fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
+    let y = &atlas.meta.plane.y;
+    let (name, value) = crate::common::parse_assignment(text, "--row")?;
+    if name != y.name {
+        bail!("--row: the file's rows are values of {}, got '{name}'", y.name);
+    }
+    let lo = y.start.min(y.stop);
+    let hi = y.start.max(y.stop);
+    let step = if y.count > 1 { (hi - lo) / (y.count - 1) as f64 } else { 0.0 };
+    if value < lo - step / 2.0 || value > hi + step / 2.0 {
+        bail!("--row: {name} = {value} is outside the file's {lo} to {hi}");
+    }
+    Ok((0..y.count).min_by(|&i, &j| (y.value(i) - value).abs().total_cmp(&(y.value(j) - value).abs())).unwrap_or(0))
 }

@@ -32,7 +32,11 @@ pub fn run(a: SweepArgs) -> Result<()> {
         .cloned()
         .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
     let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)?;
-    let mut plan = Plan::new(&s, a.run.section_cap, plane, sweeps.clone(), threads(a.run.threads)?)?;
+    if let Some(png) = &a.png {
+        render::Format::of(png)?;
+    }
+    let cap = a.points.unwrap_or(a.run.section_cap);
+    let mut plan = Plan::new(&s, cap, plane, sweeps.clone(), threads(a.run.threads)?)?;
     plan.output = a.output.clone();
     plan.inputs = vec![a.sim.scene.clone()];
     plan.force = a.force;
@@ -40,7 +44,8 @@ pub fn run(a: SweepArgs) -> Result<()> {
     plan.check().map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
     let (atlas, _) = plan.execute("sweep")?;
     if let Some(png) = &a.png {
-        write_atomically(png, |tmp| render::bifurcation(&atlas, tmp))?;
+        let d = crate::diagram::diagram(&atlas, 0, a.variable.as_deref(), a.impact)?;
+        write_atomically(png, |tmp| render::bifurcation(&atlas, &d, tmp))?;
     }
     let first = if sweeps.contains(&given) { given } else { sweeps[0] };
     if a.json {

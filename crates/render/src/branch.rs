@@ -2,7 +2,9 @@
 //! and the largest Floquet multiplier modulus against the parameter, stable
 //! parts dark and unstable parts light, bifurcations marked and named.
 
-use crate::{err, font, RenderError};
+use crate::output::save;
+use crate::{err, RenderError};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -15,8 +17,17 @@ pub fn branch(
     mass: &str,
     path: &Path,
 ) -> Result<(), RenderError> {
-    font::ensure()?;
-    let root = BitMapBackend::new(path, (1000, 760)).into_drawing_area();
+    save!(path, (1000, 760), |root| draw(&root, points, marks, title, axis, mass))
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    points: &[(f64, f64, f64, bool)],
+    marks: &[(f64, String)],
+    title: &str,
+    axis: &str,
+    mass: &str,
+) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
     let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
     let (x0, x1) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.0), b.max(p.0)));
@@ -66,5 +77,5 @@ pub fn branch(
             chart.draw_series([Text::new(kind.clone(), (*v, y + pad), ("sans-serif", 16).into_font())]).map_err(err)?;
         }
     }
-    root.present().map_err(err)
+    Ok(())
 }

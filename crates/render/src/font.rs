@@ -12,20 +12,25 @@ const CANDIDATES: [&str; 3] = [
 
 static FONT: OnceLock<Result<(), String>> = OnceLock::new();
 
+/// The font file (`VIBROATLAS_FONT`, or DejaVu Sans where Debian puts it).
+pub fn path() -> Result<std::path::PathBuf, RenderError> {
+    std::env::var("VIBROATLAS_FONT")
+        .ok()
+        .into_iter()
+        .chain(CANDIDATES.iter().map(|s| s.to_string()))
+        .map(std::path::PathBuf::from)
+        .find(|p| p.exists())
+        .ok_or_else(|| RenderError {
+            message: "no TrueType font found: install fonts-dejavu-core (scripts/setup.sh does) or set VIBROATLAS_FONT"
+                .into(),
+        })
+}
+
 /// Registers the font as `sans-serif` (once).
 pub fn ensure() -> Result<(), RenderError> {
     FONT.get_or_init(|| {
-        let path = std::env::var("VIBROATLAS_FONT")
-            .ok()
-            .into_iter()
-            .chain(CANDIDATES.iter().map(|s| s.to_string()))
-            .find(|p| std::path::Path::new(p).exists());
-        let Some(path) = path else {
-            return Err(
-                "no TrueType font found: install fonts-dejavu-core (scripts/setup.sh does) or set VIBROATLAS_FONT"
-                    .into(),
-            );
-        };
+        let path = path().map_err(|e| e.message)?;
+        let path = path.display().to_string();
         let bytes = std::fs::read(&path).map_err(|e| format!("{path}: {e}"))?;
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
         plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, bytes)

@@ -1,14 +1,21 @@
 //! The coloured (x, y) map of one mass's labels, as in the literature: one
-//! rectangle per cell, a legend of the labels present (most frequent first,
-//! rare ones grouped), and in the hysteresis view the up-sweep labels with the
-//! cells where up and down differ crossed out.
+//! rectangle per cell in the label's fixed colour ([`grid::palette`]: the same
+//! label has the same colour in every figure), and a legend of the labels
+//! present, most frequent first, that says what p and q count.
+//!
+//! Hysteresis is drawn as three panels side by side, so that no map is hidden:
+//! the up sweep, the down sweep, and the cells where they end on different
+//! periodic motions, in the colour of the down sweep's label (the rest light
+//! grey).
 
-use crate::palette::{assign, Swatch};
-use crate::{err, font, RenderError};
-use grid::{label_text, Atlas, Axis, CellData, Meta, SweepKind};
+use crate::output::save;
+use crate::{err, RenderError};
+use grid::palette::{colour, family};
+use grid::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// What a map shows.
@@ -16,8 +23,19 @@ use std::path::Path;
 pub enum View {
     /// The labels of one sweep.
     Sweep(SweepKind),
-    /// Up-sweep labels with hysteresis cells marked.
+    /// Up | down | where they differ.
     Hysteresis,
+}
+
+/// Colour of cells a panel does not show (not computed, or no hysteresis).
+const BLANK: RGBColor = RGBColor(240, 240, 240);
+/// Legend entries listed one by one; the rest are summed per family.
+const LEGEND_ROWS: usize = 30;
+
+/// The plotters colour of a label.
+pub(crate) fn rgb(label: &str) -> RGBColor {
+    let [r, g, b] = colour(label);
+    RGBColor(r, g, b)
 }
 
 /// The cells of one sweep of `atlas`, or an error naming the missing sweep.
@@ -66,8 +84,9 @@ impl<'a> CellGrid<'a> {
     ) -> Result<ChartContext<'b, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, RenderError> {
         let (x, y, dx, dy) = (self.x, self.y, self.dx, self.dy);
         let mut chart = ChartBuilder::on(area)
-            .caption(title, ("sans-serif", font + 6))
+            .caption(title, ("sans-serif", font + 4))
             .margin(10)
+            .margin_right(20)
             .x_label_area_size(font * 3)
             .y_label_area_size(font * 4)
             .build_cartesian_2d(x.start - dx / 2.0..x.stop + dx / 2.0, y.start - dy / 2.0..y.stop + dy / 2.0)
@@ -77,6 +96,8 @@ impl<'a> CellGrid<'a> {
             .disable_mesh()
             .x_desc(x.name.as_str())
             .y_desc(y.name.as_str())
+            .x_label_formatter(&|v| crate::tick(*v))
+            .y_label_formatter(&|v| crate::tick(*v))
             .label_style(("sans-serif", font))
             .axis_desc_style(("sans-serif", font + 3))
             .draw()
@@ -85,132 +106,167 @@ impl<'a> CellGrid<'a> {
     }
 }
 
-/// Colour lookup for a legend.
-struct Colours(Vec<(String, Swatch, RGBColor)>);
-
-impl Colours {
-    fn of(&self, label: &str) -> RGBColor {
-        self.0.iter().find(|(l, _, _)| l == label).map_or(RGBColor(255, 255, 255), |c| c.2)
-    }
-}
-
-/// Draws the cells of one sweep (and hysteresis crosses) into `area`.
-#[allow(clippy::too_many_arguments)]
+/// Draws cells in the colours `paint` gives (None: not drawn).
 fn draw_cells<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    atlas: &Atlas,
-    sweep: SweepKind,
-    mass: usize,
-    colours: &Colours,
+    area: &DrawingArea<DB, Shift>,
+    meta: &Meta,
     title: &str,
-    hyst: Option<&[u8]>,
     font: u32,
+    paint: impl Fn(usize) -> Option<RGBColor>,
 ) -> Result<(), RenderError> {
-    let cells = sweep_cells(atlas, sweep)?;
-    let grid = CellGrid::of(&atlas.meta);
+    let grid = CellGrid::of(meta);
     let mut chart = grid.chart(area, title, font)?;
     chart
-        .draw_series(cells.iter().enumerate().filter_map(|(i, c)| {
-            let c = c.as_ref()?;
-            let colour = colours.of(&label_text(c.class, c.labels[mass]));
-            Some(Rectangle::new(grid.rect(i), colour.filled()))
-        }))
+        .draw_series((0..meta.plane.cells()).filter_map(|i| Some(Rectangle::new(grid.rect(i), paint(i)?.filled()))))
         .map_err(err)?;
-    if let Some(h) = hyst {
-        chart
-            .draw_series(h.iter().enumerate().filter(|(_, &v)| v == 1).flat_map(|(i, _)| {
-                let [(x0, y0), (x1, y1)] = grid.rect(i);
-                [
-                    PathElement::new(vec![(x0, y0), (x1, y1)], BLACK.stroke_width(1)),
-                    PathElement::new(vec![(x0, y1), (x1, y0)], RED.stroke_width(1)),
-                ]
-            }))
-            .map_err(err)?;
-    }
     Ok(())
 }
 
-/// Draws a legend (one entry per swatch, counts summed) into `area`.
+/// Colours of one sweep's labels of mass `mass`, cell by cell.
+fn label_colours(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<RGBColor> + '_ {
+    move |i| Some(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.label_text(mass))))
+}
+
+/// What p and q count for a mass, e.g. `M1: p = impacts at A12, q = impacts at A1`.
+pub(crate) fn pq_text(meta: &Meta, mass: usize) -> String {
+    let stops = meta.label_stops.get(mass).cloned().unwrap_or_default();
+    let side = |s: &str| if s.is_empty() { "no stop".to_string() } else { format!("impacts at {s}") };
+    format!(
+        "{}: n-p-q, n = period (forcing periods), p = {}, q = {} in n periods",
+        meta.masses[mass],
+        side(&stops[0]),
+        side(&stops[1])
+    )
+}
+
+/// The run's fixed settings, for a subtitle.
+pub(crate) fn settings_text(meta: &Meta) -> String {
+    let set: Vec<String> = meta.overrides.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    let fixed = if set.is_empty() { "scene defaults".to_string() } else { set.join(", ") };
+    format!("{}; preset {}; {}", meta.scene_name, meta.preset, fixed)
+}
+
+/// Draws a legend of `(label, cells)` entries, most frequent first.
 fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, plotters::coord::Shift>,
-    legend: &[(String, u64)],
-    colours: &Colours,
-    extra: Option<(String, RGBColor, u64)>,
+    area: &DrawingArea<DB, Shift>,
+    entries: &[(String, u64)],
+    extra: &[(String, RGBColor)],
 ) -> Result<(), RenderError> {
-    let mut entries: Vec<(String, RGBColor, u64)> = Vec::new();
-    for ((_, count), (_, sw, col)) in legend.iter().zip(&colours.0) {
-        match entries.iter_mut().find(|e| e.0 == sw.text()) {
-            Some(e) => e.2 += count,
-            None => entries.push((sw.text(), *col, *count)),
-        }
-    }
-    entries.extend(extra);
     let style = ("sans-serif", 15).into_font();
-    area.draw(&Text::new("labels (cells)", (10, 30), ("sans-serif", 18).into_font())).map_err(err)?;
-    for (i, (text, col, count)) in entries.iter().take(34).enumerate() {
-        let yy = 55 + 20 * i as i32;
-        area.draw(&Rectangle::new([(10, yy), (28, yy + 14)], col.filled())).map_err(err)?;
-        area.draw(&Rectangle::new([(10, yy), (28, yy + 14)], BLACK.stroke_width(1))).map_err(err)?;
-        area.draw(&Text::new(format!("{text}  ({count})"), (36, yy), style.clone())).map_err(err)?;
+    area.draw(&Text::new("label (cells)", (10, 20), ("sans-serif", 18).into_font())).map_err(err)?;
+    let mut rows: Vec<(String, RGBColor)> = extra.to_vec();
+    let name = |l: &str| match l {
+        "C" => "C chaotic".to_string(),
+        "Q" => "Q quasi-periodic".to_string(),
+        "U" => "U unresolved".to_string(),
+        l => l.to_string(),
+    };
+    for (label, count) in entries.iter().take(LEGEND_ROWS) {
+        rows.push((format!("{}  ({count})", name(label)), rgb(label)));
+    }
+    let mut rest: BTreeMap<&str, (u64, u64)> = BTreeMap::new();
+    for (label, count) in entries.iter().skip(LEGEND_ROWS) {
+        let e = rest.entry(family(label)).or_default();
+        e.0 += 1;
+        e.1 += count;
+    }
+    for (fam, (labels, cells)) in rest {
+        rows.push((format!("+ {labels} more {fam} ({cells})"), RGBColor(255, 255, 255)));
+    }
+    for (i, (text, col)) in rows.iter().enumerate() {
+        let y = 42 + 20 * i as i32;
+        area.draw(&Rectangle::new([(10, y), (28, y + 14)], col.filled())).map_err(err)?;
+        area.draw(&Rectangle::new([(10, y), (28, y + 14)], BLACK.stroke_width(1))).map_err(err)?;
+        area.draw(&Text::new(text.clone(), (36, y), style.clone())).map_err(err)?;
     }
     Ok(())
 }
 
-/// Draws the map of mass `mass` (index into `atlas.meta.masses`) to a PNG.
+/// `(label, cells)` of mass `mass` over several sweeps' cells, most frequent first.
+fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
+    let mut counts: BTreeMap<String, u64> = BTreeMap::new();
+    for c in cells.iter().flat_map(|c| c.iter()).flatten() {
+        *counts.entry(c.label_text(mass)).or_default() += 1;
+    }
+    let mut v: Vec<(String, u64)> = counts.into_iter().collect();
+    v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    v
+}
+
+/// Draws the map of mass `mass` (index into `atlas.meta.masses`); the format
+/// follows the extension of `path` (`.png`, `.svg`, `.pdf`).
 pub fn map(atlas: &Atlas, view: View, mass: usize, path: &Path) -> Result<(), RenderError> {
-    font::ensure()?;
+    let panels = if view == View::Hysteresis { 3 } else { 1 };
+    save!(path, (760 * panels + 380, 800), |root| draw_map(&root, atlas, view, mass))
+}
+
+fn draw_map<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    atlas: &Atlas,
+    view: View,
+    mass: usize,
+) -> Result<(), RenderError> {
     let m = &atlas.meta;
-    let sweep = match view {
-        View::Sweep(s) => s,
-        View::Hysteresis => SweepKind::Up,
-    };
-    let hyst = match view {
-        View::Hysteresis => Some(atlas.hysteresis().ok_or_else(|| RenderError {
-            message: "--sweep hysteresis needs an atlas with up and down sweeps".into(),
-        })?),
-        View::Sweep(_) => None,
-    };
-    let legend = atlas.legend(sweep, mass);
-    let colours = Colours(assign(&legend));
-    let root = BitMapBackend::new(path, (1200, 760)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
-    let (left, right) = root.split_horizontally(860);
-    let title = format!(
-        "{}: {} ({})",
-        m.scene_name,
-        m.masses[mass],
-        match view {
-            View::Sweep(s) => s.name().to_string(),
-            View::Hysteresis => "up sweep, hysteresis marked".into(),
+    let root = root.titled(&pq_text(m, mass), ("sans-serif", 20)).map_err(err)?;
+    let (body, foot) = root.split_vertically(root.dim_in_pixel().1 - 28);
+    foot.draw(&Text::new(settings_text(m), (12, 4), ("sans-serif", 15).into_font())).map_err(err)?;
+    let width = body.dim_in_pixel().0;
+    let (maps, legend) = body.split_horizontally(width - 380);
+    match view {
+        View::Sweep(sweep) => {
+            let cells = sweep_cells(atlas, sweep)?;
+            let title = format!("{}, {} sweep", m.masses[mass], sweep.name());
+            draw_cells(&maps, m, &title, 15, label_colours(cells, mass))?;
+            draw_legend(&legend, &count(&[cells], mass), &[])
         }
-    );
-    draw_cells(&left, atlas, sweep, mass, &colours, &title, hyst.as_deref(), 15)?;
-    let extra = hyst.as_ref().map(|h| ("hysteresis (up != down)".to_string(), RED, h.iter().map(|&v| v as u64).sum()));
-    draw_legend(&right, &legend, &colours, extra)?;
-    root.present().map_err(err)
+        View::Hysteresis => {
+            let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
+            let hyst = atlas.hysteresis().ok_or_else(|| RenderError {
+                message: "--sweep hysteresis needs an atlas with up and down sweeps".into(),
+            })?;
+            let panels = maps.split_evenly((1, 3));
+            draw_cells(&panels[0], m, &format!("{}, up sweep", m.masses[mass]), 14, label_colours(up, mass))?;
+            draw_cells(&panels[1], m, &format!("{}, down sweep", m.masses[mass]), 14, label_colours(down, mass))?;
+            let zones = hyst.iter().filter(|&&h| h == 1).count();
+            let differ = |i: usize| {
+                Some(match (&down[i], hyst[i]) {
+                    (Some(c), 1) => rgb(&c.label_text(mass)),
+                    _ => BLANK,
+                })
+            };
+            draw_cells(&panels[2], m, &format!("up and down differ: {zones} cells (down label)"), 14, differ)?;
+            draw_legend(&legend, &count(&[up, down], mass), &[("no hysteresis (right)".into(), BLANK)])
+        }
+    }
 }
 
 /// Draws a contact sheet: the maps of one mass and sweep for several atlases
-/// (a study), side by side with one shared legend and consistent colours.
+/// (a study), side by side with one legend; a label has the same colour in
+/// every panel.
 pub fn sheet(panels: &[(String, Atlas)], sweep: SweepKind, mass: usize, path: &Path) -> Result<(), RenderError> {
-    font::ensure()?;
-    let mut total: std::collections::BTreeMap<String, u64> = std::collections::BTreeMap::new();
-    for (_, a) in panels {
-        for (l, c) in a.legend(sweep, mass) {
-            *total.entry(l).or_default() += c;
-        }
-    }
-    let mut legend: Vec<(String, u64)> = total.into_iter().collect();
-    legend.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    let colours = Colours(assign(&legend));
     let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols);
-    let root = BitMapBackend::new(path, (560 * cols as u32 + 320, 420 * rows as u32)).into_drawing_area();
+    save!(path, (560 * cols as u32 + 340, 440 * rows as u32 + 40), |root| draw_sheet(&root, panels, sweep, mass))
+}
+
+fn draw_sheet<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    panels: &[(String, Atlas)],
+    sweep: SweepKind,
+    mass: usize,
+) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
+    let cols = panels.len().clamp(1, 2);
+    let rows = panels.len().div_ceil(cols);
+    let title = panels.first().map_or(String::new(), |(_, a)| pq_text(&a.meta, mass));
+    let root = root.titled(&title, ("sans-serif", 18)).map_err(err)?;
     let (left, right) = root.split_horizontally(560 * cols as u32);
+    let mut all = Vec::new();
     for ((title, atlas), area) in panels.iter().zip(left.split_evenly((rows, cols)).iter()) {
-        draw_cells(area, atlas, sweep, mass, &colours, title, None, 12)?;
+        let cells = sweep_cells(atlas, sweep)?;
+        all.push(cells);
+        draw_cells(area, &atlas.meta, title, 12, label_colours(cells, mass))?;
     }
-    draw_legend(&right, &legend, &colours, None)?;
-    root.present().map_err(err)
+    draw_legend(&right, &count(&all, mass), &[])
 }

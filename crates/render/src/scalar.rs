@@ -1,13 +1,16 @@
 //! A continuous map of one number per cell: the largest Lyapunov exponent of
-//! cells without a period, or the largest Floquet multiplier modulus of
-//! periodic cells (where stability is lost, it crosses 1). Cells without the
-//! number are light grey; a colour bar gives the scale.
+//! cells without a period, on a diverging scale centred at 0 (blue contracting,
+//! white neutral, red chaotic), or the largest Floquet multiplier modulus of
+//! periodic cells on a diverging scale centred at 1, where stability is lost.
+//! Cells without the number are light grey; a labelled colour bar gives the
+//! scale.
 
 use crate::map::{sweep_cells, CellGrid};
-use crate::{err, font, RenderError};
+use crate::output::save;
+use crate::{err, RenderError};
 use grid::{Atlas, CellData, SweepKind};
+use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::colors::colormaps::ViridisRGB;
 use std::path::Path;
 
 /// Which number a continuous map shows.
@@ -33,43 +36,86 @@ impl Quantity {
             Quantity::Multiplier => "largest |Floquet multiplier| (periodic cells)",
         }
     }
+
+    /// Colour-bar label.
+    fn unit(self) -> &'static str {
+        match self {
+            Quantity::Lyapunov => "λ (per unit time)",
+            Quantity::Multiplier => "max |μ|",
+        }
+    }
+
+    /// The neutral value the diverging scale is centred on.
+    fn centre(self) -> f64 {
+        match self {
+            Quantity::Lyapunov => 0.0,
+            Quantity::Multiplier => 1.0,
+        }
+    }
 }
 
-/// Draws `quantity` over the plane of one sweep of `atlas` to a PNG.
+/// Blue (below the centre) to white (at it) to red (above), symmetric: `t`
+/// in [-1, 1].
+fn diverging(t: f64) -> RGBColor {
+    let t = t.clamp(-1.0, 1.0);
+    let (end, w) = if t < 0.0 { ([33.0, 102.0, 172.0], -t) } else { ([178.0, 24.0, 43.0], t) };
+    let c = end.map(|e: f64| (255.0 + w * (e - 255.0)).round() as u8);
+    RGBColor(c[0], c[1], c[2])
+}
+
+/// Draws `quantity` over the plane of one sweep of `atlas` (format by the
+/// extension of `path`).
 pub fn scalar_map(atlas: &Atlas, sweep: SweepKind, quantity: Quantity, path: &Path) -> Result<(), RenderError> {
-    font::ensure()?;
+    save!(path, (1060, 800), |root| draw(&root, atlas, sweep, quantity))
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    atlas: &Atlas,
+    sweep: SweepKind,
+    quantity: Quantity,
+) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let cells = sweep_cells(atlas, sweep)?;
     let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.of(c))).collect();
-    let (lo, hi) = values.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
-    let (lo, hi) = if lo.is_finite() && hi > lo { (lo, hi) } else { (lo.min(0.0), lo.max(0.0) + 1.0) };
-    let root = BitMapBackend::new(path, (1000, 760)).into_drawing_area();
+    let centre = quantity.centre();
+    let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
+    let reach = if reach > 0.0 { reach } else { 1.0 };
+    let (lo, hi) = (centre - reach, centre + reach);
     root.fill(&WHITE).map_err(err)?;
-    let (left, right) = root.split_horizontally(860);
+    let root = root.titled(&crate::map::settings_text(m), ("sans-serif", 16)).map_err(err)?;
+    let (left, right) = root.split_horizontally(880);
     let grid = CellGrid::of(m);
-    let title = format!("{} ({}): {}", m.scene_name, sweep.name(), quantity.title());
+    let title = format!("{} sweep: {}", sweep.name(), quantity.title());
     let mut chart = grid.chart(&left, &title, 15)?;
     chart
         .draw_series(values.iter().enumerate().map(|(i, v)| {
-            let colour = v.map_or(RGBColor(225, 225, 225), |v| ViridisRGB.get_color_normalized(v, lo, hi));
+            let colour = v.map_or(RGBColor(225, 225, 225), |v| diverging((v - centre) / reach));
             Rectangle::new(grid.rect(i), colour.filled())
         }))
         .map_err(err)?;
-    // Colour bar.
     let mut bar = ChartBuilder::on(&right)
         .margin_top(60)
         .margin_bottom(55)
-        .margin_right(70)
+        .margin_right(20)
         .y_label_area_size(0)
-        .right_y_label_area_size(60)
+        .right_y_label_area_size(95)
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(err)?;
-    bar.configure_mesh().disable_mesh().disable_x_axis().label_style(("sans-serif", 14)).draw().map_err(err)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(quantity.unit())
+        .y_label_formatter(&|v| crate::tick(*v))
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()
+        .map_err(err)?;
     let n = 200;
     bar.draw_series((0..n).map(|k| {
         let (a, b) = (lo + (hi - lo) * k as f64 / n as f64, lo + (hi - lo) * (k + 1) as f64 / n as f64);
-        Rectangle::new([(0.0, a), (1.0, b)], ViridisRGB.get_color_normalized(0.5 * (a + b), lo, hi).filled())
+        Rectangle::new([(0.0, a), (1.0, b)], diverging((0.5 * (a + b) - centre) / reach).filled())
     }))
     .map_err(err)?;
-    root.present().map_err(err)
+    Ok(())
 }

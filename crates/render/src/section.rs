@@ -2,7 +2,9 @@
 //! shows n points, a quasi-periodic one a closed curve (the invariant circle
 //! born at a Neimark–Sacker bifurcation), a chaotic one a fractal cloud.
 
-use crate::{err, font, RenderError};
+use crate::output::save;
+use crate::{err, RenderError};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -30,10 +32,14 @@ fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
 
 /// Draws the panels side by side (two per row) to a PNG.
 pub fn sections(panels: &[Panel], title: &str, path: &Path) -> Result<(), RenderError> {
-    font::ensure()?;
     let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols).max(1);
-    let root = BitMapBackend::new(path, (520 * cols as u32, 460 * rows as u32 + 40)).into_drawing_area();
+    save!(path, (520 * cols as u32, 460 * rows as u32 + 40), |root| draw(&root, panels, title))
+}
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panels: &[Panel], title: &str) -> Result<(), RenderError> {
+    let cols = panels.len().clamp(1, 2);
+    let rows = panels.len().div_ceil(cols).max(1);
     root.fill(&WHITE).map_err(err)?;
     let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
     for (panel, area) in panels.iter().zip(root.split_evenly((rows, cols)).iter()) {
@@ -58,5 +64,5 @@ pub fn sections(panels: &[Panel], title: &str, path: &Path) -> Result<(), Render
             .draw_series(panel.points.iter().map(|&p| Circle::new(p, 1, RGBColor(31, 119, 180).filled())))
             .map_err(err)?;
     }
-    root.present().map_err(err)
+    Ok(())
 }

@@ -3,13 +3,18 @@
 //! settings that no other beats in both are joined as the Pareto front, and a
 //! legend beside the chart names each setting's colour.
 
-use crate::{err, font, RenderError};
+use crate::output::save;
+use crate::{err, RenderError};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
 /// Draws `(setting, cells/s, label agreement)` points to a PNG.
 pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderError> {
-    font::ensure()?;
+    save!(path, (1000, 600), |root| draw(&root, points))
+}
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, points: &[(String, f64, f64)]) -> Result<(), RenderError> {
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let (lo, hi) = if lo.is_finite() && hi > 0.0 { (lo / 2.0, hi * 2.0) } else { (1.0, 10.0) };
     // Agreement axis from a little below the worst setting to just above 1, so
@@ -17,7 +22,6 @@ pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderErr
     let amin = points.iter().map(|p| p.2).fold(1.0f64, f64::min);
     let bottom = (amin - (0.5 * (1.0 - amin)).max(0.002)).max(0.0);
     let top = 1.0 + 0.1 * (1.0 - bottom);
-    let root = BitMapBackend::new(path, (1000, 600)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let (plot, legend) = root.split_horizontally(780);
     let mut chart = ChartBuilder::on(&plot)
@@ -51,5 +55,5 @@ pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderErr
         legend.draw(&Circle::new((12, y), 6, color.filled())).map_err(err)?;
         legend.draw(&Text::new(name.clone(), (26, y - 8), ("sans-serif", 15).into_font())).map_err(err)?;
     }
-    root.present().map_err(err)
+    Ok(())
 }
