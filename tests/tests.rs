@@ -8,6 +8,7 @@ mod cli;
 mod closed_form;
 mod extremes;
 mod faults;
+mod figures;
 mod friction;
 mod properties;
 mod stability;

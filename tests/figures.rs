@@ -1,0 +1,181 @@
+//! Issue 17: figures a paper can print. Colours read back from rendered PNGs
+//! at known cells, SVG parsed as XML, PDF headers, titles that match what was
+//! run.
+
+use crate::util::run;
+use std::path::{Path, PathBuf};
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vibroatlas-figures-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn ok(args: &[&str]) {
+    let out = run(args);
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+}
+
+/// RGB rows of a PNG.
+fn pixels(path: &Path) -> (usize, usize, Vec<[u8; 3]>) {
+    let decoder = png::Decoder::new(std::fs::File::open(path).unwrap());
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let step = info.line_size / info.width as usize;
+    let px = (0..(info.width * info.height) as usize).map(|i| [buf[i * step], buf[i * step + 1], buf[i * step + 2]]);
+    (info.width as usize, info.height as usize, px.collect())
+}
+
+/// The colour that most of a 9 x 9 block around (x, y) has.
+fn sample(img: &(usize, usize, Vec<[u8; 3]>), x: usize, y: usize) -> [u8; 3] {
+    let mut counts = std::collections::BTreeMap::new();
+    for j in y - 4..=y + 4 {
+        for i in x - 4..=x + 4 {
+            *counts.entry(img.2[j * img.0 + i]).or_insert(0) += 1;
+        }
+    }
+    counts.into_iter().max_by_key(|e| e.1).unwrap().0
+}
+
+/// Pixel centre of cell (ix, iy) of a 2 x 2 single-panel map (1140 x 800): the
+/// plot spans about x 70..740 and y 75..717 (cells of about 335 x 320 pixels,
+/// so the estimate has a wide margin).
+fn centre(ix: usize, iy: usize) -> (usize, usize) {
+    (70 + 167 + 335 * ix, 717 - 160 - 320 * iy)
+}
+
+#[test]
+fn a_label_has_the_same_colour_in_every_sweep_and_file() {
+    let d = dir("colours");
+    let (a, b) = (d.join("a.h5"), d.join("b.h5"));
+    // Two files with labels in common (2 x 2 cells each, in different places).
+    ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=0.33:2.5:2",
+        "--y",
+        "delta=0.6:1.2:2",
+        "--sweep",
+        "both",
+        "--quiet",
+        "-o",
+        a.to_str().unwrap(),
+    ]);
+    ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=1.0:2.5:2",
+        "--y",
+        "delta=0.6:1.6:2",
+        "--sweep",
+        "both",
+        "--quiet",
+        "-o",
+        b.to_str().unwrap(),
+    ]);
+    let mut seen: std::collections::BTreeMap<String, [u8; 3]> = Default::default();
+    for (file, sweep) in [(&a, "up"), (&a, "down"), (&b, "up"), (&b, "down")] {
+        let png = d.join(format!("{}-{sweep}.png", file.file_stem().unwrap().to_string_lossy()));
+        ok(&["render", file.to_str().unwrap(), "--sweep", sweep, "-o", png.to_str().unwrap()]);
+        let img = pixels(&png);
+        assert_eq!((img.0, img.1), (1140, 800));
+        let atlas = store::read(file).unwrap().atlas;
+        let map = atlas.map(grid::SweepKind::parse(sweep).unwrap()).unwrap();
+        for iy in 0..2 {
+            for ix in 0..2 {
+                let label = map.cells[iy * 2 + ix].as_ref().unwrap().label_text(0);
+                let (x, y) = centre(ix, iy);
+                let got = sample(&img, x, y);
+                assert_eq!(got, grid::palette::colour(&label), "{png:?} cell ({ix}, {iy}) {label}");
+                if let Some(before) = seen.insert(label.clone(), got) {
+                    assert_eq!(before, got, "{label} changed colour");
+                }
+            }
+        }
+    }
+    assert!(seen.len() >= 2, "labels seen: {seen:?}");
+}
+
+#[test]
+fn vector_formats_are_valid_and_unknown_ones_refused() {
+    let d = dir("vector");
+    let a = d.join("a.h5");
+    ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=0.3:2.5:6",
+        "--y",
+        "delta=0.4:1.2:4",
+        "--sweep",
+        "both",
+        "--quiet",
+        "-o",
+        a.to_str().unwrap(),
+    ]);
+    let svg = d.join("map.svg");
+    ok(&["render", a.to_str().unwrap(), "--sweep", "hysteresis", "-o", svg.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&text).expect("SVG parses as XML");
+    assert_eq!(doc.root_element().tag_name().name(), "svg");
+    assert!(doc.descendants().filter(|n| n.has_tag_name("rect")).count() >= 3 * 24, "three panels of 24 cells");
+    let pdf = d.join("map.pdf");
+    ok(&["render", a.to_str().unwrap(), "--view", "lyapunov", "--sweep", "up", "-o", pdf.to_str().unwrap()]);
+    assert!(std::fs::read(&pdf).unwrap().starts_with(b"%PDF"));
+    let out = run(&["render", a.to_str().unwrap(), "-o", d.join("map.jpg").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(err.contains("unknown picture format '.jpg'") && err.trim().lines().count() == 1, "{err}");
+    assert!(!d.join("map.jpg").exists());
+}
+
+#[test]
+fn diagrams_say_which_directions_were_run() {
+    let d = dir("diagram");
+    let svg = d.join("down.svg");
+    let out = run(&[
+        "sweep",
+        "configs/dry-friction.toml",
+        "--axis",
+        "omega=8:6.5:16",
+        "--set",
+        "fk=0.01",
+        "--direction",
+        "down",
+        "--quiet",
+        "--png",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let words: Vec<&str> = doc.descendants().filter_map(|n| n.text()).collect();
+    let title = words.iter().find(|t| t.contains("bifurcation diagram")).expect("a title");
+    assert!(title.contains("down sweep") && !title.contains("up"), "{title}");
+    // Both directions, from a stored sweep file, with its legend.
+    let file = d.join("both.h5");
+    let out = run(&[
+        "sweep",
+        "configs/dry-friction.toml",
+        "--axis",
+        "omega=6.5:8:16",
+        "--set",
+        "fk=0.01",
+        "--direction",
+        "both",
+        "--quiet",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let svg = d.join("both.svg");
+    ok(&["render", file.to_str().unwrap(), "-o", svg.to_str().unwrap(), "--variable", "v_M1", "--impact", "phase"]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for want in ["up and down sweeps", "up sweep", "down sweep", "v_M1 at t = kT", "impact phase"] {
+        assert!(text.contains(want), "{want} missing");
+    }
+}
