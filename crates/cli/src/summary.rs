@@ -13,7 +13,8 @@ pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) -> anyhow::Result
     outln!("grid      {} x {} = {} cells, continuation along {}", p.x, p.y, p.cells(), p.along.name());
     let computed: usize = atlas.maps.iter().map(|mp| mp.cells.iter().flatten().count()).sum();
     if secs > 0.0 {
-        outln!("time      {secs:.2} s on {threads} threads, {:.0} cells/s", computed as f64 / secs);
+        let rate = crate::progress::thousands((computed as f64 / secs).round() as u64);
+        outln!("time      {} on {threads} threads, {rate} cells/s", crate::progress::duration(secs));
     }
     for map in &atlas.maps {
         let cells: Vec<_> = map.cells.iter().flatten().collect();
