@@ -6,6 +6,7 @@ mod atlas;
 mod bad_input;
 mod cli;
 mod closed_form;
+mod drilldown;
 mod extremes;
 mod faults;
 mod figures;

@@ -34,6 +34,33 @@ pub enum Command {
     Orbit(OrbitArgs),
     /// Follow one periodic orbit along a parameter and locate its bifurcations.
     Continue(ContinueArgs),
+    /// Find the coexisting attractors of one parameter point from sampled initial states.
+    Attractors(AttractorsArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct AttractorsArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// Initial states sampled.
+    #[arg(long, default_value_t = 64, value_name = "K")]
+    pub samples: usize,
+    /// Seed of the (deterministic) sampling.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Half-widths X,V of the box of initial positions and velocities.
+    #[arg(long = "box", default_value = "2,2", value_name = "X,V")]
+    pub sample_box: String,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Draw the sampled initial states of the first labelled mass, coloured by
+    /// the attractor they reach (.png, .svg or .pdf).
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
 }
 
 /// Options shared by every command that simulates a scene.
@@ -44,9 +71,9 @@ pub struct SimArgs {
     /// Override a scene parameter, e.g. `--set omega=0.33` (repeatable).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Accuracy preset: fast, standard or precise.
-    #[arg(long, default_value = "standard")]
-    pub preset: String,
+    /// Accuracy preset: fast, standard (default) or precise.
+    #[arg(long)]
+    pub preset: Option<String>,
     /// Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable).
     /// Knobs: event_tol, contact_tol, stick_velocity, chatter_velocity,
     /// min_transient, max_periods, periodic_tol, n_max, chatter_impacts,
@@ -54,15 +81,38 @@ pub struct SimArgs {
     /// rk4_min_step.
     #[arg(long = "accuracy", value_name = "KNOB=VALUE")]
     pub accuracy: Vec<String>,
-    /// Integrator: exact (closed-form flow) or rk4 (fixed step, the literature's method).
-    #[arg(long, default_value = "exact")]
-    pub integrator: String,
+    /// Integrator: exact (closed-form flow, default) or rk4 (fixed step, the literature's method).
+    #[arg(long)]
+    pub integrator: Option<String>,
+}
+
+/// Where a simulation starts: a cell of a stored atlas or sweep file, or a
+/// state given on the command line (default: the scene's initial state).
+#[derive(Debug, Args, Clone, Default)]
+pub struct FromArgs {
+    /// Start from a cell of this atlas or sweep file (its parameters, its
+    /// stored states, and its run's preset, knobs and integrator unless given).
+    #[arg(long, value_name = "FILE.h5")]
+    pub from: Option<PathBuf>,
+    /// The cell of --from: the grid cell nearest to NAME=VALUE,NAME=VALUE.
+    #[arg(long, value_name = "NAME=VALUE,NAME=VALUE", requires = "from")]
+    pub at: Option<String>,
+    /// The sweep of --from the cell is taken from: fresh, up or down (default:
+    /// the file's first).
+    #[arg(long = "sweep", value_name = "SWEEP", requires = "from")]
+    pub from_sweep: Option<String>,
+    /// Start from this state `x1,x2,…,v1,v2,…` at the scene's forcing phase
+    /// (t = 0; change the phase with --set on the scene's phase parameter).
+    #[arg(long, value_name = "X…,V…", conflicts_with = "from", allow_hyphen_values = true)]
+    pub state: Option<String>,
 }
 
 #[derive(Debug, Args)]
 pub struct CellArgs {
     #[command(flatten)]
     pub sim: SimArgs,
+    #[command(flatten)]
+    pub start: FromArgs,
     /// Print one JSON object instead of the human-readable summary.
     #[arg(long)]
     pub json: bool,
@@ -85,6 +135,8 @@ pub struct CellArgs {
 pub struct OrbitArgs {
     #[command(flatten)]
     pub sim: SimArgs,
+    #[command(flatten)]
+    pub start: FromArgs,
     /// Period in forcing periods (default: the period of the simulated cell).
     #[arg(long, value_name = "N")]
     pub n: Option<usize>,
@@ -97,6 +149,8 @@ pub struct OrbitArgs {
 pub struct ContinueArgs {
     #[command(flatten)]
     pub sim: SimArgs,
+    #[command(flatten)]
+    pub start: FromArgs,
     /// Parameter to follow, NAME=START:STOP:COUNT (the orbit is found at START).
     #[arg(long, value_name = "NAME=START:STOP:COUNT")]
     pub axis: String,
@@ -151,7 +205,8 @@ pub struct AtlasArgs {
     /// Continue an interrupted run from its journal.
     #[arg(long)]
     pub resume: bool,
-    /// Allow an output that exists and is not a regular file (a device, a pipe).
+    /// Write into an output that exists and is not a regular file (a device, a
+    /// pipe) instead of refusing it; it is never replaced.
     #[arg(long)]
     pub force: bool,
     /// Output HDF5 file.
@@ -165,10 +220,14 @@ pub struct AtlasArgs {
 pub struct SweepArgs {
     #[command(flatten)]
     pub sim: SimArgs,
+    #[command(flatten)]
+    pub start: FromArgs,
     /// Swept parameter, NAME=START:STOP:COUNT, run in that order (START > STOP sweeps down).
     #[arg(long, value_name = "NAME=START:STOP:COUNT")]
     pub axis: String,
-    /// Run in the given order (default), or up, down, or both directions.
+    /// Run in the given order (default), or up, down, or both directions (each
+    /// from the scene's initial state); or a hysteresis loop, down-up or
+    /// up-down: the second leg starts from the first leg's end state.
     #[arg(long)]
     pub direction: Option<String>,
     /// Output HDF5 file (same layout as an atlas with one row).
@@ -188,7 +247,8 @@ pub struct SweepArgs {
     /// What the diagram's impact panels show: speed or phase.
     #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
     pub impact: ImpactArg,
-    /// Allow an output that exists and is not a regular file (a device, a pipe).
+    /// Write into an output that exists and is not a regular file (a device, a
+    /// pipe) instead of refusing it; it is never replaced.
     #[arg(long)]
     pub force: bool,
     /// Print one JSON object.
@@ -210,7 +270,8 @@ pub struct MergeArgs {
     /// `not computed`); without it a missing shard is an error.
     #[arg(long)]
     pub allow_missing: bool,
-    /// Allow an output that exists and is not a regular file (a device, a pipe).
+    /// Write into an output that exists and is not a regular file (a device, a
+    /// pipe) instead of refusing it; it is never replaced.
     #[arg(long)]
     pub force: bool,
 }

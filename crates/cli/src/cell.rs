@@ -1,7 +1,7 @@
 //! `vibroatlas cell`: simulate one cell and print its classification.
 
 use crate::args::CellArgs;
-use crate::common::{labels_json, setup};
+use crate::common::{labels_json, setup_from};
 use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
@@ -17,13 +17,19 @@ pub const MAX_TRACE_ROWS: usize = 10_000_000;
 
 /// Runs the command.
 pub fn run(a: CellArgs) -> Result<()> {
-    let s = setup(&a.sim)?;
+    let (s, origin) = setup_from(&a.sim, &a.start)?;
     if a.trace_samples == 0 || a.trace_samples > MAX_TRACE_SAMPLES {
         return Err(anyhow!("--trace-samples: expected 1 to {MAX_TRACE_SAMPLES}, got {}", a.trace_samples));
     }
     let model = s.scene.evaluate(&s.overrides)?;
-    let y0 = model.initial_state();
     let sys = System::new(model)?;
+    // From a stored cell: the state that cell started from, so that the same
+    // simulation runs again (its result equals the stored one bit for bit).
+    let y0 = match &origin {
+        Some(o) if a.start.from.is_some() => grid::start_state(&sys, o.cell_start.as_deref()),
+        Some(o) => o.state.clone(),
+        None => sys.model.initial_state(),
+    };
     let cell = run_cell(&sys, &s.accuracy, s.method, &y0);
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
@@ -45,7 +51,11 @@ pub fn run(a: CellArgs) -> Result<()> {
         write_atomically(path, |tmp| render::sections(&panels, &title, tmp))?;
     }
     if a.json {
-        outln!("{}", serde_json::to_string(&to_json(&sys, &s, &cell))?);
+        let mut o = to_json(&sys, &s, &cell);
+        if let Some(origin) = &origin {
+            o["from"] = origin.about.clone();
+        }
+        outln!("{}", serde_json::to_string(&o)?);
     } else {
         outp!("{}", to_text(&sys, &s, &cell));
     }
@@ -168,18 +178,19 @@ fn sections(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usi
     Ok(panels)
 }
 
-/// Dense samples (and every event) of `periods` periods from the window start.
+/// Dense samples (and every event, named: `impact A1`, `stick A12`, …) of
+/// `periods` periods from the window start.
 fn trace_csv(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Result<String> {
-    struct Rows<'a>(&'a mut String);
+    struct Rows<'a>(&'a mut String, &'a System);
     impl solver::Observer for Rows<'_> {
-        fn event(&mut self, t: f64, y: &solver::DVector<f64>) {
-            row(self.0, t, y.as_slice(), 1);
+        fn named_event(&mut self, t: f64, kind: solver::EventKind, y: &solver::DVector<f64>) {
+            row(self.0, t, y.as_slice(), &kind.describe(self.1));
         }
         fn sample(&mut self, t: f64, y: &solver::DVector<f64>) {
-            row(self.0, t, y.as_slice(), 0);
+            row(self.0, t, y.as_slice(), "");
         }
     }
-    fn row(out: &mut String, t: f64, y: &[f64], event: u8) {
+    fn row(out: &mut String, t: f64, y: &[f64], event: &str) {
         let _ = write!(out, "{t:.15e}");
         for v in y {
             let _ = write!(out, ",{v:.15e}");
@@ -195,10 +206,10 @@ fn trace_csv(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: us
     }
     out.push_str(",event\n");
     let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start).map_err(|h| anyhow!("trace: {h:?}"))?;
-    row(&mut out, 0.0, &c.window_start, 0);
+    row(&mut out, 0.0, &c.window_start, "");
     let times: Vec<f64> = (1..samples).map(|i| sys.period * i as f64 / samples as f64).collect();
     for _ in 0..periods {
-        sim.run_period(&times, false, &mut Rows(&mut out)).map_err(|h| anyhow!("trace: {h:?}"))?;
+        sim.run_period(&times, false, &mut Rows(&mut out, sys)).map_err(|h| anyhow!("trace: {h:?}"))?;
     }
     Ok(out)
 }

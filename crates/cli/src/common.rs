@@ -37,8 +37,9 @@ pub fn setup(a: &SimArgs) -> Result<Setup> {
     for (name, _) in &overrides {
         scene.check_parameter(name, &format!("--set {name}"))?;
     }
-    let preset = Preset::parse(&a.preset)
-        .ok_or_else(|| anyhow!("--preset: expected fast, standard or precise, got '{}'", a.preset))?;
+    let name = a.preset.as_deref().unwrap_or("standard");
+    let preset =
+        Preset::parse(name).ok_or_else(|| anyhow!("--preset: expected fast, standard or precise, got '{name}'"))?;
     let mut accuracy = Accuracy::preset(preset);
     let mut accuracy_overrides = Vec::new();
     for s in &a.accuracy {
@@ -46,8 +47,8 @@ pub fn setup(a: &SimArgs) -> Result<Setup> {
         accuracy.set(&k, v)?;
         accuracy_overrides.push((k, v));
     }
-    let method = Method::parse(&a.integrator)
-        .ok_or_else(|| anyhow!("--integrator: expected exact or rk4, got '{}'", a.integrator))?;
+    let name = a.integrator.as_deref().unwrap_or("exact");
+    let method = Method::parse(name).ok_or_else(|| anyhow!("--integrator: expected exact or rk4, got '{name}'"))?;
     Ok(Setup { scene, overrides, accuracy, accuracy_overrides, preset, method })
 }
 
@@ -81,4 +82,96 @@ pub fn cell_setup(s: &Setup, section_cap: usize) -> Result<grid::CellSetup> {
         method: s.method,
         section_cap,
     })
+}
+
+/// Where a simulation starts (see [`crate::args::FromArgs`]).
+pub struct Origin {
+    /// The state the stored cell started from (the final state of the cell
+    /// before it along its sweep), or `None` (the scene's initial state).
+    pub cell_start: Option<Vec<f64>>,
+    /// The state to start a new simulation from (the stored cell's final
+    /// state, at a whole forcing period; or the given `--state`).
+    pub state: Vec<f64>,
+    /// What was taken, for the output (`{"file", "sweep", "cell": {…}}`).
+    pub about: serde_json::Value,
+}
+
+/// Validates the simulation options and where the simulation starts: with
+/// `--from`, the cell's parameters are added to the overrides and, unless
+/// given, the file's preset, knobs and integrator are used.
+pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Option<Origin>)> {
+    let Some(file) = &f.from else {
+        let s = setup(a)?;
+        let Some(text) = &f.state else { return Ok((s, None)) };
+        let state: Vec<f64> = text
+            .split(',')
+            .map(|v| v.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+            .collect::<Option<_>>()
+            .ok_or_else(|| anyhow!("--state: expected comma-separated finite numbers, got '{text}'"))?;
+        let model = s.scene.evaluate(&s.overrides)?;
+        let dim = 2 * model.masses.len();
+        if state.len() != dim {
+            bail!("--state: the scene's state has {dim} numbers (x of every mass, then v), got {}", state.len());
+        }
+        let x: Vec<f64> = state[..dim / 2].to_vec();
+        for (k, stop) in model.stops.iter().enumerate() {
+            let g = model.gap(k, &x);
+            if g < -1e-9 {
+                bail!("--state: penetrates stop {} by {}", stop.name, -g);
+            }
+        }
+        let about = serde_json::json!({"state": state});
+        return Ok((s, Some(Origin { cell_start: None, state, about })));
+    };
+    let at = f.at.as_deref().ok_or_else(|| anyhow!("--from: give the cell with --at NAME=VALUE,NAME=VALUE"))?;
+    let loaded = store::read(file)?;
+    let atlas = &loaded.atlas;
+    let m = &atlas.meta;
+    let sweep = match &f.from_sweep {
+        Some(name) => grid::SweepKind::parse(name).filter(|k| m.sweeps.contains(k)).ok_or_else(|| {
+            let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+            anyhow!("--sweep: {} has {}, got '{name}'", file.display(), have.join(", "))
+        })?,
+        None => m.sweeps[0],
+    };
+    let wanted = at.split(',').map(|t| parse_assignment(t, "--at")).collect::<Result<Vec<_>>>()?;
+    let (iy, ix) = atlas.nearest(&wanted).map_err(|e| anyhow!("--at: {e}"))?;
+    let cell = atlas
+        .map(sweep)
+        .and_then(|map| map.cells[iy * m.plane.x.count + ix].as_ref())
+        .ok_or_else(|| anyhow!("--at: the cell was not computed in {} (a shard?)", file.display()))?;
+    // The file's settings, unless given on the command line.
+    let mut sim = a.clone();
+    sim.preset = a.preset.clone().or_else(|| Some(m.preset.clone()));
+    sim.integrator = a.integrator.clone().or_else(|| Some(m.integrator.clone()));
+    let mut knobs: Vec<String> = m.accuracy.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    knobs.extend(a.accuracy.iter().cloned());
+    sim.accuracy = knobs;
+    let mut s = setup(&sim)?;
+    let params = m.plane.params(iy, ix);
+    let mut overrides = m.overrides.clone();
+    overrides.extend(params.iter().cloned());
+    overrides.extend(s.overrides.iter().filter(|(k, _)| !params.iter().any(|(p, _)| p == k)).cloned());
+    s.overrides = overrides;
+    let model = s.scene.evaluate(&s.overrides)?;
+    if 2 * model.masses.len() != m.dim {
+        bail!("--from: {} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
+    }
+    if s.scene.source() != m.scene_toml {
+        eprintln!("warning: the scene differs from the one stored in {}", file.display());
+    }
+    let coords: serde_json::Map<String, serde_json::Value> =
+        params.iter().map(|(k, v)| (k.clone(), serde_json::json!(v))).collect();
+    let about = serde_json::json!({
+        "file": file.display().to_string(),
+        "sweep": sweep.name(),
+        "cell": coords,
+        "labels": m.masses.iter().enumerate().map(|(i, n)| (n.clone(), serde_json::json!(cell.label_text(i)))).collect::<serde_json::Map<_, _>>(),
+    });
+    let origin = Origin {
+        cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
+        state: cell.final_state.clone(),
+        about,
+    };
+    Ok((s, Some(origin)))
 }

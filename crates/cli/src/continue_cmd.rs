@@ -2,7 +2,7 @@
 //! locate its bifurcations (PD, SN, PF, NS, grazing).
 
 use crate::args::ContinueArgs;
-use crate::common::{check_period, labels_json, setup};
+use crate::common::{check_period, labels_json, setup_from};
 use crate::orbit::multipliers_json;
 use crate::out::{outln, outp};
 use anyhow::{anyhow, bail, Result};
@@ -16,7 +16,7 @@ use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: ContinueArgs) -> Result<()> {
-    let s = setup(&a.sim)?;
+    let (s, origin) = setup_from(&a.sim, &a.start)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
     s.scene.check_parameter(&axis.name, "--axis")?;
     if axis.count < 2 {
@@ -31,8 +31,9 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         System::new(s.scene.evaluate(&over).ok()?).ok()
     };
     let sys = family(values[0]).ok_or_else(|| anyhow!("--axis {}: the scene rejects {}", axis.name, values[0]))?;
-    let start = orbit_of_cell(&sys, &s.accuracy, &sys.model.initial_state(), a.n)
-        .map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;
+    let y0 = origin.map_or_else(|| sys.model.initial_state(), |o| o.state);
+    let start =
+        orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;
     let branch = if a.arclength {
         follow_arclength(&family, &s.accuracy, &values, start)
     } else {

@@ -4,6 +4,7 @@
 
 mod args;
 mod atlas;
+mod attractors;
 mod bench;
 mod cell;
 mod common;
@@ -46,6 +47,7 @@ fn main() {
         args::Command::Bench(a) => bench::run(a),
         args::Command::Orbit(a) => orbit::run(a),
         args::Command::Continue(a) => continue_cmd::run(a),
+        args::Command::Attractors(a) => attractors::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -2,7 +2,7 @@
 //! and Floquet multipliers.
 
 use crate::args::OrbitArgs;
-use crate::common::{check_period, labels_json, setup};
+use crate::common::{check_period, labels_json, setup_from};
 use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Value};
@@ -11,10 +11,10 @@ use std::fmt::Write as _;
 
 /// Runs the command.
 pub fn run(a: OrbitArgs) -> Result<()> {
-    let s = setup(&a.sim)?;
+    let (s, origin) = setup_from(&a.sim, &a.start)?;
     check_period(a.n)?;
     let model = s.scene.evaluate(&s.overrides)?;
-    let y0 = model.initial_state();
+    let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
     let sys = System::new(model)?;
     let orbit = orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("{e}"))?;
     if a.json {

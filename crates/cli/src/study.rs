@@ -37,9 +37,9 @@ pub fn run(a: StudyArgs) -> Result<()> {
             let sim = SimArgs {
                 scene: scene_path.clone(),
                 set,
-                preset: a.preset.clone(),
+                preset: Some(a.preset.clone()),
                 accuracy: Vec::new(),
-                integrator: "exact".into(),
+                integrator: None,
             };
             let s = setup(&sim)?;
             let mut plan = Plan::new(&s, a.run.section_cap, plane.clone(), sweeps.clone(), threads)?;

@@ -3,25 +3,37 @@
 //! the renderer and the hysteresis logic are those of the atlas.
 
 use crate::args::SweepArgs;
-use crate::common::setup;
+use crate::common::setup_from;
 use crate::out::outln;
 use crate::plan::{threads, Plan};
 use anyhow::{anyhow, bail, Result};
-use grid::{Along, Atlas, Axis, CellData, Plane, SweepKind};
+use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
 use serde_json::{json, Map, Value};
 use store::write_atomically;
 
+/// The legs of a sweep: independent directions (each from the same start), or
+/// a hysteresis loop whose second leg starts from the first leg's end state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Legs {
+    Separate,
+    Loop(SweepKind),
+}
+
 /// Runs the command.
 pub fn run(a: SweepArgs) -> Result<()> {
-    let s = setup(&a.sim)?;
+    let (mut s, origin) = setup_from(&a.sim, &a.start)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
+    // From a stored cell, the swept parameter is the axis, not the cell's value.
+    s.overrides.retain(|(k, _)| *k != axis.name || origin.is_none());
     let given = if axis.start <= axis.stop { SweepKind::Up } else { SweepKind::Down };
-    let sweeps = match a.direction.as_deref() {
-        None => vec![given],
-        Some("up") => vec![SweepKind::Up],
-        Some("down") => vec![SweepKind::Down],
-        Some("both") => vec![SweepKind::Up, SweepKind::Down],
-        Some(other) => bail!("--direction: expected up, down or both, got '{other}'"),
+    let (sweeps, legs) = match a.direction.as_deref() {
+        None => (vec![given], Legs::Separate),
+        Some("up") => (vec![SweepKind::Up], Legs::Separate),
+        Some("down") => (vec![SweepKind::Down], Legs::Separate),
+        Some("both") => (vec![SweepKind::Up, SweepKind::Down], Legs::Separate),
+        Some("down-up") => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Down)),
+        Some("up-down") => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Up)),
+        Some(other) => bail!("--direction: expected up, down, both, down-up or up-down, got '{other}'"),
     };
     let x = if given == SweepKind::Up { axis.clone() } else { axis.reversed() };
     let model = s.scene.evaluate(&s.overrides)?;
@@ -42,28 +54,94 @@ pub fn run(a: SweepArgs) -> Result<()> {
     plan.force = a.force;
     plan.quiet = a.run.quiet || a.json;
     plan.check().map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
-    let (atlas, _) = plan.execute("sweep")?;
+    let atlas = match (legs, &origin) {
+        (Legs::Separate, None) => plan.execute("sweep")?.0,
+        _ => legs_from(&plan, legs, origin.as_ref().map(|o| o.state.as_slice()))?,
+    };
     if let Some(png) = &a.png {
         let d = crate::diagram::diagram(&atlas, 0, a.variable.as_deref(), a.impact)?;
         write_atomically(png, |tmp| render::bifurcation(&atlas, &d, tmp))?;
     }
-    let first = if sweeps.contains(&given) { given } else { sweeps[0] };
+    let first = match legs {
+        Legs::Loop(first) => first,
+        Legs::Separate if sweeps.contains(&given) => given,
+        Legs::Separate => sweeps[0],
+    };
     if a.json {
         let mut o = json!({
             "axis": axis.name,
             "direction": a.direction.as_deref().unwrap_or(first.name()),
-            "points": points(&atlas, first, given == SweepKind::Down),
+            "points": points(&atlas, first, first == SweepKind::Down),
         });
         if sweeps.len() == 2 {
             o["up"] = points(&atlas, SweepKind::Up, false);
             o["down"] = points(&atlas, SweepKind::Down, true);
             o["hysteresis"] = hysteresis(&atlas);
         }
+        if let Some(origin) = &origin {
+            o["from"] = origin.about.clone();
+        }
         outln!("{}", serde_json::to_string(&o)?);
     } else {
         print_text(&atlas, &sweeps)?;
     }
     Ok(())
+}
+
+/// Runs the legs of a sweep that do not start from the scene's initial state:
+/// from a given state, and the second leg of a loop from the first leg's end
+/// state (the protocol of experiments and of published hysteresis zones).
+/// Writes the file (under the output's lock) when the plan has an output.
+fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>) -> Result<Atlas> {
+    let p = &plan.meta.plane;
+    let _lock = plan.output.as_deref().map(store::OutputLock::acquire).transpose()?;
+    let clock = std::time::Instant::now();
+    let ascending: Vec<Vec<(String, f64)>> = (0..p.x.count).map(|ix| p.params(0, ix)).collect();
+    let descending: Vec<Vec<(String, f64)>> = ascending.iter().rev().cloned().collect();
+    let total = (p.x.count * plan.meta.sweeps.len()) as u64;
+    let bar = crate::progress::Bar::new("sweep", total, 0, plan.quiet);
+    let leg = |sweep: SweepKind, from: Option<&[f64]>| -> Result<Line> {
+        let mut cells = match sweep {
+            SweepKind::Down => grid::chain_from(&plan.setup, &descending, from, &bar)?,
+            _ => grid::chain_from(&plan.setup, &ascending, from, &bar)?,
+        };
+        if sweep == SweepKind::Down {
+            cells.reverse();
+        }
+        Ok(Line { sweep, index: 0, cells })
+    };
+    let mut atlas = Atlas::new(plan.meta.clone());
+    match legs {
+        Legs::Loop(first) => {
+            let one = leg(first, start)?;
+            // The first leg ends at the far end of the axis from where it began.
+            let end = match first {
+                SweepKind::Down => one.cells.first(),
+                _ => one.cells.last(),
+            }
+            .map(|c| c.final_state.clone());
+            let second = if first == SweepKind::Down { SweepKind::Up } else { SweepKind::Down };
+            let two = leg(second, end.as_deref())?;
+            atlas.insert(one);
+            atlas.insert(two);
+        }
+        Legs::Separate => {
+            for &sweep in &plan.meta.sweeps {
+                atlas.insert(leg(sweep, start)?);
+            }
+        }
+    }
+    bar.finish();
+    if let Some(out) = &plan.output {
+        let info = store::RunInfo {
+            command: plan.command.clone(),
+            run_time_s: clock.elapsed().as_secs_f64(),
+            shard: None,
+            history: Vec::new(),
+        };
+        store::write(out, &atlas, &info)?;
+    }
+    Ok(atlas)
 }
 
 fn labels(atlas: &Atlas, c: &CellData) -> Value {

@@ -112,6 +112,51 @@ impl Atlas {
         Some(mask(&self.map(SweepKind::Up)?.cells, &self.map(SweepKind::Down)?.cells))
     }
 
+    /// The cell of the plane nearest to the parameter values `at` (every axis
+    /// of more than one value named once): `(iy, ix)`.
+    pub fn nearest(&self, at: &[(String, f64)]) -> Result<(usize, usize), String> {
+        let p = &self.meta.plane;
+        let index = |a: &crate::Axis| -> Result<usize, String> {
+            match at.iter().find(|(n, _)| *n == a.name) {
+                Some(&(_, v)) => {
+                    let (lo, hi) = (a.start.min(a.stop), a.start.max(a.stop));
+                    let step = if a.count > 1 { (hi - lo) / (a.count - 1) as f64 } else { 0.0 };
+                    if v < lo - step / 2.0 || v > hi + step / 2.0 {
+                        return Err(format!("{} = {v} is outside the file's {lo} to {hi}", a.name));
+                    }
+                    Ok((0..a.count)
+                        .min_by(|&i, &j| (a.value(i) - v).abs().total_cmp(&(a.value(j) - v).abs()))
+                        .unwrap_or(0))
+                }
+                None if a.count == 1 => Ok(0),
+                None => Err(format!("give {} (the file's axes are {} and {})", a.name, p.x.name, p.y.name)),
+            }
+        };
+        if let Some((n, _)) = at.iter().find(|(n, _)| *n != p.x.name && *n != p.y.name) {
+            return Err(format!("'{n}' is not an axis of the file ({} and {})", p.x.name, p.y.name));
+        }
+        Ok((index(&p.y)?, index(&p.x)?))
+    }
+
+    /// The state cell `(iy, ix)` of `sweep` started from: the final state of
+    /// the cell before it along its continuation chain, `None` for a fresh
+    /// cell or the first of a chain (they start from the scene's initial state).
+    pub fn start_of(&self, sweep: SweepKind, iy: usize, ix: usize) -> Option<&[f64]> {
+        let p = &self.meta.plane;
+        let map = self.map(sweep)?;
+        let (line, pos) = match p.along {
+            crate::Along::X => (iy, ix),
+            crate::Along::Y => (ix, iy),
+        };
+        let prev = match sweep {
+            SweepKind::Fresh => None,
+            SweepKind::Up => pos.checked_sub(1),
+            SweepKind::Down => Some(pos + 1).filter(|&q| q < p.line_len()),
+        }?;
+        let (jy, jx) = p.cell(line, prev);
+        map.cells[jy * p.x.count + jx].as_ref().map(|c| c.final_state.as_slice())
+    }
+
     /// Labels of mass `m` in a sweep with their cell counts, most frequent first.
     pub fn legend(&self, sweep: SweepKind, m: usize) -> Vec<(String, u64)> {
         let mut counts: BTreeMap<String, u64> = BTreeMap::new();

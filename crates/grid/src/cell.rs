@@ -56,6 +56,20 @@ pub fn label_text(class: Class, npq: [u16; 3]) -> String {
     }
 }
 
+/// The state a cell starts from: `start` (a previous cell's final state, or a
+/// stored one) when it is admissible for this system's stops, else the
+/// scene's initial state.
+pub fn start_state(sys: &System, start: Option<&[f64]>) -> Vec<f64> {
+    let init = sys.model.initial_state();
+    let m = sys.dof();
+    match start {
+        Some(s) if s.len() == init.len() && (0..sys.stops.len()).all(|k| sys.model.gap(k, &s[..m]) >= -1e-9) => {
+            s.to_vec()
+        }
+        _ => init,
+    }
+}
+
 /// Everything needed to run cells of one scene.
 #[derive(Debug, Clone)]
 pub struct CellSetup {
@@ -88,13 +102,8 @@ impl CellSetup {
     /// admissible for this cell's stops, else from the scene's initial state.
     pub fn run(&self, params: &[(String, f64)], start: Option<&[f64]>) -> Result<CellData, GridError> {
         let sys = self.system(params)?;
-        let init = sys.model.initial_state();
-        let m = sys.dof();
-        let y0 = match start {
-            Some(s) if s.len() == init.len() && (0..sys.stops.len()).all(|k| sys.model.gap(k, &s[..m]) >= -1e-9) => s,
-            _ => &init,
-        };
-        let (cell, impact) = run_cell_with_sections(&sys, &self.accuracy, self.method, y0, self.section_cap);
+        let y0 = start_state(&sys, start);
+        let (cell, impact) = run_cell_with_sections(&sys, &self.accuracy, self.method, &y0, self.section_cap);
         let code = |c: Count| match c {
             Count::Impacts(v) => v.min(STUCK as u32 - 1) as u16,
             Count::Stuck => STUCK,

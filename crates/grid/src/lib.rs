@@ -6,6 +6,7 @@
 #![deny(clippy::float_cmp)]
 
 pub mod atlas;
+pub mod attractors;
 pub mod axis;
 pub mod cell;
 pub mod error;
@@ -18,9 +19,9 @@ pub mod sweep;
 
 pub use atlas::{Atlas, Map, Meta};
 pub use axis::Axis;
-pub use cell::{label_text, CellData, CellSetup, STUCK};
+pub use cell::{label_text, start_state, CellData, CellSetup, STUCK};
 pub use error::GridError;
 pub use plane::{Along, Line, Plane};
 pub use shard::Shard;
 pub use study::Study;
-pub use sweep::{chain, Progress, Silent, SweepKind};
+pub use sweep::{chain, chain_from, Progress, Silent, SweepKind};

@@ -68,9 +68,20 @@ pub fn chain(
     points: &[Vec<(String, f64)>],
     progress: &dyn Progress,
 ) -> Result<Vec<CellData>, GridError> {
+    chain_from(setup, points, None, progress)
+}
+
+/// [`chain`] whose first cell starts from `first` (a stored or given state;
+/// the scene's initial state when `None` or not admissible).
+pub fn chain_from(
+    setup: &CellSetup,
+    points: &[Vec<(String, f64)>],
+    first: Option<&[f64]>,
+    progress: &dyn Progress,
+) -> Result<Vec<CellData>, GridError> {
     let mut out: Vec<CellData> = Vec::with_capacity(points.len());
     for p in points {
-        let start = out.last().map(|c| c.final_state.as_slice());
+        let start = out.last().map_or(first, |c| Some(c.final_state.as_slice()));
         let cell = setup.run(p, start)?;
         out.push(cell);
         progress.advance(1);

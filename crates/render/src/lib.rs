@@ -3,6 +3,7 @@
 //! the format chosen by the file's extension.
 #![deny(missing_docs)]
 
+mod basins;
 mod bifurcation;
 mod branch;
 mod font;
@@ -12,6 +13,7 @@ mod scalar;
 mod section;
 mod trade;
 
+pub use basins::basins;
 pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use map::{map, sheet, View};

@@ -57,5 +57,5 @@ pub use newton::{solve, MapKind, Solution};
 /// Complex numbers of Floquet multipliers.
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};
-pub use simulate::{Halt, Ignore, Observer, PeriodRecord, Simulator};
+pub use simulate::{EventKind, Halt, Ignore, Observer, PeriodRecord, Simulator};
 pub use system::System;

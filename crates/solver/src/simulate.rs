@@ -27,8 +27,51 @@ pub trait Observer {
     fn impact(&mut self, _time: f64, _stop: usize, _before: &DVector<f64>, _after: &DVector<f64>) {}
     /// Any event (impact, stick, release) after it was handled.
     fn event(&mut self, _time: f64, _y: &DVector<f64>) {}
+    /// The same event with what it was (after [`Observer::event`]).
+    fn named_event(&mut self, _time: f64, _kind: EventKind, _y: &DVector<f64>) {}
     /// A requested sample time within a period was reached.
     fn sample(&mut self, _time: f64, _y: &DVector<f64>) {}
+}
+
+/// What an event was. Stops and friction contacts are indices into the
+/// system's stops and friction contacts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum EventKind {
+    /// An impact at a stop (the first stop hit, when several are).
+    Impact(usize),
+    /// A mass came to rest on a stop without an impact and stays there.
+    Stick(usize),
+    /// A stop's reaction vanished: its mass leaves it.
+    Release(usize),
+    /// A gap closed with no impact and no sticking (a grazing contact).
+    Grazing(usize),
+    /// A slipping friction contact came to relative rest and sticks.
+    FrictionStick(usize),
+    /// A slipping friction contact reversed its direction of slip.
+    SlipReversal(usize),
+    /// A stuck friction contact reached its static limit and slips.
+    Breakaway(usize),
+}
+
+impl EventKind {
+    /// `kind stop-or-contact`, e.g. `impact A1`, `breakaway M1-M2`.
+    pub fn describe(self, sys: &System) -> String {
+        let stop = |k: usize| sys.model.stops.get(k).map_or(k.to_string(), |s| s.name.clone());
+        let contact = |i: usize| {
+            let m = &sys.model.masses;
+            sys.model.friction.get(i).map_or(i.to_string(), |f| format!("{}-{}", m[f.a].name, m[f.b].name))
+        };
+        match self {
+            EventKind::Impact(k) => format!("impact {}", stop(k)),
+            EventKind::Stick(k) => format!("stick {}", stop(k)),
+            EventKind::Release(k) => format!("release {}", stop(k)),
+            EventKind::Grazing(k) => format!("grazing {}", stop(k)),
+            EventKind::FrictionStick(i) => format!("stick {}", contact(i)),
+            EventKind::SlipReversal(i) => format!("slip-reversal {}", contact(i)),
+            EventKind::Breakaway(i) => format!("breakaway {}", contact(i)),
+        }
+    }
 }
 
 /// An observer that keeps nothing.
@@ -321,6 +364,7 @@ impl<'s> Simulator<'s> {
                     if self.zero_steps > 64 {
                         return Err(Halt::Stalled);
                     }
+                    let (held, stuck) = (self.key.held, self.key.stuck);
                     self.handle(kind, stop, rec, obs)?;
                     if let Some(before) = before {
                         self.saltate(before)?;
@@ -328,6 +372,18 @@ impl<'s> Simulator<'s> {
                     rec.held |= self.key.held;
                     rec.stuck |= self.key.stuck;
                     obs.event(self.time(), &self.y);
+                    let named = match kind {
+                        GuardKind::Gap => match self.buffers.hits.first() {
+                            Some(h) => EventKind::Impact(h.stop),
+                            None if self.key.held & !held & (1 << stop) != 0 => EventKind::Stick(stop),
+                            None => EventKind::Grazing(stop),
+                        },
+                        GuardKind::Reaction => EventKind::Release(stop),
+                        GuardKind::Grip => EventKind::Breakaway(stop),
+                        GuardKind::Slip if self.key.stuck & !stuck & (1 << stop) != 0 => EventKind::FrictionStick(stop),
+                        GuardKind::Slip => EventKind::SlipReversal(stop),
+                    };
+                    obs.named_event(self.time(), named, &self.y);
                 }
                 Advance::Stalled => return Err(Halt::Stalled),
             }

@@ -127,10 +127,23 @@ pub fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), 
 
 /// Moves a complete temporary file over `path` durably: the file's data is
 /// synced before the rename, and the folder after it (a power loss leaves the
-/// old file or the new one, never an empty one).
+/// old file or the new one, never an empty one). A target that exists and is
+/// not a regular file (a device such as /dev/null, a pipe) is never replaced:
+/// the bytes are written into it instead; a folder is an error.
 pub fn commit(tmp: &Path, path: &Path) -> Result<(), StoreError> {
-    File::open(tmp).and_then(|f| f.sync_all()).map_err(|e| StoreError::io(path, e))?;
-    std::fs::rename(tmp, path).map_err(|e| StoreError::io(path, e))?;
+    let io = |e| StoreError::io(path, e);
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => return Err(StoreError::format(path, "is a directory; give a file name")),
+        Ok(m) if !m.is_file() => {
+            let mut from = File::open(tmp).map_err(io)?;
+            let mut to = OpenOptions::new().write(true).open(path).map_err(io)?;
+            std::io::copy(&mut from, &mut to).map_err(io)?;
+            return std::fs::remove_file(tmp).map_err(io);
+        }
+        _ => {}
+    }
+    File::open(tmp).and_then(|f| f.sync_all()).map_err(io)?;
+    std::fs::rename(tmp, path).map_err(io)?;
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     // Syncing a folder is not possible everywhere; the rename has happened.
     if let Ok(dir) = File::open(parent) {
@@ -185,6 +198,11 @@ mod tests {
         assert!(check_output(&scene, &[&scene], false).unwrap_err().to_string().contains("is also an input"));
         assert!(check_output(Path::new("/dev/null"), &[], false).is_err());
         assert!(check_output(Path::new("/dev/null"), &[], true).is_ok());
+        // A device is written into, never replaced by a file.
+        let tmp = dir.join("t");
+        std::fs::write(&tmp, "bytes").unwrap();
+        commit(&tmp, Path::new("/dev/null")).unwrap();
+        assert!(!std::fs::metadata("/dev/null").unwrap().is_file() && !tmp.exists());
         assert!(check_output(&dir.join("nope/a.h5"), &[], false).is_err());
         assert!(check_output(&dir.join("a.h5"), &[&scene], false).is_ok());
         std::fs::remove_dir_all(&dir).unwrap();

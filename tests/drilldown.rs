@@ -1,0 +1,196 @@
+//! Issue 18: from a map to a motion. Cells of a stored atlas opened again,
+//! hysteresis loops along one parameter, coexisting attractors, the papers'
+//! chattering, and named trace events.
+
+use crate::util::{cell_json, run};
+use std::path::PathBuf;
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vibroatlas-drill-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = run(args);
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn a_stored_cell_opens_again_bit_for_bit() {
+    let d = dir("from");
+    let f = d.join("a.h5");
+    let out = run(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=1.5:2.5:11",
+        "--y",
+        "delta=0.6:1.4:9",
+        "--sweep",
+        "both",
+        "--quiet",
+        "-o",
+        f.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let atlas = store::read(&f).unwrap().atlas;
+    let hyst = atlas.hysteresis().unwrap();
+    let nx = atlas.meta.plane.x.count;
+    let i = hyst.iter().position(|&h| h == 1).expect("a cell where up and down differ");
+    let (iy, ix) = (i / nx, i % nx);
+    let at = format!("omega={},delta={}", atlas.meta.plane.x.value(ix), atlas.meta.plane.y.value(iy));
+    for sweep in ["up", "down"] {
+        let stored = atlas.map(grid::SweepKind::parse(sweep).unwrap()).unwrap().cells[i].clone().unwrap();
+        let c = cell_json(&["configs/multi-stop.toml", "--from", f.to_str().unwrap(), "--at", &at, "--sweep", sweep]);
+        assert_eq!(c["labels"]["M1"], stored.label_text(0), "{sweep}: {c}");
+        assert_eq!(c["labels"]["M2"], stored.label_text(1), "{sweep}");
+        let fs: Vec<f64> = c["final_state"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+        let same = fs.iter().zip(&stored.final_state).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same, "{sweep}: {fs:?} against {:?}", stored.final_state);
+        assert_eq!(c["from"]["sweep"], sweep);
+    }
+    // The up-sweep branch there is a periodic orbit that orbit --from finds.
+    let o = json(&[
+        "orbit",
+        "configs/multi-stop.toml",
+        "--from",
+        f.to_str().unwrap(),
+        "--at",
+        &at,
+        "--sweep",
+        "up",
+        "--json",
+    ]);
+    let up = atlas.map(grid::SweepKind::Up).unwrap().cells[i].as_ref().unwrap().label_text(0);
+    assert_eq!(o["labels"]["M1"], up);
+    // A state given directly, and one that penetrates a stop.
+    let c = cell_json(&["configs/multi-stop.toml", "--state", "0,0,0,0"]);
+    assert_eq!(c["class"], "periodic");
+    let bad = run(&["cell", "configs/multi-stop.toml", "--state", "-5,0,0,0"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--state: penetrates stop A1"));
+}
+
+#[test]
+fn a_down_up_loop_finds_the_published_hysteresis_zone() {
+    let j = json(&[
+        "sweep",
+        "configs/dry-friction.toml",
+        "--axis",
+        "omega=4.5:8:141",
+        "--set",
+        "fk=0.01",
+        "--direction",
+        "down-up",
+        "--quiet",
+        "--json",
+    ]);
+    let (down, up) = (j["down"].as_array().unwrap(), j["up"].as_array().unwrap());
+    assert_eq!((down.len(), up.len()), (141, 141));
+    // Run order: the down leg from 8, the up leg from 4.5.
+    assert_eq!(down[0]["value"].as_f64().unwrap(), 8.0);
+    assert_eq!(up[0]["value"].as_f64().unwrap(), 4.5);
+    let at = |leg: &[serde_json::Value], v: f64| {
+        leg.iter().find(|p| (p["value"].as_f64().unwrap() - v).abs() < 1e-9).unwrap().clone()
+    };
+    // HR1 (5.79 to 5.942): 1-1-1 AS on the way down, 1-2-1 on the way up.
+    let (d, u) = (at(down, 5.85), at(up, 5.85));
+    assert_eq!((d["labels"]["M1"].as_str(), d["symmetry"].as_str()), (Some("1-1-1"), Some("AS")));
+    assert_eq!(u["labels"]["M1"], "1-2-1");
+    let zone: Vec<f64> = j["hysteresis"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|h| h["down"]["M1"] == "1-1-1" && h["up"]["M1"] == "1-2-1")
+        .map(|h| h["value"].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = (zone.iter().copied().fold(f64::INFINITY, f64::min), zone.iter().copied().fold(0.0, f64::max));
+    assert!((lo - 5.79).abs() < 0.03 && (hi - 5.942).abs() < 0.03, "zone {lo}..{hi}");
+}
+
+#[test]
+fn coexisting_attractors_are_found_with_their_basins() {
+    let args = |threads: &str| {
+        json(&[
+            "attractors",
+            "configs/multi-stop.toml",
+            "--set",
+            "omega=0.3149",
+            "--set",
+            "delta=0.7",
+            "--samples",
+            "48",
+            "--threads",
+            threads,
+            "--json",
+        ])
+    };
+    let one = args("1");
+    assert_eq!(one, args("2"), "identical for 1 and 2 threads");
+    assert_eq!(one, args("1"), "identical when repeated");
+    let list = one["attractors"].as_array().unwrap();
+    let labels: Vec<&str> = list.iter().map(|a| a["labels"]["M1"].as_str().unwrap()).collect();
+    assert!(labels.contains(&"1-3-3") && labels.contains(&"1-3-4"), "{labels:?}");
+    let total: f64 = list.iter().map(|a| a["fraction"].as_f64().unwrap()).sum();
+    assert!((total - 1.0).abs() < 1e-12);
+    let fractions: Vec<f64> = list.iter().map(|a| a["fraction"].as_f64().unwrap()).collect();
+    assert!(fractions.windows(2).all(|w| w[0] >= w[1]), "largest first: {fractions:?}");
+    assert_eq!(one["samples"], 48);
+}
+
+#[test]
+fn chattering_is_many_impacts_within_one_forcing_period() {
+    // One impact per period at each stop over 19 periods is not chattering.
+    let c = cell_json(&["configs/impact-damper.toml", "--set", "omega=1.69"]);
+    assert_eq!(c["labels"]["M2"], "19-19-19");
+    assert_eq!(c["chatter"]["left"], false);
+    assert_eq!(c["chatter"]["right"], false);
+    // Complete chattering stays complete chattering.
+    let c = cell_json(&["configs/multi-stop.toml", "--set", "omega=0.20", "--set", "delta=0.6"]);
+    assert_eq!(c["labels"]["M1"], "1-S-S");
+    assert_eq!((c["chatter"]["A1"].as_bool(), c["sticking"]["A1"].as_bool()), (Some(true), Some(true)));
+}
+
+#[test]
+fn no_cell_with_a_negative_exponent_is_chaotic() {
+    let d = dir("chaos");
+    let f = d.join("a.h5");
+    let out = run(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=0.5:1.9:16",
+        "--y",
+        "delta=0.05:0.3:8",
+        "--quiet",
+        "-o",
+        f.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let atlas = store::read(&f).unwrap().atlas;
+    let cells: Vec<_> = atlas.maps[0].cells.iter().flatten().collect();
+    let chaotic: Vec<_> = cells.iter().filter(|c| c.class == solver::Class::Chaotic).collect();
+    assert!(!chaotic.is_empty(), "a chaos-heavy window");
+    for c in chaotic {
+        let l = c.lyapunov.expect("a chaotic cell has an exponent");
+        assert!(l > 0.0, "chaotic with λ = {l}");
+    }
+    let c = cell_json(&["configs/multi-stop.toml", "--set", "omega=1.0"]);
+    assert!(c["class"] != "chaotic" || c["lyapunov"].as_f64().unwrap() > 0.0, "{c}");
+}
+
+#[test]
+fn trace_events_say_what_happened_where() {
+    let d = dir("trace");
+    let t = d.join("t.csv");
+    let out = run(&["cell", "configs/multi-stop.toml", "--set", "omega=0.33", "--trace", t.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = std::fs::read_to_string(&t).unwrap();
+    let events: Vec<&str> =
+        text.lines().skip(1).map(|l| l.rsplit(',').next().unwrap()).filter(|e| !e.is_empty()).collect();
+    assert!(events.iter().any(|e| *e == "impact A1") && events.iter().any(|e| *e == "impact A12"), "{events:?}");
+    assert!(events.iter().all(|e| ["impact ", "stick ", "release ", "grazing "].iter().any(|k| e.starts_with(k))));
+}
