@@ -359,6 +359,11 @@ pub struct BenchArgs {
     /// best of each setting is reported).
     #[arg(long, default_value_t = 1)]
     pub trade_repeat: usize,
+    /// Also predict the makespan and efficiency on these thread counts (e.g.
+    /// 4,16,64,256) by replaying the scheduler's policy, current and previous,
+    /// on the job times of the measured run.
+    #[arg(long, value_name = "P,P,…")]
+    pub simulate_threads: Option<String>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,

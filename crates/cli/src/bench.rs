@@ -92,6 +92,63 @@ struct Measured {
     secs: f64,
 }
 
+/// The cell set-up of the `standard` setting (for the cost probe).
+fn standard_setup(scene: &Scene) -> Result<grid::CellSetup> {
+    Ok(grid::CellSetup {
+        scene: scene.clone(),
+        base: Vec::new(),
+        accuracy: Accuracy::preset(Preset::Standard),
+        method: Method::Exact,
+        section_cap: 0,
+    })
+}
+
+/// Replays the scheduler on `virtual_threads` workers, from the measured run
+/// `atlas` (of `thread_secs` thread time): each cell's time is the thread time
+/// shared in proportion to the forcing periods it simulated. Jobs are
+/// continuation chains (`both`) or cells (`fresh`: the cells of a line are
+/// shared among the workers). The previous policy takes lines in order, both
+/// directions of a line together; the current one takes chains longest first
+/// by the probed `estimate` (not by the measured times) and fresh lines in order.
+fn replay(sweep: &str, atlas: &Atlas, estimate: &[f64], thread_secs: f64, virtual_threads: &[usize]) -> Vec<Value> {
+    use grid::schedule::{efficiency, longest_first, makespan};
+    let p = &atlas.meta.plane;
+    let per_period = thread_secs / periods(atlas, |_| true).max(1) as f64;
+    let line_cells = |map: &grid::Map, line: usize| -> Vec<f64> {
+        (0..p.line_len())
+            .map(|pos| {
+                let (iy, ix) = p.cell(line, pos);
+                map.cells[iy * p.x.count + ix].as_ref().map_or(0.0, |c| c.periods as f64 * per_period)
+            })
+            .collect()
+    };
+    let previous: Vec<(SweepKind, usize)> =
+        (0..p.lines()).flat_map(|l| atlas.meta.sweeps.iter().map(move |&s| (s, l))).collect();
+    // Chains longest first; fresh lines in order (their cells are shared).
+    let current = if sweep == "fresh" { previous.clone() } else { longest_first(&previous, estimate) };
+    let jobs = |order: &[(SweepKind, usize)]| -> Vec<f64> {
+        order
+            .iter()
+            .flat_map(|&(s, l)| {
+                let cells = atlas.map(s).map(|m| line_cells(m, l)).unwrap_or_default();
+                if s == SweepKind::Fresh {
+                    cells
+                } else {
+                    vec![cells.iter().sum()]
+                }
+            })
+            .collect()
+    };
+    let (old, new) = (jobs(&previous), jobs(&current));
+    let mut rows = Vec::new();
+    for &t in virtual_threads {
+        for (policy, order) in [("current", &new), ("previous", &old)] {
+            rows.push(json!({"sweep": sweep, "threads": t, "policy": policy, "makespan_s": makespan(order, t), "efficiency": efficiency(order, t)}));
+        }
+    }
+    rows
+}
+
 fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
     let mut accuracy = Accuracy::preset(setting.preset);
     for &(knob, value) in setting.knobs {
@@ -205,13 +262,24 @@ pub fn run(a: BenchArgs) -> Result<()> {
         Along::X,
     )?;
 
+    let virtual_threads: Vec<usize> = match &a.simulate_threads {
+        Some(text) => text
+            .split(',')
+            .map(|t| t.trim().parse::<usize>().ok().filter(|&n| (1..=1_000_000).contains(&n)))
+            .collect::<Option<Vec<_>>>()
+            .ok_or_else(|| anyhow!("--simulate-threads: expected a comma-separated list of counts, got '{text}'"))?,
+        None => Vec::new(),
+    };
     let mut throughput = Vec::new();
+    let mut simulated = Vec::new();
     for (name, sweeps) in [("fresh", vec![SweepKind::Fresh]), ("both", vec![SweepKind::Up, SweepKind::Down])] {
         let mut base = None;
         // Every run, on any thread count, must give the same atlas bit for bit.
         let mut first: Option<Atlas> = None;
+        let mut last = None;
         for &t in &threads {
             let m = best_of(a.repeat, &mut first, || run_plane(&scene, &plane, &sweeps, STANDARD, t))?;
+            last = Some((t, m.secs));
             let (best, count) = (m.secs, cells(&m.atlas));
             let rate = count as f64 / best;
             let (t0, r0) = *base.get_or_insert((t, rate));
@@ -222,6 +290,21 @@ pub fn run(a: BenchArgs) -> Result<()> {
                 );
             }
             throughput.push(json!({"sweep": name, "threads": t, "cells": count, "seconds": best, "cells_per_s": rate, "efficiency": efficiency}));
+        }
+        if let (Some((t, secs)), Some(atlas), false) = (last, &first, virtual_threads.is_empty()) {
+            let estimate = grid::schedule::probe(&plane, &standard_setup(&scene)?, t)?;
+            for row in replay(name, atlas, &estimate, secs * t as f64, &virtual_threads) {
+                if !a.json {
+                    outln!(
+                        "simulated  {name:<5} {:>6} threads, {:<8} policy: makespan {:.3} s, efficiency {:.2}",
+                        row["threads"],
+                        row["policy"].as_str().unwrap_or_default(),
+                        row["makespan_s"].as_f64().unwrap_or_default(),
+                        row["efficiency"].as_f64().unwrap_or_default()
+                    );
+                }
+                simulated.push(row);
+            }
         }
     }
     if !a.json {
@@ -316,7 +399,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
         outln!(
             "{}",
             serde_json::to_string(
-                &json!({"grid": n, "trade": Value::Array(trade), "throughput": Value::Array(throughput)})
+                &json!({"grid": n, "trade": Value::Array(trade), "throughput": Value::Array(throughput), "simulated": Value::Array(simulated)})
             )?
         );
     }

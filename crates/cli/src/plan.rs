@@ -23,6 +23,8 @@ pub struct Plan {
     pub inputs: Vec<PathBuf>,
     /// Allow a non-regular output file (`--force`).
     pub force: bool,
+    /// Estimated cost of each line (see `grid::schedule`), when probed.
+    pub cost: Option<Vec<f64>>,
 }
 
 /// The command line as one string (for the file's `command` attribute).
@@ -65,9 +67,10 @@ fn cell_bytes(meta: &Meta) -> u64 {
 impl Plan {
     /// Refuses a plane whose results would not fit in memory.
     fn check_memory(&self) -> Result<()> {
-        // Only the lines of this run's shard are held.
+        // Only the lines of this run's shard are held (shards are balanced by
+        // cost: about a share each).
         let p = &self.meta.plane;
-        let lines = (0..p.lines()).filter(|&l| self.shard.is_none_or(|s| s.owns(l))).count() as u64;
+        let lines = self.shard.map_or(p.lines(), |s| p.lines().div_ceil(s.n)) as u64;
         let cells = lines.saturating_mul(p.line_len() as u64).saturating_mul(self.meta.sweeps.len() as u64);
         let need = cells.saturating_mul(cell_bytes(&self.meta));
         let have = available_memory();
@@ -109,18 +112,22 @@ impl Plan {
             None => None,
         };
         let plane: &Plane = &self.meta.plane;
-        // Line-major, both directions of a line together: lines are taken in this
-        // order, and neighbouring lines cost alike.
         let done: Vec<Vec<bool>> = self.meta.sweeps.iter().map(|&s| atlas.lines_done(s)).collect();
+        let owns = self.owned();
         let mut jobs = Vec::new();
-        for line in (0..plane.lines()).filter(|&l| self.shard.is_none_or(|s| s.owns(l))) {
+        for line in (0..plane.lines()).filter(|&l| owns[l]) {
             for (si, &sweep) in self.meta.sweeps.iter().enumerate() {
                 if !done[si][line] {
                     jobs.push((sweep, line));
                 }
             }
         }
-        let owned = (0..plane.lines()).filter(|&l| self.shard.is_none_or(|s| s.owns(l))).count();
+        // Up and down chains in one pool, the most expensive first (fresh lines
+        // share their cells among the workers: line order is as good).
+        if let (Some(cost), true) = (&self.cost, self.chains()) {
+            jobs = grid::schedule::longest_first(&jobs, cost);
+        }
+        let owned = owns.iter().filter(|&&o| o).count();
         let total = (owned * plane.line_len() * self.meta.sweeps.len()) as u64;
         let todo = (jobs.len() * plane.line_len()) as u64;
         let bar = Bar::new(label, total, total - todo, self.quiet);
@@ -201,18 +208,41 @@ impl Plan {
             command: command_line(),
             inputs: Vec::new(),
             force: false,
+            cost: None,
         })
     }
 
     /// Checks, before any work, that the results fit in memory and that every
     /// cell's parameters make a valid scene.
-    pub fn check(&self) -> Result<()> {
+    /// Then estimates the cost of each line (`grid::schedule::probe`) when it
+    /// matters: for a shard (split by cost), or for continuation chains on more
+    /// than one thread with at least four lines per thread (ordered by cost).
+    pub fn check(&mut self) -> Result<()> {
         if let Some(out) = &self.output {
             let inputs: Vec<&std::path::Path> = self.inputs.iter().map(PathBuf::as_path).collect();
             store::check_output(out, &inputs, self.force)?;
         }
         self.check_memory()?;
         self.meta.plane.validate(&self.setup)?;
+        let lines = self.meta.plane.lines();
+        if self.shard.is_some() || (self.chains() && self.threads > 1 && lines >= 4 * self.threads) {
+            self.cost = Some(grid::schedule::probe(&self.meta.plane, &self.setup, self.threads)?);
+        }
         Ok(())
+    }
+
+    /// Whether the run computes continuation chains (up or down sweeps).
+    fn chains(&self) -> bool {
+        self.meta.sweeps.iter().any(|&s| s != SweepKind::Fresh)
+    }
+
+    /// The lines this run computes: all, or its shard's (balanced by cost).
+    pub fn owned(&self) -> Vec<bool> {
+        let lines = self.meta.plane.lines();
+        match (self.shard, &self.cost) {
+            (Some(s), Some(cost)) => grid::schedule::shard_lines(cost, s.k, s.n),
+            (Some(s), None) => (0..lines).map(|l| s.owns(l)).collect(),
+            (None, _) => vec![true; lines],
+        }
     }
 }

@@ -13,6 +13,7 @@ pub mod error;
 pub mod hysteresis;
 pub mod palette;
 pub mod plane;
+pub mod schedule;
 pub mod shard;
 pub mod study;
 pub mod sweep;
