@@ -129,6 +129,11 @@ pub struct CellArgs {
     /// Forcing periods simulated for the section PNG, from the final state.
     #[arg(long, default_value_t = 1000, value_name = "N")]
     pub section_periods: usize,
+    /// Draw phase portraits (x against v of each mass, stops drawn, impacts
+    /// marked) and the time series of the positions with their events, over
+    /// the classified window (.png, .svg or .pdf).
+    #[arg(long, value_name = "FILE")]
+    pub portrait: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

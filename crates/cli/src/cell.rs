@@ -39,15 +39,29 @@ pub fn run(a: CellArgs) -> Result<()> {
                 a.trace_samples
             ));
         }
-        let csv = trace_csv(&sys, &s, &cell, periods, a.trace_samples)?;
+        let csv = trace_csv(&sys, &window(&sys, &s, &cell, periods, a.trace_samples)?);
         write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
+    }
+    if let Some(path) = &a.portrait {
+        render::Format::of(path)?;
+        let periods = cell.n.unwrap_or(cell.section.len().max(1));
+        let rows = window(&sys, &s, &cell, periods, 400)?;
+        let p = portrait(&sys, &rows);
+        write_atomically(path, |tmp| render::portrait(&p, tmp))?;
     }
     if let Some(path) = &a.section_png {
         if a.section_periods == 0 || a.section_periods > 1_000_000 {
             return Err(anyhow!("--section-periods: expected 1 to 1000000, got {}", a.section_periods));
         }
         let panels = sections(&sys, &s, &cell, a.section_periods)?;
-        let title = format!("{}: Poincaré sections, {} periods", sys.model.name, a.section_periods);
+        let labels: Vec<String> = cell.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
+        let title = format!(
+            "{} ({}): {}, Poincaré sections over {} periods",
+            sys.model.name,
+            describe_parameters(&sys),
+            labels.join(", "),
+            a.section_periods
+        );
         write_atomically(path, |tmp| render::sections(&panels, &title, tmp))?;
     }
     if a.json {
@@ -178,25 +192,35 @@ fn sections(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usi
     Ok(panels)
 }
 
+/// One row of the classified window: time, state, and the event it is (if any).
+type Row = (f64, Vec<f64>, Option<String>);
+
 /// Dense samples (and every event, named: `impact A1`, `stick A12`, …) of
 /// `periods` periods from the window start.
-fn trace_csv(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Result<String> {
-    struct Rows<'a>(&'a mut String, &'a System);
+fn window(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Result<Vec<Row>> {
+    struct Rows<'a>(Vec<Row>, &'a System);
     impl solver::Observer for Rows<'_> {
         fn named_event(&mut self, t: f64, kind: solver::EventKind, y: &solver::DVector<f64>) {
-            row(self.0, t, y.as_slice(), &kind.describe(self.1));
+            self.0.push((t, y.as_slice().to_vec(), Some(kind.describe(self.1))));
         }
         fn sample(&mut self, t: f64, y: &solver::DVector<f64>) {
-            row(self.0, t, y.as_slice(), "");
+            self.0.push((t, y.as_slice().to_vec(), None));
         }
     }
-    fn row(out: &mut String, t: f64, y: &[f64], event: &str) {
-        let _ = write!(out, "{t:.15e}");
-        for v in y {
-            let _ = write!(out, ",{v:.15e}");
-        }
-        let _ = writeln!(out, ",{event}");
+    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start).map_err(|h| anyhow!("trace: {h:?}"))?;
+    let mut rows = Rows(vec![(0.0, c.window_start.clone(), None)], sys);
+    let times: Vec<f64> = (1..samples).map(|i| sys.period * i as f64 / samples as f64).collect();
+    for _ in 0..periods {
+        sim.run_period(&times, false, &mut rows).map_err(|h| anyhow!("trace: {h:?}"))?;
+        // The period's end is a sample too (the next period's first).
+        rows.0.push((sim.time(), sim.y.as_slice().to_vec(), None));
     }
+    rows.0.pop();
+    Ok(rows.0)
+}
+
+/// The window as CSV: `t`, every coordinate and velocity, and the event.
+fn trace_csv(sys: &System, rows: &[Row]) -> String {
     let mut out = String::from("t");
     for m in &sys.model.masses {
         let _ = write!(out, ",x_{}", m.name);
@@ -205,11 +229,42 @@ fn trace_csv(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: us
         let _ = write!(out, ",v_{}", m.name);
     }
     out.push_str(",event\n");
-    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start).map_err(|h| anyhow!("trace: {h:?}"))?;
-    row(&mut out, 0.0, &c.window_start, "");
-    let times: Vec<f64> = (1..samples).map(|i| sys.period * i as f64 / samples as f64).collect();
-    for _ in 0..periods {
-        sim.run_period(&times, false, &mut Rows(&mut out, sys)).map_err(|h| anyhow!("trace: {h:?}"))?;
+    for (t, y, event) in rows {
+        let _ = write!(out, "{t:.15e}");
+        for v in y {
+            let _ = write!(out, ",{v:.15e}");
+        }
+        let _ = writeln!(out, ",{}", event.as_deref().unwrap_or(""));
     }
-    Ok(out)
+    out
+}
+
+/// The portrait of the window: per mass its (x, v) path, its frame stops, and
+/// the events.
+fn portrait(sys: &System, rows: &[Row]) -> render::Portrait {
+    let m = sys.dof();
+    let masses: Vec<String> = sys.model.masses.iter().map(|x| x.name.clone()).collect();
+    let stops = sys
+        .model
+        .stops
+        .iter()
+        .filter_map(|st| match st.geometry {
+            scene::StopGeometry::Frame { mass, position, .. } => Some((mass, position, st.name.clone())),
+            scene::StopGeometry::Pair { .. } => None,
+        })
+        .collect();
+    render::Portrait {
+        title: format!("{}: {}", sys.model.name, describe_parameters(sys)),
+        masses,
+        t: rows.iter().map(|r| r.0).collect(),
+        x: (0..m).map(|k| rows.iter().map(|r| r.1[k]).collect()).collect(),
+        v: (0..m).map(|k| rows.iter().map(|r| r.1[m + k]).collect()).collect(),
+        events: rows.iter().enumerate().filter_map(|(i, r)| r.2.clone().map(|e| (i, e))).collect(),
+        stops,
+    }
+}
+
+/// `name=value` of the scene's parameters, for titles.
+fn describe_parameters(sys: &System) -> String {
+    sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" ")
 }

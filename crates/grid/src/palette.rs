@@ -8,7 +8,7 @@
 //! | family | labels | colours |
 //! |---|---|---|
 //! | no impact | `1-0-0` | light grey |
-//! | fundamental | `1-p-q` with `p, q < 6` | hue by `max(p, q)`: 1 blue, 2 sky blue, 3 bluish green, 4 yellow, 5 reddish purple; lighter when `p > q`, darker when `p < q` |
+//! | fundamental | `1-p-q` with `p, q < 6` | hue by `max(p, q)`: 1 blue, 2 sky blue, 3 bluish green, 4 yellow, 5 reddish purple; lighter when `p > q`, darker (never near black) when `p < q` |
 //! | subharmonic | `n-p-q`, `n > 1`, fewer than 6 impacts per period at each stop | greens to teals, muted, hue and lightness from the label text |
 //! | chattering | 6 or more impacts per forcing period on average at a stop (`p/n` or `q/n >= 6`) | oranges to browns, from the label text |
 //! | complete chattering | an `S` (the mass sticks) | purples, from the label text |
@@ -30,6 +30,21 @@ pub fn colour(label: &str) -> [u8; 3] {
             Some((n, p, q)) => periodic(label, n, p, q),
             None => [255, 255, 255],
         },
+    }
+}
+
+/// A colour standing for a whole family in legends (its members vary).
+pub fn family_colour(family: &str) -> [u8; 3] {
+    match family {
+        "complete chattering" => colour("1-S-S"),
+        "chattering" => colour("1-6-6"),
+        "fundamental" => colour("1-1-1"),
+        "subharmonic" => colour("2-2-2"),
+        "no impact" => colour("1-0-0"),
+        "chaotic" => colour("C"),
+        "quasi-periodic" => colour("Q"),
+        "unresolved" => colour("U"),
+        _ => [255, 255, 255],
     }
 }
 
@@ -76,7 +91,8 @@ fn periodic(label: &str, n: u32, p: Option<u32>, q: Option<u32>) -> [u8; 3] {
             const BASE: [[u8; 3]; 5] = [[0, 114, 178], [86, 180, 233], [0, 158, 115], [240, 228, 66], [204, 121, 167]];
             let base = BASE[(p.max(q).max(1) - 1) as usize % BASE.len()];
             let d = p as f64 - q as f64;
-            let mix = (0.28 * d.abs()).min(0.7);
+            // Lighter when p > q, darker when p < q; never near black (C).
+            let mix = if d > 0.0 { (0.28 * d).min(0.7) } else { (0.18 * -d).min(0.4) };
             let towards = if d > 0.0 { 255.0 } else { 0.0 };
             base.map(|c| (c as f64 + mix * (towards - c as f64)).round() as u8)
         }

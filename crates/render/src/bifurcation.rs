@@ -3,10 +3,10 @@
 //! component at t = kT) and, per stop, the impact speed or the forcing phase of
 //! each impact — drawn from the stored raw section points as small dots. The
 //! number of branches at a parameter value is n (period panel) or the impacts
-//! per n periods at that stop. Up and down sweeps are both drawn, half
-//! transparent in two colours (blue and vermillion) with a legend, so that
-//! where they agree both show and where they differ (hysteresis) each can be
-//! told apart.
+//! per n periods at that stop. Up and down sweeps are both drawn, with a
+//! legend: down as vermillion rings, up as blue dots drawn inside them, so
+//! that where they agree both show and where they differ (hysteresis) each can
+//! be told apart.
 
 use crate::output::save;
 use crate::{err, RenderError};
@@ -109,6 +109,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
             }
             series.push((map.sweep, pts));
         }
+        series.sort_by_key(|s| s.0 != SweepKind::Down);
         let all = series.iter().flat_map(|s| s.1.iter());
         let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.1), b.max(p.1)));
         let (lo, hi) = if lo.is_finite() && hi > lo {
@@ -145,13 +146,16 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
             .axis_desc_style(("sans-serif", 16))
             .draw()
             .map_err(err)?;
+        // Down as rings, up as dots inside them: where the sweeps agree both show.
         for (sweep, pts) in &series {
-            let col = sweep_colour(*sweep).mix(if series.len() > 1 { 0.55 } else { 0.9 });
+            let col = sweep_colour(*sweep);
+            let style = if *sweep == SweepKind::Down { col.stroke_width(1) } else { col.filled() };
+            let size = if *sweep == SweepKind::Down { 3 } else { 1 };
             chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 1, col.filled())))
+                .draw_series(pts.iter().map(|&p| Circle::new(p, size, style)))
                 .map_err(err)?
                 .label(format!("{} sweep", sweep.name()))
-                .legend(move |(a, b)| Circle::new((a + 8, b), 4, sweep_colour(*sweep).filled()));
+                .legend(move |(a, b)| Circle::new((a + 8, b), 4, style));
         }
         if pi > 0 {
             continue; // one legend, in the first panel

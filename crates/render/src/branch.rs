@@ -43,6 +43,7 @@ fn draw<DB: DrawingBackend>(
         let desc = if pi == 0 { format!("x_{mass} at the section") } else { "largest |multiplier|".to_string() };
         let mut chart = ChartBuilder::on(area)
             .margin(10)
+            .margin_right(30)
             .x_label_area_size(35)
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, (lo - pad)..(hi + pad))
@@ -52,6 +53,8 @@ fn draw<DB: DrawingBackend>(
             .disable_mesh()
             .x_desc(axis)
             .y_desc(desc.as_str())
+            .x_label_formatter(&|v| crate::tick(*v))
+            .y_label_formatter(&|v| crate::tick(*v))
             .label_style(("sans-serif", 14))
             .axis_desc_style(("sans-serif", 16))
             .draw()

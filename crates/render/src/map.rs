@@ -10,7 +10,7 @@
 
 use crate::output::save;
 use crate::{err, RenderError};
-use grid::palette::{colour, family};
+use grid::palette::{colour, family, family_colour};
 use grid::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -27,8 +27,9 @@ pub enum View {
     Hysteresis,
 }
 
-/// Colour of cells a panel does not show (not computed, or no hysteresis).
-const BLANK: RGBColor = RGBColor(240, 240, 240);
+/// Colour of cells a panel does not show (not computed, or no hysteresis):
+/// white, apart from every label's colour (1-0-0 is light grey).
+const BLANK: RGBColor = RGBColor(255, 255, 255);
 /// Legend entries listed one by one; the rest are summed per family.
 const LEGEND_ROWS: usize = 30;
 
@@ -149,11 +150,12 @@ pub(crate) fn settings_text(meta: &Meta) -> String {
 /// Draws a legend of `(label, cells)` entries, most frequent first.
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
+    heading: &str,
     entries: &[(String, u64)],
     extra: &[(String, RGBColor)],
 ) -> Result<(), RenderError> {
     let style = ("sans-serif", 15).into_font();
-    area.draw(&Text::new("label (cells)", (10, 20), ("sans-serif", 18).into_font())).map_err(err)?;
+    area.draw(&Text::new(heading, (10, 20), ("sans-serif", 18).into_font())).map_err(err)?;
     let mut rows: Vec<(String, RGBColor)> = extra.to_vec();
     let name = |l: &str| match l {
         "C" => "C chaotic".to_string(),
@@ -171,7 +173,8 @@ fn draw_legend<DB: DrawingBackend>(
         e.1 += count;
     }
     for (fam, (labels, cells)) in rest {
-        rows.push((format!("+ {labels} more {fam} ({cells})"), RGBColor(255, 255, 255)));
+        let [r, g, b] = family_colour(fam);
+        rows.push((format!("+ {labels} more {fam} ({cells})"), RGBColor(r, g, b)));
     }
     for (i, (text, col)) in rows.iter().enumerate() {
         let y = 42 + 20 * i as i32;
@@ -218,7 +221,7 @@ fn draw_map<DB: DrawingBackend>(
             let cells = sweep_cells(atlas, sweep)?;
             let title = format!("{}, {} sweep", m.masses[mass], sweep.name());
             draw_cells(&maps, m, &title, 15, label_colours(cells, mass))?;
-            draw_legend(&legend, &count(&[cells], mass), &[])
+            draw_legend(&legend, "label (cells)", &count(&[cells], mass), &[])
         }
         View::Hysteresis => {
             let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
@@ -236,7 +239,8 @@ fn draw_map<DB: DrawingBackend>(
                 })
             };
             draw_cells(&panels[2], m, &format!("up and down differ: {zones} cells (down label)"), 14, differ)?;
-            draw_legend(&legend, &count(&[up, down], mass), &[("no hysteresis (right)".into(), BLANK)])
+            let blank = [("no hysteresis (right panel)".to_string(), BLANK)];
+            draw_legend(&legend, "label (cells, up + down)", &count(&[up, down], mass), &blank)
         }
     }
 }
@@ -268,5 +272,5 @@ fn draw_sheet<DB: DrawingBackend>(
         all.push(cells);
         draw_cells(area, &atlas.meta, title, 12, label_colours(cells, mass))?;
     }
-    draw_legend(&right, &count(&all, mass), &[])
+    draw_legend(&right, "label (cells, all panels)", &count(&all, mass), &[])
 }

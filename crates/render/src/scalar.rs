@@ -2,7 +2,7 @@
 //! cells without a period, on a diverging scale centred at 0 (blue contracting,
 //! white neutral, red chaotic), or the largest Floquet multiplier modulus of
 //! periodic cells on a diverging scale centred at 1, where stability is lost.
-//! Cells without the number are light grey; a labelled colour bar gives the
+//! Cells without the number are mid grey (apart from the white of neutral values); a labelled colour bar gives the
 //! scale.
 
 use crate::map::{sweep_cells, CellGrid};
@@ -90,7 +90,7 @@ fn draw<DB: DrawingBackend>(
     let mut chart = grid.chart(&left, &title, 15)?;
     chart
         .draw_series(values.iter().enumerate().map(|(i, v)| {
-            let colour = v.map_or(RGBColor(225, 225, 225), |v| diverging((v - centre) / reach));
+            let colour = v.map_or(RGBColor(190, 190, 190), |v| diverging((v - centre) / reach));
             Rectangle::new(grid.rect(i), colour.filled())
         }))
         .map_err(err)?;

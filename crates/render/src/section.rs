@@ -56,6 +56,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panels: &[Panel], tit
             .disable_mesh()
             .x_desc(panel.x.as_str())
             .y_desc(panel.y.as_str())
+            .x_label_formatter(&|v| crate::tick(*v))
+            .y_label_formatter(&|v| crate::tick(*v))
             .label_style(("sans-serif", 13))
             .axis_desc_style(("sans-serif", 15))
             .draw()

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# Redraws every figure of docs/gallery.md into docs/img/, from small grids so
+# that the whole script takes about a minute on two cores. Intermediate files
+# (atlases, a sweep file, a study) go to out/gallery/ (git-ignored).
+#
+#   scripts/gallery.sh            # uses target/release/vibroatlas as built
+#   VIBROATLAS=path/to/vibroatlas scripts/gallery.sh
+#
+# Not redrawn here: docs/img/trade.png (`vibroatlas bench --trade -o DIR`, the
+# speed/accuracy trade), which measures every preset on a 48 x 48 grid several
+# times and takes minutes; see docs/performance.md.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin=${VIBROATLAS:-target/release/vibroatlas}
+if [ ! -x "$bin" ]; then
+    echo "gallery: $bin not found; build it first (cargo build --release, or scripts/run.sh --version)" >&2
+    exit 1
+fi
+img=docs/img
+out=out/gallery
+mkdir -p "$img" "$out"
+start=$SECONDS
+
+# Each command as docs/gallery.md prints it (vibroatlas = $bin).
+vibroatlas() {
+    echo "vibroatlas $*" >&2
+    "$bin" "$@"
+}
+
+# Label maps, hysteresis, Lyapunov and multiplier views, one row: a 120 x 80
+# up- and down-sweep atlas of the reference plane (about 19 000 cells).
+vibroatlas atlas configs/multi-stop.toml --x omega=0.1:3.05:120 --y delta=0.05:2:80 --sweep both --quiet -o $out/atlas.h5 >/dev/null
+vibroatlas render $out/atlas.h5 -o $img/map.png --sweep up
+vibroatlas render $out/atlas.h5 -o $img/map-m2-down.png --sweep down --mass M2
+vibroatlas render $out/atlas.h5 -o $img/hysteresis.png --sweep hysteresis
+vibroatlas render $out/atlas.h5 -o $img/lyapunov.png --sweep up --view lyapunov
+vibroatlas render $out/atlas.h5 -o $img/multiplier.png --sweep up --view multiplier
+vibroatlas render $out/atlas.h5 -o $img/row.png --row delta=0.6
+
+# Bifurcation diagram of the dry-friction oscillator, up and down.
+vibroatlas sweep configs/dry-friction.toml --axis omega=8:4.5:141 --set fk=0.01 --direction both --quiet --png $img/bifurcation.png >/dev/null
+
+# A stored sweep file, redrawn: velocity panel and impact phases.
+vibroatlas sweep configs/impact-damper.toml --axis omega=1.3:2.3:201 --direction both --points 64 --quiet -o $out/damper-sweep.h5 >/dev/null
+vibroatlas render $out/damper-sweep.h5 -o $img/sweep-file.png --variable v_M2 --impact phase
+
+# Branches of periodic orbits, with their bifurcations.
+vibroatlas continue configs/single-stop.toml --axis sigma=0:-1.5:31 --arclength --png $img/branch.png >/dev/null
+vibroatlas continue configs/impact-damper.toml --axis omega=1.3:2.3:101 --png $img/branch-ns.png >/dev/null
+
+# Poincaré sections on an invariant circle.
+vibroatlas cell configs/impact-damper.toml --set omega=1.55 --section-png $img/sections.png >/dev/null
+
+# Study contact sheet: configs/studies/mass-ratio.toml on a 60 x 40 grid.
+cat > $out/mass-ratio.toml <<'EOF'
+# configs/studies/mass-ratio.toml on a smaller grid (scripts/gallery.sh)
+scene = "../../configs/multi-stop.toml"
+parameter = "mu_m"
+values = [0.05, 0.25, 0.75, 0.95]
+x = "omega=0.1:3.05:60"
+y = "delta=0.05:2:40"
+sweep = "fresh"
+EOF
+vibroatlas study $out/mass-ratio.toml -o $out/mass-ratio --quiet >/dev/null
+cp $out/mass-ratio/contact-sheet.png $img/contact-sheet.png
+
+echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
