@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, then runs every test of the workspace (unit,
-# integration, doc tests) in release mode, checks with h5py alone that an atlas
+# integration, doc tests) in release mode, clippy and rustdoc with warnings as
+# errors, checks with h5py alone that an atlas
 # file has every dataset of the documented layout, and ends with one line
 # "tests: N passed, M failed" summing every cargo test result.
 set -euo pipefail
@@ -9,6 +10,9 @@ scripts/setup.sh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 cargo test --workspace --release 2>&1 | tee "$tmp/test.log"
+# Lints and docs are part of the tests: no warning passes.
+cargo clippy --workspace --all-targets --release --quiet -- -D warnings
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 target/release/vibroatlas atlas configs/multi-stop.toml --x omega=0.2:2.5:12 --y delta=0.1:1.5:5 \
     --sweep both --quiet -o "$tmp/check.h5"
 /usr/bin/python3 scripts/check_atlas.py "$tmp/check.h5"

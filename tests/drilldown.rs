@@ -191,6 +191,6 @@ fn trace_events_say_what_happened_where() {
     let text = std::fs::read_to_string(&t).unwrap();
     let events: Vec<&str> =
         text.lines().skip(1).map(|l| l.rsplit(',').next().unwrap()).filter(|e| !e.is_empty()).collect();
-    assert!(events.iter().any(|e| *e == "impact A1") && events.iter().any(|e| *e == "impact A12"), "{events:?}");
+    assert!(events.contains(&"impact A1") && events.contains(&"impact A12"), "{events:?}");
     assert!(events.iter().all(|e| ["impact ", "stick ", "release ", "grazing "].iter().any(|k| e.starts_with(k))));
 }

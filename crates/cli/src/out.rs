@@ -19,12 +19,12 @@ pub fn line(text: &str) -> Result<()> {
     self::text(&format!("{text}\n"))
 }
 
-/// `println!` through [`line`], returning its error from the enclosing function.
+/// `println!` through [`line()`], returning its error from the enclosing function.
 macro_rules! outln {
     ($($arg:tt)*) => { $crate::out::line(&format!($($arg)*))? };
 }
 
-/// `print!` through [`text`], returning its error from the enclosing function.
+/// `print!` through [`text()`], returning its error from the enclosing function.
 macro_rules! outp {
     ($($arg:tt)*) => { $crate::out::text(&format!($($arg)*))? };
 }

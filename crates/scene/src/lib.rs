@@ -348,7 +348,7 @@ impl Scene {
             }
         };
         let omega = ev(&self.omega, "forcing.omega".into())?;
-        if !(omega >= OMEGA_MIN) {
+        if omega.is_nan() || omega < OMEGA_MIN {
             return Err(SceneError::field(
                 "forcing.omega",
                 format!(
