@@ -124,9 +124,8 @@ else
     [[ -n $out ]] || die "--$( [[ $mode == rerun ]] && echo rerun || echo merge-only) needs --out DIR, the folder of the run"
     [[ -f $out/run.conf ]] || die "'$out' holds no run of this script (no run.conf)"
 fi
-mkdir -p -- "$out" || die "cannot create '$out'"
-out=$(cd -- "$out" && pwd)
-[[ -w $out ]] || die "'$out' is not writable"
+out=$(readlink -m -- "$out")
+[[ ! -e $out || -d $out ]] || die "'$out' exists and is not a folder"
 
 # run.conf: what defines the run. Sourced back for --rerun and --merge-only.
 RUN_SCENE="" RUN_ARGS=() RUN_SHARDS="" RUN_NAME="" RUN_PARTITION="" RUN_CPUS="" RUN_TIME="" RUN_BIN_SOURCE=""
@@ -151,21 +150,69 @@ if [[ -f $out/run.conf ]]; then
     time_limit=${time_limit:-$RUN_TIME}
     [[ $mode == merge ]] || cpus=${cpus:-$RUN_CPUS}
 else
-    if [[ -n $(ls -A -- "$out") ]]; then
+    if [[ -d $out && -n $(ls -A -- "$out") ]]; then
         die "'$out' exists and is not empty, but holds no run of this script; choose another --out"
     fi
 fi
 [[ -n $name ]] || { name=$(basename -- "$scene"); name=${name%.*}; }
 
-# The binary and the scene are copied into the run folder, so that every shard,
-# rerun and merge of this run uses the same build and scene even if target/ is
-# rebuilt or the scene edited meanwhile.
+# ---- which shards ---------------------------------------------------------------
+array=""
+if [[ $mode == submit ]]; then
+    array="1-$shards"
+elif [[ $mode == rerun ]]; then
+    IFS=, read -r -a ks <<<"$rerun"
+    ((${#ks[@]})) || die "--rerun needs shard numbers, e.g. --rerun 3 or --rerun 2,5"
+    for k in "${ks[@]}"; do
+        is_count "$k" && ((k <= shards)) || die "--rerun: '$k' is not a shard of this run (1..$shards)"
+    done
+    array=$(IFS=,; echo "${ks[*]}")
+fi
+
+# ---- CPUs per shard ------------------------------------------------------------
+have_slurm=1
+command -v sbatch >/dev/null 2>&1 && command -v sinfo >/dev/null 2>&1 || have_slurm=0
+((have_slurm || dry_run)) || die "sbatch/sinfo not found: this script submits to Slurm (--dry-run only writes the scripts)"
+if [[ $mode != merge ]]; then
+    node_cpus=""
+    if ((have_slurm)); then
+        part=$partition
+        if [[ -z $part ]]; then
+            part=$(sinfo -h -o %P 2>/dev/null | sed -n 's/\*$//p' | head -n1) || true
+        fi
+        if ! node_cpus=$(sinfo -h -N ${part:+-p "$part"} -o %c 2>/dev/null | tr -dc '0-9\n' | sed '/^$/d' | sort -n); then
+            ((dry_run)) || die "sinfo failed; is the Slurm controller reachable? (--dry-run only writes the scripts)"
+            node_cpus=""
+        fi
+        [[ -n $node_cpus ]] || ((dry_run)) || die "sinfo lists no nodes${part:+ in partition '$part'}; check --partition"
+    fi
+    if [[ -z $cpus ]]; then
+        if [[ -n $node_cpus ]]; then cpus=$(head -n1 <<<"$node_cpus"); else cpus=$(nproc); fi
+    fi
+    if [[ -n $node_cpus ]]; then
+        max=$(tail -n1 <<<"$node_cpus")
+        ((cpus <= max)) || die "--cpus $cpus: the largest node${part:+ in partition '$part'} has $max CPUs, so the shards would pend forever"
+    fi
+fi
+
+# ---- check the binary, then create the run folder -------------------------------
 run_bin="$out/vibroatlas"
-run_scene="$out/scene/$(basename -- "$scene")"
 if [[ ! -x $run_bin ]]; then
     bin=${bin:-$repo/target/release/vibroatlas}
     [[ -f $bin && -x $bin ]] || die "vibroatlas binary '$bin' not found or not executable (build it: cargo build --release, or pass --bin)"
     bin=$(readlink -f -- "$bin")
+    "$bin" --version >/dev/null 2>&1 || die "'$bin' does not run on this machine"
+fi
+mkdir -p -- "$out" || die "cannot create '$out'"
+[[ -w $out ]] || die "'$out' is not writable"
+
+# The binary and the scene are copied into the run folder, so that every shard,
+# rerun and merge of this run uses the same build and scene even if target/ is
+# rebuilt or the scene edited meanwhile.
+run_scene="$out/scene/$(basename -- "$scene")"
+if [[ ! -x $run_bin ]]; then
+    [[ ! -f $out/run.conf ]] ||
+        note "warning: the run's copy of the binary is missing; copying $bin, which may be another build than the parts already computed"
     cp -p -- "$bin" "$run_bin.tmp" && mv -f -- "$run_bin.tmp" "$run_bin"
 elif [[ -n $bin ]]; then
     note "note: using the run's own copy $run_bin, not --bin $bin"
@@ -192,43 +239,6 @@ if [[ ! -f $out/run.conf ]]; then
         printf 'RUN_VERSION=%q\n' "$version"
         printf 'RUN_CREATED=%q\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
     } >"$out/run.conf"
-fi
-
-# ---- which shards ---------------------------------------------------------------
-array=""
-if [[ $mode == submit ]]; then
-    array="1-$shards"
-elif [[ $mode == rerun ]]; then
-    IFS=, read -r -a ks <<<"$rerun"
-    ((${#ks[@]})) || die "--rerun needs shard numbers, e.g. --rerun 3 or --rerun 2,5"
-    for k in "${ks[@]}"; do
-        is_count "$k" && ((k <= shards)) || die "--rerun: '$k' is not a shard of this run (1..$shards)"
-    done
-    array=$(IFS=,; echo "${ks[*]}")
-fi
-
-# ---- CPUs per shard ------------------------------------------------------------
-have_slurm=1
-command -v sbatch >/dev/null 2>&1 && command -v sinfo >/dev/null 2>&1 || have_slurm=0
-((have_slurm || dry_run)) || die "sbatch/sinfo not found: this script submits to Slurm (--dry-run only writes the scripts)"
-if [[ $mode != merge ]]; then
-    node_cpus=""
-    if ((have_slurm)); then
-        part=$partition
-        if [[ -z $part ]]; then
-            part=$(sinfo -h -o %P 2>/dev/null | sed -n 's/\*$//p' | head -n1) || true
-        fi
-        node_cpus=$(sinfo -h -N ${part:+-p "$part"} -o %c 2>/dev/null | tr -dc '0-9\n' | sed '/^$/d' | sort -n) ||
-            die "sinfo failed; is the Slurm controller reachable? (or pass --cpus C with --dry-run)"
-        [[ -n $node_cpus ]] || die "sinfo lists no nodes${part:+ in partition '$part'}; check --partition"
-    fi
-    if [[ -z $cpus ]]; then
-        if [[ -n $node_cpus ]]; then cpus=$(head -n1 <<<"$node_cpus"); else cpus=$(nproc); fi
-    fi
-    if [[ -n $node_cpus ]]; then
-        max=$(tail -n1 <<<"$node_cpus")
-        ((cpus <= max)) || die "--cpus $cpus: the largest node${part:+ in partition '$part'} has $max CPUs, so the shards would pend forever"
-    fi
 fi
 
 # ---- the batch scripts (kept in the run folder for the record) ------------------
@@ -333,8 +343,8 @@ chmod +x "$out/merge.sbatch" "$out/shard.sbatch" 2>/dev/null || true
 # ---- submission ----------------------------------------------------------------
 submit() { # sbatch arguments...; prints the job id
     if ((dry_run)); then
-        echo "sbatch --parsable $*" >&2
-        echo "DRYRUN"
+        echo "  sbatch --parsable $*" >&2
+        echo "$dry_id"
         return
     fi
     local reply
@@ -346,9 +356,12 @@ submit() { # sbatch arguments...; prints the job id
 record() { ((dry_run)) || echo "$(date -u +%FT%TZ) $*" >>"$out/jobs.log"; }
 
 array_id="" merge_id=""
+((dry_run == 0)) || note "dry run: would submit"
 if [[ $mode != merge ]]; then
+    dry_id="<array-id>"
     array_id=$(submit --array="$array" "$out/shard.sbatch")
     record "array $array_id tasks=$array cpus=$cpus partition=${partition:-default} time=${time_limit:-default}: sbatch --parsable --array=$array $out/shard.sbatch"
+    dry_id="<merge-id>"
     merge_id=$(submit --dependency=afterok:"$array_id" --kill-on-invalid-dep=yes "$out/merge.sbatch") || {
         echo "$prog: the shards are submitted (array job $array_id) but the merge is not; submit it later with:" >&2
         echo "  $self --out $out --merge-only" >&2
@@ -356,11 +369,16 @@ if [[ $mode != merge ]]; then
     }
     record "merge $merge_id after array $array_id: sbatch --parsable --dependency=afterok:$array_id --kill-on-invalid-dep=yes $out/merge.sbatch"
 else
+    dry_id="<merge-id>"
     merge_id=$(submit "$out/merge.sbatch")
     record "merge $merge_id (merge-only): sbatch --parsable $out/merge.sbatch"
 fi
 
 q() { printf '%q' "$1"; }
+if ((dry_run)); then
+    note "dry run: nothing submitted; the batch scripts are in $out (shard.sbatch, merge.sbatch)"
+    exit 0
+fi
 note "run folder  $out"
 note "binary      $run_bin ($version)"
 if [[ -n $array_id ]]; then

@@ -49,11 +49,13 @@ const RK4: Setting = rk4("rk4 h=0.01", &[("rk4_step", 0.01), ("newton", 0.0)]);
 /// Settings of the trade, in table order. The RK4 rows are the literature's
 /// method: RK4 with step-back refinement and a plainly simulated transient
 /// (standard tolerances, no Newton); the last row shows what Newton adds to RK4.
-/// `standard chaos_check=100` is the opt-in early end of chaotic records.
+/// `standard chaos_check=0` is standard without the early end of chaotic
+/// records (the default of `standard` before it was measured to agree with
+/// `precise` at least as well as RK4).
 const SETTINGS: [Setting; 7] = [
     exact("fast", Preset::Fast, &[]),
     STANDARD,
-    exact("standard chaos_check=100", Preset::Standard, &[("chaos_check", 100.0)]),
+    exact("standard chaos_check=0", Preset::Standard, &[("chaos_check", 0.0)]),
     PRECISE,
     RK4,
     rk4("rk4 h=0.001", &[("rk4_step", 0.001), ("newton", 0.0)]),

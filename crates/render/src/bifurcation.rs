@@ -135,17 +135,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
             .y_label_area_size(75)
             .build_cartesian_2d(x0..x1, lo..hi)
             .map_err(err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(x.name.as_str())
-            .y_desc(desc.as_str())
-            .x_label_formatter(&|v| crate::tick(*v))
-            .y_label_formatter(&|v| crate::tick(*v))
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16))
-            .draw()
-            .map_err(err)?;
+        crate::axes(&mut chart, &x.name, &desc, 14)?;
         // Down as rings, up as dots inside them: where the sweeps agree both show.
         for (sweep, pts) in &series {
             let col = sweep_colour(*sweep);
@@ -160,14 +150,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
         if pi > 0 {
             continue; // one legend, in the first panel
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK.mix(0.4))
-            .label_font(("sans-serif", 14))
-            .draw()
-            .map_err(err)?;
+        crate::legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     }
     Ok(())
 }

@@ -48,17 +48,7 @@ fn draw<DB: DrawingBackend>(
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, (lo - pad)..(hi + pad))
             .map_err(err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(axis)
-            .y_desc(desc.as_str())
-            .x_label_formatter(&|v| crate::tick(*v))
-            .y_label_formatter(&|v| crate::tick(*v))
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16))
-            .draw()
-            .map_err(err)?;
+        crate::axes(&mut chart, axis, &desc, 14)?;
         if pi == 1 {
             chart.draw_series(LineSeries::new([(x0, 1.0), (x1, 1.0)], BLACK.mix(0.4))).map_err(err)?;
         }

@@ -32,17 +32,6 @@ pub struct Portrait {
 const CURVES: [RGBColor; 4] =
     [RGBColor(0, 114, 178), RGBColor(213, 94, 0), RGBColor(0, 158, 115), RGBColor(204, 121, 167)];
 
-fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(v), b.max(v)));
-    if !lo.is_finite() {
-        (-1.0, 1.0)
-    } else if hi > lo {
-        (lo - 0.06 * (hi - lo), hi + 0.06 * (hi - lo))
-    } else {
-        (lo - 1.0, lo + 1.0)
-    }
-}
-
 /// Draws the portrait (format by the extension of `path`).
 pub fn portrait(p: &Portrait, path: &Path) -> Result<(), RenderError> {
     save!(path, (1200, 900), |root| draw(&root, p))
@@ -56,8 +45,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Portrait) -> Resu
     let impacts: Vec<usize> = p.events.iter().filter(|e| e.1.starts_with("impact")).map(|e| e.0).collect();
     for (k, area) in panels.iter().enumerate() {
         let stops: Vec<&(usize, f64, String)> = p.stops.iter().filter(|s| s.0 == k).collect();
-        let (x0, x1) = range(p.x[k].iter().copied().chain(stops.iter().map(|s| s.1)));
-        let (v0, v1) = range(p.v[k].iter().copied());
+        let (x0, x1) = crate::range(p.x[k].iter().copied().chain(stops.iter().map(|s| s.1)));
+        let (v0, v1) = crate::range(p.v[k].iter().copied());
         let mut chart = ChartBuilder::on(area)
             .caption(format!("{}: phase portrait", p.masses[k]), ("sans-serif", 16))
             .margin(12)
@@ -65,17 +54,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Portrait) -> Resu
             .y_label_area_size(60)
             .build_cartesian_2d(x0..x1, v0..v1)
             .map_err(err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(format!("x_{}", p.masses[k]))
-            .y_desc(format!("v_{}", p.masses[k]))
-            .x_label_formatter(&|v| crate::tick(*v))
-            .y_label_formatter(&|v| crate::tick(*v))
-            .label_style(("sans-serif", 13))
-            .axis_desc_style(("sans-serif", 15))
-            .draw()
-            .map_err(err)?;
+        crate::axes(&mut chart, &format!("x_{}", p.masses[k]), &format!("v_{}", p.masses[k]), 13)?;
         let colour = CURVES[k % CURVES.len()];
         chart
             .draw_series(LineSeries::new(p.x[k].iter().copied().zip(p.v[k].iter().copied()), colour.stroke_width(1)))
@@ -88,8 +67,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Portrait) -> Resu
             .draw_series(impacts.iter().map(|&i| Circle::new((p.x[k][i], p.v[k][i]), 3, BLACK.filled())))
             .map_err(err)?;
     }
-    let (t0, t1) = range(p.t.iter().copied());
-    let (y0, y1) = range(p.x.iter().flatten().copied());
+    let (t0, t1) = crate::range(p.t.iter().copied());
+    let (y0, y1) = crate::range(p.x.iter().flatten().copied());
     let mut chart = ChartBuilder::on(&bottom)
         .caption("positions against time (events marked)", ("sans-serif", 16))
         .margin(12)
@@ -97,17 +76,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Portrait) -> Resu
         .y_label_area_size(60)
         .build_cartesian_2d(t0..t1, y0..y1)
         .map_err(err)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc("t")
-        .y_desc("x")
-        .x_label_formatter(&|v| crate::tick(*v))
-        .y_label_formatter(&|v| crate::tick(*v))
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 15))
-        .draw()
-        .map_err(err)?;
+    crate::axes(&mut chart, "t", "x", 13)?;
     for (k, name) in p.masses.iter().enumerate() {
         let colour = CURVES[k % CURVES.len()];
         chart
@@ -119,13 +88,6 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Portrait) -> Resu
             .draw_series(p.events.iter().map(|(i, _)| Circle::new((p.t[*i], p.x[k][*i]), 3, BLACK.filled())))
             .map_err(err)?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(err)?;
+    crate::legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     Ok(())
 }

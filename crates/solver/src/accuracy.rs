@@ -76,11 +76,14 @@ pub struct Accuracy {
     /// Costs about as much as that many periods of simulation, with tangents.
     pub lyapunov_periods: usize,
     /// Periods after which a cell without a period has its largest Lyapunov
-    /// exponent measured early (0: off, every preset). A clearly chaotic cell
-    /// (`λT > 0.05`) ends there as `C` instead of simulating the rest of
-    /// `max_periods`; any other goes on. Saves most of the record of chaotic
-    /// cells and costs one more Lyapunov measurement on slow transients; a
-    /// chaotic transient that would settle on an orbit later stays `C`.
+    /// exponent measured early (standard and fast 100; precise 0: off, the
+    /// reference simulates every record in full). A clearly chaotic cell
+    /// (`λT > 0.05`, five times the quasi-periodic band) ends there as `C`
+    /// instead of simulating the rest of `max_periods`; any other goes on.
+    /// Saves most of the record of chaotic cells and costs one more Lyapunov
+    /// measurement on slow transients; a chaotic transient that would settle on
+    /// an orbit later stays `C`. On by default since the trade measured its
+    /// label agreement with `precise` above RK4's (docs/performance.md).
     pub chaos_check: usize,
     /// Times the record of a cell without a period is extended by `max_periods`
     /// when its largest Lyapunov exponent shows it still contracting (a long
@@ -135,7 +138,7 @@ impl Accuracy {
             max_events: 400_000,
             newton: true,
             lyapunov_periods: 100,
-            chaos_check: 0,
+            chaos_check: 100,
             extensions: 4,
             multipliers: true,
             rk4_step: 0.01,
@@ -165,6 +168,7 @@ impl Accuracy {
                 periodic_tol: 1e-9,
                 max_events: 4_000_000,
                 newton: false,
+                chaos_check: 0,
                 ..standard
             },
         }
