@@ -71,9 +71,9 @@ pub struct SimArgs {
     /// Override a scene parameter, e.g. `--set omega=0.33` (repeatable).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Accuracy preset: fast, standard (default) or precise.
-    #[arg(long)]
-    pub preset: Option<String>,
+    /// Accuracy preset (default: standard).
+    #[arg(long, value_enum)]
+    pub preset: Option<PresetArg>,
     /// Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable).
     /// Knobs: event_tol, contact_tol, stick_velocity, chatter_velocity,
     /// min_transient, max_periods, periodic_tol, n_max, chatter_impacts,
@@ -82,8 +82,8 @@ pub struct SimArgs {
     #[arg(long = "accuracy", value_name = "KNOB=VALUE")]
     pub accuracy: Vec<String>,
     /// Integrator: exact (closed-form flow, default) or rk4 (fixed step, the literature's method).
-    #[arg(long)]
-    pub integrator: Option<String>,
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorArg>,
 }
 
 /// Where a simulation starts: a cell of a stored atlas or sweep file, or a
@@ -99,8 +99,8 @@ pub struct FromArgs {
     pub at: Option<String>,
     /// The sweep of --from the cell is taken from: fresh, up or down (default:
     /// the file's first).
-    #[arg(long = "sweep", value_name = "SWEEP", requires = "from")]
-    pub from_sweep: Option<String>,
+    #[arg(long = "sweep", value_enum, value_name = "SWEEP", requires = "from")]
+    pub from_sweep: Option<SweepName>,
     /// Start from this state `x1,x2,…,v1,v2,…` at the scene's forcing phase
     /// (t = 0; change the phase with --set on the scene's phase parameter).
     #[arg(long, value_name = "X…,V…", conflicts_with = "from", allow_hyphen_values = true)]
@@ -199,11 +199,11 @@ pub struct AtlasArgs {
     #[arg(long, value_name = "NAME=START:STOP:COUNT")]
     pub y: String,
     /// fresh (independent cells), up, down (continuation), or both (up and down).
-    #[arg(long, default_value = "fresh")]
-    pub sweep: String,
+    #[arg(long, value_enum, default_value_t = AtlasSweep::Fresh)]
+    pub sweep: AtlasSweep,
     /// Axis the continuation chains follow: x (rows) or y (columns).
-    #[arg(long, default_value = "x")]
-    pub along: String,
+    #[arg(long, value_enum, default_value_t = AlongArg::X)]
+    pub along: AlongArg,
     /// Compute only shard K of N (whole lines); merge the parts with `vibroatlas merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
@@ -234,7 +234,8 @@ pub struct SweepArgs {
     /// from the scene's initial state); or a hysteresis loop, down-up or
     /// up-down: the second leg starts from the first leg's end state.
     #[arg(long)]
-    pub direction: Option<String>,
+    #[arg(value_enum)]
+    pub direction: Option<Direction>,
     /// Output HDF5 file (same layout as an atlas with one row).
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<std::path::PathBuf>,
@@ -303,11 +304,12 @@ pub struct RenderArgs {
     pub mass: Option<String>,
     /// fresh, up, down, or hysteresis (up labels with hysteresis cells marked).
     #[arg(long)]
-    pub sweep: Option<String>,
+    #[arg(value_enum)]
+    pub sweep: Option<RenderSweep>,
     /// labels (default), lyapunov (largest exponent of cells without a period) or
     /// multiplier (largest |Floquet multiplier| of periodic cells), as a continuous map.
-    #[arg(long, default_value = "labels")]
-    pub view: String,
+    #[arg(long, value_enum, default_value_t = ViewArg::Labels)]
+    pub view: ViewArg,
     /// Draw one row of the atlas as a bifurcation diagram: the row nearest to
     /// NAME=VALUE of the y axis (a sweep file is drawn as a diagram anyway).
     #[arg(long, value_name = "NAME=VALUE")]
@@ -336,9 +338,9 @@ pub struct StudyArgs {
     /// Output folder: one atlas and map per value, and contact-sheet.png.
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub output: std::path::PathBuf,
-    /// Accuracy preset: fast, standard or precise.
-    #[arg(long, default_value = "standard")]
-    pub preset: String,
+    /// Accuracy preset.
+    #[arg(long, value_enum, default_value_t = PresetArg::Standard)]
+    pub preset: PresetArg,
     #[command(flatten)]
     pub run: RunArgs,
 }
@@ -375,4 +377,128 @@ pub struct BenchArgs {
     /// Folder for trade.png (the Pareto front of agreement against cells/s).
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub output: Option<std::path::PathBuf>,
+}
+
+/// Accuracy presets (`solver::Preset`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PresetArg {
+    /// Coarser tolerances, shorter records.
+    Fast,
+    /// The default.
+    Standard,
+    /// The reference: tight tolerances, plain simulation.
+    Precise,
+}
+
+/// Integrators (`solver::Method`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IntegratorArg {
+    /// Closed-form flow between events.
+    Exact,
+    /// Fixed-step RK4 with step-back refinement.
+    Rk4,
+}
+
+/// One sweep of a stored file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SweepName {
+    /// Independent cells.
+    Fresh,
+    /// Continuation upwards.
+    Up,
+    /// Continuation downwards.
+    Down,
+}
+
+/// The sweeps of an atlas.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AtlasSweep {
+    /// Every cell from the scene's initial state.
+    Fresh,
+    /// Continuation chains upwards.
+    Up,
+    /// Continuation chains downwards.
+    Down,
+    /// Up and down.
+    Both,
+}
+
+/// The axis continuation chains follow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AlongArg {
+    /// Rows.
+    X,
+    /// Columns.
+    Y,
+}
+
+/// Directions of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Direction {
+    /// Upwards.
+    Up,
+    /// Downwards.
+    Down,
+    /// Up and down, each from the scene's initial state.
+    Both,
+    /// Down, then up from where the down leg ended.
+    DownUp,
+    /// Up, then down from where the up leg ended.
+    UpDown,
+}
+
+/// What `render --sweep` draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RenderSweep {
+    /// The fresh cells.
+    Fresh,
+    /// The up sweep.
+    Up,
+    /// The down sweep.
+    Down,
+    /// Up | down | where they differ.
+    Hysteresis,
+}
+
+/// What `render --view` draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ViewArg {
+    /// The labels.
+    Labels,
+    /// The largest Lyapunov exponent.
+    Lyapunov,
+    /// The largest Floquet multiplier modulus.
+    Multiplier,
+}
+
+impl PresetArg {
+    /// The solver's preset.
+    pub fn preset(self) -> solver::Preset {
+        match self {
+            PresetArg::Fast => solver::Preset::Fast,
+            PresetArg::Standard => solver::Preset::Standard,
+            PresetArg::Precise => solver::Preset::Precise,
+        }
+    }
+}
+
+impl IntegratorArg {
+    /// The solver's method.
+    pub fn method(self) -> solver::Method {
+        match self {
+            IntegratorArg::Exact => solver::Method::Exact,
+            IntegratorArg::Rk4 => solver::Method::Rk4,
+        }
+    }
+}
+
+impl SweepName {
+    /// The grid's sweep.
+    pub fn kind(self) -> grid::SweepKind {
+        match self {
+            SweepName::Fresh => grid::SweepKind::Fresh,
+            SweepName::Up => grid::SweepKind::Up,
+            SweepName::Down => grid::SweepKind::Down,
+        }
+    }
 }

@@ -1,19 +1,33 @@
 //! `vibroatlas atlas`: map a parameter plane.
 
-use crate::args::AtlasArgs;
-use crate::common::setup;
+use crate::args::{AlongArg, AtlasArgs, AtlasSweep};
+use crate::common::{in_flags, setup};
 use crate::out::outln;
 use crate::plan::{threads, Plan};
 use crate::summary::print_summary;
 use anyhow::Result;
 use grid::{Along, Axis, Plane, Shard, SweepKind};
 
+/// The flags of the grid's fields.
+const FLAGS: &[(&str, &str)] =
+    &[("x", "--x"), ("y", "--y"), ("along", "--along"), ("shard", "--shard"), ("threads", "--threads")];
+
 /// Runs the command.
 pub fn run(a: AtlasArgs) -> Result<()> {
     let s = setup(&a.sim)?;
-    let plane = Plane::new(Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, Along::parse(&a.along)?)?;
-    let sweeps = SweepKind::parse_set(&a.sweep, "--sweep")?;
-    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
+    let along = match a.along {
+        AlongArg::X => Along::X,
+        AlongArg::Y => Along::Y,
+    };
+    let plane =
+        Plane::new(Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, along).map_err(|e| in_flags(e, FLAGS))?;
+    let sweeps = match a.sweep {
+        AtlasSweep::Fresh => vec![SweepKind::Fresh],
+        AtlasSweep::Up => vec![SweepKind::Up],
+        AtlasSweep::Down => vec![SweepKind::Down],
+        AtlasSweep::Both => vec![SweepKind::Up, SweepKind::Down],
+    };
+    let shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(|e| in_flags(e, FLAGS))?;
     let mut plan = Plan::new(&s, a.run.section_cap, plane, sweeps, threads(a.run.threads)?)?;
     plan.shard = shard;
     plan.output = Some(a.output.clone());
@@ -21,7 +35,10 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     plan.inputs = vec![a.sim.scene.clone()];
     plan.force = a.force;
     plan.quiet = a.run.quiet;
-    plan.check()?;
+    plan.check().map_err(|e| match e.downcast::<grid::GridError>() {
+        Ok(g) => in_flags(g, FLAGS),
+        Err(e) => e,
+    })?;
     let (atlas, secs) = plan.execute("atlas")?;
     if !a.run.quiet {
         print_summary(&atlas, secs, plan.threads)?;

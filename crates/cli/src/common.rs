@@ -30,6 +30,13 @@ pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
 
 /// Loads the scene and validates every option of [`SimArgs`].
 pub fn setup(a: &SimArgs) -> Result<Setup> {
+    let preset = a.preset.map_or(Preset::Standard, |p| p.preset());
+    let method = a.integrator.map_or(Method::Exact, |m| m.method());
+    setup_with(a, preset, method)
+}
+
+/// [`setup`] with the preset and integrator given.
+fn setup_with(a: &SimArgs, preset: Preset, method: Method) -> Result<Setup> {
     let text =
         std::fs::read_to_string(&a.scene).with_context(|| format!("cannot read scene file {}", a.scene.display()))?;
     let scene = Scene::parse(&text).map_err(|e| anyhow!("{}: {e}", a.scene.display()))?;
@@ -37,9 +44,6 @@ pub fn setup(a: &SimArgs) -> Result<Setup> {
     for (name, _) in &overrides {
         scene.check_parameter(name, &format!("--set {name}"))?;
     }
-    let name = a.preset.as_deref().unwrap_or("standard");
-    let preset =
-        Preset::parse(name).ok_or_else(|| anyhow!("--preset: expected fast, standard or precise, got '{name}'"))?;
     let mut accuracy = Accuracy::preset(preset);
     let mut accuracy_overrides = Vec::new();
     for s in &a.accuracy {
@@ -47,8 +51,6 @@ pub fn setup(a: &SimArgs) -> Result<Setup> {
         accuracy.set(&k, v)?;
         accuracy_overrides.push((k, v));
     }
-    let name = a.integrator.as_deref().unwrap_or("exact");
-    let method = Method::parse(name).ok_or_else(|| anyhow!("--integrator: expected exact or rk4, got '{name}'"))?;
     Ok(Setup { scene, overrides, accuracy, accuracy_overrides, preset, method })
 }
 
@@ -127,11 +129,12 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
     let loaded = store::read(file)?;
     let atlas = &loaded.atlas;
     let m = &atlas.meta;
-    let sweep = match &f.from_sweep {
-        Some(name) => grid::SweepKind::parse(name).filter(|k| m.sweeps.contains(k)).ok_or_else(|| {
+    let sweep = match f.from_sweep.map(|s| s.kind()) {
+        Some(kind) if !m.sweeps.contains(&kind) => {
             let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
-            anyhow!("--sweep: {} has {}, got '{name}'", file.display(), have.join(", "))
-        })?,
+            bail!("--sweep: {} has {}, not {}", file.display(), have.join(", "), kind.name());
+        }
+        Some(kind) => kind,
         None => m.sweeps[0],
     };
     let wanted = at.split(',').map(|t| parse_assignment(t, "--at")).collect::<Result<Vec<_>>>()?;
@@ -141,13 +144,20 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
         .and_then(|map| map.cells[iy * m.plane.x.count + ix].as_ref())
         .ok_or_else(|| anyhow!("--at: the cell was not computed in {} (a shard?)", file.display()))?;
     // The file's settings, unless given on the command line.
+    let stored = |what: &str, name: &str| anyhow!("--from: {} has an unknown {what} '{name}'", file.display());
+    let preset = match a.preset {
+        Some(p) => p.preset(),
+        None => Preset::parse(&m.preset).ok_or_else(|| stored("preset", &m.preset))?,
+    };
+    let method = match a.integrator {
+        Some(i) => i.method(),
+        None => Method::parse(&m.integrator).ok_or_else(|| stored("integrator", &m.integrator))?,
+    };
     let mut sim = a.clone();
-    sim.preset = a.preset.clone().or_else(|| Some(m.preset.clone()));
-    sim.integrator = a.integrator.clone().or_else(|| Some(m.integrator.clone()));
     let mut knobs: Vec<String> = m.accuracy.iter().map(|(k, v)| format!("{k}={v}")).collect();
     knobs.extend(a.accuracy.iter().cloned());
     sim.accuracy = knobs;
-    let mut s = setup(&sim)?;
+    let mut s = setup_with(&sim, preset, method)?;
     let params = m.plane.params(iy, ix);
     let mut overrides = m.overrides.clone();
     overrides.extend(params.iter().cloned());
@@ -174,4 +184,19 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
         about,
     };
     Ok((s, Some(origin)))
+}
+
+/// A library error in the words of the command line: the field it names
+/// (`x`, `x omega`, `shard`) becomes the flag (`--x`, `--x omega`, `--shard`)
+/// that `flags` maps it to.
+pub fn in_flags(e: grid::GridError, flags: &[(&str, &str)]) -> anyhow::Error {
+    match e {
+        grid::GridError::Field { field, message } => {
+            let (head, rest) = field.split_once(' ').map_or((field.as_str(), ""), |(h, r)| (h, r));
+            let flag = flags.iter().find(|(f, _)| *f == head).map_or(head, |(_, flag)| flag);
+            let sep = if rest.is_empty() { "" } else { " " };
+            anyhow!("{flag}{sep}{rest}: {message}")
+        }
+        other => anyhow!(other),
+    }
 }

@@ -3,7 +3,7 @@
 //! map of the Lyapunov exponent or the Floquet multiplier, or a bifurcation
 //! diagram of a sweep file or of one row of an atlas (`--row`).
 
-use crate::args::RenderArgs;
+use crate::args::{RenderArgs, RenderSweep, ViewArg};
 use anyhow::{anyhow, bail, Result};
 use grid::SweepKind;
 use render::{Quantity, View};
@@ -23,22 +23,28 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .ok_or_else(|| anyhow!("--mass: no labelled mass '{name}' (the file has {})", m.masses.join(", ")))?,
         None => 0,
     };
-    let view = match a.sweep.as_deref() {
+    let view = match a.sweep {
         None => View::Sweep(m.sweeps[0]),
-        Some("hysteresis") => View::Hysteresis,
-        Some(s) => View::Sweep(SweepKind::parse(s).filter(|k| m.sweeps.contains(k)).ok_or_else(|| {
-            anyhow!(
-                "--sweep: the file has {}, or hysteresis with up and down; got '{s}'",
-                m.sweeps.iter().map(|k| k.name()).collect::<Vec<_>>().join(", ")
-            )
-        })?),
+        Some(RenderSweep::Hysteresis) => View::Hysteresis,
+        Some(s) => {
+            let kind = match s {
+                RenderSweep::Up => SweepKind::Up,
+                RenderSweep::Down => SweepKind::Down,
+                _ => SweepKind::Fresh,
+            };
+            if !m.sweeps.contains(&kind) {
+                let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+                bail!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name());
+            }
+            View::Sweep(kind)
+        }
     };
-    let quantity = match a.view.as_str() {
-        "labels" => None,
-        "lyapunov" => Some(Quantity::Lyapunov),
-        "multiplier" => Some(Quantity::Multiplier),
-        other => bail!("--view: expected labels, lyapunov or multiplier, got '{other}'"),
+    let quantity = match a.view {
+        ViewArg::Labels => None,
+        ViewArg::Lyapunov => Some(Quantity::Lyapunov),
+        ViewArg::Multiplier => Some(Quantity::Multiplier),
     };
+    let view_name = |v: ViewArg| if v == ViewArg::Lyapunov { "lyapunov" } else { "multiplier" };
     // A sweep file (one row), or one row of an atlas: a bifurcation diagram.
     let row = match &a.row {
         Some(text) => Some(nearest_row(&l.atlas, text)?),
@@ -47,9 +53,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     if let Some(row) = row {
         if quantity.is_some() {
-            bail!("--row: draws a bifurcation diagram; leave out --view {}", a.view);
+            bail!("--row: draws a bifurcation diagram; leave out --view {}", view_name(a.view));
         }
-        if let (Some(_), View::Sweep(s)) = (&a.sweep, view) {
+        if let (Some(_), View::Sweep(s)) = (a.sweep, view) {
             l.atlas.maps.retain(|map| map.sweep == s);
         }
         let d = crate::diagram::diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
@@ -60,7 +66,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (Some(q), View::Sweep(sweep)) => {
             Ok(write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, tmp))?)
         }
-        (Some(_), View::Hysteresis) => Err(anyhow!("--view {}: needs --sweep fresh, up or down", a.view)),
+        (Some(_), View::Hysteresis) => Err(anyhow!("--view {}: needs --sweep fresh, up or down", view_name(a.view))),
     }
 }
 

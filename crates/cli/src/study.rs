@@ -37,7 +37,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
             let sim = SimArgs {
                 scene: scene_path.clone(),
                 set,
-                preset: Some(a.preset.clone()),
+                preset: Some(a.preset),
                 accuracy: Vec::new(),
                 integrator: None,
             };

@@ -2,11 +2,11 @@
 //! one row (the other axis is a plain parameter held at its value), so the file,
 //! the renderer and the hysteresis logic are those of the atlas.
 
-use crate::args::SweepArgs;
-use crate::common::setup_from;
+use crate::args::{Direction, SweepArgs};
+use crate::common::{in_flags, setup_from};
 use crate::out::outln;
 use crate::plan::{threads, Plan};
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, Result};
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
 use serde_json::{json, Map, Value};
 use store::write_atomically;
@@ -26,14 +26,13 @@ pub fn run(a: SweepArgs) -> Result<()> {
     // From a stored cell, the swept parameter is the axis, not the cell's value.
     s.overrides.retain(|(k, _)| *k != axis.name || origin.is_none());
     let given = if axis.start <= axis.stop { SweepKind::Up } else { SweepKind::Down };
-    let (sweeps, legs) = match a.direction.as_deref() {
+    let (sweeps, legs) = match a.direction {
         None => (vec![given], Legs::Separate),
-        Some("up") => (vec![SweepKind::Up], Legs::Separate),
-        Some("down") => (vec![SweepKind::Down], Legs::Separate),
-        Some("both") => (vec![SweepKind::Up, SweepKind::Down], Legs::Separate),
-        Some("down-up") => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Down)),
-        Some("up-down") => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Up)),
-        Some(other) => bail!("--direction: expected up, down, both, down-up or up-down, got '{other}'"),
+        Some(Direction::Up) => (vec![SweepKind::Up], Legs::Separate),
+        Some(Direction::Down) => (vec![SweepKind::Down], Legs::Separate),
+        Some(Direction::Both) => (vec![SweepKind::Up, SweepKind::Down], Legs::Separate),
+        Some(Direction::DownUp) => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Down)),
+        Some(Direction::UpDown) => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Up)),
     };
     let x = if given == SweepKind::Up { axis.clone() } else { axis.reversed() };
     let model = s.scene.evaluate(&s.overrides)?;
@@ -43,7 +42,8 @@ pub fn run(a: SweepArgs) -> Result<()> {
         .find(|(n, _)| *n != x.name && s.scene.is_plain(n))
         .cloned()
         .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
-    let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)?;
+    let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)
+        .map_err(|e| in_flags(e, &[("x", "--axis")]))?;
     if let Some(png) = &a.png {
         render::Format::of(png)?;
     }
@@ -53,7 +53,10 @@ pub fn run(a: SweepArgs) -> Result<()> {
     plan.inputs = vec![a.sim.scene.clone()];
     plan.force = a.force;
     plan.quiet = a.run.quiet || a.json;
-    plan.check().map_err(|e| anyhow!("{}", e.to_string().replace("--x", "--axis")))?;
+    plan.check().map_err(|e| match e.downcast::<grid::GridError>() {
+        Ok(g) => in_flags(g, &[("x", "--axis"), ("threads", "--threads")]),
+        Err(e) => e,
+    })?;
     let atlas = match (legs, &origin) {
         (Legs::Separate, None) => plan.execute("sweep")?.0,
         _ => legs_from(&plan, legs, origin.as_ref().map(|o| o.state.as_slice()))?,
@@ -70,7 +73,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     if a.json {
         let mut o = json!({
             "axis": axis.name,
-            "direction": a.direction.as_deref().unwrap_or(first.name()),
+            "direction": a.direction.map_or(first.name(), direction_name),
             "points": points(&atlas, first, first == SweepKind::Down),
         });
         if sweeps.len() == 2 {
@@ -86,6 +89,17 @@ pub fn run(a: SweepArgs) -> Result<()> {
         print_text(&atlas, &sweeps)?;
     }
     Ok(())
+}
+
+/// The name of a direction, as given on the command line.
+fn direction_name(d: Direction) -> &'static str {
+    match d {
+        Direction::Up => "up",
+        Direction::Down => "down",
+        Direction::Both => "both",
+        Direction::DownUp => "down-up",
+        Direction::UpDown => "up-down",
+    }
 }
 
 /// Runs the legs of a sweep that do not start from the scene's initial state:

@@ -56,7 +56,7 @@ impl Axis {
             return Err(GridError::field(
                 format!("{flag} {}", self.name),
                 format!(
-                    "inverted range {}:{} (give it ascending; use --sweep down to sweep downwards)",
+                    "inverted range {}:{} (give it ascending; sweep downwards with a down sweep)",
                     self.start, self.stop
                 ),
             ));

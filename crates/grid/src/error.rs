@@ -8,7 +8,7 @@ pub enum GridError {
     /// An option or field has a bad value.
     #[error("{field}: {message}")]
     Field {
-        /// The option (`--x`, `--shard`) or study field.
+        /// The field (`x`, `shard`, a study file's key); the CLI names its flag.
         field: String,
         /// What is wrong.
         message: String,

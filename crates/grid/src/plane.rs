@@ -36,7 +36,7 @@ impl Along {
         match text {
             "x" => Ok(Along::X),
             "y" => Ok(Along::Y),
-            _ => Err(GridError::field("--along", format!("expected x or y, got '{text}'"))),
+            _ => Err(GridError::field("along", format!("expected x or y, got '{text}'"))),
         }
     }
 }
@@ -66,10 +66,10 @@ pub struct Line {
 impl Plane {
     /// Builds a plane; axes must be ascending and name different parameters.
     pub fn new(x: Axis, y: Axis, along: Along) -> Result<Plane, GridError> {
-        let x = x.ascending("--x")?;
-        let y = y.ascending("--y")?;
+        let x = x.ascending("x")?;
+        let y = y.ascending("y")?;
         if x.name == y.name {
-            return Err(GridError::field("--y", format!("both axes sweep '{}'", x.name)));
+            return Err(GridError::field("y", format!("both axes sweep '{}'", x.name)));
         }
         Ok(Plane { x, y, along })
     }
@@ -110,14 +110,12 @@ impl Plane {
 
     /// Checks that every cell's parameters make a valid scene, before any work.
     pub fn validate(&self, setup: &CellSetup) -> Result<(), GridError> {
-        setup
-            .scene
-            .check_parameter(&self.x.name, &format!("--x {}", self.x.name))
-            .map_err(|e| GridError::field("--x", e.to_string()))?;
-        setup
-            .scene
-            .check_parameter(&self.y.name, &format!("--y {}", self.y.name))
-            .map_err(|e| GridError::field("--y", e.to_string()))?;
+        for (field, axis) in [("x", &self.x), ("y", &self.y)] {
+            setup.scene.check_parameter(&axis.name, field).map_err(|e| match e {
+                scene::SceneError::Field { message, .. } => GridError::field(field, message),
+                other => GridError::field(field, other.to_string()),
+            })?;
+        }
         for iy in 0..self.y.count {
             for ix in 0..self.x.count {
                 setup.system(&self.params(iy, ix))?;
@@ -173,7 +171,7 @@ impl Plane {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .map_err(|e| GridError::field("--threads", e.to_string()))?;
+            .map_err(|e| GridError::field("threads", e.to_string()))?;
         let next = AtomicUsize::new(0);
         let failed: Mutex<Option<GridError>> = Mutex::new(None);
         pool.broadcast(|_| loop {

@@ -16,7 +16,7 @@ pub struct Shard {
 impl Shard {
     /// Parses `K/N`.
     pub fn parse(text: &str) -> Result<Shard, GridError> {
-        let bad = |m: String| GridError::field("--shard", m);
+        let bad = |m: String| GridError::field("shard", m);
         let (k, n) = text.split_once('/').ok_or_else(|| bad(format!("expected K/N, got '{text}'")))?;
         let k: usize = k.trim().parse().map_err(|_| bad(format!("K '{k}' is not a whole number")))?;
         let n: usize = n.trim().parse().map_err(|_| bad(format!("N '{n}' is not a whole number")))?;

@@ -226,7 +226,7 @@ fn draw_map<DB: DrawingBackend>(
         View::Hysteresis => {
             let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
             let hyst = atlas.hysteresis().ok_or_else(|| RenderError {
-                message: "--sweep hysteresis needs an atlas with up and down sweeps".into(),
+                message: "the hysteresis view needs an atlas with up and down sweeps".into(),
             })?;
             let panels = maps.split_evenly((1, 3));
             draw_cells(&panels[0], m, &format!("{}, up sweep", m.masses[mass]), 14, label_colours(up, mass))?;

@@ -99,7 +99,7 @@ impl Drop for OutputLock {
 pub fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), StoreError> {
     let bad = |m: &str| Err(StoreError::format(output, m.to_string()));
     if output.as_os_str().is_empty() {
-        return Err(StoreError::format(Path::new("--output"), "empty path"));
+        return Err(StoreError::format(Path::new("output"), "empty path"));
     }
     if output.file_name().is_none() {
         return bad("is not a file name");
