@@ -196,3 +196,49 @@ fn trace_events_say_what_happened_where() {
     assert!(events.contains(&"impact A1") && events.contains(&"impact A12"), "{events:?}");
     assert!(events.iter().all(|e| ["impact ", "stick ", "release ", "grazing "].iter().any(|k| e.starts_with(k))));
 }
+
+#[test]
+fn atlas_attractors_are_stored_per_cell_and_deterministic() {
+    let d = dir("atlas-attractors");
+    let make = |name: &str, extra: &[&str]| {
+        let f = d.join(name);
+        let mut args = vec![
+            "atlas",
+            "configs/multi-stop.toml",
+            "--x",
+            "omega=0.27:0.31:3",
+            "--y",
+            "delta=0.55:0.65:3",
+            "--sweep",
+            "both",
+            "--attractors",
+            "12",
+            "--quiet",
+            "-o",
+            f.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = run(&args);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        store::read(&f).unwrap().atlas
+    };
+    let one = make("one.h5", &["--threads", "1"]);
+    let two = make("two.h5", &["--threads", "2"]);
+    let a = one.attractors.as_ref().expect("an attractors group");
+    assert_eq!(one.attractors, two.attractors, "the same for 1 and 2 threads");
+    assert_eq!(a.samples, 12);
+    for cell in &a.cells {
+        let found = cell.as_ref().expect("every cell sampled");
+        let total: f64 = found.iter().map(|f| f.1).sum();
+        assert!((total - 1.0).abs() < 1e-12 && !found.is_empty());
+    }
+    assert!(a.cells.iter().flatten().any(|c| c.len() >= 2), "two coexisting motions somewhere in this window");
+    // Only where up and down differ.
+    let h = make("h.h5", &["--attractors-where", "hysteresis"]);
+    let mask = h.hysteresis().unwrap();
+    let sampled: Vec<bool> = h.attractors.unwrap().cells.iter().map(Option::is_some).collect();
+    assert_eq!(sampled, mask.iter().map(|&m| m == 1).collect::<Vec<_>>());
+    let png = d.join("count.png");
+    let out = run(&["render", d.join("one.h5").to_str().unwrap(), "--view", "attractors", "-o", png.to_str().unwrap()]);
+    assert!(out.status.success() && png.exists());
+}

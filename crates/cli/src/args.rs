@@ -207,6 +207,17 @@ pub struct AtlasArgs {
     /// Compute only shard K of N (whole lines); merge the parts with `vibroatlas merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
+    /// Also find the coexisting attractors of the cells from K sampled initial
+    /// states each (stored in the file's attractors group).
+    #[arg(long, value_name = "K")]
+    pub attractors: Option<usize>,
+    /// Cells whose attractors are sampled: all, or hysteresis (where up and
+    /// down differ; needs --sweep both).
+    #[arg(long, value_enum, default_value_t = AttractorsWhere::All)]
+    pub attractors_where: AttractorsWhere,
+    /// Seed of the attractor sampling.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
     /// Continue an interrupted run from its journal.
     #[arg(long)]
     pub resume: bool,
@@ -306,8 +317,9 @@ pub struct RenderArgs {
     #[arg(long)]
     #[arg(value_enum)]
     pub sweep: Option<RenderSweep>,
-    /// labels (default), lyapunov (largest exponent of cells without a period) or
-    /// multiplier (largest |Floquet multiplier| of periodic cells), as a continuous map.
+    /// labels (default), lyapunov (largest exponent of cells without a period),
+    /// multiplier (largest |Floquet multiplier| of periodic cells), or
+    /// attractors (the number of coexisting attractors, atlas --attractors).
     #[arg(long, value_enum, default_value_t = ViewArg::Labels)]
     pub view: ViewArg,
     /// Draw one row of the atlas as a bifurcation diagram: the row nearest to
@@ -460,6 +472,15 @@ pub enum RenderSweep {
     Hysteresis,
 }
 
+/// Which cells `atlas --attractors` samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum AttractorsWhere {
+    /// Every cell.
+    All,
+    /// Cells where the up and down sweeps differ.
+    Hysteresis,
+}
+
 /// What `render --view` draws.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ViewArg {
@@ -469,6 +490,8 @@ pub enum ViewArg {
     Lyapunov,
     /// The largest Floquet multiplier modulus.
     Multiplier,
+    /// The number of coexisting attractors (atlas --attractors).
+    Attractors,
 }
 
 impl PresetArg {

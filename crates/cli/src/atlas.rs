@@ -1,6 +1,6 @@
 //! `vibroatlas atlas`: map a parameter plane.
 
-use crate::args::{AlongArg, AtlasArgs, AtlasSweep};
+use crate::args::{AlongArg, AtlasArgs, AtlasSweep, AttractorsWhere};
 use crate::common::{in_flags, setup};
 use crate::out::outln;
 use crate::plan::{threads, Plan};
@@ -34,6 +34,13 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     plan.resume = a.resume;
     plan.inputs = vec![a.sim.scene.clone()];
     plan.force = a.force;
+    if let Some(k) = a.attractors {
+        if k == 0 || k > 100_000 {
+            anyhow::bail!("--attractors: expected 1 to 100000 samples per cell, got {k}");
+        }
+        let sampling = grid::attractors::Sampling { samples: k, seed: a.seed, x: 2.0, v: 2.0 };
+        plan.attractors = Some((sampling, a.attractors_where == AttractorsWhere::Hysteresis));
+    }
     plan.quiet = a.run.quiet;
     plan.check().map_err(|e| match e.downcast::<grid::GridError>() {
         Ok(g) => in_flags(g, FLAGS),

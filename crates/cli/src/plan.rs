@@ -25,6 +25,9 @@ pub struct Plan {
     pub force: bool,
     /// Estimated cost of each line (see `grid::schedule`), when probed.
     pub cost: Option<Vec<f64>>,
+    /// Coexisting attractors to find once the lines are done: the sampling,
+    /// and whether only hysteresis cells.
+    pub attractors: Option<(grid::attractors::Sampling, bool)>,
 }
 
 /// The command line as one string (for the file's `command` attribute).
@@ -150,8 +153,11 @@ impl Plan {
         let ran = plane.run(&self.setup, &jobs, self.threads, &bar, &sink);
         drop(sink);
         bar.finish();
-        let (atlas, journal) = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
+        let (mut atlas, journal) = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
         ran?;
+        if let Some((sampling, only_hysteresis)) = &self.attractors {
+            atlas.attractors = Some(self.find_attractors(&atlas, sampling, *only_hysteresis, &owns)?);
+        }
         let elapsed = start.elapsed().as_secs_f64();
         if let (Some(out), Some(j)) = (&self.output, journal) {
             let info =
@@ -209,6 +215,7 @@ impl Plan {
             inputs: Vec::new(),
             force: false,
             cost: None,
+            attractors: None,
         })
     }
 
@@ -229,6 +236,47 @@ impl Plan {
             self.cost = Some(grid::schedule::probe(&self.meta.plane, &self.setup, self.threads)?);
         }
         Ok(())
+    }
+
+    /// The coexisting attractors of the cells of this run's lines (only those
+    /// where up and down differ, with `only_hysteresis`).
+    fn find_attractors(
+        &self,
+        atlas: &Atlas,
+        sampling: &grid::attractors::Sampling,
+        only_hysteresis: bool,
+        owns: &[bool],
+    ) -> Result<grid::AttractorMap> {
+        let p = &self.meta.plane;
+        let hyst = atlas.hysteresis();
+        if only_hysteresis && hyst.is_none() {
+            bail!("--attractors-where hysteresis: needs --sweep both");
+        }
+        let chosen: Vec<usize> = (0..p.cells())
+            .filter(|&i| {
+                let (iy, ix) = (i / p.x.count, i % p.x.count);
+                let line = match p.along {
+                    grid::Along::X => iy,
+                    grid::Along::Y => ix,
+                };
+                owns[line] && hyst.as_ref().is_none_or(|h| !only_hysteresis || h[i] == 1)
+            })
+            .collect();
+        let points: Vec<Vec<(String, f64)>> = chosen.iter().map(|&i| p.params(i / p.x.count, i % p.x.count)).collect();
+        let found = grid::attractors::find_all(&self.setup, &points, sampling, self.threads)?;
+        let mut cells = vec![None; p.cells()];
+        for (&i, list) in chosen.iter().zip(found) {
+            let masses = self.meta.masses.len();
+            cells[i] = Some(
+                list.iter()
+                    .map(|a| {
+                        let labels = (0..masses).map(|m| a.cell.label_text(m)).collect();
+                        (labels, a.count as f64 / sampling.samples as f64)
+                    })
+                    .collect(),
+            );
+        }
+        Ok(grid::AttractorMap { samples: sampling.samples, seed: sampling.seed, cells })
     }
 
     /// Whether the run computes continuation chains (up or down sweeps).

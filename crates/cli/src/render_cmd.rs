@@ -39,8 +39,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
             View::Sweep(kind)
         }
     };
+    if a.view == ViewArg::Attractors {
+        return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, tmp))?);
+    }
     let quantity = match a.view {
-        ViewArg::Labels => None,
+        ViewArg::Labels | ViewArg::Attractors => None,
         ViewArg::Lyapunov => Some(Quantity::Lyapunov),
         ViewArg::Multiplier => Some(Quantity::Multiplier),
     };

@@ -50,6 +50,22 @@ pub struct Map {
     pub cells: Vec<Option<CellData>>,
 }
 
+/// The coexisting attractors found in one cell: per attractor, the label of
+/// each labelled mass and the share of the samples that reached it (largest
+/// first; see [`crate::attractors`]).
+pub type CellAttractors = Vec<(Vec<String>, f64)>;
+
+/// Coexisting attractors sampled over a plane (`atlas --attractors K`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AttractorMap {
+    /// Initial states sampled per cell, and their seed.
+    pub samples: usize,
+    /// Seed of the sampling.
+    pub seed: u64,
+    /// `ny × nx`, row-major: `None` where not sampled.
+    pub cells: Vec<Option<CellAttractors>>,
+}
+
 /// A whole atlas.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Atlas {
@@ -57,6 +73,8 @@ pub struct Atlas {
     pub meta: Meta,
     /// One map per sweep, in `meta.sweeps` order.
     pub maps: Vec<Map>,
+    /// Coexisting attractors per cell, when sampled.
+    pub attractors: Option<AttractorMap>,
 }
 
 impl Atlas {
@@ -64,7 +82,7 @@ impl Atlas {
     pub fn new(meta: Meta) -> Atlas {
         let n = meta.plane.cells();
         let maps = meta.sweeps.iter().map(|&sweep| Map { sweep, cells: vec![None; n] }).collect();
-        Atlas { meta, maps }
+        Atlas { meta, maps, attractors: None }
     }
 
     /// The map of one sweep.

@@ -97,22 +97,44 @@ pub fn find(
     sampling: &Sampling,
     threads: usize,
 ) -> Result<Vec<Attractor>, GridError> {
-    let sys = setup.system(params)?;
+    Ok(find_all(setup, &[params.to_vec()], sampling, threads)?.remove(0))
+}
+
+/// [`find`] at each of `points`, every (point, sample) pair in one pool.
+pub fn find_all(
+    setup: &CellSetup,
+    points: &[Vec<(String, f64)>],
+    sampling: &Sampling,
+    threads: usize,
+) -> Result<Vec<Vec<Attractor>>, GridError> {
+    let systems = points.iter().map(|p| setup.system(p)).collect::<Result<Vec<_>, _>>()?;
     // Every period-section point is kept, so that orbits can be compared.
     let setup = CellSetup { section_cap: setup.section_cap.max(setup.accuracy.n_max), ..setup.clone() };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
         .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let k = sampling.samples;
     let cells: Vec<(Vec<f64>, CellData)> = pool.install(|| {
-        (0..sampling.samples)
+        (0..points.len() * k)
             .into_par_iter()
-            .map(|i| {
-                let y0 = sample(&sys, sampling, i);
-                setup.run(params, Some(&y0)).map(|c| (y0, c))
+            .map(|j| {
+                let (p, i) = (j / k, j % k);
+                let y0 = sample(&systems[p], sampling, i);
+                setup.run(&points[p], Some(&y0)).map(|c| (y0, c))
             })
             .collect::<Result<Vec<_>, _>>()
     })?;
+    let mut out = Vec::with_capacity(points.len());
+    let mut it = cells.into_iter();
+    for _ in points {
+        out.push(group(it.by_ref().take(k)));
+    }
+    Ok(out)
+}
+
+/// Groups the sampled cells of one point by attractor (see the module doc).
+fn group(cells: impl Iterator<Item = (Vec<f64>, CellData)>) -> Vec<Attractor> {
     let mut found: Vec<Attractor> = Vec::new();
     for (i, (start, cell)) in cells.into_iter().enumerate() {
         match found.iter_mut().find(|a| same(&a.cell, &cell)) {
@@ -124,7 +146,7 @@ pub fn find(
         }
     }
     found.sort_by(|a, b| b.count.cmp(&a.count).then(a.members[0].cmp(&b.members[0])));
-    Ok(found)
+    found
 }
 
 #[cfg(test)]

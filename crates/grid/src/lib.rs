@@ -18,7 +18,7 @@ pub mod shard;
 pub mod study;
 pub mod sweep;
 
-pub use atlas::{Atlas, Map, Meta};
+pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
 pub use axis::Axis;
 pub use cell::{label_text, start_state, CellData, CellSetup, STUCK};
 pub use error::GridError;

@@ -274,3 +274,52 @@ fn draw_sheet<DB: DrawingBackend>(
     }
     draw_legend(&right, "label (cells, all panels)", &count(&all, mass), &[])
 }
+
+/// Colours of 1, 2, 3 and 4 or more coexisting attractors (light to dark).
+const COEXISTING: [RGBColor; 4] =
+    [RGBColor(222, 235, 247), RGBColor(107, 174, 214), RGBColor(33, 113, 181), RGBColor(8, 48, 107)];
+
+/// Draws the number of coexisting attractors found in each sampled cell of
+/// `atlas` (`atlas --attractors`), cells not sampled white (format by the
+/// extension of `path`).
+pub fn attractor_map(atlas: &Atlas, path: &Path) -> Result<(), RenderError> {
+    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError {
+        message: "the file has no attractors: make it with atlas --attractors K".into(),
+    })?;
+    save!(path, (1140, 800), |root| draw_attractors(&root, atlas, a))
+}
+
+fn draw_attractors<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    atlas: &Atlas,
+    a: &grid::AttractorMap,
+) -> Result<(), RenderError> {
+    let m = &atlas.meta;
+    root.fill(&WHITE).map_err(err)?;
+    let title = format!("coexisting attractors ({} sampled initial states per cell, seed {})", a.samples, a.seed);
+    let root = root.titled(&title, ("sans-serif", 20)).map_err(err)?;
+    let (body, foot) = root.split_vertically(root.dim_in_pixel().1 - 28);
+    foot.draw(&Text::new(settings_text(m), (12, 4), ("sans-serif", 15).into_font())).map_err(err)?;
+    let (plot, legend) = body.split_horizontally(760);
+    let shade = |n: usize| COEXISTING[n.clamp(1, 4) - 1];
+    draw_cells(&plot, m, "number of attractors", 15, |i| Some(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))))?;
+    let mut counts = [0u64; 5];
+    for c in &a.cells {
+        counts[c.as_ref().map_or(0, |c| c.len().min(4))] += 1;
+    }
+    let rows: Vec<(String, RGBColor)> = (1..=4)
+        .map(|n| {
+            (
+                format!(
+                    "{n}{} attractor{}  ({})",
+                    if n == 4 { " or more" } else { "" },
+                    if n == 1 { "" } else { "s" },
+                    counts[n]
+                ),
+                shade(n),
+            )
+        })
+        .chain(std::iter::once((format!("not sampled  ({})", counts[0]), BLANK)))
+        .collect();
+    draw_legend(&legend, "cells", &[], &rows)
+}

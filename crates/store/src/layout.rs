@@ -48,6 +48,12 @@ pub const POINT: &str = "point";
 pub const CELL_EDGE: &str = "cell_edge";
 /// Dimension of a legend's entries.
 pub const ENTRY: &str = "entry";
+/// Group of the coexisting attractors of an atlas (`atlas --attractors K`):
+/// `count [y, x]`, `fraction [y, x, attractor]`, `label_code_<mass> [y, x,
+/// attractor]` into its own `label` table; attributes `samples`, `seed`.
+pub const ATTRACTORS: &str = "attractors";
+/// Dimension of the attractor slots of a cell.
+pub const ATTRACTOR: &str = "attractor";
 /// Label text of a cell a shard did not compute.
 pub const NOT_COMPUTED_LABEL: &str = "not-computed";
 /// What the label coordinate holds.

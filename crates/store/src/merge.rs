@@ -69,6 +69,17 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             }
         }
         run_time += part.info.run_time_s;
+        match (&mut atlas.attractors, part.atlas.attractors) {
+            (Some(into), Some(from)) => {
+                for (i, c) in from.cells.into_iter().enumerate() {
+                    if c.is_some() {
+                        into.cells[i] = c;
+                    }
+                }
+            }
+            (into @ None, Some(from)) => *into = Some(from),
+            _ => {}
+        }
         for (into, from) in atlas.maps.iter_mut().zip(part.atlas.maps) {
             for (i, cell) in from.cells.into_iter().enumerate() {
                 if let Some(c) = cell {

@@ -168,6 +168,10 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Ok(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
         Err(_) => None,
     };
+    let attractors = match f.group(ATTRACTORS) {
+        Ok(g) => Some(read_attractors(&g, n, &meta.masses).map_err(h)?),
+        Err(_) => None,
+    };
     // Layout 1 had no history: its command is the whole of it.
     let command = attr(&f, "command").map_err(h)?;
     let created = attr(&f, "created").map_err(h)?;
@@ -176,7 +180,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Err(_) => vec![format!("{created}: {command}")],
     };
     Ok(Loaded {
-        atlas: Atlas { meta, maps },
+        atlas: Atlas { meta, maps, attractors },
         info: RunInfo {
             command,
             run_time_s: f.attr("run_time_s").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
@@ -185,4 +189,29 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         },
         created: attr(&f, "created").map_err(h)?,
     })
+}
+
+/// The `/attractors` group of `n` cells and the labelled `masses`.
+fn read_attractors(g: &hdf5::Group, n: usize, masses: &[String]) -> hdf5::Result<grid::AttractorMap> {
+    let count = g.dataset("count")?.read_raw::<u8>()?;
+    let fraction = g.dataset("fraction")?.read_raw::<f64>()?;
+    let slots = fraction.len() / n.max(1);
+    let table: Vec<String> = g.dataset(LABEL)?.read_raw::<VarLenUnicode>()?.iter().map(|t| t.to_string()).collect();
+    let codes = masses
+        .iter()
+        .map(|m| g.dataset(&label_code(m)).and_then(|d| d.read_raw::<i16>()))
+        .collect::<hdf5::Result<Vec<_>>>()?;
+    let text = |c: i16| table.get(c.max(0) as usize).cloned().unwrap_or_default();
+    let cells = (0..n)
+        .map(|i| {
+            (count[i] > 0).then(|| {
+                (0..(count[i] as usize).min(slots))
+                    .map(|k| (codes.iter().map(|c| text(c[i * slots + k])).collect(), fraction[i * slots + k]))
+                    .collect()
+            })
+        })
+        .collect();
+    let samples = g.attr("samples").and_then(|a| a.read_scalar::<u64>())? as usize;
+    let seed = g.attr("seed").and_then(|a| a.read_scalar::<u64>())?;
+    Ok(grid::AttractorMap { samples, seed, cells })
 }

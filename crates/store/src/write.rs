@@ -253,6 +253,9 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         netcdf::attr_array(&d, "flag_values", &[0u8, 1])?;
         netcdf::attr_str(&d, "flag_meanings", "same_motion coexisting_motions")?;
     }
+    if let Some(a) = &atlas.attractors {
+        write_attractors(&f, m, a)?;
+    }
     let legend = f.create_group(LEGEND)?;
     for map in &atlas.maps {
         let g = legend.create_group(map.sweep.name())?;
@@ -269,6 +272,49 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         }
     }
     f.flush()
+}
+
+/// The coexisting attractors of the sampled cells (`/attractors`, see
+/// [`crate::layout`]): their count per cell, and per attractor slot the label
+/// code of each mass and the basin fraction.
+fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap) -> hdf5::Result<()> {
+    let (nx, ny) = (m.plane.x.count, m.plane.y.count);
+    let g = f.create_group(ATTRACTORS)?;
+    netcdf::attr_num(&g, "samples", a.samples as u64)?;
+    netcdf::attr_num(&g, "seed", a.seed)?;
+    let grid = Grid::new(&g, m)?;
+    let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
+    let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
+    let texts = a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter());
+    let table = label_table(texts);
+    let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
+    netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
+    let cell = |iy: usize, ix: usize| a.cells[iy * nx + ix].as_ref();
+    let count = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0u8, |c| c.len().min(255) as u8));
+    let d = dataset(&g, "count", &count)?;
+    netcdf::dims(&d, &[&grid.y, &grid.x])?;
+    netcdf::describe(&d, "number of coexisting attractors found (0: cell not sampled)", "1")?;
+    let fraction = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
+        cell(iy, ix).and_then(|c| c.get(k)).map_or(f64::NAN, |e| e.1)
+    });
+    let d = dataset(&g, "fraction", &fraction)?;
+    netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
+    netcdf::describe(&d, "share of the sampled initial states that reach the attractor (basin fraction)", "1")?;
+    netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+    for (mi, mass) in m.masses.iter().enumerate() {
+        let index = |t: &String| table.iter().position(|l| l == t).unwrap_or(0) as i16;
+        let code = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
+            cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.0[mi]))
+        });
+        let d = dataset(&g, &label_code(mass), &code)?;
+        netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
+        netcdf::describe(
+            &d,
+            &format!("label of {mass} on each attractor: index into the label coordinate (-1: none)"),
+            "1",
+        )?;
+    }
+    Ok(())
 }
 
 /// The coordinate variables of a group's plane (dimension scales named after
