@@ -298,3 +298,66 @@ fn arclength_goes_around_the_fold() {
     assert_eq!(branch[turn + 3]["stable"], false);
     assert!(values[turn + 5] > values[turn + 1], "the parameter grows again on the unstable branch");
 }
+
+/// Issue 20: `curve` follows the fold of the undamped single-stop (1,1) orbit
+/// in the (σ, ω) plane; at every ω it passes through the closed-form fold.
+#[test]
+fn fold_curve_matches_the_closed_form() {
+    let start = solver::reference::single_stop_fold_sigma(2.5, 0.8, 1);
+    let j = json_of(&[
+        "curve",
+        "configs/single-stop.toml",
+        "--kind",
+        "sn",
+        "--start",
+        &format!("sigma={start},omega=2.5"),
+        "--free",
+        "sigma,omega",
+        "--to",
+        "2.8",
+        "--steps",
+        "3",
+        "--window",
+        "1",
+        "--json",
+    ]);
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(points.len(), 4, "{j}");
+    for p in points {
+        let (sigma, omega) = (p["sigma"].as_f64().unwrap(), p["omega"].as_f64().unwrap());
+        let expected = solver::reference::single_stop_fold_sigma(omega, 0.8, 1);
+        assert!((sigma - expected).abs() < 1e-7, "ω = {omega}: fold at σ = {sigma}, closed form {expected}");
+    }
+    assert_eq!(j["kind"], "SN");
+    assert_eq!(j["free"], serde_json::json!(["sigma", "omega"]));
+}
+
+/// Issue 20: the pitchfork of the dry-friction 1-1-1 orbit followed in the
+/// (ω, fk) plane passes through the published values at fk = 0.01, 0.05 and
+/// 0.1 (ω = 6.844, 6.81, 6.745), where it breaks the symmetry.
+#[test]
+fn pitchfork_curve_passes_through_the_published_values() {
+    let j = json_of(&[
+        "curve",
+        "configs/dry-friction.toml",
+        "--kind",
+        "pf",
+        "--start",
+        "omega=6.845,fk=0.01",
+        "--free",
+        "omega,fk",
+        "--to",
+        "0.1",
+        "--steps",
+        "9",
+        "--json",
+    ]);
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(points.len(), 10, "{j}");
+    for (fk, omega) in [(0.01, 6.844), (0.05, 6.81), (0.1, 6.745)] {
+        let p = points.iter().find(|p| (p["fk"].as_f64().unwrap() - fk).abs() < 1e-9).unwrap();
+        assert!((p["omega"].as_f64().unwrap() - omega).abs() < 3e-3, "fk = {fk}: {p}");
+        assert_eq!(p["labels"]["above"]["symmetry"], "S", "{p}");
+        assert_eq!(p["labels"]["below"]["symmetry"], "AS", "{p}");
+    }
+}

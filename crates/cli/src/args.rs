@@ -36,6 +36,54 @@ pub enum Command {
     Continue(ContinueArgs),
     /// Find the coexisting attractors of one parameter point from sampled initial states.
     Attractors(AttractorsArgs),
+    /// Follow a bifurcation (PD, SN, PF, NS, grazing) in a plane of two parameters.
+    Curve(CurveArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CurveArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// The bifurcation followed.
+    #[arg(long, value_enum)]
+    pub kind: KindArg,
+    /// Where to start: NAME=VALUE,NAME=VALUE of the two free parameters (the
+    /// bifurcation is located near the first value).
+    #[arg(long, value_name = "A=VALUE,B=VALUE")]
+    pub start: String,
+    /// The two free parameters A,B: A is located, B is stepped.
+    #[arg(long, value_name = "A,B")]
+    pub free: String,
+    /// The last value of B.
+    #[arg(long, value_name = "VALUE")]
+    pub to: f64,
+    /// Steps from the start to --to.
+    #[arg(long, default_value_t = 20)]
+    pub steps: usize,
+    /// Half-width of the search for the bifurcation in A around its prediction.
+    #[arg(long, default_value_t = 0.05, value_name = "W")]
+    pub window: f64,
+    /// Period of the orbit in forcing periods (default: the cell's).
+    #[arg(long, value_name = "N")]
+    pub n: Option<usize>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Kinds of bifurcation `curve` follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum KindArg {
+    /// Period doubling.
+    Pd,
+    /// Saddle-node (fold).
+    Sn,
+    /// Symmetry-breaking pitchfork.
+    Pf,
+    /// Neimark–Sacker.
+    Ns,
+    /// Grazing.
+    Grazing,
 }
 
 #[derive(Debug, Args)]

@@ -159,6 +159,9 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
     sim.accuracy = knobs;
     let mut s = setup_with(&sim, preset, method)?;
     let params = m.plane.params(iy, ix);
+    if let Some((k, _)) = s.overrides.iter().find(|(k, _)| params.iter().any(|(p, _)| p == k)) {
+        bail!("--set {k}: the cell of --from fixes {k} (an axis of {}); choose the cell with --at", file.display());
+    }
     let mut overrides = m.overrides.clone();
     overrides.extend(params.iter().cloned());
     overrides.extend(s.overrides.iter().filter(|(k, _)| !params.iter().any(|(p, _)| p == k)).cloned());

@@ -30,7 +30,12 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         over.push((axis.name.clone(), v));
         System::new(s.scene.evaluate(&over).ok()?).ok()
     };
-    let sys = family(values[0]).ok_or_else(|| anyhow!("--axis {}: the scene rejects {}", axis.name, values[0]))?;
+    let sys = {
+        let mut over = s.overrides.clone();
+        over.retain(|(k, _)| k != &axis.name);
+        over.push((axis.name.clone(), values[0]));
+        System::new(s.scene.evaluate(&over)?)?
+    };
     let y0 = origin.map_or_else(|| sys.model.initial_state(), |o| o.state);
     let start =
         orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;

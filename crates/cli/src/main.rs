@@ -9,6 +9,7 @@ mod bench;
 mod cell;
 mod common;
 mod continue_cmd;
+mod curve;
 mod diagram;
 mod inspect;
 mod merge;
@@ -29,10 +30,21 @@ fn main() {
         // Help and version go to standard output as clap prints them.
         Err(e) if !e.use_stderr() => e.exit(),
         Err(e) => {
-            // One line: clap's first, without its usage and tips.
+            // One line: clap's message up to its usage and tips (the missing
+            // arguments it lists on the lines after the first included).
             let text = e.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments").trim_start_matches("error: ");
-            eprintln!("error: {first} (see vibroatlas --help)");
+            let lines: Vec<&str> = text
+                .lines()
+                .map(str::trim)
+                .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("tip:") && !l.starts_with("For more"))
+                .filter(|l| !l.is_empty())
+                .collect();
+            let message = lines.join(" ");
+            let message = message.trim_start_matches("error: ");
+            eprintln!(
+                "error: {} (see vibroatlas --help)",
+                if message.is_empty() { "invalid arguments" } else { message }
+            );
             std::process::exit(2);
         }
     };
@@ -48,6 +60,7 @@ fn main() {
         args::Command::Orbit(a) => orbit::run(a),
         args::Command::Continue(a) => continue_cmd::run(a),
         args::Command::Attractors(a) => attractors::run(a),
+        args::Command::Curve(a) => curve::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -229,6 +229,12 @@ impl Plan {
             let inputs: Vec<&std::path::Path> = self.inputs.iter().map(PathBuf::as_path).collect();
             store::check_output(out, &inputs, self.force)?;
         }
+        if let Some(s) = self.shard {
+            let lines = self.meta.plane.lines();
+            if s.n > lines {
+                bail!("--shard: N must be at most the {lines} lines of the plane, got {}", s.n);
+            }
+        }
         self.check_memory()?;
         self.meta.plane.validate(&self.setup)?;
         let lines = self.meta.plane.lines();

@@ -4,6 +4,9 @@
 
 use crate::error::GridError;
 
+/// Most shards a plane may be split into (and at most one per line).
+pub const MAX_SHARDS: usize = 100_000;
+
 /// Shard K of N (1-based K).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Shard {
@@ -22,6 +25,9 @@ impl Shard {
         let n: usize = n.trim().parse().map_err(|_| bad(format!("N '{n}' is not a whole number")))?;
         if n == 0 || k == 0 || k > n {
             return Err(bad(format!("need 1 <= K <= N, got {k}/{n}")));
+        }
+        if n > MAX_SHARDS {
+            return Err(bad(format!("N must be at most {MAX_SHARDS}, got {n}")));
         }
         Ok(Shard { k, n })
     }

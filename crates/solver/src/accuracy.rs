@@ -236,6 +236,15 @@ impl Accuracy {
                 return Err(err(&format!("at most {max:e} ({why}), got {value:e}")));
             }
         }
+        // RK4 steps below these take hours per cell.
+        let floor = match name {
+            "rk4_step" => 1e-5,
+            "rk4_min_step" => 1e-15,
+            _ => 0.0,
+        };
+        if value < floor {
+            return Err(err(&format!("at least {floor:e} (smaller steps take hours per cell), got {value:e}")));
+        }
         match name {
             "event_tol" => self.event_tol = positive()?,
             "contact_tol" => self.contact_tol = positive()?,

@@ -34,7 +34,9 @@ pub enum StoreError {
 impl StoreError {
     /// Wraps an HDF5 error with the file's path.
     pub fn hdf5(path: &std::path::Path, e: hdf5::Error) -> Self {
-        StoreError::Hdf5 { path: path.display().to_string(), message: e.to_string() }
+        // The library's messages span lines: one line, as every error.
+        let message = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+        StoreError::Hdf5 { path: path.display().to_string(), message }
     }
 
     /// Wraps an I/O error with the file's path.
