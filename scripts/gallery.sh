@@ -64,4 +64,10 @@ EOF
 vibroatlas study $out/mass-ratio.toml -o $out/mass-ratio --quiet >/dev/null
 cp $out/mass-ratio/contact-sheet.png $img/contact-sheet.png
 
+# One motion: phase portraits and time series; coexisting attractors and their basins.
+vibroatlas cell configs/multi-stop.toml --set omega=0.33 --portrait $img/portrait.png >/dev/null
+vibroatlas attractors configs/multi-stop.toml --set omega=0.3149 --set delta=0.7 --samples 64 --png $img/basins.png >/dev/null
+vibroatlas atlas configs/multi-stop.toml --x omega=0.25:0.4:16 --y delta=0.5:0.9:9 --sweep both --attractors 16 --quiet -o $out/attractors.h5 >/dev/null
+vibroatlas render $out/attractors.h5 -o $img/attractors.png --view attractors
+
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
