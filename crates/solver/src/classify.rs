@@ -369,7 +369,7 @@ pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> Cel
 }
 
 /// [`run_cell`] and the impact sections of its classified window, at most
-/// `section_cap` points per stop (see [`crate::section`]). The window is simulated
+/// `section_cap` points per stop (see the `section` module). The window is simulated
 /// again with the modes the classification built.
 pub fn run_cell_with_sections(
     sys: &System,
