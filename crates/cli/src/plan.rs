@@ -295,7 +295,8 @@ impl Plan {
         let lines = self.meta.plane.lines();
         match (self.shard, &self.cost) {
             (Some(s), Some(cost)) => grid::schedule::shard_lines(cost, s.k, s.n),
-            (Some(s), None) => (0..lines).map(|l| s.owns(l)).collect(),
+            // Not probed (check was not called): equal costs deal lines in turn.
+            (Some(s), None) => grid::schedule::shard_lines(&vec![1.0; lines], s.k, s.n),
             (None, _) => vec![true; lines],
         }
     }
