@@ -1,16 +1,8 @@
 //! `vibroatlas atlas`, `sweep`, `merge`, `render`, `inspect` end to end (issue 3).
 
-use crate::util::run;
-use std::path::{Path, PathBuf};
+use crate::util::{run, scratch};
+use std::path::Path;
 use std::process::Command;
-
-/// A fresh folder for one test.
-pub fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn atlas(out: &Path, extra: &[&str]) {
     let mut args = vec![

@@ -2,25 +2,11 @@
 //! hysteresis loops along one parameter, coexisting attractors, the papers'
 //! chattering, and named trace events.
 
-use crate::util::{cell_json, run};
-use std::path::PathBuf;
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vibroatlas-drill-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = run(args);
-    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+use crate::util::{cell_json, json_of, run, scratch};
 
 #[test]
 fn a_stored_cell_opens_again_bit_for_bit() {
-    let d = dir("from");
+    let d = scratch("from");
     let f = d.join("a.h5");
     let out = run(&[
         "atlas",
@@ -53,7 +39,7 @@ fn a_stored_cell_opens_again_bit_for_bit() {
         assert_eq!(c["from"]["sweep"], sweep);
     }
     // The up-sweep branch there is a periodic orbit that orbit --from finds.
-    let o = json(&[
+    let o = json_of(&[
         "orbit",
         "configs/multi-stop.toml",
         "--from",
@@ -76,7 +62,7 @@ fn a_stored_cell_opens_again_bit_for_bit() {
 
 #[test]
 fn a_down_up_loop_finds_the_published_hysteresis_zone() {
-    let j = json(&[
+    let j = json_of(&[
         "sweep",
         "configs/dry-friction.toml",
         "--axis",
@@ -116,7 +102,7 @@ fn a_down_up_loop_finds_the_published_hysteresis_zone() {
 #[test]
 fn coexisting_attractors_are_found_with_their_basins() {
     let args = |threads: &str| {
-        json(&[
+        json_of(&[
             "attractors",
             "configs/multi-stop.toml",
             "--set",
@@ -158,7 +144,7 @@ fn chattering_is_many_impacts_within_one_forcing_period() {
 
 #[test]
 fn no_cell_with_a_negative_exponent_is_chaotic() {
-    let d = dir("chaos");
+    let d = scratch("chaos");
     let f = d.join("a.h5");
     let out = run(&[
         "atlas",
@@ -186,7 +172,7 @@ fn no_cell_with_a_negative_exponent_is_chaotic() {
 
 #[test]
 fn trace_events_say_what_happened_where() {
-    let d = dir("trace");
+    let d = scratch("trace");
     let t = d.join("t.csv");
     let out = run(&["cell", "configs/multi-stop.toml", "--set", "omega=0.33", "--trace", t.to_str().unwrap()]);
     assert!(out.status.success());
@@ -199,7 +185,7 @@ fn trace_events_say_what_happened_where() {
 
 #[test]
 fn atlas_attractors_are_stored_per_cell_and_deterministic() {
-    let d = dir("atlas-attractors");
+    let d = scratch("atlas-attractors");
     let make = |name: &str, extra: &[&str]| {
         let f = d.join(name);
         let mut args = vec![

@@ -1,16 +1,9 @@
 //! Issue 21: nothing lost, nothing wrong, never a crash. Each test reproduces
 //! one defect of the adversarial audit and checks the fix through the binary.
 
-use crate::util::run;
-use std::path::PathBuf;
-use std::process::{Command, Stdio};
+use crate::util::{run, scratch};
 
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vibroatlas-faults-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use std::process::{Command, Stdio};
 
 /// Exit code 2, one line on stderr containing `what`, no panic.
 fn refused(args: &[&str], what: &str) {
@@ -38,7 +31,7 @@ fn strs(v: &[String]) -> Vec<&str> {
 
 #[test]
 fn a_second_run_on_the_same_output_is_refused_and_the_first_completes() {
-    let d = dir("lock");
+    let d = scratch("lock");
     let out = d.join("cc.h5");
     let o = out.to_str().unwrap();
     let big = ["atlas", "configs/multi-stop.toml", "--x", "omega=0.1:3.05:48", "--y", "delta=0.05:2:48"];
@@ -69,7 +62,7 @@ fn a_second_run_on_the_same_output_is_refused_and_the_first_completes() {
 
 #[test]
 fn outputs_that_are_folders_scenes_or_devices_are_refused_before_work() {
-    let d = dir("paths");
+    let d = scratch("paths");
     let ds = d.to_str().unwrap();
     refused(&strs(&atlas(ds, &[])), "is a directory");
     assert!(std::fs::read_dir(&d).unwrap().next().is_none(), "nothing left beside it");
@@ -86,7 +79,7 @@ fn outputs_that_are_folders_scenes_or_devices_are_refused_before_work() {
 
 #[test]
 fn an_edited_or_malformed_journal_is_refused_and_an_intact_one_resumes_bit_for_bit() {
-    let d = dir("journal");
+    let d = scratch("journal");
     let (full, part) = (d.join("full.h5"), d.join("part.h5"));
     assert!(run(&strs(&atlas(full.to_str().unwrap(), &[]))).status.success());
     // Journal lines as an interrupted run leaves them: read while a run goes on.
@@ -138,7 +131,7 @@ fn an_edited_or_malformed_journal_is_refused_and_an_intact_one_resumes_bit_for_b
 
 #[test]
 fn merge_refuses_missing_duplicated_and_foreign_parts() {
-    let d = dir("merge");
+    let d = scratch("merge");
     let part = |k: &str, extra: &[&str]| {
         let p = d.join(format!("p{}{}.h5", k.replace('/', "of"), extra.len()));
         let mut a = atlas(p.to_str().unwrap(), extra);
@@ -167,7 +160,7 @@ fn merge_refuses_missing_duplicated_and_foreign_parts() {
 
 #[test]
 fn closed_and_full_output_streams_end_without_a_panic() {
-    let d = dir("streams");
+    let d = scratch("streams");
     let f = d.join("a.h5");
     assert!(run(&strs(&atlas(f.to_str().unwrap(), &[]))).status.success());
     let full = std::fs::File::create("/dev/full");
@@ -225,7 +218,7 @@ fn sizes_are_bounded_before_any_allocation() {
 
 #[test]
 fn expressions_and_names_give_errors_that_say_what_is_wrong() {
-    let d = dir("expr");
+    let d = scratch("expr");
     let base = std::fs::read_to_string("configs/multi-stop.toml").unwrap();
     let scene = |name: &str, from: &str, to: &str| {
         let p = d.join(name);
@@ -262,7 +255,7 @@ fn silent_cases_are_refused() {
         ],
         "also an axis",
     );
-    let d = dir("silent");
+    let d = scratch("silent");
     let base = std::fs::read_to_string("configs/multi-stop.toml").unwrap();
     let p = d.join("sym.toml");
     std::fs::write(&p, base.replacen("symmetric = false", "symmetric = true", 1)).unwrap();

@@ -2,20 +2,8 @@
 //! at known cells, SVG parsed as XML, PDF headers, titles that match what was
 //! run.
 
-use crate::util::run;
-use std::path::{Path, PathBuf};
-
-fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vibroatlas-figures-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn ok(args: &[&str]) {
-    let out = run(args);
-    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
-}
+use crate::util::{ok, run, scratch};
+use std::path::Path;
 
 /// RGB rows of a PNG.
 fn pixels(path: &Path) -> (usize, usize, Vec<[u8; 3]>) {
@@ -48,7 +36,7 @@ fn centre(ix: usize, iy: usize) -> (usize, usize) {
 
 #[test]
 fn a_label_has_the_same_colour_in_every_sweep_and_file() {
-    let d = dir("colours");
+    let d = scratch("colours");
     let (a, b) = (d.join("a.h5"), d.join("b.h5"));
     // Two files with labels in common (2 x 2 cells each, in different places).
     ok(&[
@@ -102,7 +90,7 @@ fn a_label_has_the_same_colour_in_every_sweep_and_file() {
 
 #[test]
 fn vector_formats_are_valid_and_unknown_ones_refused() {
-    let d = dir("vector");
+    let d = scratch("vector");
     let a = d.join("a.h5");
     ok(&[
         "atlas",
@@ -135,7 +123,7 @@ fn vector_formats_are_valid_and_unknown_ones_refused() {
 
 #[test]
 fn diagrams_say_which_directions_were_run() {
-    let d = dir("diagram");
+    let d = scratch("diagram");
     let svg = d.join("down.svg");
     let out = run(&[
         "sweep",

@@ -1,6 +1,6 @@
 //! Exact Jacobians, Newton orbits, Floquet multipliers (issue 6).
 
-use crate::util::system;
+use crate::util::{json_of, system};
 use solver::{multipliers, solve, Accuracy, Complex64, DMatrix, DVector, Ignore, MapKind, Method, Simulator, System};
 
 /// Converged stable state of a cell (plain simulation) and its period.
@@ -159,12 +159,6 @@ fn newton_fixed_point_reproduces_simulated_impact_phases() {
         assert_eq!(a.0, b.0);
         assert!((a.1 - b.1).abs() < 1e-10, "impact time {} against {}", a.1, b.1);
     }
-}
-
-fn json_of(args: &[&str]) -> serde_json::Value {
-    let out = crate::util::run(args);
-    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 /// Issue 6: a period doubling seen in a sweep (1-3-2 at ω = 1.1825, 2-6-4 at
