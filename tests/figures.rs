@@ -167,3 +167,74 @@ fn diagrams_say_which_directions_were_run() {
         assert!(text.contains(want), "{want} missing");
     }
 }
+
+/// Issue 20: a curve file is self-describing (read back equal to the curve's
+/// JSON) and is drawn over the map of an atlas of the same plane; a curve of
+/// another plane is refused.
+#[test]
+fn curves_are_stored_and_drawn_over_maps() {
+    let d = scratch("curves");
+    let (c, a) = (d.join("pf.h5"), d.join("df.h5"));
+    let j = crate::util::json_of(&[
+        "curve",
+        "configs/dry-friction.toml",
+        "--kind",
+        "pf",
+        "--start",
+        "omega=6.845,fk=0.01",
+        "--free",
+        "omega,fk",
+        "--to",
+        "0.05",
+        "--steps",
+        "4",
+        "--json",
+        "-o",
+        c.to_str().unwrap(),
+    ]);
+    let curve = store::read_curve(&c).unwrap();
+    assert_eq!((curve.kind.as_str(), curve.free.clone()), ("PF", ["omega".to_string(), "fk".to_string()]));
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(curve.points.len(), points.len());
+    for (p, q) in curve.points.iter().zip(points) {
+        assert_eq!((p.0, p.1), (q["omega"].as_f64().unwrap(), q["fk"].as_f64().unwrap()));
+    }
+    ok(&[
+        "atlas",
+        "configs/dry-friction.toml",
+        "--x",
+        "omega=6.6:7:6",
+        "--y",
+        "fk=0.005:0.06:4",
+        "--sweep",
+        "down",
+        "--quiet",
+        "-o",
+        a.to_str().unwrap(),
+    ]);
+    let png = d.join("overlay.png");
+    ok(&["render", a.to_str().unwrap(), "--curves", c.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(png.exists());
+    let other = d.join("other.h5");
+    ok(&[
+        "atlas",
+        "configs/dry-friction.toml",
+        "--x",
+        "omega=6.6:7:3",
+        "--y",
+        "b=0.02:0.04:2",
+        "--quiet",
+        "-o",
+        other.to_str().unwrap(),
+    ]);
+    let out = run(&[
+        "render",
+        other.to_str().unwrap(),
+        "--curves",
+        c.to_str().unwrap(),
+        "-o",
+        d.join("x.png").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("is a curve in (omega, fk)"));
+}

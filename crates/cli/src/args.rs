@@ -69,6 +69,9 @@ pub struct CurveArgs {
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
+    /// Write the curve to a self-describing HDF5 file (for `render --curves`).
+    #[arg(short = 'o', long = "output", value_name = "FILE.h5")]
+    pub output: Option<PathBuf>,
 }
 
 /// Kinds of bifurcation `curve` follows.
@@ -380,6 +383,9 @@ pub struct RenderArgs {
     /// What a diagram's impact panels show: speed or phase.
     #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
     pub impact: ImpactArg,
+    /// Bifurcation curves (files of `curve -o`) drawn over the label map (repeatable).
+    #[arg(long, value_name = "CURVE.h5")]
+    pub curves: Vec<PathBuf>,
 }
 
 /// What the impact panels of a bifurcation diagram show.

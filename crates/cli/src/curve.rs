@@ -80,6 +80,26 @@ pub fn run(a: CurveArgs) -> Result<()> {
             }
         }
     }
+    if let Some(out) = &a.output {
+        store::check_output(out, &[&a.sim.scene], false)?;
+        let curve = store::Curve {
+            kind: kind.name().to_string(),
+            free: [pa.clone(), pb.clone()],
+            points: points.iter().map(|p| (p.0, p.1)).collect(),
+            codim2: codim2
+                .iter()
+                .map(|c| {
+                    (
+                        c["kind"].as_str().unwrap_or_default().to_string(),
+                        c[&pa].as_f64().unwrap_or(f64::NAN),
+                        c[&pb].as_f64().unwrap_or(f64::NAN),
+                    )
+                })
+                .collect(),
+            ended: ended.clone().unwrap_or_else(|| format!("reached {pb} = {}", a.to)),
+        };
+        store::write_curve(out, &curve, &crate::plan::command_line(), s.scene.source())?;
+    }
     let list: Vec<Value> =
         points.iter().map(|(va, vb, labels)| json!({pa.clone(): va, pb.clone(): vb, "labels": labels})).collect();
     if a.json {

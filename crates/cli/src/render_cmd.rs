@@ -64,8 +64,9 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let d = crate::diagram::diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
         return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, tmp))?);
     }
+    let curves = a.curves.iter().map(|c| overlay(&l.atlas, c)).collect::<Result<Vec<_>>>()?;
     match (quantity, view) {
-        (None, _) => Ok(write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, tmp))?),
+        (None, _) => Ok(write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, &curves, tmp))?),
         (Some(q), View::Sweep(sweep)) => {
             Ok(write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, tmp))?)
         }
@@ -87,4 +88,24 @@ fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
         bail!("--row: {name} = {value} is outside the file's {lo} to {hi}");
     }
     Ok((0..y.count).min_by(|&i, &j| (y.value(i) - value).abs().total_cmp(&(y.value(j) - value).abs())).unwrap_or(0))
+}
+
+/// A curve file as an overlay of `atlas`'s plane (its free parameters are the
+/// plane's axes, in either order).
+fn overlay(atlas: &grid::Atlas, path: &std::path::Path) -> Result<render::Overlay> {
+    let c = store::read_curve(path)?;
+    let p = &atlas.meta.plane;
+    let swap = match (c.free[0].as_str(), c.free[1].as_str()) {
+        (a, b) if a == p.x.name && b == p.y.name => false,
+        (a, b) if a == p.y.name && b == p.x.name => true,
+        (a, b) => {
+            bail!("--curves: {} is a curve in ({a}, {b}), the map is in ({}, {})", path.display(), p.x.name, p.y.name)
+        }
+    };
+    let xy = |(a, b): (f64, f64)| if swap { (b, a) } else { (a, b) };
+    Ok(render::Overlay {
+        kind: c.kind.clone(),
+        points: c.points.iter().copied().map(xy).collect(),
+        marks: c.codim2.iter().map(|m| xy((m.1, m.2))).collect(),
+    })
 }

@@ -53,7 +53,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
     for (v, plan) in plans {
         let (atlas, secs) = plan.execute(&study.stem(v))?;
         let png = a.output.join(format!("{}.png", study.stem(v)));
-        write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, tmp))?;
+        write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, &[], tmp))?;
         if !a.run.quiet {
             outln!(
                 "{}: {} cells in {secs:.1} s -> {}",

@@ -17,7 +17,7 @@ mod trade;
 pub use basins::basins;
 pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
-pub use map::{attractor_map, map, sheet, View};
+pub use map::{attractor_map, map, sheet, Overlay, View};
 pub use output::Format;
 pub use portrait::{portrait, Portrait};
 pub use scalar::{scalar_map, Quantity};

@@ -107,19 +107,61 @@ impl<'a> CellGrid<'a> {
     }
 }
 
-/// Draws cells in the colours `paint` gives (None: not drawn).
+/// A bifurcation curve drawn over a map: its kind (`PD`, `SN`, `PF`, `NS`,
+/// `grazing`), its points and its codimension-two points, in the plane's
+/// (x, y) coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Overlay {
+    /// Kind of bifurcation (legend text and line style).
+    pub kind: String,
+    /// Points along the curve.
+    pub points: Vec<(f64, f64)>,
+    /// Codimension-two points, marked.
+    pub marks: Vec<(f64, f64)>,
+}
+
+/// Line style of a kind of curve: black, dashed differently per kind.
+fn dashes(kind: &str) -> (u32, u32) {
+    match kind {
+        "PD" => (10, 4),
+        "SN" => (2, 3),
+        "PF" => (14, 6),
+        "NS" => (6, 6),
+        _ => (1, 0),
+    }
+}
+
+/// Draws cells in the colours `paint` gives (None: not drawn), and `curves` over them.
 fn draw_cells<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     meta: &Meta,
     title: &str,
     font: u32,
     paint: impl Fn(usize) -> Option<RGBColor>,
+    curves: &[Overlay],
 ) -> Result<(), RenderError> {
     let grid = CellGrid::of(meta);
     let mut chart = grid.chart(area, title, font)?;
     chart
         .draw_series((0..meta.plane.cells()).filter_map(|i| Some(Rectangle::new(grid.rect(i), paint(i)?.filled()))))
         .map_err(err)?;
+    for c in curves {
+        let (on, off) = dashes(&c.kind);
+        let style = BLACK.stroke_width(3);
+        let label = format!("{} curve", c.kind);
+        if off == 0 {
+            chart.draw_series(LineSeries::new(c.points.iter().copied(), style)).map_err(err)?
+        } else {
+            chart.draw_series(DashedLineSeries::new(c.points.iter().copied(), on, off, style)).map_err(err)?
+        }
+        .label(label)
+        .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 18, b)], BLACK.stroke_width(3)));
+        chart.draw_series(c.marks.iter().map(|&p| Circle::new(p, 6, WHITE.filled().stroke_width(2)))).map_err(err)?;
+        chart.draw_series(c.marks.iter().map(|&p| Circle::new(p, 6, BLACK.stroke_width(2)))).map_err(err)?;
+    }
+    if !curves.is_empty() {
+        crate::legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+    }
     Ok(())
 }
 
@@ -198,9 +240,10 @@ fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
 
 /// Draws the map of mass `mass` (index into `atlas.meta.masses`); the format
 /// follows the extension of `path` (`.png`, `.svg`, `.pdf`).
-pub fn map(atlas: &Atlas, view: View, mass: usize, path: &Path) -> Result<(), RenderError> {
+/// `curves` are drawn over every panel.
+pub fn map(atlas: &Atlas, view: View, mass: usize, curves: &[Overlay], path: &Path) -> Result<(), RenderError> {
     let panels = if view == View::Hysteresis { 3 } else { 1 };
-    save!(path, (760 * panels + 380, 800), |root| draw_map(&root, atlas, view, mass))
+    save!(path, (760 * panels + 380, 800), |root| draw_map(&root, atlas, view, mass, curves))
 }
 
 fn draw_map<DB: DrawingBackend>(
@@ -208,6 +251,7 @@ fn draw_map<DB: DrawingBackend>(
     atlas: &Atlas,
     view: View,
     mass: usize,
+    curves: &[Overlay],
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     root.fill(&WHITE).map_err(err)?;
@@ -220,7 +264,7 @@ fn draw_map<DB: DrawingBackend>(
         View::Sweep(sweep) => {
             let cells = sweep_cells(atlas, sweep)?;
             let title = format!("{}, {} sweep", m.masses[mass], sweep.name());
-            draw_cells(&maps, m, &title, 15, label_colours(cells, mass))?;
+            draw_cells(&maps, m, &title, 15, label_colours(cells, mass), curves)?;
             draw_legend(&legend, "label (cells)", &count(&[cells], mass), &[])
         }
         View::Hysteresis => {
@@ -229,8 +273,15 @@ fn draw_map<DB: DrawingBackend>(
                 message: "the hysteresis view needs an atlas with up and down sweeps".into(),
             })?;
             let panels = maps.split_evenly((1, 3));
-            draw_cells(&panels[0], m, &format!("{}, up sweep", m.masses[mass]), 14, label_colours(up, mass))?;
-            draw_cells(&panels[1], m, &format!("{}, down sweep", m.masses[mass]), 14, label_colours(down, mass))?;
+            draw_cells(&panels[0], m, &format!("{}, up sweep", m.masses[mass]), 14, label_colours(up, mass), curves)?;
+            draw_cells(
+                &panels[1],
+                m,
+                &format!("{}, down sweep", m.masses[mass]),
+                14,
+                label_colours(down, mass),
+                curves,
+            )?;
             let zones = hyst.iter().filter(|&&h| h == 1).count();
             let differ = |i: usize| {
                 Some(match (&down[i], hyst[i]) {
@@ -238,7 +289,7 @@ fn draw_map<DB: DrawingBackend>(
                     _ => BLANK,
                 })
             };
-            draw_cells(&panels[2], m, &format!("up and down differ: {zones} cells (down label)"), 14, differ)?;
+            draw_cells(&panels[2], m, &format!("up and down differ: {zones} cells (down label)"), 14, differ, curves)?;
             let blank = [("no hysteresis (right panel)".to_string(), BLANK)];
             draw_legend(&legend, "label (cells, up + down)", &count(&[up, down], mass), &blank)
         }
@@ -270,7 +321,7 @@ fn draw_sheet<DB: DrawingBackend>(
     for ((title, atlas), area) in panels.iter().zip(left.split_evenly((rows, cols)).iter()) {
         let cells = sweep_cells(atlas, sweep)?;
         all.push(cells);
-        draw_cells(area, &atlas.meta, title, 12, label_colours(cells, mass))?;
+        draw_cells(area, &atlas.meta, title, 12, label_colours(cells, mass), &[])?;
     }
     draw_legend(&right, "label (cells, all panels)", &count(&all, mass), &[])
 }
@@ -302,7 +353,14 @@ fn draw_attractors<DB: DrawingBackend>(
     foot.draw(&Text::new(settings_text(m), (12, 4), ("sans-serif", 15).into_font())).map_err(err)?;
     let (plot, legend) = body.split_horizontally(760);
     let shade = |n: usize| COEXISTING[n.clamp(1, 4) - 1];
-    draw_cells(&plot, m, "number of attractors", 15, |i| Some(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))))?;
+    draw_cells(
+        &plot,
+        m,
+        "number of attractors",
+        15,
+        |i| Some(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))),
+        &[],
+    )?;
     let mut counts = [0u64; 5];
     for c in &a.cells {
         counts[c.as_ref().map_or(0, |c| c.len().min(4))] += 1;

@@ -5,6 +5,7 @@
 //! code: see [`layout`] for the datasets and their codes.
 #![deny(missing_docs)]
 
+pub mod curve;
 pub mod error;
 pub mod journal;
 pub mod layout;
@@ -14,6 +15,7 @@ mod netcdf;
 pub mod read;
 pub mod write;
 
+pub use curve::{read_curve, write_curve, Curve};
 pub use error::StoreError;
 pub use journal::{fingerprint, journal_path, Journal};
 pub use lock::{check_output, commit, lock_path, write_atomically, OutputLock};
