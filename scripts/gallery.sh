@@ -70,4 +70,9 @@ vibroatlas attractors configs/multi-stop.toml --set omega=0.3149 --set delta=0.7
 vibroatlas atlas configs/multi-stop.toml --x omega=0.25:0.4:16 --y delta=0.5:0.9:9 --sweep both --attractors 16 --quiet -o $out/attractors.h5 >/dev/null
 vibroatlas render $out/attractors.h5 -o $img/attractors.png --view attractors
 
+# A bifurcation curve over a map: the dry-friction pitchfork in (omega, fk).
+vibroatlas curve configs/dry-friction.toml --kind pf --start omega=6.845,fk=0.01 --free omega,fk --to 0.1 --steps 18 -o $out/pf.h5 >/dev/null
+vibroatlas atlas configs/dry-friction.toml --x omega=6.5:7.1:40 --y fk=0.005:0.1:20 --sweep down --quiet -o $out/friction.h5 >/dev/null
+vibroatlas render $out/friction.h5 -o $img/curve-overlay.png --sweep down --curves $out/pf.h5
+
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
