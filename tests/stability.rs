@@ -355,3 +355,67 @@ fn pitchfork_curve_passes_through_the_published_values() {
         assert_eq!(p["labels"]["below"]["symmetry"], "AS", "{p}");
     }
 }
+
+/// Issue 20: the grazing curve that bounds 1-3-3 in the multi-stop scene passes
+/// through the published grazing point at δ = 0.7 (ω ≈ 0.3147), 1-3-3 above it
+/// and 1-4-4 below, and goes on to larger δ.
+#[test]
+fn grazing_curve_passes_through_the_published_point() {
+    let j = json_of(&[
+        "curve",
+        "configs/multi-stop.toml",
+        "--kind",
+        "grazing",
+        "--start",
+        "omega=0.3147,delta=0.7",
+        "--free",
+        "omega,delta",
+        "--to",
+        "0.8",
+        "--steps",
+        "4",
+        "--window",
+        "0.01",
+        "--json",
+    ]);
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(points.len(), 5, "{j}");
+    let first = &points[0];
+    assert!((first["omega"].as_f64().unwrap() - 0.3147).abs() < 3e-4, "{first}");
+    assert_eq!(first["labels"]["above"]["M1"], "1-3-3");
+    assert_eq!(first["labels"]["below"]["M1"], "1-4-4");
+    let omegas: Vec<f64> = points.iter().map(|p| p["omega"].as_f64().unwrap()).collect();
+    assert!(omegas.windows(2).all(|w| w[1] < w[0] && w[0] - w[1] < 0.02), "{omegas:?}");
+}
+
+/// Issue 20: the Neimark–Sacker curve of the impact damper's symmetric 1-1-1
+/// in (ω, δ) passes through the NS point `continue` finds at δ = 2, with the
+/// symmetric orbit below it and quasi-periodic motion above.
+#[test]
+fn neimark_sacker_curve_passes_through_the_located_point() {
+    let cont = json_of(&["continue", "configs/impact-damper.toml", "--axis", "omega=1.3:2.3:101", "--json"]);
+    let ns =
+        cont["bifurcations"].as_array().unwrap().iter().find(|b| b["kind"] == "NS").unwrap()["value"].as_f64().unwrap();
+    let j = json_of(&[
+        "curve",
+        "configs/impact-damper.toml",
+        "--kind",
+        "ns",
+        "--start",
+        &format!("omega={ns},delta=2"),
+        "--free",
+        "omega,delta",
+        "--to",
+        "2.2",
+        "--steps",
+        "4",
+        "--window",
+        "0.02",
+        "--json",
+    ]);
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(points.len(), 5, "{j}");
+    assert!((points[0]["omega"].as_f64().unwrap() - ns).abs() < 1e-8);
+    assert_eq!(points[0]["labels"]["below"]["M2"], "1-1-1");
+    assert_eq!(points[0]["labels"]["above"]["M2"], "Q");
+}

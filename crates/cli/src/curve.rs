@@ -17,8 +17,10 @@ use serde_json::{json, Value};
 use solver::continuation::{follow, Branch};
 use solver::{orbit_of_cell, Bifurcation, System};
 
-/// Points of the continuation in A across the search window.
-const WINDOW_POINTS: usize = 41;
+/// Points of the continuation in A across the search window: an even number,
+/// so that the predicted value (the window's centre) is not a grid point (a
+/// bifurcation exactly on a grid point is neutral there, not a crossing).
+const WINDOW_POINTS: usize = 40;
 /// Two bifurcations closer than this in A form a codimension-two point.
 const CODIM2_TOL: f64 = 1e-3;
 
