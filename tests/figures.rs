@@ -192,7 +192,7 @@ fn curves_are_stored_and_drawn_over_maps() {
         "-o",
         c.to_str().unwrap(),
     ]);
-    let curve = store::read_curve(&c).unwrap();
+    let curve = store::read_curves(&c).unwrap().remove(0);
     assert_eq!((curve.kind.as_str(), curve.free.clone()), ("PF", ["omega".to_string(), "fk".to_string()]));
     let points = j["points"].as_array().unwrap();
     assert_eq!(curve.points.len(), points.len());
@@ -237,4 +237,35 @@ fn curves_are_stored_and_drawn_over_maps() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("is a curve in (omega, fk)"));
+}
+
+/// Issue 20: `curves` seeds curves where neighbouring labels of a stored map
+/// differ, follows them row by row, and writes a file `render --curves` draws;
+/// the same atlas gives the same curves.
+#[test]
+fn curves_are_found_on_a_map() {
+    let d = scratch("curves-map");
+    let a = d.join("a.h5");
+    ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=0.6:1.6:24",
+        "--y",
+        "delta=1.2:2:8",
+        "--sweep",
+        "up",
+        "--quiet",
+        "-o",
+        a.to_str().unwrap(),
+    ]);
+    let (c1, c2) = (d.join("c1.h5"), d.join("c2.h5"));
+    for c in [&c1, &c2] {
+        ok(&["curves", a.to_str().unwrap(), "--max", "3", "-o", c.to_str().unwrap()]);
+    }
+    let (one, two) = (store::read_curves(&c1).unwrap(), store::read_curves(&c2).unwrap());
+    assert_eq!(one, two, "deterministic");
+    assert!(!one.is_empty() && one.iter().all(|c| c.points.len() >= 2), "{one:?}");
+    let png = d.join("map.png");
+    ok(&["render", a.to_str().unwrap(), "--curves", c1.to_str().unwrap(), "-o", png.to_str().unwrap()]);
 }

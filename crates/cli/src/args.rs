@@ -38,6 +38,29 @@ pub enum Command {
     Attractors(AttractorsArgs),
     /// Follow a bifurcation (PD, SN, PF, NS, grazing) in a plane of two parameters.
     Curve(CurveArgs),
+    /// Find the bifurcation curves of a stored map: seeded where neighbouring labels differ.
+    Curves(CurvesArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CurvesArgs {
+    /// Atlas file.
+    pub file: PathBuf,
+    /// Kinds of bifurcation looked for, comma-separated.
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "pd,sn,pf,ns,grazing")]
+    pub kinds: Vec<KindArg>,
+    /// Most curves found.
+    #[arg(long, default_value_t = 8, value_name = "K")]
+    pub max: usize,
+    /// The sweep whose label boundaries seed the curves (default: the file's first).
+    #[arg(long, value_enum)]
+    pub sweep: Option<SweepName>,
+    /// Output curve file (for render --curves).
+    #[arg(short = 'o', long = "output", value_name = "CURVES.h5")]
+    pub output: PathBuf,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(Debug, Args)]

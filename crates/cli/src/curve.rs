@@ -28,13 +28,7 @@ const CODIM2_TOL: f64 = 1e-3;
 pub fn run(a: CurveArgs) -> Result<()> {
     let s = setup(&a.sim)?;
     check_period(a.n)?;
-    let kind = match a.kind {
-        KindArg::Pd => Bifurcation::PeriodDoubling,
-        KindArg::Sn => Bifurcation::SaddleNode,
-        KindArg::Pf => Bifurcation::Pitchfork,
-        KindArg::Ns => Bifurcation::NeimarkSacker,
-        KindArg::Grazing => Bifurcation::Grazing,
-    };
+    let kind = solver_kind(a.kind);
     let (pa, pb) = a.free.split_once(',').ok_or_else(|| anyhow!("--free: expected A,B, got '{}'", a.free))?;
     let (pa, pb) = (pa.trim().to_string(), pb.trim().to_string());
     for p in [&pa, &pb] {
@@ -51,56 +45,19 @@ pub fn run(a: CurveArgs) -> Result<()> {
     if !(a.window > 0.0 && a.window.is_finite() && a.to.is_finite()) {
         bail!("--window, --to: expected finite numbers, the window > 0");
     }
-    let system = |va: f64, vb: f64| -> Option<System> {
-        let mut over = s.overrides.clone();
-        over.retain(|(k, _)| *k != pa && *k != pb);
-        over.push((pa.clone(), va));
-        over.push((pb.clone(), vb));
-        System::new(s.scene.evaluate(&over).ok()?).ok()
-    };
-    let mut points: Vec<(f64, f64, Value)> = Vec::new();
-    let mut codim2: Vec<Value> = Vec::new();
-    let mut ended = None;
-    for k in 0..=a.steps {
-        let vb = b0 + (a.to - b0) * k as f64 / a.steps as f64;
-        let guess = match points.len() {
-            0 => a0,
-            1 => points[0].0,
-            n => 2.0 * points[n - 1].0 - points[n - 2].0,
-        };
-        match locate(&s, &system, kind, guess, a.window, vb, a.n) {
-            Ok((va, labels, others)) => {
-                for other in others.iter().filter(|o| (o.1 - va).abs() <= CODIM2_TOL) {
-                    codim2
-                        .push(json!({"kind": format!("{}-{}", kind.name(), other.0), pa.clone(): va, pb.clone(): vb}));
-                }
-                points.push((va, vb, labels));
-            }
-            Err(why) => {
-                ended = Some(format!("at {pb} = {vb}: {why}"));
-                break;
-            }
-        }
-    }
+    let tracer = Tracer { s: &s, pa: &pa, pb: &pb, window: a.window, n: a.n };
+    let traced = tracer.trace(kind, a0, b0, a.to, a.steps);
+    let (points, codim2, ended) = (traced.points, traced.codim2, traced.ended);
     if let Some(out) = &a.output {
         store::check_output(out, &[&a.sim.scene], false)?;
         let curve = store::Curve {
             kind: kind.name().to_string(),
             free: [pa.clone(), pb.clone()],
             points: points.iter().map(|p| (p.0, p.1)).collect(),
-            codim2: codim2
-                .iter()
-                .map(|c| {
-                    (
-                        c["kind"].as_str().unwrap_or_default().to_string(),
-                        c[&pa].as_f64().unwrap_or(f64::NAN),
-                        c[&pb].as_f64().unwrap_or(f64::NAN),
-                    )
-                })
-                .collect(),
+            codim2: codim2.clone(),
             ended: ended.clone().unwrap_or_else(|| format!("reached {pb} = {}", a.to)),
         };
-        store::write_curve(out, &curve, &crate::plan::command_line(), s.scene.source())?;
+        store::write_curves(out, &[curve], &crate::plan::command_line(), s.scene.source())?;
     }
     let list: Vec<Value> =
         points.iter().map(|(va, vb, labels)| json!({pa.clone(): va, pb.clone(): vb, "labels": labels})).collect();
@@ -109,7 +66,7 @@ pub fn run(a: CurveArgs) -> Result<()> {
             "kind": kind.name(),
             "free": [pa, pb],
             "points": list,
-            "codim2": codim2,
+            "codim2": codim2.iter().map(|c| json!({"kind": c.0, pa.clone(): c.1, pb.clone(): c.2})).collect::<Vec<_>>(),
             "ended": ended.clone().unwrap_or_else(|| format!("reached {pb} = {}", a.to)),
         });
         outln!("{}", serde_json::to_string(&out)?);
@@ -118,12 +75,203 @@ pub fn run(a: CurveArgs) -> Result<()> {
         for (va, vb, labels) in &points {
             outln!("  {pa} = {va:.9}  {pb} = {vb:.9}  {labels}");
         }
-        for c in &codim2 {
-            outln!("codim-2   {c}");
+        for (k, va, vb) in &codim2 {
+            outln!("codim-2   {k} at {pa} = {va:.9}, {pb} = {vb:.9}");
         }
         outln!("ended: {}", ended.unwrap_or_else(|| format!("reached {pb} = {}", a.to)));
     }
     Ok(())
+}
+
+/// The bifurcation of `kind` as a solver kind.
+fn solver_kind(kind: KindArg) -> Bifurcation {
+    match kind {
+        KindArg::Pd => Bifurcation::PeriodDoubling,
+        KindArg::Sn => Bifurcation::SaddleNode,
+        KindArg::Pf => Bifurcation::Pitchfork,
+        KindArg::Ns => Bifurcation::NeimarkSacker,
+        KindArg::Grazing => Bifurcation::Grazing,
+    }
+}
+
+/// `vibroatlas curves`: seeds where neighbouring cells of a row carry
+/// different periodic labels (first labelled mass), from the top row down,
+/// locates a bifurcation of the requested kinds between them (the window is
+/// one cell), and follows it row by row up and down to the plane's edges (a
+/// window of two cells); a seed within 1.5 cells of a curve already found is
+/// skipped (duplicates merged), and a curve of a single point dropped.
+/// Deterministic.
+pub fn run_curves(a: crate::args::CurvesArgs) -> Result<()> {
+    let clock = std::time::Instant::now();
+    store::check_output(&a.output, &[&a.file], false)?;
+    let loaded = store::read(&a.file)?;
+    let atlas = &loaded.atlas;
+    let m = &atlas.meta;
+    let (x, y) = (&m.plane.x, &m.plane.y);
+    if x.count < 2 {
+        bail!("{}: curves need at least two columns", a.file.display());
+    }
+    let sweep = a.sweep.map_or(m.sweeps[0], |s| s.kind());
+    let cells = &atlas.map(sweep).ok_or_else(|| anyhow!("--sweep: the file has no {} sweep", sweep.name()))?.cells;
+    let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| anyhow!("{}: stored scene: {e}", a.file.display()))?;
+    let preset = solver::Preset::parse(&m.preset).unwrap_or(solver::Preset::Standard);
+    let mut accuracy = solver::Accuracy::preset(preset);
+    for (k, v) in &m.accuracy {
+        accuracy.set(k, *v)?;
+    }
+    let s = crate::common::Setup {
+        scene,
+        overrides: m.overrides.clone(),
+        accuracy,
+        accuracy_overrides: m.accuracy.clone(),
+        preset,
+        method: solver::Method::Exact,
+    };
+    let dx = (x.stop - x.start) / (x.count - 1) as f64;
+    let dy = if y.count > 1 { (y.stop - y.start) / (y.count - 1) as f64 } else { 1.0 };
+    // The curve may move more than a cell from one row to the next.
+    let tracer = Tracer { s: &s, pa: &x.name, pb: &y.name, window: 2.0 * dx, n: None };
+    let periodic = |i: usize| cells[i].as_ref().filter(|c| c.class == solver::Class::Periodic);
+    let mut curves: Vec<store::Curve> = Vec::new();
+    let mut seeds = 0;
+    // From the top row down: the clean boundaries of large clearances first.
+    'rows: for iy in (0..y.count).rev() {
+        for ix in 0..x.count - 1 {
+            let i = iy * x.count + ix;
+            let (Some(c1), Some(c2)) = (periodic(i), periodic(i + 1)) else { continue };
+            if c1.labels[0] == c2.labels[0] {
+                continue;
+            }
+            let (mid, vb) = (x.value(ix) + dx / 2.0, y.value(iy));
+            let near = curves
+                .iter()
+                .flat_map(|c| &c.points)
+                .any(|p| (p.0 - mid).abs() <= 1.5 * dx && (p.1 - vb).abs() <= 1.5 * dy);
+            if near {
+                continue;
+            }
+            seeds += 1;
+            // The kind located nearest to the boundary.
+            let found = a
+                .kinds
+                .iter()
+                .filter_map(|&k| {
+                    let kind = solver_kind(k);
+                    locate(&s, &|va, vb| tracer.system(va, vb), kind, mid, dx, vb, None).ok().map(|f| (kind, f.0))
+                })
+                .min_by(|p, q| (p.1 - mid).abs().total_cmp(&(q.1 - mid).abs()));
+            let Some((kind, va)) = found else { continue };
+            let up = tracer.trace(kind, va, vb, y.stop, y.count - 1 - iy);
+            let down = tracer.trace(kind, va, vb, y.start, iy);
+            let mut points: Vec<(f64, f64)> = down.points.iter().skip(1).rev().map(|p| (p.0, p.1)).collect();
+            points.extend(up.points.iter().map(|p| (p.0, p.1)));
+            let mut codim2 = down.codim2.clone();
+            codim2.extend(up.codim2.iter().cloned());
+            // A curve reached again from another seed is a duplicate.
+            let same = |c: &store::Curve| {
+                c.kind == kind.name()
+                    && points
+                        .iter()
+                        .filter(|p| c.points.iter().any(|q| (p.0 - q.0).abs() <= 1e-6 && p.1 == q.1))
+                        .count()
+                        * 2
+                        > points.len()
+            };
+            if points.len() < 2 || curves.iter().any(same) {
+                continue;
+            }
+            let ended = [down.ended, up.ended].into_iter().flatten().collect::<Vec<_>>().join("; ");
+            curves.push(store::Curve {
+                kind: kind.name().to_string(),
+                free: [x.name.clone(), y.name.clone()],
+                points,
+                codim2,
+                ended: if ended.is_empty() { "reached the plane's edges".into() } else { ended },
+            });
+            if curves.len() >= a.max {
+                break 'rows;
+            }
+        }
+    }
+    store::write_curves(&a.output, &curves, &crate::plan::command_line(), &m.scene_toml)?;
+    let codim2: usize = curves.iter().map(|c| c.codim2.len()).sum();
+    let secs = clock.elapsed().as_secs_f64();
+    if a.json {
+        let list: Vec<Value> = curves
+            .iter()
+            .map(|c| json!({"kind": c.kind, "points": c.points.len(), "codim2": c.codim2.len(), "ended": c.ended}))
+            .collect();
+        outln!("{}", serde_json::to_string(&json!({"curves": list, "seeds": seeds, "seconds": secs}))?);
+    } else {
+        outln!("{} curves ({codim2} codimension-two points) from {seeds} seeds in {secs:.1} s", curves.len());
+        for c in &curves {
+            outln!("  {:<8} {:>4} points  {}", c.kind, c.points.len(), c.ended);
+        }
+        outln!("wrote {}", a.output.display());
+    }
+    Ok(())
+}
+
+/// A curve as traced: points `(A, B, labels either side)`, codimension-two
+/// points `(kinds, A, B)`, and why it stopped early (`None`: it reached the end).
+pub struct Traced {
+    /// Points along the curve.
+    pub points: Vec<(f64, f64, Value)>,
+    /// Codimension-two points.
+    pub codim2: Vec<(String, f64, f64)>,
+    /// Why the curve stopped before the end.
+    pub ended: Option<String>,
+}
+
+/// Follows bifurcations in the plane of parameters A (located) and B (stepped).
+pub struct Tracer<'a> {
+    /// The validated set-up (scene, overrides, accuracy).
+    pub s: &'a crate::common::Setup,
+    /// Parameter A.
+    pub pa: &'a str,
+    /// Parameter B.
+    pub pb: &'a str,
+    /// Half-width of the search in A.
+    pub window: f64,
+    /// Period of the orbit (default: the cell's).
+    pub n: Option<usize>,
+}
+
+impl Tracer<'_> {
+    /// The system at A = `va`, B = `vb`.
+    fn system(&self, va: f64, vb: f64) -> Option<System> {
+        let mut over = self.s.overrides.clone();
+        over.retain(|(k, _)| k != self.pa && k != self.pb);
+        over.push((self.pa.to_string(), va));
+        over.push((self.pb.to_string(), vb));
+        System::new(self.s.scene.evaluate(&over).ok()?).ok()
+    }
+
+    /// The curve of `kind` from (a0, b0) to B = `to` in `steps` steps.
+    pub fn trace(&self, kind: Bifurcation, a0: f64, b0: f64, to: f64, steps: usize) -> Traced {
+        let mut t = Traced { points: Vec::new(), codim2: Vec::new(), ended: None };
+        for k in 0..=steps {
+            let vb = if steps == 0 { b0 } else { b0 + (to - b0) * k as f64 / steps as f64 };
+            let guess = match t.points.len() {
+                0 => a0,
+                1 => t.points[0].0,
+                n => 2.0 * t.points[n - 1].0 - t.points[n - 2].0,
+            };
+            match locate(self.s, &|va, vb| self.system(va, vb), kind, guess, self.window, vb, self.n) {
+                Ok((va, labels, others)) => {
+                    for other in others.iter().filter(|o| (o.1 - va).abs() <= CODIM2_TOL) {
+                        t.codim2.push((format!("{}-{}", kind.name(), other.0), va, vb));
+                    }
+                    t.points.push((va, vb, labels));
+                }
+                Err(why) => {
+                    t.ended = Some(format!("at {} = {vb}: {why}", self.pb));
+                    break;
+                }
+            }
+        }
+        t
+    }
 }
 
 /// Locates the bifurcation of `kind` nearest to `guess` in A at B = `vb`:

@@ -61,6 +61,7 @@ fn main() {
         args::Command::Continue(a) => continue_cmd::run(a),
         args::Command::Attractors(a) => attractors::run(a),
         args::Command::Curve(a) => curve::run(a),
+        args::Command::Curves(a) => curve::run_curves(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

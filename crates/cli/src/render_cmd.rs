@@ -64,7 +64,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let d = crate::diagram::diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
         return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, tmp))?);
     }
-    let curves = a.curves.iter().map(|c| overlay(&l.atlas, c)).collect::<Result<Vec<_>>>()?;
+    let mut curves = Vec::new();
+    for file in &a.curves {
+        for c in store::read_curves(file)? {
+            curves.push(overlay(&l.atlas, file, &c)?);
+        }
+    }
     match (quantity, view) {
         (None, _) => Ok(write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, &curves, tmp))?),
         (Some(q), View::Sweep(sweep)) => {
@@ -90,10 +95,9 @@ fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
     Ok((0..y.count).min_by(|&i, &j| (y.value(i) - value).abs().total_cmp(&(y.value(j) - value).abs())).unwrap_or(0))
 }
 
-/// A curve file as an overlay of `atlas`'s plane (its free parameters are the
-/// plane's axes, in either order).
-fn overlay(atlas: &grid::Atlas, path: &std::path::Path) -> Result<render::Overlay> {
-    let c = store::read_curve(path)?;
+/// A curve of file `path` as an overlay of `atlas`'s plane (its free
+/// parameters are the plane's axes, in either order).
+fn overlay(atlas: &grid::Atlas, path: &std::path::Path, c: &store::Curve) -> Result<render::Overlay> {
     let p = &atlas.meta.plane;
     let swap = match (c.free[0].as_str(), c.free[1].as_str()) {
         (a, b) if a == p.x.name && b == p.y.name => false,

@@ -145,17 +145,20 @@ fn draw_cells<DB: DrawingBackend>(
     chart
         .draw_series((0..meta.plane.cells()).filter_map(|i| Some(Rectangle::new(grid.rect(i), paint(i)?.filled()))))
         .map_err(err)?;
-    for c in curves {
+    for (i, c) in curves.iter().enumerate() {
         let (on, off) = dashes(&c.kind);
         let style = BLACK.stroke_width(3);
-        let label = format!("{} curve", c.kind);
-        if off == 0 {
+        let drawn = if off == 0 {
             chart.draw_series(LineSeries::new(c.points.iter().copied(), style)).map_err(err)?
         } else {
             chart.draw_series(DashedLineSeries::new(c.points.iter().copied(), on, off, style)).map_err(err)?
+        };
+        // One legend entry per kind.
+        if !curves[..i].iter().any(|d| d.kind == c.kind) {
+            drawn
+                .label(format!("{} curve", c.kind))
+                .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 18, b)], BLACK.stroke_width(3)));
         }
-        .label(label)
-        .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 18, b)], BLACK.stroke_width(3)));
         chart.draw_series(c.marks.iter().map(|&p| Circle::new(p, 6, WHITE.filled().stroke_width(2)))).map_err(err)?;
         chart.draw_series(c.marks.iter().map(|&p| Circle::new(p, 6, BLACK.stroke_width(2)))).map_err(err)?;
     }

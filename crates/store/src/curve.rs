@@ -1,9 +1,10 @@
-//! Bifurcation curves (`vibroatlas curve -o FILE.h5`) as self-describing
-//! netCDF-4/HDF5 files: root attributes `software` (vibroatlas), `content`
-//! (`bifurcation curve`), `kind` (PD, SN, PF, NS, grazing), `free` (`A,B`),
-//! `ended`, `command`, `created`, `scene`; the curve's points as two coordinate
-//! arrays named after the free parameters along the dimension `point`, and its
-//! codimension-two points as `codim2_<A>`, `codim2_<B>` and `codim2_kind`
+//! Bifurcation curves (`vibroatlas curve -o FILE.h5`, `vibroatlas curves`)
+//! as self-describing netCDF-4/HDF5 files: root attributes `software`
+//! (vibroatlas), `content` (`bifurcation curves`), `command`, `created`,
+//! `scene`; one group `curve_<k>` per curve with attributes `kind` (PD, SN, PF,
+//! NS, grazing), `free` (`A,B`), `ended`, the curve's points as two coordinate
+//! arrays named after the free parameters along the dimension `point`, and
+//! its codimension-two points as `codim2_<A>`, `codim2_<B>` and `codim2_kind`
 //! along `codim2`.
 
 use crate::error::StoreError;
@@ -27,71 +28,84 @@ pub struct Curve {
     pub ended: String,
 }
 
-/// Writes `curve` to `path` atomically; `command` and `scene` are provenance.
-pub fn write_curve(path: &Path, curve: &Curve, command: &str, scene: &str) -> Result<(), StoreError> {
+/// Writes `curves` to `path` atomically; `command` and `scene` are provenance.
+pub fn write_curves(path: &Path, curves: &[Curve], command: &str, scene: &str) -> Result<(), StoreError> {
     crate::write_atomically(path, |tmp| -> hdf5::Result<()> {
         let f = hdf5::File::create(tmp)?;
         let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
         for (name, value) in [
             ("software", crate::layout::SOFTWARE),
-            ("content", "bifurcation curve"),
+            ("content", CONTENT),
             ("Conventions", "CF-1.8"),
-            ("kind", curve.kind.as_str()),
-            ("ended", curve.ended.as_str()),
             ("command", command),
             ("created", created.as_str()),
             ("scene", scene),
         ] {
             netcdf::attr_str(&f, name, value)?;
         }
-        netcdf::attr_str(&f, "free", &curve.free.join(","))?;
-        let point = netcdf::dimension(&f, "point", curve.points.len())?;
-        for (k, name) in curve.free.iter().enumerate() {
-            let v: Vec<f64> = curve.points.iter().map(|p| if k == 0 { p.0 } else { p.1 }).collect();
-            let d = f.new_dataset_builder().with_data(&Array1::from(v)).create(name.as_str())?;
-            netcdf::dims(&d, &[&point])?;
-            netcdf::describe(&d, &format!("parameter {name} along the {} curve", curve.kind), "1")?;
+        for (k, curve) in curves.iter().enumerate() {
+            write_one(&f.create_group(&format!("curve_{k}"))?, curve)?;
         }
-        let codim = netcdf::dimension(&f, "codim2", curve.codim2.len())?;
-        for (k, name) in curve.free.iter().enumerate() {
-            let v: Vec<f64> = curve.codim2.iter().map(|p| if k == 0 { p.1 } else { p.2 }).collect();
-            let d = f.new_dataset_builder().with_data(&Array1::from(v)).create(format!("codim2_{name}").as_str())?;
-            netcdf::dims(&d, &[&codim])?;
-            netcdf::describe(&d, &format!("parameter {name} at the codimension-two points"), "1")?;
-        }
-        let kinds: Vec<VarLenUnicode> = curve.codim2.iter().map(|p| netcdf::text(&p.0)).collect();
-        let d = f.new_dataset_builder().with_data(&Array1::from(kinds)).create("codim2_kind")?;
-        netcdf::dims(&d, &[&codim])?;
-        netcdf::attr_str(&d, "long_name", "kinds of the two bifurcations that meet")?;
         f.flush()
     })
 }
 
-/// Reads a curve file.
-pub fn read_curve(path: &Path) -> Result<Curve, StoreError> {
+/// What the root attribute `content` of a curve file says.
+const CONTENT: &str = "bifurcation curves";
+
+fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
+    netcdf::attr_str(g, "kind", &curve.kind)?;
+    netcdf::attr_str(g, "ended", &curve.ended)?;
+    netcdf::attr_str(g, "free", &curve.free.join(","))?;
+    let point = netcdf::dimension(g, "point", curve.points.len())?;
+    for (k, name) in curve.free.iter().enumerate() {
+        let v: Vec<f64> = curve.points.iter().map(|p| if k == 0 { p.0 } else { p.1 }).collect();
+        let d = g.new_dataset_builder().with_data(&Array1::from(v)).create(name.as_str())?;
+        netcdf::dims(&d, &[&point])?;
+        netcdf::describe(&d, &format!("parameter {name} along the {} curve", curve.kind), "1")?;
+    }
+    let codim = netcdf::dimension(g, "codim2", curve.codim2.len())?;
+    for (k, name) in curve.free.iter().enumerate() {
+        let v: Vec<f64> = curve.codim2.iter().map(|p| if k == 0 { p.1 } else { p.2 }).collect();
+        let d = g.new_dataset_builder().with_data(&Array1::from(v)).create(format!("codim2_{name}").as_str())?;
+        netcdf::dims(&d, &[&codim])?;
+        netcdf::describe(&d, &format!("parameter {name} at the codimension-two points"), "1")?;
+    }
+    let kinds: Vec<VarLenUnicode> = curve.codim2.iter().map(|p| netcdf::text(&p.0)).collect();
+    let d = g.new_dataset_builder().with_data(&Array1::from(kinds)).create("codim2_kind")?;
+    netcdf::dims(&d, &[&codim])?;
+    netcdf::attr_str(&d, "long_name", "kinds of the two bifurcations that meet")
+}
+
+/// Reads every curve of a curve file.
+pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     let h = |e: hdf5::Error| StoreError::hdf5(path, e);
     if !path.is_file() {
         return Err(StoreError::format(path, "no such curve file"));
     }
     let f = hdf5::File::open(path).map_err(h)?;
-    let attr = |name: &str| f.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
-    if attr("content").ok().as_deref() != Some("bifurcation curve") {
+    let content = f.attr("content").and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
+    if content.ok().as_deref() != Some(CONTENT) {
         return Err(StoreError::format(path, "not a vibroatlas curve file (vibroatlas curve -o FILE.h5)"));
     }
-    let free: Vec<String> = attr("free").map_err(h)?.split(',').map(str::to_string).collect();
+    let mut out = Vec::new();
+    while let Ok(g) = f.group(&format!("curve_{}", out.len())) {
+        out.push(read_one(&g).map_err(h)?);
+    }
+    Ok(out)
+}
+
+fn read_one(g: &hdf5::Group) -> hdf5::Result<Curve> {
+    let attr = |name: &str| g.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
+    let free: Vec<String> = attr("free")?.split(',').map(str::to_string).collect();
     let [a, b] = [free.first().cloned().unwrap_or_default(), free.get(1).cloned().unwrap_or_default()];
-    let read = |name: &str| f.dataset(name).and_then(|d| d.read_raw::<f64>()).map_err(h);
+    let read = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<f64>());
     let (va, vb) = (read(&a)?, read(&b)?);
     let (ca, cb) = (read(&format!("codim2_{a}"))?, read(&format!("codim2_{b}"))?);
-    let kinds: Vec<String> = f
-        .dataset("codim2_kind")
-        .and_then(|d| d.read_raw::<VarLenUnicode>())
-        .map_err(h)?
-        .iter()
-        .map(|k| k.to_string())
-        .collect();
+    let kinds: Vec<String> =
+        g.dataset("codim2_kind")?.read_raw::<VarLenUnicode>()?.iter().map(|k| k.to_string()).collect();
     Ok(Curve {
-        kind: attr("kind").map_err(h)?,
+        kind: attr("kind")?,
         free: [a, b],
         points: va.into_iter().zip(vb).collect(),
         codim2: kinds.into_iter().zip(ca).zip(cb).map(|((k, x), y)| (k, x, y)).collect(),
