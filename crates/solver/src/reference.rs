@@ -22,7 +22,7 @@
 //! ```
 
 /// Published labels of M1 in the multi-stop scene at the reference parameters:
-/// `(ω, δ, label)` (models.md §1), shared by tests and benches.
+/// `(ω, δ, label)` (docs/models.md, section 1), shared by tests and benches.
 pub const PUBLISHED_MULTI_STOP: [(f64, f64, &str); 4] =
     [(0.33, 0.6, "1-4-4"), (0.295, 0.6, "1-5-6"), (0.20, 0.6, "1-S-S"), (2.5, 1.2, "1-0-0")];
 
