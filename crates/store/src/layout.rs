@@ -148,3 +148,94 @@ pub fn symmetry_of(code: u8) -> Option<solver::Symmetry> {
         _ => None,
     }
 }
+
+/// Attribute names (root attributes of an atlas, of its axes and of the
+/// attractors group), written and read by `write` and `read`.
+pub mod attr {
+    /// `software`.
+    pub const SOFTWARE: &str = "software";
+    /// `created`.
+    pub const CREATED: &str = "created";
+    /// `sweeps`.
+    pub const SWEEPS: &str = "sweeps";
+    /// `stops`.
+    pub const STOPS: &str = "stops";
+    /// `state_masses`.
+    pub const STATE_MASSES: &str = "state_masses";
+    /// `start`.
+    pub const START: &str = "start";
+    /// `stop`.
+    pub const STOP: &str = "stop";
+    /// `shard`.
+    pub const SHARD: &str = "shard";
+    /// `section_cap`.
+    pub const SECTION_CAP: &str = "section_cap";
+    /// `scene_name`.
+    pub const SCENE_NAME: &str = "scene_name";
+    /// `scene`.
+    pub const SCENE: &str = "scene";
+    /// `run_time_s`.
+    pub const RUN_TIME_S: &str = "run_time_s";
+    /// `q_stops`.
+    pub const Q_STOPS: &str = "q_stops";
+    /// `p_stops`.
+    pub const P_STOPS: &str = "p_stops";
+    /// `preset`.
+    pub const PRESET: &str = "preset";
+    /// `overrides`.
+    pub const OVERRIDES: &str = "overrides";
+    /// `masses`.
+    pub const MASSES: &str = "masses";
+    /// `layout_version`.
+    pub const LAYOUT_VERSION: &str = "layout_version";
+    /// `integrator`.
+    pub const INTEGRATOR: &str = "integrator";
+    /// `history`.
+    pub const HISTORY: &str = "history";
+    /// `dim`.
+    pub const DIM: &str = "dim";
+    /// `command`.
+    pub const COMMAND: &str = "command";
+    /// `along`.
+    pub const ALONG: &str = "along";
+    /// `accuracy`.
+    pub const ACCURACY: &str = "accuracy";
+    /// `x`.
+    pub const X: &str = "x";
+    /// `y`.
+    pub const Y: &str = "y";
+    /// `samples`.
+    pub const SAMPLES: &str = "samples";
+    /// `seed`.
+    pub const SEED: &str = "seed";
+}
+
+/// Dataset names inside a sweep group (and the sections and attractors groups).
+pub mod var {
+    /// `class`.
+    pub const CLASS: &str = "class";
+    /// `flags`.
+    pub const FLAGS: &str = "flags";
+    /// `symmetry`.
+    pub const SYMMETRY: &str = "symmetry";
+    /// `lyapunov`.
+    pub const LYAPUNOV: &str = "lyapunov";
+    /// `multiplier`.
+    pub const MULTIPLIER: &str = "multiplier";
+    /// `final_state`.
+    pub const FINAL_STATE: &str = "final_state";
+    /// `periods`.
+    pub const PERIODS: &str = "periods";
+    /// `events`.
+    pub const EVENTS: &str = "events";
+    /// `values`.
+    pub const VALUES: &str = "values";
+    /// `offsets`.
+    pub const OFFSETS: &str = "offsets";
+    /// `count`.
+    pub const COUNT: &str = "count";
+    /// `fraction`.
+    pub const FRACTION: &str = "fraction";
+    /// `lines_done`.
+    pub const LINES_DONE: &str = "lines_done";
+}

@@ -49,58 +49,58 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         return Err(StoreError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "no such file")));
     }
     let f = hdf5::File::open(path).map_err(h)?;
-    if attr(&f, "software").map_err(h)? != SOFTWARE {
+    if attr(&f, attr::SOFTWARE).map_err(h)? != SOFTWARE {
         return Err(fmt("not a vibroatlas file".into()));
     }
     let axis = |name: &str| -> Result<Axis, StoreError> {
         let d = f.dataset(&format!("{AXES}/{name}")).map_err(h)?;
         Ok(Axis {
             name: name.to_string(),
-            start: d.attr("start").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
-            stop: d.attr("stop").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
+            start: d.attr(attr::START).and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
+            stop: d.attr(attr::STOP).and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
             count: d.size(),
         })
     };
-    let x = axis(&attr(&f, "x").map_err(h)?)?;
-    let y = axis(&attr(&f, "y").map_err(h)?)?;
-    let version = f.attr("layout_version").and_then(|a| a.read_scalar::<u64>()).unwrap_or(1);
+    let x = axis(&attr(&f, attr::X).map_err(h)?)?;
+    let y = axis(&attr(&f, attr::Y).map_err(h)?)?;
+    let version = f.attr(attr::LAYOUT_VERSION).and_then(|a| a.read_scalar::<u64>()).unwrap_or(1);
     if version > LAYOUT_VERSION {
         return Err(fmt(format!(
             "layout version {version}, newer than this vibroatlas reads ({LAYOUT_VERSION}); use a newer vibroatlas"
         )));
     }
-    let dim = f.attr("dim").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
-    let along = Along::parse(&attr(&f, "along").map_err(h)?).map_err(|e| fmt(e.to_string()))?;
-    let sweeps = list(&attr(&f, "sweeps").map_err(h)?)
+    let dim = f.attr(attr::DIM).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
+    let along = Along::parse(&attr(&f, attr::ALONG).map_err(h)?).map_err(|e| fmt(e.to_string()))?;
+    let sweeps = list(&attr(&f, attr::SWEEPS).map_err(h)?)
         .iter()
         .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
         .collect::<Result<Vec<_>, _>>()?;
-    let masses = list(&attr(&f, "masses").map_err(h)?);
+    let masses = list(&attr(&f, attr::MASSES).map_err(h)?);
     // Layout 1 did not name the stops of each label.
     let n_masses = masses.len();
     let stops_of = |name: &str| {
         let v: Vec<String> = attr(&f, name).map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
         (0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default())
     };
-    let label_stops = stops_of("p_stops").zip(stops_of("q_stops")).map(|(p, q)| [p, q]).collect();
+    let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
     let meta = Meta {
-        scene_name: attr(&f, "scene_name").map_err(h)?,
-        scene_toml: attr(&f, "scene").map_err(h)?,
-        overrides: pairs(&attr(&f, "overrides").map_err(h)?).map_err(fmt)?,
-        preset: attr(&f, "preset").map_err(h)?,
-        accuracy: pairs(&attr(&f, "accuracy").map_err(h)?).map_err(fmt)?,
-        integrator: attr(&f, "integrator").map_err(h)?,
+        scene_name: attr(&f, attr::SCENE_NAME).map_err(h)?,
+        scene_toml: attr(&f, attr::SCENE).map_err(h)?,
+        overrides: pairs(&attr(&f, attr::OVERRIDES).map_err(h)?).map_err(fmt)?,
+        preset: attr(&f, attr::PRESET).map_err(h)?,
+        accuracy: pairs(&attr(&f, attr::ACCURACY).map_err(h)?).map_err(fmt)?,
+        integrator: attr(&f, attr::INTEGRATOR).map_err(h)?,
         plane: Plane { x, y, along },
         sweeps,
         masses,
         label_stops,
         // Layout 1 did not name the scene's masses.
-        state_masses: attr(&f, "state_masses")
+        state_masses: attr(&f, attr::STATE_MASSES)
             .map(|s| list(&s))
             .unwrap_or_else(|_| (1..=dim / 2).map(|i| format!("mass{i}")).collect()),
-        stops: list(&attr(&f, "stops").map_err(h)?),
+        stops: list(&attr(&f, attr::STOPS).map_err(h)?),
         dim,
-        section_cap: f.attr("section_cap").and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+        section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
     };
     let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
     let n = nx * ny;
@@ -110,16 +110,16 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         let g = f.group(sweep.name()).map_err(h)?;
         let raw_u8 = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<u8>()).map_err(h);
         let raw_u64 = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<u64>()).map_err(h);
-        let class = raw_u8("class")?;
-        let sym = raw_u8("symmetry")?;
-        let flags = g.dataset("flags").and_then(|d| d.read_raw::<u32>()).map_err(h)?;
-        let fs = g.dataset("final_state").and_then(|d| d.read_raw::<f64>()).map_err(h)?;
+        let class = raw_u8(var::CLASS)?;
+        let sym = raw_u8(var::SYMMETRY)?;
+        let flags = g.dataset(var::FLAGS).and_then(|d| d.read_raw::<u32>()).map_err(h)?;
+        let fs = g.dataset(var::FINAL_STATE).and_then(|d| d.read_raw::<f64>()).map_err(h)?;
         // Files written before the stability datasets existed have none.
         let scalar =
             |name: &str| g.dataset(name).and_then(|d| d.read_raw::<f64>()).unwrap_or_else(|_| vec![f64::NAN; n]);
-        let (lyapunov, multiplier) = (scalar("lyapunov"), scalar("multiplier"));
+        let (lyapunov, multiplier) = (scalar(var::LYAPUNOV), scalar(var::MULTIPLIER));
         let finite = |v: f64| v.is_finite().then_some(v);
-        let (periods, events) = (raw_u64("periods")?, raw_u64("events")?);
+        let (periods, events) = (raw_u64(var::PERIODS)?, raw_u64(var::EVENTS)?);
         let labels = meta
             .masses
             .iter()
@@ -130,11 +130,11 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         }
         let section = |name: &str| -> Result<(Vec<f64>, Vec<u64>, usize), StoreError> {
             let s = g.group(&format!("{SECTIONS}/{name}")).map_err(h)?;
-            let vd = s.dataset("values").map_err(h)?;
+            let vd = s.dataset(var::VALUES).map_err(h)?;
             let cols = vd.shape().get(1).copied().unwrap_or(1);
             Ok((
                 vd.read_raw::<f64>().map_err(h)?,
-                s.dataset("offsets").and_then(|d| d.read_raw::<u64>()).map_err(h)?,
+                s.dataset(var::OFFSETS).and_then(|d| d.read_raw::<u64>()).map_err(h)?,
                 cols,
             ))
         };
@@ -164,7 +164,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
             .collect();
         maps.push(Map { sweep, cells });
     }
-    let shard = match attr(&f, "shard") {
+    let shard = match attr(&f, attr::SHARD) {
         Ok(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
         Err(_) => None,
     };
@@ -173,9 +173,9 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Err(_) => None,
     };
     // Layout 1 had no history: its command is the whole of it.
-    let command = attr(&f, "command").map_err(h)?;
-    let created = attr(&f, "created").map_err(h)?;
-    let history = match attr(&f, "history") {
+    let command = attr(&f, attr::COMMAND).map_err(h)?;
+    let created = attr(&f, attr::CREATED).map_err(h)?;
+    let history = match attr(&f, attr::HISTORY) {
         Ok(text) => text.lines().map(str::to_string).collect(),
         Err(_) => vec![format!("{created}: {command}")],
     };
@@ -183,18 +183,18 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         atlas: Atlas { meta, maps, attractors },
         info: RunInfo {
             command,
-            run_time_s: f.attr("run_time_s").and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
+            run_time_s: f.attr(attr::RUN_TIME_S).and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
             shard,
             history,
         },
-        created: attr(&f, "created").map_err(h)?,
+        created: attr(&f, attr::CREATED).map_err(h)?,
     })
 }
 
 /// The `/attractors` group of `n` cells and the labelled `masses`.
 fn read_attractors(g: &hdf5::Group, n: usize, masses: &[String]) -> hdf5::Result<grid::AttractorMap> {
-    let count = g.dataset("count")?.read_raw::<u8>()?;
-    let fraction = g.dataset("fraction")?.read_raw::<f64>()?;
+    let count = g.dataset(var::COUNT)?.read_raw::<u8>()?;
+    let fraction = g.dataset(var::FRACTION)?.read_raw::<f64>()?;
     let slots = fraction.len() / n.max(1);
     let table: Vec<String> = g.dataset(LABEL)?.read_raw::<VarLenUnicode>()?.iter().map(|t| t.to_string()).collect();
     let codes = masses
@@ -211,7 +211,7 @@ fn read_attractors(g: &hdf5::Group, n: usize, masses: &[String]) -> hdf5::Result
             })
         })
         .collect();
-    let samples = g.attr("samples").and_then(|a| a.read_scalar::<u64>())? as usize;
-    let seed = g.attr("seed").and_then(|a| a.read_scalar::<u64>())?;
+    let samples = g.attr(attr::SAMPLES).and_then(|a| a.read_scalar::<u64>())? as usize;
+    let seed = g.attr(attr::SEED).and_then(|a| a.read_scalar::<u64>())?;
     Ok(grid::AttractorMap { samples, seed, cells })
 }

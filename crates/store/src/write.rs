@@ -72,41 +72,41 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
     attr_str(&f, "source", &format!("vibroatlas {} (git {})", env!("CARGO_PKG_VERSION"), GIT_COMMIT))?;
     let mut history = info.history.clone();
     history.push(format!("{created}: {}", info.command));
-    attr_str(&f, "history", &history.join("\n"))?;
-    attr_str(&f, "software", SOFTWARE)?;
+    attr_str(&f, attr::HISTORY, &history.join("\n"))?;
+    attr_str(&f, attr::SOFTWARE, SOFTWARE)?;
     attr_str(&f, "version", env!("CARGO_PKG_VERSION"))?;
     attr_str(&f, "git_commit", GIT_COMMIT)?;
-    attr_num(&f, "layout_version", LAYOUT_VERSION)?;
-    attr_str(&f, "scene", &m.scene_toml)?;
-    attr_str(&f, "scene_name", &m.scene_name)?;
-    attr_str(&f, "preset", &m.preset)?;
-    attr_str(&f, "accuracy", &pairs(&m.accuracy))?;
+    attr_num(&f, attr::LAYOUT_VERSION, LAYOUT_VERSION)?;
+    attr_str(&f, attr::SCENE, &m.scene_toml)?;
+    attr_str(&f, attr::SCENE_NAME, &m.scene_name)?;
+    attr_str(&f, attr::PRESET, &m.preset)?;
+    attr_str(&f, attr::ACCURACY, &pairs(&m.accuracy))?;
     attr_str(&f, "knobs", &knobs(m))?;
-    attr_str(&f, "integrator", &m.integrator)?;
-    attr_str(&f, "command", &info.command)?;
-    attr_str(&f, "created", &created)?;
-    attr_num(&f, "run_time_s", info.run_time_s)?;
-    attr_str(&f, "x", &p.x.name)?;
-    attr_str(&f, "y", &p.y.name)?;
-    attr_str(&f, "along", p.along.name())?;
-    attr_str(&f, "sweeps", &m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>().join(","))?;
-    attr_str(&f, "overrides", &pairs(&m.overrides))?;
-    attr_str(&f, "masses", &m.masses.join(","))?;
-    attr_str(&f, "state_masses", &m.state_masses.join(","))?;
-    attr_str(&f, "p_stops", &m.label_stops.iter().map(|s| s[0].as_str()).collect::<Vec<_>>().join(","))?;
-    attr_str(&f, "q_stops", &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
-    attr_str(&f, "stops", &m.stops.join(","))?;
-    attr_num(&f, "dim", dim as u64)?;
-    attr_num(&f, "section_cap", m.section_cap as u64)?;
+    attr_str(&f, attr::INTEGRATOR, &m.integrator)?;
+    attr_str(&f, attr::COMMAND, &info.command)?;
+    attr_str(&f, attr::CREATED, &created)?;
+    attr_num(&f, attr::RUN_TIME_S, info.run_time_s)?;
+    attr_str(&f, attr::X, &p.x.name)?;
+    attr_str(&f, attr::Y, &p.y.name)?;
+    attr_str(&f, attr::ALONG, p.along.name())?;
+    attr_str(&f, attr::SWEEPS, &m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>().join(","))?;
+    attr_str(&f, attr::OVERRIDES, &pairs(&m.overrides))?;
+    attr_str(&f, attr::MASSES, &m.masses.join(","))?;
+    attr_str(&f, attr::STATE_MASSES, &m.state_masses.join(","))?;
+    attr_str(&f, attr::P_STOPS, &m.label_stops.iter().map(|s| s[0].as_str()).collect::<Vec<_>>().join(","))?;
+    attr_str(&f, attr::Q_STOPS, &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
+    attr_str(&f, attr::STOPS, &m.stops.join(","))?;
+    attr_num(&f, attr::DIM, dim as u64)?;
+    attr_num(&f, attr::SECTION_CAP, m.section_cap as u64)?;
     if let Some(s) = info.shard {
-        attr_str(&f, "shard", &s.to_string())?;
+        attr_str(&f, attr::SHARD, &s.to_string())?;
     }
 
     let axes = f.create_group(AXES)?;
     for axis in [&p.x, &p.y] {
         let d = axes.new_dataset_builder().with_data(&Array1::from(axis.values())).create(axis.name.as_str())?;
-        attr_num(&d, "start", axis.start)?;
-        attr_num(&d, "stop", axis.stop)?;
+        attr_num(&d, attr::START, axis.start)?;
+        attr_num(&d, attr::STOP, axis.stop)?;
     }
     // Root coordinates, for the root's gridded datasets (hysteresis).
     let root = Grid::new(&f, m)?;
@@ -164,7 +164,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         };
         let class =
             Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(NOT_COMPUTED, |c| class_code(c.class)));
-        let d = dataset(&g, "class", &class)?;
+        let d = dataset(&g, var::CLASS, &class)?;
         gridded(&d, "kind of steady motion", "1")?;
         netcdf::attr_str(&d, "codes", CLASS_CODES)?;
         netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2, 3])?;
@@ -173,11 +173,11 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         let flag = |iy: usize, ix: usize| cell(iy, ix).map_or(0u32, |c| c.chatter | (c.sticking << shift));
         let (masks, meanings) = flag_masks(&m.stops, shift);
         let flags = if m.stops.len() <= 4 {
-            let d = dataset(&g, "flags", &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;
+            let d = dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;
             netcdf::attr_array(&d, "flag_masks", &masks.iter().map(|&v| v as u8).collect::<Vec<_>>())?;
             d
         } else {
-            let d = dataset(&g, "flags", &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?;
+            let d = dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?;
             netcdf::attr_array(&d, "flag_masks", &masks)?;
             d
         };
@@ -185,7 +185,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         netcdf::attr_str(&flags, "flag_meanings", &meanings)?;
         netcdf::attr_str(&flags, "bits", &flag_bits(&m.stops))?;
         let sym = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| symmetry_code(c.symmetry)));
-        let d = dataset(&g, "symmetry", &sym)?;
+        let d = dataset(&g, var::SYMMETRY, &sym)?;
         gridded(&d, "mirror symmetry of the periodic orbit (symmetric scenes)", "1")?;
         netcdf::attr_str(&d, "codes", SYMMETRY_CODES)?;
         netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2])?;
@@ -193,7 +193,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         let scalar = |f: fn(&CellData) -> Option<f64>| {
             Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).and_then(f).unwrap_or(f64::NAN))
         };
-        let d = dataset(&g, "lyapunov", &scalar(|c| c.lyapunov))?;
+        let d = dataset(&g, var::LYAPUNOV, &scalar(|c| c.lyapunov))?;
         gridded(&d, "largest Lyapunov exponent per unit time (cells without a period)", "1")?;
         netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
         netcdf::attr_str(
@@ -201,25 +201,31 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
             "meaning",
             "largest Lyapunov exponent per unit time of cells without a period (NaN: none)",
         )?;
-        let d = dataset(&g, "multiplier", &scalar(|c| c.multiplier))?;
+        let d = dataset(&g, var::MULTIPLIER, &scalar(|c| c.multiplier))?;
         gridded(&d, "largest Floquet multiplier modulus (periodic cells)", "1")?;
         netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
         netcdf::attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
         let fs =
             Array3::from_shape_fn((ny, nx, dim), |(iy, ix, k)| cell(iy, ix).map_or(f64::NAN, |c| c.final_state[k]));
-        let d = dataset(&g, "final_state", &fs)?;
+        let d = dataset(&g, var::FINAL_STATE, &fs)?;
         netcdf::dims(&d, &[&grid.y, &grid.x, &component])?;
         netcdf::describe(&d, "state at the end of the cell's record (a whole number of forcing periods)", "1")?;
         netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-        let d =
-            dataset(&g, "periods", &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.periods)))?;
+        let d = dataset(
+            &g,
+            var::PERIODS,
+            &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.periods)),
+        )?;
         gridded(&d, "forcing periods simulated", "1")?;
-        let d =
-            dataset(&g, "events", &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.events)))?;
+        let d = dataset(
+            &g,
+            var::EVENTS,
+            &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.events)),
+        )?;
         gridded(&d, "events handled", "1")?;
         let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
         let lines = netcdf::dimension(&g, LINE, done.len())?;
-        let d = dataset(&g, "lines_done", &Array1::from(done))?;
+        let d = dataset(&g, var::LINES_DONE, &Array1::from(done))?;
         netcdf::dims(&d, &[&lines])?;
         netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
 
@@ -267,7 +273,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
             let counts: Vec<u64> = entries.iter().map(|&(_, c)| c).collect();
             let d = mg.new_dataset_builder().with_data(&Array1::from(labels)).create("label")?;
             netcdf::dims(&d, &[&entry])?;
-            let d = mg.new_dataset_builder().with_data(&Array1::from(counts)).create("count")?;
+            let d = mg.new_dataset_builder().with_data(&Array1::from(counts)).create(var::COUNT)?;
             netcdf::dims(&d, &[&entry])?;
         }
     }
@@ -280,8 +286,8 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
 fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap) -> hdf5::Result<()> {
     let (nx, ny) = (m.plane.x.count, m.plane.y.count);
     let g = f.create_group(ATTRACTORS)?;
-    netcdf::attr_num(&g, "samples", a.samples as u64)?;
-    netcdf::attr_num(&g, "seed", a.seed)?;
+    netcdf::attr_num(&g, attr::SAMPLES, a.samples as u64)?;
+    netcdf::attr_num(&g, attr::SEED, a.seed)?;
     let grid = Grid::new(&g, m)?;
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
@@ -291,13 +297,13 @@ fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap) -> h
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
     let cell = |iy: usize, ix: usize| a.cells[iy * nx + ix].as_ref();
     let count = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0u8, |c| c.len().min(255) as u8));
-    let d = dataset(&g, "count", &count)?;
+    let d = dataset(&g, var::COUNT, &count)?;
     netcdf::dims(&d, &[&grid.y, &grid.x])?;
     netcdf::describe(&d, "number of coexisting attractors found (0: cell not sampled)", "1")?;
     let fraction = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
         cell(iy, ix).and_then(|c| c.get(k)).map_or(f64::NAN, |e| e.1)
     });
-    let d = dataset(&g, "fraction", &fraction)?;
+    let d = dataset(&g, var::FRACTION, &fraction)?;
     netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
     netcdf::describe(&d, "share of the sampled initial states that reach the attractor (basin fraction)", "1")?;
     netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
@@ -384,10 +390,10 @@ fn write_section<'a>(
     let a = Array2::from_shape_vec((n, cols), values).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
     let point = netcdf::dimension(&s, POINT, n)?;
     let edge = netcdf::dimension(&s, CELL_EDGE, offsets.len())?;
-    let d = dataset(&s, "values", &a)?;
+    let d = dataset(&s, var::VALUES, &a)?;
     netcdf::dims(&d, &[&point, columns])?;
     netcdf::describe(&d, long_name, "1")?;
-    let d = dataset(&s, "offsets", &Array1::from(offsets))?;
+    let d = dataset(&s, var::OFFSETS, &Array1::from(offsets))?;
     netcdf::dims(&d, &[&edge])?;
     netcdf::attr_str(&d, "long_name", "CSR offsets: cell i = iy*nx + ix owns rows offsets[i]..offsets[i+1] of values")?;
     Ok(())
