@@ -260,11 +260,7 @@ impl Plan {
         }
         let chosen: Vec<usize> = (0..p.cells())
             .filter(|&i| {
-                let (iy, ix) = (i / p.x.count, i % p.x.count);
-                let line = match p.along {
-                    grid::Along::X => iy,
-                    grid::Along::Y => ix,
-                };
+                let (line, _) = p.position(i / p.x.count, i % p.x.count);
                 owns[line] && hyst.as_ref().is_none_or(|h| !only_hysteresis || h[i] == 1)
             })
             .collect();

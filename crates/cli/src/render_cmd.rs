@@ -86,13 +86,7 @@ fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
     if name != y.name {
         bail!("--row: the file's rows are values of {}, got '{name}'", y.name);
     }
-    let lo = y.start.min(y.stop);
-    let hi = y.start.max(y.stop);
-    let step = if y.count > 1 { (hi - lo) / (y.count - 1) as f64 } else { 0.0 };
-    if value < lo - step / 2.0 || value > hi + step / 2.0 {
-        bail!("--row: {name} = {value} is outside the file's {lo} to {hi}");
-    }
-    Ok((0..y.count).min_by(|&i, &j| (y.value(i) - value).abs().total_cmp(&(y.value(j) - value).abs())).unwrap_or(0))
+    y.nearest(value).map_err(|e| anyhow!("--row: {e}"))
 }
 
 /// A curve of file `path` as an overlay of `atlas`'s plane (its free

@@ -136,16 +136,7 @@ impl Atlas {
         let p = &self.meta.plane;
         let index = |a: &crate::Axis| -> Result<usize, String> {
             match at.iter().find(|(n, _)| *n == a.name) {
-                Some(&(_, v)) => {
-                    let (lo, hi) = (a.start.min(a.stop), a.start.max(a.stop));
-                    let step = if a.count > 1 { (hi - lo) / (a.count - 1) as f64 } else { 0.0 };
-                    if v < lo - step / 2.0 || v > hi + step / 2.0 {
-                        return Err(format!("{} = {v} is outside the file's {lo} to {hi}", a.name));
-                    }
-                    Ok((0..a.count)
-                        .min_by(|&i, &j| (a.value(i) - v).abs().total_cmp(&(a.value(j) - v).abs()))
-                        .unwrap_or(0))
-                }
+                Some(&(_, v)) => a.nearest(v),
                 None if a.count == 1 => Ok(0),
                 None => Err(format!("give {} (the file's axes are {} and {})", a.name, p.x.name, p.y.name)),
             }
@@ -162,10 +153,7 @@ impl Atlas {
     pub fn start_of(&self, sweep: SweepKind, iy: usize, ix: usize) -> Option<&[f64]> {
         let p = &self.meta.plane;
         let map = self.map(sweep)?;
-        let (line, pos) = match p.along {
-            crate::Along::X => (iy, ix),
-            crate::Along::Y => (ix, iy),
-        };
+        let (line, pos) = p.position(iy, ix);
         let prev = match sweep {
             SweepKind::Fresh => None,
             SweepKind::Up => pos.checked_sub(1),

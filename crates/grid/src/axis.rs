@@ -73,6 +73,19 @@ impl Axis {
         }
     }
 
+    /// The index of the value nearest to `v`, or an error when `v` lies more
+    /// than half a step outside the axis.
+    pub fn nearest(&self, v: f64) -> Result<usize, String> {
+        let (lo, hi) = (self.start.min(self.stop), self.start.max(self.stop));
+        let step = if self.count > 1 { (hi - lo) / (self.count - 1) as f64 } else { 0.0 };
+        if !(v >= lo - step / 2.0 && v <= hi + step / 2.0) {
+            return Err(format!("{} = {v} is outside the file's {lo} to {hi}", self.name));
+        }
+        Ok((0..self.count)
+            .min_by(|&i, &j| (self.value(i) - v).abs().total_cmp(&(self.value(j) - v).abs()))
+            .unwrap_or(0))
+    }
+
     /// All values in order.
     pub fn values(&self) -> Vec<f64> {
         (0..self.count).map(|i| self.value(i)).collect()

@@ -103,6 +103,14 @@ impl Plane {
         }
     }
 
+    /// `(line, position on it)` of cell `(iy, ix)`: the inverse of [`Plane::cell`].
+    pub fn position(&self, iy: usize, ix: usize) -> (usize, usize) {
+        match self.along {
+            Along::X => (iy, ix),
+            Along::Y => (ix, iy),
+        }
+    }
+
     /// Parameter values of cell `(iy, ix)`.
     pub fn params(&self, iy: usize, ix: usize) -> Vec<(String, f64)> {
         vec![(self.x.name.clone(), self.x.value(ix)), (self.y.name.clone(), self.y.value(iy))]

@@ -166,7 +166,8 @@ pub fn write_atomically<E: std::fmt::Display>(
     let tmp = crate::partial_path(path);
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);
-        return Err(StoreError::format(path, e.to_string()));
+        // One line, whatever the writer's message spans (HDF5's span several).
+        return Err(StoreError::format(path, e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")));
     }
     commit(&tmp, path).inspect_err(|_| {
         let _ = std::fs::remove_file(&tmp);

@@ -50,15 +50,7 @@ pub fn partial_path(path: &Path) -> PathBuf {
 
 /// Writes `atlas` to `path` (atomically, through a temporary file).
 pub fn write(path: &Path, atlas: &Atlas, info: &RunInfo) -> Result<(), StoreError> {
-    let tmp = partial_path(path);
-    let result = write_file(&tmp, atlas, info).map_err(|e| StoreError::hdf5(path, e));
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    crate::lock::commit(&tmp, path).inspect_err(|_| {
-        let _ = std::fs::remove_file(&tmp);
-    })
+    crate::write_atomically(path, |tmp| write_file(tmp, atlas, info))
 }
 
 fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
