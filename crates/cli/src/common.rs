@@ -203,3 +203,11 @@ pub fn in_flags(e: grid::GridError, flags: &[(&str, &str)]) -> anyhow::Error {
         other => anyhow!(other),
     }
 }
+
+/// The system of the set-up with the parameters `set` replacing their overrides.
+pub fn system_with(s: &Setup, set: &[(&str, f64)]) -> Result<solver::System> {
+    let mut over = s.overrides.clone();
+    over.retain(|(k, _)| !set.iter().any(|(n, _)| n == k));
+    over.extend(set.iter().map(|&(n, v)| (n.to_string(), v)));
+    Ok(solver::System::new(s.scene.evaluate(&over)?)?)
+}

@@ -2,7 +2,7 @@
 //! locate its bifurcations (PD, SN, PF, NS, grazing).
 
 use crate::args::ContinueArgs;
-use crate::common::{check_period, labels_json, setup_from};
+use crate::common::{check_period, labels_json, setup_from, system_with};
 use crate::orbit::multipliers_json;
 use crate::out::{outln, outp};
 use anyhow::{anyhow, bail, Result};
@@ -24,18 +24,8 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     }
     check_period(a.n)?;
     let values = axis.values();
-    let family = |v: f64| -> Option<System> {
-        let mut over = s.overrides.clone();
-        over.retain(|(k, _)| k != &axis.name);
-        over.push((axis.name.clone(), v));
-        System::new(s.scene.evaluate(&over).ok()?).ok()
-    };
-    let sys = {
-        let mut over = s.overrides.clone();
-        over.retain(|(k, _)| k != &axis.name);
-        over.push((axis.name.clone(), values[0]));
-        System::new(s.scene.evaluate(&over)?)?
-    };
+    let family = |v: f64| -> Option<System> { system_with(&s, &[(&axis.name, v)]).ok() };
+    let sys = system_with(&s, &[(&axis.name, values[0])])?;
     let y0 = origin.map_or_else(|| sys.model.initial_state(), |o| o.state);
     let start =
         orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;

@@ -240,11 +240,7 @@ pub struct Tracer<'a> {
 impl Tracer<'_> {
     /// The system at A = `va`, B = `vb`.
     fn system(&self, va: f64, vb: f64) -> Option<System> {
-        let mut over = self.s.overrides.clone();
-        over.retain(|(k, _)| k != self.pa && k != self.pb);
-        over.push((self.pa.to_string(), va));
-        over.push((self.pb.to_string(), vb));
-        System::new(self.s.scene.evaluate(&over).ok()?).ok()
+        crate::common::system_with(self.s, &[(self.pa, va), (self.pb, vb)]).ok()
     }
 
     /// The curve of `kind` from (a0, b0) to B = `to` in `steps` steps.
