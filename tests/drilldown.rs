@@ -31,8 +31,8 @@ fn a_stored_cell_opens_again_bit_for_bit() {
     for sweep in ["up", "down"] {
         let stored = atlas.map(grid::SweepKind::parse(sweep).unwrap()).unwrap().cells[i].clone().unwrap();
         let c = cell_json(&["configs/multi-stop.toml", "--from", f.to_str().unwrap(), "--at", &at, "--sweep", sweep]);
-        assert_eq!(c["labels"]["M1"], stored.label_text(0), "{sweep}: {c}");
-        assert_eq!(c["labels"]["M2"], stored.label_text(1), "{sweep}");
+        assert_eq!(c["labels"]["M1"], stored.labels[0].to_string(), "{sweep}: {c}");
+        assert_eq!(c["labels"]["M2"], stored.labels[1].to_string(), "{sweep}");
         let fs: Vec<f64> = c["final_state"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
         let same = fs.iter().zip(&stored.final_state).all(|(a, b)| a.to_bits() == b.to_bits());
         assert!(same, "{sweep}: {fs:?} against {:?}", stored.final_state);
@@ -50,7 +50,7 @@ fn a_stored_cell_opens_again_bit_for_bit() {
         "up",
         "--json",
     ]);
-    let up = atlas.map(grid::SweepKind::Up).unwrap().cells[i].as_ref().unwrap().label_text(0);
+    let up = atlas.map(grid::SweepKind::Up).unwrap().cells[i].as_ref().unwrap().labels[0].to_string();
     assert_eq!(o["labels"]["M1"], up);
     // A state given directly, and one that penetrates a stop.
     let c = cell_json(&["configs/multi-stop.toml", "--state", "0,0,0,0"]);

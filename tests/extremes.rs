@@ -63,7 +63,7 @@ fn corners_of_the_parameter_space() {
                 "{p:?}"
             );
             match a.class {
-                Class::Periodic => assert!(a.n.is_some() && a.labels.iter().all(|l| l.npq.is_some()), "{p:?}"),
+                Class::Periodic => assert!(a.n.is_some() && a.labels.iter().all(|l| l.label.npq().is_some()), "{p:?}"),
                 // Cells whose exponent was measured but decides nothing (still
                 // contracting, or in the quasi-periodic band without a torus) are
                 // unresolved by design (issue 18); the budget and stalls are

@@ -75,7 +75,7 @@ fn a_label_has_the_same_colour_in_every_sweep_and_file() {
         let map = atlas.map(grid::SweepKind::parse(sweep).unwrap()).unwrap();
         for iy in 0..2 {
             for ix in 0..2 {
-                let label = map.cells[iy * 2 + ix].as_ref().unwrap().label_text(0);
+                let label = map.cells[iy * 2 + ix].as_ref().unwrap().labels[0].to_string();
                 let (x, y) = centre(ix, iy);
                 let got = sample(&img, x, y);
                 assert_eq!(got, grid::palette::colour(&label), "{png:?} cell ({ix}, {iy}) {label}");

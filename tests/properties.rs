@@ -94,27 +94,3 @@ proptest! {
         }
     }
 }
-
-proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
-
-    /// Issue 15: the exact flow is a flow: advancing by t1 then by t2 gives the
-    /// state that advancing by t1 + t2 gives (single-stop oscillator, its stop
-    /// out of reach so that no event interrupts either), to rounding.
-    #[test]
-    fn exact_flow_composes(omega in 0.05f64..5.0, zeta in 0.0f64..0.5, x0 in -1.0f64..1.0, v0 in -1.0f64..1.0,
-                           t1 in 0.0f64..20.0, t2 in 0.0f64..20.0) {
-        use solver::flow::exact::{advance, Workspace};
-        use solver::flow::Advance;
-        let sys = system("single-stop.toml", &[("omega", omega), ("zeta", zeta), ("sigma", 1e6)]);
-        let mode = solver::mode::Mode::new(&sys, solver::mode::Key::default()).unwrap().unwrap();
-        let acc = Accuracy::default();
-        let s0 = mode.project(&solver::DVector::from_vec(vec![x0, v0]), 0.3);
-        let (mut w, mut s1, mut s2, mut s12) = (Workspace::default(), s0.clone(), s0.clone(), s0.clone());
-        prop_assert!(matches!(advance(&mode, &s0, t1, &acc, &mut w, &mut s1), Advance::Horizon));
-        prop_assert!(matches!(advance(&mode, &s1, t2, &acc, &mut w, &mut s2), Advance::Horizon));
-        prop_assert!(matches!(advance(&mode, &s0, t1 + t2, &acc, &mut w, &mut s12), Advance::Horizon));
-        let scale = 1.0 + s12.amax();
-        prop_assert!((&s2 - &s12).amax() <= 1e-11 * scale, "{} vs {}", s2, s12);
-    }
-}

@@ -18,7 +18,7 @@ fn finite_differences(sys: &System, x: &DVector<f64>, n: usize) -> DMatrix<f64> 
         for _ in 0..n {
             sim.run_period(&[], false, &mut Ignore).unwrap();
         }
-        sim.y.clone()
+        sim.state().clone()
     };
     let dim = x.len();
     let mut jac = DMatrix::zeros(dim, dim);
@@ -103,7 +103,7 @@ fn lyapunov_exponent_of_a_periodic_orbit() {
         assert!(mu[0].im.abs() < 1e-12 && mu[0].norm() > mu[1].norm() + 0.05, "{file}: leading multipliers {mu:?}");
         let expected = mu[0].norm().ln() / (n as f64 * sys.period);
         let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, sol.x.as_slice()).unwrap();
-        let (lambda, _) = solver::lyapunov::largest_exponent(&mut sim, 200, 100 * n).unwrap();
+        let (lambda, _) = solver::largest_exponent(&mut sim, 200, 100 * n).unwrap();
         assert!((lambda - expected).abs() < 1e-6, "{file}: λ = {lambda} against ln|μ|/T = {expected}");
     }
 }

@@ -34,7 +34,7 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
     let found = find(&cs, &[], &sampling, threads(a.threads)?)?;
     let sys = cs.system(&[])?;
     let masses: Vec<String> = sys.model.labels.iter().map(|l| sys.model.masses[l.mass].name.clone()).collect();
-    let label = |at: &Attractor| -> Vec<String> { (0..masses.len()).map(|i| at.cell.label_text(i)).collect() };
+    let label = |at: &Attractor| -> Vec<String> { (0..masses.len()).map(|i| at.cell.labels[i].to_string()).collect() };
     if let Some(png) = &a.png {
         let mass = sys.model.labels.first().map_or(0, |l| l.mass);
         let m = sys.dof();
@@ -46,7 +46,7 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
                 (name, pts.collect())
             })
             .collect();
-        let colours: Vec<String> = found.iter().map(|at| at.cell.label_text(0)).collect();
+        let colours: Vec<String> = found.iter().map(|at| at.cell.labels[0].to_string()).collect();
         let title = format!("{}: basins of attraction at t = 0 ({} samples)", sys.model.name, a.samples);
         let axes =
             (format!("x_{} at t = 0", sys.model.masses[mass].name), format!("v_{}", sys.model.masses[mass].name));

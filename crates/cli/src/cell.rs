@@ -5,7 +5,7 @@ use crate::common::{labels_json, setup_from};
 use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
-use solver::{run_cell, CellResult, Simulator, System};
+use solver::{run_cell, CellResult, Mask, Simulator, System};
 use std::fmt::Write as _;
 use store::write_atomically;
 
@@ -83,6 +83,11 @@ where
     sys.model.stops.iter().zip(values).map(|(s, &v)| (s.name.clone(), Value::from(v))).collect()
 }
 
+/// Per stop, whether it is in `mask`.
+fn members(sys: &System, mask: Mask) -> Map<String, Value> {
+    sys.model.stops.iter().enumerate().map(|(k, s)| (s.name.clone(), Value::from(mask.contains(k)))).collect()
+}
+
 /// The JSON object of a cell (the contract of `cell --json`).
 pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value {
     let params: Map<String, Value> = sys.model.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect();
@@ -95,8 +100,8 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
         "n": c.n,
         "labels": labels_json(&c.labels),
         "impacts": names(sys, &c.impacts),
-        "chatter": names(sys, &c.chatter),
-        "sticking": names(sys, &c.sticking),
+        "chatter": members(sys, c.chatter),
+        "sticking": members(sys, c.sticking),
         "symmetry": c.symmetry.map(|x| x.name()),
         "lyapunov": c.lyapunov,
         "max_multiplier": c.multiplier,
@@ -104,11 +109,14 @@ pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value 
         "period_section": c.section,
         "periods_simulated": c.periods,
         "events": c.events,
-        "reason": c.reason,
+        "reason": c.reason.as_ref().map(ToString::to_string),
     });
     if !sys.model.friction.is_empty() {
-        let stuck: Map<String, Value> =
-            friction_names(sys).into_iter().zip(&c.friction_stick).map(|(n, &b)| (n, Value::from(b))).collect();
+        let stuck: Map<String, Value> = friction_names(sys)
+            .into_iter()
+            .enumerate()
+            .map(|(i, n)| (n, Value::from(c.friction_stick.contains(i))))
+            .collect();
         out["friction_stick"] = Value::Object(stuck);
     }
     out
@@ -155,10 +163,15 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
     }
     let _ = writeln!(o, "stop      impacts  chatter  sticking");
     for (k, st) in sys.model.stops.iter().enumerate() {
-        let _ = writeln!(o, "  {:<8}{:>7}  {:<8} {}", st.name, c.impacts[k], c.chatter[k], c.sticking[k]);
+        let _ =
+            writeln!(o, "  {:<8}{:>7}  {:<8} {}", st.name, c.impacts[k], c.chatter.contains(k), c.sticking.contains(k));
     }
-    for (name, stuck) in friction_names(sys).iter().zip(&c.friction_stick) {
-        let _ = writeln!(o, "friction  {name:<8} {}", if *stuck { "sticks" } else { "slips throughout" });
+    for (i, name) in friction_names(sys).iter().enumerate() {
+        let _ = writeln!(
+            o,
+            "friction  {name:<8} {}",
+            if c.friction_stick.contains(i) { "sticks" } else { "slips throughout" }
+        );
     }
     let _ = writeln!(o, "final     {:?}", c.final_state);
     let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);
@@ -213,7 +226,7 @@ fn window(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize
     for _ in 0..periods {
         sim.run_period(&times, false, &mut rows).map_err(|h| anyhow!("trace: {h:?}"))?;
         // The period's end is a sample too (the next period's first).
-        rows.0.push((sim.time(), sim.y.as_slice().to_vec(), None));
+        rows.0.push((sim.time(), sim.state().as_slice().to_vec(), None));
     }
     rows.0.pop();
     Ok(rows.0)

@@ -179,7 +179,7 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
         "file": file.display().to_string(),
         "sweep": sweep.name(),
         "cell": coords,
-        "labels": m.masses.iter().enumerate().map(|(i, n)| (n.clone(), serde_json::json!(cell.label_text(i)))).collect::<serde_json::Map<_, _>>(),
+        "labels": m.masses.iter().enumerate().map(|(i, n)| (n.clone(), serde_json::json!(cell.labels[i].to_string()))).collect::<serde_json::Map<_, _>>(),
     });
     let origin = Origin {
         cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),

@@ -272,7 +272,7 @@ impl Plan {
             cells[i] = Some(
                 list.iter()
                     .map(|a| {
-                        let labels = (0..masses).map(|m| a.cell.label_text(m)).collect();
+                        let labels = (0..masses).map(|m| a.cell.labels[m].to_string()).collect();
                         (labels, a.count as f64 / sampling.samples as f64)
                     })
                     .collect(),

@@ -159,8 +159,13 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>) -> Result<Atlas> {
 }
 
 fn labels(atlas: &Atlas, c: &CellData) -> Value {
-    let m: Map<String, Value> =
-        atlas.meta.masses.iter().enumerate().map(|(i, name)| (name.clone(), Value::from(c.label_text(i)))).collect();
+    let m: Map<String, Value> = atlas
+        .meta
+        .masses
+        .iter()
+        .enumerate()
+        .map(|(i, name)| (name.clone(), Value::from(c.labels[i].to_string())))
+        .collect();
     Value::Object(m)
 }
 
@@ -168,7 +173,7 @@ fn point(atlas: &Atlas, ix: usize, c: &CellData) -> Value {
     json!({
         "value": atlas.meta.plane.x.value(ix),
         "class": c.class.name(),
-        "n": (c.class == solver::Class::Periodic).then(|| c.labels.first().map_or(0, |l| l[0])),
+        "n": c.labels.first().and_then(|l| l.npq()).map(|(n, _, _)| n),
         "labels": labels(atlas, c),
         "symmetry": c.symmetry.map(|s| s.name()),
         "lyapunov": c.lyapunov,
@@ -215,7 +220,7 @@ fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) -> Result<()> {
             .map(|&s| {
                 let c = atlas.map(s).and_then(|m| m.cells[ix].as_ref());
                 let text = c.map_or(String::new(), |c| {
-                    (0..atlas.meta.masses.len()).map(|i| c.label_text(i)).collect::<Vec<_>>().join(" ")
+                    (0..atlas.meta.masses.len()).map(|i| c.labels[i].to_string()).collect::<Vec<_>>().join(" ")
                 });
                 format!("{text:<24}")
             })

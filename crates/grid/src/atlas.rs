@@ -2,7 +2,7 @@
 //! sweep, the cells of the plane (row-major, `None` where not computed, e.g. in
 //! a shard). Stores, renderers and summaries all read this one structure.
 
-use crate::cell::{label_text, CellData};
+use crate::cell::CellData;
 use crate::hysteresis::mask;
 use crate::plane::{Line, Plane};
 use crate::sweep::SweepKind;
@@ -168,7 +168,7 @@ impl Atlas {
         let mut counts: BTreeMap<String, u64> = BTreeMap::new();
         if let Some(map) = self.map(sweep) {
             for c in map.cells.iter().flatten() {
-                *counts.entry(label_text(c.class, c.labels[m])).or_default() += 1;
+                *counts.entry(c.labels[m].to_string()).or_default() += 1;
             }
         }
         let mut v: Vec<(String, u64)> = counts.into_iter().collect();

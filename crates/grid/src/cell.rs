@@ -1,25 +1,22 @@
-//! One cell of a plane: its parameters, its run, and the compact record kept
-//! for storage (labels as `(n, p, q)` numbers, flags as bit masks, the final
-//! state and capped raw sections).
+//! One cell of a plane: its parameters, its run, and the record kept for
+//! storage (labels, flags as stop masks, the final state and capped raw
+//! sections).
 
 use crate::error::GridError;
 use scene::Scene;
-use solver::{run_cell_with_sections, Accuracy, Class, Count, Method, Symmetry, System};
-
-/// Code of a `S` (sticking) count in stored labels.
-pub const STUCK: u16 = u16::MAX;
+use solver::{run_cell_with_sections, Accuracy, Class, Label, Mask, Method, Symmetry, System};
 
 /// What is kept of a classified cell.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CellData {
     /// Kind of motion.
     pub class: Class,
-    /// `(n, p, q)` per labelled mass; `n = 0` when not periodic; [`STUCK`] for `S`.
-    pub labels: Vec<[u16; 3]>,
-    /// Bit k: stop k chatters.
-    pub chatter: u32,
-    /// Bit k: stop k held its mass.
-    pub sticking: u32,
+    /// Label per labelled mass.
+    pub labels: Vec<Label>,
+    /// Stops that chattered.
+    pub chatter: Mask,
+    /// Stops that held their mass.
+    pub sticking: Mask,
     /// Symmetry of periodic orbits of symmetric scenes.
     pub symmetry: Option<Symmetry>,
     /// Largest Lyapunov exponent (per unit time) of a cell without a period.
@@ -36,24 +33,6 @@ pub struct CellData {
     pub period_section: Vec<Vec<f64>>,
     /// Per stop: `[phase, x…, v…]` before each impact of the window.
     pub impact_sections: Vec<Vec<Vec<f64>>>,
-}
-
-impl CellData {
-    /// The label of mass `m` as text: `1-4-4`, `1-S-S`, `C`, `U`.
-    pub fn label_text(&self, m: usize) -> String {
-        label_text(self.class, self.labels[m])
-    }
-}
-
-/// Text of a stored label.
-pub fn label_text(class: Class, npq: [u16; 3]) -> String {
-    let c = |v: u16| if v == STUCK { "S".to_string() } else { v.to_string() };
-    match class {
-        Class::Periodic => format!("{}-{}-{}", npq[0], c(npq[1]), c(npq[2])),
-        Class::Unresolved => "U".into(),
-        Class::Quasiperiodic => "Q".into(),
-        Class::Chaotic => "C".into(),
-    }
 }
 
 /// The state a cell starts from: `start` (a previous cell's final state, or a
@@ -104,23 +83,11 @@ impl CellSetup {
         let sys = self.system(params)?;
         let y0 = start_state(&sys, start);
         let (cell, impact) = run_cell_with_sections(&sys, &self.accuracy, self.method, &y0, self.section_cap);
-        let code = |c: Count| match c {
-            Count::Impacts(v) => v.min(STUCK as u32 - 1) as u16,
-            Count::Stuck => STUCK,
-        };
-        let mask = |v: &[bool]| v.iter().enumerate().filter(|(_, &b)| b).fold(0u32, |m, (k, _)| m | (1 << k));
         Ok(CellData {
             class: cell.class,
-            labels: cell
-                .labels
-                .iter()
-                .map(|l| match l.npq {
-                    Some((n, p, q)) => [n as u16, code(p), code(q)],
-                    None => [0, 0, 0],
-                })
-                .collect(),
-            chatter: mask(&cell.chatter),
-            sticking: mask(&cell.sticking),
+            labels: cell.labels.iter().map(|l| l.label).collect(),
+            chatter: cell.chatter,
+            sticking: cell.sticking,
             symmetry: cell.symmetry,
             lyapunov: cell.lyapunov,
             multiplier: cell.multiplier,

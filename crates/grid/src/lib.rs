@@ -20,7 +20,7 @@ pub mod sweep;
 
 pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
 pub use axis::Axis;
-pub use cell::{label_text, start_state, CellData, CellSetup, STUCK};
+pub use cell::{start_state, CellData, CellSetup};
 pub use error::GridError;
 pub use plane::{Along, Line, Plane};
 pub use shard::Shard;

@@ -170,7 +170,7 @@ fn draw_cells<DB: DrawingBackend>(
 
 /// Colours of one sweep's labels of mass `mass`, cell by cell.
 fn label_colours(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<RGBColor> + '_ {
-    move |i| Some(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.label_text(mass))))
+    move |i| Some(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.labels[mass].to_string())))
 }
 
 /// What p and q count for a mass, e.g. `M1: p = impacts at A12, q = impacts at A1`.
@@ -234,7 +234,7 @@ fn draw_legend<DB: DrawingBackend>(
 fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
     let mut counts: BTreeMap<String, u64> = BTreeMap::new();
     for c in cells.iter().flat_map(|c| c.iter()).flatten() {
-        *counts.entry(c.label_text(mass)).or_default() += 1;
+        *counts.entry(c.labels[mass].to_string()).or_default() += 1;
     }
     let mut v: Vec<(String, u64)> = counts.into_iter().collect();
     v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
@@ -288,7 +288,7 @@ fn draw_map<DB: DrawingBackend>(
             let zones = hyst.iter().filter(|&&h| h == 1).count();
             let differ = |i: usize| {
                 Some(match (&down[i], hyst[i]) {
-                    (Some(c), 1) => rgb(&c.label_text(mass)),
+                    (Some(c), 1) => rgb(&c.labels[mass].to_string()),
                     _ => BLANK,
                 })
             };

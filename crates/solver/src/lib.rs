@@ -1,63 +1,84 @@
 //! The vibroatlas solver: exact event-driven simulation of piecewise-linear
 //! vibro-impact systems under harmonic forcing, and n-p-q classification.
 //!
-//! Physics stages, one module each (private unless named below): `system`
-//! (matrices of `M x'' + C x' + K x = P sin(ωt+τ)`, stop gaps, friction
-//! contacts), [`mode`] (the linear system with held stops and stuck or
-//! slipping contacts), [`flow`] (exact modal flow and RK4, event location),
-//! `impact` (Newton's law with momentum exchange), `chatter` and `stick`
-//! (accumulation, sticking, stick/slip), `simulate` (the event loop, period by
-//! period, with exact tangent maps), `classify` (period detection, labels).
-//! Stability: `newton` (fixed points of period and half maps), [`floquet`]
-//! (multipliers, kinds of bifurcation), [`orbit`], [`continuation`] and
-//! [`arclength`] (branches and located bifurcations), [`lyapunov`].
-//! [`reference`](mod@reference) holds closed-form answers shared by tests and benches. No
-//! I/O, no threads.
+//! Physics stages, one private module each: `system` (matrices of
+//! `M x'' + C x' + K x = P sin(ωt+τ)`, stop gaps, friction contacts), `mode`
+//! (the linear system with held stops and stuck or slipping contacts), `flow`
+//! (exact modal flow and RK4, event location), `impact` (Newton's law with
+//! momentum exchange), `chatter` and `stick` (accumulation, sticking,
+//! stick/slip), `simulate` (the event loop, period by period, with exact
+//! tangent maps). Classification: `executor` (the phases of one cell and its
+//! budget), `period` (period detection), `acceleration` (Newton acceleration
+//! of transients), `label` (classes, n-p-q labels), `lyapunov`, `section`
+//! (impact sections). Stability, public modules: [`floquet`] (multipliers,
+//! kinds of bifurcation), [`orbit`], [`continuation`] and [`arclength`]
+//! (branches and located bifurcations); `newton` (fixed points of period and
+//! half maps) is re-exported. [`reference`](mod@reference) holds closed-form
+//! answers shared by tests and benches. No I/O, no threads.
 //!
-//! The public API: a [`System`] is built from an evaluated scene model; a cell
-//! is run by [`run_cell`] (or [`run_cell_with_sections`]) with an [`Accuracy`]
-//! (from a [`Preset`], knobs checked by [`Accuracy::set`]) and a [`Method`],
-//! giving a [`CellResult`] (its [`Class`], [`MassLabel`]s of [`Count`]s,
-//! [`Symmetry`], stability); a [`Simulator`] runs period by period for
-//! observers ([`Observer`], [`EventKind`]); [`orbit_of_cell`] and [`solve`]
-//! find periodic orbits, [`multipliers`] their Floquet multipliers.
+//! # Public API
+//!
+//! - Set-up: a [`System`] is built from an evaluated scene model; an
+//!   [`Accuracy`] comes from a [`Preset`] and its knobs are changed only
+//!   through [`Accuracy::set`], within [`LIMITS`]; a [`Method`] picks the
+//!   integrator.
+//! - Cells: [`run_cell`] and [`run_cell_with_sections`] give a [`CellResult`]:
+//!   its [`Class`], a [`MassLabel`] ([`Label`] of [`Count`]s) per labelled
+//!   mass, [`Mask`]s of stops that chattered or stuck, [`Symmetry`],
+//!   stability, and an [`Unresolved`] reason where it has no class.
+//! - Motions: a [`Simulator`] runs period by period ([`PeriodRecord`]) and
+//!   tells an [`Observer`] what happens ([`EventKind`]), or [`Halt`]s.
+//! - Stability: [`orbit_of_cell`] and [`solve`] find periodic orbits,
+//!   [`multipliers`] their Floquet multipliers, [`largest_exponent`] the
+//!   largest Lyapunov exponent of any motion.
 //!
 //! ```
 //! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/multi-stop.toml")).unwrap();
 //! let scene = scene::Scene::parse(&text).unwrap();
-//! let model = scene.evaluate(&[("omega".into(), 2.5), ("delta".into(), 1.2)]).unwrap();
+//! let model = scene.evaluate(&[("omega".into(), 0.33), ("delta".into(), 0.6)]).unwrap();
 //! let y0 = model.initial_state();
 //! let sys = solver::System::new(model).unwrap();
 //! let cell = solver::run_cell(&sys, &solver::Accuracy::default(), solver::Method::Exact, &y0);
-//! assert_eq!(cell.labels[0].to_string(), "1-0-0");
+//! assert_eq!(cell.class, solver::Class::Periodic);
+//! // M1 hits A12 (its p-stop) and A1 (its q-stop) four times per period.
+//! assert_eq!(cell.labels[0].to_string(), "1-4-4");
+//! assert!(cell.multiplier.unwrap() < 1.0);
 //! ```
 #![deny(missing_docs)]
 #![deny(clippy::float_cmp)]
 
+mod acceleration;
 mod accuracy;
 pub mod arclength;
+mod budget;
 mod chatter;
-mod classify;
 pub mod continuation;
 mod error;
+mod executor;
 pub mod floquet;
-pub mod flow;
+mod flow;
 mod impact;
-pub mod lyapunov;
-pub mod mode;
+mod label;
+mod lyapunov;
+mod mode;
 mod newton;
 pub mod orbit;
+mod period;
 pub mod reference;
 mod section;
 mod simulate;
 mod stick;
 mod system;
+#[cfg(test)]
+mod testing;
 
 pub use accuracy::{Accuracy, Preset, LIMITS};
-pub use classify::{run_cell, run_cell_with_sections, CellResult, Class, Count, MassLabel, Symmetry};
 pub use error::SolverError;
+pub use executor::{run_cell, run_cell_with_sections, CellResult, ImpactSections, Unresolved};
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
+pub use label::{Class, Count, Label, Mask, MassLabel, Symmetry};
+pub use lyapunov::largest_exponent;
 /// Matrix type of Jacobians and monodromy matrices.
 pub use nalgebra::DMatrix;
 /// Column vector type of states passed to observers.

@@ -20,7 +20,7 @@ pub fn largest_exponent(
     warmup: usize,
     periods: usize,
 ) -> Result<(f64, Vec<DVector<f64>>), Halt> {
-    let dim = sim.y.len();
+    let dim = sim.state().len();
     sim.track_tangent();
     let mut v = DVector::from_element(dim, 1.0 / (dim as f64).sqrt());
     let mut sum = 0.0;
@@ -36,7 +36,7 @@ pub fn largest_exponent(
         v = w / norm;
         if k >= warmup {
             sum += norm.ln();
-            points.push(sim.y.clone());
+            points.push(sim.state().clone());
         }
     }
     Ok((sum / (periods as f64 * sim.period()), points))

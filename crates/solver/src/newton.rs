@@ -64,7 +64,7 @@ pub fn evaluate(sim: &mut Simulator<'_>, x: &DVector<f64>, map: MapKind) -> Resu
         }
     }
     let (value, jacobian) = match map {
-        MapKind::Periods(_) => (sim.y.clone(), sim.tangent().ok_or(Halt::Stalled)?.clone()),
+        MapKind::Periods(_) => (sim.state().clone(), sim.tangent().ok_or(Halt::Stalled)?.clone()),
         MapKind::Half => {
             let (y, j) = half.ok_or(Halt::Stalled)?;
             (-y, -j)
@@ -162,7 +162,7 @@ pub fn try_solve(
 /// `|F|` is below `tol` and the orbit is stable (every eigenvalue of `DPⁿ`
 /// inside the unit circle), or `None`: a transient that lingers near an
 /// unstable orbit must not be labelled by it. (The acceleration of
-/// [`crate::classify::run_cell`].)
+/// [`crate::run_cell`].)
 pub fn fixed_point(
     probe: &mut Simulator<'_>,
     x0: &DVector<f64>,

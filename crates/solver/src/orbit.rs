@@ -2,9 +2,10 @@
 //! labels, symmetry and impacts.
 
 use crate::accuracy::Accuracy;
-use crate::classify::{label_masses, run_cell, Class, MassLabel, Symmetry};
+use crate::executor::run_cell;
 use crate::floquet::multipliers;
 use crate::flow::Method;
+use crate::label::{label_masses, Class, Mask, MassLabel, Symmetry};
 use crate::newton::{try_solve, Failure, MapKind, Pattern, Solution};
 use crate::simulate::{Observer, Simulator};
 use crate::system::System;
@@ -81,8 +82,7 @@ pub fn describe(sys: &System, acc: &Accuracy, solution: Solution, map: MapKind, 
             }
         }
     }
-    let sticking: Vec<bool> = (0..sys.stops.len()).map(|k| held & (1 << k) != 0).collect();
-    let labels = label_masses(sys, Some(n), Class::Periodic, &impacts, &sticking);
+    let labels = label_masses(sys, Some(n), Class::Periodic, &impacts, Mask::from_bits(held));
     let orbit_impacts = obs
         .list
         .iter()

@@ -4,7 +4,7 @@
 //! classifier keeps those points. σ_I^s, the impact section of stop s, is the
 //! state just before each impact on s, with its forcing phase `t mod T`; it is
 //! recorded by re-simulating the classified window with [`ImpactRecorder`]
-//! ([`record_window`], called by [`crate::classify::run_cell_with_sections`]),
+//! ([`record_window`], called by [`crate::run_cell_with_sections`]),
 //! so nothing is stored unless asked.
 
 use crate::simulate::{Observer, Simulator};

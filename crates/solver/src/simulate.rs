@@ -85,17 +85,17 @@ pub struct PeriodRecord {
     /// Impacts per stop.
     pub impacts: Vec<u32>,
     /// Stops that held their mass at some time during the period (bit mask).
-    pub held: u32,
+    pub(crate) held: u32,
     /// Friction contacts stuck at some time during the period (bit mask).
-    pub stuck: u32,
+    pub(crate) stuck: u32,
     /// Full state at the end of the period (the period-section point).
     pub end: DVector<f64>,
     /// Mode (held stops, friction states) at the end of the period.
-    pub end_key: Key,
+    pub(crate) end_key: Key,
     /// State at the middle of the period, when asked for.
     pub half: Option<DVector<f64>>,
     /// Tangent map at the middle of the period, when asked for and tracked.
-    pub half_tangent: Option<DMatrix<f64>>,
+    pub(crate) half_tangent: Option<DMatrix<f64>>,
 }
 
 /// Why a simulation stopped before its end.
@@ -142,15 +142,15 @@ pub struct Simulator<'s> {
     work: Workspace,
     chatter: ChatterTracker,
     /// Full state `[x; v]`.
-    pub y: DVector<f64>,
+    y: DVector<f64>,
     /// The current mode: held stops and friction states.
-    pub key: Key,
+    key: Key,
     /// Time within the current period.
-    pub clock: f64,
+    clock: f64,
     /// Completed periods.
-    pub periods: u64,
+    periods: u64,
     /// Events handled so far.
-    pub events: usize,
+    events: usize,
     zero_steps: usize,
     /// Impulses applied while handling the current event.
     applied: Vec<(usize, f64)>,
@@ -186,16 +186,32 @@ impl<'s> Simulator<'s> {
 
     /// A copy sharing nothing but the built modes, with zeroed counters (for
     /// Newton probes; their budget is set with [`Simulator::set_budget`]).
-    pub fn probe(&self) -> Self {
+    pub(crate) fn probe(&self) -> Self {
         let mut p = self.clone();
         p.periods = 0;
         p.events = 0;
         p
     }
 
-    /// Sets the event budget.
-    pub fn set_budget(&mut self, budget: usize) {
+    /// Sets the event budget: the simulation halts once it has handled more
+    /// events than this.
+    pub(crate) fn set_budget(&mut self, budget: usize) {
         self.acc.max_events = budget;
+    }
+
+    /// The full state `[x; v]`.
+    pub fn state(&self) -> &DVector<f64> {
+        &self.y
+    }
+
+    /// Completed forcing periods.
+    pub fn periods(&self) -> u64 {
+        self.periods
+    }
+
+    /// Events handled so far.
+    pub fn events(&self) -> usize {
+        self.events
     }
 
     /// Tracks the tangent map `∂y(t)/∂y(0)` from now on (from the identity at

@@ -86,9 +86,9 @@ fn encode(line: &Line) -> JLine {
             .iter()
             .map(|c| JCell {
                 class: crate::layout::class_code(c.class),
-                labels: c.labels.clone(),
-                chatter: c.chatter,
-                sticking: c.sticking,
+                labels: c.labels.iter().map(|&l| crate::layout::npq_code(l)).collect(),
+                chatter: c.chatter.bits(),
+                sticking: c.sticking.bits(),
                 symmetry: crate::layout::symmetry_code(c.symmetry),
                 lyapunov: c.lyapunov,
                 multiplier: c.multiplier,
@@ -134,9 +134,9 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
             let Some(class) = crate::layout::class_of(c.class) else { return bad("unknown class code") };
             Ok(CellData {
                 class,
-                labels: c.labels,
-                chatter: c.chatter,
-                sticking: c.sticking,
+                labels: c.labels.iter().map(|&l| crate::layout::label_of(class, l)).collect(),
+                chatter: solver::Mask::from_bits(c.chatter),
+                sticking: solver::Mask::from_bits(c.sticking),
                 symmetry: crate::layout::symmetry_of(c.symmetry),
                 lyapunov: c.lyapunov,
                 multiplier: c.multiplier,

@@ -79,7 +79,7 @@ pub const PERIOD_SECTION: &str = "period";
 /// Class code of a cell not computed (shards).
 pub const NOT_COMPUTED: u8 = 255;
 /// Code of an `S` count in labels.
-pub const STUCK: u16 = grid::STUCK;
+pub const STUCK: u16 = u16::MAX;
 /// Description of the class codes, stored as an attribute.
 pub const CLASS_CODES: &str = "0 periodic, 1 chaotic, 2 unresolved, 3 quasiperiodic, 255 not computed";
 /// Description of the symmetry codes.
@@ -108,6 +108,37 @@ pub fn sticking_shift(stops: usize) -> u32 {
     } else {
         16
     }
+}
+
+/// The stored `(n, p, q)` of a label: `n = 0` when not periodic, [`STUCK`]
+/// for an `S` count, impact counts capped below it.
+pub fn npq_code(label: solver::Label) -> [u16; 3] {
+    let code = |c: solver::Count| match c {
+        solver::Count::Impacts(v) => v.min(STUCK as u32 - 1) as u16,
+        solver::Count::Stuck => STUCK,
+    };
+    match label.npq() {
+        Some((n, p, q)) => [n.min(u16::MAX as u32) as u16, code(p), code(q)],
+        None => [0, 0, 0],
+    }
+}
+
+/// The label of a stored `(n, p, q)` in a cell of class `class`.
+pub fn label_of(class: solver::Class, npq: [u16; 3]) -> solver::Label {
+    let count = |v: u16| if v == STUCK { solver::Count::Stuck } else { solver::Count::Impacts(v as u32) };
+    solver::Label::new(class, Some((npq[0] as u32, count(npq[1]), count(npq[2]))))
+}
+
+/// The flags word of a cell: bit k when stop k chatters, bit
+/// `k + sticking_shift` when it sticks.
+pub fn flags_code(chatter: solver::Mask, sticking: solver::Mask, stops: usize) -> u32 {
+    chatter.bits() | (sticking.bits() << sticking_shift(stops))
+}
+
+/// The chattering and sticking stops of a flags word.
+pub fn flags_of(word: u32, stops: usize) -> (solver::Mask, solver::Mask) {
+    let shift = sticking_shift(stops);
+    (solver::Mask::from_bits(word & ((1 << shift) - 1)), solver::Mask::from_bits(word >> shift))
 }
 
 /// Class code of a solver class.

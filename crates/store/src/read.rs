@@ -104,7 +104,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     };
     let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
     let n = nx * ny;
-    let shift = sticking_shift(meta.stops.len());
+    let stops = meta.stops.len();
     let mut maps = Vec::new();
     for &sweep in &meta.sweeps {
         let g = f.group(sweep.name()).map_err(h)?;
@@ -148,9 +148,9 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
             .map(|i| {
                 class_of(class[i]).map(|c| CellData {
                     class: c,
-                    labels: labels.iter().map(|l| [l[3 * i], l[3 * i + 1], l[3 * i + 2]]).collect(),
-                    chatter: flags[i] & ((1 << shift) - 1),
-                    sticking: flags[i] >> shift,
+                    labels: labels.iter().map(|l| label_of(c, [l[3 * i], l[3 * i + 1], l[3 * i + 2]])).collect(),
+                    chatter: flags_of(flags[i], stops).0,
+                    sticking: flags_of(flags[i], stops).1,
                     symmetry: symmetry_of(sym[i]),
                     lyapunov: lyapunov.get(i).copied().and_then(finite),
                     multiplier: multiplier.get(i).copied().and_then(finite),

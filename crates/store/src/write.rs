@@ -122,7 +122,10 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         // Label tables: every label of the sweep, any mass, in a fixed order.
         let texts: Vec<Vec<String>> = (0..m.masses.len())
             .map(|mi| {
-                cells.iter().map(|c| c.as_ref().map_or(NOT_COMPUTED_LABEL.to_string(), |c| c.label_text(mi))).collect()
+                cells
+                    .iter()
+                    .map(|c| c.as_ref().map_or(NOT_COMPUTED_LABEL.to_string(), |c| c.labels[mi].to_string()))
+                    .collect()
             })
             .collect();
         let table = label_table(texts.iter().flatten());
@@ -135,7 +138,8 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
         let codes: Vec<i16> = (0..table.len() as i16).collect();
         for (mi, mass) in m.masses.iter().enumerate() {
-            let a = Array3::from_shape_fn((ny, nx, 3), |(iy, ix, k)| cell(iy, ix).map_or(0, |c| c.labels[mi][k]));
+            let a =
+                Array3::from_shape_fn((ny, nx, 3), |(iy, ix, k)| cell(iy, ix).map_or(0, |c| npq_code(c.labels[mi])[k]));
             let d = dataset(&g, &label(mass), &a)?;
             netcdf::dims(&d, &[&grid.y, &grid.x, &npq])?;
             netcdf::attr_str(&d, "long_name", &format!("n, p, q of {mass}'s label ({} = S, the mass sticks)", STUCK))?;
@@ -162,7 +166,8 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2, 3])?;
         netcdf::attr_str(&d, "flag_meanings", "periodic chaotic unresolved quasiperiodic")?;
         netcdf::attr_num(&d, "_FillValue", NOT_COMPUTED)?;
-        let flag = |iy: usize, ix: usize| cell(iy, ix).map_or(0u32, |c| c.chatter | (c.sticking << shift));
+        let flag =
+            |iy: usize, ix: usize| cell(iy, ix).map_or(0u32, |c| flags_code(c.chatter, c.sticking, m.stops.len()));
         let (masks, meanings) = flag_masks(&m.stops, shift);
         let flags = if m.stops.len() <= 4 {
             let d = dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;

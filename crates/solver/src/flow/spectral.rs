@@ -422,15 +422,8 @@ pub fn nonzero_entries(row: &[f64]) -> Vec<(usize, f64)> {
     row.iter().copied().enumerate().filter(|&(_, v)| v != 0.0).collect()
 }
 
-/// Coefficients of the time derivative of `Σ_t Re(f_t β_t)`:
-/// `β'_{c,j} = μ_c β_{c,j} + ν_c β_{c,j+1}`.
-pub fn differentiate(terms: &[Term], beta: &[C64]) -> Vec<C64> {
-    let mut out = vec![C64::new(0.0, 0.0); beta.len()];
-    differentiate_into(terms, beta, &mut out);
-    out
-}
-
-/// [`differentiate`] into a slice.
+/// Coefficients of the time derivative of `Σ_t Re(f_t β_t)`,
+/// `β'_{c,j} = μ_c β_{c,j} + ν_c β_{c,j+1}`, into `out`.
 #[inline]
 pub fn differentiate_into(terms: &[Term], beta: &[C64], out: &mut [C64]) {
     for (t, (o, term)) in out.iter_mut().zip(&terms[..beta.len()]).enumerate() {
@@ -563,7 +556,8 @@ mod tests {
         let modal = sp.modal(&s0);
         let row = DVector::from_vec(vec![1.0, 0.0, 0.0, 0.0, 0.0]);
         let beta = modal.functional(row.as_slice());
-        let d1 = differentiate(sp.terms(), &beta);
+        let mut d1 = vec![C64::new(0.0, 0.0); beta.len()];
+        differentiate_into(sp.terms(), &beta, &mut d1);
         let mut f = vec![C64::new(0.0, 0.0); sp.terms().len()];
         let (u, h) = (2.0, 1e-6);
         sp.factors(u + h, &mut f);

@@ -1,0 +1,423 @@
+//! The executor of one cell: simulate, decide the steady motion, measure its
+//! stability, label it, and record its sections.
+//!
+//! An [`Executor`] runs named phases on one main simulator and probes beside
+//! it, all drawing on one [`Budget`]:
+//!
+//! 1. **record** ([`Executor::record`]): periods are simulated until the
+//!    period section repeats (the period n, see [`crate::period`]) or the
+//!    record's limit, with Newton acceleration of slowly contracting patterns;
+//! 2. **exponent** ([`Executor::exponent`]): without a period, the largest
+//!    Lyapunov exponent tells chaos from a torus and a contracting long
+//!    transient from both. With `chaos_check` it is measured early (after
+//!    `chaos_check` periods) and a clearly chaotic record (`λT > 0.05`) ends
+//!    there; a record that still contracts (`λT < -0.002`) is extended by
+//!    `max_periods`, at most `extensions` times ([`Executor::steady`] runs
+//!    phases 1 and 2);
+//! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
+//!    Floquet multiplier modulus of the n-period map at the final state;
+//! 4. **window** ([`Executor::window`]): impacts, sticking and chattering over
+//!    the classified window (n periods, or the last `n_max` without a period),
+//!    hence the labels;
+//! 5. **sections** ([`Executor::sections`]): the window simulated again, to
+//!    record the state before each impact.
+//!
+//! A cell that exhausts its budget, stalls, or whose exponent cannot tell is
+//! `unresolved`, with an [`Unresolved`] reason.
+
+use crate::acceleration::Newton;
+use crate::accuracy::Accuracy;
+use crate::budget::Budget;
+use crate::error::SolverError;
+use crate::floquet::{multipliers, spectral_radius};
+use crate::flow::Method;
+use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
+use crate::lyapunov::{fills_closed_curve, largest_exponent};
+use crate::newton::{evaluate, MapKind};
+use crate::period::{detect, history_len, symmetry_of, History};
+use crate::section::record_window;
+use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
+use crate::system::System;
+use nalgebra::DVector;
+
+/// Periods of tangent alignment before the Lyapunov exponent is averaged.
+const LYAPUNOV_WARMUP: usize = 10;
+
+/// A cell without a period whose `λ T` is below minus this still contracts: a
+/// long transient, whose record is extended (see `Accuracy::extensions`).
+const CONTRACTING_EXPONENT: f64 = 2e-3;
+
+/// Smallest `λ T` at which the early look of `Accuracy::chaos_check` ends a
+/// record as chaotic: five times the quasi-periodic band, so that a torus or a
+/// weakly chaotic motion gets the whole record.
+const CHAOTIC_EXPONENT: f64 = 0.05;
+
+/// Largest `|λ T|` (growth per forcing period) of a quasi-periodic motion: a
+/// torus has `λ = 0`, and a finite average over 100 periods stays within this.
+const QUASIPERIODIC_EXPONENT: f64 = 0.01;
+
+/// Why a cell is `unresolved`.
+#[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum Unresolved {
+    /// The event budget (`max_events`) ran out.
+    Budget {
+        /// The budget, in events.
+        max_events: usize,
+    },
+    /// An event search made no progress (a degenerate contact).
+    Stalled,
+    /// The system cannot be simulated.
+    Failed(SolverError),
+    /// No period within the record, and the motion still contracts after every
+    /// extension: a transient longer than the record.
+    Contracting {
+        /// The largest Lyapunov exponent per forcing period, `λT`.
+        growth: f64,
+    },
+    /// No period; the exponent is in the quasi-periodic band but the period
+    /// section is not one closed curve.
+    Undecided {
+        /// The largest Lyapunov exponent per forcing period, `λT`.
+        growth: f64,
+    },
+}
+
+impl Unresolved {
+    fn of(halt: Halt, acc: &Accuracy) -> Unresolved {
+        match halt {
+            Halt::Budget => Unresolved::Budget { max_events: acc.max_events },
+            Halt::Stalled => Unresolved::Stalled,
+            Halt::Error(e) => Unresolved::Failed(e),
+        }
+    }
+}
+
+impl std::fmt::Display for Unresolved {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Unresolved::Budget { max_events } => write!(f, "event budget of {max_events} events exhausted"),
+            Unresolved::Stalled => write!(f, "event location stalled at a degenerate contact"),
+            Unresolved::Failed(e) => write!(f, "{e}"),
+            Unresolved::Contracting { growth } => write!(
+                f,
+                "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
+            ),
+            Unresolved::Undecided { growth } => write!(
+                f,
+                "no period within the record; the largest Lyapunov exponent is in the quasi-periodic band (λT = {growth:.3e}) but the period section is not one closed curve"
+            ),
+        }
+    }
+}
+
+/// Everything known about a cell's steady motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellResult {
+    /// Kind of motion.
+    pub class: Class,
+    /// Period in forcing periods, when periodic.
+    pub n: Option<usize>,
+    /// Label per labelled mass.
+    pub labels: Vec<MassLabel>,
+    /// Impacts per stop over the n periods (over the last `n_max` periods when not periodic).
+    pub impacts: Vec<u32>,
+    /// Stops that chattered: at least `chatter_impacts` impacts within one
+    /// forcing period of the window.
+    pub chatter: Mask,
+    /// Stops that held their mass during the window.
+    pub sticking: Mask,
+    /// Friction contacts that stuck during the window.
+    pub friction_stick: Mask,
+    /// Symmetry of a periodic orbit of a symmetric scene.
+    pub symmetry: Option<Symmetry>,
+    /// Largest Lyapunov exponent (per unit time) of a cell without a period,
+    /// when measured.
+    pub lyapunov: Option<f64>,
+    /// Largest Floquet multiplier modulus of a periodic cell (the Jacobian of
+    /// the n-period map at the final state), when measured.
+    pub multiplier: Option<f64>,
+    /// Full state `[x; v]` at the end of the simulation (at `t = kT`).
+    pub final_state: Vec<f64>,
+    /// State at the start of the classified window (for traces and sections).
+    pub window_start: Vec<f64>,
+    /// Period-section points of the window (n points when periodic).
+    pub section: Vec<Vec<f64>>,
+    /// Forcing periods simulated, by every phase.
+    pub periods: u64,
+    /// Events handled, by every phase.
+    pub events: usize,
+    /// Why the cell is unresolved.
+    pub reason: Option<Unresolved>,
+}
+
+/// Impact sections per stop: `[phase, x…, v…]` before each impact.
+pub type ImpactSections = Vec<Vec<Vec<f64>>>;
+
+/// Simulates a cell from full state `y0` and classifies its steady motion.
+pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> CellResult {
+    run_cell_with_sections(sys, acc, method, y0, 0).0
+}
+
+/// [`run_cell`] and the impact sections of its classified window, at most
+/// `section_cap` points per stop. The window is simulated again with the modes
+/// the classification built; that work counts in the cell's periods and events.
+pub fn run_cell_with_sections(
+    sys: &System,
+    acc: &Accuracy,
+    method: Method,
+    y0: &[f64],
+    section_cap: usize,
+) -> (CellResult, ImpactSections) {
+    let no_sections = || vec![Vec::new(); sys.stops.len()];
+    let mut cell = match Executor::start(sys, acc, method, y0) {
+        Ok(cell) => cell,
+        Err(why) => return (unresolved(sys, why, 0, 0, y0.to_vec()), no_sections()),
+    };
+    let steady = match cell.steady() {
+        Ok(steady) => steady,
+        Err(why) => {
+            let (periods, events) = (cell.budget.periods(&cell.sim), cell.budget.events(&cell.sim));
+            return (unresolved(sys, why, periods, events, cell.sim.state().as_slice().to_vec()), no_sections());
+        }
+    };
+    let (class, n, lyapunov, reason) = match steady {
+        Steady::Periodic(n) => (Class::Periodic, Some(n), None, None),
+        Steady::NoPeriod(None) => (Class::Chaotic, None, None, None),
+        Steady::NoPeriod(Some((l, points))) => {
+            let (class, reason) = without_period(l * sys.period, || fills_closed_curve(&points));
+            (class, None, Some(l), reason)
+        }
+    };
+    let multiplier = match n {
+        Some(n) if acc.multipliers => cell.multiplier(n),
+        _ => None,
+    };
+    let mut result = cell.window(class, n, y0);
+    let sections = if section_cap == 0 { no_sections() } else { cell.sections(&result, section_cap) };
+    result.lyapunov = lyapunov;
+    result.multiplier = multiplier;
+    result.reason = reason;
+    result.periods = cell.budget.periods(&cell.sim);
+    result.events = cell.budget.events(&cell.sim);
+    (result, sections)
+}
+
+/// How a record ended.
+#[derive(Debug)]
+enum Steady {
+    /// The section repeats with period n.
+    Periodic(usize),
+    /// No period; the largest Lyapunov exponent (per unit time) and the
+    /// period-section points it visited, when measured.
+    NoPeriod(Option<(f64, Vec<DVector<f64>>)>),
+}
+
+/// One cell in execution: the main simulator, its recent periods, Newton's
+/// state and the budget every phase draws on.
+struct Executor<'s> {
+    sys: &'s System,
+    acc: &'s Accuracy,
+    sim: Simulator<'s>,
+    hist: History,
+    newton: Newton<'s>,
+    budget: Budget,
+}
+
+impl<'s> Executor<'s> {
+    /// Starts the main simulation at `y0`.
+    fn start(sys: &'s System, acc: &'s Accuracy, method: Method, y0: &[f64]) -> Result<Self, Unresolved> {
+        let sim = Simulator::new(sys, *acc, method, y0).map_err(|h| Unresolved::of(h, acc))?;
+        Ok(Executor {
+            sys,
+            acc,
+            sim,
+            hist: History::with_capacity(history_len(acc) + 1),
+            newton: Newton::default(),
+            budget: Budget::new(acc.max_events),
+        })
+    }
+
+    /// Phase 1: simulates periods until the section repeats (the period n,
+    /// returned) or `limit` periods in all are simulated (`None`), with Newton
+    /// acceleration of slowly contracting patterns on the way.
+    fn record(&mut self, limit: usize) -> Result<Option<usize>, Halt> {
+        let acc = self.acc;
+        while (self.sim.periods() as usize) < limit {
+            let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
+            if self.hist.len() == history_len(acc) {
+                self.hist.pop_front();
+            }
+            self.hist.push_back(rec);
+            if (self.sim.periods() as usize) < acc.min_transient {
+                continue;
+            }
+            if let Some(n) = detect(&self.hist, acc) {
+                return Ok(Some(n));
+            }
+            if acc.newton && self.newton.due(&self.sim) {
+                if let Some(x) = self.newton.step(&mut self.sim, &self.hist, acc, &mut self.budget) {
+                    if self.sim.restart(x.as_slice()).is_ok() {
+                        self.hist.clear();
+                    }
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// Phase 2: the largest Lyapunov exponent (per unit time) of the motion
+    /// from the main simulator's state, on a probe, with the section points it
+    /// visited; `None` when it cannot be measured.
+    fn exponent(&mut self) -> Option<(f64, Vec<DVector<f64>>)> {
+        let mut tangent = self.sim.probe();
+        let periods = self.acc.lyapunov_periods;
+        self.budget.spend(&mut self.sim, &mut tangent, |t| largest_exponent(t, LYAPUNOV_WARMUP, periods).ok())
+    }
+
+    /// Phases 1 and 2: records until a period is found or the exponent ends
+    /// the record (early look, extensions of contracting records).
+    fn steady(&mut self) -> Result<Steady, Unresolved> {
+        let acc = self.acc;
+        let mut early_look = acc.chaos_check > 0 && acc.chaos_check < acc.max_periods && acc.lyapunov_periods > 0;
+        let mut limit = if early_look { acc.chaos_check } else { acc.max_periods };
+        let mut extensions = 0;
+        loop {
+            if let Some(n) = self.record(limit).map_err(|h| Unresolved::of(h, acc))? {
+                return Ok(Steady::Periodic(n));
+            }
+            if acc.lyapunov_periods == 0 {
+                return Ok(Steady::NoPeriod(None));
+            }
+            let exponent = self.exponent();
+            // Growth per forcing period decides: the record ends, or goes on to a new limit.
+            let growth = exponent.as_ref().map(|(l, _)| l * self.sys.period);
+            limit = if early_look {
+                early_look = false;
+                if growth.is_some_and(|g| g > CHAOTIC_EXPONENT) {
+                    return Ok(Steady::NoPeriod(exponent));
+                }
+                acc.max_periods
+            } else if growth.is_some_and(|g| g < -CONTRACTING_EXPONENT) && extensions < acc.extensions {
+                extensions += 1;
+                self.newton.renew();
+                limit + acc.max_periods
+            } else {
+                return Ok(Steady::NoPeriod(exponent));
+            };
+        }
+    }
+
+    /// Phase 3: the largest Floquet multiplier modulus of the n-period map at
+    /// the main simulator's state, on a probe tracking its tangent.
+    fn multiplier(&mut self, n: usize) -> Option<f64> {
+        let mut tangent = self.sim.probe();
+        tangent.track_tangent();
+        let x = self.sim.state().clone();
+        self.budget.spend(&mut self.sim, &mut tangent, |t| {
+            let image = evaluate(t, &x, MapKind::Periods(n)).ok()?;
+            let mu = multipliers(&image.jacobian);
+            (!mu.is_empty()).then(|| spectral_radius(&mu))
+        })
+    }
+
+    /// Phase 4: the cell's labels and flags over its classified window (n
+    /// periods, or the last `n_max` recorded without a period); stability,
+    /// reason and work are filled in by the caller.
+    fn window(&self, class: Class, n: Option<usize>, y0: &[f64]) -> CellResult {
+        let (sys, acc, hist) = (self.sys, self.acc, &self.hist);
+        let stops = sys.stops.len();
+        let len = hist.len();
+        let window = n.unwrap_or(acc.n_max.min(len));
+        let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
+        let mut impacts = vec![0u32; stops];
+        let (mut held, mut stuck) = (0u32, 0u32);
+        for r in &recs {
+            for (a, b) in impacts.iter_mut().zip(&r.impacts) {
+                *a += b;
+            }
+            held |= r.held;
+            stuck |= r.stuck;
+        }
+        let sticking = Mask::from_bits(held);
+        let chatter = Mask::of(stops, |k| recs.iter().any(|r| r.impacts[k] as usize >= acc.chatter_impacts));
+        let symmetry = match (sys.model.symmetric, n) {
+            (true, Some(n)) => Some(symmetry_of(hist, n, acc)),
+            _ => None,
+        };
+        CellResult {
+            class,
+            n,
+            labels: label_masses(sys, n, class, &impacts, sticking),
+            impacts,
+            chatter,
+            sticking,
+            friction_stick: Mask::from_bits(stuck),
+            symmetry,
+            lyapunov: None,
+            multiplier: None,
+            final_state: self.sim.state().as_slice().to_vec(),
+            window_start: if len > window { hist[len - window - 1].end.as_slice().to_vec() } else { y0.to_vec() },
+            section: recs.iter().map(|r| r.end.as_slice().to_vec()).collect(),
+            periods: 0,
+            events: 0,
+            reason: None,
+        }
+    }
+
+    /// Phase 5: the impact sections of the classified window of `cell`, at most
+    /// `cap` points per stop, simulated again on a probe.
+    fn sections(&mut self, cell: &CellResult, cap: usize) -> ImpactSections {
+        let mut probe = self.sim.probe();
+        self.budget.spend(&mut self.sim, &mut probe, |p| {
+            record_window(p, &cell.window_start, cell.section.len(), &cell.impacts, cap)
+        })
+    }
+}
+
+/// The result of a cell that ended without a classification.
+fn unresolved(sys: &System, why: Unresolved, periods: u64, events: usize, y: Vec<f64>) -> CellResult {
+    let stops = sys.stops.len();
+    CellResult {
+        class: Class::Unresolved,
+        n: None,
+        labels: sys
+            .model
+            .labels
+            .iter()
+            .map(|l| MassLabel { mass: sys.model.masses[l.mass].name.clone(), label: Label::Unresolved })
+            .collect(),
+        impacts: vec![0; stops],
+        chatter: Mask::EMPTY,
+        sticking: Mask::EMPTY,
+        friction_stick: Mask::EMPTY,
+        symmetry: None,
+        lyapunov: None,
+        multiplier: None,
+        window_start: y.clone(),
+        final_state: y,
+        section: Vec::new(),
+        periods,
+        events,
+        reason: Some(why),
+    }
+}
+
+/// The class of a cell without a period from its largest Lyapunov exponent
+/// `growth = λT` per forcing period, and the reason when it is undecided:
+/// chaotic only when the exponent is positive beyond the quasi-periodic band;
+/// quasi-periodic inside the band when the period-section points lie on one
+/// closed curve; otherwise (inside the band without a closed curve, or still
+/// contracting after every extension: a transient longer than the record)
+/// unresolved, never chaotic.
+fn without_period(growth: f64, closed_curve: impl FnOnce() -> bool) -> (Class, Option<Unresolved>) {
+    if growth > QUASIPERIODIC_EXPONENT {
+        (Class::Chaotic, None)
+    } else if growth < -QUASIPERIODIC_EXPONENT {
+        (Class::Unresolved, Some(Unresolved::Contracting { growth }))
+    } else if closed_curve() {
+        (Class::Quasiperiodic, None)
+    } else {
+        (Class::Unresolved, Some(Unresolved::Undecided { growth }))
+    }
+}

@@ -1,0 +1,159 @@
+//! Period detection on the period (stroboscopic, `t = kT`) section.
+//!
+//! The records of the last periods are kept in a [`History`]; the period is
+//! the smallest `n <= n_max` such that the last `2n` section points each equal
+//! the point `n` periods earlier (within `periodic_tol`, relative to `1 + |x|`
+//! in the max norm), with the same mode and the same impacts per stop.
+
+use crate::accuracy::Accuracy;
+use crate::label::Symmetry;
+use crate::simulate::PeriodRecord;
+use nalgebra::DVector;
+use std::collections::VecDeque;
+
+/// The records of the last periods, oldest first.
+pub(crate) type History = VecDeque<PeriodRecord>;
+
+/// Period records kept: enough to test every period up to `n_max` and the
+/// 3n-period pattern Newton acceleration needs.
+pub(crate) fn history_len(acc: &Accuracy) -> usize {
+    3 * acc.n_max + 1
+}
+
+/// Distance of two section points, relative to `1 + |a|` (max norm).
+pub(crate) fn distance(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
+    let d = a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    d / (1.0 + a.amax())
+}
+
+fn close(a: &DVector<f64>, b: &DVector<f64>, tol: f64) -> bool {
+    distance(a, b) <= tol
+}
+
+/// Largest distance between each of the last `2n` points and the point `lag` earlier.
+fn residual(h: &History, n: usize, lag: usize) -> f64 {
+    let len = h.len();
+    (len - 2 * n..len).map(|i| distance(&h[i].end, &h[i - lag].end)).fold(0.0, f64::max)
+}
+
+fn repeats(h: &History, i: usize, n: usize, tol: f64) -> bool {
+    let (a, b) = (&h[i], &h[i - n]);
+    a.end_key == b.end_key && a.impacts == b.impacts && close(&a.end, &b.end, tol)
+}
+
+/// Smallest n whose last 2n section points repeat with period n. A candidate is
+/// refused (and the run goes on) while a proper divisor d of n nearly repeats
+/// too, within 1000 times the residual: that is a transient still converging to
+/// a period-d orbit (e.g. one that flips sign every period), not a period-n orbit.
+pub(crate) fn detect(h: &History, acc: &Accuracy) -> Option<usize> {
+    let len = h.len();
+    let n = (1..=acc.n_max).find(|&n| {
+        len >= 3 * n
+            && repeats(h, len - 1, n, acc.periodic_tol)
+            && (len - 2 * n..len).all(|i| repeats(h, i, n, acc.periodic_tol))
+    })?;
+    let res = residual(h, n, n);
+    let converging_divisor = (1..n).filter(|d| n % d == 0).any(|d| residual(h, n, d) <= 1e3 * res);
+    (!converging_divisor).then_some(n)
+}
+
+/// Symmetric when, for some shift m, the state half a period after the start of
+/// period j + m is the mirror image of the state at the start of period j
+/// (within ten times `periodic_tol`), over the last n periods of a period-n
+/// record.
+pub(crate) fn symmetry_of(h: &History, n: usize, acc: &Accuracy) -> Symmetry {
+    let len = h.len();
+    let tol = 10.0 * acc.periodic_tol;
+    let mirrored = |j: usize, m: usize| match &h[j + m].half {
+        Some(half) => close(half, &(-&h[j - 1].end), tol),
+        None => false,
+    };
+    let symmetric = (0..n).any(|m| (len - 2 * n..len - n).all(|j| j >= 1 && mirrored(j, m)));
+    if symmetric {
+        Symmetry::Symmetric
+    } else {
+        Symmetry::Asymmetric
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mode::Key;
+
+    /// A record ending at the one-dimensional point `x` with `impacts` at one stop.
+    fn rec(x: f64, impacts: u32) -> PeriodRecord {
+        PeriodRecord {
+            impacts: vec![impacts],
+            held: 0,
+            stuck: 0,
+            end: DVector::from_vec(vec![x, 0.0]),
+            end_key: Key::FREE,
+            half: Some(DVector::from_vec(vec![-x, 0.0])),
+            half_tangent: None,
+        }
+    }
+
+    fn history(points: &[(f64, u32)]) -> History {
+        points.iter().map(|&(x, i)| rec(x, i)).collect()
+    }
+
+    #[test]
+    fn the_smallest_repeating_period_is_found() {
+        let acc = Accuracy::default();
+        let one: Vec<(f64, u32)> = vec![(0.5, 1); 4];
+        assert_eq!(detect(&history(&one), &acc), Some(1));
+        let two: Vec<(f64, u32)> = (0..8).map(|k| (if k % 2 == 0 { 0.3 } else { -0.2 }, 1)).collect();
+        assert_eq!(detect(&history(&two), &acc), Some(2));
+        let three: Vec<(f64, u32)> = (0..9).map(|k| ([0.1, 0.4, 0.9][k % 3], 2)).collect();
+        assert_eq!(detect(&history(&three), &acc), Some(3));
+    }
+
+    #[test]
+    fn too_short_a_record_or_a_changing_pattern_is_no_period() {
+        let acc = Accuracy::default();
+        // Two points only: a period needs 3n records.
+        assert_eq!(detect(&history(&[(0.5, 1), (0.5, 1)]), &acc), None);
+        // The same point every period, but the impacts alternate: not period one.
+        let alternating: Vec<(f64, u32)> = (0..6).map(|k| (0.5, k as u32 % 2)).collect();
+        assert_ne!(detect(&history(&alternating), &acc), Some(1));
+        let drifting: Vec<(f64, u32)> = (0..12).map(|k| (0.5 + 1e-3 * k as f64, 1)).collect();
+        assert_eq!(detect(&history(&drifting), &acc), None);
+    }
+
+    #[test]
+    fn a_transient_converging_to_a_divisor_is_not_its_multiple() {
+        let acc = Accuracy::default();
+        let tol = acc.periodic_tol;
+        // Alternating by twice the tolerance and drifting slowly: period two
+        // repeats within tolerance, but period one nearly does too (within 1000
+        // times period two's residual): a transient converging to period one.
+        let converging: Vec<(f64, u32)> =
+            (0..8).map(|k| (0.5 + (k % 2) as f64 * 2.0 * tol + k as f64 * 0.01 * tol, 1)).collect();
+        assert_eq!(detect(&history(&converging), &acc), None);
+        // A true period two: the alternation is far beyond the drift.
+        let doubled: Vec<(f64, u32)> =
+            (0..8).map(|k| (0.5 + (k % 2) as f64 * 0.1 + k as f64 * 1e-3 * tol, 1)).collect();
+        assert_eq!(detect(&history(&doubled), &acc), Some(2));
+    }
+
+    #[test]
+    fn distance_is_relative_to_the_first_point() {
+        let a = DVector::from_vec(vec![3.0, -1.0]);
+        let b = DVector::from_vec(vec![3.5, -1.0]);
+        assert_eq!(distance(&a, &b), 0.5 / 4.0);
+    }
+
+    #[test]
+    fn a_mirrored_half_period_state_is_symmetric() {
+        let acc = Accuracy::default();
+        // `rec` stores half = -end: x(t + T/2) = -x(t) for a constant point.
+        let h = history(&[(0.5, 1); 4]);
+        assert_eq!(symmetry_of(&h, 1, &acc), Symmetry::Symmetric);
+        let mut broken = h.clone();
+        for r in broken.iter_mut() {
+            r.half = Some(DVector::from_vec(vec![0.2, 0.0]));
+        }
+        assert_eq!(symmetry_of(&broken, 1, &acc), Symmetry::Asymmetric);
+    }
+}
