@@ -5,10 +5,7 @@ use solver::reference::{free_amplitude, single_stop_impact_speeds};
 use solver::{run_cell, Accuracy, Class, Method, Preset};
 
 fn tight() -> Accuracy {
-    let mut acc = Accuracy::preset(Preset::Precise);
-    acc.periodic_tol = 1e-13;
-    acc.max_periods = 4000;
-    acc
+    Accuracy::preset(Preset::Precise).with("periodic_tol", 1e-13).and_then(|a| a.with("max_periods", 4000.0)).unwrap()
 }
 
 /// Issue 2: the no-impact steady-state amplitude of M1 equals 1/√((1-ω²)² + (2ζω)²).

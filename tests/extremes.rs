@@ -49,7 +49,7 @@ fn corners_of_the_parameter_space() {
     assert_eq!(cells.len(), 576);
     // A smaller event budget than standard keeps the runaway (elastic, R = 1)
     // corners short; the property checked is that the budget ends them.
-    let acc = Accuracy { max_events: 100_000, ..Accuracy::default() };
+    let acc = Accuracy::default().with("max_events", 1e5).unwrap();
     let next = AtomicUsize::new(0);
     let unresolved = AtomicUsize::new(0);
     let worker = || {
@@ -59,7 +59,7 @@ fn corners_of_the_parameter_space() {
             let a = run_cell(&sys, &acc, Method::Exact, &y0);
             assert!(finite(&a), "{p:?}: non-finite result {a:?}");
             assert!(
-                a.events <= acc.max_events + 1 && a.periods as usize <= (acc.extensions + 3) * acc.max_periods,
+                a.events <= acc.max_events() + 1 && a.periods as usize <= (acc.extensions() + 3) * acc.max_periods(),
                 "{p:?}"
             );
             match a.class {

@@ -200,6 +200,7 @@ impl Plan {
                 .map(|l| [l.p, l.q].map(|k| k.map_or(String::new(), |k| model.stops[k].name.clone())))
                 .collect(),
             stops: model.stops.iter().map(|st| st.name.clone()).collect(),
+            stop_normals: setup.scene.stop_normals(),
             dim: 2 * model.masses.len(),
             section_cap,
         };

@@ -35,6 +35,9 @@ pub struct Meta {
     pub label_stops: Vec<[String; 2]>,
     /// Stops, in scene order.
     pub stops: Vec<String>,
+    /// Per stop, the normal `n` of its gap `g = n·x + c` over the positions of
+    /// `state_masses` (the closing speed of an impact is `-n·v`).
+    pub stop_normals: Vec<Vec<f64>>,
     /// State dimension `2 × masses of the scene`.
     pub dim: usize,
     /// Largest number of points kept per section per cell.

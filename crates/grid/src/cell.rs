@@ -39,13 +39,9 @@ pub struct CellData {
 /// stored one) when it is admissible for this system's stops, else the
 /// scene's initial state.
 pub fn start_state(sys: &System, start: Option<&[f64]>) -> Vec<f64> {
-    let init = sys.model.initial_state();
-    let m = sys.dof();
     match start {
-        Some(s) if s.len() == init.len() && (0..sys.stops.len()).all(|k| sys.model.gap(k, &s[..m]) >= -1e-9) => {
-            s.to_vec()
-        }
-        _ => init,
+        Some(s) if sys.admits(s) => s.to_vec(),
+        _ => sys.model.initial_state(),
     }
 }
 

@@ -51,6 +51,23 @@ pub fn component_name(atlas: &Atlas, k: usize) -> String {
     format!("{}_{}", if k < n { "x" } else { "v" }, names.get(k % n).map_or("?", String::as_str))
 }
 
+/// The forcing frequency ω of each cell of row `row`, from the stored
+/// scene's forcing expression at the cell's parameters (a stored impact's
+/// first column is its time within the forcing period, `t mod T`, whose phase
+/// is `ω (t mod T)`).
+fn forcing_frequencies(m: &grid::Meta, row: usize) -> Result<Vec<f64>, RenderError> {
+    let scene = scene::Scene::parse(&m.scene_toml).map_err(err)?;
+    let (x, y) = (&m.plane.x, &m.plane.y);
+    (0..x.count)
+        .map(|ix| {
+            let mut set = m.overrides.clone();
+            set.push((x.name.clone(), x.value(ix)));
+            set.push((y.name.clone(), y.value(row)));
+            Ok(scene.evaluate(&set).map_err(err)?.omega)
+        })
+        .collect()
+}
+
 /// Draws the diagram (format by the extension of `path`).
 pub fn bifurcation(atlas: &Atlas, diagram: &Diagram, path: &Path) -> Result<(), RenderError> {
     let panels = 1 + atlas.meta.stops.len() as u32;
@@ -66,11 +83,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
     if d.component >= m.dim {
         return Err(RenderError { message: format!("state component {} of {}", d.component, m.dim) });
     }
-    let scene = scene::Scene::parse(&m.scene_toml).map_err(err)?;
-    let mut set = m.overrides.clone();
-    set.push((y.name.clone(), y.value(d.row)));
-    let sys = solver::System::new(scene.evaluate(&set).map_err(err)?).map_err(err)?;
-    let dof = sys.dof();
+    let dof = m.state_masses.len();
+    let omega = forcing_frequencies(m, d.row)?;
     let sweeps: Vec<SweepKind> = atlas.maps.iter().map(|map| map.sweep).collect();
     let directions = match (sweeps.contains(&SweepKind::Up), sweeps.contains(&SweepKind::Down)) {
         (true, true) => "up and down sweeps".to_string(),
@@ -90,20 +104,20 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
         let mut series: Vec<(SweepKind, Vec<(f64, f64)>)> = Vec::new();
         for map in &atlas.maps {
             let mut pts = Vec::new();
-            for ix in 0..x.count {
+            for (ix, &w) in omega.iter().enumerate() {
                 let Some(c) = &map.cells[d.row * x.count + ix] else { continue };
                 let v = x.value(ix);
                 if pi == 0 {
                     pts.extend(c.period_section.iter().map(|s| (v, s[d.component])));
                 } else {
                     let k = pi - 1;
-                    let n = &sys.stops[k].normal;
+                    let n = &m.stop_normals[k];
                     pts.extend(c.impact_sections[k].iter().map(|r| match d.impact {
                         Impact::Speed => {
                             let vel = &r[1 + dof..1 + 2 * dof];
                             (v, n.iter().zip(vel).map(|(a, b)| a * b).sum::<f64>().abs())
                         }
-                        Impact::Phase => (v, (sys.model.omega * r[0]).rem_euclid(std::f64::consts::TAU)),
+                        Impact::Phase => (v, (w * r[0]).rem_euclid(std::f64::consts::TAU)),
                     }));
                 }
             }
@@ -153,4 +167,47 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
         crate::legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use grid::{Along, Axis, Meta, Plane};
+
+    fn meta(x: &str, y: &str, overrides: &[(&str, f64)]) -> Meta {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/multi-stop.toml");
+        Meta {
+            scene_name: "multi-stop".into(),
+            scene_toml: std::fs::read_to_string(path).unwrap(),
+            overrides: overrides.iter().map(|(k, v)| (k.to_string(), *v)).collect(),
+            preset: "standard".into(),
+            accuracy: Vec::new(),
+            integrator: "exact".into(),
+            plane: Plane { x: Axis::parse(x, "x").unwrap(), y: Axis::parse(y, "y").unwrap(), along: Along::X },
+            sweeps: vec![SweepKind::Up],
+            masses: vec!["M1".into(), "M2".into()],
+            state_masses: vec!["M1".into(), "M2".into()],
+            label_stops: Vec::new(),
+            stops: vec!["A1".into(), "A2".into(), "A12".into()],
+            stop_normals: Vec::new(),
+            dim: 4,
+            section_cap: 16,
+        }
+    }
+
+    /// The phase of a stored impact uses the forcing frequency of its own
+    /// cell: the x value along ω, the row's value when ω is the y axis, the
+    /// override (or the scene's default) when neither is.
+    #[test]
+    fn each_cell_has_its_own_forcing_frequency() {
+        let along_x = forcing_frequencies(&meta("omega=0.2:1.0:5", "delta=0.4:0.8:3", &[]), 1).unwrap();
+        let expected: Vec<f64> = (0..5).map(|i| 0.2 + 0.2 * i as f64).collect();
+        assert!(along_x.iter().zip(&expected).all(|(a, b)| (a - b).abs() < 1e-15), "{along_x:?}");
+        let along_y = forcing_frequencies(&meta("delta=0.4:0.8:3", "omega=0.5:1.5:3", &[]), 2).unwrap();
+        assert_eq!(along_y, vec![1.5; 3]);
+        let fixed = forcing_frequencies(&meta("delta=0.4:0.8:3", "zeta=0.1:0.2:2", &[("omega", 0.7)]), 0).unwrap();
+        assert_eq!(fixed, vec![0.7; 3]);
+        let default = forcing_frequencies(&meta("delta=0.4:0.8:3", "zeta=0.1:0.2:2", &[]), 0).unwrap();
+        assert_eq!(default, vec![0.33; 3]);
+    }
 }

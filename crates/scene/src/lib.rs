@@ -55,6 +55,11 @@ enum StopPlace {
 /// from rest; the solver then ends such cells unresolved. Refused up front.
 pub const OMEGA_MIN: f64 = 1e-6;
 
+/// Largest penetration of a stop by the initial state a scene writes: its
+/// positions may touch a stop to rounding, never press into it. (Simulated
+/// states are held to the solver's own, looser, admissibility.)
+const INITIAL_PENETRATION: f64 = 1e-12;
+
 /// A parsed and structurally checked scene, ready to be evaluated for any parameters.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -266,6 +271,22 @@ impl Scene {
         Ok(scene)
     }
 
+    /// The normal `n` of each stop's gap `g = n·x + c` over the positions of
+    /// the masses ([`StopGeometry::gap_function`]): structural, the same for
+    /// every parameter value.
+    pub fn stop_normals(&self) -> Vec<Vec<f64>> {
+        self.stops
+            .iter()
+            .map(|(place, _)| {
+                let geometry = match *place {
+                    StopPlace::Frame { mass, side, .. } => StopGeometry::Frame { mass, side, position: 0.0 },
+                    StopPlace::Pair { first, second, .. } => StopGeometry::Pair { first, second, gap: 0.0 },
+                };
+                geometry.gap_function(self.masses.len()).0
+            })
+            .collect()
+    }
+
     /// The scene's name.
     pub fn name(&self) -> &str {
         &self.file.name
@@ -447,7 +468,7 @@ impl Scene {
         let x0: Vec<f64> = model.masses.iter().map(|m| m.x0).collect();
         for (i, s) in model.stops.iter().enumerate() {
             let g = model.gap(i, &x0);
-            if g < -1e-12 {
+            if g < -INITIAL_PENETRATION {
                 return Err(SceneError::field(
                     "masses.x0",
                     format!("the initial state penetrates stop {} by {}", s.name, -g),

@@ -57,6 +57,33 @@ pub enum StopGeometry {
     },
 }
 
+impl StopGeometry {
+    /// The stop's gap as a linear function of the positions of `masses`
+    /// masses, `g(x) = n·x + c >= 0`: `(n, c)`. A frame stop below mass i has
+    /// `n = e_i`, `c = -position`; above, `n = -e_i`, `c = position`; a pair stop
+    /// `x_a - x_b <= gap` has `n = e_b - e_a`, `c = gap`. The normal depends on
+    /// the geometry's kind and masses only, never on parameter values.
+    pub fn gap_function(&self, masses: usize) -> (Vec<f64>, f64) {
+        let mut normal = vec![0.0; masses];
+        let offset = match *self {
+            StopGeometry::Frame { mass, side: Side::Below, position } => {
+                normal[mass] = 1.0;
+                -position
+            }
+            StopGeometry::Frame { mass, side: Side::Above, position } => {
+                normal[mass] = -1.0;
+                position
+            }
+            StopGeometry::Pair { first, second, gap } => {
+                normal[first] = -1.0;
+                normal[second] = 1.0;
+                gap
+            }
+        };
+        (normal, offset)
+    }
+}
+
 /// A rigid stop with Newton's restitution law.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stop {
@@ -137,10 +164,7 @@ impl Model {
 
     /// Signed distance to contact of a stop at positions `x` (>= 0 when admissible).
     pub fn gap(&self, stop: usize, x: &[f64]) -> f64 {
-        match self.stops[stop].geometry {
-            StopGeometry::Frame { mass, side: Side::Below, position } => x[mass] - position,
-            StopGeometry::Frame { mass, side: Side::Above, position } => position - x[mass],
-            StopGeometry::Pair { first, second, gap } => gap - (x[first] - x[second]),
-        }
+        let (normal, offset) = self.stops[stop].geometry.gap_function(x.len());
+        normal.iter().zip(x).map(|(n, x)| n * x).sum::<f64>() + offset
     }
 }

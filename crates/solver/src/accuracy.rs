@@ -38,43 +38,45 @@ impl Preset {
     }
 }
 
-/// All accuracy knobs of a cell simulation.
+/// All accuracy knobs of a cell simulation. Built from a [`Preset`]; a knob
+/// is changed only through [`Accuracy::set`] (or [`Accuracy::with`]), which
+/// checks it against [`LIMITS`], and read through its getter.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Accuracy {
     /// Time tolerance of event location (standard 1e-12). Smaller costs a few more
     /// advancement steps per event.
-    pub event_tol: f64,
+    pub(crate) event_tol: f64,
     /// A gap below this counts as contact (standard 1e-11). It is also the largest
     /// penetration of a stop the solver allows.
-    pub contact_tol: f64,
+    pub(crate) contact_tol: f64,
     /// Impacts with a normal velocity below this are plastic and may start sticking
     /// (standard 1e-7). Larger ends chatter sooner and cheaper, and less exactly.
-    pub stick_velocity: f64,
+    pub(crate) stick_velocity: f64,
     /// Jump to the accumulation point of a geometric chatter sequence once its
     /// impact velocity is below this (standard 1e-4; 0 disables the jump).
-    pub chatter_velocity: f64,
+    pub(crate) chatter_velocity: f64,
     /// Periods always simulated before periodicity is tested (standard 8).
-    pub min_transient: usize,
+    pub(crate) min_transient: usize,
     /// Periods after which a cell without a period is declared non-periodic
     /// (standard 600). Longer finds slowly converging orbits; costs linearly.
-    pub max_periods: usize,
+    pub(crate) max_periods: usize,
     /// Two period-section points closer than this (max norm, relative to
     /// 1 + |state|) are the same point (standard 1e-7).
-    pub periodic_tol: f64,
+    pub(crate) periodic_tol: f64,
     /// Largest period n tested, in forcing periods (standard 32).
-    pub n_max: usize,
+    pub(crate) n_max: usize,
     /// Impacts at one stop in n periods from which a motion is flagged chattering (6).
-    pub chatter_impacts: usize,
+    pub(crate) chatter_impacts: usize,
     /// Event budget of one cell; past it the cell is `unresolved` (standard 400 000).
-    pub max_events: usize,
+    pub(crate) max_events: usize,
     /// Accelerate slowly contracting transients by Newton's method on the period
     /// map once the impact pattern repeats (standard and fast: on; precise: off,
     /// so that the reference is plain simulation).
-    pub newton: bool,
+    pub(crate) newton: bool,
     /// Periods over which the largest Lyapunov exponent of a cell without a
     /// period is measured (standard 100; 0 skips it and leaves such cells `C`).
     /// Costs about as much as that many periods of simulation, with tangents.
-    pub lyapunov_periods: usize,
+    pub(crate) lyapunov_periods: usize,
     /// Periods after which a cell without a period has its largest Lyapunov
     /// exponent measured early (standard and fast 100; precise 0: off, the
     /// reference simulates every record in full). A clearly chaotic cell
@@ -84,19 +86,19 @@ pub struct Accuracy {
     /// measurement on slow transients; a chaotic transient that would settle on
     /// an orbit later stays `C`. On by default since the trade measured its
     /// label agreement with `precise` above RK4's (docs/performance.md).
-    pub chaos_check: usize,
+    pub(crate) chaos_check: usize,
     /// Times the record of a cell without a period is extended by `max_periods`
     /// when its largest Lyapunov exponent shows it still contracting (a long
     /// transient, `λT < -0.002`): standard and precise 4, fast 1. Costs only on
     /// such cells.
-    pub extensions: usize,
+    pub(crate) extensions: usize,
     /// Measure the largest Floquet multiplier modulus of periodic cells (the
     /// exact Jacobian over n more periods; standard: on, 0 or 1 as a knob).
-    pub multipliers: bool,
+    pub(crate) multipliers: bool,
     /// Step of the RK4 integrator (0.01, the literature's value).
-    pub rk4_step: f64,
+    pub(crate) rk4_step: f64,
     /// RK4 refines a crossing by dividing the step by 10 until it is below this (1e-10).
-    pub rk4_min_step: f64,
+    pub(crate) rk4_min_step: f64,
 }
 
 /// Largest value of each knob, and what a larger one would do: sizes bound the
@@ -199,6 +201,12 @@ impl Accuracy {
         LIMITS.iter().map(|l| l.0).zip(v).collect()
     }
 
+    /// These knobs with `name` set to `value` ([`Accuracy::set`]).
+    pub fn with(mut self, name: &str, value: f64) -> Result<Accuracy, SolverError> {
+        self.set(name, value)?;
+        Ok(self)
+    }
+
     /// Sets a knob by name (for `--accuracy name=value` overrides).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), SolverError> {
         let err = |m: &str| SolverError::Accuracy { field: name.to_string(), message: m.to_string() };
@@ -271,6 +279,40 @@ impl Accuracy {
         }
         Ok(())
     }
+}
+
+/// Read-only getters of the knobs, one per field, named after it.
+macro_rules! getters {
+    ($($name:ident: $ty:ty,)*) => {
+        impl Accuracy {
+            $(
+                #[doc = concat!("The `", stringify!($name), "` knob (documented on the field and in docs/scenes.md).")]
+                pub fn $name(&self) -> $ty {
+                    self.$name
+                }
+            )*
+        }
+    };
+}
+
+getters! {
+    event_tol: f64,
+    contact_tol: f64,
+    stick_velocity: f64,
+    chatter_velocity: f64,
+    min_transient: usize,
+    max_periods: usize,
+    periodic_tol: f64,
+    n_max: usize,
+    chatter_impacts: usize,
+    max_events: usize,
+    newton: bool,
+    lyapunov_periods: usize,
+    chaos_check: usize,
+    extensions: usize,
+    multipliers: bool,
+    rk4_step: f64,
+    rk4_min_step: f64,
 }
 
 impl Default for Accuracy {

@@ -421,3 +421,147 @@ fn without_period(growth: f64, closed_curve: impl FnOnce() -> bool) -> (Class, O
         (Class::Unresolved, Some(Unresolved::Undecided { growth }))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::system;
+
+    fn multi_stop(omega: f64, delta: f64) -> System {
+        system("multi-stop.toml", &[("omega", omega), ("delta", delta)])
+    }
+
+    fn executor<'s>(sys: &'s System, acc: &'s Accuracy) -> Executor<'s> {
+        Executor::start(sys, acc, Method::Exact, &sys.model.initial_state()).unwrap()
+    }
+
+    /// Phase 1 with and without Newton acceleration: the same period and
+    /// final state (to the period tolerance), Newton in fewer periods, its
+    /// probe's work in the budget.
+    #[test]
+    fn newton_shortens_the_record_and_its_work_is_counted() {
+        // A slowly contracting 1-2-1 orbit: over 500 periods of plain simulation.
+        let sys = multi_stop(1.5, 0.1);
+        let (with, without) = (Accuracy::default(), Accuracy::default().with("newton", 0.0).unwrap());
+        let (mut a, mut b) = (executor(&sys, &with), executor(&sys, &without));
+        let limit = 3000;
+        assert_eq!((a.record(limit).unwrap(), b.record(limit).unwrap()), (Some(1), Some(1)));
+        let d = crate::period::distance(a.sim.state(), b.sim.state());
+        assert!(d <= 10.0 * with.periodic_tol, "final states {d:e} apart");
+        assert!(a.sim.periods() < b.sim.periods(), "{} against {} periods", a.sim.periods(), b.sim.periods());
+        assert!(a.budget.periods(&a.sim) > a.sim.periods(), "the probe's periods are counted");
+        assert_eq!(b.budget.periods(&b.sim), b.sim.periods(), "no probe without Newton");
+    }
+
+    /// Phases 2 and 3 agree on a periodic orbit: the largest Lyapunov exponent
+    /// per forcing period is the log of the largest Floquet multiplier.
+    #[test]
+    fn the_exponent_of_an_orbit_is_the_log_of_its_multiplier() {
+        let sys = multi_stop(0.33, 0.6);
+        let acc = Accuracy::default();
+        let mut cell = executor(&sys, &acc);
+        assert_eq!(cell.record(600).unwrap(), Some(1));
+        let mu = cell.multiplier(1).unwrap();
+        let (lambda, points) = cell.exponent().unwrap();
+        assert_eq!(points.len(), acc.lyapunov_periods);
+        assert!(
+            (lambda * sys.period - mu.ln()).abs() < 0.02 * mu.ln().abs(),
+            "λT {} against ln μ {}",
+            lambda * sys.period,
+            mu.ln()
+        );
+    }
+
+    /// Phase 3 against finite differences: the spectral radius of the
+    /// period map's Jacobian by central differences of simulated periods.
+    #[test]
+    fn the_multiplier_is_that_of_the_period_maps_derivative() {
+        let sys = multi_stop(2.0, 1.2);
+        let acc = Accuracy::default();
+        let mut cell = executor(&sys, &acc);
+        assert_eq!(cell.record(600).unwrap(), Some(1));
+        let x = cell.sim.state().clone();
+        let map = |y: &DVector<f64>| {
+            let mut sim = Simulator::new(&sys, acc, Method::Exact, y.as_slice()).unwrap();
+            sim.run_period(&[], false, &mut Ignore).unwrap();
+            sim.state().clone()
+        };
+        let h = 1e-6;
+        let jac = nalgebra::DMatrix::from_fn(4, 4, |i, j| {
+            let e = DVector::from_fn(4, |k, _| if k == j { h } else { 0.0 });
+            (map(&(&x + &e))[i] - map(&(&x - &e))[i]) / (2.0 * h)
+        });
+        let fd = spectral_radius(&multipliers(&jac));
+        let mu = cell.multiplier(1).unwrap();
+        assert!((mu - fd).abs() < 1e-6, "{mu} against finite differences {fd}");
+    }
+
+    /// Phases 1 and 4 on complete chattering (ω = 0.2, δ = 0.6): M1 sticks to
+    /// both of its stops (A12 and A1, label 1-S-S), A1 chatters first.
+    #[test]
+    fn the_window_labels_sticking_and_chattering() {
+        let sys = multi_stop(0.2, 0.6);
+        let acc = Accuracy::default();
+        let mut cell = executor(&sys, &acc);
+        let Steady::Periodic(n) = cell.steady().unwrap() else { panic!("not periodic") };
+        let result = cell.window(Class::Periodic, Some(n), &sys.model.initial_state());
+        assert_eq!(result.labels[0].to_string(), "1-S-S");
+        assert!(result.sticking.contains(0) && result.sticking.contains(2), "{:?}", result.sticking);
+        assert!(result.chatter.contains(0), "{:?}", result.chatter);
+        assert_eq!(result.section.len(), n);
+    }
+
+    /// Phase 5: every stop gets min(cap, its impacts) points, each on its
+    /// stop, and the re-simulation counts in the cell's work.
+    #[test]
+    fn sections_lie_on_their_stops_and_count_as_work() {
+        let sys = multi_stop(0.33, 0.6);
+        let acc = Accuracy::default();
+        let mut cell = executor(&sys, &acc);
+        assert_eq!(cell.record(600).unwrap(), Some(1));
+        let result = cell.window(Class::Periodic, Some(1), &sys.model.initial_state());
+        let before = cell.budget.periods(&cell.sim);
+        let sections = cell.sections(&result, 3);
+        assert_eq!(cell.budget.periods(&cell.sim), before + 1, "one period simulated again");
+        for (k, rows) in sections.iter().enumerate() {
+            assert_eq!(rows.len(), (result.impacts[k] as usize).min(3), "stop {k}");
+            for row in rows {
+                let gap = sys.gap(k, &DVector::from_column_slice(&row[1..]));
+                assert!(gap.abs() <= 10.0 * acc.contact_tol, "stop {k}: gap {gap:e}");
+            }
+        }
+    }
+
+    /// One budget: whatever the phase that exhausts it, a cell handles at
+    /// most `max_events` events plus the one that crossed the limit in each
+    /// of the two simulators that saw it, and says why it stopped.
+    #[test]
+    fn every_phase_draws_on_one_budget() {
+        for (omega, delta) in [(1.05, 0.05), (0.33, 0.6), (0.98, 0.34)] {
+            let sys = multi_stop(omega, delta);
+            for max in [30.0, 300.0, 3000.0] {
+                let acc = Accuracy::default().with("max_events", max).unwrap();
+                let (cell, _) = run_cell_with_sections(&sys, &acc, Method::Exact, &sys.model.initial_state(), 16);
+                assert!(cell.events <= max as usize + 2, "ω {omega}: {} events of {max}", cell.events);
+                if cell.class == Class::Unresolved {
+                    assert_eq!(cell.reason, Some(Unresolved::Budget { max_events: max as usize }));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn reasons_read_as_documented() {
+        assert_eq!(Unresolved::Budget { max_events: 5 }.to_string(), "event budget of 5 events exhausted");
+        assert_eq!(Unresolved::Stalled.to_string(), "event location stalled at a degenerate contact");
+        let (class, why) = without_period(-0.5, || true);
+        assert_eq!(class, Class::Unresolved);
+        assert!(why
+            .unwrap()
+            .to_string()
+            .starts_with("no period within the record, and the motion still contracts (λT = -5.000e-1)"));
+        assert_eq!(without_period(0.2, || false), (Class::Chaotic, None));
+        assert_eq!(without_period(0.001, || true), (Class::Quasiperiodic, None));
+        assert_eq!(without_period(0.001, || false).0, Class::Unresolved);
+    }
+}

@@ -88,4 +88,4 @@ pub use newton::{solve, MapKind, Solution};
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};
 pub use simulate::{EventKind, Halt, Ignore, Observer, PeriodRecord, Simulator};
-pub use system::System;
+pub use system::{System, ADMISSIBLE_PENETRATION};

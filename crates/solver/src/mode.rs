@@ -33,6 +33,24 @@ use num_complex::Complex64 as C64;
 use std::ops::AddAssign;
 use std::sync::OnceLock;
 
+/// A row in the span of the constraint rows within this (relative to its
+/// norm) is a combination of them: a friction contact whose relative
+/// coordinate the held stops fix is locked.
+const SPAN_TOL: f64 = 1e-9;
+
+/// Largest condition number of `G Gᵀ` of a mode's constraints: beyond it the
+/// constraints are taken as dependent (no such mode).
+const MAX_CONDITION: f64 = 1e10;
+
+/// The projector `I - Gᵀ(GGᵀ)⁻¹G` onto `ker G` has eigenvalues 0 and 1 only;
+/// its eigenvectors with an eigenvalue above this span the kernel.
+const PROJECTOR_SPLIT: f64 = 0.5;
+
+/// A free stop whose normal has no component beyond this along the free
+/// coordinates (a pair stop while its masses stick together) keeps a constant
+/// gap: it gets no guard.
+const CONSTRAINED_NORMAL: f64 = 1e-12;
+
 /// What a guard watches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GuardKind {
@@ -55,13 +73,33 @@ impl GuardKind {
     }
 }
 
+/// What a guard belongs to: a stop (gaps and reactions) or a friction contact
+/// (grips and slips), by its index into the system's stops or contacts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// Stop `k` of [`System::stops`].
+    Stop(usize),
+    /// Friction contact `i` of [`System::frictions`].
+    Contact(usize),
+}
+
+impl Target {
+    /// The stop or contact index.
+    pub fn index(self) -> usize {
+        match self {
+            Target::Stop(k) | Target::Contact(k) => k,
+        }
+    }
+}
+
 /// One event function of a mode, `ℓ·s >= 0`.
 #[derive(Debug, Clone)]
 pub struct Guard {
     /// What it watches.
     pub kind: GuardKind,
-    /// Stop index (gap, reaction) or friction contact index (grip, slip).
-    pub stop: usize,
+    /// The stop or contact it belongs to (a stop for gaps and reactions, a
+    /// contact for grips and slips).
+    pub target: Target,
     /// Row `ℓ` over the augmented state.
     pub row: DVector<f64>,
     /// `|ℓ|` entrywise (for the guard's magnitude `|ℓ|·|s|`).
@@ -72,10 +110,14 @@ pub struct Guard {
 }
 
 impl Guard {
-    fn new(kind: GuardKind, stop: usize, row: DVector<f64>) -> Guard {
+    fn new(kind: GuardKind, index: usize, row: DVector<f64>) -> Guard {
+        let target = match kind {
+            GuardKind::Gap | GuardKind::Reaction => Target::Stop(index),
+            GuardKind::Grip | GuardKind::Slip => Target::Contact(index),
+        };
         let row_abs = row.abs();
         let entries = nonzero_entries(row.as_slice());
-        Guard { kind, stop, row, row_abs, entries }
+        Guard { kind, target, row, row_abs, entries }
     }
 }
 
@@ -103,12 +145,16 @@ impl Key {
 }
 
 /// A linear mode: constraints, reduced coordinates, augmented matrix, guards.
+///
+/// Guard order (a contract with the integrators, which report the first
+/// guard in this order among those that vanish at the same time): the gaps of
+/// free stops by stop index, then the reactions of held stops by stop index,
+/// then the grips of stuck contacts (`-F` side, then `+F`) by contact index,
+/// then the slips of slipping contacts by contact index.
 #[derive(Debug, Clone)]
 pub struct Mode {
     /// The mode's key.
     pub key: Key,
-    /// Friction contacts locked by held stops (bit mask).
-    pub locked: u32,
     /// Rows `n` of the stuck (not locked) friction contacts, in the order of `p`.
     frozen: DMatrix<f64>,
     basis: DMatrix<f64>,
@@ -119,7 +165,7 @@ pub struct Mode {
     pub aug: DMatrix<f64>,
     /// Spectral decomposition of Â over one forcing period.
     pub spectral: Spectral,
-    /// Event guards.
+    /// Event guards, in the order above.
     pub guards: Vec<Guard>,
     /// `P = ∂s/∂y`, see [`Mode::project_matrix`].
     project_matrix: DMatrix<f64>,
@@ -130,171 +176,309 @@ pub struct Mode {
     tangent_terms: OnceLock<Vec<DMatrix<C64>>>,
 }
 
-/// Whether `row` lies in the span of the rows of `g` (to rounding).
+/// Whether `row` lies in the span of the rows of `g` (to [`SPAN_TOL`]).
 fn in_span(g: &DMatrix<f64>, row: &DVector<f64>) -> bool {
     if g.nrows() == 0 {
         return false;
     }
     let Some(inv) = (g * g.transpose()).try_inverse() else { return false };
     let residual = row - g.transpose() * (inv * (g * row));
-    residual.norm() <= 1e-9 * row.norm()
+    residual.norm() <= SPAN_TOL * row.norm()
+}
+
+/// The constraints of a key: `G x = w`, the rows of the held stops (in stop
+/// order), then those of the stuck contacts that held stops do not lock.
+struct Constraints {
+    /// Held stops.
+    held: Vec<usize>,
+    /// Stuck, not locked, friction contacts (the frozen displacements `p`).
+    frozen: Vec<usize>,
+    /// Friction contacts locked by the held stops (bit mask).
+    locked: u32,
+    /// `G`.
+    g: DMatrix<f64>,
+    /// Offsets `c` of the held stops.
+    offsets: DVector<f64>,
+}
+
+impl Constraints {
+    fn of(sys: &System, key: Key) -> Constraints {
+        let m = sys.dof();
+        let held: Vec<usize> = (0..sys.stops.len()).filter(|j| key.held & (1 << j) != 0).collect();
+        let hs = held.len();
+        let stop_rows = DMatrix::from_fn(hs, m, |r, c| sys.stops[held[r]].normal[c]);
+        let locked = (0..sys.frictions.len())
+            .filter(|&i| in_span(&stop_rows, &sys.frictions[i].normal))
+            .fold(0u32, |acc, i| acc | (1 << i));
+        let frozen: Vec<usize> = (0..sys.frictions.len()).filter(|i| key.stuck & !locked & (1 << i) != 0).collect();
+        let g = DMatrix::from_fn(hs + frozen.len(), m, |r, c| {
+            if r < hs {
+                sys.stops[held[r]].normal[c]
+            } else {
+                sys.frictions[frozen[r - hs]].normal[c]
+            }
+        });
+        let offsets = DVector::from_fn(hs, |r, _| sys.stops[held[r]].offset);
+        Constraints { held, frozen, locked, g, offsets }
+    }
+
+    fn count(&self) -> usize {
+        self.held.len() + self.frozen.len()
+    }
+}
+
+/// Positions `x = N q + x_c + E p` in reduced coordinates.
+struct Reduction {
+    /// `N`, an orthonormal basis of `ker G`.
+    basis: DMatrix<f64>,
+    /// `x_c`, the least-norm solution of the stop constraints.
+    offset: DVector<f64>,
+    /// `E`, positions per unit frozen displacement.
+    spread: DMatrix<f64>,
+    /// `(G Gᵀ)⁻¹`.
+    ggt_inv: DMatrix<f64>,
+}
+
+impl Reduction {
+    /// `None` when the constraints are dependent or ill-conditioned.
+    fn of(c: &Constraints, m: usize) -> Option<Reduction> {
+        let (hs, hf, h) = (c.held.len(), c.frozen.len(), c.count());
+        if h == 0 {
+            return Some(Reduction {
+                basis: DMatrix::identity(m, m),
+                offset: DVector::zeros(m),
+                spread: DMatrix::zeros(m, 0),
+                ggt_inv: DMatrix::zeros(0, 0),
+            });
+        }
+        let g = &c.g;
+        let ggt = g * g.transpose();
+        let ggt_inv = ggt.clone().try_inverse()?;
+        let cond = ggt.norm() * ggt_inv.norm();
+        if cond.is_nan() || cond >= MAX_CONDITION {
+            return None;
+        }
+        let proj = DMatrix::identity(m, m) - g.transpose() * &ggt_inv * g;
+        let eig = SymmetricEigen::new(proj);
+        let mut idx: Vec<usize> = (0..m).filter(|&i| eig.eigenvalues[i] > PROJECTOR_SPLIT).collect();
+        idx.sort_unstable();
+        let cols: Vec<DVector<f64>> = idx.iter().map(|&i| eig.eigenvectors.column(i).into_owned()).collect();
+        let basis = if cols.is_empty() { DMatrix::zeros(m, 0) } else { DMatrix::from_columns(&cols) };
+        if basis.ncols() != m - h {
+            return None;
+        }
+        let pinv = g.transpose() * &ggt_inv;
+        let offset = -(pinv.columns(0, hs) * &c.offsets);
+        let spread = pinv.columns(hs, hf).into_owned();
+        Some(Reduction { basis, offset, spread, ggt_inv })
+    }
+
+    /// Free coordinates `r` (the columns of `N`).
+    fn free(&self) -> usize {
+        self.basis.ncols()
+    }
+}
+
+/// The augmented state `s = [q; q'; p; sin φ; cos φ; 1]` of a mode with `r`
+/// free coordinates and `hf` frozen displacements.
+#[derive(Debug, Clone, Copy)]
+struct Layout {
+    r: usize,
+    hf: usize,
+}
+
+impl Layout {
+    fn dim(self) -> usize {
+        2 * self.r + self.hf + 3
+    }
+    fn frozen(self) -> usize {
+        2 * self.r
+    }
+    fn sin(self) -> usize {
+        self.dim() - 3
+    }
+    fn cos(self) -> usize {
+        self.dim() - 2
+    }
+    fn one(self) -> usize {
+        self.dim() - 1
+    }
+}
+
+/// The slipping friction contacts of a key (neither stuck nor locked), with
+/// the sign of their relative velocity.
+fn slipping(sys: &System, key: Key, locked: u32) -> Vec<(usize, f64)> {
+    (0..sys.frictions.len())
+        .filter(|i| (key.stuck | locked) & (1 << i) == 0)
+        .map(|i| (i, if key.negative & (1 << i) != 0 { -1.0 } else { 1.0 }))
+        .collect()
+}
+
+/// Kinetic friction of the slipping contacts: the constant force
+/// `-Σ f_k sgn(x_a' - x_b') n`.
+fn kinetic_force(sys: &System, slipping: &[(usize, f64)]) -> DVector<f64> {
+    let mut kinetic = DVector::zeros(sys.dof());
+    for &(i, sign) in slipping {
+        let f = &sys.frictions[i];
+        kinetic -= &f.normal * (sign * f.kinetic);
+    }
+    kinetic
+}
+
+/// The augmented matrix Â of the reduced equations
+/// `Nᵀ M N q'' + Nᵀ C N q' + Nᵀ K (N q + x_c + E p) = Nᵀ (P sin φ + f)`.
+fn augmented(sys: &System, red: &Reduction, kinetic: &DVector<f64>, lay: Layout) -> Result<DMatrix<f64>, SolverError> {
+    let (r, hf, basis) = (lay.r, lay.hf, &red.basis);
+    let mdiag = DMatrix::from_diagonal(&sys.mass);
+    let mr = basis.transpose() * &mdiag * basis;
+    let mr_inv = if r == 0 {
+        DMatrix::zeros(0, 0)
+    } else {
+        mr.cholesky()
+            .ok_or_else(|| SolverError::IllConditioned { message: "reduced mass matrix is not positive".into() })?
+            .inverse()
+    };
+    let kr = basis.transpose() * &sys.stiffness * basis;
+    let cr = basis.transpose() * &sys.damping * basis;
+    let pr = basis.transpose() * &sys.forcing;
+    let mut fr = basis.transpose() * -(&sys.stiffness * &red.offset);
+    if !sys.frictions.is_empty() {
+        fr += basis.transpose() * kinetic;
+    }
+    let mut aug = DMatrix::zeros(lay.dim(), lay.dim());
+    for i in 0..r {
+        aug[(i, r + i)] = 1.0;
+    }
+    aug.view_mut((r, 0), (r, r)).copy_from(&(-&mr_inv * &kr));
+    aug.view_mut((r, r), (r, r)).copy_from(&(-&mr_inv * &cr));
+    if hf > 0 {
+        aug.view_mut((r, lay.frozen()), (r, hf))
+            .copy_from(&(-&mr_inv * basis.transpose() * &sys.stiffness * &red.spread));
+    }
+    aug.view_mut((r, lay.sin()), (r, 1)).copy_from(&(&mr_inv * &pr));
+    aug.view_mut((r, lay.one()), (r, 1)).copy_from(&(&mr_inv * &fr));
+    aug[(lay.sin(), lay.cos())] = sys.omega;
+    aug[(lay.cos(), lay.sin())] = -sys.omega;
+    Ok(aug)
+}
+
+/// The gaps of the free stops, `n·x + c` in augmented coordinates.
+fn gap_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard> {
+    let mut guards = Vec::new();
+    for (k, stop) in sys.stops.iter().enumerate().filter(|(k, _)| key.held & (1 << k) == 0) {
+        // A gap along constrained directions only (a pair stop while its
+        // masses stick together) is constant: it has no events.
+        let along = red.basis.transpose() * &stop.normal;
+        if along.amax() < CONSTRAINED_NORMAL {
+            continue;
+        }
+        let mut row = DVector::zeros(lay.dim());
+        row.rows_mut(0, lay.r).copy_from(&along);
+        if lay.hf > 0 {
+            row.rows_mut(lay.frozen(), lay.hf).copy_from(&(red.spread.transpose() * &stop.normal));
+        }
+        row[lay.one()] = stop.normal.dot(&red.offset) + stop.offset;
+        guards.push(Guard::new(GuardKind::Gap, k, row));
+    }
+    guards
+}
+
+/// The constraint forces `λ = (G Gᵀ)⁻¹ G r(s)`, with the residual force
+/// `r(s) = M N q'' + C N q' + K (N q + x_c + E p) - P sin φ - f` linear in
+/// `s`: a row per constraint, over the augmented state.
+fn constraint_forces(
+    sys: &System,
+    c: &Constraints,
+    red: &Reduction,
+    aug: &DMatrix<f64>,
+    kinetic: &DVector<f64>,
+    lay: Layout,
+) -> DMatrix<f64> {
+    let (m, r, hf, basis) = (sys.dof(), lay.r, lay.hf, &red.basis);
+    let mdiag = DMatrix::from_diagonal(&sys.mass);
+    let mut res = &mdiag * basis * aug.rows(r, r);
+    res.view_mut((0, 0), (m, r)).add_assign(&(&sys.stiffness * basis));
+    res.view_mut((0, r), (m, r)).add_assign(&(&sys.damping * basis));
+    if hf > 0 {
+        res.view_mut((0, lay.frozen()), (m, hf)).add_assign(&(&sys.stiffness * &red.spread));
+    }
+    res.view_mut((0, lay.sin()), (m, 1)).add_assign(&(-&sys.forcing));
+    res.view_mut((0, lay.one()), (m, 1)).add_assign(&(&sys.stiffness * &red.offset));
+    if !sys.frictions.is_empty() {
+        res.view_mut((0, lay.one()), (m, 1)).add_assign(&(-kinetic));
+    }
+    &red.ggt_inv * &c.g * res
+}
+
+/// The reactions of the held stops (release at zero) and the static margins
+/// `f_s ∓ F` of the stuck contacts (breakaway at zero), from the constraint
+/// forces `lambda`.
+fn constraint_guards(sys: &System, c: &Constraints, lambda: &DMatrix<f64>, lay: Layout) -> Vec<Guard> {
+    let mut guards = Vec::new();
+    for (i, &j) in c.held.iter().enumerate() {
+        guards.push(Guard::new(GuardKind::Reaction, j, lambda.row(i).transpose()));
+    }
+    for (i, &j) in c.frozen.iter().enumerate() {
+        let force = lambda.row(c.held.len() + i).transpose();
+        for sign in [-1.0, 1.0] {
+            let mut row = &force * sign;
+            row[lay.one()] += sys.frictions[j].static_limit;
+            guards.push(Guard::new(GuardKind::Grip, j, row));
+        }
+    }
+    guards
+}
+
+/// The relative velocities of the slipping contacts, signed along their slip.
+fn slip_guards(sys: &System, slipping: &[(usize, f64)], red: &Reduction, lay: Layout) -> Vec<Guard> {
+    slipping
+        .iter()
+        .map(|&(i, sign)| {
+            let mut row = DVector::zeros(lay.dim());
+            row.rows_mut(lay.r, lay.r).copy_from(&(red.basis.transpose() * &sys.frictions[i].normal * sign));
+            Guard::new(GuardKind::Slip, i, row)
+        })
+        .collect()
+}
+
+/// `P = ∂s/∂y` and `L`, the linear maps between full and augmented states
+/// (`L` with `x_c` as the column of `1`).
+fn maps(red: &Reduction, frozen: &DMatrix<f64>, m: usize, lay: Layout) -> (DMatrix<f64>, DMatrix<f64>) {
+    let (r, hf) = (lay.r, lay.hf);
+    let mut project = DMatrix::zeros(lay.dim(), 2 * m);
+    project.view_mut((0, 0), (r, m)).copy_from(&red.basis.transpose());
+    project.view_mut((r, m), (r, m)).copy_from(&red.basis.transpose());
+    project.view_mut((lay.frozen(), 0), (hf, m)).copy_from(frozen);
+    let mut lift = DMatrix::zeros(2 * m, lay.dim());
+    lift.view_mut((0, 0), (m, r)).copy_from(&red.basis);
+    lift.view_mut((m, r), (m, r)).copy_from(&red.basis);
+    lift.view_mut((0, lay.frozen()), (m, hf)).copy_from(&red.spread);
+    lift.view_mut((0, lay.one()), (m, 1)).copy_from(&red.offset);
+    (project, lift)
 }
 
 impl Mode {
     /// Builds the mode of `key`; `None` when its held stops' constraints are
     /// linearly dependent (no such mode).
     pub fn new(sys: &System, key: Key) -> Result<Option<Mode>, SolverError> {
-        let m = sys.dof();
-        let held_list: Vec<usize> = (0..sys.stops.len()).filter(|j| key.held & (1 << j) != 0).collect();
-        let hs = held_list.len();
-        let stop_rows = DMatrix::from_fn(hs, m, |r, c| sys.stops[held_list[r]].normal[c]);
-        let locked = (0..sys.frictions.len())
-            .filter(|&i| in_span(&stop_rows, &sys.frictions[i].normal))
-            .fold(0u32, |acc, i| acc | (1 << i));
-        let frozen: Vec<usize> = (0..sys.frictions.len()).filter(|i| key.stuck & !locked & (1 << i) != 0).collect();
-        let hf = frozen.len();
-        let h = hs + hf;
-        let g = DMatrix::from_fn(h, m, |r, c| {
-            if r < hs {
-                sys.stops[held_list[r]].normal[c]
-            } else {
-                sys.frictions[frozen[r - hs]].normal[c]
-            }
-        });
-        let c = DVector::from_fn(hs, |r, _| sys.stops[held_list[r]].offset);
-        let (basis, offset, spread, ggt_inv) = if h == 0 {
-            (DMatrix::identity(m, m), DVector::zeros(m), DMatrix::zeros(m, 0), DMatrix::zeros(0, 0))
-        } else {
-            let ggt = &g * g.transpose();
-            let Some(ggt_inv) = ggt.clone().try_inverse() else {
-                return Ok(None);
-            };
-            let cond = ggt.norm() * ggt_inv.norm();
-            if cond.is_nan() || cond >= 1e10 {
-                return Ok(None);
-            }
-            let proj = DMatrix::identity(m, m) - g.transpose() * &ggt_inv * &g;
-            let eig = SymmetricEigen::new(proj);
-            let mut idx: Vec<usize> = (0..m).filter(|&i| eig.eigenvalues[i] > 0.5).collect();
-            idx.sort_unstable();
-            let cols: Vec<DVector<f64>> = idx.iter().map(|&i| eig.eigenvectors.column(i).into_owned()).collect();
-            let basis = if cols.is_empty() { DMatrix::zeros(m, 0) } else { DMatrix::from_columns(&cols) };
-            if basis.ncols() != m - h {
-                return Ok(None);
-            }
-            let pinv = g.transpose() * &ggt_inv;
-            let offset = -(pinv.columns(0, hs) * &c);
-            let spread = pinv.columns(hs, hf).into_owned();
-            (basis, offset, spread, ggt_inv)
-        };
-        let r = basis.ncols();
-        let dim = 2 * r + hf + 3;
-        let (sin, cos, one) = (dim - 3, dim - 2, dim - 1);
-        let mdiag = DMatrix::from_diagonal(&sys.mass);
-        let mr = basis.transpose() * &mdiag * &basis;
-        let mr_inv = if r == 0 {
-            DMatrix::zeros(0, 0)
-        } else {
-            mr.cholesky()
-                .ok_or_else(|| SolverError::IllConditioned { message: "reduced mass matrix is not positive".into() })?
-                .inverse()
-        };
-        // Slipping contacts with the sign of their relative velocity, and their
-        // kinetic friction: a constant force.
-        let slipping: Vec<(usize, f64)> = (0..sys.frictions.len())
-            .filter(|i| (key.stuck | locked) & (1 << i) == 0)
-            .map(|i| (i, if key.negative & (1 << i) != 0 { -1.0 } else { 1.0 }))
-            .collect();
-        let mut kinetic = DVector::zeros(m);
-        for &(i, sign) in &slipping {
-            let f = &sys.frictions[i];
-            kinetic -= &f.normal * (sign * f.kinetic);
+        let cons = Constraints::of(sys, key);
+        let Some(red) = Reduction::of(&cons, sys.dof()) else { return Ok(None) };
+        let lay = Layout { r: red.free(), hf: cons.frozen.len() };
+        let slipping = slipping(sys, key, cons.locked);
+        let kinetic = kinetic_force(sys, &slipping);
+        let aug = augmented(sys, &red, &kinetic, lay)?;
+        let mut guards = gap_guards(sys, key, &red, lay);
+        if cons.count() > 0 {
+            let lambda = constraint_forces(sys, &cons, &red, &aug, &kinetic, lay);
+            guards.extend(constraint_guards(sys, &cons, &lambda, lay));
         }
-        let kr = basis.transpose() * &sys.stiffness * &basis;
-        let cr = basis.transpose() * &sys.damping * &basis;
-        let pr = basis.transpose() * &sys.forcing;
-        let mut fr = basis.transpose() * -(&sys.stiffness * &offset);
-        if !sys.frictions.is_empty() {
-            fr += basis.transpose() * &kinetic;
-        }
-        let mut aug = DMatrix::zeros(dim, dim);
-        for i in 0..r {
-            aug[(i, r + i)] = 1.0;
-        }
-        aug.view_mut((r, 0), (r, r)).copy_from(&(-&mr_inv * &kr));
-        aug.view_mut((r, r), (r, r)).copy_from(&(-&mr_inv * &cr));
-        if hf > 0 {
-            aug.view_mut((r, 2 * r), (r, hf)).copy_from(&(-&mr_inv * basis.transpose() * &sys.stiffness * &spread));
-        }
-        aug.view_mut((r, sin), (r, 1)).copy_from(&(&mr_inv * &pr));
-        aug.view_mut((r, one), (r, 1)).copy_from(&(&mr_inv * &fr));
-        aug[(sin, cos)] = sys.omega;
-        aug[(cos, sin)] = -sys.omega;
-
-        let mut guards = Vec::new();
-        for (k, stop) in sys.stops.iter().enumerate() {
-            if key.held & (1 << k) == 0 {
-                // A gap along constrained directions only (a pair stop while its
-                // masses stick together) is constant: it has no events.
-                let along = basis.transpose() * &stop.normal;
-                if along.amax() < 1e-12 {
-                    continue;
-                }
-                let mut row = DVector::zeros(dim);
-                row.rows_mut(0, r).copy_from(&along);
-                if hf > 0 {
-                    row.rows_mut(2 * r, hf).copy_from(&(spread.transpose() * &stop.normal));
-                }
-                row[one] = stop.normal.dot(&offset) + stop.offset;
-                guards.push(Guard::new(GuardKind::Gap, k, row));
-            }
-        }
-        if h > 0 {
-            // Residual force r(s) = M N q'' + C N q' + K (N q + x_c + E p) - P sin φ - f, linear in s.
-            let mut res = &mdiag * &basis * aug.rows(r, r);
-            res.view_mut((0, 0), (m, r)).add_assign(&(&sys.stiffness * &basis));
-            res.view_mut((0, r), (m, r)).add_assign(&(&sys.damping * &basis));
-            if hf > 0 {
-                res.view_mut((0, 2 * r), (m, hf)).add_assign(&(&sys.stiffness * &spread));
-            }
-            res.view_mut((0, sin), (m, 1)).add_assign(&(-&sys.forcing));
-            res.view_mut((0, one), (m, 1)).add_assign(&(&sys.stiffness * &offset));
-            if !sys.frictions.is_empty() {
-                res.view_mut((0, one), (m, 1)).add_assign(&(-&kinetic));
-            }
-            let lambda = &ggt_inv * &g * res;
-            for (i, &j) in held_list.iter().enumerate() {
-                guards.push(Guard::new(GuardKind::Reaction, j, lambda.row(i).transpose()));
-            }
-            for (i, &j) in frozen.iter().enumerate() {
-                let force = lambda.row(hs + i).transpose();
-                for sign in [-1.0, 1.0] {
-                    let mut row = &force * sign;
-                    row[one] += sys.frictions[j].static_limit;
-                    guards.push(Guard::new(GuardKind::Grip, j, row));
-                }
-            }
-        }
-        for &(i, sign) in &slipping {
-            let mut row = DVector::zeros(dim);
-            row.rows_mut(r, r).copy_from(&(basis.transpose() * &sys.frictions[i].normal * sign));
-            guards.push(Guard::new(GuardKind::Slip, i, row));
-        }
+        guards.extend(slip_guards(sys, &slipping, &red, lay));
         let spectral = Spectral::new(&aug, sys.period)?;
-        let frozen = g.rows(hs, hf).into_owned();
-        // The linear maps between full and augmented states.
-        let mut project_matrix = DMatrix::zeros(dim, 2 * m);
-        project_matrix.view_mut((0, 0), (r, m)).copy_from(&basis.transpose());
-        project_matrix.view_mut((r, m), (r, m)).copy_from(&basis.transpose());
-        project_matrix.view_mut((2 * r, 0), (hf, m)).copy_from(&frozen);
-        let mut lift_matrix = DMatrix::zeros(2 * m, dim);
-        lift_matrix.view_mut((0, 0), (m, r)).copy_from(&basis);
-        lift_matrix.view_mut((m, r), (m, r)).copy_from(&basis);
-        lift_matrix.view_mut((0, 2 * r), (m, hf)).copy_from(&spread);
-        lift_matrix.view_mut((0, one), (m, 1)).copy_from(&offset);
+        let frozen = cons.g.rows(cons.held.len(), lay.hf).into_owned();
+        let (project_matrix, lift_matrix) = maps(&red, &frozen, sys.dof(), lay);
+        let Reduction { basis, offset, spread, .. } = red;
         Ok(Some(Mode {
             key,
-            locked,
             frozen,
             basis,
             offset,
@@ -351,7 +535,7 @@ impl Mode {
         &self.project_matrix
     }
 
-    /// The linear map `s ↦ y` of [`Mode::lift`] (with `x_c` as the column of `1`).
+    /// The linear map `s ↦ y` of [`Mode::lift_into`] (with `x_c` as the column of `1`).
     pub fn lift_matrix(&self) -> &DMatrix<f64> {
         &self.lift_matrix
     }
@@ -374,15 +558,7 @@ impl Mode {
         out
     }
 
-    /// Full state `[x; v]` of an augmented state.
-    pub fn lift(&self, s: &DVector<f64>) -> DVector<f64> {
-        let mut y = DVector::zeros(2 * self.basis.nrows());
-        self.lift_into(s, &mut y);
-        y
-    }
-
-    /// [`Mode::lift`] into `y` (of length `2m`; no allocation in a mode without
-    /// constraints).
+    /// Full state `[x; v]` of an augmented state, into `y` (of length `2m`).
     pub fn lift_into(&self, s: &DVector<f64>, y: &mut DVector<f64>) {
         let m = self.basis.nrows();
         let r = self.basis.ncols();
@@ -397,5 +573,123 @@ impl Mode {
         }
         y.rows_mut(0, m).copy_from(&x);
         y.rows_mut(m, m).copy_from(&(&self.basis * s.rows(r, r)));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::system;
+
+    fn kinds(mode: &Mode) -> Vec<(GuardKind, Target)> {
+        mode.guards.iter().map(|g| (g.kind, g.target)).collect()
+    }
+
+    /// `s = [x; v; sin φ; cos φ; 1]` of a free single mass: the matrix of
+    /// `x'' + 2ζx' + x = sin φ` and `φ' = ω`, written out by hand.
+    #[test]
+    fn the_free_mode_is_the_equation_of_motion() {
+        let (zeta, omega) = (0.1, 2.5);
+        let sys = system("single-stop.toml", &[("zeta", zeta), ("omega", omega), ("sigma", 0.3)]);
+        let mode = Mode::new(&sys, Key::FREE).unwrap().unwrap();
+        #[rustfmt::skip]
+        let expected = DMatrix::from_row_slice(5, 5, &[
+            0.0, 1.0, 0.0, 0.0, 0.0,
+            -1.0, -2.0 * zeta, 1.0, 0.0, 0.0,
+            0.0, 0.0, 0.0, omega, 0.0,
+            0.0, 0.0, -omega, 0.0, 0.0,
+            0.0, 0.0, 0.0, 0.0, 0.0,
+        ]);
+        assert!((&mode.aug - expected).amax() < 1e-15, "{}", mode.aug);
+        // One guard: the gap σ - x of the stop above the mass.
+        assert_eq!(kinds(&mode), vec![(GuardKind::Gap, Target::Stop(0))]);
+        assert_eq!(mode.guards[0].row.as_slice(), &[-1.0, 0.0, 0.0, 0.0, 0.3]);
+        assert_eq!(mode.guards[0].entries, vec![(0, -1.0), (4, 0.3)]);
+    }
+
+    /// M1 held on A1 (`x1 = -δ`, at rest): its reaction is the force the stop
+    /// must supply, `k1 x1 + c1 x1' - P1 sin φ` (M1's own equation, M2 free),
+    /// and the mode keeps M2's motion free.
+    #[test]
+    fn a_held_stop_has_the_reaction_of_newtons_law() {
+        let (zeta, delta, phase) = (0.1, 0.6, 0.7);
+        let sys = system("multi-stop.toml", &[("zeta", zeta), ("delta", delta)]);
+        let mode = Mode::new(&sys, Key { held: 1, ..Key::FREE }).unwrap().unwrap();
+        assert_eq!(
+            kinds(&mode),
+            vec![
+                (GuardKind::Gap, Target::Stop(1)),
+                (GuardKind::Gap, Target::Stop(2)),
+                (GuardKind::Reaction, Target::Stop(0))
+            ]
+        );
+        let y = DVector::from_vec(vec![-delta, 0.2, 0.0, -0.3]);
+        let s = mode.project(&y, phase);
+        let mut back = DVector::zeros(4);
+        mode.lift_into(&s, &mut back);
+        assert!((&back - &y).amax() < 1e-15, "an admissible state is its own projection: {back}");
+        let reaction = mode.guards[2].row.dot(&s);
+        let expected = 1.0 * -delta + 2.0 * zeta * 0.0 - 1.0 * phase.sin();
+        assert!((reaction - expected).abs() < 1e-14, "{reaction} vs {expected}");
+        // Projection drops what violates the constraint: M1's velocity and offset.
+        mode.lift_into(&mode.project(&DVector::from_vec(vec![-delta + 0.1, 0.2, 0.5, -0.3]), phase), &mut back);
+        assert!((&back - &DVector::from_vec(vec![-delta, 0.2, 0.0, -0.3])).amax() < 1e-15, "{back}");
+    }
+
+    /// Dry friction (M1 between M2's walls at ±b): guards come in the
+    /// documented order, a stuck contact has two grips, a contact that a held
+    /// stop fixes is locked (no grip, no slip), and holding both walls at once
+    /// is no mode.
+    #[test]
+    fn guards_follow_the_documented_order_and_locked_contacts_have_none() {
+        let sys = system("dry-friction.toml", &[]);
+        let free = Mode::new(&sys, Key::FREE).unwrap().unwrap();
+        assert_eq!(
+            kinds(&free),
+            vec![
+                (GuardKind::Gap, Target::Stop(0)),
+                (GuardKind::Gap, Target::Stop(1)),
+                (GuardKind::Slip, Target::Contact(0))
+            ]
+        );
+        let stuck = Mode::new(&sys, Key { stuck: 1, ..Key::FREE }).unwrap().unwrap();
+        // Stuck, M1 moves with M2: the walls' gaps are constant and have no guard.
+        assert_eq!(kinds(&stuck), vec![(GuardKind::Grip, Target::Contact(0)), (GuardKind::Grip, Target::Contact(0))]);
+        // The two grips are f_s - F and f_s + F: they sum to 2 f_s.
+        let s = stuck.project(&DVector::from_vec(vec![0.01, 0.0, 0.3, 0.3]), 0.4);
+        let margins: f64 = stuck.guards.iter().map(|g| g.row.dot(&s)).sum();
+        let force = stuck.guards[1].row.dot(&s) - sys.frictions[0].static_limit;
+        assert!((margins - 2.0 * sys.frictions[0].static_limit).abs() <= 1e-14 * (1.0 + force.abs()));
+        let held = Mode::new(&sys, Key { held: 1, stuck: 1, ..Key::FREE }).unwrap().unwrap();
+        // Held on the right wall the left gap is 2b, constant: a reaction only.
+        assert_eq!(kinds(&held), vec![(GuardKind::Reaction, Target::Stop(0))]);
+        assert!(Mode::new(&sys, Key { held: 3, ..Key::FREE }).unwrap().is_none());
+    }
+
+    /// The transition matrix `L e^{Âh} P` is the derivative of the flow: it
+    /// matches central finite differences of lift ∘ flow ∘ project.
+    #[test]
+    fn the_transition_matrix_is_the_derivative_of_the_flow() {
+        let sys = system("multi-stop.toml", &[("omega", 0.8)]);
+        for key in [Key::FREE, Key { held: 1, ..Key::FREE }] {
+            let mode = Mode::new(&sys, key).unwrap().unwrap();
+            let (h, phase) = (0.9, 0.2);
+            let y = DVector::from_vec(vec![-0.6, 0.1, 0.0, 0.2]);
+            let flow = |y: &DVector<f64>| {
+                let s = mode.project(y, phase);
+                let mut f = vec![C64::new(0.0, 0.0); mode.spectral.terms().len()];
+                mode.spectral.factors(h, &mut f);
+                let end = mode.spectral.modal(&s).state(&f);
+                let mut out = DVector::zeros(4);
+                mode.lift_into(&end, &mut out);
+                out
+            };
+            let t = mode.transition(h);
+            for j in 0..4 {
+                let e = DVector::from_fn(4, |i, _| if i == j { 1e-6 } else { 0.0 });
+                let column = (flow(&(&y + &e)) - flow(&(&y - &e))) / 2e-6;
+                assert!((column - t.column(j)).amax() < 1e-7, "{key:?} column {j}");
+            }
+        }
     }
 }

@@ -15,7 +15,7 @@ use crate::error::SolverError;
 use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
 use crate::impact;
-use crate::mode::{GuardKind, Key};
+use crate::mode::{Guard, GuardKind, Key, Mode};
 use crate::stick::{candidates, settle, touching, ModeCache};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector};
@@ -130,6 +130,30 @@ struct Buffers {
     contacts: Vec<usize>,
     /// Impacts of one contact event.
     hits: Vec<impact::Hit>,
+}
+
+/// What the saltation matrix of an event needs from before it, in full
+/// coordinates: the flow transition to the event, the vector field `f⁻`, the
+/// guard's gradient `∇h` and its rate `ḣ`.
+struct Saltation {
+    flow: DMatrix<f64>,
+    f_before: DVector<f64>,
+    grad: DVector<f64>,
+    rate: f64,
+}
+
+impl Saltation {
+    /// At the event of guard `g` of `mode`, reached at augmented state `state`
+    /// after `time`.
+    fn before(mode: &Mode, g: &Guard, state: &DVector<f64>, time: f64) -> Saltation {
+        let rate = &mode.aug * state;
+        Saltation {
+            flow: mode.transition(time),
+            f_before: mode.lift_matrix() * &rate,
+            grad: mode.project_matrix().transpose() * &g.row,
+            rate: g.row.dot(&rate),
+        }
+    }
 }
 
 /// A running simulation of one cell.
@@ -358,29 +382,13 @@ impl<'s> Simulator<'s> {
                 }
                 Advance::Event { guard, time } => {
                     let g = &mode.guards[guard];
-                    let (kind, stop) = (g.kind, g.stop);
-                    let state = &b.end;
+                    let (kind, stop) = (g.kind, g.target.index());
                     // Flow to the event, and what the saltation needs from before it.
-                    let before = self.tangent.is_some().then(|| {
-                        let rate = &mode.aug * state;
-                        (
-                            mode.transition(time),
-                            mode.lift_matrix() * &rate,
-                            mode.project_matrix().transpose() * &g.row,
-                            g.row.dot(&rate),
-                        )
-                    });
-                    mode.lift_into(state, &mut self.y);
+                    let before = self.tangent.is_some().then(|| Saltation::before(mode, g, &b.end, time));
+                    mode.lift_into(&b.end, &mut self.y);
                     self.clock = (self.clock + time).min(target);
-                    self.events += 1;
-                    self.zero_steps = if time > 0.0 { 0 } else { self.zero_steps + 1 };
-                    if self.events > self.acc.max_events {
-                        return Err(Halt::Budget);
-                    }
-                    if self.zero_steps > 64 {
-                        return Err(Halt::Stalled);
-                    }
-                    let (held, stuck) = (self.key.held, self.key.stuck);
+                    self.count_event(time)?;
+                    let was = self.key;
                     self.handle(kind, stop, rec, obs)?;
                     if let Some(before) = before {
                         self.saltate(before)?;
@@ -388,23 +396,43 @@ impl<'s> Simulator<'s> {
                     rec.held |= self.key.held;
                     rec.stuck |= self.key.stuck;
                     obs.event(self.time(), &self.y);
-                    let named = match kind {
-                        GuardKind::Gap => match self.buffers.hits.first() {
-                            Some(h) => EventKind::Impact(h.stop),
-                            None if self.key.held & !held & (1 << stop) != 0 => EventKind::Stick(stop),
-                            None => EventKind::Grazing(stop),
-                        },
-                        GuardKind::Reaction => EventKind::Release(stop),
-                        GuardKind::Grip => EventKind::Breakaway(stop),
-                        GuardKind::Slip if self.key.stuck & !stuck & (1 << stop) != 0 => EventKind::FrictionStick(stop),
-                        GuardKind::Slip => EventKind::SlipReversal(stop),
-                    };
+                    let named = self.name_event(kind, stop, was);
                     obs.named_event(self.time(), named, &self.y);
                 }
                 Advance::Stalled => return Err(Halt::Stalled),
             }
         }
         Ok(())
+    }
+
+    /// Counts an event after `time` of flow: the budget and the stall guard
+    /// (more than 64 events in a row without time passing).
+    fn count_event(&mut self, time: f64) -> Result<(), Halt> {
+        self.events += 1;
+        self.zero_steps = if time > 0.0 { 0 } else { self.zero_steps + 1 };
+        if self.events > self.acc.max_events {
+            return Err(Halt::Budget);
+        }
+        if self.zero_steps > 64 {
+            return Err(Halt::Stalled);
+        }
+        Ok(())
+    }
+
+    /// What the event of guard `kind` at stop or contact `stop`, just
+    /// handled from mode `was`, turned out to be.
+    fn name_event(&self, kind: GuardKind, stop: usize, was: Key) -> EventKind {
+        match kind {
+            GuardKind::Gap => match self.buffers.hits.first() {
+                Some(h) => EventKind::Impact(h.stop),
+                None if self.key.held & !was.held & (1 << stop) != 0 => EventKind::Stick(stop),
+                None => EventKind::Grazing(stop),
+            },
+            GuardKind::Reaction => EventKind::Release(stop),
+            GuardKind::Grip => EventKind::Breakaway(stop),
+            GuardKind::Slip if self.key.stuck & !was.stuck & (1 << stop) != 0 => EventKind::FrictionStick(stop),
+            GuardKind::Slip => EventKind::SlipReversal(stop),
+        }
     }
 
     fn handle(
@@ -481,10 +509,10 @@ impl<'s> Simulator<'s> {
     }
 
     /// Composes the tracked tangent with the flow to the event just handled and
-    /// its saltation matrix `S = J + (f⁺ - J f⁻) ∇hᵀ / ḣ`; `before` holds the flow
-    /// transition, `f⁻`, `∇h` and `ḣ` taken before the event.
-    fn saltate(&mut self, before: (DMatrix<f64>, DVector<f64>, DVector<f64>, f64)) -> Result<(), Halt> {
-        let (flow, f_before, grad, rate) = before;
+    /// its saltation matrix `S = J + (f⁺ - J f⁻) ∇hᵀ / ḣ`, from what was taken
+    /// before the event.
+    fn saltate(&mut self, before: Saltation) -> Result<(), Halt> {
+        let Saltation { flow, f_before, grad, rate } = before;
         let jump = self.jump()?;
         // At grazing (ḣ = 0) the map is not differentiable: keep the jump.
         let salt = if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
@@ -500,5 +528,103 @@ impl<'s> Simulator<'s> {
             *t = salt * flow * &*t;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::system;
+
+    /// Every event, named.
+    #[derive(Default)]
+    struct Names(Vec<EventKind>, Vec<(usize, DVector<f64>, DVector<f64>)>);
+    impl Observer for Names {
+        fn impact(&mut self, _t: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+            self.1.push((stop, before.clone(), after.clone()));
+        }
+        fn named_event(&mut self, _t: f64, kind: EventKind, _y: &DVector<f64>) {
+            self.0.push(kind);
+        }
+    }
+
+    /// Without an event a period ends on the closed form of
+    /// `x'' + 2ζx' + x = cos ωt` (the textbook solution from rest at x0).
+    #[test]
+    fn a_period_without_events_follows_the_closed_form() {
+        let (zeta, omega, x0) = (0.05, 1.7, 0.3);
+        let sys = system("single-stop.toml", &[("zeta", zeta), ("omega", omega), ("sigma", 100.0)]);
+        let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &[x0, 0.0]).unwrap();
+        let rec = sim.run_period(&[], false, &mut Ignore).unwrap();
+        let t = sys.period;
+        let d = (1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2);
+        let (a, b) = ((1.0 - omega * omega) / d, 2.0 * zeta * omega / d);
+        let wd = (1.0 - zeta * zeta).sqrt();
+        let (c1, c2) = (x0 - a, (zeta * (x0 - a) - b * omega) / wd);
+        let x = a * (omega * t).cos()
+            + b * (omega * t).sin()
+            + (-zeta * t).exp() * (c1 * (wd * t).cos() + c2 * (wd * t).sin());
+        assert!((rec.end[0] - x).abs() < 1e-12, "{} against {x}", rec.end[0]);
+        assert_eq!((rec.impacts.as_slice(), sim.events(), sim.periods()), (&[0u32][..], 0, 1));
+    }
+
+    /// Impacts follow Newton's law at the stop: the mass is on it, its speed
+    /// reverses with factor r, and the events are named impacts of that stop.
+    #[test]
+    fn impacts_reverse_the_approach_with_the_restitution() {
+        let r = 0.8;
+        let sys = system("single-stop.toml", &[("r", r)]);
+        let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &sys.model.initial_state()).unwrap();
+        let mut names = Names::default();
+        for _ in 0..5 {
+            sim.run_period(&[], false, &mut names).unwrap();
+        }
+        assert!(!names.1.is_empty());
+        for (stop, before, after) in &names.1 {
+            assert_eq!(*stop, 0);
+            assert!(sys.gap(0, before).abs() <= 1e-10, "on the stop: gap {}", sys.gap(0, before));
+            assert!((after[1] + r * before[1]).abs() <= 1e-12 * (1.0 + before[1].abs()));
+        }
+        assert!(names.0.iter().all(|k| *k == EventKind::Impact(0)), "{:?}", names.0);
+    }
+
+    /// The event budget halts a simulation once exceeded, and the stall
+    /// guard never fires on ordinary motion.
+    #[test]
+    fn the_budget_halts_the_simulation() {
+        let sys = system("multi-stop.toml", &[("omega", 0.33), ("delta", 0.6)]);
+        let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &sys.model.initial_state()).unwrap();
+        sim.set_budget(20);
+        let mut halted = None;
+        for _ in 0..10 {
+            if let Err(h) = sim.run_period(&[], false, &mut Ignore) {
+                halted = Some(h);
+                break;
+            }
+        }
+        assert_eq!(halted, Some(Halt::Budget));
+        assert_eq!(sim.events(), 21);
+    }
+
+    /// Sample times within a period reach the observer in order, and the
+    /// half-period state is the state sampled at `T/2`.
+    #[test]
+    fn samples_and_the_half_period_state_are_taken_on_time() {
+        #[derive(Default)]
+        struct Samples(Vec<(f64, DVector<f64>)>);
+        impl Observer for Samples {
+            fn sample(&mut self, t: f64, y: &DVector<f64>) {
+                self.0.push((t, y.clone()));
+            }
+        }
+        let sys = system("single-stop.toml", &[("sigma", 100.0)]);
+        let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &[0.1, 0.0]).unwrap();
+        let t = sys.period;
+        let mut samples = Samples::default();
+        let rec = sim.run_period(&[0.25 * t, 0.75 * t], true, &mut samples).unwrap();
+        let times: Vec<f64> = samples.0.iter().map(|s| s.0).collect();
+        assert_eq!(times, vec![0.25 * t, 0.5 * t, 0.75 * t, t]);
+        assert_eq!(rec.half.as_ref(), Some(&samples.0[1].1));
+        assert_eq!(rec.end, samples.0[3].1);
     }
 }

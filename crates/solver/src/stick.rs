@@ -91,56 +91,86 @@ pub fn settle(
     cache: &mut ModeCache,
     y: &DVector<f64>,
     phase: f64,
-    mut cand: u32,
+    cand: u32,
     no_stick: u32,
 ) -> Result<Key, SolverError> {
-    // Every combination of the contacts' options, first options first (no
-    // allocation for a scene without friction: this runs at every event).
+    // No allocation for a scene without friction: this runs at every event.
     let combinations: Vec<Key>;
     let frictions: &[Key] = if sys.frictions.is_empty() {
         &[Key::FREE]
     } else {
-        let mut all = vec![Key::FREE];
-        for i in 0..sys.frictions.len() {
-            let options = friction_options(sys, acc, y, i, no_stick & (1 << i) == 0);
-            all = all
-                .iter()
-                .flat_map(|f| {
-                    options.iter().map(move |o| Key {
-                        held: 0,
-                        stuck: f.stuck | o.stuck,
-                        negative: f.negative | o.negative,
-                    })
-                })
-                .collect();
-        }
-        combinations = all;
+        combinations = friction_combinations(sys, acc, y, no_stick);
         &combinations
     };
+    let at = At { sys, acc, y, phase };
+    if cand.count_ones() <= 6 {
+        if let Some(key) = at.consistent(cache, cand, frictions)? {
+            return Ok(key);
+        }
+    }
+    at.release_worst(cache, cand, frictions[0])
+}
+
+/// The state at an event, where the next mode is chosen.
+struct At<'a> {
+    sys: &'a System,
+    acc: &'a Accuracy,
+    /// Full state.
+    y: &'a DVector<f64>,
+    /// Forcing phase.
+    phase: f64,
+}
+
+/// Every combination of the friction contacts' options, first options first.
+fn friction_combinations(sys: &System, acc: &Accuracy, y: &DVector<f64>, no_stick: u32) -> Vec<Key> {
+    let mut all = vec![Key::FREE];
+    for i in 0..sys.frictions.len() {
+        let options = friction_options(sys, acc, y, i, no_stick & (1 << i) == 0);
+        all = all
+            .iter()
+            .flat_map(|f| {
+                options.iter().map(move |o| Key {
+                    held: 0,
+                    stuck: f.stuck | o.stuck,
+                    negative: f.negative | o.negative,
+                })
+            })
+            .collect();
+    }
+    all
+}
+
+/// The subsets of the (at most six) candidate stops, largest first (ties:
+/// smallest mask), without allocation.
+fn subsets(cand: u32) -> ([u32; 64], usize) {
     let count = cand.count_ones() as usize;
-    if count <= 6 {
-        // Every subset of the candidates (no allocation: at most 64).
-        let mut stops = [0usize; 6];
-        for (slot, k) in stops.iter_mut().zip((0..32).filter(|k| cand & (1 << k) != 0)) {
-            *slot = k;
-        }
-        let mut subsets = [0u32; 64];
-        for (bits, subset) in subsets.iter_mut().enumerate().take(1 << count) {
-            *subset = stops[..count]
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| bits & (1 << i) != 0)
-                .fold(0, |m, (_, &k)| m | (1 << k));
-        }
-        let subsets = &mut subsets[..1 << count];
-        subsets.sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
-        for &mask in subsets.iter() {
+    let mut stops = [0usize; 6];
+    for (slot, k) in stops.iter_mut().zip((0..32).filter(|k| cand & (1 << k) != 0)) {
+        *slot = k;
+    }
+    let mut subsets = [0u32; 64];
+    for (bits, subset) in subsets.iter_mut().enumerate().take(1 << count) {
+        *subset =
+            stops[..count].iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(0, |m, (_, &k)| m | (1 << k));
+    }
+    subsets[..1 << count].sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
+    (subsets, 1 << count)
+}
+
+impl At<'_> {
+    /// The first key (subsets of the candidates in [`subsets`] order, friction
+    /// combinations in theirs) whose mode is consistent at `y`: held stops push,
+    /// stuck contacts grip, and no released candidate or slip heads the wrong way.
+    fn consistent(&self, cache: &mut ModeCache, cand: u32, frictions: &[Key]) -> Result<Option<Key>, SolverError> {
+        let At { sys, acc, y, phase } = *self;
+        let (subsets, count) = subsets(cand);
+        for &mask in &subsets[..count] {
             for f in frictions {
                 let key = Key { held: mask, ..*f };
                 let Some(mode) = cache.get(sys, key)? else { continue };
                 // A gap of a stop that is no candidate needs no check: free flight
                 // away from every stop is consistent without projecting.
-                let checked = |g: &&Guard| !(g.kind == GuardKind::Gap && cand & (1 << g.stop) == 0);
+                let checked = |g: &&Guard| !(g.kind == GuardKind::Gap && cand & (1 << g.target.index()) == 0);
                 let consistent = !mode.guards.iter().any(|g| checked(&g)) || {
                     let s = mode.project(y, phase);
                     mode.guards.iter().filter(checked).all(|g| match g.kind {
@@ -149,30 +179,37 @@ pub fn settle(
                     })
                 };
                 if consistent {
-                    return Ok(key);
+                    return Ok(Some(key));
                 }
             }
         }
+        Ok(None)
     }
-    let friction = frictions[0];
-    while cand != 0 {
-        let Some(mode) = cache.get(sys, Key { held: cand, ..friction })? else {
-            cand &= !(1 << (31 - cand.leading_zeros()));
-            continue;
-        };
-        let s = mode.project(y, phase);
-        let worst = mode
-            .guards
-            .iter()
-            .filter(|g| g.kind == GuardKind::Reaction && releasing(mode, acc, g, &s))
-            .map(|g| (g.row.dot(&s), g.stop))
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        match worst {
-            Some((_, stop)) => cand &= !(1 << stop),
-            None => break,
+
+    /// The fallback: with the first friction combination, the held candidate
+    /// whose reaction is most negative is released, one at a time, until every
+    /// reaction pushes.
+    fn release_worst(&self, cache: &mut ModeCache, mut cand: u32, friction: Key) -> Result<Key, SolverError> {
+        let At { sys, acc, y, phase } = *self;
+        while cand != 0 {
+            let Some(mode) = cache.get(sys, Key { held: cand, ..friction })? else {
+                cand &= !(1 << (31 - cand.leading_zeros()));
+                continue;
+            };
+            let s = mode.project(y, phase);
+            let worst = mode
+                .guards
+                .iter()
+                .filter(|g| g.kind == GuardKind::Reaction && releasing(mode, acc, g, &s))
+                .map(|g| (g.row.dot(&s), g.target.index()))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            match worst {
+                Some((_, stop)) => cand &= !(1 << stop),
+                None => break,
+            }
         }
+        Ok(Key { held: cand, ..friction })
     }
-    Ok(Key { held: cand, ..friction })
 }
 
 /// How guard `g` of `mode` behaves from augmented state `s`.
@@ -195,4 +232,58 @@ fn releasing(mode: &Mode, acc: &Accuracy, g: &Guard, s: &DVector<f64>) -> bool {
         tol[0] = tol[0].max(100.0 * time_resolution(acc) * d[1].abs());
     }
     d[0] < -tol[0] || classify_start(&d, &tol) == Start::Approaching
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testing::system;
+
+    /// M1 of the multi-stop scene at rest on A1 (`x1 = -δ`), M2 at rest away
+    /// from its stops: A1 holds while the force on M1, `sin φ - x1`, presses
+    /// it down (`sin φ < -δ`), as the literature's sticking condition says,
+    /// and releases it otherwise.
+    #[test]
+    fn a_resting_mass_sticks_while_the_force_presses_it_on() {
+        let delta = 0.6;
+        let sys = system("multi-stop.toml", &[("delta", delta)]);
+        let acc = Accuracy::default();
+        let y = DVector::from_vec(vec![-delta, 0.2, 0.0, 0.0]);
+        assert_eq!(candidates(&sys, &acc, &y), 1, "A1 alone is in contact at rest");
+        let moving = DVector::from_vec(vec![-delta, 0.2, -1e-3, 0.0]);
+        assert_eq!(candidates(&sys, &acc, &moving), 0, "an approach faster than the stick velocity is an impact");
+        for (phase, holds) in
+            [(-std::f64::consts::FRAC_PI_2, true), (-1.0, true), (-0.5, false), (0.0, false), (1.0, false)]
+        {
+            let mut cache = ModeCache::default();
+            let key = settle(&sys, &acc, &mut cache, &y, phase, 1, 0).unwrap();
+            assert_eq!(key.held == 1, holds, "φ = {phase}: sin φ = {} against -δ = {}", phase.sin(), -delta);
+            assert_eq!(phase.sin() < -delta, holds);
+        }
+    }
+
+    /// Dry friction: masses at relative rest stick while the friction force
+    /// that keeps them together is within the static limit, and otherwise slip
+    /// the way the force pushes; a slipping contact keeps its direction.
+    #[test]
+    fn friction_sticks_within_the_static_limit() {
+        let acc = Accuracy::default();
+        // At rest in the middle of the clearance, no spring force: the forcing
+        // `sin φ` on M1 alone must be carried by friction (M2 is 10 times heavier).
+        let y = DVector::from_vec(vec![0.0, 0.0, 0.0, 0.0]);
+        let weak = system("dry-friction.toml", &[("fk", 1.0)]);
+        let key = settle(&weak, &acc, &mut ModeCache::default(), &y, 0.3, 0, 0).unwrap();
+        assert_eq!(key.stuck, 1, "a force of sin 0.3 is within the static limit 1.5");
+        let slippery = system("dry-friction.toml", &[("fk", 0.01)]);
+        let key = settle(&slippery, &acc, &mut ModeCache::default(), &y, 1.2, 0, 0).unwrap();
+        assert_eq!((key.stuck, key.negative), (0, 0), "sin 1.2 beyond 0.015: M1 slips forwards");
+        let key = settle(&slippery, &acc, &mut ModeCache::default(), &y, -1.2, 0, 0).unwrap();
+        assert_eq!((key.stuck, key.negative), (0, 1), "and backwards for a negative force");
+        // Just broken away: it may not stick at once, even within the limit.
+        let key = settle(&weak, &acc, &mut ModeCache::default(), &y, 0.3, 0, 1).unwrap();
+        assert_eq!(key.stuck, 0);
+        let sliding = DVector::from_vec(vec![0.0, 0.0, -0.5, 0.0]);
+        let key = settle(&weak, &acc, &mut ModeCache::default(), &sliding, 0.3, 0, 0).unwrap();
+        assert_eq!((key.stuck, key.negative), (0, 1), "a contact slipping backwards keeps slipping");
+    }
 }

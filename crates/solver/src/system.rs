@@ -10,7 +10,7 @@
 
 use crate::error::SolverError;
 use nalgebra::{DMatrix, DVector};
-use scene::{Model, Side, StopGeometry};
+use scene::Model;
 
 /// A stop as a linear gap function of the positions.
 #[derive(Debug, Clone)]
@@ -37,6 +37,12 @@ pub struct FrictionRow {
     /// Static limit `f_s` (>= f_k).
     pub static_limit: f64,
 }
+
+/// Largest penetration of a stop in a state a cell may start from (a
+/// previous cell's final state, a stored one): the fast preset's contact
+/// tolerance. The solver's own states stay within ten contact tolerances of
+/// every stop (standard: 1e-10), so that a state it produced is admissible.
+pub const ADMISSIBLE_PENETRATION: f64 = 1e-9;
 
 /// Matrices of the equations of motion, built once per cell.
 #[derive(Debug, Clone)]
@@ -99,22 +105,8 @@ impl System {
             .stops
             .iter()
             .map(|s| {
-                let mut normal = DVector::zeros(m);
-                let offset = match s.geometry {
-                    StopGeometry::Frame { mass, side: Side::Below, position } => {
-                        normal[mass] = 1.0;
-                        -position
-                    }
-                    StopGeometry::Frame { mass, side: Side::Above, position } => {
-                        normal[mass] = -1.0;
-                        position
-                    }
-                    StopGeometry::Pair { first, second, gap } => {
-                        normal[first] = -1.0;
-                        normal[second] = 1.0;
-                        gap
-                    }
-                };
+                let (normal, offset) = s.geometry.gap_function(m);
+                let normal = DVector::from_vec(normal);
                 let inv_mass_normal = normal.component_div(&mass);
                 let inv_effective_mass = normal.dot(&inv_mass_normal);
                 StopRow { normal, offset, restitution: s.restitution, inv_mass_normal, inv_effective_mass }
@@ -154,6 +146,14 @@ impl System {
     pub fn gap(&self, stop: usize, y: &DVector<f64>) -> f64 {
         let s = &self.stops[stop];
         s.normal.dot(&y.rows(0, self.dof())) + s.offset
+    }
+
+    /// Whether full state `y` may start a simulation of this system: of its
+    /// dimension and penetrating no stop by more than
+    /// [`ADMISSIBLE_PENETRATION`].
+    pub fn admits(&self, y: &[f64]) -> bool {
+        let m = self.dof();
+        y.len() == 2 * m && (0..self.stops.len()).all(|k| self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
     }
 
     /// Rate of change of a stop's gap at full state `y` (negative when closing).

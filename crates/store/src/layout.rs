@@ -191,6 +191,10 @@ pub mod attr {
     pub const SWEEPS: &str = "sweeps";
     /// `stops`.
     pub const STOPS: &str = "stops";
+    /// The normal of each stop's gap over the masses' positions, stops ×
+    /// masses row by row (files written before it existed: derived from the
+    /// stored scene when read).
+    pub const STOP_NORMALS: &str = "stop_normals";
     /// `state_masses`.
     pub const STATE_MASSES: &str = "state_masses";
     /// `start`.
@@ -269,4 +273,47 @@ pub mod var {
     pub const FRACTION: &str = "fraction";
     /// `lines_done`.
     pub const LINES_DONE: &str = "lines_done";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use solver::{Class, Count, Label, Mask};
+
+    /// Every kind of label comes back from its stored codes as it went in,
+    /// counts beyond the code range are capped below `S`'s code.
+    #[test]
+    fn labels_round_trip_through_their_codes() {
+        let labels = [
+            Label::Periodic { n: 1, p: Count::Impacts(4), q: Count::Impacts(4) },
+            Label::Periodic { n: 3, p: Count::Stuck, q: Count::Impacts(0) },
+            Label::Periodic { n: 2, p: Count::Impacts(0), q: Count::Stuck },
+            Label::Chaotic,
+            Label::Quasiperiodic,
+            Label::Unresolved,
+        ];
+        for l in labels {
+            let code = class_code(l.class());
+            assert_eq!(label_of(class_of(code).unwrap(), npq_code(l)), l, "{l}");
+        }
+        let many = Label::Periodic { n: 1, p: Count::Impacts(100_000), q: Count::Impacts(2) };
+        assert_eq!(npq_code(many), [1, STUCK - 1, 2]);
+        assert_eq!(class_of(NOT_COMPUTED), None);
+    }
+
+    /// Chattering and sticking stops share one flags word and come apart again,
+    /// for the small (≤ 4 stops, 8 bits) and the wide layout.
+    #[test]
+    fn flags_round_trip_for_small_and_wide_scenes() {
+        for stops in [1, 3, 4, 5, 16] {
+            let chatter = Mask::of(stops, |k| k % 2 == 0);
+            let sticking = Mask::of(stops, |k| k % 3 == 1);
+            let word = flags_code(chatter, sticking, stops);
+            assert_eq!(flags_of(word, stops), (chatter, sticking), "{stops} stops");
+            if stops <= 4 {
+                assert!(word < 256, "fits the u8 dataset");
+            }
+        }
+        assert_eq!(class_of(class_code(Class::Quasiperiodic)), Some(Class::Quasiperiodic));
+    }
 }

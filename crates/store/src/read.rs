@@ -83,9 +83,10 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         (0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default())
     };
     let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
+    let scene_toml = attr(&f, attr::SCENE).map_err(h)?;
     let meta = Meta {
         scene_name: attr(&f, attr::SCENE_NAME).map_err(h)?,
-        scene_toml: attr(&f, attr::SCENE).map_err(h)?,
+        scene_toml: scene_toml.clone(),
         overrides: pairs(&attr(&f, attr::OVERRIDES).map_err(h)?).map_err(fmt)?,
         preset: attr(&f, attr::PRESET).map_err(h)?,
         accuracy: pairs(&attr(&f, attr::ACCURACY).map_err(h)?).map_err(fmt)?,
@@ -99,6 +100,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
             .map(|s| list(&s))
             .unwrap_or_else(|_| (1..=dim / 2).map(|i| format!("mass{i}")).collect()),
         stops: list(&attr(&f, attr::STOPS).map_err(h)?),
+        stop_normals: stop_normals(&f, &scene_toml, dim / 2).map_err(fmt)?,
         dim,
         section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
     };
@@ -214,4 +216,17 @@ fn read_attractors(g: &hdf5::Group, n: usize, masses: &[String]) -> hdf5::Result
     let samples = g.attr(attr::SAMPLES).and_then(|a| a.read_scalar::<u64>())? as usize;
     let seed = g.attr(attr::SEED).and_then(|a| a.read_scalar::<u64>())?;
     Ok(grid::AttractorMap { samples, seed, cells })
+}
+
+/// The stops' normals of a file (stops × masses), or, in files written before
+/// they were stored, those of its scene.
+fn stop_normals(f: &hdf5::File, scene_toml: &str, masses: usize) -> Result<Vec<Vec<f64>>, String> {
+    if let Ok(flat) = f.attr(attr::STOP_NORMALS).and_then(|a| a.read_raw::<f64>()) {
+        if masses == 0 || flat.len() % masses != 0 {
+            return Err(format!("{}: {} values, not a multiple of {masses} masses", attr::STOP_NORMALS, flat.len()));
+        }
+        return Ok(flat.chunks(masses).map(<[f64]>::to_vec).collect());
+    }
+    let scene = scene::Scene::parse(scene_toml).map_err(|e| format!("the stored scene: {e}"))?;
+    Ok(scene.stop_normals())
 }

@@ -4,7 +4,7 @@
 
 use crate::error::StoreError;
 use crate::layout::*;
-use crate::netcdf::{self, attr_num, attr_str};
+use crate::netcdf::{self, attr_array, attr_num, attr_str};
 use grid::{Atlas, CellData};
 use hdf5::types::VarLenUnicode;
 use hdf5::{Group, H5Type};
@@ -88,6 +88,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
     attr_str(&f, attr::P_STOPS, &m.label_stops.iter().map(|s| s[0].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, attr::Q_STOPS, &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, attr::STOPS, &m.stops.join(","))?;
+    attr_array(&f, attr::STOP_NORMALS, &m.stop_normals.concat())?;
     attr_num(&f, attr::DIM, dim as u64)?;
     attr_num(&f, attr::SECTION_CAP, m.section_cap as u64)?;
     if let Some(s) = info.shard {

@@ -20,7 +20,7 @@
 //! watched guard's terms; a guard at contact is classified out of line
 //! (`at_contact`). Every sum is taken in a fixed order, so results are
 //! bit for bit reproducible; a change that reorders one changes the last bits
-//! of every atlas (`tests/data/frictionless.*` will say so).
+//! of every atlas (the snapshot test, `tests/data/snapshot.*`, will say so).
 
 use super::spectral::{bound, differentiate_into, evaluate, Modal, Term};
 use super::{classify_start, start_tolerances, value_tol, Advance, Start};
@@ -206,6 +206,13 @@ fn quadratic_root(g: f64, gd: f64, g2: f64) -> f64 {
 
 /// Advances `s0` for at most `horizon` in `mode` (see the module doc).
 /// The state where it stops is written to `out` (of the length of `s0`).
+///
+/// One function of about a hundred lines on purpose: it is the step loop,
+/// where nearly all of a simulation's time goes, and its locals (the time, the
+/// step, the global bound, each watched guard's value and rate) stay in
+/// registers across iterations while the loop is one body. Its rare path, a
+/// guard at contact, is already out of line (`at_contact`: inlined, it cost
+/// the loop registers and instructions); what remains is the loop itself.
 pub fn advance(
     mode: &Mode,
     s0: &DVector<f64>,

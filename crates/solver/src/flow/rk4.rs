@@ -11,59 +11,112 @@
 use super::{guard_start, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::Mode;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
 /// Steps allowed in one advance before it is declared stalled.
 const MAX_STEPS: usize = 50_000_000;
 
-/// Advances `s0` for at most `horizon` in `mode` (see the module doc).
-/// The state where it stops is written to `out` (of the length of `s0`).
-pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out: &mut DVector<f64>) -> Advance {
-    let a = &mode.aug;
-    let dim = s0.len();
-    let (isin, icos) = (dim - 3, dim - 2);
-    let (sin0, cos0) = (s0[isin], s0[icos]);
-    let omega = a[(isin, icos)];
-    // The forcing `(sin φ, cos φ)` at time `u` of the advance, set into a state.
-    let forcing = |u: f64| {
-        let (su, cu) = (omega * u).sin_cos();
+/// The classic RK4 step of `s' = Â s` with the forcing `(sin φ, cos φ)` set
+/// exactly at each stage's time, on reused buffers (no allocation per step).
+struct Stepper<'m> {
+    a: &'m DMatrix<f64>,
+    /// Indices of `sin φ` and `cos φ` in the augmented state.
+    isin: usize,
+    icos: usize,
+    /// `sin φ`, `cos φ` and ω at the start of the advance.
+    start: (f64, f64),
+    omega: f64,
+    k: [DVector<f64>; 4],
+    tmp: DVector<f64>,
+}
+
+impl<'m> Stepper<'m> {
+    fn new(a: &'m DMatrix<f64>, s0: &DVector<f64>) -> Self {
+        let dim = s0.len();
+        let (isin, icos) = (dim - 3, dim - 2);
+        let zero = || DVector::zeros(dim);
+        Stepper {
+            a,
+            isin,
+            icos,
+            start: (s0[isin], s0[icos]),
+            omega: a[(isin, icos)],
+            k: [zero(), zero(), zero(), zero()],
+            tmp: zero(),
+        }
+    }
+
+    /// The forcing `(sin φ, cos φ)` at time `u` of the advance.
+    fn forcing(&self, u: f64) -> (f64, f64) {
+        let (sin0, cos0) = self.start;
+        let (su, cu) = (self.omega * u).sin_cos();
         (sin0 * cu + cos0 * su, cos0 * cu - sin0 * su)
-    };
-    let set = |s: &mut DVector<f64>, (sn, cs): (f64, f64)| {
-        s[isin] = sn;
-        s[icos] = cs;
-    };
-    // Derivative into a reused buffer: no allocation per step.
-    let deriv = |s: &DVector<f64>, d: &mut DVector<f64>| {
+    }
+
+    /// The derivative of `s` into `d`, the forcing rows zeroed (they are set, not integrated).
+    fn deriv(a: &DMatrix<f64>, (isin, icos): (usize, usize), s: &DVector<f64>, d: &mut DVector<f64>) {
         a.mul_to(s, d);
         d[isin] = 0.0;
         d[icos] = 0.0;
-    };
+    }
 
-    // A guard crosses when it falls below its threshold; at zero and approaching: an event now.
+    /// One step of length `hh` from `s` at time `u` (ending at `t_next`) into `next`.
+    fn step(&mut self, s: &DVector<f64>, u: f64, hh: f64, t_next: f64, next: &mut DVector<f64>) {
+        let (mid, end) = (self.forcing(u + hh / 2.0), self.forcing(t_next));
+        let (a, ix) = (self.a, (self.isin, self.icos));
+        let [k1, k2, k3, k4] = &mut self.k;
+        let tmp = &mut self.tmp;
+        // A stage's state `s + c k` at the forcing `f` of its time.
+        let stage = |tmp: &mut DVector<f64>, c: f64, k: &DVector<f64>, (sn, cs): (f64, f64)| {
+            tmp.copy_from(s);
+            tmp.axpy(c, k, 1.0);
+            tmp[ix.0] = sn;
+            tmp[ix.1] = cs;
+        };
+        Self::deriv(a, ix, s, k1);
+        stage(tmp, hh / 2.0, k1, mid);
+        Self::deriv(a, ix, tmp, k2);
+        stage(tmp, hh / 2.0, k2, mid);
+        Self::deriv(a, ix, tmp, k3);
+        stage(tmp, hh, k3, end);
+        Self::deriv(a, ix, tmp, k4);
+        for i in 0..s.len() {
+            next[i] = s[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (hh / 6.0);
+        }
+        next[ix.0] = end.0;
+        next[ix.1] = end.1;
+    }
+}
+
+/// The value below which each guard counts as crossed: zero, or for a guard
+/// that starts at zero and moves away, its start less the contact tolerance.
+/// `Err(g)`: guard `g` is at zero and approaching, an event now.
+fn thresholds(mode: &Mode, s0: &DVector<f64>, acc: &Accuracy) -> Result<Vec<f64>, usize> {
     let mut threshold = vec![0.0; mode.guards.len()];
     for (gi, g) in mode.guards.iter().enumerate() {
-        match guard_start(acc, g, a, s0) {
+        match guard_start(acc, g, &mode.aug, s0) {
             (Start::Clear, _, _) => {}
-            (Start::Approaching, _, _) => {
-                out.copy_from(s0);
-                return Advance::Event { guard: gi, time: 0.0 };
-            }
+            (Start::Approaching, _, _) => return Err(gi),
             (Start::Departing { .. }, value, magnitude) => {
                 threshold[gi] = value.min(0.0) - value_tol(acc, g.kind.is_gap(), magnitude)
             }
         }
     }
+    Ok(threshold)
+}
 
-    // A stage's state `s + c k` at the forcing `f` of its time.
-    let stage = |tmp: &mut DVector<f64>, s: &DVector<f64>, c: f64, k: &DVector<f64>, f: (f64, f64)| {
-        tmp.copy_from(s);
-        tmp.axpy(c, k, 1.0);
-        set(tmp, f);
+/// Advances `s0` for at most `horizon` in `mode` (see the module doc).
+/// The state where it stops is written to `out` (of the length of `s0`).
+pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out: &mut DVector<f64>) -> Advance {
+    let threshold = match thresholds(mode, s0, acc) {
+        Ok(t) => t,
+        Err(guard) => {
+            out.copy_from(s0);
+            return Advance::Event { guard, time: 0.0 };
+        }
     };
-    let mut s = s0.clone();
-    let zero = || DVector::zeros(dim);
-    let (mut k1, mut k2, mut k3, mut k4, mut tmp, mut next) = (zero(), zero(), zero(), zero(), zero(), zero());
+    let mut stepper = Stepper::new(&mode.aug, s0);
+    let (mut s, mut next) = (s0.clone(), DVector::zeros(s0.len()));
     let mut u = 0.0;
     let mut h = acc.rk4_step;
     for _ in 0..MAX_STEPS {
@@ -74,18 +127,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out
         let hh = h.min(remaining);
         // The last step lands exactly on the horizon.
         let t_next = if hh >= remaining { horizon } else { u + hh };
-        let (mid, end) = (forcing(u + hh / 2.0), forcing(t_next));
-        deriv(&s, &mut k1);
-        stage(&mut tmp, &s, hh / 2.0, &k1, mid);
-        deriv(&tmp, &mut k2);
-        stage(&mut tmp, &s, hh / 2.0, &k2, mid);
-        deriv(&tmp, &mut k3);
-        stage(&mut tmp, &s, hh, &k3, end);
-        deriv(&tmp, &mut k4);
-        for i in 0..dim {
-            next[i] = s[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (hh / 6.0);
-        }
-        set(&mut next, end);
+        stepper.step(&s, u, hh, t_next, &mut next);
         let crossed = mode
             .guards
             .iter()

@@ -28,7 +28,7 @@
 //! representable.
 
 use crate::error::SolverError;
-use nalgebra::{DMatrix, DVector, Schur};
+use nalgebra::{ComplexField, DMatrix, DVector, Schur};
 use num_complex::Complex64 as C64;
 
 /// `‖N_c‖` below which a cluster is summed in its own time scale ν.
@@ -80,26 +80,156 @@ pub struct Modal {
     y: Vec<C64>,
 }
 
-fn null_space_real(m: &DMatrix<f64>, k: usize) -> Option<DMatrix<C64>> {
+/// An orthonormal basis (as complex columns) of the `k`-dimensional near
+/// null space of `m`: the right singular vectors of its `k` smallest singular
+/// values.
+fn null_space<T: ComplexField<RealField = f64>>(
+    m: &DMatrix<T>,
+    k: usize,
+    to_c64: impl Fn(T) -> C64,
+) -> Option<DMatrix<C64>> {
     let svd = m.clone().try_svd(false, true, f64::EPSILON, 10_000)?;
     let vt = svd.v_t?;
     let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
     order.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
-    let cols: Vec<DVector<C64>> = order[..k].iter().map(|&i| vt.row(i).transpose().map(|x| C64::new(x, 0.0))).collect();
-    Some(DMatrix::from_columns(&cols))
-}
-
-fn null_space_complex(m: &DMatrix<C64>, k: usize) -> Option<DMatrix<C64>> {
-    let svd = m.clone().try_svd(false, true, f64::EPSILON, 10_000)?;
-    let vt = svd.v_t?;
-    let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
-    order.sort_by(|&a, &b| svd.singular_values[a].total_cmp(&svd.singular_values[b]));
-    let cols: Vec<DVector<C64>> = order[..k].iter().map(|&i| vt.row(i).adjoint()).collect();
+    let cols: Vec<DVector<C64>> = order[..k].iter().map(|&i| vt.row(i).adjoint().map(&to_c64)).collect();
     Some(DMatrix::from_columns(&cols))
 }
 
 fn ill(msg: impl Into<String>) -> SolverError {
     SolverError::IllConditioned { message: msg.into() }
+}
+
+/// Groups of eigenvalue indices closer than `tol` to one another
+/// (union-find), in order of their smallest index.
+fn clusters(eig: &[C64], tol: f64) -> Vec<Vec<usize>> {
+    let dim = eig.len();
+    let mut parent: Vec<usize> = (0..dim).collect();
+    fn root(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for i in 0..dim {
+        for j in 0..i {
+            if (eig[i] - eig[j]).norm() <= tol {
+                let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                parent[ri.max(rj)] = ri.min(rj);
+            }
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut group_of = vec![usize::MAX; dim];
+    for i in 0..dim {
+        let r = root(&mut parent, i);
+        if group_of[r] == usize::MAX {
+            group_of[r] = groups.len();
+            groups.push(Vec::new());
+        }
+        groups[group_of[r]].push(i);
+    }
+    groups
+}
+
+/// The invariant subspace of each real or upper-half-plane cluster: its mean
+/// eigenvalue, its weight (1 real, 2 upper: the conjugate is folded) and a
+/// basis, the null space of `((A - μ I)/scale)^k`. Lower clusters are the
+/// conjugates of upper ones and must match them in number.
+fn subspaces(
+    a: &DMatrix<f64>,
+    eig: &[C64],
+    groups: &[Vec<usize>],
+    tol: f64,
+    scale: f64,
+) -> Result<Vec<(C64, f64, DMatrix<C64>)>, SolverError> {
+    let dim = a.nrows();
+    let id = DMatrix::<f64>::identity(dim, dim);
+    let ac = a.map(|x| C64::new(x, 0.0));
+    let mut kept: Vec<(C64, f64, DMatrix<C64>)> = Vec::new();
+    let (mut upper, mut lower) = (0usize, 0usize);
+    for g in groups {
+        let k = g.len();
+        let mu = g.iter().map(|&i| eig[i]).sum::<C64>() / k as f64;
+        // The shifted matrix is scaled to unit size before it is powered, so
+        // that its null space keeps full precision.
+        if mu.im.abs() <= tol {
+            let shifted = (a - &id * mu.re) / scale;
+            let mut p = shifted.clone();
+            for _ in 1..k {
+                p = &p * &shifted;
+            }
+            let v = null_space(&p, k, |x| C64::new(x, 0.0)).ok_or_else(|| ill("SVD did not converge"))?;
+            kept.push((C64::new(mu.re, 0.0), 1.0, v));
+        } else if mu.im > 0.0 {
+            upper += k;
+            let shifted = (&ac - DMatrix::<C64>::identity(dim, dim) * mu) / C64::new(scale, 0.0);
+            let mut p = shifted.clone();
+            for _ in 1..k {
+                p = &p * &shifted;
+            }
+            let v = null_space(&p, k, |z| z).ok_or_else(|| ill("SVD did not converge"))?;
+            kept.push((mu, 2.0, v));
+        } else {
+            lower += k;
+        }
+    }
+    if upper != lower {
+        return Err(ill("eigenvalues are not in conjugate pairs"));
+    }
+    Ok(kept)
+}
+
+/// The inverse of the full basis: the kept clusters' columns, then the
+/// conjugates of the upper ones. Its rows are the clusters' dual rows `W_c`.
+fn dual_rows(kept: &[(C64, f64, DMatrix<C64>)], dim: usize) -> Result<DMatrix<C64>, SolverError> {
+    let mut cols: Vec<DVector<C64>> = Vec::with_capacity(dim);
+    for (_, _, v) in kept {
+        cols.extend(v.column_iter().map(|c| c.into_owned()));
+    }
+    for (_, weight, v) in kept {
+        if *weight > 1.0 {
+            cols.extend(v.column_iter().map(|c| c.map(|x| x.conj())));
+        }
+    }
+    if cols.len() != dim {
+        return Err(ill("invariant subspaces do not span the state space"));
+    }
+    DMatrix::from_columns(&cols).try_inverse().ok_or_else(|| ill("invariant subspaces are linearly dependent"))
+}
+
+/// How a cluster's nilpotent part `N_c` is summed over `[0, horizon]`: the
+/// powers kept and the time scale ν (a power of two near `‖N_c‖` for a tiny
+/// one, see the module doc; 1 otherwise). `n` is zeroed when it is below
+/// rounding and divided by ν when scaled.
+fn series(n: &mut DMatrix<C64>, horizon: f64, scale: f64) -> Result<(usize, f64), SolverError> {
+    if n.iter().all(|x| x.norm() <= 1e-13 * scale) {
+        n.fill(C64::new(0.0, 0.0));
+        return Ok((1, 1.0));
+    }
+    let mut nu = 1.0;
+    let nn = n.norm();
+    if nn < TINY_N {
+        nu = f64::powi(2.0, nn.log2().ceil() as i32);
+        *n /= C64::new(nu, 0.0);
+    }
+    let (nn, horizon) = (nn / nu, horizon * nu);
+    let k = n.nrows();
+    let mut p = DMatrix::<C64>::identity(k, k);
+    let mut j = 1;
+    let mut coeff = 1.0;
+    loop {
+        p = &*n * &p;
+        coeff *= horizon / j as f64;
+        if p.norm() * coeff <= 1e-17 * (1.0 + nn * horizon) {
+            return Ok((j, nu));
+        }
+        j += 1;
+        if j > 60 {
+            return Err(ill("cluster series does not converge over the period"));
+        }
+    }
 }
 
 impl Spectral {
@@ -115,86 +245,10 @@ impl Spectral {
         // slow forcing pair ±iω with the constant state.
         let radius = eig.iter().map(|l| l.norm()).fold(1.0, f64::max);
         let tol = 1e-5 * radius;
-
-        // Union-find clustering of eigenvalues closer than `tol`.
-        let mut parent: Vec<usize> = (0..dim).collect();
-        fn root(p: &mut [usize], mut i: usize) -> usize {
-            while p[i] != i {
-                p[i] = p[p[i]];
-                i = p[i];
-            }
-            i
-        }
-        for i in 0..dim {
-            for j in 0..i {
-                if (eig[i] - eig[j]).norm() <= tol {
-                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
-                    parent[ri.max(rj)] = ri.min(rj);
-                }
-            }
-        }
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        let mut group_of = vec![usize::MAX; dim];
-        for i in 0..dim {
-            let r = root(&mut parent, i);
-            if group_of[r] == usize::MAX {
-                group_of[r] = groups.len();
-                groups.push(Vec::new());
-            }
-            groups[group_of[r]].push(i);
-        }
-
-        // Invariant subspace of each real or upper cluster; lower ones are conjugates.
-        let id = DMatrix::<f64>::identity(dim, dim);
+        let eig: Vec<C64> = eig.iter().copied().collect();
+        let kept = subspaces(a, &eig, &clusters(&eig, tol), tol, scale)?;
+        let inv = dual_rows(&kept, dim)?;
         let ac = a.map(|x| C64::new(x, 0.0));
-        let mut kept: Vec<(C64, f64, DMatrix<C64>)> = Vec::new();
-        let (mut upper, mut lower) = (0usize, 0usize);
-        for g in &groups {
-            let k = g.len();
-            let mu = g.iter().map(|&i| eig[i]).sum::<C64>() / k as f64;
-            // The shifted matrix is scaled to unit size before it is powered, so
-            // that its null space keeps full precision.
-            if mu.im.abs() <= tol {
-                let shifted = (a - &id * mu.re) / scale;
-                let mut p = shifted.clone();
-                for _ in 1..k {
-                    p = &p * &shifted;
-                }
-                let v = null_space_real(&p, k).ok_or_else(|| ill("SVD did not converge"))?;
-                kept.push((C64::new(mu.re, 0.0), 1.0, v));
-            } else if mu.im > 0.0 {
-                upper += k;
-                let shifted = (&ac - DMatrix::<C64>::identity(dim, dim) * mu) / C64::new(scale, 0.0);
-                let mut p = shifted.clone();
-                for _ in 1..k {
-                    p = &p * &shifted;
-                }
-                let v = null_space_complex(&p, k).ok_or_else(|| ill("SVD did not converge"))?;
-                kept.push((mu, 2.0, v));
-            } else {
-                lower += k;
-            }
-        }
-        if upper != lower {
-            return Err(ill("eigenvalues are not in conjugate pairs"));
-        }
-
-        // Full basis (kept clusters, then conjugates of upper ones) and its inverse.
-        let mut cols: Vec<DVector<C64>> = Vec::with_capacity(dim);
-        for (_, _, v) in &kept {
-            cols.extend(v.column_iter().map(|c| c.into_owned()));
-        }
-        for (_, weight, v) in &kept {
-            if *weight > 1.0 {
-                cols.extend(v.column_iter().map(|c| c.map(|x| x.conj())));
-            }
-        }
-        if cols.len() != dim {
-            return Err(ill("invariant subspaces do not span the state space"));
-        }
-        let full = DMatrix::from_columns(&cols);
-        let inv = full.try_inverse().ok_or_else(|| ill("invariant subspaces are linearly dependent"))?;
-
         let mut clusters = Vec::with_capacity(kept.len());
         let mut terms = Vec::new();
         let mut offset = 0;
@@ -211,48 +265,14 @@ impl Spectral {
             let mu = if zero { C64::new(0.0, 0.0) } else { mu };
             let mut n = &b - DMatrix::<C64>::identity(k, k) * mu;
             rebuilt += (&v * &b * &w).map(|x| x.re * weight);
-            // Number of series terms needed over the horizon.
-            let mut nu = 1.0;
-            let powers = if n.iter().all(|x| x.norm() <= 1e-13 * scale) {
-                n.fill(C64::new(0.0, 0.0));
-                1
-            } else {
-                let nn = n.norm();
-                if nn < TINY_N {
-                    // The cluster's own time scale (see the module doc).
-                    nu = f64::powi(2.0, nn.log2().ceil() as i32);
-                    n /= C64::new(nu, 0.0);
-                }
-                let (nn, horizon) = (nn / nu, horizon * nu);
-                let mut p = DMatrix::<C64>::identity(k, k);
-                let mut j = 1;
-                let mut coeff = 1.0;
-                loop {
-                    p = &n * &p;
-                    coeff *= horizon / j as f64;
-                    if p.norm() * coeff <= 1e-17 * (1.0 + nn * horizon) {
-                        break j;
-                    }
-                    j += 1;
-                    if j > 60 {
-                        return Err(ill("cluster series does not converge over the period"));
-                    }
-                }
-            };
+            let (powers, nu) = series(&mut n, horizon, scale)?;
             let mut inv_factorial = 1.0;
             for j in 0..powers {
                 if j > 0 {
                     inv_factorial /= j as f64;
                 }
-                terms.push(Term {
-                    lambda: mu,
-                    power: j,
-                    scale: nu,
-                    weight,
-                    inv_factorial,
-                    last: j + 1 == powers,
-                    constant: zero && j == 0,
-                });
+                let (last, constant) = (j + 1 == powers, zero && j == 0);
+                terms.push(Term { lambda: mu, power: j, scale: nu, weight, inv_factorial, last, constant });
             }
             clusters.push(Cluster { v, wt: w.transpose(), n, powers });
         }
