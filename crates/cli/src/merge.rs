@@ -26,7 +26,7 @@ pub fn run(a: MergeArgs) -> Result<()> {
         eprintln!("warning: {cells} cells are in none of the parts{shards}; they are stored as not computed");
     }
     let info = RunInfo { command: command_line(), run_time_s: merged.run_time_s, shard: None, history: merged.history };
-    store::write(&a.output, atlas, &info)?;
+    store::write(&a.output, atlas, &info, crate::plan::threads(None)?)?;
     crate::out::line(&format!("merged {} files into {}", a.parts.len(), a.output.display()))?;
     Ok(())
 }

@@ -162,7 +162,7 @@ impl Plan {
         if let (Some(out), Some(j)) = (&self.output, journal) {
             let info =
                 RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
-            store::write(out, &atlas, &info)?;
+            store::write(out, &atlas, &info, self.threads)?;
             j.remove()?;
         }
         Ok((atlas, elapsed))

@@ -153,7 +153,7 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>) -> Result<Atlas> {
             shard: None,
             history: Vec::new(),
         };
-        store::write(out, &atlas, &info)?;
+        store::write(out, &atlas, &info, plan.threads)?;
     }
     Ok(atlas)
 }

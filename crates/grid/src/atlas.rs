@@ -6,7 +6,7 @@ use crate::cell::CellData;
 use crate::hysteresis::mask;
 use crate::plane::{Line, Plane};
 use crate::sweep::SweepKind;
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 /// What an atlas is a map of; two atlases with equal `Meta` can be merged.
 #[derive(Debug, Clone, PartialEq)]
@@ -168,13 +168,13 @@ impl Atlas {
 
     /// Labels of mass `m` in a sweep with their cell counts, most frequent first.
     pub fn legend(&self, sweep: SweepKind, m: usize) -> Vec<(String, u64)> {
-        let mut counts: BTreeMap<String, u64> = BTreeMap::new();
+        let mut counts: HashMap<solver::Label, u64> = HashMap::new();
         if let Some(map) = self.map(sweep) {
             for c in map.cells.iter().flatten() {
-                *counts.entry(c.labels[m].to_string()).or_default() += 1;
+                *counts.entry(c.labels[m]).or_default() += 1;
             }
         }
-        let mut v: Vec<(String, u64)> = counts.into_iter().collect();
+        let mut v: Vec<(String, u64)> = counts.into_iter().map(|(l, n)| (l.to_string(), n)).collect();
         v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
         v
     }

@@ -5,6 +5,7 @@
 //! code: see [`layout`] for the datasets and their codes.
 #![deny(missing_docs)]
 
+mod chunked;
 pub mod curve;
 pub mod error;
 pub mod journal;

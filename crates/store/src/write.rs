@@ -2,13 +2,15 @@
 //! target folder, renamed over the final name only once complete, so a crash
 //! never leaves a half-written file under the final name.
 
+use crate::chunked::Deflater;
 use crate::error::StoreError;
 use crate::layout::*;
 use crate::netcdf::{self, attr_array, attr_num, attr_str};
 use grid::{Atlas, CellData};
 use hdf5::types::VarLenUnicode;
-use hdf5::{Group, H5Type};
+use hdf5::Group;
 use ndarray::{Array1, Array2, Array3};
+use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
 /// Run information written as root attributes.
@@ -28,16 +30,6 @@ pub struct RunInfo {
 /// The git commit the binary was built from (`unknown` outside a checkout).
 pub const GIT_COMMIT: &str = env!("VIBROATLAS_GIT_COMMIT");
 
-fn dataset<T: H5Type, D: ndarray::Dimension>(
-    g: &Group,
-    name: &str,
-    data: &ndarray::Array<T, D>,
-) -> hdf5::Result<hdf5::Dataset> {
-    let shape: Vec<usize> = data.shape().iter().map(|&n| n.max(1)).collect();
-    let chunk: Vec<usize> = shape.iter().enumerate().map(|(i, &n)| if i == 0 { n.min(4096) } else { n }).collect();
-    g.new_dataset_builder().chunk(chunk).deflate(4).with_data(data).create(name)
-}
-
 /// The temporary path used while writing `path`: `.<stem>.partial.<ext>` beside
 /// it (the extension is kept for writers that choose a format by it).
 pub fn partial_path(path: &Path) -> PathBuf {
@@ -48,12 +40,14 @@ pub fn partial_path(path: &Path) -> PathBuf {
     }
 }
 
-/// Writes `atlas` to `path` (atomically, through a temporary file).
-pub fn write(path: &Path, atlas: &Atlas, info: &RunInfo) -> Result<(), StoreError> {
-    crate::write_atomically(path, |tmp| write_file(tmp, atlas, info))
+/// Writes `atlas` to `path` (atomically, through a temporary file), its
+/// datasets' chunks compressed on `threads` threads.
+pub fn write(path: &Path, atlas: &Atlas, info: &RunInfo, threads: usize) -> Result<(), StoreError> {
+    let z = Deflater { threads };
+    crate::write_atomically(path, |tmp| write_file(tmp, atlas, info, z))
 }
 
-fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
+fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
     let (nx, ny, dim) = (p.x.count, p.y.count, m.dim);
@@ -120,16 +114,16 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
             netcdf::labels(&g, IMPACT_COLUMN, &impact_columns, "forcing phase, then the state before the impact")?;
         netcdf::labels(&g, MASS, &m.masses, "labelled mass")?;
 
-        // Label tables: every label of the sweep, any mass, in a fixed order.
-        let texts: Vec<Vec<String>> = (0..m.masses.len())
-            .map(|mi| {
-                cells
-                    .iter()
-                    .map(|c| c.as_ref().map_or(NOT_COMPUTED_LABEL.to_string(), |c| c.labels[mi].to_string()))
-                    .collect()
-            })
-            .collect();
-        let table = label_table(texts.iter().flatten());
+        // Label tables: every label of the sweep, any mass, in a fixed order
+        // (`None`: a cell not computed).
+        let label_at = |mi: usize, i: usize| cells[i].as_ref().map(|c| c.labels[mi]);
+        let distinct: HashSet<Option<solver::Label>> =
+            (0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))).collect();
+        let text = |l: &Option<solver::Label>| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string());
+        let table = label_table(distinct.iter().map(text));
+        let position: HashMap<&str, i16> = table.iter().enumerate().map(|(i, t)| (t.as_str(), i as i16)).collect();
+        let index: HashMap<Option<solver::Label>, i16> =
+            distinct.iter().map(|l| (*l, position.get(text(l).as_str()).copied().unwrap_or(0))).collect();
         let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
         netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
         let rgb = netcdf::dimension(&g, RGB, 3)?;
@@ -141,15 +135,14 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         for (mi, mass) in m.masses.iter().enumerate() {
             let a =
                 Array3::from_shape_fn((ny, nx, 3), |(iy, ix, k)| cell(iy, ix).map_or(0, |c| npq_code(c.labels[mi])[k]));
-            let d = dataset(&g, &label(mass), &a)?;
+            let d = z.dataset(&g, &label(mass), &a)?;
             netcdf::dims(&d, &[&grid.y, &grid.x, &npq])?;
             netcdf::attr_str(&d, "long_name", &format!("n, p, q of {mass}'s label ({} = S, the mass sticks)", STUCK))?;
             netcdf::attr_str(&d, "units", "1")?;
             netcdf::attr_str(&d, "dims", "y, x, (n, p, q)")?;
             netcdf::attr_num(&d, "stuck_code", STUCK)?;
-            let index = |t: &String| table.iter().position(|l| l == t).unwrap_or(0) as i16;
-            let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| index(&texts[mi][iy * nx + ix]));
-            let d = dataset(&g, &label_code(mass), &code)?;
+            let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| index[&label_at(mi, iy * nx + ix)]);
+            let d = z.dataset(&g, &label_code(mass), &code)?;
             netcdf::dims(&d, &[&grid.y, &grid.x])?;
             netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
             netcdf::attr_array(&d, "flag_values", &codes)?;
@@ -161,7 +154,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         };
         let class =
             Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(NOT_COMPUTED, |c| class_code(c.class)));
-        let d = dataset(&g, var::CLASS, &class)?;
+        let d = z.dataset(&g, var::CLASS, &class)?;
         gridded(&d, "kind of steady motion", "1")?;
         netcdf::attr_str(&d, "codes", CLASS_CODES)?;
         netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2, 3])?;
@@ -171,11 +164,11 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
             |iy: usize, ix: usize| cell(iy, ix).map_or(0u32, |c| flags_code(c.chatter, c.sticking, m.stops.len()));
         let (masks, meanings) = flag_masks(&m.stops, shift);
         let flags = if m.stops.len() <= 4 {
-            let d = dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;
+            let d = z.dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;
             netcdf::attr_array(&d, "flag_masks", &masks.iter().map(|&v| v as u8).collect::<Vec<_>>())?;
             d
         } else {
-            let d = dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?;
+            let d = z.dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?;
             netcdf::attr_array(&d, "flag_masks", &masks)?;
             d
         };
@@ -183,7 +176,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         netcdf::attr_str(&flags, "flag_meanings", &meanings)?;
         netcdf::attr_str(&flags, "bits", &flag_bits(&m.stops))?;
         let sym = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| symmetry_code(c.symmetry)));
-        let d = dataset(&g, var::SYMMETRY, &sym)?;
+        let d = z.dataset(&g, var::SYMMETRY, &sym)?;
         gridded(&d, "mirror symmetry of the periodic orbit (symmetric scenes)", "1")?;
         netcdf::attr_str(&d, "codes", SYMMETRY_CODES)?;
         netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2])?;
@@ -191,7 +184,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         let scalar = |f: fn(&CellData) -> Option<f64>| {
             Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).and_then(f).unwrap_or(f64::NAN))
         };
-        let d = dataset(&g, var::LYAPUNOV, &scalar(|c| c.lyapunov))?;
+        let d = z.dataset(&g, var::LYAPUNOV, &scalar(|c| c.lyapunov))?;
         gridded(&d, "largest Lyapunov exponent per unit time (cells without a period)", "1")?;
         netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
         netcdf::attr_str(
@@ -199,23 +192,23 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
             "meaning",
             "largest Lyapunov exponent per unit time of cells without a period (NaN: none)",
         )?;
-        let d = dataset(&g, var::MULTIPLIER, &scalar(|c| c.multiplier))?;
+        let d = z.dataset(&g, var::MULTIPLIER, &scalar(|c| c.multiplier))?;
         gridded(&d, "largest Floquet multiplier modulus (periodic cells)", "1")?;
         netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
         netcdf::attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
         let fs =
             Array3::from_shape_fn((ny, nx, dim), |(iy, ix, k)| cell(iy, ix).map_or(f64::NAN, |c| c.final_state[k]));
-        let d = dataset(&g, var::FINAL_STATE, &fs)?;
+        let d = z.dataset(&g, var::FINAL_STATE, &fs)?;
         netcdf::dims(&d, &[&grid.y, &grid.x, &component])?;
         netcdf::describe(&d, "state at the end of the cell's record (a whole number of forcing periods)", "1")?;
         netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-        let d = dataset(
+        let d = z.dataset(
             &g,
             var::PERIODS,
             &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.periods)),
         )?;
         gridded(&d, "forcing periods simulated", "1")?;
-        let d = dataset(
+        let d = z.dataset(
             &g,
             var::EVENTS,
             &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.events)),
@@ -223,12 +216,13 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         gridded(&d, "events handled", "1")?;
         let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
         let lines = netcdf::dimension(&g, LINE, done.len())?;
-        let d = dataset(&g, var::LINES_DONE, &Array1::from(done))?;
+        let d = z.dataset(&g, var::LINES_DONE, &Array1::from(done))?;
         netcdf::dims(&d, &[&lines])?;
         netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
 
         let sections = g.create_group(SECTIONS)?;
         write_section(
+            z,
             &sections,
             PERIOD_SECTION,
             &component,
@@ -237,6 +231,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         )?;
         for (k, stop) in m.stops.iter().enumerate() {
             write_section(
+                z,
                 &sections,
                 stop,
                 &impact_column,
@@ -247,7 +242,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
     }
 
     if let Some(h) = atlas.hysteresis() {
-        let d = dataset(
+        let d = z.dataset(
             &f,
             HYSTERESIS,
             &Array2::from_shape_vec((ny, nx), h).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
@@ -258,7 +253,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
         netcdf::attr_str(&d, "flag_meanings", "same_motion coexisting_motions")?;
     }
     if let Some(a) = &atlas.attractors {
-        write_attractors(&f, m, a)?;
+        write_attractors(&f, m, a, z)?;
     }
     let legend = f.create_group(LEGEND)?;
     for map in &atlas.maps {
@@ -281,7 +276,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo) -> hdf5::Result<()> {
 /// The coexisting attractors of the sampled cells (`/attractors`, see
 /// [`crate::layout`]): their count per cell, and per attractor slot the label
 /// code of each mass and the basin fraction.
-fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap) -> hdf5::Result<()> {
+fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap, z: Deflater) -> hdf5::Result<()> {
     let (nx, ny) = (m.plane.x.count, m.plane.y.count);
     let g = f.create_group(ATTRACTORS)?;
     netcdf::attr_num(&g, attr::SAMPLES, a.samples as u64)?;
@@ -290,18 +285,18 @@ fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap) -> h
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
     let texts = a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter());
-    let table = label_table(texts);
+    let table = label_table(texts.cloned());
     let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
     let cell = |iy: usize, ix: usize| a.cells[iy * nx + ix].as_ref();
     let count = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0u8, |c| c.len().min(255) as u8));
-    let d = dataset(&g, var::COUNT, &count)?;
+    let d = z.dataset(&g, var::COUNT, &count)?;
     netcdf::dims(&d, &[&grid.y, &grid.x])?;
     netcdf::describe(&d, "number of coexisting attractors found (0: cell not sampled)", "1")?;
     let fraction = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
         cell(iy, ix).and_then(|c| c.get(k)).map_or(f64::NAN, |e| e.1)
     });
-    let d = dataset(&g, var::FRACTION, &fraction)?;
+    let d = z.dataset(&g, var::FRACTION, &fraction)?;
     netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
     netcdf::describe(&d, "share of the sampled initial states that reach the attractor (basin fraction)", "1")?;
     netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
@@ -310,7 +305,7 @@ fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap) -> h
         let code = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
             cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.0[mi]))
         });
-        let d = dataset(&g, &label_code(mass), &code)?;
+        let d = z.dataset(&g, &label_code(mass), &code)?;
         netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
         netcdf::describe(
             &d,
@@ -340,8 +335,8 @@ impl Grid {
 
 /// The labels of a sweep in a fixed order: periodic labels by (n, p, q), then
 /// C, Q, U, then `not-computed`.
-fn label_table<'a>(texts: impl Iterator<Item = &'a String>) -> Vec<String> {
-    let mut set: Vec<String> = texts.cloned().collect::<std::collections::BTreeSet<_>>().into_iter().collect();
+fn label_table(texts: impl Iterator<Item = String>) -> Vec<String> {
+    let mut set: Vec<String> = texts.collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let key = |l: &String| -> (u8, Vec<u32>) {
         let nums: Option<Vec<u32>> =
             l.split('-').map(|t| if t == "S" { Some(u32::MAX) } else { t.parse().ok() }).collect();
@@ -368,6 +363,7 @@ fn flag_masks(stops: &[String], shift: u32) -> (Vec<u32>, String) {
 /// One ragged section (CSR): `values [point, column]` and `offsets [cell_edge]`,
 /// cell `i = iy*nx + ix` owning rows `offsets[i]..offsets[i+1]`.
 fn write_section<'a>(
+    z: Deflater,
     g: &Group,
     name: &str,
     columns: &hdf5::Dataset,
@@ -388,10 +384,10 @@ fn write_section<'a>(
     let a = Array2::from_shape_vec((n, cols), values).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
     let point = netcdf::dimension(&s, POINT, n)?;
     let edge = netcdf::dimension(&s, CELL_EDGE, offsets.len())?;
-    let d = dataset(&s, var::VALUES, &a)?;
+    let d = z.dataset(&s, var::VALUES, &a)?;
     netcdf::dims(&d, &[&point, columns])?;
     netcdf::describe(&d, long_name, "1")?;
-    let d = dataset(&s, var::OFFSETS, &Array1::from(offsets))?;
+    let d = z.dataset(&s, var::OFFSETS, &Array1::from(offsets))?;
     netcdf::dims(&d, &[&edge])?;
     netcdf::attr_str(&d, "long_name", "CSR offsets: cell i = iy*nx + ix owns rows offsets[i]..offsets[i+1] of values")?;
     Ok(())
