@@ -98,7 +98,7 @@ proptest! {
 /// `m x'' + c x' + k x = p sin(ωt)` from `x(0) = x0`, `x'(0) = v0`
 /// (underdamped), by the textbook closed form: particular solution plus a
 /// decaying free oscillation.
-fn oscillator(m: f64, c: f64, k: f64, p: f64, omega: f64, x0: f64, v0: f64, t: f64) -> f64 {
+fn oscillator((m, c, k, p): (f64, f64, f64, f64), omega: f64, (x0, v0): (f64, f64), t: f64) -> f64 {
     let (w0, f) = ((k / m).sqrt(), p / m);
     let z = c / (2.0 * (k * m).sqrt());
     let d = (w0 * w0 - omega * omega).powi(2) + (2.0 * z * w0 * omega).powi(2);
@@ -137,7 +137,7 @@ proptest! {
                                          stop in 0usize..3, log_eps in -9.0f64..-3.0) {
         let (m2, k2, c2) = (mu_m / (1.0 - mu_m), mu_k / (1.0 - mu_k), 2.0 * zeta * mu_c / (1.0 - mu_c));
         let free = |t: f64| {
-            (oscillator(1.0, 2.0 * zeta, 1.0, 1.0 - f20, omega, x1, v1, t), oscillator(m2, c2, k2, f20, omega, x2, v2, t))
+            (oscillator((1.0, 2.0 * zeta, 1.0, 1.0 - f20), omega, (x1, v1), t), oscillator((m2, c2, k2, f20), omega, (x2, v2), t))
         };
         // Each stop's gap without its clearance: A1 x1 + δ1, A2 x2 + δ2, A12 δ12 - (x1 - x2).
         let depth = |t: f64| {
