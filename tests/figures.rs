@@ -260,12 +260,23 @@ fn curves_are_found_on_a_map() {
         a.to_str().unwrap(),
     ]);
     let (c1, c2) = (d.join("c1.h5"), d.join("c2.h5"));
-    for c in [&c1, &c2] {
-        ok(&["curves", a.to_str().unwrap(), "--max", "3", "-o", c.to_str().unwrap()]);
+    for (c, threads) in [(&c1, "1"), (&c2, "2")] {
+        ok(&["curves", a.to_str().unwrap(), "--max", "3", "--threads", threads, "-o", c.to_str().unwrap()]);
     }
     let (one, two) = (store::read_curves(&c1).unwrap(), store::read_curves(&c2).unwrap());
-    assert_eq!(one, two, "deterministic");
-    assert!(!one.is_empty() && one.iter().all(|c| c.points.len() >= 2), "{one:?}");
+    assert_eq!(one, two, "the same curves on one thread and two");
+    assert!(!one.is_empty() && one.iter().all(|c| c.points.len() >= 3), "{one:?}");
     let png = d.join("map.png");
     ok(&["render", a.to_str().unwrap(), "--curves", c1.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    // Stored into the atlas: the same curves, every other dataset as it was.
+    let before = store::read(&a).unwrap();
+    ok(&["curves", a.to_str().unwrap(), "--max", "3", "--into"]);
+    assert_eq!(store::read_curves(&a).unwrap(), one);
+    assert_eq!(store::read(&a).unwrap().atlas, before.atlas);
+    ok(&["render", a.to_str().unwrap(), "--curves", a.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    // Stored again: replaced, not added.
+    ok(&["curves", a.to_str().unwrap(), "--max", "2", "--into"]);
+    assert_eq!(store::read_curves(&a).unwrap(), one[..2].to_vec());
+    let err = crate::util::run(&["curves", a.to_str().unwrap(), "--max", "2"]);
+    assert!(!err.status.success() && String::from_utf8_lossy(&err.stderr).contains("--into"));
 }

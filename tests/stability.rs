@@ -423,3 +423,55 @@ fn neimark_sacker_curve_passes_through_the_located_point() {
     assert_eq!(points[0]["labels"]["below"]["M2"], "1-1-1");
     assert_eq!(points[0]["labels"]["above"]["M2"], "Q");
 }
+
+/// Issue 20: the fold of the single-stop (1,1) orbit followed in (ω, σ) from
+/// ω = 2.1 towards larger σ. Natural steps in σ stop short of the top of the
+/// curve; pseudo-arclength goes on, every point on the closed-form fold, and
+/// the curve ends where the fold's orbit grazes the stop between impacts: an
+/// SN-grazing codimension-two point at the ω where the closed-form orbit's
+/// overshoot changes sign (found here by bisection).
+#[test]
+fn fold_curve_is_followed_to_its_meeting_with_a_grazing() {
+    let sigma0 = solver::reference::single_stop_fold_sigma(2.1, 0.8, 1);
+    let j = json_of(&[
+        "curve",
+        "configs/single-stop.toml",
+        "--kind",
+        "sn",
+        "--start",
+        &format!("omega=2.1,sigma={sigma0}"),
+        "--free",
+        "omega,sigma",
+        "--to",
+        "-0.2",
+        "--steps",
+        "6",
+        "--window",
+        "0.05",
+        "--json",
+    ]);
+    let points = j["points"].as_array().unwrap();
+    for p in points {
+        let (omega, sigma) = (p["omega"].as_f64().unwrap(), p["sigma"].as_f64().unwrap());
+        let expected = solver::reference::single_stop_fold_sigma(omega, 0.8, 1);
+        assert!((sigma - expected).abs() < 1e-9, "ω = {omega}: σ = {sigma}, closed form {expected}");
+    }
+    // The natural steps reach σ = -0.354 at most (the next, -0.303, is above the curve).
+    let top = points.iter().map(|p| p["sigma"].as_f64().unwrap()).fold(f64::MIN, f64::max);
+    assert!(top > -0.34, "the curve was followed past its natural steps: top σ = {top}");
+    let (mut lo, mut hi) = (2.0, 2.05);
+    for _ in 0..50 {
+        let mid = 0.5 * (lo + hi);
+        if solver::reference::single_stop_fold_overshoot(mid, 0.8) > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let codim2 = j["codim2"].as_array().unwrap();
+    assert_eq!(codim2.len(), 1, "{j}");
+    assert_eq!(codim2[0]["kind"], "SN-grazing");
+    let omega = codim2[0]["omega"].as_f64().unwrap();
+    assert!((omega - lo).abs() < 1e-4, "SN-grazing at ω = {omega}, closed form {lo}");
+    assert!(j["ended"].as_str().unwrap().contains("SN-grazing"), "{j}");
+}

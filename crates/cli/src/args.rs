@@ -52,12 +52,20 @@ pub struct CurvesArgs {
     /// Most curves found.
     #[arg(long, default_value_t = 8, value_name = "K")]
     pub max: usize,
-    /// The sweep whose label boundaries seed the curves (default: the file's first).
+    /// The sweep whose label boundaries seed the curves (default: every sweep
+    /// of the file, so that both ends of hysteresis zones are seeds).
     #[arg(long, value_enum)]
     pub sweep: Option<SweepName>,
     /// Output curve file (for render --curves).
     #[arg(short = 'o', long = "output", value_name = "CURVES.h5")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
+    /// Also store the curves in the atlas itself (its `curves` group, replaced
+    /// if there is one; `render ATLAS --curves ATLAS` draws them).
+    #[arg(long)]
+    pub into: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -78,7 +86,7 @@ pub struct CurveArgs {
     #[arg(long, value_name = "A,B")]
     pub free: String,
     /// The last value of B.
-    #[arg(long, value_name = "VALUE")]
+    #[arg(long, value_name = "VALUE", allow_negative_numbers = true)]
     pub to: f64,
     /// Steps from the start to --to.
     #[arg(long, default_value_t = 20)]
@@ -86,6 +94,10 @@ pub struct CurveArgs {
     /// Half-width of the search for the bifurcation in A around its prediction.
     #[arg(long, default_value_t = 0.05, value_name = "W")]
     pub window: f64,
+    /// Range of A the curve may take, A=LO:HI (default: any); B stays between
+    /// its start and --to.
+    #[arg(long, value_name = "A=LO:HI")]
+    pub bounds: Option<String>,
     /// Period of the orbit in forcing periods (default: the cell's).
     #[arg(long, value_name = "N")]
     pub n: Option<usize>,

@@ -64,6 +64,16 @@ impl Axis {
         Ok(self)
     }
 
+    /// The spacing of the values, `(stop - start) / (count - 1)` (negative for
+    /// a descending axis); 0 for a single value.
+    pub fn step(&self) -> f64 {
+        if self.count > 1 {
+            (self.stop - self.start) / (self.count - 1) as f64
+        } else {
+            0.0
+        }
+    }
+
     /// The i-th value.
     pub fn value(&self, i: usize) -> f64 {
         if self.count == 1 {

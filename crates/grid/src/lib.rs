@@ -9,6 +9,7 @@ pub mod atlas;
 pub mod attractors;
 pub mod axis;
 pub mod cell;
+pub mod curves;
 pub mod error;
 pub mod hysteresis;
 pub mod palette;

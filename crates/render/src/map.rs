@@ -60,7 +60,7 @@ impl<'a> CellGrid<'a> {
     /// The cells of the plane of `meta`.
     pub(crate) fn of(meta: &'a Meta) -> Self {
         let (x, y) = (&meta.plane.x, &meta.plane.y);
-        let step = |a: &Axis| if a.count > 1 { (a.stop - a.start) / (a.count - 1) as f64 } else { 1.0 };
+        let step = |a: &Axis| if a.count > 1 { a.step() } else { 1.0 };
         CellGrid { x, y, dx: step(x), dy: step(y) }
     }
 

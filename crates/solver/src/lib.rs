@@ -12,7 +12,8 @@
 //! of transients), `label` (classes, n-p-q labels), `lyapunov`, `section`
 //! (impact sections). Stability, public modules: [`floquet`] (multipliers,
 //! kinds of bifurcation), [`orbit`], [`continuation`] and [`arclength`]
-//! (branches and located bifurcations); `newton` (fixed points of period and
+//! (branches and located bifurcations), [`curve`] (bifurcations followed in
+//! a plane of two parameters); `newton` (fixed points of period and
 //! half maps) is re-exported. [`reference`](mod@reference) holds closed-form
 //! answers shared by tests and benches. No I/O, no threads.
 //!
@@ -53,6 +54,7 @@ pub mod arclength;
 mod budget;
 mod chatter;
 pub mod continuation;
+pub mod curve;
 mod error;
 mod executor;
 pub mod floquet;

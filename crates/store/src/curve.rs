@@ -5,7 +5,9 @@
 //! NS, grazing), `free` (`A,B`), `ended`, the curve's points as two coordinate
 //! arrays named after the free parameters along the dimension `point`, and
 //! its codimension-two points as `codim2_<A>`, `codim2_<B>` and `codim2_kind`
-//! along `codim2`.
+//! along `codim2`. An atlas may hold its curves in a `curves` group laid out
+//! the same way (`vibroatlas curves ATLAS --into`); [`read_curves`] reads
+//! either.
 
 use crate::error::StoreError;
 use crate::netcdf;
@@ -32,22 +34,50 @@ pub struct Curve {
 pub fn write_curves(path: &Path, curves: &[Curve], command: &str, scene: &str) -> Result<(), StoreError> {
     crate::write_atomically(path, |tmp| -> hdf5::Result<()> {
         let f = hdf5::File::create(tmp)?;
-        let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
-        for (name, value) in [
-            ("software", crate::layout::SOFTWARE),
-            ("content", CONTENT),
-            ("Conventions", "CF-1.8"),
-            ("command", command),
-            ("created", created.as_str()),
-            ("scene", scene),
-        ] {
-            netcdf::attr_str(&f, name, value)?;
-        }
-        for (k, curve) in curves.iter().enumerate() {
-            write_one(&f.create_group(&format!("curve_{k}"))?, curve)?;
-        }
+        netcdf::attr_str(&f, "Conventions", "CF-1.8")?;
+        netcdf::attr_str(&f, "scene", scene)?;
+        write_all(&f, curves, command)?;
         f.flush()
     })
+}
+
+/// Stores `curves` in the atlas at `path` as its `curves` group, replacing
+/// one there: the atlas is copied, the group written into the copy, and the
+/// copy renamed over it (locked meanwhile, as every output).
+pub fn add_curves(path: &Path, curves: &[Curve], command: &str) -> Result<(), StoreError> {
+    let _lock = crate::OutputLock::acquire(path)?;
+    crate::write_atomically(path, |tmp| -> Result<(), String> {
+        std::fs::copy(path, tmp).map_err(|e| e.to_string())?;
+        let add = || -> hdf5::Result<()> {
+            let f = hdf5::File::open_rw(tmp)?;
+            if f.link_exists(GROUP) {
+                f.unlink(GROUP)?;
+            }
+            write_all(&f.create_group(GROUP)?, curves, command)?;
+            f.flush()
+        };
+        add().map_err(|e| e.to_string())
+    })
+}
+
+/// The group of an atlas that holds its curves.
+const GROUP: &str = "curves";
+
+/// Provenance attributes and one group per curve, in `g`.
+fn write_all(g: &hdf5::Group, curves: &[Curve], command: &str) -> hdf5::Result<()> {
+    let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
+    for (name, value) in [
+        ("software", crate::layout::SOFTWARE),
+        ("content", CONTENT),
+        ("command", command),
+        ("created", created.as_str()),
+    ] {
+        netcdf::attr_str(g, name, value)?;
+    }
+    for (k, curve) in curves.iter().enumerate() {
+        write_one(&g.create_group(&format!("curve_{k}"))?, curve)?;
+    }
+    Ok(())
 }
 
 /// What the root attribute `content` of a curve file says.
@@ -84,12 +114,23 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
         return Err(StoreError::format(path, "no such curve file"));
     }
     let f = hdf5::File::open(path).map_err(h)?;
-    let content = f.attr("content").and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
-    if content.ok().as_deref() != Some(CONTENT) {
-        return Err(StoreError::format(path, "not a vibroatlas curve file (vibroatlas curve -o FILE.h5)"));
-    }
+    let content =
+        |g: &hdf5::Group| g.attr("content").and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
+    let holder: hdf5::Group = if content(&f).ok().as_deref() == Some(CONTENT) {
+        (*f).clone()
+    } else {
+        match f.group(GROUP) {
+            Ok(g) if content(&g).ok().as_deref() == Some(CONTENT) => g,
+            _ => {
+                return Err(StoreError::format(
+                    path,
+                    "not a vibroatlas curve file (vibroatlas curve -o FILE.h5) nor an atlas with curves (vibroatlas curves ATLAS --into)",
+                ))
+            }
+        }
+    };
     let mut out = Vec::new();
-    while let Ok(g) = f.group(&format!("curve_{}", out.len())) {
+    while let Ok(g) = holder.group(&format!("curve_{}", out.len())) {
         out.push(read_one(&g).map_err(h)?);
     }
     Ok(out)

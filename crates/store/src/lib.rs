@@ -16,7 +16,7 @@ mod netcdf;
 pub mod read;
 pub mod write;
 
-pub use curve::{read_curves, write_curves, Curve};
+pub use curve::{add_curves, read_curves, write_curves, Curve};
 pub use error::StoreError;
 pub use journal::{fingerprint, journal_path, Journal};
 pub use lock::{check_output, commit, lock_path, write_atomically, OutputLock};

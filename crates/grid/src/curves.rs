@@ -1,0 +1,216 @@
+//! Bifurcation curves seeded from a stored map.
+//!
+//! A seed is a pair of neighbouring cells (in a row or in a column) of one of
+//! the map's sweeps whose periodic labels differ: a bifurcation lies between
+//! them. Seeds are taken from every sweep asked for, so that in an atlas with
+//! up and down sweeps both ends of every hysteresis zone are seeds (each
+//! sweep's label changes where its branch ends). A seed's bifurcation is
+//! located on the segment between its two cells, by continuation of the orbit
+//! found from the stored final state of one of them (the other failing), and
+//! followed both ways ([`solver::curve::Tracing`]): along `b` by rows (row
+//! seeds) or by pseudo-arclength (column seeds), to the plane's edges.
+//!
+//! Seeds are visited from the top row down (the clean boundaries of large
+//! clearances first), a row's seeds left to right, then the column seeds
+//! below it. A seed whose cells a curve already found passes between is
+//! skipped, and
+//! a curve whose points mostly lie on one found before (same kind) is dropped,
+//! as is a curve of fewer than three points (the fine structure of a map
+//! seeds many short ones). Seeds are traced in parallel in fixed batches and
+//! accepted in seed order, so the result is the same on any number of threads.
+
+use crate::atlas::Atlas;
+use crate::cell::CellSetup;
+use crate::error::GridError;
+use crate::sweep::SweepKind;
+use rayon::prelude::*;
+use solver::curve::{Curve, Plane2, Start, Tracing};
+use solver::{Bifurcation, Class};
+
+/// Seeds traced together; fixed, so that the curves kept do not depend on
+/// the number of threads.
+const BATCH: usize = 16;
+
+/// Fewest points of a curve kept.
+const MIN_POINTS: usize = 3;
+
+/// What to look for.
+#[derive(Debug, Clone)]
+pub struct Seeding {
+    /// Kinds of bifurcation located at a seed (the one nearest the seed is kept).
+    pub kinds: Vec<Bifurcation>,
+    /// Sweeps whose label changes seed curves.
+    pub sweeps: Vec<SweepKind>,
+    /// Most curves.
+    pub max: usize,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+/// A pair of neighbouring cells with different periodic labels.
+#[derive(Debug, Clone)]
+struct Seed {
+    /// The midpoint `(a, b)` of the two cells.
+    at: [f64; 2],
+    /// The two cells' `(a, b)`.
+    cells: [[f64; 2]; 2],
+    /// Whether the cells are neighbours in a column (else in a row).
+    vertical: bool,
+    /// The stored final states of the two cells (starts of the orbit).
+    starts: [Vec<f64>; 2],
+}
+
+/// Curves found, and the seeds traced.
+#[derive(Debug, Clone)]
+pub struct Found {
+    /// The curves kept, in seed order.
+    pub curves: Vec<Curve>,
+    /// Seeds traced (not skipped as lying on a curve already found).
+    pub seeds: usize,
+}
+
+/// The seeds of `sweeps` of `atlas`, in the order described in the module doc.
+fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
+    let (x, y) = (&atlas.meta.plane.x, &atlas.meta.plane.y);
+    let maps: Vec<_> = sweeps.iter().filter_map(|&s| atlas.map(s)).collect();
+    let mut out = Vec::new();
+    for iy in (0..y.count).rev() {
+        for (pairs, vertical) in [
+            ((0..x.count.saturating_sub(1)).map(|ix| (iy, ix, iy, ix + 1)).collect::<Vec<_>>(), false),
+            ((0..x.count).filter(|_| iy > 0).map(|ix| (iy, ix, iy - 1, ix)).collect(), true),
+        ] {
+            for (jy, jx, ky, kx) in pairs {
+                for map in &maps {
+                    let (i, k) = (jy * x.count + jx, ky * x.count + kx);
+                    let periodic = |i: usize| map.cells[i].as_ref().filter(|c| c.class == Class::Periodic);
+                    let (Some(c1), Some(c2)) = (periodic(i), periodic(k)) else { continue };
+                    if c1.labels.first() == c2.labels.first() {
+                        continue;
+                    }
+                    let cells = [[x.value(jx), y.value(jy)], [x.value(kx), y.value(ky)]];
+                    let at = [(cells[0][0] + cells[1][0]) / 2.0, (cells[0][1] + cells[1][1]) / 2.0];
+                    let starts = [c1.final_state.clone(), c2.final_state.clone()];
+                    out.push(Seed { at, cells, vertical, starts });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Follows the bifurcations of the map's label boundaries (see the module doc).
+pub fn find(setup: &CellSetup, atlas: &Atlas, seeding: &Seeding) -> Result<Found, GridError> {
+    let p = &atlas.meta.plane;
+    let (x, y) = (&p.x, &p.y);
+    if x.count < 2 {
+        return Err(GridError::field("x", "curves need at least two columns"));
+    }
+    let (dx, dy) = (x.step().abs(), if y.count > 1 { y.step().abs() } else { 1.0 });
+    let (ax, ay) = (x.name.clone(), y.name.clone());
+    let plane = move |a: f64, b: f64| setup.system(&[(ax.clone(), a), (ay.clone(), b)]).ok();
+    let bounds = [[x.start.min(x.stop), x.start.max(x.stop)], [y.start.min(y.stop), y.start.max(y.stop)]];
+    let tracing = |kind, scale| Tracing {
+        kind,
+        acc: setup.accuracy,
+        n: None,
+        scale,
+        bounds,
+        max_points: 4 * (x.count + y.count),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(seeding.threads)
+        .build()
+        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let all = seeds(atlas, &seeding.sweeps);
+    let mut found = Found { curves: Vec::new(), seeds: 0 };
+    for batch in all.chunks(BATCH) {
+        let todo: Vec<&Seed> = batch.iter().filter(|s| !found.curves.iter().any(|c| crosses(c, s))).collect();
+        found.seeds += todo.len();
+        let traced: Vec<Option<Curve>> =
+            pool.install(|| todo.par_iter().map(|s| trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y)).collect());
+        for curve in traced.into_iter().flatten() {
+            let duplicate = found.curves.iter().any(|c| same(c, &curve, [dx, dy]));
+            if curve.points.len() >= MIN_POINTS && !duplicate {
+                found.curves.push(curve);
+                if found.curves.len() >= seeding.max {
+                    return Ok(found);
+                }
+            }
+        }
+    }
+    Ok(found)
+}
+
+/// Locates the seed's bifurcation (the kind nearest the seed) and follows it
+/// both ways.
+fn trace(
+    plane: &Plane2,
+    seed: &Seed,
+    kinds: &[Bifurcation],
+    tracing: &dyn Fn(Bifurcation, [f64; 2]) -> Tracing,
+    cell: [f64; 2],
+    y: &crate::axis::Axis,
+) -> Option<Curve> {
+    // On the segment between the two cells: half-width half a cell.
+    let locate = |kind: Bifurcation| {
+        let t = tracing(kind, [cell[0] / 2.0, cell[1] / 2.0]);
+        seed.starts.iter().find_map(|start| {
+            let [a, b] = seed.at;
+            let p = if seed.vertical {
+                t.locate_along_b(plane, a, b, Start::State(start))
+            } else {
+                t.locate(plane, a, b, Start::State(start))
+            };
+            p.ok()
+        })
+    };
+    let distance = |p: &solver::curve::CurvePoint| ((p.a - seed.at[0]) / cell[0]).hypot((p.b - seed.at[1]) / cell[1]);
+    let (kind, first) = kinds
+        .iter()
+        .filter_map(|&k| locate(k).map(|p| (k, p)))
+        .min_by(|p, q| distance(&p.1).total_cmp(&distance(&q.1)))?;
+    // The curve may move more than a cell from one row to the next.
+    let t = tracing(kind, [2.0 * cell[0], cell[1]]);
+    let (back, ahead) = if seed.vertical {
+        (t.follow_along(plane, first.clone(), [-1.0, 0.0]), t.follow_along(plane, first, [1.0, 0.0]))
+    } else {
+        (t.follow(plane, first.clone(), y.start), t.follow(plane, first, y.stop))
+    };
+    Some(join(back, ahead))
+}
+
+/// One curve of two followed from the same point in opposite directions.
+fn join(back: Curve, ahead: Curve) -> Curve {
+    let first = [ahead.points[0].a.to_bits(), ahead.points[0].b.to_bits()];
+    // Both halves record the codimension-two points of the shared first point.
+    let mut codim2: Vec<_> =
+        back.codim2.into_iter().filter(|c| [c.a.to_bits(), c.b.to_bits()] != first).rev().collect();
+    codim2.extend(ahead.codim2);
+    let mut points: Vec<_> = back.points.into_iter().skip(1).rev().collect();
+    points.extend(ahead.points);
+    let ended = [back.ended, ahead.ended].into_iter().flatten().collect::<Vec<_>>();
+    Curve { kind: ahead.kind, points, codim2, ended: (!ended.is_empty()).then(|| ended.join("; ")) }
+}
+
+/// Whether `curve` passes between the seed's two cells: one of its segments
+/// crosses the segment joining them.
+fn crosses(curve: &Curve, seed: &Seed) -> bool {
+    let [p, q] = seed.cells;
+    let side = |o: [f64; 2], u: [f64; 2], v: [f64; 2]| (u[0] - o[0]) * (v[1] - o[1]) - (u[1] - o[1]) * (v[0] - o[0]);
+    curve.points.windows(2).any(|w| {
+        let (r, t) = ([w[0].a, w[0].b], [w[1].a, w[1].b]);
+        side(p, q, r) * side(p, q, t) <= 0.0 && side(r, t, p) * side(r, t, q) <= 0.0
+    })
+}
+
+/// Whether `b` is a curve `a` already holds: the same kind, and more than
+/// half of its points within a tenth of a cell of one of `a`'s.
+fn same(a: &Curve, b: &Curve, cell: [f64; 2]) -> bool {
+    a.kind == b.kind
+        && 2 * b
+            .points
+            .iter()
+            .filter(|p| a.points.iter().any(|q| ((p.a - q.a) / cell[0]).hypot((p.b - q.b) / cell[1]) <= 0.1))
+            .count()
+            > b.points.len()
+}
