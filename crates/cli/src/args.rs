@@ -472,6 +472,11 @@ pub struct BenchArgs {
     /// on the job times of the measured run.
     #[arg(long, value_name = "P,P,…")]
     pub simulate_threads: Option<String>,
+    /// With --simulate-threads: take a journal write (its sync to disk) to
+    /// cost this many milliseconds instead of the time measured here (a
+    /// cluster's network filesystem, a slow disk).
+    #[arg(long, value_name = "MS")]
+    pub simulate_sync_ms: Option<f64>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,

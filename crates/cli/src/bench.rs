@@ -105,16 +105,86 @@ fn standard_setup(scene: &Scene) -> Result<grid::CellSetup> {
     })
 }
 
-/// Replays the scheduler on `virtual_threads` workers, from the measured run
-/// `atlas` (of `thread_secs` thread time): each cell's time is the thread time
-/// shared in proportion to the forcing periods it simulated. Jobs are
-/// continuation chains (`both`) or cells (`fresh`: the cells of a line are
-/// shared among the workers). The previous policy takes lines in order, both
-/// directions of a line together; the current one takes chains longest first
-/// by the probed `estimate` (not by the measured times) and fresh lines in order.
-fn replay(sweep: &str, atlas: &Atlas, estimate: &[f64], thread_secs: f64, virtual_threads: &[usize]) -> Vec<Value> {
-    use grid::schedule::{efficiency, longest_first, makespan};
+/// What a run costs outside its workers' cells, measured on one run with a
+/// journal and a file (as `atlas -o` runs): seconds per line to seal it for
+/// the journal, per journal write (one line and its sync), the cost probe and
+/// the file written after the last line.
+#[derive(Debug, Clone, Copy)]
+struct Serial {
+    seal: f64,
+    append: f64,
+    probe: f64,
+    /// Writing the file: the part that stays serial and the part its
+    /// threads share (chunk compression), from writes on one and on all threads.
+    write: (f64, f64),
+}
+
+/// Measures [`Serial`] on `m` (a run with an output file), re-sealing and
+/// re-appending its lines one by one into a journal beside `out`.
+fn serial_costs(m: &crate::plan::Executed, out: &std::path::Path, probe: f64, threads: usize) -> Result<Serial> {
+    let p = &m.atlas.meta.plane;
+    let lines: Vec<grid::Line> = m
+        .atlas
+        .maps
+        .iter()
+        .flat_map(|map| {
+            (0..p.lines()).map(move |l| grid::Line {
+                sweep: map.sweep,
+                index: l,
+                cells: (0..p.line_len())
+                    .filter_map(|pos| {
+                        let (iy, ix) = p.cell(l, pos);
+                        map.cells[iy * p.x.count + ix].clone()
+                    })
+                    .collect(),
+            })
+        })
+        .collect();
+    let mut journal = store::Journal::create(&store::journal_path(out), "bench")?;
+    let sealer = journal.sealer();
+    let clock = std::time::Instant::now();
+    let sealed = lines.iter().map(|l| sealer.seal(l)).collect::<Result<Vec<_>, _>>()?;
+    let seal = clock.elapsed().as_secs_f64();
+    let clock = std::time::Instant::now();
+    for s in &sealed {
+        journal.append_sealed(std::slice::from_ref(s))?;
+    }
+    let append = clock.elapsed().as_secs_f64();
+    journal.remove()?;
+    let n = lines.len().max(1) as f64;
+    // The file again on one thread: with the run's, the shared part of writing.
+    let info = store::RunInfo { command: "bench".into(), run_time_s: m.secs, shard: None, history: Vec::new() };
+    let clock = std::time::Instant::now();
+    store::write(&out.with_extension("one.h5"), &m.atlas, &info, 1)?;
+    let one = clock.elapsed().as_secs_f64();
+    let shared =
+        if threads > 1 { ((one - m.write_s) * threads as f64 / (threads - 1) as f64).clamp(0.0, one) } else { 0.0 };
+    Ok(Serial { seal: seal / n, append: append / n, probe, write: (one - shared, shared) })
+}
+
+/// Replays the run `m` on `virtual_threads` workers: each cell's time is the
+/// workers' thread time shared in proportion to the forcing periods it
+/// simulated, the lines are kept by one writer thread, the cost probe comes
+/// before (its thread time shared by the workers) and the file after (its
+/// compression shared by the workers, the rest serial). The previous policy
+/// takes lines in order, both directions of a line together, and its writer
+/// seals and syncs every line; the current one takes chains longest first by
+/// the probed `estimate` (fresh lines in order), seals in the workers and
+/// syncs once per batch. Efficiency is the replayed one-worker time over `P`
+/// times the replayed time on `P`.
+fn replay(
+    sweep: &str,
+    m: &crate::plan::Executed,
+    threads: usize,
+    estimate: &[f64],
+    c: Serial,
+    virtual_threads: &[usize],
+) -> Vec<Value> {
+    use grid::schedule::{longest_first, pipeline, Writer};
+    let atlas = &m.atlas;
     let p = &atlas.meta.plane;
+    let lines = atlas.maps.len() * p.lines();
+    let thread_secs = (m.secs * threads as f64 - c.seal * lines as f64).max(0.0);
     let per_period = thread_secs / periods(atlas, |_| true).max(1) as f64;
     let line_cells = |map: &grid::Map, line: usize| -> Vec<f64> {
         (0..p.line_len())
@@ -128,27 +198,76 @@ fn replay(sweep: &str, atlas: &Atlas, estimate: &[f64], thread_secs: f64, virtua
         (0..p.lines()).flat_map(|l| atlas.meta.sweeps.iter().map(move |&s| (s, l))).collect();
     // Chains longest first; fresh lines in order (their cells are shared).
     let current = if sweep == "fresh" { previous.clone() } else { longest_first(&previous, estimate) };
-    let jobs = |order: &[(SweepKind, usize)]| -> Vec<f64> {
+    // Jobs (seconds, line): a chain, or each cell of a fresh line; `seal` is
+    // the sealing each line's worker does (the current policy).
+    let jobs = |order: &[(SweepKind, usize)], seal: f64| -> Vec<(f64, usize)> {
         order
             .iter()
             .flat_map(|&(s, l)| {
+                let id = atlas.maps.iter().position(|m| m.sweep == s).unwrap_or(0) * p.lines() + l;
                 let cells = atlas.map(s).map(|m| line_cells(m, l)).unwrap_or_default();
+                let n = cells.len().max(1) as f64;
                 if s == SweepKind::Fresh {
-                    cells
+                    cells.into_iter().map(|d| (d + seal / n, id)).collect()
                 } else {
-                    vec![cells.iter().sum()]
+                    vec![(cells.iter().sum::<f64>() + seal, id)]
                 }
             })
             .collect()
     };
-    let (old, new) = (jobs(&previous), jobs(&current));
+    // The probe runs its lines in parallel: its thread time, shared.
+    let probe = if sweep == "fresh" { 0.0 } else { c.probe * threads as f64 };
+    let policies = [
+        ("current", jobs(&current, c.seal), Writer { per_write: c.append, per_line: 0.0, batched: true }, probe),
+        ("previous", jobs(&previous, 0.0), Writer { per_write: c.append, per_line: c.seal, batched: false }, 0.0),
+    ];
     let mut rows = Vec::new();
     for &t in virtual_threads {
-        for (policy, order) in [("current", &new), ("previous", &old)] {
-            rows.push(json!({"sweep": sweep, "threads": t, "policy": policy, "makespan_s": makespan(order, t), "efficiency": efficiency(order, t)}));
+        for (policy, order, writer, before) in &policies {
+            let time = |workers: usize| {
+                let w = workers as f64;
+                before / w + pipeline(order, workers, writer) + c.write.0 + c.write.1 / w
+            };
+            let span = time(t);
+            rows.push(json!({"sweep": sweep, "threads": t, "policy": policy, "makespan_s": span, "efficiency": time(1) / (t as f64 * span)}));
         }
     }
     rows
+}
+
+/// One run of `plane` as `atlas -o` runs it (journal, file with sections)
+/// in a scratch folder, for the replay; the scratch folder is removed.
+fn measured_run(
+    scene: &Scene,
+    plane: &Plane,
+    sweeps: &[SweepKind],
+    threads: usize,
+    sync_ms: Option<f64>,
+) -> Result<(crate::plan::Executed, Serial)> {
+    let dir = std::env::temp_dir().join(format!("vibroatlas-bench-{}", std::process::id()));
+    std::fs::create_dir_all(&dir)?;
+    let out = dir.join("replay.h5");
+    let s = Setup {
+        scene: scene.clone(),
+        overrides: Vec::new(),
+        accuracy: Accuracy::preset(Preset::Standard),
+        accuracy_overrides: Vec::new(),
+        preset: Preset::Standard,
+        method: Method::Exact,
+    };
+    let mut plan = Plan::new(&s, 16, plane.clone(), sweeps.to_vec(), threads)?;
+    plan.quiet = true;
+    plan.output = Some(out.clone());
+    let clock = std::time::Instant::now();
+    plan.check()?;
+    let probe = clock.elapsed().as_secs_f64();
+    let m = plan.execute_measured("bench")?;
+    let mut serial = serial_costs(&m, &out, probe, threads)?;
+    if let Some(ms) = sync_ms {
+        serial.append = ms / 1000.0;
+    }
+    std::fs::remove_dir_all(&dir)?;
+    Ok((m, serial))
 }
 
 fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
@@ -293,9 +412,20 @@ pub fn run(a: BenchArgs) -> Result<()> {
             }
             throughput.push(json!({"sweep": name, "threads": t, "cells": count, "seconds": best, "cells_per_s": rate, "efficiency": efficiency}));
         }
-        if let (Some((t, secs)), Some(atlas), false) = (last, &first, virtual_threads.is_empty()) {
+        if let (Some((t, _)), false) = (last, virtual_threads.is_empty()) {
             let estimate = grid::schedule::probe(&plane, &standard_setup(&scene)?, t)?;
-            for row in replay(name, atlas, &estimate, secs * t as f64, &virtual_threads) {
+            let (m, serial) = measured_run(&scene, &plane, &sweeps, t, a.simulate_sync_ms)?;
+            if !a.json {
+                outln!(
+                    "serial     {name:<5} per line: seal {:.2} ms, journal write {:.2} ms; probe {:.2} s; file {:.3} s serial + {:.3} s shared",
+                    1e3 * serial.seal,
+                    1e3 * serial.append,
+                    serial.probe,
+                    serial.write.0,
+                    serial.write.1
+                );
+            }
+            for row in replay(name, &m, t, &estimate, serial, &virtual_threads) {
                 if !a.json {
                     outln!(
                         "simulated  {name:<5} {:>6} threads, {:<8} policy: makespan {:.3} s, efficiency {:.2}",

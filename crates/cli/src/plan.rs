@@ -91,6 +91,11 @@ impl Plan {
 
     /// Runs the plan; returns the atlas (complete for this shard) and the wall time.
     pub fn execute(&self, label: &str) -> Result<(Atlas, f64)> {
+        self.execute_measured(label).map(|r| (r.atlas, r.secs))
+    }
+
+    /// [`Plan::execute`], with where the time went outside the workers.
+    pub fn execute_measured(&self, label: &str) -> Result<Executed> {
         let start = Instant::now();
         // Held for the whole run: a second run on the same output is refused.
         let _lock = self.output.as_deref().map(store::OutputLock::acquire).transpose()?;
@@ -135,38 +140,70 @@ impl Plan {
         let todo = (jobs.len() * plane.line_len()) as u64;
         let bar = Bar::new(label, total, total - todo, self.quiet);
 
-        let (tx, rx) = std::sync::mpsc::channel::<Line>();
+        // Workers seal their own lines for the journal; one writer appends
+        // whatever has arrived, with one sync per batch, and keeps the lines.
+        let sealer = journal.as_ref().map(Journal::sealer);
+        let (tx, rx) = std::sync::mpsc::channel::<(Line, Option<store::SealedLine>)>();
         let writer = std::thread::spawn(move || -> Result<(Atlas, Option<Journal>)> {
             let mut journal = journal;
-            for line in rx {
+            while let Ok(first) = rx.recv() {
+                let batch: Vec<_> = std::iter::once(first).chain(rx.try_iter()).collect();
                 if let Some(j) = journal.as_mut() {
-                    j.append(&line)?;
+                    let sealed: Vec<_> = batch.iter().filter_map(|b| b.1.clone()).collect();
+                    j.append_sealed(&sealed)?;
                 }
-                atlas.insert(line);
+                for (line, _) in batch {
+                    atlas.insert(line);
+                }
             }
             Ok((atlas, journal))
         });
-        let sink = move |line: Line| {
+        let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+        let sink = |line: Line| {
+            let sealed = match sealer.as_ref().map(|s| s.seal(&line)).transpose() {
+                Ok(s) => s,
+                Err(e) => {
+                    failed.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e.into());
+                    None
+                }
+            };
             // A closed channel means the writer failed; its error is reported below.
-            let _ = tx.send(line);
+            let _ = tx.send((line, sealed));
         };
         let ran = plane.run(&self.setup, &jobs, self.threads, &bar, &sink);
-        drop(sink);
+        drop(tx);
         bar.finish();
         let (mut atlas, journal) = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
         ran?;
+        if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
+            return Err(e);
+        }
         if let Some((sampling, only_hysteresis)) = &self.attractors {
             atlas.attractors = Some(self.find_attractors(&atlas, sampling, *only_hysteresis, &owns)?);
         }
         let elapsed = start.elapsed().as_secs_f64();
+        let mut write_s = 0.0;
         if let (Some(out), Some(j)) = (&self.output, journal) {
+            let clock = Instant::now();
             let info =
                 RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
             store::write(out, &atlas, &info, self.threads)?;
             j.remove()?;
+            write_s = clock.elapsed().as_secs_f64();
         }
-        Ok((atlas, elapsed))
+        Ok(Executed { atlas, secs: elapsed, write_s })
     }
+}
+
+/// A run's atlas and where its time went.
+#[derive(Debug)]
+pub struct Executed {
+    /// The atlas.
+    pub atlas: Atlas,
+    /// Seconds from the start to the last line kept (the file not written).
+    pub secs: f64,
+    /// Seconds writing the file after the last line.
+    pub write_s: f64,
 }
 
 impl Plan {
@@ -237,7 +274,7 @@ impl Plan {
             }
         }
         self.check_memory()?;
-        self.meta.plane.validate(&self.setup)?;
+        self.meta.plane.validate(&self.setup, self.threads)?;
         let lines = self.meta.plane.lines();
         if self.shard.is_some() || (self.chains() && self.threads > 1 && lines >= 4 * self.threads) {
             self.cost = Some(grid::schedule::probe(&self.meta.plane, &self.setup, self.threads)?);

@@ -116,20 +116,27 @@ impl Plane {
         vec![(self.x.name.clone(), self.x.value(ix)), (self.y.name.clone(), self.y.value(iy))]
     }
 
-    /// Checks that every cell's parameters make a valid scene, before any work.
-    pub fn validate(&self, setup: &CellSetup) -> Result<(), GridError> {
+    /// Checks that every cell's parameters make a valid scene, before any work
+    /// (cells in parallel on `threads` threads; the first failing cell in row
+    /// order is reported).
+    pub fn validate(&self, setup: &CellSetup, threads: usize) -> Result<(), GridError> {
         for (field, axis) in [("x", &self.x), ("y", &self.y)] {
             setup.scene.check_parameter(&axis.name, field).map_err(|e| match e {
                 scene::SceneError::Field { message, .. } => GridError::field(field, message),
                 other => GridError::field(field, other.to_string()),
             })?;
         }
-        for iy in 0..self.y.count {
-            for ix in 0..self.x.count {
-                setup.system(&self.params(iy, ix))?;
-            }
-        }
-        Ok(())
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| GridError::field("threads", e.to_string()))?;
+        // The first failing cell in row order, whatever the thread count.
+        let failed = pool.install(|| {
+            (0..self.y.count)
+                .into_par_iter()
+                .find_map_first(|iy| (0..self.x.count).find_map(|ix| setup.system(&self.params(iy, ix)).err()))
+        });
+        failed.map_or(Ok(()), Err)
     }
 
     /// Computes one line of one sweep.

@@ -53,6 +53,34 @@ struct Sealed {
     line: Box<serde_json::value::RawValue>,
 }
 
+/// A journal line ready to append: its JSON text with its checksum, and the
+/// newline.
+#[derive(Debug, Clone)]
+pub struct SealedLine(Vec<u8>);
+
+/// Encodes and seals lines for one journal (the costly part of an append,
+/// done by the worker that computed the line).
+#[derive(Debug, Clone)]
+pub struct Sealer {
+    path: PathBuf,
+    fingerprint: String,
+}
+
+impl Sealer {
+    /// The sealed text of `line`.
+    pub fn seal(&self, line: &Line) -> Result<SealedLine, StoreError> {
+        let fmt = |e: serde_json::Error| StoreError::format(&self.path, e.to_string());
+        let inner = serde_json::to_string(&encode(line)).map_err(fmt)?;
+        let sealed = Sealed {
+            checksum: seal(&self.fingerprint, &inner),
+            line: serde_json::value::RawValue::from_string(inner).map_err(fmt)?,
+        };
+        let mut text = serde_json::to_vec(&sealed).map_err(fmt)?;
+        text.push(b'\n');
+        Ok(SealedLine(text))
+    }
+}
+
 /// An open journal.
 #[derive(Debug)]
 pub struct Journal {
@@ -223,18 +251,19 @@ impl Journal {
         Ok((j, lines))
     }
 
-    /// Appends a finished line durably.
-    pub fn append(&mut self, line: &Line) -> Result<(), StoreError> {
+    /// What seals lines for this journal, on any thread.
+    pub fn sealer(&self) -> Sealer {
+        Sealer { path: self.path.clone(), fingerprint: self.fingerprint.clone() }
+    }
+
+    /// Appends lines sealed by [`Journal::sealer`] (in any thread), all of
+    /// them durably with one sync: a writer that falls behind its workers
+    /// syncs once per batch instead of once per line.
+    pub fn append_sealed(&mut self, lines: &[SealedLine]) -> Result<(), StoreError> {
         let io = |e| StoreError::io(&self.path, e);
-        let fmt = |e: serde_json::Error| StoreError::format(&self.path, e.to_string());
-        let inner = serde_json::to_string(&encode(line)).map_err(fmt)?;
-        let sealed = Sealed {
-            checksum: seal(&self.fingerprint, &inner),
-            line: serde_json::value::RawValue::from_string(inner).map_err(fmt)?,
-        };
-        let mut text = serde_json::to_vec(&sealed).map_err(fmt)?;
-        text.push(b'\n');
-        self.file.write_all(&text).map_err(io)?;
+        for l in lines {
+            self.file.write_all(&l.0).map_err(io)?;
+        }
         self.file.sync_data().map_err(io)
     }
 
