@@ -76,8 +76,8 @@ vibroatlas atlas configs/dry-friction.toml --x omega=6.5:7.1:40 --y fk=0.005:0.1
 vibroatlas render $out/friction.h5 -o $img/curve-overlay.png --sweep down --curves $out/pf.h5
 
 # The bifurcation curves of a stored map, found by curves and drawn over it.
-vibroatlas atlas configs/multi-stop.toml --x omega=0.1:3.05:96 --y delta=0.05:2:64 --sweep up --quiet -o $out/ref96.h5 >/dev/null
-vibroatlas curves $out/ref96.h5 --max 12 -o $out/ref96-curves.h5 >/dev/null
+vibroatlas atlas configs/multi-stop.toml --x omega=0.1:3.05:96 --y delta=0.05:2:64 --sweep both --quiet -o $out/ref96.h5 >/dev/null
+vibroatlas curves $out/ref96.h5 --max 40 -o $out/ref96-curves.h5 >/dev/null
 vibroatlas render $out/ref96.h5 -o $img/curves.png --sweep up --curves $out/ref96-curves.h5
 
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2

@@ -36,6 +36,11 @@ fn a_stored_cell_opens_again_bit_for_bit() {
         let fs: Vec<f64> = c["final_state"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
         let same = fs.iter().zip(&stored.final_state).all(|(a, b)| a.to_bits() == b.to_bits());
         assert!(same, "{sweep}: {fs:?} against {:?}", stored.final_state);
+        // The work too: the run counts its sections' re-simulation, as the atlas did.
+        assert_eq!(
+            (c["periods_simulated"].as_u64(), c["events"].as_u64()),
+            (Some(stored.periods), Some(stored.events))
+        );
         assert_eq!(c["from"]["sweep"], sweep);
     }
     // The up-sweep branch there is a periodic orbit that orbit --from finds.

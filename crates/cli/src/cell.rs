@@ -5,7 +5,7 @@ use crate::common::{labels_json, setup_from};
 use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
-use solver::{run_cell, CellResult, Mask, Simulator, System};
+use solver::{run_cell_with_sections, CellResult, Mask, Simulator, System};
 use std::fmt::Write as _;
 use store::write_atomically;
 
@@ -30,7 +30,9 @@ pub fn run(a: CellArgs) -> Result<()> {
         Some(o) => o.state.clone(),
         None => sys.model.initial_state(),
     };
-    let cell = run_cell(&sys, &s.accuracy, s.method, &y0);
+    // With the stored run's section cap, whose re-simulation its work counts.
+    let cap = origin.as_ref().filter(|_| a.start.from.is_some()).and_then(|o| o.section_cap).unwrap_or(0);
+    let cell = run_cell_with_sections(&sys, &s.accuracy, s.method, &y0, cap).0;
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
         if periods.saturating_mul(a.trace_samples) > MAX_TRACE_ROWS {

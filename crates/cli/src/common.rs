@@ -96,6 +96,9 @@ pub struct Origin {
     pub state: Vec<f64>,
     /// What was taken, for the output (`{"file", "sweep", "cell": {…}}`).
     pub about: serde_json::Value,
+    /// The section cap of the stored run (its cells' work includes their
+    /// sections), `None` for `--state`.
+    pub section_cap: Option<usize>,
 }
 
 /// Validates the simulation options and where the simulation starts: with
@@ -118,12 +121,12 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
         let x: Vec<f64> = state[..dim / 2].to_vec();
         for (k, stop) in model.stops.iter().enumerate() {
             let g = model.gap(k, &x);
-            if g < -1e-9 {
+            if g < -solver::ADMISSIBLE_PENETRATION {
                 bail!("--state: penetrates stop {} by {}", stop.name, -g);
             }
         }
         let about = serde_json::json!({"state": state});
-        return Ok((s, Some(Origin { cell_start: None, state, about })));
+        return Ok((s, Some(Origin { cell_start: None, state, about, section_cap: None })));
     };
     let at = f.at.as_deref().ok_or_else(|| anyhow!("--from: give the cell with --at NAME=VALUE,NAME=VALUE"))?;
     let loaded = store::read(file)?;
@@ -185,6 +188,7 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
         cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
         state: cell.final_state.clone(),
         about,
+        section_cap: Some(m.section_cap),
     };
     Ok((s, Some(origin)))
 }

@@ -81,6 +81,8 @@ pub enum Unresolved {
         /// The largest Lyapunov exponent per forcing period, `λT`.
         growth: f64,
     },
+    /// No period, and the run that measures the exponent halted (why inside).
+    NoExponent(Box<Unresolved>),
 }
 
 impl Unresolved {
@@ -107,6 +109,9 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "no period within the record; the largest Lyapunov exponent is in the quasi-periodic band (λT = {growth:.3e}) but the period section is not one closed curve"
             ),
+            Unresolved::NoExponent(why) => {
+                write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {why}")
+            }
         }
     }
 }
@@ -183,8 +188,11 @@ pub fn run_cell_with_sections(
     };
     let (class, n, lyapunov, reason) = match steady {
         Steady::Periodic(n) => (Class::Periodic, Some(n), None, None),
-        Steady::NoPeriod(None) => (Class::Chaotic, None, None, None),
-        Steady::NoPeriod(Some((l, points))) => {
+        Steady::Unmeasured => (Class::Chaotic, None, None, None),
+        Steady::Failed(halt) => {
+            (Class::Unresolved, None, None, Some(Unresolved::NoExponent(Box::new(Unresolved::of(halt, acc)))))
+        }
+        Steady::Exponent(l, points) => {
             let (class, reason) = without_period(l * sys.period, || fills_closed_curve(&points));
             (class, None, Some(l), reason)
         }
@@ -209,8 +217,13 @@ enum Steady {
     /// The section repeats with period n.
     Periodic(usize),
     /// No period; the largest Lyapunov exponent (per unit time) and the
-    /// period-section points it visited, when measured.
-    NoPeriod(Option<(f64, Vec<DVector<f64>>)>),
+    /// period-section points it visited.
+    Exponent(f64, Vec<DVector<f64>>),
+    /// No period, and the exponent is not measured (`lyapunov_periods = 0`):
+    /// `C`, as the knob documents.
+    Unmeasured,
+    /// No period, and the run measuring the exponent halted.
+    Failed(Halt),
 }
 
 /// One cell in execution: the main simulator, its recent periods, Newton's
@@ -268,11 +281,11 @@ impl<'s> Executor<'s> {
 
     /// Phase 2: the largest Lyapunov exponent (per unit time) of the motion
     /// from the main simulator's state, on a probe, with the section points it
-    /// visited; `None` when it cannot be measured.
-    fn exponent(&mut self) -> Option<(f64, Vec<DVector<f64>>)> {
+    /// visited; why not when its run halts.
+    fn exponent(&mut self) -> Result<(f64, Vec<DVector<f64>>), Halt> {
         let mut tangent = self.sim.probe();
         let periods = self.acc.lyapunov_periods;
-        self.budget.spend(&mut self.sim, &mut tangent, |t| largest_exponent(t, LYAPUNOV_WARMUP, periods).ok())
+        self.budget.spend(&mut self.sim, &mut tangent, |t| largest_exponent(t, LYAPUNOV_WARMUP, periods))
     }
 
     /// Phases 1 and 2: records until a period is found or the exponent ends
@@ -287,15 +300,19 @@ impl<'s> Executor<'s> {
                 return Ok(Steady::Periodic(n));
             }
             if acc.lyapunov_periods == 0 {
-                return Ok(Steady::NoPeriod(None));
+                return Ok(Steady::Unmeasured);
             }
             let exponent = self.exponent();
             // Growth per forcing period decides: the record ends, or goes on to a new limit.
-            let growth = exponent.as_ref().map(|(l, _)| l * self.sys.period);
+            let growth = exponent.as_ref().ok().map(|(l, _)| l * self.sys.period);
+            let ended = || match exponent {
+                Ok((l, points)) => Steady::Exponent(l, points),
+                Err(halt) => Steady::Failed(halt),
+            };
             limit = if early_look {
                 early_look = false;
                 if growth.is_some_and(|g| g > CHAOTIC_EXPONENT) {
-                    return Ok(Steady::NoPeriod(exponent));
+                    return Ok(ended());
                 }
                 acc.max_periods
             } else if growth.is_some_and(|g| g < -CONTRACTING_EXPONENT) && extensions < acc.extensions {
@@ -303,7 +320,7 @@ impl<'s> Executor<'s> {
                 self.newton.renew();
                 limit + acc.max_periods
             } else {
-                return Ok(Steady::NoPeriod(exponent));
+                return Ok(ended());
             };
         }
     }
@@ -544,8 +561,13 @@ mod tests {
                 let (cell, _) = run_cell_with_sections(&sys, &acc, Method::Exact, &sys.model.initial_state(), 16);
                 assert!(cell.events <= max as usize + 2, "ω {omega}: {} events of {max}", cell.events);
                 if cell.class == Class::Unresolved {
-                    assert_eq!(cell.reason, Some(Unresolved::Budget { max_events: max as usize }));
+                    // The record ran out, or the exponent's run did.
+                    let budget = Unresolved::Budget { max_events: max as usize };
+                    let exponent = Unresolved::NoExponent(Box::new(budget.clone()));
+                    assert!(cell.reason == Some(budget) || cell.reason == Some(exponent), "{:?}", cell.reason);
                 }
+                // Without a period, never chaotic without an exponent.
+                assert!(cell.class != Class::Chaotic || cell.lyapunov.is_some(), "ω {omega}, {max}: {cell:?}");
             }
         }
     }

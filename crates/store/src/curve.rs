@@ -10,6 +10,8 @@
 //! either.
 
 use crate::error::StoreError;
+use crate::layout::attr;
+use crate::layout::curves::*;
 use crate::netcdf;
 use hdf5::types::VarLenUnicode;
 use ndarray::Array1;
@@ -34,8 +36,8 @@ pub struct Curve {
 pub fn write_curves(path: &Path, curves: &[Curve], command: &str, scene: &str) -> Result<(), StoreError> {
     crate::write_atomically(path, |tmp| -> hdf5::Result<()> {
         let f = hdf5::File::create(tmp)?;
-        netcdf::attr_str(&f, "Conventions", "CF-1.8")?;
-        netcdf::attr_str(&f, "scene", scene)?;
+        netcdf::attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
+        netcdf::attr_str(&f, attr::SCENE, scene)?;
         write_all(&f, curves, command)?;
         f.flush()
     })
@@ -60,49 +62,43 @@ pub fn add_curves(path: &Path, curves: &[Curve], command: &str) -> Result<(), St
     })
 }
 
-/// The group of an atlas that holds its curves.
-const GROUP: &str = "curves";
-
 /// Provenance attributes and one group per curve, in `g`.
 fn write_all(g: &hdf5::Group, curves: &[Curve], command: &str) -> hdf5::Result<()> {
     let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
     for (name, value) in [
-        ("software", crate::layout::SOFTWARE),
-        ("content", CONTENT),
-        ("command", command),
-        ("created", created.as_str()),
+        (attr::SOFTWARE, crate::layout::SOFTWARE),
+        (CONTENT_ATTR, CONTENT),
+        (attr::COMMAND, command),
+        (attr::CREATED, created.as_str()),
     ] {
         netcdf::attr_str(g, name, value)?;
     }
-    for (k, curve) in curves.iter().enumerate() {
-        write_one(&g.create_group(&format!("curve_{k}"))?, curve)?;
+    for (k, c) in curves.iter().enumerate() {
+        write_one(&g.create_group(&curve(k))?, c)?;
     }
     Ok(())
 }
 
-/// What the root attribute `content` of a curve file says.
-const CONTENT: &str = "bifurcation curves";
-
 fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
-    netcdf::attr_str(g, "kind", &curve.kind)?;
-    netcdf::attr_str(g, "ended", &curve.ended)?;
-    netcdf::attr_str(g, "free", &curve.free.join(","))?;
-    let point = netcdf::dimension(g, "point", curve.points.len())?;
+    netcdf::attr_str(g, KIND, &curve.kind)?;
+    netcdf::attr_str(g, ENDED, &curve.ended)?;
+    netcdf::attr_str(g, FREE, &curve.free.join(","))?;
+    let point = netcdf::dimension(g, POINT, curve.points.len())?;
     for (k, name) in curve.free.iter().enumerate() {
         let v: Vec<f64> = curve.points.iter().map(|p| if k == 0 { p.0 } else { p.1 }).collect();
         let d = g.new_dataset_builder().with_data(&Array1::from(v)).create(name.as_str())?;
         netcdf::dims(&d, &[&point])?;
         netcdf::describe(&d, &format!("parameter {name} along the {} curve", curve.kind), "1")?;
     }
-    let codim = netcdf::dimension(g, "codim2", curve.codim2.len())?;
+    let codim = netcdf::dimension(g, CODIM2, curve.codim2.len())?;
     for (k, name) in curve.free.iter().enumerate() {
         let v: Vec<f64> = curve.codim2.iter().map(|p| if k == 0 { p.1 } else { p.2 }).collect();
-        let d = g.new_dataset_builder().with_data(&Array1::from(v)).create(format!("codim2_{name}").as_str())?;
+        let d = g.new_dataset_builder().with_data(&Array1::from(v)).create(codim2(name).as_str())?;
         netcdf::dims(&d, &[&codim])?;
         netcdf::describe(&d, &format!("parameter {name} at the codimension-two points"), "1")?;
     }
     let kinds: Vec<VarLenUnicode> = curve.codim2.iter().map(|p| netcdf::text(&p.0)).collect();
-    let d = g.new_dataset_builder().with_data(&Array1::from(kinds)).create("codim2_kind")?;
+    let d = g.new_dataset_builder().with_data(&Array1::from(kinds)).create(CODIM2_KIND)?;
     netcdf::dims(&d, &[&codim])?;
     netcdf::attr_str(&d, "long_name", "kinds of the two bifurcations that meet")
 }
@@ -115,7 +111,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     }
     let f = hdf5::File::open(path).map_err(h)?;
     let content =
-        |g: &hdf5::Group| g.attr("content").and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
+        |g: &hdf5::Group| g.attr(CONTENT_ATTR).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
     let holder: hdf5::Group = if content(&f).ok().as_deref() == Some(CONTENT) {
         (*f).clone()
     } else {
@@ -130,7 +126,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
         }
     };
     let mut out = Vec::new();
-    while let Ok(g) = holder.group(&format!("curve_{}", out.len())) {
+    while let Ok(g) = holder.group(&curve(out.len())) {
         out.push(read_one(&g).map_err(h)?);
     }
     Ok(out)
@@ -138,18 +134,18 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
 
 fn read_one(g: &hdf5::Group) -> hdf5::Result<Curve> {
     let attr = |name: &str| g.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
-    let free: Vec<String> = attr("free")?.split(',').map(str::to_string).collect();
+    let free: Vec<String> = attr(FREE)?.split(',').map(str::to_string).collect();
     let [a, b] = [free.first().cloned().unwrap_or_default(), free.get(1).cloned().unwrap_or_default()];
     let read = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<f64>());
     let (va, vb) = (read(&a)?, read(&b)?);
-    let (ca, cb) = (read(&format!("codim2_{a}"))?, read(&format!("codim2_{b}"))?);
+    let (ca, cb) = (read(&codim2(&a))?, read(&codim2(&b))?);
     let kinds: Vec<String> =
-        g.dataset("codim2_kind")?.read_raw::<VarLenUnicode>()?.iter().map(|k| k.to_string()).collect();
+        g.dataset(CODIM2_KIND)?.read_raw::<VarLenUnicode>()?.iter().map(|k| k.to_string()).collect();
     Ok(Curve {
-        kind: attr("kind")?,
+        kind: attr(KIND)?,
         free: [a, b],
         points: va.into_iter().zip(vb).collect(),
         codim2: kinds.into_iter().zip(ca).zip(cb).map(|((k, x), y)| (k, x, y)).collect(),
-        ended: attr("ended").unwrap_or_default(),
+        ended: attr(ENDED).unwrap_or_default(),
     })
 }

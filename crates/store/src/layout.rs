@@ -180,11 +180,45 @@ pub fn symmetry_of(code: u8) -> Option<solver::Symmetry> {
     }
 }
 
+/// Names of curve files and of an atlas's `curves` group (`crate::curve`).
+pub mod curves {
+    /// The group of an atlas that holds its curves.
+    pub const GROUP: &str = "curves";
+    /// What the attribute `content` of a curve file (or group) says.
+    pub const CONTENT: &str = "bifurcation curves";
+    /// Attribute: what the file or group holds.
+    pub const CONTENT_ATTR: &str = "content";
+    /// Attribute of a curve: its kind (PD, SN, PF, NS, grazing).
+    pub const KIND: &str = "kind";
+    /// Attribute of a curve: why it ends.
+    pub const ENDED: &str = "ended";
+    /// Attribute of a curve: its free parameters, `A,B`.
+    pub const FREE: &str = "free";
+    /// Dimension of a curve's points.
+    pub const POINT: &str = "point";
+    /// Dimension of a curve's codimension-two points.
+    pub const CODIM2: &str = "codim2";
+    /// Dataset of the kinds of the codimension-two points.
+    pub const CODIM2_KIND: &str = "codim2_kind";
+
+    /// Group of the k-th curve.
+    pub fn curve(k: usize) -> String {
+        format!("curve_{k}")
+    }
+
+    /// Dataset of parameter `name` at the codimension-two points.
+    pub fn codim2(name: &str) -> String {
+        format!("codim2_{name}")
+    }
+}
+
 /// Attribute names (root attributes of an atlas, of its axes and of the
 /// attractors group), written and read by `write` and `read`.
 pub mod attr {
     /// `software`.
     pub const SOFTWARE: &str = "software";
+    /// `Conventions` (CF-1.8).
+    pub const CONVENTIONS: &str = "Conventions";
     /// `created`.
     pub const CREATED: &str = "created";
     /// `sweeps`.

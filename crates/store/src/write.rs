@@ -53,7 +53,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
     let (nx, ny, dim) = (p.x.count, p.y.count, m.dim);
     let f = hdf5::File::create(path)?;
     let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
-    attr_str(&f, "Conventions", "CF-1.8")?;
+    attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
     attr_str(&f, "title", &format!("vibroatlas map of the {} scene over ({}, {})", m.scene_name, p.x.name, p.y.name))?;
     attr_str(&f, "source", &format!("vibroatlas {} (git {})", env!("CARGO_PKG_VERSION"), GIT_COMMIT))?;
     let mut history = info.history.clone();
