@@ -10,9 +10,10 @@
 //! followed both ways ([`solver::curve::Tracing`]): along `b` by rows (row
 //! seeds) or by pseudo-arclength (column seeds), to the plane's edges.
 //!
-//! Seeds are visited from the top row down (the clean boundaries of large
-//! clearances first), a row's seeds left to right, then the column seeds
-//! below it. A seed whose cells a curve already found passes between is
+//! Seeds are visited boundaries between large regions first: by the number of
+//! cells of the smaller of their two labels in the map, largest first; among
+//! equals from the top row down, a row's seeds left to right, then the column
+//! seeds below it. A seed whose cells a curve already found passes between is
 //! skipped, and
 //! a curve whose points mostly lie on one found before (same kind) is dropped,
 //! as is a curve of fewer than three points (the fine structure of a map
@@ -58,6 +59,9 @@ struct Seed {
     vertical: bool,
     /// The stored final states of the two cells (starts of the orbit).
     starts: [Vec<f64>; 2],
+    /// Cells of the smaller of the two labels in the seed's map: boundaries
+    /// between large regions come first.
+    weight: usize,
 }
 
 /// Curves found, and the seeds traced.
@@ -73,6 +77,18 @@ pub struct Found {
 fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
     let (x, y) = (&atlas.meta.plane.x, &atlas.meta.plane.y);
     let maps: Vec<_> = sweeps.iter().filter_map(|&s| atlas.map(s)).collect();
+    let counts: Vec<std::collections::HashMap<solver::Label, usize>> = maps
+        .iter()
+        .map(|m| {
+            let mut c = std::collections::HashMap::new();
+            for cell in m.cells.iter().flatten() {
+                if let Some(&l) = cell.labels.first() {
+                    *c.entry(l).or_insert(0) += 1;
+                }
+            }
+            c
+        })
+        .collect();
     let mut out = Vec::new();
     for iy in (0..y.count).rev() {
         for (pairs, vertical) in [
@@ -80,7 +96,7 @@ fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
             ((0..x.count).filter(|_| iy > 0).map(|ix| (iy, ix, iy - 1, ix)).collect(), true),
         ] {
             for (jy, jx, ky, kx) in pairs {
-                for map in &maps {
+                for (map, count) in maps.iter().zip(&counts) {
                     let (i, k) = (jy * x.count + jx, ky * x.count + kx);
                     let periodic = |i: usize| map.cells[i].as_ref().filter(|c| c.class == Class::Periodic);
                     let (Some(c1), Some(c2)) = (periodic(i), periodic(k)) else { continue };
@@ -90,11 +106,14 @@ fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
                     let cells = [[x.value(jx), y.value(jy)], [x.value(kx), y.value(ky)]];
                     let at = [(cells[0][0] + cells[1][0]) / 2.0, (cells[0][1] + cells[1][1]) / 2.0];
                     let starts = [c1.final_state.clone(), c2.final_state.clone()];
-                    out.push(Seed { at, cells, vertical, starts });
+                    let size = |c: &crate::cell::CellData| c.labels.first().map_or(0, |l| count[l]);
+                    out.push(Seed { at, cells, vertical, starts, weight: size(c1).min(size(c2)) });
                 }
             }
         }
     }
+    // Stable: among equal weights, the order above.
+    out.sort_by_key(|s| std::cmp::Reverse(s.weight));
     out
 }
 
@@ -204,13 +223,24 @@ fn crosses(curve: &Curve, seed: &Seed) -> bool {
 }
 
 /// Whether `b` is a curve `a` already holds: the same kind, and more than
-/// half of its points within a tenth of a cell of one of `a`'s.
+/// half of its points within a quarter of a cell of `a`'s polyline (points
+/// followed from another seed fall elsewhere along the same curve).
 fn same(a: &Curve, b: &Curve, cell: [f64; 2]) -> bool {
-    a.kind == b.kind
-        && 2 * b
-            .points
-            .iter()
-            .filter(|p| a.points.iter().any(|q| ((p.a - q.a) / cell[0]).hypot((p.b - q.b) / cell[1]) <= 0.1))
-            .count()
-            > b.points.len()
+    let scaled = |p: &solver::curve::CurvePoint| [p.a / cell[0], p.b / cell[1]];
+    let line: Vec<[f64; 2]> = a.points.iter().map(scaled).collect();
+    let near = |q: [f64; 2]| {
+        let segment = |u: [f64; 2], v: [f64; 2]| {
+            let (dx, dy) = (v[0] - u[0], v[1] - u[1]);
+            let len2 = dx * dx + dy * dy;
+            let t = if len2 > 0.0 { (((q[0] - u[0]) * dx + (q[1] - u[1]) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+            (u[0] + t * dx - q[0]).hypot(u[1] + t * dy - q[1])
+        };
+        let d = match line.len() {
+            0 => f64::INFINITY,
+            1 => segment(line[0], line[0]),
+            _ => line.windows(2).map(|w| segment(w[0], w[1])).fold(f64::INFINITY, f64::min),
+        };
+        d <= 0.25
+    };
+    a.kind == b.kind && 2 * b.points.iter().filter(|p| near(scaled(p))).count() > b.points.len()
 }
