@@ -198,3 +198,67 @@ fn bench_bad_input() {
     // The dry-friction scene has no clearance delta: bench's plane is omega-delta.
     expect_error(&["bench", "--grid", "2", "--scene", "configs/dry-friction.toml"], "--scene");
 }
+
+/// Issue 20: the options of `curve` and `curves` and of bench's replay name
+/// what is wrong (an audit of this round found these accepted or unnamed).
+#[test]
+fn bad_curve_and_replay_options() {
+    let curve = |extra: &[&str]| {
+        let mut args = vec!["curve", "configs/dry-friction.toml", "--kind", "pf", "--steps", "2"];
+        args.extend_from_slice(extra);
+        args.into_iter().map(str::to_string).collect::<Vec<_>>()
+    };
+    let cases: [(&[&str], &str); 8] = [
+        (&["--start", "omega=6.845,fk=0.01", "--free", "omega,omega", "--to", "0.03"], "--free"),
+        (&["--start", "omega=6.845,fk=0.01", "--free", "omega,fk,zeta", "--to", "0.03"], "--free"),
+        (&["--start", "omega=6.845,fk=0.01,zeta=0.5", "--free", "omega,fk", "--to", "0.03"], "--start"),
+        (&["--start", "omega=6.845,fk=-1", "--free", "omega,fk", "--to", "0.03"], "parameters.fk"),
+        (&["--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to=-0.01"], "--to"),
+        (
+            &["--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.03", "--bounds", "omega=7:8"],
+            "--bounds",
+        ),
+        (&["--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.03", "--window", "-0.1"], "--window"),
+        (&["--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.03", "--steps", "-1"], "--steps"),
+    ];
+    for (extra, field) in cases {
+        let args = curve(extra);
+        expect_error(&args.iter().map(String::as_str).collect::<Vec<_>>(), field);
+    }
+    expect_error(
+        &["bench", "--grid", "8", "--repeat", "1", "--threads", "1", "--simulate-sync-ms", "5"],
+        "--simulate-sync-ms",
+    );
+    let d = crate::util::scratch("bad-curves");
+    let (a, c) = (d.join("a.h5"), d.join("c.h5"));
+    crate::util::ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=0.6:1.6:6",
+        "--y",
+        "delta=1.2:2:3",
+        "--quiet",
+        "-o",
+        a.to_str().unwrap(),
+    ]);
+    expect_error(&["curves", a.to_str().unwrap(), "--max", "0", "-o", c.to_str().unwrap()], "--max");
+    expect_error(&["curves", d.to_str().unwrap(), "-o", c.to_str().unwrap()], "not a file");
+    crate::util::ok(&[
+        "curve",
+        "configs/dry-friction.toml",
+        "--kind",
+        "pf",
+        "--start",
+        "omega=6.845,fk=0.01",
+        "--free",
+        "omega,fk",
+        "--to",
+        "0.02",
+        "--steps",
+        "1",
+        "-o",
+        c.to_str().unwrap(),
+    ]);
+    expect_error(&["curves", c.to_str().unwrap(), "-o", d.join("x.h5").to_str().unwrap()], "not an atlas");
+}

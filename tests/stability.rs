@@ -302,23 +302,7 @@ fn arclength_goes_around_the_fold() {
 #[test]
 fn fold_curve_matches_the_closed_form() {
     let start = solver::reference::single_stop_fold_sigma(2.5, 0.8, 1);
-    let j = json_of(&[
-        "curve",
-        "configs/single-stop.toml",
-        "--kind",
-        "sn",
-        "--start",
-        &format!("sigma={start},omega=2.5"),
-        "--free",
-        "sigma,omega",
-        "--to",
-        "2.8",
-        "--steps",
-        "3",
-        "--window",
-        "1",
-        "--json",
-    ]);
+    let j = single_stop_fold(&format!("sigma={start},omega=2.5"), "sigma,omega", "2.8", "3", "1");
     let points = j["points"].as_array().unwrap();
     assert_eq!(points.len(), 4, "{j}");
     for p in points {
@@ -433,23 +417,7 @@ fn neimark_sacker_curve_passes_through_the_located_point() {
 #[test]
 fn fold_curve_is_followed_to_its_meeting_with_a_grazing() {
     let sigma0 = solver::reference::single_stop_fold_sigma(2.1, 0.8, 1);
-    let j = json_of(&[
-        "curve",
-        "configs/single-stop.toml",
-        "--kind",
-        "sn",
-        "--start",
-        &format!("omega=2.1,sigma={sigma0}"),
-        "--free",
-        "omega,sigma",
-        "--to",
-        "-0.2",
-        "--steps",
-        "6",
-        "--window",
-        "0.05",
-        "--json",
-    ]);
+    let j = single_stop_fold(&format!("omega=2.1,sigma={sigma0}"), "omega,sigma", "-0.2", "6", "0.05");
     let points = j["points"].as_array().unwrap();
     for p in points {
         let (omega, sigma) = (p["omega"].as_f64().unwrap(), p["sigma"].as_f64().unwrap());
@@ -474,4 +442,26 @@ fn fold_curve_is_followed_to_its_meeting_with_a_grazing() {
     let omega = codim2[0]["omega"].as_f64().unwrap();
     assert!((omega - lo).abs() < 1e-4, "SN-grazing at ω = {omega}, closed form {lo}");
     assert!(j["ended"].as_str().unwrap().contains("SN-grazing"), "{j}");
+}
+
+/// `curve --json` of the single-stop fold (r = 0.8) from `start` in the plane
+/// of `free`, to `to` in `steps` steps, with a window `window`.
+fn single_stop_fold(start: &str, free: &str, to: &str, steps: &str, window: &str) -> serde_json::Value {
+    let to = format!("--to={to}");
+    json_of(&[
+        "curve",
+        "configs/single-stop.toml",
+        "--kind",
+        "sn",
+        "--start",
+        start,
+        "--free",
+        free,
+        &to,
+        "--steps",
+        steps,
+        "--window",
+        window,
+        "--json",
+    ])
 }

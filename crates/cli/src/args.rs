@@ -50,7 +50,7 @@ pub struct CurvesArgs {
     #[arg(long, value_enum, value_delimiter = ',', default_value = "pd,sn,pf,ns,grazing")]
     pub kinds: Vec<KindArg>,
     /// Most curves found.
-    #[arg(long, default_value_t = 8, value_name = "K")]
+    #[arg(long, default_value_t = 8, value_name = "K", allow_negative_numbers = true)]
     pub max: usize,
     /// The sweep whose label boundaries seed the curves (default: every sweep
     /// of the file, so that both ends of hysteresis zones are seeds).
@@ -89,17 +89,17 @@ pub struct CurveArgs {
     #[arg(long, value_name = "VALUE", allow_negative_numbers = true)]
     pub to: f64,
     /// Steps from the start to --to.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub steps: usize,
     /// Half-width of the search for the bifurcation in A around its prediction.
-    #[arg(long, default_value_t = 0.05, value_name = "W")]
+    #[arg(long, default_value_t = 0.05, value_name = "W", allow_negative_numbers = true)]
     pub window: f64,
     /// Range of A the curve may take, A=LO:HI (default: any); B stays between
     /// its start and --to.
     #[arg(long, value_name = "A=LO:HI")]
     pub bounds: Option<String>,
     /// Period of the orbit in forcing periods (default: the cell's).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub n: Option<usize>,
     /// Print one JSON object.
     #[arg(long)]
@@ -475,7 +475,7 @@ pub struct BenchArgs {
     /// With --simulate-threads: take a journal write (its sync to disk) to
     /// cost this many milliseconds instead of the time measured here (a
     /// cluster's network filesystem, a slow disk).
-    #[arg(long, value_name = "MS")]
+    #[arg(long, value_name = "MS", allow_negative_numbers = true)]
     pub simulate_sync_ms: Option<f64>,
     /// Print one JSON object.
     #[arg(long)]

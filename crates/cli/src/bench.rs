@@ -383,6 +383,14 @@ pub fn run(a: BenchArgs) -> Result<()> {
         Along::X,
     )?;
 
+    if let Some(ms) = a.simulate_sync_ms {
+        if a.simulate_threads.is_none() {
+            bail!("--simulate-sync-ms: only with --simulate-threads (it sets the replay's journal write)");
+        }
+        if !(ms.is_finite() && (0.0..=60_000.0).contains(&ms)) {
+            bail!("--simulate-sync-ms: expected 0 to 60000 milliseconds, got {ms}");
+        }
+    }
     let virtual_threads: Vec<usize> = match &a.simulate_threads {
         Some(text) => text
             .split(',')

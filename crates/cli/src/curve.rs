@@ -15,12 +15,19 @@ pub fn run(a: CurveArgs) -> Result<()> {
     let s = setup(&a.sim)?;
     check_period(a.n)?;
     let kind = solver_kind(a.kind);
-    let (pa, pb) = a.free.split_once(',').ok_or_else(|| anyhow!("--free: expected A,B, got '{}'", a.free))?;
-    let (pa, pb) = (pa.trim().to_string(), pb.trim().to_string());
+    let names: Vec<&str> = a.free.split(',').map(str::trim).collect();
+    let [pa, pb] = names[..] else { bail!("--free: expected A,B (two parameters), got '{}'", a.free) };
+    if pa == pb {
+        bail!("--free: expected two different parameters, got '{}' twice", pa);
+    }
+    let (pa, pb) = (pa.to_string(), pb.to_string());
     for p in [&pa, &pb] {
         s.scene.check_parameter(p, "--free")?;
     }
     let start = a.start.split(',').map(|t| parse_assignment(t, "--start")).collect::<Result<Vec<_>>>()?;
+    if let Some((other, _)) = start.iter().find(|(n, _)| *n != pa && *n != pb) {
+        bail!("--start: gives the free parameters {pa} and {pb} only, got {other} (fix others with --set)");
+    }
     let value = |name: &str| {
         start.iter().find(|(n, _)| n == name).map(|x| x.1).ok_or_else(|| anyhow!("--start: give {name}=VALUE"))
     };
@@ -28,13 +35,22 @@ pub fn run(a: CurveArgs) -> Result<()> {
     if a.steps == 0 || a.steps > 10_000 {
         bail!("--steps: expected 1 to 10000, got {}", a.steps);
     }
-    if !(a.window > 0.0 && a.window.is_finite() && a.to.is_finite()) {
-        bail!("--window, --to: expected finite numbers, the window > 0");
+    if !(a.window > 0.0 && a.window.is_finite()) {
+        bail!("--window: expected a finite number > 0, got {}", a.window);
     }
+    if !a.to.is_finite() {
+        bail!("--to: expected a finite number, got {}", a.to);
+    }
+    // The start and the end in B must make valid scenes (ranges of the parameters).
+    system_with(&s, &[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| anyhow!("--start: {e}"))?;
+    system_with(&s, &[(pa.as_str(), a0), (pb.as_str(), a.to)]).map_err(|e| anyhow!("--to: {e}"))?;
     let a_bounds = match &a.bounds {
         Some(text) => parse_range(text, &pa)?,
         None => [f64::NEG_INFINITY, f64::INFINITY],
     };
+    if a0 < a_bounds[0] || a0 > a_bounds[1] {
+        bail!("--bounds: the start {pa} = {a0} is outside {}:{}", a_bounds[0], a_bounds[1]);
+    }
     let step = (a.to - b0).abs() / a.steps as f64;
     let tracing = Tracing {
         kind,
@@ -141,10 +157,17 @@ pub fn run_curves(a: CurvesArgs) -> Result<()> {
     if a.output.is_none() && !a.into {
         bail!("-o: give the curve file to write, or --into to store the curves in the atlas");
     }
+    if a.max == 0 || a.max > 100_000 {
+        bail!("--max: expected 1 to 100000 curves, got {}", a.max);
+    }
     if let Some(out) = &a.output {
         store::check_output(out, &[&a.file], false)?;
     }
     let loaded = store::read(&a.file)?;
+    // Before the search: an atlas that cannot be rewritten is refused now.
+    if a.into {
+        store::check_writable(&a.file)?;
+    }
     let atlas = &loaded.atlas;
     let m = &atlas.meta;
     let sweeps = match a.sweep {

@@ -14,9 +14,9 @@
 //! cells of the smaller of their two labels in the map, largest first; among
 //! equals from the top row down, a row's seeds left to right, then the column
 //! seeds below it. A seed whose cells a curve already found passes between is
-//! skipped, and
-//! a curve whose points mostly lie on one found before (same kind) is dropped,
-//! as is a curve of fewer than three points (the fine structure of a map
+//! skipped; a curve whose points mostly lie on one found before (same kind) is
+//! dropped, and one found before whose points mostly lie on a new one gives way
+//! to it; a curve of fewer than three points is dropped too (the fine structure of a map
 //! seeds many short ones). Seeds are traced in parallel in fixed batches and
 //! accepted in seed order, so the result is the same on any number of threads.
 
@@ -150,6 +150,8 @@ pub fn find(setup: &CellSetup, atlas: &Atlas, seeding: &Seeding) -> Result<Found
         for curve in traced.into_iter().flatten() {
             let duplicate = found.curves.iter().any(|c| same(c, &curve, [dx, dy]));
             if curve.points.len() >= MIN_POINTS && !duplicate {
+                // A shorter piece of this curve found before gives way to it.
+                found.curves.retain(|c| !same(&curve, c, [dx, dy]));
                 found.curves.push(curve);
                 if found.curves.len() >= seeding.max {
                     return Ok(found);

@@ -19,7 +19,7 @@ pub mod write;
 pub use curve::{add_curves, read_curves, write_curves, Curve};
 pub use error::StoreError;
 pub use journal::{fingerprint, journal_path, Journal, SealedLine, Sealer};
-pub use lock::{check_output, commit, lock_path, write_atomically, OutputLock};
+pub use lock::{check_output, check_writable, commit, lock_path, write_atomically, OutputLock};
 pub use merge::{merge, Merged};
 pub use read::{read, Loaded};
 pub use write::{partial_path, write, RunInfo};

@@ -125,6 +125,17 @@ pub fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), 
     Ok(())
 }
 
+/// Checks, before any work, that the existing file `path` can be rewritten
+/// in place (as `curves --into` does): it opens for writing, and its folder
+/// takes the temporary file that replaces it.
+pub fn check_writable(path: &Path) -> Result<(), StoreError> {
+    let refused = |why: String| StoreError::format(path, why);
+    std::fs::OpenOptions::new().write(true).open(path).map_err(|e| refused(format!("cannot be rewritten ({e})")))?;
+    let probe = crate::partial_path(path);
+    std::fs::File::create(&probe).map_err(|e| refused(format!("its folder takes no new file ({e})")))?;
+    std::fs::remove_file(&probe).map_err(|e| StoreError::io(&probe, e))
+}
+
 /// Moves a complete temporary file over `path` durably: the file's data is
 /// synced before the rename, and the folder after it (a power loss leaves the
 /// old file or the new one, never an empty one). A target that exists and is

@@ -48,9 +48,20 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     if !path.exists() {
         return Err(StoreError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, "no such file")));
     }
+    if !path.is_file() {
+        return Err(fmt("not a file (an atlas is one HDF5 file)".into()));
+    }
     let f = hdf5::File::open(path).map_err(h)?;
     if attr(&f, attr::SOFTWARE).map_err(h)? != SOFTWARE {
         return Err(fmt("not a vibroatlas file".into()));
+    }
+    if f.attr(attr::X).is_err() {
+        let what = if f.attr(curves::CONTENT_ATTR).is_ok() {
+            " (a curve file: render an atlas with --curves FILE)"
+        } else {
+            ""
+        };
+        return Err(fmt(format!("not an atlas{what}")));
     }
     let axis = |name: &str| -> Result<Axis, StoreError> {
         let d = f.dataset(&format!("{AXES}/{name}")).map_err(h)?;

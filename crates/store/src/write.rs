@@ -110,8 +110,12 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
         let component = netcdf::labels(&g, COMPONENT, &components, "state component (position x, velocity v)")?;
         let mut impact_columns = vec!["phase".to_string()];
         impact_columns.extend(components.iter().cloned());
-        let impact_column =
-            netcdf::labels(&g, IMPACT_COLUMN, &impact_columns, "forcing phase, then the state before the impact")?;
+        let impact_column = netcdf::labels(
+            &g,
+            IMPACT_COLUMN,
+            &impact_columns,
+            "time within the forcing period (t mod T, column 'phase'), then the state before the impact",
+        )?;
         netcdf::labels(&g, MASS, &m.masses, "labelled mass")?;
 
         // Label tables: every label of the sweep, any mass, in a fixed order
@@ -236,7 +240,7 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
                 stop,
                 &impact_column,
                 cells.iter().map(|c| c.as_ref().map(|c| c.impact_sections[k].as_slice())),
-                &format!("forcing phase (t mod T) and state just before each impact at {stop}"),
+                &format!("time within the forcing period (t mod T) and state just before each impact at {stop}"),
             )?;
         }
     }
