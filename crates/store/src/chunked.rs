@@ -21,6 +21,11 @@ const LEVEL: u32 = 4;
 /// Largest number of rows (first axis) of one chunk.
 const CHUNK_ROWS: usize = 4096;
 
+/// Largest size of one chunk before compression, bytes: a reader that wants
+/// one cell inflates at most this much, and a large dataset has chunks for
+/// every thread to deflate.
+const CHUNK_BYTES: usize = 1 << 20;
+
 /// Writes chunked datasets, deflating their chunks on `threads` threads.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Deflater {
@@ -29,9 +34,9 @@ pub(crate) struct Deflater {
 }
 
 impl Deflater {
-    /// Creates dataset `name` in `g` holding `data`, chunked by at most
-    /// [`CHUNK_ROWS`] rows of the first axis (whole along the others) and
-    /// deflated.
+    /// Creates dataset `name` in `g` holding `data`, chunked by rows of the
+    /// first axis (whole along the others; at most [`CHUNK_ROWS`] rows and
+    /// [`CHUNK_BYTES`] bytes, at least one row) and deflated.
     pub(crate) fn dataset<T: H5Type + Copy + Send + Sync, D: ndarray::Dimension>(
         &self,
         g: &Group,
@@ -39,7 +44,8 @@ impl Deflater {
         data: &ndarray::Array<T, D>,
     ) -> hdf5::Result<Dataset> {
         let shape = data.shape().to_vec();
-        let rows = shape.first().copied().unwrap_or(1).min(CHUNK_ROWS);
+        let row_bytes = shape[1..].iter().product::<usize>() * std::mem::size_of::<T>();
+        let rows = shape.first().copied().unwrap_or(1).min(CHUNK_ROWS).min((CHUNK_BYTES / row_bytes.max(1)).max(1));
         let chunk: Vec<usize> = shape.iter().enumerate().map(|(i, &n)| if i == 0 { rows } else { n }).collect();
         if data.is_empty() {
             let chunk: Vec<usize> = chunk.iter().map(|&n| n.max(1)).collect();
