@@ -244,21 +244,7 @@ fn bad_curve_and_replay_options() {
     ]);
     expect_error(&["curves", a.to_str().unwrap(), "--max", "0", "-o", c.to_str().unwrap()], "--max");
     expect_error(&["curves", d.to_str().unwrap(), "-o", c.to_str().unwrap()], "not a file");
-    crate::util::ok(&[
-        "curve",
-        "configs/dry-friction.toml",
-        "--kind",
-        "pf",
-        "--start",
-        "omega=6.845,fk=0.01",
-        "--free",
-        "omega,fk",
-        "--to",
-        "0.02",
-        "--steps",
-        "1",
-        "-o",
-        c.to_str().unwrap(),
-    ]);
+    let args = crate::util::pitchfork("0.02", "1", &["-o", c.to_str().unwrap()]);
+    crate::util::ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
     expect_error(&["curves", c.to_str().unwrap(), "-o", d.join("x.h5").to_str().unwrap()], "not an atlas");
 }

@@ -94,17 +94,6 @@ struct Measured {
     secs: f64,
 }
 
-/// The cell set-up of the `standard` setting (for the cost probe).
-fn standard_setup(scene: &Scene) -> Result<grid::CellSetup> {
-    Ok(grid::CellSetup {
-        scene: scene.clone(),
-        base: Vec::new(),
-        accuracy: Accuracy::preset(Preset::Standard),
-        method: Method::Exact,
-        section_cap: 0,
-    })
-}
-
 /// What a run costs outside its workers' cells, measured on one run with a
 /// journal and a file (as `atlas -o` runs): seconds per line to seal it for
 /// the journal, per journal write (one line and its sync), the cost probe and
@@ -147,7 +136,7 @@ fn serial_costs(m: &crate::plan::Executed, out: &std::path::Path, probe: f64, th
     let seal = clock.elapsed().as_secs_f64();
     let clock = std::time::Instant::now();
     for s in &sealed {
-        journal.append_sealed(std::slice::from_ref(s))?;
+        journal.append_sealed([s])?;
     }
     let append = clock.elapsed().as_secs_f64();
     journal.remove()?;
@@ -237,13 +226,15 @@ fn replay(
 
 /// One run of `plane` as `atlas -o` runs it (journal, file with sections)
 /// in a scratch folder, for the replay; the scratch folder is removed.
+/// Also returns each line's estimated cost (the run's own probe, or one run
+/// here when the run did not need it).
 fn measured_run(
     scene: &Scene,
     plane: &Plane,
     sweeps: &[SweepKind],
     threads: usize,
     sync_ms: Option<f64>,
-) -> Result<(crate::plan::Executed, Serial)> {
+) -> Result<(crate::plan::Executed, Serial, Vec<f64>)> {
     let dir = std::env::temp_dir().join(format!("vibroatlas-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
     let out = dir.join("replay.h5");
@@ -267,7 +258,11 @@ fn measured_run(
         serial.append = ms / 1000.0;
     }
     std::fs::remove_dir_all(&dir)?;
-    Ok((m, serial))
+    let estimate = match plan.cost {
+        Some(cost) => cost,
+        None => grid::schedule::probe(plane, &plan.setup, threads)?,
+    };
+    Ok((m, serial, estimate))
 }
 
 fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
@@ -421,8 +416,7 @@ pub fn run(a: BenchArgs) -> Result<()> {
             throughput.push(json!({"sweep": name, "threads": t, "cells": count, "seconds": best, "cells_per_s": rate, "efficiency": efficiency}));
         }
         if let (Some((t, _)), false) = (last, virtual_threads.is_empty()) {
-            let estimate = grid::schedule::probe(&plane, &standard_setup(&scene)?, t)?;
-            let (m, serial) = measured_run(&scene, &plane, &sweeps, t, a.simulate_sync_ms)?;
+            let (m, serial, estimate) = measured_run(&scene, &plane, &sweeps, t, a.simulate_sync_ms)?;
             if !a.json {
                 outln!(
                     "serial     {name:<5} per line: seal {:.2} ms, journal write {:.2} ms; probe {:.2} s; file {:.3} s serial + {:.3} s shared",

@@ -147,12 +147,11 @@ impl Plan {
         let writer = std::thread::spawn(move || -> Result<(Atlas, Option<Journal>)> {
             let mut journal = journal;
             while let Ok(first) = rx.recv() {
-                let batch: Vec<_> = std::iter::once(first).chain(rx.try_iter()).collect();
+                let (lines, sealed): (Vec<Line>, Vec<_>) = std::iter::once(first).chain(rx.try_iter()).unzip();
                 if let Some(j) = journal.as_mut() {
-                    let sealed: Vec<_> = batch.iter().filter_map(|b| b.1.clone()).collect();
-                    j.append_sealed(&sealed)?;
+                    j.append_sealed(sealed.iter().flatten())?;
                 }
-                for (line, _) in batch {
+                for line in lines {
                     atlas.insert(line);
                 }
             }

@@ -172,23 +172,26 @@ fn trace(
     cell: [f64; 2],
     y: &crate::axis::Axis,
 ) -> Option<Curve> {
-    // On the segment between the two cells: half-width half a cell.
-    let locate = |kind: Bifurcation| {
-        let t = tracing(kind, [cell[0] / 2.0, cell[1] / 2.0]);
-        seed.starts.iter().find_map(|start| {
-            let [a, b] = seed.at;
-            let p = if seed.vertical {
-                t.locate_along_b(plane, a, b, Start::State(start))
-            } else {
-                t.locate(plane, a, b, Start::State(start))
-            };
-            p.ok()
-        })
-    };
+    // On the segment between the two cells (half-width half a cell), per kind
+    // the bifurcation from the first stored state that gives one.
+    let t = tracing(*kinds.first()?, [cell[0] / 2.0, cell[1] / 2.0]);
+    let mut found: Vec<Option<solver::curve::CurvePoint>> = vec![None; kinds.len()];
+    for start in &seed.starts {
+        if found.iter().all(Option::is_some) {
+            break;
+        }
+        let located = t.locate_kinds(plane, seed.at, seed.vertical, Start::State(start), kinds);
+        for (slot, p) in found.iter_mut().zip(located) {
+            if slot.is_none() {
+                *slot = p.ok();
+            }
+        }
+    }
     let distance = |p: &solver::curve::CurvePoint| ((p.a - seed.at[0]) / cell[0]).hypot((p.b - seed.at[1]) / cell[1]);
     let (kind, first) = kinds
         .iter()
-        .filter_map(|&k| locate(k).map(|p| (k, p)))
+        .zip(found)
+        .filter_map(|(&k, p)| p.map(|p| (k, p)))
         .min_by(|p, q| distance(&p.1).total_cmp(&distance(&q.1)))?;
     // The curve may move more than a cell from one row to the next.
     let t = tracing(kind, [2.0 * cell[0], cell[1]]);

@@ -170,10 +170,20 @@ impl Tracing {
         self.locate_on(plane, Line { origin: [a, b], direction: [1.0, 0.0] }, start)
     }
 
-    /// Locates the bifurcation nearest `(a, b)` along `b` (a line of constant
-    /// `a`, half-width one unit of `b`).
-    pub fn locate_along_b(&self, plane: &Plane2, a: f64, b: f64, start: Start) -> Result<CurvePoint, Missed> {
-        self.locate_on(plane, Line { origin: [a, b], direction: [0.0, 1.0] }, start)
+    /// Per kind of `kinds`, the bifurcation of that kind nearest `(a, b)`
+    /// along `a` (or along `b`, `along_b`), each as [`Tracing::locate`] finds
+    /// it with that kind, from continuations of the line shared by all the
+    /// kinds (one per end of the line tried, not one per kind).
+    pub fn locate_kinds(
+        &self,
+        plane: &Plane2,
+        [a, b]: [f64; 2],
+        along_b: bool,
+        start: Start,
+        kinds: &[Bifurcation],
+    ) -> Vec<Result<CurvePoint, Missed>> {
+        let direction = if along_b { [0.0, 1.0] } else { [1.0, 0.0] };
+        self.locate_each(plane, Line { origin: [a, b], direction }, start, kinds)
     }
 
     /// The labels on either side of `p`, along `a`.
@@ -190,48 +200,70 @@ impl Tracing {
     /// (half-width one scaled unit): the orbit found at one end, continued
     /// across; failing that, from the other end.
     fn locate_on(&self, plane: &Plane2, line: Line, start: Start) -> Result<CurvePoint, Missed> {
+        self.locate_each(plane, line, start, &[self.kind]).pop().expect("one kind asked, one answer")
+    }
+
+    /// [`Tracing::locate_on`] for each of `kinds`: the continuation from an
+    /// end of the line is run once, when a kind first needs it, and serves
+    /// every kind.
+    fn locate_each(
+        &self,
+        plane: &Plane2,
+        line: Line,
+        start: Start,
+        kinds: &[Bifurcation],
+    ) -> Vec<Result<CurvePoint, Missed>> {
         let family = |s: f64| {
             let [a, b] = line.at(s, self.scale);
             plane(a, b)
         };
-        let mut seen = Vec::new();
-        for (from, to) in [(1.0, -1.0), (-1.0, 1.0)] {
-            let Some(sys) = family(from) else { continue };
-            let Some(orbit) = self.orbit_at(&sys, start) else { continue };
+        let at = |o: &Located| {
+            let [oa, ob] = line.at(o.value, self.scale);
+            (o.kind, oa, ob)
+        };
+        let run = |(from, to): (f64, f64)| -> Option<Branch> {
+            let sys = family(from)?;
+            let orbit = self.orbit_at(&sys, start)?;
             let values: Vec<f64> =
                 (0..LINE_POINTS).map(|i| from + (to - from) * i as f64 / (LINE_POINTS - 1) as f64).collect();
-            let branch: Branch = follow(&family, &self.acc, &values, orbit);
-            let Some(best) = branch
-                .bifurcations
-                .iter()
-                .filter(|b| b.kind == self.kind)
-                .min_by(|x, y| x.value.abs().total_cmp(&y.value.abs()))
-            else {
-                seen.extend(branch.bifurcations.iter().map(|o| {
-                    let [oa, ob] = line.at(o.value, self.scale);
-                    (o.kind, oa, ob)
-                }));
-                continue;
-            };
-            let [a, b] = line.at(best.value, self.scale);
-            let nearest = branch
-                .points
-                .iter()
-                .min_by(|p, q| (p.value - best.value).abs().total_cmp(&(q.value - best.value).abs()))
-                .expect("a branch has its start");
-            let others = branch
-                .bifurcations
-                .iter()
-                .filter(|o| o.kind != self.kind)
-                .map(|o| {
-                    let [oa, ob] = line.at(o.value, self.scale);
-                    (o.kind, oa, ob)
-                })
-                .collect();
-            return Ok(CurvePoint { a, b, located: best.clone(), orbit: nearest.orbit.clone(), others });
-        }
-        let [a, b] = line.origin;
-        Err(Missed { why: format!("no {} within one window of ({a}, {b})", self.kind.name()), others: seen })
+            Some(follow(&family, &self.acc, &values, orbit))
+        };
+        // From the upper end; from the lower one only for kinds it lacks.
+        let first = run((1.0, -1.0));
+        let holds = |k: Bifurcation| first.as_ref().is_some_and(|b| b.bifurcations.iter().any(|x| x.kind == k));
+        let second = if kinds.iter().all(|&k| holds(k)) { None } else { run((-1.0, 1.0)) };
+        let branches = [first, second];
+        kinds
+            .iter()
+            .map(|&kind| {
+                let mut seen = Vec::new();
+                for branch in branches.iter().flatten() {
+                    let nearest = |k: Bifurcation| {
+                        branch
+                            .bifurcations
+                            .iter()
+                            .filter(|b| b.kind == k)
+                            .min_by(|x, y| x.value.abs().total_cmp(&y.value.abs()))
+                    };
+                    let Some(best) = nearest(kind) else {
+                        seen.extend(branch.bifurcations.iter().map(at));
+                        continue;
+                    };
+                    let [a, b] = line.at(best.value, self.scale);
+                    let orbit = branch
+                        .points
+                        .iter()
+                        .min_by(|p, q| (p.value - best.value).abs().total_cmp(&(q.value - best.value).abs()))
+                        .expect("a branch has its start")
+                        .orbit
+                        .clone();
+                    let others = branch.bifurcations.iter().filter(|o| o.kind != kind).map(at).collect();
+                    return Ok(CurvePoint { a, b, located: best.clone(), orbit, others });
+                }
+                let [a, b] = line.origin;
+                Err(Missed { why: format!("no {} within one window of ({a}, {b})", kind.name()), others: seen })
+            })
+            .collect()
     }
 
     /// The periodic orbit of `sys` reached from `start` (see [`Start`]).
@@ -295,12 +327,12 @@ impl Tracing {
                 1 => curve.points[0].a,
                 _ => 2.0 * curve.points[n - 1].a - curve.points[n - 2].a,
             };
-            let last = curve.points[n - 1].clone();
+            let last = &curve.points[n - 1];
             // A point far from a secant prediction, or of another orbit, is on
             // another curve: left to arclength.
             let near = |p: &CurvePoint| n == 1 || (p.a - guess).abs() <= 0.5 * self.scale[0];
             match self.locate(plane, guess, b, Start::Orbit(&last.orbit)) {
-                Ok(p) if !near(&p) || !self.continues(&last, &p) => return Err(()),
+                Ok(p) if !near(&p) || !self.continues(last, &p) => return Err(()),
                 Ok(p) if self.inside(&p) => {
                     curve.points.push(p);
                     self.after_step(curve);

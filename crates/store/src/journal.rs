@@ -259,7 +259,7 @@ impl Journal {
     /// Appends lines sealed by [`Journal::sealer`] (in any thread), all of
     /// them durably with one sync: a writer that falls behind its workers
     /// syncs once per batch instead of once per line.
-    pub fn append_sealed(&mut self, lines: &[SealedLine]) -> Result<(), StoreError> {
+    pub fn append_sealed<'a>(&mut self, lines: impl IntoIterator<Item = &'a SealedLine>) -> Result<(), StoreError> {
         let io = |e| StoreError::io(&self.path, e);
         for l in lines {
             self.file.write_all(&l.0).map_err(io)?;
