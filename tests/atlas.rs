@@ -61,6 +61,21 @@ fn shards_merge_into_the_single_run() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(load(&d.join("merged.h5")), load(&d.join("all.h5")));
+    // Along y (chunks of whole columns, written as the run goes) as well: the
+    // merge writes every chunk at the end.
+    atlas(&d.join("all-y.h5"), &["--along", "y"]);
+    atlas(&d.join("p1-y.h5"), &["--along", "y", "--shard", "1/2"]);
+    atlas(&d.join("p2-y.h5"), &["--along", "y", "--shard", "2/2"]);
+    let parts = [d.join("p1-y.h5"), d.join("p2-y.h5")];
+    let o = run(&[
+        "merge",
+        parts[0].to_str().unwrap(),
+        parts[1].to_str().unwrap(),
+        "-o",
+        d.join("merged-y.h5").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(load(&d.join("merged-y.h5")), load(&d.join("all-y.h5")));
     std::fs::remove_dir_all(&d).unwrap();
 }
 
@@ -116,6 +131,8 @@ fn killed_run_resumes_to_the_same_file() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!journal.exists(), "journal left behind");
+    // The file the killed run had begun (beside the final name) was replaced.
+    assert!(!store::partial_path(&out).exists(), "temporary file left behind");
     let full = d.join("full.h5");
     let o = Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
         .args(args(&full))

@@ -96,16 +96,21 @@ struct Measured {
 
 /// What a run costs outside its workers' cells, measured on one run with a
 /// journal and a file (as `atlas -o` runs): seconds per line to seal it for
-/// the journal, per journal write (one line and its sync), the cost probe and
-/// the file written after the last line.
+/// the journal, per journal write (one line and its sync), the cost probe,
+/// the file's creation by the writer thread while the workers compute, and
+/// its completion after the last line.
 #[derive(Debug, Clone, Copy)]
 struct Serial {
     seal: f64,
     append: f64,
     probe: f64,
-    /// Writing the file: the part that stays serial and the part its
-    /// threads share (chunk compression), from writes on one and on all threads.
-    write: (f64, f64),
+    /// Creating the file with what does not depend on the results.
+    create: f64,
+    /// Per line: writing the chunks it completes (by the writer thread).
+    stream: f64,
+    /// Finishing the file: the part that stays serial and the part its
+    /// threads share (chunk compression), from finishes on one and on all threads.
+    finish: (f64, f64),
 }
 
 /// Measures [`Serial`] on `m` (a run with an output file), re-sealing and
@@ -141,26 +146,34 @@ fn serial_costs(m: &crate::plan::Executed, out: &std::path::Path, probe: f64, th
     let append = clock.elapsed().as_secs_f64();
     journal.remove()?;
     let n = lines.len().max(1) as f64;
-    // The file again on one thread: with the run's, the shared part of writing.
+    // The file finished again on one thread, every line kept as in the run:
+    // with the run's finish, the shared part.
     let info = store::RunInfo { command: "bench".into(), run_time_s: m.secs, shard: None, history: Vec::new() };
+    let mut draft = store::Draft::create(&out.with_extension("one.h5"), &m.atlas.meta, 1)?;
+    for l in &lines {
+        draft.keep(&m.atlas, l.sweep, l.index)?;
+    }
     let clock = std::time::Instant::now();
-    store::write(&out.with_extension("one.h5"), &m.atlas, &info, 1)?;
+    draft.finish(&m.atlas, &info)?;
     let one = clock.elapsed().as_secs_f64();
     let shared =
         if threads > 1 { ((one - m.write_s) * threads as f64 / (threads - 1) as f64).clamp(0.0, one) } else { 0.0 };
-    Ok(Serial { seal: seal / n, append: append / n, probe, write: (one - shared, shared) })
+    let (create, stream, finish) = (m.prelude_s, m.stream_s / n, (one - shared, shared));
+    Ok(Serial { seal: seal / n, append: append / n, probe, create, stream, finish })
 }
 
 /// Replays the run `m` on `virtual_threads` workers: each cell's time is the
 /// workers' thread time shared in proportion to the forcing periods it
 /// simulated, the lines are kept by one writer thread, the cost probe comes
-/// before (its thread time shared by the workers) and the file after (its
-/// compression shared by the workers, the rest serial). The previous policy
-/// takes lines in order, both directions of a line together, and its writer
-/// seals and syncs every line; the current one takes chains longest first by
-/// the probed `estimate` (fresh lines in order), seals in the workers and
-/// syncs once per batch. Efficiency is the replayed one-worker time over `P`
-/// times the replayed time on `P`.
+/// before (its thread time shared by the workers) and the file's completion
+/// after (its compression shared by the workers, the rest serial). The
+/// previous policy takes lines in order, both directions of a line together,
+/// its writer seals and syncs every line, and the whole file is written after
+/// the last line; the current one takes chains longest first by the probed
+/// `estimate` (fresh lines in order), seals in the workers, syncs once per
+/// batch, and its writer creates the file before it keeps the first line.
+/// Efficiency is the replayed one-worker time over `P` times the replayed
+/// time on `P`.
 fn replay(
     sweep: &str,
     m: &crate::plan::Executed,
@@ -206,16 +219,20 @@ fn replay(
     };
     // The probe runs its lines in parallel: its thread time, shared.
     let probe = if sweep == "fresh" { 0.0 } else { c.probe * threads as f64 };
+    let (finish, shared) = c.finish;
+    let current_writer = Writer { start: c.create, per_write: c.append, per_line: c.stream, batched: true };
+    let previous_writer = Writer { start: 0.0, per_write: c.append, per_line: c.seal, batched: false };
+    let whole_file = c.create + c.stream * lines as f64 + finish;
     let policies = [
-        ("current", jobs(&current, c.seal), Writer { per_write: c.append, per_line: 0.0, batched: true }, probe),
-        ("previous", jobs(&previous, 0.0), Writer { per_write: c.append, per_line: c.seal, batched: false }, 0.0),
+        ("current", jobs(&current, c.seal), current_writer, probe, finish),
+        ("previous", jobs(&previous, 0.0), previous_writer, 0.0, whole_file),
     ];
     let mut rows = Vec::new();
     for &t in virtual_threads {
-        for (policy, order, writer, before) in &policies {
+        for (policy, order, writer, before, after) in &policies {
             let time = |workers: usize| {
                 let w = workers as f64;
-                before / w + pipeline(order, workers, writer) + c.write.0 + c.write.1 / w
+                before / w + pipeline(order, workers, writer) + after + shared / w
             };
             let span = time(t);
             rows.push(json!({"sweep": sweep, "threads": t, "policy": policy, "makespan_s": span, "efficiency": time(1) / (t as f64 * span)}));
@@ -419,12 +436,14 @@ pub fn run(a: BenchArgs) -> Result<()> {
             let (m, serial, estimate) = measured_run(&scene, &plane, &sweeps, t, a.simulate_sync_ms)?;
             if !a.json {
                 outln!(
-                    "serial     {name:<5} per line: seal {:.2} ms, journal write {:.2} ms; probe {:.2} s; file {:.3} s serial + {:.3} s shared",
+                    "serial     {name:<5} per line: seal {:.2} ms, journal write {:.2} ms, file chunks {:.2} ms; probe {:.2} s; file created {:.3} s (while computing), finished {:.3} s serial + {:.3} s shared",
                     1e3 * serial.seal,
                     1e3 * serial.append,
+                    1e3 * serial.stream,
                     serial.probe,
-                    serial.write.0,
-                    serial.write.1
+                    serial.create,
+                    serial.finish.0,
+                    serial.finish.1
                 );
             }
             for row in replay(name, &m, t, &estimate, serial, &virtual_threads) {

@@ -142,20 +142,48 @@ impl Plan {
 
         // Workers seal their own lines for the journal; one writer appends
         // whatever has arrived, with one sync per batch, and keeps the lines.
+        // It first creates the output file with all that does not depend on
+        // the results, then writes each chunk of the per-cell datasets once
+        // its lines are kept. A failure of the file is kept for the end: it
+        // must not stop the journal, which keeps the lines for --resume.
         let sealer = journal.as_ref().map(Journal::sealer);
         let (tx, rx) = std::sync::mpsc::channel::<(Line, Option<store::SealedLine>)>();
-        let writer = std::thread::spawn(move || -> Result<(Atlas, Option<Journal>)> {
+        let draft_of = self.output.clone().map(|out| (out, self.meta.clone(), self.threads));
+        let resumed: Vec<(SweepKind, usize)> = self
+            .meta
+            .sweeps
+            .iter()
+            .zip(&done)
+            .flat_map(|(&s, d)| d.iter().enumerate().filter(|(_, &l)| l).map(move |(l, _)| (s, l)))
+            .collect();
+        let writer = std::thread::spawn(move || -> Result<Kept> {
+            let clock = Instant::now();
+            let mut draft = draft_of.map(|(out, meta, threads)| store::Draft::create(&out, &meta, threads));
+            let prelude_s = clock.elapsed().as_secs_f64();
+            let mut stream_s = 0.0;
+            let mut keep = |atlas: &Atlas, kept: &[(SweepKind, usize)]| {
+                let clock = Instant::now();
+                if let Some(Ok(d)) = draft.as_mut() {
+                    if let Err(e) = kept.iter().try_for_each(|&(s, l)| d.keep(atlas, s, l)) {
+                        draft = Some(Err(e));
+                    }
+                }
+                stream_s += clock.elapsed().as_secs_f64();
+            };
+            keep(&atlas, &resumed);
             let mut journal = journal;
             while let Ok(first) = rx.recv() {
                 let (lines, sealed): (Vec<Line>, Vec<_>) = std::iter::once(first).chain(rx.try_iter()).unzip();
                 if let Some(j) = journal.as_mut() {
                     j.append_sealed(sealed.iter().flatten())?;
                 }
+                let kept: Vec<(SweepKind, usize)> = lines.iter().map(|l| (l.sweep, l.index)).collect();
                 for line in lines {
                     atlas.insert(line);
                 }
+                keep(&atlas, &kept);
             }
-            Ok((atlas, journal))
+            Ok(Kept { atlas, journal, draft, prelude_s, stream_s })
         });
         let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
         let sink = |line: Line| {
@@ -172,7 +200,8 @@ impl Plan {
         let ran = plane.run(&self.setup, &jobs, self.threads, &bar, &sink);
         drop(tx);
         bar.finish();
-        let (mut atlas, journal) = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
+        let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
+            writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
         ran?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             return Err(e);
@@ -182,16 +211,26 @@ impl Plan {
         }
         let elapsed = start.elapsed().as_secs_f64();
         let mut write_s = 0.0;
-        if let (Some(out), Some(j)) = (&self.output, journal) {
+        if let (Some(draft), Some(j)) = (draft, journal) {
             let clock = Instant::now();
             let info =
                 RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
-            store::write(out, &atlas, &info, self.threads)?;
+            draft?.finish(&atlas, &info)?;
             j.remove()?;
             write_s = clock.elapsed().as_secs_f64();
         }
-        Ok(Executed { atlas, secs: elapsed, write_s })
+        Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s })
     }
+}
+
+/// What the writer thread hands back: the lines kept, the journal, and the
+/// output file created while the cells computed (with the seconds that took).
+struct Kept {
+    atlas: Atlas,
+    journal: Option<Journal>,
+    draft: Option<Result<store::Draft, store::StoreError>>,
+    prelude_s: f64,
+    stream_s: f64,
 }
 
 /// A run's atlas and where its time went.
@@ -203,6 +242,12 @@ pub struct Executed {
     pub secs: f64,
     /// Seconds writing the file after the last line.
     pub write_s: f64,
+    /// Seconds the writer thread took, at the start, to create the file with
+    /// what does not depend on the results (while the workers computed).
+    pub prelude_s: f64,
+    /// Seconds the writer thread spent writing chunks of lines as they were
+    /// kept (while the workers computed).
+    pub stream_s: f64,
 }
 
 impl Plan {

@@ -93,11 +93,14 @@ pub fn makespan(jobs: &[f64], p: usize) -> f64 {
 }
 
 /// The thread that keeps finished lines (appends them to the resume journal),
-/// serial, first come first served: a write costs `per_write` (the sync) plus
-/// `per_line` for each line in it; `batched` writes take every line finished
-/// while the previous write ran, else one line each.
+/// serial, first come first served, once it has done `start` seconds of its
+/// own work (creating the output file): a write costs `per_write` (the sync)
+/// plus `per_line` for each line in it; `batched` writes take every line
+/// finished while the previous write ran, else one line each.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Writer {
+    /// Seconds of work before the first line (from the workers' start).
+    pub start: f64,
     /// Seconds per write (the sync to disk).
     pub per_write: f64,
     /// Seconds per line written (encoding, when the writer does it).
@@ -121,7 +124,7 @@ pub fn pipeline(jobs: &[(f64, usize)], p: usize, writer: &Writer) -> f64 {
     }
     let span = free.into_iter().fold(0.0, f64::max);
     done.sort_by(f64::total_cmp);
-    let (mut t, mut i) = (0.0f64, 0);
+    let (mut t, mut i) = (writer.start, 0);
     while i < done.len() {
         t = t.max(done[i]);
         // The lines finished by the time this write starts.
@@ -173,19 +176,23 @@ mod tests {
     fn a_slow_writer_bounds_the_pipeline_and_batching_relieves_it() {
         // 8 lines of 1 s on 8 workers: all done at 1 s.
         let jobs: Vec<(f64, usize)> = (0..8).map(|l| (1.0, l)).collect();
-        let free = Writer { per_write: 0.0, per_line: 0.0, batched: false };
+        let free = Writer { start: 0.0, per_write: 0.0, per_line: 0.0, batched: false };
         assert!((pipeline(&jobs, 8, &free) - 1.0).abs() < 1e-12);
         // A 0.5 s sync per line, one line per write: 1 + 8 × 0.5.
-        let slow = Writer { per_write: 0.5, per_line: 0.0, batched: false };
+        let slow = Writer { start: 0.0, per_write: 0.5, per_line: 0.0, batched: false };
         assert!((pipeline(&jobs, 8, &slow) - 5.0).abs() < 1e-12);
         // Batched: every line waiting goes in one write: 1 + 0.5.
         let batched = Writer { batched: true, ..slow };
         assert!((pipeline(&jobs, 8, &batched) - 1.5).abs() < 1e-12);
+        // A writer busy for 1.2 s at the start delays only the lines before.
+        let late = Writer { start: 1.2, ..batched };
+        assert!((pipeline(&jobs, 8, &late) - 1.7).abs() < 1e-12);
+        assert!((pipeline(&jobs, 1, &late) - 8.5).abs() < 1e-12);
         // On one worker the lines come 1 s apart and the writer keeps up.
         assert!((pipeline(&jobs, 1, &slow) - 8.5).abs() < 1e-12);
         // A line of several jobs is finished by its last one.
         let split = [(1.0, 0), (3.0, 0), (1.0, 1)];
-        let per_line = Writer { per_write: 0.0, per_line: 0.25, batched: false };
+        let per_line = Writer { start: 0.0, per_write: 0.0, per_line: 0.25, batched: false };
         assert!((pipeline(&split, 2, &per_line) - 3.25).abs() < 1e-12);
         assert!((makespan(&split.map(|j| j.0), 2) - 3.0).abs() < 1e-12);
     }

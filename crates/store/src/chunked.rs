@@ -34,25 +34,57 @@ pub(crate) struct Deflater {
 }
 
 impl Deflater {
-    /// Creates dataset `name` in `g` holding `data`, chunked by rows of the
-    /// first axis (whole along the others; at most [`CHUNK_ROWS`] rows and
-    /// [`CHUNK_BYTES`] bytes, at least one row) and deflated.
+    /// Creates dataset `name` in `g` holding `data`, chunked and deflated
+    /// ([`Deflater::empty`], then [`Deflater::fill`]).
     pub(crate) fn dataset<T: H5Type + Copy + Send + Sync, D: ndarray::Dimension>(
         &self,
         g: &Group,
         name: &str,
         data: &ndarray::Array<T, D>,
     ) -> hdf5::Result<Dataset> {
-        let shape = data.shape().to_vec();
+        let ds = self.empty::<T>(g, name, data.shape())?;
+        self.fill(&ds, data)?;
+        Ok(ds)
+    }
+
+    /// Creates dataset `name` of `shape` in `g`, with no data yet: chunked by
+    /// rows of the first axis (whole along the others; at most [`CHUNK_ROWS`]
+    /// rows and [`CHUNK_BYTES`] bytes, at least one row) and deflated.
+    pub(crate) fn empty<T: H5Type>(&self, g: &Group, name: &str, shape: &[usize]) -> hdf5::Result<Dataset> {
         let row_bytes = shape[1..].iter().product::<usize>() * std::mem::size_of::<T>();
         let rows = shape.first().copied().unwrap_or(1).min(CHUNK_ROWS).min((CHUNK_BYTES / row_bytes.max(1)).max(1));
         let chunk: Vec<usize> = shape.iter().enumerate().map(|(i, &n)| if i == 0 { rows } else { n }).collect();
-        if data.is_empty() {
-            let chunk: Vec<usize> = chunk.iter().map(|&n| n.max(1)).collect();
-            return g.new_dataset_builder().chunk(chunk).deflate(LEVEL as u8).with_data(data).create(name);
+        Deflater::chunked_empty::<T>(g, name, shape, &chunk)
+    }
+
+    /// Creates dataset `name` of `shape` in `g`, with no data yet, in chunks
+    /// of `chunk` (each axis at least 1), deflated.
+    pub(crate) fn chunked_empty<T: H5Type>(
+        g: &Group,
+        name: &str,
+        shape: &[usize],
+        chunk: &[usize],
+    ) -> hdf5::Result<Dataset> {
+        // A dataset of no elements still needs a chunk of at least one.
+        let chunk: Vec<usize> = chunk.iter().map(|&n| n.max(1)).collect();
+        g.new_dataset_builder().chunk(chunk).deflate(LEVEL as u8).empty::<T>().shape(shape.to_vec()).create(name)
+    }
+
+    /// Writes `data` into `ds`, a dataset made by [`Deflater::empty`] of the
+    /// same shape: its chunks deflated on the threads, written in order.
+    pub(crate) fn fill<T: H5Type + Copy + Send + Sync, D: ndarray::Dimension>(
+        &self,
+        ds: &Dataset,
+        data: &ndarray::Array<T, D>,
+    ) -> hdf5::Result<()> {
+        let shape = data.shape();
+        if ds.shape() != shape {
+            return Err(hdf5::Error::from(format!("{}: shape {:?}, data {shape:?}", ds.name(), ds.shape()).as_str()));
         }
-        let ds =
-            g.new_dataset_builder().chunk(chunk).deflate(LEVEL as u8).empty::<T>().shape(shape.clone()).create(name)?;
+        if data.is_empty() {
+            return Ok(());
+        }
+        let rows = ds.chunk().and_then(|c| c.first().copied()).unwrap_or(1);
         let flat = data.as_standard_layout();
         let flat = flat.as_slice().expect("a standard layout is contiguous");
         let per_chunk = rows * shape[1..].iter().product::<usize>();
@@ -61,41 +93,54 @@ impl Deflater {
         for (c, bytes) in compressed.into_iter().enumerate() {
             let mut offset = vec![0u64; shape.len()];
             offset[0] = (c * rows) as u64;
-            write_chunk(&ds, &offset, &bytes)?;
+            write_chunk(ds, &offset, &bytes)?;
         }
-        Ok(ds)
+        Ok(())
     }
 
     /// The zlib streams of `pieces`, each padded with zeros to `len` values
     /// (an edge chunk is stored whole), in order.
     fn deflate_all<T: Copy + Send + Sync>(&self, pieces: &[&[T]], len: usize) -> Vec<Vec<u8>> {
+        self.map(pieces.len(), |c| deflate_padded(pieces[c], len))
+    }
+
+    /// `f(0), …, f(n - 1)` computed on the threads (each takes the next index
+    /// as it frees), in order.
+    pub(crate) fn map<R: Send + Default>(&self, n: usize, f: impl Fn(usize) -> R + Sync) -> Vec<R> {
         let next = AtomicUsize::new(0);
-        let mut out: Vec<Vec<u8>> = vec![Vec::new(); pieces.len()];
-        let workers = self.threads.clamp(1, pieces.len().max(1));
-        let done: Vec<Vec<(usize, Vec<u8>)>> = std::thread::scope(|scope| {
+        let workers = self.threads.clamp(1, n.max(1));
+        let done: Vec<Vec<(usize, R)>> = std::thread::scope(|scope| {
             let handles: Vec<_> = (0..workers)
                 .map(|_| {
                     scope.spawn(|| {
                         let mut mine = Vec::new();
                         loop {
-                            let c = next.fetch_add(1, Ordering::Relaxed);
-                            let Some(piece) = pieces.get(c) else { break mine };
-                            mine.push((c, deflate(piece, len)));
+                            let i = next.fetch_add(1, Ordering::Relaxed);
+                            if i >= n {
+                                break mine;
+                            }
+                            mine.push((i, f(i)));
                         }
                     })
                 })
                 .collect();
             handles.into_iter().map(|h| h.join().expect("a compressing thread panicked")).collect()
         });
-        for (c, bytes) in done.into_iter().flatten() {
-            out[c] = bytes;
+        let mut out: Vec<R> = (0..n).map(|_| R::default()).collect();
+        for (i, r) in done.into_iter().flatten() {
+            out[i] = r;
         }
         out
     }
 }
 
+/// The zlib stream of `values` as bytes.
+pub(crate) fn deflate<T: Copy>(values: &[T]) -> Vec<u8> {
+    deflate_padded(values, values.len())
+}
+
 /// The zlib stream of `values` as bytes, padded with zeros to `len` values.
-fn deflate<T: Copy>(values: &[T], len: usize) -> Vec<u8> {
+fn deflate_padded<T: Copy>(values: &[T], len: usize) -> Vec<u8> {
     let size = std::mem::size_of::<T>();
     // SAFETY: `T` is one of the plain numeric types HDF5 stores (integers and
     // floats without padding); their in-memory bytes are the file's (native)
@@ -109,7 +154,7 @@ fn deflate<T: Copy>(values: &[T], len: usize) -> Vec<u8> {
 
 /// Writes one deflated chunk at `offset` (its first element), bypassing the
 /// library's filters.
-fn write_chunk(ds: &Dataset, offset: &[u64], bytes: &[u8]) -> hdf5::Result<()> {
+pub(crate) fn write_chunk(ds: &Dataset, offset: &[u64], bytes: &[u8]) -> hdf5::Result<()> {
     // SAFETY: the dataset is open and chunked, `offset` has its rank, and
     // `bytes` holds one whole chunk after the dataset's filter (deflate).
     let status = unsafe {

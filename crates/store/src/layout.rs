@@ -18,6 +18,7 @@
 //!     sections/period/values   f64 [N, dim]      states at t = kT
 //!     sections/<stop>/values   f64 [N, 1 + dim]  (phase t mod T, state just before impact)
 //!     sections/<name>/offsets  u64 [ny*nx + 1]   CSR: cell i = iy*nx + ix owns rows offsets[i]..offsets[i+1]
+//!     (per-cell datasets: chunks of whole lines, deflated; section values: uncompressed)
 //! /hysteresis             u8  [ny, nx]     1 where up and down are periodic with different labels
 //! /legend/<sweep>/<mass>/label   strings, most frequent first
 //! /legend/<sweep>/<mass>/count   u64

@@ -8,6 +8,7 @@
 mod chunked;
 pub mod curve;
 pub mod error;
+mod fields;
 pub mod journal;
 pub mod layout;
 pub mod lock;
@@ -22,4 +23,4 @@ pub use journal::{fingerprint, journal_path, Journal, SealedLine, Sealer};
 pub use lock::{check_output, check_writable, commit, lock_path, write_atomically, OutputLock};
 pub use merge::{merge, Merged};
 pub use read::{read, Loaded};
-pub use write::{partial_path, write, RunInfo};
+pub use write::{partial_path, write, Draft, RunInfo};

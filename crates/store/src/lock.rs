@@ -163,6 +163,15 @@ pub fn commit(tmp: &Path, path: &Path) -> Result<(), StoreError> {
     Ok(())
 }
 
+/// Refuses an output `path` whose folder does not exist.
+pub(crate) fn check_folder(path: &Path) -> Result<(), StoreError> {
+    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        return Err(StoreError::format(path, "its folder does not exist"));
+    }
+    Ok(())
+}
+
 /// Writes `path` through `write`, which fills a temporary file beside it (see
 /// [`crate::partial_path`]); the temporary replaces `path` only once complete
 /// ([`commit`]), so a failure never leaves a half-written file under its name.
@@ -170,10 +179,7 @@ pub fn write_atomically<E: std::fmt::Display>(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), StoreError> {
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    if !parent.is_dir() {
-        return Err(StoreError::format(path, "its folder does not exist"));
-    }
+    check_folder(path)?;
     let tmp = crate::partial_path(path);
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);

@@ -4,9 +4,10 @@
 
 use crate::chunked::Deflater;
 use crate::error::StoreError;
+use crate::fields::{self, Chunks, Field};
 use crate::layout::*;
 use crate::netcdf::{self, attr_array, attr_num, attr_str};
-use grid::{Atlas, CellData};
+use grid::Atlas;
 use hdf5::types::VarLenUnicode;
 use hdf5::Group;
 use ndarray::{Array1, Array2, Array3};
@@ -41,24 +42,159 @@ pub fn partial_path(path: &Path) -> PathBuf {
 }
 
 /// Writes `atlas` to `path` (atomically, through a temporary file), its
-/// datasets' chunks compressed on `threads` threads.
+/// datasets' chunks compressed on `threads` threads: a [`Draft`] created and
+/// finished at once.
 pub fn write(path: &Path, atlas: &Atlas, info: &RunInfo, threads: usize) -> Result<(), StoreError> {
-    let z = Deflater { threads };
-    crate::write_atomically(path, |tmp| write_file(tmp, atlas, info, z))
+    Draft::create(path, &atlas.meta, threads)?.finish(atlas, info)
 }
 
-fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::Result<()> {
-    let m = &atlas.meta;
+/// An atlas file being written while its cells compute.
+///
+/// [`Draft::create`] writes into a temporary file beside `path` (see
+/// [`partial_path`]) everything that depends only on the run's set-up: the
+/// scene, accuracy and parameter attributes, the axes, and per sweep its
+/// coordinates, dimensions and per-cell datasets (created empty, chunked by
+/// whole lines and deflated, with their attributes). [`Draft::keep`] takes
+/// each line as it is computed and writes, compressed, every chunk whose
+/// lines are all kept. [`Draft::finish`] writes the rest (chunks of lines not
+/// kept, label tables and codes, sections, legend, hysteresis, attractors,
+/// the run's command and time) and renames the file over `path`. A draft
+/// dropped unfinished removes its temporary file: a failed run never leaves
+/// a half-written file under the final name.
+pub struct Draft {
+    path: PathBuf,
+    tmp: PathBuf,
+    /// Open while unfinished.
+    file: Option<hdf5::File>,
+    meta: grid::Meta,
+    z: Deflater,
+    chunks: Chunks,
+    /// Per sweep, in the order of `meta.sweeps`.
+    sweeps: Vec<Progress>,
+    committed: bool,
+}
+
+/// How far the per-cell datasets of one sweep are written.
+struct Progress {
+    datasets: Vec<(Field, hdf5::Dataset)>,
+    /// Lines kept.
+    line_kept: Vec<bool>,
+    /// Lines kept, per chunk.
+    kept: Vec<usize>,
+    /// Chunks written.
+    written: Vec<bool>,
+}
+
+impl Draft {
+    /// Creates the temporary file of an atlas of `meta` to be written to
+    /// `path`, compressing on `threads` threads at the end.
+    pub fn create(path: &Path, meta: &grid::Meta, threads: usize) -> Result<Draft, StoreError> {
+        crate::lock::check_folder(path)?;
+        let chunks = Chunks::new(&meta.plane, Field::most_cell_bytes(meta));
+        let mut draft = Draft {
+            path: path.to_path_buf(),
+            tmp: partial_path(path),
+            file: None,
+            meta: meta.clone(),
+            z: Deflater { threads },
+            chunks,
+            sweeps: Vec::new(),
+            committed: false,
+        };
+        // On failure the draft is dropped, which removes what was created.
+        let (file, datasets) = create_file(&draft.tmp, meta, &chunks).map_err(|e| StoreError::hdf5(path, e))?;
+        draft.file = Some(file);
+        draft.sweeps = datasets
+            .into_iter()
+            .map(|datasets| Progress {
+                datasets,
+                line_kept: vec![false; meta.plane.lines()],
+                kept: vec![0; chunks.count()],
+                written: vec![false; chunks.count()],
+            })
+            .collect();
+        Ok(draft)
+    }
+
+    /// Takes `line` of `sweep`, complete in `atlas` (whose set-up must be the
+    /// draft's): writes the chunks of the per-cell datasets that it completes.
+    /// A line kept twice is kept once.
+    pub fn keep(&mut self, atlas: &Atlas, sweep: grid::SweepKind, line: usize) -> Result<(), StoreError> {
+        let (Some(s), Some(map)) = (self.meta.sweeps.iter().position(|&k| k == sweep), atlas.map(sweep)) else {
+            return Ok(());
+        };
+        let p = &mut self.sweeps[s];
+        if p.line_kept.get(line) != Some(&false) {
+            return Ok(());
+        }
+        p.line_kept[line] = true;
+        let c = self.chunks.of_line(line);
+        p.kept[c] += 1;
+        if p.kept[c] == self.chunks.lines_in(c) {
+            for (field, ds) in &p.datasets {
+                let bytes = field.chunk(&self.meta, &self.chunks, &map.cells, c);
+                fields::write(ds, &self.chunks, c, &bytes).map_err(|e| StoreError::hdf5(&self.path, e))?;
+            }
+            p.written[c] = true;
+        }
+        Ok(())
+    }
+
+    /// Writes the rest of `atlas` (whose set-up must be the draft's) and the
+    /// run's `info`, then renames the file over the target.
+    pub fn finish(mut self, atlas: &Atlas, info: &RunInfo) -> Result<(), StoreError> {
+        if atlas.meta != self.meta {
+            return Err(StoreError::format(&self.path, "the atlas is not of the set-up the file was created for"));
+        }
+        let f = self.file.take().expect("an unfinished draft holds its file");
+        self.remaining_chunks(atlas).map_err(|e| StoreError::hdf5(&self.path, e))?;
+        fill_file(&f, atlas, info, self.z).map_err(|e| StoreError::hdf5(&self.path, e))?;
+        // Closing the file writes what the library still holds.
+        drop(f);
+        crate::commit(&self.tmp, &self.path)?;
+        self.committed = true;
+        Ok(())
+    }
+
+    /// The chunks of the per-cell datasets not written by [`Draft::keep`]
+    /// (lines computed before, or not computed), compressed on the threads.
+    fn remaining_chunks(&self, atlas: &Atlas) -> hdf5::Result<()> {
+        for (map, p) in atlas.maps.iter().zip(&self.sweeps) {
+            let todo: Vec<(&(Field, hdf5::Dataset), usize)> = p
+                .datasets
+                .iter()
+                .flat_map(|d| (0..self.chunks.count()).filter(|&c| !p.written[c]).map(move |c| (d, c)))
+                .collect();
+            let bytes = self.z.map(todo.len(), |i| todo[i].0 .0.chunk(&self.meta, &self.chunks, &map.cells, todo[i].1));
+            for (((_, ds), c), b) in todo.iter().zip(bytes) {
+                fields::write(ds, &self.chunks, *c, &b)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Draft {
+    fn drop(&mut self) {
+        if !self.committed {
+            // Datasets and file closed before the file is removed.
+            self.sweeps.clear();
+            drop(self.file.take());
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// The file of [`Draft::create`]: what depends only on `m`; and per sweep
+/// its per-cell datasets.
+type Created = (hdf5::File, Vec<Vec<(Field, hdf5::Dataset)>>);
+
+fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks) -> hdf5::Result<Created> {
     let p = &m.plane;
-    let (nx, ny, dim) = (p.x.count, p.y.count, m.dim);
     let f = hdf5::File::create(path)?;
-    let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
     attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
     attr_str(&f, "title", &format!("vibroatlas map of the {} scene over ({}, {})", m.scene_name, p.x.name, p.y.name))?;
     attr_str(&f, "source", &format!("vibroatlas {} (git {})", env!("CARGO_PKG_VERSION"), GIT_COMMIT))?;
-    let mut history = info.history.clone();
-    history.push(format!("{created}: {}", info.command));
-    attr_str(&f, attr::HISTORY, &history.join("\n"))?;
     attr_str(&f, attr::SOFTWARE, SOFTWARE)?;
     attr_str(&f, "version", env!("CARGO_PKG_VERSION"))?;
     attr_str(&f, "git_commit", GIT_COMMIT)?;
@@ -69,9 +205,6 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
     attr_str(&f, attr::ACCURACY, &pairs(&m.accuracy))?;
     attr_str(&f, "knobs", &knobs(m))?;
     attr_str(&f, attr::INTEGRATOR, &m.integrator)?;
-    attr_str(&f, attr::COMMAND, &info.command)?;
-    attr_str(&f, attr::CREATED, &created)?;
-    attr_num(&f, attr::RUN_TIME_S, info.run_time_s)?;
     attr_str(&f, attr::X, &p.x.name)?;
     attr_str(&f, attr::Y, &p.y.name)?;
     attr_str(&f, attr::ALONG, p.along.name())?;
@@ -83,11 +216,8 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
     attr_str(&f, attr::Q_STOPS, &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, attr::STOPS, &m.stops.join(","))?;
     attr_array(&f, attr::STOP_NORMALS, &m.stop_normals.concat())?;
-    attr_num(&f, attr::DIM, dim as u64)?;
+    attr_num(&f, attr::DIM, m.dim as u64)?;
     attr_num(&f, attr::SECTION_CAP, m.section_cap as u64)?;
-    if let Some(s) = info.shard {
-        attr_str(&f, attr::SHARD, &s.to_string())?;
-    }
 
     let axes = f.create_group(AXES)?;
     for axis in [&p.x, &p.y] {
@@ -96,168 +226,70 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
         attr_num(&d, attr::STOP, axis.stop)?;
     }
     // Root coordinates, for the root's gridded datasets (hysteresis).
-    let root = Grid::new(&f, m)?;
+    Grid::new(&f, m)?;
+    let datasets =
+        m.sweeps.iter().map(|s| create_sweep(&f.create_group(s.name())?, m, chunks)).collect::<hdf5::Result<_>>()?;
+    Ok((f, datasets))
+}
 
-    let shift = sticking_shift(m.stops.len());
-    let components: Vec<String> =
-        ["x", "v"].iter().flat_map(|q| m.state_masses.iter().map(move |n| format!("{q}_{n}"))).collect();
-    for map in &atlas.maps {
-        let g = f.create_group(map.sweep.name())?;
-        let grid = Grid::new(&g, m)?;
-        let cells = &map.cells;
-        let cell = |iy: usize, ix: usize| cells[iy * nx + ix].as_ref();
-        let npq = netcdf::labels(&g, NPQ, &["n".into(), "p".into(), "q".into()], "counts of a label n-p-q")?;
-        let component = netcdf::labels(&g, COMPONENT, &components, "state component (position x, velocity v)")?;
-        let mut impact_columns = vec!["phase".to_string()];
-        impact_columns.extend(components.iter().cloned());
-        let impact_column = netcdf::labels(
-            &g,
-            IMPACT_COLUMN,
-            &impact_columns,
-            "time within the forcing period (t mod T, column 'phase'), then the state before the impact",
-        )?;
-        netcdf::labels(&g, MASS, &m.masses, "labelled mass")?;
+/// The state components (`x_M1, …, v_M1, …`).
+fn components(m: &grid::Meta) -> Vec<String> {
+    ["x", "v"].iter().flat_map(|q| m.state_masses.iter().map(move |n| format!("{q}_{n}"))).collect()
+}
 
-        // Label tables: every label of the sweep, any mass, in a fixed order
-        // (`None`: a cell not computed).
-        let label_at = |mi: usize, i: usize| cells[i].as_ref().map(|c| c.labels[mi]);
-        let distinct: HashSet<Option<solver::Label>> =
-            (0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))).collect();
-        let text = |l: &Option<solver::Label>| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string());
-        let table = label_table(distinct.iter().map(text));
-        let position: HashMap<&str, i16> = table.iter().enumerate().map(|(i, t)| (t.as_str(), i as i16)).collect();
-        let index: HashMap<Option<solver::Label>, i16> =
-            distinct.iter().map(|l| (*l, position.get(text(l).as_str()).copied().unwrap_or(0))).collect();
-        let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
-        netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
-        let rgb = netcdf::dimension(&g, RGB, 3)?;
-        let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| grid::palette::colour(&table[i])[k]);
-        let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
-        netcdf::dims(&d, &[&label_dim, &rgb])?;
-        netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
-        let codes: Vec<i16> = (0..table.len() as i16).collect();
-        for (mi, mass) in m.masses.iter().enumerate() {
-            let a =
-                Array3::from_shape_fn((ny, nx, 3), |(iy, ix, k)| cell(iy, ix).map_or(0, |c| npq_code(c.labels[mi])[k]));
-            let d = z.dataset(&g, &label(mass), &a)?;
-            netcdf::dims(&d, &[&grid.y, &grid.x, &npq])?;
-            netcdf::attr_str(&d, "long_name", &format!("n, p, q of {mass}'s label ({} = S, the mass sticks)", STUCK))?;
-            netcdf::attr_str(&d, "units", "1")?;
-            netcdf::attr_str(&d, "dims", "y, x, (n, p, q)")?;
-            netcdf::attr_num(&d, "stuck_code", STUCK)?;
-            let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| index[&label_at(mi, iy * nx + ix)]);
-            let d = z.dataset(&g, &label_code(mass), &code)?;
-            netcdf::dims(&d, &[&grid.y, &grid.x])?;
-            netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
-            netcdf::attr_array(&d, "flag_values", &codes)?;
-            netcdf::attr_str(&d, "flag_meanings", &table.join(" "))?;
-        }
-        let gridded = |d: &hdf5::Dataset, long_name: &str, units: &str| -> hdf5::Result<()> {
-            netcdf::dims(d, &[&grid.y, &grid.x])?;
-            netcdf::describe(d, long_name, units)
-        };
-        let class =
-            Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(NOT_COMPUTED, |c| class_code(c.class)));
-        let d = z.dataset(&g, var::CLASS, &class)?;
-        gridded(&d, "kind of steady motion", "1")?;
-        netcdf::attr_str(&d, "codes", CLASS_CODES)?;
-        netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2, 3])?;
-        netcdf::attr_str(&d, "flag_meanings", "periodic chaotic unresolved quasiperiodic")?;
-        netcdf::attr_num(&d, "_FillValue", NOT_COMPUTED)?;
-        let flag =
-            |iy: usize, ix: usize| cell(iy, ix).map_or(0u32, |c| flags_code(c.chatter, c.sticking, m.stops.len()));
-        let (masks, meanings) = flag_masks(&m.stops, shift);
-        let flags = if m.stops.len() <= 4 {
-            let d = z.dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix) as u8))?;
-            netcdf::attr_array(&d, "flag_masks", &masks.iter().map(|&v| v as u8).collect::<Vec<_>>())?;
-            d
-        } else {
-            let d = z.dataset(&g, var::FLAGS, &Array2::from_shape_fn((ny, nx), |(iy, ix)| flag(iy, ix)))?;
-            netcdf::attr_array(&d, "flag_masks", &masks)?;
-            d
-        };
-        gridded(&flags, "chattering and sticking at each stop (bit flags)", "1")?;
-        netcdf::attr_str(&flags, "flag_meanings", &meanings)?;
-        netcdf::attr_str(&flags, "bits", &flag_bits(&m.stops))?;
-        let sym = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| symmetry_code(c.symmetry)));
-        let d = z.dataset(&g, var::SYMMETRY, &sym)?;
-        gridded(&d, "mirror symmetry of the periodic orbit (symmetric scenes)", "1")?;
-        netcdf::attr_str(&d, "codes", SYMMETRY_CODES)?;
-        netcdf::attr_array(&d, "flag_values", &[0u8, 1, 2])?;
-        netcdf::attr_str(&d, "flag_meanings", "none symmetric asymmetric")?;
-        let scalar = |f: fn(&CellData) -> Option<f64>| {
-            Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).and_then(f).unwrap_or(f64::NAN))
-        };
-        let d = z.dataset(&g, var::LYAPUNOV, &scalar(|c| c.lyapunov))?;
-        gridded(&d, "largest Lyapunov exponent per unit time (cells without a period)", "1")?;
-        netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-        netcdf::attr_str(
-            &d,
-            "meaning",
-            "largest Lyapunov exponent per unit time of cells without a period (NaN: none)",
-        )?;
-        let d = z.dataset(&g, var::MULTIPLIER, &scalar(|c| c.multiplier))?;
-        gridded(&d, "largest Floquet multiplier modulus (periodic cells)", "1")?;
-        netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-        netcdf::attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
-        let fs =
-            Array3::from_shape_fn((ny, nx, dim), |(iy, ix, k)| cell(iy, ix).map_or(f64::NAN, |c| c.final_state[k]));
-        let d = z.dataset(&g, var::FINAL_STATE, &fs)?;
-        netcdf::dims(&d, &[&grid.y, &grid.x, &component])?;
-        netcdf::describe(&d, "state at the end of the cell's record (a whole number of forcing periods)", "1")?;
-        netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-        let d = z.dataset(
-            &g,
-            var::PERIODS,
-            &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.periods)),
-        )?;
-        gridded(&d, "forcing periods simulated", "1")?;
-        let d = z.dataset(
-            &g,
-            var::EVENTS,
-            &Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0, |c| c.events)),
-        )?;
-        gridded(&d, "events handled", "1")?;
-        let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
-        let lines = netcdf::dimension(&g, LINE, done.len())?;
-        let d = z.dataset(&g, var::LINES_DONE, &Array1::from(done))?;
-        netcdf::dims(&d, &[&lines])?;
-        netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
+/// A sweep's group of [`Draft::create`]: coordinates, dimensions, and its
+/// per-cell datasets, empty (returned, to be filled chunk by chunk).
+fn create_sweep(g: &Group, m: &grid::Meta, chunks: &Chunks) -> hdf5::Result<Vec<(Field, hdf5::Dataset)>> {
+    let grid = Grid::new(g, m)?;
+    let components = components(m);
+    let npq = netcdf::labels(g, NPQ, &["n".into(), "p".into(), "q".into()], "counts of a label n-p-q")?;
+    let component = netcdf::labels(g, COMPONENT, &components, "state component (position x, velocity v)")?;
+    let mut impact_columns = vec!["phase".to_string()];
+    impact_columns.extend(components.iter().cloned());
+    netcdf::labels(
+        g,
+        IMPACT_COLUMN,
+        &impact_columns,
+        "time within the forcing period (t mod T, column 'phase'), then the state before the impact",
+    )?;
+    netcdf::labels(g, MASS, &m.masses, "labelled mass")?;
+    netcdf::dimension(g, RGB, 3)?;
+    let scales = fields::Scales { y: &grid.y, x: &grid.x, npq: &npq, component: &component };
+    Field::all(m).into_iter().map(|field| Ok((field, field.create(g, m, chunks, &scales)?))).collect()
+}
 
-        let sections = g.create_group(SECTIONS)?;
-        write_section(
-            z,
-            &sections,
-            PERIOD_SECTION,
-            &component,
-            cells.iter().map(|c| c.as_ref().map(|c| c.period_section.as_slice())),
-            "state at t = kT (period section)",
-        )?;
-        for (k, stop) in m.stops.iter().enumerate() {
-            write_section(
-                z,
-                &sections,
-                stop,
-                &impact_column,
-                cells.iter().map(|c| c.as_ref().map(|c| c.impact_sections[k].as_slice())),
-                &format!("time within the forcing period (t mod T) and state just before each impact at {stop}"),
-            )?;
-        }
+/// The results of [`Draft::finish`] but the per-cell datasets, into the file
+/// of [`create_file`].
+fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::Result<()> {
+    let m = &atlas.meta;
+    let p = &m.plane;
+    let (nx, ny) = (p.x.count, p.y.count);
+    let created = humantime::format_rfc3339_seconds(std::time::SystemTime::now()).to_string();
+    let mut history = info.history.clone();
+    history.push(format!("{created}: {}", info.command));
+    attr_str(f, attr::HISTORY, &history.join("\n"))?;
+    attr_str(f, attr::COMMAND, &info.command)?;
+    attr_str(f, attr::CREATED, &created)?;
+    attr_num(f, attr::RUN_TIME_S, info.run_time_s)?;
+    if let Some(s) = info.shard {
+        attr_str(f, attr::SHARD, &s.to_string())?;
     }
-
+    for map in &atlas.maps {
+        fill_sweep(&f.group(map.sweep.name())?, atlas, map, z)?;
+    }
     if let Some(h) = atlas.hysteresis() {
         let d = z.dataset(
-            &f,
+            f,
             HYSTERESIS,
             &Array2::from_shape_vec((ny, nx), h).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?,
         )?;
-        netcdf::dims(&d, &[&root.y, &root.x])?;
+        netcdf::dims(&d, &[&f.dataset(&p.y.name)?, &f.dataset(&p.x.name)?])?;
         netcdf::describe(&d, "1 where the up and down sweeps end on different periodic motions", "1")?;
         netcdf::attr_array(&d, "flag_values", &[0u8, 1])?;
         netcdf::attr_str(&d, "flag_meanings", "same_motion coexisting_motions")?;
     }
     if let Some(a) = &atlas.attractors {
-        write_attractors(&f, m, a, z)?;
+        write_attractors(f, m, a, z)?;
     }
     let legend = f.create_group(LEGEND)?;
     for map in &atlas.maps {
@@ -275,6 +307,69 @@ fn write_file(path: &Path, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::
         }
     }
     f.flush()
+}
+
+/// A sweep's results but its per-cell datasets, into its group `g` of
+/// [`create_sweep`]: its label table and codes, lines done and sections.
+fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: Deflater) -> hdf5::Result<()> {
+    let m = &atlas.meta;
+    let p = &m.plane;
+    let (nx, ny) = (p.x.count, p.y.count);
+    let cells = &map.cells;
+    let grid = Grid { x: g.dataset(&p.x.name)?, y: g.dataset(&p.y.name)? };
+
+    // Label tables: every label of the sweep, any mass, in a fixed order
+    // (`None`: a cell not computed).
+    let label_at = |mi: usize, i: usize| cells[i].as_ref().map(|c| c.labels[mi]);
+    let distinct: HashSet<Option<solver::Label>> =
+        (0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))).collect();
+    let text = |l: &Option<solver::Label>| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string());
+    let table = label_table(distinct.iter().map(text));
+    let position: HashMap<&str, i16> = table.iter().enumerate().map(|(i, t)| (t.as_str(), i as i16)).collect();
+    let index: HashMap<Option<solver::Label>, i16> =
+        distinct.iter().map(|l| (*l, position.get(text(l).as_str()).copied().unwrap_or(0))).collect();
+    let label_dim = netcdf::labels(g, LABEL, &table, "label n-p-q, or C, Q, U")?;
+    netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
+    let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| grid::palette::colour(&table[i])[k]);
+    let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
+    netcdf::dims(&d, &[&label_dim, &g.dataset(RGB)?])?;
+    netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
+    let codes: Vec<i16> = (0..table.len() as i16).collect();
+    for (mi, mass) in m.masses.iter().enumerate() {
+        let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| index[&label_at(mi, iy * nx + ix)]);
+        let d = z.dataset(g, &label_code(mass), &code)?;
+        netcdf::dims(&d, &[&grid.y, &grid.x])?;
+        netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
+        netcdf::attr_array(&d, "flag_values", &codes)?;
+        netcdf::attr_str(&d, "flag_meanings", &table.join(" "))?;
+    }
+    let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
+    let lines = netcdf::dimension(g, LINE, done.len())?;
+    let d = z.dataset(g, var::LINES_DONE, &Array1::from(done))?;
+    netcdf::dims(&d, &[&lines])?;
+    netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
+
+    let sections = g.create_group(SECTIONS)?;
+    write_section(
+        z,
+        &sections,
+        PERIOD_SECTION,
+        &g.dataset(COMPONENT)?,
+        cells.iter().map(|c| c.as_ref().map(|c| c.period_section.as_slice())),
+        "state at t = kT (period section)",
+    )?;
+    let impact_column = g.dataset(IMPACT_COLUMN)?;
+    for (k, stop) in m.stops.iter().enumerate() {
+        write_section(
+            z,
+            &sections,
+            stop,
+            &impact_column,
+            cells.iter().map(|c| c.as_ref().map(|c| c.impact_sections[k].as_slice())),
+            &format!("time within the forcing period (t mod T) and state just before each impact at {stop}"),
+        )?;
+    }
+    Ok(())
 }
 
 /// The coexisting attractors of the sampled cells (`/attractors`, see
@@ -356,14 +451,6 @@ fn label_table(texts: impl Iterator<Item = String>) -> Vec<String> {
     set
 }
 
-/// CF flag masks and meanings of the flags dataset.
-fn flag_masks(stops: &[String], shift: u32) -> (Vec<u32>, String) {
-    let chatter = stops.iter().enumerate().map(|(k, s)| (1u32 << k, format!("{s}_chatters")));
-    let stick = stops.iter().enumerate().map(|(k, s)| (1u32 << (k as u32 + shift), format!("{s}_sticks")));
-    let (masks, names): (Vec<u32>, Vec<String>) = chatter.chain(stick).unzip();
-    (masks, names.join(" "))
-}
-
 /// One ragged section (CSR): `values [point, column]` and `offsets [cell_edge]`,
 /// cell `i = iy*nx + ix` owning rows `offsets[i]..offsets[i+1]`.
 fn write_section<'a>(
@@ -388,7 +475,9 @@ fn write_section<'a>(
     let a = Array2::from_shape_vec((n, cols), values).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
     let point = netcdf::dimension(&s, POINT, n)?;
     let edge = netcdf::dimension(&s, CELL_EDGE, offsets.len())?;
-    let d = z.dataset(&s, var::VALUES, &a)?;
+    // Full-precision states hardly compress (deflate kept 84 % of their
+    // bytes, at 50 MB/s a thread): the values are stored as they are.
+    let d = s.new_dataset_builder().with_data(&a).create(var::VALUES)?;
     netcdf::dims(&d, &[&point, columns])?;
     netcdf::describe(&d, long_name, "1")?;
     let d = z.dataset(&s, var::OFFSETS, &Array1::from(offsets))?;
@@ -411,4 +500,144 @@ fn knobs(m: &grid::Meta) -> String {
 /// `k=v,k=v` text of parameter pairs.
 pub fn pairs(p: &[(String, f64)]) -> String {
     p.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(",")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use grid::{Along, Axis, Plane, SweepKind};
+
+    fn meta() -> grid::Meta {
+        let x = Axis::parse("omega=0.5:2:5", "--x").unwrap();
+        let y = Axis::parse("delta=0.1:1:3", "--y").unwrap();
+        grid::Meta {
+            scene_name: "test".into(),
+            scene_toml: String::new(),
+            overrides: Vec::new(),
+            preset: "standard".into(),
+            accuracy: Vec::new(),
+            integrator: "exact".into(),
+            plane: Plane::new(x, y, Along::X).unwrap(),
+            sweeps: vec![SweepKind::Up],
+            masses: vec!["M1".into()],
+            state_masses: vec!["M1".into()],
+            label_stops: vec![["A".into(), "A".into()]],
+            stops: vec!["A".into()],
+            stop_normals: vec![vec![1.0]],
+            dim: 2,
+            section_cap: 0,
+        }
+    }
+
+    /// A cell whose every value tells where it is (cell `i`, sweep `s`).
+    fn cell(i: usize) -> grid::CellData {
+        let n = 1 + (i % 3) as u32;
+        grid::CellData {
+            class: solver::Class::Periodic,
+            labels: vec![solver::Label::Periodic { n, p: solver::Count::Impacts(i as u32), q: solver::Count::Stuck }],
+            chatter: Default::default(),
+            sticking: Default::default(),
+            symmetry: None,
+            lyapunov: None,
+            multiplier: Some(i as f64 / 7.0),
+            final_state: vec![i as f64, -(i as f64)],
+            periods: 1000 + i as u64,
+            events: 2000 + i as u64,
+            period_section: vec![vec![i as f64, 0.5]; i % 3],
+            impact_sections: vec![vec![vec![0.25, i as f64, 1.0]; i % 2]],
+        }
+    }
+
+    /// The per-cell datasets hold each cell's values where the cell is,
+    /// whether their chunks were written as lines were kept (in any order,
+    /// some never) or all at the end; along x and along y.
+    #[test]
+    fn kept_lines_and_the_end_write_the_same_cells() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-keep-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        for along in [Along::X, Along::Y] {
+            let x = Axis::parse("omega=0.5:2:70", "--x").unwrap();
+            let y = Axis::parse("delta=0.1:1:40", "--y").unwrap();
+            let m = grid::Meta { plane: Plane::new(x, y, along).unwrap(), ..meta() };
+            let p = m.plane.clone();
+            let mut atlas = Atlas::new(m.clone());
+            // Every line but every fifth computed.
+            let computed: Vec<usize> = (0..p.lines()).filter(|l| l % 5 != 2).collect();
+            for &l in &computed {
+                let cells = (0..p.line_len()).map(|pos| {
+                    let (iy, ix) = p.cell(l, pos);
+                    cell(iy * p.x.count + ix)
+                });
+                atlas.insert(grid::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
+            }
+            let kept = dir.join("kept.h5");
+            let mut draft = Draft::create(&kept, &m, 2).unwrap();
+            for &l in computed.iter().rev() {
+                draft.keep(&atlas, SweepKind::Up, l).unwrap();
+                draft.keep(&atlas, SweepKind::Up, l).unwrap();
+            }
+            draft.finish(&atlas, &info).unwrap();
+            let end = dir.join("end.h5");
+            write(&end, &atlas, &info, 3).unwrap();
+            for path in [&kept, &end] {
+                let f = hdf5::File::open(path).unwrap();
+                let periods = f.dataset("up/periods").unwrap().read_2d::<u64>().unwrap();
+                let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();
+                let npq = f.dataset("up/label_M1").unwrap().read::<u16, ndarray::Ix3>().unwrap();
+                let class = f.dataset("up/class").unwrap().read_2d::<u8>().unwrap();
+                for iy in 0..p.y.count {
+                    for ix in 0..p.x.count {
+                        let i = iy * p.x.count + ix;
+                        let done = computed.contains(&p.position(iy, ix).0);
+                        let at = format!("{along:?} ({iy}, {ix}) of {}", path.display());
+                        assert_eq!(periods[[iy, ix]], if done { 1000 + i as u64 } else { 0 }, "{at}");
+                        assert_eq!(class[[iy, ix]], if done { 0 } else { NOT_COMPUTED }, "{at}");
+                        if done {
+                            assert_eq!([state[[iy, ix, 0]], state[[iy, ix, 1]]], [i as f64, -(i as f64)], "{at}");
+                            let want = [1 + (i % 3) as u16, i as u16, STUCK];
+                            assert_eq!([npq[[iy, ix, 0]], npq[[iy, ix, 1]], npq[[iy, ix, 2]]], want, "{at}");
+                        } else {
+                            assert!(state[[iy, ix, 0]].is_nan(), "{at}");
+                        }
+                    }
+                }
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A draft dropped unfinished leaves neither its temporary file nor a
+    /// change to the file it was to replace; finished, it replaces it.
+    #[test]
+    fn an_unfinished_draft_leaves_the_target_as_it_was() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-draft-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("a.h5");
+        std::fs::write(&out, "the previous file").unwrap();
+        let draft = Draft::create(&out, &meta(), 2).unwrap();
+        assert!(partial_path(&out).exists(), "the draft writes beside the target");
+        drop(draft);
+        assert!(!partial_path(&out).exists(), "a dropped draft removes its temporary file");
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "the previous file");
+
+        // Finished with no line computed: every cell reads as not computed.
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let atlas = Atlas::new(meta());
+        let mut draft = Draft::create(&out, &meta(), 2).unwrap();
+        draft.keep(&atlas, SweepKind::Down, 0).unwrap();
+        let other = grid::Meta { section_cap: 4, ..meta() };
+        let err = Draft::create(&dir.join("b.h5"), &other, 1).unwrap().finish(&atlas, &info).unwrap_err().to_string();
+        assert!(err.contains("not of the set-up"), "{err}");
+        assert!(!dir.join("b.h5").exists() && !partial_path(&dir.join("b.h5")).exists());
+        draft.finish(&atlas, &info).unwrap();
+        assert!(!partial_path(&out).exists());
+        let f = hdf5::File::open(&out).unwrap();
+        let class = f.dataset("up/class").unwrap().read_2d::<u8>().unwrap();
+        assert_eq!(class.shape(), &[3, 5]);
+        assert!(class.iter().all(|&c| c == NOT_COMPUTED));
+        let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();
+        assert!(state.iter().all(|v| v.is_nan()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
