@@ -8,7 +8,7 @@
 //! | family | labels | colours |
 //! |---|---|---|
 //! | no impact | `1-0-0` | light grey |
-//! | fundamental | `1-p-q` with `p, q < 6` | hue by `max(p, q)`: 1 blue, 2 sky blue, 3 bluish green, 4 yellow, 5 reddish purple; lighter when `p > q`, darker (never near black) when `p < q` |
+//! | fundamental | `1-p-q` with `p, q < 6` | hue by `m = max(p, q)`: 1 blue, 2 sky blue, 3 bluish green, 4 yellow, 5 reddish purple; lighter by `0.7 (p - q)/m` towards white when `p > q`, darker by `0.4 (q - p)/m` towards black (never near it) when `p < q`: every fundamental label its own colour |
 //! | subharmonic | `n-p-q`, `n > 1`, fewer than 6 impacts per period at each stop | greens to teals, muted, hue and lightness from the label text |
 //! | chattering | 6 or more impacts per forcing period on average at a stop (`p/n` or `q/n >= 6`) | oranges to browns, from the label text |
 //! | complete chattering | an `S` (the mass sticks) | purples, from the label text |
@@ -90,9 +90,11 @@ fn periodic(label: &str, n: u32, p: Option<u32>, q: Option<u32>) -> [u8; 3] {
         (Some(p), Some(q)) if n == 1 => {
             const BASE: [[u8; 3]; 5] = [[0, 114, 178], [86, 180, 233], [0, 158, 115], [240, 228, 66], [204, 121, 167]];
             let base = BASE[(p.max(q).max(1) - 1) as usize % BASE.len()];
-            let d = p as f64 - q as f64;
-            // Lighter when p > q, darker when p < q; never near black (C).
-            let mix = if d > 0.0 { (0.28 * d).min(0.7) } else { (0.18 * -d).min(0.4) };
+            // Lighter the more p exceeds q, darker the more q exceeds p, in
+            // steps of the hue's largest count m = max(p, q), so that the
+            // 2m + 1 labels of a hue all differ; never near black (C).
+            let (d, m) = (p as f64 - q as f64, p.max(q).max(1) as f64);
+            let mix = if d > 0.0 { 0.7 * d / m } else { 0.4 * -d / m };
             let towards = if d > 0.0 { 255.0 } else { 0.0 };
             base.map(|c| (c as f64 + mix * (towards - c as f64)).round() as u8)
         }
@@ -153,6 +155,26 @@ mod tests {
         for (i, a) in labels.iter().enumerate() {
             for b in &labels[..i] {
                 assert_ne!(colour(a), colour(b), "{a} and {b}");
+            }
+        }
+    }
+
+    /// Every fundamental label (`1-p-q`, p and q below 6) has a colour of its
+    /// own, apart from the fixed ones, and none is near black (chaotic):
+    /// 1-0-4 and 1-1-4 shared one when the darkening saturated.
+    #[test]
+    fn fundamental_labels_never_share_a_colour() {
+        let labels: Vec<String> =
+            (0..6).flat_map(|p| (0..6).map(move |q| format!("1-{p}-{q}"))).filter(|l| l != "1-0-0").collect();
+        let fixed = ["1-0-0", "C", "Q", "U"].map(colour);
+        for (i, a) in labels.iter().enumerate() {
+            let ca = colour(a);
+            assert!(!fixed.contains(&ca), "{a} takes a fixed colour");
+            assert!(ca.iter().map(|&c| c as u32).sum::<u32>() > 120, "{a} is near black: {ca:?}");
+            for b in &labels[..i] {
+                let cb = colour(b);
+                let far = ca.iter().zip(&cb).map(|(&x, &y)| (x as i32 - y as i32).abs()).max().unwrap();
+                assert!(far >= 8, "{a} {ca:?} and {b} {cb:?} are not told apart");
             }
         }
     }
