@@ -305,3 +305,28 @@ fn small_clearances_resolve_instead_of_stalling() {
         assert!(!c["reason"].as_str().is_some_and(|r| r.contains("stalled")), "ω = {w}: {c}");
     }
 }
+
+/// The output file is written while the cells compute: when it cannot be
+/// (its temporary path taken by a folder), the run still computes and
+/// journals every line, ends with one error that says so, leaves nothing
+/// under the final name, and `--resume` then writes the file without
+/// computing again, equal to an uninterrupted run.
+#[test]
+fn an_output_that_cannot_be_written_keeps_the_lines_for_resume() {
+    let d = scratch("unwritable");
+    let (full, out) = (d.join("full.h5"), d.join("x.h5"));
+    assert!(run(&strs(&atlas(full.to_str().unwrap(), &[]))).status.success());
+    let blocker = store::partial_path(&out);
+    std::fs::create_dir(&blocker).unwrap();
+    refused(&strs(&atlas(out.to_str().unwrap(), &[])), "the computed lines are kept: --resume");
+    assert!(!out.exists(), "nothing under the final name");
+    let journal = d.join(".x.h5.journal");
+    let lines = std::fs::read_to_string(&journal).unwrap().lines().count();
+    assert!(lines >= 2 * 4, "every line journaled: {lines}");
+    std::fs::remove_dir(&blocker).unwrap();
+    let resumed = run(&strs(&atlas(out.to_str().unwrap(), &["--resume"])));
+    assert!(resumed.status.success(), "{}", String::from_utf8_lossy(&resumed.stderr));
+    assert!(!journal.exists() && !blocker.exists());
+    assert_eq!(store::read(&out).unwrap().atlas, store::read(&full).unwrap().atlas);
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -215,7 +215,9 @@ impl Plan {
             let clock = Instant::now();
             let info =
                 RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
-            draft?.finish(&atlas, &info)?;
+            let kept =
+                |e: store::StoreError| anyhow!("{e} (the computed lines are kept: --resume once it can be written)");
+            draft.map_err(kept)?.finish(&atlas, &info).map_err(kept)?;
             j.remove()?;
             write_s = clock.elapsed().as_secs_f64();
         }
