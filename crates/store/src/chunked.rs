@@ -34,27 +34,36 @@ pub(crate) struct Deflater {
 }
 
 impl Deflater {
-    /// Creates dataset `name` in `g` holding `data`, chunked and deflated
-    /// ([`Deflater::empty`], then [`Deflater::fill`]).
+    /// Creates dataset `name` in `g` holding `data`, chunked by rows of the
+    /// first axis (whole along the others; at most [`CHUNK_ROWS`] rows and
+    /// [`CHUNK_BYTES`] bytes, at least one row) and deflated: its chunks
+    /// deflated on the threads, written in order.
     pub(crate) fn dataset<T: H5Type + Copy + Send + Sync, D: ndarray::Dimension>(
         &self,
         g: &Group,
         name: &str,
         data: &ndarray::Array<T, D>,
     ) -> hdf5::Result<Dataset> {
-        let ds = self.empty::<T>(g, name, data.shape())?;
-        self.fill(&ds, data)?;
-        Ok(ds)
-    }
-
-    /// Creates dataset `name` of `shape` in `g`, with no data yet: chunked by
-    /// rows of the first axis (whole along the others; at most [`CHUNK_ROWS`]
-    /// rows and [`CHUNK_BYTES`] bytes, at least one row) and deflated.
-    pub(crate) fn empty<T: H5Type>(&self, g: &Group, name: &str, shape: &[usize]) -> hdf5::Result<Dataset> {
+        let shape = data.shape();
         let row_bytes = shape[1..].iter().product::<usize>() * std::mem::size_of::<T>();
         let rows = shape.first().copied().unwrap_or(1).min(CHUNK_ROWS).min((CHUNK_BYTES / row_bytes.max(1)).max(1));
         let chunk: Vec<usize> = shape.iter().enumerate().map(|(i, &n)| if i == 0 { rows } else { n }).collect();
-        Deflater::chunked_empty::<T>(g, name, shape, &chunk)
+        let ds = Deflater::chunked_empty::<T>(g, name, shape, &chunk)?;
+        if data.is_empty() {
+            return Ok(ds);
+        }
+        let rows = rows.max(1);
+        let flat = data.as_standard_layout();
+        let flat = flat.as_slice().expect("a standard layout is contiguous");
+        let per_chunk = rows * shape[1..].iter().product::<usize>();
+        let pieces: Vec<&[T]> = flat.chunks(per_chunk).collect();
+        let compressed = self.deflate_all(&pieces, per_chunk);
+        for (c, bytes) in compressed.into_iter().enumerate() {
+            let mut offset = vec![0u64; shape.len()];
+            offset[0] = (c * rows) as u64;
+            write_chunk(&ds, &offset, &bytes)?;
+        }
+        Ok(ds)
     }
 
     /// Creates dataset `name` of `shape` in `g`, with no data yet, in chunks
@@ -68,34 +77,6 @@ impl Deflater {
         // A dataset of no elements still needs a chunk of at least one.
         let chunk: Vec<usize> = chunk.iter().map(|&n| n.max(1)).collect();
         g.new_dataset_builder().chunk(chunk).deflate(LEVEL as u8).empty::<T>().shape(shape.to_vec()).create(name)
-    }
-
-    /// Writes `data` into `ds`, a dataset made by [`Deflater::empty`] of the
-    /// same shape: its chunks deflated on the threads, written in order.
-    pub(crate) fn fill<T: H5Type + Copy + Send + Sync, D: ndarray::Dimension>(
-        &self,
-        ds: &Dataset,
-        data: &ndarray::Array<T, D>,
-    ) -> hdf5::Result<()> {
-        let shape = data.shape();
-        if ds.shape() != shape {
-            return Err(hdf5::Error::from(format!("{}: shape {:?}, data {shape:?}", ds.name(), ds.shape()).as_str()));
-        }
-        if data.is_empty() {
-            return Ok(());
-        }
-        let rows = ds.chunk().and_then(|c| c.first().copied()).unwrap_or(1);
-        let flat = data.as_standard_layout();
-        let flat = flat.as_slice().expect("a standard layout is contiguous");
-        let per_chunk = rows * shape[1..].iter().product::<usize>();
-        let pieces: Vec<&[T]> = flat.chunks(per_chunk).collect();
-        let compressed = self.deflate_all(&pieces, per_chunk);
-        for (c, bytes) in compressed.into_iter().enumerate() {
-            let mut offset = vec![0u64; shape.len()];
-            offset[0] = (c * rows) as u64;
-            write_chunk(ds, &offset, &bytes)?;
-        }
-        Ok(())
     }
 
     /// The zlib streams of `pieces`, each padded with zeros to `len` values
