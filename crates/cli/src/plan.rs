@@ -156,35 +156,7 @@ impl Plan {
             .zip(&done)
             .flat_map(|(&s, d)| d.iter().enumerate().filter(|(_, &l)| l).map(move |(l, _)| (s, l)))
             .collect();
-        let writer = std::thread::spawn(move || -> Result<Kept> {
-            let clock = Instant::now();
-            let mut draft = draft_of.map(|(out, meta, threads)| store::Draft::create(&out, &meta, threads));
-            let prelude_s = clock.elapsed().as_secs_f64();
-            let mut stream_s = 0.0;
-            let mut keep = |atlas: &Atlas, kept: &[(SweepKind, usize)]| {
-                let clock = Instant::now();
-                if let Some(Ok(d)) = draft.as_mut() {
-                    if let Err(e) = kept.iter().try_for_each(|&(s, l)| d.keep(atlas, s, l)) {
-                        draft = Some(Err(e));
-                    }
-                }
-                stream_s += clock.elapsed().as_secs_f64();
-            };
-            keep(&atlas, &resumed);
-            let mut journal = journal;
-            while let Ok(first) = rx.recv() {
-                let (lines, sealed): (Vec<Line>, Vec<_>) = std::iter::once(first).chain(rx.try_iter()).unzip();
-                if let Some(j) = journal.as_mut() {
-                    j.append_sealed(sealed.iter().flatten())?;
-                }
-                let kept: Vec<(SweepKind, usize)> = lines.iter().map(|l| (l.sweep, l.index)).collect();
-                for line in lines {
-                    atlas.insert(line);
-                }
-                keep(&atlas, &kept);
-            }
-            Ok(Kept { atlas, journal, draft, prelude_s, stream_s })
-        });
+        let writer = std::thread::spawn(move || keep_lines(atlas, journal, draft_of, &resumed, rx));
         let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
         let sink = |line: Line| {
             let sealed = match sealer.as_ref().map(|s| s.seal(&line)).transpose() {
@@ -223,6 +195,45 @@ impl Plan {
         }
         Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s })
     }
+}
+
+/// The writer thread of a run: creates the output file (`draft_of`: path,
+/// set-up, threads), keeps the lines `resumed` from the journal, then every
+/// batch of lines that arrives on `rx`: appends it to the journal (one sync),
+/// puts it in the atlas and writes the chunks of the file it completes.
+fn keep_lines(
+    mut atlas: Atlas,
+    mut journal: Option<Journal>,
+    draft_of: Option<(PathBuf, Meta, usize)>,
+    resumed: &[(SweepKind, usize)],
+    rx: std::sync::mpsc::Receiver<(Line, Option<store::SealedLine>)>,
+) -> Result<Kept> {
+    let clock = Instant::now();
+    let mut draft = draft_of.map(|(out, meta, threads)| store::Draft::create(&out, &meta, threads));
+    let prelude_s = clock.elapsed().as_secs_f64();
+    let mut stream_s = 0.0;
+    let mut keep = |atlas: &Atlas, kept: &[(SweepKind, usize)]| {
+        let clock = Instant::now();
+        if let Some(Ok(d)) = draft.as_mut() {
+            if let Err(e) = kept.iter().try_for_each(|&(s, l)| d.keep(atlas, s, l)) {
+                draft = Some(Err(e));
+            }
+        }
+        stream_s += clock.elapsed().as_secs_f64();
+    };
+    keep(&atlas, resumed);
+    while let Ok(first) = rx.recv() {
+        let (lines, sealed): (Vec<Line>, Vec<_>) = std::iter::once(first).chain(rx.try_iter()).unzip();
+        if let Some(j) = journal.as_mut() {
+            j.append_sealed(sealed.iter().flatten())?;
+        }
+        let kept: Vec<(SweepKind, usize)> = lines.iter().map(|l| (l.sweep, l.index)).collect();
+        for line in lines {
+            atlas.insert(line);
+        }
+        keep(&atlas, &kept);
+    }
+    Ok(Kept { atlas, journal, draft, prelude_s, stream_s })
 }
 
 /// What the writer thread hands back: the lines kept, the journal, and the

@@ -9,10 +9,11 @@
 //! 4/3 of the best makespan). Every line's result depends only on its inputs,
 //! so any order gives the same atlas bit for bit.
 //!
-//! [`makespan`] replays a list schedule on `p` virtual workers (each job to the
+//! [`pipeline`] replays a list schedule on `p` virtual workers (each job to the
 //! earliest free worker, in order), which is what a pool taking jobs first come,
-//! first served does: `bench --simulate-threads` uses it to predict the
-//! efficiency on many cores from job times measured on few.
+//! first served does, with the [`Writer`] thread that keeps the finished lines:
+//! `bench --simulate-threads` uses it to predict the efficiency on many cores
+//! from job times measured on few.
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
@@ -81,17 +82,6 @@ pub fn shard_lines(cost: &[f64], k: usize, n: usize) -> Vec<bool> {
     owner.iter().map(|&s| s + 1 == k).collect()
 }
 
-/// Makespan of the list schedule of `jobs` (durations, in the order taken) on
-/// `p` workers: each job starts on the worker that frees first.
-pub fn makespan(jobs: &[f64], p: usize) -> f64 {
-    let mut free = vec![0.0f64; p.max(1)];
-    for &d in jobs {
-        let w = (0..free.len()).min_by(|&a, &b| free[a].total_cmp(&free[b])).unwrap_or(0);
-        free[w] += d;
-    }
-    free.into_iter().fold(0.0, f64::max)
-}
-
 /// The thread that keeps finished lines (appends them to the resume journal),
 /// serial, first come first served, once it has done `start` seconds of its
 /// own work (creating the output file): a write costs `per_write` (the sync)
@@ -135,19 +125,21 @@ pub fn pipeline(jobs: &[(f64, usize)], p: usize, writer: &Writer) -> f64 {
     span.max(t)
 }
 
-/// Parallel efficiency of a schedule: the work over `p` times its makespan.
-pub fn efficiency(jobs: &[f64], p: usize) -> f64 {
-    let span = makespan(jobs, p);
-    if span > 0.0 {
-        jobs.iter().sum::<f64>() / (p as f64 * span)
-    } else {
-        1.0
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Makespan of the list schedule of `jobs` (durations, in the order
+    /// taken) on `p` workers: the pipeline with a writer that costs nothing.
+    fn makespan(jobs: &[f64], p: usize) -> f64 {
+        let jobs: Vec<(f64, usize)> = jobs.iter().enumerate().map(|(i, &d)| (d, i)).collect();
+        pipeline(&jobs, p, &Writer { start: 0.0, per_write: 0.0, per_line: 0.0, batched: false })
+    }
+
+    /// Parallel efficiency of a schedule: the work over `p` times its makespan.
+    fn efficiency(jobs: &[f64], p: usize) -> f64 {
+        jobs.iter().sum::<f64>() / (p as f64 * makespan(jobs, p))
+    }
 
     #[test]
     fn longest_first_is_stable_and_beats_the_given_order() {

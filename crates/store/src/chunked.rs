@@ -24,7 +24,7 @@ const CHUNK_ROWS: usize = 4096;
 /// Largest size of one chunk before compression, bytes: a reader that wants
 /// one cell inflates at most this much, and a large dataset has chunks for
 /// every thread to deflate.
-const CHUNK_BYTES: usize = 1 << 20;
+pub(crate) const CHUNK_BYTES: usize = 1 << 20;
 
 /// Writes chunked datasets, deflating their chunks on `threads` threads.
 #[derive(Debug, Clone, Copy)]
@@ -52,7 +52,6 @@ impl Deflater {
         if data.is_empty() {
             return Ok(ds);
         }
-        let rows = rows.max(1);
         let flat = data.as_standard_layout();
         let flat = flat.as_slice().expect("a standard layout is contiguous");
         let per_chunk = rows * shape[1..].iter().product::<usize>();

@@ -3,7 +3,7 @@
 //! them, how each is created and how a cell fills it, cut into chunks of
 //! whole lines so that a chunk can be written as soon as its lines are done.
 
-use crate::chunked::{deflate, Deflater};
+use crate::chunked::{deflate, Deflater, CHUNK_BYTES};
 use crate::layout::*;
 use crate::netcdf;
 use grid::{Along, CellData, Meta, Plane};
@@ -13,10 +13,6 @@ use hdf5::{Dataset, Group};
 /// end of a run is about one chunk per dataset (fewer chunks, more of it;
 /// more chunks, more per-chunk overhead in the file).
 const CHUNKS_PER_PLANE: usize = 32;
-
-/// Largest size of one chunk before compression, bytes (a reader of one cell
-/// inflates at most this much).
-const CHUNK_BYTES: usize = 1 << 20;
 
 /// How the per-cell datasets of a plane are cut into chunks: blocks of whole
 /// lines (rows; columns with along = y), the same for every dataset.

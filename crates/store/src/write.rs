@@ -79,10 +79,8 @@ struct Progress {
     datasets: Vec<(Field, hdf5::Dataset)>,
     /// Lines kept.
     line_kept: Vec<bool>,
-    /// Lines kept, per chunk.
+    /// Lines kept, per chunk (a chunk is written once all its lines are).
     kept: Vec<usize>,
-    /// Chunks written.
-    written: Vec<bool>,
 }
 
 impl Draft {
@@ -110,7 +108,6 @@ impl Draft {
                 datasets,
                 line_kept: vec![false; meta.plane.lines()],
                 kept: vec![0; chunks.count()],
-                written: vec![false; chunks.count()],
             })
             .collect();
         Ok(draft)
@@ -135,7 +132,6 @@ impl Draft {
                 let bytes = field.chunk(&self.meta, &self.chunks, &map.cells, c);
                 fields::write(ds, &self.chunks, c, &bytes).map_err(|e| StoreError::hdf5(&self.path, e))?;
             }
-            p.written[c] = true;
         }
         Ok(())
     }
@@ -163,7 +159,9 @@ impl Draft {
             let todo: Vec<(&(Field, hdf5::Dataset), usize)> = p
                 .datasets
                 .iter()
-                .flat_map(|d| (0..self.chunks.count()).filter(|&c| !p.written[c]).map(move |c| (d, c)))
+                .flat_map(|d| {
+                    (0..self.chunks.count()).filter(|&c| p.kept[c] < self.chunks.lines_in(c)).map(move |c| (d, c))
+                })
                 .collect();
             let bytes = self.z.map(todo.len(), |i| todo[i].0 .0.chunk(&self.meta, &self.chunks, &map.cells, todo[i].1));
             for (((_, ds), c), b) in todo.iter().zip(bytes) {
