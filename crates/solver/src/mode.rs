@@ -31,7 +31,7 @@ use crate::system::System;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use num_complex::Complex64 as C64;
 use std::ops::AddAssign;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 /// A row in the span of the constraint rows within this (relative to its
 /// norm) is a combination of them: a friction contact whose relative
@@ -163,8 +163,9 @@ pub struct Mode {
     spread: DMatrix<f64>,
     /// Augmented matrix Â.
     pub aug: DMatrix<f64>,
-    /// Spectral decomposition of Â over one forcing period.
-    pub spectral: Spectral,
+    /// Spectral decomposition of Â over one forcing period (shared with every
+    /// mode of the same Â and period, see [`Spectral::shared`]).
+    pub spectral: Arc<Spectral>,
     /// Event guards, in the order above.
     pub guards: Vec<Guard>,
     /// `P = ∂s/∂y`, see [`Mode::project_matrix`].
@@ -473,7 +474,7 @@ impl Mode {
             guards.extend(constraint_guards(sys, &cons, &lambda, lay));
         }
         guards.extend(slip_guards(sys, &slipping, &red, lay));
-        let spectral = Spectral::new(&aug, sys.period)?;
+        let spectral = Spectral::shared(&aug, sys.period)?;
         let frozen = cons.g.rows(cons.held.len(), lay.hf).into_owned();
         let (project_matrix, lift_matrix) = maps(&red, &frozen, sys.dof(), lay);
         let Reduction { basis, offset, spread, .. } = red;

@@ -30,6 +30,18 @@
 use crate::error::SolverError;
 use nalgebra::{ComplexField, DMatrix, DVector, Schur};
 use num_complex::Complex64 as C64;
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// Decompositions kept per thread before the memo of [`Spectral::shared`] is
+/// emptied (about 1.5 KB each for a two-mass scene: at most some 25 MB a thread).
+const MEMO_ENTRIES: usize = 16_384;
+
+thread_local! {
+    /// [`Spectral::new`]'s results on this thread, by the bits of its inputs.
+    static MEMO: RefCell<HashMap<Vec<u64>, Arc<Spectral>>> = RefCell::new(HashMap::new());
+}
 
 /// `‖N_c‖` below which a cluster is summed in its own time scale ν.
 const TINY_N: f64 = 1.0 / 256.0;
@@ -233,6 +245,28 @@ fn series(n: &mut DMatrix<C64>, horizon: f64, scale: f64) -> Result<(usize, f64)
 }
 
 impl Spectral {
+    /// [`Spectral::new`], remembered on this thread: the cells of a plane that
+    /// share a forcing frequency share their modes' matrices (a fresh sweep
+    /// along ω meets every ω again on the next line), and a decomposition is
+    /// a pure function of the bits of `a` and `horizon`, so a remembered one is
+    /// the new one bit for bit. Failures are not remembered.
+    pub fn shared(a: &DMatrix<f64>, horizon: f64) -> Result<Arc<Spectral>, SolverError> {
+        let bits = std::iter::once(horizon).chain(a.iter().copied()).map(f64::to_bits);
+        let key: Vec<u64> = std::iter::once(a.nrows() as u64).chain(bits).collect();
+        if let Some(hit) = MEMO.with(|m| m.borrow().get(&key).cloned()) {
+            return Ok(hit);
+        }
+        let made = Arc::new(Spectral::new(a, horizon)?);
+        MEMO.with(|m| {
+            let mut m = m.borrow_mut();
+            if m.len() >= MEMO_ENTRIES {
+                m.clear();
+            }
+            m.insert(key, Arc::clone(&made));
+        });
+        Ok(made)
+    }
+
     /// Decomposes `a`; the expansion is accurate to rounding for `0 <= u <= horizon`.
     pub fn new(a: &DMatrix<f64>, horizon: f64) -> Result<Spectral, SolverError> {
         let dim = a.nrows();
@@ -494,6 +528,24 @@ mod tests {
             let err = (&got - &exact).amax() / exact.amax().max(1.0);
             assert!(err < 1e-11, "u = {u}: relative error {err:e}\n{got}\n{exact}");
         }
+    }
+
+    /// A remembered decomposition is the fresh one bit for bit (their debug
+    /// forms print every float in full), and is handed out again for the same
+    /// inputs only: another horizon or one changed entry decomposes anew.
+    #[test]
+    fn shared_decompositions_are_the_fresh_ones() {
+        let a = DMatrix::from_row_slice(2, 2, &[0.0, 1.0, -1.0, -0.2]);
+        let m = augmented(&a, &[0.0, 1.0], &[0.0, 0.0], 0.33);
+        let first = Spectral::shared(&m, 19.0).unwrap();
+        assert_eq!(format!("{:?}", *first), format!("{:?}", Spectral::new(&m, 19.0).unwrap()));
+        assert!(Arc::ptr_eq(&first, &Spectral::shared(&m, 19.0).unwrap()));
+        assert!(!Arc::ptr_eq(&first, &Spectral::shared(&m, 19.5).unwrap()));
+        let mut other = m.clone();
+        other[(1, 1)] = -0.2000000000000001;
+        let changed = Spectral::shared(&other, 19.0).unwrap();
+        assert!(!Arc::ptr_eq(&first, &changed));
+        assert_eq!(format!("{:?}", *changed), format!("{:?}", Spectral::new(&other, 19.0).unwrap()));
     }
 
     #[test]
