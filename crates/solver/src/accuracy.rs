@@ -63,7 +63,9 @@ pub struct Accuracy {
     /// Two period-section points closer than this (max norm, relative to
     /// 1 + |state|) are the same point (standard 1e-7).
     pub(crate) periodic_tol: f64,
-    /// Largest period n tested, in forcing periods (standard 32).
+    /// Largest period n tested, in forcing periods (standard 32). A record
+    /// that contracts onto a longer orbit (up to 128 periods) ends
+    /// `unresolved`, naming its period, instead of being extended.
     pub(crate) n_max: usize,
     /// Impacts at one stop in n periods from which a motion is flagged chattering (6).
     pub(crate) chatter_impacts: usize,

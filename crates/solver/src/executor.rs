@@ -13,7 +13,10 @@
 //!    `chaos_check` periods) and a clearly chaotic record (`λT > 0.05`) ends
 //!    there; a record that still contracts (`λT < -0.002`) is extended by
 //!    `max_periods`, at most `extensions` times ([`Executor::steady`] runs
-//!    phases 1 and 2);
+//!    phases 1 and 2). A record that still contracts but whose section has
+//!    settled on an orbit longer than `n_max` (up to 128 periods) ends
+//!    `unresolved` ([`Unresolved::LongPeriod`]) instead of being extended:
+//!    no extension would find a period;
 //! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
 //!    Floquet multiplier modulus of the n-period map at the final state;
 //! 4. **window** ([`Executor::window`]): impacts, sticking and chattering over
@@ -34,7 +37,7 @@ use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
 use crate::lyapunov::{fills_closed_curve, largest_exponent};
 use crate::newton::{evaluate, MapKind};
-use crate::period::{detect, history_len, symmetry_of, History};
+use crate::period::{detect, history_len, symmetry_of, History, Trail};
 use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
@@ -83,6 +86,14 @@ pub enum Unresolved {
     },
     /// No period, and the run that measures the exponent halted (why inside).
     NoExponent(Box<Unresolved>),
+    /// No period up to `n_max`, and the motion contracts onto an orbit of a
+    /// longer period (see `n_max`), which no extension of the record would find.
+    LongPeriod {
+        /// The orbit's period, in forcing periods.
+        n: usize,
+        /// The longest period tested (`Accuracy::n_max`).
+        n_max: usize,
+    },
 }
 
 impl Unresolved {
@@ -108,6 +119,10 @@ impl std::fmt::Display for Unresolved {
             Unresolved::Undecided { growth } => write!(
                 f,
                 "no period within the record; the largest Lyapunov exponent is in the quasi-periodic band (λT = {growth:.3e}) but the period section is not one closed curve"
+            ),
+            Unresolved::LongPeriod { n, n_max } => write!(
+                f,
+                "no period up to n_max = {n_max}: the motion contracts onto an orbit of period {n} (raise n_max to label it)"
             ),
             Unresolved::NoExponent(why) => {
                 write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {why}")
@@ -188,6 +203,9 @@ pub fn run_cell_with_sections(
     };
     let (class, n, lyapunov, reason) = match steady {
         Steady::Periodic(n) => (Class::Periodic, Some(n), None, None),
+        Steady::LongPeriod(n, l) => {
+            (Class::Unresolved, None, Some(l), Some(Unresolved::LongPeriod { n, n_max: acc.n_max }))
+        }
         Steady::Unmeasured => (Class::Chaotic, None, None, None),
         Steady::Failed(halt) => {
             (Class::Unresolved, None, None, Some(Unresolved::NoExponent(Box::new(Unresolved::of(halt, acc)))))
@@ -216,6 +234,9 @@ pub fn run_cell_with_sections(
 enum Steady {
     /// The section repeats with period n.
     Periodic(usize),
+    /// The record contracts, and its section repeats with a period n beyond
+    /// `n_max` (see [`Trail`]); the largest Lyapunov exponent (per unit time).
+    LongPeriod(usize, f64),
     /// No period; the largest Lyapunov exponent (per unit time) and the
     /// period-section points it visited.
     Exponent(f64, Vec<DVector<f64>>),
@@ -233,6 +254,8 @@ struct Executor<'s> {
     acc: &'s Accuracy,
     sim: Simulator<'s>,
     hist: History,
+    /// The record's section points, for orbits longer than `n_max`.
+    trail: Trail,
     newton: Newton<'s>,
     budget: Budget,
 }
@@ -244,8 +267,9 @@ impl<'s> Executor<'s> {
         Ok(Executor {
             sys,
             acc,
-            sim,
             hist: History::with_capacity(history_len(acc) + 1),
+            trail: Trail::new(sim.state().len()),
+            sim,
             newton: Newton::default(),
             budget: Budget::new(acc.max_events),
         })
@@ -261,6 +285,7 @@ impl<'s> Executor<'s> {
             if self.hist.len() == history_len(acc) {
                 self.hist.pop_front();
             }
+            self.trail.push(&rec.end);
             self.hist.push_back(rec);
             if (self.sim.periods() as usize) < acc.min_transient {
                 continue;
@@ -272,6 +297,7 @@ impl<'s> Executor<'s> {
                 if let Some(x) = self.newton.step(&mut self.sim, &self.hist, acc, &mut self.budget) {
                     if self.sim.restart(x.as_slice()).is_ok() {
                         self.hist.clear();
+                        self.trail.clear();
                     }
                 }
             }
@@ -289,7 +315,8 @@ impl<'s> Executor<'s> {
     }
 
     /// Phases 1 and 2: records until a period is found or the exponent ends
-    /// the record (early look, extensions of contracting records).
+    /// the record (early look, extensions of contracting records, and a
+    /// contracting record whose section repeats beyond `n_max`).
     fn steady(&mut self) -> Result<Steady, Unresolved> {
         let acc = self.acc;
         let mut early_look = acc.chaos_check > 0 && acc.chaos_check < acc.max_periods && acc.lyapunov_periods > 0;
@@ -305,6 +332,12 @@ impl<'s> Executor<'s> {
             let exponent = self.exponent();
             // Growth per forcing period decides: the record ends, or goes on to a new limit.
             let growth = exponent.as_ref().ok().map(|(l, _)| l * self.sys.period);
+            let contracting = growth.is_some_and(|g| g < -CONTRACTING_EXPONENT);
+            // A contracting record settled on an orbit longer than n_max: no extension finds a period.
+            if let (false, true, Some(n)) = (early_look, contracting, self.trail.long_period(acc)) {
+                let lambda = growth.unwrap_or(f64::NAN) / self.sys.period;
+                return Ok(Steady::LongPeriod(n, lambda));
+            }
             let ended = || match exponent {
                 Ok((l, points)) => Steady::Exponent(l, points),
                 Err(halt) => Steady::Failed(halt),
@@ -315,7 +348,7 @@ impl<'s> Executor<'s> {
                     return Ok(ended());
                 }
                 acc.max_periods
-            } else if growth.is_some_and(|g| g < -CONTRACTING_EXPONENT) && extensions < acc.extensions {
+            } else if contracting && extensions < acc.extensions {
                 extensions += 1;
                 self.newton.renew();
                 limit + acc.max_periods
@@ -511,6 +544,31 @@ mod tests {
         let fd = spectral_radius(&multipliers(&jac));
         let mu = cell.multiplier(1).unwrap();
         assert!((mu - fd).abs() < 1e-6, "{mu} against finite differences {fd}");
+    }
+
+    /// A record that contracts onto an orbit longer than `n_max` ends at the
+    /// first look after that orbit has repeated twice, as `unresolved` naming
+    /// the period, before the whole extended record (`max_periods (1 +
+    /// extensions)` = 3 000 periods, where it ended before); with `n_max` above
+    /// that period the same cell is periodic with it (period detection as the
+    /// oracle). A neutral torus that closes after more than `n_max` periods
+    /// (the undamped oscillator away from its stop at ω = 33/13: period 33)
+    /// does not contract and stays quasi-periodic.
+    #[test]
+    fn an_orbit_longer_than_n_max_ends_the_record() {
+        let sys = multi_stop(1.1042553191489362, 2.0);
+        let acc = Accuracy::default();
+        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+        assert_eq!(cell.class, Class::Unresolved);
+        assert_eq!(cell.reason, Some(Unresolved::LongPeriod { n: 60, n_max: 32 }));
+        assert!(cell.lyapunov.unwrap() * sys.period < -CONTRACTING_EXPONENT, "{:?}", cell.lyapunov);
+        assert!(cell.periods < 3000, "{} periods", cell.periods);
+        let wide = acc.with("n_max", 64.0).unwrap();
+        let cell = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)));
+        let torus = system("single-stop.toml", &[("sigma", 0.3), ("omega", 33.0 / 13.0)]);
+        let cell = run_cell(&torus, &acc, Method::Exact, &torus.model.initial_state());
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
     }
 
     /// Phases 1 and 4 on complete chattering (ω = 0.2, δ = 0.6): M1 sticks to

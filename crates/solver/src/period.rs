@@ -57,6 +57,71 @@ pub(crate) fn detect(h: &History, acc: &Accuracy) -> Option<usize> {
     (!converging_divisor).then_some(n)
 }
 
+/// Longest period sought beyond `n_max` in a record without a period (see
+/// [`Trail`]).
+pub(crate) const LONGEST_PERIOD: usize = 128;
+
+/// The period-section points (states only) of the last `3 LONGEST_PERIOD`
+/// periods of a record, to tell an orbit longer than `n_max` from a motion
+/// without a period: such an orbit, once reached, is never found by
+/// [`detect`], however long the record.
+#[derive(Debug, Clone)]
+pub(crate) struct Trail {
+    dim: usize,
+    /// Points, oldest first from `oldest` (a ring of `3 LONGEST_PERIOD` points once full).
+    data: Vec<f64>,
+    /// Where the oldest point starts: 0 until the ring is full.
+    oldest: usize,
+}
+
+impl Trail {
+    /// An empty trail of states of dimension `dim`.
+    pub(crate) fn new(dim: usize) -> Trail {
+        Trail { dim, data: Vec::with_capacity(3 * LONGEST_PERIOD * dim), oldest: 0 }
+    }
+
+    /// Forgets every point (the record restarts elsewhere).
+    pub(crate) fn clear(&mut self) {
+        self.data.clear();
+        self.oldest = 0;
+    }
+
+    /// Appends the section point `x`, dropping the oldest once full.
+    pub(crate) fn push(&mut self, x: &DVector<f64>) {
+        if self.data.len() < 3 * LONGEST_PERIOD * self.dim {
+            self.data.extend_from_slice(x.as_slice());
+        } else {
+            self.data[self.oldest..self.oldest + self.dim].copy_from_slice(x.as_slice());
+            self.oldest = (self.oldest + self.dim) % self.data.len();
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.data.len() / self.dim
+    }
+
+    /// The i-th point, oldest first.
+    fn point(&self, i: usize) -> &[f64] {
+        let start = (self.oldest + i * self.dim) % self.data.len();
+        &self.data[start..start + self.dim]
+    }
+
+    /// The smallest period n of the points, when it lies in
+    /// `(n_max, LONGEST_PERIOD]`: the last 2n points each equal the point n
+    /// periods earlier within `periodic_tol` (the test of [`detect`], on states
+    /// alone). An orbit longer than the periods tested.
+    pub(crate) fn long_period(&self, acc: &Accuracy) -> Option<usize> {
+        let len = self.len();
+        let far = |a: &[f64], b: &[f64]| {
+            let d = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+            d > acc.periodic_tol * (1.0 + a.iter().fold(0.0, |m: f64, x| m.max(x.abs())))
+        };
+        (1..=LONGEST_PERIOD.min(len / 3))
+            .find(|&n| (len - 2 * n..len).rev().all(|i| !far(self.point(i), self.point(i - n))))
+            .filter(|&n| n > acc.n_max)
+    }
+}
+
 /// Symmetric when, for some shift m, the state half a period after the start of
 /// period j + m is the mirror image of the state at the start of period j
 /// (within ten times `periodic_tol`), over the last n periods of a period-n
@@ -155,5 +220,45 @@ mod tests {
             r.half = Some(DVector::from_vec(vec![0.2, 0.0]));
         }
         assert_eq!(symmetry_of(&broken, 1, &acc), Symmetry::Asymmetric);
+    }
+
+    /// A trail finds an orbit longer than `n_max` once it has repeated twice,
+    /// not before, and never a motion that does not repeat.
+    #[test]
+    fn a_trail_finds_orbits_longer_than_n_max() {
+        let acc = Accuracy::default();
+        let n = acc.n_max + 9;
+        let orbit = |k: usize| DVector::from_vec(vec![(k % n) as f64 * 0.01, 1.0 - (k % n) as f64 * 1e-3]);
+        let mut trail = Trail::new(2);
+        for k in 0..3 * n - 1 {
+            trail.push(&orbit(k));
+        }
+        assert_eq!(trail.long_period(&acc), None, "two cycles and a point short of three");
+        trail.push(&orbit(3 * n - 1));
+        assert_eq!(trail.long_period(&acc), Some(n));
+        // Past the ring's length the oldest points are dropped, the answer stays.
+        for k in 3 * n..3 * LONGEST_PERIOD + 7 {
+            trail.push(&orbit(k));
+        }
+        assert_eq!(trail.long_period(&acc), Some(n));
+        // A drift of 100 tolerances a cycle is not a repeat; nor is an irrational rotation.
+        let mut drifting = Trail::new(2);
+        let mut rotation = Trail::new(2);
+        for k in 0..3 * LONGEST_PERIOD {
+            let p = orbit(k);
+            drifting.push(&DVector::from_vec(vec![p[0] + k as f64 * 100.0 * acc.periodic_tol / n as f64, p[1]]));
+            let a = k as f64 * std::f64::consts::SQRT_2;
+            rotation.push(&DVector::from_vec(vec![a.cos(), a.sin()]));
+        }
+        assert_eq!(drifting.long_period(&acc), None);
+        assert_eq!(rotation.long_period(&acc), None);
+        // An orbit of period n_max or less is detect's, not the trail's.
+        let mut short = Trail::new(2);
+        for k in 0..3 * LONGEST_PERIOD {
+            short.push(&orbit(k % 3));
+        }
+        assert_eq!(short.long_period(&acc), None);
+        short.clear();
+        assert_eq!(short.long_period(&acc), None);
     }
 }
