@@ -22,8 +22,13 @@ pub(crate) fn history_len(acc: &Accuracy) -> usize {
 
 /// Distance of two section points, relative to `1 + |a|` (max norm).
 pub(crate) fn distance(a: &DVector<f64>, b: &DVector<f64>) -> f64 {
-    let d = a.iter().zip(b.iter()).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-    d / (1.0 + a.amax())
+    relative_distance(a.as_slice(), b.as_slice())
+}
+
+/// [`distance`] of two states given as slices.
+fn relative_distance(a: &[f64], b: &[f64]) -> f64 {
+    let d = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    d / (1.0 + a.iter().fold(0.0, |m: f64, x| m.max(x.abs())))
 }
 
 fn close(a: &DVector<f64>, b: &DVector<f64>, tol: f64) -> bool {
@@ -112,12 +117,9 @@ impl Trail {
     /// alone). An orbit longer than the periods tested.
     pub(crate) fn long_period(&self, acc: &Accuracy) -> Option<usize> {
         let len = self.len();
-        let far = |a: &[f64], b: &[f64]| {
-            let d = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
-            d > acc.periodic_tol * (1.0 + a.iter().fold(0.0, |m: f64, x| m.max(x.abs())))
-        };
+        let close = |i: usize, n: usize| relative_distance(self.point(i), self.point(i - n)) <= acc.periodic_tol;
         (1..=LONGEST_PERIOD.min(len / 3))
-            .find(|&n| (len - 2 * n..len).rev().all(|i| !far(self.point(i), self.point(i - n))))
+            .find(|&n| (len - 2 * n..len).rev().all(|i| close(i, n)))
             .filter(|&n| n > acc.n_max)
     }
 }
