@@ -212,8 +212,9 @@ impl Accuracy {
     /// Sets a knob by name (for `--accuracy name=value` overrides).
     pub fn set(&mut self, name: &str, value: f64) -> Result<(), SolverError> {
         let err = |m: &str| SolverError::Accuracy { field: name.to_string(), message: m.to_string() };
-        if !value.is_finite() || value < 0.0 {
-            return Err(err(&format!("must be a finite number >= 0, got {value}")));
+        // Each kind of knob states its own lower bound (a count's is 1).
+        if !value.is_finite() {
+            return Err(err(&format!("must be a finite number, got {value}")));
         }
         let count = || -> Result<usize, SolverError> {
             if value.fract() != 0.0 || value < 1.0 {
@@ -223,7 +224,7 @@ impl Accuracy {
             }
         };
         let whole = || {
-            if value.fract() != 0.0 {
+            if value.fract() != 0.0 || value < 0.0 {
                 Err(err(&format!("must be a whole number >= 0, got {value}")))
             } else {
                 Ok(value as usize)
@@ -233,6 +234,13 @@ impl Accuracy {
             b if b == 0f64.to_bits() => Ok(false),
             b if b == 1f64.to_bits() => Ok(true),
             _ => Err(err(&format!("must be 0 or 1, got {value}"))),
+        };
+        let nonnegative = || {
+            if value >= 0.0 {
+                Ok(value)
+            } else {
+                Err(err(&format!("must be >= 0, got {value}")))
+            }
         };
         let positive = || {
             if value > 0.0 {
@@ -252,14 +260,14 @@ impl Accuracy {
             "rk4_min_step" => 1e-15,
             _ => 0.0,
         };
-        if value < floor {
+        if floor > 0.0 && value < floor {
             return Err(err(&format!("at least {floor:e} (smaller steps take hours per cell), got {value:e}")));
         }
         match name {
             "event_tol" => self.event_tol = positive()?,
             "contact_tol" => self.contact_tol = positive()?,
             "stick_velocity" => self.stick_velocity = positive()?,
-            "chatter_velocity" => self.chatter_velocity = value,
+            "chatter_velocity" => self.chatter_velocity = nonnegative()?,
             "min_transient" => self.min_transient = count()?,
             "max_periods" => self.max_periods = count()?,
             "periodic_tol" => self.periodic_tol = positive()?,
