@@ -84,7 +84,10 @@ fn bad_options() {
     for n_max in ["n_max=0", "n_max=-3"] {
         expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", n_max], "n_max: must be a whole number >= 1");
     }
-    expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "chatter_velocity=-1"], "chatter_velocity: must be >= 0");
+    expect_error(
+        &["cell", "configs/multi-stop.toml", "--accuracy", "chatter_velocity=-1"],
+        "chatter_velocity: must be >= 0",
+    );
     expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "chaos_check=2.5"], "chaos_check");
     expect_error(&["cell", "configs/multi-stop.toml", "--accuracy", "chaos_check=-1"], "chaos_check");
     expect_error(&["cell", "configs/missing.toml"], "configs/missing.toml");
