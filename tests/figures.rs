@@ -175,8 +175,7 @@ fn diagrams_say_which_directions_were_run() {
 fn curves_are_stored_and_drawn_over_maps() {
     let d = scratch("curves");
     let (c, a) = (d.join("pf.h5"), d.join("df.h5"));
-    let args = crate::util::pitchfork("0.05", "4", &["--json", "-o", c.to_str().unwrap()]);
-    let j = crate::util::json_of(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let j = crate::util::json_of(&crate::util::pitchfork("0.05", "4", &["--json", "-o", c.to_str().unwrap()]));
     let curve = store::read_curves(&c).unwrap().remove(0);
     assert_eq!((curve.kind.as_str(), curve.free.clone()), ("PF", ["omega".to_string(), "fk".to_string()]));
     let points = j["points"].as_array().unwrap();

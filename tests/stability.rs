@@ -319,8 +319,7 @@ fn fold_curve_matches_the_closed_form() {
 /// 0.1 (ω = 6.844, 6.81, 6.745), where it breaks the symmetry.
 #[test]
 fn pitchfork_curve_passes_through_the_published_values() {
-    let args = crate::util::pitchfork("0.1", "9", &["--json"]);
-    let j = json_of(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    let j = json_of(&crate::util::pitchfork("0.1", "9", &["--json"]));
     let points = j["points"].as_array().unwrap();
     assert_eq!(points.len(), 10, "{j}");
     for (fk, omega) in [(0.01, 6.844), (0.05, 6.81), (0.1, 6.745)] {

@@ -96,9 +96,9 @@ pub fn ok(args: &[&str]) {
 
 /// The arguments of `curve` for the dry-friction pitchfork from
 /// (ω, fk) = (6.845, 0.01) to fk = `to` in `steps` steps, then `extra`.
-pub fn pitchfork(to: &str, steps: &str, extra: &[&str]) -> Vec<String> {
+pub fn pitchfork<'a>(to: &'a str, steps: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec!["curve", "configs/dry-friction.toml", "--kind", "pf", "--start", "omega=6.845,fk=0.01"];
     args.extend(["--free", "omega,fk", "--to", to, "--steps", steps]);
     args.extend_from_slice(extra);
-    args.into_iter().map(str::to_string).collect()
+    args
 }

@@ -256,11 +256,11 @@ impl Accuracy {
         }
         // RK4 steps below these take hours per cell.
         let floor = match name {
-            "rk4_step" => 1e-5,
-            "rk4_min_step" => 1e-15,
-            _ => 0.0,
+            "rk4_step" => Some(1e-5),
+            "rk4_min_step" => Some(1e-15),
+            _ => None,
         };
-        if floor > 0.0 && value < floor {
+        if let Some(floor) = floor.filter(|&f| value < f) {
             return Err(err(&format!("at least {floor:e} (smaller steps take hours per cell), got {value:e}")));
         }
         match name {

@@ -334,9 +334,10 @@ impl<'s> Executor<'s> {
             let growth = exponent.as_ref().ok().map(|(l, _)| l * self.sys.period);
             let contracting = growth.is_some_and(|g| g < -CONTRACTING_EXPONENT);
             // A contracting record settled on an orbit longer than n_max: no extension finds a period.
-            if let (false, true, Some(n)) = (early_look, contracting, self.trail.long_period(acc)) {
-                let lambda = growth.unwrap_or(f64::NAN) / self.sys.period;
-                return Ok(Steady::LongPeriod(n, lambda));
+            if let (false, true, Ok((l, _))) = (early_look, contracting, &exponent) {
+                if let Some(n) = self.trail.long_period(acc) {
+                    return Ok(Steady::LongPeriod(n, *l));
+                }
             }
             let ended = || match exponent {
                 Ok((l, points)) => Steady::Exponent(l, points),

@@ -66,14 +66,17 @@ pub(crate) fn detect(h: &History, acc: &Accuracy) -> Option<usize> {
 /// [`Trail`]).
 pub(crate) const LONGEST_PERIOD: usize = 128;
 
-/// The period-section points (states only) of the last `3 LONGEST_PERIOD`
+/// Section points a [`Trail`] keeps: three cycles of the longest period.
+const TRAIL_POINTS: usize = 3 * LONGEST_PERIOD;
+
+/// The period-section points (states only) of the last [`TRAIL_POINTS`]
 /// periods of a record, to tell an orbit longer than `n_max` from a motion
 /// without a period: such an orbit, once reached, is never found by
 /// [`detect`], however long the record.
 #[derive(Debug, Clone)]
 pub(crate) struct Trail {
     dim: usize,
-    /// Points, oldest first from `oldest` (a ring of `3 LONGEST_PERIOD` points once full).
+    /// Points, oldest first from `oldest` (a ring of [`TRAIL_POINTS`] points once full).
     data: Vec<f64>,
     /// Where the oldest point starts: 0 until the ring is full.
     oldest: usize,
@@ -82,7 +85,7 @@ pub(crate) struct Trail {
 impl Trail {
     /// An empty trail of states of dimension `dim`.
     pub(crate) fn new(dim: usize) -> Trail {
-        Trail { dim, data: Vec::with_capacity(3 * LONGEST_PERIOD * dim), oldest: 0 }
+        Trail { dim, data: Vec::with_capacity(TRAIL_POINTS * dim), oldest: 0 }
     }
 
     /// Forgets every point (the record restarts elsewhere).
@@ -93,7 +96,7 @@ impl Trail {
 
     /// Appends the section point `x`, dropping the oldest once full.
     pub(crate) fn push(&mut self, x: &DVector<f64>) {
-        if self.data.len() < 3 * LONGEST_PERIOD * self.dim {
+        if self.data.len() < TRAIL_POINTS * self.dim {
             self.data.extend_from_slice(x.as_slice());
         } else {
             self.data[self.oldest..self.oldest + self.dim].copy_from_slice(x.as_slice());
