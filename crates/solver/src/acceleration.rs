@@ -134,10 +134,12 @@ fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVecto
     }
     let sys = probe.system();
     let mut gaps = Gaps(sys, vec![f64::INFINITY; sys.stops.len()]);
+    // Only states are needed here; Newton's next solve tracks the tangent again.
+    probe.untrack_tangent();
     let times: Vec<f64> = (1..64).map(|i| sys.period * i as f64 / 64.0).collect();
     probe.restart(sol.x.as_slice()).ok()?;
     for _ in 0..n {
-        probe.run_period(&times, false, &mut gaps).ok()?;
+        probe.run_period_sampled(&times, &mut gaps).ok()?;
     }
     let hit = |k: usize| sol.pattern.iter().any(|p| p[k] > 0);
     let margin = (0..sys.stops.len()).filter(|&k| !hit(k)).map(|k| gaps.1[k]).fold(f64::INFINITY, f64::min);

@@ -130,6 +130,8 @@ struct Buffers {
     contacts: Vec<usize>,
     /// Impacts of one contact event.
     hits: Vec<impact::Hit>,
+    /// Augmented and full state at a sample taken inside an advance.
+    sample: (DVector<f64>, DVector<f64>),
 }
 
 /// What the saltation matrix of an event needs from before it, in full
@@ -250,6 +252,12 @@ impl<'s> Simulator<'s> {
         self.tangent = Some(DMatrix::identity(self.y.len(), self.y.len()));
     }
 
+    /// Stops tracking the tangent map (a run that needs only states pays for
+    /// none of its matrices).
+    pub(crate) fn untrack_tangent(&mut self) {
+        self.tangent = None;
+    }
+
     /// Restarts the tracked tangent map from the identity at the current state.
     pub fn reset_tangent(&mut self) {
         if let Some(t) = self.tangent.as_mut() {
@@ -312,17 +320,8 @@ impl<'s> Simulator<'s> {
     /// (ascending, in `(0, T)`) at which the observer gets the state; with `half`
     /// the record keeps the state at `T/2`.
     pub fn run_period(&mut self, samples: &[f64], half: bool, obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
-        let sys = self.sys;
-        let period = sys.period;
-        let mut rec = PeriodRecord {
-            impacts: vec![0; sys.stops.len()],
-            held: self.key.held,
-            stuck: self.key.stuck,
-            end: DVector::zeros(0),
-            end_key: Key::FREE,
-            half: None,
-            half_tangent: None,
-        };
+        let period = self.sys.period;
+        let mut rec = self.new_record();
         let mut targets = std::mem::take(&mut self.buffers.targets);
         targets.clear();
         targets.extend(samples.iter().copied().filter(|&t| t > self.clock && t < period));
@@ -332,9 +331,44 @@ impl<'s> Simulator<'s> {
         targets.sort_by(f64::total_cmp);
         targets.dedup();
         targets.push(period);
-        let result = self.run_to_targets(&targets, half, &mut rec, obs);
+        let result = self.run_to_targets(&targets, &[], half, &mut rec, obs);
         self.buffers.targets = targets;
         result?;
+        self.end_period(rec, obs)
+    }
+
+    /// [`Simulator::run_period`] without a half-period state, with the
+    /// observer's `samples` taken inside each flow segment from its closed form
+    /// rather than by stopping there: the trajectory is, bit for bit, that of a
+    /// period without samples, and a sample costs one evaluation of the flow
+    /// instead of an advance. With RK4, whose segments have no closed form, the
+    /// steps stop at the samples as in [`Simulator::run_period`].
+    pub(crate) fn run_period_sampled(&mut self, samples: &[f64], obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
+        if self.method == Method::Rk4 {
+            return self.run_period(samples, false, obs);
+        }
+        let mut rec = self.new_record();
+        let period = [self.sys.period];
+        self.run_to_targets(&period, samples, false, &mut rec, obs)?;
+        self.end_period(rec, obs)
+    }
+
+    /// The record of a period starting now.
+    fn new_record(&self) -> PeriodRecord {
+        PeriodRecord {
+            impacts: vec![0; self.sys.stops.len()],
+            held: self.key.held,
+            stuck: self.key.stuck,
+            end: DVector::zeros(0),
+            end_key: Key::FREE,
+            half: None,
+            half_tangent: None,
+        }
+    }
+
+    /// Closes the period just simulated: the clock restarts, the record gets
+    /// the end state, the observer its sample at the period's end.
+    fn end_period(&mut self, mut rec: PeriodRecord, obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
         self.clock = 0.0;
         self.periods += 1;
         rec.end = self.y.clone();
@@ -344,10 +378,13 @@ impl<'s> Simulator<'s> {
     }
 
     /// Simulates from the current time through the ascending `targets` of this
-    /// period (the last is the period's end), recording into `rec`.
+    /// period (the last is the period's end), recording into `rec`; the
+    /// ascending `inside` times are sampled from each segment's closed form
+    /// (exact flow only).
     fn run_to_targets(
         &mut self,
         targets: &[f64],
+        inside: &[f64],
         half: bool,
         rec: &mut PeriodRecord,
         obs: &mut dyn Observer,
@@ -355,6 +392,7 @@ impl<'s> Simulator<'s> {
         let sys = self.sys;
         let period = sys.period;
         let mut ti = 0;
+        let mut si = inside.partition_point(|&t| t <= self.clock);
         while ti < targets.len() {
             let target = targets[ti];
             let phase = self.phase();
@@ -363,6 +401,21 @@ impl<'s> Simulator<'s> {
             mode.project_into(&self.y, phase, &mut b.start);
             let advance =
                 self.method.advance(mode, &b.start, target - self.clock, &self.acc, &mut self.work, &mut b.end);
+            // The samples inside the segment just flown, before its end.
+            let end = match advance {
+                Advance::Horizon => target,
+                Advance::Event { time, .. } => self.clock + time,
+                Advance::Stalled => self.clock,
+            };
+            while si < inside.len() && inside[si] < end {
+                let (s, y) = &mut b.sample;
+                s.resize_vertically_mut(b.start.len(), 0.0);
+                y.resize_vertically_mut(self.y.len(), 0.0);
+                self.work.state_at(mode, inside[si] - self.clock, s);
+                mode.lift_into(s, y);
+                obs.sample(self.periods as f64 * period + inside[si], y);
+                si += 1;
+            }
             match advance {
                 Advance::Horizon => {
                     if let Some(t) = self.tangent.as_mut() {
@@ -534,7 +587,7 @@ impl<'s> Simulator<'s> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::testing::system;
+    use crate::testing::{forced_oscillator, system};
 
     /// Every event, named.
     #[derive(Default)]
@@ -548,6 +601,15 @@ mod tests {
         }
     }
 
+    /// Every sample, with its time.
+    #[derive(Default)]
+    struct Samples(Vec<(f64, DVector<f64>)>);
+    impl Observer for Samples {
+        fn sample(&mut self, t: f64, y: &DVector<f64>) {
+            self.0.push((t, y.clone()));
+        }
+    }
+
     /// Without an event a period ends on the closed form of
     /// `x'' + 2ζx' + x = cos ωt` (the textbook solution from rest at x0).
     #[test]
@@ -556,14 +618,7 @@ mod tests {
         let sys = system("single-stop.toml", &[("zeta", zeta), ("omega", omega), ("sigma", 100.0)]);
         let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &[x0, 0.0]).unwrap();
         let rec = sim.run_period(&[], false, &mut Ignore).unwrap();
-        let t = sys.period;
-        let d = (1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2);
-        let (a, b) = ((1.0 - omega * omega) / d, 2.0 * zeta * omega / d);
-        let wd = (1.0 - zeta * zeta).sqrt();
-        let (c1, c2) = (x0 - a, (zeta * (x0 - a) - b * omega) / wd);
-        let x = a * (omega * t).cos()
-            + b * (omega * t).sin()
-            + (-zeta * t).exp() * (c1 * (wd * t).cos() + c2 * (wd * t).sin());
+        let x = forced_oscillator(zeta, omega, x0, 0.0, sys.period);
         assert!((rec.end[0] - x).abs() < 1e-12, "{} against {x}", rec.end[0]);
         assert_eq!((rec.impacts.as_slice(), sim.events(), sim.periods()), (&[0u32][..], 0, 1));
     }
@@ -610,13 +665,6 @@ mod tests {
     /// half-period state is the state sampled at `T/2`.
     #[test]
     fn samples_and_the_half_period_state_are_taken_on_time() {
-        #[derive(Default)]
-        struct Samples(Vec<(f64, DVector<f64>)>);
-        impl Observer for Samples {
-            fn sample(&mut self, t: f64, y: &DVector<f64>) {
-                self.0.push((t, y.clone()));
-            }
-        }
         let sys = system("single-stop.toml", &[("sigma", 100.0)]);
         let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &[0.1, 0.0]).unwrap();
         let t = sys.period;
@@ -626,5 +674,42 @@ mod tests {
         assert_eq!(times, vec![0.25 * t, 0.5 * t, 0.75 * t, t]);
         assert_eq!(rec.half.as_ref(), Some(&samples.0[1].1));
         assert_eq!(rec.end, samples.0[3].1);
+    }
+
+    /// Samples taken inside the segments leave the trajectory as it is without
+    /// samples, bit for bit, through impacts; each is the state that stopping
+    /// there gives (to rounding), and without events the closed form's.
+    #[test]
+    fn samples_inside_segments_leave_the_trajectory_alone() {
+        let sys = system("multi-stop.toml", &[("omega", 1.2), ("delta", 0.3)]);
+        let y0 = sys.model.initial_state();
+        let times: Vec<f64> = (1..64).map(|i| sys.period * i as f64 / 64.0).collect();
+        let start = || Simulator::new(&sys, Accuracy::default(), Method::Exact, &y0).unwrap();
+        let (mut plain, mut inside, mut stopping) = (start(), start(), start());
+        let (mut got, mut want) = (Samples::default(), Samples::default());
+        for _ in 0..5 {
+            let rec = plain.run_period(&[], false, &mut Ignore).unwrap();
+            let sampled = inside.run_period_sampled(&times, &mut got).unwrap();
+            stopping.run_period(&times, false, &mut want).unwrap();
+            assert_eq!((&sampled.end, &sampled.impacts), (&rec.end, &rec.impacts));
+        }
+        assert!(inside.events() > 5, "the motion impacts: {} events", inside.events());
+        assert_eq!(got.0.len(), want.0.len());
+        for ((tg, yg), (tw, yw)) in got.0.iter().zip(&want.0) {
+            assert_eq!(tg, tw);
+            assert!((yg - yw).amax() <= 1e-9 * (1.0 + yw.amax()), "at t = {tg}: {yg} against {yw}");
+        }
+
+        let (zeta, omega, x0) = (0.05, 1.7, 0.3);
+        let free = system("single-stop.toml", &[("zeta", zeta), ("omega", omega), ("sigma", 100.0)]);
+        let mut sim = Simulator::new(&free, Accuracy::default(), Method::Exact, &[x0, 0.0]).unwrap();
+        let mut samples = Samples::default();
+        let t = free.period;
+        sim.run_period_sampled(&[0.3 * t, 0.7 * t], &mut samples).unwrap();
+        for (time, y) in &samples.0 {
+            let x = forced_oscillator(zeta, omega, x0, 0.0, *time);
+            assert!((y[0] - x).abs() < 1e-12, "at t = {time}: {} against {x}", y[0]);
+        }
+        assert_eq!(samples.0.len(), 3);
     }
 }

@@ -1,4 +1,5 @@
-//! Helpers of the unit tests: the systems of the shipped scenes.
+//! Helpers of the unit tests: the systems of the shipped scenes, and the
+//! textbook closed form they are checked against.
 
 use crate::system::System;
 
@@ -8,4 +9,15 @@ pub(crate) fn system(name: &str, sets: &[(&str, f64)]) -> System {
     let scene = scene::Scene::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
     let overrides: Vec<(String, f64)> = sets.iter().map(|(k, v)| (k.to_string(), *v)).collect();
     System::new(scene.evaluate(&overrides).unwrap()).unwrap()
+}
+
+/// `x'' + 2ζx' + x = cos ωt` from `x(0) = x0`, `x'(0) = v0` by the
+/// textbook closed form (ζ < 1), independent of the modal flow.
+pub(crate) fn forced_oscillator(zeta: f64, omega: f64, x0: f64, v0: f64, t: f64) -> f64 {
+    let d = (1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2);
+    let (a, b) = ((1.0 - omega * omega) / d, 2.0 * zeta * omega / d);
+    let wd = (1.0 - zeta * zeta).sqrt();
+    let c1 = x0 - a;
+    let c2 = (v0 + zeta * c1 - b * omega) / wd;
+    a * (omega * t).cos() + b * (omega * t).sin() + (-zeta * t).exp() * (c1 * (wd * t).cos() + c2 * (wd * t).sin())
 }

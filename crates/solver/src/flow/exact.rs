@@ -131,6 +131,16 @@ impl Workspace {
     }
 }
 
+impl Workspace {
+    /// The state `u` after the start of the last advance of `mode`, from its
+    /// closed form (`u` within that advance, which must have been an exact one
+    /// of `mode`): a sample inside a segment that does not end the segment.
+    pub fn state_at(&mut self, mode: &Mode, u: f64, out: &mut DVector<f64>) {
+        mode.spectral.factors(u, &mut self.f);
+        self.modal.state_into(&self.f, out.as_mut_slice());
+    }
+}
+
 /// What a guard at zero does next (see [`Start`]): `true` when it approaches
 /// (an event now); when it departs it is masked for as long as it provably stays
 /// positive. Kept out of line: contact is rare, and inlined into the step loop
@@ -317,7 +327,7 @@ pub fn advance(
 mod tests {
     use super::*;
     use crate::mode::{Key, Mode};
-    use crate::testing::system;
+    use crate::testing::{forced_oscillator, system};
     use proptest::prelude::*;
 
     /// The free mode of the single-stop oscillator with its stop at `sigma`.
@@ -348,17 +358,6 @@ mod tests {
         }
     }
 
-    /// `x'' + 2ζx' + x = cos ωt` from `x(0) = x0`, `x'(0) = v0` by the
-    /// textbook closed form (ζ < 1), independent of the modal flow.
-    fn closed_form(zeta: f64, omega: f64, x0: f64, v0: f64, t: f64) -> f64 {
-        let d = (1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2);
-        let (a, b) = ((1.0 - omega * omega) / d, 2.0 * zeta * omega / d);
-        let wd = (1.0 - zeta * zeta).sqrt();
-        let c1 = x0 - a;
-        let c2 = (v0 + zeta * c1 - b * omega) / wd;
-        a * (omega * t).cos() + b * (omega * t).sin() + (-zeta * t).exp() * (c1 * (wd * t).cos() + c2 * (wd * t).sin())
-    }
-
     proptest! {
         #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
@@ -371,7 +370,7 @@ mod tests {
         #[test]
         fn a_grazing_contact_is_never_missed(omega in 0.2f64..3.0, zeta in 0.0f64..0.3, x0 in -1.0f64..1.0,
                                               v0 in -1.0f64..1.0, log_eps in -10.0f64..-3.0) {
-            let x = |t: f64| closed_form(zeta, omega, x0, v0, t);
+            let x = |t: f64| forced_oscillator(zeta, omega, x0, v0, t);
             let horizon = 6.0;
             let samples = (horizon / 1e-5) as usize;
             let i_top = (0..=samples).max_by(|&a, &b| x(a as f64 * 1e-5).total_cmp(&x(b as f64 * 1e-5))).unwrap();
