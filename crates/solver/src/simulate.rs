@@ -696,7 +696,7 @@ mod tests {
         assert!(inside.events() > 5, "the motion impacts: {} events", inside.events());
         assert_eq!(got.0.len(), want.0.len());
         for ((tg, yg), (tw, yw)) in got.0.iter().zip(&want.0) {
-            assert_eq!(tg, tw);
+            assert_eq!(tg.to_bits(), tw.to_bits(), "sample times");
             assert!((yg - yw).amax() <= 1e-9 * (1.0 + yw.amax()), "at t = {tg}: {yg} against {yw}");
         }
 
