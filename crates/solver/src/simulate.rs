@@ -338,13 +338,17 @@ impl<'s> Simulator<'s> {
     }
 
     /// [`Simulator::run_period`] without a half-period state, with the
-    /// observer's `samples` taken inside each flow segment from its closed form
-    /// rather than by stopping there: the trajectory is, bit for bit, that of a
-    /// period without samples, and a sample costs one evaluation of the flow
-    /// instead of an advance. With RK4, whose segments have no closed form, the
-    /// steps stop at the samples as in [`Simulator::run_period`].
+    /// observer's `samples` (strictly ascending times within the period; those
+    /// not after the current time or not before `T` are skipped) taken inside
+    /// each flow segment from its closed form rather than by stopping there:
+    /// the trajectory is, bit for bit, that of a period without samples, and a
+    /// sample costs one evaluation of the flow instead of an advance. A sample
+    /// at the time of an event gets the state after it. With RK4, whose
+    /// segments have no closed form, the steps stop at the samples as in
+    /// [`Simulator::run_period`].
     pub(crate) fn run_period_sampled(&mut self, samples: &[f64], obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
-        if self.method == Method::Rk4 {
+        debug_assert!(samples.windows(2).all(|w| w[0] < w[1]), "samples must be strictly ascending");
+        if self.method != Method::Exact {
             return self.run_period(samples, false, obs);
         }
         let mut rec = self.new_record();
@@ -378,9 +382,10 @@ impl<'s> Simulator<'s> {
     }
 
     /// Simulates from the current time through the ascending `targets` of this
-    /// period (the last is the period's end), recording into `rec`; the
-    /// ascending `inside` times are sampled from each segment's closed form
-    /// (exact flow only).
+    /// period (the last is the period's end), recording into `rec`. The
+    /// strictly ascending `inside` times of the period after the current time
+    /// are sampled from the closed form of the segment they fall in; `inside`
+    /// must be empty unless the flow is exact.
     fn run_to_targets(
         &mut self,
         targets: &[f64],
@@ -392,6 +397,7 @@ impl<'s> Simulator<'s> {
         let sys = self.sys;
         let period = sys.period;
         let mut ti = 0;
+        debug_assert!(inside.is_empty() || self.method == Method::Exact);
         let mut si = inside.partition_point(|&t| t <= self.clock);
         while ti < targets.len() {
             let target = targets[ti];
@@ -407,10 +413,11 @@ impl<'s> Simulator<'s> {
                 Advance::Event { time, .. } => self.clock + time,
                 Advance::Stalled => self.clock,
             };
+            let (s, y) = &mut b.sample;
+            if si < inside.len() && inside[si] < end && (s.len(), y.len()) != (b.start.len(), self.y.len()) {
+                (*s, *y) = (DVector::zeros(b.start.len()), DVector::zeros(self.y.len()));
+            }
             while si < inside.len() && inside[si] < end {
-                let (s, y) = &mut b.sample;
-                s.resize_vertically_mut(b.start.len(), 0.0);
-                y.resize_vertically_mut(self.y.len(), 0.0);
                 self.work.state_at(mode, inside[si] - self.clock, s);
                 mode.lift_into(s, y);
                 obs.sample(self.periods as f64 * period + inside[si], y);
@@ -677,27 +684,36 @@ mod tests {
     }
 
     /// Samples taken inside the segments leave the trajectory as it is without
-    /// samples, bit for bit, through impacts; each is the state that stopping
-    /// there gives (to rounding), and without events the closed form's.
+    /// samples, bit for bit, through impacts, held stops (multi-stop) and
+    /// stuck friction contacts (dry friction), whose modes have a smaller
+    /// augmented state; each is the state that stopping there gives (to
+    /// rounding), and without events the closed form's.
     #[test]
     fn samples_inside_segments_leave_the_trajectory_alone() {
-        let sys = system("multi-stop.toml", &[("omega", 1.2), ("delta", 0.3)]);
-        let y0 = sys.model.initial_state();
-        let times: Vec<f64> = (1..64).map(|i| sys.period * i as f64 / 64.0).collect();
-        let start = || Simulator::new(&sys, Accuracy::default(), Method::Exact, &y0).unwrap();
-        let (mut plain, mut inside, mut stopping) = (start(), start(), start());
-        let (mut got, mut want) = (Samples::default(), Samples::default());
-        for _ in 0..5 {
-            let rec = plain.run_period(&[], false, &mut Ignore).unwrap();
-            let sampled = inside.run_period_sampled(&times, &mut got).unwrap();
-            stopping.run_period(&times, false, &mut want).unwrap();
-            assert_eq!((&sampled.end, &sampled.impacts), (&rec.end, &rec.impacts));
-        }
-        assert!(inside.events() > 5, "the motion impacts: {} events", inside.events());
-        assert_eq!(got.0.len(), want.0.len());
-        for ((tg, yg), (tw, yw)) in got.0.iter().zip(&want.0) {
-            assert_eq!(tg.to_bits(), tw.to_bits(), "sample times");
-            assert!((yg - yw).amax() <= 1e-9 * (1.0 + yw.amax()), "at t = {tg}: {yg} against {yw}");
+        let impacting = system("multi-stop.toml", &[("omega", 1.2), ("delta", 0.3)]);
+        let sticking = system("dry-friction.toml", &[("fk", 0.3)]);
+        for sys in [&impacting, &sticking] {
+            let y0 = sys.model.initial_state();
+            let times: Vec<f64> = (1..64).map(|i| sys.period * i as f64 / 64.0).collect();
+            let start = || Simulator::new(sys, Accuracy::default(), Method::Exact, &y0).unwrap();
+            let (mut plain, mut inside, mut stopping) = (start(), start(), start());
+            let (mut got, mut want) = (Samples::default(), Samples::default());
+            let mut held_or_stuck = false;
+            for _ in 0..5 {
+                let rec = plain.run_period(&[], false, &mut Ignore).unwrap();
+                let sampled = inside.run_period_sampled(&times, &mut got).unwrap();
+                stopping.run_period(&times, false, &mut want).unwrap();
+                assert_eq!(sampled, rec);
+                held_or_stuck |= rec.held != 0 || rec.stuck != 0;
+            }
+            assert_eq!(inside.events(), plain.events());
+            assert!(inside.events() > 5, "{}: {} events", sys.model.name, inside.events());
+            assert!(held_or_stuck, "{}: no constrained mode", sys.model.name);
+            assert_eq!(got.0.len(), want.0.len());
+            for ((tg, yg), (tw, yw)) in got.0.iter().zip(&want.0) {
+                assert_eq!(tg.to_bits(), tw.to_bits(), "sample times");
+                assert!((yg - yw).amax() <= 1e-9 * (1.0 + yw.amax()), "at t = {tg}: {yg} against {yw}");
+            }
         }
 
         let (zeta, omega, x0) = (0.05, 1.7, 0.3);

@@ -132,10 +132,15 @@ impl Workspace {
 }
 
 impl Workspace {
-    /// The state `u` after the start of the last advance of `mode`, from its
-    /// closed form (`u` within that advance, which must have been an exact one
-    /// of `mode`): a sample inside a segment that does not end the segment.
+    /// The augmented state of `mode` (lift it with [`Mode::lift_into`]) at time
+    /// `u` after the start of the last advance, from the closed form of the
+    /// flow: a sample inside a segment that does not end it. The last advance
+    /// must have been an exact one of `mode`, and `u` (in the scene's time
+    /// units) at most the time where it stopped; `out` has the mode's augmented
+    /// length. Only the factor buffer is overwritten, which the next advance
+    /// prepares again.
     pub fn state_at(&mut self, mode: &Mode, u: f64, out: &mut DVector<f64>) {
+        debug_assert_eq!(self.f.len(), mode.spectral.terms().len(), "the last advance was not one of this mode");
         mode.spectral.factors(u, &mut self.f);
         self.modal.state_into(&self.f, out.as_mut_slice());
     }
