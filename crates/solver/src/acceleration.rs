@@ -121,8 +121,8 @@ fn heading_to(h: &History, n: usize, y: &DVector<f64>, sol: &Solution, to_go: f6
 /// deviation from the fixed point is below a quarter of the smallest gap that
 /// a stop the orbit never hits keeps along the orbit (64 samples per period,
 /// evaluated inside the flow's segments: the check costs about one plain
-/// simulation of the orbit). Closer to such a stop the trajectory may graze it and leave for another
-/// attractor although the orbit is stable. `None` when the orbit cannot be
+/// simulation of the orbit). Closer to such a stop the trajectory may graze
+/// it and leave for another attractor although the orbit is stable. `None` when the orbit cannot be
 /// simulated.
 fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVector<f64>) -> Option<bool> {
     struct Gaps<'a>(&'a System, Vec<f64>);

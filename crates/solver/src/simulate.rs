@@ -413,16 +413,17 @@ impl<'s> Simulator<'s> {
                 Advance::Event { time, .. } => self.clock + time,
                 Advance::Stalled => self.clock,
             };
+            let here = si + inside[si..].partition_point(|&t| t < end);
             let (s, y) = &mut b.sample;
-            if si < inside.len() && inside[si] < end && (s.len(), y.len()) != (b.start.len(), self.y.len()) {
+            if here > si && (s.len(), y.len()) != (b.start.len(), self.y.len()) {
                 (*s, *y) = (DVector::zeros(b.start.len()), DVector::zeros(self.y.len()));
             }
-            while si < inside.len() && inside[si] < end {
-                self.work.state_at(mode, inside[si] - self.clock, s);
+            for &t in &inside[si..here] {
+                self.work.state_at(mode, t - self.clock, s);
                 mode.lift_into(s, y);
-                obs.sample(self.periods as f64 * period + inside[si], y);
-                si += 1;
+                obs.sample(self.periods as f64 * period + t, y);
             }
+            si = here;
             match advance {
                 Advance::Horizon => {
                     if let Some(t) = self.tangent.as_mut() {

@@ -129,9 +129,7 @@ impl Workspace {
             });
         }
     }
-}
 
-impl Workspace {
     /// The augmented state of `mode` (lift it with [`Mode::lift_into`]) at time
     /// `u` after the start of the last advance, from the closed form of the
     /// flow: a sample inside a segment that does not end it. The last advance
