@@ -14,7 +14,10 @@ each sweep group of the root attribute `sweeps` (and the root, for `hysteresis`)
   * every sections/<name> group opens, its CSR offsets end at the number of points;
   * scripts/plot_atlas.py draws each map (rendered to PNG in a temporary folder and
     read back with matplotlib.image) with at least one colour per label present,
-    each label's label_colour among them; and the hysteresis figure, with up and down.
+    each label's label_colour among them; its figures with legends (screen and
+    single-column size) keep every panel, label and legend row inside the figure
+    and the legend off the panels; and the hysteresis figure, with up and down,
+    counts the cells of /hysteresis and is laid out the same way.
 
     /usr/bin/python3 scripts/check_netcdf.py FILE... [--expect up:M1:omega=0.33,delta=0.6:1-4-4]
 
@@ -117,9 +120,28 @@ def check_pixels(path, sweep, mass, tmp):
     shared = [t for t in labels if [colours[u] for u in labels].count(colours[t]) > 1]
     need(len(seen) >= len(labels), f"{sweep}/{mass}: {len(seen)} colours in the map for {len(labels)} labels "
          f"(labels sharing a colour: {shared})")
-    # The figure with its legend renders too.
-    fig = plot_atlas.map_figure(path, sweep, mass)
-    fig.savefig(os.path.join(tmp, f"{sweep}_{mass}_legend.png"), dpi=60)
+    # The figure with its legend renders too, at screen and single-column size,
+    # with nothing off the figure and the legend over no panel.
+    for size in (None, "single"):
+        fig = plot_atlas.map_figure(path, sweep, mass, style=plot_atlas.Style(size))
+        bad = plot_atlas.layout_problems(fig)
+        need(not bad, f"{sweep}/{mass}: plot_atlas.py's figure (size {size or 'screen'}): {bad[:3]}")
+        fig.savefig(os.path.join(tmp, f"{sweep}_{mass}_{size}_legend.png"), dpi=60)
+        plot_atlas.plt.close(fig)
+
+
+def check_hysteresis(path, f, mass, tmp):
+    """plot_atlas.py's hysteresis figure: it counts the cells of the root
+    `hysteresis` mask (read here with h5py, the cells inspect counts), its three
+    panels and legend lie inside the figure, the legend over no panel."""
+    counted = []
+    fig = plot_atlas.hysteresis_figure(path, mass, report=counted.append)
+    want = int(np.count_nonzero(f["hysteresis"][()])) if "hysteresis" in f else None
+    need(want is None or counted[0]["coexisting"] == want,
+         f"hysteresis: plot_atlas.py counts {counted[0]['coexisting']} coexisting cells, /hysteresis has {want}")
+    bad = plot_atlas.layout_problems(fig)
+    need(not bad, f"hysteresis: plot_atlas.py's figure: {bad[:3]}")
+    fig.savefig(os.path.join(tmp, "hysteresis.png"), dpi=60)
     plot_atlas.plt.close(fig)
 
 
@@ -158,9 +180,8 @@ def check(path, expects):
             for m in masses:
                 check_pixels(path, s, m, tmp)
         if {"up", "down"} <= set(sweeps):
-            fig = plot_atlas.hysteresis_figure(path, masses[0])
-            fig.savefig(os.path.join(tmp, "hysteresis.png"), dpi=60)
-            plot_atlas.plt.close(fig)
+            with h5py.File(path, "r") as f:
+                check_hysteresis(path, f, masses[0], tmp)
     for spec in expects:
         check_expect(decoded, spec, x, y, axes)
     return f"{len(axes[y])} x {len(axes[x])} ({y}, {x}), sweeps {','.join(sweeps)}, masses {','.join(masses)}"
