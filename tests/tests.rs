@@ -14,4 +14,5 @@ mod friction;
 mod palette;
 mod properties;
 mod stability;
+mod symbols;
 mod util;

@@ -297,6 +297,7 @@ impl Plan {
             stop_normals: setup.scene.stop_normals(),
             dim: 2 * model.masses.len(),
             section_cap,
+            notation: grid::Notation::of_scene(&setup.scene),
         };
         Ok(Plan {
             setup,

@@ -42,6 +42,9 @@ pub struct Meta {
     pub dim: usize,
     /// Largest number of points kept per section per cell.
     pub section_cap: usize,
+    /// How the scene's parameters are written (symbols, long names), for
+    /// [`Meta::symbol`] and [`Meta::long_name`]; empty: by their names.
+    pub notation: Vec<crate::Notation>,
 }
 
 /// The cells of one sweep.

@@ -192,6 +192,7 @@ mod tests {
             stop_normals: Vec::new(),
             dim: 4,
             section_cap: 16,
+            notation: Vec::new(),
         }
     }
 

@@ -35,9 +35,11 @@ mod error;
 mod expr;
 mod model;
 mod schema;
+mod symbol;
 
 pub use error::SceneError;
 pub use model::{Friction, Label, Link, Mass, Model, Side, Stop, StopGeometry};
+pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 
 use expr::{Compiled, Range};
 use schema::{Num, ParamSpec, SceneFile};
@@ -112,6 +114,12 @@ impl Scene {
                 let (num, range) = match spec {
                     ParamSpec::Plain(n) => (n, None),
                     ParamSpec::Ranged(r) => {
+                        if let Some(t) = &r.symbol {
+                            symbol::check_symbol(t, &format!("{field}.symbol"))?;
+                        }
+                        if let Some(t) = &r.long_name {
+                            symbol::check_long_name(t, &format!("{field}.long_name"))?;
+                        }
                         (&r.value, r.range.as_deref().map(|t| Range::parse(t, &field)).transpose()?)
                     }
                 };
@@ -300,6 +308,31 @@ impl Scene {
     /// The TOML text the scene was parsed from.
     pub fn source(&self) -> &str {
         &self.source
+    }
+
+    /// The names of the scene's parameters, in alphabetical order.
+    pub fn parameter_names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// How figures and files write parameter `name`: the `symbol` it declares,
+    /// else [`symbol_of`] its name (`omega` → `ω`, `mu_k` → `μ_k`, `fk` → `fk`);
+    /// a name that is no parameter of the scene gets [`symbol_of`] too.
+    pub fn symbol(&self, name: &str) -> String {
+        match self.file.parameters.get(name) {
+            Some(ParamSpec::Ranged(r)) if r.symbol.is_some() => r.symbol.clone().unwrap_or_default(),
+            _ => symbol_of(name),
+        }
+    }
+
+    /// What parameter `name` is, in a few words: the `long_name` it declares,
+    /// else the first line of its `doc`; `None` when it has neither (or is no
+    /// parameter of the scene).
+    pub fn long_name(&self, name: &str) -> Option<&str> {
+        match self.file.parameters.get(name) {
+            Some(ParamSpec::Ranged(r)) => r.long_name.as_deref().or_else(|| symbol::long_name_of_doc(&r.doc)),
+            _ => None,
+        }
     }
 
     /// Whether parameter `name` is a plain number (not an expression of others).

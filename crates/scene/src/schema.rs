@@ -29,7 +29,7 @@ impl Default for Num {
 pub enum ParamSpec {
     /// `delta = 0.6` or `delta1 = "delta"`.
     Plain(Num),
-    /// `mu_m = { value = 0.5, range = "(0, 1)" }`.
+    /// `mu_m = { value = 0.5, range = "(0, 1)", doc = "…", symbol = "μ_m" }`.
     Ranged(RangedParam),
 }
 
@@ -41,9 +41,16 @@ pub struct RangedParam {
     pub value: Num,
     /// Interval in mathematical notation: `"(0, 1)"`, `"[0, 1]"`, `"[0, inf)"`.
     pub range: Option<String>,
-    /// What the parameter means; documentation for readers of the file.
-    #[serde(default, rename = "doc")]
-    pub _doc: String,
+    /// What the parameter means; documentation for readers of the file (the
+    /// long name of the parameter when `long_name` is not given).
+    #[serde(default)]
+    pub doc: String,
+    /// How figures and files write the parameter (`"ω"`); by default
+    /// [`crate::symbol_of`] its name.
+    pub symbol: Option<String>,
+    /// What the parameter is, in a few words (`"forcing frequency"`), for
+    /// files (CF `long_name`) and figures; by default the first line of `doc`.
+    pub long_name: Option<String>,
 }
 
 /// Whole scene file.

@@ -5,6 +5,8 @@
 //!                                integrator, command, created, run_time_s, x, y, along,
 //!                                sweeps, overrides, masses, stops, dim, section_cap, [shard]
 //! /axes/<x>, /axes/<y>    f64 [n]  coordinate vectors (attrs CLASS=DIMENSION_SCALE, NAME, start, stop)
+//! /<x>, /<y>              f64 [n]  coordinate variables (dimension scales; attrs long_name, units, symbol),
+//!                                  again in every sweep group and in /attractors
 //! /<sweep>/               one group per sweep: fresh, up, down
 //!     label_<mass>        u16 [ny, nx, 3]  (n, p, q); 65535 = S (sticking); n = 0 when not periodic
 //!     class               u8  [ny, nx]     0 periodic, 1 chaotic, 2 unresolved, 3 quasiperiodic, 255 not computed
@@ -274,6 +276,11 @@ pub mod attr {
     pub const X: &str = "x";
     /// `y`.
     pub const Y: &str = "y";
+    /// `symbol` of an axis coordinate: how figures write its parameter (`ω`).
+    pub const SYMBOL: &str = "symbol";
+    /// `long_name` (CF) of a variable; of an axis coordinate, what its
+    /// parameter is (`forcing frequency`, or `parameter <name>`).
+    pub const LONG_NAME: &str = "long_name";
     /// `samples`.
     pub const SAMPLES: &str = "samples";
     /// `seed`.

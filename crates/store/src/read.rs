@@ -95,6 +95,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     };
     let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
     let scene_toml = attr(&f, attr::SCENE).map_err(h)?;
+    let notation = notation(&f, &scene_toml, [&x.name, &y.name]);
     let meta = Meta {
         scene_name: attr(&f, attr::SCENE_NAME).map_err(h)?,
         scene_toml: scene_toml.clone(),
@@ -114,6 +115,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         stop_normals: stop_normals(&f, &scene_toml, dim / 2).map_err(fmt)?,
         dim,
         section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+        notation,
     };
     let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
     let n = nx * ny;
@@ -240,4 +242,136 @@ fn stop_normals(f: &hdf5::File, scene_toml: &str, masses: usize) -> Result<Vec<V
     }
     let scene = scene::Scene::parse(scene_toml).map_err(|e| format!("the stored scene: {e}"))?;
     Ok(scene.stop_normals())
+}
+
+/// How the parameters are written: as the stored scene says (in files
+/// written before scenes declared symbols, by their names:
+/// [`scene::symbol_of`]), and each axis as its root coordinate's `symbol` and
+/// `long_name` say, where it has them (files written before them do not; the
+/// `long_name` `parameter <name>` says nothing more than the name).
+fn notation(f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Vec<grid::Notation> {
+    let mut notation = scene::Scene::parse(scene_toml).map(|s| grid::Notation::of_scene(&s)).unwrap_or_default();
+    for name in axes {
+        let Ok(symbol) = f.dataset(name).and_then(|d| attr(&d, attr::SYMBOL)) else {
+            continue;
+        };
+        let long_name = f
+            .dataset(name)
+            .and_then(|d| attr(&d, attr::LONG_NAME))
+            .ok()
+            .filter(|l| *l != crate::write::generic_long_name(name));
+        match notation.iter_mut().find(|n| n.name == name) {
+            Some(n) => {
+                n.symbol = symbol;
+                n.long_name = long_name;
+            }
+            None => notation.push(grid::Notation { name: name.to_string(), symbol, long_name }),
+        }
+    }
+    notation
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::write::{write, RunInfo};
+
+    /// An atlas of `scene_toml` (the dry-friction scene, or one like it)
+    /// over (omega, fk), nothing computed.
+    fn atlas(scene_toml: &str) -> Atlas {
+        let scene = scene::Scene::parse(scene_toml).unwrap();
+        let plane = Plane::new(
+            Axis::parse("omega=1:8:4", "--x").unwrap(),
+            Axis::parse("fk=0.01:0.1:3", "--y").unwrap(),
+            Along::X,
+        )
+        .unwrap();
+        Atlas::new(Meta {
+            scene_name: scene.name().into(),
+            scene_toml: scene_toml.into(),
+            overrides: Vec::new(),
+            preset: "standard".into(),
+            accuracy: Vec::new(),
+            integrator: "exact".into(),
+            plane,
+            sweeps: vec![SweepKind::Up, SweepKind::Down],
+            masses: vec!["M1".into()],
+            state_masses: vec!["M1".into(), "M2".into()],
+            label_stops: vec![["right".into(), "left".into()]],
+            stops: vec!["right".into(), "left".into()],
+            stop_normals: scene.stop_normals(),
+            dim: 4,
+            section_cap: 16,
+            notation: grid::Notation::of_scene(&scene),
+        })
+    }
+
+    fn text(d: &hdf5::Dataset, name: &str) -> String {
+        attr(d, name).unwrap()
+    }
+
+    /// The axis coordinates of every group carry their parameter's `symbol`
+    /// and `long_name`, and the file reads back into the same notation; a
+    /// file written before them (no `symbol`, `long_name = "parameter
+    /// <name>"`) reads by its scene, or by the names' Greek rule.
+    #[test]
+    fn axes_carry_symbols_and_long_names_and_older_files_still_read() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-notation-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/dry-friction.toml");
+        let toml = std::fs::read_to_string(path).unwrap();
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let out = dir.join("a.h5");
+        let a = atlas(&toml);
+        write(&out, &a, &info, 1).unwrap();
+        {
+            let f = hdf5::File::open(&out).unwrap();
+            for g in ["", "up/", "down/"] {
+                let (omega, fk) = (f.dataset(&format!("{g}omega")).unwrap(), f.dataset(&format!("{g}fk")).unwrap());
+                assert_eq!(text(&omega, attr::SYMBOL), "ω", "{g}");
+                assert_eq!(text(&omega, attr::LONG_NAME), "forcing frequency", "{g}");
+                assert_eq!(text(&fk, attr::SYMBOL), "f_k", "{g}");
+                assert_eq!(text(&fk, attr::LONG_NAME), "kinetic friction force", "{g}");
+                assert_eq!(text(&fk, "units"), "1", "{g}");
+            }
+        }
+        let back = read(&out).unwrap().atlas;
+        assert_eq!(back.meta, a.meta);
+        assert_eq!(back.meta.symbol("fk"), "f_k");
+        assert_eq!(back.meta.symbol("fs_ratio"), "f_s/f_k", "not an axis: from the stored scene");
+        assert_eq!(back.meta.long_name("zeta"), Some("damping ratio of M1"));
+
+        // A scene that declares nothing, written as before: no symbol, the
+        // generic long name.
+        let plain: String = toml
+            .lines()
+            .map(|l| match l.find(", symbol = ") {
+                Some(i) => format!("{} }}", &l[..i]),
+                None => l.to_string(),
+            })
+            .map(|l| l.replace(", doc = \"kinetic friction force\"", ""))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let old = dir.join("old.h5");
+        let a = atlas(&plain);
+        assert_eq!(a.meta.long_name("fk"), None);
+        write(&old, &a, &info, 1).unwrap();
+        {
+            let f = hdf5::File::open_rw(&old).unwrap();
+            assert_eq!(text(&f.dataset("up/fk").unwrap(), attr::LONG_NAME), "parameter fk");
+            for g in ["", "up/", "down/"] {
+                for name in ["omega", "fk"] {
+                    f.dataset(&format!("{g}{name}")).unwrap().delete_attr(attr::SYMBOL).unwrap();
+                }
+            }
+        }
+        let back = read(&old).unwrap().atlas;
+        assert_eq!(back.meta, a.meta);
+        assert_eq!(back.meta.symbol("omega"), "ω");
+        assert_eq!(back.meta.symbol("fk"), "fk");
+        assert_eq!(back.meta.symbol("mu_k"), "μ_k");
+        assert_eq!(back.meta.long_name("fk"), None);
+        assert_eq!(back.meta.long_name("omega"), Some("forcing frequency"), "the doc");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

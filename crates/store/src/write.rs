@@ -421,13 +421,25 @@ struct Grid {
 }
 
 impl Grid {
+    /// The coordinates of `m`'s plane in `g`, each with its parameter's CF
+    /// `long_name` (`parameter <name>` when the scene gives none) and
+    /// `symbol` ([`grid::Meta::symbol`]).
     fn new(g: &Group, m: &grid::Meta) -> hdf5::Result<Grid> {
         let p = &m.plane;
-        Ok(Grid {
-            x: netcdf::coordinate(g, &p.x.name, &p.x.values(), &format!("parameter {}", p.x.name))?,
-            y: netcdf::coordinate(g, &p.y.name, &p.y.values(), &format!("parameter {}", p.y.name))?,
-        })
+        let axis = |a: &grid::Axis| -> hdf5::Result<hdf5::Dataset> {
+            let long_name = m.long_name(&a.name).map_or_else(|| generic_long_name(&a.name), str::to_string);
+            let d = netcdf::coordinate(g, &a.name, &a.values(), &long_name)?;
+            attr_str(&d, attr::SYMBOL, &m.symbol(&a.name))?;
+            Ok(d)
+        };
+        Ok(Grid { x: axis(&p.x)?, y: axis(&p.y)? })
     }
+}
+
+/// The `long_name` of the coordinate of a parameter whose scene says neither
+/// `long_name` nor `doc`.
+pub(crate) fn generic_long_name(name: &str) -> String {
+    format!("parameter {name}")
 }
 
 /// The labels of a sweep in a fixed order: periodic labels by (n, p, q), then
@@ -524,6 +536,7 @@ mod tests {
             stop_normals: vec![vec![1.0]],
             dim: 2,
             section_cap: 0,
+            notation: Vec::new(),
         }
     }
 
