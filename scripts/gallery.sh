@@ -37,6 +37,14 @@ vibroatlas render $out/atlas.h5 -o $img/lyapunov.png --sweep up --view lyapunov
 vibroatlas render $out/atlas.h5 -o $img/multiplier.png --sweep up --view multiplier
 vibroatlas render $out/atlas.h5 -o $img/row.png --row delta=0.6
 
+# Print sizes: the README's reference plane as PDF at one and two column
+# widths, previewed as PNG at 150 dpi (pdftoppm, from poppler-utils).
+vibroatlas atlas configs/multi-stop.toml --x omega=0.1:3.05:296 --y delta=0.05:2:196 --sweep both --quiet -o $out/reference.h5 >/dev/null
+vibroatlas render $out/reference.h5 -o $out/map-single.pdf --sweep up --size single >/dev/null
+vibroatlas render $out/reference.h5 -o $out/hysteresis-double.pdf --sweep hysteresis --size double >/dev/null
+pdftoppm -r 150 -png -singlefile $out/map-single.pdf $img/print-map-single
+pdftoppm -r 150 -png -singlefile $out/hysteresis-double.pdf $img/print-hysteresis-double
+
 # Bifurcation diagram of the dry-friction oscillator, up and down.
 vibroatlas sweep configs/dry-friction.toml --axis omega=8:4.5:141 --set fk=0.01 --direction both --quiet --png $img/bifurcation.png >/dev/null
 

@@ -11,6 +11,7 @@ mod extremes;
 mod faults;
 mod figures;
 mod friction;
+mod print;
 mod palette;
 mod properties;
 mod stability;

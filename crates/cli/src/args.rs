@@ -147,6 +147,8 @@ pub struct AttractorsArgs {
     /// the attractor they reach (.png, .svg or .pdf).
     #[arg(long, value_name = "FILE")]
     pub png: Option<PathBuf>,
+    #[command(flatten)]
+    pub figure: FigureArgs,
 }
 
 /// Options shared by every command that simulates a scene.
@@ -220,6 +222,8 @@ pub struct CellArgs {
     /// the classified window (.png, .svg or .pdf).
     #[arg(long, value_name = "FILE")]
     pub portrait: Option<PathBuf>,
+    #[command(flatten)]
+    pub figure: FigureArgs,
 }
 
 #[derive(Debug, Args)]
@@ -258,6 +262,8 @@ pub struct ContinueArgs {
     /// step is the largest step) instead of natural continuation on the grid.
     #[arg(long)]
     pub arclength: bool,
+    #[command(flatten)]
+    pub figure: FigureArgs,
 }
 
 /// Options of commands that compute many cells.
@@ -359,6 +365,8 @@ pub struct SweepArgs {
     pub json: bool,
     #[command(flatten)]
     pub run: RunArgs,
+    #[command(flatten)]
+    pub figure: FigureArgs,
 }
 
 #[derive(Debug, Args)]
@@ -387,6 +395,22 @@ pub struct InspectArgs {
     /// counts, hysteresis zones, run time).
     #[arg(long)]
     pub json: bool,
+}
+
+/// The printed size of figures: without `--size`, each figure's screen size.
+#[derive(Debug, Clone, Args)]
+pub struct FigureArgs {
+    /// Print size of figures: single (one journal column, 86 mm wide), double
+    /// (two columns, 178 mm) or WxH in millimetres (e.g. 120x80); text in
+    /// points, never below 6 pt (default: a screen-sized canvas).
+    #[arg(long, value_name = "single|double|WxH")]
+    pub size: Option<String>,
+    /// Body text size in points at a print size (6 to 24; default 8).
+    #[arg(long = "font-size", value_name = "PT", allow_negative_numbers = true)]
+    pub font_size: Option<f64>,
+    /// Resolution of PNG figures at a print size (72 to 1200; default 300).
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub dpi: Option<i64>,
 }
 
 #[derive(Debug, Args)]
@@ -421,6 +445,8 @@ pub struct RenderArgs {
     /// Bifurcation curves (files of `curve -o`) drawn over the label map (repeatable).
     #[arg(long, value_name = "CURVE.h5")]
     pub curves: Vec<PathBuf>,
+    #[command(flatten)]
+    pub figure: FigureArgs,
 }
 
 /// What the impact panels of a bifurcation diagram show.
@@ -444,6 +470,8 @@ pub struct StudyArgs {
     pub preset: PresetArg,
     #[command(flatten)]
     pub run: RunArgs,
+    #[command(flatten)]
+    pub figure: FigureArgs,
 }
 
 #[derive(Debug, Args)]

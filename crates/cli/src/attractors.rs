@@ -16,6 +16,7 @@ const MAX_SAMPLES: usize = 1_000_000;
 
 /// Runs the command.
 pub fn run(a: AttractorsArgs) -> Result<()> {
+    let page = crate::figure::page(&a.figure)?;
     let s = setup(&a.sim)?;
     if a.samples == 0 || a.samples > MAX_SAMPLES {
         bail!("--samples: expected 1 to {MAX_SAMPLES}, got {}", a.samples);
@@ -50,7 +51,7 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         let title = format!("{}: basins of attraction at t = 0 ({} samples)", sys.model.name, a.samples);
         let axes =
             (format!("x_{} at t = 0", sys.model.masses[mass].name), format!("v_{}", sys.model.masses[mass].name));
-        write_atomically(png, |tmp| render::basins(&groups, &colours, &title, &axes, tmp))?;
+        write_atomically(png, |tmp| render::basins(&groups, &colours, &title, &axes, &page, tmp))?;
     }
     if a.json {
         let list: Vec<Value> = found

@@ -17,6 +17,7 @@ pub const MAX_TRACE_ROWS: usize = 10_000_000;
 
 /// Runs the command.
 pub fn run(a: CellArgs) -> Result<()> {
+    let page = crate::figure::page(&a.figure)?;
     let (s, origin) = setup_from(&a.sim, &a.start)?;
     if a.trace_samples == 0 || a.trace_samples > MAX_TRACE_SAMPLES {
         return Err(anyhow!("--trace-samples: expected 1 to {MAX_TRACE_SAMPLES}, got {}", a.trace_samples));
@@ -49,22 +50,23 @@ pub fn run(a: CellArgs) -> Result<()> {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
         let rows = window(&sys, &s, &cell, periods, 400)?;
         let p = portrait(&sys, &rows);
-        write_atomically(path, |tmp| render::portrait(&p, tmp))?;
+        write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;
     }
     if let Some(path) = &a.section_png {
         if a.section_periods == 0 || a.section_periods > 1_000_000 {
             return Err(anyhow!("--section-periods: expected 1 to 1000000, got {}", a.section_periods));
         }
-        let panels = sections(&sys, &s, &cell, a.section_periods)?;
+        let (panels, silent) = sections(&sys, &s, &cell, a.section_periods)?;
         let labels: Vec<String> = cell.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
+        let silent = if silent.is_empty() { String::new() } else { format!("; no impacts at {}", silent.join(", ")) };
         let title = format!(
-            "{} ({}): {}, Poincaré sections over {} periods",
+            "{} ({}): {}, Poincaré sections over {} periods{silent}",
             sys.model.name,
             describe_parameters(&sys),
             labels.join(", "),
             a.section_periods
         );
-        write_atomically(path, |tmp| render::sections(&panels, &title, tmp))?;
+        write_atomically(path, |tmp| render::sections(&panels, &title, &page, tmp))?;
     }
     if a.json {
         let mut o = to_json(&sys, &s, &cell);
@@ -182,8 +184,14 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
 
 /// Panels `(x label, y label, points)` of the sections over `periods` periods
 /// from the final state: the first labelled mass's (x, v) at t = kT, then per
-/// stop (forcing phase mod 2π, impact speed).
-fn sections(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize) -> Result<Vec<render::Panel>> {
+/// stop with impacts (forcing phase mod 2π, impact speed); and the stops
+/// without impacts.
+fn sections(
+    sys: &System,
+    s: &crate::common::Setup,
+    c: &CellResult,
+    periods: usize,
+) -> Result<(Vec<render::Panel>, Vec<String>)> {
     struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
     impl solver::Observer for Points<'_> {
         fn impact(&mut self, t: f64, stop: usize, before: &solver::DVector<f64>, _: &solver::DVector<f64>) {
@@ -201,10 +209,15 @@ fn sections(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usi
     }
     let name = &sys.model.masses[mass].name;
     let mut panels = vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: period }];
+    let mut silent = Vec::new();
     for (stop, points) in sys.model.stops.iter().zip(obs.1) {
-        panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: "impact speed".into(), points });
+        if points.is_empty() {
+            silent.push(stop.name.clone());
+        } else {
+            panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: "impact speed".into(), points });
+        }
     }
-    Ok(panels)
+    Ok((panels, silent))
 }
 
 /// One row of the classified window: time, state, and the event it is (if any).

@@ -16,6 +16,7 @@ use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: ContinueArgs) -> Result<()> {
+    let page = crate::figure::page(&a.figure)?;
     let (s, origin) = setup_from(&a.sim, &a.start)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
     s.scene.check_parameter(&axis.name, "--axis")?;
@@ -46,7 +47,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
             branch.bifurcations.iter().map(|b| (b.value, b.kind.name().to_string())).collect();
         let title = format!("{}: orbit continued in {}", sys.model.name, axis.name);
         let first = sys.model.masses[0].name.clone();
-        write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &axis.name, &first, tmp))?;
+        write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &axis.name, &first, &page, tmp))?;
     }
     if a.json {
         outln!("{}", serde_json::to_string(&to_json(&branch))?);

@@ -22,5 +22,5 @@ pub fn diagram(atlas: &Atlas, row: usize, variable: Option<&str>, impact: Impact
         ImpactArg::Speed => Impact::Speed,
         ImpactArg::Phase => Impact::Phase,
     };
-    Ok(Diagram { row, component, impact })
+    Ok(Diagram { row, component, impact, first: None })
 }

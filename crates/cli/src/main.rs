@@ -11,6 +11,7 @@ mod common;
 mod continue_cmd;
 mod curve;
 mod diagram;
+mod figure;
 mod inspect;
 mod merge;
 mod orbit;

@@ -12,6 +12,7 @@ use store::write_atomically;
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
     render::Format::of(&a.output)?;
+    let page = crate::figure::page(&a.figure)?;
     store::check_output(&a.output, &[&a.file], false)?;
     let mut l = store::read(&a.file)?;
     let m = &l.atlas.meta;
@@ -40,7 +41,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     };
     if a.view == ViewArg::Attractors {
-        return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, tmp))?);
+        return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, &page, tmp))?)
+            .and_then(|()| wrote(&a.output, &page));
     }
     let quantity = match a.view {
         ViewArg::Labels | ViewArg::Attractors => None,
@@ -62,7 +64,8 @@ pub fn run(a: RenderArgs) -> Result<()> {
             l.atlas.maps.retain(|map| map.sweep == s);
         }
         let d = crate::diagram::diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
-        return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, tmp))?);
+        return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, &page, tmp))?)
+            .and_then(|()| wrote(&a.output, &page));
     }
     let mut curves = Vec::new();
     for file in &a.curves {
@@ -71,12 +74,25 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
     match (quantity, view) {
-        (None, _) => Ok(write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, &curves, tmp))?),
+        (None, _) => write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, &curves, &page, tmp))?,
         (Some(q), View::Sweep(sweep)) => {
-            Ok(write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, tmp))?)
+            write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, &page, tmp))?
         }
-        (Some(_), View::Hysteresis) => Err(anyhow!("--view {}: needs --sweep fresh, up or down", view_name(a.view))),
+        (Some(_), View::Hysteresis) => bail!("--view {}: needs --sweep fresh, up or down", view_name(a.view)),
     }
+    wrote(&a.output, &page)
+}
+
+/// Says what was written: the file and its printed size (or its pixels).
+fn wrote(path: &std::path::Path, page: &render::Page) -> Result<()> {
+    let size = match page.print_size() {
+        Some(s) => match s.height_mm {
+            Some(h) => format!("{} x {} mm", s.width_mm, h),
+            None => format!("{} mm wide", s.width_mm),
+        },
+        None => "screen size".to_string(),
+    };
+    crate::out::line(&format!("wrote {} ({size})", path.display()))
 }
 
 /// The row of the y axis nearest to `NAME=VALUE`.

@@ -12,6 +12,7 @@ use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: StudyArgs) -> Result<()> {
+    let page = crate::figure::page(&a.figure)?;
     let text =
         std::fs::read_to_string(&a.study).with_context(|| format!("cannot read study file {}", a.study.display()))?;
     let study = Study::parse(&text).map_err(|e| anyhow!("{}: {e}", a.study.display()))?;
@@ -53,7 +54,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
     for (v, plan) in plans {
         let (atlas, secs) = plan.execute(&study.stem(v))?;
         let png = a.output.join(format!("{}.png", study.stem(v)));
-        write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, &[], tmp))?;
+        write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, &[], &page, tmp))?;
         if !a.run.quiet {
             outln!(
                 "{}: {} cells in {secs:.1} s -> {}",
@@ -65,7 +66,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
         panels.push((format!("{} = {v}", study.parameter), atlas));
     }
     let sheet = a.output.join("contact-sheet.png");
-    write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, tmp))?;
+    write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, &page, tmp))?;
     outln!("wrote {}", sheet.display());
     Ok(())
 }

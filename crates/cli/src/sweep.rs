@@ -44,6 +44,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
     let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)
         .map_err(|e| in_flags(e, &[("x", "--axis")]))?;
+    let page = crate::figure::page(&a.figure)?;
     if let Some(png) = &a.png {
         render::Format::of(png)?;
     }
@@ -62,8 +63,11 @@ pub fn run(a: SweepArgs) -> Result<()> {
         _ => legs_from(&plan, legs, origin.as_ref().map(|o| o.state.as_slice()))?,
     };
     if let Some(png) = &a.png {
-        let d = crate::diagram::diagram(&atlas, 0, a.variable.as_deref(), a.impact)?;
-        write_atomically(png, |tmp| render::bifurcation(&atlas, &d, tmp))?;
+        let mut d = crate::diagram::diagram(&atlas, 0, a.variable.as_deref(), a.impact)?;
+        if let Legs::Loop(first) = legs {
+            d.first = Some(first);
+        }
+        write_atomically(png, |tmp| render::bifurcation(&atlas, &d, &page, tmp))?;
     }
     let first = match legs {
         Legs::Loop(first) => first,

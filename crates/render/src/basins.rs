@@ -2,8 +2,11 @@
 //! state drawn in the colour of the label of the attractor it reaches, with a
 //! legend of the attractors and their basin fractions.
 
+use crate::layout::{self, Axes};
+use crate::legend::{self, Entry, Swatch};
 use crate::map::rgb;
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -17,37 +20,52 @@ pub fn basins(
     colours: &[String],
     title: &str,
     axes: &(String, String),
+    page: &Page,
     path: &Path,
 ) -> Result<(), RenderError> {
-    save!(path, (1000, 700), |root| draw(&root, groups, colours, title, axes))
+    let canvas = Canvas::of(page, path, (1000, 700), |w| if w < 120.0 { 1.1 * w } else { 0.6 * w })?;
+    save!(path, canvas, |root| draw(&root, &canvas, groups, colours, title, axes))
 }
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
     groups: &[(String, Vec<(f64, f64)>)],
     colours: &[String],
     title: &str,
     axes: &(String, String),
 ) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
-    let (x0, x1) = crate::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.0)));
-    let (y0, y1) = crate::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.1)));
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 20))
-        .margin(15)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(err)?;
-    crate::axes(&mut chart, &axes.0, &axes.1, 14)?;
-    for ((name, pts), label) in groups.iter().zip(colours) {
+    let body = layout::header(root, canvas, title, layout::TITLE)?;
+    let rows: Vec<Entry> = groups
+        .iter()
+        .zip(colours)
+        .map(|((name, _), label)| Entry::new(Swatch::Fill(rgb(label)), name.clone()))
+        .collect();
+    let column = legend::width(&body, canvas, &rows);
+    let (w, h) = body.dim_in_pixel();
+    let (plot_area, key) = if canvas.width_em() >= 50.0 {
+        body.split_horizontally(w.saturating_sub(column))
+    } else {
+        body.split_vertically(h.saturating_sub(legend::height(canvas, rows.len())))
+    };
+    let a = Axes {
+        caption: None,
+        x: crate::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.0))),
+        y: crate::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.1))),
+        x_desc: &axes.0,
+        y_desc: &axes.1,
+    };
+    let chart = layout::chart(&plot_area, canvas, &a)?;
+    let plot = chart.plotting_area();
+    // Every point ringed in black, so that light labels (1-0-0) stay visible.
+    let (r, edge) = (canvas.pt(1.8), BLACK.mix(0.7).stroke_width(canvas.pt(0.3)));
+    for ((_, pts), label) in groups.iter().zip(colours) {
         let col = rgb(label);
-        chart
-            .draw_series(pts.iter().map(|&p| Circle::new(p, 3, col.filled())))
-            .map_err(err)?
-            .label(name.clone())
-            .legend(move |(a, b)| Circle::new((a + 8, b), 5, col.filled()));
+        for &p in pts {
+            plot.draw(&Circle::new(p, r, col.filled())).map_err(err)?;
+            plot.draw(&Circle::new(p, r, edge)).map_err(err)?;
+        }
     }
-    crate::legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-    Ok(())
+    legend::draw(&key, canvas, &rows)
 }

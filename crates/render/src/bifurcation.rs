@@ -3,12 +3,16 @@
 //! component at t = kT) and, per stop, the impact speed or the forcing phase of
 //! each impact — drawn from the stored raw section points as small dots. The
 //! number of branches at a parameter value is n (period panel) or the impacts
-//! per n periods at that stop. Up and down sweeps are both drawn, with a
-//! legend: down as vermillion rings, up as blue dots drawn inside them, so
+//! per n periods at that stop; a stop without impacts gets no panel (the
+//! footnote names it). Up and down sweeps are both drawn, with a legend above
+//! the panels: down as vermillion rings, up as blue dots drawn inside them, so
 //! that where they agree both show and where they differ (hysteresis) each can
-//! be told apart.
+//! be told apart; marks are sized in points, so they stay visible in print.
 
+use crate::layout::{self, Axes};
+use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use grid::{Atlas, SweepKind};
 use plotters::coord::Shift;
@@ -33,7 +37,14 @@ pub struct Diagram {
     pub component: usize,
     /// What the impact panels show.
     pub impact: Impact,
+    /// For a hysteresis loop (`sweep --direction down-up|up-down`), the
+    /// sweep run first: the other started from its end state.
+    pub first: Option<SweepKind>,
 }
+
+/// Radius (pt) of a down sweep's ring and of an up sweep's dot.
+const RING_PT: f64 = 1.7;
+const DOT_PT: f64 = 0.9;
 
 /// Colour of a sweep in diagrams.
 fn sweep_colour(s: SweepKind) -> RGBColor {
@@ -68,71 +79,120 @@ fn forcing_frequencies(m: &grid::Meta, row: usize) -> Result<Vec<f64>, RenderErr
         .collect()
 }
 
-/// Draws the diagram (format by the extension of `path`).
-pub fn bifurcation(atlas: &Atlas, diagram: &Diagram, path: &Path) -> Result<(), RenderError> {
-    let panels = 1 + atlas.meta.stops.len() as u32;
-    save!(path, (1100, 250 * panels + 70), |root| draw(&root, atlas, diagram))
+/// The points (parameter, value) of every panel and sweep of a diagram:
+/// the period section, then each stop's impacts.
+type Series = Vec<Vec<(SweepKind, Vec<(f64, f64)>)>>;
+
+fn series(atlas: &Atlas, d: &Diagram, omega: &[f64]) -> Series {
+    let m = &atlas.meta;
+    let x = &m.plane.x;
+    let dof = m.state_masses.len();
+    (0..1 + m.stops.len())
+        .map(|pi| {
+            let mut per_sweep: Vec<(SweepKind, Vec<(f64, f64)>)> = atlas
+                .maps
+                .iter()
+                .map(|map| {
+                    let mut pts = Vec::new();
+                    for (ix, &w) in omega.iter().enumerate() {
+                        let Some(c) = &map.cells[d.row * x.count + ix] else { continue };
+                        let v = x.value(ix);
+                        if pi == 0 {
+                            pts.extend(c.period_section.iter().map(|s| (v, s[d.component])));
+                        } else {
+                            let n = &m.stop_normals[pi - 1];
+                            pts.extend(c.impact_sections[pi - 1].iter().map(|r| match d.impact {
+                                Impact::Speed => {
+                                    let vel = &r[1 + dof..1 + 2 * dof];
+                                    (v, n.iter().zip(vel).map(|(a, b)| a * b).sum::<f64>().abs())
+                                }
+                                Impact::Phase => (v, (w * r[0]).rem_euclid(std::f64::consts::TAU)),
+                            }));
+                        }
+                    }
+                    (map.sweep, pts)
+                })
+                .collect();
+            // Down first: its rings under the up sweep's dots.
+            per_sweep.sort_by_key(|s| s.0 != SweepKind::Down);
+            per_sweep
+        })
+        .collect()
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Diagram) -> Result<(), RenderError> {
+/// Draws the diagram at the size of `page` (format by the extension of `path`).
+pub fn bifurcation(atlas: &Atlas, diagram: &Diagram, page: &Page, path: &Path) -> Result<(), RenderError> {
+    let m = &atlas.meta;
+    if diagram.row >= m.plane.y.count {
+        return Err(RenderError::new(format!("row {} is outside the file's {} rows", diagram.row, m.plane.y.count)));
+    }
+    if diagram.component >= m.dim {
+        return Err(RenderError::new(format!("state component {} of {}", diagram.component, m.dim)));
+    }
+    let omega = forcing_frequencies(m, diagram.row)?;
+    let all = series(atlas, diagram, &omega);
+    // The period panel, and a panel per stop with impacts.
+    let shown: Vec<usize> =
+        (0..all.len()).filter(|&pi| pi == 0 || all[pi].iter().any(|(_, pts)| !pts.is_empty())).collect();
+    let k = shown.len() as f64;
+    let height = |w: f64| 24.0 + k * if w < 120.0 { 0.5 * w } else { 0.26 * w };
+    let canvas = Canvas::of(page, path, (1100, 250 * shown.len() as u32 + 110), height)?;
+    save!(path, canvas, |root| draw(&root, &canvas, atlas, diagram, &all, &shown))
+}
+
+/// The sweeps of a diagram, for its title.
+fn directions(atlas: &Atlas, first: Option<SweepKind>) -> String {
+    let sweeps: Vec<SweepKind> = atlas.maps.iter().map(|map| map.sweep).collect();
+    let other = |s: SweepKind| if s == SweepKind::Down { SweepKind::Up } else { SweepKind::Down };
+    match (first, sweeps.contains(&SweepKind::Up), sweeps.contains(&SweepKind::Down)) {
+        (Some(f), true, true) => format!("{} sweep, then {} from its end", f.name(), other(f).name()),
+        (None, true, true) => "up and down sweeps".to_string(),
+        (_, true, false) => "up sweep".to_string(),
+        (_, false, true) => "down sweep".to_string(),
+        _ => "fresh cells".to_string(),
+    }
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    atlas: &Atlas,
+    d: &Diagram,
+    all: &Series,
+    shown: &[usize],
+) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let (x, y) = (&m.plane.x, &m.plane.y);
-    if d.row >= y.count {
-        return Err(RenderError { message: format!("row {} is outside the file's {} rows", d.row, y.count) });
-    }
-    if d.component >= m.dim {
-        return Err(RenderError { message: format!("state component {} of {}", d.component, m.dim) });
-    }
-    let dof = m.state_masses.len();
-    let omega = forcing_frequencies(m, d.row)?;
-    let sweeps: Vec<SweepKind> = atlas.maps.iter().map(|map| map.sweep).collect();
-    let directions = match (sweeps.contains(&SweepKind::Up), sweeps.contains(&SweepKind::Down)) {
-        (true, true) => "up and down sweeps".to_string(),
-        (true, false) => "up sweep".to_string(),
-        (false, true) => "down sweep".to_string(),
-        _ => "fresh cells".to_string(),
-    };
-    let fixed = if y.count > 1 { format!(", {} = {}", y.name, crate::tick(y.value(d.row))) } else { String::new() };
+    let sym = |name: &str| crate::map::axis_name(m, name);
+    let fixed =
+        if y.count > 1 { format!(", {} = {}", sym(&y.name), crate::tick(y.value(d.row))) } else { String::new() };
     root.fill(&WHITE).map_err(err)?;
-    let title = format!("{}: bifurcation diagram in {}{fixed} ({directions})", m.scene_name, x.name);
-    let root = root.titled(&title, ("sans-serif", 21)).map_err(err)?;
-    let (body, foot) = root.split_vertically(root.dim_in_pixel().1 - 26);
-    foot.draw(&Text::new(crate::map::settings_text(m), (12, 4), ("sans-serif", 14).into_font())).map_err(err)?;
-    let panels = 1 + m.stops.len();
-    for (pi, area) in body.split_evenly((panels, 1)).iter().enumerate() {
-        // Points (parameter, value) of this panel, per sweep.
-        let mut series: Vec<(SweepKind, Vec<(f64, f64)>)> = Vec::new();
-        for map in &atlas.maps {
-            let mut pts = Vec::new();
-            for (ix, &w) in omega.iter().enumerate() {
-                let Some(c) = &map.cells[d.row * x.count + ix] else { continue };
-                let v = x.value(ix);
-                if pi == 0 {
-                    pts.extend(c.period_section.iter().map(|s| (v, s[d.component])));
-                } else {
-                    let k = pi - 1;
-                    let n = &m.stop_normals[k];
-                    pts.extend(c.impact_sections[k].iter().map(|r| match d.impact {
-                        Impact::Speed => {
-                            let vel = &r[1 + dof..1 + 2 * dof];
-                            (v, n.iter().zip(vel).map(|(a, b)| a * b).sum::<f64>().abs())
-                        }
-                        Impact::Phase => (v, (w * r[0]).rem_euclid(std::f64::consts::TAU)),
-                    }));
-                }
-            }
-            series.push((map.sweep, pts));
-        }
-        series.sort_by_key(|s| s.0 != SweepKind::Down);
-        let all = series.iter().flat_map(|s| s.1.iter());
-        let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p.1), b.max(p.1)));
-        let (lo, hi) = if lo.is_finite() && hi > lo {
-            (lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
-        } else if lo.is_finite() {
-            (lo - 1.0, lo + 1.0)
-        } else {
-            (-1.0, 1.0)
-        };
+    let title =
+        format!("{}: bifurcation diagram in {}{fixed} ({})", m.scene_name, sym(&x.name), directions(atlas, d.first));
+    let body = layout::header(root, canvas, &title, layout::TITLE)?;
+    let silent: Vec<&str> =
+        (1..all.len()).filter(|pi| !shown.contains(pi)).map(|pi| m.stops[pi - 1].as_str()).collect();
+    let mut foot = crate::map::settings_text(m);
+    if !silent.is_empty() {
+        foot.push_str(&format!("; no impacts at {}", silent.join(", ")));
+    }
+    let body = layout::footer(&body, canvas, &foot)?;
+    // The legend, one row above the panels.
+    let keys: Vec<Entry> = all[0]
+        .iter()
+        .map(|(sweep, _)| {
+            let col = sweep_colour(*sweep);
+            let swatch = if *sweep == SweepKind::Down { Swatch::Ring(col, RING_PT) } else { Swatch::Dot(col, DOT_PT) };
+            Entry::new(swatch, format!("{} sweep", sweep.name()))
+        })
+        .collect();
+    let (key, body) = body.split_vertically(legend::height(canvas, 1));
+    let keys_w: u32 = legend::columns(&key, canvas, &keys, 1).iter().sum();
+    let spare = key.dim_in_pixel().0.saturating_sub(keys_w) / 2;
+    legend::draw(&key.margin(0, 0, spare as i32, 0), canvas, &keys)?;
+    for (&pi, area) in shown.iter().zip(body.split_evenly((shown.len(), 1)).iter()) {
+        let series = &all[pi];
+        let y_range = crate::range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
         let desc = if pi == 0 {
             format!("{} at t = kT", component_name(atlas, d.component))
         } else {
@@ -141,30 +201,24 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, atlas: &Atlas, d: &Di
                 Impact::Phase => format!("impact phase at {} (rad)", m.stops[pi - 1]),
             }
         };
-        let (x0, x1) = if x.count > 1 { (x.start, x.stop) } else { (x.start - 1.0, x.start + 1.0) };
-        let mut chart = ChartBuilder::on(area)
-            .margin(10)
-            .margin_right(25)
-            .x_label_area_size(35)
-            .y_label_area_size(75)
-            .build_cartesian_2d(x0..x1, lo..hi)
-            .map_err(err)?;
-        crate::axes(&mut chart, &x.name, &desc, 14)?;
-        // Down as rings, up as dots inside them: where the sweeps agree both show.
-        for (sweep, pts) in &series {
+        let x_range =
+            if x.count > 1 { (x.start.min(x.stop), x.start.max(x.stop)) } else { (x.start - 1.0, x.start + 1.0) };
+        let axes = Axes { caption: None, x: x_range, y: y_range, x_desc: &sym(&x.name), y_desc: &desc };
+        let chart = layout::chart(area, canvas, &axes)?;
+        let plot = chart.plotting_area();
+        for (sweep, pts) in series {
             let col = sweep_colour(*sweep);
-            let style = if *sweep == SweepKind::Down { col.stroke_width(1) } else { col.filled() };
-            let size = if *sweep == SweepKind::Down { 3 } else { 1 };
-            chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, size, style)))
-                .map_err(err)?
-                .label(format!("{} sweep", sweep.name()))
-                .legend(move |(a, b)| Circle::new((a + 8, b), 4, style));
+            if *sweep == SweepKind::Down {
+                let style = col.stroke_width(canvas.pt(0.6));
+                for &p in pts {
+                    plot.draw(&Circle::new(p, canvas.pt(RING_PT), style)).map_err(err)?;
+                }
+            } else {
+                for &p in pts {
+                    plot.draw(&Circle::new(p, canvas.pt(DOT_PT), col.filled())).map_err(err)?;
+                }
+            }
         }
-        if pi > 0 {
-            continue; // one legend, in the first panel
-        }
-        crate::legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     }
     Ok(())
 }

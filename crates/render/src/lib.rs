@@ -1,14 +1,18 @@
 //! Pictures of atlases: coloured label maps, bifurcation diagrams, and contact
 //! sheets of studies, as PNG, SVG or PDF files (plotters; PDF through svg2pdf),
-//! the format chosen by the file's extension.
+//! the format chosen by the file's extension, on screen or at a printed size
+//! ([`Page`]: every text at least 6 pt on the page).
 #![deny(missing_docs)]
 
 mod basins;
 mod bifurcation;
 mod branch;
 mod font;
+mod layout;
+mod legend;
 mod map;
 mod output;
+mod page;
 mod portrait;
 mod scalar;
 mod section;
@@ -19,6 +23,7 @@ pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use map::{attractor_map, map, sheet, Overlay, View};
 pub use output::Format;
+pub use page::{Page, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};
 pub use scalar::{scalar_map, Quantity};
 pub use section::{sections, Panel};
@@ -38,63 +43,23 @@ fn tick(v: f64) -> String {
     }
 }
 
-/// The range of `values` with a margin of 5 % (or a small one around a single
-/// value; `-1..1` when there is none).
+/// The range of `values` with a margin: 5 % of their span, and at least 5 %
+/// of their magnitude (or 1e-3), so that a few points that agree to round-off
+/// (a period-n orbit) sit in the middle of readable ticks; `-1..1` when there
+/// are none.
 fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
-    if !lo.is_finite() {
-        (-1.0, 1.0)
-    } else if hi > lo {
-        (lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo))
-    } else {
-        (lo - 1e-3 * (1.0 + lo.abs()), hi + 1e-3 * (1.0 + hi.abs()))
+    if !lo.is_finite() || !hi.is_finite() {
+        return (-1.0, 1.0);
     }
-}
-
-/// A chart's axes as every figure draws them: no grid, named axes, ticks
-/// without `-0`, text of size `font`.
-fn axes<DB: plotters::prelude::DrawingBackend>(
-    chart: &mut plotters::prelude::ChartContext<
-        '_,
-        DB,
-        plotters::prelude::Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-    x: &str,
-    y: &str,
-    font: u32,
-) -> Result<(), RenderError> {
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc(x)
-        .y_desc(y)
-        .x_label_formatter(&|v| tick(*v))
-        .y_label_formatter(&|v| tick(*v))
-        .label_style(("sans-serif", font))
-        .axis_desc_style(("sans-serif", font + 2))
-        .draw()
-        .map_err(err)
-}
-
-/// The legend of a chart's labelled series, in corner `at`, on a light box.
-fn legend<'a, DB: plotters::prelude::DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
-    chart: &mut plotters::prelude::ChartContext<'a, DB, CT>,
-    at: plotters::prelude::SeriesLabelPosition,
-) -> Result<(), RenderError> {
-    use plotters::prelude::{Color, BLACK, WHITE};
-    chart
-        .configure_series_labels()
-        .position(at)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .label_font(("sans-serif", 14))
-        .draw()
-        .map_err(err)
+    let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+    let half = (1.1 * half).max(0.05 * mid.abs()).max(1e-3);
+    (mid - half, mid + half)
 }
 
 /// Wraps a drawing, scene or solver error.
 fn err<E: std::fmt::Display>(e: E) -> RenderError {
-    RenderError { message: e.to_string() }
+    RenderError::new(e.to_string())
 }
 
 /// A picture could not be drawn or written.
@@ -103,4 +68,11 @@ fn err<E: std::fmt::Display>(e: E) -> RenderError {
 pub struct RenderError {
     /// What failed.
     pub message: String,
+}
+
+impl RenderError {
+    /// An error saying `message`.
+    pub fn new(message: impl Into<String>) -> RenderError {
+        RenderError { message: message.into() }
+    }
 }

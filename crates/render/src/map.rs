@@ -1,18 +1,22 @@
 //! The coloured (x, y) map of one mass's labels, as in the literature: one
 //! rectangle per cell in the label's fixed colour ([`grid::palette`]: the same
-//! label has the same colour in every figure), and a legend of the labels
-//! present, most frequent first, that says what p and q count.
+//! label has the same colour in every figure), and a legend beside or below
+//! the map of the labels present, most frequent first (the rest grouped by
+//! family, hatched), that says what p and q count.
 //!
-//! Hysteresis is drawn as three panels side by side, so that no map is hidden:
-//! the up sweep, the down sweep, and the cells where they end on different
-//! periodic motions, in the colour of the down sweep's label (the rest light
-//! grey).
+//! Hysteresis is drawn as three panels, so that no map is hidden: the up
+//! sweep, the down sweep, and the cells where they end on different periodic
+//! motions, each split along its rising diagonal: the up label's colour above,
+//! the down label's below, with a legend of the most frequent (up, down)
+//! pairs; the other cells white.
 
+use crate::layout::{self, Axes};
+use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use grid::palette::{colour, family, family_colour};
 use grid::{Atlas, Axis, CellData, Meta, SweepKind};
-use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
@@ -28,10 +32,16 @@ pub enum View {
 }
 
 /// Colour of cells a panel does not show (not computed, or no hysteresis):
-/// white, apart from every label's colour (1-0-0 is light grey).
+/// white, apart from every label's colour.
 const BLANK: RGBColor = RGBColor(255, 255, 255);
-/// Legend entries listed one by one; the rest are summed per family.
+/// Most labels a legend lists one by one; the rest are summed per family.
 const LEGEND_ROWS: usize = 30;
+/// A legend goes beside the panels on canvases at least this many text
+/// heights wide, below them on narrower ones.
+const LEGEND_BESIDE_EM: f64 = 50.0;
+/// Rows of a legend below the panels, at most (a hysteresis view's legend,
+/// with its two lists, may take half as many again).
+const LEGEND_BELOW_ROWS: usize = 9;
 
 /// The plotters colour of a label.
 pub(crate) fn rgb(label: &str) -> RGBColor {
@@ -44,7 +54,12 @@ pub(crate) fn sweep_cells(atlas: &Atlas, sweep: SweepKind) -> Result<&[Option<Ce
     atlas
         .map(sweep)
         .map(|m| m.cells.as_slice())
-        .ok_or_else(|| RenderError { message: format!("the file has no '{}' sweep", sweep.name()) })
+        .ok_or_else(|| RenderError::new(format!("the file has no '{}' sweep", sweep.name())))
+}
+
+/// How a parameter is written on an axis: its symbol.
+pub(crate) fn axis_name(meta: &Meta, name: &str) -> String {
+    meta.symbol(name)
 }
 
 /// Geometry of the plane's cells: cell i is centred on its axis values and
@@ -76,34 +91,23 @@ impl<'a> CellGrid<'a> {
     }
 
     /// A chart over the whole plane (half a cell of margin), axes named after
-    /// the parameters, text of size `font`.
+    /// the parameters' symbols.
     pub(crate) fn chart<'b, DB: DrawingBackend>(
         &self,
         area: &'b DrawingArea<DB, Shift>,
+        canvas: &Canvas,
+        meta: &Meta,
         title: &str,
-        font: u32,
-    ) -> Result<ChartContext<'b, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>, RenderError> {
+    ) -> Result<layout::Chart<'b, DB>, RenderError> {
         let (x, y, dx, dy) = (self.x, self.y, self.dx, self.dy);
-        let mut chart = ChartBuilder::on(area)
-            .caption(title, ("sans-serif", font + 4))
-            .margin(10)
-            .margin_right(20)
-            .x_label_area_size(font * 3)
-            .y_label_area_size(font * 4)
-            .build_cartesian_2d(x.start - dx / 2.0..x.stop + dx / 2.0, y.start - dy / 2.0..y.stop + dy / 2.0)
-            .map_err(err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .x_desc(x.name.as_str())
-            .y_desc(y.name.as_str())
-            .x_label_formatter(&|v| crate::tick(*v))
-            .y_label_formatter(&|v| crate::tick(*v))
-            .label_style(("sans-serif", font))
-            .axis_desc_style(("sans-serif", font + 3))
-            .draw()
-            .map_err(err)?;
-        Ok(chart)
+        let axes = Axes {
+            caption: Some(title),
+            x: (x.start - dx / 2.0, x.stop + dx / 2.0),
+            y: (y.start - dy / 2.0, y.stop + dy / 2.0),
+            x_desc: &axis_name(meta, &x.name),
+            y_desc: &axis_name(meta, &y.name),
+        };
+        layout::chart(area, canvas, &axes)
     }
 }
 
@@ -120,57 +124,87 @@ pub struct Overlay {
     pub marks: Vec<(f64, f64)>,
 }
 
-/// Line style of a kind of curve: black, dashed differently per kind.
-fn dashes(kind: &str) -> (u32, u32) {
+/// Line style of a kind of curve: colour, width (pt) and dash (pt on, off).
+fn curve_style(kind: &str) -> (RGBColor, f64, (f64, f64)) {
     match kind {
-        "PD" => (10, 4),
-        "SN" => (2, 3),
-        "PF" => (14, 6),
-        "NS" => (6, 6),
-        _ => (1, 0),
+        "PD" => (RGBColor(213, 94, 0), 1.3, (4.0, 1.5)),
+        "SN" => (RGBColor(0, 0, 0), 1.3, (1.0, 0.0)),
+        "PF" => (RGBColor(204, 121, 167), 1.3, (6.0, 2.0)),
+        "NS" => (RGBColor(0, 114, 178), 1.3, (1.2, 1.2)),
+        _ => (RGBColor(0, 0, 0), 1.0, (2.5, 1.5)),
     }
 }
 
-/// Draws cells in the colours `paint` gives (None: not drawn), and `curves` over them.
+/// How one cell is painted.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Paint {
+    /// One colour.
+    Fill(RGBColor),
+    /// Split along the rising diagonal: the first colour above, the second below.
+    Split(RGBColor, RGBColor),
+}
+
+/// Draws cells as `paint` gives them (None: not drawn), and `curves` over them.
 fn draw_cells<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
     meta: &Meta,
     title: &str,
-    font: u32,
-    paint: impl Fn(usize) -> Option<RGBColor>,
+    paint: impl Fn(usize) -> Option<Paint>,
     curves: &[Overlay],
 ) -> Result<(), RenderError> {
     let grid = CellGrid::of(meta);
-    let mut chart = grid.chart(area, title, font)?;
-    chart
-        .draw_series((0..meta.plane.cells()).filter_map(|i| Some(Rectangle::new(grid.rect(i), paint(i)?.filled()))))
-        .map_err(err)?;
-    for (i, c) in curves.iter().enumerate() {
-        let (on, off) = dashes(&c.kind);
-        let style = BLACK.stroke_width(3);
-        let drawn = if off == 0 {
-            chart.draw_series(LineSeries::new(c.points.iter().copied(), style)).map_err(err)?
-        } else {
-            chart.draw_series(DashedLineSeries::new(c.points.iter().copied(), on, off, style)).map_err(err)?
-        };
-        // One legend entry per kind.
-        if !curves[..i].iter().any(|d| d.kind == c.kind) {
-            drawn
-                .label(format!("{} curve", c.kind))
-                .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 18, b)], BLACK.stroke_width(3)));
+    let chart = grid.chart(area, canvas, meta, title)?;
+    let plot = chart.plotting_area();
+    for i in 0..meta.plane.cells() {
+        let [(x0, y0), (x1, y1)] = grid.rect(i);
+        match paint(i) {
+            None => {}
+            Some(Paint::Fill(c)) => plot.draw(&Rectangle::new([(x0, y0), (x1, y1)], c.filled())).map_err(err)?,
+            Some(Paint::Split(above, below)) => {
+                // The whole cell, then the upper triangle over it: no seam
+                // of background between the two halves.
+                plot.draw(&Rectangle::new([(x0, y0), (x1, y1)], below.filled())).map_err(err)?;
+                plot.draw(&Polygon::new(vec![(x0, y0), (x0, y1), (x1, y1)], above.filled())).map_err(err)?;
+            }
         }
-        chart.draw_series(c.marks.iter().map(|&p| Circle::new(p, 6, WHITE.filled().stroke_width(2)))).map_err(err)?;
-        chart.draw_series(c.marks.iter().map(|&p| Circle::new(p, 6, BLACK.stroke_width(2)))).map_err(err)?;
     }
-    if !curves.is_empty() {
-        crate::legend(&mut chart, SeriesLabelPosition::UpperRight)?;
+    for c in curves {
+        let (colour, width, dash) = curve_style(&c.kind);
+        legend::line(plot, canvas, &c.points, colour, width, dash)?;
+        let r = canvas.pt(2.2);
+        for &p in &c.marks {
+            plot.draw(&Circle::new(p, r, WHITE.filled())).map_err(err)?;
+            plot.draw(&Circle::new(p, r, BLACK.stroke_width(canvas.pt(0.7)))).map_err(err)?;
+        }
     }
     Ok(())
 }
 
-/// Colours of one sweep's labels of mass `mass`, cell by cell.
-fn label_colours(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<RGBColor> + '_ {
-    move |i| Some(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.labels[mass].to_string())))
+/// Legend rows of the kinds of `curves` (one per kind, in order of appearance).
+fn curve_entries(curves: &[Overlay]) -> Vec<Entry> {
+    let mut kinds: Vec<&str> = Vec::new();
+    for c in curves {
+        if !kinds.contains(&c.kind.as_str()) {
+            kinds.push(&c.kind);
+        }
+    }
+    let mut rows: Vec<Entry> = kinds
+        .iter()
+        .map(|k| {
+            let (colour, width, dash) = curve_style(k);
+            Entry::new(Swatch::Line(colour, width, dash), format!("{k} curve"))
+        })
+        .collect();
+    if curves.iter().any(|c| !c.marks.is_empty()) {
+        rows.push(Entry::new(Swatch::Ring(BLACK, 2.2), "codimension-two point"));
+    }
+    rows
+}
+
+/// Paint of one sweep's labels of mass `mass`, cell by cell.
+fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<Paint> + '_ {
+    move |i| Some(Paint::Fill(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.labels[mass].to_string()))))
 }
 
 /// What p and q count for a mass, e.g. `M1: p = impacts at A12, q = impacts at A1`.
@@ -187,47 +221,54 @@ pub(crate) fn pq_text(meta: &Meta, mass: usize) -> String {
 
 /// The run's fixed settings, for a subtitle.
 pub(crate) fn settings_text(meta: &Meta) -> String {
-    let set: Vec<String> = meta.overrides.iter().map(|(k, v)| format!("{k} = {v}")).collect();
+    let set: Vec<String> = meta.overrides.iter().map(|(k, v)| format!("{} = {v}", meta.symbol(k))).collect();
     let fixed = if set.is_empty() { "scene defaults".to_string() } else { set.join(", ") };
     format!("{}; preset {}; {}", meta.scene_name, meta.preset, fixed)
 }
 
-/// Draws a legend of `(label, cells)` entries, most frequent first.
-fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    heading: &str,
-    entries: &[(String, u64)],
-    extra: &[(String, RGBColor)],
-) -> Result<(), RenderError> {
-    let style = ("sans-serif", 15).into_font();
-    area.draw(&Text::new(heading, (10, 20), ("sans-serif", 18).into_font())).map_err(err)?;
-    let mut rows: Vec<(String, RGBColor)> = extra.to_vec();
-    let name = |l: &str| match l {
+/// A label's legend text: the letter classes spelled out.
+fn label_text(label: &str) -> String {
+    match label {
         "C" => "C chaotic".to_string(),
         "Q" => "Q quasi-periodic".to_string(),
         "U" => "U unresolved".to_string(),
         l => l.to_string(),
+    }
+}
+
+/// Legend rows of `(label, cells)` entries, most frequent first, in at most
+/// `room` rows: as many labels as leave room for the rest summed per family
+/// (hatched, so that a group is never taken for a listed label).
+fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
+    let groups = |rest: &[(String, u64)]| {
+        let mut g: BTreeMap<&str, (u64, u64)> = BTreeMap::new();
+        for (label, n) in rest {
+            let e = g.entry(family(label)).or_default();
+            e.0 += 1;
+            e.1 += n;
+        }
+        g
     };
-    for (label, count) in entries.iter().take(LEGEND_ROWS) {
-        rows.push((format!("{}  ({count})", name(label)), rgb(label)));
+    let mut listed = counts.len().min(LEGEND_ROWS).min(room);
+    while listed > 0 && listed < counts.len() && listed + groups(&counts[listed..]).len() > room {
+        listed -= 1;
     }
-    let mut rest: BTreeMap<&str, (u64, u64)> = BTreeMap::new();
-    for (label, count) in entries.iter().skip(LEGEND_ROWS) {
-        let e = rest.entry(family(label)).or_default();
-        e.0 += 1;
-        e.1 += count;
+    let mut rows: Vec<Entry> = counts[..listed]
+        .iter()
+        .map(|(label, n)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label))))
+        .collect();
+    for (fam, (labels, cells)) in groups(&counts[listed..]) {
+        let text = format!("+{labels} {fam} ({cells})");
+        rows.push(match counts[listed..].iter().find(|(l, _)| labels == 1 && family(l) == fam) {
+            // A family of one label: the label itself.
+            Some((label, n)) => Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label))),
+            None => {
+                let [r, g, b] = family_colour(fam);
+                Entry::new(Swatch::Hatch(RGBColor(r, g, b)), text)
+            }
+        });
     }
-    for (fam, (labels, cells)) in rest {
-        let [r, g, b] = family_colour(fam);
-        rows.push((format!("+ {labels} more {fam} ({cells})"), RGBColor(r, g, b)));
-    }
-    for (i, (text, col)) in rows.iter().enumerate() {
-        let y = 42 + 20 * i as i32;
-        area.draw(&Rectangle::new([(10, y), (28, y + 14)], col.filled())).map_err(err)?;
-        area.draw(&Rectangle::new([(10, y), (28, y + 14)], BLACK.stroke_width(1))).map_err(err)?;
-        area.draw(&Text::new(text.clone(), (36, y), style.clone())).map_err(err)?;
-    }
-    Ok(())
+    rows
 }
 
 /// `(label, cells)` of mass `mass` over several sweeps' cells, most frequent first.
@@ -236,21 +277,99 @@ fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
     for c in cells.iter().flat_map(|c| c.iter()).flatten() {
         *counts.entry(c.labels[mass].to_string()).or_default() += 1;
     }
-    let mut v: Vec<(String, u64)> = counts.into_iter().collect();
+    sorted(counts)
+}
+
+/// Counts, most frequent first (ties by key).
+fn sorted<K: Ord + Clone>(counts: BTreeMap<K, u64>) -> Vec<(K, u64)> {
+    let mut v: Vec<(K, u64)> = counts.into_iter().collect();
     v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
     v
 }
 
-/// Draws the map of mass `mass` (index into `atlas.meta.masses`); the format
-/// follows the extension of `path` (`.png`, `.svg`, `.pdf`).
-/// `curves` are drawn over every panel.
-pub fn map(atlas: &Atlas, view: View, mass: usize, curves: &[Overlay], path: &Path) -> Result<(), RenderError> {
+/// A legend placed beside the panels on a wide canvas (one column as high
+/// as the panels), below them on a narrow one (columns across the width, at
+/// most `below_rows` rows), with as many rows as `make(room)` gives for the
+/// largest room that fits.
+struct Placed {
+    rows: Vec<Entry>,
+    beside: bool,
+    size: u32,
+}
+
+fn place<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    below_rows: usize,
+    make: impl Fn(usize) -> Vec<Entry>,
+) -> Placed {
+    let (w, h) = area.dim_in_pixel();
+    if canvas.width_em() >= LEGEND_BESIDE_EM {
+        let rows = make(legend::rows(canvas, h));
+        let size = legend::width(area, canvas, &rows).min(w / 2);
+        return Placed { rows, beside: true, size };
+    }
+    let mut room = make(usize::MAX).len();
+    loop {
+        let rows = make(room);
+        let tall = (1..=below_rows).find(|&r| legend::columns(area, canvas, &rows, r).iter().sum::<u32>() <= w);
+        match tall {
+            Some(r) if r * legend::columns(area, canvas, &rows, r).len() >= rows.len() => {
+                return Placed { size: legend::height(canvas, r), rows, beside: false };
+            }
+            _ if room <= 1 => return Placed { size: legend::height(canvas, below_rows), rows, beside: false },
+            _ => room -= 1,
+        }
+    }
+}
+
+impl Placed {
+    /// `area` split into the panels' area and the legend's.
+    fn split<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        canvas: &Canvas,
+    ) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>) {
+        let (w, h) = area.dim_in_pixel();
+        if self.beside {
+            area.split_horizontally(w.saturating_sub(self.size + canvas.emu(0.5)))
+        } else {
+            area.split_vertically(h.saturating_sub(self.size))
+        }
+    }
+
+    /// Draws the legend into its area.
+    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
+        legend::draw(area, canvas, &self.rows)
+    }
+}
+
+/// Draws the map of mass `mass` (index into `atlas.meta.masses`) at the size
+/// of `page`; the format follows the extension of `path` (`.png`, `.svg`,
+/// `.pdf`). `curves` are drawn over every panel.
+pub fn map(
+    atlas: &Atlas,
+    view: View,
+    mass: usize,
+    curves: &[Overlay],
+    page: &Page,
+    path: &Path,
+) -> Result<(), RenderError> {
     let panels = if view == View::Hysteresis { 3 } else { 1 };
-    save!(path, (760 * panels + 380, 800), |root| draw_map(&root, atlas, view, mass, curves))
+    let narrow = |w: f64| w < 120.0;
+    let height = |w: f64| match (view, narrow(w)) {
+        (View::Sweep(_), true) => 1.3 * w,
+        (View::Sweep(_), false) => 0.7 * w,
+        (View::Hysteresis, true) => 2.45 * w,
+        (View::Hysteresis, false) => 0.85 * w,
+    };
+    let canvas = Canvas::of(page, path, (760 * panels + 380, 800), height)?;
+    save!(path, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
 }
 
 fn draw_map<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
     atlas: &Atlas,
     view: View,
     mass: usize,
@@ -258,129 +377,190 @@ fn draw_map<DB: DrawingBackend>(
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(&pq_text(m, mass), ("sans-serif", 20)).map_err(err)?;
-    let (body, foot) = root.split_vertically(root.dim_in_pixel().1 - 28);
-    foot.draw(&Text::new(settings_text(m), (12, 4), ("sans-serif", 15).into_font())).map_err(err)?;
-    let width = body.dim_in_pixel().0;
-    let (maps, legend) = body.split_horizontally(width - 380);
+    let body = layout::header(root, canvas, &pq_text(m, mass), layout::TITLE)?;
+    let body = layout::footer(&body, canvas, &settings_text(m))?;
+    let name = &m.masses[mass];
     match view {
         View::Sweep(sweep) => {
             let cells = sweep_cells(atlas, sweep)?;
-            let title = format!("{}, {} sweep", m.masses[mass], sweep.name());
-            draw_cells(&maps, m, &title, 15, label_colours(cells, mass), curves)?;
-            draw_legend(&legend, "label (cells)", &count(&[cells], mass), &[])
+            let counts = count(&[cells], mass);
+            let curve_rows = curve_entries(curves);
+            let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |room| {
+                let mut rows = vec![Entry::new(Swatch::Heading, "label (cells)")];
+                rows.extend(label_entries(&counts, room.saturating_sub(1 + curve_rows.len())));
+                rows.extend(curve_rows.iter().cloned());
+                rows
+            });
+            let (maps, key) = placed.split(&body, canvas);
+            let title = format!("{name}, {} sweep", sweep.name());
+            draw_cells(&maps, canvas, m, &title, label_paint(cells, mass), curves)?;
+            placed.draw(&key, canvas)
         }
-        View::Hysteresis => {
-            let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
-            let hyst = atlas.hysteresis().ok_or_else(|| RenderError {
-                message: "the hysteresis view needs an atlas with up and down sweeps".into(),
-            })?;
-            let panels = maps.split_evenly((1, 3));
-            draw_cells(&panels[0], m, &format!("{}, up sweep", m.masses[mass]), 14, label_colours(up, mass), curves)?;
-            draw_cells(
-                &panels[1],
-                m,
-                &format!("{}, down sweep", m.masses[mass]),
-                14,
-                label_colours(down, mass),
-                curves,
-            )?;
-            let zones = hyst.iter().filter(|&&h| h == 1).count();
-            let differ = |i: usize| {
-                Some(match (&down[i], hyst[i]) {
-                    (Some(c), 1) => rgb(&c.labels[mass].to_string()),
-                    _ => BLANK,
-                })
-            };
-            draw_cells(&panels[2], m, &format!("up and down differ: {zones} cells (down label)"), 14, differ, curves)?;
-            let blank = [("no hysteresis (right panel)".to_string(), BLANK)];
-            draw_legend(&legend, "label (cells, up + down)", &count(&[up, down], mass), &blank)
+        View::Hysteresis => draw_hysteresis(&body, canvas, atlas, mass, curves),
+    }
+}
+
+/// The three panels of the hysteresis view and their legend: labels of both
+/// sweeps, then the (up, down) pairs of the differing cells.
+fn draw_hysteresis<DB: DrawingBackend>(
+    body: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    atlas: &Atlas,
+    mass: usize,
+    curves: &[Overlay],
+) -> Result<(), RenderError> {
+    let m = &atlas.meta;
+    let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
+    let hyst = atlas
+        .hysteresis()
+        .ok_or_else(|| RenderError::new("the hysteresis view needs an atlas with up and down sweeps"))?;
+    let label = |c: &Option<CellData>| c.as_ref().map(|c| c.labels[mass].to_string());
+    let mut pairs: BTreeMap<(String, String), u64> = BTreeMap::new();
+    for (i, &h) in hyst.iter().enumerate() {
+        if let (1, Some(a), Some(b)) = (h, label(&up[i]), label(&down[i])) {
+            *pairs.entry((a, b)).or_default() += 1;
         }
     }
+    let pairs = sorted(pairs);
+    let zones: u64 = pairs.iter().map(|p| p.1).sum();
+    let pair_entry =
+        |((a, b), n): &((String, String), u64)| Entry::new(Swatch::Split(rgb(a), rgb(b)), format!("{a} / {b}  ({n})"));
+    let counts = count(&[up, down], mass);
+    let curve_rows = curve_entries(curves);
+    let rows_in = |room: usize| {
+        let room = room.saturating_sub(2 + curve_rows.len());
+        // The pairs take up to two fifths of the rows (the rest summed in one).
+        let pair_room = if pairs.len() <= room / 2 { pairs.len() } else { (2 * room / 5).max(2) };
+        let mut pair_rows: Vec<Entry> = pairs.iter().take(pair_room.saturating_sub(1)).map(pair_entry).collect();
+        match &pairs[pair_rows.len()..] {
+            [] => {}
+            [last] => pair_rows.push(pair_entry(last)),
+            rest => {
+                let cells: u64 = rest.iter().map(|p| p.1).sum();
+                let text = format!("+{} pairs ({cells})", rest.len());
+                pair_rows.push(Entry::new(Swatch::Hatch(RGBColor(90, 90, 90)), text));
+            }
+        }
+        let mut rows = vec![Entry::new(Swatch::Heading, "label (cells, both)")];
+        rows.extend(label_entries(&counts, room.saturating_sub(pair_rows.len())));
+        rows.push(Entry::new(Swatch::Heading, "up / down (cells)"));
+        rows.extend(pair_rows);
+        rows.extend(curve_rows.iter().cloned());
+        rows
+    };
+    let placed = place(body, canvas, LEGEND_BELOW_ROWS * 3 / 2, rows_in);
+    let (maps, key) = placed.split(body, canvas);
+    let cols = if canvas.width_em() >= 110.0 {
+        3
+    } else if canvas.width_em() >= LEGEND_BESIDE_EM {
+        2
+    } else {
+        1
+    };
+    let panels = layout::panels(&maps, 3, cols);
+    let name = &m.masses[mass];
+    draw_cells(&panels[0], canvas, m, &format!("{name}, up sweep"), label_paint(up, mass), curves)?;
+    draw_cells(&panels[1], canvas, m, &format!("{name}, down sweep"), label_paint(down, mass), curves)?;
+    let differ = |i: usize| match (hyst[i], &up[i], &down[i]) {
+        (1, Some(a), Some(b)) => Some(Paint::Split(rgb(&a.labels[mass].to_string()), rgb(&b.labels[mass].to_string()))),
+        _ => Some(Paint::Fill(BLANK)),
+    };
+    let title = format!("up / down differ: {zones} cells");
+    draw_cells(&panels[2], canvas, m, &title, differ, curves)?;
+    placed.draw(&key, canvas)
 }
 
 /// Draws a contact sheet: the maps of one mass and sweep for several atlases
 /// (a study), side by side with one legend; a label has the same colour in
 /// every panel.
-pub fn sheet(panels: &[(String, Atlas)], sweep: SweepKind, mass: usize, path: &Path) -> Result<(), RenderError> {
+pub fn sheet(
+    panels: &[(String, Atlas)],
+    sweep: SweepKind,
+    mass: usize,
+    page: &Page,
+    path: &Path,
+) -> Result<(), RenderError> {
     let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols);
-    save!(path, (560 * cols as u32 + 340, 440 * rows as u32 + 40), |root| draw_sheet(&root, panels, sweep, mass))
+    let screen = (560 * cols as u32 + 340, 440 * rows as u32 + 40);
+    let canvas = Canvas::of(page, path, screen, |w| {
+        if w < 120.0 {
+            w * 0.75 * rows as f64 + 60.0
+        } else {
+            w * 0.4 * rows as f64 + 30.0
+        }
+    })?;
+    save!(path, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
 }
 
 fn draw_sheet<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
     panels: &[(String, Atlas)],
     sweep: SweepKind,
     mass: usize,
 ) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
-    let cols = panels.len().clamp(1, 2);
-    let rows = panels.len().div_ceil(cols);
     let title = panels.first().map_or(String::new(), |(_, a)| pq_text(&a.meta, mass));
-    let root = root.titled(&title, ("sans-serif", 18)).map_err(err)?;
-    let (left, right) = root.split_horizontally(560 * cols as u32);
-    let mut all = Vec::new();
-    for ((title, atlas), area) in panels.iter().zip(left.split_evenly((rows, cols)).iter()) {
-        let cells = sweep_cells(atlas, sweep)?;
-        all.push(cells);
-        draw_cells(area, &atlas.meta, title, 12, label_colours(cells, mass), &[])?;
+    let body = layout::header(root, canvas, &title, layout::TITLE)?;
+    let all: Vec<&[Option<CellData>]> = panels.iter().map(|(_, a)| sweep_cells(a, sweep)).collect::<Result<_, _>>()?;
+    let counts = count(&all, mass);
+    let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |room| {
+        let mut rows = vec![Entry::new(Swatch::Heading, "label (cells, all panels)")];
+        rows.extend(label_entries(&counts, room.saturating_sub(1)));
+        rows
+    });
+    let (maps, key) = placed.split(&body, canvas);
+    let cols = if canvas.width_em() >= LEGEND_BESIDE_EM || panels.len() > 1 { 2 } else { 1 };
+    for ((title, atlas), (area, cells)) in panels.iter().zip(layout::panels(&maps, panels.len(), cols).iter().zip(&all))
+    {
+        draw_cells(area, canvas, &atlas.meta, title, label_paint(cells, mass), &[])?;
     }
-    draw_legend(&right, "label (cells, all panels)", &count(&all, mass), &[])
+    placed.draw(&key, canvas)
 }
 
 /// Colours of 1, 2, 3 and 4 or more coexisting attractors (light to dark).
 const COEXISTING: [RGBColor; 4] =
-    [RGBColor(222, 235, 247), RGBColor(107, 174, 214), RGBColor(33, 113, 181), RGBColor(8, 48, 107)];
+    [RGBColor(198, 219, 239), RGBColor(107, 174, 214), RGBColor(33, 113, 181), RGBColor(8, 48, 107)];
 
 /// Draws the number of coexisting attractors found in each sampled cell of
 /// `atlas` (`atlas --attractors`), cells not sampled white (format by the
 /// extension of `path`).
-pub fn attractor_map(atlas: &Atlas, path: &Path) -> Result<(), RenderError> {
-    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError {
-        message: "the file has no attractors: make it with atlas --attractors K".into(),
-    })?;
-    save!(path, (1140, 800), |root| draw_attractors(&root, atlas, a))
+pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), RenderError> {
+    let a = atlas
+        .attractors
+        .as_ref()
+        .ok_or_else(|| RenderError::new("the file has no attractors: make it with atlas --attractors K"))?;
+    let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
+    save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }
 
 fn draw_attractors<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
     atlas: &Atlas,
     a: &grid::AttractorMap,
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     root.fill(&WHITE).map_err(err)?;
     let title = format!("coexisting attractors ({} sampled initial states per cell, seed {})", a.samples, a.seed);
-    let root = root.titled(&title, ("sans-serif", 20)).map_err(err)?;
-    let (body, foot) = root.split_vertically(root.dim_in_pixel().1 - 28);
-    foot.draw(&Text::new(settings_text(m), (12, 4), ("sans-serif", 15).into_font())).map_err(err)?;
-    let (plot, legend) = body.split_horizontally(760);
+    let body = layout::header(root, canvas, &title, layout::TITLE)?;
+    let body = layout::footer(&body, canvas, &settings_text(m))?;
     let shade = |n: usize| COEXISTING[n.clamp(1, 4) - 1];
-    draw_cells(
-        &plot,
-        m,
-        "number of attractors",
-        15,
-        |i| Some(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))),
-        &[],
-    )?;
     let mut counts = [0u64; 5];
     for c in &a.cells {
         counts[c.as_ref().map_or(0, |c| c.len().min(4))] += 1;
     }
-    let rows: Vec<(String, RGBColor)> = (1..=4)
-        .map(|n| {
-            (
-                format!(
-                    "{n}{} attractor{}  ({})",
-                    if n == 4 { " or more" } else { "" },
-                    if n == 1 { "" } else { "s" },
-                    counts[n]
-                ),
-                shade(n),
-            )
-        })
-        .chain(std::iter::once((format!("not sampled  ({})", counts[0]), BLANK)))
-        .collect();
-    draw_legend(&legend, "cells", &[], &rows)
+    let mut rows = vec![Entry::new(Swatch::Heading, "cells")];
+    rows.extend((1..=4).map(|n| {
+        let more = if n == 4 { " or more" } else { "" };
+        let plural = if n == 1 { "" } else { "s" };
+        Entry::new(Swatch::Fill(shade(n)), format!("{n}{more} attractor{plural}  ({})", counts[n]))
+    }));
+    rows.push(Entry::new(Swatch::Fill(BLANK), format!("not sampled  ({})", counts[0])));
+    let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |_| rows.clone());
+    let (plot, key) = placed.split(&body, canvas);
+    let paint = |i: usize| Some(Paint::Fill(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))));
+    draw_cells(&plot, canvas, m, "number of attractors", paint, &[])?;
+    placed.draw(&key, canvas)
 }

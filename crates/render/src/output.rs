@@ -1,6 +1,7 @@
 //! Output formats, chosen by the file's extension: `.png` (bitmap), `.svg`
-//! (vector, text as text) and `.pdf` (the SVG converted by svg2pdf, with the
-//! same font embedded). Every figure is drawn by one generic function on a
+//! (vector, text as text, `font-family="sans-serif"`) and `.pdf` (the SVG
+//! converted by svg2pdf, `sans-serif` mapped to the figures' font, which it
+//! embeds: every text stays text). Every figure is drawn by one generic function on a
 //! plotters drawing area, whatever the format ([`save!`]).
 
 use crate::RenderError;
@@ -41,40 +42,72 @@ pub(crate) fn pdf(svg: &str, path: &Path) -> Result<(), RenderError> {
     let fail = |m: String| RenderError { message: format!("{}: {m}", path.display()) };
     let mut options = svg2pdf::usvg::Options::default();
     let font = crate::font::path()?;
-    options.fontdb_mut().load_font_file(&font).map_err(|e| fail(format!("{}: {e}", font.display())))?;
-    options.font_family = "DejaVu Sans".into();
+    let db = options.fontdb_mut();
+    db.load_font_file(&font).map_err(|e| fail(format!("{}: {e}", font.display())))?;
+    // The figures name the generic family; it must resolve to the loaded font,
+    // or usvg drops every text.
+    let family = db.faces().next().and_then(|f| f.families.first()).map(|f| f.0.clone());
+    let family = family.ok_or_else(|| fail(format!("{}: no font family in the file", font.display())))?;
+    db.set_sans_serif_family(family.clone());
+    options.font_family = family;
     let tree = svg2pdf::usvg::Tree::from_str(svg, &options).map_err(|e| fail(e.to_string()))?;
     let bytes = svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), svg2pdf::PageOptions::default())
         .map_err(|e| fail(e.to_string()))?;
     std::fs::write(path, bytes).map_err(|e| fail(e.to_string()))
 }
 
-/// Draws a figure into `$path` in the format of its extension: `$size` in
-/// pixels (points for vector formats), `$draw` a call of a generic drawing
-/// function with the drawing area bound to `$root`.
+/// An SVG text whose size is stated in millimetres (its user units stay
+/// points, through the view box), so that it prints at the figure's size.
+pub(crate) fn svg_in_mm(svg: &str, (w, h): (f64, f64)) -> String {
+    match svg.find('>') {
+        Some(end) if svg.starts_with("<svg") => {
+            let head = &svg[..end];
+            let sized = head
+                .split(' ')
+                .map(|attr| {
+                    if attr.starts_with("width=") {
+                        format!("width=\"{w}mm\"")
+                    } else if attr.starts_with("height=") {
+                        format!("height=\"{h}mm\"")
+                    } else {
+                        attr.to_string()
+                    }
+                })
+                .collect::<Vec<_>>()
+                .join(" ");
+            format!("{sized}{}", &svg[end..])
+        }
+        _ => svg.to_string(),
+    }
+}
+
+/// Draws a figure into `$path` in the format of its extension on `$canvas`
+/// (a [`crate::page::Canvas`]), `$draw` a call of a generic drawing function
+/// with the drawing area bound to `$root`.
 macro_rules! save {
-    ($path:expr, $size:expr, |$root:ident| $draw:expr) => {{
+    ($path:expr, $canvas:expr, |$root:ident| $draw:expr) => {{
         use plotters::prelude::{BitMapBackend, IntoDrawingArea, SVGBackend};
         crate::font::ensure()?;
+        let size = $canvas.size();
         match crate::output::Format::of($path)? {
             crate::output::Format::Png => {
-                let $root = BitMapBackend::new($path, $size).into_drawing_area();
+                let $root = BitMapBackend::new($path, size).into_drawing_area();
                 $draw?;
                 $root.present().map_err(crate::err)
             }
-            crate::output::Format::Svg => {
-                let $root = SVGBackend::new($path, $size).into_drawing_area();
-                $draw?;
-                $root.present().map_err(crate::err)
-            }
-            crate::output::Format::Pdf => {
+            format => {
                 let mut svg = String::new();
                 {
-                    let $root = SVGBackend::with_string(&mut svg, $size).into_drawing_area();
+                    let $root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
                     $draw?;
                     $root.present().map_err(crate::err)?;
                 }
-                crate::output::pdf(&svg, $path)
+                if format == crate::output::Format::Pdf {
+                    crate::output::pdf(&svg, $path)
+                } else {
+                    let svg = $canvas.mm.map_or(svg.clone(), |mm| crate::output::svg_in_mm(&svg, mm));
+                    std::fs::write($path, svg).map_err(|e| crate::RenderError::new(format!("{}: {e}", $path.display())))
+                }
             }
         }
     }};

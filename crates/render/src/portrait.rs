@@ -3,7 +3,10 @@
 //! drawn as vertical lines and the impacts marked; below, the positions of all
 //! masses against time with every event marked.
 
+use crate::layout::{self, Axes};
+use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -33,61 +36,59 @@ const CURVES: [RGBColor; 4] =
     [RGBColor(0, 114, 178), RGBColor(213, 94, 0), RGBColor(0, 158, 115), RGBColor(204, 121, 167)];
 
 /// Draws the portrait (format by the extension of `path`).
-pub fn portrait(p: &Portrait, path: &Path) -> Result<(), RenderError> {
-    save!(path, (1200, 900), |root| draw(&root, p))
+pub fn portrait(p: &Portrait, page: &Page, path: &Path) -> Result<(), RenderError> {
+    let canvas = Canvas::of(page, path, (1200, 900), |w| if w < 120.0 { 1.5 * w } else { 0.75 * w })?;
+    save!(path, canvas, |root| draw(&root, &canvas, p))
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &Portrait) -> Result<(), RenderError> {
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &Portrait) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(&p.title, ("sans-serif", 18)).map_err(err)?;
-    let (top, bottom) = root.split_vertically(520);
-    let panels = top.split_evenly((1, p.masses.len().max(1)));
+    let body = layout::header(root, canvas, &p.title, layout::TITLE)?;
+    let (top, bottom) = body.split_vertically(body.dim_in_pixel().1 * 4 / 7);
+    let panels = layout::panels(&top, p.masses.len().max(1), p.masses.len().max(1));
     let impacts: Vec<usize> = p.events.iter().filter(|e| e.1.starts_with("impact")).map(|e| e.0).collect();
+    let dot = canvas.pt(1.3);
     for (k, area) in panels.iter().enumerate() {
         let stops: Vec<&(usize, f64, String)> = p.stops.iter().filter(|s| s.0 == k).collect();
         let (x0, x1) = crate::range(p.x[k].iter().copied().chain(stops.iter().map(|s| s.1)));
         let (v0, v1) = crate::range(p.v[k].iter().copied());
-        let mut chart = ChartBuilder::on(area)
-            .caption(format!("{}: phase portrait", p.masses[k]), ("sans-serif", 16))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(x0..x1, v0..v1)
-            .map_err(err)?;
-        crate::axes(&mut chart, &format!("x_{}", p.masses[k]), &format!("v_{}", p.masses[k]), 13)?;
+        let caption = format!("{}: phase portrait", p.masses[k]);
+        let (xd, vd) = (format!("x_{}", p.masses[k]), format!("v_{}", p.masses[k]));
+        let axes = Axes { caption: Some(&caption), x: (x0, x1), y: (v0, v1), x_desc: &xd, y_desc: &vd };
+        let chart = layout::chart(area, canvas, &axes)?;
+        let plot = chart.plotting_area();
         let colour = CURVES[k % CURVES.len()];
-        chart
-            .draw_series(LineSeries::new(p.x[k].iter().copied().zip(p.v[k].iter().copied()), colour.stroke_width(1)))
-            .map_err(err)?;
+        let path: Vec<(f64, f64)> = p.x[k].iter().copied().zip(p.v[k].iter().copied()).collect();
+        plot.draw(&PathElement::new(path, colour.stroke_width(canvas.pt(0.6)))).map_err(err)?;
         for (_, pos, name) in &stops {
-            chart.draw_series(LineSeries::new([(*pos, v0), (*pos, v1)], BLACK.stroke_width(2))).map_err(err)?;
-            chart.draw_series([Text::new(name.clone(), (*pos, v1), ("sans-serif", 13).into_font())]).map_err(err)?;
+            plot.draw(&PathElement::new(vec![(*pos, v0), (*pos, v1)], BLACK.stroke_width(canvas.pt(1.0))))
+                .map_err(err)?;
+            plot.draw(&Text::new(name.clone(), (*pos, v1), canvas.font(layout::FOOT))).map_err(err)?;
         }
-        chart
-            .draw_series(impacts.iter().map(|&i| Circle::new((p.x[k][i], p.v[k][i]), 3, BLACK.filled())))
-            .map_err(err)?;
+        for &i in &impacts {
+            plot.draw(&Circle::new((p.x[k][i], p.v[k][i]), dot, BLACK.filled())).map_err(err)?;
+        }
     }
-    let (t0, t1) = crate::range(p.t.iter().copied());
-    let (y0, y1) = crate::range(p.x.iter().flatten().copied());
-    let mut chart = ChartBuilder::on(&bottom)
-        .caption("positions against time (events marked)", ("sans-serif", 16))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(t0..t1, y0..y1)
-        .map_err(err)?;
-    crate::axes(&mut chart, "t", "x", 13)?;
+    let (plot_area, key) = bottom.split_horizontally(bottom.dim_in_pixel().0.saturating_sub(canvas.emu(7.0)));
+    let axes = Axes {
+        caption: Some("positions against time (events marked)"),
+        x: crate::range(p.t.iter().copied()),
+        y: crate::range(p.x.iter().flatten().copied()),
+        x_desc: "t",
+        y_desc: "x",
+    };
+    let chart = layout::chart(&plot_area, canvas, &axes)?;
+    let plot = chart.plotting_area();
+    let mut rows = Vec::new();
     for (k, name) in p.masses.iter().enumerate() {
         let colour = CURVES[k % CURVES.len()];
-        chart
-            .draw_series(LineSeries::new(p.t.iter().copied().zip(p.x[k].iter().copied()), colour.stroke_width(2)))
-            .map_err(err)?
-            .label(format!("x_{name}"))
-            .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 16, b)], colour.stroke_width(2)));
-        chart
-            .draw_series(p.events.iter().map(|(i, _)| Circle::new((p.t[*i], p.x[k][*i]), 3, BLACK.filled())))
-            .map_err(err)?;
+        let path: Vec<(f64, f64)> = p.t.iter().copied().zip(p.x[k].iter().copied()).collect();
+        plot.draw(&PathElement::new(path, colour.stroke_width(canvas.pt(0.9)))).map_err(err)?;
+        for (i, _) in &p.events {
+            plot.draw(&Circle::new((p.t[*i], p.x[k][*i]), dot, BLACK.filled())).map_err(err)?;
+        }
+        rows.push(Entry::new(Swatch::Line(colour, 0.9, (1.0, 0.0)), format!("x_{name}")));
     }
-    crate::legend(&mut chart, SeriesLabelPosition::UpperRight)?;
-    Ok(())
+    rows.push(Entry::new(Swatch::Dot(BLACK, 1.3), "event"));
+    legend::draw(&key.margin(canvas.em(2.0), 0, 0, 0), canvas, &rows)
 }

@@ -5,8 +5,10 @@
 //! Cells without the number are mid grey (apart from the white of neutral values); a labelled colour bar gives the
 //! scale.
 
+use crate::layout;
 use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use grid::{Atlas, CellData, SweepKind};
 use plotters::coord::Shift;
@@ -63,14 +65,22 @@ fn diverging(t: f64) -> RGBColor {
     RGBColor(c[0], c[1], c[2])
 }
 
-/// Draws `quantity` over the plane of one sweep of `atlas` (format by the
-/// extension of `path`).
-pub fn scalar_map(atlas: &Atlas, sweep: SweepKind, quantity: Quantity, path: &Path) -> Result<(), RenderError> {
-    save!(path, (1060, 800), |root| draw(&root, atlas, sweep, quantity))
+/// Draws `quantity` over the plane of one sweep of `atlas` at the size of
+/// `page` (format by the extension of `path`).
+pub fn scalar_map(
+    atlas: &Atlas,
+    sweep: SweepKind,
+    quantity: Quantity,
+    page: &Page,
+    path: &Path,
+) -> Result<(), RenderError> {
+    let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
+    save!(path, canvas, |root| draw(&root, &canvas, atlas, sweep, quantity))
 }
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
     atlas: &Atlas,
     sweep: SweepKind,
     quantity: Quantity,
@@ -83,23 +93,23 @@ fn draw<DB: DrawingBackend>(
     let reach = if reach > 0.0 { reach } else { 1.0 };
     let (lo, hi) = (centre - reach, centre + reach);
     root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(&crate::map::settings_text(m), ("sans-serif", 16)).map_err(err)?;
-    let (left, right) = root.split_horizontally(880);
+    let body = layout::header(root, canvas, &crate::map::settings_text(m), layout::TITLE)?;
+    let (w, _) = body.dim_in_pixel();
+    let (left, right) = body.split_horizontally(w.saturating_sub(canvas.emu(7.5)));
     let grid = CellGrid::of(m);
     let title = format!("{} sweep: {}", sweep.name(), quantity.title());
-    let mut chart = grid.chart(&left, &title, 15)?;
-    chart
-        .draw_series(values.iter().enumerate().map(|(i, v)| {
-            let colour = v.map_or(RGBColor(190, 190, 190), |v| diverging((v - centre) / reach));
-            Rectangle::new(grid.rect(i), colour.filled())
-        }))
-        .map_err(err)?;
+    let chart = grid.chart(&left, canvas, m, &title)?;
+    let plot = chart.plotting_area();
+    for (i, v) in values.iter().enumerate() {
+        let colour = v.map_or(RGBColor(190, 190, 190), |v| diverging((v - centre) / reach));
+        plot.draw(&Rectangle::new(grid.rect(i), colour.filled())).map_err(err)?;
+    }
     let mut bar = ChartBuilder::on(&right)
-        .margin_top(60)
-        .margin_bottom(55)
-        .margin_right(20)
+        .margin_top(canvas.em(3.0))
+        .margin_bottom(canvas.em(3.3))
+        .margin_right(canvas.em(0.5))
         .y_label_area_size(0)
-        .right_y_label_area_size(95)
+        .right_y_label_area_size(canvas.em(6.0))
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(err)?;
     bar.configure_mesh()
@@ -107,8 +117,8 @@ fn draw<DB: DrawingBackend>(
         .disable_x_axis()
         .y_desc(quantity.unit())
         .y_label_formatter(&|v| crate::tick(*v))
-        .label_style(("sans-serif", 14))
-        .axis_desc_style(("sans-serif", 16))
+        .label_style(canvas.font(1.0))
+        .axis_desc_style(canvas.font(1.0))
         .draw()
         .map_err(err)?;
     let n = 200;

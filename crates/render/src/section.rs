@@ -1,8 +1,12 @@
 //! Poincaré sections of one motion, one scatter panel each: a periodic motion
 //! shows n points, a quasi-periodic one a closed curve (the invariant circle
-//! born at a Neimark–Sacker bifurcation), a chaotic one a fractal cloud.
+//! born at a Neimark–Sacker bifurcation), a chaotic one a fractal cloud. A
+//! few points are drawn larger, and their panel is padded around them
+//! ([`crate::range`]) rather than scaled to their round-off.
 
+use crate::layout::{self, Axes};
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -19,31 +23,46 @@ pub struct Panel {
     pub points: Vec<(f64, f64)>,
 }
 
-/// Draws the panels side by side (two per row) to a PNG.
-pub fn sections(panels: &[Panel], title: &str, path: &Path) -> Result<(), RenderError> {
+/// Draws the panels side by side (two per row) at the size of `page`
+/// (format by the extension of `path`); the title is wrapped to the width.
+pub fn sections(panels: &[Panel], title: &str, page: &Page, path: &Path) -> Result<(), RenderError> {
     let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols).max(1);
-    save!(path, (520 * cols as u32, 460 * rows as u32 + 40), |root| draw(&root, panels, title))
+    let height = |w: f64| 18.0 + rows as f64 * w / cols as f64 * 0.85;
+    let canvas = Canvas::of(page, path, (520 * cols as u32, 460 * rows as u32 + 60), height)?;
+    save!(path, canvas, |root| draw(&root, &canvas, panels, title))
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panels: &[Panel], title: &str) -> Result<(), RenderError> {
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    panels: &[Panel],
+    title: &str,
+) -> Result<(), RenderError> {
     let cols = panels.len().clamp(1, 2);
-    let rows = panels.len().div_ceil(cols).max(1);
     root.fill(&WHITE).map_err(err)?;
-    let root = root.titled(title, ("sans-serif", 20)).map_err(err)?;
-    for (panel, area) in panels.iter().zip(root.split_evenly((rows, cols)).iter()) {
-        let (x0, x1) = crate::range(panel.points.iter().map(|p| p.0));
-        let (y0, y1) = crate::range(panel.points.iter().map(|p| p.1));
-        let mut chart = ChartBuilder::on(area)
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(err)?;
-        crate::axes(&mut chart, &panel.x, &panel.y, 13)?;
-        chart
-            .draw_series(panel.points.iter().map(|&p| Circle::new(p, 1, RGBColor(31, 119, 180).filled())))
-            .map_err(err)?;
+    let body = layout::header(root, canvas, title, layout::TITLE)?;
+    for (panel, area) in panels.iter().zip(layout::panels(&body, panels.len(), cols).iter()) {
+        let axes = Axes {
+            caption: None,
+            x: crate::range(panel.points.iter().map(|p| p.0)),
+            y: crate::range(panel.points.iter().map(|p| p.1)),
+            x_desc: &panel.x,
+            y_desc: &panel.y,
+        };
+        let chart = layout::chart(area, canvas, &axes)?;
+        // A periodic motion's few distinct points (repeated every n periods)
+        // drawn large; a curve or a cloud of many, small.
+        let cell = |v: f64, (lo, hi): (f64, f64)| ((v - lo) / (hi - lo) * 400.0).round() as i64;
+        let mut distinct: Vec<(i64, i64)> =
+            panel.points.iter().map(|p| (cell(p.0, axes.x), cell(p.1, axes.y))).collect();
+        distinct.sort_unstable();
+        distinct.dedup();
+        let r = if distinct.len() > 64 { 0.6 } else { 1.6 };
+        let colour = RGBColor(0, 114, 178).filled();
+        for &p in &panel.points {
+            chart.plotting_area().draw(&Circle::new(p, canvas.pt(r), colour)).map_err(err)?;
+        }
     }
     Ok(())
 }

@@ -4,14 +4,16 @@
 //! legend beside the chart names each setting's colour.
 
 use crate::output::save;
+use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Draws `(setting, cells/s, label agreement)` points to a PNG.
+/// Draws `(setting, cells/s, label agreement)` points (a screen-sized figure).
 pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderError> {
-    save!(path, (1000, 600), |root| draw(&root, points))
+    let canvas = Canvas::of(&Page::screen(), path, (1000, 600), |w| w)?;
+    save!(path, canvas, |root| draw(&root, points))
 }
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, points: &[(String, f64, f64)]) -> Result<(), RenderError> {

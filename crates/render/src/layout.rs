@@ -1,0 +1,155 @@
+//! The parts every figure is built of, measured in body text heights of its
+//! [`Canvas`]: a title block and a footnote whose lines are wrapped to the
+//! width of the figure, a grid of panels, and a chart whose label areas and
+//! number of ticks follow the size of its text.
+
+use crate::page::Canvas;
+use crate::{err, RenderError};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+/// A chart of two continuous axes.
+pub(crate) type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// Scale of a figure's title, of a panel's caption and of a footnote, to the
+/// body text.
+pub(crate) const TITLE: f64 = 1.15;
+pub(crate) const CAPTION: f64 = 1.0;
+pub(crate) const FOOT: f64 = 0.9;
+/// Height of one line of text, in text heights.
+const LINE: f64 = 1.3;
+
+/// `text` broken at spaces into lines no wider than `width` pixels in `font`
+/// (a word longer than the width stays whole).
+pub(crate) fn wrap<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    font: &FontDesc,
+    width: u32,
+) -> Vec<String> {
+    let fits = |s: &str| area.estimate_text_size(s, &TextStyle::from(font.clone())).map_or(true, |(w, _)| w <= width);
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split(' ') {
+        match lines.last_mut() {
+            Some(line) if fits(&format!("{line} {word}")) => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
+}
+
+/// Draws `text` at the top of `area`, centred and wrapped, at `scale` times
+/// the body size; returns the area below it.
+pub(crate) fn header<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    text: &str,
+    scale: f64,
+) -> Result<DrawingArea<DB, Shift>, RenderError> {
+    let (w, h) = area.dim_in_pixel();
+    let font = canvas.font(scale);
+    let lines = wrap(area, text, &font, w.saturating_sub(canvas.emu(1.0)));
+    let step = canvas.text_px(scale) * LINE;
+    let style = font.into_text_style(area).pos(Pos::new(HPos::Center, VPos::Top));
+    for (i, line) in lines.iter().enumerate() {
+        let y = canvas.em(0.4) + (step * i as f64).round() as i32;
+        area.draw(&Text::new(line.clone(), (w as i32 / 2, y), style.clone())).map_err(err)?;
+    }
+    let used = (canvas.em(0.4) as f64 + step * lines.len() as f64 + canvas.em(0.2) as f64).round() as u32;
+    Ok(area.split_vertically(used.min(h)).1)
+}
+
+/// Draws `text` at the bottom of `area`, left-aligned and wrapped, at the
+/// footnote size; returns the area above it.
+pub(crate) fn footer<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    text: &str,
+) -> Result<DrawingArea<DB, Shift>, RenderError> {
+    let (w, h) = area.dim_in_pixel();
+    let font = canvas.font(FOOT);
+    let lines = wrap(area, text, &font, w.saturating_sub(canvas.emu(1.5)));
+    let step = canvas.text_px(FOOT) * LINE;
+    let used = (step * lines.len() as f64 + canvas.em(0.5) as f64).round() as u32;
+    let (top, foot) = area.split_vertically(h.saturating_sub(used));
+    let style = font.into_text_style(area).pos(Pos::new(HPos::Left, VPos::Top));
+    for (i, line) in lines.iter().enumerate() {
+        let y = (step * i as f64).round() as i32;
+        foot.draw(&Text::new(line.clone(), (canvas.em(0.6), y), style.clone())).map_err(err)?;
+    }
+    Ok(top)
+}
+
+/// `area` split into `n` panels in rows of `cols`, left to right, top to bottom.
+pub(crate) fn panels<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    n: usize,
+    cols: usize,
+) -> Vec<DrawingArea<DB, Shift>> {
+    let cols = cols.clamp(1, n.max(1));
+    let rows = n.div_ceil(cols).max(1);
+    area.split_evenly((rows, cols)).into_iter().take(n).collect()
+}
+
+/// What a chart shows: its caption, axis ranges and descriptions.
+pub(crate) struct Axes<'t> {
+    /// Caption above the chart (none: no caption).
+    pub caption: Option<&'t str>,
+    /// Horizontal range.
+    pub x: (f64, f64),
+    /// Vertical range.
+    pub y: (f64, f64),
+    /// Horizontal axis description.
+    pub x_desc: &'t str,
+    /// Vertical axis description.
+    pub y_desc: &'t str,
+}
+
+/// Widest tick text of a range (characters), for the vertical label area.
+fn tick_chars(range: (f64, f64)) -> usize {
+    (0..=8).map(|k| crate::tick(range.0 + (range.1 - range.0) * k as f64 / 8.0).chars().count()).max().unwrap_or(4)
+}
+
+/// A chart on `area` with the axes `a`: label areas and tick counts sized to
+/// the canvas's text, no grid, ticks without `-0`.
+pub(crate) fn chart<'b, DB: DrawingBackend>(
+    area: &'b DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    a: &Axes,
+) -> Result<Chart<'b, DB>, RenderError> {
+    let mut builder = ChartBuilder::on(area);
+    if let Some(caption) = a.caption {
+        builder.caption(caption, canvas.font(CAPTION));
+    }
+    let y_area = canvas.em(0.62 * tick_chars(a.y) as f64 + 2.2);
+    let mut chart = builder
+        .margin(canvas.em(0.5))
+        .margin_right(canvas.em(1.2))
+        .x_label_area_size(canvas.em(2.8))
+        .y_label_area_size(y_area)
+        .build_cartesian_2d(a.x.0..a.x.1, a.y.0..a.y.1)
+        .map_err(err)?;
+    let (w, h) = chart.plotting_area().dim_in_pixel();
+    let x_ticks = (w as f64 / (canvas.em(0.62 * tick_chars(a.x) as f64 + 1.5) as f64).max(1.0)).floor() as usize;
+    let y_ticks = (h as f64 / canvas.em(2.2).max(1) as f64).floor() as usize;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(x_ticks.clamp(2, 10))
+        .y_labels(y_ticks.clamp(2, 10))
+        .x_desc(a.x_desc)
+        .y_desc(a.y_desc)
+        .x_label_formatter(&|v| crate::tick(*v))
+        .y_label_formatter(&|v| crate::tick(*v))
+        .label_style(canvas.font(1.0))
+        .axis_desc_style(canvas.font(1.0))
+        .set_all_tick_mark_size(canvas.em(0.35))
+        .draw()
+        .map_err(err)?;
+    Ok(chart)
+}

@@ -1,0 +1,179 @@
+//! Issue 29: figures a journal prints as they are. PDF figures keep their
+//! text (an embedded font, every title, axis symbol, tick and legend entry
+//! found by poppler's pdftotext), print sizes give the page size asked for,
+//! no text on the page is smaller than 6 pt and none runs off it, and bad
+//! print options are refused.
+
+use crate::util::{ok, run, scratch};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Output of a poppler tool (installed by scripts/setup.sh: poppler-utils).
+fn poppler(tool: &str, args: &[&str]) -> String {
+    let out = Command::new(tool).args(args).output().unwrap_or_else(|e| panic!("{tool}: {e} (poppler-utils)"));
+    assert!(out.status.success(), "{tool} {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// A 12 x 8 up- and down-sweep atlas of the multi-stop plane (both ends of
+/// the README's plane), and a dry-friction sweep file with a hysteresis loop.
+fn inputs(d: &Path) -> (PathBuf, PathBuf) {
+    let atlas = d.join("a.h5");
+    let x = "omega=0.1:3.05:12";
+    let y = "delta=0.05:2:8";
+    ok(&["atlas", "configs/multi-stop.toml", "--x", x, "--y", y, "--sweep", "both", "--quiet", "-o", p(&atlas)]);
+    let sweep = d.join("s.h5");
+    let axis = "omega=8:4.5:36";
+    ok(&[
+        "sweep",
+        "configs/dry-friction.toml",
+        "--axis",
+        axis,
+        "--set",
+        "fk=0.01",
+        "--direction",
+        "both",
+        "--quiet",
+        "-o",
+        p(&sweep),
+    ]);
+    (atlas, sweep)
+}
+
+fn p(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// A word of a PDF: its text, font size (points) and box `[x0, y0, x1, y1]`.
+type Word = (String, f64, [f64; 4]);
+
+/// The page size of a PDF (points) and its words, from `pdftotext -bbox`.
+fn words(pdf: &Path) -> (f64, f64, Vec<Word>) {
+    let html = poppler("pdftotext", &["-bbox", p(pdf), "-"]);
+    let options = roxmltree::ParsingOptions { allow_dtd: true, ..Default::default() };
+    let doc = roxmltree::Document::parse_with_options(&html, options).expect("pdftotext -bbox writes XHTML");
+    let page = doc.descendants().find(|n| n.has_tag_name("page")).expect("a page");
+    let dim = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    let (w, h) = (dim(page, "width"), dim(page, "height"));
+    let list = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("word"))
+        .map(|n| {
+            let b = [dim(n, "xMin"), dim(n, "yMin"), dim(n, "xMax"), dim(n, "yMax")];
+            let text = n.text().unwrap_or("").to_string();
+            // A word's box is its font size across the line and its advance
+            // along it; the y axis's description runs upwards.
+            let (w, h) = (b[2] - b[0], b[3] - b[1]);
+            let size = if text.chars().count() == 1 { w.max(h) } else { w.min(h) };
+            (text, size, b)
+        })
+        .collect();
+    (w, h, list)
+}
+
+/// The three kinds of figure a referee sees first, as PDF with `extra` options:
+/// the up map, the hysteresis view and a bifurcation diagram.
+fn figures(d: &Path, atlas: &Path, sweep: &Path, tag: &str, extra: &[&str]) -> [PathBuf; 3] {
+    let map = d.join(format!("map-{tag}.pdf"));
+    let hyst = d.join(format!("hyst-{tag}.pdf"));
+    let diagram = d.join(format!("diagram-{tag}.pdf"));
+    let with = |args: Vec<&str>| ok(&[args.as_slice(), extra].concat());
+    with(vec!["render", p(atlas), "--sweep", "up", "-o", p(&map)]);
+    with(vec!["render", p(atlas), "--sweep", "hysteresis", "-o", p(&hyst)]);
+    with(vec!["render", p(sweep), "--impact", "phase", "-o", p(&diagram)]);
+    [map, hyst, diagram]
+}
+
+#[test]
+fn pdf_figures_keep_their_text_in_an_embedded_font() {
+    let d = scratch("pdf-text");
+    let (atlas, sweep) = inputs(&d);
+    for (tag, extra) in [("screen", vec![]), ("single", vec!["--size", "single"])] {
+        let [map, hyst, diagram] = figures(&d, &atlas, &sweep, tag, &extra);
+        for pdf in [&map, &hyst, &diagram] {
+            let fonts = poppler("pdffonts", &[p(pdf)]);
+            let row = fonts.lines().find(|l| l.contains("DejaVuSans")).unwrap_or_else(|| panic!("{fonts}"));
+            assert!(row.split_whitespace().rev().nth(3) == Some("yes"), "embedded: {row}");
+        }
+        let text = |pdf: &Path| poppler("pdftotext", &[p(pdf), "-"]);
+        let (m, h, b) = (text(&map), text(&hyst), text(&diagram));
+        for want in ["M1: n-p-q", "M1, up sweep", "ω", "δ", "0.5", "1.5", "label (cells)", "1-1-1", "1-0-0"] {
+            assert!(m.contains(want), "{tag} map: '{want}' missing from {m}");
+        }
+        for want in ["M1, down sweep", "up / down differ", "ω", "δ", "up / down (cells)", "1-1-1 / 1-0-0"] {
+            assert!(h.contains(want), "{tag} hysteresis view: '{want}' missing from {h}");
+        }
+        for want in ["bifurcation diagram in ω", "up sweep", "down sweep", "x_M1 at t = kT", "impact phase", "7"] {
+            assert!(b.contains(want), "{tag} diagram: '{want}' missing from {b}");
+        }
+    }
+}
+
+#[test]
+fn printed_figures_have_their_page_size_and_no_text_below_6_pt() {
+    let d = scratch("print-size");
+    let (atlas, sweep) = inputs(&d);
+    let mm = |v: f64| v / 25.4 * 72.0;
+    for (size, width) in [("single", 86.0), ("double", 178.0), ("120x80", 120.0)] {
+        for pdf in figures(&d, &atlas, &sweep, size, &["--size", size]) {
+            let (w, h, list) = words(&pdf);
+            assert!((w - mm(width)).abs() < 0.5, "{}: page {w} pt wide, not {width} mm", pdf.display());
+            if size == "120x80" {
+                assert!((h - mm(80.0)).abs() < 0.5, "{}: page {h} pt high", pdf.display());
+            }
+            assert!(list.len() > 20, "{}: {} words", pdf.display(), list.len());
+            for (word, height, b) in &list {
+                assert!(*height >= 5.99, "{}: '{word}' is {height:.2} pt", pdf.display());
+                let inside = b[0] >= -0.5 && b[1] >= -0.5 && b[2] <= w + 0.5 && b[3] <= h + 0.5;
+                assert!(inside, "{}: '{word}' runs off the page: {b:?} on {w} x {h}", pdf.display());
+            }
+        }
+    }
+    // A larger body text scales every text; a PNG has the page at its dpi.
+    let big = d.join("big.pdf");
+    ok(&["render", p(&atlas), "-o", p(&big), "--size", "double", "--font-size", "10"]);
+    let smallest = words(&big).2.iter().map(|w| w.1).fold(f64::INFINITY, f64::min);
+    assert!(smallest >= 8.99, "smallest text at --font-size 10: {smallest:.2} pt");
+    let png = d.join("map.png");
+    ok(&["render", p(&atlas), "-o", p(&png), "--size", "single", "--dpi", "150"]);
+    let decoder = png::Decoder::new(std::fs::File::open(&png).unwrap());
+    let info = decoder.read_info().unwrap();
+    assert_eq!(info.info().width, (86.0f64 / 25.4 * 150.0).round() as u32);
+}
+
+#[test]
+fn svg_figures_state_their_printed_size() {
+    let d = scratch("svg-size");
+    let (atlas, _) = inputs(&d);
+    let svg = d.join("map.svg");
+    ok(&["render", p(&atlas), "-o", p(&svg), "--size", "120x80"]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let root = doc.root_element();
+    assert_eq!((root.attribute("width"), root.attribute("height")), (Some("120mm"), Some("80mm")));
+    let view: Vec<f64> = root.attribute("viewBox").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
+    assert!((view[2] - 120.0 / 25.4 * 72.0).abs() < 1.0, "view box in points: {view:?}");
+    assert!(doc.descendants().any(|n| n.attribute("font-family") == Some("sans-serif")));
+}
+
+#[test]
+fn bad_print_options_are_refused_naming_the_option() {
+    let d = scratch("print-bad");
+    let (atlas, _) = inputs(&d);
+    let out = d.join("m.png");
+    for (args, flag) in [
+        (vec!["--size", "5x80"], "--size"),
+        (vec!["--size", "wide"], "--size"),
+        (vec!["--font-size", "9"], "--font-size"),
+        (vec!["--size", "single", "--font-size", "4"], "--font-size"),
+        (vec!["--size", "single", "--dpi", "10"], "--dpi"),
+        (vec!["--dpi", "300"], "--dpi"),
+    ] {
+        let all = [vec!["render", p(&atlas), "-o", p(&out)], args.clone()].concat();
+        let r = run(&all);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(flag) && err.trim().lines().count() == 1, "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?} wrote a figure");
+    }
+}
