@@ -13,6 +13,7 @@ mod figures;
 mod friction;
 mod print;
 mod palette;
+mod progress;
 mod properties;
 mod stability;
 mod symbols;

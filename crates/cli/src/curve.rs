@@ -188,7 +188,14 @@ pub fn run_curves(a: CurvesArgs) -> Result<()> {
     if m.plane.x.count < 2 {
         bail!("{}: curves need at least two columns", a.file.display());
     }
-    let found = grid::curves::find(&setup, atlas, &seeding)?;
+    // Progress on standard error only (a bar or `progress:` lines), never in --json's stdout.
+    let bar = std::sync::OnceLock::new();
+    let report = |t: grid::curves::Tally| bar.get_or_init(|| crate::progress::Seeds::new(t.total)).report(t);
+    let found = grid::curves::find(&setup, atlas, &seeding, &report);
+    if let Some(b) = bar.get() {
+        b.finish();
+    }
+    let found = found?;
     let (x, y) = (&m.plane.x.name, &m.plane.y.name);
     let curves: Vec<store::Curve> = found
         .curves

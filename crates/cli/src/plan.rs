@@ -138,7 +138,16 @@ impl Plan {
         let owned = owns.iter().filter(|&&o| o).count();
         let total = (owned * plane.line_len() * self.meta.sweeps.len()) as u64;
         let todo = (jobs.len() * plane.line_len()) as u64;
-        let bar = Bar::new(label, total, total - todo, self.quiet);
+        // Where probed, the time left weighs the lines (see `progress::Work`):
+        // the most expensive come first, so the cells done are less than their
+        // share of the time.
+        let place: std::collections::HashMap<(SweepKind, usize), usize> =
+            jobs.iter().enumerate().map(|(i, &job)| (job, i)).collect();
+        let work = self.cost.as_ref().and_then(|cost| {
+            let prior = jobs.iter().map(|&(_, line)| cost[line]).collect();
+            crate::progress::Work::new(jobs.iter().map(|j| j.1).collect(), prior, plane.line_len(), self.threads)
+        });
+        let bar = Bar::weighted(label, total, total - todo, self.quiet, work);
 
         // Workers seal their own lines for the journal; one writer appends
         // whatever has arrived, with one sync per batch, and keeps the lines.
@@ -159,6 +168,9 @@ impl Plan {
         let writer = std::thread::spawn(move || keep_lines(atlas, journal, draft_of, &resumed, rx));
         let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
         let sink = |line: Line| {
+            if let Some(&job) = place.get(&(line.sweep, line.index)) {
+                bar.finish_job(job);
+            }
             let sealed = match sealer.as_ref().map(|s| s.seal(&line)).transpose() {
                 Ok(s) => s,
                 Err(e) => {

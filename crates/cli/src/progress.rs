@@ -1,8 +1,17 @@
 //! Progress of a run: a bar on a terminal, a line at most every few seconds
-//! otherwise, nothing with `--quiet`. The rate and the time left come from the
-//! cells this run has finished over the time it has run (cells cost very
-//! unevenly, so a recent-steps estimate swings by a factor of five); numbers are
-//! written for people (`3 650 cells/s`, `2 min 05 s`).
+//! otherwise (`VIBROATLAS_PROGRESS_EVERY`: another interval, in seconds),
+//! nothing with `--quiet`. Numbers are written for people (`3 650 cells/s`,
+//! `2 min 05 s`).
+//!
+//! The time left is the time run so far times the work left over the work
+//! done, `t (W - w) / w`. Cells cost very unevenly (a recent-steps estimate
+//! swings by a factor of five), and an atlas's lines are computed the most
+//! expensive first, so counting cells says the first tenth of the cells took
+//! a tenth of the time when it took a third (the ETA was 2 to 4 times too
+//! long until three quarters of the run). Where the scheduler probed the
+//! lines' costs (and ordered them by it), the work is counted per line
+//! ([`Work`]): the lines finished weigh the time they took, the others the
+//! time lines near them took; elsewhere in cells.
 
 use grid::Progress;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -15,6 +24,179 @@ use std::time::{Duration, Instant};
 const LINE_EVERY: Duration = Duration::from_secs(5);
 /// Shortest time between two updates of the terminal bar's text.
 const BAR_EVERY: Duration = Duration::from_millis(200);
+/// Steps of a terminal bar that shows estimated work rather than cells.
+const BAR_STEPS: u64 = 1000;
+
+/// The interval between two progress lines off a terminal: 5 s, or
+/// `VIBROATLAS_PROGRESS_EVERY` seconds (for tests and logs).
+fn line_every() -> Duration {
+    std::env::var("VIBROATLAS_PROGRESS_EVERY")
+        .ok()
+        .and_then(|s| s.trim().parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s >= 0.0)
+        .map_or(LINE_EVERY, Duration::from_secs_f64)
+}
+
+/// `t (W - w) / w`: the seconds left when `done` of `total` units of work
+/// took `elapsed` seconds (the rate so far, applied to the work left); `None`
+/// before any work is done.
+pub fn eta(elapsed: f64, done: f64, total: f64) -> Option<f64> {
+    (done > 0.0).then(|| elapsed * (total - done).max(0.0) / done)
+}
+
+/// The estimated work of a run's jobs (lines, each `line_len` cells, taken
+/// by the workers first come, first served in the order given), in seconds of
+/// a worker once calibrated:
+///
+/// - a finished job weighs the time its worker took for it (measured from
+///   the end of that worker's previous job);
+/// - a job not finished weighs what finished jobs of nearby lines took,
+///   interpolated along the line index (a line's cost varies smoothly with
+///   the parameter across lines, and its up and down sweeps cost about the
+///   same; beyond the last finished line on one side, the nearest one's);
+/// - before any job is finished, every job weighs its probed cost (the
+///   scheduler's estimate, `grid::schedule::probe`, in forcing periods).
+///
+/// The probed cost alone predicts a line's time poorly (it counts the forcing
+/// periods of a few fresh cells, whose transients and impacts differ from a
+/// continuation chain's), but it orders the lines: the first ones finished are
+/// spread over the whole plane, so their times calibrate the rest.
+///
+/// The cells finished in lines still running count their share of the first
+/// `threads` jobs not finished (those running, as jobs are taken in order).
+pub struct Work {
+    line: Vec<usize>,
+    prior: Vec<f64>,
+    lines: usize,
+    line_len: u64,
+    threads: usize,
+    state: Mutex<WorkState>,
+}
+
+struct WorkState {
+    /// Seconds each finished job took.
+    secs: Vec<Option<f64>>,
+    /// Jobs before this one are all finished.
+    first_open: usize,
+    finished: u64,
+    /// When each worker finished its last job (seconds from the start).
+    last: std::collections::HashMap<std::thread::ThreadId, f64>,
+}
+
+impl Work {
+    /// The work of jobs on lines `line` (in the order taken) of probed costs
+    /// `prior`, each of `line_len` cells, on `threads` workers. `None` when
+    /// there is nothing to weigh (no job, lengths that differ, or a cost that
+    /// is not a positive number).
+    pub fn new(line: Vec<usize>, prior: Vec<f64>, line_len: usize, threads: usize) -> Option<Work> {
+        if line.is_empty() || line.len() != prior.len() || line_len == 0 {
+            return None;
+        }
+        if prior.iter().any(|c| !(c.is_finite() && *c > 0.0)) {
+            return None;
+        }
+        let lines = line.iter().max().map_or(0, |l| l + 1);
+        let state = WorkState {
+            secs: vec![None; line.len()],
+            first_open: 0,
+            finished: 0,
+            last: std::collections::HashMap::new(),
+        };
+        Some(Work { line, prior, lines, line_len: line_len as u64, threads: threads.max(1), state: Mutex::new(state) })
+    }
+
+    /// Job `job` (its place in the order) finished on the calling thread at
+    /// `at` seconds from the start: it took the time since that thread's
+    /// previous job (or since the start).
+    pub fn finish_at(&self, job: usize, at: f64) {
+        let Ok(mut s) = self.state.lock() else { return };
+        let since = s.last.insert(std::thread::current().id(), at).unwrap_or(0.0);
+        s.record(job, (at - since).max(0.0));
+    }
+
+    /// Job `job` finished, having taken `secs` seconds.
+    #[cfg(test)]
+    fn finish(&self, job: usize, secs: f64) {
+        if let Ok(mut s) = self.state.lock() {
+            s.record(job, secs.max(0.0));
+        }
+    }
+
+    /// The estimated cost of every job: measured, interpolated or probed.
+    fn costs(&self, s: &WorkState) -> Vec<f64> {
+        if s.finished == 0 {
+            return self.prior.clone();
+        }
+        // Mean seconds of the finished jobs of each line.
+        let mut sum = vec![(0.0f64, 0u32); self.lines];
+        for (j, t) in s.secs.iter().enumerate() {
+            if let Some(t) = t {
+                sum[self.line[j]].0 += t;
+                sum[self.line[j]].1 += 1;
+            }
+        }
+        let mean: Vec<Option<f64>> = sum.iter().map(|&(t, n)| (n > 0).then(|| t / f64::from(n))).collect();
+        // The nearest measured line at or below, and at or above, each line.
+        let mut below = vec![None; self.lines];
+        let mut above = vec![None; self.lines];
+        let mut seen = None;
+        for l in 0..self.lines {
+            if mean[l].is_some() {
+                seen = Some(l);
+            }
+            below[l] = seen;
+        }
+        seen = None;
+        for l in (0..self.lines).rev() {
+            if mean[l].is_some() {
+                seen = Some(l);
+            }
+            above[l] = seen;
+        }
+        let at = |l: usize| -> f64 {
+            let value = |k: usize| mean[k].unwrap_or(0.0);
+            match (below[l], above[l]) {
+                (Some(a), Some(b)) if a != b => value(a) + (value(b) - value(a)) * (l - a) as f64 / (b - a) as f64,
+                (Some(a), _) => value(a),
+                (None, Some(b)) => value(b),
+                (None, None) => 0.0,
+            }
+        };
+        s.secs.iter().zip(&self.line).map(|(t, &l)| t.unwrap_or_else(|| at(l))).collect()
+    }
+
+    /// The estimated work done once this run has finished `cells` cells, and
+    /// the whole work: `(w, W)`.
+    pub fn done(&self, cells: u64) -> (f64, f64) {
+        let Ok(s) = self.state.lock() else { return (0.0, 0.0) };
+        let cost = self.costs(&s);
+        let total: f64 = cost.iter().sum();
+        let finished: f64 = s.secs.iter().zip(&cost).filter(|(t, _)| t.is_some()).map(|(_, c)| c).sum();
+        let running = cells.saturating_sub(s.finished * self.line_len);
+        let open: Vec<f64> =
+            (s.first_open..s.secs.len()).filter(|&j| s.secs[j].is_none()).take(self.threads).map(|j| cost[j]).collect();
+        let partial = if open.is_empty() {
+            0.0
+        } else {
+            let c: f64 = open.iter().sum();
+            (running as f64 * c / (open.len() as u64 * self.line_len) as f64).min(c)
+        };
+        ((finished + partial).min(total), total)
+    }
+}
+
+impl WorkState {
+    fn record(&mut self, job: usize, secs: f64) {
+        if job >= self.secs.len() || self.secs[job].is_some() {
+            return;
+        }
+        self.secs[job] = Some(secs);
+        self.finished += 1;
+        while self.first_open < self.secs.len() && self.secs[self.first_open].is_some() {
+            self.first_open += 1;
+        }
+    }
+}
 
 /// Progress reporter for `total` cells.
 pub struct Bar {
@@ -25,6 +207,8 @@ pub struct Bar {
     quiet: bool,
     start: Instant,
     last: Mutex<Instant>,
+    every: Duration,
+    work: Option<Work>,
 }
 
 /// `n` with a thin space between groups of three digits (`116 032`).
@@ -53,37 +237,90 @@ pub fn duration(s: f64) -> String {
     }
 }
 
+/// A terminal bar of `len` steps labelled `label`, or `None` off a terminal
+/// or when quiet.
+fn terminal_bar(label: &str, len: u64, quiet: bool) -> Option<ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let b = ProgressBar::new(len);
+        b.set_style(
+            ProgressStyle::with_template("{prefix} {bar:40.cyan/blue} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b.set_prefix(label.to_string());
+        b
+    })
+}
+
+/// Whether a report is due: `every` has passed since the last one (which it
+/// then becomes), or `last_one` (the end).
+fn due(last: &Mutex<Instant>, every: Duration, last_one: bool) -> bool {
+    let Ok(mut last) = last.lock() else { return false };
+    let due = last.elapsed() >= every || last_one;
+    if due {
+        *last = Instant::now();
+    }
+    due
+}
+
 impl Bar {
-    /// A reporter; `already` cells are done before it starts (resume).
+    /// A reporter; `already` cells are done before it starts (resume). The
+    /// time left is counted in cells.
     pub fn new(label: &str, total: u64, already: u64, quiet: bool) -> Bar {
-        let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-            let b = ProgressBar::new(total);
-            b.set_style(
-                ProgressStyle::with_template("{prefix} {bar:40.cyan/blue} {msg}")
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
-            );
-            b.set_prefix(label.to_string());
-            b.set_position(already);
-            b
-        });
-        let start = Instant::now();
-        Bar { bar, total, already, done: AtomicU64::new(already), quiet, start, last: Mutex::new(start) }
+        Bar::weighted(label, total, already, quiet, None)
     }
 
-    /// `done/total cells (p %), elapsed, rate, time left` at `done` cells.
-    fn status(&self, done: u64) -> String {
-        let elapsed = self.start.elapsed().as_secs_f64();
+    /// [`Bar::new`] whose time left is counted in the estimated `work` of the
+    /// cells this run computes (when given), reported by [`Bar::finish_job`].
+    pub fn weighted(label: &str, total: u64, already: u64, quiet: bool, work: Option<Work>) -> Bar {
+        let bar = terminal_bar(label, if work.is_some() { BAR_STEPS } else { total }, quiet);
+        if let (Some(b), None) = (&bar, &work) {
+            b.set_position(already);
+        }
+        let start = Instant::now();
+        let every = if bar.is_some() { BAR_EVERY } else { line_every() };
+        Bar { bar, total, already, done: AtomicU64::new(already), quiet, start, last: Mutex::new(start), every, work }
+    }
+
+    /// Job `job` of the weighted work (its place in the order taken) is
+    /// finished, on the thread that computed it.
+    pub fn finish_job(&self, job: usize) {
+        if let Some(w) = &self.work {
+            w.finish_at(job, self.start.elapsed().as_secs_f64());
+        }
+    }
+
+    /// This run's work done and to do: estimated units, or cells.
+    fn work(&self, done: u64) -> (f64, f64) {
+        let run = done.saturating_sub(self.already);
+        match &self.work {
+            // The last cell: done, whatever the last lines are thought to weigh.
+            Some(w) if done >= self.total => {
+                let (_, total) = w.done(run);
+                (total, total)
+            }
+            Some(w) => w.done(run),
+            None => (run as f64, self.total.saturating_sub(self.already) as f64),
+        }
+    }
+
+    /// `done/total cells (p %), [work q %,] elapsed, rate, time left` at
+    /// `done` cells and `elapsed` seconds.
+    fn status(&self, done: u64, elapsed: f64) -> String {
         let run = done.saturating_sub(self.already);
         let rate = run as f64 / elapsed.max(1e-9);
-        let left = self.total.saturating_sub(done) as f64 / rate;
+        let (w, total) = self.work(done);
+        let weighed = match &self.work {
+            Some(_) => format!(", work {} %", (100.0 * w / total.max(1e-300)).floor() as u64),
+            None => String::new(),
+        };
         format!(
-            "{}/{} cells ({} %), {} elapsed, {} cells/s, about {} left",
+            "{}/{} cells ({} %){weighed}, {} elapsed, {} cells/s, about {} left",
             thousands(done),
             thousands(self.total),
             done * 100 / self.total.max(1),
             duration(elapsed),
             thousands(rate.round() as u64),
-            if run > 0 { duration(left) } else { "?".into() }
+            eta(elapsed, w, total).map_or("?".into(), duration)
         )
     }
 
@@ -91,6 +328,17 @@ impl Bar {
     pub fn finish(&self) {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
+        }
+    }
+
+    /// Where the terminal bar stands at `done` cells.
+    fn position(&self, done: u64) -> u64 {
+        match &self.work {
+            Some(_) => {
+                let (w, total) = self.work(done);
+                ((w / total.max(1e-300)) * BAR_STEPS as f64).round() as u64
+            }
+            None => done,
         }
     }
 }
@@ -101,27 +349,69 @@ impl Progress for Bar {
         if self.quiet {
             return;
         }
-        let every = if self.bar.is_some() { BAR_EVERY } else { LINE_EVERY };
-        let due = {
-            let Ok(mut last) = self.last.lock() else { return };
-            let due = last.elapsed() >= every || now == self.total;
-            if due {
-                *last = Instant::now();
-            }
-            due
-        };
-        if !due {
-            if let Some(b) = &self.bar {
+        if !due(&self.last, self.every, now == self.total) {
+            if let (Some(b), None) = (&self.bar, &self.work) {
                 b.set_position(now);
             }
             return;
         }
+        let status = self.status(now, self.start.elapsed().as_secs_f64());
         match &self.bar {
             Some(b) => {
-                b.set_position(now);
-                b.set_message(self.status(now));
+                b.set_position(self.position(now));
+                b.set_message(status);
             }
-            None => eprintln!("progress: {}", self.status(now)),
+            None => eprintln!("progress: {status}"),
+        }
+    }
+}
+
+/// Progress of `curves`: seeds done (traced or skipped) of all, seeds traced,
+/// curves kept; a bar on a terminal, a `progress:` line at most every 5 s
+/// otherwise (standard error only).
+pub struct Seeds {
+    bar: Option<ProgressBar>,
+    start: Instant,
+    last: Mutex<Instant>,
+    every: Duration,
+}
+
+impl Seeds {
+    /// A reporter for `total` seeds.
+    pub fn new(total: usize) -> Seeds {
+        let bar = terminal_bar("curves", total as u64, false);
+        let start = Instant::now();
+        let every = if bar.is_some() { BAR_EVERY } else { line_every() };
+        Seeds { bar, start, last: Mutex::new(start), every }
+    }
+
+    /// Reports a tally (at most every interval, and at the end).
+    pub fn report(&self, t: grid::curves::Tally) {
+        if !due(&self.last, self.every, t.done == t.total) {
+            return;
+        }
+        let status = format!(
+            "{}/{} seeds ({} %), {} traced, {} curves kept, {} elapsed",
+            thousands(t.done as u64),
+            thousands(t.total as u64),
+            t.done * 100 / t.total.max(1),
+            thousands(t.traced as u64),
+            t.kept,
+            duration(self.start.elapsed().as_secs_f64())
+        );
+        match &self.bar {
+            Some(b) => {
+                b.set_position(t.done as u64);
+                b.set_message(status);
+            }
+            None => eprintln!("progress: {status}"),
+        }
+    }
+
+    /// Ends the bar.
+    pub fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
         }
     }
 }
@@ -138,5 +428,88 @@ mod tests {
         assert_eq!(duration(9.84), "9.8 s");
         assert_eq!(duration(125.0), "2 min 05 s");
         assert_eq!(duration(3720.0), "1 h 02 min");
+    }
+
+    #[test]
+    fn eta_is_the_rate_so_far_applied_to_the_work_left() {
+        assert_eq!(eta(0.0, 0.0, 10.0), None);
+        assert!((eta(5.0, 2.0, 10.0).unwrap() - 20.0).abs() < 1e-12);
+        assert!((eta(5.0, 10.0, 10.0).unwrap()).abs() < 1e-12);
+    }
+
+    /// A synthetic run on two workers: a line's time falls smoothly with its
+    /// index (20 times from the first to the last), up and down alike; the
+    /// probe sees it through noise of a factor of up to 20 either way (as in
+    /// the multi-stop reference atlas, whose probed costs correlate 0.33 with
+    /// the lines' times) and the lines are taken longest first by the probe. From a tenth of the cells on, the
+    /// weighted time left is within 30 % of the time that remains; counting
+    /// cells (the weights removed) is more than twice off.
+    #[test]
+    fn weighted_eta_tracks_the_time_left_where_counting_cells_does_not() {
+        let (len, threads, lines) = (10usize, 2usize, 60usize);
+        let secs = |l: usize| 0.05 + 0.95 * (-3.0 * l as f64 / lines as f64).exp();
+        // Deterministic noise in [1/20, 20].
+        let noise = |l: usize, k: usize| 20f64.powf(((l * 7919 + k * 104_729) % 1000) as f64 / 500.0 - 1.0);
+        let mut jobs: Vec<(usize, f64)> = (0..lines)
+            .flat_map(|l| (0..2).map(move |k| (l, k)))
+            .map(|(l, k)| (l, secs(l) * 1000.0 * noise(l, k)))
+            .collect();
+        jobs.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let work =
+            Work::new(jobs.iter().map(|j| j.0).collect(), jobs.iter().map(|j| j.1).collect(), len, threads).unwrap();
+        // The list schedule: each job to the worker that frees first.
+        let mut free = vec![0.0f64; threads];
+        let mut ends: Vec<(f64, usize, f64)> = Vec::new();
+        for (j, &(l, _)) in jobs.iter().enumerate() {
+            let w = (0..threads).min_by(|&a, &b| free[a].total_cmp(&free[b])).unwrap();
+            free[w] += secs(l);
+            ends.push((free[w], j, secs(l)));
+        }
+        let makespan = free.iter().copied().fold(0.0, f64::max);
+        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let cells_total = (jobs.len() * len) as f64;
+        let (mut worst_weighted, mut worst_cells) = (1.0f64, 1.0f64);
+        for (k, &(t, j, took)) in ends.iter().enumerate() {
+            work.finish(j, took);
+            let cells = ((k + 1) * len) as u64;
+            let left = makespan - t;
+            if cells as f64 >= 0.1 * cells_total && left > 0.05 * makespan {
+                let (w, total) = work.done(cells);
+                let weighted = eta(t, w, total).unwrap();
+                let by_cells = eta(t, cells as f64, cells_total).unwrap();
+                worst_weighted = worst_weighted.max((weighted / left).max(left / weighted));
+                worst_cells = worst_cells.max((by_cells / left).max(left / by_cells));
+            }
+        }
+        assert!(worst_weighted < 1.3, "weighted ETA off by a factor {worst_weighted}");
+        assert!(worst_cells > 2.0, "counting cells should be far off here, got {worst_cells}");
+    }
+
+    #[test]
+    fn before_any_line_the_probe_weighs() {
+        // Jobs of probed costs 10 and 30 running on two workers, 4 cells a line.
+        let work = Work::new(vec![0, 1, 2, 3], vec![10.0, 30.0, 2.0, 2.0], 4, 2).unwrap();
+        let (w, total) = work.done(0);
+        assert!(w.abs() < 1e-12 && (total - 44.0).abs() < 1e-12);
+        // 4 cells in flight: a mean of 40 / 8 per cell.
+        assert!((work.done(4).0 - 20.0).abs() < 1e-12);
+        // Never more than the running lines' own cost.
+        assert!((work.done(7).0 - 35.0).abs() < 1e-12);
+        assert!((eta(2.0, 11.0, 44.0).unwrap() - 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn finished_lines_weigh_their_time_and_calibrate_their_neighbours() {
+        // Lines 0..=4, one job each, taken in this order; 2 cells a line.
+        let work = Work::new(vec![0, 4, 2, 1, 3], vec![1.0; 5], 2, 1).unwrap();
+        work.finish(0, 8.0);
+        // Line 0 measured: every other line is thought to take as long.
+        assert_eq!(work.done(2), (8.0, 40.0));
+        work.finish(1, 4.0);
+        // Lines 1..3 between 8 s (line 0) and 4 s (line 4): 7, 6, 5; one cell of line 2 running.
+        let (w, total) = work.done(5);
+        assert!((total - 30.0).abs() < 1e-12, "{total}");
+        assert!((w - 15.0).abs() < 1e-12, "{w}");
+        assert!((eta(6.0, w, total).unwrap() - 6.0).abs() < 1e-12);
     }
 }

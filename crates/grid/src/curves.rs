@@ -73,6 +73,20 @@ pub struct Found {
     pub seeds: usize,
 }
 
+/// Where a search stands: seeds done (traced, or skipped as lying on a curve
+/// already found) of all the seeds, seeds traced, curves kept so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Tally {
+    /// Seeds done, traced or skipped.
+    pub done: usize,
+    /// All the seeds of the map.
+    pub total: usize,
+    /// Seeds traced.
+    pub traced: usize,
+    /// Curves kept so far.
+    pub kept: usize,
+}
+
 /// The seeds of `sweeps` of `atlas`, in the order described in the module doc.
 fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
     let (x, y) = (&atlas.meta.plane.x, &atlas.meta.plane.y);
@@ -117,8 +131,16 @@ fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
     out
 }
 
-/// Follows the bifurcations of the map's label boundaries (see the module doc).
-pub fn find(setup: &CellSetup, atlas: &Atlas, seeding: &Seeding) -> Result<Found, GridError> {
+/// Follows the bifurcations of the map's label boundaries (see the module doc),
+/// telling `progress` where it stands as each seed is done (from the worker
+/// threads, as seeds finish; the last tally says every seed is done). Progress
+/// does not change what is found.
+pub fn find(
+    setup: &CellSetup,
+    atlas: &Atlas,
+    seeding: &Seeding,
+    progress: &(dyn Fn(Tally) + Sync),
+) -> Result<Found, GridError> {
     let p = &atlas.meta.plane;
     let (x, y) = (&p.x, &p.y);
     if x.count < 2 {
@@ -142,11 +164,28 @@ pub fn find(setup: &CellSetup, atlas: &Atlas, seeding: &Seeding) -> Result<Found
         .map_err(|e| GridError::field("threads", e.to_string()))?;
     let all = seeds(atlas, &seeding.sweeps);
     let mut found = Found { curves: Vec::new(), seeds: 0 };
+    let total = all.len();
+    let mut done = 0;
+    progress(Tally { done, total, traced: 0, kept: 0 });
     for batch in all.chunks(BATCH) {
         let todo: Vec<&Seed> = batch.iter().filter(|s| !found.curves.iter().any(|c| crosses(c, s))).collect();
+        let (before, traced_before, kept) = (done + batch.len() - todo.len(), found.seeds, found.curves.len());
+        let finished = std::sync::atomic::AtomicUsize::new(0);
+        let traced: Vec<Option<Curve>> = pool.install(|| {
+            todo.par_iter()
+                .map(|s| {
+                    let c = trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y);
+                    let k = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                    // The batch's last seed is told below, with the curves it kept.
+                    if k < todo.len() {
+                        progress(Tally { done: before + k, total, traced: traced_before + k, kept });
+                    }
+                    c
+                })
+                .collect()
+        });
         found.seeds += todo.len();
-        let traced: Vec<Option<Curve>> =
-            pool.install(|| todo.par_iter().map(|s| trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y)).collect());
+        done += batch.len();
         for curve in traced.into_iter().flatten() {
             let duplicate = found.curves.iter().any(|c| same(c, &curve, [dx, dy]));
             if curve.points.len() >= MIN_POINTS && !duplicate {
@@ -154,10 +193,13 @@ pub fn find(setup: &CellSetup, atlas: &Atlas, seeding: &Seeding) -> Result<Found
                 found.curves.retain(|c| !same(&curve, c, [dx, dy]));
                 found.curves.push(curve);
                 if found.curves.len() >= seeding.max {
+                    // The seeds left are not needed.
+                    progress(Tally { done: total, total, traced: found.seeds, kept: found.curves.len() });
                     return Ok(found);
                 }
             }
         }
+        progress(Tally { done, total, traced: found.seeds, kept: found.curves.len() });
     }
     Ok(found)
 }
