@@ -36,8 +36,8 @@ use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
 use crate::lyapunov::{fills_closed_curve, largest_exponent};
-use crate::newton::{evaluate, MapKind};
-use crate::period::{detect, history_len, symmetry_of, History, Trail};
+use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
+use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
 use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
@@ -58,6 +58,10 @@ const CHAOTIC_EXPONENT: f64 = 0.05;
 /// Largest `|λ T|` (growth per forcing period) of a quasi-periodic motion: a
 /// torus has `λ = 0`, and a finite average over 100 periods stays within this.
 const QUASIPERIODIC_EXPONENT: f64 = 0.01;
+
+/// Newton polishes of a found, slowly converging orbit per cell (see
+/// [`Executor::polish`]).
+const POLISHES: usize = 2;
 
 /// Why a cell is `unresolved`.
 #[derive(Debug, Clone, PartialEq)]
@@ -257,6 +261,8 @@ struct Executor<'s> {
     /// The record's section points, for orbits longer than `n_max`.
     trail: Trail,
     newton: Newton<'s>,
+    /// Newton polishes of a found but slowly converging orbit left to this cell.
+    polishes: usize,
     budget: Budget,
 }
 
@@ -271,6 +277,7 @@ impl<'s> Executor<'s> {
             trail: Trail::new(sim.state().len()),
             sim,
             newton: Newton::default(),
+            polishes: POLISHES,
             budget: Budget::new(acc.max_events),
         })
     }
@@ -291,7 +298,17 @@ impl<'s> Executor<'s> {
                 continue;
             }
             if let Some(n) = detect(&self.hist, acc) {
-                return Ok(Some(n));
+                // Accepted once converged, so that its symmetry and final state are the orbit's.
+                if converged(&self.hist, n, acc) {
+                    return Ok(Some(n));
+                }
+                if let Some(x) = self.polish(n) {
+                    if self.sim.restart(x.as_slice()).is_ok() {
+                        self.hist.clear();
+                        self.trail.clear();
+                    }
+                }
+                continue;
             }
             if acc.newton && self.newton.due(&self.sim) {
                 if let Some(x) = self.newton.step(&mut self.sim, &self.hist, acc, &mut self.budget) {
@@ -303,6 +320,31 @@ impl<'s> Executor<'s> {
             }
         }
         Ok(None)
+    }
+
+    /// A found orbit of period n that repeats within `periodic_tol` but is
+    /// still converging slowly (see [`converged`]): when brute force would need
+    /// more than a Newton solve (about `3 (dim + 1) n` periods) to converge,
+    /// Newton's method on the n-period map finishes it from the main state, on
+    /// a probe: the stable fixed point with the record's impact pattern, within
+    /// ten times the estimated distance still to go, to restart from. At most
+    /// [`POLISHES`] tries a cell (in every preset: the orbit and its period are
+    /// already found, only its convergence is finished).
+    fn polish(&mut self, n: usize) -> Option<DVector<f64>> {
+        let (to_go, rho) = remaining(&self.hist, n)?;
+        let dim = self.sim.state().len() as f64;
+        let brute = (self.acc.periodic_tol / to_go).ln() / rho.ln() * n as f64;
+        if self.polishes == 0 || brute <= 3.0 * (dim + 1.0) * n as f64 {
+            return None;
+        }
+        self.polishes -= 1;
+        let len = self.hist.len();
+        let pattern: Pattern = self.hist.iter().skip(len - n).map(|r| r.impacts.clone()).collect();
+        let y = self.sim.state().clone();
+        let tol = 1e-3 * self.acc.periodic_tol;
+        let mut probe = self.sim.probe();
+        let sol = self.budget.spend(&mut self.sim, &mut probe, |p| fixed_point(p, &y, n, &pattern, tol))?;
+        (distance(&y, &sol.x) <= 10.0 * to_go).then_some(sol.x)
     }
 
     /// Phase 2: the largest Lyapunov exponent (per unit time) of the motion

@@ -62,6 +62,36 @@ pub(crate) fn detect(h: &History, acc: &Accuracy) -> Option<usize> {
     (!converging_divisor).then_some(n)
 }
 
+/// Whether the period-n orbit found by [`detect`] has converged: for every
+/// point of its last period, the distance still to go to the fixed point,
+/// estimated from its last n-period step `e` and the contraction `ρ` of that
+/// step over the one before as `e / (1 - ρ)` (the geometric tail of a
+/// contraction by the multiplier ρ), is below `periodic_tol`. A step that did
+/// not shrink (`ρ ≥ 1`) is rounding noise within the tolerance, not a
+/// contraction: converged. A slowly converging orbit (ρ near 1) passes the
+/// repeat test of [`detect`] while still far from its fixed point; its
+/// symmetry must not be decided there (issue 28).
+pub(crate) fn converged(h: &History, n: usize, acc: &Accuracy) -> bool {
+    remaining(h, n).is_none_or(|(to_go, _)| to_go <= acc.periodic_tol)
+}
+
+/// The largest estimated distance to the fixed point over the last period's
+/// points and its contraction ρ (see [`converged`]); `None` when no step
+/// contracts or the record is shorter than 3n periods.
+pub(crate) fn remaining(h: &History, n: usize) -> Option<(f64, f64)> {
+    let len = h.len();
+    if len < 3 * n {
+        return None;
+    }
+    (len - n..len)
+        .filter_map(|i| {
+            let (e1, e0) = (distance(&h[i].end, &h[i - n].end), distance(&h[i - n].end, &h[i - 2 * n].end));
+            let rho = e1 / e0;
+            (rho < 1.0).then(|| (e1 / (1.0 - rho), rho))
+        })
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+}
+
 /// Longest period sought beyond `n_max` in a record without a period (see
 /// [`Trail`]).
 pub(crate) const LONGEST_PERIOD: usize = 128;
@@ -205,6 +235,30 @@ mod tests {
         let doubled: Vec<(f64, u32)> =
             (0..8).map(|k| (0.5 + (k % 2) as f64 * 0.1 + k as f64 * 1e-3 * tol, 1)).collect();
         assert_eq!(detect(&history(&doubled), &acc), Some(2));
+    }
+
+    /// Issue 28: a point that repeats within `periodic_tol` while still
+    /// contracting slowly (ρ = 0.99, 50 tolerances from its fixed point) is
+    /// found but not converged; one contracting fast, or rounding noise that
+    /// does not contract, is converged.
+    #[test]
+    fn a_slowly_contracting_repeat_is_not_converged() {
+        let acc = Accuracy::default();
+        let tol = acc.periodic_tol;
+        let series = |rho: f64, d0: f64| -> History {
+            history(&(0..8).map(|k| (0.5 + d0 * rho.powi(k), 1)).collect::<Vec<_>>())
+        };
+        // Steps of 0.5 tol (relative to 1.5): repeats, 50 tol still to go.
+        let slow = series(0.99, 50.0 * tol * 1.5 / 0.99f64.powi(7));
+        assert_eq!(detect(&slow, &acc), Some(1));
+        assert!(!converged(&slow, 1, &acc));
+        let (to_go, rho) = remaining(&slow, 1).unwrap();
+        assert!((rho - 0.99).abs() < 1e-6 && (to_go / tol - 50.0 / 0.99).abs() < 1.0, "{to_go:e} {rho}");
+        let fast = series(0.1, 1e-3);
+        assert_eq!(detect(&fast, &acc), Some(1));
+        assert!(converged(&fast, 1, &acc));
+        let noise = history(&(0..8).map(|k| (0.5 + [0.0, 3e-16, 1e-16][k % 3], 1)).collect::<Vec<_>>());
+        assert!(converged(&noise, 1, &acc));
     }
 
     #[test]
