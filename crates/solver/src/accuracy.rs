@@ -63,9 +63,11 @@ pub struct Accuracy {
     /// Two period-section points closer than this (max norm, relative to
     /// 1 + |state|) are the same point (standard 1e-7).
     pub(crate) periodic_tol: f64,
-    /// Largest period n tested, in forcing periods (standard 32). A record
-    /// that contracts onto a longer orbit (up to 128 periods) ends
-    /// `unresolved`, naming its period, instead of being extended.
+    /// Largest period n tested in the record, in forcing periods (standard
+    /// 32): the limit of period detection and of Newton acceleration. A
+    /// record that contracts onto a longer orbit (up to 128 periods) is not
+    /// extended: Newton's method on that period's map confirms the orbit and
+    /// the cell is labelled with it, or it ends `unresolved`, naming it.
     pub(crate) n_max: usize,
     /// Impacts at one stop in n periods from which a motion is flagged chattering (6).
     pub(crate) chatter_impacts: usize,

@@ -14,9 +14,11 @@
 //!    there; a record that still contracts (`λT < -0.002`) is extended by
 //!    `max_periods`, at most `extensions` times ([`Executor::steady`] runs
 //!    phases 1 and 2). A record that still contracts but whose section has
-//!    settled on an orbit longer than `n_max` (up to 128 periods) ends
-//!    `unresolved` ([`Unresolved::LongPeriod`]) instead of being extended:
-//!    no extension would find a period;
+//!    settled on an orbit longer than `n_max` (up to 128 periods) is not
+//!    extended (no extension would find a period): Newton's method on that
+//!    period's map confirms it and the cell is periodic with it
+//!    ([`Executor::confirm`]), or it ends `unresolved`
+//!    ([`Unresolved::LongPeriod`]);
 //! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
 //!    Floquet multiplier modulus of the n-period map at the final state;
 //! 4. **window** ([`Executor::window`]): impacts, sticking and chattering over
@@ -59,6 +61,11 @@ const CHAOTIC_EXPONENT: f64 = 0.05;
 /// torus has `λ = 0`, and a finite average over 100 periods stays within this.
 const QUASIPERIODIC_EXPONENT: f64 = 0.01;
 
+/// Largest distance (relative, max norm) between a record that contracts onto
+/// an orbit longer than `n_max` and the fixed point Newton's method confirms it
+/// with (see [`Executor::confirm`]).
+const LONG_REACH: f64 = 1e-3;
+
 /// Newton polishes of a found, slowly converging orbit per cell (see
 /// [`Executor::polish`]).
 const POLISHES: usize = 2;
@@ -91,7 +98,8 @@ pub enum Unresolved {
     /// No period, and the run that measures the exponent halted (why inside).
     NoExponent(Box<Unresolved>),
     /// No period up to `n_max`, and the motion contracts onto an orbit of a
-    /// longer period (see `n_max`), which no extension of the record would find.
+    /// longer period (see `n_max`), which no extension of the record would
+    /// find and Newton's method did not confirm (a confirmed one is a label).
     LongPeriod {
         /// The orbit's period, in forcing periods.
         n: usize,
@@ -126,7 +134,7 @@ impl std::fmt::Display for Unresolved {
             ),
             Unresolved::LongPeriod { n, n_max } => write!(
                 f,
-                "no period up to n_max = {n_max}: the motion contracts onto an orbit of period {n} (raise n_max to label it)"
+                "no period up to n_max = {n_max}: the motion contracts onto an orbit of period {n}, which Newton's method on the {n}-period map did not confirm (raise n_max to search for it in the record)"
             ),
             Unresolved::NoExponent(why) => {
                 write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {why}")
@@ -347,6 +355,40 @@ impl<'s> Executor<'s> {
         (distance(&y, &sol.x) <= 10.0 * to_go).then_some(sol.x)
     }
 
+    /// Confirms an orbit of period `n` beyond `n_max` that the record
+    /// contracts onto ([`Trail::long_period`]): Newton's method on the
+    /// n-period map from the main state converges, on a probe, to a stable
+    /// fixed point within [`LONG_REACH`] of it; the record restarts there and
+    /// is simulated 3n periods, which must repeat with period n (the test of
+    /// period detection with `n_max = n`). The cell is then periodic with that
+    /// period, its window the last n of them; `n_max` stays the limit of the
+    /// search in the record (issue 28).
+    fn confirm(&mut self, n: usize) -> bool {
+        let acc = self.acc;
+        let y = self.sim.state().clone();
+        let tol = 1e-3 * acc.periodic_tol;
+        let mut probe = self.sim.probe();
+        let found = self.budget.spend(&mut self.sim, &mut probe, |p| {
+            let sol = crate::newton::solve(p, &y, MapKind::Periods(n), None, tol, 8, 0.1)?;
+            let mu = crate::floquet::multipliers(&sol.jacobian);
+            (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0)).then_some(sol.x)
+        });
+        let Some(x) = found.filter(|x| distance(&y, x) <= LONG_REACH) else { return false };
+        if self.sim.restart(x.as_slice()).is_err() {
+            return false;
+        }
+        self.hist.clear();
+        self.trail.clear();
+        let wide = Accuracy { n_max: n, ..*acc };
+        for _ in 0..3 * n {
+            match self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore) {
+                Ok(rec) => self.hist.push_back(rec),
+                Err(_) => return false,
+            }
+        }
+        detect(&self.hist, &wide) == Some(n)
+    }
+
     /// Phase 2: the largest Lyapunov exponent (per unit time) of the motion
     /// from the main simulator's state, on a probe, with the section points it
     /// visited; why not when its run halts.
@@ -378,6 +420,9 @@ impl<'s> Executor<'s> {
             // A contracting record settled on an orbit longer than n_max: no extension finds a period.
             if let (false, true, Ok((l, _))) = (early_look, contracting, &exponent) {
                 if let Some(n) = self.trail.long_period(acc) {
+                    if self.confirm(n) {
+                        return Ok(Steady::Periodic(n));
+                    }
                     return Ok(Steady::LongPeriod(n, *l));
                 }
             }
@@ -590,25 +635,27 @@ mod tests {
     }
 
     /// A record that contracts onto an orbit longer than `n_max` ends at the
-    /// first look after that orbit has repeated twice, as `unresolved` naming
-    /// the period, before the whole extended record (`max_periods (1 +
-    /// extensions)` = 3 000 periods, where it ended before); with `n_max` above
-    /// that period the same cell is periodic with it (period detection as the
-    /// oracle). A neutral torus that closes after more than `n_max` periods
-    /// (the undamped oscillator away from its stop at ω = 33/13: period 33)
-    /// does not contract and stays quasi-periodic.
+    /// first look after that orbit has repeated twice, before the whole
+    /// extended record (`max_periods (1 + extensions)` = 3 000 periods), and
+    /// Newton's method on the 60-period map confirms it: the cell is periodic
+    /// with period 60 and the labels of the same cell searched with `n_max`
+    /// above that period (period detection as the oracle; issue 28: it was
+    /// `unresolved`, naming the period). A neutral torus that closes after
+    /// more than `n_max` periods (the undamped oscillator away from its stop
+    /// at ω = 33/13: period 33) does not contract and stays quasi-periodic.
     #[test]
-    fn an_orbit_longer_than_n_max_ends_the_record() {
+    fn an_orbit_longer_than_n_max_is_confirmed_and_labelled() {
         let sys = multi_stop(1.1042553191489362, 2.0);
         let acc = Accuracy::default();
         let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
-        assert_eq!(cell.class, Class::Unresolved);
-        assert_eq!(cell.reason, Some(Unresolved::LongPeriod { n: 60, n_max: 32 }));
-        assert!(cell.lyapunov.unwrap() * sys.period < -CONTRACTING_EXPONENT, "{:?}", cell.lyapunov);
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)), "{:?}", cell.reason);
         assert!(cell.periods < 3000, "{} periods", cell.periods);
+        assert_eq!(cell.section.len(), 60);
         let wide = acc.with("n_max", 64.0).unwrap();
-        let cell = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
-        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)));
+        let oracle = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
+        assert_eq!((oracle.class, oracle.n), (Class::Periodic, Some(60)));
+        assert_eq!(cell.labels, oracle.labels);
+        assert_eq!(cell.impacts, oracle.impacts);
         let torus = system("single-stop.toml", &[("sigma", 0.3), ("omega", 33.0 / 13.0)]);
         let cell = run_cell(&torus, &acc, Method::Exact, &torus.model.initial_state());
         assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);

@@ -15,9 +15,10 @@ use std::collections::VecDeque;
 pub(crate) type History = VecDeque<PeriodRecord>;
 
 /// Period records kept: enough to test every period up to `n_max` and the
-/// 3n-period pattern Newton acceleration needs.
+/// 3n-period pattern Newton acceleration needs, and the 3n periods that
+/// confirm an orbit longer than `n_max` (up to [`LONGEST_PERIOD`]).
 pub(crate) fn history_len(acc: &Accuracy) -> usize {
-    3 * acc.n_max + 1
+    3 * acc.n_max.max(LONGEST_PERIOD) + 1
 }
 
 /// Distance of two section points, relative to `1 + |a|` (max norm).
