@@ -85,10 +85,39 @@ fn index_of(names: &[String], name: &str, field: &str, what: &str) -> Result<usi
         .ok_or_else(|| SceneError::field(field, format!("unknown {what} '{name}' (known: {})", names.join(", "))))
 }
 
+/// Longest name of a mass or stop, in characters.
+pub const MAX_NAME_CHARS: usize = 64;
+
+/// Why `name` cannot name a mass or stop, if it cannot: names become HDF5
+/// group and dataset names (`/up/impact_sections/A1`, `label_code_M1`), so
+/// they follow HDF5's and netCDF's rules for a path component.
+fn name_problem(name: &str) -> Option<String> {
+    if name.is_empty() {
+        return Some("must not be empty".into());
+    }
+    if name == "." || name == ".." {
+        return Some(format!("'{name}' is not a valid name (HDF5 group names cannot be '.' or '..')"));
+    }
+    if name.contains('/') {
+        return Some(format!("'{name}' must not contain '/' (it separates HDF5 groups)"));
+    }
+    if name.chars().any(char::is_control) {
+        return Some(format!("{name:?} must not contain control characters"));
+    }
+    if name.trim() != name {
+        return Some(format!("'{name}' must not begin or end with spaces"));
+    }
+    let chars = name.chars().count();
+    if chars > MAX_NAME_CHARS {
+        return Some(format!("at most {MAX_NAME_CHARS} characters, got {chars}"));
+    }
+    None
+}
+
 fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
     for (i, n) in names.iter().enumerate() {
-        if n.is_empty() {
-            return Err(SceneError::field(format!("{field}[{i}].name"), "must not be empty"));
+        if let Some(problem) = name_problem(n) {
+            return Err(SceneError::field(format!("{field}[{i}].name"), problem));
         }
         if names[..i].contains(n) {
             return Err(SceneError::field(format!("{field}[{i}].name"), format!("duplicate name '{n}'")));
@@ -545,4 +574,21 @@ fn check_mirror(stops: &[Stop]) -> Result<(), SceneError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod name_tests {
+    use super::{name_problem, MAX_NAME_CHARS};
+
+    #[test]
+    fn names_follow_hdf5_group_rules() {
+        for good in ["A1", "M", "left stop", "δ-stop", "a.b", "..x"] {
+            assert_eq!(name_problem(good), None, "{good}");
+        }
+        let long = "x".repeat(MAX_NAME_CHARS + 1);
+        for bad in ["", ".", "..", "a/b", "/", "a\nb", "tab\t", " A1", "A1 ", long.as_str()] {
+            assert!(name_problem(bad).is_some(), "{bad:?}");
+        }
+        assert_eq!(name_problem(&"é".repeat(MAX_NAME_CHARS)), None);
+    }
 }
