@@ -7,12 +7,16 @@
 //! (sweep, line index, cells per line, masses, state dimension, stops): an
 //! edited, truncated or foreign line is refused with its line number, never
 //! taken into the output and never a panic.
+//!
+//! The journal is a regular file of the run's own: a named pipe, device,
+//! socket or symbolic link at its path is refused with one line, never opened
+//! for reading (see [`crate::check_own_file`]).
 
 use crate::error::StoreError;
 use grid::{CellData, Line, Meta, SweepKind};
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 #[derive(Serialize, Deserialize)]
@@ -188,7 +192,9 @@ impl Journal {
     /// Starts a new journal (replacing any old one) for a run with `fingerprint`.
     pub fn create(path: &Path, fingerprint: &str) -> Result<Journal, StoreError> {
         let io = |e| StoreError::io(path, e);
-        let mut file = File::create(path).map_err(io)?;
+        let mut options = OpenOptions::new();
+        options.write(true).create(true).truncate(true);
+        let mut file = crate::lock::open_own_file(path, "journal", &mut options)?;
         let fingerprint_ = fingerprint.to_string();
         let header = serde_json::to_string(&Header { fingerprint: fingerprint.to_string() })
             .map_err(|e| StoreError::format(path, e.to_string()))?;
@@ -202,11 +208,16 @@ impl Journal {
     /// torn last line (an interrupted append) is dropped; any other line that
     /// does not parse, fails its checksum or does not fit the atlas is an error.
     pub fn resume(path: &Path, fingerprint: &str, meta: &Meta) -> Result<(Journal, Vec<Line>), StoreError> {
-        if !path.exists() {
-            return Ok((Journal::create(path, fingerprint)?, Vec::new()));
+        match std::fs::symlink_metadata(path) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                return Ok((Journal::create(path, fingerprint)?, Vec::new()))
+            }
+            _ => {}
         }
         let io = |e| StoreError::io(path, e);
-        let bytes = std::fs::read(path).map_err(io)?;
+        let mut file = crate::lock::open_own_file(path, "journal", OpenOptions::new().read(true).write(true))?;
+        let mut bytes = Vec::new();
+        file.read_to_end(&mut bytes).map_err(io)?;
         let mut lines = Vec::new();
         let mut good_bytes = 0u64;
         let mut rows: Vec<&[u8]> = bytes.split(|&b| b == b'\n').collect();
@@ -243,7 +254,6 @@ impl Journal {
         if rows.is_empty() && !torn.is_empty() {
             return Err(StoreError::format(path, "not a vibroatlas journal"));
         }
-        let file = OpenOptions::new().write(true).open(path).map_err(io)?;
         file.set_len(good_bytes).map_err(io)?;
         let mut j = Journal { file, path: path.to_path_buf(), fingerprint: fingerprint.to_string() };
         use std::io::Seek;
@@ -267,8 +277,26 @@ impl Journal {
         self.file.sync_data().map_err(io)
     }
 
-    /// Deletes the journal (after the atlas file is complete).
-    pub fn remove(self) -> Result<(), StoreError> {
-        std::fs::remove_file(&self.path).map_err(|e| StoreError::io(&self.path, e))
+    /// Deletes the journal (after the atlas file is complete). Returns
+    /// `false` when the journal was no longer there: removed (or replaced by
+    /// another file, then left as it is) by someone else during the run, whose
+    /// lines were then never durable; the output is complete all the same.
+    pub fn remove(self) -> Result<bool, StoreError> {
+        let ours = match (self.file.metadata(), std::fs::symlink_metadata(&self.path)) {
+            (Ok(a), Ok(b)) => crate::lock::same_file(&a, &b),
+            (_, Err(e)) if e.kind() == std::io::ErrorKind::NotFound => false,
+            (_, Err(e)) => return Err(StoreError::io(&self.path, e)),
+            (Err(e), _) => return Err(StoreError::io(&self.path, e)),
+        };
+        if !ours {
+            return Ok(false);
+        }
+        std::fs::remove_file(&self.path).map_err(|e| StoreError::io(&self.path, e))?;
+        Ok(true)
+    }
+
+    /// The journal's path.
+    pub fn path(&self) -> &Path {
+        &self.path
     }
 }

@@ -7,11 +7,151 @@
 //! the holder's process id and host. The lock file is removed when the run
 //! ends; a lock left by a killed run is not held by anyone (the kernel drops it
 //! with the process) and is taken over.
+//!
+//! The lock follows the file, not its name: it is taken beside the canonical
+//! path ([`canonical_output`]: folder resolved, a symbolic link followed to the
+//! file it names), so `-o link.h5` and `-o target.h5` are the same output. A
+//! symbolic link given as the output is kept: its target is written (replaced
+//! by the new file), never the link.
+//!
+//! The lock, journal and temporary file of an output are the run's own
+//! regular files: one that exists as anything else (a named pipe, a device, a
+//! socket, a folder, a symbolic link) is refused with one line before it is
+//! opened ([`check_own_file`]); opening a pipe for reading would block forever.
 
 use crate::error::StoreError;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
+
+/// The file that writing `output` writes: `output` in its folder's canonical
+/// path (links and `..` resolved) or, when `output` is a symbolic link
+/// (dangling or not), the file it names, followed through every link. The file
+/// itself need not exist; its folder must.
+pub fn canonical_output(output: &Path) -> Result<PathBuf, StoreError> {
+    let mut path = output.to_path_buf();
+    // As many links as the kernel follows (ELOOP beyond).
+    for _ in 0..40 {
+        let Some(name) = path.file_name() else {
+            return Err(StoreError::format(output, "is not a file name"));
+        };
+        let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let folder = match parent.canonicalize() {
+            Ok(f) if f.is_dir() => f,
+            _ if path == output => return Err(StoreError::format(output, "its folder does not exist")),
+            _ => {
+                return Err(StoreError::format(
+                    output,
+                    format!("is a symbolic link to {}, whose folder does not exist", path.display()),
+                ))
+            }
+        };
+        let full = folder.join(name);
+        match std::fs::symlink_metadata(&full) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let target = std::fs::read_link(&full).map_err(|e| StoreError::io(&full, e))?;
+                path = folder.join(target);
+            }
+            _ => return Ok(full),
+        }
+    }
+    Err(StoreError::format(output, "too many levels of symbolic links"))
+}
+
+/// What a file type is, in words (for refusals).
+fn kind_of(t: std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a named pipe (FIFO)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+    }
+    if t.is_symlink() {
+        "a symbolic link"
+    } else if t.is_dir() {
+        "a folder"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// Checks that `path`, a file of the run's own (lock, journal, temporary
+/// file; `what` names it), is absent or a regular file, without opening it
+/// (a symbolic link is not followed: refused whatever it names).
+pub fn check_own_file(path: &Path, what: &str) -> Result<(), StoreError> {
+    match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_file() => Ok(()),
+        Ok(m) => Err(StoreError::format(
+            path,
+            format!(
+                "the run's {what} is {}, not a regular file; refusing to open it (remove it and run again)",
+                kind_of(m.file_type())
+            ),
+        )),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(StoreError::io(path, e)),
+    }
+}
+
+/// Opens a file of the run's own (see [`check_own_file`]) with `options`,
+/// never following a symbolic link and never blocking on a pipe that appeared
+/// since the check; a handle that is not a regular file is refused.
+pub(crate) fn open_own_file(path: &Path, what: &str, options: &mut OpenOptions) -> Result<File, StoreError> {
+    check_own_file(path, what)?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(NOFOLLOW_NONBLOCK);
+    }
+    let file = options.open(path).map_err(|e| match e.raw_os_error() {
+        // A link put there since the check, or a pipe without a reader.
+        Some(n) if REFUSED_ERRNO.contains(&n) => StoreError::format(
+            path,
+            format!("the run's {what} is not a regular file; refusing to open it (remove it and run again)"),
+        ),
+        _ => StoreError::io(path, e),
+    })?;
+    match file.metadata() {
+        Ok(m) if m.is_file() => Ok(file),
+        Ok(m) => Err(StoreError::format(
+            path,
+            format!(
+                "the run's {what} is {}, not a regular file; refusing to use it (remove it and run again)",
+                kind_of(m.file_type())
+            ),
+        )),
+        Err(e) => Err(StoreError::io(path, e)),
+    }
+}
+
+/// O_NOFOLLOW | O_NONBLOCK for open(2), Linux's values (the `libc` crate is
+/// not a dependency of the store); elsewhere no flags, and the check before
+/// opening is the guard.
+#[cfg(all(target_os = "linux", any(target_arch = "x86_64", target_arch = "x86", target_arch = "riscv64")))]
+const NOFOLLOW_NONBLOCK: i32 = 0o400000 | 0o4000;
+#[cfg(all(target_os = "linux", any(target_arch = "aarch64", target_arch = "arm")))]
+const NOFOLLOW_NONBLOCK: i32 = 0o100000 | 0o4000;
+#[cfg(not(all(
+    target_os = "linux",
+    any(
+        target_arch = "x86_64",
+        target_arch = "x86",
+        target_arch = "riscv64",
+        target_arch = "aarch64",
+        target_arch = "arm"
+    )
+)))]
+const NOFOLLOW_NONBLOCK: i32 = 0;
+
+/// Linux's ELOOP (a link where none may be) and ENXIO (a pipe with no reader).
+const REFUSED_ERRNO: [i32; 2] = [40, 6];
 
 /// The lock path of an output file: `.<name>.lock` beside it.
 pub fn lock_path(output: &Path) -> PathBuf {
@@ -36,13 +176,18 @@ fn holder() -> String {
 }
 
 impl OutputLock {
-    /// Takes the lock of `output`, or fails at once when another run holds it.
+    /// Takes the lock of `output` (beside its [`canonical_output`]), or fails
+    /// at once when another run holds it; then checks that the output's
+    /// journal and temporary file are absent or regular files
+    /// ([`check_own_file`]), beside the canonical path and beside `output`.
     pub fn acquire(output: &Path) -> Result<OutputLock, StoreError> {
-        let path = lock_path(output);
+        let canonical = canonical_output(output)?;
+        let path = lock_path(&canonical);
         let io = |e| StoreError::io(&path, e);
         loop {
-            let mut file =
-                OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&path).map_err(io)?;
+            let mut options = OpenOptions::new();
+            options.read(true).write(true).create(true).truncate(false);
+            let mut file = open_own_file(&path, "lock file", &mut options)?;
             match file.try_lock() {
                 Ok(()) => {}
                 Err(std::fs::TryLockError::WouldBlock) => {
@@ -68,19 +213,24 @@ impl OutputLock {
             file.set_len(0).map_err(io)?;
             file.rewind().map_err(io)?;
             writeln!(file, "{}", holder()).map_err(io)?;
-            return Ok(OutputLock { file, path });
+            let lock = OutputLock { file, path };
+            for out in [canonical.as_path(), output] {
+                check_own_file(&crate::journal_path(out), "journal")?;
+                check_own_file(&crate::partial_path(out), "temporary file")?;
+            }
+            return Ok(lock);
         }
     }
 }
 
 #[cfg(unix)]
-fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
+pub(crate) fn same_file(a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
     use std::os::unix::fs::MetadataExt;
     a.dev() == b.dev() && a.ino() == b.ino()
 }
 
 #[cfg(not(unix))]
-fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
+pub(crate) fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
     true
 }
 
@@ -140,8 +290,14 @@ pub fn check_writable(path: &Path) -> Result<(), StoreError> {
 /// synced before the rename, and the folder after it (a power loss leaves the
 /// old file or the new one, never an empty one). A target that exists and is
 /// not a regular file (a device such as /dev/null, a pipe) is never replaced:
-/// the bytes are written into it instead; a folder is an error.
+/// the bytes are written into it instead; a folder is an error. A symbolic
+/// link is kept: the file it names is replaced ([`canonical_output`]).
 pub fn commit(tmp: &Path, path: &Path) -> Result<(), StoreError> {
+    let resolved = match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => canonical_output(path)?,
+        _ => path.to_path_buf(),
+    };
+    let path = resolved.as_path();
     let io = |e| StoreError::io(path, e);
     match std::fs::metadata(path) {
         Ok(m) if m.is_dir() => return Err(StoreError::format(path, "is a directory; give a file name")),
@@ -181,6 +337,7 @@ pub fn write_atomically<E: std::fmt::Display>(
 ) -> Result<(), StoreError> {
     check_folder(path)?;
     let tmp = crate::partial_path(path);
+    check_own_file(&tmp, "temporary file")?;
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);
         // One line, whatever the writer's message spans (HDF5's span several).
@@ -207,6 +364,39 @@ mod tests {
         assert!(!lock_path(&out).exists());
         let again = OutputLock::acquire(&out).unwrap();
         drop(again);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_lock_and_the_commit_follow_symbolic_links() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-links-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        let dir = dir.canonicalize().unwrap();
+        std::os::unix::fs::symlink("sub/k.h5", dir.join("a.h5")).unwrap();
+        std::os::unix::fs::symlink("a.h5", dir.join("b.h5")).unwrap();
+        // A chain of links, dangling: the file it will be.
+        assert_eq!(canonical_output(&dir.join("b.h5")).unwrap(), dir.join("sub/k.h5"));
+        assert_eq!(canonical_output(&dir.join("sub/../c.h5")).unwrap(), dir.join("c.h5"));
+        assert!(canonical_output(&dir.join("nope/c.h5")).is_err());
+        std::os::unix::fs::symlink("loop.h5", dir.join("loop.h5")).unwrap();
+        assert!(canonical_output(&dir.join("loop.h5")).unwrap_err().to_string().contains("too many levels"));
+        // One lock for both names.
+        let held = OutputLock::acquire(&dir.join("sub/k.h5")).unwrap();
+        assert!(OutputLock::acquire(&dir.join("b.h5")).is_err());
+        drop(held);
+        // A commit through the link replaces its target and keeps the link.
+        let tmp = dir.join("tmp");
+        std::fs::write(&tmp, "new").unwrap();
+        commit(&tmp, &dir.join("b.h5")).unwrap();
+        assert!(std::fs::symlink_metadata(dir.join("b.h5")).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read_to_string(dir.join("sub/k.h5")).unwrap(), "new");
+        // A pipe where the lock goes is refused, never opened.
+        assert!(std::process::Command::new("mkfifo").arg(dir.join(".p.h5.lock")).status().unwrap().success());
+        let err = OutputLock::acquire(&dir.join("p.h5")).unwrap_err().to_string();
+        assert!(err.contains("named pipe"), "{err}");
+        assert!(check_own_file(&dir.join("a.h5"), "journal").unwrap_err().to_string().contains("symbolic link"));
+        assert!(check_own_file(&dir.join("absent"), "journal").is_ok());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
