@@ -139,6 +139,9 @@ fn printed_figures_have_their_page_size_and_no_text_below_6_pt() {
     let decoder = png::Decoder::new(std::fs::File::open(&png).unwrap());
     let info = decoder.read_info().unwrap();
     assert_eq!(info.info().width, (86.0f64 / 25.4 * 150.0).round() as u32);
+    // It states its resolution, so that a document places it at 86 mm.
+    let dims = info.info().pixel_dims.expect("a pHYs chunk");
+    assert_eq!((dims.xppu, dims.unit), ((150.0f64 / 0.0254).round() as u32, png::Unit::Meter));
 }
 
 #[test]
@@ -150,10 +153,10 @@ fn svg_figures_state_their_printed_size() {
     let text = std::fs::read_to_string(&svg).unwrap();
     let doc = roxmltree::Document::parse(&text).unwrap();
     let root = doc.root_element();
-    assert_eq!((root.attribute("width"), root.attribute("height")), (Some("120mm"), Some("80mm")));
+    assert_eq!((root.attribute("width"), root.attribute("height")), (Some("120.0mm"), Some("80.0mm")));
     let view: Vec<f64> = root.attribute("viewBox").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
-    assert!((view[2] - 120.0 / 25.4 * 72.0).abs() < 1.0, "view box in points: {view:?}");
-    assert!(doc.descendants().any(|n| n.attribute("font-family") == Some("sans-serif")));
+    assert!((view[2] - 1200.0 / 25.4 * 72.0).abs() < 1.0, "view box in tenths of a point: {view:?}");
+    assert!(doc.descendants().any(|n| n.attribute("font-family") == Some("DejaVu Sans, sans-serif")));
 }
 
 #[test]

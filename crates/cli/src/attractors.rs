@@ -43,7 +43,8 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
             .iter()
             .map(|at| {
                 let pts = at.members.iter().map(|&i| sample(&sys, &sampling, i)).map(|y| (y[mass], y[m + mass]));
-                let name = format!("{} ({:.0} %)", label(at).join(" "), 100.0 * at.count as f64 / a.samples as f64);
+                let named: Vec<String> = masses.iter().zip(label(at)).map(|(m, l)| format!("{m} {l}")).collect();
+                let name = format!("{} ({:.0} %)", named.join(", "), 100.0 * at.count as f64 / a.samples as f64);
                 (name, pts.collect())
             })
             .collect();

@@ -45,9 +45,10 @@ pub fn run(a: ContinueArgs) -> Result<()> {
             .collect();
         let marks: Vec<(f64, String)> =
             branch.bifurcations.iter().map(|b| (b.value, b.kind.name().to_string())).collect();
-        let title = format!("{}: orbit continued in {}", sys.model.name, axis.name);
+        let symbol = s.scene.symbol(&axis.name);
+        let title = format!("{}: orbit continued in {symbol}", sys.model.name);
         let first = sys.model.masses[0].name.clone();
-        write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &axis.name, &first, &page, tmp))?;
+        write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &symbol, &first, &page, tmp))?;
     }
     if a.json {
         outln!("{}", serde_json::to_string(&to_json(&branch))?);

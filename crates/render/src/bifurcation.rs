@@ -190,7 +190,7 @@ fn draw<DB: DrawingBackend>(
     let keys_w: u32 = legend::columns(&key, canvas, &keys, 1).iter().sum();
     let spare = key.dim_in_pixel().0.saturating_sub(keys_w) / 2;
     legend::draw(&key.margin(0, 0, spare as i32, 0), canvas, &keys)?;
-    for (&pi, area) in shown.iter().zip(body.split_evenly((shown.len(), 1)).iter()) {
+    for (&pi, area) in shown.iter().zip(layout::grid(&body, canvas, shown.len(), (24.0, 8.0)).iter()) {
         let series = &all[pi];
         let y_range = crate::range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
         let desc = if pi == 0 {
@@ -201,8 +201,9 @@ fn draw<DB: DrawingBackend>(
                 Impact::Phase => format!("impact phase at {} (rad)", m.stops[pi - 1]),
             }
         };
-        let x_range =
-            if x.count > 1 { (x.start.min(x.stop), x.start.max(x.stop)) } else { (x.start - 1.0, x.start + 1.0) };
+        // A ring's width of margin at both ends, so that no mark sits on an axis.
+        let (x0, x1) = (x.start.min(x.stop), x.start.max(x.stop));
+        let x_range = if x.count > 1 { (x0 - 0.01 * (x1 - x0), x1 + 0.01 * (x1 - x0)) } else { (x0 - 1.0, x0 + 1.0) };
         let axes = Axes { caption: None, x: x_range, y: y_range, x_desc: &sym(&x.name), y_desc: &desc };
         let chart = layout::chart(area, canvas, &axes)?;
         let plot = chart.plotting_area();

@@ -26,14 +26,18 @@ pub fn path() -> Result<std::path::PathBuf, RenderError> {
         })
 }
 
-/// Registers the font as `sans-serif` (once).
+/// The font family every figure names: DejaVu Sans, which the layout is
+/// measured with, and the generic family where it is missing (SVG viewers).
+pub const FAMILY: &str = "DejaVu Sans, sans-serif";
+
+/// Registers the font as [`FAMILY`] (once).
 pub fn ensure() -> Result<(), RenderError> {
     FONT.get_or_init(|| {
         let path = path().map_err(|e| e.message)?;
         let path = path.display().to_string();
         let bytes = std::fs::read(&path).map_err(|e| format!("{path}: {e}"))?;
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-        plotters::style::register_font("sans-serif", plotters::style::FontStyle::Normal, bytes)
+        plotters::style::register_font(FAMILY, plotters::style::FontStyle::Normal, bytes)
             .map_err(|_| format!("{path}: not a usable font"))
     })
     .clone()

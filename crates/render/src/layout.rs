@@ -96,6 +96,26 @@ pub(crate) fn panels<DB: DrawingBackend>(
     area.split_evenly((rows, cols)).into_iter().take(n).collect()
 }
 
+/// `area` split into `n` panels in as many columns as give the panels the
+/// most room for their least size `least` (width, height in text heights):
+/// side by side on a wide page, one above the other on a tall one.
+pub(crate) fn grid<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    n: usize,
+    least: (f64, f64),
+) -> Vec<DrawingArea<DB, Shift>> {
+    let (w, h) = area.dim_in_pixel();
+    let room = |cols: usize| {
+        let rows = n.div_ceil(cols);
+        let across = w as f64 / cols as f64 / canvas.em(least.0).max(1) as f64;
+        let down = h as f64 / rows as f64 / canvas.em(least.1).max(1) as f64;
+        across.min(down)
+    };
+    let cols = (1..=n.max(1)).fold(1, |best, c| if room(c) > room(best) * 1.05 { c } else { best });
+    panels(area, n, cols)
+}
+
 /// What a chart shows: its caption, axis ranges and descriptions.
 pub(crate) struct Axes<'t> {
     /// Caption above the chart (none: no caption).
@@ -110,9 +130,32 @@ pub(crate) struct Axes<'t> {
     pub y_desc: &'t str,
 }
 
-/// Widest tick text of a range (characters), for the vertical label area.
+/// Widest tick text of a range (characters), for the vertical label area:
+/// ticks are round numbers, so one more digit than the step needs.
 fn tick_chars(range: (f64, f64)) -> usize {
-    (0..=8).map(|k| crate::tick(range.0 + (range.1 - range.0) * k as f64 / 8.0).chars().count()).max().unwrap_or(4)
+    let step = (range.1 - range.0).abs() / 5.0;
+    let decimals = if step > 0.0 { (-step.log10().floor()).max(0.0) as usize + 1 } else { 1 };
+    let whole = range.0.abs().max(range.1.abs()).max(1.0).log10().floor() as usize + 1;
+    let text = whole + decimals + usize::from(range.0 < 0.0) + 1;
+    text.min(crate::tick(range.0).chars().count().max(crate::tick(range.1).chars().count()))
+}
+
+/// `text` at `scale` times the body size, or smaller (down to 6 pt) when it
+/// is longer than `width` pixels.
+fn fitted<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    text: &str,
+    scale: f64,
+    width: u32,
+) -> FontDesc<'static> {
+    let font = canvas.font(scale);
+    let wide = area.estimate_text_size(text, &TextStyle::from(font.clone())).map_or(0, |s| s.0);
+    if wide <= width || wide == 0 {
+        font
+    } else {
+        canvas.font(scale * width as f64 / wide as f64)
+    }
 }
 
 /// A chart on `area` with the axes `a`: label areas and tick counts sized to
@@ -124,7 +167,8 @@ pub(crate) fn chart<'b, DB: DrawingBackend>(
 ) -> Result<Chart<'b, DB>, RenderError> {
     let mut builder = ChartBuilder::on(area);
     if let Some(caption) = a.caption {
-        builder.caption(caption, canvas.font(CAPTION));
+        let width = area.dim_in_pixel().0.saturating_sub(canvas.emu(0.5));
+        builder.caption(caption, fitted(area, canvas, caption, CAPTION, width));
     }
     let y_area = canvas.em(0.62 * tick_chars(a.y) as f64 + 2.2);
     let mut chart = builder
@@ -135,19 +179,21 @@ pub(crate) fn chart<'b, DB: DrawingBackend>(
         .build_cartesian_2d(a.x.0..a.x.1, a.y.0..a.y.1)
         .map_err(err)?;
     let (w, h) = chart.plotting_area().dim_in_pixel();
-    let x_ticks = (w as f64 / (canvas.em(0.62 * tick_chars(a.x) as f64 + 1.5) as f64).max(1.0)).floor() as usize;
-    let y_ticks = (h as f64 / canvas.em(2.2).max(1) as f64).floor() as usize;
+    let x_ticks = (w as f64 / (canvas.em(0.62 * tick_chars(a.x) as f64 + 1.2) as f64).max(1.0)).floor() as usize;
+    let y_ticks = (h as f64 / canvas.em(2.0).max(1) as f64).floor() as usize;
+    let spine = BLACK.stroke_width(canvas.pt(0.6));
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_labels(x_ticks.clamp(2, 10))
-        .y_labels(y_ticks.clamp(2, 10))
+        .axis_style(spine)
+        .x_labels(x_ticks.clamp(3, 10))
+        .y_labels(y_ticks.clamp(3, 10))
         .x_desc(a.x_desc)
         .y_desc(a.y_desc)
         .x_label_formatter(&|v| crate::tick(*v))
         .y_label_formatter(&|v| crate::tick(*v))
         .label_style(canvas.font(1.0))
-        .axis_desc_style(canvas.font(1.0))
+        .axis_desc_style(fitted(area, canvas, a.y_desc, 1.0, h))
         .set_all_tick_mark_size(canvas.em(0.35))
         .draw()
         .map_err(err)?;

@@ -29,18 +29,16 @@ pub use scalar::{scalar_map, Quantity};
 pub use section::{sections, Panel};
 pub use trade::trade;
 
-/// An axis tick: up to four significant digits, never `-0`.
+/// An axis tick: up to four decimals, never `-0`, negative numbers with a
+/// minus sign (U+2212), not a hyphen.
 fn tick(v: f64) -> String {
     if v.abs() < 1e-12 {
         return "0".into();
     }
     let text = format!("{:.4}", v);
     let text = text.trim_end_matches('0').trim_end_matches('.');
-    if v.abs() >= 1e4 || v.abs() < 1e-3 {
-        format!("{v:.2e}")
-    } else {
-        text.to_string()
-    }
+    let text = if v.abs() >= 1e4 || v.abs() < 1e-3 { format!("{v:.2e}") } else { text.to_string() };
+    text.replace('-', "\u{2212}")
 }
 
 /// The range of `values` with a margin: 5 % of their span, and at least 5 %

@@ -42,6 +42,11 @@ const LEGEND_BESIDE_EM: f64 = 50.0;
 /// Rows of a legend below the panels, at most (a hysteresis view's legend,
 /// with its two lists, may take half as many again).
 const LEGEND_BELOW_ROWS: usize = 9;
+/// A legend below the panels leaves them at least this many text heights.
+const MIN_PANEL_EM: f64 = 14.0;
+/// The least size of a map panel (width, height in text heights), by which
+/// several panels are arranged.
+const PANEL_EM: (f64, f64) = (16.0, 12.0);
 
 /// The plotters colour of a label.
 pub(crate) fn rgb(label: &str) -> RGBColor {
@@ -101,7 +106,7 @@ impl<'a> CellGrid<'a> {
     ) -> Result<layout::Chart<'b, DB>, RenderError> {
         let (x, y, dx, dy) = (self.x, self.y, self.dx, self.dy);
         let axes = Axes {
-            caption: Some(title),
+            caption: (!title.is_empty()).then_some(title),
             x: (x.start - dx / 2.0, x.stop + dx / 2.0),
             y: (y.start - dy / 2.0, y.stop + dy / 2.0),
             x_desc: &axis_name(meta, &x.name),
@@ -199,6 +204,9 @@ fn curve_entries(curves: &[Overlay]) -> Vec<Entry> {
     if curves.iter().any(|c| !c.marks.is_empty()) {
         rows.push(Entry::new(Swatch::Ring(BLACK, 2.2), "codimension-two point"));
     }
+    if !rows.is_empty() {
+        rows.insert(0, Entry::new(Swatch::Heading, "bifurcation curves"));
+    }
     rows
 }
 
@@ -237,35 +245,44 @@ fn label_text(label: &str) -> String {
 }
 
 /// Legend rows of `(label, cells)` entries, most frequent first, in at most
-/// `room` rows: as many labels as leave room for the rest summed per family
-/// (hatched, so that a group is never taken for a listed label).
+/// `room` rows: the most frequent labels one by one (at least half the rows),
+/// the rest summed per family, or in one row when the families do not fit,
+/// each group hatched so that it is never taken for a listed label.
 fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
-    let groups = |rest: &[(String, u64)]| {
-        let mut g: BTreeMap<&str, (u64, u64)> = BTreeMap::new();
-        for (label, n) in rest {
-            let e = g.entry(family(label)).or_default();
+    let entry = |(label, n): &(String, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
+    if counts.len() <= room.min(LEGEND_ROWS) {
+        return counts.iter().map(entry).collect();
+    }
+    if room == 0 {
+        return Vec::new();
+    }
+    let families = |rest: &[(String, u64)]| {
+        let mut g: BTreeMap<&str, (u64, u64, usize)> = BTreeMap::new();
+        for (i, (label, n)) in rest.iter().enumerate() {
+            let e = g.entry(family(label)).or_insert((0, 0, i));
             e.0 += 1;
             e.1 += n;
         }
-        g
+        let mut v: Vec<(&str, (u64, u64, usize))> = g.into_iter().collect();
+        v.sort_by(|a, b| b.1 .1.cmp(&a.1 .1).then(a.0.cmp(b.0)));
+        v
     };
-    let mut listed = counts.len().min(LEGEND_ROWS).min(room);
-    while listed > 0 && listed < counts.len() && listed + groups(&counts[listed..]).len() > room {
-        listed -= 1;
+    let most = LEGEND_ROWS.min(room - 1);
+    let fits = (room.div_ceil(2).min(most)..=most).rev().find(|&k| k + families(&counts[k..]).len() <= room);
+    let listed = fits.unwrap_or(room - 1);
+    let mut rows: Vec<Entry> = counts[..listed].iter().map(entry).collect();
+    let rest = &counts[listed..];
+    if fits.is_none() {
+        let cells: u64 = rest.iter().map(|r| r.1).sum();
+        rows.push(Entry::new(Swatch::Hatch(RGBColor(90, 90, 90)), format!("+{} other labels ({cells})", rest.len())));
+        return rows;
     }
-    let mut rows: Vec<Entry> = counts[..listed]
-        .iter()
-        .map(|(label, n)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label))))
-        .collect();
-    for (fam, (labels, cells)) in groups(&counts[listed..]) {
-        let text = format!("+{labels} {fam} ({cells})");
-        rows.push(match counts[listed..].iter().find(|(l, _)| labels == 1 && family(l) == fam) {
-            // A family of one label: the label itself.
-            Some((label, n)) => Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label))),
-            None => {
-                let [r, g, b] = family_colour(fam);
-                Entry::new(Swatch::Hatch(RGBColor(r, g, b)), text)
-            }
+    for (fam, (labels, cells, first)) in families(rest) {
+        rows.push(if labels == 1 {
+            entry(&rest[first]) // a family of one label: the label itself
+        } else {
+            let [r, g, b] = family_colour(fam);
+            Entry::new(Swatch::Hatch(RGBColor(r, g, b)), format!("+{labels} {fam} ({cells})"))
         });
     }
     rows
@@ -304,7 +321,10 @@ fn place<DB: DrawingBackend>(
     make: impl Fn(usize) -> Vec<Entry>,
 ) -> Placed {
     let (w, h) = area.dim_in_pixel();
-    if canvas.width_em() >= LEGEND_BESIDE_EM {
+    // Rows below that still leave the panels their least height.
+    let spare = h.saturating_sub(canvas.emu(MIN_PANEL_EM));
+    let below_rows = below_rows.min((1..=below_rows).rev().find(|&r| legend::height(canvas, r) <= spare).unwrap_or(0));
+    if canvas.width_em() >= LEGEND_BESIDE_EM || below_rows < 5 {
         let rows = make(legend::rows(canvas, h));
         let size = legend::width(area, canvas, &rows).min(w / 2);
         return Placed { rows, beside: true, size };
@@ -314,11 +334,9 @@ fn place<DB: DrawingBackend>(
         let rows = make(room);
         let tall = (1..=below_rows).find(|&r| legend::columns(area, canvas, &rows, r).iter().sum::<u32>() <= w);
         match tall {
-            Some(r) if r * legend::columns(area, canvas, &rows, r).len() >= rows.len() => {
-                return Placed { size: legend::height(canvas, r), rows, beside: false };
-            }
-            _ if room <= 1 => return Placed { size: legend::height(canvas, below_rows), rows, beside: false },
-            _ => room -= 1,
+            Some(r) => return Placed { size: legend::height(canvas, r), rows, beside: false },
+            None if room <= 1 => return Placed { size: legend::height(canvas, below_rows), rows, beside: false },
+            None => room -= 1,
         }
     }
 }
@@ -386,9 +404,9 @@ fn draw_map<DB: DrawingBackend>(
             let counts = count(&[cells], mass);
             let curve_rows = curve_entries(curves);
             let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |room| {
-                let mut rows = vec![Entry::new(Swatch::Heading, "label (cells)")];
-                rows.extend(label_entries(&counts, room.saturating_sub(1 + curve_rows.len())));
-                rows.extend(curve_rows.iter().cloned());
+                let mut rows = curve_rows.clone();
+                rows.push(Entry::new(Swatch::Heading, "label (cells)"));
+                rows.extend(label_entries(&counts, room.saturating_sub(rows.len())));
                 rows
             });
             let (maps, key) = placed.split(&body, canvas);
@@ -441,23 +459,16 @@ fn draw_hysteresis<DB: DrawingBackend>(
                 pair_rows.push(Entry::new(Swatch::Hatch(RGBColor(90, 90, 90)), text));
             }
         }
-        let mut rows = vec![Entry::new(Swatch::Heading, "label (cells, both)")];
+        let mut rows = curve_rows.clone();
+        rows.push(Entry::new(Swatch::Heading, "label (cells, both)"));
         rows.extend(label_entries(&counts, room.saturating_sub(pair_rows.len())));
         rows.push(Entry::new(Swatch::Heading, "up / down (cells)"));
         rows.extend(pair_rows);
-        rows.extend(curve_rows.iter().cloned());
         rows
     };
     let placed = place(body, canvas, LEGEND_BELOW_ROWS * 3 / 2, rows_in);
     let (maps, key) = placed.split(body, canvas);
-    let cols = if canvas.width_em() >= 110.0 {
-        3
-    } else if canvas.width_em() >= LEGEND_BESIDE_EM {
-        2
-    } else {
-        1
-    };
-    let panels = layout::panels(&maps, 3, cols);
+    let panels = layout::grid(&maps, canvas, 3, PANEL_EM);
     let name = &m.masses[mass];
     draw_cells(&panels[0], canvas, m, &format!("{name}, up sweep"), label_paint(up, mass), curves)?;
     draw_cells(&panels[1], canvas, m, &format!("{name}, down sweep"), label_paint(down, mass), curves)?;
@@ -511,8 +522,7 @@ fn draw_sheet<DB: DrawingBackend>(
         rows
     });
     let (maps, key) = placed.split(&body, canvas);
-    let cols = if canvas.width_em() >= LEGEND_BESIDE_EM || panels.len() > 1 { 2 } else { 1 };
-    for ((title, atlas), (area, cells)) in panels.iter().zip(layout::panels(&maps, panels.len(), cols).iter().zip(&all))
+    for ((title, atlas), (area, cells)) in panels.iter().zip(layout::grid(&maps, canvas, panels.len(), PANEL_EM).iter().zip(&all))
     {
         draw_cells(area, canvas, &atlas.meta, title, label_paint(cells, mass), &[])?;
     }
@@ -552,12 +562,14 @@ fn draw_attractors<DB: DrawingBackend>(
         counts[c.as_ref().map_or(0, |c| c.len().min(4))] += 1;
     }
     let mut rows = vec![Entry::new(Swatch::Heading, "cells")];
-    rows.extend((1..=4).map(|n| {
+    rows.extend((1..=4).filter(|&n| counts[n] > 0).map(|n| {
         let more = if n == 4 { " or more" } else { "" };
         let plural = if n == 1 { "" } else { "s" };
         Entry::new(Swatch::Fill(shade(n)), format!("{n}{more} attractor{plural}  ({})", counts[n]))
     }));
-    rows.push(Entry::new(Swatch::Fill(BLANK), format!("not sampled  ({})", counts[0])));
+    if counts[0] > 0 {
+        rows.push(Entry::new(Swatch::Fill(BLANK), format!("not sampled  ({})", counts[0])));
+    }
     let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |_| rows.clone());
     let (plot, key) = placed.split(&body, canvas);
     let paint = |i: usize| Some(Paint::Fill(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))));

@@ -1,7 +1,7 @@
 //! Output formats, chosen by the file's extension: `.png` (bitmap), `.svg`
-//! (vector, text as text, `font-family="sans-serif"`) and `.pdf` (the SVG
-//! converted by svg2pdf, `sans-serif` mapped to the figures' font, which it
-//! embeds: every text stays text). Every figure is drawn by one generic function on a
+//! (vector, text as text, `font-family="DejaVu Sans, sans-serif"`) and `.pdf`
+//! (the SVG converted by svg2pdf, the family mapped to the figures' font,
+//! which it embeds: every text stays text). Every figure is drawn by one generic function on a
 //! plotters drawing area, whatever the format ([`save!`]).
 
 use crate::RenderError;
@@ -37,8 +37,9 @@ impl Format {
     }
 }
 
-/// Converts an SVG text to a PDF file at `path`, the font included.
-pub(crate) fn pdf(svg: &str, path: &Path) -> Result<(), RenderError> {
+/// Converts an SVG text to a PDF file at `path`, the font included, at `dpi`
+/// SVG units per inch.
+pub(crate) fn pdf(svg: &str, path: &Path, dpi: f64) -> Result<(), RenderError> {
     let fail = |m: String| RenderError { message: format!("{}: {m}", path.display()) };
     let mut options = svg2pdf::usvg::Options::default();
     let font = crate::font::path()?;
@@ -51,7 +52,7 @@ pub(crate) fn pdf(svg: &str, path: &Path) -> Result<(), RenderError> {
     db.set_sans_serif_family(family.clone());
     options.font_family = family;
     let tree = svg2pdf::usvg::Tree::from_str(svg, &options).map_err(|e| fail(e.to_string()))?;
-    let bytes = svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), svg2pdf::PageOptions::default())
+    let bytes = svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), svg2pdf::PageOptions { dpi: dpi as f32 })
         .map_err(|e| fail(e.to_string()))?;
     std::fs::write(path, bytes).map_err(|e| fail(e.to_string()))
 }
@@ -66,9 +67,9 @@ pub(crate) fn svg_in_mm(svg: &str, (w, h): (f64, f64)) -> String {
                 .split(' ')
                 .map(|attr| {
                     if attr.starts_with("width=") {
-                        format!("width=\"{w}mm\"")
+                        format!("width=\"{w:.1}mm\"")
                     } else if attr.starts_with("height=") {
-                        format!("height=\"{h}mm\"")
+                        format!("height=\"{h:.1}mm\"")
                     } else {
                         attr.to_string()
                     }
@@ -81,6 +82,21 @@ pub(crate) fn svg_in_mm(svg: &str, (w, h): (f64, f64)) -> String {
     }
 }
 
+/// Writes RGB pixels as a PNG file at `path` that states its resolution
+/// (`dpi`, a pHYs chunk), so that documents place it at its printed size.
+pub(crate) fn png(path: &Path, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Result<(), RenderError> {
+    let fail = |m: String| RenderError::new(format!("{}: {m}", path.display()));
+    let file = std::fs::File::create(path).map_err(|e| fail(e.to_string()))?;
+    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let per_metre = (dpi / 0.0254).round() as u32;
+    encoder.set_pixel_dims(Some(png::PixelDimensions { xppu: per_metre, yppu: per_metre, unit: png::Unit::Meter }));
+    let mut writer = encoder.write_header().map_err(|e| fail(e.to_string()))?;
+    writer.write_image_data(rgb).map_err(|e| fail(e.to_string()))?;
+    writer.finish().map_err(|e| fail(e.to_string()))
+}
+
 /// Draws a figure into `$path` in the format of its extension on `$canvas`
 /// (a [`crate::page::Canvas`]), `$draw` a call of a generic drawing function
 /// with the drawing area bound to `$root`.
@@ -91,9 +107,13 @@ macro_rules! save {
         let size = $canvas.size();
         match crate::output::Format::of($path)? {
             crate::output::Format::Png => {
-                let $root = BitMapBackend::new($path, size).into_drawing_area();
-                $draw?;
-                $root.present().map_err(crate::err)
+                let mut rgb = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+                {
+                    let $root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+                    $draw?;
+                    $root.present().map_err(crate::err)?;
+                }
+                crate::output::png($path, size, &rgb, $canvas.dpi)
             }
             format => {
                 let mut svg = String::new();
@@ -103,7 +123,7 @@ macro_rules! save {
                     $root.present().map_err(crate::err)?;
                 }
                 if format == crate::output::Format::Pdf {
-                    crate::output::pdf(&svg, $path)
+                    crate::output::pdf(&svg, $path, $canvas.dpi)
                 } else {
                     let svg = $canvas.mm.map_or(svg.clone(), |mm| crate::output::svg_in_mm(&svg, mm));
                     std::fs::write($path, svg).map_err(|e| crate::RenderError::new(format!("{}: {e}", $path.display())))

@@ -3,8 +3,9 @@
 //! with text in points (`--size single|double|WxH`, `--font-size`, `--dpi`).
 //!
 //! On a page, lengths are points (1 pt = 1/72 in = 25.4/72 mm): a vector
-//! figure's canvas is measured in points (an SVG states its size in mm, a PDF
-//! page is exactly that size) and a PNG has `dpi / 72` pixels per point. Every
+//! figure's canvas is measured in tenths of a point (plotters writes whole
+//! units; an SVG states its size in mm, a PDF page is exactly that size) and a
+//! PNG has `dpi / 72` pixels per point. Every
 //! text size is a multiple of the body size (`--font-size`, 8 pt by default),
 //! and never below [`MIN_TEXT_PT`]; every margin, legend row and label area is
 //! measured in body text heights, so the layout keeps its proportions to the
@@ -22,6 +23,9 @@ pub const DOUBLE_MM: f64 = 178.0;
 pub const MIN_TEXT_PT: f64 = 6.0;
 /// Millimetres per point.
 const MM_PER_PT: f64 = 25.4 / 72.0;
+/// Units of a printed vector figure per point: plotters writes whole units,
+/// so a unit of 0.1 pt keeps cells and curves where they belong.
+const VECTOR_UNITS_PER_PT: f64 = 10.0;
 
 /// A printed size: the width, and the height unless the figure chooses it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -109,14 +113,15 @@ impl Page {
         match self.print {
             None => {
                 let pt = self.dpi / 72.0;
-                Canvas { width: screen.0, height: screen.1, pt, font_pt: self.font_pt, glyph, mm: None }
+                let (width, height) = screen;
+                Canvas { width, height, pt, font_pt: self.font_pt, glyph, mm: None, dpi: 72.0 }
             }
             Some(s) => {
-                let pt = if format == Format::Png { self.dpi / 72.0 } else { 1.0 };
+                let pt = if format == Format::Png { self.dpi / 72.0 } else { VECTOR_UNITS_PER_PT };
                 let h = s.height_mm.unwrap_or_else(|| height_mm(s.width_mm));
                 let px = |mm: f64| (mm / MM_PER_PT * pt).round().max(1.0) as u32;
-                let mm = Some((s.width_mm, h));
-                Canvas { width: px(s.width_mm), height: px(h), pt, font_pt: self.font_pt, glyph, mm }
+                let (width, height) = (px(s.width_mm), px(h));
+                Canvas { width, height, pt, font_pt: self.font_pt, glyph, mm: Some((s.width_mm, h)), dpi: pt * 72.0 }
             }
         }
     }
@@ -144,6 +149,9 @@ pub(crate) struct Canvas {
     glyph: f64,
     /// Size on the page (mm), if printed.
     pub mm: Option<(f64, f64)>,
+    /// Units of the canvas per inch on the page (a PNG's resolution; a PDF
+    /// page's scale).
+    pub dpi: f64,
 }
 
 impl Canvas {
@@ -164,7 +172,7 @@ impl Canvas {
 
     /// Text `scale` times the body size, never below [`MIN_TEXT_PT`].
     pub fn font(&self, scale: f64) -> FontDesc<'static> {
-        ("sans-serif", self.text_px(scale) * self.glyph).into_font()
+        (crate::font::FAMILY, self.text_px(scale) * self.glyph).into_font()
     }
 
     /// The em of text `scale` times the body size (px).
@@ -215,11 +223,11 @@ mod tests {
         let size = PrintSize { width_mm: 86.0, height_mm: Some(60.0) };
         let page = Page::print(size, None, Some(300)).unwrap();
         let pdf = page.canvas(Format::Pdf, (1, 1), |w| w);
-        assert_eq!(pdf.size(), (244, 170));
+        assert_eq!(pdf.size(), (2438, 1701), "tenths of a point");
         let png = page.canvas(Format::Png, (1, 1), |w| w);
         assert_eq!(png.size(), (1016, 709));
         assert!((png.text_px(1.0) - 8.0 * 300.0 / 72.0).abs() < 1e-9);
-        assert!((pdf.text_px(0.5) - 6.0).abs() < 1e-9, "clamped to 6 pt");
+        assert!((pdf.text_px(0.5) - 60.0).abs() < 1e-9, "clamped to 6 pt");
         let screen = Page::screen().canvas(Format::Png, (1100, 800), |w| w);
         assert_eq!(screen.size(), (1100, 800));
         assert!((screen.text_px(1.0) - 15.0).abs() < 1e-9);

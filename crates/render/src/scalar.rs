@@ -6,6 +6,7 @@
 //! scale.
 
 use crate::layout;
+use crate::legend::{self, Entry, Swatch};
 use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
 use crate::page::{Canvas, Page};
@@ -39,6 +40,14 @@ impl Quantity {
         }
     }
 
+    /// What a cell without the number is (legend text).
+    fn none(self) -> &'static str {
+        match self {
+            Quantity::Lyapunov => "periodic",
+            Quantity::Multiplier => "no period",
+        }
+    }
+
     /// Colour-bar label.
     fn unit(self) -> &'static str {
         match self {
@@ -55,6 +64,9 @@ impl Quantity {
         }
     }
 }
+
+/// Colour of cells without the number.
+const NONE: RGBColor = RGBColor(190, 190, 190);
 
 /// Blue (below the centre) to white (at it) to red (above), symmetric: `t`
 /// in [-1, 1].
@@ -93,20 +105,24 @@ fn draw<DB: DrawingBackend>(
     let reach = if reach > 0.0 { reach } else { 1.0 };
     let (lo, hi) = (centre - reach, centre + reach);
     root.fill(&WHITE).map_err(err)?;
-    let body = layout::header(root, canvas, &crate::map::settings_text(m), layout::TITLE)?;
-    let (w, _) = body.dim_in_pixel();
-    let (left, right) = body.split_horizontally(w.saturating_sub(canvas.emu(7.5)));
-    let grid = CellGrid::of(m);
     let title = format!("{} sweep: {}", sweep.name(), quantity.title());
-    let chart = grid.chart(&left, canvas, m, &title)?;
+    let body = layout::header(root, canvas, &title, layout::TITLE)?;
+    let body = layout::footer(&body, canvas, &crate::map::settings_text(m))?;
+    let (w, h) = body.dim_in_pixel();
+    let (left, right) = body.split_horizontally(w.saturating_sub(canvas.emu(8.0)));
+    // What grey stands for, under the colour bar.
+    let (right, key) = right.split_vertically(h.saturating_sub(legend::height(canvas, 1)));
+    legend::draw(&key, canvas, &[Entry::new(Swatch::Fill(NONE), quantity.none())])?;
+    let grid = CellGrid::of(m);
+    let chart = grid.chart(&left, canvas, m, "")?;
     let plot = chart.plotting_area();
     for (i, v) in values.iter().enumerate() {
-        let colour = v.map_or(RGBColor(190, 190, 190), |v| diverging((v - centre) / reach));
+        let colour = v.map_or(NONE, |v| diverging((v - centre) / reach));
         plot.draw(&Rectangle::new(grid.rect(i), colour.filled())).map_err(err)?;
     }
     let mut bar = ChartBuilder::on(&right)
-        .margin_top(canvas.em(3.0))
-        .margin_bottom(canvas.em(3.3))
+        .margin_top(canvas.em(1.0))
+        .margin_bottom(canvas.em(1.0))
         .margin_right(canvas.em(0.5))
         .y_label_area_size(0)
         .right_y_label_area_size(canvas.em(6.0))
@@ -119,6 +135,8 @@ fn draw<DB: DrawingBackend>(
         .y_label_formatter(&|v| crate::tick(*v))
         .label_style(canvas.font(1.0))
         .axis_desc_style(canvas.font(1.0))
+        .axis_style(BLACK.stroke_width(canvas.pt(0.6)))
+        .set_all_tick_mark_size(canvas.em(0.35))
         .draw()
         .map_err(err)?;
     let n = 200;

@@ -39,10 +39,9 @@ fn draw<DB: DrawingBackend>(
     panels: &[Panel],
     title: &str,
 ) -> Result<(), RenderError> {
-    let cols = panels.len().clamp(1, 2);
     root.fill(&WHITE).map_err(err)?;
     let body = layout::header(root, canvas, title, layout::TITLE)?;
-    for (panel, area) in panels.iter().zip(layout::panels(&body, panels.len(), cols).iter()) {
+    for (panel, area) in panels.iter().zip(layout::grid(&body, canvas, panels.len(), (16.0, 14.0)).iter()) {
         let axes = Axes {
             caption: None,
             x: crate::range(panel.points.iter().map(|p| p.0)),

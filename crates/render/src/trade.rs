@@ -27,7 +27,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, points: &[(String, f6
     root.fill(&WHITE).map_err(err)?;
     let (plot, legend) = root.split_horizontally(780);
     let mut chart = ChartBuilder::on(&plot)
-        .caption("speed / accuracy trade (reference: precise)", ("sans-serif", 22))
+        .caption("speed / accuracy trade (reference: precise)", (crate::font::FAMILY, 22))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(70)
@@ -37,8 +37,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, points: &[(String, f6
         .configure_mesh()
         .x_desc("cells per second")
         .y_desc("label agreement")
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
+        .label_style((crate::font::FAMILY, 15))
+        .axis_desc_style((crate::font::FAMILY, 17))
         .draw()
         .map_err(err)?;
     let mut front: Vec<(f64, f64)> = points
@@ -55,7 +55,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, points: &[(String, f6
         chart.draw_series(std::iter::once(Circle::new((*rate, *agree), 6, color.filled()))).map_err(err)?;
         let y = 60 + 26 * i as i32;
         legend.draw(&Circle::new((12, y), 6, color.filled())).map_err(err)?;
-        legend.draw(&Text::new(name.clone(), (26, y - 8), ("sans-serif", 15).into_font())).map_err(err)?;
+        legend.draw(&Text::new(name.clone(), (26, y - 8), (crate::font::FAMILY, 15).into_font())).map_err(err)?;
     }
     Ok(())
 }
