@@ -7,6 +7,7 @@ mod bad_input;
 mod cli;
 mod closed_form;
 mod drilldown;
+mod edges;
 mod extremes;
 mod faults;
 mod figures;

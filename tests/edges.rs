@@ -1,0 +1,85 @@
+//! Labels at the edges of decisions (issue 28): an orbit is accepted once it
+//! has converged, so that its symmetry is the converged orbit's; an orbit
+//! longer than `n_max` that Newton confirms is a label. Each test checks the
+//! program against a check of its own that does not go through the decision.
+
+use crate::util::{record, run, system};
+use solver::{run_cell, Accuracy, Class, Method, Preset, Symmetry};
+
+/// Issue 28, item 3: dry friction, fk = 0.01, on the up leg of a down-up
+/// sweep, ω = 6.85 (0.005 above the pitchfork at 6.845) starts from the AS
+/// orbit of ω = 6.825 and converges slowly (multiplier 0.988) to the
+/// symmetric orbit. It is `1-1-1 S` in `standard` and `precise` (it was AS:
+/// 8e-6 off the symmetric orbit, it passed the repeat test while still
+/// converging). The independent check: Newton's method on the half map (the
+/// symmetric orbit, solved exactly) converges there to an orbit whose half map
+/// multipliers all lie inside the unit circle, so the symmetric orbit is the
+/// stable one the sweep must reach.
+#[test]
+fn the_friction_cell_above_the_pitchfork_is_symmetric() {
+    let orbit = run(&["orbit", "configs/dry-friction.toml", "--set", "fk=0.01", "--set", "omega=6.85", "--json"]);
+    let orbit: serde_json::Value = serde_json::from_slice(&orbit.stdout).unwrap();
+    let half = orbit["half_map_multipliers"].as_array().expect("a symmetric orbit, solved on the half map");
+    assert!(half.iter().all(|m| m["abs"].as_f64().unwrap() < 1.0), "{orbit}");
+    for preset in ["standard", "precise"] {
+        let out = run(&[
+            "sweep",
+            "configs/dry-friction.toml",
+            "--axis",
+            "omega=8:4.5:141",
+            "--set",
+            "fk=0.01",
+            "--direction",
+            "down-up",
+            "--json",
+            "--preset",
+            preset,
+        ]);
+        let sweep: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        for leg in ["down", "up"] {
+            let cell = sweep[leg]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|c| (c["value"].as_f64().unwrap() - 6.85).abs() < 1e-9)
+                .unwrap();
+            assert_eq!(cell["labels"]["M1"], "1-1-1", "{preset} {leg}: {cell}");
+            assert_eq!(cell["symmetry"], "S", "{preset} {leg}: {cell}");
+        }
+    }
+}
+
+/// Issue 28, item 5: a record that contracts onto an orbit of period 60,
+/// beyond `n_max` = 32 (multi-stop, ω = 1.10426, δ = 2), was `U` naming the
+/// period; Newton confirms it and the cell is labelled with it. Independent
+/// checks: the same cell searched with `n_max` = 64 (period detection in the
+/// record, no Newton confirmation) has the same period and labels; and plain
+/// simulation from the cell's final state returns there after 60 periods
+/// (within `periodic_tol`, never after fewer), with the cell's impacts per
+/// stop.
+#[test]
+fn a_confirmed_long_period_is_a_label() {
+    let sys = system("multi-stop.toml", &[("omega", 1.1042553191489362), ("delta", 2.0)]);
+    let acc = Accuracy::preset(Preset::Standard);
+    let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+    assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)), "{:?}", cell.reason);
+    assert_eq!(cell.symmetry, None::<Symmetry>);
+    let wide = acc.with("n_max", 64.0).unwrap();
+    let oracle = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
+    assert_eq!((oracle.class, oracle.n), (Class::Periodic, Some(60)));
+    assert_eq!(cell.labels, oracle.labels);
+    let y0 = cell.final_state.clone();
+    let scale = 1.0 + y0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = |y: &[f64]| y.iter().zip(&y0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / scale;
+    let (rec, sim) = record(&sys, &acc, Method::Exact, &y0, 60);
+    assert!(off(sim.state().as_slice()) <= acc.periodic_tol(), "{:e}", off(sim.state().as_slice()));
+    let mut impacts = vec![0u32; sys.stops.len()];
+    for i in &rec.impacts {
+        impacts[i.stop] += 1;
+    }
+    assert_eq!(impacts, cell.impacts);
+    for n in 1..60 {
+        let (_, sim) = record(&sys, &acc, Method::Exact, &y0, n);
+        assert!(off(sim.state().as_slice()) > acc.periodic_tol(), "returns after {n} periods");
+    }
+}
