@@ -10,6 +10,7 @@ mod drilldown;
 mod edges;
 mod extremes;
 mod faults;
+mod faults2;
 mod figures;
 mod friction;
 mod print;

@@ -30,7 +30,11 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     let shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(|e| in_flags(e, FLAGS))?;
     let mut plan = Plan::new(&s, a.run.section_cap, plane, sweeps, threads(a.run.threads)?)?;
     plan.shard = shard;
-    plan.output = Some(a.output.clone());
+    // The file written: a symbolic link's target (the link stays), locked
+    // under that name whatever name it is given by.
+    let target = store::lock::canonical_output(&a.output)?;
+    let through_link = std::fs::symlink_metadata(&a.output).is_ok_and(|m| m.file_type().is_symlink());
+    plan.output = Some(target.clone());
     plan.resume = a.resume;
     plan.inputs = vec![a.sim.scene.clone()];
     plan.force = a.force;
@@ -53,7 +57,11 @@ pub fn run(a: AtlasArgs) -> Result<()> {
             "file      finished in {:.2} s once the cells were done (the rest was written while they computed)",
             run.write_s
         );
-        outln!("wrote {}", a.output.display());
+        if through_link {
+            outln!("wrote {} (the file the link {} names)", target.display(), a.output.display());
+        } else {
+            outln!("wrote {}", a.output.display());
+        }
     }
     Ok(())
 }

@@ -2,7 +2,7 @@
 
 use crate::args::CellArgs;
 use crate::common::{labels_json, setup_from};
-use crate::out::{outln, outp};
+use crate::out::{errln, outln, outp};
 use anyhow::{anyhow, Result};
 use serde_json::{json, Map, Value};
 use solver::{run_cell_with_sections, CellResult, Mask, Simulator, System};
@@ -42,14 +42,18 @@ pub fn run(a: CellArgs) -> Result<()> {
                 a.trace_samples
             ));
         }
-        let csv = trace_csv(&sys, &window(&sys, &s, &cell, periods, a.trace_samples)?);
+        let w = window(&sys, &s, &cell, periods, a.trace_samples);
+        let csv = trace_csv(&sys, &w.rows);
         write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
+        if let Some(note) = w.note(periods) {
+            errln!("warning: trace {}: {note}", path.display());
+        }
     }
     if let Some(path) = &a.portrait {
         render::Format::of(path)?;
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
-        let rows = window(&sys, &s, &cell, periods, 400)?;
-        let p = portrait(&sys, &rows);
+        let rows = window(&sys, &s, &cell, periods, 400).rows;
+        let p = portrait(&sys, &rows, &describe_parameters(&s));
         write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;
     }
     if let Some(path) = &a.section_png {
@@ -62,7 +66,7 @@ pub fn run(a: CellArgs) -> Result<()> {
         let title = format!(
             "{} ({}): {}, Poincaré sections over {} periods{silent}",
             sys.model.name,
-            describe_parameters(&sys),
+            describe_parameters(&s),
             labels.join(", "),
             a.section_periods
         );
@@ -223,9 +227,49 @@ fn sections(
 /// One row of the classified window: time, state, and the event it is (if any).
 type Row = (f64, Vec<f64>, Option<String>);
 
+/// Why a simulation halted, in the words of a cell's `reason`.
+fn halt_text(h: &solver::Halt, s: &crate::common::Setup) -> String {
+    match h {
+        solver::Halt::Budget => format!("event budget of {} events exhausted", s.accuracy.max_events()),
+        solver::Halt::Stalled => "event location stalled at a degenerate contact".into(),
+        solver::Halt::Error(e) => e.to_string(),
+    }
+}
+
+/// The classified window, and what of it could not be traced (see [`window`]).
+struct Window {
+    rows: Vec<Row>,
+    /// Periods replayed at their events only, and why sampling them halted.
+    events_only: Vec<(usize, String)>,
+    /// Where the trace ends early: the periods traced, and why.
+    ended: Option<(usize, String)>,
+}
+
+impl Window {
+    /// One line saying what the trace lacks, if anything.
+    fn note(&self, periods: usize) -> Option<String> {
+        let mut parts = Vec::new();
+        if let Some((k, why)) = self.events_only.first() {
+            let count = self.events_only.len();
+            let which =
+                if count == 1 { format!("period {}", k + 1) } else { format!("{count} periods (first: {})", k + 1) };
+            parts.push(format!("{which} traced at the events only (stopping at the samples halted it: {why})"));
+        }
+        if let Some((done, why)) = &self.ended {
+            parts.push(format!("it ends after {done} of {periods} periods: {why}"));
+        }
+        (!parts.is_empty()).then(|| parts.join("; "))
+    }
+}
+
 /// Dense samples (and every event, named: `impact A1`, `stick A12`, …) of
-/// `periods` periods from the window start.
-fn window(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Result<Vec<Row>> {
+/// `periods` periods from the window start, each period's end included. It is
+/// as robust as the cell itself: a period whose samples halt the simulation
+/// (stopping at a sample time can meet a degenerate contact the cell's own run
+/// stepped over) is replayed from its start at its events only, the cell's
+/// trajectory; a halt that remains ends the window there (the samples up to
+/// it kept), with its reason (the cell's `reason` when it is unresolved for it).
+fn window(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Window {
     struct Rows<'a>(Vec<Row>, &'a System);
     impl solver::Observer for Rows<'_> {
         fn named_event(&mut self, t: f64, kind: solver::EventKind, y: &solver::DVector<f64>) {
@@ -235,16 +279,28 @@ fn window(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize
             self.0.push((t, y.as_slice().to_vec(), None));
         }
     }
-    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.window_start).map_err(|h| anyhow!("trace: {h:?}"))?;
     let mut rows = Rows(vec![(0.0, c.window_start.clone(), None)], sys);
+    let mut events_only = Vec::new();
+    let mut sim = match Simulator::new(sys, s.accuracy, s.method, &c.window_start) {
+        Ok(sim) => sim,
+        Err(h) => return Window { rows: rows.0, events_only, ended: Some((0, halt_text(&h, s))) },
+    };
     let times: Vec<f64> = (1..samples).map(|i| sys.period * i as f64 / samples as f64).collect();
-    for _ in 0..periods {
-        sim.run_period(&times, false, &mut rows).map_err(|h| anyhow!("trace: {h:?}"))?;
-        // The period's end is a sample too (the next period's first).
-        rows.0.push((sim.time(), sim.state().as_slice().to_vec(), None));
+    for k in 0..periods {
+        // The period's end is a sample (the observer's, after the period).
+        let (before, kept) = (sim.clone(), rows.0.len());
+        let Err(h) = sim.run_period(&times, false, &mut rows) else { continue };
+        let sampled = rows.0.split_off(kept);
+        sim = before;
+        if let Err(again) = sim.run_period(&[], false, &mut rows) {
+            // A halt of the cell's own trajectory: the samples up to it.
+            rows.0.truncate(kept);
+            rows.0.extend(sampled);
+            return Window { rows: rows.0, events_only, ended: Some((k, halt_text(&again, s))) };
+        }
+        events_only.push((k, halt_text(&h, s)));
     }
-    rows.0.pop();
-    Ok(rows.0)
+    Window { rows: rows.0, events_only, ended: None }
 }
 
 /// The window as CSV: `t`, every coordinate and velocity, and the event.
@@ -269,7 +325,7 @@ fn trace_csv(sys: &System, rows: &[Row]) -> String {
 
 /// The portrait of the window: per mass its (x, v) path, its frame stops, and
 /// the events.
-fn portrait(sys: &System, rows: &[Row]) -> render::Portrait {
+fn portrait(sys: &System, rows: &[Row], parameters: &str) -> render::Portrait {
     let m = sys.dof();
     let masses: Vec<String> = sys.model.masses.iter().map(|x| x.name.clone()).collect();
     let stops = sys
@@ -282,7 +338,7 @@ fn portrait(sys: &System, rows: &[Row]) -> render::Portrait {
         })
         .collect();
     render::Portrait {
-        title: format!("{}: {}", sys.model.name, describe_parameters(sys)),
+        title: format!("{} ({parameters})", sys.model.name),
         masses,
         t: rows.iter().map(|r| r.0).collect(),
         x: (0..m).map(|k| rows.iter().map(|r| r.1[k]).collect()).collect(),
@@ -292,7 +348,11 @@ fn portrait(sys: &System, rows: &[Row]) -> render::Portrait {
     }
 }
 
-/// `name=value` of the scene's parameters, for titles.
-fn describe_parameters(sys: &System) -> String {
-    sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" ")
+/// The parameters set on the command line, by their symbols, for titles
+/// (`ω = 0.33, δ = 0.6`), or `scene defaults`.
+fn describe_parameters(s: &crate::common::Setup) -> String {
+    if s.overrides.is_empty() {
+        return "scene defaults".to_string();
+    }
+    s.overrides.iter().map(|(k, v)| format!("{} = {v}", s.scene.symbol(k))).collect::<Vec<_>>().join(", ")
 }

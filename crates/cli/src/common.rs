@@ -174,7 +174,7 @@ pub fn setup_from(a: &SimArgs, f: &crate::args::FromArgs) -> Result<(Setup, Opti
         bail!("--from: {} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
     }
     if s.scene.source() != m.scene_toml {
-        eprintln!("warning: the scene differs from the one stored in {}", file.display());
+        crate::out::errln!("warning: the scene differs from the one stored in {}", file.display());
     }
     let coords: serde_json::Map<String, serde_json::Value> =
         params.iter().map(|(k, v)| (k.clone(), serde_json::json!(v))).collect();

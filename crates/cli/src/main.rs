@@ -1,6 +1,7 @@
 //! `vibroatlas`: command-line entry point. Parses arguments into validated
 //! plans, calls the library crates, prints results; every error is one line on
-//! stderr and exit code 2.
+//! stderr and exit code 2. Nothing printed can panic (see [`out`]): a closed or
+//! full standard error drops the line, and the exit code is the work's.
 
 mod args;
 mod atlas;
@@ -42,13 +43,17 @@ fn main() {
                 .collect();
             let message = lines.join(" ");
             let message = message.trim_start_matches("error: ");
-            eprintln!(
+            out::errln!(
                 "error: {} (see vibroatlas --help)",
                 if message.is_empty() { "invalid arguments" } else { message }
             );
             std::process::exit(2);
         }
     };
+    // Commands whose result is a file: what they print reports it.
+    if matches!(cli.command, args::Command::Atlas(_) | args::Command::Study(_) | args::Command::Merge(_)) {
+        out::reports_only();
+    }
     let result = match cli.command {
         args::Command::Cell(a) => cell::run(a),
         args::Command::Sweep(a) => sweep::run(a),
@@ -65,7 +70,7 @@ fn main() {
         args::Command::Curves(a) => curve::run_curves(a),
     };
     if let Err(e) = result {
-        eprintln!("error: {e:#}");
+        out::errln!("error: {e:#}");
         std::process::exit(2);
     }
 }

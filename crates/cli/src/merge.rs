@@ -9,7 +9,9 @@ use store::RunInfo;
 pub fn run(a: MergeArgs) -> Result<()> {
     let inputs: Vec<&std::path::Path> = a.parts.iter().map(|p| p.as_path()).collect();
     store::check_output(&a.output, &inputs, a.force)?;
-    let _lock = store::OutputLock::acquire(&a.output)?;
+    // A symbolic link's target is written (the link stays), locked by that name.
+    let output = store::lock::canonical_output(&a.output)?;
+    let _lock = store::OutputLock::acquire(&output)?;
     let merged = store::merge(&a.parts)?;
     let atlas = &merged.atlas;
     if !atlas.complete() {
@@ -23,10 +25,10 @@ pub fn run(a: MergeArgs) -> Result<()> {
         if !a.allow_missing {
             bail!("merge: {cells} cells are in none of the parts{shards}; add the missing parts, or pass --allow-missing to write them as not computed");
         }
-        eprintln!("warning: {cells} cells are in none of the parts{shards}; they are stored as not computed");
+        crate::out::errln!("warning: {cells} cells are in none of the parts{shards}; they are stored as not computed");
     }
     let info = RunInfo { command: command_line(), run_time_s: merged.run_time_s, shard: None, history: merged.history };
-    store::write(&a.output, atlas, &info, crate::plan::threads(None)?)?;
+    store::write(&output, atlas, &info, crate::plan::threads(None)?)?;
     crate::out::line(&format!("merged {} files into {}", a.parts.len(), a.output.display()))?;
     Ok(())
 }

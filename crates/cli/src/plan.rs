@@ -70,16 +70,22 @@ fn cell_bytes(meta: &Meta) -> u64 {
 impl Plan {
     /// Refuses a plane whose results would not fit in memory.
     fn check_memory(&self) -> Result<()> {
+        self.check_memory_beside(0, "")
+    }
+
+    /// Refuses a plane whose results would not fit in memory beside `held`
+    /// bytes that the caller keeps meanwhile (`what`: which, for the message).
+    pub fn check_memory_beside(&self, held: u64, what: &str) -> Result<()> {
         // Only the lines of this run's shard are held (shards are balanced by
         // cost: about a share each).
         let p = &self.meta.plane;
         let lines = self.shard.map_or(p.lines(), |s| p.lines().div_ceil(s.n)) as u64;
         let cells = lines.saturating_mul(p.line_len() as u64).saturating_mul(self.meta.sweeps.len() as u64);
-        let need = cells.saturating_mul(cell_bytes(&self.meta));
+        let need = cells.saturating_mul(cell_bytes(&self.meta)).saturating_add(held);
         let have = available_memory();
         if need > have / 10 * 8 {
             bail!(
-                "grid: {} cells x {} sweeps need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, more --shard parts, or a smaller --section-cap",
+                "grid: {} cells x {} sweeps{what} need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, more --shard parts, or a smaller --section-cap",
                 lines * p.line_len() as u64,
                 self.meta.sweeps.len(),
                 need as f64 / (1u64 << 30) as f64,
@@ -202,7 +208,16 @@ impl Plan {
             let kept =
                 |e: store::StoreError| anyhow!("{e} (the computed lines are kept: --resume once it can be written)");
             draft.map_err(kept)?.finish(&atlas, &info).map_err(kept)?;
-            j.remove()?;
+            // A journal removed from outside during the run: the file is
+            // complete all the same (exit 0), but a kill would have lost the
+            // lines it should have kept.
+            let path = j.path().to_path_buf();
+            if !j.remove()? {
+                crate::out::errln!(
+                    "warning: {} was removed or replaced during the run (a kill would have lost the computed lines); the output is complete",
+                    path.display()
+                );
+            }
             write_s = clock.elapsed().as_secs_f64();
         }
         Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s })

@@ -361,7 +361,7 @@ impl Progress for Bar {
                 b.set_position(self.position(now));
                 b.set_message(status);
             }
-            None => eprintln!("progress: {status}"),
+            None => crate::out::errln!("progress: {status}"),
         }
     }
 }
@@ -404,7 +404,7 @@ impl Seeds {
                 b.set_position(t.done as u64);
                 b.set_message(status);
             }
-            None => eprintln!("progress: {status}"),
+            None => crate::out::errln!("progress: {status}"),
         }
     }
 

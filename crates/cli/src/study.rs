@@ -1,13 +1,22 @@
 //! `vibroatlas study`: one atlas per value of a parameter, each with its map,
 //! and a contact sheet comparing them.
+//!
+//! The whole study is checked before any atlas is computed, as `atlas` checks
+//! its own: at most [`grid::study::MAX_VALUES`] values, every value's scene and
+//! plane ([`Plan::check`]), and the memory of one atlas at a time beside the
+//! contact sheet's panels ([`Plan::check_memory_beside`]). A finished atlas is
+//! kept only as its panel ([`sheet_panel`]: the drawn sweep's labels, no states
+//! or sections). An output folder the study created is removed when it fails
+//! before its first atlas is written.
 
 use crate::args::{SimArgs, StudyArgs};
 use crate::common::setup;
 use crate::out::outln;
 use crate::plan::{threads, Plan};
 use anyhow::{anyhow, bail, Context, Result};
-use grid::{Along, Axis, Plane, Study, SweepKind};
+use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Study, SweepKind};
 use render::View;
+use std::path::{Path, PathBuf};
 use store::write_atomically;
 
 /// Runs the command.
@@ -26,10 +35,12 @@ pub fn run(a: StudyArgs) -> Result<()> {
             study.parameter
         );
     }
-    std::fs::create_dir_all(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
+    if a.output.exists() && !a.output.is_dir() {
+        bail!("{}: exists and is not a folder; give a folder for the study's files", a.output.display());
+    }
     let threads = threads(a.run.threads)?;
-    // Validate every value before computing any.
-    let plans = study
+    // Validate every value before computing any, and before the folder exists.
+    let mut plans = study
         .values
         .iter()
         .map(|&v| {
@@ -44,29 +55,117 @@ pub fn run(a: StudyArgs) -> Result<()> {
             };
             let s = setup(&sim)?;
             let mut plan = Plan::new(&s, a.run.section_cap, plane.clone(), sweeps.clone(), threads)?;
-            plan.output = Some(a.output.join(format!("{}.h5", study.stem(v))));
             plan.quiet = a.run.quiet;
             plan.check()?;
             Ok((v, plan))
         })
         .collect::<Result<Vec<_>>>()?;
-    let mut panels = Vec::new();
-    for (v, plan) in plans {
-        let (atlas, secs) = plan.execute(&study.stem(v))?;
-        let png = a.output.join(format!("{}.png", study.stem(v)));
-        write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, &[], &page, tmp))?;
-        if !a.run.quiet {
-            outln!(
-                "{}: {} cells in {secs:.1} s -> {}",
-                study.stem(v),
-                plan.meta.plane.cells() * sweeps.len(),
-                png.display()
-            );
-        }
-        panels.push((format!("{} = {v}", study.parameter), atlas));
+    // One atlas at a time, beside every panel of the contact sheet.
+    if let Some((_, plan)) = plans.first() {
+        let held = plans.len() as u64 * panel_bytes(&plan.meta);
+        plan.check_memory_beside(held, &format!(" (and the contact sheet's {} maps)", plans.len()))?;
     }
-    let sheet = a.output.join("contact-sheet.png");
-    write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, &page, tmp))?;
-    outln!("wrote {}", sheet.display());
-    Ok(())
+    let created = create_folder(&a.output)?;
+    let mut written = false;
+    let result = (|| -> Result<()> {
+        for (v, plan) in &mut plans {
+            let out = a.output.join(format!("{}.h5", study.stem(*v)));
+            store::check_output(&out, &[&scene_path, &a.study], false)?;
+            plan.output = Some(store::lock::canonical_output(&out)?);
+        }
+        let mut panels = Vec::new();
+        for (v, plan) in plans {
+            let (atlas, secs) = plan.execute(&study.stem(v))?;
+            written = true;
+            let png = a.output.join(format!("{}.png", study.stem(v)));
+            write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, &[], &page, tmp))?;
+            if !a.run.quiet {
+                outln!(
+                    "{}: {} cells in {secs:.1} s -> {}",
+                    study.stem(v),
+                    plan.meta.plane.cells() * sweeps.len(),
+                    png.display()
+                );
+            }
+            panels.push((format!("{} = {v}", study.parameter), sheet_panel(atlas, sweeps[0])));
+        }
+        let sheet = a.output.join("contact-sheet.png");
+        write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, &page, tmp))?;
+        outln!("wrote {}", sheet.display());
+        Ok(())
+    })();
+    match (result, created) {
+        (Err(e), Some(folder)) if !written => match std::fs::remove_dir_all(&folder) {
+            Ok(()) => Err(anyhow!(
+                "{e:#}; nothing was written: {}, which the study had created, is removed",
+                folder.display()
+            )),
+            Err(_) => Err(e),
+        },
+        (result, _) => result,
+    }
+}
+
+/// Creates the folder `dir` (and its missing parents); returns the outermost
+/// folder it created, if any (to be removed again when nothing is written).
+fn create_folder(dir: &Path) -> Result<Option<PathBuf>> {
+    let missing: Option<PathBuf> = dir
+        .ancestors()
+        .filter(|p| !p.as_os_str().is_empty())
+        .take_while(|p| std::fs::symlink_metadata(p).is_err())
+        .last()
+        .map(Path::to_path_buf);
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    Ok(missing)
+}
+
+/// What the contact sheet needs of a finished atlas: the map of the sweep it
+/// draws, each cell's class and labels; no states, sections or attractors,
+/// and no scene text.
+fn sheet_panel(atlas: Atlas, sweep: SweepKind) -> Atlas {
+    let Atlas { mut meta, maps, .. } = atlas;
+    meta.scene_toml = String::new();
+    meta.sweeps = vec![sweep];
+    let maps = maps
+        .into_iter()
+        .filter(|m| m.sweep == sweep)
+        .map(|m| Map {
+            sweep,
+            cells: m
+                .cells
+                .into_iter()
+                .map(|c| {
+                    c.map(|c| CellData {
+                        final_state: Vec::new(),
+                        period_section: Vec::new(),
+                        impact_sections: Vec::new(),
+                        ..c
+                    })
+                })
+                .collect(),
+        })
+        .collect();
+    Atlas { meta, maps, attractors: None }
+}
+
+/// Bytes a panel of [`sheet_panel`] holds at most for an atlas of `meta`.
+fn panel_bytes(meta: &Meta) -> u64 {
+    let cell = std::mem::size_of::<Option<CellData>>() + meta.masses.len() * std::mem::size_of::<solver::Label>();
+    (meta.plane.cells() * cell) as u64 + 16_384
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_folder_is_created_and_its_outermost_new_parent_named() {
+        let base = std::env::temp_dir().join(format!("vibroatlas-study-folder-{}", std::process::id()));
+        let dir = base.join("a/b");
+        std::fs::create_dir_all(&base).unwrap();
+        assert_eq!(create_folder(&dir).unwrap(), Some(base.join("a")));
+        assert!(dir.is_dir());
+        assert_eq!(create_folder(&dir).unwrap(), None);
+        std::fs::remove_dir_all(&base).unwrap();
+    }
 }

@@ -1,5 +1,6 @@
 //! Parameter studies: one atlas per value of a parameter, around a reference
-//! scene (e.g. the mass ratio μm ∈ {0.05, 0.25, 0.75, 0.95}).
+//! scene (e.g. the mass ratio μm ∈ {0.05, 0.25, 0.75, 0.95}); at most
+//! [`MAX_VALUES`] values, each naming its own file.
 //!
 //! ```toml
 //! scene = "../multi-stop.toml"     # relative to the study file
@@ -42,6 +43,13 @@ pub struct Study {
     pub set: BTreeMap<String, f64>,
 }
 
+/// Most values of a study: one atlas each, and one panel each on the contact
+/// sheet (two panels a row: 100 values draw a sheet about 22 000 pixels tall).
+pub const MAX_VALUES: usize = 100;
+
+/// Longest file-name stem of a value's atlas (`parameter=value`), in bytes.
+const MAX_STEM_BYTES: usize = 128;
+
 fn fresh() -> String {
     "fresh".into()
 }
@@ -58,8 +66,30 @@ impl Study {
         if s.values.is_empty() {
             return Err(GridError::field("values", "give at least one value"));
         }
+        if s.values.len() > MAX_VALUES {
+            return Err(GridError::field(
+                "values",
+                format!(
+                    "at most {MAX_VALUES} values (one atlas and one contact-sheet panel each), got {}; split the study",
+                    s.values.len()
+                ),
+            ));
+        }
         if let Some(v) = s.values.iter().find(|v| !v.is_finite()) {
             return Err(GridError::field("values", format!("not a finite number: {v}")));
+        }
+        for (i, v) in s.values.iter().enumerate() {
+            // Values that name the same file (0.5 and 0.50 are one number).
+            if s.values[..i].iter().any(|w| s.stem(*w) == s.stem(*v)) {
+                return Err(GridError::field("values", format!("{v} is given twice")));
+            }
+            let stem = s.stem(*v);
+            if stem.len() > MAX_STEM_BYTES {
+                return Err(GridError::field(
+                    "values",
+                    format!("{v} makes a file name of {} bytes ({stem}.h5), more than {MAX_STEM_BYTES}", stem.len()),
+                ));
+            }
         }
         if let Some((k, _)) = s.set.iter().find(|(_, v)| !v.is_finite()) {
             return Err(GridError::field(format!("set.{k}"), "not a finite number"));
@@ -90,5 +120,14 @@ mod tests {
             "scene = \"a.toml\"\nparameter = \"mu_m\"\nvalues = [1]\nx = \"\"\ny = \"\"\ncolour = 1\n"
         )
         .is_err());
+        let values = |v: &str| {
+            Study::parse(&format!("scene = \"a.toml\"\nparameter = \"mu_m\"\nvalues = {v}\nx = \"\"\ny = \"\"\n"))
+                .map_err(|e| e.to_string())
+        };
+        let many = format!("[{}]", (0..=MAX_VALUES).map(|i| i.to_string()).collect::<Vec<_>>().join(","));
+        assert!(values(&many).unwrap_err().contains("at most 100 values"));
+        assert!(values("[0.5, 0.50]").unwrap_err().contains("given twice"));
+        assert!(values("[1e300]").unwrap_err().contains("file name"));
+        assert!(values("[0.25, 0.5]").is_ok());
     }
 }

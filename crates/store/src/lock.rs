@@ -16,8 +16,8 @@
 //!
 //! The lock, journal and temporary file of an output are the run's own
 //! regular files: one that exists as anything else (a named pipe, a device, a
-//! socket, a folder, a symbolic link) is refused with one line before it is
-//! opened ([`check_own_file`]); opening a pipe for reading would block forever.
+//! socket, a symbolic link) is refused with one line before it is opened
+//! ([`check_own_file`]); opening a pipe for reading would block forever.
 
 use crate::error::StoreError;
 use std::fs::{File, OpenOptions};
@@ -84,10 +84,12 @@ fn kind_of(t: std::fs::FileType) -> &'static str {
 
 /// Checks that `path`, a file of the run's own (lock, journal, temporary
 /// file; `what` names it), is absent or a regular file, without opening it
-/// (a symbolic link is not followed: refused whatever it names).
+/// (a symbolic link is not followed: refused whatever it names). A folder
+/// passes: opening it to write fails at once, as an output that cannot be
+/// written (whose computed lines the journal keeps).
 pub fn check_own_file(path: &Path, what: &str) -> Result<(), StoreError> {
     match std::fs::symlink_metadata(path) {
-        Ok(m) if m.file_type().is_file() => Ok(()),
+        Ok(m) if m.file_type().is_file() || m.file_type().is_dir() => Ok(()),
         Ok(m) => Err(StoreError::format(
             path,
             format!(
