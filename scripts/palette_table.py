@@ -9,16 +9,19 @@ Needs numpy (Debian's python3-numpy; /usr/bin/python3 has it). Deterministic:
 the same list gives the same table.
 
 Every label of LABELS gets one sRGB colour (8 bits a channel) such that the
-smallest CIEDE2000 difference between any two of them, and between any of
-them and the fixed colours (C, Q, U, 1-0-0), is as large as the optimiser can
-make it, with every colour at least WHITE_GAP from white (the figures'
-background). Among the colours that keep that smallest difference, each
+smallest CIEDE2000 difference between any two of them is as large as the
+optimiser can make it, under hard constraints (FIXED_GAP): every colour is at
+least 20 from C's black (chaotic must never pass for a periodic label: the
+near-blacks #312108 and #423A08 of an earlier table were 11.8 from it and
+looked the same in 6-pixel cells), at least 15 from Q, U, 1-0-0 and white
+(the figures' background), and has CIELAB lightness L* >= L_MIN (no periodic
+label dark enough to read as black). Among the colours that keep that smallest difference, each
 label takes the one nearest (CIEDE2000) to its family's colour (`preferred`,
 the scheme of the module doc), so that families stay recognisable where
 distinctness allows.
 
-The method: candidates are the sRGB grid with 32 levels a channel (those far
-enough from white and from the fixed colours); start from each label's
+The method: candidates are the sRGB grid with 32 levels a channel (those that
+meet the constraints above); start from each label's
 preferred colour; then, for a rising target t, move the labels one at a time
 (the worst placed first) to the candidate nearest their preferred colour among
 those at least t from every other colour, or to the candidate farthest from
@@ -47,7 +50,8 @@ PALETTE_RS = os.path.join(ROOT, "crates", "grid", "src", "palette.rs")
 # Fixed colours (not optimised): chaotic, quasi-periodic, unresolved, no impact.
 FIXED = {"C": (0, 0, 0), "Q": (102, 102, 102), "U": (213, 40, 40), "1-0-0": (184, 184, 184)}
 WHITE_GAP = 15.0  # every colour at least this far from white
-FIXED_GAP = 10.0  # every colour at least this far from the fixed ones
+FIXED_GAP = {"C": 20.0, "Q": 15.0, "U": 15.0, "1-0-0": 15.0}  # ... and this far from each fixed one
+L_MIN = 25.0  # CIELAB lightness of every colour at least this
 
 
 def _fundamentals():
@@ -66,7 +70,7 @@ LABELS = (
     + ["2-S-S"] + [f"2-S-{q}" for q in range(4)] + [f"2-{p}-S" for p in range(4)]
     + ["4-S-0", "5-S-0", "6-S-0", "7-S-0"]
     # Subharmonics frequent in the shipped scenes' reference maps.
-    + ["2-0-2", "2-0-4", "2-0-5", "2-0-6", "2-0-7", "2-1-0", "2-1-3", "2-2-0", "2-2-1", "2-2-2",
+    + ["2-0-2", "2-0-4", "2-0-5", "2-0-6", "2-0-7", "2-0-8", "2-1-0", "2-1-3", "2-2-0", "2-2-1", "2-2-2",
        "2-2-3", "2-2-4", "2-3-0", "2-3-2", "2-4-0", "2-4-2", "2-4-4", "2-4-5", "2-4-6", "2-5-4",
        "2-6-0", "2-6-4", "2-6-6", "2-8-0", "2-8-8"]
     + ["3-0-1", "3-0-4", "3-1-0", "3-1-3", "3-2-0", "3-2-4", "3-3-0", "3-3-4", "3-3-6", "3-4-3",
@@ -172,15 +176,14 @@ def preferred(label):
 
 # --- the optimiser ----------------------------------------------------------
 
-def optimise(labels, levels=32, passes=6, step=0.1, start=6.0):
+def optimise(labels, levels=32, passes=12, step=0.05, start=6.0):
     axis = np.round(np.linspace(0, 255, levels))
     pool = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), -1).reshape(-1, 3)
     lab = srgb_to_lab(pool)
-    fixed = srgb_to_lab(np.array(list(FIXED.values()), float))
-    ok = ciede2000(lab, srgb_to_lab([255, 255, 255])) >= WHITE_GAP
-    to_fixed = np.min([ciede2000(lab, f) for f in fixed], 0)
-    ok &= to_fixed >= FIXED_GAP
-    pool, lab, to_fixed = pool[ok], lab[ok], to_fixed[ok]
+    ok = (ciede2000(lab, srgb_to_lab([255, 255, 255])) >= WHITE_GAP) & (lab[:, 0] >= L_MIN)
+    for name, rgb in FIXED.items():
+        ok &= ciede2000(lab, srgb_to_lab(rgb)) >= FIXED_GAP[name]
+    pool, lab = pool[ok], lab[ok]
     pref = np.array([ciede2000(lab, srgb_to_lab(preferred(l))) for l in labels])  # (K, pool)
     k = len(labels)
     idx = np.argmin(pref, 1)
@@ -189,7 +192,7 @@ def optimise(labels, levels=32, passes=6, step=0.1, start=6.0):
     def pairwise(idx):
         d = ciede2000(lab[idx][:, None], lab[idx][None])
         d[np.arange(k), np.arange(k)] = np.inf
-        return np.minimum(d.min(1), to_fixed[idx])
+        return d.min(1)
 
     best, best_t, t = None, 0.0, start
     while True:
@@ -197,7 +200,7 @@ def optimise(labels, levels=32, passes=6, step=0.1, start=6.0):
         for _ in range(passes):
             for i in np.argsort(pairwise(idx), kind="stable"):
                 others = np.delete(dist, i, 1).min(1)
-                room = np.minimum(others, to_fixed)
+                room = others
                 feasible = room >= t
                 j = int(np.argmin(np.where(feasible, pref[i], np.inf))) if feasible.any() else int(np.argmax(room))
                 idx[i] = j
@@ -218,8 +221,8 @@ def optimise(labels, levels=32, passes=6, step=0.1, start=6.0):
 def rust_table(labels, colours, min_de):
     rows = sorted(zip(labels, colours))
     out = [f"/// The curated colours, sorted by label ({len(rows)} labels; scripts/palette_table.py:",
-           f"/// every two differ by CIEDE2000 dE >= {min_de:.2f}, and each is that far from C, Q, U",
-           f"/// and 1-0-0 and {WHITE_GAP:g} from white).",
+           f"/// every two differ by CIEDE2000 dE >= {min_de:.2f}; each is >= {FIXED_GAP['C']:g} from C, >= {FIXED_GAP['Q']:g} from Q,",
+           f"/// {FIXED_GAP['U']:g} from U, {FIXED_GAP['1-0-0']:g} from 1-0-0 and {WHITE_GAP:g} from white, CIELAB L* >= {L_MIN:g}).",
            f"const TABLE: [(&str, [u8; 3]); {len(rows)}] = ["]
     for l, (r, g, b) in rows:
         out.append(f'    ("{l}", [{r}, {g}, {b}]),')

@@ -1,6 +1,9 @@
 //! Issue 29, item 4 ("colours that stay apart"): among the 20 most frequent
 //! labels of each shipped scene's reference map, for every labelled mass and
-//! both sweeps, any two colours differ by CIEDE2000 ΔE ≥ 10.
+//! both sweeps, any two colours differ by CIEDE2000 ΔE ≥ 10, and every
+//! periodic one is ΔE ≥ 20 from `C`'s black and ≥ 15 from `Q`, `U` and
+//! `1-0-0` (the palette's guarantees: chaos never passes for a dark periodic
+//! label).
 //!
 //! The reference planes (each shows its scene's dynamics; the grids are as
 //! coarse as keeps the top 20 meaningful, for about 40 s on two cores):
@@ -20,6 +23,9 @@
 use crate::util::{json_of, ok, scratch};
 use grid::palette::{colour, delta_e};
 
+/// The least ΔE of a periodic label's colour from each fixed colour.
+const FIXED_GAP: [(&str, f64); 4] = [("C", 20.0), ("Q", 15.0), ("U", 15.0), ("1-0-0", 15.0)];
+
 /// Runs the scene's reference plane (both sweeps), then checks the top 20
 /// labels of each mass and sweep pairwise; prints each map's closest pair.
 fn top_labels_stay_apart(config: &str, x: &str, y: &str) {
@@ -38,6 +44,14 @@ fn top_labels_stay_apart(config: &str, x: &str, y: &str) {
             top.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
             top.truncate(20);
             let mut worst = (f64::INFINITY, "", "");
+            for &(a, _) in top.iter().filter(|(l, _)| !FIXED_GAP.iter().any(|(f, _)| f == l)) {
+                for (f, gap) in FIXED_GAP {
+                    let d = delta_e(colour(a), colour(f));
+                    if d < gap {
+                        failures.push(format!("{config} {name} {mass}: {a} {:?} is ΔE {d:.2} from {f}", colour(a)));
+                    }
+                }
+            }
             for (i, &(a, _)) in top.iter().enumerate() {
                 for &(b, _) in &top[..i] {
                     let d = delta_e(colour(a), colour(b));
