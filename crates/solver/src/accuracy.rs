@@ -72,6 +72,7 @@ pub struct Accuracy {
     /// Impacts at one stop in n periods from which a motion is flagged chattering (6).
     pub(crate) chatter_impacts: usize,
     /// Event budget of one cell; past it the cell is `unresolved` (standard 400 000).
+    /// RK4's steps count against it, a fraction of an event each (`flow::rk4`).
     pub(crate) max_events: usize,
     /// Accelerate slowly contracting transients by Newton's method on the period
     /// map once the impact pattern repeats (standard and fast: on; precise: off,

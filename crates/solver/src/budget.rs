@@ -8,31 +8,44 @@
 //! cell has left, and what it spent is charged, so that the main simulation
 //! and all probes together never handle more than the limit, and the cell's
 //! `periods` and `events` count all of their work.
+//!
+//! The integrator's steps draw on the same limit (issue 30): RK4's steps cost
+//! a fraction of an event each (`flow::rk4`, [`crate::flow::rk4::FULL_STEP_WORK`]
+//! and [`crate::flow::rk4::REFINED_STEP_WORK`]), so that `max_events` bounds
+//! the work of a cell under either integrator. Work is counted in thousandths
+//! of an event ([`EVENT_WORK`]); the exact integrator's steps are free, and its
+//! budget is exactly `max_events` events, as before.
 
 use crate::simulate::Simulator;
+
+/// One event of the budget, in the units work is counted in (thousandths of an event).
+pub(crate) const EVENT_WORK: u64 = 1000;
 
 /// The event limit of a cell and the work its probes have done so far.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Budget {
-    limit: usize,
+    /// The limit, in thousandths of an event.
+    limit: u64,
     /// Forcing periods the probes simulated.
     periods: u64,
     /// Events the probes handled.
     events: usize,
+    /// Work the probes did (their events and steps), in thousandths of an event.
+    work: u64,
 }
 
 impl Budget {
     /// A budget of `limit` events, nothing spent.
     pub(crate) fn new(limit: usize) -> Budget {
-        Budget { limit, periods: 0, events: 0 }
+        Budget { limit: (limit as u64).saturating_mul(EVENT_WORK), periods: 0, events: 0, work: 0 }
     }
 
-    /// Events left once `main`'s and the probes' are taken.
-    fn left(&self, main: &Simulator<'_>) -> usize {
-        self.limit.saturating_sub(main.events() + self.events)
+    /// Work left once `main`'s and the probes' are taken, in thousandths of an event.
+    fn left(&self, main: &Simulator<'_>) -> u64 {
+        self.limit.saturating_sub(main.work().saturating_add(self.work))
     }
 
-    /// Runs `phase` on `probe`, lent the events the cell has left, and charges
+    /// Runs `phase` on `probe`, lent the work the cell has left, and charges
     /// what it spent; `main` is then held to what is left for it.
     pub(crate) fn spend<'s, T>(
         &mut self,
@@ -40,12 +53,13 @@ impl Budget {
         probe: &mut Simulator<'s>,
         phase: impl FnOnce(&mut Simulator<'s>) -> T,
     ) -> T {
-        let (periods, events) = (probe.periods(), probe.events());
-        probe.set_budget(events + self.left(main));
+        let (periods, events, work) = (probe.periods(), probe.events(), probe.work());
+        probe.set_budget(work.saturating_add(self.left(main)));
         let out = phase(probe);
         self.periods += probe.periods() - periods;
         self.events += probe.events() - events;
-        main.set_budget(self.limit.saturating_sub(self.events));
+        self.work = self.work.saturating_add(probe.work() - work);
+        main.set_budget(self.limit.saturating_sub(self.work));
         out
     }
 

@@ -10,6 +10,7 @@
 //! event [`settle`] chooses the next mode.
 
 use crate::accuracy::Accuracy;
+use crate::budget::EVENT_WORK;
 use crate::chatter::ChatterTracker;
 use crate::error::SolverError;
 use crate::flow::exact::Workspace;
@@ -101,7 +102,8 @@ pub struct PeriodRecord {
 /// Why a simulation stopped before its end.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Halt {
-    /// The event budget ran out (runaway chatter, or a too long run).
+    /// The event budget ran out (runaway chatter, a too long run, or RK4's
+    /// steps, which count against it: a creeping event refinement).
     Budget,
     /// An event search made no progress (a degenerate contact).
     Stalled,
@@ -177,6 +179,13 @@ pub struct Simulator<'s> {
     periods: u64,
     /// Events handled so far.
     events: usize,
+    /// What the integrator's steps cost of the budget so far (RK4's; the
+    /// exact flow's are free), in thousandths of an event.
+    step_work: u64,
+    /// The budget: the simulation halts once its events (each
+    /// [`EVENT_WORK`]) and its steps cost more than this, in thousandths of an
+    /// event (`max_events` events unless set by [`Simulator::set_budget`]).
+    budget: u64,
     zero_steps: usize,
     /// Impulses applied while handling the current event.
     applied: Vec<(usize, f64)>,
@@ -201,6 +210,8 @@ impl<'s> Simulator<'s> {
             clock: 0.0,
             periods: 0,
             events: 0,
+            step_work: 0,
+            budget: (acc.max_events as u64).saturating_mul(EVENT_WORK),
             zero_steps: 0,
             applied: Vec::new(),
             buffers: Buffers::default(),
@@ -216,13 +227,20 @@ impl<'s> Simulator<'s> {
         let mut p = self.clone();
         p.periods = 0;
         p.events = 0;
+        p.step_work = 0;
         p
     }
 
-    /// Sets the event budget: the simulation halts once it has handled more
-    /// events than this.
-    pub(crate) fn set_budget(&mut self, budget: usize) {
-        self.acc.max_events = budget;
+    /// Sets the budget, in thousandths of an event: the simulation halts once
+    /// its [`Simulator::work`] is more than this.
+    pub(crate) fn set_budget(&mut self, budget: u64) {
+        self.budget = budget;
+    }
+
+    /// What the simulation has cost of its budget, in thousandths of an event:
+    /// its events and the integrator's steps (RK4's, `flow::rk4`).
+    pub(crate) fn work(&self) -> u64 {
+        (self.events as u64).saturating_mul(EVENT_WORK).saturating_add(self.step_work)
     }
 
     /// The full state `[x; v]`.
@@ -402,16 +420,25 @@ impl<'s> Simulator<'s> {
         while ti < targets.len() {
             let target = targets[ti];
             let phase = self.phase();
+            let allowance = self.budget.saturating_sub(self.work());
             let mode = self.cache.get(sys, self.key)?.ok_or(Halt::Stalled)?;
             let b = &mut self.buffers;
             mode.project_into(&self.y, phase, &mut b.start);
-            let advance =
-                self.method.advance(mode, &b.start, target - self.clock, &self.acc, &mut self.work, &mut b.end);
+            let (advance, cost) = self.method.advance(
+                mode,
+                &b.start,
+                target - self.clock,
+                &self.acc,
+                allowance,
+                &mut self.work,
+                &mut b.end,
+            );
+            self.step_work += cost;
             // The samples inside the segment just flown, before its end.
             let end = match advance {
                 Advance::Horizon => target,
                 Advance::Event { time, .. } => self.clock + time,
-                Advance::Stalled => self.clock,
+                Advance::Stalled | Advance::Budget => self.clock,
             };
             let here = si + inside[si..].partition_point(|&t| t < end);
             let (s, y) = &mut b.sample;
@@ -461,6 +488,7 @@ impl<'s> Simulator<'s> {
                     obs.named_event(self.time(), named, &self.y);
                 }
                 Advance::Stalled => return Err(Halt::Stalled),
+                Advance::Budget => return Err(Halt::Budget),
             }
         }
         Ok(())
@@ -471,7 +499,7 @@ impl<'s> Simulator<'s> {
     fn count_event(&mut self, time: f64) -> Result<(), Halt> {
         self.events += 1;
         self.zero_steps = if time > 0.0 { 0 } else { self.zero_steps + 1 };
-        if self.events > self.acc.max_events {
+        if self.work() > self.budget {
             return Err(Halt::Budget);
         }
         if self.zero_steps > 64 {
@@ -657,7 +685,7 @@ mod tests {
     fn the_budget_halts_the_simulation() {
         let sys = system("multi-stop.toml", &[("omega", 0.33), ("delta", 0.6)]);
         let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &sys.model.initial_state()).unwrap();
-        sim.set_budget(20);
+        sim.set_budget(20 * EVENT_WORK);
         let mut halted = None;
         for _ in 0..10 {
             if let Err(h) = sim.run_period(&[], false, &mut Ignore) {

@@ -7,6 +7,18 @@
 //! below its starting value less the contact tolerance, so that a bounce shorter
 //! than one step is still caught at its landing. The forcing `sin φ`,
 //! `cos φ` is evaluated exactly at each stage, not integrated.
+//!
+//! Every step counts against the cell's event budget (`max_events`, issue 30):
+//! a full step costs [`FULL_STEP_WORK`], a step of the refinement (shorter than
+//! `rk4_step`) [`REFINED_STEP_WORK`] thousandths of an event. A located event
+//! takes about 50 refinement steps (at most ten per decade from `rk4_step` to
+//! `rk4_min_step`), so an RK4 event costs about six events of the budget; a
+//! crossing that vanishes at the finer step (the refinement then creeps on at
+//! `rk4_min_step`) ends the cell `unresolved` with the budget's reason after at
+//! most `10 max_events` such steps, instead of running for hours. The full
+//! steps between events are bounded by the length of the records, as the exact
+//! flow is; their small cost bounds them by the budget too (`1000 max_events`),
+//! whatever `rk4_step`.
 
 use super::{guard_start, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
@@ -15,6 +27,16 @@ use nalgebra::{DMatrix, DVector};
 
 /// Steps allowed in one advance before it is declared stalled.
 const MAX_STEPS: usize = 50_000_000;
+
+/// Cost of a full step (of `rk4_step`, or the shorter last step to the
+/// horizon) against the event budget, in thousandths of an event
+/// ([`crate::budget::EVENT_WORK`]).
+pub const FULL_STEP_WORK: u64 = 1;
+
+/// Cost of a step of the event refinement (shorter than `rk4_step`), in
+/// thousandths of an event: ten steps, about the time one event of the exact
+/// integrator takes, cost one event.
+pub const REFINED_STEP_WORK: u64 = 100;
 
 /// The classic RK4 step of `s' = Â s` with the forcing `(sin φ, cos φ)` set
 /// exactly at each stage's time, on reused buffers (no allocation per step).
@@ -105,24 +127,39 @@ fn thresholds(mode: &Mode, s0: &DVector<f64>, acc: &Accuracy) -> Result<Vec<f64>
     Ok(threshold)
 }
 
-/// Advances `s0` for at most `horizon` in `mode` (see the module doc).
-/// The state where it stops is written to `out` (of the length of `s0`).
-pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out: &mut DVector<f64>) -> Advance {
+/// Advances `s0` for at most `horizon` in `mode` (see the module doc), with
+/// `allowance` thousandths of an event of the cell's budget left: the steps'
+/// cost may reach it but not exceed it. The state where it stops is written to
+/// `out` (of the length of `s0`); returns why it stopped and what its steps cost.
+pub fn advance(
+    mode: &Mode,
+    s0: &DVector<f64>,
+    horizon: f64,
+    acc: &Accuracy,
+    allowance: u64,
+    out: &mut DVector<f64>,
+) -> (Advance, u64) {
     let threshold = match thresholds(mode, s0, acc) {
         Ok(t) => t,
         Err(guard) => {
             out.copy_from(s0);
-            return Advance::Event { guard, time: 0.0 };
+            return (Advance::Event { guard, time: 0.0 }, 0);
         }
     };
     let mut stepper = Stepper::new(&mode.aug, s0);
     let (mut s, mut next) = (s0.clone(), DVector::zeros(s0.len()));
     let mut u = 0.0;
     let mut h = acc.rk4_step;
+    let mut cost = 0;
     for _ in 0..MAX_STEPS {
         let remaining = horizon - u;
         if remaining <= 0.0 {
             break;
+        }
+        cost += if h < acc.rk4_step { REFINED_STEP_WORK } else { FULL_STEP_WORK };
+        if cost > allowance {
+            out.copy_from(&s);
+            return (Advance::Budget, cost);
         }
         let hh = h.min(remaining);
         // The last step lands exactly on the horizon.
@@ -138,7 +175,7 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out
         match crossed {
             Some(gi) if hh <= acc.rk4_min_step => {
                 out.copy_from(&next);
-                return Advance::Event { guard: gi, time: t_next };
+                return (Advance::Event { guard: gi, time: t_next }, cost);
             }
             Some(_) => h = hh / 10.0,
             None => {
@@ -149,8 +186,8 @@ pub fn advance(mode: &Mode, s0: &DVector<f64>, horizon: f64, acc: &Accuracy, out
     }
     if u >= horizon {
         out.copy_from(&s);
-        Advance::Horizon
+        (Advance::Horizon, cost)
     } else {
-        Advance::Stalled
+        (Advance::Stalled, cost)
     }
 }
