@@ -283,6 +283,12 @@ fn journals_locks_and_temporary_files_must_be_regular_files() {
     let m = d.join("m.h5");
     mkfifo(&d.join(".m.partial.h5"));
     refused(&run_within(&["merge", part.to_str().unwrap(), "-o", m.to_str().unwrap()], 60), "not a regular file");
+    // And `curves --into`, which checks that the atlas can be rewritten first.
+    let c = d.join("c.h5");
+    assert!(run_within(&atlas(&SMALL, c.to_str().unwrap(), &["--quiet"]), 120).status.success());
+    mkfifo(&d.join(".c.partial.h5"));
+    refused(&run_within(&["curves", c.to_str().unwrap(), "--into", "--max", "1"], 60), "not a regular file");
+    complete(&c);
 }
 
 /// Item 10: `cell --trace` is as robust as `cell`: where stopping at the

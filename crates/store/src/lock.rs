@@ -284,7 +284,12 @@ pub fn check_writable(path: &Path) -> Result<(), StoreError> {
     let refused = |why: String| StoreError::format(path, why);
     std::fs::OpenOptions::new().write(true).open(path).map_err(|e| refused(format!("cannot be rewritten ({e})")))?;
     let probe = crate::partial_path(path);
-    std::fs::File::create(&probe).map_err(|e| refused(format!("its folder takes no new file ({e})")))?;
+    let mut options = OpenOptions::new();
+    options.write(true).create(true).truncate(true);
+    open_own_file(&probe, "temporary file", &mut options).map_err(|e| match e {
+        StoreError::Io { cause, .. } => refused(format!("its folder takes no new file ({cause})")),
+        other => other,
+    })?;
     std::fs::remove_file(&probe).map_err(|e| StoreError::io(&probe, e))
 }
 
