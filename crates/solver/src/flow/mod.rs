@@ -29,6 +29,9 @@ pub enum Advance {
     },
     /// The step budget of one advance ran out (a stalled event search).
     Stalled,
+    /// The cell's event budget ran out during the advance (RK4's steps count
+    /// against it, [`rk4::FULL_STEP_WORK`], [`rk4::REFINED_STEP_WORK`]).
+    Budget,
 }
 
 /// Which integrator a simulation uses.
@@ -60,22 +63,27 @@ impl Method {
 
     /// Advances `s0` in `mode` for at most `horizon`, stopping at the first
     /// event; the augmented state where it stops is written to `out` (resized to
-    /// the mode's dimension).
+    /// the mode's dimension). `allowance`: what is left of the cell's event
+    /// budget, in thousandths of an event; returns why the advance stopped and
+    /// what it cost of the budget (RK4's steps; the exact flow costs nothing,
+    /// its events are counted by the simulation).
+    #[allow(clippy::too_many_arguments)]
     pub fn advance(
         self,
         mode: &Mode,
         s0: &DVector<f64>,
         horizon: f64,
         acc: &Accuracy,
+        allowance: u64,
         work: &mut exact::Workspace,
         out: &mut DVector<f64>,
-    ) -> Advance {
+    ) -> (Advance, u64) {
         if out.len() != s0.len() {
             *out = DVector::zeros(s0.len());
         }
         match self {
-            Method::Exact => exact::advance(mode, s0, horizon, acc, work, out),
-            Method::Rk4 => rk4::advance(mode, s0, horizon, acc, out),
+            Method::Exact => (exact::advance(mode, s0, horizon, acc, work, out), 0),
+            Method::Rk4 => rk4::advance(mode, s0, horizon, acc, allowance, out),
         }
     }
 }
