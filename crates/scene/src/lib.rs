@@ -38,10 +38,11 @@ mod schema;
 mod symbol;
 
 pub use error::SceneError;
+pub use expr::MAX_EXPRESSION_CHARS;
 pub use model::{Friction, Label, Link, Mass, Model, Side, Stop, StopGeometry};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 
-use expr::{Compiled, Range};
+use expr::{Compiled, Names, Range};
 use schema::{Num, ParamSpec, SceneFile};
 
 /// Compiled values of one `[[stops]]` entry.
@@ -62,6 +63,21 @@ pub const OMEGA_MIN: f64 = 1e-6;
 /// states are held to the solver's own, looser, admissibility.)
 const INITIAL_PENETRATION: f64 = 1e-12;
 
+/// Most masses a scene may have (issue 30). The solver decomposes each mode
+/// (each set of held stops and stuck contacts) into its eigenvectors, at a cost
+/// growing as the fourth power of the masses: measured on 2 shared cores, a
+/// cell's first 20 periods take 0.7 s at 32 masses, 2 to 7 s at 64, 94 s at
+/// 128 and 260 s at 192 (a scene with 300 masses did not finish one cell in
+/// 120 s). Refused when the scene is loaded, with one line naming `masses`.
+pub const MAX_MASSES: usize = 64;
+
+/// Most stops a scene may have: the solver keeps the held stops of a mode in
+/// a 16-bit set, and every combination may become a mode of its own.
+pub const MAX_STOPS: usize = 16;
+
+/// Most friction contacts a scene may have (the solver's stuck set, 8 bits).
+pub const MAX_FRICTION: usize = 8;
+
 /// A parsed and structurally checked scene, ready to be evaluated for any parameters.
 #[derive(Debug, Clone)]
 pub struct Scene {
@@ -76,6 +92,47 @@ pub struct Scene {
     stops: Vec<(StopPlace, Compiled)>,
     friction: Vec<(usize, usize, Compiled, Compiled)>,
     labels: Vec<(usize, Option<usize>, Option<usize>)>,
+    /// Parameters in an order that evaluates each after those it depends on
+    /// (topological, smallest index first); those on or after a circular
+    /// definition are left out.
+    order: Vec<usize>,
+}
+
+/// Refuses a scene with more than `max` entries in `field`, with one line.
+fn at_most(field: &str, what: &str, count: usize, max: usize) -> Result<(), SceneError> {
+    if count > max {
+        return Err(SceneError::field(field, format!("at most {max} {what} are supported, got {count}")));
+    }
+    Ok(())
+}
+
+/// The order in which parameters are evaluated: each after the parameters
+/// its expression depends on, the smallest index first among those ready
+/// (Kahn's algorithm, linear in the parameters and their dependencies).
+/// Parameters on a circular definition, or depending on one, are left out.
+fn evaluation_order(params: &[(Compiled, Option<Range>)]) -> Vec<usize> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let n = params.len();
+    let mut waiting: Vec<usize> = params.iter().map(|(c, _)| c.dependencies().len()).collect();
+    let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (i, (c, _)) in params.iter().enumerate() {
+        for &d in c.dependencies() {
+            dependents[d].push(i);
+        }
+    }
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&i| waiting[i] == 0).map(Reverse).collect();
+    let mut order = Vec::with_capacity(n);
+    while let Some(Reverse(i)) = ready.pop() {
+        order.push(i);
+        for &j in &dependents[i] {
+            waiting[j] -= 1;
+            if waiting[j] == 0 {
+                ready.push(Reverse(j));
+            }
+        }
+    }
+    order
 }
 
 fn index_of(names: &[String], name: &str, field: &str, what: &str) -> Result<usize, SceneError> {
@@ -131,7 +188,11 @@ impl Scene {
     pub fn parse(text: &str) -> Result<Scene, SceneError> {
         let file: SceneFile = toml::from_str(text)
             .map_err(|e| SceneError::Syntax { message: e.to_string().trim().replace('\n', " ") })?;
+        at_most("masses", "masses", file.masses.len(), MAX_MASSES)?;
+        at_most("stops", "stops", file.stops.len(), MAX_STOPS)?;
+        at_most("friction", "friction contacts", file.friction.len(), MAX_FRICTION)?;
         let names: Vec<String> = file.parameters.keys().cloned().collect();
+        let index = Names::new(&names);
         for n in &names {
             expr::valid_parameter_name(n).map_err(|why| SceneError::field(format!("parameters.{n}"), why))?;
         }
@@ -152,10 +213,10 @@ impl Scene {
                         (&r.value, r.range.as_deref().map(|t| Range::parse(t, &field)).transpose()?)
                     }
                 };
-                Ok((Compiled::new(num, &names, &field)?, range))
+                Ok((Compiled::new(num, &index, &field)?, range))
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
-        let c = |n: &Num, f: String| Compiled::new(n, &names, &f);
+        let c = |n: &Num, f: String| Compiled::new(n, &index, &f);
 
         if file.masses.is_empty() {
             return Err(SceneError::field("masses", "a scene needs at least one mass"));
@@ -290,6 +351,7 @@ impl Scene {
         }
         labels.sort_by_key(|l| l.0);
 
+        let order = evaluation_order(&params);
         let scene = Scene {
             source: text.to_string(),
             omega: c(&file.forcing.omega, "forcing.omega".into())?,
@@ -302,6 +364,7 @@ impl Scene {
             friction,
             labels,
             file,
+            order,
         };
         // Evaluate the defaults once so that a broken scene fails at load time.
         scene.evaluate(&[])?;
@@ -389,17 +452,10 @@ impl Scene {
             known[i] = true;
         }
         // Resolve parameters defined by expressions in dependency order.
-        loop {
-            let mut progressed = false;
-            for i in 0..n {
-                if !known[i] && self.params[i].0.dependencies().iter().all(|&d| known[d]) {
-                    values[i] = self.params[i].0.eval(&values, &format!("parameters.{}", self.names[i]))?;
-                    known[i] = true;
-                    progressed = true;
-                }
-            }
-            if !progressed {
-                break;
+        for &i in &self.order {
+            if !known[i] {
+                values[i] = self.params[i].0.eval(&values, &format!("parameters.{}", self.names[i]))?;
+                known[i] = true;
             }
         }
         if let Some(i) = known.iter().position(|k| !k) {
