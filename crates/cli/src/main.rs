@@ -51,7 +51,10 @@ fn main() {
         }
     };
     // Commands whose result is a file: what they print reports it.
-    if matches!(cli.command, args::Command::Atlas(_) | args::Command::Study(_) | args::Command::Merge(_)) {
+    if matches!(
+        cli.command,
+        args::Command::Atlas(_) | args::Command::Study(_) | args::Command::Merge(_) | args::Command::Render(_)
+    ) {
         out::reports_only();
     }
     let result = match cli.command {

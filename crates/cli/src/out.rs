@@ -3,7 +3,7 @@
 //! Standard output carries a command's result (`inspect`, `cell`, …): when
 //! the reader goes away (`| head`) the command ends quietly with exit 0, and a
 //! full disk or any other write error is one error line (exit 2). A command
-//! whose result is a file (`atlas`, `study`, `merge`) calls [`reports_only`]:
+//! whose result is a file (`atlas`, `study`, `merge`, `render`) calls [`reports_only`]:
 //! what it prints is then a report of that file, dropped silently when it
 //! cannot be written, and the exit code is the work's (0 when the file was
 //! written and verified: nothing is lost).

@@ -87,7 +87,7 @@ impl Study {
             if stem.len() > MAX_STEM_BYTES {
                 return Err(GridError::field(
                     "values",
-                    format!("{v} makes a file name of {} bytes ({stem}.h5), more than {MAX_STEM_BYTES}", stem.len()),
+                    format!("{v:e} makes a file name of {} bytes, more than {MAX_STEM_BYTES}", stem.len() + 3),
                 ));
             }
         }
