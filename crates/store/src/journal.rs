@@ -10,7 +10,7 @@
 //!
 //! The journal is a regular file of the run's own: a named pipe, device,
 //! socket or symbolic link at its path is refused with one line, never opened
-//! for reading (see [`crate::check_own_file`]).
+//! for reading (see [`crate::lock::check_own_file`]).
 
 use crate::error::StoreError;
 use grid::{CellData, Line, Meta, SweepKind};
