@@ -13,6 +13,7 @@ mod faults;
 mod faults2;
 mod figures;
 mod friction;
+mod integrity;
 mod limits;
 mod print;
 mod palette;

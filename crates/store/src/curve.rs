@@ -13,6 +13,7 @@ use crate::error::StoreError;
 use crate::layout::attr;
 use crate::layout::curves::*;
 use crate::netcdf;
+use crate::read::utf8;
 use hdf5::types::VarLenUnicode;
 use ndarray::Array1;
 use std::path::Path;
@@ -109,9 +110,10 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     if !path.is_file() {
         return Err(StoreError::format(path, "no such curve file"));
     }
+    crate::read::check_global_heaps(path)?;
     let f = hdf5::File::open(path).map_err(h)?;
     let content =
-        |g: &hdf5::Group| g.attr(CONTENT_ATTR).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
+        |g: &hdf5::Group| g.attr(CONTENT_ATTR).and_then(|a| a.read_scalar::<VarLenUnicode>()).and_then(|v| utf8(&v));
     let holder: hdf5::Group = if content(&f).ok().as_deref() == Some(CONTENT) {
         (*f).clone()
     } else {
@@ -125,27 +127,43 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
             }
         }
     };
+    let ck = crate::read::Checker { path };
     let mut out = Vec::new();
     while let Ok(g) = holder.group(&curve(out.len())) {
-        out.push(read_one(&g).map_err(h)?);
+        out.push(read_one(&ck, &g)?);
     }
     Ok(out)
 }
 
-fn read_one(g: &hdf5::Group) -> hdf5::Result<Curve> {
-    let attr = |name: &str| g.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.to_string());
-    let free: Vec<String> = attr(FREE)?.split(',').map(str::to_string).collect();
+/// One curve's group, its datasets checked before they are used: sizes
+/// against the file ([`crate::read::MAX_EXPANSION`]), the two coordinates of
+/// the points and of the codimension-two points of one length each.
+fn read_one(ck: &crate::read::Checker, g: &hdf5::Group) -> Result<Curve, StoreError> {
+    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
+    let attr = |name: &str| g.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).and_then(|v| utf8(&v));
+    let free: Vec<String> = attr(FREE).map_err(h)?.split(',').map(str::to_string).collect();
     let [a, b] = [free.first().cloned().unwrap_or_default(), free.get(1).cloned().unwrap_or_default()];
-    let read = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<f64>());
+    let read = |name: &str| ck.open(g, name).and_then(|d| Ok((ck.raw::<f64>(&d)?, d.name())));
     let (va, vb) = (read(&a)?, read(&b)?);
     let (ca, cb) = (read(&codim2(&a))?, read(&codim2(&b))?);
-    let kinds: Vec<String> =
-        g.dataset(CODIM2_KIND)?.read_raw::<VarLenUnicode>()?.iter().map(|k| k.to_string()).collect();
+    let kinds_set = ck.open(g, CODIM2_KIND)?;
+    let kinds = ck.raw::<VarLenUnicode>(&kinds_set)?.iter().map(utf8).collect::<hdf5::Result<Vec<_>>>();
+    let kinds = kinds.map_err(|e| ck.bad(&kinds_set.name(), e.to_string()))?;
+    for ((x, y), what) in [((&va, &vb), "points"), ((&ca, &cb), "codimension-two points")] {
+        if x.0.len() != y.0.len() {
+            return Err(ck.bad(&y.1, format!("{} {what}, but {} has {}", y.0.len(), x.1, x.0.len())));
+        }
+    }
+    if kinds.len() != ca.0.len() {
+        return Err(
+            ck.bad(&kinds_set.name(), format!("{} kinds for {} codimension-two points", kinds.len(), ca.0.len()))
+        );
+    }
     Ok(Curve {
-        kind: attr(KIND)?,
+        kind: attr(KIND).map_err(h)?,
         free: [a, b],
-        points: va.into_iter().zip(vb).collect(),
-        codim2: kinds.into_iter().zip(ca).zip(cb).map(|((k, x), y)| (k, x, y)).collect(),
+        points: va.0.into_iter().zip(vb.0).collect(),
+        codim2: kinds.into_iter().zip(ca.0).zip(cb.0).map(|((k, x), y)| (k, x, y)).collect(),
         ended: attr(ENDED).unwrap_or_default(),
     })
 }

@@ -29,6 +29,30 @@ pub enum StoreError {
         /// What does not fit.
         message: String,
     },
+    /// A dataset of a file read is not what the layout and the file's other
+    /// datasets say it must be (its length, an offset, a code), or larger
+    /// than a reader takes: the file is refused before any of it is used.
+    #[error("{path}: {dataset}: {message}")]
+    Dataset {
+        /// File.
+        path: String,
+        /// The dataset, as a path in the file (`up/flags`).
+        dataset: String,
+        /// What is wrong with it (`59 rows, the grid has 60`).
+        message: String,
+    },
+    /// A file just written does not read back as it was written (a chunk that
+    /// fails its checksum or does not inflate, a file cut short under the
+    /// writer, values that differ): it was not renamed into place.
+    #[error("{path}: the file written does not read back as written ({dataset}: {message}); it was not put in place")]
+    Unverified {
+        /// The file that was to be written.
+        path: String,
+        /// The first dataset that failed (`up/class`; `/` for the file).
+        dataset: String,
+        /// How it failed.
+        message: String,
+    },
 }
 
 impl StoreError {
@@ -42,6 +66,15 @@ impl StoreError {
     /// Wraps an I/O error with the file's path.
     pub fn io(path: &std::path::Path, cause: std::io::Error) -> Self {
         StoreError::Io { path: path.display().to_string(), cause }
+    }
+
+    /// A [`StoreError::Dataset`] error: `dataset` of `path` is not as it must be.
+    pub fn dataset(path: &std::path::Path, dataset: &str, message: impl Into<String>) -> Self {
+        StoreError::Dataset {
+            path: path.display().to_string(),
+            dataset: dataset.trim_start_matches('/').to_string(),
+            message: message.into(),
+        }
     }
 
     /// A format error for `path`.

@@ -6,8 +6,9 @@
 use crate::chunked::{deflate, Deflater, CHUNK_BYTES};
 use crate::layout::*;
 use crate::netcdf;
+use crate::verify::bytes_of;
 use grid::{Along, CellData, Meta, Plane};
-use hdf5::{Dataset, Group};
+use hdf5::{Dataset, Group, H5Type};
 
 /// Chunks a run of about this many per plane: the file's part left for the
 /// end of a run is about one chunk per dataset (fewer chunks, more of it;
@@ -143,7 +144,7 @@ impl Field {
     }
 
     /// The dataset's name.
-    fn name(self, m: &Meta) -> String {
+    pub(crate) fn name(self, m: &Meta) -> String {
         match self {
             Field::Npq(k) => label(&m.masses[k]),
             Field::Class => var::CLASS.into(),
@@ -259,35 +260,78 @@ impl Field {
         Ok(d)
     }
 
-    /// Chunk `c` of the dataset for `cells` (a sweep's `ny × nx` cells,
-    /// row-major; `None`: not computed), deflated.
-    pub(crate) fn chunk(self, m: &Meta, chunks: &Chunks, cells: &[Option<CellData>], c: usize) -> Vec<u8> {
+    /// What `to` makes of the dataset's values for `m`: the number of values
+    /// per cell and each value of a cell (`None`: not computed).
+    fn encode<E: Encode>(self, m: &Meta, to: E) -> E::Out {
         match self {
-            Field::Npq(k) => deflate(&chunks.values(cells, c, 3, |e, i| e.map_or(0, |e| npq_code(e.labels[k])[i]))),
-            Field::Class => {
-                deflate(&chunks.values(cells, c, 1, |e, _| e.map_or(NOT_COMPUTED, |e| class_code(e.class))))
-            }
+            Field::Npq(k) => to.values(3, |e, i| e.map_or(0, |e| npq_code(e.labels[k])[i])),
+            Field::Class => to.values(1, |e, _| e.map_or(NOT_COMPUTED, |e| class_code(e.class))),
             Field::Flags => {
                 let word = |e: Option<&CellData>| e.map_or(0u32, |e| flags_code(e.chatter, e.sticking, m.stops.len()));
                 if Field::narrow_flags(m) {
-                    deflate(&chunks.values(cells, c, 1, |e, _| word(e) as u8))
+                    to.values(1, |e, _| word(e) as u8)
                 } else {
-                    deflate(&chunks.values(cells, c, 1, |e, _| word(e)))
+                    to.values(1, |e, _| word(e))
                 }
             }
-            Field::Symmetry => deflate(&chunks.values(cells, c, 1, |e, _| e.map_or(0, |e| symmetry_code(e.symmetry)))),
-            Field::Lyapunov => {
-                deflate(&chunks.values(cells, c, 1, |e, _| e.and_then(|e| e.lyapunov).unwrap_or(f64::NAN)))
-            }
-            Field::Multiplier => {
-                deflate(&chunks.values(cells, c, 1, |e, _| e.and_then(|e| e.multiplier).unwrap_or(f64::NAN)))
-            }
-            Field::FinalState => {
-                deflate(&chunks.values(cells, c, m.dim, |e, k| e.map_or(f64::NAN, |e| e.final_state[k])))
-            }
-            Field::Periods => deflate(&chunks.values(cells, c, 1, |e, _| e.map_or(0, |e| e.periods))),
-            Field::Events => deflate(&chunks.values(cells, c, 1, |e, _| e.map_or(0, |e| e.events))),
+            Field::Symmetry => to.values(1, |e, _| e.map_or(0, |e| symmetry_code(e.symmetry))),
+            Field::Lyapunov => to.values(1, |e, _| e.and_then(|e| e.lyapunov).unwrap_or(f64::NAN)),
+            Field::Multiplier => to.values(1, |e, _| e.and_then(|e| e.multiplier).unwrap_or(f64::NAN)),
+            Field::FinalState => to.values(m.dim, |e, k| e.map_or(f64::NAN, |e| e.final_state[k])),
+            Field::Periods => to.values(1, |e, _| e.map_or(0, |e| e.periods)),
+            Field::Events => to.values(1, |e, _| e.map_or(0, |e| e.events)),
         }
+    }
+
+    /// Chunk `c` of the dataset for `cells` (a sweep's `ny × nx` cells,
+    /// row-major; `None`: not computed), deflated and checksummed.
+    pub(crate) fn chunk(self, m: &Meta, chunks: &Chunks, cells: &[Option<CellData>], c: usize) -> Vec<u8> {
+        self.encode(m, ChunkOf { chunks, cells, c })
+    }
+
+    /// Whether `ds`, read through the library's filters, holds the dataset
+    /// of `cells`, bit for bit.
+    pub(crate) fn compare(self, m: &Meta, ds: &Dataset, cells: &[Option<CellData>]) -> hdf5::Result<bool> {
+        self.encode(m, Compare { ds, cells })
+    }
+}
+
+/// Makes something of a per-cell dataset's values ([`Field::encode`]).
+trait Encode {
+    type Out;
+    /// `per` values to a cell, value `k` of a cell `f(cell, k)`.
+    fn values<T: H5Type + Copy>(self, per: usize, f: impl Fn(Option<&CellData>, usize) -> T) -> Self::Out;
+}
+
+/// One chunk, deflated and checksummed.
+struct ChunkOf<'a> {
+    chunks: &'a Chunks,
+    cells: &'a [Option<CellData>],
+    c: usize,
+}
+
+impl Encode for ChunkOf<'_> {
+    type Out = Vec<u8>;
+    fn values<T: H5Type + Copy>(self, per: usize, f: impl Fn(Option<&CellData>, usize) -> T) -> Vec<u8> {
+        deflate(&self.chunks.values(self.cells, self.c, per, f))
+    }
+}
+
+/// The whole dataset compared with a dataset of the file.
+struct Compare<'a> {
+    ds: &'a Dataset,
+    cells: &'a [Option<CellData>],
+}
+
+impl Encode for Compare<'_> {
+    type Out = hdf5::Result<bool>;
+    fn values<T: H5Type + Copy>(self, per: usize, f: impl Fn(Option<&CellData>, usize) -> T) -> hdf5::Result<bool> {
+        let read = self.ds.read_raw::<T>()?;
+        let mut want = Vec::with_capacity(self.cells.len() * per);
+        for cell in self.cells {
+            want.extend((0..per).map(|k| f(cell.as_ref(), k)));
+        }
+        Ok(bytes_of(&read) == bytes_of(&want))
     }
 }
 
@@ -299,7 +343,7 @@ fn flag_masks(stops: &[String], shift: u32) -> (Vec<u32>, String) {
     (masks, names.join(" "))
 }
 
-/// Writes deflated chunk `c` of a dataset of `chunks` (its first element at
+/// Writes filtered chunk `c` of a dataset of `chunks` (its first element at
 /// the chunk's origin), bypassing the library's filters.
 pub(crate) fn write(ds: &Dataset, chunks: &Chunks, c: usize, bytes: &[u8]) -> hdf5::Result<()> {
     let (iy, ix) = chunks.origin(c);

@@ -15,6 +15,7 @@ pub mod lock;
 pub mod merge;
 mod netcdf;
 pub mod read;
+mod verify;
 pub mod write;
 
 pub use curve::{add_curves, read_curves, write_curves, Curve};

@@ -20,7 +20,13 @@ pub struct Loaded {
 }
 
 fn attr(f: &hdf5::Location, name: &str) -> hdf5::Result<String> {
-    Ok(f.attr(name)?.read_scalar::<VarLenUnicode>()?.to_string())
+    utf8(&f.attr(name)?.read_scalar::<VarLenUnicode>()?)
+}
+
+/// The text of an HDF5 string, refused when it is not UTF-8 (the library
+/// does not check what a file claims to be UTF-8).
+pub(crate) fn utf8(v: &VarLenUnicode) -> hdf5::Result<String> {
+    String::from_utf8(v.as_bytes().to_vec()).map_err(|_| hdf5::Error::from("a text that is not UTF-8"))
 }
 
 fn list(s: &str) -> Vec<String> {
@@ -41,7 +47,216 @@ fn pairs(s: &str) -> Result<Vec<(String, f64)>, String> {
         .collect()
 }
 
-/// Reads an atlas file.
+/// Largest uncompressed size of a dataset per byte it takes in the file:
+/// deflate's own bound (1032) with a margin. A dataset whose values would
+/// take more is refused before it is read: it is not one vibroatlas wrote
+/// (its chunks missing, its shape forged), and reading it would allocate far
+/// more than the file holds.
+pub const MAX_EXPANSION: u64 = 1100;
+
+/// Largest state dimension a reader takes (twice the number of masses).
+pub const MAX_DIM: usize = 4096;
+
+/// Checks the datasets of one file before they are read: their shapes
+/// against the grid and each other, their sizes against the file's own.
+pub(crate) struct Checker<'a> {
+    pub(crate) path: &'a Path,
+}
+
+/// One axis of a dataset's expected shape: its length, what it counts, and
+/// what says so (`rows`, `the grid has`).
+#[derive(Clone, Copy)]
+struct Dim<'a>(usize, &'a str, &'a str);
+
+impl Checker<'_> {
+    pub(crate) fn bad(&self, ds: &str, message: impl Into<String>) -> StoreError {
+        StoreError::dataset(self.path, ds, message)
+    }
+
+    /// Dataset `name` of `g`, its uncompressed size bounded by its bytes in
+    /// the file ([`MAX_EXPANSION`]).
+    pub(crate) fn open(&self, g: &hdf5::Group, name: &str) -> Result<hdf5::Dataset, StoreError> {
+        let ds = g.dataset(name).map_err(|e| StoreError::hdf5(self.path, e))?;
+        let elem = ds.dtype().map_err(|e| StoreError::hdf5(self.path, e))?.size() as u64;
+        let bytes = (ds.size() as u64).saturating_mul(elem);
+        let stored = ds.storage_size();
+        if bytes > stored.saturating_mul(MAX_EXPANSION) {
+            return Err(self.bad(
+                &ds.name(),
+                format!("{bytes} bytes of values stored in {stored} bytes of the file: not a dataset vibroatlas wrote"),
+            ));
+        }
+        Ok(ds)
+    }
+
+    /// [`Checker::open`], then its shape checked against `want` (axis by
+    /// axis when it has as many axes, else by its number of values).
+    fn shaped(&self, g: &hdf5::Group, name: &str, want: &[Dim]) -> Result<hdf5::Dataset, StoreError> {
+        let ds = self.open(g, name)?;
+        let shape = ds.shape();
+        if shape.len() == want.len() {
+            for (&got, &Dim(n, what, says)) in shape.iter().zip(want) {
+                if got != n {
+                    return Err(self.bad(&ds.name(), format!("{got} {what}, {says} {n}")));
+                }
+            }
+        } else {
+            let n = want.iter().fold(1usize, |p, d| p.saturating_mul(d.0));
+            if ds.size() != n {
+                let dims: Vec<String> = want.iter().map(|d| d.0.to_string()).collect();
+                return Err(
+                    self.bad(&ds.name(), format!("{} values, expected {} ({})", ds.size(), n, dims.join(" x ")))
+                );
+            }
+        }
+        Ok(ds)
+    }
+
+    /// Reads `ds` whole (its size checked by [`Checker::open`]).
+    pub(crate) fn raw<T: hdf5::H5Type>(&self, ds: &hdf5::Dataset) -> Result<Vec<T>, StoreError> {
+        ds.read_raw::<T>().map_err(|e| self.bad(&ds.name(), one_line(&e.to_string())))
+    }
+}
+
+/// The library's messages span lines: one line.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Memory available to a reader, bytes (`MemAvailable` of /proc/meminfo;
+/// 4 GiB where it cannot be read).
+fn available_memory() -> u64 {
+    std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("MemAvailable:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|kb| kb.parse::<u64>().ok())
+        })
+        .map_or(4 << 30, |kb| kb.saturating_mul(1024))
+}
+
+/// One ragged section of a sweep, checked: `values [points, cols]` and
+/// `offsets [cells + 1]`.
+struct Section {
+    values: hdf5::Dataset,
+    offsets: hdf5::Dataset,
+    points: usize,
+    cols: usize,
+}
+
+/// The datasets of one sweep, opened and checked against the grid before
+/// any is read.
+struct SweepSets {
+    class: hdf5::Dataset,
+    symmetry: hdf5::Dataset,
+    flags: hdf5::Dataset,
+    final_state: hdf5::Dataset,
+    lyapunov: Option<hdf5::Dataset>,
+    multiplier: Option<hdf5::Dataset>,
+    periods: hdf5::Dataset,
+    events: hdf5::Dataset,
+    labels: Vec<hdf5::Dataset>,
+    period: Section,
+    impacts: Vec<Section>,
+}
+
+impl SweepSets {
+    /// Bytes that reading the sweep takes at most: its datasets as read and
+    /// the cells made of them.
+    fn bytes(&self, n: usize, dim: usize, masses: usize) -> u64 {
+        let n = n as u64;
+        let dim = dim as u64;
+        let read = n * (1 + 1 + 4 + 8 + 8 + 8 + 8 + 6 * masses as u64) + n * dim * 8;
+        let cells = n
+            * (std::mem::size_of::<Option<CellData>>() as u64
+                + masses as u64 * std::mem::size_of::<solver::Label>() as u64
+                + dim * 8);
+        let sections: u64 = std::iter::once(&self.period)
+            .chain(&self.impacts)
+            .map(|s| {
+                // Values and offsets as read, then each point as a row of its cell.
+                let points = s.points as u64;
+                points * s.cols as u64 * 16 + points * 24 + (n + 1) * 8 + n * 24
+            })
+            .sum();
+        read.saturating_add(cells).saturating_add(sections)
+    }
+}
+
+/// Refuses a file with a corrupt global heap collection (`GCOL`, where HDF5
+/// keeps variable-length strings: attributes, label tables) before the
+/// library reads it: HDF5 1.10 loops forever on a collection whose object
+/// sizes do not add up (an object of size 0; h5py hangs alike). Every
+/// collection in the file is walked as the library walks it: each object
+/// must take a positive number of bytes within the collection.
+pub(crate) fn check_global_heaps(path: &Path) -> Result<(), StoreError> {
+    use std::io::Read;
+    use std::os::unix::fs::FileExt;
+    const SIGNATURE: &[u8; 4] = b"GCOL";
+    let io = |e| StoreError::io(path, e);
+    let mut file = std::fs::File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    let mut block = vec![0u8; 8 << 20];
+    // Bytes of the block before that carry over (a signature across blocks).
+    let mut kept = 0usize;
+    let mut start = 0u64;
+    loop {
+        let n = file.read(&mut block[kept..]).map_err(io)?;
+        if n == 0 {
+            break;
+        }
+        let have = kept + n;
+        for at in block[..have].windows(4).enumerate().filter(|(_, w)| w == SIGNATURE).map(|(i, _)| i) {
+            let offset = start + at as u64;
+            let mut head = [0u8; 16];
+            if file.read_at(&mut head, offset).map_err(io)? < 16 || head[4] != 1 {
+                continue;
+            }
+            let size = u64::from_le_bytes(head[8..16].try_into().expect("8 bytes"));
+            // Not a collection (4096 bytes at least, within the file): data.
+            if size < 4096 || size > len - offset {
+                continue;
+            }
+            let mut heap = vec![0u8; size as usize];
+            file.read_exact_at(&mut heap, offset).map_err(io)?;
+            let mut p = 16u64;
+            while p < size {
+                if p + 16 > size {
+                    break;
+                }
+                let at = p as usize;
+                let index = u16::from_le_bytes([heap[at], heap[at + 1]]);
+                let object = u64::from_le_bytes(heap[at + 8..at + 16].try_into().expect("8 bytes"));
+                let need =
+                    if index > 0 { object.checked_add(7).and_then(|o| (o & !7).checked_add(16)) } else { Some(object) };
+                match need {
+                    Some(need) if need > 0 && need <= size - p => p += need,
+                    _ => {
+                        return Err(StoreError::format(
+                            path,
+                            format!("the global heap at byte {offset} is corrupt (object {index} at byte {p} of it): the file is damaged"),
+                        ))
+                    }
+                }
+            }
+        }
+        // Keep the last 3 bytes: a signature may begin there.
+        let carry = have.min(3);
+        block.copy_within(have - carry..have, 0);
+        start += (have - carry) as u64;
+        kept = carry;
+    }
+    Ok(())
+}
+
+/// Reads an atlas file. Every dataset is checked before it is used: its
+/// shape against the grid and the other datasets, its size against the
+/// file's (see [`MAX_EXPANSION`]), the sections' offsets against their
+/// values; the whole against the memory available. A bad file is one
+/// [`StoreError::Dataset`] naming the dataset (`up/flags: 59 rows, the grid
+/// has 60`).
 pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     let fmt = |m: String| StoreError::format(path, m);
     let h = |e: hdf5::Error| StoreError::hdf5(path, e);
@@ -51,6 +266,8 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     if !path.is_file() {
         return Err(fmt("not a file (an atlas is one HDF5 file)".into()));
     }
+    let ck = Checker { path };
+    check_global_heaps(path)?;
     let f = hdf5::File::open(path).map_err(h)?;
     if attr(&f, attr::SOFTWARE).map_err(h)? != SOFTWARE {
         return Err(fmt("not a vibroatlas file".into()));
@@ -63,14 +280,22 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         };
         return Err(fmt(format!("not an atlas{what}")));
     }
+    let axes = f.group(AXES).map_err(h)?;
     let axis = |name: &str| -> Result<Axis, StoreError> {
-        let d = f.dataset(&format!("{AXES}/{name}")).map_err(h)?;
-        Ok(Axis {
-            name: name.to_string(),
-            start: d.attr(attr::START).and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
-            stop: d.attr(attr::STOP).and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
-            count: d.size(),
-        })
+        let d = ck.open(&axes, name)?;
+        let at = format!("{AXES}/{name}");
+        let count = d.size();
+        if count == 0 || count > grid::axis::MAX_COUNT {
+            return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::axis::MAX_COUNT)));
+        }
+        let end = |which: &str| -> Result<f64, StoreError> {
+            let v = d.attr(which).and_then(|a| a.read_scalar::<f64>()).map_err(h)?;
+            if !v.is_finite() {
+                return Err(ck.bad(&at, format!("attribute {which} is {v}, not a finite number")));
+            }
+            Ok(v)
+        };
+        Ok(Axis { name: name.to_string(), start: end(attr::START)?, stop: end(attr::STOP)?, count })
     };
     let x = axis(&attr(&f, attr::X).map_err(h)?)?;
     let y = axis(&attr(&f, attr::Y).map_err(h)?)?;
@@ -80,12 +305,19 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
             "layout version {version}, newer than this vibroatlas reads ({LAYOUT_VERSION}); use a newer vibroatlas"
         )));
     }
-    let dim = f.attr(attr::DIM).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
+    let dim = f.attr(attr::DIM).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
+    if dim == 0 || dim % 2 != 0 || dim > MAX_DIM as u64 {
+        return Err(fmt(format!("attribute {}: {dim}; the state dimension is even, 2 to {MAX_DIM}", attr::DIM)));
+    }
+    let dim = dim as usize;
     let along = Along::parse(&attr(&f, attr::ALONG).map_err(h)?).map_err(|e| fmt(e.to_string()))?;
     let sweeps = list(&attr(&f, attr::SWEEPS).map_err(h)?)
         .iter()
         .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
         .collect::<Result<Vec<_>, _>>()?;
+    if let Some(twice) = sweeps.iter().enumerate().find(|(i, s)| sweeps[..*i].contains(s)) {
+        return Err(fmt(format!("attribute {}: sweep {} is listed twice", attr::SWEEPS, twice.1.name())));
+    }
     let masses = list(&attr(&f, attr::MASSES).map_err(h)?);
     // Layout 1 did not name the stops of each label.
     let n_masses = masses.len();
@@ -96,6 +328,30 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
     let scene_toml = attr(&f, attr::SCENE).map_err(h)?;
     let notation = notation(&f, &scene_toml, [&x.name, &y.name]);
+    let stops = list(&attr(&f, attr::STOPS).map_err(h)?);
+    // Layout 1 did not name the scene's masses.
+    let state_masses = match attr(&f, attr::STATE_MASSES) {
+        Ok(s) => list(&s),
+        Err(_) => (1..=dim / 2).map(|i| format!("mass{i}")).collect(),
+    };
+    if state_masses.len() * 2 != dim {
+        return Err(fmt(format!(
+            "attribute {}: {} masses, but the state dimension {} is {dim}",
+            attr::STATE_MASSES,
+            state_masses.len(),
+            attr::DIM
+        )));
+    }
+    let stop_normals = stop_normals(&f, &scene_toml, dim / 2).map_err(fmt)?;
+    if stop_normals.len() != stops.len() || stop_normals.iter().any(|n| n.len() != dim / 2) {
+        return Err(fmt(format!(
+            "attribute {}: {} normals for {} stops of {} masses",
+            attr::STOP_NORMALS,
+            stop_normals.len(),
+            stops.len(),
+            dim / 2
+        )));
+    }
     let meta = Meta {
         scene_name: attr(&f, attr::SCENE_NAME).map_err(h)?,
         scene_toml: scene_toml.clone(),
@@ -107,76 +363,126 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         sweeps,
         masses,
         label_stops,
-        // Layout 1 did not name the scene's masses.
-        state_masses: attr(&f, attr::STATE_MASSES)
-            .map(|s| list(&s))
-            .unwrap_or_else(|_| (1..=dim / 2).map(|i| format!("mass{i}")).collect()),
-        stops: list(&attr(&f, attr::STOPS).map_err(h)?),
-        stop_normals: stop_normals(&f, &scene_toml, dim / 2).map_err(fmt)?,
+        state_masses,
+        stops,
+        stop_normals,
         dim,
         section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
         notation,
     };
-    let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
+    let (nx, ny) = (meta.plane.x.count, meta.plane.y.count);
     let n = nx * ny;
-    let stops = meta.stops.len();
-    let mut maps = Vec::new();
+    let n_stops = meta.stops.len();
+    let (rows, columns) = (Dim(ny, "rows", "the grid has"), Dim(nx, "columns", "the grid has"));
+
+    // Every dataset opened and checked before any is read.
+    let mut sets = Vec::new();
     for &sweep in &meta.sweeps {
         let g = f.group(sweep.name()).map_err(h)?;
-        let raw_u8 = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<u8>()).map_err(h);
-        let raw_u64 = |name: &str| g.dataset(name).and_then(|d| d.read_raw::<u64>()).map_err(h);
-        let class = raw_u8(var::CLASS)?;
-        let sym = raw_u8(var::SYMMETRY)?;
-        let flags = g.dataset(var::FLAGS).and_then(|d| d.read_raw::<u32>()).map_err(h)?;
-        let fs = g.dataset(var::FINAL_STATE).and_then(|d| d.read_raw::<f64>()).map_err(h)?;
+        let plane = |name: &str| ck.shaped(&g, name, &[rows, columns]);
         // Files written before the stability datasets existed have none.
-        let scalar =
-            |name: &str| g.dataset(name).and_then(|d| d.read_raw::<f64>()).unwrap_or_else(|_| vec![f64::NAN; n]);
-        let (lyapunov, multiplier) = (scalar(var::LYAPUNOV), scalar(var::MULTIPLIER));
-        let finite = |v: f64| v.is_finite().then_some(v);
-        let (periods, events) = (raw_u64(var::PERIODS)?, raw_u64(var::EVENTS)?);
-        let labels = meta
-            .masses
-            .iter()
-            .map(|m| g.dataset(&label(m)).and_then(|d| d.read_raw::<u16>()).map_err(h))
-            .collect::<Result<Vec<_>, _>>()?;
-        if class.len() != n || fs.len() != n * dim || labels.iter().any(|l| l.len() != 3 * n) {
-            return Err(fmt(format!("datasets of /{} do not match the {ny} x {nx} grid", sweep.name())));
-        }
-        let section = |name: &str| -> Result<(Vec<f64>, Vec<u64>, usize), StoreError> {
+        let optional = |name: &str| if g.link_exists(name) { plane(name).map(Some) } else { Ok(None) };
+        let section = |name: &str, cols: usize| -> Result<Section, StoreError> {
             let s = g.group(&format!("{SECTIONS}/{name}")).map_err(h)?;
-            let vd = s.dataset(var::VALUES).map_err(h)?;
-            let cols = vd.shape().get(1).copied().unwrap_or(1);
-            Ok((
-                vd.read_raw::<f64>().map_err(h)?,
-                s.dataset(var::OFFSETS).and_then(|d| d.read_raw::<u64>()).map_err(h)?,
-                cols,
-            ))
+            let offsets = ck.shaped(&s, var::OFFSETS, &[Dim(n + 1, "entries", "the grid's cells + 1 are")])?;
+            let values = ck.open(&s, var::VALUES)?;
+            let shape = values.shape();
+            if shape.len() != 2 || shape[1] != cols {
+                return Err(ck.bad(&values.name(), format!("shape {shape:?}, expected [points, {cols}]")));
+            }
+            Ok(Section { points: shape[0], cols, values, offsets })
         };
-        let rows = |sec: &(Vec<f64>, Vec<u64>, usize), i: usize| -> Vec<Vec<f64>> {
+        sets.push(SweepSets {
+            class: plane(var::CLASS)?,
+            symmetry: plane(var::SYMMETRY)?,
+            flags: plane(var::FLAGS)?,
+            final_state: ck.shaped(&g, var::FINAL_STATE, &[rows, columns, Dim(dim, "components", "the state has")])?,
+            lyapunov: optional(var::LYAPUNOV)?,
+            multiplier: optional(var::MULTIPLIER)?,
+            periods: plane(var::PERIODS)?,
+            events: plane(var::EVENTS)?,
+            labels: meta
+                .masses
+                .iter()
+                .map(|m| ck.shaped(&g, &label(m), &[rows, columns, Dim(3, "counts", "n, p, q are")]))
+                .collect::<Result<_, _>>()?,
+            period: section(PERIOD_SECTION, dim)?,
+            impacts: meta.stops.iter().map(|s| section(s, dim + 1)).collect::<Result<_, _>>()?,
+        });
+    }
+    let need: u64 = sets.iter().map(|s| s.bytes(n, dim, meta.masses.len())).fold(0u64, u64::saturating_add);
+    let have = available_memory();
+    if need > have {
+        return Err(fmt(format!(
+            "reading it needs about {:.1} GiB, more than the {:.1} GiB of memory available",
+            need as f64 / (1u64 << 30) as f64,
+            have as f64 / (1u64 << 30) as f64
+        )));
+    }
+
+    let mut maps = Vec::new();
+    for (&sweep, s) in meta.sweeps.iter().zip(&sets) {
+        let class = ck.raw::<u8>(&s.class)?;
+        if let Some(i) = class.iter().position(|&c| class_of(c).is_none() && c != NOT_COMPUTED) {
+            return Err(ck.bad(
+                &s.class.name(),
+                format!("code {} at ({}, {}) is not a class (0 to 3, or {NOT_COMPUTED})", class[i], i / nx, i % nx),
+            ));
+        }
+        let sym = ck.raw::<u8>(&s.symmetry)?;
+        let flags = ck.raw::<u32>(&s.flags)?;
+        let fs = ck.raw::<f64>(&s.final_state)?;
+        let scalar = |d: &Option<hdf5::Dataset>| d.as_ref().map_or_else(|| Ok(vec![f64::NAN; n]), |d| ck.raw::<f64>(d));
+        let (lyapunov, multiplier) = (scalar(&s.lyapunov)?, scalar(&s.multiplier)?);
+        let finite = |v: f64| v.is_finite().then_some(v);
+        let (periods, events) = (ck.raw::<u64>(&s.periods)?, ck.raw::<u64>(&s.events)?);
+        let labels = s.labels.iter().map(|d| ck.raw::<u16>(d)).collect::<Result<Vec<_>, _>>()?;
+        let section = |sec: &Section| -> Result<(Vec<f64>, Vec<usize>, usize), StoreError> {
+            let offsets = ck.raw::<u64>(&sec.offsets)?;
+            let at = sec.offsets.name();
+            if offsets[0] != 0 {
+                return Err(ck.bad(&at, format!("starts at {}, not 0", offsets[0])));
+            }
+            for (i, w) in offsets.windows(2).enumerate() {
+                if w[1] < w[0] {
+                    return Err(ck.bad(&at, format!("entry {} ({}) is below entry {i} ({})", i + 1, w[1], w[0])));
+                }
+                if w[1] > sec.points as u64 {
+                    return Err(
+                        ck.bad(&at, format!("entry {} is {}, beyond the {} points of values", i + 1, w[1], sec.points))
+                    );
+                }
+            }
+            if offsets[n] != sec.points as u64 {
+                return Err(ck.bad(&at, format!("ends at {}, but values has {} points", offsets[n], sec.points)));
+            }
+            let values = ck.raw::<f64>(&sec.values)?;
+            Ok((values, offsets.into_iter().map(|o| o as usize).collect(), sec.cols))
+        };
+        let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> Vec<Vec<f64>> {
             let (v, o, cols) = sec;
-            (o[i] as usize..o[i + 1] as usize).map(|r| v[r * cols..(r + 1) * cols].to_vec()).collect()
+            (o[i]..o[i + 1]).map(|r| v[r * cols..(r + 1) * cols].to_vec()).collect()
         };
-        let period = section(PERIOD_SECTION)?;
-        let impacts = meta.stops.iter().map(|s| section(s)).collect::<Result<Vec<_>, _>>()?;
-        let cells = (0..n)
-            .map(|i| {
-                class_of(class[i]).map(|c| CellData {
-                    class: c,
-                    labels: labels.iter().map(|l| label_of(c, [l[3 * i], l[3 * i + 1], l[3 * i + 2]])).collect(),
-                    chatter: flags_of(flags[i], stops).0,
-                    sticking: flags_of(flags[i], stops).1,
-                    symmetry: symmetry_of(sym[i]),
-                    lyapunov: lyapunov.get(i).copied().and_then(finite),
-                    multiplier: multiplier.get(i).copied().and_then(finite),
-                    final_state: fs[i * dim..(i + 1) * dim].to_vec(),
-                    periods: periods[i],
-                    events: events[i],
-                    period_section: rows(&period, i),
-                    impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
-                })
+        let period = section(&s.period)?;
+        let impacts = s.impacts.iter().map(section).collect::<Result<Vec<_>, _>>()?;
+        let mut cells = Vec::new();
+        cells.try_reserve_exact(n).map_err(|_| fmt(format!("{n} cells do not fit in memory")))?;
+        cells.extend((0..n).map(|i| {
+            class_of(class[i]).map(|c| CellData {
+                class: c,
+                labels: labels.iter().map(|l| label_of(c, [l[3 * i], l[3 * i + 1], l[3 * i + 2]])).collect(),
+                chatter: flags_of(flags[i], n_stops).0,
+                sticking: flags_of(flags[i], n_stops).1,
+                symmetry: symmetry_of(sym[i]),
+                lyapunov: finite(lyapunov[i]),
+                multiplier: finite(multiplier[i]),
+                final_state: fs[i * dim..(i + 1) * dim].to_vec(),
+                periods: periods[i],
+                events: events[i],
+                period_section: rows(&period, i),
+                impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
             })
-            .collect();
+        }));
         maps.push(Map { sweep, cells });
     }
     let shard = match attr(&f, attr::SHARD) {
@@ -184,7 +490,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Err(_) => None,
     };
     let attractors = match f.group(ATTRACTORS) {
-        Ok(g) => Some(read_attractors(&g, n, &meta.masses).map_err(h)?),
+        Ok(g) => Some(read_attractors(&ck, &g, [rows, columns], &meta.masses)?),
         Err(_) => None,
     };
     // Layout 1 had no history: its command is the whole of it.
@@ -206,28 +512,59 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     })
 }
 
-/// The `/attractors` group of `n` cells and the labelled `masses`.
-fn read_attractors(g: &hdf5::Group, n: usize, masses: &[String]) -> hdf5::Result<grid::AttractorMap> {
-    let count = g.dataset(var::COUNT)?.read_raw::<u8>()?;
-    let fraction = g.dataset(var::FRACTION)?.read_raw::<f64>()?;
-    let slots = fraction.len() / n.max(1);
-    let table: Vec<String> = g.dataset(LABEL)?.read_raw::<VarLenUnicode>()?.iter().map(|t| t.to_string()).collect();
-    let codes = masses
-        .iter()
-        .map(|m| g.dataset(&label_code(m)).and_then(|d| d.read_raw::<i16>()))
-        .collect::<hdf5::Result<Vec<_>>>()?;
+/// The `/attractors` group of a plane of `[rows, columns]` and the labelled
+/// `masses`, checked: every dataset on the grid, the same slots for the
+/// fractions and the codes, every count within the slots and every code in
+/// the label table.
+fn read_attractors(
+    ck: &Checker,
+    g: &hdf5::Group,
+    [rows, columns]: [Dim; 2],
+    masses: &[String],
+) -> Result<grid::AttractorMap, StoreError> {
+    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
+    let n = rows.0 * columns.0;
+    let count_set = ck.shaped(g, var::COUNT, &[rows, columns])?;
+    let fraction_set = ck.open(g, var::FRACTION)?;
+    let slots = match fraction_set.shape().as_slice() {
+        [_, _, k] => *k,
+        shape => return Err(ck.bad(&fraction_set.name(), format!("shape {shape:?}, expected [rows, columns, slots]"))),
+    };
+    let slot = Dim(slots, "slots", "fraction has");
+    let fraction_set = ck.shaped(g, var::FRACTION, &[rows, columns, slot])?;
+    let table_set = ck.open(g, LABEL)?;
+    let code_sets =
+        masses.iter().map(|m| ck.shaped(g, &label_code(m), &[rows, columns, slot])).collect::<Result<Vec<_>, _>>()?;
+    let count = ck.raw::<u8>(&count_set)?;
+    let fraction = ck.raw::<f64>(&fraction_set)?;
+    let table = ck.raw::<VarLenUnicode>(&table_set)?.iter().map(utf8).collect::<hdf5::Result<Vec<_>>>();
+    let table = table.map_err(|e| ck.bad(&table_set.name(), e.to_string()))?;
+    let mut codes = Vec::new();
+    for d in &code_sets {
+        let c = ck.raw::<i16>(d)?;
+        if let Some(bad) = c.iter().find(|&&c| c < -1 || c as i64 >= table.len() as i64) {
+            return Err(ck.bad(&d.name(), format!("code {bad} is not in the label table of {} labels", table.len())));
+        }
+        codes.push(c);
+    }
+    if let Some(i) = count.iter().position(|&c| c as usize > slots) {
+        return Err(ck.bad(
+            &count_set.name(),
+            format!("{} attractors at ({}, {}), more than the {slots} slots", count[i], i / columns.0, i % columns.0),
+        ));
+    }
     let text = |c: i16| table.get(c.max(0) as usize).cloned().unwrap_or_default();
     let cells = (0..n)
         .map(|i| {
             (count[i] > 0).then(|| {
-                (0..(count[i] as usize).min(slots))
+                (0..count[i] as usize)
                     .map(|k| (codes.iter().map(|c| text(c[i * slots + k])).collect(), fraction[i * slots + k]))
                     .collect()
             })
         })
         .collect();
-    let samples = g.attr(attr::SAMPLES).and_then(|a| a.read_scalar::<u64>())? as usize;
-    let seed = g.attr(attr::SEED).and_then(|a| a.read_scalar::<u64>())?;
+    let samples = g.attr(attr::SAMPLES).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
+    let seed = g.attr(attr::SEED).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
     Ok(grid::AttractorMap { samples, seed, cells })
 }
 

@@ -94,13 +94,14 @@ impl Draft {
             tmp: partial_path(path),
             file: None,
             meta: meta.clone(),
-            z: Deflater { threads },
+            z: Deflater { threads, ..Default::default() },
             chunks,
             sweeps: Vec::new(),
             committed: false,
         };
         // On failure the draft is dropped, which removes what was created.
-        let (file, datasets) = create_file(&draft.tmp, meta, &chunks).map_err(|e| StoreError::hdf5(path, e))?;
+        let (file, datasets) =
+            create_file(&draft.tmp, meta, &chunks, &draft.z).map_err(|e| StoreError::hdf5(path, e))?;
         draft.file = Some(file);
         draft.sweeps = datasets
             .into_iter()
@@ -137,16 +138,22 @@ impl Draft {
     }
 
     /// Writes the rest of `atlas` (whose set-up must be the draft's) and the
-    /// run's `info`, then renames the file over the target.
+    /// run's `info`, reads the file back ([`crate::verify`]: every dataset
+    /// through the library's filters, compared with what was written), then
+    /// renames it over the target. A file that does not read back as written
+    /// is [`StoreError::Unverified`], and nothing is renamed.
     pub fn finish(mut self, atlas: &Atlas, info: &RunInfo) -> Result<(), StoreError> {
         if atlas.meta != self.meta {
             return Err(StoreError::format(&self.path, "the atlas is not of the set-up the file was created for"));
         }
         let f = self.file.take().expect("an unfinished draft holds its file");
         self.remaining_chunks(atlas).map_err(|e| StoreError::hdf5(&self.path, e))?;
-        fill_file(&f, atlas, info, self.z).map_err(|e| StoreError::hdf5(&self.path, e))?;
-        // Closing the file writes what the library still holds.
+        fill_file(&f, atlas, info, &self.z).map_err(|e| StoreError::hdf5(&self.path, e))?;
+        // Closing the file writes what the library still holds; the datasets
+        // are closed first.
+        self.sweeps.clear();
         drop(f);
+        crate::verify::file(&self.tmp, &self.path, atlas, &self.z.expected)?;
         crate::commit(&self.tmp, &self.path)?;
         self.committed = true;
         Ok(())
@@ -187,7 +194,7 @@ impl Drop for Draft {
 /// its per-cell datasets.
 type Created = (hdf5::File, Vec<Vec<(Field, hdf5::Dataset)>>);
 
-fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks) -> hdf5::Result<Created> {
+fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
     let p = &m.plane;
     let f = hdf5::File::create(path)?;
     attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
@@ -219,14 +226,16 @@ fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks) -> hdf5::Result<Cre
 
     let axes = f.create_group(AXES)?;
     for axis in [&p.x, &p.y] {
-        let d = axes.new_dataset_builder().with_data(&Array1::from(axis.values())).create(axis.name.as_str())?;
+        let values = axis.values();
+        let d = axes.new_dataset_builder().with_data(&Array1::from(values.clone())).create(axis.name.as_str())?;
+        z.expected.numbers(&d, &values);
         attr_num(&d, attr::START, axis.start)?;
         attr_num(&d, attr::STOP, axis.stop)?;
     }
     // Root coordinates, for the root's gridded datasets (hysteresis).
-    Grid::new(&f, m)?;
+    Grid::new(&f, m, z)?;
     let datasets =
-        m.sweeps.iter().map(|s| create_sweep(&f.create_group(s.name())?, m, chunks)).collect::<hdf5::Result<_>>()?;
+        m.sweeps.iter().map(|s| create_sweep(&f.create_group(s.name())?, m, chunks, z)).collect::<hdf5::Result<_>>()?;
     Ok((f, datasets))
 }
 
@@ -237,20 +246,24 @@ fn components(m: &grid::Meta) -> Vec<String> {
 
 /// A sweep's group of [`Draft::create`]: coordinates, dimensions, and its
 /// per-cell datasets, empty (returned, to be filled chunk by chunk).
-fn create_sweep(g: &Group, m: &grid::Meta, chunks: &Chunks) -> hdf5::Result<Vec<(Field, hdf5::Dataset)>> {
-    let grid = Grid::new(g, m)?;
+fn create_sweep(g: &Group, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Vec<(Field, hdf5::Dataset)>> {
+    let grid = Grid::new(g, m, z)?;
     let components = components(m);
-    let npq = netcdf::labels(g, NPQ, &["n".into(), "p".into(), "q".into()], "counts of a label n-p-q")?;
-    let component = netcdf::labels(g, COMPONENT, &components, "state component (position x, velocity v)")?;
+    let labels = |name: &str, values: &[String], long_name: &str| -> hdf5::Result<hdf5::Dataset> {
+        let d = netcdf::labels(g, name, values, long_name)?;
+        z.expected.texts(&d, values);
+        Ok(d)
+    };
+    let npq = labels(NPQ, &["n".into(), "p".into(), "q".into()], "counts of a label n-p-q")?;
+    let component = labels(COMPONENT, &components, "state component (position x, velocity v)")?;
     let mut impact_columns = vec!["phase".to_string()];
     impact_columns.extend(components.iter().cloned());
-    netcdf::labels(
-        g,
+    labels(
         IMPACT_COLUMN,
         &impact_columns,
         "time within the forcing period (t mod T, column 'phase'), then the state before the impact",
     )?;
-    netcdf::labels(g, MASS, &m.masses, "labelled mass")?;
+    labels(MASS, &m.masses, "labelled mass")?;
     netcdf::dimension(g, RGB, 3)?;
     let scales = fields::Scales { y: &grid.y, x: &grid.x, npq: &npq, component: &component };
     Field::all(m).into_iter().map(|field| Ok((field, field.create(g, m, chunks, &scales)?))).collect()
@@ -258,7 +271,7 @@ fn create_sweep(g: &Group, m: &grid::Meta, chunks: &Chunks) -> hdf5::Result<Vec<
 
 /// The results of [`Draft::finish`] but the per-cell datasets, into the file
 /// of [`create_file`].
-fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5::Result<()> {
+fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf5::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
     let (nx, ny) = (p.x.count, p.y.count);
@@ -299,8 +312,10 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5
             let labels: Vec<VarLenUnicode> = entries.iter().map(|(l, _)| netcdf::text(l)).collect();
             let counts: Vec<u64> = entries.iter().map(|&(_, c)| c).collect();
             let d = mg.new_dataset_builder().with_data(&Array1::from(labels)).create("label")?;
+            z.expected.texts(&d, &entries.iter().map(|(l, _)| l.clone()).collect::<Vec<_>>());
             netcdf::dims(&d, &[&entry])?;
-            let d = mg.new_dataset_builder().with_data(&Array1::from(counts)).create(var::COUNT)?;
+            let d = mg.new_dataset_builder().with_data(&Array1::from(counts.clone())).create(var::COUNT)?;
+            z.expected.numbers(&d, &counts);
             netcdf::dims(&d, &[&entry])?;
         }
     }
@@ -309,7 +324,7 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: Deflater) -> hdf5
 
 /// A sweep's results but its per-cell datasets, into its group `g` of
 /// [`create_sweep`]: its label table and codes, lines done and sections.
-fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: Deflater) -> hdf5::Result<()> {
+fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
     let (nx, ny) = (p.x.count, p.y.count);
@@ -327,9 +342,11 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: Deflater) -> hdf5::R
     let index: HashMap<Option<solver::Label>, i16> =
         distinct.iter().map(|l| (*l, position.get(text(l).as_str()).copied().unwrap_or(0))).collect();
     let label_dim = netcdf::labels(g, LABEL, &table, "label n-p-q, or C, Q, U")?;
+    z.expected.texts(&label_dim, &table);
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
     let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| grid::palette::colour(&table[i])[k]);
     let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
+    z.expected.numbers(&d, colours.as_slice().expect("a new array is contiguous"));
     netcdf::dims(&d, &[&label_dim, &g.dataset(RGB)?])?;
     netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
     let codes: Vec<i16> = (0..table.len() as i16).collect();
@@ -373,17 +390,18 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: Deflater) -> hdf5::R
 /// The coexisting attractors of the sampled cells (`/attractors`, see
 /// [`crate::layout`]): their count per cell, and per attractor slot the label
 /// code of each mass and the basin fraction.
-fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap, z: Deflater) -> hdf5::Result<()> {
+fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap, z: &Deflater) -> hdf5::Result<()> {
     let (nx, ny) = (m.plane.x.count, m.plane.y.count);
     let g = f.create_group(ATTRACTORS)?;
     netcdf::attr_num(&g, attr::SAMPLES, a.samples as u64)?;
     netcdf::attr_num(&g, attr::SEED, a.seed)?;
-    let grid = Grid::new(&g, m)?;
+    let grid = Grid::new(&g, m, z)?;
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
     let texts = a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter());
     let table = label_table(texts.cloned());
     let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
+    z.expected.texts(&label_dim, &table);
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
     let cell = |iy: usize, ix: usize| a.cells[iy * nx + ix].as_ref();
     let count = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0u8, |c| c.len().min(255) as u8));
@@ -424,11 +442,13 @@ impl Grid {
     /// The coordinates of `m`'s plane in `g`, each with its parameter's CF
     /// `long_name` (`parameter <name>` when the scene gives none) and
     /// `symbol` ([`grid::Meta::symbol`]).
-    fn new(g: &Group, m: &grid::Meta) -> hdf5::Result<Grid> {
+    fn new(g: &Group, m: &grid::Meta, z: &Deflater) -> hdf5::Result<Grid> {
         let p = &m.plane;
         let axis = |a: &grid::Axis| -> hdf5::Result<hdf5::Dataset> {
             let long_name = m.long_name(&a.name).map_or_else(|| generic_long_name(&a.name), str::to_string);
-            let d = netcdf::coordinate(g, &a.name, &a.values(), &long_name)?;
+            let values = a.values();
+            let d = netcdf::coordinate(g, &a.name, &values, &long_name)?;
+            z.expected.numbers(&d, &values);
             attr_str(&d, attr::SYMBOL, &m.symbol(&a.name))?;
             Ok(d)
         };
@@ -464,7 +484,7 @@ fn label_table(texts: impl Iterator<Item = String>) -> Vec<String> {
 /// One ragged section (CSR): `values [point, column]` and `offsets [cell_edge]`,
 /// cell `i = iy*nx + ix` owning rows `offsets[i]..offsets[i+1]`.
 fn write_section<'a>(
-    z: Deflater,
+    z: &Deflater,
     g: &Group,
     name: &str,
     columns: &hdf5::Dataset,
@@ -486,8 +506,9 @@ fn write_section<'a>(
     let point = netcdf::dimension(&s, POINT, n)?;
     let edge = netcdf::dimension(&s, CELL_EDGE, offsets.len())?;
     // Full-precision states hardly compress (deflate kept 84 % of their
-    // bytes, at 50 MB/s a thread): the values are stored as they are.
-    let d = s.new_dataset_builder().with_data(&a).create(var::VALUES)?;
+    // bytes, at 50 MB/s a thread): the values are stored as they are, in
+    // checksummed chunks.
+    let d = z.stored(&s, var::VALUES, &a)?;
     netcdf::dims(&d, &[&point, columns])?;
     netcdf::describe(&d, long_name, "1")?;
     let d = z.dataset(&s, var::OFFSETS, &Array1::from(offsets))?;
@@ -649,6 +670,39 @@ mod tests {
         assert!(class.iter().all(|&c| c == NOT_COMPUTED));
         let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();
         assert!(state.iter().all(|v| v.is_nan()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A temporary file cut short under its writer does not read back as
+    /// written: finishing it is [`StoreError::Unverified`] naming the first
+    /// dataset that failed, and nothing is put under the final name.
+    #[test]
+    fn a_file_cut_short_under_its_draft_is_not_put_in_place() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-cut-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let x = Axis::parse("omega=0.5:2:70", "--x").unwrap();
+        let y = Axis::parse("delta=0.1:1:40", "--y").unwrap();
+        let m = grid::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
+        let p = m.plane.clone();
+        let mut atlas = Atlas::new(m.clone());
+        for l in 0..p.lines() {
+            let cells = (0..p.line_len()).map(|pos| {
+                let (iy, ix) = p.cell(l, pos);
+                cell(iy * p.x.count + ix)
+            });
+            atlas.insert(grid::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
+        }
+        let out = dir.join("cut.h5");
+        let mut draft = Draft::create(&out, &m, 2).unwrap();
+        for l in 0..p.lines() {
+            draft.keep(&atlas, SweepKind::Up, l).unwrap();
+        }
+        std::fs::OpenOptions::new().write(true).open(partial_path(&out)).unwrap().set_len(100).unwrap();
+        let err = draft.finish(&atlas, &info).unwrap_err();
+        assert!(matches!(err, StoreError::Unverified { .. }), "{err}");
+        assert!(err.to_string().contains("does not read back as written"), "{err}");
+        assert!(!out.exists() && !partial_path(&out).exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
