@@ -9,6 +9,12 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# Tests open HDF5 files in their own process while other tests spawn the
+# binary: a child inherits those descriptors (libhdf5 opens without
+# close-on-exec) and with them HDF5's advisory flock, so a test reopening its
+# file could find it locked by an unrelated child. The outputs' own lock
+# (store::lock) is separate and stays on.
+export HDF5_USE_FILE_LOCKING=FALSE
 cargo test --workspace --release 2>&1 | tee "$tmp/test.log"
 # Lints and docs are part of the tests: no warning passes.
 cargo clippy --workspace --all-targets --release --quiet -- -D warnings

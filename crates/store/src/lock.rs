@@ -398,8 +398,12 @@ mod tests {
         commit(&tmp, &dir.join("b.h5")).unwrap();
         assert!(std::fs::symlink_metadata(dir.join("b.h5")).unwrap().file_type().is_symlink());
         assert_eq!(std::fs::read_to_string(dir.join("sub/k.h5")).unwrap(), "new");
-        // A pipe where the lock goes is refused, never opened.
-        assert!(std::process::Command::new("mkfifo").arg(dir.join(".p.h5.lock")).status().unwrap().success());
+        // A pipe where the lock goes is refused, never opened. Made without a
+        // child process: a fork would inherit the HDF5 files that other tests
+        // of this process hold open, and their locks with them.
+        let fifo = std::ffi::CString::new(dir.join(".p.h5.lock").into_os_string().into_encoded_bytes()).unwrap();
+        // SAFETY: a valid NUL-terminated path; mkfifo only creates a file.
+        assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o600) }, 0);
         let err = OutputLock::acquire(&dir.join("p.h5")).unwrap_err().to_string();
         assert!(err.contains("named pipe"), "{err}");
         assert!(check_own_file(&dir.join("a.h5"), "journal").unwrap_err().to_string().contains("symbolic link"));
