@@ -138,7 +138,7 @@ impl Draft {
     }
 
     /// Writes the rest of `atlas` (whose set-up must be the draft's) and the
-    /// run's `info`, reads the file back ([`crate::verify`]: every dataset
+    /// run's `info`, reads the file back (the store's `verify` module: every dataset
     /// through the library's filters, compared with what was written), then
     /// renames it over the target. A file that does not read back as written
     /// is [`StoreError::Unverified`], and nothing is renamed.
