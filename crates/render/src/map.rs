@@ -249,7 +249,8 @@ fn label_text(label: &str) -> String {
 /// the rest summed per family, or in one row when the families do not fit,
 /// each group hatched so that it is never taken for a listed label.
 fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
-    let entry = |(label, n): &(String, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
+    let entry =
+        |(label, n): &(String, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
     if counts.len() <= room.min(LEGEND_ROWS) {
         return counts.iter().map(entry).collect();
     }
@@ -522,7 +523,8 @@ fn draw_sheet<DB: DrawingBackend>(
         rows
     });
     let (maps, key) = placed.split(&body, canvas);
-    for ((title, atlas), (area, cells)) in panels.iter().zip(layout::grid(&maps, canvas, panels.len(), PANEL_EM).iter().zip(&all))
+    for ((title, atlas), (area, cells)) in
+        panels.iter().zip(layout::grid(&maps, canvas, panels.len(), PANEL_EM).iter().zip(&all))
     {
         draw_cells(area, canvas, &atlas.meta, title, label_paint(cells, mass), &[])?;
     }
