@@ -146,6 +146,9 @@ fn merge_refuses_missing_duplicated_and_foreign_parts() {
     assert!(!out.exists());
     refused(&["merge", &p1, &p2, &p2, "-o", o], "given twice");
     refused(&["merge", &p1, &p2, &foreign, "-o", o], "is not a part of the same run");
+    // Issue 30: a part sampled for attractors and one not (or sampled otherwise).
+    let sampled = part("3/3", &["--attractors", "2"]);
+    refused(&["merge", &p1, &p2, &sampled, "-o", o], "attractors 2 samples per cell, seed 1 against none");
     let with_gap = run(&["merge", &p1, &p2, "--allow-missing", "-o", o]);
     assert!(with_gap.status.success() && out.exists());
     assert!(run(&["merge", &p1, &p2, &p3, "-o", o]).status.success());

@@ -62,6 +62,24 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             let k = part.info.shard.map(|s| s.to_string()).unwrap_or_default();
             return Err(StoreError::format(p, format!("shard {k} is given twice (also {})", other.display())));
         }
+        // Parts sampled for attractors differently (or one not at all) would
+        // merge into a map that covers only some parts' cells.
+        let sampling = |a: &Option<grid::AttractorMap>| a.as_ref().map(|m| (m.samples, m.seed));
+        let (ours, theirs) = (sampling(&atlas.attractors), sampling(&part.atlas.attractors));
+        if ours != theirs {
+            let say = |s: Option<(usize, u64)>| {
+                s.map_or("none".to_string(), |(k, seed)| format!("{k} samples per cell, seed {seed}"))
+            };
+            return Err(StoreError::format(
+                p,
+                format!(
+                    "is not a part of the same run as {}: attractors {} against {}",
+                    first.display(),
+                    say(theirs),
+                    say(ours)
+                ),
+            ));
+        }
         shards.push((part.info.shard, p.clone()));
         for line in part.info.history {
             if !history.contains(&line) {
@@ -69,16 +87,12 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             }
         }
         run_time += part.info.run_time_s;
-        match (&mut atlas.attractors, part.atlas.attractors) {
-            (Some(into), Some(from)) => {
-                for (i, c) in from.cells.into_iter().enumerate() {
-                    if c.is_some() {
-                        into.cells[i] = c;
-                    }
+        if let (Some(into), Some(from)) = (&mut atlas.attractors, part.atlas.attractors) {
+            for (i, c) in from.cells.into_iter().enumerate() {
+                if c.is_some() {
+                    into.cells[i] = c;
                 }
             }
-            (into @ None, Some(from)) => *into = Some(from),
-            _ => {}
         }
         for (into, from) in atlas.maps.iter_mut().zip(part.atlas.maps) {
             for (i, cell) in from.cells.into_iter().enumerate() {
