@@ -45,19 +45,6 @@ pub fn threads(opt: Option<usize>) -> Result<usize> {
     }
 }
 
-/// Memory the machine has available, bytes (from /proc/meminfo, else 4 GiB).
-fn available_memory() -> u64 {
-    std::fs::read_to_string("/proc/meminfo")
-        .ok()
-        .and_then(|t| {
-            t.lines()
-                .find(|l| l.starts_with("MemAvailable:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|kb| kb.parse::<u64>().ok())
-        })
-        .map_or(4 << 30, |kb| kb * 1024)
-}
-
 /// Bytes one stored cell can take at most.
 fn cell_bytes(meta: &Meta) -> u64 {
     let (dim, cap, stops, masses) =
@@ -82,7 +69,7 @@ impl Plan {
         let lines = self.shard.map_or(p.lines(), |s| p.lines().div_ceil(s.n)) as u64;
         let cells = lines.saturating_mul(p.line_len() as u64).saturating_mul(self.meta.sweeps.len() as u64);
         let need = cells.saturating_mul(cell_bytes(&self.meta)).saturating_add(held);
-        let have = available_memory();
+        let have = store::available_memory();
         if need > have / 10 * 8 {
             bail!(
                 "grid: {} cells x {} sweeps{what} need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, more --shard parts, or a smaller --section-cap",

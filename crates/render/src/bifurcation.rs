@@ -163,7 +163,7 @@ fn draw<DB: DrawingBackend>(
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let (x, y) = (&m.plane.x, &m.plane.y);
-    let sym = |name: &str| crate::map::axis_name(m, name);
+    let sym = |name: &str| m.symbol(name);
     let fixed =
         if y.count > 1 { format!(", {} = {}", sym(&y.name), crate::tick(y.value(d.row))) } else { String::new() };
     root.fill(&WHITE).map_err(err)?;

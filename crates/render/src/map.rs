@@ -62,11 +62,6 @@ pub(crate) fn sweep_cells(atlas: &Atlas, sweep: SweepKind) -> Result<&[Option<Ce
         .ok_or_else(|| RenderError::new(format!("the file has no '{}' sweep", sweep.name())))
 }
 
-/// How a parameter is written on an axis: its symbol.
-pub(crate) fn axis_name(meta: &Meta, name: &str) -> String {
-    meta.symbol(name)
-}
-
 /// Geometry of the plane's cells: cell i is centred on its axis values and
 /// spans one grid step in each direction.
 pub(crate) struct CellGrid<'a> {
@@ -109,8 +104,8 @@ impl<'a> CellGrid<'a> {
             caption: (!title.is_empty()).then_some(title),
             x: (x.start - dx / 2.0, x.stop + dx / 2.0),
             y: (y.start - dy / 2.0, y.stop + dy / 2.0),
-            x_desc: &axis_name(meta, &x.name),
-            y_desc: &axis_name(meta, &y.name),
+            x_desc: &meta.symbol(&x.name),
+            y_desc: &meta.symbol(&y.name),
         };
         layout::chart(area, canvas, &axes)
     }

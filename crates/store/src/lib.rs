@@ -23,5 +23,5 @@ pub use error::StoreError;
 pub use journal::{fingerprint, journal_path, Journal, SealedLine, Sealer};
 pub use lock::{check_output, check_writable, commit, lock_path, write_atomically, OutputLock};
 pub use merge::{merge, Merged};
-pub use read::{read, Loaded};
+pub use read::{available_memory, read, Loaded};
 pub use write::{partial_path, write, Draft, RunInfo};

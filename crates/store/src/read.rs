@@ -123,9 +123,10 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-/// Memory available to a reader, bytes (`MemAvailable` of /proc/meminfo;
-/// 4 GiB where it cannot be read).
-fn available_memory() -> u64 {
+/// Memory available to the process, bytes (`MemAvailable` of
+/// /proc/meminfo; 4 GiB where it cannot be read): readers and runs bound
+/// what they allocate by it.
+pub fn available_memory() -> u64 {
     std::fs::read_to_string("/proc/meminfo")
         .ok()
         .and_then(|t| {
