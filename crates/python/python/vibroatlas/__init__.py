@@ -1,0 +1,261 @@
+"""vibroatlas in Python: the engine of the `vibroatlas` CLI (the same Rust code,
+the same numbers) behind functions that return dicts and xarray DataTrees.
+
+    import vibroatlas as va
+    r = va.cell("configs/multi-stop.toml", omega=0.33, delta=0.6)    # like `cell --json`
+    t = va.atlas("configs/multi-stop.toml", x=("omega", 0.1, 3.05, 60), y=("delta", 0.05, 2.0, 40),
+                 sweep="both")                                      # xarray.DataTree, as the file
+    va.plot.map(t["up"], mass="M1")
+
+Every function takes the scene as a path, a TOML text or a dict; extra keyword
+arguments are scene parameters (the CLI's `--set NAME=VALUE`, in the order
+given). Errors are exceptions with the CLI's one-line messages: SceneError (a
+ValueError) for scenes, ValueError for arguments, OSError for files.
+Reference: docs/python.md.
+"""
+import os
+import shutil
+import tempfile
+
+from . import _native
+from ._native import SceneError
+from . import _run
+from ._run import axis as _axis, common as _common, number as _number, params_arg as _params
+from ._run import text as _text, whole as _whole
+
+__all__ = ["cell", "sweep", "atlas", "attractors", "curve", "open", "labels", "plot", "SceneError"]
+
+
+def cell(scene, *, preset=None, integrator=None, accuracy=None, params=None, **parameters):
+    """Simulates one parameter point from the scene's initial state and
+    classifies its steady motion, like `vibroatlas cell SCENE --json`.
+
+    scene: a path, a TOML text or a dict. preset: "fast", "standard" or
+    "precise"; integrator: "exact" or "rk4"; accuracy: {knob: value} (the
+    CLI's `--accuracy`). Extra keywords (and `params`, a dict, for names that
+    clash with these keywords) are scene parameters (`--set`).
+
+    Returns the dict `cell --json` prints: class, n, reason, labels,
+    symmetry, impacts, chatter, sticking, final_state, period_section,
+    max_multiplier, lyapunov, scene, parameters, preset, integrator,
+    periods_simulated, events (and friction_stick in scenes with friction).
+    """
+    options = _common({}, preset, integrator, accuracy)
+    return _run.run(_native.cell, scene, _params(params, parameters), options)
+
+
+def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, preset=None, integrator=None,
+          accuracy=None, progress=True, params=None, **parameters):
+    """Follows one motion along a parameter (each cell from the final state of
+    the one before), like `vibroatlas sweep SCENE --axis ... --json`.
+
+    axis: (name, start, stop, count), run in that order (start > stop sweeps
+    down). direction: "up", "down", "both" (each from the scene's initial
+    state), "down-up" or "up-down" (a hysteresis loop); default: the order of
+    the axis. threads: worker threads; section_cap: section points kept per
+    cell. progress: a tqdm bar on long sweeps (False: never).
+
+    Returns the dict `sweep --json` prints (the points of each leg, in run
+    order, and the hysteresis values).
+    """
+    options = _common({"axis": _axis("axis", axis)}, preset, integrator, accuracy)
+    if direction is not None:
+        options["direction"] = _text("direction", direction)
+    if threads is not None:
+        options["threads"] = _whole("threads", threads)
+    if section_cap is not None:
+        options["section_cap"] = _whole("section_cap", section_cap)
+    return _run.run(_native.sweep, scene, _params(params, parameters), options, progress, unit="cell",
+                    desc="sweep")
+
+
+def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None, attractors=None,
+          attractors_where=None, seed=None, output=None, force=None, preset=None, integrator=None,
+          accuracy=None, progress=True, params=None, **parameters):
+    """Maps a plane of two parameters, like `vibroatlas atlas SCENE --x ... --y
+    ... -o FILE`, and returns it as an xarray.DataTree with the file's groups
+    (/up, /down or /fresh, /hysteresis, /legend, /attractors), variables,
+    coordinates and attributes, loaded into memory.
+
+    x, y: (name, start, stop, count). sweep: "fresh" (default), "up", "down"
+    or "both"; along: "x" (rows, default) or "y" (columns); threads: worker
+    threads (default: all cores); section_cap: raw section points kept per
+    cell (16); attractors: K initial states sampled per cell (the
+    /attractors group), attractors_where: "all" or "hysteresis", seed: their
+    seed. output: also keep the file, written by the Rust writer at that path
+    (force: write into an existing non-regular file); without it the file is
+    written to a temporary folder and deleted once loaded. Either way the
+    tree returned is in memory (no file stays open). progress: a tqdm
+    bar (False: never). Ctrl-C stops the run within about a second and leaves
+    no file, partial or whole, at `output`.
+    """
+    options = _common({"x": _axis("x", x), "y": _axis("y", y)}, preset, integrator, accuracy)
+    for key, value in (("sweep", sweep), ("along", along), ("attractors_where", attractors_where)):
+        if value is not None:
+            options[key] = _text(key, value)
+    for key, value in (("threads", threads), ("section_cap", section_cap), ("attractors", attractors),
+                       ("seed", seed)):
+        if value is not None:
+            options[key] = _whole(key, value)
+    if force is not None:
+        options["force"] = bool(force)
+    tmp = None
+    try:
+        if output is None:
+            tmp = tempfile.mkdtemp(prefix="vibroatlas-")
+            options["output"] = os.path.join(tmp, "atlas.h5")
+        else:
+            options["output"] = os.fspath(output)
+        result = _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
+                          unit="cell", desc="atlas")
+        tree = open(result.get("output", options["output"]))
+        try:
+            tree.load()
+        finally:
+            tree.close()
+        return tree
+    finally:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset=None, integrator=None,
+               accuracy=None, progress=True, params=None, **parameters):
+    """Finds the coexisting attractors of one parameter point from sampled
+    initial states, like `vibroatlas attractors SCENE --json`.
+
+    samples: initial states (64); seed: of the deterministic sampling (1);
+    box: (x, v) half-widths of the box of initial positions and velocities
+    ((2, 2)); threads: worker threads (any count gives the same result).
+
+    Returns the dict `attractors --json` prints: each attractor with its
+    label, class, state and basin fraction.
+    """
+    options = _common({}, preset, integrator, accuracy)
+    if samples is not None:
+        options["samples"] = _whole("samples", samples)
+    if seed is not None:
+        options["seed"] = _whole("seed", seed)
+    if box is not None:
+        try:
+            bx, bv = box
+        except (TypeError, ValueError):
+            raise TypeError(f"box: expected (x, v), got {box!r}") from None
+        options["box"] = (_number("box x", bx), _number("box v", bv))
+    if threads is not None:
+        options["threads"] = _whole("threads", threads)
+    return _run.run(_native.attractors, scene, _params(params, parameters), options, progress,
+                    unit="sample", desc="attractors")
+
+
+def curve(scene, kind, start, free, to, *, steps=None, window=None, n=None, output=None, preset=None,
+          integrator=None, accuracy=None, params=None, **parameters):
+    """Follows a bifurcation in a plane of two parameters, like `vibroatlas
+    curve SCENE --kind ... --json`.
+
+    kind: "pd", "sn", "pf", "ns" or "grazing"; start: {A: value, B: value}
+    (or a sequence of two (name, value) pairs) where the bifurcation is
+    located near A's value; free: (A, B), A located and B stepped; to: the
+    last value of B; steps (20), window (0.05): the search half-width in A;
+    n: the orbit's period (default: the cell's); output: also write the curve
+    file (for `vibroatlas render --curves`).
+
+    Returns the dict `curve --json` prints: the points, the codimension-two
+    points and why the curve ended.
+    """
+    pairs = list(start.items()) if isinstance(start, dict) else list(start)
+    if len(pairs) != 2:
+        raise ValueError(f"start: expected two parameters, e.g. {{'omega': 6.845, 'fk': 0.01}}, got {start!r}")
+    if not all(isinstance(p, (tuple, list)) and len(p) == 2 for p in pairs):
+        raise TypeError(f"start: expected two (name, value) pairs, got {start!r}")
+    options = {"kind": _text("kind", kind),
+               "start": [(_text("start name", a), _number(f"start {a}", v)) for a, v in pairs],
+               "to": _number("to", to)}
+    try:
+        fa, fb = free
+    except (TypeError, ValueError):
+        raise TypeError(f"free: expected (A, B), got {free!r}") from None
+    options["free"] = (_text("free", fa), _text("free", fb))
+    options = _common(options, preset, integrator, accuracy)
+    if steps is not None:
+        options["steps"] = _whole("steps", steps)
+    if window is not None:
+        options["window"] = _number("window", window)
+    if n is not None:
+        options["n"] = _whole("n", n)
+    if output is not None:
+        options["output"] = os.fspath(output)
+    return _run.run(_native.curve, scene, _params(params, parameters), options)
+
+
+def open(path, **kwargs):  # noqa: A001 (va.open, as the issue names it)
+    """Opens a vibroatlas file (atlas, sweep or curve) as an xarray.DataTree
+    with xarray's own reader (engine h5netcdf): the groups /up, /down,
+    /fresh, /attractors, /curves... as stored. Lazy: close it (or use `with`)
+    when done, or call .load() to read it all. kwargs go to
+    xarray.open_datatree (e.g. mask_and_scale=False keeps `class` as u8)."""
+    import xarray as xr
+
+    kwargs.setdefault("engine", "h5netcdf")
+    if kwargs["engine"] == "h5netcdf":
+        kwargs.setdefault("phony_dims", "sort")  # as netCDF-C names unnamed dims (none in layout 2)
+    return xr.open_datatree(os.fspath(path), **kwargs)
+
+
+def labels(ds, mass=None):
+    """The label text of one mass, a DataArray of str with the dims and
+    coordinates of `label_code_<mass>` ((y, x) in a sweep group; (y, x,
+    attractor) in /attractors, where an empty slot, code -1, is "").
+
+    ds: a sweep group (a Dataset, or a DataTree node such as t["up"]); mass:
+    a labelled mass ("M1"; default: the first). Decoded through the group's
+    `label` table, else the CF `flag_meanings` of the code variable."""
+    import numpy as np
+    import xarray as xr
+
+    ds = _dataset(ds)
+    mass = mass or _first_mass(ds)
+    name = f"label_code_{mass}"
+    if name not in ds:
+        have = sorted(v[len("label_code_"):] for v in ds.data_vars if str(v).startswith("label_code_"))
+        raise ValueError(f"mass {mass!r}: this group labels {', '.join(have) or 'no mass'}")
+    code = ds[name]
+    table = label_table(ds, code)
+    c = np.asarray(code.values)
+    if c.dtype.kind == "f":  # a masked fill decoded as NaN
+        c = np.where(np.isnan(c), -1, c)
+    c = c.astype(np.int64)
+    out = np.where(c >= 0, table[np.clip(c, 0, len(table) - 1)], "")
+    return xr.DataArray(out, dims=code.dims, coords=code.coords, name=f"label_text_{mass}",
+                        attrs={"long_name": f"{mass} label n-p-q", "mass": mass})
+
+
+def label_table(ds, code=None):
+    """The label table of a group as an array of str (its `label` coordinate,
+    else the code variable's flag_meanings)."""
+    import numpy as np
+
+    if "label" in ds.variables:
+        return np.asarray(ds["label"].values).astype(str)
+    if code is not None and "flag_meanings" in code.attrs:
+        return np.asarray(str(code.attrs["flag_meanings"]).split(" "), dtype=str)
+    raise ValueError("this group has no label table (an older file? see docs/file-format.md, section 12)")
+
+
+def _dataset(ds):
+    """A Dataset from a Dataset or a DataTree node."""
+    import xarray as xr
+
+    return ds.to_dataset() if isinstance(ds, xr.DataTree) else ds
+
+
+def _first_mass(ds):
+    if "mass" in ds.variables and ds["mass"].size:
+        return str(ds["mass"].values.astype(str)[0])
+    for v in ds.data_vars:
+        if str(v).startswith("label_code_"):
+            return str(v)[len("label_code_"):]
+    raise ValueError("this group has no label_code_<mass> variable")
+
+
+from . import plot  # noqa: E402  (va.plot.map, va.plot.hysteresis)

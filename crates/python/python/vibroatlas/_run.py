@@ -1,0 +1,149 @@
+"""Arguments for the native engine, and the loop that runs one of its jobs.
+
+The native module (`vibroatlas._native`, Rust) starts every computation on a
+thread of its own and hands back a Job; this module turns Python arguments
+into the job's (scene, params, options), waits for it in slices of 0.1 s
+(so that Ctrl-C is seen within a slice), draws a tqdm bar for long work, and
+cancels the job on KeyboardInterrupt.
+"""
+import json
+import math
+import numbers
+import os
+import time
+
+from . import _native
+
+#: A bar is shown for work of more than this many units (cells, samples) ...
+BAR_UNITS = 300
+#: ... or that has run longer than this many seconds.
+BAR_SECONDS = 1.0
+#: How long one wait for the job lasts, seconds (the latency of Ctrl-C).
+SLICE = 0.1
+
+
+def scene_arg(scene):
+    """The native scene argument: ("path", p) for a path (str or os.PathLike),
+    ("toml", text) for a str holding a TOML text (one with a newline), ("json",
+    text) for a dict (a parsed scene table)."""
+    if isinstance(scene, dict):
+        try:
+            return ("json", json.dumps(scene, allow_nan=True))
+        except (TypeError, ValueError) as e:
+            raise _native.SceneError(f"scene: the dict cannot be passed as a scene table: {e}") from None
+    if isinstance(scene, os.PathLike):
+        return ("path", os.fspath(scene))
+    if isinstance(scene, str):
+        return ("toml", scene) if "\n" in scene else ("path", scene)
+    if isinstance(scene, bytes):
+        raise TypeError("scene: give a path (str or pathlib.Path), a TOML text (str) or a dict, not bytes")
+    raise TypeError(f"scene: give a path (str or pathlib.Path), a TOML text (str) or a dict, "
+                    f"not {type(scene).__name__}")
+
+
+def number(what, v):
+    """v as a float (ints and numpy scalars too; not bools or strings)."""
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):
+        raise TypeError(f"{what}: expected a number, got {v!r}")
+    return float(v)
+
+
+def whole(what, v, least=None):
+    """v as an int (a whole number; an integral float too)."""
+    if isinstance(v, bool) or not isinstance(v, numbers.Real):
+        raise TypeError(f"{what}: expected a whole number, got {v!r}")
+    if isinstance(v, numbers.Integral):
+        n = int(v)
+    else:
+        f = float(v)
+        if not math.isfinite(f) or f != int(f):
+            raise ValueError(f"{what}: expected a whole number, got {v!r}")
+        n = int(f)
+    if least is not None and n < least:
+        raise ValueError(f"{what}: must be >= {least}, got {n}")
+    return n
+
+
+def text(what, v):
+    if not isinstance(v, str):
+        raise TypeError(f"{what}: expected a str, got {v!r}")
+    return v
+
+
+def axis(what, v):
+    """(name, start, stop, count) of an axis given as a 4-sequence."""
+    try:
+        name, start, stop, count = v
+    except (TypeError, ValueError):
+        raise TypeError(f"{what}: expected (name, start, stop, count), e.g. ('omega', 0.1, 3.05, 60); "
+                        f"got {v!r}") from None
+    return (text(f"{what} name", name), number(f"{what} start", start), number(f"{what} stop", stop),
+            whole(f"{what} count", count))
+
+
+def params_arg(params, extra):
+    """The --set list [(name, float)] in the order given: `params` (a dict, for
+    names that clash with a keyword of the function) then the extra keywords."""
+    out = []
+    for source in (params or {}), extra:
+        for name, v in source.items():
+            out.append((text("parameter name", name), number(f"parameter {name}", v)))
+    return out
+
+
+def common(options, preset, integrator, accuracy):
+    """Adds the simulation options every command takes (only those given)."""
+    if preset is not None:
+        options["preset"] = text("preset", preset)
+    if integrator is not None:
+        options["integrator"] = text("integrator", integrator)
+    if accuracy is not None:
+        if not isinstance(accuracy, dict):
+            raise TypeError(f"accuracy: expected a dict of knob -> value, got {accuracy!r}")
+        options["accuracy"] = {text("accuracy knob", k): number(f"accuracy {k}", v) for k, v in accuracy.items()}
+    return options
+
+
+def run(start, scene, params, options, progress=False, unit="cell", desc=None):
+    """Starts a native job and waits for it; returns its result, the JSON text
+    decoded. With `progress`, a tqdm bar (tqdm.auto: a widget in a notebook)
+    appears once the work is known to be long (more than BAR_UNITS units, or
+    running for more than BAR_SECONDS). Ctrl-C cancels the job, waits for it
+    to end (it removes its partial output) and re-raises KeyboardInterrupt."""
+    job = start(scene_arg(scene), params, options)
+    bar = None
+    t0 = time.monotonic()
+    try:
+        while not job.wait(SLICE):
+            if not progress:
+                continue
+            done, total = job.progress()
+            if bar is None and (total > BAR_UNITS or time.monotonic() - t0 > BAR_SECONDS):
+                from tqdm.auto import tqdm
+                bar = tqdm(total=total or None, unit=unit, desc=desc, dynamic_ncols=True)
+            if bar is not None:
+                if total and bar.total != total:
+                    bar.total = total
+                bar.update(done - bar.n)
+        if bar is not None:
+            done, total = job.progress()
+            if total and bar.total != total:
+                bar.total = total
+            bar.update(done - bar.n)
+    except KeyboardInterrupt:
+        job.cancel()
+        if bar is not None:
+            bar.close()
+            bar = None
+        # wait for the work to stop (it cleans up its partial output); a
+        # second Ctrl-C stops waiting, the job still ends on its own thread
+        try:
+            while not job.wait(SLICE):
+                pass
+        except KeyboardInterrupt:
+            pass
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    return json.loads(job.result())

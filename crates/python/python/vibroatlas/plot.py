@@ -1,0 +1,210 @@
+"""Label maps with matplotlib, in the colours stored in the file.
+
+Every sweep group stores its label table (`label`) and one RGB colour per
+label (`label_colour`, the colours of `vibroatlas render`); these functions
+draw each cell as a rectangle in the colour of its label, with no
+interpolation (a ListedColormap of the labels present and boundaries between
+their codes), so that a figure's pixel inside a cell has exactly that
+label's colour.
+"""
+from collections import Counter
+
+import numpy as np
+
+from . import _dataset, _first_mass, label_table
+
+__all__ = ["map", "hysteresis", "colours"]
+
+
+def _node_name(ds):
+    name = getattr(ds, "name", None)
+    return name if isinstance(name, str) and type(ds).__name__ == "DataTree" else None
+
+
+def edges(v):
+    """Cell edges around centres v (midpoints; a single centre gets a width of
+    10 % of its value), as scripts/plot_atlas.py draws them."""
+    v = np.asarray(v, float)
+    if len(v) == 1:
+        h = 0.05 * abs(v[0]) or 0.5
+        return np.array([v[0] - h, v[0] + h])
+    mid = (v[1:] + v[:-1]) / 2
+    return np.concatenate([[2 * v[0] - mid[0]], mid, [2 * v[-1] - mid[-1]]])
+
+
+def colours(ds):
+    """{label text: (r, g, b)} (0-255) of a sweep group, from `label_colour`."""
+    ds = _dataset(ds)
+    table = label_table(ds)
+    rgb = np.asarray(ds["label_colour"].values).astype(int)
+    return {t: tuple(int(c) for c in rgb[i]) for i, t in enumerate(table)}
+
+
+def axis_label(coord):
+    """`long_name symbol` of an axis coordinate (the symbol alone where the
+    long name is generic), as vibroatlas's figures write it."""
+    name = str(coord.name)
+    sym = str(coord.attrs.get("symbol") or name)
+    long = str(coord.attrs.get("long_name") or "")
+    if long in ("", f"parameter {name}", name, sym):
+        text = sym
+    elif sym in long:
+        text = long
+    else:
+        text = f"{long} {sym}"
+    units = str(coord.attrs.get("units") or "1")
+    return text if units in ("1", "") else f"{text} ({units})"
+
+
+def _grid(ds, mass):
+    """(code [y, x] as ints, x coordinate, y coordinate, table, rgb [label, 3])."""
+    code = ds[f"label_code_{mass}"]
+    if code.ndim != 2:
+        raise ValueError(f"label_code_{mass} has dims {code.dims}: map draws a sweep group's [y, x] plane")
+    ydim, xdim = code.dims
+    c = np.asarray(code.values)
+    if c.dtype.kind == "f":
+        c = np.where(np.isnan(c), -1, c)
+    return (c.astype(np.int64), ds[xdim], ds[ydim], label_table(ds, code),
+            np.asarray(ds["label_colour"].values).astype(float) / 255)
+
+
+def _mesh(ax, xs, ys, codes, rgb):
+    """One rectangle per cell in its label's colour (codes index rgb)."""
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    present = np.unique(codes)
+    index = np.searchsorted(present, codes)
+    cmap = ListedColormap([rgb[k] if k >= 0 else (1.0, 1.0, 1.0) for k in present])
+    norm = BoundaryNorm(np.arange(len(present) + 1) - 0.5, len(present))
+    ex, ey = edges(xs), edges(ys)
+    m = ax.pcolormesh(ex, ey, index, cmap=cmap, norm=norm, shading="flat", antialiased=False, linewidth=0,
+                      rasterized=True)
+    ax.set_xlim(ex[0], ex[-1])
+    ax.set_ylim(ey[0], ey[-1])
+    if len(ys) == 1:
+        ax.set_yticks(ys)
+    return m
+
+
+def _legend_handles(counts, colour, max_entries):
+    """Patches for the most frequent labels, and one for the rest."""
+    from matplotlib.patches import Patch
+
+    items = sorted(counts.items(), key=lambda e: (-e[1], e[0]))
+    handles = [Patch(facecolor=colour[t], edgecolor="0.5", linewidth=0.4, label=f"{t} ({n})")
+               for t, n in items[:max_entries]]
+    rest = items[max_entries:]
+    if rest:
+        handles.append(Patch(facecolor="white", edgecolor="0.5", hatch="///", linewidth=0.4,
+                             label=f"+ {len(rest)} more ({sum(n for _, n in rest)})"))
+    return handles
+
+
+def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12):  # noqa: A001
+    """Draws one mass's label map of a sweep group in the file's colours and
+    returns the Axes.
+
+    ds: a sweep group (t["up"], t["up"].ds or an xarray Dataset opened with
+    group="up"); mass: "M1" (default: the group's first mass); ax: the Axes
+    to draw into (default: a new figure); legend: the most frequent labels
+    (at most max_legend, with their number of cells) beside the map; title:
+    default "<mass>, <sweep> sweep" (a DataTree node knows its sweep)."""
+    import matplotlib.pyplot as plt
+
+    node = _node_name(ds)
+    ds = _dataset(ds)
+    mass = mass or _first_mass(ds)
+    codes, xc, yc, table, rgb = _grid(ds, mass)
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
+    _mesh(ax, xc.values, yc.values, codes, rgb)
+    ax.set_xlabel(axis_label(xc))
+    ax.set_ylabel(axis_label(yc))
+    ax.set_title(title if title is not None else (f"{mass}, {node} sweep" if node else mass))
+    if legend:
+        counts = Counter(table[codes[codes >= 0]].tolist())
+        colour = {t: tuple(rgb[i]) for i, t in enumerate(table)}
+        ax.legend(handles=_legend_handles(counts, colour, max_legend), loc="upper left",
+                  bbox_to_anchor=(1.01, 1.0), borderaxespad=0, fontsize="small", frameon=False,
+                  title=f"{mass} n-p-q (cells)", title_fontsize="small")
+    return ax
+
+
+def hysteresis_mask(tree, masses=None):
+    """The coexisting cells [y, x] as a bool DataArray: the file's root
+    `hysteresis` variable, else (older files) both sweeps periodic and the
+    labels of some labelled mass different."""
+    from . import labels
+
+    up = _dataset(tree["up"])
+    root = tree.to_dataset(inherit=False) if hasattr(tree, "to_dataset") else tree
+    first = _first_mass(up)
+    dims = up[f"label_code_{first}"].dims
+    if "hysteresis" in root:
+        return (root["hysteresis"] == 1).transpose(*dims)
+    down = _dataset(tree["down"])
+    masses = masses or [str(m) for m in up["mass"].values.astype(str)]
+    both = (up["class"] == 0) & (down["class"] == 0)
+    differ = False
+    for m in masses:
+        differ = differ | (labels(up, m) != labels(down, m))
+    return (both & differ).transpose(*dims)
+
+
+def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
+    """The three panels of `vibroatlas render --sweep hysteresis`: the mass's
+    labels in the up sweep | in the down sweep | the cells where two motions
+    coexist (the file's hysteresis mask), each cut along its rising diagonal,
+    the up label's colour above it and the down label's below; other cells
+    white. tree: a DataTree with /up and /down (va.atlas(..., sweep="both"),
+    va.open), or a path. Returns the three Axes (a list); fig: the Figure to
+    draw into (default: a new one)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    if not hasattr(tree, "children"):
+        from . import open as _open
+
+        tree = _open(tree)
+    if not {"up", "down"} <= set(tree.children):
+        raise ValueError(f"hysteresis needs the up and down sweeps (atlas sweep='both'); "
+                         f"this tree has {', '.join(tree.children) or 'no group'}")
+    up, down = _dataset(tree["up"]), _dataset(tree["down"])
+    mass = mass or _first_mass(up)
+    mask = np.asarray(hysteresis_mask(tree).values, bool)
+    cu, xc, yc, tu, ru = _grid(up, mass)
+    cd, _, _, td, rd = _grid(down, mass)
+    if fig is None:
+        fig = plt.figure(figsize=(16, 5.5), layout="constrained")
+    elif legend and fig.get_layout_engine() is None:
+        fig.set_layout_engine("constrained")  # room for the legend outside the panels
+    axes = list(fig.subplots(1, 3, sharex=True, sharey=True))
+    xs, ys = xc.values, yc.values
+    _mesh(axes[0], xs, ys, cu, ru)
+    _mesh(axes[1], xs, ys, cd, rd)
+    ex, ey = edges(xs), edges(ys)
+    iy, ix = np.nonzero(mask)
+    x0, x1, y0, y1 = ex[ix], ex[ix + 1], ey[iy], ey[iy + 1]
+    upper = np.stack([np.stack([x0, y0], -1), np.stack([x0, y1], -1), np.stack([x1, y1], -1)], 1)
+    lower = np.stack([np.stack([x0, y0], -1), np.stack([x1, y0], -1), np.stack([x1, y1], -1)], 1)
+    faces = np.concatenate([ru[cu[iy, ix]], rd[cd[iy, ix]]]) if len(iy) else np.zeros((0, 3))
+    axes[2].add_collection(PolyCollection(np.concatenate([upper, lower]) if len(iy) else [],
+                                          facecolors=faces, edgecolors="none", linewidths=0,
+                                          antialiased=False, rasterized=True))
+    axes[2].set_xlim(ex[0], ex[-1])
+    axes[2].set_ylim(ey[0], ey[-1])
+    names = [f"{mass}, up sweep", f"{mass}, down sweep", f"coexisting motions: {int(mask.sum())} cells"]
+    for i, (a, name) in enumerate(zip(axes, names)):
+        a.set_title(name)
+        a.set_xlabel(axis_label(xc))
+        if i == 0:
+            a.set_ylabel(axis_label(yc))
+    if legend:
+        counts = Counter(tu[cu[cu >= 0]].tolist()) + Counter(td[cd[cd >= 0]].tolist())
+        colour = {t: tuple(ru[i]) for i, t in enumerate(tu)}
+        colour.update({t: tuple(rd[i]) for i, t in enumerate(td)})
+        fig.legend(handles=_legend_handles(counts, colour, max_legend), loc="outside right upper",
+                   fontsize="small", frameon=False, title=f"{mass} n-p-q (cells, up + down)",
+                   title_fontsize="small")
+    return axes
