@@ -4,10 +4,9 @@
 //! RK4 against the `precise` reference (in rounds of every setting, best kept).
 
 use crate::args::BenchArgs;
-use crate::common::Setup;
 use crate::out::outln;
-use crate::plan::Plan;
 use anyhow::{anyhow, bail, Context, Result};
+use engine::{Executed, Plan, Quiet, Setup};
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
 use serde_json::{json, Value};
@@ -115,7 +114,7 @@ struct Serial {
 
 /// Measures [`Serial`] on `m` (a run with an output file), re-sealing and
 /// re-appending its lines one by one into a journal beside `out`.
-fn serial_costs(m: &crate::plan::Executed, out: &std::path::Path, probe: f64, threads: usize) -> Result<Serial> {
+fn serial_costs(m: &Executed, out: &std::path::Path, probe: f64, threads: usize) -> Result<Serial> {
     let p = &m.atlas.meta.plane;
     let lines: Vec<grid::Line> = m
         .atlas
@@ -176,7 +175,7 @@ fn serial_costs(m: &crate::plan::Executed, out: &std::path::Path, probe: f64, th
 /// time on `P`.
 fn replay(
     sweep: &str,
-    m: &crate::plan::Executed,
+    m: &Executed,
     threads: usize,
     estimate: &[f64],
     c: Serial,
@@ -251,7 +250,7 @@ fn measured_run(
     sweeps: &[SweepKind],
     threads: usize,
     sync_ms: Option<f64>,
-) -> Result<(crate::plan::Executed, Serial, Vec<f64>)> {
+) -> Result<(Executed, Serial, Vec<f64>)> {
     let dir = std::env::temp_dir().join(format!("vibroatlas-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
     let out = dir.join("replay.h5");
@@ -264,12 +263,11 @@ fn measured_run(
         method: Method::Exact,
     };
     let mut plan = Plan::new(&s, 16, plane.clone(), sweeps.to_vec(), threads)?;
-    plan.quiet = true;
     plan.output = Some(out.clone());
     let clock = std::time::Instant::now();
     plan.check()?;
     let probe = clock.elapsed().as_secs_f64();
-    let m = plan.execute_measured("bench")?;
+    let m = plan.execute(&Quiet)?;
     let mut serial = serial_costs(&m, &out, probe, threads)?;
     if let Some(ms) = sync_ms {
         serial.append = ms / 1000.0;
@@ -295,10 +293,9 @@ fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Settin
         preset: setting.preset,
         method: setting.method,
     };
-    let mut plan = Plan::new(&s, 0, plane.clone(), sweeps.to_vec(), threads)?;
-    plan.quiet = true;
-    let (atlas, secs) = plan.execute("bench")?;
-    Ok(Measured { atlas, secs })
+    let plan = Plan::new(&s, 0, plane.clone(), sweeps.to_vec(), threads)?;
+    let m = plan.execute(&Quiet)?;
+    Ok(Measured { atlas: m.atlas, secs: m.secs })
 }
 
 /// Keeps in `best` the faster of it and `m`, once `m`'s atlas is checked to

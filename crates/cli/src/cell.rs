@@ -1,11 +1,11 @@
 //! `vibroatlas cell`: simulate one cell and print its classification.
 
 use crate::args::CellArgs;
-use crate::common::{labels_json, setup_from};
+use crate::common::{sim, start};
 use crate::out::{errln, outln, outp};
 use anyhow::{anyhow, Result};
-use serde_json::{json, Map, Value};
-use solver::{run_cell_with_sections, CellResult, Mask, Simulator, System};
+use engine::{friction_names, Setup};
+use solver::{CellResult, Simulator, System};
 use std::fmt::Write as _;
 use store::write_atomically;
 
@@ -18,22 +18,14 @@ pub const MAX_TRACE_ROWS: usize = 10_000_000;
 /// Runs the command.
 pub fn run(a: CellArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
-    let (s, origin) = setup_from(&a.sim, &a.start)?;
     if a.trace_samples == 0 || a.trace_samples > MAX_TRACE_SAMPLES {
         return Err(anyhow!("--trace-samples: expected 1 to {MAX_TRACE_SAMPLES}, got {}", a.trace_samples));
     }
-    let model = s.scene.evaluate(&s.overrides)?;
-    let sys = System::new(model)?;
-    // From a stored cell: the state that cell started from, so that the same
-    // simulation runs again (its result equals the stored one bit for bit).
-    let y0 = match &origin {
-        Some(o) if a.start.from.is_some() => grid::start_state(&sys, o.cell_start.as_deref()),
-        Some(o) => o.state.clone(),
-        None => sys.model.initial_state(),
-    };
-    // With the stored run's section cap, whose re-simulation its work counts.
-    let cap = origin.as_ref().filter(|_| a.start.from.is_some()).and_then(|o| o.section_cap).unwrap_or(0);
-    let cell = run_cell_with_sections(&sys, &s.accuracy, s.method, &y0, cap).0;
+    let c = engine::cell(&sim(&a.sim)?, &start(&a.start)?)?;
+    if let Some(w) = c.origin.as_ref().and_then(|o| o.warning.as_ref()) {
+        errln!("warning: {w}");
+    }
+    let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
         if periods.saturating_mul(a.trace_samples) > MAX_TRACE_ROWS {
@@ -42,8 +34,8 @@ pub fn run(a: CellArgs) -> Result<()> {
                 a.trace_samples
             ));
         }
-        let w = window(&sys, &s, &cell, periods, a.trace_samples);
-        let csv = trace_csv(&sys, &w.rows);
+        let w = window(sys, s, cell, periods, a.trace_samples);
+        let csv = trace_csv(sys, &w.rows);
         write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
         if let Some(note) = w.note(periods) {
             errln!("warning: trace {}: {note}", path.display());
@@ -52,91 +44,35 @@ pub fn run(a: CellArgs) -> Result<()> {
     if let Some(path) = &a.portrait {
         render::Format::of(path)?;
         let periods = cell.n.unwrap_or(cell.section.len().max(1));
-        let rows = window(&sys, &s, &cell, periods, 400).rows;
-        let p = portrait(&sys, &rows, &describe_parameters(&s));
+        let rows = window(sys, s, cell, periods, 400).rows;
+        let p = portrait(sys, &rows, &describe_parameters(s));
         write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;
     }
     if let Some(path) = &a.section_png {
         if a.section_periods == 0 || a.section_periods > 1_000_000 {
             return Err(anyhow!("--section-periods: expected 1 to 1000000, got {}", a.section_periods));
         }
-        let (panels, silent) = sections(&sys, &s, &cell, a.section_periods)?;
+        let (panels, silent) = sections(sys, s, cell, a.section_periods)?;
         let labels: Vec<String> = cell.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
         let silent = if silent.is_empty() { String::new() } else { format!("; no impacts at {}", silent.join(", ")) };
         let title = format!(
             "{} ({}): {}, Poincaré sections over {} periods{silent}",
             sys.model.name,
-            describe_parameters(&s),
+            describe_parameters(s),
             labels.join(", "),
             a.section_periods
         );
         write_atomically(path, |tmp| render::sections(&panels, &title, &page, tmp))?;
     }
     if a.json {
-        let mut o = to_json(&sys, &s, &cell);
-        if let Some(origin) = &origin {
-            o["from"] = origin.about.clone();
-        }
-        outln!("{}", serde_json::to_string(&o)?);
+        outln!("{}", serde_json::to_string(&c.to_json())?);
     } else {
-        outp!("{}", to_text(&sys, &s, &cell));
+        outp!("{}", to_text(sys, s, cell));
     }
     Ok(())
 }
 
-fn names<T: Copy>(sys: &System, values: &[T]) -> Map<String, Value>
-where
-    Value: From<T>,
-{
-    sys.model.stops.iter().zip(values).map(|(s, &v)| (s.name.clone(), Value::from(v))).collect()
-}
-
-/// Per stop, whether it is in `mask`.
-fn members(sys: &System, mask: Mask) -> Map<String, Value> {
-    sys.model.stops.iter().enumerate().map(|(k, s)| (s.name.clone(), Value::from(mask.contains(k)))).collect()
-}
-
-/// The JSON object of a cell (the contract of `cell --json`).
-pub fn to_json(sys: &System, s: &crate::common::Setup, c: &CellResult) -> Value {
-    let params: Map<String, Value> = sys.model.parameters.iter().map(|(k, v)| (k.clone(), json!(v))).collect();
-    let mut out = json!({
-        "scene": sys.model.name,
-        "parameters": params,
-        "preset": s.preset.name(),
-        "integrator": s.method.name(),
-        "class": c.class.name(),
-        "n": c.n,
-        "labels": labels_json(&c.labels),
-        "impacts": names(sys, &c.impacts),
-        "chatter": members(sys, c.chatter),
-        "sticking": members(sys, c.sticking),
-        "symmetry": c.symmetry.map(|x| x.name()),
-        "lyapunov": c.lyapunov,
-        "max_multiplier": c.multiplier,
-        "final_state": c.final_state,
-        "period_section": c.section,
-        "periods_simulated": c.periods,
-        "events": c.events,
-        "reason": c.reason.as_ref().map(ToString::to_string),
-    });
-    if !sys.model.friction.is_empty() {
-        let stuck: Map<String, Value> = friction_names(sys)
-            .into_iter()
-            .enumerate()
-            .map(|(i, n)| (n, Value::from(c.friction_stick.contains(i))))
-            .collect();
-        out["friction_stick"] = Value::Object(stuck);
-    }
-    out
-}
-
-/// Names of the friction contacts, `M1-M2` from their masses.
-fn friction_names(sys: &System) -> Vec<String> {
-    let m = &sys.model.masses;
-    sys.model.friction.iter().map(|f| format!("{}-{}", m[f.a].name, m[f.b].name)).collect()
-}
-
-fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
+fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     let mut o = String::new();
     let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect();
     let _ = writeln!(o, "scene     {} ({})", sys.model.name, params.join(" "));
@@ -190,12 +126,7 @@ fn to_text(sys: &System, s: &crate::common::Setup, c: &CellResult) -> String {
 /// from the final state: the first labelled mass's (x, v) at t = kT, then per
 /// stop with impacts (forcing phase mod 2π, impact speed); and the stops
 /// without impacts.
-fn sections(
-    sys: &System,
-    s: &crate::common::Setup,
-    c: &CellResult,
-    periods: usize,
-) -> Result<(Vec<render::Panel>, Vec<String>)> {
+fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Result<(Vec<render::Panel>, Vec<String>)> {
     struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
     impl solver::Observer for Points<'_> {
         fn impact(&mut self, t: f64, stop: usize, before: &solver::DVector<f64>, _: &solver::DVector<f64>) {
@@ -228,7 +159,7 @@ fn sections(
 type Row = (f64, Vec<f64>, Option<String>);
 
 /// Why a simulation halted, in the words of a cell's `reason`.
-fn halt_text(h: &solver::Halt, s: &crate::common::Setup) -> String {
+fn halt_text(h: &solver::Halt, s: &Setup) -> String {
     match h {
         solver::Halt::Budget => format!("event budget of {} events exhausted", s.accuracy.max_events()),
         solver::Halt::Stalled => "event location stalled at a degenerate contact".into(),
@@ -269,7 +200,7 @@ impl Window {
 /// stepped over) is replayed from its start at its events only, the cell's
 /// trajectory; a halt that remains ends the window there (the samples up to
 /// it kept), with its reason (the cell's `reason` when it is unresolved for it).
-fn window(sys: &System, s: &crate::common::Setup, c: &CellResult, periods: usize, samples: usize) -> Window {
+fn window(sys: &System, s: &Setup, c: &CellResult, periods: usize, samples: usize) -> Window {
     struct Rows<'a>(Vec<Row>, &'a System);
     impl solver::Observer for Rows<'_> {
         fn named_event(&mut self, t: f64, kind: solver::EventKind, y: &solver::DVector<f64>) {
@@ -350,7 +281,7 @@ fn portrait(sys: &System, rows: &[Row], parameters: &str) -> render::Portrait {
 
 /// The parameters set on the command line, by their symbols, for titles
 /// (`ω = 0.33, δ = 0.6`), or `scene defaults`.
-fn describe_parameters(s: &crate::common::Setup) -> String {
+fn describe_parameters(s: &Setup) -> String {
     if s.overrides.is_empty() {
         return "scene defaults".to_string();
     }

@@ -2,10 +2,11 @@
 //! locate its bifurcations (PD, SN, PF, NS, grazing).
 
 use crate::args::ContinueArgs;
-use crate::common::{check_period, labels_json, setup_from, system_with};
+use crate::common::setup_from;
 use crate::orbit::multipliers_json;
 use crate::out::{outln, outp};
 use anyhow::{anyhow, bail, Result};
+use engine::{check_period, labels_json};
 use grid::Axis;
 use serde_json::{json, Value};
 use solver::arclength::follow_arclength;
@@ -25,8 +26,8 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     }
     check_period(a.n)?;
     let values = axis.values();
-    let family = |v: f64| -> Option<System> { system_with(&s, &[(&axis.name, v)]).ok() };
-    let sys = system_with(&s, &[(&axis.name, values[0])])?;
+    let family = |v: f64| -> Option<System> { s.system_with(&[(&axis.name, v)]).ok() };
+    let sys = s.system_with(&[(&axis.name, values[0])])?;
     let y0 = origin.map_or_else(|| sys.model.initial_state(), |o| o.state);
     let start =
         orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("at {} = {}: {e}", axis.name, values[0]))?;

@@ -17,7 +17,6 @@ mod inspect;
 mod merge;
 mod orbit;
 mod out;
-mod plan;
 mod progress;
 mod render_cmd;
 mod study;

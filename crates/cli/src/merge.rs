@@ -1,7 +1,7 @@
 //! `vibroatlas merge`: reassemble shard files into one atlas.
 
 use crate::args::MergeArgs;
-use crate::plan::command_line;
+use crate::common::command_line;
 use anyhow::{bail, Result};
 use store::RunInfo;
 
@@ -28,7 +28,7 @@ pub fn run(a: MergeArgs) -> Result<()> {
         crate::out::errln!("warning: {cells} cells are in none of the parts{shards}; they are stored as not computed");
     }
     let info = RunInfo { command: command_line(), run_time_s: merged.run_time_s, shard: None, history: merged.history };
-    store::write(&output, atlas, &info, crate::plan::threads(None)?)?;
+    store::write(&output, atlas, &info, engine::threads(None)?)?;
     crate::out::line(&format!("merged {} files into {}", a.parts.len(), a.output.display()))?;
     Ok(())
 }

@@ -2,9 +2,10 @@
 //! and Floquet multipliers.
 
 use crate::args::OrbitArgs;
-use crate::common::{check_period, labels_json, setup_from};
+use crate::common::setup_from;
 use crate::out::{outln, outp};
 use anyhow::{anyhow, Result};
+use engine::{check_period, labels_json};
 use serde_json::{json, Value};
 use solver::{orbit_of_cell, Complex64, Orbit, System};
 use std::fmt::Write as _;

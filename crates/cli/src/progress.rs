@@ -264,13 +264,8 @@ fn due(last: &Mutex<Instant>, every: Duration, last_one: bool) -> bool {
 
 impl Bar {
     /// A reporter; `already` cells are done before it starts (resume). The
-    /// time left is counted in cells.
-    pub fn new(label: &str, total: u64, already: u64, quiet: bool) -> Bar {
-        Bar::weighted(label, total, already, quiet, None)
-    }
-
-    /// [`Bar::new`] whose time left is counted in the estimated `work` of the
-    /// cells this run computes (when given), reported by [`Bar::finish_job`].
+    /// time left is counted in the estimated `work` of the cells this run
+    /// computes (when given, reported by [`Bar::finish_job`]), else in cells.
     pub fn weighted(label: &str, total: u64, already: u64, quiet: bool, work: Option<Work>) -> Bar {
         let bar = terminal_bar(label, if work.is_some() { BAR_STEPS } else { total }, quiet);
         if let (Some(b), None) = (&bar, &work) {
@@ -413,6 +408,47 @@ impl Seeds {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }
+    }
+}
+
+/// A run's progress on standard error: a [`Bar`] made when the run begins
+/// (weighted by the probed costs of its lines where it has them), nothing
+/// with `quiet`; warnings as `warning:` lines.
+pub struct Shown {
+    label: String,
+    quiet: bool,
+    bar: std::sync::OnceLock<Bar>,
+}
+
+impl Shown {
+    /// Progress of a run called `label` (`atlas`, `sweep`).
+    pub fn new(label: &str, quiet: bool) -> Shown {
+        Shown { label: label.to_string(), quiet, bar: std::sync::OnceLock::new() }
+    }
+}
+
+impl engine::Observer for Shown {
+    fn begin(&self, w: &engine::Begin<'_>) {
+        let work = w.prior.and_then(|prior| Work::new(w.lines.to_vec(), prior.to_vec(), w.line_len, w.threads));
+        let _ = self.bar.set(Bar::weighted(&self.label, w.total, w.done, self.quiet, work));
+    }
+    fn advance(&self, cells: u64) {
+        if let Some(b) = self.bar.get() {
+            b.advance(cells);
+        }
+    }
+    fn line_done(&self, job: usize) {
+        if let Some(b) = self.bar.get() {
+            b.finish_job(job);
+        }
+    }
+    fn finish(&self) {
+        if let Some(b) = self.bar.get() {
+            b.finish();
+        }
+    }
+    fn warn(&self, message: &str) {
+        crate::out::errln!("warning: {message}");
     }
 }
 

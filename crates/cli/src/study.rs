@@ -9,11 +9,12 @@
 //! or sections). An output folder the study created is removed when it fails
 //! before its first atlas is written.
 
-use crate::args::{SimArgs, StudyArgs};
-use crate::common::setup;
+use crate::args::StudyArgs;
+use crate::common::command_line;
 use crate::out::outln;
-use crate::plan::{threads, Plan};
+use crate::progress::Shown;
 use anyhow::{anyhow, bail, Context, Result};
+use engine::{Plan, SceneSource, Sim};
 use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Study, SweepKind};
 use render::View;
 use std::path::{Path, PathBuf};
@@ -38,24 +39,19 @@ pub fn run(a: StudyArgs) -> Result<()> {
     if a.output.exists() && !a.output.is_dir() {
         bail!("{}: exists and is not a folder; give a folder for the study's files", a.output.display());
     }
-    let threads = threads(a.run.threads)?;
+    let threads = engine::threads(a.run.threads)?;
     // Validate every value before computing any, and before the folder exists.
     let mut plans = study
         .values
         .iter()
         .map(|&v| {
-            let mut set: Vec<String> = study.set.iter().map(|(k, x)| format!("{k}={x}")).collect();
-            set.push(format!("{}={v}", study.parameter));
-            let sim = SimArgs {
-                scene: scene_path.clone(),
-                set,
-                preset: Some(a.preset),
-                accuracy: Vec::new(),
-                integrator: None,
-            };
-            let s = setup(&sim)?;
+            let mut sim = Sim::new(SceneSource::File(scene_path.clone()));
+            sim.set = study.set.iter().map(|(k, x)| (k.clone(), *x)).collect();
+            sim.set.push((study.parameter.clone(), v));
+            sim.preset = Some(a.preset.preset());
+            let s = sim.setup()?;
             let mut plan = Plan::new(&s, a.run.section_cap, plane.clone(), sweeps.clone(), threads)?;
-            plan.quiet = a.run.quiet;
+            plan.command = command_line();
             plan.check()?;
             Ok((v, plan))
         })
@@ -75,7 +71,8 @@ pub fn run(a: StudyArgs) -> Result<()> {
         }
         let mut panels = Vec::new();
         for (v, plan) in plans {
-            let (atlas, secs) = plan.execute(&study.stem(v))?;
+            let run = plan.execute(&Shown::new(&study.stem(v), a.run.quiet))?;
+            let (atlas, secs) = (run.atlas, run.secs);
             written = true;
             let png = a.output.join(format!("{}.png", study.stem(v)));
             write_atomically(&png, |tmp| render::map(&atlas, View::Sweep(sweeps[0]), 0, &[], &page, tmp))?;

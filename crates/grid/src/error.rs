@@ -24,6 +24,9 @@ pub enum GridError {
     /// The solver refuses the scene.
     #[error(transparent)]
     Solver(#[from] solver::SolverError),
+    /// The caller asked the work to stop ([`crate::Progress::cancelled`]).
+    #[error("cancelled")]
+    Cancelled,
 }
 
 impl GridError {

@@ -156,6 +156,9 @@ impl Plane {
             SweepKind::Fresh => (0..len)
                 .into_par_iter()
                 .map(|pos| {
+                    if progress.cancelled() {
+                        return Err(GridError::Cancelled);
+                    }
                     let c = setup.run(&point(pos), None);
                     progress.advance(1);
                     c

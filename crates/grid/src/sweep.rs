@@ -48,10 +48,15 @@ impl SweepKind {
     }
 }
 
-/// Receives progress in cells; implemented by the CLI's progress bar.
+/// Receives progress in cells (a progress bar), and may ask the work to stop.
 pub trait Progress: Sync {
     /// `cells` more cells are done.
     fn advance(&self, cells: u64);
+    /// Whether the work should stop: asked before every cell, so that a run
+    /// ends within one cell's time ([`GridError::Cancelled`]). Never, by default.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// A progress sink that shows nothing.
@@ -81,6 +86,9 @@ pub fn chain_from(
 ) -> Result<Vec<CellData>, GridError> {
     let mut out: Vec<CellData> = Vec::with_capacity(points.len());
     for p in points {
+        if progress.cancelled() {
+            return Err(GridError::Cancelled);
+        }
         let start = out.last().map_or(first, |c| Some(c.final_state.as_slice()));
         let cell = setup.run(p, start)?;
         out.push(cell);

@@ -1,8 +1,9 @@
 //! A validated plan for computing a plane (atlas or sweep) and its execution:
-//! journal, one writer thread, atomic HDF5 output.
+//! journal, one writer thread, atomic HDF5 output, progress reported to an
+//! [`Observer`] that may also stop the run.
 
-use crate::common::{cell_setup, Setup};
-use crate::progress::Bar;
+use crate::observer::{Begin, Observed, Observer};
+use crate::sim::Setup;
 use anyhow::{anyhow, bail, Result};
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
 use std::path::PathBuf;
@@ -11,13 +12,19 @@ use store::{fingerprint, journal_path, Journal, RunInfo};
 
 /// Everything a run needs, checked before any work starts.
 pub struct Plan {
+    /// The cells' set-up.
     pub setup: CellSetup,
+    /// The run's description (stored in the file).
     pub meta: Meta,
+    /// Worker threads.
     pub threads: usize,
+    /// This run's shard of the lines, if any.
     pub shard: Option<Shard>,
+    /// The file to write (a symbolic link's target), if any.
     pub output: Option<PathBuf>,
+    /// Continue from the journal beside the output.
     pub resume: bool,
-    pub quiet: bool,
+    /// What made the run (the file's `command` attribute).
     pub command: String,
     /// Files the run reads, never to be overwritten by its output (the scene).
     pub inputs: Vec<PathBuf>,
@@ -28,11 +35,6 @@ pub struct Plan {
     /// Coexisting attractors to find once the lines are done: the sampling,
     /// and whether only hysteresis cells.
     pub attractors: Option<(grid::attractors::Sampling, bool)>,
-}
-
-/// The command line as one string (for the file's `command` attribute).
-pub fn command_line() -> String {
-    std::env::args().collect::<Vec<_>>().join(" ")
 }
 
 /// Worker threads: the option, or every core.
@@ -82,16 +84,17 @@ impl Plan {
         Ok(())
     }
 
-    /// Runs the plan; returns the atlas (complete for this shard) and the wall time.
-    pub fn execute(&self, label: &str) -> Result<(Atlas, f64)> {
-        self.execute_measured(label).map(|r| (r.atlas, r.secs))
-    }
-
-    /// [`Plan::execute`], with where the time went outside the workers.
-    pub fn execute_measured(&self, label: &str) -> Result<Executed> {
+    /// Runs the plan, reporting to `observer`; returns the atlas (complete for
+    /// this shard) and where the time went. Stopped by the observer
+    /// ([`Observer::cancelled`]), it returns [`grid::GridError::Cancelled`]
+    /// having written no output file (the journal keeps the lines for a resume).
+    pub fn execute(&self, observer: &dyn Observer) -> Result<Executed> {
         let start = Instant::now();
         // Held for the whole run: a second run on the same output is refused.
         let _lock = self.output.as_deref().map(store::OutputLock::acquire).transpose()?;
+        if let Some(done) = self.finished_before()? {
+            return Ok(Executed { atlas: done, secs: 0.0, write_s: 0.0, prelude_s: 0.0, stream_s: 0.0, already: true });
+        }
         let key = fingerprint(&format!("{:?} {:?}", self.meta, self.shard));
         let mut atlas = Atlas::new(self.meta.clone());
         let journal = match &self.output {
@@ -136,11 +139,16 @@ impl Plan {
         // share of the time.
         let place: std::collections::HashMap<(SweepKind, usize), usize> =
             jobs.iter().enumerate().map(|(i, &job)| (job, i)).collect();
-        let work = self.cost.as_ref().and_then(|cost| {
-            let prior = jobs.iter().map(|&(_, line)| cost[line]).collect();
-            crate::progress::Work::new(jobs.iter().map(|j| j.1).collect(), prior, plane.line_len(), self.threads)
+        let lines: Vec<usize> = jobs.iter().map(|j| j.1).collect();
+        let prior: Option<Vec<f64>> = self.cost.as_ref().map(|cost| lines.iter().map(|&line| cost[line]).collect());
+        observer.begin(&Begin {
+            total,
+            done: total - todo,
+            lines: &lines,
+            prior: prior.as_deref(),
+            line_len: plane.line_len(),
+            threads: self.threads,
         });
-        let bar = Bar::weighted(label, total, total - todo, self.quiet, work);
 
         // Workers seal their own lines for the journal; one writer appends
         // whatever has arrived, with one sync per batch, and keeps the lines.
@@ -162,7 +170,7 @@ impl Plan {
         let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
         let sink = |line: Line| {
             if let Some(&job) = place.get(&(line.sweep, line.index)) {
-                bar.finish_job(job);
+                observer.line_done(job);
             }
             let sealed = match sealer.as_ref().map(|s| s.seal(&line)).transpose() {
                 Ok(s) => s,
@@ -174,11 +182,12 @@ impl Plan {
             // A closed channel means the writer failed; its error is reported below.
             let _ = tx.send((line, sealed));
         };
-        let ran = plane.run(&self.setup, &jobs, self.threads, &bar, &sink);
+        let ran = plane.run(&self.setup, &jobs, self.threads, &Observed(observer), &sink);
         drop(tx);
-        bar.finish();
+        observer.finish();
         let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
             writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
+        // An error or a cancel drops the draft, which removes its partial file.
         ran?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             return Err(e);
@@ -200,14 +209,14 @@ impl Plan {
             // lines it should have kept.
             let path = j.path().to_path_buf();
             if !j.remove()? {
-                crate::out::errln!(
-                    "warning: {} was removed or replaced during the run (a kill would have lost the computed lines); the output is complete",
+                observer.warn(&format!(
+                    "{} was removed or replaced during the run (a kill would have lost the computed lines); the output is complete",
                     path.display()
-                );
+                ));
             }
             write_s = clock.elapsed().as_secs_f64();
         }
-        Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s })
+        Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s, already: false })
     }
 }
 
@@ -275,11 +284,14 @@ pub struct Executed {
     /// Seconds the writer thread spent writing chunks of lines as they were
     /// kept (while the workers computed).
     pub stream_s: f64,
+    /// Whether the output was already the finished file of this run (a
+    /// resume with nothing to do: nothing was computed or written).
+    pub already: bool,
 }
 
 impl Plan {
     /// A plan for `sweeps` of `plane` with the validated simulation set-up `s`:
-    /// no output, shard or resume, progress shown; callers set what differs.
+    /// no output, shard or resume; callers set what differs.
     pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
         for axis in [&plane.x, &plane.y].into_iter().filter(|a| a.count > 1) {
             if s.overrides.iter().any(|(name, _)| *name == axis.name) {
@@ -289,7 +301,7 @@ impl Plan {
                 );
             }
         }
-        let setup = cell_setup(s, section_cap)?;
+        let setup = s.cell_setup(section_cap)?;
         let model = setup.scene.evaluate(&setup.base)?;
         let meta = Meta {
             scene_name: model.name.clone(),
@@ -320,8 +332,7 @@ impl Plan {
             shard: None,
             output: None,
             resume: false,
-            quiet: false,
-            command: command_line(),
+            command: String::new(),
             inputs: Vec::new(),
             force: false,
             cost: None,
@@ -389,6 +400,26 @@ impl Plan {
             );
         }
         Ok(grid::AttractorMap { samples: sampling.samples, seed: sampling.seed, cells })
+    }
+
+    /// On a resume without a journal, the output when it is already the
+    /// finished file of this very run (the same settings and shard): a
+    /// cluster job that reruns a finished shard does nothing. Anything else
+    /// (no file, another run's, a damaged one) is computed again.
+    fn finished_before(&self) -> Result<Option<Atlas>> {
+        let Some(out) = self.output.as_deref().filter(|_| self.resume) else { return Ok(None) };
+        if !out.is_file() || journal_path(out).exists() {
+            return Ok(None);
+        }
+        let same_attractors = |a: &Option<grid::AttractorMap>| match (&self.attractors, a) {
+            (None, None) => true,
+            (Some((s, _)), Some(a)) => a.samples == s.samples && a.seed == s.seed,
+            _ => false,
+        };
+        Ok(store::read(out)
+            .ok()
+            .filter(|l| l.atlas.meta == self.meta && l.info.shard == self.shard && same_attractors(&l.atlas.attractors))
+            .map(|l| l.atlas))
     }
 
     /// Whether the run computes continuation chains (up or down sweeps).

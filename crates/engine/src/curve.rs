@@ -1,0 +1,176 @@
+//! One bifurcation followed in a plane of two parameters ([`curve`], see
+//! [`solver::curve`]), the file it writes and the JSON object of
+//! `curve --json` ([`Traced::to_json`]).
+
+use crate::sim::{check_period, labels_json, Setup, Sim};
+use anyhow::{anyhow, bail, Result};
+use serde_json::{json, Value};
+use solver::curve::{Curve, CurvePoint, Tracing};
+use solver::Bifurcation;
+use std::path::PathBuf;
+
+/// A curve to follow.
+#[derive(Debug, Clone)]
+pub struct CurveRequest {
+    /// The simulation options.
+    pub sim: Sim,
+    /// The bifurcation.
+    pub kind: Bifurcation,
+    /// The free parameters: A is located, B is stepped.
+    pub free: [String; 2],
+    /// Where to start: values of A and B (`--start`), in any order.
+    pub start: Vec<(String, f64)>,
+    /// The value of B to go to.
+    pub to: f64,
+    /// Steps in B.
+    pub steps: usize,
+    /// Half-width of the window in A searched for the bifurcation.
+    pub window: f64,
+    /// Bounds of A, if any.
+    pub bounds: Option<[f64; 2]>,
+    /// The orbit's period in forcing periods (found from the start when `None`).
+    pub n: Option<usize>,
+    /// The curve file to write, if any.
+    pub output: Option<PathBuf>,
+    /// What made the curve (the file's `command` attribute).
+    pub command: String,
+}
+
+/// A followed curve.
+#[derive(Debug, Clone)]
+pub struct Traced {
+    /// The free parameters.
+    pub free: [String; 2],
+    /// The curve.
+    pub curve: Curve,
+    /// Why it ended.
+    pub ended: String,
+    /// The labels either side of every point (`{"below": …, "above": …}`).
+    pub sides: Vec<Value>,
+}
+
+/// Follows a curve (and writes its file when asked).
+pub fn curve(r: &CurveRequest) -> Result<Traced> {
+    let s = r.sim.setup()?;
+    check_period(r.n)?;
+    let [pa, pb] = &r.free;
+    if pa == pb {
+        bail!("--free: expected two different parameters, got '{}' twice", pa);
+    }
+    for p in [pa, pb] {
+        s.scene.check_parameter(p, "--free")?;
+    }
+    if let Some((other, _)) = r.start.iter().find(|(n, _)| n != pa && n != pb) {
+        bail!("--start: gives the free parameters {pa} and {pb} only, got {other} (fix others with --set)");
+    }
+    let value = |name: &str| {
+        r.start.iter().find(|(n, _)| n == name).map(|x| x.1).ok_or_else(|| anyhow!("--start: give {name}=VALUE"))
+    };
+    let (a0, b0) = (value(pa)?, value(pb)?);
+    if r.steps == 0 || r.steps > 10_000 {
+        bail!("--steps: expected 1 to 10000, got {}", r.steps);
+    }
+    if !(r.window > 0.0 && r.window.is_finite()) {
+        bail!("--window: expected a finite number > 0, got {}", r.window);
+    }
+    if !r.to.is_finite() {
+        bail!("--to: expected a finite number, got {}", r.to);
+    }
+    // The start and the end in B must make valid scenes (ranges of the parameters).
+    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| anyhow!("--start: {e}"))?;
+    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), r.to)]).map_err(|e| anyhow!("--to: {e}"))?;
+    let a_bounds = r.bounds.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
+    if a0 < a_bounds[0] || a0 > a_bounds[1] {
+        bail!("--bounds: the start {pa} = {a0} is outside {}:{}", a_bounds[0], a_bounds[1]);
+    }
+    let step = (r.to - b0).abs() / r.steps as f64;
+    let tracing = Tracing {
+        kind: r.kind,
+        acc: s.accuracy,
+        n: r.n,
+        scale: [r.window, if step > 0.0 { step } else { r.window }],
+        bounds: [a_bounds, [b0.min(r.to), b0.max(r.to)]],
+        max_points: 10 * r.steps + 1,
+    };
+    let plane = |va: f64, vb: f64| s.system_with(&[(pa.as_str(), va), (pb.as_str(), vb)]).ok();
+    let curve = match tracing.locate(&plane, a0, b0, solver::curve::Start::Fresh) {
+        Ok(first) => tracing.follow(&plane, first, r.to),
+        Err(why) => Curve {
+            kind: r.kind,
+            points: Vec::new(),
+            codim2: Vec::new(),
+            ended: Some(format!("at {pb} = {b0}: {why}")),
+        },
+    };
+    let ended = curve.ended.clone().unwrap_or_else(|| format!("reached {pb} = {}", r.to));
+    if let Some(out) = &r.output {
+        let inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
+        store::check_output(out, &inputs, false)?;
+        let stored = stored(&curve, [pa, pb], &ended);
+        store::write_curves(out, std::slice::from_ref(&stored), &r.command, s.scene.source())?;
+    }
+    let sides = curve.points.iter().map(|p| sides_json(&tracing, &plane, p)).collect();
+    Ok(Traced { free: r.free.clone(), curve, ended, sides })
+}
+
+impl Traced {
+    /// The JSON object of the curve (the contract of `curve --json`).
+    pub fn to_json(&self) -> Value {
+        let [pa, pb] = &self.free;
+        let points: Vec<Value> = self
+            .curve
+            .points
+            .iter()
+            .zip(&self.sides)
+            .map(|(p, l)| json!({pa.clone(): p.a, pb.clone(): p.b, "labels": l}))
+            .collect();
+        let codim2: Vec<Value> =
+            self.curve.codim2.iter().map(|c| json!({"kind": c.kind, pa.clone(): c.a, pb.clone(): c.b})).collect();
+        json!({"kind": self.curve.kind.name(), "free": [pa, pb], "points": points, "codim2": codim2, "ended": self.ended})
+    }
+}
+
+/// The labels either side of a curve point, as `{"below": {...}, "above": {...}}`.
+fn sides_json(tracing: &Tracing, plane: &solver::curve::Plane2, p: &CurvePoint) -> Value {
+    let one = |side: Option<(Vec<solver::MassLabel>, Option<solver::Symmetry>)>| match side {
+        None => Value::Null,
+        Some((labels, symmetry)) => {
+            let mut l = labels_json(&labels);
+            if let Some(sym) = symmetry {
+                l["symmetry"] = sym.name().into();
+            }
+            l
+        }
+    };
+    let sides = tracing.sides(plane, p);
+    json!({"below": one(sides.below), "above": one(sides.above)})
+}
+
+/// A curve as stored in files.
+pub fn stored(c: &Curve, free: [&str; 2], ended: &str) -> store::Curve {
+    store::Curve {
+        kind: c.kind.name().to_string(),
+        free: free.map(str::to_string),
+        points: c.points.iter().map(|p| (p.a, p.b)).collect(),
+        codim2: c.codim2.iter().map(|x| (x.kind.clone(), x.a, x.b)).collect(),
+        ended: ended.to_string(),
+    }
+}
+
+/// The simulation set-up a stored atlas was computed with.
+pub fn stored_setup(m: &grid::Meta, file: &std::path::Path) -> Result<Setup> {
+    let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| anyhow!("{}: stored scene: {e}", file.display()))?;
+    let preset = solver::Preset::parse(&m.preset).unwrap_or(solver::Preset::Standard);
+    let mut accuracy = solver::Accuracy::preset(preset);
+    for (k, v) in &m.accuracy {
+        accuracy.set(k, *v)?;
+    }
+    Ok(Setup {
+        scene,
+        overrides: m.overrides.clone(),
+        accuracy,
+        accuracy_overrides: m.accuracy.clone(),
+        preset,
+        method: solver::Method::Exact,
+    })
+}

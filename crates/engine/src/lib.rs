@@ -1,0 +1,70 @@
+//! The runs of vibroatlas as a library: one typed request per kind of run
+//! and one call that runs it. The command-line tool and the Python module
+//! parse their arguments into these requests, call, and present the results.
+//!
+//! | call | request | result |
+//! |---|---|---|
+//! | [`cell()`] | [`Sim`] and a [`Start`] | [`Cell`] (`to_json`: `cell --json`) |
+//! | [`sweep()`] | [`SweepRequest`] | [`Swept`] (`to_json`: `sweep --json`) |
+//! | [`atlas()`] | [`AtlasRequest`] | [`Executed`] (the atlas, the file written) |
+//! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
+//! | [`curve()`] | [`CurveRequest`] | [`Traced`] (`to_json`: `curve --json`) |
+//!
+//! Long runs report to an [`Observer`] (a progress bar), which may also stop
+//! them ([`Observer::cancelled`]: the run ends with
+//! [`grid::GridError::Cancelled`] and writes no file). Errors are one line
+//! naming the option at fault as the command line spells it (`--set mu_k: …`).
+//!
+//! The README's main job, the reference plane of the multi-stop scene with
+//! both sweeps (here on a coarse grid, written to a file):
+//!
+//! ```no_run
+//! use engine::{atlas, AtlasRequest, Quiet, SceneSource, Sim};
+//! use grid::{Axis, SweepKind};
+//!
+//! let sim = Sim::new(SceneSource::File("configs/multi-stop.toml".into()));
+//! let x = Axis { name: "omega".into(), start: 0.1, stop: 3.05, count: 296 };
+//! let y = Axis { name: "delta".into(), start: 0.05, stop: 2.0, count: 196 };
+//! let mut run = AtlasRequest::new(sim, x, y, vec![SweepKind::Up, SweepKind::Down]);
+//! run.output = Some("out/reference.h5".into());
+//! let done = atlas(&run, &Quiet)?;
+//! println!("{} cells in {:.1} s", done.atlas.meta.plane.cells(), done.secs);
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+#![deny(missing_docs)]
+
+mod atlas;
+mod attractors;
+mod cell;
+mod curve;
+mod observer;
+mod plan;
+mod sim;
+mod sweep;
+
+pub use atlas::{atlas, AtlasRequest, AttractorCells};
+pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
+pub use cell::{cell, friction_names, Cell};
+pub use curve::{curve, stored, stored_setup, CurveRequest, Traced};
+pub use observer::{Begin, Observer, Quiet};
+pub use plan::{threads, Executed, Plan};
+pub use sim::{
+    check_period, labels_json, parameters_json, parse_assignment, Origin, SceneLoadError, SceneSource, Setup, Sim,
+    Start,
+};
+pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
+
+/// A grid error in the words of the command line: the field it names (`x`,
+/// `x omega`, `shard`) becomes the flag (`--x`, `--x omega`, `--shard`) that
+/// `flags` maps it to.
+pub fn in_flags(e: grid::GridError, flags: &[(&str, &str)]) -> anyhow::Error {
+    match e {
+        grid::GridError::Field { field, message } => {
+            let (head, rest) = field.split_once(' ').map_or((field.as_str(), ""), |(h, r)| (h, r));
+            let flag = flags.iter().find(|(f, _)| *f == head).map_or(head, |(_, flag)| flag);
+            let sep = if rest.is_empty() { "" } else { " " };
+            anyhow::anyhow!("{flag}{sep}{rest}: {message}")
+        }
+        other => anyhow::anyhow!(other),
+    }
+}

@@ -1,0 +1,360 @@
+//! What every run is given: a scene (a file or a TOML text), parameter values
+//! that override the scene's (`--set`), a preset, accuracy knobs and an
+//! integrator ([`Sim`]); validated into a [`Setup`]. Where a simulation
+//! starts ([`Start`]): the scene's initial state, a given state, or a cell of
+//! a stored file, whose settings it then takes ([`Origin`]).
+
+use anyhow::{anyhow, bail, Result};
+use scene::Scene;
+use solver::{Accuracy, Method, Preset};
+use std::path::PathBuf;
+
+/// Where a scene comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SceneSource {
+    /// A TOML file.
+    File(PathBuf),
+    /// A TOML text (a notebook's scene, never written to a file).
+    Text(String),
+}
+
+/// A scene that could not be read or parsed; its text names the file (or
+/// `scene` for a text) and the field.
+#[derive(Debug)]
+pub enum SceneLoadError {
+    /// The file cannot be read.
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        cause: std::io::Error,
+    },
+    /// The text is not a valid scene.
+    Invalid {
+        /// The file, or `scene` for a text.
+        origin: String,
+        /// What is wrong.
+        cause: scene::SceneError,
+    },
+}
+
+impl std::fmt::Display for SceneLoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SceneLoadError::Read { path, cause } => write!(f, "cannot read scene file {}: {cause}", path.display()),
+            SceneLoadError::Invalid { origin, cause } => write!(f, "{origin}: {cause}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneLoadError {}
+
+impl SceneSource {
+    /// The scene it holds.
+    pub fn load(&self) -> Result<Scene, SceneLoadError> {
+        let (text, origin) = match self {
+            SceneSource::File(path) => (
+                std::fs::read_to_string(path).map_err(|cause| SceneLoadError::Read { path: path.clone(), cause })?,
+                path.display().to_string(),
+            ),
+            SceneSource::Text(text) => (text.clone(), "scene".to_string()),
+        };
+        Scene::parse(&text).map_err(|cause| SceneLoadError::Invalid { origin, cause })
+    }
+
+    /// The file, if the scene is one (never to be overwritten by an output).
+    pub fn file(&self) -> Option<&std::path::Path> {
+        match self {
+            SceneSource::File(path) => Some(path),
+            SceneSource::Text(_) => None,
+        }
+    }
+}
+
+/// The simulation options of every run, as given (not yet validated).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sim {
+    /// The scene.
+    pub scene: SceneSource,
+    /// Parameter values replacing the scene's (`--set NAME=VALUE`), in order.
+    pub set: Vec<(String, f64)>,
+    /// The preset (`standard` when `None`; a stored cell's with [`Start::Cell`]).
+    pub preset: Option<Preset>,
+    /// Accuracy knobs replacing the preset's (`--accuracy KNOB=VALUE`), in order.
+    pub accuracy: Vec<(String, f64)>,
+    /// The integrator (`exact` when `None`; a stored cell's with [`Start::Cell`]).
+    pub integrator: Option<Method>,
+}
+
+impl Sim {
+    /// Options with the scene's own values, the `standard` preset and the exact flow.
+    pub fn new(scene: SceneSource) -> Sim {
+        Sim { scene, set: Vec::new(), preset: None, accuracy: Vec::new(), integrator: None }
+    }
+
+    /// Loads the scene and validates every option.
+    pub fn setup(&self) -> Result<Setup> {
+        self.setup_with(self.preset.unwrap_or(Preset::Standard), self.integrator.unwrap_or(Method::Exact), &[])
+    }
+
+    /// [`Sim::setup`] with the preset and integrator given, and `knobs` applied
+    /// before the options' own.
+    fn setup_with(&self, preset: Preset, method: Method, knobs: &[(String, f64)]) -> Result<Setup> {
+        let scene = self.scene.load()?;
+        for (name, value) in &self.set {
+            check_finite(value, &format!("--set {name}"))?;
+            scene.check_parameter(name, &format!("--set {name}"))?;
+        }
+        let mut accuracy = Accuracy::preset(preset);
+        let mut accuracy_overrides = Vec::new();
+        for (k, v) in knobs.iter().chain(&self.accuracy) {
+            check_finite(v, &format!("--accuracy {k}"))?;
+            accuracy.set(k, *v)?;
+            accuracy_overrides.push((k.clone(), *v));
+        }
+        Ok(Setup { scene, overrides: self.set.clone(), accuracy, accuracy_overrides, preset, method })
+    }
+}
+
+/// Refuses a value that is not finite (`field` names it).
+fn check_finite(v: &f64, field: &str) -> Result<()> {
+    if !v.is_finite() {
+        bail!("{field}: not a finite number, got {v}");
+    }
+    Ok(())
+}
+
+/// A validated simulation set-up.
+#[derive(Debug, Clone)]
+pub struct Setup {
+    /// The scene.
+    pub scene: Scene,
+    /// Parameter values replacing the scene's, in order.
+    pub overrides: Vec<(String, f64)>,
+    /// The tolerances and budgets.
+    pub accuracy: Accuracy,
+    /// The accuracy knobs as given (stored in files).
+    pub accuracy_overrides: Vec<(String, f64)>,
+    /// The preset the accuracy starts from.
+    pub preset: Preset,
+    /// The integrator.
+    pub method: Method,
+}
+
+impl Setup {
+    /// The grid's cell set-up, with sections of at most `section_cap` points.
+    pub fn cell_setup(&self, section_cap: usize) -> Result<grid::CellSetup> {
+        if section_cap > 100_000 {
+            bail!("--section-cap: at most 100000, got {section_cap}");
+        }
+        Ok(grid::CellSetup {
+            scene: self.scene.clone(),
+            base: self.overrides.clone(),
+            accuracy: self.accuracy,
+            method: self.method,
+            section_cap,
+        })
+    }
+
+    /// The system with the parameters `set` replacing their overrides.
+    pub fn system_with(&self, set: &[(&str, f64)]) -> Result<solver::System> {
+        let mut over = self.overrides.clone();
+        over.retain(|(k, _)| !set.iter().any(|(n, _)| n == k));
+        over.extend(set.iter().map(|&(n, v)| (n.to_string(), v)));
+        Ok(solver::System::new(self.scene.evaluate(&over)?)?)
+    }
+
+    /// The system of the set-up.
+    pub fn system(&self) -> Result<solver::System> {
+        self.system_with(&[])
+    }
+}
+
+/// Parses `NAME=VALUE` with a finite value; `flag` names the option in errors.
+pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
+    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{flag} {text}: expected NAME=VALUE"))?;
+    let name = name.trim().to_string();
+    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{flag} {name}: '{}' is not a number", value.trim()))?;
+    check_finite(&v, &format!("{flag} {name}"))?;
+    Ok((name, v))
+}
+
+/// Checks an orbit period (`--n`): 1 to 1000 forcing periods.
+pub fn check_period(n: Option<usize>) -> Result<()> {
+    match n {
+        Some(n) if n == 0 || n > 1000 => bail!("--n: expected a period between 1 and 1000, got {n}"),
+        _ => Ok(()),
+    }
+}
+
+/// Where a simulation starts.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Start {
+    /// The scene's initial state.
+    #[default]
+    Initial,
+    /// A given state (x of every mass, then v).
+    State(Vec<f64>),
+    /// A cell of a stored file: the one nearest the given parameter values, of
+    /// `sweep` (the file's first when `None`). Its parameters are added to the
+    /// overrides and, unless given, the file's preset, knobs and integrator are used.
+    Cell {
+        /// The atlas or sweep file.
+        file: PathBuf,
+        /// Parameter values (`--at`), the nearest cell is taken.
+        at: Vec<(String, f64)>,
+        /// Which sweep of the file.
+        sweep: Option<grid::SweepKind>,
+    },
+}
+
+/// Where a simulation starts, resolved (see [`Sim::setup_from`]).
+#[derive(Debug, Clone)]
+pub struct Origin {
+    /// The state the stored cell started from (the final state of the cell
+    /// before it along its sweep), or `None` (the scene's initial state).
+    pub cell_start: Option<Vec<f64>>,
+    /// The state to start a new simulation from (the stored cell's final
+    /// state, at a whole forcing period; or the given state).
+    pub state: Vec<f64>,
+    /// What was taken, for the output (`{"file", "sweep", "cell": {…}}`).
+    pub about: serde_json::Value,
+    /// The section cap of the stored run (its cells' work includes their
+    /// sections), `None` for a given state.
+    pub section_cap: Option<usize>,
+    /// A warning for the user (the scene differs from the stored one).
+    pub warning: Option<String>,
+}
+
+impl Origin {
+    /// Whether the simulation re-runs a stored cell.
+    pub fn is_stored_cell(&self) -> bool {
+        self.section_cap.is_some()
+    }
+}
+
+impl Sim {
+    /// Validates the options and where the simulation starts.
+    pub fn setup_from(&self, start: &Start) -> Result<(Setup, Option<Origin>)> {
+        match start {
+            Start::Initial => Ok((self.setup()?, None)),
+            Start::State(state) => {
+                let s = self.setup()?;
+                let origin = given_state(&s, state)?;
+                Ok((s, Some(origin)))
+            }
+            Start::Cell { file, at, sweep } => self.stored_cell(file, at, *sweep),
+        }
+    }
+
+    /// [`Sim::setup_from`] for a cell of a stored file.
+    fn stored_cell(
+        &self,
+        file: &std::path::Path,
+        at: &[(String, f64)],
+        sweep: Option<grid::SweepKind>,
+    ) -> Result<(Setup, Option<Origin>)> {
+        if at.is_empty() {
+            bail!("--from: give the cell with --at NAME=VALUE,NAME=VALUE");
+        }
+        let loaded = store::read(file)?;
+        let atlas = &loaded.atlas;
+        let m = &atlas.meta;
+        let sweep = match sweep {
+            Some(kind) if !m.sweeps.contains(&kind) => {
+                let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+                bail!("--sweep: {} has {}, not {}", file.display(), have.join(", "), kind.name());
+            }
+            Some(kind) => kind,
+            None => m.sweeps[0],
+        };
+        let (iy, ix) = atlas.nearest(at).map_err(|e| anyhow!("--at: {e}"))?;
+        let cell = atlas
+            .map(sweep)
+            .and_then(|map| map.cells[iy * m.plane.x.count + ix].as_ref())
+            .ok_or_else(|| anyhow!("--at: the cell was not computed in {} (a shard?)", file.display()))?;
+        // The file's settings, unless given.
+        let stored = |what: &str, name: &str| anyhow!("--from: {} has an unknown {what} '{name}'", file.display());
+        let preset = match self.preset {
+            Some(p) => p,
+            None => Preset::parse(&m.preset).ok_or_else(|| stored("preset", &m.preset))?,
+        };
+        let method = match self.integrator {
+            Some(i) => i,
+            None => Method::parse(&m.integrator).ok_or_else(|| stored("integrator", &m.integrator))?,
+        };
+        let mut s = self.setup_with(preset, method, &m.accuracy)?;
+        let params = m.plane.params(iy, ix);
+        if let Some((k, _)) = s.overrides.iter().find(|(k, _)| params.iter().any(|(p, _)| p == k)) {
+            bail!("--set {k}: the cell of --from fixes {k} (an axis of {}); choose the cell with --at", file.display());
+        }
+        let mut overrides = m.overrides.clone();
+        overrides.extend(params.iter().cloned());
+        overrides.extend(s.overrides.iter().filter(|(k, _)| !params.iter().any(|(p, _)| p == k)).cloned());
+        s.overrides = overrides;
+        let model = s.scene.evaluate(&s.overrides)?;
+        if 2 * model.masses.len() != m.dim {
+            bail!("--from: {} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
+        }
+        let warning = (s.scene.source() != m.scene_toml)
+            .then(|| format!("the scene differs from the one stored in {}", file.display()));
+        let coords: serde_json::Map<String, serde_json::Value> =
+            params.iter().map(|(k, v)| (k.clone(), serde_json::json!(v))).collect();
+        let about = serde_json::json!({
+            "file": file.display().to_string(),
+            "sweep": sweep.name(),
+            "cell": coords,
+            "labels": m.masses.iter().enumerate().map(|(i, n)| (n.clone(), serde_json::json!(cell.labels[i].to_string()))).collect::<serde_json::Map<_, _>>(),
+        });
+        let origin = Origin {
+            cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
+            state: cell.final_state.clone(),
+            about,
+            section_cap: Some(m.section_cap),
+            warning,
+        };
+        Ok((s, Some(origin)))
+    }
+}
+
+/// A given start state, checked against the scene: one number per mass for x
+/// and for v, no stop penetrated.
+fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
+    if state.iter().any(|v| !v.is_finite()) {
+        bail!("--state: expected finite numbers");
+    }
+    let model = s.scene.evaluate(&s.overrides)?;
+    let dim = 2 * model.masses.len();
+    if state.len() != dim {
+        bail!("--state: the scene's state has {dim} numbers (x of every mass, then v), got {}", state.len());
+    }
+    let x: Vec<f64> = state[..dim / 2].to_vec();
+    for (k, stop) in model.stops.iter().enumerate() {
+        let g = model.gap(k, &x);
+        if g < -solver::ADMISSIBLE_PENETRATION {
+            bail!("--state: penetrates stop {} by {}", stop.name, -g);
+        }
+    }
+    let about = serde_json::json!({"state": state});
+    Ok(Origin { cell_start: None, state: state.to_vec(), about, section_cap: None, warning: None })
+}
+
+/// Labels as a JSON object `{"M1": "1-4-4", …}` (the contract of `cell`, `orbit`
+/// and `continue`).
+pub fn labels_json(labels: &[solver::MassLabel]) -> serde_json::Value {
+    labels
+        .iter()
+        .map(|l| (l.mass.clone(), serde_json::Value::from(l.to_string())))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}
+
+/// The parameters of a system as a JSON object.
+pub fn parameters_json(sys: &solver::System) -> serde_json::Value {
+    sys.model
+        .parameters
+        .iter()
+        .map(|(k, v)| (k.clone(), serde_json::json!(v)))
+        .collect::<serde_json::Map<_, _>>()
+        .into()
+}

@@ -1,0 +1,275 @@
+//! Continuation along one parameter ([`sweep`]): a plane of one row (the
+//! other axis a plain parameter held at its value), so that the file, the
+//! renderer and the hysteresis logic are those of the atlas; and the JSON
+//! object of `sweep --json` ([`Swept::to_json`]).
+
+use crate::observer::{Begin, Observed, Observer};
+use crate::plan::Plan;
+use crate::sim::{Origin, Sim, Start};
+use anyhow::{anyhow, Result};
+use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
+use serde_json::{json, Map, Value};
+use std::path::PathBuf;
+
+/// The directions of a sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// Upwards.
+    Up,
+    /// Downwards.
+    Down,
+    /// Up and down, each from the same start.
+    Both,
+    /// Down, then up from where the down leg ended.
+    DownUp,
+    /// Up, then down from where the up leg ended.
+    UpDown,
+}
+
+impl Direction {
+    /// The name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Direction::Up => "up",
+            Direction::Down => "down",
+            Direction::Both => "both",
+            Direction::DownUp => "down-up",
+            Direction::UpDown => "up-down",
+        }
+    }
+
+    /// The direction of a name ([`Direction::name`]).
+    pub fn parse(name: &str) -> Option<Direction> {
+        [Direction::Up, Direction::Down, Direction::Both, Direction::DownUp, Direction::UpDown]
+            .into_iter()
+            .find(|d| d.name() == name)
+    }
+}
+
+/// The legs of a sweep: independent directions (each from the same start), or
+/// a hysteresis loop whose second leg starts from the first leg's end state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Legs {
+    /// Each sweep from the start.
+    Separate,
+    /// This sweep first, the other from its end.
+    Loop(SweepKind),
+}
+
+/// A sweep to run.
+#[derive(Debug, Clone)]
+pub struct SweepRequest {
+    /// The simulation options.
+    pub sim: Sim,
+    /// Where the first cells start.
+    pub start: Start,
+    /// The swept parameter (its start and stop give the direction when
+    /// `direction` is `None`).
+    pub axis: Axis,
+    /// The directions.
+    pub direction: Option<Direction>,
+    /// Section points kept per cell.
+    pub section_cap: usize,
+    /// Worker threads.
+    pub threads: usize,
+    /// The file to write, if any.
+    pub output: Option<PathBuf>,
+    /// Allow a non-regular output file.
+    pub force: bool,
+    /// What made the run (the file's `command` attribute).
+    pub command: String,
+}
+
+/// A finished sweep.
+#[derive(Debug, Clone)]
+pub struct Swept {
+    /// The cells, as a plane of one row.
+    pub atlas: Atlas,
+    /// How the legs were run.
+    pub legs: Legs,
+    /// The leg computed first (or the one asked for).
+    pub first: SweepKind,
+    /// The direction asked for.
+    pub direction: Option<Direction>,
+    /// Where it started, when not from the scene's initial state.
+    pub origin: Option<Origin>,
+}
+
+/// Runs a sweep (and writes its file when asked).
+pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
+    let (mut s, origin) = r.sim.setup_from(&r.start)?;
+    let axis = &r.axis;
+    // From a stored cell, the swept parameter is the axis, not the cell's value.
+    s.overrides.retain(|(k, _)| *k != axis.name || origin.is_none());
+    let given = if axis.start <= axis.stop { SweepKind::Up } else { SweepKind::Down };
+    let (sweeps, legs) = match r.direction {
+        None => (vec![given], Legs::Separate),
+        Some(Direction::Up) => (vec![SweepKind::Up], Legs::Separate),
+        Some(Direction::Down) => (vec![SweepKind::Down], Legs::Separate),
+        Some(Direction::Both) => (vec![SweepKind::Up, SweepKind::Down], Legs::Separate),
+        Some(Direction::DownUp) => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Down)),
+        Some(Direction::UpDown) => (vec![SweepKind::Up, SweepKind::Down], Legs::Loop(SweepKind::Up)),
+    };
+    let x = if given == SweepKind::Up { axis.clone() } else { axis.reversed() };
+    let model = s.scene.evaluate(&s.overrides)?;
+    let (held, value) = model
+        .parameters
+        .iter()
+        .find(|(n, _)| *n != x.name && s.scene.is_plain(n))
+        .cloned()
+        .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
+    let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)
+        .map_err(|e| crate::in_flags(e, &[("x", "--axis")]))?;
+    let mut plan = Plan::new(&s, r.section_cap, plane, sweeps.clone(), r.threads)?;
+    plan.output = r.output.clone();
+    plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
+    plan.force = r.force;
+    plan.command = r.command.clone();
+    plan.check().map_err(|e| match e.downcast::<grid::GridError>() {
+        Ok(g) => crate::in_flags(g, &[("x", "--axis"), ("threads", "--threads")]),
+        Err(e) => e,
+    })?;
+    let atlas = match (legs, &origin) {
+        (Legs::Separate, None) => plan.execute(observer)?.atlas,
+        _ => legs_from(&plan, legs, origin.as_ref().map(|o| o.state.as_slice()), observer)?,
+    };
+    let first = match legs {
+        Legs::Loop(first) => first,
+        Legs::Separate if sweeps.contains(&given) => given,
+        Legs::Separate => sweeps[0],
+    };
+    Ok(Swept { atlas, legs, first, direction: r.direction, origin })
+}
+
+/// Runs the legs of a sweep that do not start from the scene's initial state:
+/// from a given state, and the second leg of a loop from the first leg's end
+/// state (the protocol of experiments and of published hysteresis zones).
+/// Writes the file (under the output's lock) when the plan has an output.
+fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>, observer: &dyn Observer) -> Result<Atlas> {
+    let p = &plan.meta.plane;
+    let _lock = plan.output.as_deref().map(store::OutputLock::acquire).transpose()?;
+    let clock = std::time::Instant::now();
+    let ascending: Vec<Vec<(String, f64)>> = (0..p.x.count).map(|ix| p.params(0, ix)).collect();
+    let descending: Vec<Vec<(String, f64)>> = ascending.iter().rev().cloned().collect();
+    let total = (p.x.count * plan.meta.sweeps.len()) as u64;
+    observer.begin(&Begin { total, done: 0, lines: &[], prior: None, line_len: p.x.count, threads: 1 });
+    let progress = Observed(observer);
+    let leg = |sweep: SweepKind, from: Option<&[f64]>| -> Result<Line> {
+        let mut cells = match sweep {
+            SweepKind::Down => grid::chain_from(&plan.setup, &descending, from, &progress)?,
+            _ => grid::chain_from(&plan.setup, &ascending, from, &progress)?,
+        };
+        if sweep == SweepKind::Down {
+            cells.reverse();
+        }
+        Ok(Line { sweep, index: 0, cells })
+    };
+    let mut atlas = Atlas::new(plan.meta.clone());
+    match legs {
+        Legs::Loop(first) => {
+            let one = leg(first, start)?;
+            // The first leg ends at the far end of the axis from where it began.
+            let end = match first {
+                SweepKind::Down => one.cells.first(),
+                _ => one.cells.last(),
+            }
+            .map(|c| c.final_state.clone());
+            let second = if first == SweepKind::Down { SweepKind::Up } else { SweepKind::Down };
+            let two = leg(second, end.as_deref())?;
+            atlas.insert(one);
+            atlas.insert(two);
+        }
+        Legs::Separate => {
+            for &sweep in &plan.meta.sweeps {
+                atlas.insert(leg(sweep, start)?);
+            }
+        }
+    }
+    observer.finish();
+    if let Some(out) = &plan.output {
+        let info = store::RunInfo {
+            command: plan.command.clone(),
+            run_time_s: clock.elapsed().as_secs_f64(),
+            shard: None,
+            history: Vec::new(),
+        };
+        store::write(out, &atlas, &info, plan.threads)?;
+    }
+    Ok(atlas)
+}
+
+impl Swept {
+    /// The JSON object of the sweep (the contract of `sweep --json`).
+    pub fn to_json(&self) -> Value {
+        let atlas = &self.atlas;
+        let first = self.first;
+        let mut o = json!({
+            "axis": atlas.meta.plane.x.name,
+            "direction": self.direction.map_or(first.name(), Direction::name),
+            "points": points(atlas, first, first == SweepKind::Down),
+        });
+        if atlas.meta.sweeps.len() == 2 {
+            o["up"] = points(atlas, SweepKind::Up, false);
+            o["down"] = points(atlas, SweepKind::Down, true);
+            o["hysteresis"] = hysteresis(atlas);
+        }
+        if let Some(origin) = &self.origin {
+            o["from"] = origin.about.clone();
+        }
+        o
+    }
+}
+
+/// The labels of a cell by mass.
+fn labels(atlas: &Atlas, c: &CellData) -> Value {
+    let m: Map<String, Value> = atlas
+        .meta
+        .masses
+        .iter()
+        .enumerate()
+        .map(|(i, name)| (name.clone(), Value::from(c.labels[i].to_string())))
+        .collect();
+    Value::Object(m)
+}
+
+/// One point of a sweep.
+fn point(atlas: &Atlas, ix: usize, c: &CellData) -> Value {
+    json!({
+        "value": atlas.meta.plane.x.value(ix),
+        "class": c.class.name(),
+        "n": c.labels.first().and_then(|l| l.npq()).map(|(n, _, _)| n),
+        "labels": labels(atlas, c),
+        "symmetry": c.symmetry.map(|s| s.name()),
+        "lyapunov": c.lyapunov,
+        "max_multiplier": c.multiplier,
+    })
+}
+
+/// The points of one sweep in the order they were computed.
+fn points(atlas: &Atlas, sweep: SweepKind, descending: bool) -> Value {
+    let Some(map) = atlas.map(sweep) else { return Value::Array(Vec::new()) };
+    let mut v: Vec<Value> =
+        map.cells.iter().enumerate().filter_map(|(ix, c)| c.as_ref().map(|c| point(atlas, ix, c))).collect();
+    if descending {
+        v.reverse();
+    }
+    Value::Array(v)
+}
+
+/// Values where up and down end on different periodic motions.
+fn hysteresis(atlas: &Atlas) -> Value {
+    let (Some(h), Some(up), Some(down)) = (atlas.hysteresis(), atlas.map(SweepKind::Up), atlas.map(SweepKind::Down))
+    else {
+        return Value::Array(Vec::new());
+    };
+    Value::Array(
+        h.iter()
+            .enumerate()
+            .filter(|(_, &v)| v == 1)
+            .filter_map(|(ix, _)| {
+                let (u, d) = (up.cells[ix].as_ref()?, down.cells[ix].as_ref()?);
+                Some(json!({"value": atlas.meta.plane.x.value(ix), "up": labels(atlas, u), "down": labels(atlas, d)}))
+            })
+            .collect(),
+    )
+}
