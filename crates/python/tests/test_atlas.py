@@ -1,0 +1,120 @@
+"""va.atlas returns the file's DataTree: its groups, data variables,
+coordinates and attributes equal those of xr.open_datatree on the CLI's file
+of the same run (bit for bit); va.open and va.labels."""
+import os
+import tempfile
+
+import numpy as np
+import pytest
+import xarray as xr
+import vibroatlas as va
+
+from conftest import MULTI, DRY, assert_trees_equal, axis, cli, open_tree, sets
+
+X = ("omega", 0.1, 3.05, 12)
+Y = ("delta", 0.05, 2.0, 8)
+
+
+def cli_atlas(path, scene, x, y, params=None, args=()):
+    cli("atlas", scene, "--x", axis(x), "--y", axis(y), *sets(**(params or {})), *args, "--quiet", "-o", path)
+    return open_tree(path)
+
+
+@pytest.fixture(scope="module")
+def both(tmp_path_factory):
+    """The README's small atlas (both sweeps) by the CLI and by va.atlas."""
+    d = tmp_path_factory.mktemp("both")
+    x, y = ("omega", 0.13, 0.53, 5), ("delta", 0.4, 0.8, 3)
+    ref = cli_atlas(d / "ref.h5", MULTI, x, y, args=["--sweep", "both", "--threads", "2"])
+    t = va.atlas(str(MULTI), x=x, y=y, sweep="both", threads=2, progress=False)
+    return t, ref, d / "ref.h5"
+
+
+def test_atlas_both_equals_cli(both):
+    t, ref, _ = both
+    assert isinstance(t, xr.DataTree)
+    assert {"up", "down"} <= set(t.children)
+    assert_trees_equal(t, ref)
+
+
+@pytest.mark.parametrize("kw,args,params", [
+    ({"sweep": "fresh"}, [], {}),
+    ({"sweep": "up", "along": "y", "threads": 1, "section_cap": 3},
+     ["--sweep", "up", "--along", "y", "--threads", "1", "--section-cap", "3"], {}),
+    ({"sweep": "down", "preset": "fast", "accuracy": {"max_periods": 500}},
+     ["--sweep", "down", "--preset", "fast", "--accuracy", "max_periods=500.0"], {"mu_k": 0.3}),
+    ({"sweep": "fresh", "attractors": 4, "seed": 3}, ["--attractors", "4", "--seed", "3"], {}),
+])
+def test_atlas_equals_cli(tmp_path, kw, args, params):
+    ref = cli_atlas(tmp_path / "ref.h5", MULTI, X, Y, params, args)
+    t = va.atlas(MULTI, x=X, y=Y, progress=False, **kw, **params)
+    assert_trees_equal(t, ref)
+    if "attractors" in kw:
+        assert "attractors" in t.children
+
+
+def test_atlas_output_is_kept(tmp_path):
+    out = tmp_path / "a.h5"
+    t = va.atlas(MULTI, x=X, y=Y, sweep="both", output=out, progress=False)
+    assert out.is_file()
+    assert_trees_equal(t, open_tree(out))
+    ref = cli_atlas(tmp_path / "ref.h5", MULTI, X, Y, args=["--sweep", "both"])
+    assert_trees_equal(open_tree(out), ref)
+    assert sorted(os.listdir(tmp_path)) == ["a.h5", "ref.h5"]  # no journal, lock or partial file left
+
+
+def test_atlas_without_output_leaves_nothing(monkeypatch):
+    made = []
+    real = tempfile.mkdtemp
+
+    def spy(*a, **k):
+        made.append(real(*a, **k))
+        return made[-1]
+
+    monkeypatch.setattr(tempfile, "mkdtemp", spy)
+    t = va.atlas(MULTI, x=("omega", 0.3, 0.4, 3), y=("delta", 0.5, 0.6, 2), progress=False)
+    assert made and not os.path.exists(made[0])
+    # in memory: usable with the file gone
+    assert t["fresh"].ds.label_code_M1.values.shape == (2, 3)
+    assert float(t["fresh"].ds.multiplier.sum(skipna=True)) >= 0
+
+
+def test_dry_friction_sweep_both_with_params(tmp_path):
+    x, y = ("omega", 4.5, 8.0, 6), ("fk", 0.01, 0.2, 3)
+    ref = cli_atlas(tmp_path / "ref.h5", DRY, x, y, args=["--sweep", "both"])
+    assert_trees_equal(va.atlas(DRY, x=x, y=y, sweep="both", progress=False), ref)
+
+
+def test_open_equals_xarray(both):
+    _, ref, path = both
+    with va.open(path) as t:
+        assert isinstance(t, xr.DataTree)
+        assert_trees_equal(t.load(), ref, volatile=set())
+
+
+def test_labels(both):
+    t, ref, _ = both
+    for sweep in ("up", "down"):
+        for mass in ("M1", "M2"):
+            lab = va.labels(t[sweep], mass)
+            ds = ref[sweep].ds
+            expect = ds.label[ds[f"label_code_{mass}"]]
+            assert lab.dims == expect.dims == ("delta", "omega")
+            assert np.array_equal(lab.values, expect.values.astype(str))
+            assert np.array_equal(lab.omega.values, ds.omega.values)
+    lab = va.labels(t["up"].ds, "M1")   # a Dataset too
+    assert lab.sel(omega=0.33, delta=0.6, method="nearest").item() == "1-4-4"
+    assert va.labels(t["up"]).equals(lab)  # default: the first mass, M1
+    with pytest.raises(ValueError):
+        va.labels(t["up"], "M9")
+
+
+def test_labels_of_attractors(tmp_path):
+    t = va.atlas(MULTI, x=("omega", 0.3, 0.34, 3), y=("delta", 0.6, 0.7, 2), attractors=8, progress=False)
+    a = t["attractors"].ds
+    lab = va.labels(a, "M1")
+    code = a.label_code_M1.values
+    assert lab.dims == a.label_code_M1.dims
+    table = a.label.values.astype(str)
+    assert np.array_equal(lab.values, np.where(code >= 0, table[np.clip(code, 0, None)], ""))
+    assert (lab.values != "").sum() == int(a["count"].sum())

@@ -1,0 +1,66 @@
+"""Ctrl-C (SIGINT, sent from a thread) stops a long atlas within about a
+second: KeyboardInterrupt is raised, and no file, whole or partial, is left
+at the output."""
+import os
+import signal
+import tempfile
+import threading
+import time
+
+import pytest
+import vibroatlas as va
+
+from conftest import MULTI
+
+# The README's main job: about 20 s on two cores, so it is still running when the signal comes.
+BIG = dict(x=("omega", 0.1, 3.05, 296), y=("delta", 0.05, 2.0, 196), sweep="both", threads=2)
+
+
+def sigint_after(delay):
+    """Sends SIGINT to the main thread after `delay` s; returns a list that
+    receives the time it was sent."""
+    sent = []
+    main = threading.main_thread().ident
+
+    def fire():
+        time.sleep(delay)
+        sent.append(time.monotonic())
+        signal.pthread_kill(main, signal.SIGINT)
+
+    threading.Thread(target=fire, daemon=True).start()
+    return sent
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_kill"), reason="needs signal.pthread_kill")
+def test_ctrl_c_stops_a_long_atlas(tmp_path):
+    out = tmp_path / "big.h5"
+    sent = sigint_after(1.0)
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        va.atlas(MULTI, output=out, progress=False, **BIG)
+    raised = time.monotonic()
+    assert sent, f"the atlas ended before the signal ({raised - t0:.1f} s): make the grid larger"
+    assert raised - sent[0] < 2.0, f"KeyboardInterrupt {raised - sent[0]:.2f} s after SIGINT"
+    assert not out.exists()
+    assert not (tmp_path / ".big.partial.h5").exists()
+    assert os.listdir(tmp_path) == [], f"left behind: {os.listdir(tmp_path)}"
+    # the output is free again: a small atlas writes it
+    va.atlas(MULTI, x=("omega", 0.3, 0.4, 3), y=("delta", 0.5, 0.6, 2), output=out, progress=False)
+    assert out.is_file()
+
+
+@pytest.mark.skipif(not hasattr(signal, "pthread_kill"), reason="needs signal.pthread_kill")
+def test_ctrl_c_removes_the_temporary_folder(monkeypatch):
+    made = []
+    real = tempfile.mkdtemp
+
+    def spy(*a, **k):
+        made.append(real(*a, **k))
+        return made[-1]
+
+    monkeypatch.setattr(tempfile, "mkdtemp", spy)
+    sent = sigint_after(0.5)
+    with pytest.raises(KeyboardInterrupt):
+        va.atlas(MULTI, progress=False, **BIG)
+    assert sent and made
+    assert not os.path.exists(made[0])

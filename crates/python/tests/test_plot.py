@@ -1,0 +1,111 @@
+"""va.plot draws with the file's colours: in an Agg figure, the pixel at the
+centre of every cell has exactly the colour the file stores for that cell's
+label (label_colour), and the hysteresis panel splits each coexisting cell
+between the up label's colour (above the diagonal) and the down label's."""
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+import vibroatlas as va  # noqa: E402
+
+from conftest import MULTI, open_tree, cli, axis  # noqa: E402
+
+X = ("omega", 0.1, 3.05, 24)
+Y = ("delta", 0.05, 2.0, 16)
+
+
+@pytest.fixture(scope="module")
+def tree(tmp_path_factory):
+    path = tmp_path_factory.mktemp("plot") / "a.h5"
+    cli("atlas", MULTI, "--x", axis(X), "--y", axis(Y), "--sweep", "both", "--quiet", "-o", path)
+    return open_tree(path)
+
+
+def pixels(fig):
+    fig.canvas.draw()
+    return np.asarray(fig.canvas.buffer_rgba())[:, :, :3]
+
+
+def pixel_at(ax, img, x, y):
+    """The RGB of the pixel under data point (x, y) of ax."""
+    px, py = ax.transData.transform((x, y))
+    return tuple(int(c) for c in img[img.shape[0] - 1 - int(py), int(px)])
+
+
+def cell_colours(ds, mass):
+    code = ds[f"label_code_{mass}"].values
+    return ds["label_colour"].values[code]  # [y, x, rgb]
+
+
+@pytest.mark.parametrize("sweep,mass", [("up", "M1"), ("down", "M2")])
+def test_map_pixels_are_the_files_colours(tree, sweep, mass):
+    fig = plt.figure(figsize=(4.8, 3.2), dpi=100)  # 20 pixels a cell
+    ax = fig.add_axes([0, 0, 1, 1])
+    ax.set_axis_off()
+    got = va.plot.map(tree[sweep], mass=mass, ax=ax, legend=False)
+    assert got is ax
+    img = pixels(fig)
+    ds = tree[sweep].ds
+    want = cell_colours(ds, mass)
+    xs, ys = ds.omega.values, ds.delta.values
+    for iy in range(len(ys)):
+        for ix in range(len(xs)):
+            assert pixel_at(ax, img, xs[ix], ys[iy]) == tuple(int(c) for c in want[iy, ix]), (iy, ix)
+    plt.close(fig)
+
+
+def test_known_cell_colour(tree):
+    """The cell nearest (ω 0.33, δ 0.6) in the up sweep, by its label text."""
+    ds = tree["up"].ds
+    c = ds.sel(omega=0.33, delta=0.6, method="nearest")
+    text = va.labels(ds, "M1").sel(omega=0.33, delta=0.6, method="nearest").item()
+    rgb = tuple(int(v) for v in ds.label_colour.sel(label=text).values)
+    fig = plt.figure(figsize=(4.8, 3.2), dpi=100)
+    ax = fig.add_axes([0, 0, 1, 1])
+    va.plot.map(ds, "M1", ax=ax, legend=False)
+    assert pixel_at(ax, pixels(fig), float(c.omega), float(c.delta)) == rgb
+    assert va.plot.colours(ds)[text] == rgb
+    plt.close(fig)
+
+
+def test_map_with_legend_returns_axes(tree):
+    ax = va.plot.map(tree["up"], "M1")
+    assert ax.get_title() == "M1, up sweep"
+    assert "ω" in ax.get_xlabel() and "δ" in ax.get_ylabel()
+    assert ax.get_legend() is not None
+    plt.close(ax.figure)
+
+
+def test_hysteresis_panels(tree):
+    fig = plt.figure(figsize=(14.4, 3.2), dpi=100)
+    axes = va.plot.hysteresis(tree, mass="M1", fig=fig, legend=False)
+    assert len(axes) == 3
+    img = pixels(fig)
+    up, down = tree["up"].ds, tree["down"].ds
+    cu, cd = cell_colours(up, "M1"), cell_colours(down, "M1")
+    mask = tree.ds["hysteresis"].transpose("delta", "omega").values == 1
+    assert mask.any(), "the test grid has no coexisting cells"
+    xs, ys = up.omega.values, up.delta.values
+    dx, dy = xs[1] - xs[0], ys[1] - ys[0]
+    for iy in range(len(ys)):
+        for ix in range(len(xs)):
+            x, y = xs[ix], ys[iy]
+            assert pixel_at(axes[0], img, x, y) == tuple(int(c) for c in cu[iy, ix])
+            assert pixel_at(axes[1], img, x, y) == tuple(int(c) for c in cd[iy, ix])
+            upper = pixel_at(axes[2], img, x - 0.3 * dx, y + 0.3 * dy)   # above the rising diagonal
+            lower = pixel_at(axes[2], img, x + 0.3 * dx, y - 0.3 * dy)   # below it
+            if mask[iy, ix]:
+                assert upper == tuple(int(c) for c in cu[iy, ix]), (iy, ix)
+                assert lower == tuple(int(c) for c in cd[iy, ix]), (iy, ix)
+            else:
+                assert upper == lower == (255, 255, 255), (iy, ix)
+    plt.close(fig)
+
+
+def test_hysteresis_default_figure(tree):
+    axes = va.plot.hysteresis(tree)
+    assert [a.get_title().split(",")[0] for a in axes[:2]] == ["M1", "M1"]
+    assert axes[2].get_title().startswith("coexisting motions:")
+    plt.close(axes[0].figure)

@@ -1,0 +1,92 @@
+"""cell, sweep, attractors and curve return exactly what the CLI prints with
+--json for the same arguments (dict equality: every key, every float bit for
+bit, as JSON round-trips them)."""
+import json
+import tomllib
+
+import pytest
+import vibroatlas as va
+
+from conftest import DRY, MULTI, assert_trees_equal, axis, cli, cli_json, open_tree, sets
+
+
+@pytest.mark.parametrize("params,kw,args", [
+    ({}, {}, []),                                                     # the scene's defaults: M1 1-4-4
+    ({"omega": 0.295}, {}, []),                                       # chattering
+    ({"omega": 0.2, "delta": 0.6}, {}, []),                           # complete chattering
+    ({"omega": 0.9, "delta": 0.3}, {"preset": "fast"}, ["--preset", "fast"]),
+    ({"omega": 0.33}, {"preset": "precise", "accuracy": {"max_periods": 3000, "n_max": 40}},
+     ["--preset", "precise", "--accuracy", "max_periods=3000.0", "--accuracy", "n_max=40.0"]),
+    ({"omega": 0.5, "delta": 0.5}, {"integrator": "rk4", "preset": "fast"}, ["--integrator", "rk4", "--preset", "fast"]),
+])
+def test_cell_equals_cli(params, kw, args):
+    r = va.cell(str(MULTI), **kw, **params)
+    assert r == cli_json("cell", MULTI, *sets(**params), *args)
+
+
+def test_cell_readme_example():
+    r = va.cell(MULTI, omega=0.33, delta=0.6)  # a pathlib.Path
+    assert r["labels"]["M1"] == "1-4-4"
+    assert r["class"] == "periodic" and r["n"] == 1
+
+
+def test_cell_scene_as_text_and_dict():
+    text = MULTI.read_text()
+    ref = cli_json("cell", MULTI, *sets(omega=0.295, delta=0.6))
+    assert va.cell(text, omega=0.295, delta=0.6) == ref
+    assert va.cell(tomllib.loads(text), omega=0.295, delta=0.6) == ref
+    # a varied scene without a file: R as a dict entry, the same as --set R=0.7
+    d = tomllib.loads(text)
+    d["parameters"]["R"]["value"] = 0.7
+    assert va.cell(d, omega=0.295) == cli_json("cell", MULTI, *sets(omega=0.295, R=0.7))
+
+
+def test_params_order_and_params_dict():
+    # --set in the order given; `params` for names that would clash with keywords
+    ref = cli_json("cell", MULTI, *sets(delta=0.5, omega=0.4))
+    assert va.cell(MULTI, delta=0.5, omega=0.4) == ref
+    assert va.cell(MULTI, params={"delta": 0.5}, omega=0.4) == ref
+
+
+@pytest.mark.parametrize("scene,ax,kw,params", [
+    (DRY, ("omega", 8, 4.5, 41), {"direction": "down-up"}, {"fk": 0.01}),     # the issue's sweep, coarser
+    (MULTI, ("omega", 0.2, 0.4, 31), {"direction": "both", "threads": 2}, {}),
+    (MULTI, ("omega", 0.4, 0.2, 21), {"section_cap": 4, "preset": "fast"}, {"delta": 0.5}),
+])
+def test_sweep_equals_cli(scene, ax, kw, params):
+    r = va.sweep(str(scene), axis=ax, progress=False, **kw, **params)
+    args = ["--axis", axis(ax)]
+    for k, v in kw.items():
+        args += [f"--{k.replace('_', '-')}", str(v)]
+    assert r == cli_json("sweep", scene, *sets(**params), *args)
+
+
+@pytest.mark.parametrize("kw,args", [
+    ({"samples": 64, "seed": 1}, ["--samples", "64", "--seed", "1"]),
+    ({"samples": 24, "seed": 7, "box": (1.5, 1.0), "threads": 2},
+     ["--samples", "24", "--seed", "7", "--box", "1.5,1.0", "--threads", "2"]),
+])
+def test_attractors_equals_cli(kw, args):
+    r = va.attractors(str(MULTI), omega=0.3149, delta=0.7, progress=False, **kw)
+    assert r == cli_json("attractors", MULTI, *sets(omega=0.3149, delta=0.7), *args)
+    assert len(r["attractors"]) >= 1
+
+
+def test_curve_equals_cli(tmp_path):
+    args = ["--kind", "pf", "--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.1", "--steps", "8"]
+    ref = cli_json("curve", DRY, *args)
+    r = va.curve(str(DRY), kind="pf", start={"omega": 6.845, "fk": 0.01}, free=("omega", "fk"), to=0.1, steps=8)
+    assert r == ref
+    assert r["kind"] == "PF"
+    # with a file: the same JSON, and the same file as the CLI's
+    out, ref_out = tmp_path / "c.h5", tmp_path / "ref.h5"
+    r2 = va.curve(DRY, kind="pf", start=[("omega", 6.845), ("fk", 0.01)], free=["omega", "fk"], to=0.1,
+                  steps=8, window=0.05, output=out)
+    assert r2 == ref
+    cli("curve", DRY, *args, "--window", "0.05", "-o", ref_out)
+    assert_trees_equal(open_tree(out), open_tree(ref_out))
+
+
+def test_cell_result_is_plain_json():
+    r = va.cell(MULTI)
+    assert json.loads(json.dumps(r)) == r
