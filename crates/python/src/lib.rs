@@ -1,0 +1,406 @@
+//! `vibroatlas._native`: the engine's runs for Python. Every call turns its
+//! arguments into an engine request (on the calling thread, holding the
+//! interpreter) and starts the run on a thread of its own; it hands back a
+//! [`Job`] that Python waits on in short slices with the interpreter released,
+//! so that Ctrl-C and progress bars work while the engine computes. The
+//! Python package (`python/vibroatlas`) wraps these calls.
+//!
+//! Errors keep the command line's one-line messages: `SceneError` (a
+//! `ValueError`) for scene files and texts, `OSError` for files, `ValueError`
+//! for everything else the caller gave; a panic of the engine becomes a
+//! `RuntimeError`, never an abort of the interpreter.
+
+use engine::{AtlasRequest, AttractorCells, CurveRequest, Direction, SceneSource, Sim, Start, SweepRequest};
+use grid::attractors::Sampling;
+use grid::{Along, Axis, Shard, SweepKind};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::Duration;
+
+pyo3::create_exception!(
+    _native,
+    SceneError,
+    PyValueError,
+    "A scene file or text that cannot be read as a scene (the message names the field)."
+);
+
+/// Why a run failed, as the Python exception it becomes.
+#[derive(Debug, Clone)]
+enum Failure {
+    /// A scene that is not valid (`SceneError`).
+    Scene(String),
+    /// A file that cannot be read or written (`OSError`).
+    File(String),
+    /// Anything else the caller gave (`ValueError`).
+    Value(String),
+    /// The run was cancelled (`RuntimeError("cancelled")`).
+    Cancelled,
+    /// The engine panicked (`RuntimeError`).
+    Panic(String),
+}
+
+impl Failure {
+    /// The failure of an engine error: its kind from the chain of causes,
+    /// its text as the command line prints it.
+    fn of(e: &anyhow::Error) -> Failure {
+        let text = format!("{e:#}");
+        for cause in e.chain() {
+            if let Some(grid::GridError::Cancelled) = cause.downcast_ref::<grid::GridError>() {
+                return Failure::Cancelled;
+            }
+            if let Some(s) = cause.downcast_ref::<engine::SceneLoadError>() {
+                return match s {
+                    engine::SceneLoadError::Read { .. } => Failure::File(text),
+                    engine::SceneLoadError::Invalid { .. } => Failure::Scene(text),
+                };
+            }
+            if cause.is::<std::io::Error>() || matches!(cause.downcast_ref(), Some(store::StoreError::Io { .. })) {
+                return Failure::File(text);
+            }
+        }
+        Failure::Value(text)
+    }
+
+    fn into_py(self) -> PyErr {
+        match self {
+            Failure::Scene(m) => SceneError::new_err(m),
+            Failure::File(m) => PyOSError::new_err(m),
+            Failure::Value(m) => PyValueError::new_err(m),
+            Failure::Cancelled => PyRuntimeError::new_err("cancelled"),
+            Failure::Panic(m) => PyRuntimeError::new_err(format!("internal error of the engine: {m}")),
+        }
+    }
+}
+
+/// What the run's thread and Python share.
+#[derive(Default)]
+struct Shared {
+    done: AtomicU64,
+    total: AtomicU64,
+    cancel: AtomicBool,
+    /// The outcome (JSON text or failure), once the run has ended.
+    outcome: Mutex<Option<Result<String, Failure>>>,
+    ended: Condvar,
+}
+
+impl engine::Observer for Shared {
+    fn begin(&self, w: &engine::Begin<'_>) {
+        self.total.store(w.total, Ordering::Relaxed);
+        self.done.store(w.done, Ordering::Relaxed);
+    }
+    fn advance(&self, cells: u64) {
+        self.done.fetch_add(cells, Ordering::Relaxed);
+    }
+    fn cancelled(&self) -> bool {
+        self.cancel.load(Ordering::Relaxed)
+    }
+}
+
+/// A run on a thread of its own.
+#[pyclass(module = "vibroatlas._native")]
+struct Job {
+    shared: Arc<Shared>,
+}
+
+impl Job {
+    /// Starts `work` on a new thread; its text or error becomes the outcome.
+    fn start(work: impl FnOnce(&Shared) -> anyhow::Result<String> + Send + 'static) -> Job {
+        let shared = Arc::new(Shared::default());
+        let theirs = Arc::clone(&shared);
+        std::thread::spawn(move || {
+            let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&theirs)));
+            let outcome = match ran {
+                Ok(Ok(text)) => Ok(text),
+                Ok(Err(e)) => Err(Failure::of(&e)),
+                Err(p) => Err(Failure::Panic(
+                    p.downcast_ref::<&str>()
+                        .map(|s| s.to_string())
+                        .or_else(|| p.downcast_ref::<String>().cloned())
+                        .unwrap_or_else(|| "panic".into()),
+                )),
+            };
+            *theirs.outcome.lock().unwrap_or_else(|p| p.into_inner()) = Some(outcome);
+            theirs.ended.notify_all();
+        });
+        Job { shared }
+    }
+
+    /// Waits up to `timeout` (forever when `None`); whether the run has ended.
+    fn wait_for(&self, timeout: Option<Duration>) -> bool {
+        let guard = self.shared.outcome.lock().unwrap_or_else(|p| p.into_inner());
+        let ended = |o: &mut Option<_>| o.is_none();
+        match timeout {
+            Some(t) => self.shared.ended.wait_timeout_while(guard, t, ended).map_or(true, |(g, _)| g.is_some()),
+            None => self.shared.ended.wait_while(guard, ended).map_or(true, |g| g.is_some()),
+        }
+    }
+}
+
+#[pymethods]
+impl Job {
+    /// Waits up to `timeout` seconds with the interpreter released; True once
+    /// the run has ended (done, failed or cancelled).
+    fn wait(&self, py: Python<'_>, timeout: f64) -> PyResult<bool> {
+        if !(timeout.is_finite() && timeout >= 0.0) {
+            return Err(PyValueError::new_err(format!("timeout: expected seconds >= 0, got {timeout}")));
+        }
+        Ok(py.detach(|| self.wait_for(Some(Duration::from_secs_f64(timeout.min(1e6))))))
+    }
+
+    /// `(done, total)` units of work (cells; 0 total when not known).
+    fn progress(&self) -> (u64, u64) {
+        (self.shared.done.load(Ordering::Relaxed), self.shared.total.load(Ordering::Relaxed))
+    }
+
+    /// Asks the run to stop before its next cell; a cancelled atlas writes no file.
+    fn cancel(&self) {
+        self.shared.cancel.store(true, Ordering::Relaxed);
+    }
+
+    /// The run's JSON text, waiting for it to end; raises its error.
+    fn result(&self, py: Python<'_>) -> PyResult<String> {
+        py.detach(|| self.wait_for(None));
+        let outcome = self.shared.outcome.lock().unwrap_or_else(|p| p.into_inner()).clone();
+        match outcome {
+            Some(Ok(text)) => Ok(text),
+            Some(Err(f)) => Err(f.into_py()),
+            None => Err(PyRuntimeError::new_err("the run has not ended")),
+        }
+    }
+}
+
+/// The options of one call, each taken once; any left over is refused.
+struct Options<'py> {
+    dict: Bound<'py, PyDict>,
+    taken: Vec<&'static str>,
+}
+
+impl<'py> Options<'py> {
+    fn new(dict: &Bound<'py, PyDict>) -> Options<'py> {
+        Options { dict: dict.clone(), taken: Vec::new() }
+    }
+
+    /// The option `key`, if given (and not None).
+    fn get<T: FromPyObjectOwned<'py>>(&mut self, key: &'static str) -> PyResult<Option<T>> {
+        self.taken.push(key);
+        match self.dict.get_item(key)? {
+            Some(v) if !v.is_none() => v.extract::<T>().map(Some).map_err(|e| {
+                let e: PyErr = e.into();
+                PyValueError::new_err(format!("{key}: {}", e.value(v.py())))
+            }),
+            _ => Ok(None),
+        }
+    }
+
+    /// The option `key`, which must be given.
+    fn need<T: FromPyObjectOwned<'py>>(&mut self, key: &'static str) -> PyResult<T> {
+        self.get(key)?.ok_or_else(|| PyValueError::new_err(format!("{key}: required")))
+    }
+
+    /// Refuses options that no one took.
+    fn finish(self) -> PyResult<()> {
+        for key in self.dict.keys() {
+            let key: String = key.extract()?;
+            if !self.taken.contains(&key.as_str()) {
+                return Err(PyValueError::new_err(format!("unknown option '{key}'")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An enum option by its command-line name.
+fn named<T>(key: &str, value: Option<String>, parse: impl Fn(&str) -> Option<T>, names: &str) -> PyResult<Option<T>> {
+    value
+        .map(|v| parse(&v).ok_or_else(|| PyValueError::new_err(format!("{key}: expected {names}, got '{v}'"))))
+        .transpose()
+}
+
+/// The simulation options common to every call.
+fn sim<'py>(scene: (String, String), params: Vec<(String, f64)>, o: &mut Options<'py>) -> PyResult<Sim> {
+    let (kind, value) = scene;
+    let source = match kind.as_str() {
+        "path" => SceneSource::File(value.into()),
+        "toml" => SceneSource::Text(value),
+        "json" => {
+            let table: toml::Table = serde_json::from_str(&value)
+                .map_err(|e| SceneError::new_err(format!("scene: not a table of scene fields ({e})")))?;
+            SceneSource::Text(toml::to_string(&table).map_err(|e| SceneError::new_err(format!("scene: {e}")))?)
+        }
+        other => return Err(PyValueError::new_err(format!("scene: unknown kind '{other}'"))),
+    };
+    let preset = named("preset", o.get("preset")?, solver::Preset::parse, "fast, standard or precise")?;
+    let integrator = named("integrator", o.get("integrator")?, solver::Method::parse, "exact or rk4")?;
+    let mut knobs = Vec::new();
+    if let Some(d) = o.get::<Bound<'py, PyDict>>("accuracy")? {
+        for (k, v) in d.iter() {
+            knobs.push((k.extract()?, v.extract()?));
+        }
+    }
+    Ok(Sim { scene: source, set: params, preset, accuracy: knobs, integrator })
+}
+
+/// An axis `(name, start, stop, count)`.
+fn axis(t: (String, f64, f64, usize)) -> Axis {
+    Axis { name: t.0, start: t.1, stop: t.2, count: t.3 }
+}
+
+/// Worker threads: the option, or every core.
+fn threads(o: &mut Options<'_>) -> PyResult<usize> {
+    let n = o.get::<usize>("threads")?;
+    engine::threads(n).map_err(|e| PyValueError::new_err(format!("{e:#}").replace("--threads", "threads")))
+}
+
+/// JSON text of a value.
+fn text(v: &serde_json::Value) -> anyhow::Result<String> {
+    Ok(serde_json::to_string(v)?)
+}
+
+/// One cell: the JSON of `cell --json`.
+#[pyfunction]
+fn cell(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
+    let mut o = Options::new(options);
+    let sim = sim(scene, params, &mut o)?;
+    let start = match o.get::<Vec<f64>>("state")? {
+        Some(state) => Start::State(state),
+        None => Start::Initial,
+    };
+    o.finish()?;
+    Ok(Job::start(move |_| text(&engine::cell(&sim, &start)?.to_json())))
+}
+
+/// A sweep along one parameter: the JSON of `sweep --json`.
+#[pyfunction]
+fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
+    let mut o = Options::new(options);
+    let sim = sim(scene, params, &mut o)?;
+    let direction = named("direction", o.get("direction")?, Direction::parse, "up, down, both, down-up or up-down")?;
+    let r = SweepRequest {
+        sim,
+        start: Start::Initial,
+        axis: axis(o.need("axis")?),
+        direction,
+        section_cap: o.get("section_cap")?.unwrap_or(16),
+        threads: threads(&mut o)?,
+        output: o.get::<String>("output")?.map(Into::into),
+        force: o.get("force")?.unwrap_or(false),
+        command: "vibroatlas.sweep (Python)".into(),
+    };
+    o.finish()?;
+    Ok(Job::start(move |shared| text(&engine::sweep(&r, shared)?.to_json())))
+}
+
+/// An atlas written to `output`: `{"output": path, "seconds": s}`.
+#[pyfunction]
+fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
+    let mut o = Options::new(options);
+    let sim = sim(scene, params, &mut o)?;
+    let sweeps = match o.get::<String>("sweep")?.as_deref() {
+        None | Some("fresh") => vec![SweepKind::Fresh],
+        Some("up") => vec![SweepKind::Up],
+        Some("down") => vec![SweepKind::Down],
+        Some("both") => vec![SweepKind::Up, SweepKind::Down],
+        Some(other) => {
+            return Err(PyValueError::new_err(format!("sweep: expected fresh, up, down or both, got '{other}'")))
+        }
+    };
+    let mut r = AtlasRequest::new(sim, axis(o.need("x")?), axis(o.need("y")?), sweeps);
+    r.along = named("along", o.get("along")?, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(Along::X);
+    r.shard = match o.get::<String>("shard")? {
+        Some(s) => Some(Shard::parse(&s).map_err(|e| PyValueError::new_err(e.to_string()))?),
+        None => None,
+    };
+    if let Some(samples) = o.get::<usize>("attractors")? {
+        let seed = o.get("seed")?.unwrap_or(1);
+        let cells = match o.get::<String>("attractors_where")?.as_deref() {
+            None | Some("all") => AttractorCells::All,
+            Some("hysteresis") => AttractorCells::Hysteresis,
+            Some(other) => {
+                return Err(PyValueError::new_err(format!(
+                    "attractors_where: expected all or hysteresis, got '{other}'"
+                )))
+            }
+        };
+        r.attractors = Some((Sampling { samples, seed, x: 2.0, v: 2.0 }, cells));
+    }
+    r.section_cap = o.get("section_cap")?.unwrap_or(16);
+    r.threads = threads(&mut o)?;
+    let output: String = o.need("output")?;
+    r.output = Some(output.clone().into());
+    r.resume = o.get("resume")?.unwrap_or(false);
+    r.force = o.get("force")?.unwrap_or(false);
+    r.command = "vibroatlas.atlas (Python)".into();
+    o.finish()?;
+    Ok(Job::start(move |shared| {
+        let run = engine::atlas(&r, shared)?;
+        text(&serde_json::json!({"output": output, "seconds": run.secs}))
+    }))
+}
+
+/// The coexisting attractors of one point: the JSON of `attractors --json`.
+#[pyfunction]
+fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
+    let mut o = Options::new(options);
+    let sim = sim(scene, params, &mut o)?;
+    let (x, v) = o.get::<(f64, f64)>("box")?.unwrap_or((2.0, 2.0));
+    let r = engine::AttractorsRequest {
+        sim,
+        sampling: Sampling { samples: o.get("samples")?.unwrap_or(64), seed: o.get("seed")?.unwrap_or(1), x, v },
+        threads: threads(&mut o)?,
+    };
+    o.finish()?;
+    Ok(Job::start(move |_| text(&engine::attractors(&r)?.to_json())))
+}
+
+/// A bifurcation curve: the JSON of `curve --json`.
+#[pyfunction]
+fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
+    let mut o = Options::new(options);
+    let sim = sim(scene, params, &mut o)?;
+    let kind = named(
+        "kind",
+        o.get("kind")?,
+        |k| match k {
+            "pd" => Some(solver::Bifurcation::PeriodDoubling),
+            "sn" => Some(solver::Bifurcation::SaddleNode),
+            "pf" => Some(solver::Bifurcation::Pitchfork),
+            "ns" => Some(solver::Bifurcation::NeimarkSacker),
+            "grazing" => Some(solver::Bifurcation::Grazing),
+            _ => None,
+        },
+        "pd, sn, pf, ns or grazing",
+    )?
+    .ok_or_else(|| PyValueError::new_err("kind: required"))?;
+    let (a, b): (String, String) = o.need("free")?;
+    let r = CurveRequest {
+        sim,
+        kind,
+        free: [a, b],
+        start: o.need("start")?,
+        to: o.need("to")?,
+        steps: o.get("steps")?.unwrap_or(20),
+        window: o.get("window")?.unwrap_or(0.05),
+        bounds: o.get::<(f64, f64)>("bounds")?.map(|(lo, hi)| [lo, hi]),
+        n: o.get("n")?,
+        output: o.get::<String>("output")?.map(Into::into),
+        command: "vibroatlas.curve (Python)".into(),
+    };
+    o.finish()?;
+    Ok(Job::start(move |_| text(&engine::curve(&r)?.to_json())))
+}
+
+/// The module.
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("SceneError", m.py().get_type::<SceneError>())?;
+    m.add_class::<Job>()?;
+    m.add_function(wrap_pyfunction!(cell, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(atlas, m)?)?;
+    m.add_function(wrap_pyfunction!(attractors, m)?)?;
+    m.add_function(wrap_pyfunction!(curve, m)?)?;
+    Ok(())
+}
