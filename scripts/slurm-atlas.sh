@@ -1,395 +1,247 @@
 #!/usr/bin/env bash
-# Submits one vibroatlas atlas to Slurm: a job array computing N shards, then a
-# merge job that runs only when every shard succeeded. Run with --help.
+# Runs `vibroatlas atlas` on Slurm: a job array of N shards, then a merge job
+# that runs when every shard succeeded. Glue only: the atlas options go to
+# vibroatlas unchanged, which resumes, skips and merges by itself. Run with --help.
 set -euo pipefail
 
 usage() {
     cat <<'EOF'
 Usage:
-  scripts/slurm-atlas.sh SCENE ATLAS-OPTIONS... --shards N [--out DIR] [--name NAME]
-                         [--partition P] [--cpus C] [--time T] [--bin PATH] [--dry-run]
-  scripts/slurm-atlas.sh --out DIR --rerun K[,K...]   [--partition P] [--cpus C] [--time T]
-  scripts/slurm-atlas.sh --out DIR --merge-only [--allow-missing] [--partition P] [--time T]
+  scripts/slurm-atlas.sh --shards N [OPTIONS] -- SCENE ATLAS-OPTIONS...
+  scripts/slurm-atlas.sh --out DIR --rerun K[,K...] [--partition P] [--cpus C] [--time T] [--wait]
+  scripts/slurm-atlas.sh --out DIR --merge-only [--allow-missing] [--partition P] [--time T] [--wait]
 
-Computes the atlas `vibroatlas atlas SCENE ATLAS-OPTIONS...` on a Slurm cluster as
-a job array of N shards (whole lines each) and merges the parts into DIR/atlas.h5.
+Computes `vibroatlas atlas SCENE ATLAS-OPTIONS...` as a Slurm job array of N
+shards; shard K runs, in the folder this script was started from,
 
-  SCENE ATLAS-OPTIONS  as for `vibroatlas atlas`, e.g. configs/multi-stop.toml
-                       --x omega=0.1:3.05:296 --y delta=0.05:2:196 --sweep both.
-                       --shard, --output/-o, --threads and --resume are set by
-                       this script and refused here.
-  --shards N           number of shards (array tasks); each writes DIR/part-K-of-N.h5
-  --out DIR            run folder (default: $PWD/out/slurm-NAME, NAME defaulting to
-                       SCENE-STEM-YYYYmmdd-HHMMSS); it must be on a file system the
-                       compute nodes see. It receives a copy of the binary and the
-                       scene, the generated batch scripts, the logs (DIR/logs/),
-                       the parts, atlas.h5 and jobs.log (every submission).
-  --name NAME          job name and default folder name
-  --partition P        Slurm partition (default: the cluster's default partition)
-  --cpus C             CPUs per shard = worker threads (default: the smallest CPU
-                       count of the partition's nodes, from sinfo)
-  --time T             time limit per job, as sbatch --time (default: the partition's)
-  --bin PATH           vibroatlas binary (default: target/release/vibroatlas of this
-                       checkout, or $VIBROATLAS_BIN); copied into DIR on first use
-  --rerun K[,K...]     resubmit only these shards of the run in DIR, and a new merge
-                       after them. A part that is already finished is kept (the task
-                       is a no-op); an interrupted one continues from its journal.
-  --merge-only         submit only the merge of the parts in DIR (no dependency)
-  --allow-missing      with --merge-only: merge even with shards missing (their cells
-                       stay "not computed")
-  --dry-run            write the folder and batch scripts, print the sbatch commands,
-                       submit nothing
-  -h, --help           this text
+  DIR/vibroatlas atlas SCENE ATLAS-OPTIONS... --shard K/N --threads C --resume -o DIR/part-K-of-N.h5
 
-Resubmitting the same SCENE and options with the same --out DIR submits every shard
-again; finished parts are kept, so only the missing ones are computed.
-With --rerun and --merge-only, SCENE and options may be left out (DIR/run.conf holds
-them); if given, they must be those of the run.
+which is safe to run again: a finished part is left as it is, an interrupted
+one resumes from its journal. A merge job then runs
+`vibroatlas merge DIR/part-*-of-N.h5 -o DIR/atlas.h5`, which fails naming the
+shards that are missing. Everything after `--` goes to `vibroatlas atlas`
+unchanged, except --shard, --threads, --resume and -o/--output, which this
+script sets and refuses there.
+
+  --shards N         number of shards (array tasks 1..N)
+  --out DIR          run folder, on a file system the compute nodes see (default:
+                     out/slurm-YYYYmmdd-HHMMSS). It receives a copy of the binary,
+                     the batch scripts, logs/, the parts and atlas.h5.
+  --name NAME        job name (default: the run folder's name)
+  --partition P      Slurm partition (default: the cluster's default)
+  --cpus C           CPUs per shard = --threads (default: the smallest node's CPU count)
+  --time T           time limit of each job, as sbatch --time (default: the partition's)
+  --bin PATH         vibroatlas binary (default: $VIBROATLAS_BIN, or target/release/vibroatlas)
+  --rerun K[,K...]   resubmit these shards of the run in DIR, and a merge after them
+  --merge-only       submit only the merge of the parts in DIR
+  --allow-missing    with --merge-only: merge even with shards missing
+  --wait             wait for the jobs; exit 0 only when atlas.h5 was written
+  --dry-run          write DIR and the batch scripts, print the sbatch commands, submit nothing
+  -h, --help         this text
+
+Submitting the same command again with the same --out DIR reruns every shard:
+finished ones exit at once, interrupted ones resume, missing ones compute.
 EOF
 }
 
 prog=slurm-atlas
 die() { echo "$prog: error: $*" >&2; exit 2; }
 note() { echo "$prog: $*"; }
+self=$(readlink -f -- "${BASH_SOURCE[0]}")
+repo=$(dirname -- "$(dirname -- "$self")")
 
-repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-self="$repo/scripts/slurm-atlas.sh"
-
-# Options of `vibroatlas atlas` that take a value (so that SCENE is found wherever it is).
-atlas_value_opts=" --set --preset --accuracy --integrator --x --y --sweep --along --section-cap "
-
-scene="" shards="" out="" name="" partition="" cpus="" time_limit="" rerun=""
-merge_only=0 allow_missing=0 dry_run=0 bin="${VIBROATLAS_BIN:-}"
-atlas_args=()
-
-need() { [[ $# -ge 2 && -n $2 ]] || die "$1 needs a value (see --help)"; }
+shards="" out="" name="" partition="" cpus="" time_limit="" rerun="" bin=${VIBROATLAS_BIN:-}
+merge_only=0 allow_missing=0 wait=0 dry_run=0 atlas=()
 while (($#)); do
-    a=$1
-    case $a in
+    case $1 in
         -h | --help) usage; exit 0 ;;
         --shards | --out | --name | --partition | --cpus | --time | --rerun | --bin)
-            need "$@"; v=$2; shift ;;&
-        --shards=* | --out=* | --name=* | --partition=* | --cpus=* | --time=* | --rerun=* | --bin=*)
-            v=${a#*=}; a=${a%%=*}; [[ -n $v ]] || die "$a needs a value" ;;&
-        --shards | --shards=*) shards=$v ;;
-        --out | --out=*) out=$v ;;
-        --name | --name=*) name=$v ;;
-        --partition | --partition=*) partition=$v ;;
-        --cpus | --cpus=*) cpus=$v ;;
-        --time | --time=*) time_limit=$v ;;
-        --rerun | --rerun=*) rerun=$v ;;
-        --bin | --bin=*) bin=$v ;;
+            [[ $# -ge 2 && -n $2 ]] || die "$1 needs a value"
+            case $1 in
+                --shards) shards=$2 ;; --out) out=$2 ;; --name) name=$2 ;; --partition) partition=$2 ;;
+                --cpus) cpus=$2 ;; --time) time_limit=$2 ;; --rerun) rerun=$2 ;; --bin) bin=$2 ;;
+            esac
+            shift ;;
         --merge-only) merge_only=1 ;;
         --allow-missing) allow_missing=1 ;;
+        --wait) wait=1 ;;
         --dry-run) dry_run=1 ;;
-        --shard | --shard=* | -o | --output | --output=* | --threads | --threads=* | --resume)
-            die "${a%%=*} is set by this script, per shard; leave it out (see --help)" ;;
-        --) shift; atlas_args+=("$@"); break ;;
-        -*)
-            atlas_args+=("$a")
-            if [[ $atlas_value_opts == *" $a "* ]]; then
-                [[ $# -ge 2 ]] || die "$a needs a value"
-                atlas_args+=("$2"); shift
-            fi ;;
-        *)
-            if [[ -z $scene ]]; then scene=$a; else die "unexpected argument '$a' (the scene is already '$scene')"; fi ;;
+        --) shift; atlas=("$@"); break ;;
+        *) die "unknown option '$1'; the scene and the atlas options go after '--' (see --help)" ;;
     esac
     shift
 done
-
-qwords() { (($#)) && printf '%q ' "$@"; return 0; } # shell-quoted words; nothing for none
+for a in "${atlas[@]}"; do
+    case $a in
+        --shard | --shard=* | --threads | --threads=* | --resume | -o | -o* | --output | --output=*)
+            die "'${a%%=*}' is set by this script for each shard (--shard K/N --threads C --resume -o DIR/part-K-of-N.h5); leave it out after '--'" ;;
+    esac
+done
 is_count() { [[ $1 =~ ^[1-9][0-9]*$ ]]; }
-[[ -z $shards ]] || is_count "$shards" || die "--shards must be a positive whole number, not '$shards'"
 [[ -z $cpus ]] || is_count "$cpus" || die "--cpus must be a positive whole number, not '$cpus'"
-((merge_only == 0 || ${#rerun} == 0)) || die "--rerun and --merge-only exclude each other"
-((allow_missing == 0 || merge_only == 1)) || die "--allow-missing goes with --merge-only"
+q() { printf '%q' "$1"; }
+words() { (($# == 0)) || printf '%q ' "$@"; }
+
 mode=submit
 [[ -n $rerun ]] && mode=rerun
-((merge_only)) && mode=merge
-
-# ---- the run folder and its configuration -------------------------------------
-if [[ -n $scene ]]; then
-    [[ -f $scene && -r $scene ]] || die "scene '$scene' is not a readable file"
-    scene=$(readlink -f -- "$scene")
+if ((merge_only)); then
+    [[ $mode == submit ]] || die "--rerun and --merge-only exclude each other"
+    mode=merge
 fi
-
+((allow_missing == 0 || merge_only)) || die "--allow-missing goes with --merge-only"
 if [[ $mode == submit ]]; then
-    [[ -n $scene ]] || die "no SCENE given (see --help)"
-    [[ -n $shards ]] || die "--shards N is required"
-    if [[ -z $out ]]; then
-        stem=$(basename -- "$scene"); stem=${stem%.*}
-        out="$PWD/out/slurm-${name:-$stem-$(date +%Y%m%d-%H%M%S)}"
-    fi
+    is_count "$shards" || die "--shards N (a positive whole number) is required"
+    ((${#atlas[@]})) || die "nothing after '--': give the scene and the atlas options, e.g. -- configs/multi-stop.toml --x omega=0.1:3:60 --y delta=0.05:2:40"
+    out=$(readlink -m -- "${out:-out/slurm-$(date +%Y%m%d-%H%M%S)}")
 else
-    [[ -n $out ]] || die "--$( [[ $mode == rerun ]] && echo rerun || echo merge-only) needs --out DIR, the folder of the run"
-    [[ -f $out/run.conf ]] || die "'$out' holds no run of this script (no run.conf)"
-fi
-out=$(readlink -m -- "$out")
-[[ ! -e $out || -d $out ]] || die "'$out' exists and is not a folder"
-
-# run.conf: what defines the run. Sourced back for --rerun and --merge-only.
-RUN_SCENE="" RUN_ARGS=() RUN_SHARDS="" RUN_NAME="" RUN_PARTITION="" RUN_CPUS="" RUN_TIME="" RUN_BIN_SOURCE=""
-if [[ -f $out/run.conf ]]; then
-    # shellcheck source=/dev/null
-    source "$out/run.conf"
-    if [[ -n $scene ]]; then
-        given=$(printf '%q ' "$scene" "${atlas_args[@]}")
-        saved=$(printf '%q ' "$RUN_SCENE" "${RUN_ARGS[@]}")
-        [[ $given == "$saved" ]] || die "'$out' holds another run:
-    $saved
-  not
-    $given
-  use another --out, or leave SCENE and its options out to reuse the saved ones"
-    elif ((${#atlas_args[@]})); then
-        die "atlas options given without SCENE; for --rerun/--merge-only leave both out"
-    fi
-    [[ -z $shards || $shards == "$RUN_SHARDS" ]] || die "'$out' is a run in $RUN_SHARDS shards, not $shards"
-    scene=$RUN_SCENE atlas_args=("${RUN_ARGS[@]}") shards=$RUN_SHARDS
-    name=${name:-$RUN_NAME}
-    partition=${partition:-$RUN_PARTITION}
-    time_limit=${time_limit:-$RUN_TIME}
-    [[ $mode == merge ]] || cpus=${cpus:-$RUN_CPUS}
-else
-    if [[ -d $out && -n $(ls -A -- "$out") ]]; then
-        die "'$out' exists and is not empty, but holds no run of this script; choose another --out"
-    fi
-fi
-[[ -n $name ]] || { name=$(basename -- "$scene"); name=${name%.*}; }
-
-# ---- which shards ---------------------------------------------------------------
-array=""
-if [[ $mode == submit ]]; then
-    array="1-$shards"
-elif [[ $mode == rerun ]]; then
+    [[ -n $out ]] || die "--rerun and --merge-only need --out DIR, the run's folder"
+    [[ -z $shards && ${#atlas[@]} == 0 ]] || die "--rerun and --merge-only take the run's settings from DIR; leave out --shards and '-- ...'"
+    out=$(readlink -m -- "$out")
+    [[ -f $out/shard.sbatch && -f $out/merge.sbatch ]] || die "'$out' holds no run of this script"
+    shards=$(sed -n 's/^SHARDS=//p' "$out/shard.sbatch")
     IFS=, read -r -a ks <<<"$rerun"
-    ((${#ks[@]})) || die "--rerun needs shard numbers, e.g. --rerun 3 or --rerun 2,5"
     for k in "${ks[@]}"; do
         is_count "$k" && ((k <= shards)) || die "--rerun: '$k' is not a shard of this run (1..$shards)"
     done
-    array=$(IFS=,; echo "${ks[*]}")
 fi
 
-# ---- CPUs per shard ------------------------------------------------------------
+# ---- the run folder: one run per folder, one binary per run ---------------------
+# The run: folder it was submitted from, shard count, atlas words, one line.
+run_line="cwd=$(q "$PWD") shards=$shards atlas: $(words "${atlas[@]}")"
+if [[ $mode == submit ]]; then
+    if [[ -f $out/run.txt ]]; then
+        [[ $(<"$out/run.txt") == "$run_line" ]] || die "'$out' holds another run:
+    $(<"$out/run.txt")
+  not
+    $run_line"
+    elif [[ -e $out && -n $(ls -A -- "$out" 2>/dev/null) ]]; then
+        die "'$out' exists and holds no run of this script; choose another --out"
+    fi
+fi
+if [[ ! -x $out/vibroatlas ]]; then
+    bin=${bin:-$repo/target/release/vibroatlas}
+    "$bin" --version >/dev/null 2>&1 || die "vibroatlas binary '$bin' does not run here (build it, or pass --bin)"
+elif [[ -n $bin && $mode == submit ]]; then
+    note "using the run's own binary $out/vibroatlas, not $bin"
+fi
+
+# ---- CPUs per shard (a count no node has would pend forever) ---------------------
 have_slurm=1
-command -v sbatch >/dev/null 2>&1 && command -v sinfo >/dev/null 2>&1 || have_slurm=0
-((have_slurm || dry_run)) || die "sbatch/sinfo not found: this script submits to Slurm (--dry-run only writes the scripts)"
-if [[ $mode != merge ]]; then
+command -v sbatch >/dev/null && command -v sinfo >/dev/null || have_slurm=0
+((have_slurm || dry_run)) || die "sbatch/sinfo not found (--dry-run only writes the batch scripts)"
+if [[ $mode == submit ]]; then
     node_cpus=""
     if ((have_slurm)); then
-        part=$partition
-        if [[ -z $part ]]; then
-            part=$(sinfo -h -o %P 2>/dev/null | sed -n 's/\*$//p' | head -n1) || true
-        fi
-        if ! node_cpus=$(sinfo -h -N ${part:+-p "$part"} -o %c 2>/dev/null | tr -dc '0-9\n' | sed '/^$/d' | sort -n); then
-            ((dry_run)) || die "sinfo failed; is the Slurm controller reachable? (--dry-run only writes the scripts)"
-            node_cpus=""
-        fi
-        [[ -n $node_cpus ]] || ((dry_run)) || die "sinfo lists no nodes${part:+ in partition '$part'}; check --partition"
+        node_cpus=$(sinfo -h -N ${partition:+-p "$partition"} -o %c 2>/dev/null | sort -n) ||
+            ((dry_run)) || die "sinfo failed; is the Slurm controller reachable?"
+        [[ -n $node_cpus ]] || ((dry_run)) || die "sinfo lists no nodes${partition:+ in partition '$partition'}"
     fi
-    if [[ -z $cpus ]]; then
-        if [[ -n $node_cpus ]]; then cpus=$(head -n1 <<<"$node_cpus"); else cpus=$(nproc); fi
-    fi
-    if [[ -n $node_cpus ]]; then
-        max=$(tail -n1 <<<"$node_cpus")
-        ((cpus <= max)) || die "--cpus $cpus: the largest node${part:+ in partition '$part'} has $max CPUs, so the shards would pend forever"
+    [[ -n $cpus ]] || cpus=$(head -n1 <<<"${node_cpus:-$(nproc)}")
+    if [[ -n $node_cpus ]] && ((cpus > $(tail -n1 <<<"$node_cpus"))); then
+        die "--cpus $cpus: the largest node has $(tail -n1 <<<"$node_cpus") CPUs"
     fi
 fi
 
-# ---- check the binary, then create the run folder -------------------------------
-run_bin="$out/vibroatlas"
-if [[ ! -x $run_bin ]]; then
-    bin=${bin:-$repo/target/release/vibroatlas}
-    [[ -f $bin && -x $bin ]] || die "vibroatlas binary '$bin' not found or not executable (build it: cargo build --release, or pass --bin)"
-    bin=$(readlink -f -- "$bin")
-    "$bin" --version >/dev/null 2>&1 || die "'$bin' does not run on this machine"
+mkdir -p -- "$out/logs" # before sbatch: Slurm opens --output before the job starts
+if [[ ! -x $out/vibroatlas ]]; then
+    cp -p -- "$bin" "$out/vibroatlas.tmp" && mv -f -- "$out/vibroatlas.tmp" "$out/vibroatlas"
 fi
-mkdir -p -- "$out" || die "cannot create '$out'"
-[[ -w $out ]] || die "'$out' is not writable"
+name=${name:-$(basename -- "$out")}
 
-# The binary and the scene are copied into the run folder, so that every shard,
-# rerun and merge of this run uses the same build and scene even if target/ is
-# rebuilt or the scene edited meanwhile.
-run_scene="$out/scene/$(basename -- "$scene")"
-if [[ ! -x $run_bin ]]; then
-    [[ ! -f $out/run.conf ]] ||
-        note "warning: the run's copy of the binary is missing; copying $bin, which may be another build than the parts already computed"
-    cp -p -- "$bin" "$run_bin.tmp" && mv -f -- "$run_bin.tmp" "$run_bin"
-elif [[ -n $bin ]]; then
-    note "note: using the run's own copy $run_bin, not --bin $bin"
-    bin=""
-fi
-if [[ ! -f $run_scene ]]; then
-    [[ -f $scene ]] || die "scene '$scene' of this run is gone and '$run_scene' is missing"
-    mkdir -p -- "$out/scene"
-    cp -p -- "$scene" "$run_scene"
-fi
-version=$("$run_bin" --version 2>/dev/null) || die "'$run_bin' does not run on this machine"
-
-if [[ ! -f $out/run.conf ]]; then
-    {
-        echo "# vibroatlas run submitted by scripts/slurm-atlas.sh; do not edit"
-        printf 'RUN_SCENE=%q\n' "$scene"
-        printf 'RUN_ARGS=(%s)\n' "$(qwords "${atlas_args[@]}")"
-        printf 'RUN_SHARDS=%q\n' "$shards"
-        printf 'RUN_NAME=%q\n' "$name"
-        printf 'RUN_PARTITION=%q\n' "$partition"
-        printf 'RUN_CPUS=%q\n' "$cpus"
-        printf 'RUN_TIME=%q\n' "$time_limit"
-        printf 'RUN_BIN_SOURCE=%q\n' "${bin:-$run_bin}"
-        printf 'RUN_VERSION=%q\n' "$version"
-        printf 'RUN_CREATED=%q\n' "$(date -u +%Y-%m-%dT%H:%M:%SZ)"
-    } >"$out/run.conf"
-fi
-
-# ---- the batch scripts (kept in the run folder for the record) ------------------
-mkdir -p -- "$out/logs" # before sbatch: Slurm opens --output before the script runs
-sbatch_common() { # $1 = cpus
-    echo "#SBATCH --nodes=1"
-    echo "#SBATCH --ntasks=1"
-    echo "#SBATCH --cpus-per-task=$1"
-    echo "#SBATCH --chdir=$out"
-    [[ -z $partition ]] || echo "#SBATCH --partition=$partition"
-    [[ -z $time_limit ]] || echo "#SBATCH --time=$time_limit"
-}
-stamp=$(date -u +%Y-%m-%dT%H:%M:%SZ)
-
-if [[ $mode != merge ]]; then
-    cat >"$out/shard.sbatch" <<EOF
-#!/bin/bash
-# One shard of a vibroatlas atlas; generated by scripts/slurm-atlas.sh ($stamp).
-# Array task ids are shard numbers, 1-based (0-based when the array contains 0).
-#SBATCH --job-name=$name
-#SBATCH --output=$out/logs/shard-%A_%a.log
-$(sbatch_common "$cpus")
-set -euo pipefail
-SHARDS=$shards
-RUN_DIR=$(printf %q "$out")
-BIN=\$RUN_DIR/vibroatlas
-SCENE=$(printf %q "$run_scene")
-ARGS=($(qwords "${atlas_args[@]}"))
-RERUN="$(printf %q "$self") --out $(printf %q "$out") --rerun"
-
-id=\${SLURM_ARRAY_TASK_ID:-}
-[[ -n \$id ]] || { echo "shard.sbatch: error: not a job-array task; submit it with sbatch --array=1-\$SHARDS" >&2; exit 2; }
-if [[ \${SLURM_ARRAY_TASK_MIN:-1} == 0 ]]; then k=\$((id + 1)); else k=\$id; fi
-if ((k < 1 || k > SHARDS)); then
-    echo "shard.sbatch: error: array task \$id is shard \$k, outside 1..\$SHARDS" >&2
-    exit 2
-fi
-threads=\${SLURM_CPUS_PER_TASK:-\$(nproc)}
-part=part-\$k-of-\$SHARDS.h5
-journal=.\$part.journal
-cd "\$RUN_DIR"
-echo "shard \$k/\$SHARDS: job \${SLURM_JOB_ID:-?} (array \${SLURM_ARRAY_JOB_ID:-?} task \$id) on \$(hostname), \$threads threads, \$("\$BIN" --version), \$(date -u +%FT%TZ)"
-
-if [[ -e \$part ]]; then
-    if [[ -f \$part ]] && info=\$("\$BIN" inspect "\$part" --json 2>&1) && [[ \$info =~ \"shard\"\ *:\ *\"\$k/\$SHARDS\" ]]; then
-        echo "shard \$k/\$SHARDS: \$part is already finished; kept as it is (nothing to do)"
-        exit 0
-    fi
-    echo "shard \$k/\$SHARDS: error: \$part exists but is not a finished shard \$k/\$SHARDS:" >&2
-    echo "  \${info:-not a regular file}" | head -n 3 >&2
-    echo "  move it away, then: \$RERUN \$k" >&2
-    exit 2
-fi
-resume=()
-if [[ -e \$journal ]]; then
-    resume=(--resume)
-    echo "shard \$k/\$SHARDS: \$journal found: resuming the interrupted run"
-fi
-set +e
-"\$BIN" atlas "\$SCENE" "\${ARGS[@]}" --shard "\$k/\$SHARDS" --threads "\$threads" "\${resume[@]}" -o "\$part"
-rc=\$?
-set -e
-if ((rc != 0)); then
-    echo "shard \$k/\$SHARDS: FAILED (exit \$rc); rerun it with: \$RERUN \$k" >&2
-    exit "\$rc"
-fi
-echo "shard \$k/\$SHARDS: wrote \$RUN_DIR/\$part, \$(date -u +%FT%TZ)"
-EOF
-fi
-
-cat >"$out/merge.sbatch" <<EOF
-#!/bin/bash
-# Merge of the parts of a vibroatlas atlas; generated by scripts/slurm-atlas.sh ($stamp).
-#SBATCH --job-name=$name-merge
-#SBATCH --output=$out/logs/merge-%j.log
-$(sbatch_common 1)
-set -euo pipefail
-SHARDS=$shards
-RUN_DIR=$(printf %q "$out")
-BIN=\$RUN_DIR/vibroatlas
-SELF=$(printf %q "$self")
-ALLOW_MISSING=$allow_missing
-cd "\$RUN_DIR"
-echo "merge: job \${SLURM_JOB_ID:-?} on \$(hostname), \$("\$BIN" --version), \$(date -u +%FT%TZ)"
-parts=() missing=()
-for ((k = 1; k <= SHARDS; k++)); do
-    if [[ -f part-\$k-of-\$SHARDS.h5 ]]; then parts+=("part-\$k-of-\$SHARDS.h5"); else missing+=("\$k"); fi
-done
-if ((\${#missing[@]})); then
-    list=\$(IFS=,; echo "\${missing[*]}")
-    echo "merge: shards \$list of \$SHARDS have no part file; compute them with: \$SELF --out \$RUN_DIR --rerun \$list" >&2
-fi
-((\${#parts[@]})) || { echo "merge: error: no part file in \$RUN_DIR" >&2; exit 2; }
-flags=()
-((ALLOW_MISSING)) && flags+=(--allow-missing)
-"\$BIN" merge "\${parts[@]}" "\${flags[@]}" -o atlas.h5
-"\$BIN" inspect atlas.h5
-echo "merge: wrote \$RUN_DIR/atlas.h5, \$(date -u +%FT%TZ)"
-EOF
-chmod +x "$out/merge.sbatch" "$out/shard.sbatch" 2>/dev/null || true
-
-# ---- submission ----------------------------------------------------------------
-submit() { # sbatch arguments...; prints the job id
-    if ((dry_run)); then
-        echo "  sbatch --parsable $*" >&2
-        echo "$dry_id"
-        return
-    fi
-    local reply
-    reply=$(sbatch --parsable "$@" 2>&1) || die "sbatch $* failed: $reply"
-    reply=${reply%%;*}
-    [[ $reply =~ ^[0-9]+$ ]] || die "sbatch $* replied '$reply', not a job id"
-    echo "$reply"
-}
-record() { ((dry_run)) || echo "$(date -u +%FT%TZ) $*" >>"$out/jobs.log"; }
-
-array_id="" merge_id=""
-((dry_run == 0)) || note "dry run: would submit"
-if [[ $mode != merge ]]; then
-    dry_id="<array-id>"
-    array_id=$(submit --array="$array" "$out/shard.sbatch")
-    record "array $array_id tasks=$array cpus=$cpus partition=${partition:-default} time=${time_limit:-default}: sbatch --parsable --array=$array $out/shard.sbatch"
-    dry_id="<merge-id>"
-    merge_id=$(submit --dependency=afterok:"$array_id" --kill-on-invalid-dep=yes "$out/merge.sbatch") || {
-        echo "$prog: the shards are submitted (array job $array_id) but the merge is not; submit it later with:" >&2
-        echo "  $self --out $out --merge-only" >&2
-        exit 2
+# ---- the batch scripts (written once; --rerun and --merge-only reuse them) -------
+# Values that may hold spaces (folders, the atlas words) are shell code in the
+# body or sbatch arguments; #SBATCH lines hold plain words only.
+if [[ $mode == submit && ! -f $out/run.txt ]]; then
+    header() { # cpus per task
+        echo "#!/bin/bash"
+        echo "#SBATCH --nodes=1"
+        echo "#SBATCH --ntasks=1"
+        echo "#SBATCH --cpus-per-task=$1"
+        [[ -z $partition ]] || echo "#SBATCH --partition=$partition"
+        [[ -z $time_limit ]] || echo "#SBATCH --time=$time_limit"
+        echo "# Written by scripts/slurm-atlas.sh: $run_line"
+        echo "set -uo pipefail"
+        echo "DIR=$(q "$out")"
+        echo "SHARDS=$shards"
+        echo "SLURM_ATLAS=\"$(q "$self") --out $(q "$out")\""
     }
-    record "merge $merge_id after array $array_id: sbatch --parsable --dependency=afterok:$array_id --kill-on-invalid-dep=yes $out/merge.sbatch"
-else
-    dry_id="<merge-id>"
-    merge_id=$(submit "$out/merge.sbatch")
-    record "merge $merge_id (merge-only): sbatch --parsable $out/merge.sbatch"
+    {
+        header "$cpus"
+        echo "cd $(q "$PWD") || exit 2 # where the run was submitted: relative paths resolve as they did there"
+        echo "ATLAS=($(words "${atlas[@]}"))"
+        cat <<'EOF'
+k=${SLURM_ARRAY_TASK_ID:?not an array task: submit with sbatch --array=1-N}
+((k >= 1 && k <= SHARDS)) || { echo "shard.sbatch: array task $k is not a shard 1..$SHARDS" >&2; exit 2; }
+echo "shard $k/$SHARDS: job ${SLURM_JOB_ID:-?} on $(hostname), $(date -u +%FT%TZ)"
+[[ ! -e $DIR/.part-$k-of-$SHARDS.h5.journal ]] || echo "shard $k/$SHARDS: its journal is there: vibroatlas resumes from it"
+t0=$EPOCHREALTIME
+"$DIR/vibroatlas" atlas "${ATLAS[@]}" --shard "$k/$SHARDS" --threads "${SLURM_CPUS_PER_TASK:-1}" --resume -o "$DIR/part-$k-of-$SHARDS.h5"
+rc=$?
+echo "shard $k/$SHARDS: vibroatlas exited $rc after $(awk -v a="$t0" -v b="$EPOCHREALTIME" 'BEGIN { printf "%.2f", b - a }') s"
+((rc == 0)) || echo "shard $k/$SHARDS: rerun it with: $SLURM_ATLAS --rerun $k" >&2
+exit $rc
+EOF
+    } >"$out/shard.sbatch"
+    {
+        header 1
+        cat <<'EOF'
+shopt -s nullglob
+cd "$DIR" && parts=(part-*-of-$SHARDS.h5)
+((${#parts[@]})) || { echo "merge: no part-*-of-$SHARDS.h5 in $DIR" >&2; exit 2; }
+"$DIR/vibroatlas" merge "${parts[@]}" "$@" -o atlas.h5 # "$@": --allow-missing or nothing
+rc=$?
+((rc == 0)) && echo "merge: wrote $DIR/atlas.h5" ||
+    echo "merge: failed (exit $rc); compute missing shards with: $SLURM_ATLAS --rerun K[,K...]" >&2
+exit $rc
+EOF
+    } >"$out/merge.sbatch"
+    echo "$run_line" >"$out/run.txt"
 fi
 
-q() { printf '%q' "$1"; }
-if ((dry_run)); then
-    note "dry run: nothing submitted; the batch scripts are in $out (shard.sbatch, merge.sbatch)"
-    exit 0
-fi
-note "run folder  $out"
-note "binary      $run_bin ($version)"
-if [[ -n $array_id ]]; then
-    note "shards      array job $array_id, tasks $array of $shards, $cpus CPUs each -> part-K-of-$shards.h5 (logs/shard-${array_id}_K.log)"
-    note "merge       job $merge_id, starts when every task succeeded, cancelled if one fails -> atlas.h5 (logs/merge-$merge_id.log)"
+# ---- submission ------------------------------------------------------------------
+submit() { # shard|merge, sbatch arguments...; prints the job id
+    local what=$1 id
+    shift
+    if [[ $what == shard ]]; then
+        set -- --job-name="$name" --output="$out/logs/shard-%A_%a.log" "$@"
+    else
+        set -- --job-name="$name-merge" --output="$out/logs/merge-%j.log" "$@"
+    fi
+    if ((dry_run)); then printf ' %q' sbatch --parsable "$@" >&2; echo >&2; echo "<$what-id>"; return; fi
+    id=$(sbatch --parsable "$@" 2>&1) || die "sbatch $* failed: $id"
+    echo "$(date -u +%FT%TZ) ${id%%;*}: sbatch $*" >>"$out/jobs.log"
+    echo "${id%%;*}"
+}
+opts=() # the same for shards and merge
+[[ -z $partition ]] || opts+=(--partition="$partition")
+[[ -z $time_limit ]] || opts+=(--time="$time_limit")
+array_id=""
+((dry_run == 0)) || note "dry run: would run"
+if [[ $mode == merge ]]; then
+    extra=()
+    ((allow_missing == 0)) || extra=(--allow-missing)
+    merge_id=$(submit merge "${opts[@]}" "$out/merge.sbatch" "${extra[@]}")
+    note "merge:  job $merge_id -> $out/atlas.h5"
 else
-    note "merge       job $merge_id -> atlas.h5 (logs/merge-$merge_id.log)"
+    array=${rerun:-1-$shards}
+    cpu_opt=()
+    [[ -z $cpus ]] || cpu_opt=(--cpus-per-task="$cpus")
+    array_id=$(submit shard --array="$array" "${opts[@]}" "${cpu_opt[@]}" "$out/shard.sbatch")
+    merge_id=$(submit merge --dependency=afterok:"$array_id" --kill-on-invalid-dep=yes "${opts[@]}" "$out/merge.sbatch")
+    note "shards: array job $array_id, tasks $array of $shards -> $out/part-K-of-$shards.h5"
+    note "merge:  job $merge_id, when every task succeeded (cancelled if one fails) -> $out/atlas.h5"
 fi
 echo "jobs: array=${array_id:-none} merge=$merge_id"
-echo
-echo "Watch:               squeue -j ${array_id:+$array_id,}$merge_id     (then: scontrol show job $merge_id; tail $(q "$out")/logs/*)"
-echo "Rerun failed shards: $(q "$self") --out $(q "$out") --rerun K[,K...]"
-echo "Merge again:         $(q "$self") --out $(q "$out") --merge-only"
-echo "Result:              $(q "$out")/atlas.h5"
+if ((dry_run)); then note "dry run: nothing submitted; the batch scripts are in $out"; exit 0; fi
+note "logs:   $out/logs/; rerun shards: $self --out $(q "$out") --rerun K[,K...]"
+((wait)) || { note "watch:  squeue -j ${array_id:+$array_id,}$merge_id"; exit 0; }
+
+# ---- --wait: until the jobs have left the queue, then the merge's end state ------
+while squeue -h -j "${array_id:+$array_id,}$merge_id" 2>/dev/null | grep -q .; do sleep 1; done
+state=$(scontrol -o show job "$merge_id" 2>/dev/null | grep -o 'JobState=[A-Z_]* Reason=[^ ]*' | head -n1)
+if [[ $state == JobState=COMPLETED* ]]; then note "done:   $out/atlas.h5"; exit 0; fi
+note "FAILED: merge job $merge_id: ${state:-state unknown}"
+[[ -z $array_id ]] || scontrol -o show job "$array_id" 2>/dev/null |
+    sed -n 's/.*ArrayTaskId=\([0-9]*\) .*JobState=\([A-Z_]*\).*/  shard \1: \2/p' | grep -v COMPLETED
+tail -n 3 "$out/logs/merge-$merge_id.log" 2>/dev/null | sed 's/^/  /'
+exit 1

@@ -2,41 +2,51 @@
 # End-to-end test of scripts/slurm-atlas.sh on a throwaway single-node Slurm
 # cluster started on this machine (Debian's slurmctld + slurmd + munge).
 #
-#   scripts/test-slurm.sh            # as root; about 1-3 minutes
+#   scripts/test-slurm.sh                          # as root; about 1-2 minutes
+#   SLURM_TEST_REQUIRED=1 scripts/test-slurm.sh    # what .ci/run does: fail, never skip
 #
-# It installs slurmctld, slurmd, slurm-client and munge with apt-get if they are
-# missing, starts a private munged, slurmctld and slurmd (their key, socket,
-# config, state, spool and logs all under $SLURM_TEST_DIR, default
-# /tmp/vibroatlas-slurm-test; nothing under /etc is written), then:
-#   A. submits a small atlas in 4 shards, waits for the array and the merge, and
-#      compares the merged file bit for bit with a single-process run of the
-#      same grid (scripts/compare_atlases.py); reruns one finished shard (a no-op),
-#      deletes one part and resubmits the whole run (only that shard computes);
-#   B. submits a larger atlas, cancels one shard while it runs, checks that the
-#      merge is cancelled (not left pending) and that the shard's journal is
-#      kept, reruns that shard alone (--rerun K: it resumes from the journal),
-#      checks the new merge, merges once more with --merge-only, and compares
-#      both with a single-process run.
+# G (no Slurm needed): the pass-through grammar: everything after `--` reaches
+#   `vibroatlas atlas` word for word (a scene path with a space, --attractors);
+#   --shard, --threads, --resume and -o/--output there are refused.
+# Then it installs slurmctld, slurmd, slurm-client and munge with apt-get if they
+# are missing and starts a private munged, slurmctld and slurmd (key, socket,
+# config, state, spool and logs under $SLURM_TEST_DIR, default
+# /tmp/vibroatlas-slurm-test; nothing under /etc is written), and checks:
+# A. an --attractors run in 3 shards (--wait): merged bit for bit the file of a
+#    single-process run (scripts/compare_atlases.py);
+# B. a shard cancelled while it runs: the merge is cancelled, the journal kept;
+#    --rerun K resumes from the journal; the merge is bit for bit the
+#    single-process run;
+# C. --rerun of a finished shard: exit 0, the part unchanged (bytes and mtime),
+#    in a fraction of the time the shard took to compute;
+# D. a part missing: --merge-only fails and its log names the missing shard.
 # It stops the daemons it started on exit. Where the daemons cannot be started
 # (not root, no packages, a Slurm already running here) it prints
-# "test-slurm: SKIPPED: <reason>" and exits 0. Exit 1 if any check failed.
+# "test-slurm: SKIPPED: <reason>" and exits 0, or, with SLURM_TEST_REQUIRED=1,
+# "test-slurm: FAIL: ..." and exits 1. Exit 1 if any check failed.
 set -euo pipefail
 
 repo=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 W=${SLURM_TEST_DIR:-${TMPDIR:-/tmp}/vibroatlas-slurm-test}
 BIN=${VIBROATLAS_BIN:-$repo/target/release/vibroatlas}
+export VIBROATLAS_BIN=$BIN
 PY=${PYTHON:-/usr/bin/python3}
 SLURM_ATLAS=$repo/scripts/slurm-atlas.sh
-WAIT_S=${SLURM_TEST_WAIT_S:-180} # longest wait for one batch of jobs
+WAIT_S=${SLURM_TEST_WAIT_S:-240} # longest wait for one batch of jobs
 T0=$SECONDS
 
 say() { echo "test-slurm: $*"; }
 checks=0 failures=0
 pass() { checks=$((checks + 1)); say "PASS: $*"; }
 fail() { checks=$((checks + 1)) failures=$((failures + 1)); say "FAIL: $*"; }
-skip() { say "SKIPPED: $*"; exit 0; }
 fatal() { fail "$*"; [[ ! -f $W/.vibroatlas-slurm-test ]] || say "work folder kept for inspection: $W"; exit 1; }
+skip() {
+    [[ ${SLURM_TEST_REQUIRED:-0} != 1 ]] || fatal "cannot run the Slurm test, and SLURM_TEST_REQUIRED=1: $*"
+    say "SKIPPED: $*"
+    exit 0
+}
 elapsed() { echo "$((SECONDS - $1))s"; }
+indent() { sed "s/^/    ${1:-}/"; }
 
 # ---- daemons are stopped on every exit ------------------------------------------
 started_pids=()
@@ -62,11 +72,59 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
-# ---- preconditions ---------------------------------------------------------------
 [[ -x $BIN ]] || fatal "no vibroatlas binary at $BIN (build it first: cargo build --release)"
-[[ $(id -u) == 0 ]] || skip "needs root to install and start munged, slurmctld and slurmd (run it as root in a throwaway VM or container)"
 "$PY" -c 'import h5py, numpy' 2>/dev/null || skip "$PY cannot import h5py and numpy, which scripts/compare_atlases.py needs"
+if [[ -e $W ]]; then
+    [[ -f $W/.vibroatlas-slurm-test ]] || fatal "$W exists and was not made by this test; set SLURM_TEST_DIR to another folder"
+    rm -rf -- "$W"
+fi
+mkdir -p "$W"/{etc,state,spool,log,run,munge}
+touch "$W/.vibroatlas-slurm-test"
+chmod 755 "$W" "$W/run" # munged wants its socket folder reachable by all
+chmod 700 "$W/munge"
+say "work folder $W, binary $BIN ($("$BIN" --version))"
+cd "$repo"
 
+# ---- G: the grammar, without Slurm -------------------------------------------------
+mkdir -p "$W/my scenes"
+cp configs/multi-stop.toml "$W/my scenes/two masses.toml"
+GRID_G=(--x omega=0.2:2.5:8 --y delta=0.1:1.5:4 --sweep both --attractors 12)
+RG=$W/run-G
+if o=$(cd "$W" && "$SLURM_ATLAS" --shards 2 --dry-run --out run-G -- "my scenes/two masses.toml" "${GRID_G[@]}" 2>&1) &&
+    grep -qF -- '--attractors 12' "$RG/shard.sbatch" &&
+    (cd /tmp && SLURM_ARRAY_TASK_ID=2 SLURM_CPUS_PER_TASK=1 bash "$RG/shard.sbatch" >"$W/g-shard2.log" 2>&1) &&
+    "$BIN" inspect "$RG/part-2-of-2.h5" --json | "$PY" -c 'import json, sys; sys.exit(json.load(sys.stdin)["shard"] != "2/2")' &&
+    "$PY" -c 'import h5py, sys; sys.exit(0 if "attractors" in h5py.File(sys.argv[1], "r") else 1)' "$RG/part-2-of-2.h5"; then
+    pass "G: '--shards 2 --dry-run -- SCENE ... --attractors 12' wrote shard.sbatch; its task 2, started elsewhere, ran 'atlas' with every word (a relative scene path with spaces, --attractors 12) and wrote shard 2/2 with attractors"
+else
+    echo "$o" | indent '| '
+    tail -n 5 "$W/g-shard2.log" 2>/dev/null | indent '> '
+    fail "G: the pass-through of '-- SCENE ... --attractors 12' did not reach vibroatlas as given"
+fi
+refused=() accepted=()
+for opt in "--threads 2" "--shard 1/2" "--resume" "-o x.h5" "--output=x.h5"; do
+    rc=0
+    # shellcheck disable=SC2086 # $opt is one or two words on purpose
+    o=$("$SLURM_ATLAS" --shards 2 --dry-run --out "$W/run-refused" -- configs/multi-stop.toml "${GRID_G[@]}" $opt 2>&1) || rc=$?
+    if [[ $rc == 2 && $(wc -l <<<"$o") == 1 && $o == *"set by this script"* && ! -e $W/run-refused ]]; then
+        refused+=("$opt")
+    else
+        accepted+=("$opt (exit $rc: $o)")
+    fi
+done
+if ((${#accepted[@]} == 0)); then
+    pass "G: ${refused[*]} after '--' each refused with one error line, nothing written"
+else
+    fail "G: not refused cleanly after '--': ${accepted[*]}"
+fi
+if ! o=$("$SLURM_ATLAS" --shards 2 --dry-run --out "$W/run-refused" configs/multi-stop.toml "${GRID_G[@]}" 2>&1) && [[ $o == *"after '--'"* ]]; then
+    pass "G: atlas options without '--' refused: $o"
+else
+    fail "G: atlas options without '--' not refused: $o"
+fi
+
+# ---- root, packages ----------------------------------------------------------------
+[[ $(id -u) == 0 ]] || skip "needs root to install and start munged, slurmctld and slurmd (run it as root in a throwaway VM or container)"
 tools=(slurmctld slurmd sbatch sinfo squeue scontrol scancel munged munge unmunge)
 missing_tools() { local t; for t in "${tools[@]}"; do command -v "$t" >/dev/null 2>&1 || echo "$t"; done; }
 if [[ -n $(missing_tools) ]]; then
@@ -74,9 +132,9 @@ if [[ -n $(missing_tools) ]]; then
     say "installing slurmctld slurmd slurm-client munge with apt-get (missing: $(missing_tools | paste -sd' '))"
     t=$SECONDS
     if ! { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-        slurmctld slurmd slurm-client munge; } >/tmp/test-slurm-apt.log 2>&1; then
-        tail -n 5 /tmp/test-slurm-apt.log | sed 's/^/    /'
-        skip "apt-get could not install slurmctld slurmd slurm-client munge (log: /tmp/test-slurm-apt.log)"
+        slurmctld slurmd slurm-client munge; } >"$W/log/apt.log" 2>&1; then
+        tail -n 5 "$W/log/apt.log" | indent
+        skip "apt-get could not install slurmctld slurmd slurm-client munge (log: $W/log/apt.log)"
     fi
     say "installed in $(elapsed "$t")"
     [[ -z $(missing_tools) ]] || skip "still missing after apt-get: $(missing_tools | paste -sd' ')"
@@ -86,17 +144,6 @@ for d in slurmctld slurmd; do
         skip "a $d already runs on this host (pid $(pgrep -x "$d" | paste -sd,)); this test starts its own cluster and will not touch that one"
     fi
 done
-
-# ---- work folder ------------------------------------------------------------------
-if [[ -e $W ]]; then
-    [[ -f $W/.vibroatlas-slurm-test ]] || fatal "$W exists and was not made by this test; set SLURM_TEST_DIR to another folder"
-    rm -rf -- "$W"
-fi
-mkdir -p "$W"/{etc,state,spool,log,run,munge}
-touch "$W/.vibroatlas-slurm-test"
-chmod 755 "$W" "$W/run" # munged wants its socket folder reachable by all
-chmod 700 "$W/munge"
-say "work folder $W"
 
 # ---- munged (private key and socket) ----------------------------------------------
 if command -v mungekey >/dev/null; then
@@ -187,7 +234,7 @@ wait_jobs() {
     ids=$(IFS=,; echo "$*")
     while squeue -h -j "$ids" 2>/dev/null | grep -q .; do
         if ((SECONDS > end)); then
-            squeue -j "$ids" | sed 's/^/    /'
+            squeue -j "$ids" | indent
             fatal "jobs $ids not finished after $WAIT_S s"
         fi
         sleep 0.5
@@ -196,88 +243,56 @@ wait_jobs() {
 # states ID: the states of a job (all tasks of an array), e.g. "4 COMPLETED"
 states() { scontrol -o show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort | uniq -c | awk '{printf "%s%d %s", (NR>1?", ":""), $1, $2}'; }
 reason() { scontrol -o show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\) Reason=\([^ ]*\).*/\1 (\2)/p' | head -n1; }
-all_completed() { local s; s=$(states "$1"); [[ -n $s && $s != *,* && $s == *" COMPLETED" ]]; }
-# submit ARGS...: runs slurm-atlas.sh, shows its output, sets ARRAY_ID and MERGE_ID
-submit() {
+# slurm_atlas ARGS...: runs slurm-atlas.sh (with a time limit), shows its output,
+# sets RC, ARRAY_ID and MERGE_ID
+slurm_atlas() {
     local outp
-    if ! outp=$("$SLURM_ATLAS" "$@" 2>&1); then
-        echo "$outp" | sed 's/^/    | /'
-        fatal "scripts/slurm-atlas.sh $* failed"
-    fi
-    echo "$outp" | sed 's/^/    | /'
+    RC=0
+    outp=$(timeout "$WAIT_S" "$SLURM_ATLAS" "$@" 2>&1) || RC=$?
+    echo "$outp" | indent '| '
     ARRAY_ID=$(sed -n 's/^jobs: array=\([0-9a-z]*\) merge=\([0-9]*\)$/\1/p' <<<"$outp")
     MERGE_ID=$(sed -n 's/^jobs: array=\([0-9a-z]*\) merge=\([0-9]*\)$/\2/p' <<<"$outp")
-    [[ -n $MERGE_ID ]] || fatal "no job ids in the output of slurm-atlas.sh"
+    [[ -n $MERGE_ID ]] || fatal "no job ids in the output of slurm-atlas.sh $*"
 }
 compare() { # A B what
     local o
     if o=$("$PY" "$repo/scripts/compare_atlases.py" "$1" "$2" 2>&1); then
         pass "$3: bit-identical to the single-process run ($(tail -n1 <<<"$o"))"
     else
-        sed 's/^/    /' <<<"$o" | head -n 20
+        indent <<<"$o" | head -n 20
         fail "$3: differs from the single-process run"
     fi
 }
-show_log_tail() { [[ -f $1 ]] && tail -n "${2:-3}" "$1" | sed 's/^/    > /'; }
+single() { # file atlas-args...: the same grid in one process
+    local f=$1 t=$SECONDS
+    shift
+    "$BIN" atlas "$@" --threads "$NCPU" --quiet -o "$f"
+    say "single-process run of the same grid: $(elapsed "$t")"
+}
+took() { sed -n 's/^shard [0-9]*\/[0-9]*: vibroatlas exited 0 after \([0-9.]*\) s$/\1/p' "$1" | tail -n1; }
 
-cd "$repo"
-
-# ---- A: a small atlas in 4 shards -------------------------------------------------
-ARGS_A=(configs/multi-stop.toml --x omega=0.2:2.5:24 --y delta=0.1:1.5:12 --sweep both)
+# ---- A: an --attractors run in 3 shards ----------------------------------------------
+ARGS_A=(configs/multi-stop.toml --x omega=0.2:2.5:24 --y delta=0.1:1.5:12 --sweep both --attractors 8)
 RA=$W/run-A
-say "A: submit ${ARGS_A[*]} --shards 4"
+say "A: slurm-atlas.sh --shards 3 --wait -- ${ARGS_A[*]}"
 t=$SECONDS
-submit "${ARGS_A[@]}" --shards 4 --out "$RA"
-A_ARRAY=$ARRAY_ID A_MERGE=$MERGE_ID
-wait_jobs "$A_ARRAY" "$A_MERGE"
-say "A: array $A_ARRAY: $(states "$A_ARRAY"); merge $A_MERGE: $(states "$A_MERGE"); submit to merged: $(elapsed "$t")"
-if all_completed "$A_ARRAY" && all_completed "$A_MERGE" && [[ -f $RA/atlas.h5 ]]; then
-    pass "A: 4 shards and the merge completed, $RA/atlas.h5 written"
+slurm_atlas --shards 3 --out "$RA" --wait -- "${ARGS_A[@]}"
+if ((RC == 0)) && [[ $(states "$ARRAY_ID") == "3 COMPLETED" && -f $RA/atlas.h5 ]]; then
+    pass "A: 3 shards and the merge completed in $(elapsed "$t"), --wait exited 0"
 else
-    for f in "$RA"/logs/*.log; do echo "    $f:"; show_log_tail "$f" 4; done
-    fatal "A: the jobs did not all complete"
+    for f in "$RA"/logs/*.log; do echo "    $f:"; tail -n 4 "$f" | indent '> '; done
+    fatal "A: --wait exited $RC; array $(states "$ARRAY_ID"), merge $(reason "$MERGE_ID")"
 fi
-for k in 1 2 3 4; do
-    s=$("$RA/vibroatlas" inspect "$RA/part-$k-of-4.h5" --json | "$PY" -c 'import json,sys; print(json.load(sys.stdin)["shard"])')
-    [[ $s == "$k/4" ]] || fail "A: part-$k-of-4.h5 says shard $s"
-done
-t=$SECONDS
-"$RA/vibroatlas" atlas "${ARGS_A[@]}" --threads "$NCPU" --quiet -o "$W/single-A.h5"
-say "A: single-process run of the same grid: $(elapsed "$t")"
-compare "$RA/atlas.h5" "$W/single-A.h5" "A: merged atlas"
+single "$W/single-A.h5" "${ARGS_A[@]}"
+compare "$RA/atlas.h5" "$W/single-A.h5" "A: merged --attractors 8 atlas"
 
-sum_before=$(md5sum <"$RA/part-2-of-4.h5")
-say "A: rerun finished shard 2 (must be a no-op)"
-submit --out "$RA" --rerun 2
-wait_jobs "$ARRAY_ID" "$MERGE_ID"
-if [[ $(md5sum <"$RA/part-2-of-4.h5") == "$sum_before" ]] && grep -q 'already finished' "$RA/logs/shard-${ARRAY_ID}_2.log" &&
-    all_completed "$ARRAY_ID" && all_completed "$MERGE_ID"; then
-    pass "A: --rerun 2 of a finished part kept it byte for byte ($(tail -n1 "$RA/logs/shard-${ARRAY_ID}_2.log" | cut -c1-60)...), merge $MERGE_ID completed"
-else
-    show_log_tail "$RA/logs/shard-${ARRAY_ID}_2.log"
-    fail "A: --rerun 2 of a finished part was not a no-op"
-fi
-compare "$RA/atlas.h5" "$W/single-A.h5" "A: atlas merged again after the no-op rerun"
-
-say "A: delete part-3-of-4.h5, resubmit the original command with the same --out"
-rm -f "$RA/part-3-of-4.h5"
-submit "${ARGS_A[@]}" --shards 4 --out "$RA"
-wait_jobs "$ARRAY_ID" "$MERGE_ID"
-computed=$(grep -l '^shard [0-9]/4: wrote' "$RA"/logs/shard-"${ARRAY_ID}"_*.log 2>/dev/null | sed 's/.*_\([0-9]*\)\.log/\1/' | paste -sd,)
-kept=$(grep -l 'already finished' "$RA"/logs/shard-"${ARRAY_ID}"_*.log 2>/dev/null | sed 's/.*_\([0-9]*\)\.log/\1/' | paste -sd,)
-if all_completed "$ARRAY_ID" && all_completed "$MERGE_ID" && [[ $computed == 3 && $kept == 1,2,4 ]]; then
-    pass "A: resubmission computed only shard 3 (kept 1,2,4); merge $MERGE_ID completed"
-else
-    fail "A: resubmission computed shards '$computed', kept '$kept' (expected 3 and 1,2,4); array $(states "$ARRAY_ID"), merge $(states "$MERGE_ID")"
-fi
-compare "$RA/atlas.h5" "$W/single-A.h5" "A: atlas after the resubmission"
-
-# ---- B: kill one shard while it runs, rerun it alone, merge again ---------------
-ARGS_B=(configs/multi-stop.toml --x omega=0.2:2.5:240 --y delta=0.1:1.5:40 --sweep both)
+# ---- B: a shard cancelled while it runs, then rerun ---------------------------------
+ARGS_B=(configs/multi-stop.toml --x omega=0.2:2.5:240 --y delta=0.1:1.5:80 --sweep both)
 RB=$W/run-B
-say "B: submit ${ARGS_B[*]} --shards 4"
+say "B: slurm-atlas.sh --shards 4 -- ${ARGS_B[*]}"
 t=$SECONDS
-submit "${ARGS_B[@]}" --shards 4 --out "$RB"
+slurm_atlas --shards 4 --out "$RB" -- "${ARGS_B[@]}"
+((RC == 0)) || fatal "B: slurm-atlas.sh exited $RC"
 B_ARRAY=$ARRAY_ID B_MERGE=$MERGE_ID
 killed=""
 end=$((SECONDS + WAIT_S))
@@ -286,7 +301,7 @@ while [[ -z $killed ]] && squeue -h -j "$B_ARRAY" 2>/dev/null | grep -q .; do
     for k in 1 2 3 4; do
         [[ -s $RB/.part-$k-of-4.h5.journal && ! -e $RB/part-$k-of-4.h5 ]] || continue
         [[ $(squeue -h -j "${B_ARRAY}_$k" -o %T 2>/dev/null) == RUNNING ]] || continue
-        sleep 0.7 # let it compute a little more
+        sleep 0.3 # let it compute a little more
         [[ ! -e $RB/part-$k-of-4.h5 ]] || continue
         scancel "${B_ARRAY}_$k"
         killed=$k
@@ -298,52 +313,72 @@ done
 [[ -n $killed ]] || fatal "B: could not catch a shard while it ran (all finished too fast)"
 wait_jobs "$B_ARRAY" "$B_MERGE"
 say "B: array $B_ARRAY: $(states "$B_ARRAY"); merge $B_MERGE: $(reason "$B_MERGE")"
-[[ $(states "${B_ARRAY}_$killed") == "1 CANCELLED" ]] &&
-    pass "B: shard $killed/4 was cancelled" || fail "B: task ${B_ARRAY}_$killed is $(states "${B_ARRAY}_$killed"), not CANCELLED"
-if [[ $(reason "$B_MERGE") == "CANCELLED (DependencyNeverSatisfied)" ]]; then
-    pass "B: the merge $B_MERGE was cancelled (DependencyNeverSatisfied), not left pending"
+if [[ $(states "${B_ARRAY}_$killed") == "1 CANCELLED" && $(reason "$B_MERGE") == "CANCELLED (DependencyNeverSatisfied)" ]]; then
+    pass "B: shard $killed/4 cancelled; the merge $B_MERGE cancelled with it (DependencyNeverSatisfied), not left pending"
 else
-    fail "B: the merge $B_MERGE is $(reason "$B_MERGE"), expected CANCELLED (DependencyNeverSatisfied)"
+    fail "B: task ${B_ARRAY}_$killed is $(states "${B_ARRAY}_$killed"), merge $(reason "$B_MERGE"); expected CANCELLED, CANCELLED (DependencyNeverSatisfied)"
 fi
-if [[ -e $RB/.part-$killed-of-4.h5.journal && ! -e $RB/part-$killed-of-4.h5 && ! -e $RB/atlas.h5 ]]; then
-    pass "B: shard $killed left its journal and no part; no atlas.h5 was written"
+if [[ -s $RB/.part-$killed-of-4.h5.journal && ! -e $RB/part-$killed-of-4.h5 && ! -e $RB/atlas.h5 ]]; then
+    pass "B: shard $killed left its journal ($(stat -c %s "$RB/.part-$killed-of-4.h5.journal") bytes) and no part; no atlas.h5"
 else
-    ls -la "$RB" | sed 's/^/    /'
-    fail "B: unexpected files after the cancel"
+    ls -la "$RB" | indent
+    fatal "B: unexpected files after the cancel"
 fi
 
-say "B: rerun shard $killed alone"
+say "B: slurm-atlas.sh --out DIR --rerun $killed --wait"
 t=$SECONDS
-submit --out "$RB" --rerun "$killed"
-wait_jobs "$ARRAY_ID" "$MERGE_ID"
-say "B: rerun array $ARRAY_ID: $(states "$ARRAY_ID"); merge $MERGE_ID: $(states "$MERGE_ID"); rerun to merged: $(elapsed "$t")"
+slurm_atlas --out "$RB" --rerun "$killed" --wait
 log=$RB/logs/shard-${ARRAY_ID}_$killed.log
-if all_completed "$ARRAY_ID" && all_completed "$MERGE_ID" && grep -q 'resuming the interrupted run' "$log"; then
-    pass "B: --rerun $killed resumed from the journal and the new merge completed"
-    grep -E '^(shard|progress)' "$log" | sed 's/^/    > /'
+if ((RC == 0)) && grep -q 'journal is there' "$log" && [[ -f $RB/part-$killed-of-4.h5 && ! -e $RB/.part-$killed-of-4.h5.journal ]]; then
+    pass "B: --rerun $killed resumed from the journal (exit 0, journal gone, part written), new merge completed, $(elapsed "$t")"
+    grep -E '^(shard|progress)' "$log" | indent '> '
 else
-    show_log_tail "$log" 6
-    show_log_tail "$RB/logs/merge-$MERGE_ID.log" 4
-    fail "B: the rerun of shard $killed or its merge failed"
+    tail -n 6 "$log" | indent '> '
+    fail "B: --rerun $killed exited $RC, or did not resume from the journal"
 fi
-t=$SECONDS
-"$RB/vibroatlas" atlas "${ARGS_B[@]}" --threads "$NCPU" --quiet -o "$W/single-B.h5"
-say "B: single-process run of the same grid: $(elapsed "$t")"
-compare "$RB/atlas.h5" "$W/single-B.h5" "B: atlas after the killed shard was rerun"
+single "$W/single-B.h5" "${ARGS_B[@]}"
+compare "$RB/atlas.h5" "$W/single-B.h5" "B: atlas after the cancelled shard was rerun"
 
-say "B: merge again with --merge-only"
-mv "$RB/atlas.h5" "$W/atlas-B-first.h5"
-submit --out "$RB" --merge-only
-wait_jobs "$MERGE_ID"
-if all_completed "$MERGE_ID" && [[ -f $RB/atlas.h5 ]]; then
-    pass "B: --merge-only job $MERGE_ID completed"
-    compare "$RB/atlas.h5" "$W/single-B.h5" "B: atlas from --merge-only"
+# ---- C: a finished shard rerun is a no-op ----------------------------------------------
+# The finished shard that took longest to compute (not the resumed one).
+k_c="" x_c=0
+for k in 1 2 3 4; do
+    ((k != killed)) || continue
+    s=$(took "$RB/logs/shard-${B_ARRAY}_$k.log")
+    [[ -n $s ]] && awk -v a="$s" -v b="$x_c" 'BEGIN { exit !(a > b) }' && k_c=$k x_c=$s
+done
+[[ -n $k_c ]] || fatal "C: no 'vibroatlas exited 0 after S s' line in the shard logs of array $B_ARRAY"
+part=$RB/part-$k_c-of-4.h5
+before=$(stat -c '%s %y' "$part")$(md5sum <"$part")
+say "C: slurm-atlas.sh --out DIR --rerun $k_c --wait (shard $k_c took $x_c s to compute)"
+slurm_atlas --out "$RB" --rerun "$k_c" --wait
+log=$RB/logs/shard-${ARRAY_ID}_$k_c.log
+y_c=$(took "$log")
+after=$(stat -c '%s %y' "$part")$(md5sum <"$part")
+if ((RC == 0)) && [[ $after == "$before" && -n $y_c ]] && awk -v y="$y_c" -v x="$x_c" 'BEGIN { exit !(y < x / 2) }'; then
+    pass "C: --rerun $k_c of the finished shard: exit 0, part unchanged (bytes and mtime), $y_c s against $x_c s to compute"
+    grep -v '^progress' "$log" | indent '> '
 else
-    show_log_tail "$RB/logs/merge-$MERGE_ID.log" 4
-    fail "B: --merge-only job $MERGE_ID: $(states "$MERGE_ID")"
+    grep -v '^progress' "$log" | tail -n 6 | indent '> '
+    [[ $after == "$before" ]] || say "C: part-$k_c-of-4.h5 was rewritten: before '$before', after '$after'"
+    fail "C: --rerun $k_c of a finished shard was not a no-op (exit $RC, ${y_c:-?} s against $x_c s to compute)"
 fi
 
-# ---- summary --------------------------------------------------------------------------
+# ---- D: a missing part: the merge names it -------------------------------------------------
+k_d=$(((killed % 4) + 1))
+mv "$RB/part-$k_d-of-4.h5" "$W/part-$k_d-of-4.h5.away"
+say "D: part-$k_d-of-4.h5 moved away; slurm-atlas.sh --out DIR --merge-only --wait"
+slurm_atlas --out "$RB" --merge-only --wait
+log=$RB/logs/merge-$MERGE_ID.log
+if ((RC != 0)) && [[ $(states "$MERGE_ID") == "1 FAILED" ]] && grep -E "shards? .*\b$k_d\b.*missing" "$log" >/dev/null; then
+    pass "D: --merge-only without part $k_d failed (exit $RC) and its log names the shard: ...$(grep -E -o "shards? [^)]*\b$k_d\b[^)]*missing" "$log" | head -n1)..."
+else
+    tail -n 4 "$log" | indent '> '
+    fail "D: --merge-only without part $k_d: exit $RC, merge $(states "$MERGE_ID"), or no line naming shard $k_d as missing"
+fi
+mv "$W/part-$k_d-of-4.h5.away" "$RB/part-$k_d-of-4.h5"
+
+# ---- summary --------------------------------------------------------------------------------
 say "jobs: $(squeue -h -t all -o '%i %T' 2>/dev/null | wc -l) in the controller; work folder $W (logs in run-*/logs, daemons' in log/)"
 if ((failures)); then
     say "FAILED: $failures of $checks checks, $(elapsed "$T0")"
