@@ -87,7 +87,7 @@ impl Plan {
     /// Runs the plan, reporting to `observer`; returns the atlas (complete for
     /// this shard) and where the time went. Stopped by the observer
     /// ([`Observer::cancelled`]), it returns [`grid::GridError::Cancelled`]
-    /// having written no output file (the journal keeps the lines for a resume).
+    /// having written no output file and removed its journal.
     pub fn execute(&self, observer: &dyn Observer) -> Result<Executed> {
         let start = Instant::now();
         // Held for the whole run: a second run on the same output is refused.
@@ -187,7 +187,12 @@ impl Plan {
         observer.finish();
         let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
             writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
-        // An error or a cancel drops the draft, which removes its partial file.
+        // An error or a cancel drops the draft, which removes its partial
+        // file; a cancelled run is abandoned, its journal too (a killed one
+        // keeps it, to resume).
+        if let (Err(grid::GridError::Cancelled), Some(j)) = (&ran, journal.as_ref()) {
+            let _ = std::fs::remove_file(j.path());
+        }
         ran?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             return Err(e);

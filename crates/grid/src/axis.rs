@@ -37,17 +37,31 @@ impl Axis {
         };
         let (start, stop) = (num(a, "START")?, num(b, "STOP")?);
         let count: usize = c.trim().parse().map_err(|_| bad(&format!("COUNT '{}' is not a whole number", c.trim())))?;
-        let flag_name = format!("{flag} {}", name.trim());
         if name.trim().is_empty() {
             return Err(bad("empty parameter name"));
         }
-        if count == 0 || count > MAX_COUNT {
-            return Err(GridError::field(flag_name, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
+        Axis { name: name.trim().to_string(), start, stop, count }.checked(flag)
+    }
+
+    /// The axis, once checked: a name, finite ends, 1 to [`MAX_COUNT`]
+    /// values, and a range that is not empty when there are several
+    /// (`field` names it in errors).
+    pub fn checked(self, field: &str) -> Result<Axis, GridError> {
+        let Axis { name, start, stop, count } = &self;
+        let field = format!("{field} {name}");
+        if name.is_empty() {
+            return Err(GridError::field(field, "empty parameter name"));
         }
-        if count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
-            return Err(GridError::field(flag_name, format!("empty range {start}:{stop} with {count} values")));
+        if !(start.is_finite() && stop.is_finite()) {
+            return Err(GridError::field(field, format!("START and STOP must be finite, got {start}:{stop}")));
         }
-        Ok(Axis { name: name.trim().to_string(), start, stop, count })
+        if *count == 0 || *count > MAX_COUNT {
+            return Err(GridError::field(field, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
+        }
+        if *count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
+            return Err(GridError::field(field, format!("empty range {start}:{stop} with {count} values")));
+        }
+        Ok(self)
     }
 
     /// Refuses a descending axis (planes are stored ascending; sweep direction is separate).

@@ -66,8 +66,8 @@ pub struct Line {
 impl Plane {
     /// Builds a plane; axes must be ascending and name different parameters.
     pub fn new(x: Axis, y: Axis, along: Along) -> Result<Plane, GridError> {
-        let x = x.ascending("x")?;
-        let y = y.ascending("y")?;
+        let x = x.checked("x")?.ascending("x")?;
+        let y = y.checked("y")?.ascending("y")?;
         if x.name == y.name {
             return Err(GridError::field("y", format!("both axes sweep '{}'", x.name)));
         }
