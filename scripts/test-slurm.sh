@@ -13,7 +13,9 @@
 # config, state, spool and logs under $SLURM_TEST_DIR, default
 # /tmp/vibroatlas-slurm-test; nothing under /etc is written), and checks:
 # A. an --attractors run in 3 shards (--wait): merged bit for bit the file of a
-#    single-process run (scripts/compare_atlases.py);
+#    single-process run (scripts/compare_atlases.py); the same command again
+#    after a part was deleted computes only that shard; a word after `--` that
+#    atlas does not know fails the shards, cancels the merge, --wait exits 1;
 # B. a shard cancelled while it runs: the merge is cancelled, the journal kept;
 #    --rerun K resumes from the journal; the merge is bit for bit the
 #    single-process run;
@@ -285,6 +287,29 @@ else
 fi
 single "$W/single-A.h5" "${ARGS_A[@]}"
 compare "$RA/atlas.h5" "$W/single-A.h5" "A: merged --attractors 8 atlas"
+
+say "A: part-2-of-3.h5 deleted; the original command submitted again with the same --out"
+stamps() { for k in 1 3; do stat -c '%n %s %y' "$RA/part-$k-of-3.h5"; done; }
+kept=$(stamps)
+rm "$RA/part-2-of-3.h5"
+slurm_atlas --shards 3 --out "$RA" --wait -- "${ARGS_A[@]}"
+if ((RC == 0)) && [[ $(stamps) == "$kept" && -f $RA/part-2-of-3.h5 ]] &&
+    grep -q 'nothing to do' "$RA/logs/shard-${ARRAY_ID}_1.log" "$RA/logs/shard-${ARRAY_ID}_3.log"; then
+    pass "A: the resubmission computed shard 2 again and left parts 1 and 3 as they were; merge completed"
+else
+    for k in 1 2 3; do tail -n 2 "$RA/logs/shard-${ARRAY_ID}_$k.log" | indent '> '; done
+    fail "A: the resubmission exited $RC, or touched a finished part"
+fi
+compare "$RA/atlas.h5" "$W/single-A.h5" "A: atlas after the resubmission"
+
+say "A: a word after '--' that vibroatlas atlas does not know (--no-such-option), --wait"
+slurm_atlas --shards 2 --out "$W/run-bad" --wait -- "${ARGS_A[@]}" --no-such-option
+if ((RC == 1)) && [[ $(states "$ARRAY_ID") == "2 FAILED" && $(reason "$MERGE_ID") == "CANCELLED (DependencyNeverSatisfied)" ]] &&
+    grep -q -- '--no-such-option' "$W/run-bad/logs/shard-${ARRAY_ID}_1.log"; then
+    pass "A: both shards failed with vibroatlas's own error, the merge was cancelled, --wait exited 1"
+else
+    fail "A: with --no-such-option: --wait exited $RC, array $(states "$ARRAY_ID"), merge $(reason "$MERGE_ID")"
+fi
 
 # ---- B: a shard cancelled while it runs, then rerun ---------------------------------
 ARGS_B=(configs/multi-stop.toml --x omega=0.2:2.5:240 --y delta=0.1:1.5:80 --sweep both)
