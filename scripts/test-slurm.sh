@@ -293,8 +293,7 @@ stamps() { for k in 1 3; do stat -c '%n %s %y' "$RA/part-$k-of-3.h5"; done; }
 kept=$(stamps)
 rm "$RA/part-2-of-3.h5"
 slurm_atlas --shards 3 --out "$RA" --wait -- "${ARGS_A[@]}"
-if ((RC == 0)) && [[ $(stamps) == "$kept" && -f $RA/part-2-of-3.h5 ]] &&
-    grep -q 'nothing to do' "$RA/logs/shard-${ARRAY_ID}_1.log" "$RA/logs/shard-${ARRAY_ID}_3.log"; then
+if ((RC == 0)) && [[ $(stamps) == "$kept" && -f $RA/part-2-of-3.h5 ]]; then
     pass "A: the resubmission computed shard 2 again and left parts 1 and 3 as they were; merge completed"
 else
     for k in 1 2 3; do tail -n 2 "$RA/logs/shard-${ARRAY_ID}_$k.log" | indent '> '; done
