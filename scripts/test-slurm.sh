@@ -276,11 +276,22 @@ took() { sed -n 's/^shard [0-9]*\/[0-9]*: vibroatlas exited 0 after \([0-9.]*\) 
 # ---- A: an --attractors run in 3 shards ----------------------------------------------
 ARGS_A=(configs/multi-stop.toml --x omega=0.2:2.5:24 --y delta=0.1:1.5:12 --sweep both --attractors 8)
 RA=$W/run-A
-say "A: slurm-atlas.sh --shards 3 --wait -- ${ARGS_A[*]}"
+rc=0
+o=$("$SLURM_ATLAS" --shards 2 --cpus $((NCPU + 1)) --out "$W/run-refused" -- "${ARGS_A[@]}" 2>&1) || rc=$?
+rc2=0
+o2=$("$SLURM_ATLAS" --shards 2 --partition no-such-partition --out "$W/run-refused" -- "${ARGS_A[@]}" 2>&1) || rc2=$?
+if [[ $rc == 2 && $rc2 == 2 && ! -e $W/run-refused ]]; then
+    pass "A: refused before writing anything: --cpus $((NCPU + 1)) ($o), an unknown partition ($o2)"
+else
+    fail "A: --cpus $((NCPU + 1)): exit $rc ($o); unknown partition: exit $rc2 ($o2)"
+fi
+say "A: slurm-atlas.sh --shards 3 --partition debug --cpus $NCPU --time 10 --wait -- ${ARGS_A[*]}"
 t=$SECONDS
-slurm_atlas --shards 3 --out "$RA" --wait -- "${ARGS_A[@]}"
-if ((RC == 0)) && [[ $(states "$ARRAY_ID") == "3 COMPLETED" && -f $RA/atlas.h5 ]]; then
-    pass "A: 3 shards and the merge completed in $(elapsed "$t"), --wait exited 0"
+slurm_atlas --shards 3 --partition debug --cpus "$NCPU" --time 10 --out "$RA" --wait -- "${ARGS_A[@]}"
+job=$(scontrol -o show job "${ARRAY_ID}_1" 2>/dev/null)
+if ((RC == 0)) && [[ $(states "$ARRAY_ID") == "3 COMPLETED" && -f $RA/atlas.h5 ]] &&
+    [[ $job == *" Partition=debug "* && $job == *" TimeLimit=00:10:00 "* && $job == *" NumCPUs=$NCPU "* ]]; then
+    pass "A: 3 shards (partition debug, $NCPU CPUs, 10 min each) and the merge completed in $(elapsed "$t"), --wait exited 0"
 else
     for f in "$RA"/logs/*.log; do echo "    $f:"; tail -n 4 "$f" | indent '> '; done
     fatal "A: --wait exited $RC; array $(states "$ARRAY_ID"), merge $(reason "$MERGE_ID")"
