@@ -1,9 +1,12 @@
 """Bad inputs raise Python exceptions with the CLI's one-line messages:
 SceneError (a ValueError) for scenes, ValueError for arguments, OSError for
 files; never a crash."""
-import tomllib
-
 import pytest
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    tomllib = pytest.importorskip("tomli")
 import vibroatlas as va
 
 from conftest import MULTI, cli_error

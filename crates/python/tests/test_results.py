@@ -2,9 +2,12 @@
 --json for the same arguments (dict equality: every key, every float bit for
 bit, as JSON round-trips them)."""
 import json
-import tomllib
-
 import pytest
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    tomllib = pytest.importorskip("tomli")
 import vibroatlas as va
 
 from conftest import DRY, MULTI, assert_trees_equal, axis, cli, cli_json, open_tree, sets
