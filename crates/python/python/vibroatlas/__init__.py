@@ -23,17 +23,26 @@ from . import _run
 from ._run import axis as _axis, common as _common, number as _number, params_arg as _params
 from ._run import text as _text, whole as _whole
 
+try:
+    from importlib.metadata import version as _version
+
+    __version__ = _version("vibroatlas")
+except Exception:  # not installed (run from the sources)
+    __version__ = "unknown"
+
 __all__ = ["cell", "sweep", "atlas", "attractors", "curve", "open", "labels", "plot", "SceneError"]
 
 
-def cell(scene, *, preset=None, integrator=None, accuracy=None, params=None, **parameters):
+def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, params=None, **parameters):
     """Simulates one parameter point from the scene's initial state and
     classifies its steady motion, like `vibroatlas cell SCENE --json`.
 
     scene: a path, a TOML text or a dict. preset: "fast", "standard" or
     "precise"; integrator: "exact" or "rk4"; accuracy: {knob: value} (the
     CLI's `--accuracy`). Extra keywords (and `params`, a dict, for names that
-    clash with these keywords) are scene parameters (`--set`).
+    clash with these keywords) are scene parameters (`--set`). progress is
+    accepted for symmetry with the other functions and ignored (a cell is
+    short: no bar).
 
     Returns the dict `cell --json` prints: class, n, reason, labels,
     symmetry, impacts, chatter, sticking, final_state, period_section,
@@ -149,7 +158,7 @@ def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset
 
 
 def curve(scene, kind, start, free, to, *, steps=None, window=None, n=None, output=None, preset=None,
-          integrator=None, accuracy=None, params=None, **parameters):
+          integrator=None, accuracy=None, progress=None, params=None, **parameters):
     """Follows a bifurcation in a plane of two parameters, like `vibroatlas
     curve SCENE --kind ... --json`.
 
@@ -158,7 +167,8 @@ def curve(scene, kind, start, free, to, *, steps=None, window=None, n=None, outp
     located near A's value; free: (A, B), A located and B stepped; to: the
     last value of B; steps (20), window (0.05): the search half-width in A;
     n: the orbit's period (default: the cell's); output: also write the curve
-    file (for `vibroatlas render --curves`).
+    file (for `vibroatlas render --curves`). progress: accepted and ignored
+    (no bar).
 
     Returns the dict `curve --json` prints: the points, the codimension-two
     points and why the curve ended.
