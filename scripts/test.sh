@@ -2,8 +2,10 @@
 # Installs what is missing, then runs every test of the workspace (unit,
 # integration, doc tests) in release mode, clippy and rustdoc with warnings as
 # errors, checks with h5py alone that an atlas
-# file has every dataset of the documented layout, and ends with one line
-# "tests: N passed, M failed" summing every cargo test result.
+# file has every dataset of the documented layout, installs the Python package
+# into a fresh virtual environment and runs its tests (scripts/test-python.sh),
+# and ends with one line "tests: N passed, M failed" summing every cargo test
+# result and the Python ones.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -15,7 +17,9 @@ trap 'rm -rf "$tmp"' EXIT
 # file could find it locked by an unrelated child. The outputs' own lock
 # (store::lock) is separate and stays on.
 export HDF5_USE_FILE_LOCKING=FALSE
-cargo test --workspace --release 2>&1 | tee "$tmp/test.log"
+# The Python extension (crates/python) links into a Python process only: its
+# tests are the pytest suite that scripts/test-python.sh runs below.
+cargo test --workspace --exclude vibroatlas-python --release 2>&1 | tee "$tmp/test.log"
 # Lints and docs are part of the tests: no warning passes.
 cargo clippy --workspace --all-targets --release --quiet -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
@@ -31,4 +35,7 @@ target/release/vibroatlas sweep configs/multi-stop.toml --axis omega=0.2:0.5:7 -
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/sweep.h5" --expect up:M1:omega=0.35:1-4-4
 # Every command of README.md, as printed.
 scripts/check_readme.sh
-awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log"
+# The Python package as a user installs it (README's "Python" section).
+scripts/test-python.sh 2>&1 | tee "$tmp/python.log"
+awk '/^test result:/ { p += $4; f += $6 } /^python tests:/ { p += $3; f += $5 }
+    END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log"
