@@ -186,7 +186,8 @@ EOF
         header 1
         cat <<'EOF'
 shopt -s nullglob
-cd "$DIR" && parts=(part-*-of-$SHARDS.h5)
+cd "$DIR" || exit 2
+parts=(part-*-of-$SHARDS.h5)
 ((${#parts[@]})) || { echo "merge: no part-*-of-$SHARDS.h5 in $DIR" >&2; exit 2; }
 "$DIR/vibroatlas" merge "${parts[@]}" "$@" -o atlas.h5 # "$@": --allow-missing or nothing
 rc=$?
@@ -237,7 +238,16 @@ note "logs:   $out/logs/; rerun shards: $self --out $(q "$out") --rerun K[,K...]
 ((wait)) || { note "watch:  squeue -j ${array_id:+$array_id,}$merge_id"; exit 0; }
 
 # ---- --wait: until the jobs have left the queue, then the merge's end state ------
-while squeue -h -j "${array_id:+$array_id,}$merge_id" 2>/dev/null | grep -q .; do sleep 1; done
+ids=${array_id:+$array_id,}$merge_id fails=0
+while :; do
+    if listed=$(squeue -h -j "$ids" 2>/dev/null); then
+        [[ -n $listed ]] || break
+        fails=0
+    elif ((++fails >= 30)); then
+        die "squeue -j $ids keeps failing; the jobs may still be queued or running"
+    fi
+    sleep 2
+done
 state=$(scontrol -o show job "$merge_id" 2>/dev/null | grep -o 'JobState=[A-Z_]* Reason=[^ ]*' | head -n1)
 if [[ $state == JobState=COMPLETED* ]]; then note "done:   $out/atlas.h5"; exit 0; fi
 note "FAILED: merge job $merge_id: ${state:-state unknown}"
