@@ -7,9 +7,14 @@ import tempfile
 import numpy as np
 import pytest
 import xarray as xr
+
+try:
+    import tomllib
+except ImportError:  # Python < 3.11
+    tomllib = pytest.importorskip("tomli")
 import vibroatlas as va
 
-from conftest import MULTI, DRY, assert_trees_equal, axis, cli, open_tree, sets
+from conftest import MULTI, DRY, VOLATILE, assert_trees_equal, axis, cli, open_tree, sets
 
 X = ("omega", 0.1, 3.05, 12)
 Y = ("delta", 0.05, 2.0, 8)
@@ -118,3 +123,29 @@ def test_labels_of_attractors(tmp_path):
     table = a.label.values.astype(str)
     assert np.array_equal(lab.values, np.where(code >= 0, table[np.clip(code, 0, None)], ""))
     assert (lab.values != "").sum() == int(a["count"].sum())
+
+
+def test_atlas_scene_as_text_and_dict(tmp_path):
+    """The same plane from the scene's text and from its table: the CLI's
+    data; the text is stored as given, a table as TOML the engine writes."""
+    x, y = ("omega", 0.3, 0.5, 4), ("delta", 0.5, 0.7, 3)
+    ref = cli_atlas(tmp_path / "ref.h5", MULTI, x, y, {"mu_k": 0.3}, ["--sweep", "up"])
+    text = MULTI.read_text()
+    t = va.atlas(text, x=x, y=y, sweep="up", mu_k=0.3, progress=False)
+    assert_trees_equal(t, ref)
+    t = va.atlas(tomllib.loads(text), x=x, y=y, sweep="up", mu_k=0.3, progress=False)
+    assert_trees_equal(t, ref, volatile=VOLATILE | {"scene"})
+    assert tomllib.loads(t.attrs["scene"]) == tomllib.loads(text)
+
+
+def test_open_sweep_and_curve_files(tmp_path):
+    s, c = tmp_path / "sweep.h5", tmp_path / "curve.h5"
+    cli("sweep", MULTI, "--axis", "omega=0.2:0.5:7", "--direction", "both", "--quiet", "-o", s)
+    cli("curve", DRY, "--kind", "pf", "--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.05",
+        "--steps", "4", "-o", c)
+    with va.open(s) as t:
+        assert_trees_equal(t.load(), open_tree(s), volatile=set())
+        assert va.labels(t["up"], "M1").sel(omega=0.35, method="nearest").squeeze().item() == "1-4-4"
+    with va.open(c) as t:
+        assert_trees_equal(t.load(), open_tree(c), volatile=set())
+        assert any(str(k).startswith("curve_") for k in t.children)
