@@ -1,10 +1,25 @@
-//! Integrators: advance a mode's augmented state to a horizon or to its first event.
+//! Integrators: advance a mode's augmented state to a horizon or to its first
+//! event.
 //!
-//! Two methods, a closed set dispatched by a `match` on [`Method`] (no trait:
-//! there is nothing to plug in from outside), so that accuracy and speed are
-//! compared on equal terms: [`Method::Exact`], the closed-form flow with
-//! guaranteed event location, and [`Method::Rk4`], the fixed-step Runge–Kutta
-//! method of the literature.
+//! The integrator is a closed set of two, the variants of [`Method`] (exported
+//! as `solver::Method`; this module is private): [`Method::Exact`], the
+//! closed-form flow of [`spectral`] with guaranteed event location
+//! ([`exact`]), and [`Method::Rk4`], the fixed-step Runge–Kutta method of the
+//! literature with step-back refinement ([`rk4`]), kept to compare accuracy
+//! and speed against. There is no integrator trait and nothing to plug in from
+//! outside the crate: the simulator calls [`Method::advance`] once per flow
+//! segment, and it dispatches with a `match` to [`exact::advance`] or
+//! [`rk4::advance`]. Either reports why it stopped as an [`Advance`]; the
+//! exact flow costs nothing of the cell's event budget (the simulation counts
+//! its events), RK4's steps count against it. A third integrator is a third
+//! variant, an arm in [`Method::advance`], and its name in `Method::parse`
+//! and `Method::name` (the name stored in files).
+//!
+//! Shared by both, and by the contact and sticking decisions of the
+//! simulation: how a guard that starts at zero behaves ([`classify_start`] on
+//! its [`derivatives`], with [`start_tolerances`] and [`value_tol`];
+//! [`guard_start`] does all three), and the time to which events are located
+//! ([`time_resolution`]).
 
 pub mod exact;
 pub mod rk4;
