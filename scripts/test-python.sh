@@ -24,16 +24,17 @@ if [ ! -x "$bin" ]; then
     cargo build --release --quiet || exit 1
 fi
 
-# python3 -m venv needs ensurepip (Debian: python3-venv)
-if ! python3 -c "import ensurepip" >/dev/null 2>&1; then
+rm -rf "$venv"
+if ! python3 -m venv "$venv" >/dev/null 2>&1; then
+    # Debian's python3 makes venvs only with python3-venv (ensurepip's wheels)
     SUDO=""
     [ "$(id -u)" -eq 0 ] || SUDO="sudo"
     echo "test-python: installing python3-venv"
-    $SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends python3-venv >/dev/null
+    $SUDO apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends python3-venv >/dev/null
+    rm -rf "$venv"
+    python3 -m venv "$venv" || exit 1
 fi
-
-rm -rf "$venv"
-python3 -m venv "$venv" || exit 1
 py="$venv/bin/python"
 # The README's install command, as printed, inside the venv.
 (source "$venv/bin/activate" && pip install ./crates/python) || { echo "python tests: 0 passed, 1 failed (pip install ./crates/python)"; exit 1; }
