@@ -8,7 +8,7 @@ use solver::{Accuracy, Method};
 #[test]
 fn exact_and_rk4_impact_times_agree() {
     let sys = system("multi-stop.toml", &[("omega", 0.33), ("delta", 0.6)]);
-    let acc = Accuracy::default().with("rk4_step", 1e-3).unwrap();
+    let acc = Accuracy::default().with(solver::Knob::Rk4Step, 1e-3).unwrap();
     let y0 = sys.model.initial_state();
     let (exact, _) = record(&sys, &acc, Method::Exact, &y0, 50);
     let (rk4, _) = record(&sys, &acc, Method::Rk4, &y0, 50);

@@ -5,7 +5,10 @@ use solver::reference::{free_amplitude, single_stop_impact_speeds};
 use solver::{run_cell, Accuracy, Class, Method, Preset};
 
 fn tight() -> Accuracy {
-    Accuracy::preset(Preset::Precise).with("periodic_tol", 1e-13).and_then(|a| a.with("max_periods", 4000.0)).unwrap()
+    Accuracy::preset(Preset::Precise)
+        .with(solver::Knob::PeriodicTol, 1e-13)
+        .and_then(|a| a.with(solver::Knob::MaxPeriods, 4000.0))
+        .unwrap()
 }
 
 /// Issue 2: the no-impact steady-state amplitude of M1 equals 1/√((1-ω²)² + (2ζω)²).

@@ -64,7 +64,7 @@ fn a_confirmed_long_period_is_a_label() {
     let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
     assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)), "{:?}", cell.reason);
     assert_eq!(cell.symmetry, None::<Symmetry>);
-    let wide = acc.with("n_max", 64.0).unwrap();
+    let wide = acc.with(solver::Knob::NMax, 64.0).unwrap();
     let oracle = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
     assert_eq!((oracle.class, oracle.n), (Class::Periodic, Some(60)));
     assert_eq!(cell.labels, oracle.labels);

@@ -49,7 +49,7 @@ fn corners_of_the_parameter_space() {
     assert_eq!(cells.len(), 576);
     // A smaller event budget than standard keeps the runaway (elastic, R = 1)
     // corners short; the property checked is that the budget ends them.
-    let acc = Accuracy::default().with("max_events", 1e5).unwrap();
+    let acc = Accuracy::default().with(solver::Knob::MaxEvents, 1e5).unwrap();
     let next = AtomicUsize::new(0);
     let unresolved = AtomicUsize::new(0);
     let worker = || {

@@ -141,7 +141,7 @@ fn instants(events: &[(f64, DVector<f64>)]) -> Vec<f64> {
 fn exact_and_rk4_stick_slip_times_agree() {
     for (omega, fk) in [(2.0, 0.1), (7.5, 0.01)] {
         let sys = system("dry-friction.toml", &[("omega", omega), ("fk", fk)]);
-        let acc = Accuracy::default().with("rk4_step", 1e-4).unwrap();
+        let acc = Accuracy::default().with(solver::Knob::Rk4Step, 1e-4).unwrap();
         let y0 = sys.model.initial_state();
         let (exact, _) = record(&sys, &acc, Method::Exact, &y0, 20);
         let (rk4, _) = record(&sys, &acc, Method::Rk4, &y0, 20);

@@ -13,7 +13,7 @@ proptest! {
     fn random_cells_stay_admissible(mu_m in 0.05f64..0.95, mu_k in 0.05f64..0.95, mu_c in 0.05f64..0.95,
                                     zeta in 0.0f64..0.3, r in 0.0f64..1.0, delta in 0.01f64..2.0, omega in 0.1f64..4.0) {
         let sys = system("multi-stop.toml", &[("mu_m", mu_m), ("mu_k", mu_k), ("mu_c", mu_c), ("zeta", zeta), ("R", r), ("delta", delta), ("omega", omega)]);
-        let acc = Accuracy::default().with("max_events", 2e4).unwrap();
+        let acc = Accuracy::default().with(solver::Knob::MaxEvents, 2e4).unwrap();
         let mut sim = match solver::Simulator::new(&sys, acc, Method::Exact, &sys.model.initial_state()) {
             Ok(s) => s,
             Err(h) => return Err(TestCaseError::fail(format!("{h:?}"))),
@@ -79,7 +79,7 @@ proptest! {
         let crossing = (0..=samples)
             .map(|i| i as f64 * window / samples as f64)
             .find(|&t| free_single_stop(zeta, omega, x0, t) >= sigma + 1e-7);
-        let acc = Accuracy::default().with("max_events", 2e5).unwrap();
+        let acc = Accuracy::default().with(solver::Knob::MaxEvents, 2e5).unwrap();
         let mut sim = solver::Simulator::new(&sys, acc, Method::Exact, &[x0, 0.0]).unwrap();
         let mut first = FirstImpact::default();
         // The first impact ends the comparison: after it the flow is no longer free.

@@ -116,7 +116,7 @@ fn lyapunov_exponent_of_a_periodic_orbit() {
 fn chaos_check_ends_chaotic_records_only() {
     let run = |omega: f64, delta: f64, check: usize| {
         let sys = system("multi-stop.toml", &[("omega", omega), ("delta", delta)]);
-        let acc = Accuracy::default().with("chaos_check", check as f64).unwrap();
+        let acc = Accuracy::default().with(solver::Knob::ChaosCheck, check as f64).unwrap();
         (solver::run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state()), sys.period)
     };
     for (omega, delta) in [(1.05, 0.05), (1.1, 0.2)] {
@@ -141,9 +141,9 @@ fn chaos_check_ends_chaotic_records_only() {
 fn newton_fixed_point_reproduces_simulated_impact_phases() {
     let sys = system("multi-stop.toml", &[("omega", 0.33), ("delta", 0.6)]);
     let acc = Accuracy::default()
-        .with("newton", 0.0)
-        .and_then(|a| a.with("max_periods", 3e3))
-        .and_then(|a| a.with("periodic_tol", 1e-13))
+        .with(solver::Knob::Newton, 0.0)
+        .and_then(|a| a.with(solver::Knob::MaxPeriods, 3e3))
+        .and_then(|a| a.with(solver::Knob::PeriodicTol, 1e-13))
         .unwrap();
     let cell = solver::run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
     assert_eq!(cell.n, Some(1));

@@ -283,7 +283,7 @@ fn measured_run(
 fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
     let mut accuracy = Accuracy::preset(setting.preset);
     for &(knob, value) in setting.knobs {
-        accuracy.set(knob, value)?;
+        accuracy.set_named(knob, value)?;
     }
     let s = Setup {
         scene: scene.clone(),

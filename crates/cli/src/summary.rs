@@ -9,7 +9,7 @@ use solver::Class;
 pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) -> anyhow::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
-    outln!("scene     {} (preset {}, integrator {})", m.scene_name, m.preset, m.integrator);
+    outln!("scene     {} (preset {}, integrator {})", m.scene_name, m.preset.name(), m.integrator.name());
     outln!("grid      {} x {} = {} cells, continuation along {}", p.x, p.y, p.cells(), p.along.name());
     let computed: usize = atlas.maps.iter().map(|mp| mp.cells.iter().flatten().count()).sum();
     if secs > 0.0 {
@@ -85,8 +85,8 @@ pub fn summary_json(atlas: &Atlas) -> serde_json::Value {
     });
     json!({
         "scene": m.scene_name,
-        "preset": m.preset,
-        "integrator": m.integrator,
+        "preset": m.preset.name(),
+        "integrator": m.integrator.name(),
         "x": axis(&p.x),
         "y": axis(&p.y),
         "along": p.along.name(),

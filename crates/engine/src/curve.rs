@@ -160,10 +160,10 @@ pub fn stored(c: &Curve, free: [&str; 2], ended: &str) -> store::Curve {
 /// The simulation set-up a stored atlas was computed with.
 pub fn stored_setup(m: &grid::Meta, file: &std::path::Path) -> Result<Setup> {
     let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| anyhow!("{}: stored scene: {e}", file.display()))?;
-    let preset = solver::Preset::parse(&m.preset).unwrap_or(solver::Preset::Standard);
+    let preset = m.preset;
     let mut accuracy = solver::Accuracy::preset(preset);
     for (k, v) in &m.accuracy {
-        accuracy.set(k, *v)?;
+        accuracy.set_named(k, *v)?;
     }
     Ok(Setup {
         scene,

@@ -109,7 +109,7 @@ impl Sim {
         let mut accuracy_overrides = Vec::new();
         for (k, v) in knobs.iter().chain(&self.accuracy) {
             check_finite(v, &format!("--accuracy {k}"))?;
-            accuracy.set(k, *v)?;
+            accuracy.set_named(k, *v)?;
             accuracy_overrides.push((k.clone(), *v));
         }
         Ok(Setup { scene, overrides: self.set.clone(), accuracy, accuracy_overrides, preset, method })
@@ -274,15 +274,8 @@ impl Sim {
             .and_then(|map| map.cells[iy * m.plane.x.count + ix].as_ref())
             .ok_or_else(|| anyhow!("--at: the cell was not computed in {} (a shard?)", file.display()))?;
         // The file's settings, unless given.
-        let stored = |what: &str, name: &str| anyhow!("--from: {} has an unknown {what} '{name}'", file.display());
-        let preset = match self.preset {
-            Some(p) => p,
-            None => Preset::parse(&m.preset).ok_or_else(|| stored("preset", &m.preset))?,
-        };
-        let method = match self.integrator {
-            Some(i) => i,
-            None => Method::parse(&m.integrator).ok_or_else(|| stored("integrator", &m.integrator))?,
-        };
+        let preset = self.preset.unwrap_or(m.preset);
+        let method = self.integrator.unwrap_or(m.integrator);
         let mut s = self.setup_with(preset, method, &m.accuracy)?;
         let params = m.plane.params(iy, ix);
         if let Some((k, _)) = s.overrides.iter().find(|(k, _)| params.iter().any(|(p, _)| p == k)) {

@@ -17,12 +17,12 @@ pub struct Meta {
     pub scene_toml: String,
     /// Parameter overrides common to every cell.
     pub overrides: Vec<(String, f64)>,
-    /// Accuracy preset name.
-    pub preset: String,
+    /// Accuracy preset.
+    pub preset: solver::Preset,
     /// Accuracy knobs overridden on the command line, as given.
     pub accuracy: Vec<(String, f64)>,
-    /// Integrator name.
-    pub integrator: String,
+    /// Integrator.
+    pub integrator: solver::Method,
     /// The plane.
     pub plane: Plane,
     /// Sweeps computed.

@@ -226,7 +226,7 @@ pub(crate) fn pq_text(meta: &Meta, mass: usize) -> String {
 pub(crate) fn settings_text(meta: &Meta) -> String {
     let set: Vec<String> = meta.overrides.iter().map(|(k, v)| format!("{} = {v}", meta.symbol(k))).collect();
     let fixed = if set.is_empty() { "scene defaults".to_string() } else { set.join(", ") };
-    format!("{}; preset {}; {}", meta.scene_name, meta.preset, fixed)
+    format!("{}; preset {}; {}", meta.scene_name, meta.preset.name(), fixed)
 }
 
 /// A label's legend text: the letter classes spelled out.

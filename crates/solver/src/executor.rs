@@ -580,7 +580,7 @@ mod tests {
     fn newton_shortens_the_record_and_its_work_is_counted() {
         // A slowly contracting 1-2-1 orbit: over 500 periods of plain simulation.
         let sys = multi_stop(1.5, 0.1);
-        let (with, without) = (Accuracy::default(), Accuracy::default().with("newton", 0.0).unwrap());
+        let (with, without) = (Accuracy::default(), Accuracy::default().with(crate::Knob::Newton, 0.0).unwrap());
         let (mut a, mut b) = (executor(&sys, &with), executor(&sys, &without));
         let limit = 3000;
         assert_eq!((a.record(limit).unwrap(), b.record(limit).unwrap()), (Some(1), Some(1)));
@@ -651,7 +651,7 @@ mod tests {
         assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)), "{:?}", cell.reason);
         assert!(cell.periods < 3000, "{} periods", cell.periods);
         assert_eq!(cell.section.len(), 60);
-        let wide = acc.with("n_max", 64.0).unwrap();
+        let wide = acc.with(crate::Knob::NMax, 64.0).unwrap();
         let oracle = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
         assert_eq!((oracle.class, oracle.n), (Class::Periodic, Some(60)));
         assert_eq!(cell.labels, oracle.labels);
@@ -705,7 +705,7 @@ mod tests {
         for (omega, delta) in [(1.05, 0.05), (0.33, 0.6), (0.98, 0.34)] {
             let sys = multi_stop(omega, delta);
             for max in [30.0, 300.0, 3000.0] {
-                let acc = Accuracy::default().with("max_events", max).unwrap();
+                let acc = Accuracy::default().with(crate::Knob::MaxEvents, max).unwrap();
                 let (cell, _) = run_cell_with_sections(&sys, &acc, Method::Exact, &sys.model.initial_state(), 16);
                 assert!(cell.events <= max as usize + 2, "ω {omega}: {} events of {max}", cell.events);
                 if cell.class == Class::Unresolved {

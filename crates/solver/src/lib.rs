@@ -21,7 +21,7 @@
 //!
 //! - Set-up: a [`System`] is built from an evaluated scene model; an
 //!   [`Accuracy`] comes from a [`Preset`] and its knobs are changed only
-//!   through [`Accuracy::set`], within [`LIMITS`]; a [`Method`] picks the
+//!   through [`Accuracy::set`], within each [`Knob`]'s limits; a [`Method`] picks the
 //!   integrator.
 //! - Cells: [`run_cell`] and [`run_cell_with_sections`] give a [`CellResult`]:
 //!   its [`Class`], a [`MassLabel`] ([`Label`] of [`Count`]s) per labelled
@@ -74,7 +74,7 @@ mod system;
 #[cfg(test)]
 mod testing;
 
-pub use accuracy::{Accuracy, Preset, LIMITS};
+pub use accuracy::{Accuracy, Knob, KnobKind, Preset};
 pub use error::SolverError;
 pub use executor::{run_cell, run_cell_with_sections, CellResult, ImpactSections, Unresolved};
 pub use floquet::{multipliers, Bifurcation};

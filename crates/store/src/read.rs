@@ -357,9 +357,15 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         scene_name: attr(&f, attr::SCENE_NAME).map_err(h)?,
         scene_toml: scene_toml.clone(),
         overrides: pairs(&attr(&f, attr::OVERRIDES).map_err(h)?).map_err(fmt)?,
-        preset: attr(&f, attr::PRESET).map_err(h)?,
+        preset: {
+            let name = attr(&f, attr::PRESET).map_err(h)?;
+            solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
+        },
         accuracy: pairs(&attr(&f, attr::ACCURACY).map_err(h)?).map_err(fmt)?,
-        integrator: attr(&f, attr::INTEGRATOR).map_err(h)?,
+        integrator: {
+            let name = attr(&f, attr::INTEGRATOR).map_err(h)?;
+            solver::Method::parse(&name).ok_or_else(|| fmt(format!("unknown integrator '{name}'")))?
+        },
         plane: Plane { x, y, along },
         sweeps,
         masses,
@@ -628,9 +634,9 @@ mod tests {
             scene_name: scene.name().into(),
             scene_toml: scene_toml.into(),
             overrides: Vec::new(),
-            preset: "standard".into(),
+            preset: solver::Preset::Standard,
             accuracy: Vec::new(),
-            integrator: "exact".into(),
+            integrator: solver::Method::Exact,
             plane,
             sweeps: vec![SweepKind::Up, SweepKind::Down],
             masses: vec!["M1".into()],

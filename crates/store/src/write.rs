@@ -206,10 +206,10 @@ fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hd
     attr_num(&f, attr::LAYOUT_VERSION, LAYOUT_VERSION)?;
     attr_str(&f, attr::SCENE, &m.scene_toml)?;
     attr_str(&f, attr::SCENE_NAME, &m.scene_name)?;
-    attr_str(&f, attr::PRESET, &m.preset)?;
+    attr_str(&f, attr::PRESET, m.preset.name())?;
     attr_str(&f, attr::ACCURACY, &pairs(&m.accuracy))?;
     attr_str(&f, "knobs", &knobs(m))?;
-    attr_str(&f, attr::INTEGRATOR, &m.integrator)?;
+    attr_str(&f, attr::INTEGRATOR, m.integrator.name())?;
     attr_str(&f, attr::X, &p.x.name)?;
     attr_str(&f, attr::Y, &p.y.name)?;
     attr_str(&f, attr::ALONG, p.along.name())?;
@@ -519,10 +519,10 @@ fn write_section<'a>(
 
 /// Every accuracy knob of the run (`k=v,…`): the preset's with the overrides applied.
 fn knobs(m: &grid::Meta) -> String {
-    let mut acc = solver::Accuracy::preset(solver::Preset::parse(&m.preset).unwrap_or(solver::Preset::Standard));
+    let mut acc = solver::Accuracy::preset(m.preset);
     for (k, v) in &m.accuracy {
         // The overrides were validated when the run started.
-        let _ = acc.set(k, *v);
+        let _ = acc.set_named(k, *v);
     }
     let number = |v: f64| if v.fract() == 0.0 && v.abs() < 1e15 { format!("{v}") } else { format!("{v:e}") };
     acc.knobs().iter().map(|(k, v)| format!("{k}={}", number(*v))).collect::<Vec<_>>().join(",")
@@ -545,9 +545,9 @@ mod tests {
             scene_name: "test".into(),
             scene_toml: String::new(),
             overrides: Vec::new(),
-            preset: "standard".into(),
+            preset: solver::Preset::Standard,
             accuracy: Vec::new(),
-            integrator: "exact".into(),
+            integrator: solver::Method::Exact,
             plane: Plane::new(x, y, Along::X).unwrap(),
             sweeps: vec![SweepKind::Up],
             masses: vec!["M1".into()],
