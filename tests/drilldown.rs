@@ -233,3 +233,35 @@ fn atlas_attractors_are_stored_per_cell_and_deterministic() {
     let out = run(&["render", d.join("one.h5").to_str().unwrap(), "--view", "attractors", "-o", png.to_str().unwrap()]);
     assert!(out.status.success() && png.exists());
 }
+
+/// Issue 31: a stored unresolved cell keeps why. Every U cell of an atlas has
+/// its reason in the file (the solver's text, read back by `store::read`),
+/// `cell --from` on it computes the same reason again and shows the stored
+/// one, resolved cells have none, and `inspect --json` counts them.
+#[test]
+fn a_stored_unresolved_cell_keeps_its_reason() {
+    let d = scratch("reason");
+    let f = d.join("u.h5");
+    let file = f.to_str().unwrap();
+    let args = ["atlas", "configs/multi-stop.toml", "--x", "omega=1.55:1.85:7", "--y", "delta=0.05:0.2:4"];
+    assert!(run(&[&args[..], &["--sweep", "up", "--quiet", "-o", file]].concat()).status.success());
+    let atlas = store::read(&f).unwrap().atlas;
+    let p = &atlas.meta.plane;
+    let cells = &atlas.map(grid::SweepKind::Up).unwrap().cells;
+    let mut unresolved = 0;
+    for (i, c) in cells.iter().enumerate() {
+        let c = c.as_ref().unwrap();
+        assert_eq!(c.reason.is_some(), c.class == solver::Class::Unresolved, "cell {i}: {:?}", c.reason);
+        let Some(reason) = &c.reason else { continue };
+        unresolved += 1;
+        let at = format!("omega={},delta={}", p.x.value(i % p.x.count), p.y.value(i / p.x.count));
+        let again = cell_json(&["configs/multi-stop.toml", "--from", file, "--at", &at]);
+        assert_eq!(again["reason"], reason.as_str(), "{at}");
+        assert_eq!(again["from"]["reason"], reason.as_str(), "{at}");
+    }
+    assert!(unresolved > 0, "the plane has an unresolved cell");
+    let summary = json_of(&["inspect", file, "--json"]);
+    let counted: u64 =
+        summary["sweeps"][0]["reasons"].as_array().unwrap().iter().map(|r| r["cells"].as_u64().unwrap()).sum();
+    assert_eq!(counted, unresolved);
+}

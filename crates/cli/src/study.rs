@@ -136,6 +136,7 @@ fn sheet_panel(atlas: Atlas, sweep: SweepKind) -> Atlas {
                         final_state: Vec::new(),
                         period_section: Vec::new(),
                         impact_sections: Vec::new(),
+                        reason: None,
                         ..c
                     })
                 })

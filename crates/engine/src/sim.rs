@@ -298,6 +298,7 @@ impl Sim {
             "sweep": sweep.name(),
             "cell": coords,
             "labels": m.masses.iter().enumerate().map(|(i, n)| (n.clone(), serde_json::json!(cell.labels[i].to_string()))).collect::<serde_json::Map<_, _>>(),
+            "reason": cell.reason,
         });
         let origin = Origin {
             cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),

@@ -33,6 +33,8 @@ pub struct CellData {
     pub period_section: Vec<Vec<f64>>,
     /// Per stop: `[phase, x…, v…]` before each impact of the window.
     pub impact_sections: Vec<Vec<Vec<f64>>>,
+    /// Why the cell is unresolved (the solver's reason, as text), if it is.
+    pub reason: Option<String>,
 }
 
 /// The state a cell starts from: `start` (a previous cell's final state, or a
@@ -92,6 +94,7 @@ impl CellSetup {
             events: cell.events as u64,
             period_section: cell.section.into_iter().take(self.section_cap).collect(),
             impact_sections: impact,
+            reason: cell.reason.as_ref().map(ToString::to_string),
         })
     }
 }

@@ -417,6 +417,7 @@ mod tests {
             events: 0,
             period_section: Vec::new(),
             impact_sections: Vec::new(),
+            reason: None,
         };
         // Every cell but (2, 3) computed; its periods are its index iy*nx + ix.
         let cells: Vec<Option<CellData>> = (0..nx * ny).map(|i| (i != 2 * nx + 3).then(|| cell(i))).collect();

@@ -40,6 +40,8 @@ struct JCell {
     events: u64,
     period_section: Vec<Vec<f64>>,
     impact_sections: Vec<Vec<Vec<f64>>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    reason: Option<String>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -129,6 +131,7 @@ fn encode(line: &Line) -> JLine {
                 events: c.events,
                 period_section: c.period_section.clone(),
                 impact_sections: c.impact_sections.clone(),
+                reason: c.reason.clone(),
             })
             .collect(),
     }
@@ -177,6 +180,7 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
                 events: c.events,
                 period_section: c.period_section,
                 impact_sections: c.impact_sections,
+                reason: c.reason,
             })
         })
         .collect::<Result<Vec<_>, String>>()?;

@@ -16,6 +16,8 @@
 //!     multiplier          f64 [ny, nx]     largest Floquet multiplier modulus (periodic cells; NaN otherwise)
 //!     final_state         f64 [ny, nx, dim]
 //!     periods, events     u64 [ny, nx]     work per cell
+//!     reason              strings [reasons]  the distinct reasons of the sweep's unresolved cells (coordinate)
+//!     reason_code         i32 [ny, nx]     why the cell is unresolved: index into reason; -1 resolved or not computed
 //!     lines_done          u8  [lines]      1 where the line (row, or column with along=y) is computed
 //!     sections/period/values   f64 [N, dim]      states at t = kT
 //!     sections/<stop>/values   f64 [N, 1 + dim]  (phase t mod T, state just before impact)
@@ -39,6 +41,10 @@ pub const IMPACT_COLUMN: &str = "impact_column";
 pub const MASS: &str = "mass";
 /// Dimension and coordinate of a sweep's label table.
 pub const LABEL: &str = "label";
+/// Dimension and coordinate of a sweep's table of reasons (why cells are unresolved).
+pub const REASON: &str = "reason";
+/// Per cell, the index of its reason in the [`REASON`] table (-1: none).
+pub const REASON_CODE: &str = "reason_code";
 /// Colours of the label table.
 pub const LABEL_COLOUR: &str = "label_colour";
 /// Dimension of an RGB triple.

@@ -159,6 +159,9 @@ struct SweepSets {
     periods: hdf5::Dataset,
     events: hdf5::Dataset,
     labels: Vec<hdf5::Dataset>,
+    /// The table of reasons and the per-cell codes (files since the reasons
+    /// were stored).
+    reasons: Option<(hdf5::Dataset, hdf5::Dataset)>,
     period: Section,
     impacts: Vec<Section>,
 }
@@ -250,6 +253,18 @@ pub(crate) fn check_global_heaps(path: &Path) -> Result<(), StoreError> {
         kept = carry;
     }
     Ok(())
+}
+
+/// A sweep's table of reasons and its cells' codes into it, each code -1 or
+/// an index of the table.
+fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result<(Vec<String>, Vec<i32>), StoreError> {
+    let text = ck.raw::<VarLenUnicode>(table)?.iter().map(utf8).collect::<hdf5::Result<Vec<_>>>();
+    let text = text.map_err(|e| ck.bad(&table.name(), e.to_string()))?;
+    let c = ck.raw::<i32>(codes)?;
+    if let Some(bad) = c.iter().find(|&&c| c < -1 || c as i64 >= text.len() as i64) {
+        return Err(ck.bad(&codes.name(), format!("code {bad} is not in the table of {} reasons", text.len())));
+    }
+    Ok((text, c))
 }
 
 /// Reads an atlas file. Every dataset is checked before it is used: its
@@ -413,6 +428,17 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
                 .iter()
                 .map(|m| ck.shaped(&g, &label(m), &[rows, columns, Dim(3, "counts", "n, p, q are")]))
                 .collect::<Result<_, _>>()?,
+            reasons: if g.link_exists(REASON_CODE) {
+                let table = ck.open(&g, REASON)?;
+                if table.ndim() != 1 || table.size() > n {
+                    return Err(
+                        ck.bad(&table.name(), format!("shape {:?}: not a table of at most {n} reasons", table.shape()))
+                    );
+                }
+                Some((table, plane(REASON_CODE)?))
+            } else {
+                None
+            },
             period: section(PERIOD_SECTION, dim)?,
             impacts: meta.stops.iter().map(|s| section(s, dim + 1)).collect::<Result<_, _>>()?,
         });
@@ -472,6 +498,9 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         };
         let period = section(&s.period)?;
         let impacts = s.impacts.iter().map(section).collect::<Result<Vec<_>, _>>()?;
+        let reasons = s.reasons.as_ref().map(|(t, c)| reasons(&ck, t, c)).transpose()?;
+        let reason =
+            |i: usize| reasons.as_ref().and_then(|(table, codes)| table.get(usize::try_from(codes[i]).ok()?).cloned());
         let mut cells = Vec::new();
         cells.try_reserve_exact(n).map_err(|_| fmt(format!("{n} cells do not fit in memory")))?;
         cells.extend((0..n).map(|i| {
@@ -488,6 +517,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
                 events: events[i],
                 period_section: rows(&period, i),
                 impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
+                reason: reason(i),
             })
         }));
         maps.push(Map { sweep, cells });

@@ -358,6 +358,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::
         netcdf::attr_array(&d, "flag_values", &codes)?;
         netcdf::attr_str(&d, "flag_meanings", &table.join(" "))?;
     }
+    write_reasons(g, cells, &grid, z)?;
     let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
     let lines = netcdf::dimension(g, LINE, done.len())?;
     let d = z.dataset(g, var::LINES_DONE, &Array1::from(done))?;
@@ -384,6 +385,34 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::
             &format!("time within the forcing period (t mod T) and state just before each impact at {stop}"),
         )?;
     }
+    Ok(())
+}
+
+/// Why the unresolved cells of a sweep are unresolved: the table of their
+/// distinct reasons (a string coordinate, sorted; empty when every cell is
+/// resolved) and per cell an index into it (-1: resolved, or not computed).
+fn write_reasons(g: &Group, cells: &[Option<grid::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<()> {
+    let table: Vec<String> = cells
+        .iter()
+        .flatten()
+        .filter_map(|c| c.reason.clone())
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    let index: HashMap<&str, i32> = table.iter().enumerate().map(|(i, t)| (t.as_str(), i as i32)).collect();
+    let reason_dim = netcdf::labels(g, REASON, &table, "why cells are unresolved")?;
+    z.expected.texts(&reason_dim, &table);
+    let (ny, nx) = (grid.y.size(), grid.x.size());
+    let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| {
+        cells[iy * nx + ix].as_ref().and_then(|c| c.reason.as_deref()).map_or(-1, |r| index[r])
+    });
+    let d = z.dataset(g, REASON_CODE, &code)?;
+    netcdf::dims(&d, &[&grid.y, &grid.x])?;
+    netcdf::describe(
+        &d,
+        "why the cell is unresolved: index into the reason coordinate (-1: resolved, or not computed)",
+        "1",
+    )?;
     Ok(())
 }
 
@@ -577,6 +606,7 @@ mod tests {
             events: 2000 + i as u64,
             period_section: vec![vec![i as f64, 0.5]; i % 3],
             impact_sections: vec![vec![vec![0.25, i as f64, 1.0]; i % 2]],
+            reason: i.is_multiple_of(5).then(|| format!("reason {}", i % 3)),
         }
     }
 
@@ -618,6 +648,9 @@ mod tests {
                 let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();
                 let npq = f.dataset("up/label_M1").unwrap().read::<u16, ndarray::Ix3>().unwrap();
                 let class = f.dataset("up/class").unwrap().read_2d::<u8>().unwrap();
+                // Reasons go through their table and codes, and read back per cell.
+                let back = crate::read(path).unwrap().atlas;
+                let back = &back.map(SweepKind::Up).unwrap().cells;
                 for iy in 0..p.y.count {
                     for ix in 0..p.x.count {
                         let i = iy * p.x.count + ix;
@@ -629,6 +662,7 @@ mod tests {
                             assert_eq!([state[[iy, ix, 0]], state[[iy, ix, 1]]], [i as f64, -(i as f64)], "{at}");
                             let want = [1 + (i % 3) as u16, i as u16, STUCK];
                             assert_eq!([npq[[iy, ix, 0]], npq[[iy, ix, 1]], npq[[iy, ix, 2]]], want, "{at}");
+                            assert_eq!(back[i].as_ref().unwrap().reason, cell(i).reason, "{at}");
                         } else {
                             assert!(state[[iy, ix, 0]].is_nan(), "{at}");
                         }
