@@ -135,11 +135,12 @@ fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Result<(
     }
     let mass = sys.model.labels.first().map_or(0, |l| l.mass);
     let m = sys.dof();
-    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.final_state).map_err(|h| anyhow!("sections: {h:?}"))?;
+    let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.final_state)
+        .map_err(|h| anyhow!("sections: {}", halt_text(&h, s)))?;
     let mut obs = Points(sys, vec![Vec::new(); sys.stops.len()]);
     let mut period = Vec::with_capacity(periods);
     for _ in 0..periods {
-        let rec = sim.run_period(&[], false, &mut obs).map_err(|h| anyhow!("sections: {h:?}"))?;
+        let rec = sim.run_period(&[], false, &mut obs).map_err(|h| anyhow!("sections: {}", halt_text(&h, s)))?;
         period.push((rec.end[mass], rec.end[m + mass]));
     }
     let name = &sys.model.masses[mass].name;

@@ -2,7 +2,7 @@
 //! and a contact sheet comparing them.
 //!
 //! The whole study is checked before any atlas is computed, as `atlas` checks
-//! its own: at most [`grid::study::MAX_VALUES`] values, every value's scene and
+//! its own: at most [`grid::MAX_VALUES`] values, every value's scene and
 //! plane ([`Plan::check`]), and the memory of one atlas at a time beside the
 //! contact sheet's panels ([`Plan::check_memory_beside`]). A finished atlas is
 //! kept only as its panel ([`sheet_panel`]: the drawn sweep's labels, no states

@@ -101,3 +101,51 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     })?;
     plan.execute(observer)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Observer, SceneSource};
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    /// Stops the run once `after` cells are done.
+    struct StopAfter {
+        after: u64,
+        done: AtomicU64,
+    }
+    impl Observer for StopAfter {
+        fn advance(&self, cells: u64) {
+            self.done.fetch_add(cells, Ordering::Relaxed);
+        }
+        fn cancelled(&self) -> bool {
+            self.done.load(Ordering::Relaxed) >= self.after
+        }
+    }
+
+    /// A cancelled atlas ends with `GridError::Cancelled` within a cell of
+    /// the request on each worker, and leaves no output, partial file or
+    /// journal; the same request not cancelled writes its file.
+    #[test]
+    fn a_cancelled_atlas_stops_and_leaves_nothing() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-engine-cancel-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("a.h5");
+        let sim = Sim::new(SceneSource::File("../../configs/multi-stop.toml".into()));
+        let x = Axis { name: "omega".into(), start: 0.2, stop: 2.5, count: 40 };
+        let y = Axis { name: "delta".into(), start: 0.1, stop: 1.5, count: 20 };
+        let mut r = AtlasRequest::new(sim, x, y, vec![SweepKind::Up, SweepKind::Down]);
+        r.threads = 2;
+        r.output = Some(out.clone());
+        let stop = StopAfter { after: 50, done: AtomicU64::new(0) };
+        let e = atlas(&r, &stop).unwrap_err();
+        assert!(matches!(e.downcast_ref::<grid::GridError>(), Some(grid::GridError::Cancelled)), "{e:#}");
+        // Each of the two workers finishes at most the cell it is computing.
+        assert!(stop.done.load(Ordering::Relaxed) <= 52, "{} cells", stop.done.load(Ordering::Relaxed));
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert!(left.is_empty(), "left behind: {left:?}");
+        let done = atlas(&r, &crate::Quiet).unwrap();
+        assert_eq!(done.atlas.maps.iter().map(|m| m.cells.iter().flatten().count()).sum::<usize>(), 1600);
+        assert!(out.is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

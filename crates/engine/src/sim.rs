@@ -18,6 +18,9 @@ pub enum SceneSource {
     Text(String),
 }
 
+/// What errors in a scene given as text name it.
+const TEXT: &str = "scene text";
+
 /// A scene that could not be read or parsed; its text names the file (or
 /// `scene` for a text) and the field.
 #[derive(Debug)]
@@ -31,7 +34,7 @@ pub enum SceneLoadError {
     },
     /// The text is not a valid scene.
     Invalid {
-        /// The file, or `scene` for a text.
+        /// The file, or `scene text`.
         origin: String,
         /// What is wrong.
         cause: scene::SceneError,
@@ -42,6 +45,10 @@ impl std::fmt::Display for SceneLoadError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             SceneLoadError::Read { path, cause } => write!(f, "cannot read scene file {}: {cause}", path.display()),
+            // A text has no file to name: its syntax errors say where in the text.
+            SceneLoadError::Invalid { origin, cause: scene::SceneError::Syntax { message } } if origin == TEXT => {
+                write!(f, "{TEXT}: {message}")
+            }
             SceneLoadError::Invalid { origin, cause } => write!(f, "{origin}: {cause}"),
         }
     }
@@ -57,7 +64,7 @@ impl SceneSource {
                 std::fs::read_to_string(path).map_err(|cause| SceneLoadError::Read { path: path.clone(), cause })?,
                 path.display().to_string(),
             ),
-            SceneSource::Text(text) => (text.clone(), "scene".to_string()),
+            SceneSource::Text(text) => (text.clone(), TEXT.to_string()),
         };
         Scene::parse(&text).map_err(|cause| SceneLoadError::Invalid { origin, cause })
     }

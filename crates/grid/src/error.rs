@@ -4,6 +4,7 @@ use thiserror::Error;
 
 /// What is wrong with a plane, a sweep, a shard or a study.
 #[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
 pub enum GridError {
     /// An option or field has a bad value.
     #[error("{field}: {message}")]

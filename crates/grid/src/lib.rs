@@ -1,31 +1,59 @@
 //! The vibroatlas grid scheduler: parameter axes, planes of cells computed in
 //! parallel (fresh tiles or continuation chains up and down), hysteresis,
 //! shards for clusters and parameter studies. The only user of threads; no file
-//! I/O (the store and the CLI write results).
+//! I/O (the store and the engine write results).
+//!
+//! The API: the types at the crate root (a [`Plane`] of two [`Axis`] values,
+//! its [`Line`]s computed by [`Plane::run`] into an [`Atlas`] of [`Map`]s of
+//! [`CellData`], described by its [`Meta`]; [`CellSetup`] runs one cell;
+//! [`Shard`], [`Study`]; every error a [`GridError`]), and five modules whose
+//! functions share names: [`attractors`] (coexisting attractors of a point),
+//! [`curves`] (bifurcation curves seeded from a map), [`hysteresis`] (zones
+//! where the sweeps differ), [`palette`] (the fixed colour of each label) and
+//! [`schedule`] (line costs, their order and shards).
+//!
+//! ```
+//! use grid::{Along, Axis, CellSetup, Plane, Silent, SweepKind};
+//!
+//! let scene = scene::Scene::parse(&std::fs::read_to_string("../../configs/multi-stop.toml").unwrap()).unwrap();
+//! let setup = CellSetup {
+//!     scene,
+//!     base: Vec::new(),
+//!     accuracy: solver::Accuracy::default(),
+//!     method: solver::Method::Exact,
+//!     section_cap: 0,
+//! };
+//! let x = Axis { name: "omega".into(), start: 0.3, stop: 0.36, count: 3 };
+//! let y = Axis { name: "delta".into(), start: 0.6, stop: 0.6, count: 1 };
+//! let plane = Plane::new(x, y, Along::X).unwrap();
+//! // The up sweep of the one line: each cell from the previous one's end state.
+//! let line = plane.line(&setup, SweepKind::Up, 0, &Silent).unwrap();
+//! assert_eq!(line.cells[1].labels[0].to_string(), "1-4-4"); // M1 at omega = 0.33
+//! ```
 #![deny(missing_docs)]
 #![deny(clippy::float_cmp)]
 
-pub mod atlas;
+mod atlas;
 pub mod attractors;
-pub mod axis;
-pub mod cell;
+mod axis;
+mod cell;
 pub mod curves;
-pub mod error;
+mod error;
 pub mod hysteresis;
-pub mod notation;
+mod notation;
 pub mod palette;
-pub mod plane;
+mod plane;
 pub mod schedule;
-pub mod shard;
-pub mod study;
-pub mod sweep;
+mod shard;
+mod study;
+mod sweep;
 
 pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
-pub use axis::Axis;
+pub use axis::{Axis, MAX_COUNT};
 pub use cell::{start_state, CellData, CellSetup};
 pub use error::GridError;
 pub use notation::Notation;
 pub use plane::{Along, Line, Plane};
-pub use shard::Shard;
-pub use study::Study;
+pub use shard::{Shard, MAX_SHARDS};
+pub use study::{Study, MAX_VALUES};
 pub use sweep::{chain, chain_from, Progress, Silent, SweepKind};

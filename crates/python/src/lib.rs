@@ -1,7 +1,7 @@
 //! `vibroatlas._native`: the engine's runs for Python. Every call turns its
 //! arguments into an engine request (on the calling thread, holding the
 //! interpreter) and starts the run on a thread of its own; it hands back a
-//! [`Job`] that Python waits on in short slices with the interpreter released,
+//! `Job` that Python waits on in short slices with the interpreter released,
 //! so that Ctrl-C and progress bars work while the engine computes. The
 //! Python package (`python/vibroatlas`) wraps these calls.
 //!

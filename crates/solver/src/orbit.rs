@@ -132,6 +132,7 @@ pub fn natural_map(sys: &System, acc: &Accuracy, x0: &DVector<f64>, n: usize) ->
 
 /// Why no orbit was found.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum OrbitError {
     /// The simulated cell is not periodic and no period was given.
     NoPeriod(String),
@@ -149,6 +150,8 @@ impl std::fmt::Display for OrbitError {
         }
     }
 }
+
+impl std::error::Error for OrbitError {}
 
 /// Simulates the cell from `y0`, then solves the periodic orbit it settles on
 /// (period `n`, or the cell's period when `None`).

@@ -111,6 +111,18 @@ pub enum Halt {
     Error(SolverError),
 }
 
+impl std::fmt::Display for Halt {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Halt::Budget => write!(f, "the event budget (max_events) ran out"),
+            Halt::Stalled => write!(f, "event location stalled at a degenerate contact"),
+            Halt::Error(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for Halt {}
+
 impl From<SolverError> for Halt {
     fn from(e: SolverError) -> Self {
         Halt::Error(e)

@@ -4,6 +4,7 @@ use thiserror::Error;
 
 /// What went wrong reading or writing atlas files.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum StoreError {
     /// HDF5 library error.
     #[error("{path}: {message}")]

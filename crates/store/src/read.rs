@@ -301,8 +301,8 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         let d = ck.open(&axes, name)?;
         let at = format!("{AXES}/{name}");
         let count = d.size();
-        if count == 0 || count > grid::axis::MAX_COUNT {
-            return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::axis::MAX_COUNT)));
+        if count == 0 || count > grid::MAX_COUNT {
+            return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::MAX_COUNT)));
         }
         let end = |which: &str| -> Result<f64, StoreError> {
             let v = d.attr(which).and_then(|a| a.read_scalar::<f64>()).map_err(h)?;
