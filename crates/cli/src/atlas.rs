@@ -40,7 +40,7 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     r.command = command_line();
     let run = engine::atlas(&r, &Shown::new("atlas", a.run.quiet))?;
     // The file written: a symbolic link's target (the link stays).
-    let target = store::lock::canonical_output(&a.output)?;
+    let target = store::canonical_output(&a.output)?;
     if a.run.quiet {
         return Ok(());
     }

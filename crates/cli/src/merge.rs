@@ -10,7 +10,7 @@ pub fn run(a: MergeArgs) -> Result<()> {
     let inputs: Vec<&std::path::Path> = a.parts.iter().map(|p| p.as_path()).collect();
     store::check_output(&a.output, &inputs, a.force)?;
     // A symbolic link's target is written (the link stays), locked by that name.
-    let output = store::lock::canonical_output(&a.output)?;
+    let output = store::canonical_output(&a.output)?;
     let _lock = store::OutputLock::acquire(&output)?;
     let merged = store::merge(&a.parts)?;
     let atlas = &merged.atlas;

@@ -67,7 +67,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
         for (v, plan) in &mut plans {
             let out = a.output.join(format!("{}.h5", study.stem(*v)));
             store::check_output(&out, &[&scene_path, &a.study], false)?;
-            plan.output = Some(store::lock::canonical_output(&out)?);
+            plan.output = Some(store::canonical_output(&out)?);
         }
         let mut panels = Vec::new();
         for (v, plan) in plans {

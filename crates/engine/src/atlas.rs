@@ -84,7 +84,7 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     let plane = Plane::new(r.x.clone(), r.y.clone(), r.along).map_err(|e| crate::in_flags(e, FLAGS))?;
     let mut plan = Plan::new(&s, r.section_cap, plane, r.sweeps.clone(), r.threads)?;
     plan.shard = r.shard;
-    plan.output = r.output.as_deref().map(store::lock::canonical_output).transpose()?;
+    plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.resume = r.resume;
     plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
     plan.force = r.force;

@@ -3,25 +3,42 @@
 //!
 //! The files are self-describing and read by h5py or MATLAB with no project
 //! code: see [`layout`] for the datasets and their codes.
+//!
+//! The API: [`write()`] (or a [`Draft`] filled line by line while a run
+//! computes) and [`read()`] an atlas; [`merge()`] shards; a [`Journal`] of lines
+//! for resuming; [`OutputLock`], [`check_output`] and [`write_atomically`]
+//! guard outputs; curves go in their own files ([`write_curves`],
+//! [`read_curves`]) or into an atlas ([`add_curves`]). Every error is a
+//! [`StoreError`] naming the file (and the dataset).
+//!
+//! ```no_run
+//! let loaded = store::read(std::path::Path::new("out/reference.h5"))?;
+//! let up = loaded.atlas.map(grid::SweepKind::Up).expect("an up sweep");
+//! let unresolved = up.cells.iter().flatten().filter(|c| c.reason.is_some()).count();
+//! println!("{} cells, {unresolved} unresolved, made by {}", up.cells.len(), loaded.info.command);
+//! # Ok::<(), store::StoreError>(())
+//! ```
 #![deny(missing_docs)]
 
 mod chunked;
-pub mod curve;
-pub mod error;
+mod curve;
+mod error;
 mod fields;
-pub mod journal;
+mod journal;
 pub mod layout;
-pub mod lock;
-pub mod merge;
+mod lock;
+mod merge;
 mod netcdf;
-pub mod read;
+mod read;
 mod verify;
-pub mod write;
+mod write;
 
 pub use curve::{add_curves, read_curves, write_curves, Curve};
 pub use error::StoreError;
 pub use journal::{fingerprint, journal_path, Journal, SealedLine, Sealer};
-pub use lock::{check_output, check_writable, commit, lock_path, write_atomically, OutputLock};
+pub use lock::{
+    canonical_output, check_output, check_own_file, check_writable, commit, lock_path, write_atomically, OutputLock,
+};
 pub use merge::{merge, Merged};
-pub use read::{available_memory, read, Loaded};
-pub use write::{partial_path, write, Draft, RunInfo};
+pub use read::{available_memory, read, Loaded, MAX_DIM, MAX_EXPANSION};
+pub use write::{pairs, partial_path, write, Draft, RunInfo, GIT_COMMIT};
