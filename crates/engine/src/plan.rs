@@ -95,50 +95,81 @@ impl Plan {
         if let Some(done) = self.finished_before()? {
             return Ok(Executed { atlas: done, secs: 0.0, write_s: 0.0, prelude_s: 0.0, stream_s: 0.0, already: true });
         }
-        let key = fingerprint(&format!("{:?} {:?}", self.meta, self.shard));
-        let mut atlas = Atlas::new(self.meta.clone());
-        let journal = match &self.output {
-            Some(out) => {
-                let jp = journal_path(out);
-                let (j, lines) = if self.resume {
-                    Journal::resume(&jp, &key, &self.meta)?
-                } else {
-                    // Name the file the user asked for; the journal is ours.
-                    let j = Journal::create(&jp, &key)
-                        .map_err(|e| anyhow!("{}: cannot write beside it ({e})", out.display()))?;
-                    (j, Vec::new())
-                };
-                for l in lines {
-                    atlas.insert(l);
-                }
-                Some(j)
-            }
-            None => None,
-        };
-        let plane: &Plane = &self.meta.plane;
+        let (atlas, journal) = self.open_journal()?;
         let done: Vec<Vec<bool>> = self.meta.sweeps.iter().map(|&s| atlas.lines_done(s)).collect();
         let owns = self.owned();
+        let jobs = self.jobs(&done, &owns);
+        self.begin(observer, &jobs, &owns);
+        let resumed: Vec<(SweepKind, usize)> = self
+            .meta
+            .sweeps
+            .iter()
+            .zip(&done)
+            .flat_map(|(&s, d)| d.iter().enumerate().filter(|(_, &l)| l).map(move |(l, _)| (s, l)))
+            .collect();
+        let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
+            self.compute(observer, &jobs, atlas, journal, &resumed)?;
+        if let Some((sampling, only_hysteresis)) = &self.attractors {
+            atlas.attractors = Some(self.find_attractors(&atlas, sampling, *only_hysteresis, &owns)?);
+        }
+        let elapsed = start.elapsed().as_secs_f64();
+        let mut write_s = 0.0;
+        if let (Some(draft), Some(j)) = (draft, journal) {
+            let clock = Instant::now();
+            self.finish_file(observer, &atlas, draft, j, elapsed)?;
+            write_s = clock.elapsed().as_secs_f64();
+        }
+        Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s, already: false })
+    }
+
+    /// The journal beside the output (resumed, or new) and the atlas of the
+    /// lines it kept; none without an output.
+    fn open_journal(&self) -> Result<(Atlas, Option<Journal>)> {
+        let key = fingerprint(&format!("{:?} {:?}", self.meta, self.shard));
+        let mut atlas = Atlas::new(self.meta.clone());
+        let Some(out) = &self.output else { return Ok((atlas, None)) };
+        let jp = journal_path(out);
+        let (j, lines) = if self.resume {
+            Journal::resume(&jp, &key, &self.meta)?
+        } else {
+            // Name the file the user asked for; the journal is ours.
+            let j =
+                Journal::create(&jp, &key).map_err(|e| anyhow!("{}: cannot write beside it ({e})", out.display()))?;
+            (j, Vec::new())
+        };
+        for l in lines {
+            atlas.insert(l);
+        }
+        Ok((atlas, Some(j)))
+    }
+
+    /// The `(sweep, line)` jobs left (`done`: per sweep, the lines kept) of
+    /// the lines this run owns, in the order the workers take them: up and
+    /// down chains in one pool, the most expensive first where probed (fresh
+    /// lines share their cells among the workers: line order is as good).
+    fn jobs(&self, done: &[Vec<bool>], owns: &[bool]) -> Vec<(SweepKind, usize)> {
         let mut jobs = Vec::new();
-        for line in (0..plane.lines()).filter(|&l| owns[l]) {
+        for line in (0..self.meta.plane.lines()).filter(|&l| owns[l]) {
             for (si, &sweep) in self.meta.sweeps.iter().enumerate() {
                 if !done[si][line] {
                     jobs.push((sweep, line));
                 }
             }
         }
-        // Up and down chains in one pool, the most expensive first (fresh lines
-        // share their cells among the workers: line order is as good).
-        if let (Some(cost), true) = (&self.cost, self.chains()) {
-            jobs = grid::schedule::longest_first(&jobs, cost);
+        match (&self.cost, self.chains()) {
+            (Some(cost), true) => grid::schedule::longest_first(&jobs, cost),
+            _ => jobs,
         }
+    }
+
+    /// Tells the observer the run's work: its cells, those done, and where
+    /// probed the jobs' costs (the most expensive come first, so the cells
+    /// done are less than their share of the time).
+    fn begin(&self, observer: &dyn Observer, jobs: &[(SweepKind, usize)], owns: &[bool]) {
+        let plane = &self.meta.plane;
         let owned = owns.iter().filter(|&&o| o).count();
         let total = (owned * plane.line_len() * self.meta.sweeps.len()) as u64;
         let todo = (jobs.len() * plane.line_len()) as u64;
-        // Where probed, the time left weighs the lines (see `progress::Work`):
-        // the most expensive come first, so the cells done are less than their
-        // share of the time.
-        let place: std::collections::HashMap<(SweepKind, usize), usize> =
-            jobs.iter().enumerate().map(|(i, &job)| (job, i)).collect();
         let lines: Vec<usize> = jobs.iter().map(|j| j.1).collect();
         let prior: Option<Vec<f64>> = self.cost.as_ref().map(|cost| lines.iter().map(|&line| cost[line]).collect());
         observer.begin(&Begin {
@@ -149,23 +180,29 @@ impl Plan {
             line_len: plane.line_len(),
             threads: self.threads,
         });
+    }
 
-        // Workers seal their own lines for the journal; one writer appends
-        // whatever has arrived, with one sync per batch, and keeps the lines.
-        // It first creates the output file with all that does not depend on
-        // the results, then writes each chunk of the per-cell datasets once
-        // its lines are kept. A failure of the file is kept for the end: it
-        // must not stop the journal, which keeps the lines for --resume.
+    /// Computes the jobs on the workers while one writer thread keeps their
+    /// lines. Workers seal their own lines for the journal; the writer
+    /// appends whatever has arrived, with one sync per batch, and keeps the
+    /// lines. It first creates the output file with all that does not depend
+    /// on the results, then writes each chunk of the per-cell datasets once
+    /// its lines are kept. A failure of the file is kept for the end: it must
+    /// not stop the journal, which keeps the lines for a resume.
+    fn compute(
+        &self,
+        observer: &dyn Observer,
+        jobs: &[(SweepKind, usize)],
+        atlas: Atlas,
+        journal: Option<Journal>,
+        resumed: &[(SweepKind, usize)],
+    ) -> Result<Kept> {
+        let place: std::collections::HashMap<(SweepKind, usize), usize> =
+            jobs.iter().enumerate().map(|(i, &job)| (job, i)).collect();
         let sealer = journal.as_ref().map(Journal::sealer);
         let (tx, rx) = std::sync::mpsc::channel::<(Line, Option<store::SealedLine>)>();
         let draft_of = self.output.clone().map(|out| (out, self.meta.clone(), self.threads));
-        let resumed: Vec<(SweepKind, usize)> = self
-            .meta
-            .sweeps
-            .iter()
-            .zip(&done)
-            .flat_map(|(&s, d)| d.iter().enumerate().filter(|(_, &l)| l).map(move |(l, _)| (s, l)))
-            .collect();
+        let resumed = resumed.to_vec();
         let writer = std::thread::spawn(move || keep_lines(atlas, journal, draft_of, &resumed, rx));
         let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
         let sink = |line: Line| {
@@ -182,46 +219,48 @@ impl Plan {
             // A closed channel means the writer failed; its error is reported below.
             let _ = tx.send((line, sealed));
         };
-        let ran = plane.run(&self.setup, &jobs, self.threads, &Observed(observer), &sink);
+        let ran = self.meta.plane.run(&self.setup, jobs, self.threads, &Observed(observer), &sink);
         drop(tx);
         observer.finish();
-        let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
-            writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
+        let kept = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
         // An error or a cancel drops the draft, which removes its partial
         // file; a cancelled run is abandoned, its journal too (a killed one
         // keeps it, to resume).
-        if let (Err(grid::GridError::Cancelled), Some(j)) = (&ran, journal.as_ref()) {
+        if let (Err(grid::GridError::Cancelled), Some(j)) = (&ran, kept.journal.as_ref()) {
             let _ = std::fs::remove_file(j.path());
         }
         ran?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             return Err(e);
         }
-        if let Some((sampling, only_hysteresis)) = &self.attractors {
-            atlas.attractors = Some(self.find_attractors(&atlas, sampling, *only_hysteresis, &owns)?);
+        Ok(kept)
+    }
+
+    /// Finishes the output file (its rest, after the last line, `elapsed`
+    /// seconds into the run) and removes the journal.
+    fn finish_file(
+        &self,
+        observer: &dyn Observer,
+        atlas: &Atlas,
+        draft: Result<store::Draft, store::StoreError>,
+        journal: Journal,
+        elapsed: f64,
+    ) -> Result<()> {
+        let info =
+            RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
+        let kept = |e: store::StoreError| anyhow!("{e} (the computed lines are kept: --resume once it can be written)");
+        draft.map_err(kept)?.finish(atlas, &info).map_err(kept)?;
+        // A journal removed from outside during the run: the file is
+        // complete all the same (exit 0), but a kill would have lost the
+        // lines it should have kept.
+        let path = journal.path().to_path_buf();
+        if !journal.remove()? {
+            observer.warn(&format!(
+                "{} was removed or replaced during the run (a kill would have lost the computed lines); the output is complete",
+                path.display()
+            ));
         }
-        let elapsed = start.elapsed().as_secs_f64();
-        let mut write_s = 0.0;
-        if let (Some(draft), Some(j)) = (draft, journal) {
-            let clock = Instant::now();
-            let info =
-                RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
-            let kept =
-                |e: store::StoreError| anyhow!("{e} (the computed lines are kept: --resume once it can be written)");
-            draft.map_err(kept)?.finish(&atlas, &info).map_err(kept)?;
-            // A journal removed from outside during the run: the file is
-            // complete all the same (exit 0), but a kill would have lost the
-            // lines it should have kept.
-            let path = j.path().to_path_buf();
-            if !j.remove()? {
-                observer.warn(&format!(
-                    "{} was removed or replaced during the run (a kill would have lost the computed lines); the output is complete",
-                    path.display()
-                ));
-            }
-            write_s = clock.elapsed().as_secs_f64();
-        }
-        Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s, already: false })
+        Ok(())
     }
 }
 
