@@ -39,23 +39,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
     if a.output.exists() && !a.output.is_dir() {
         bail!("{}: exists and is not a folder; give a folder for the study's files", a.output.display());
     }
-    let threads = engine::threads(a.run.threads)?;
-    // Validate every value before computing any, and before the folder exists.
-    let mut plans = study
-        .values
-        .iter()
-        .map(|&v| {
-            let mut sim = Sim::new(SceneSource::File(scene_path.clone()));
-            sim.set = study.set.iter().map(|(k, x)| (k.clone(), *x)).collect();
-            sim.set.push((study.parameter.clone(), v));
-            sim.preset = Some(a.preset.preset());
-            let s = sim.setup()?;
-            let mut plan = Plan::new(&s, a.run.section_cap, plane.clone(), sweeps.clone(), threads)?;
-            plan.command = command_line();
-            plan.check()?;
-            Ok((v, plan))
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let mut plans = plans(&a, &study, &scene_path, &plane, &sweeps)?;
     // One atlas at a time, beside every panel of the contact sheet.
     if let Some((_, plan)) = plans.first() {
         let held = plans.len() as u64 * panel_bytes(&plan.meta);
@@ -101,6 +85,33 @@ pub fn run(a: StudyArgs) -> Result<()> {
         },
         (result, _) => result,
     }
+}
+
+/// One checked plan per value of the study, every value validated before any
+/// is computed (and before the folder exists).
+fn plans(
+    a: &StudyArgs,
+    study: &Study,
+    scene_path: &Path,
+    plane: &Plane,
+    sweeps: &[SweepKind],
+) -> Result<Vec<(f64, Plan)>> {
+    let threads = engine::threads(a.run.threads)?;
+    study
+        .values
+        .iter()
+        .map(|&v| {
+            let mut sim = Sim::new(SceneSource::File(scene_path.to_path_buf()));
+            sim.set = study.set.iter().map(|(k, x)| (k.clone(), *x)).collect();
+            sim.set.push((study.parameter.clone(), v));
+            sim.preset = Some(a.preset.preset());
+            let s = sim.setup()?;
+            let mut plan = Plan::new(&s, a.run.section_cap, plane.clone(), sweeps.to_vec(), threads)?;
+            plan.command = command_line();
+            plan.check()?;
+            Ok((v, plan))
+        })
+        .collect()
 }
 
 /// Creates the folder `dir` (and its missing parents); returns the outermost
