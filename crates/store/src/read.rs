@@ -296,154 +296,14 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         };
         return Err(fmt(format!("not an atlas{what}")));
     }
-    let axes = f.group(AXES).map_err(h)?;
-    let axis = |name: &str| -> Result<Axis, StoreError> {
-        let d = ck.open(&axes, name)?;
-        let at = format!("{AXES}/{name}");
-        let count = d.size();
-        if count == 0 || count > grid::MAX_COUNT {
-            return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::MAX_COUNT)));
-        }
-        let end = |which: &str| -> Result<f64, StoreError> {
-            let v = d.attr(which).and_then(|a| a.read_scalar::<f64>()).map_err(h)?;
-            if !v.is_finite() {
-                return Err(ck.bad(&at, format!("attribute {which} is {v}, not a finite number")));
-            }
-            Ok(v)
-        };
-        Ok(Axis { name: name.to_string(), start: end(attr::START)?, stop: end(attr::STOP)?, count })
-    };
-    let x = axis(&attr(&f, attr::X).map_err(h)?)?;
-    let y = axis(&attr(&f, attr::Y).map_err(h)?)?;
-    let version = f.attr(attr::LAYOUT_VERSION).and_then(|a| a.read_scalar::<u64>()).unwrap_or(1);
-    if version > LAYOUT_VERSION {
-        return Err(fmt(format!(
-            "layout version {version}, newer than this vibroatlas reads ({LAYOUT_VERSION}); use a newer vibroatlas"
-        )));
-    }
-    let dim = f.attr(attr::DIM).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
-    if dim == 0 || dim % 2 != 0 || dim > MAX_DIM as u64 {
-        return Err(fmt(format!("attribute {}: {dim}; the state dimension is even, 2 to {MAX_DIM}", attr::DIM)));
-    }
-    let dim = dim as usize;
-    let along = Along::parse(&attr(&f, attr::ALONG).map_err(h)?).map_err(|e| fmt(e.to_string()))?;
-    let sweeps = list(&attr(&f, attr::SWEEPS).map_err(h)?)
-        .iter()
-        .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
-        .collect::<Result<Vec<_>, _>>()?;
-    if let Some(twice) = sweeps.iter().enumerate().find(|(i, s)| sweeps[..*i].contains(s)) {
-        return Err(fmt(format!("attribute {}: sweep {} is listed twice", attr::SWEEPS, twice.1.name())));
-    }
-    let masses = list(&attr(&f, attr::MASSES).map_err(h)?);
-    // Layout 1 did not name the stops of each label.
-    let n_masses = masses.len();
-    let stops_of = |name: &str| {
-        let v: Vec<String> = attr(&f, name).map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
-        (0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default())
-    };
-    let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
-    let scene_toml = attr(&f, attr::SCENE).map_err(h)?;
-    let notation = notation(&f, &scene_toml, [&x.name, &y.name]);
-    let stops = list(&attr(&f, attr::STOPS).map_err(h)?);
-    // Layout 1 did not name the scene's masses.
-    let state_masses = match attr(&f, attr::STATE_MASSES) {
-        Ok(s) => list(&s),
-        Err(_) => (1..=dim / 2).map(|i| format!("mass{i}")).collect(),
-    };
-    if state_masses.len() * 2 != dim {
-        return Err(fmt(format!(
-            "attribute {}: {} masses, but the state dimension {} is {dim}",
-            attr::STATE_MASSES,
-            state_masses.len(),
-            attr::DIM
-        )));
-    }
-    let stop_normals = stop_normals(&f, &scene_toml, dim / 2).map_err(fmt)?;
-    if stop_normals.len() != stops.len() || stop_normals.iter().any(|n| n.len() != dim / 2) {
-        return Err(fmt(format!(
-            "attribute {}: {} normals for {} stops of {} masses",
-            attr::STOP_NORMALS,
-            stop_normals.len(),
-            stops.len(),
-            dim / 2
-        )));
-    }
-    let meta = Meta {
-        scene_name: attr(&f, attr::SCENE_NAME).map_err(h)?,
-        scene_toml: scene_toml.clone(),
-        overrides: pairs(&attr(&f, attr::OVERRIDES).map_err(h)?).map_err(fmt)?,
-        preset: {
-            let name = attr(&f, attr::PRESET).map_err(h)?;
-            solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
-        },
-        accuracy: pairs(&attr(&f, attr::ACCURACY).map_err(h)?).map_err(fmt)?,
-        integrator: {
-            let name = attr(&f, attr::INTEGRATOR).map_err(h)?;
-            solver::Method::parse(&name).ok_or_else(|| fmt(format!("unknown integrator '{name}'")))?
-        },
-        plane: Plane { x, y, along },
-        sweeps,
-        masses,
-        label_stops,
-        state_masses,
-        stops,
-        stop_normals,
-        dim,
-        section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
-        notation,
-    };
+    let meta = read_meta(&ck, &f)?;
     let (nx, ny) = (meta.plane.x.count, meta.plane.y.count);
     let n = nx * ny;
-    let n_stops = meta.stops.len();
     let (rows, columns) = (Dim(ny, "rows", "the grid has"), Dim(nx, "columns", "the grid has"));
 
     // Every dataset opened and checked before any is read.
-    let mut sets = Vec::new();
-    for &sweep in &meta.sweeps {
-        let g = f.group(sweep.name()).map_err(h)?;
-        let plane = |name: &str| ck.shaped(&g, name, &[rows, columns]);
-        // Files written before the stability datasets existed have none.
-        let optional = |name: &str| if g.link_exists(name) { plane(name).map(Some) } else { Ok(None) };
-        let section = |name: &str, cols: usize| -> Result<Section, StoreError> {
-            let s = g.group(&format!("{SECTIONS}/{name}")).map_err(h)?;
-            let offsets = ck.shaped(&s, var::OFFSETS, &[Dim(n + 1, "entries", "the grid's cells + 1 are")])?;
-            let values = ck.open(&s, var::VALUES)?;
-            let shape = values.shape();
-            if shape.len() != 2 || shape[1] != cols {
-                return Err(ck.bad(&values.name(), format!("shape {shape:?}, expected [points, {cols}]")));
-            }
-            Ok(Section { points: shape[0], cols, values, offsets })
-        };
-        sets.push(SweepSets {
-            class: plane(var::CLASS)?,
-            symmetry: plane(var::SYMMETRY)?,
-            flags: plane(var::FLAGS)?,
-            final_state: ck.shaped(&g, var::FINAL_STATE, &[rows, columns, Dim(dim, "components", "the state has")])?,
-            lyapunov: optional(var::LYAPUNOV)?,
-            multiplier: optional(var::MULTIPLIER)?,
-            periods: plane(var::PERIODS)?,
-            events: plane(var::EVENTS)?,
-            labels: meta
-                .masses
-                .iter()
-                .map(|m| ck.shaped(&g, &label(m), &[rows, columns, Dim(3, "counts", "n, p, q are")]))
-                .collect::<Result<_, _>>()?,
-            reasons: if g.link_exists(REASON_CODE) {
-                let table = ck.open(&g, REASON)?;
-                if table.ndim() != 1 || table.size() > n {
-                    return Err(
-                        ck.bad(&table.name(), format!("shape {:?}: not a table of at most {n} reasons", table.shape()))
-                    );
-                }
-                Some((table, plane(REASON_CODE)?))
-            } else {
-                None
-            },
-            period: section(PERIOD_SECTION, dim)?,
-            impacts: meta.stops.iter().map(|s| section(s, dim + 1)).collect::<Result<_, _>>()?,
-        });
-    }
-    let need: u64 = sets.iter().map(|s| s.bytes(n, dim, meta.masses.len())).fold(0u64, u64::saturating_add);
+    let sets = meta.sweeps.iter().map(|&sweep| open_sweep(&ck, &f, &meta, sweep)).collect::<Result<Vec<_>, _>>()?;
+    let need: u64 = sets.iter().map(|s| s.bytes(n, meta.dim, meta.masses.len())).fold(0u64, u64::saturating_add);
     let have = available_memory();
     if need > have {
         return Err(fmt(format!(
@@ -455,72 +315,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
 
     let mut maps = Vec::new();
     for (&sweep, s) in meta.sweeps.iter().zip(&sets) {
-        let class = ck.raw::<u8>(&s.class)?;
-        if let Some(i) = class.iter().position(|&c| class_of(c).is_none() && c != NOT_COMPUTED) {
-            return Err(ck.bad(
-                &s.class.name(),
-                format!("code {} at ({}, {}) is not a class (0 to 3, or {NOT_COMPUTED})", class[i], i / nx, i % nx),
-            ));
-        }
-        let sym = ck.raw::<u8>(&s.symmetry)?;
-        let flags = ck.raw::<u32>(&s.flags)?;
-        let fs = ck.raw::<f64>(&s.final_state)?;
-        let scalar = |d: &Option<hdf5::Dataset>| d.as_ref().map_or_else(|| Ok(vec![f64::NAN; n]), |d| ck.raw::<f64>(d));
-        let (lyapunov, multiplier) = (scalar(&s.lyapunov)?, scalar(&s.multiplier)?);
-        let finite = |v: f64| v.is_finite().then_some(v);
-        let (periods, events) = (ck.raw::<u64>(&s.periods)?, ck.raw::<u64>(&s.events)?);
-        let labels = s.labels.iter().map(|d| ck.raw::<u16>(d)).collect::<Result<Vec<_>, _>>()?;
-        let section = |sec: &Section| -> Result<(Vec<f64>, Vec<usize>, usize), StoreError> {
-            let offsets = ck.raw::<u64>(&sec.offsets)?;
-            let at = sec.offsets.name();
-            if offsets[0] != 0 {
-                return Err(ck.bad(&at, format!("starts at {}, not 0", offsets[0])));
-            }
-            for (i, w) in offsets.windows(2).enumerate() {
-                if w[1] < w[0] {
-                    return Err(ck.bad(&at, format!("entry {} ({}) is below entry {i} ({})", i + 1, w[1], w[0])));
-                }
-                if w[1] > sec.points as u64 {
-                    return Err(
-                        ck.bad(&at, format!("entry {} is {}, beyond the {} points of values", i + 1, w[1], sec.points))
-                    );
-                }
-            }
-            if offsets[n] != sec.points as u64 {
-                return Err(ck.bad(&at, format!("ends at {}, but values has {} points", offsets[n], sec.points)));
-            }
-            let values = ck.raw::<f64>(&sec.values)?;
-            Ok((values, offsets.into_iter().map(|o| o as usize).collect(), sec.cols))
-        };
-        let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> Vec<Vec<f64>> {
-            let (v, o, cols) = sec;
-            (o[i]..o[i + 1]).map(|r| v[r * cols..(r + 1) * cols].to_vec()).collect()
-        };
-        let period = section(&s.period)?;
-        let impacts = s.impacts.iter().map(section).collect::<Result<Vec<_>, _>>()?;
-        let reasons = s.reasons.as_ref().map(|(t, c)| reasons(&ck, t, c)).transpose()?;
-        let reason =
-            |i: usize| reasons.as_ref().and_then(|(table, codes)| table.get(usize::try_from(codes[i]).ok()?).cloned());
-        let mut cells = Vec::new();
-        cells.try_reserve_exact(n).map_err(|_| fmt(format!("{n} cells do not fit in memory")))?;
-        cells.extend((0..n).map(|i| {
-            class_of(class[i]).map(|c| CellData {
-                class: c,
-                labels: labels.iter().map(|l| label_of(c, [l[3 * i], l[3 * i + 1], l[3 * i + 2]])).collect(),
-                chatter: flags_of(flags[i], n_stops).0,
-                sticking: flags_of(flags[i], n_stops).1,
-                symmetry: symmetry_of(sym[i]),
-                lyapunov: finite(lyapunov[i]),
-                multiplier: finite(multiplier[i]),
-                final_state: fs[i * dim..(i + 1) * dim].to_vec(),
-                periods: periods[i],
-                events: events[i],
-                period_section: rows(&period, i),
-                impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
-                reason: reason(i),
-            })
-        }));
-        maps.push(Map { sweep, cells });
+        maps.push(Map { sweep, cells: read_cells(&ck, s, &meta)? });
     }
     let shard = match attr(&f, attr::SHARD) {
         Ok(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
@@ -547,6 +342,244 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         },
         created: attr(&f, attr::CREATED).map_err(h)?,
     })
+}
+
+/// The axis `name` of the `/axes` group: 1 to `MAX_COUNT` values, finite ends.
+fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, StoreError> {
+    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
+    let d = ck.open(axes, name)?;
+    let at = format!("{AXES}/{name}");
+    let count = d.size();
+    if count == 0 || count > grid::MAX_COUNT {
+        return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::MAX_COUNT)));
+    }
+    let end = |which: &str| -> Result<f64, StoreError> {
+        let v = d.attr(which).and_then(|a| a.read_scalar::<f64>()).map_err(h)?;
+        if !v.is_finite() {
+            return Err(ck.bad(&at, format!("attribute {which} is {v}, not a finite number")));
+        }
+        Ok(v)
+    };
+    Ok(Axis { name: name.to_string(), start: end(attr::START)?, stop: end(attr::STOP)?, count })
+}
+
+/// The names of the scene's masses, one per two state components (layout 1
+/// did not name them: `mass1`, …).
+fn state_masses(f: &hdf5::File, dim: usize) -> Result<Vec<String>, String> {
+    let names = match attr(f, attr::STATE_MASSES) {
+        Ok(s) => list(&s),
+        Err(_) => (1..=dim / 2).map(|i| format!("mass{i}")).collect(),
+    };
+    if names.len() * 2 != dim {
+        return Err(format!(
+            "attribute {}: {} masses, but the state dimension {} is {dim}",
+            attr::STATE_MASSES,
+            names.len(),
+            attr::DIM
+        ));
+    }
+    Ok(names)
+}
+
+/// The description of the atlas in `f`: its plane, sweeps, masses, stops
+/// and settings, every attribute checked.
+fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
+    let path = ck.path;
+    let fmt = |m: String| StoreError::format(path, m);
+    let h = |e: hdf5::Error| StoreError::hdf5(path, e);
+    let axes = f.group(AXES).map_err(h)?;
+    let axis = |name: &str| read_axis(ck, &axes, name);
+    let x = axis(&attr(f, attr::X).map_err(h)?)?;
+    let y = axis(&attr(f, attr::Y).map_err(h)?)?;
+    let version = f.attr(attr::LAYOUT_VERSION).and_then(|a| a.read_scalar::<u64>()).unwrap_or(1);
+    if version > LAYOUT_VERSION {
+        return Err(fmt(format!(
+            "layout version {version}, newer than this vibroatlas reads ({LAYOUT_VERSION}); use a newer vibroatlas"
+        )));
+    }
+    let dim = f.attr(attr::DIM).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
+    if dim == 0 || dim % 2 != 0 || dim > MAX_DIM as u64 {
+        return Err(fmt(format!("attribute {}: {dim}; the state dimension is even, 2 to {MAX_DIM}", attr::DIM)));
+    }
+    let dim = dim as usize;
+    let along = Along::parse(&attr(f, attr::ALONG).map_err(h)?).map_err(|e| fmt(e.to_string()))?;
+    let sweeps = list(&attr(f, attr::SWEEPS).map_err(h)?)
+        .iter()
+        .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
+        .collect::<Result<Vec<_>, _>>()?;
+    if let Some(twice) = sweeps.iter().enumerate().find(|(i, s)| sweeps[..*i].contains(s)) {
+        return Err(fmt(format!("attribute {}: sweep {} is listed twice", attr::SWEEPS, twice.1.name())));
+    }
+    let masses = list(&attr(f, attr::MASSES).map_err(h)?);
+    // Layout 1 did not name the stops of each label.
+    let n_masses = masses.len();
+    let stops_of = |name: &str| {
+        let v: Vec<String> = attr(f, name).map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
+        (0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default())
+    };
+    let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
+    let scene_toml = attr(f, attr::SCENE).map_err(h)?;
+    let notation = notation(f, &scene_toml, [&x.name, &y.name]);
+    let stops = list(&attr(f, attr::STOPS).map_err(h)?);
+    let state_masses = state_masses(f, dim).map_err(fmt)?;
+    let stop_normals = stop_normals(f, &scene_toml, dim / 2).map_err(fmt)?;
+    if stop_normals.len() != stops.len() || stop_normals.iter().any(|n| n.len() != dim / 2) {
+        return Err(fmt(format!(
+            "attribute {}: {} normals for {} stops of {} masses",
+            attr::STOP_NORMALS,
+            stop_normals.len(),
+            stops.len(),
+            dim / 2
+        )));
+    }
+    Ok(Meta {
+        scene_name: attr(f, attr::SCENE_NAME).map_err(h)?,
+        scene_toml: scene_toml.clone(),
+        overrides: pairs(&attr(f, attr::OVERRIDES).map_err(h)?).map_err(fmt)?,
+        preset: {
+            let name = attr(f, attr::PRESET).map_err(h)?;
+            solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
+        },
+        accuracy: pairs(&attr(f, attr::ACCURACY).map_err(h)?).map_err(fmt)?,
+        integrator: {
+            let name = attr(f, attr::INTEGRATOR).map_err(h)?;
+            solver::Method::parse(&name).ok_or_else(|| fmt(format!("unknown integrator '{name}'")))?
+        },
+        plane: Plane { x, y, along },
+        sweeps,
+        masses,
+        label_stops,
+        state_masses,
+        stops,
+        stop_normals,
+        dim,
+        section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+        notation,
+    })
+}
+
+/// The datasets of one sweep, opened and checked against the grid.
+fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Result<SweepSets, StoreError> {
+    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
+    let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
+    let n = nx * ny;
+    let (rows, columns) = (Dim(ny, "rows", "the grid has"), Dim(nx, "columns", "the grid has"));
+    let g = f.group(sweep.name()).map_err(h)?;
+    let plane = |name: &str| ck.shaped(&g, name, &[rows, columns]);
+    // Files written before the stability datasets existed have none.
+    let optional = |name: &str| if g.link_exists(name) { plane(name).map(Some) } else { Ok(None) };
+    let section = |name: &str, cols: usize| -> Result<Section, StoreError> {
+        let s = g.group(&format!("{SECTIONS}/{name}")).map_err(h)?;
+        let offsets = ck.shaped(&s, var::OFFSETS, &[Dim(n + 1, "entries", "the grid's cells + 1 are")])?;
+        let values = ck.open(&s, var::VALUES)?;
+        let shape = values.shape();
+        if shape.len() != 2 || shape[1] != cols {
+            return Err(ck.bad(&values.name(), format!("shape {shape:?}, expected [points, {cols}]")));
+        }
+        Ok(Section { points: shape[0], cols, values, offsets })
+    };
+    Ok(SweepSets {
+        class: plane(var::CLASS)?,
+        symmetry: plane(var::SYMMETRY)?,
+        flags: plane(var::FLAGS)?,
+        final_state: ck.shaped(&g, var::FINAL_STATE, &[rows, columns, Dim(dim, "components", "the state has")])?,
+        lyapunov: optional(var::LYAPUNOV)?,
+        multiplier: optional(var::MULTIPLIER)?,
+        periods: plane(var::PERIODS)?,
+        events: plane(var::EVENTS)?,
+        labels: meta
+            .masses
+            .iter()
+            .map(|m| ck.shaped(&g, &label(m), &[rows, columns, Dim(3, "counts", "n, p, q are")]))
+            .collect::<Result<_, _>>()?,
+        reasons: if g.link_exists(REASON_CODE) {
+            let table = ck.open(&g, REASON)?;
+            if table.ndim() != 1 || table.size() > n {
+                return Err(
+                    ck.bad(&table.name(), format!("shape {:?}: not a table of at most {n} reasons", table.shape()))
+                );
+            }
+            Some((table, plane(REASON_CODE)?))
+        } else {
+            None
+        },
+        period: section(PERIOD_SECTION, dim)?,
+        impacts: meta.stops.iter().map(|s| section(s, dim + 1)).collect::<Result<_, _>>()?,
+    })
+}
+
+/// The cells of one sweep, read from its checked datasets.
+fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<CellData>>, StoreError> {
+    let fmt = |m: String| StoreError::format(ck.path, m);
+    let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
+    let n = nx * ny;
+    let n_stops = meta.stops.len();
+    let class = ck.raw::<u8>(&s.class)?;
+    if let Some(i) = class.iter().position(|&c| class_of(c).is_none() && c != NOT_COMPUTED) {
+        return Err(ck.bad(
+            &s.class.name(),
+            format!("code {} at ({}, {}) is not a class (0 to 3, or {NOT_COMPUTED})", class[i], i / nx, i % nx),
+        ));
+    }
+    let sym = ck.raw::<u8>(&s.symmetry)?;
+    let flags = ck.raw::<u32>(&s.flags)?;
+    let fs = ck.raw::<f64>(&s.final_state)?;
+    let scalar = |d: &Option<hdf5::Dataset>| d.as_ref().map_or_else(|| Ok(vec![f64::NAN; n]), |d| ck.raw::<f64>(d));
+    let (lyapunov, multiplier) = (scalar(&s.lyapunov)?, scalar(&s.multiplier)?);
+    let finite = |v: f64| v.is_finite().then_some(v);
+    let (periods, events) = (ck.raw::<u64>(&s.periods)?, ck.raw::<u64>(&s.events)?);
+    let labels = s.labels.iter().map(|d| ck.raw::<u16>(d)).collect::<Result<Vec<_>, _>>()?;
+    let section = |sec: &Section| -> Result<(Vec<f64>, Vec<usize>, usize), StoreError> {
+        let offsets = ck.raw::<u64>(&sec.offsets)?;
+        let at = sec.offsets.name();
+        if offsets[0] != 0 {
+            return Err(ck.bad(&at, format!("starts at {}, not 0", offsets[0])));
+        }
+        for (i, w) in offsets.windows(2).enumerate() {
+            if w[1] < w[0] {
+                return Err(ck.bad(&at, format!("entry {} ({}) is below entry {i} ({})", i + 1, w[1], w[0])));
+            }
+            if w[1] > sec.points as u64 {
+                return Err(
+                    ck.bad(&at, format!("entry {} is {}, beyond the {} points of values", i + 1, w[1], sec.points))
+                );
+            }
+        }
+        if offsets[n] != sec.points as u64 {
+            return Err(ck.bad(&at, format!("ends at {}, but values has {} points", offsets[n], sec.points)));
+        }
+        let values = ck.raw::<f64>(&sec.values)?;
+        Ok((values, offsets.into_iter().map(|o| o as usize).collect(), sec.cols))
+    };
+    let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> Vec<Vec<f64>> {
+        let (v, o, cols) = sec;
+        (o[i]..o[i + 1]).map(|r| v[r * cols..(r + 1) * cols].to_vec()).collect()
+    };
+    let period = section(&s.period)?;
+    let impacts = s.impacts.iter().map(section).collect::<Result<Vec<_>, _>>()?;
+    let reasons = s.reasons.as_ref().map(|(t, c)| reasons(ck, t, c)).transpose()?;
+    let reason =
+        |i: usize| reasons.as_ref().and_then(|(table, codes)| table.get(usize::try_from(codes[i]).ok()?).cloned());
+    let mut cells = Vec::new();
+    cells.try_reserve_exact(n).map_err(|_| fmt(format!("{n} cells do not fit in memory")))?;
+    cells.extend((0..n).map(|i| {
+        class_of(class[i]).map(|c| CellData {
+            class: c,
+            labels: labels.iter().map(|l| label_of(c, [l[3 * i], l[3 * i + 1], l[3 * i + 2]])).collect(),
+            chatter: flags_of(flags[i], n_stops).0,
+            sticking: flags_of(flags[i], n_stops).1,
+            symmetry: symmetry_of(sym[i]),
+            lyapunov: finite(lyapunov[i]),
+            multiplier: finite(multiplier[i]),
+            final_state: fs[i * dim..(i + 1) * dim].to_vec(),
+            periods: periods[i],
+            events: events[i],
+            period_section: rows(&period, i),
+            impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
+            reason: reason(i),
+        })
+    }));
+    Ok(cells)
 }
 
 /// The `/attractors` group of a plane of `[rows, columns]` and the labelled
