@@ -183,6 +183,155 @@ fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
     Ok(())
 }
 
+/// The compiled parameters of a scene file, with their ranges.
+fn compile_params(file: &SceneFile, index: &Names) -> Result<Vec<(Compiled, Option<Range>)>, SceneError> {
+    file.parameters
+        .iter()
+        .map(|(name, spec)| {
+            let field = format!("parameters.{name}");
+            let (num, range) = match spec {
+                ParamSpec::Plain(n) => (n, None),
+                ParamSpec::Ranged(r) => {
+                    if let Some(t) = &r.symbol {
+                        symbol::check_symbol(t, &format!("{field}.symbol"))?;
+                    }
+                    if let Some(t) = &r.long_name {
+                        symbol::check_long_name(t, &format!("{field}.long_name"))?;
+                    }
+                    (&r.value, r.range.as_deref().map(|t| Range::parse(t, &field)).transpose()?)
+                }
+            };
+            Ok((Compiled::new(num, index, &field)?, range))
+        })
+        .collect()
+}
+
+/// The compiled mass, force, x0 and v0 of each mass.
+fn compile_masses(file: &SceneFile, index: &Names) -> Result<Vec<[Compiled; 4]>, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    file.masses
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            Ok([
+                c(&m.mass, format!("masses[{i}].mass"))?,
+                c(&m.force, format!("masses[{i}].force"))?,
+                c(&m.x0, format!("masses[{i}].x0"))?,
+                c(&m.v0, format!("masses[{i}].v0"))?,
+            ])
+        })
+        .collect()
+}
+
+/// The links: masses (one: to the frame; two), stiffness and damping.
+type Links = Vec<(usize, Option<usize>, Compiled, Compiled)>;
+
+/// The compiled links of a scene file.
+fn compile_links(file: &SceneFile, index: &Names, mass_names: &[String]) -> Result<Links, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
+    file.links
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let f = format!("links[{i}].masses");
+            let (a, b) = match l.masses.as_slice() {
+                [a] => (mass(a, f)?, None),
+                [a, b] => {
+                    let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
+                    if a == b {
+                        return Err(SceneError::field(f, "a link cannot tie a mass to itself"));
+                    }
+                    (a, Some(b))
+                }
+                _ => return Err(SceneError::field(f, "give one mass (to the frame) or two")),
+            };
+            Ok((a, b, c(&l.stiffness, format!("links[{i}].stiffness"))?, c(&l.damping, format!("links[{i}].damping"))?))
+        })
+        .collect()
+}
+
+/// Stop `i` of a scene file: where it is (a frame stop on one mass, or a
+/// pair stop between two) and its compiled restitution.
+fn compile_stop(
+    i: usize,
+    s: &schema::StopSpec,
+    index: &Names,
+    mass_names: &[String],
+) -> Result<(StopPlace, Compiled), SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
+    let f = |k: &str| format!("stops[{i}].{k}");
+    let place = match (&s.mass, &s.masses) {
+        (Some(m), None) => {
+            if s.gap.is_some() {
+                return Err(SceneError::field(f("gap"), "a frame stop has a position, not a gap"));
+            }
+            StopPlace::Frame {
+                mass: mass(m, f("mass"))?,
+                side: s.side.ok_or_else(|| SceneError::field(f("side"), "missing: \"below\" or \"above\""))?,
+                position: c(
+                    s.position.as_ref().ok_or_else(|| SceneError::field(f("position"), "missing"))?,
+                    f("position"),
+                )?,
+            }
+        }
+        (None, Some(ms)) => {
+            if s.side.is_some() || s.position.is_some() {
+                return Err(SceneError::field(f("masses"), "a pair stop has a gap, not a side or position"));
+            }
+            let [a, b] = ms.as_slice() else {
+                return Err(SceneError::field(f("masses"), "a pair stop names exactly two masses"));
+            };
+            let (first, second) = (mass(a, f("masses"))?, mass(b, f("masses"))?);
+            if first == second {
+                return Err(SceneError::field(f("masses"), "a stop cannot be between a mass and itself"));
+            }
+            StopPlace::Pair {
+                first,
+                second,
+                gap: c(s.gap.as_ref().ok_or_else(|| SceneError::field(f("gap"), "missing"))?, f("gap"))?,
+            }
+        }
+        _ => {
+            return Err(SceneError::field(
+                format!("stops[{i}]"),
+                "give either `mass` (a frame stop) or `masses` (a pair stop)",
+            ))
+        }
+    };
+    Ok((place, c(&s.restitution, f("restitution"))?))
+}
+
+/// The friction contacts: two masses, kinetic and static coefficients.
+type Frictions = Vec<(usize, usize, Compiled, Compiled)>;
+
+/// The compiled friction contacts of a scene file.
+fn compile_friction(file: &SceneFile, index: &Names, mass_names: &[String]) -> Result<Frictions, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
+    file.friction
+        .iter()
+        .enumerate()
+        .map(|(i, fr)| {
+            let f = format!("friction[{i}].masses");
+            let [a, b] = fr.masses.as_slice() else {
+                return Err(SceneError::field(f, "friction acts between exactly two masses"));
+            };
+            let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
+            if a == b {
+                return Err(SceneError::field(f, "friction cannot act between a mass and itself"));
+            }
+            Ok((
+                a,
+                b,
+                c(&fr.kinetic, format!("friction[{i}].kinetic"))?,
+                c(&fr.static_limit, format!("friction[{i}].static"))?,
+            ))
+        })
+        .collect()
+}
+
 impl Scene {
     /// Parses a scene from TOML text, resolving names and compiling expressions.
     pub fn parse(text: &str) -> Result<Scene, SceneError> {
@@ -196,26 +345,7 @@ impl Scene {
         for n in &names {
             expr::valid_parameter_name(n).map_err(|why| SceneError::field(format!("parameters.{n}"), why))?;
         }
-        let params = file
-            .parameters
-            .iter()
-            .map(|(name, spec)| {
-                let field = format!("parameters.{name}");
-                let (num, range) = match spec {
-                    ParamSpec::Plain(n) => (n, None),
-                    ParamSpec::Ranged(r) => {
-                        if let Some(t) = &r.symbol {
-                            symbol::check_symbol(t, &format!("{field}.symbol"))?;
-                        }
-                        if let Some(t) = &r.long_name {
-                            symbol::check_long_name(t, &format!("{field}.long_name"))?;
-                        }
-                        (&r.value, r.range.as_deref().map(|t| Range::parse(t, &field)).transpose()?)
-                    }
-                };
-                Ok((Compiled::new(num, &index, &field)?, range))
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
+        let params = compile_params(&file, &index)?;
         let c = |n: &Num, f: String| Compiled::new(n, &index, &f);
 
         if file.masses.is_empty() {
@@ -223,123 +353,18 @@ impl Scene {
         }
         let mass_names: Vec<String> = file.masses.iter().map(|m| m.name.clone()).collect();
         unique(&mass_names, "masses")?;
-        let masses = file
-            .masses
-            .iter()
-            .enumerate()
-            .map(|(i, m)| {
-                Ok([
-                    c(&m.mass, format!("masses[{i}].mass"))?,
-                    c(&m.force, format!("masses[{i}].force"))?,
-                    c(&m.x0, format!("masses[{i}].x0"))?,
-                    c(&m.v0, format!("masses[{i}].v0"))?,
-                ])
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
-
+        let masses = compile_masses(&file, &index)?;
         let mass = |name: &str, field: String| index_of(&mass_names, name, &field, "mass");
-        let links = file
-            .links
-            .iter()
-            .enumerate()
-            .map(|(i, l)| {
-                let f = format!("links[{i}].masses");
-                let (a, b) = match l.masses.as_slice() {
-                    [a] => (mass(a, f)?, None),
-                    [a, b] => {
-                        let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
-                        if a == b {
-                            return Err(SceneError::field(f, "a link cannot tie a mass to itself"));
-                        }
-                        (a, Some(b))
-                    }
-                    _ => return Err(SceneError::field(f, "give one mass (to the frame) or two")),
-                };
-                Ok((
-                    a,
-                    b,
-                    c(&l.stiffness, format!("links[{i}].stiffness"))?,
-                    c(&l.damping, format!("links[{i}].damping"))?,
-                ))
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
-
+        let links = compile_links(&file, &index, &mass_names)?;
         let stop_names: Vec<String> = file.stops.iter().map(|s| s.name.clone()).collect();
         unique(&stop_names, "stops")?;
         let stops = file
             .stops
             .iter()
             .enumerate()
-            .map(|(i, s)| {
-                let f = |k: &str| format!("stops[{i}].{k}");
-                let place = match (&s.mass, &s.masses) {
-                    (Some(m), None) => {
-                        if s.gap.is_some() {
-                            return Err(SceneError::field(f("gap"), "a frame stop has a position, not a gap"));
-                        }
-                        StopPlace::Frame {
-                            mass: mass(m, f("mass"))?,
-                            side: s
-                                .side
-                                .ok_or_else(|| SceneError::field(f("side"), "missing: \"below\" or \"above\""))?,
-                            position: c(
-                                s.position.as_ref().ok_or_else(|| SceneError::field(f("position"), "missing"))?,
-                                f("position"),
-                            )?,
-                        }
-                    }
-                    (None, Some(ms)) => {
-                        if s.side.is_some() || s.position.is_some() {
-                            return Err(SceneError::field(
-                                f("masses"),
-                                "a pair stop has a gap, not a side or position",
-                            ));
-                        }
-                        let [a, b] = ms.as_slice() else {
-                            return Err(SceneError::field(f("masses"), "a pair stop names exactly two masses"));
-                        };
-                        let (first, second) = (mass(a, f("masses"))?, mass(b, f("masses"))?);
-                        if first == second {
-                            return Err(SceneError::field(f("masses"), "a stop cannot be between a mass and itself"));
-                        }
-                        StopPlace::Pair {
-                            first,
-                            second,
-                            gap: c(s.gap.as_ref().ok_or_else(|| SceneError::field(f("gap"), "missing"))?, f("gap"))?,
-                        }
-                    }
-                    _ => {
-                        return Err(SceneError::field(
-                            format!("stops[{i}]"),
-                            "give either `mass` (a frame stop) or `masses` (a pair stop)",
-                        ))
-                    }
-                };
-                Ok((place, c(&s.restitution, f("restitution"))?))
-            })
+            .map(|(i, st)| compile_stop(i, st, &index, &mass_names))
             .collect::<Result<Vec<_>, SceneError>>()?;
-
-        let friction = file
-            .friction
-            .iter()
-            .enumerate()
-            .map(|(i, fr)| {
-                let f = format!("friction[{i}].masses");
-                let [a, b] = fr.masses.as_slice() else {
-                    return Err(SceneError::field(f, "friction acts between exactly two masses"));
-                };
-                let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
-                if a == b {
-                    return Err(SceneError::field(f, "friction cannot act between a mass and itself"));
-                }
-                Ok((
-                    a,
-                    b,
-                    c(&fr.kinetic, format!("friction[{i}].kinetic"))?,
-                    c(&fr.static_limit, format!("friction[{i}].static"))?,
-                ))
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
+        let friction = compile_friction(&file, &index, &mass_names)?;
 
         let mut labels = Vec::new();
         for (name, spec) in &file.labels {
