@@ -504,13 +504,6 @@ impl Scene {
 
     fn build(&self, values: &[f64]) -> Result<Model, SceneError> {
         let ev = |c: &Compiled, f: String| c.eval(values, &f);
-        let nonneg = |v: f64, f: String| {
-            if v >= 0.0 {
-                Ok(v)
-            } else {
-                Err(SceneError::field(f, format!("must be >= 0, got {v}")))
-            }
-        };
         let omega = ev(&self.omega, "forcing.omega".into())?;
         if omega.is_nan() || omega < OMEGA_MIN {
             return Err(SceneError::field(
@@ -553,46 +546,8 @@ impl Scene {
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
-        let stops = self
-            .stops
-            .iter()
-            .zip(&self.file.stops)
-            .enumerate()
-            .map(|(i, ((place, r), spec))| {
-                let f = |k: &str| format!("stops[{i}].{k}");
-                let restitution = ev(r, f("restitution"))?;
-                if !(0.0..=1.0).contains(&restitution) {
-                    return Err(SceneError::field(f("restitution"), format!("must be in [0, 1], got {restitution}")));
-                }
-                let geometry = match place {
-                    StopPlace::Frame { mass, side, position } => {
-                        StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, f("position"))? }
-                    }
-                    StopPlace::Pair { first, second, gap } => StopGeometry::Pair {
-                        first: *first,
-                        second: *second,
-                        gap: nonneg(ev(gap, f("gap"))?, f("gap"))?,
-                    },
-                };
-                Ok(Stop { name: spec.name.clone(), geometry, restitution })
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
-        let friction = self
-            .friction
-            .iter()
-            .enumerate()
-            .map(|(i, (a, b, k, s))| {
-                let kinetic = nonneg(ev(k, format!("friction[{i}].kinetic"))?, format!("friction[{i}].kinetic"))?;
-                let static_limit = ev(s, format!("friction[{i}].static"))?;
-                if static_limit < kinetic {
-                    return Err(SceneError::field(
-                        format!("friction[{i}].static"),
-                        format!("must be >= the kinetic force {kinetic}, got {static_limit}"),
-                    ));
-                }
-                Ok(Friction { a: *a, b: *b, kinetic, static_limit })
-            })
-            .collect::<Result<Vec<_>, SceneError>>()?;
+        let stops = self.build_stops(values)?;
+        let friction = self.build_friction(values)?;
         let model = Model {
             name: self.file.name.clone(),
             symmetric: self.file.symmetric,
@@ -619,6 +574,61 @@ impl Scene {
             }
         }
         Ok(model)
+    }
+    /// The stops at the parameter `values`: geometry and restitution in [0, 1].
+    fn build_stops(&self, values: &[f64]) -> Result<Vec<Stop>, SceneError> {
+        let ev = |c: &Compiled, f: String| c.eval(values, &f);
+        self.stops
+            .iter()
+            .zip(&self.file.stops)
+            .enumerate()
+            .map(|(i, ((place, r), spec))| {
+                let f = |k: &str| format!("stops[{i}].{k}");
+                let restitution = ev(r, f("restitution"))?;
+                if !(0.0..=1.0).contains(&restitution) {
+                    return Err(SceneError::field(f("restitution"), format!("must be in [0, 1], got {restitution}")));
+                }
+                let geometry = match place {
+                    StopPlace::Frame { mass, side, position } => {
+                        StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, f("position"))? }
+                    }
+                    StopPlace::Pair { first, second, gap } => StopGeometry::Pair {
+                        first: *first,
+                        second: *second,
+                        gap: nonneg(ev(gap, f("gap"))?, f("gap"))?,
+                    },
+                };
+                Ok(Stop { name: spec.name.clone(), geometry, restitution })
+            })
+            .collect()
+    }
+    /// The friction contacts at the parameter `values`: static at least kinetic.
+    fn build_friction(&self, values: &[f64]) -> Result<Vec<Friction>, SceneError> {
+        let ev = |c: &Compiled, f: String| c.eval(values, &f);
+        self.friction
+            .iter()
+            .enumerate()
+            .map(|(i, (a, b, k, s))| {
+                let kinetic = nonneg(ev(k, format!("friction[{i}].kinetic"))?, format!("friction[{i}].kinetic"))?;
+                let static_limit = ev(s, format!("friction[{i}].static"))?;
+                if static_limit < kinetic {
+                    return Err(SceneError::field(
+                        format!("friction[{i}].static"),
+                        format!("must be >= the kinetic force {kinetic}, got {static_limit}"),
+                    ));
+                }
+                Ok(Friction { a: *a, b: *b, kinetic, static_limit })
+            })
+            .collect()
+    }
+}
+
+/// `v` when it is not negative (`f` names the field otherwise).
+fn nonneg(v: f64, f: String) -> Result<f64, SceneError> {
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(SceneError::field(f, format!("must be >= 0, got {v}")))
     }
 }
 
