@@ -166,27 +166,8 @@ fn check(source: &str, names: &Names<'_>) -> Result<String, String> {
             out.push(c);
             i += 1;
         } else if c.is_ascii_digit() || (c == '.' && chars.get(i + 1).is_some_and(|d| d.is_ascii_digit())) {
-            let start = i;
-            while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-                i += 1;
-            }
-            if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
-                let mut j = i + 1;
-                if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
-                    j += 1;
-                }
-                if j < chars.len() && chars[j].is_ascii_digit() {
-                    while j < chars.len() && chars[j].is_ascii_digit() {
-                        j += 1;
-                    }
-                    i = j;
-                }
-            }
-            let literal: String = chars[start..i].iter().collect();
-            let v: f64 = literal.parse().map_err(|_| format!("'{literal}' is not a number"))?;
-            if !v.is_finite() {
-                return Err(format!("'{literal}' is not a finite number"));
-            }
+            let (literal, v, end) = number_at(&chars, i)?;
+            i = end;
             if operand {
                 return Err(format!("expected an operator before '{literal}'"));
             }
@@ -194,26 +175,8 @@ fn check(source: &str, names: &Names<'_>) -> Result<String, String> {
             operand = true;
             last_op = None;
         } else if c.is_alphabetic() || c == '_' {
-            let start = i;
-            while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                i += 1;
-            }
-            let name: String = chars[start..i].iter().collect();
-            let mut k = i;
-            while k < chars.len() && chars[k].is_whitespace() {
-                k += 1;
-            }
-            let call = chars.get(k) == Some(&'(');
-            if call && !FUNCTIONS.contains(&name.as_str()) {
-                return Err(format!("unknown function '{name}' (known: {})", FUNCTIONS.join(", ")));
-            }
-            if !call && !CONSTANTS.contains(&name.as_str()) && !names.contains(&name) {
-                return Err(if FUNCTIONS.contains(&name.as_str()) {
-                    format!("function '{name}' needs an argument in parentheses")
-                } else {
-                    format!("unknown parameter '{name}'")
-                });
-            }
+            let (name, call, end) = name_at(&chars, i, names)?;
+            i = end;
             if operand {
                 return Err(format!("expected an operator before '{name}'"));
             }
@@ -266,6 +229,60 @@ fn check(source: &str, names: &Names<'_>) -> Result<String, String> {
         });
     }
     Ok(out)
+}
+
+/// The number literal starting at `chars[i]` (digits, a point, an exponent):
+/// its text, its finite value, and where it ends.
+fn number_at(chars: &[char], mut i: usize) -> Result<(String, f64, usize), String> {
+    let start = i;
+    while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
+        i += 1;
+    }
+    if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
+        let mut j = i + 1;
+        if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
+            j += 1;
+        }
+        if j < chars.len() && chars[j].is_ascii_digit() {
+            while j < chars.len() && chars[j].is_ascii_digit() {
+                j += 1;
+            }
+            i = j;
+        }
+    }
+    let literal: String = chars[start..i].iter().collect();
+    let v: f64 = literal.parse().map_err(|_| format!("'{literal}' is not a number"))?;
+    if !v.is_finite() {
+        return Err(format!("'{literal}' is not a finite number"));
+    }
+    Ok((literal, v, i))
+}
+
+/// The name starting at `chars[i]`, whether it is called (a known function
+/// followed by `(`), and where it ends; an unknown function or parameter is
+/// refused.
+fn name_at(chars: &[char], mut i: usize, names: &Names<'_>) -> Result<(String, bool, usize), String> {
+    let start = i;
+    while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+        i += 1;
+    }
+    let name: String = chars[start..i].iter().collect();
+    let mut k = i;
+    while k < chars.len() && chars[k].is_whitespace() {
+        k += 1;
+    }
+    let call = chars.get(k) == Some(&'(');
+    if call && !FUNCTIONS.contains(&name.as_str()) {
+        return Err(format!("unknown function '{name}' (known: {})", FUNCTIONS.join(", ")));
+    }
+    if !call && !CONSTANTS.contains(&name.as_str()) && !names.contains(&name) {
+        return Err(if FUNCTIONS.contains(&name.as_str()) {
+            format!("function '{name}' needs an argument in parentheses")
+        } else {
+            format!("unknown parameter '{name}'")
+        });
+    }
+    Ok((name, call, i))
 }
 
 /// `v` written without an exponent, as exmex reads numbers (Rust's `Display`
