@@ -234,10 +234,6 @@ fn bad_curve_and_replay_options() {
         let args = curve(extra);
         expect_error(&args.iter().map(String::as_str).collect::<Vec<_>>(), field);
     }
-    expect_error(
-        &["bench", "--grid", "8", "--repeat", "1", "--threads", "1", "--simulate-sync-ms", "5"],
-        "--simulate-sync-ms",
-    );
     let d = crate::util::scratch("bad-curves");
     let (a, c) = (d.join("a.h5"), d.join("c.h5"));
     crate::util::ok(&[

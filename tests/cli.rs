@@ -172,33 +172,7 @@ fn bench_trade_json() {
         assert!(t["efficiency"].as_f64().unwrap() > 0.0);
     }
     assert!(std::fs::metadata(dir.join("trade.png")).unwrap().len() > 1000);
+    // The replay that filled `simulated` is `cargo bench --bench replay`; the key stays, empty.
+    assert_eq!(j["simulated"], serde_json::json!([]));
     std::fs::remove_dir_all(&dir).unwrap();
-}
-
-/// Issue 19: `bench --simulate-threads` replays the scheduler on virtual
-/// workers: one row per sweep, thread count and policy, with a makespan no
-/// shorter than the longest job allows and an efficiency in (0, 1].
-#[test]
-fn bench_simulates_many_threads() {
-    let out = run(&["bench", "--grid", "8", "--threads", "1", "--repeat", "1", "--simulate-threads", "4,16", "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let rows = j["simulated"].as_array().unwrap();
-    assert_eq!(rows.len(), 2 * 2 * 2);
-    for r in rows {
-        assert!(["fresh", "both"].contains(&r["sweep"].as_str().unwrap()));
-        assert!(["current", "previous"].contains(&r["policy"].as_str().unwrap()));
-        assert!([4, 16].contains(&r["threads"].as_u64().unwrap()));
-        let e = r["efficiency"].as_f64().unwrap();
-        assert!(e > 0.0 && e <= 1.0 + 1e-12, "{r}");
-        assert!(r["makespan_s"].as_f64().unwrap() > 0.0);
-    }
-    // More workers never take longer.
-    let span = |sweep: &str, t: u64| {
-        rows.iter().find(|r| r["sweep"] == sweep && r["threads"] == t && r["policy"] == "current").unwrap()
-            ["makespan_s"]
-            .as_f64()
-            .unwrap()
-    };
-    assert!(span("both", 16) <= span("both", 4) + 1e-12);
 }

@@ -495,16 +495,6 @@ pub struct BenchArgs {
     /// best of each setting is reported).
     #[arg(long, default_value_t = 1)]
     pub trade_repeat: usize,
-    /// Also predict the makespan and efficiency on these thread counts (e.g.
-    /// 4,16,64,256) by replaying the scheduler's policy, current and previous,
-    /// on the job times of the measured run.
-    #[arg(long, value_name = "P,P,…")]
-    pub simulate_threads: Option<String>,
-    /// With --simulate-threads: take a journal write (its sync to disk) to
-    /// cost this many milliseconds instead of the time measured here (a
-    /// cluster's network filesystem, a slow disk).
-    #[arg(long, value_name = "MS", allow_negative_numbers = true)]
-    pub simulate_sync_ms: Option<f64>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,

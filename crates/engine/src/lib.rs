@@ -9,6 +9,7 @@
 //! | [`atlas()`] | [`AtlasRequest`] | [`Executed`] (the atlas, the file written) |
 //! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
 //! | [`curve()`] | [`CurveRequest`] | [`Traced`] (`to_json`: `curve --json`) |
+//! | [`bench::bench()`] | [`bench::BenchRequest`] | [`bench::Bench`] (`to_json`: `bench --json`) |
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
 //! them ([`Observer::cancelled`]: the run ends with
@@ -35,6 +36,7 @@
 
 mod atlas;
 mod attractors;
+pub mod bench;
 mod cell;
 mod curve;
 mod observer;

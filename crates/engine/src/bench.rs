@@ -1,0 +1,495 @@
+//! The benchmark of `vibroatlas bench`: atlas throughput on each thread count
+//! (fresh and both sweeps, best of repeated runs, every run checked to give
+//! the same atlas) and the speed/accuracy trade of every preset and of RK4
+//! against the `precise` reference (in rounds of every setting, best kept).
+//!
+//! ```no_run
+//! use engine::bench::{throughput, trade, BenchRequest};
+//!
+//! let mut request = BenchRequest::new(24);
+//! request.repeat = 1;
+//! request.trade_rounds = Some(1);
+//! let rows = throughput(&request, &mut |row| Ok(println!("{} cells/s", row.cells_per_s)))?;
+//! let trade = trade(&request)?;
+//! println!("{}", engine::bench::Bench { grid: 24, throughput: rows, trade }.to_json());
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+
+use crate::observer::Quiet;
+use crate::plan::Plan;
+use crate::sim::{SceneSource, Setup};
+use anyhow::{anyhow, bail, Result};
+use grid::{Along, Atlas, Axis, Plane, SweepKind};
+use scene::Scene;
+use serde_json::{json, Value};
+use solver::{Accuracy, Class, Knob, Method, Preset};
+
+/// The reference scene (the shipped multi-stop scene), the default of a bench.
+pub const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
+
+/// A setting of the trade: preset, integrator, and the accuracy knobs it
+/// overrides.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Setting {
+    /// The setting's name in the table.
+    pub name: &'static str,
+    /// The preset it starts from.
+    pub preset: Preset,
+    /// The integrator.
+    pub method: Method,
+    /// Accuracy knobs replacing the preset's.
+    pub knobs: &'static [(Knob, f64)],
+}
+
+/// A setting of the exact solver.
+const fn exact(name: &'static str, preset: Preset, knobs: &'static [(Knob, f64)]) -> Setting {
+    Setting { name, preset, method: Method::Exact, knobs }
+}
+
+/// A setting of the RK4 integrator, at standard tolerances.
+const fn rk4(name: &'static str, knobs: &'static [(Knob, f64)]) -> Setting {
+    Setting { name, preset: Preset::Standard, method: Method::Rk4, knobs }
+}
+
+/// The exact solver at the default preset: the setting of the throughput.
+pub const STANDARD: Setting = exact("standard", Preset::Standard, &[]);
+
+/// The reference of the trade.
+pub const PRECISE: Setting = exact("precise", Preset::Precise, &[]);
+
+/// The literature's method, the setting all others are compared with for speed.
+pub const RK4: Setting = rk4("rk4 h=0.01", &[(Knob::Rk4Step, 0.01), (Knob::Newton, 0.0)]);
+
+/// Settings of the trade, in table order. The RK4 rows are the literature's
+/// method: RK4 with step-back refinement and a plainly simulated transient
+/// (standard tolerances, no Newton); the last row shows what Newton adds to RK4.
+/// `standard chaos_check=0` is standard without the early end of chaotic
+/// records (the default of `standard` before it was measured to agree with
+/// `precise` at least as well as RK4).
+pub const SETTINGS: [Setting; 7] = [
+    exact("fast", Preset::Fast, &[]),
+    STANDARD,
+    exact("standard chaos_check=0", Preset::Standard, &[(Knob::ChaosCheck, 0.0)]),
+    PRECISE,
+    RK4,
+    rk4("rk4 h=0.001", &[(Knob::Rk4Step, 0.001), (Knob::Newton, 0.0)]),
+    rk4("rk4 h=0.01 newton", &[(Knob::Rk4Step, 0.01)]),
+];
+
+/// The sweeps of the throughput, by name: fresh cells, and both continuations.
+pub fn sweeps() -> [(&'static str, Vec<SweepKind>); 2] {
+    [("fresh", vec![SweepKind::Fresh]), ("both", vec![SweepKind::Up, SweepKind::Down])]
+}
+
+/// What to measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchRequest {
+    /// The scene (it must have the parameters `omega` and `delta`).
+    pub scene: SceneSource,
+    /// Grid size N: N x N cells of the plane ω ∈ [0.1, 3.05], δ ∈ [0.05, 2].
+    pub grid: usize,
+    /// Thread counts of the throughput, in order (the trade runs on the largest).
+    pub threads: Vec<usize>,
+    /// Timed repetitions of each throughput measurement (the best is kept).
+    pub repeat: usize,
+    /// Rounds of the trade, each timing every setting once in table order
+    /// (the best of each is kept); `None`: no trade.
+    pub trade_rounds: Option<usize>,
+}
+
+impl BenchRequest {
+    /// The reference scene on an N x N grid, on 1 and 2 threads, best of 3,
+    /// no trade.
+    pub fn new(grid: usize) -> BenchRequest {
+        BenchRequest {
+            scene: SceneSource::Text(REFERENCE_SCENE.to_string()),
+            grid,
+            threads: vec![1, 2],
+            repeat: 3,
+            trade_rounds: None,
+        }
+    }
+
+    /// Refuses counts out of range (each error names its option).
+    pub fn check(&self) -> Result<()> {
+        if self.threads.is_empty() || self.threads.iter().any(|t| !(1..=1024).contains(t)) {
+            bail!("--threads: expected a comma-separated list of counts 1..1024, got {:?}", self.threads);
+        }
+        if !(2..=2000).contains(&self.grid) {
+            bail!("--grid: must be in 2..=2000, got {}", self.grid);
+        }
+        if self.repeat == 0 {
+            bail!("--repeat: must be >= 1");
+        }
+        if self.trade_rounds == Some(0) {
+            bail!("--trade-repeat: must be >= 1");
+        }
+        Ok(())
+    }
+
+    /// The scene, checked to have the parameters of the plane.
+    pub fn scene(&self) -> Result<Scene> {
+        let scene = match &self.scene {
+            SceneSource::File(p) => {
+                let text =
+                    std::fs::read_to_string(p).map_err(|e| anyhow!("cannot read scene file {}: {e}", p.display()))?;
+                Scene::parse(&text)
+            }
+            SceneSource::Text(text) => Scene::parse(text),
+        }
+        .map_err(|e| anyhow!("scene: {e}"))?;
+        for name in ["omega", "delta"] {
+            scene.check_parameter(name, "--scene").map_err(|e| anyhow!("{e} (bench maps the omega-delta plane)"))?;
+        }
+        Ok(scene)
+    }
+
+    /// The N x N plane of the bench.
+    pub fn plane(&self) -> Result<Plane> {
+        let n = self.grid;
+        Ok(Plane::new(
+            Axis::parse(&format!("omega=0.1:3.05:{n}"), "--grid")?,
+            Axis::parse(&format!("delta=0.05:2:{n}"), "--grid")?,
+            Along::X,
+        )?)
+    }
+
+    /// Checked request, scene and plane.
+    fn prepare(&self) -> Result<(Scene, Plane)> {
+        self.check()?;
+        Ok((self.scene()?, self.plane()?))
+    }
+}
+
+/// One throughput measurement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Throughput {
+    /// `fresh` or `both`.
+    pub sweep: &'static str,
+    /// Worker threads.
+    pub threads: usize,
+    /// Cells computed (every sweep).
+    pub cells: usize,
+    /// Seconds of the best run.
+    pub seconds: f64,
+    /// Cells per second of the best run.
+    pub cells_per_s: f64,
+    /// Cells/s over the first thread count's, per thread ratio.
+    pub efficiency: f64,
+}
+
+impl Throughput {
+    /// The row's JSON object (the contract of `bench --json`).
+    pub fn to_json(&self) -> Value {
+        json!({"sweep": self.sweep, "threads": self.threads, "cells": self.cells, "seconds": self.seconds, "cells_per_s": self.cells_per_s, "efficiency": self.efficiency})
+    }
+}
+
+/// One setting's measured speed and agreement with the reference.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TradeRow {
+    /// The setting's name.
+    pub setting: &'static str,
+    /// Cells per second.
+    pub cells_per_s: f64,
+    /// Share of cells whose class and labels equal the reference's.
+    pub label_agreement: f64,
+    /// Share of cells whose class equals the reference's.
+    pub class_agreement: f64,
+    /// Median of the largest |Δ final state| component against the reference.
+    pub median_state_error: f64,
+    /// Forcing periods simulated over the grid.
+    pub periods: u64,
+    /// Thread time per forcing period, µs.
+    pub us_per_period: f64,
+    /// Periods simulated in cells without a period.
+    pub nonperiodic_periods: u64,
+}
+
+impl TradeRow {
+    /// The row's JSON object (the contract of `bench --trade --json`), with its
+    /// cells/s over those of the RK4 baseline `base`.
+    pub fn to_json(&self, base: Option<f64>) -> Value {
+        let mut row = json!({"setting": self.setting, "cells_per_s": self.cells_per_s, "label_agreement": self.label_agreement, "class_agreement": self.class_agreement, "median_state_error": self.median_state_error, "periods": self.periods, "us_per_period": self.us_per_period, "nonperiodic_periods": self.nonperiodic_periods});
+        if let Some(base) = base {
+            row["speedup_vs_rk4"] = json!(self.cells_per_s / base);
+        }
+        row
+    }
+
+    /// Share of the periods simulated in cells without a period.
+    pub fn nonperiodic_share(&self) -> f64 {
+        self.nonperiodic_periods as f64 / self.periods.max(1) as f64
+    }
+}
+
+/// The trade: every setting of [`SETTINGS`], in table order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Trade {
+    /// Worker threads of every run.
+    pub threads: usize,
+    /// One row per setting.
+    pub rows: Vec<TradeRow>,
+}
+
+impl Trade {
+    /// Cells/s of the literature's method ([`RK4`]), the base of the speed-ups.
+    pub fn rk4_cells_per_s(&self) -> Option<f64> {
+        self.rows.iter().find(|r| r.setting == RK4.name).map(|r| r.cells_per_s)
+    }
+
+    /// The rows' JSON objects.
+    pub fn to_json(&self) -> Value {
+        let base = self.rk4_cells_per_s();
+        Value::Array(self.rows.iter().map(|r| r.to_json(base)).collect())
+    }
+}
+
+/// A bench's results.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bench {
+    /// Grid size N.
+    pub grid: usize,
+    /// Throughput rows, by sweep then thread count.
+    pub throughput: Vec<Throughput>,
+    /// The trade, if measured.
+    pub trade: Option<Trade>,
+}
+
+impl Bench {
+    /// The JSON object of `bench --json`: `grid`, `trade` (empty without one),
+    /// `throughput`, and `simulated`, always empty (the replay of the
+    /// scheduler that filled it is `cargo bench --bench replay`).
+    pub fn to_json(&self) -> Value {
+        let trade = self.trade.as_ref().map_or(Value::Array(Vec::new()), Trade::to_json);
+        let throughput = self.throughput.iter().map(Throughput::to_json).collect();
+        json!({"grid": self.grid, "trade": trade, "throughput": Value::Array(throughput), "simulated": Value::Array(Vec::new())})
+    }
+}
+
+/// Measures throughput and, with [`BenchRequest::trade_rounds`], the trade.
+pub fn bench(request: &BenchRequest) -> Result<Bench> {
+    let throughput = throughput(request, &mut |_| Ok(()))?;
+    Ok(Bench { grid: request.grid, throughput, trade: trade(request)? })
+}
+
+/// Throughput of every sweep ([`sweeps`]) on every thread count, each the
+/// best of [`BenchRequest::repeat`] runs; `each` sees every row as it is
+/// measured (its error ends the bench). An error if any two runs of a sweep,
+/// on any thread count, give different atlases.
+pub fn throughput(request: &BenchRequest, each: &mut dyn FnMut(&Throughput) -> Result<()>) -> Result<Vec<Throughput>> {
+    let (scene, plane) = request.prepare()?;
+    let mut rows = Vec::new();
+    for (name, sweeps) in sweeps() {
+        let mut base = None;
+        // Every run, on any thread count, must give the same atlas bit for bit.
+        let mut first: Option<Atlas> = None;
+        for &t in &request.threads {
+            let m = best_of(request.repeat, &mut first, || run_plane(&scene, &plane, &sweeps, STANDARD, t))?;
+            let (seconds, count) = (m.secs, cells(&m.atlas));
+            let rate = count as f64 / seconds;
+            let (t0, r0) = *base.get_or_insert((t, rate));
+            let efficiency = rate / r0 / (t as f64 / t0 as f64);
+            let row = Throughput { sweep: name, threads: t, cells: count, seconds, cells_per_s: rate, efficiency };
+            each(&row)?;
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// The trade on the largest thread count, fresh cells, in
+/// [`BenchRequest::trade_rounds`] rounds of every setting once (a slow spell
+/// of a shared machine falls on all settings alike, not on every run of
+/// one), the best of each setting kept; `None` without rounds.
+pub fn trade(request: &BenchRequest) -> Result<Option<Trade>> {
+    let Some(rounds) = request.trade_rounds else { return Ok(None) };
+    let (scene, plane) = request.prepare()?;
+    let t = *request.threads.iter().max().unwrap_or(&1);
+    let fresh = [SweepKind::Fresh];
+    let mut runs: Vec<Option<Measured>> = SETTINGS.iter().map(|_| None).collect();
+    for _ in 0..rounds {
+        for (best, &setting) in runs.iter_mut().zip(&SETTINGS) {
+            keep_faster(best, run_plane(&scene, &plane, &fresh, setting, t)?)?;
+        }
+    }
+    let measured: Vec<Measured> =
+        runs.into_iter().map(|best| best.ok_or_else(|| anyhow!("no run"))).collect::<Result<_>>()?;
+    let reference = SETTINGS
+        .iter()
+        .zip(&measured)
+        .find(|(s, _)| s.name == PRECISE.name)
+        .map(|(_, m)| &m.atlas)
+        .ok_or_else(|| anyhow!("no reference setting"))?;
+    let rows = SETTINGS.iter().zip(&measured).map(|(setting, m)| trade_row(setting, m, reference, t)).collect();
+    Ok(Some(Trade { threads: t, rows }))
+}
+
+/// The row of `setting`, measured as `m` on `threads` threads, against `reference`.
+fn trade_row(setting: &Setting, m: &Measured, reference: &Atlas, threads: usize) -> TradeRow {
+    let (labels, classes, median) = compare(reference, &m.atlas);
+    // Work per forcing period, in thread time: what the integrator costs.
+    let total = periods(&m.atlas, |_| true);
+    TradeRow {
+        setting: setting.name,
+        cells_per_s: cells(&m.atlas) as f64 / m.secs,
+        label_agreement: labels,
+        class_agreement: classes,
+        median_state_error: median,
+        periods: total,
+        us_per_period: 1e6 * m.secs * threads as f64 / total.max(1) as f64,
+        // Cells without a period: the records every method simulates in full.
+        nonperiodic_periods: periods(&m.atlas, |c| c != Class::Periodic),
+    }
+}
+
+/// A run's atlas and its seconds.
+struct Measured {
+    atlas: Atlas,
+    secs: f64,
+}
+
+/// One run of `sweeps` of `plane` at `setting`, on `threads` threads, no file.
+fn run_plane(scene: &Scene, plane: &Plane, sweeps: &[SweepKind], setting: Setting, threads: usize) -> Result<Measured> {
+    let mut accuracy = Accuracy::preset(setting.preset);
+    for &(knob, value) in setting.knobs {
+        accuracy.set(knob, value)?;
+    }
+    let s = Setup {
+        scene: scene.clone(),
+        overrides: Vec::new(),
+        accuracy,
+        accuracy_overrides: Vec::new(),
+        preset: setting.preset,
+        method: setting.method,
+    };
+    let plan = Plan::new(&s, 0, plane.clone(), sweeps.to_vec(), threads)?;
+    let m = plan.execute(&Quiet)?;
+    Ok(Measured { atlas: m.atlas, secs: m.secs })
+}
+
+/// Keeps in `best` the faster of it and `m`, once `m`'s atlas is checked to
+/// equal `best`'s: results are deterministic, however often they are computed.
+fn keep_faster(best: &mut Option<Measured>, m: Measured) -> Result<()> {
+    if let Some(b) = best.as_ref() {
+        same_atlas(&b.atlas, &m.atlas)?;
+    }
+    if best.as_ref().is_none_or(|b| m.secs < b.secs) {
+        *best = Some(m);
+    }
+    Ok(())
+}
+
+/// An error unless two runs of the same grid gave the same atlas, bit for bit.
+fn same_atlas(a: &Atlas, b: &Atlas) -> Result<()> {
+    if a != b {
+        bail!("results differ between runs of the same grid: the solver is not deterministic");
+    }
+    Ok(())
+}
+
+/// The fastest of `repeat` (>= 1) runs, each checked to give the same atlas,
+/// which must also equal `first` (set by the first call when `None`), whatever
+/// the thread count.
+fn best_of(repeat: usize, first: &mut Option<Atlas>, mut run: impl FnMut() -> Result<Measured>) -> Result<Measured> {
+    let mut best = None;
+    for _ in 0..repeat {
+        keep_faster(&mut best, run()?)?;
+    }
+    let best = best.ok_or_else(|| anyhow!("no run"))?;
+    same_atlas(first.get_or_insert_with(|| best.atlas.clone()), &best.atlas)?;
+    Ok(best)
+}
+
+/// Cells of every sweep of `a`.
+fn cells(a: &Atlas) -> usize {
+    a.maps.iter().map(|m| m.cells.len()).sum()
+}
+
+/// Forcing periods simulated over the cells of `a` whose class passes `keep`
+/// (Newton, stability and section work included).
+pub fn periods(a: &Atlas, keep: impl Fn(Class) -> bool) -> u64 {
+    a.maps.iter().flat_map(|m| m.cells.iter().flatten()).filter(|c| keep(c.class)).map(|c| c.periods).sum()
+}
+
+/// Label agreement, class agreement and median state error of `m` against `reference`.
+fn compare(reference: &Atlas, m: &Atlas) -> (f64, f64, f64) {
+    let pairs: Vec<_> = reference.maps[0]
+        .cells
+        .iter()
+        .zip(&m.maps[0].cells)
+        .filter_map(|(a, b)| Some((a.as_ref()?, b.as_ref()?)))
+        .collect();
+    let total = pairs.len().max(1) as f64;
+    let labels = pairs.iter().filter(|(a, b)| a.class == b.class && a.labels == b.labels).count() as f64 / total;
+    let classes = pairs.iter().filter(|(a, b)| a.class == b.class).count() as f64 / total;
+    let mut errs: Vec<f64> = pairs
+        .iter()
+        .map(|(a, b)| a.final_state.iter().zip(&b.final_state).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max))
+        .collect();
+    errs.sort_by(f64::total_cmp);
+    (labels, classes, errs.get(errs.len() / 2).copied().unwrap_or(0.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_trade_table_has_its_reference_and_baseline() {
+        let names: Vec<&str> = SETTINGS.iter().map(|s| s.name).collect();
+        assert!(names.contains(&PRECISE.name) && names.contains(&RK4.name) && names.contains(&STANDARD.name));
+        let mut unique = names.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), names.len(), "names are unique: {names:?}");
+        for s in &SETTINGS {
+            let mut accuracy = Accuracy::preset(s.preset);
+            for &(knob, value) in s.knobs {
+                accuracy.set(knob, value).unwrap_or_else(|e| panic!("{}: {e}", s.name));
+            }
+        }
+    }
+
+    #[test]
+    fn requests_out_of_range_name_their_option() {
+        let error = |f: fn(&mut BenchRequest)| {
+            let mut r = BenchRequest::new(8);
+            f(&mut r);
+            r.check().unwrap_err().to_string()
+        };
+        assert!(error(|r| r.grid = 1).starts_with("--grid:"));
+        assert!(error(|r| r.threads = vec![0]).starts_with("--threads:"));
+        assert!(error(|r| r.threads.clear()).starts_with("--threads:"));
+        assert!(error(|r| r.repeat = 0).starts_with("--repeat:"));
+        assert!(error(|r| r.trade_rounds = Some(0)).starts_with("--trade-repeat:"));
+        assert!(BenchRequest::new(8).check().is_ok());
+    }
+
+    #[test]
+    fn json_keeps_the_shape_of_bench_json() {
+        let row = Throughput { sweep: "fresh", threads: 1, cells: 4, seconds: 2.0, cells_per_s: 2.0, efficiency: 1.0 };
+        let trade = Trade {
+            threads: 1,
+            rows: vec![TradeRow {
+                setting: RK4.name,
+                cells_per_s: 3.0,
+                label_agreement: 1.0,
+                class_agreement: 1.0,
+                median_state_error: 0.0,
+                periods: 10,
+                us_per_period: 1.0,
+                nonperiodic_periods: 2,
+            }],
+        };
+        let j = Bench { grid: 2, throughput: vec![row], trade: Some(trade) }.to_json();
+        let mut keys: Vec<&String> = j.as_object().unwrap().keys().collect();
+        keys.sort();
+        assert_eq!(keys, ["grid", "simulated", "throughput", "trade"]);
+        assert_eq!(j["simulated"], json!([]));
+        assert_eq!(j["trade"][0]["speedup_vs_rk4"], 1.0);
+        assert_eq!(j["throughput"][0]["cells"], 4);
+        let none = Bench { grid: 2, throughput: Vec::new(), trade: None }.to_json();
+        assert_eq!(none["trade"], json!([]));
+    }
+}
