@@ -39,6 +39,7 @@ mod attractors;
 pub mod bench;
 mod cell;
 mod curve;
+mod eta;
 mod observer;
 mod plan;
 mod sim;
@@ -48,6 +49,7 @@ pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
 pub use cell::{cell, friction_names, Cell};
 pub use curve::{curve, stored, stored_setup, CurveRequest, Traced};
+pub use eta::{eta, Work};
 pub use observer::{Begin, Observer, Quiet};
 pub use plan::{threads, Executed, Plan};
 pub use sim::{
