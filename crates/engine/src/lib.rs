@@ -44,6 +44,7 @@ mod observer;
 mod plan;
 mod sim;
 mod sweep;
+mod trace;
 
 pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
@@ -57,6 +58,7 @@ pub use sim::{
     Start,
 };
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
+pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};
 
 /// A grid error in the words of the command line: the field it names (`x`,
 /// `x omega`, `shard`) becomes the flag (`--x`, `--x omega`, `--shard`) that
