@@ -2,8 +2,9 @@
 
 use crate::args::InspectArgs;
 use crate::out::outln;
-use crate::summary::{print_summary, summary_json};
+use crate::summary::print_summary;
 use anyhow::Result;
+use engine::summary_json;
 
 /// Runs the command.
 pub fn run(a: InspectArgs) -> Result<()> {

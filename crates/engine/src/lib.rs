@@ -43,6 +43,7 @@ mod eta;
 mod observer;
 mod plan;
 mod sim;
+mod summary;
 mod sweep;
 mod trace;
 
@@ -57,6 +58,7 @@ pub use sim::{
     check_period, labels_json, parameters_json, parse_assignment, Origin, SceneLoadError, SceneSource, Setup, Sim,
     Start,
 };
+pub use summary::{reasons, summary_json};
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
 pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};
 
