@@ -22,9 +22,7 @@ pub fn run(a: CellArgs) -> Result<()> {
         return Err(anyhow!("--trace-samples: expected 1 to {MAX_TRACE_SAMPLES}, got {}", a.trace_samples));
     }
     let c = engine::cell(&sim(&a.sim)?, &start(&a.start)?)?;
-    if let Some(w) = c.origin.as_ref().and_then(|o| o.warning.as_ref()) {
-        errln!("warning: {w}");
-    }
+    crate::common::warn(c.origin.as_ref().and_then(|o| o.warning.as_ref()));
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
         let periods = cell.n.unwrap_or(cell.section.len().max(1));

@@ -33,14 +33,11 @@ pub fn start(f: &FromArgs) -> Result<Start> {
     Ok(Start::State(state))
 }
 
-/// The validated set-up and start of a command's simulation options; a
-/// warning about the start is printed.
-pub fn setup_from(a: &SimArgs, f: &FromArgs) -> Result<(engine::Setup, Option<engine::Origin>)> {
-    let (s, origin) = sim(a)?.setup_from(&start(f)?)?;
-    if let Some(w) = origin.as_ref().and_then(|o| o.warning.as_ref()) {
+/// Prints a warning about where a simulation started, if any.
+pub fn warn(warning: Option<&String>) {
+    if let Some(w) = warning {
         crate::out::errln!("warning: {w}");
     }
-    Ok((s, origin))
 }
 
 /// The command line as one string (for the file's `command` attribute).

@@ -2,64 +2,22 @@
 //! and Floquet multipliers.
 
 use crate::args::OrbitArgs;
-use crate::common::setup_from;
+use crate::common::{sim, start};
 use crate::out::{outln, outp};
-use anyhow::{anyhow, Result};
-use engine::{check_period, labels_json};
-use serde_json::{json, Value};
-use solver::{orbit_of_cell, Complex64, Orbit, System};
+use anyhow::Result;
+use solver::{Orbit, System};
 use std::fmt::Write as _;
 
 /// Runs the command.
 pub fn run(a: OrbitArgs) -> Result<()> {
-    let (s, origin) = setup_from(&a.sim, &a.start)?;
-    check_period(a.n)?;
-    let model = s.scene.evaluate(&s.overrides)?;
-    let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
-    let sys = System::new(model)?;
-    let orbit = orbit_of_cell(&sys, &s.accuracy, &y0, a.n).map_err(|e| anyhow!("{e}"))?;
+    let found = engine::orbit(&sim(&a.sim)?, &start(&a.start)?, a.n)?;
+    crate::common::warn(found.warning.as_ref());
     if a.json {
-        outln!("{}", serde_json::to_string(&to_json(&sys, &orbit))?);
+        outln!("{}", serde_json::to_string(&found.to_json())?);
     } else {
-        outp!("{}", to_text(&sys, &orbit));
+        outp!("{}", to_text(&found.system, &found.orbit));
     }
     Ok(())
-}
-
-/// Multipliers as `[{"re", "im", "abs"}, ...]` (the JSON contract).
-pub fn multipliers_json(mu: &[Complex64]) -> Value {
-    mu.iter().map(|m| json!({"re": m.re, "im": m.im, "abs": m.norm()})).collect()
-}
-
-/// The JSON object of an orbit (the contract of `orbit --json`).
-pub fn to_json(sys: &System, o: &Orbit) -> Value {
-    let impacts: Vec<Value> = o
-        .impacts
-        .iter()
-        .map(|i| {
-            json!({
-                "stop": sys.model.stops[i.stop].name,
-                "time": i.time,
-                "phase": i.phase,
-                "velocity_before": i.velocity.0,
-                "velocity_after": i.velocity.1,
-            })
-        })
-        .collect();
-    json!({
-        "scene": sys.model.name,
-        "labels": labels_json(&o.labels),
-        "n": o.n,
-        "period": sys.period * o.n as f64,
-        "fixed_point": o.solution.x.as_slice(),
-        "residual": o.solution.residual,
-        "newton_iterations": o.solution.iterations,
-        "multipliers": multipliers_json(&o.multipliers),
-        "half_map_multipliers": (o.map == solver::MapKind::Half).then(|| multipliers_json(&o.map_multipliers)),
-        "stable": o.stable,
-        "symmetry": o.symmetry.map(|x| x.name()),
-        "impacts": impacts,
-    })
 }
 
 fn to_text(sys: &System, o: &Orbit) -> String {

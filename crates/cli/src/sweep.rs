@@ -36,9 +36,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         command: command_line(),
     };
     let swept = engine::sweep(&r, &Shown::new("sweep", a.run.quiet || a.json))?;
-    if let Some(w) = swept.origin.as_ref().and_then(|o| o.warning.as_ref()) {
-        crate::out::errln!("warning: {w}");
-    }
+    crate::common::warn(swept.origin.as_ref().and_then(|o| o.warning.as_ref()));
     let atlas = &swept.atlas;
     if let Some(png) = &a.png {
         let mut d = crate::diagram::diagram(atlas, 0, a.variable.as_deref(), a.impact)?;

@@ -41,6 +41,7 @@ mod cell;
 mod curve;
 mod eta;
 mod observer;
+mod orbit;
 mod plan;
 mod sim;
 mod summary;
@@ -53,6 +54,7 @@ pub use cell::{cell, friction_names, Cell};
 pub use curve::{curve, stored, stored_setup, CurveRequest, Traced};
 pub use eta::{eta, Work};
 pub use observer::{Begin, Observer, Quiet};
+pub use orbit::{continuation, orbit, Continued, Found};
 pub use plan::{threads, Executed, Plan};
 pub use sim::{
     check_period, labels_json, parameters_json, parse_assignment, Origin, SceneLoadError, SceneSource, Setup, Sim,
