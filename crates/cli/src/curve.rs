@@ -6,8 +6,7 @@ use crate::args::{CurveArgs, CurvesArgs, KindArg};
 use crate::common::{command_line, sim};
 use crate::out::outln;
 use anyhow::{anyhow, bail, Result};
-use engine::{parse_assignment, stored, stored_setup, CurveRequest};
-use serde_json::{json, Value};
+use engine::{parse_assignment, CurveRequest};
 use solver::Bifurcation;
 
 /// Runs `curve`.
@@ -76,73 +75,31 @@ fn solver_kind(kind: KindArg) -> Bifurcation {
 
 /// Runs `curves`.
 pub fn run_curves(a: CurvesArgs) -> Result<()> {
-    let clock = std::time::Instant::now();
-    if a.output.is_none() && !a.into {
-        bail!("-o: give the curve file to write, or --into to store the curves in the atlas");
-    }
-    if a.max == 0 || a.max > 100_000 {
-        bail!("--max: expected 1 to 100000 curves, got {}", a.max);
-    }
-    if let Some(out) = &a.output {
-        store::check_output(out, &[&a.file], false)?;
-    }
-    let loaded = store::read(&a.file)?;
-    // Before the search: an atlas that cannot be rewritten is refused now.
-    if a.into {
-        store::check_writable(&a.file)?;
-    }
-    let atlas = &loaded.atlas;
-    let m = &atlas.meta;
-    let sweeps = match a.sweep {
-        Some(s) => vec![s.kind()],
-        None => m.sweeps.clone(),
-    };
-    if let Some(missing) = sweeps.iter().find(|s| atlas.map(**s).is_none()) {
-        bail!("--sweep: the file has no {} sweep", missing.name());
-    }
-    let s = stored_setup(m, &a.file)?;
-    let setup = s.cell_setup(0)?;
-    let seeding = grid::curves::Seeding {
+    let r = engine::CurvesRequest {
+        file: a.file.clone(),
         kinds: a.kinds.iter().map(|&k| solver_kind(k)).collect(),
-        sweeps,
+        sweep: a.sweep.map(|s| s.kind()),
         max: a.max,
+        output: a.output.clone(),
+        into: a.into,
         threads: engine::threads(a.threads)?,
+        command: command_line(),
     };
-    if m.plane.x.count < 2 {
-        bail!("{}: curves need at least two columns", a.file.display());
-    }
     // Progress on standard error only (a bar or `progress:` lines), never in --json's stdout.
     let bar = std::sync::OnceLock::new();
     let report = |t: grid::curves::Tally| bar.get_or_init(|| crate::progress::Seeds::new(t.total)).report(t);
-    let found = grid::curves::find(&setup, atlas, &seeding, &report);
+    let found = engine::curves(&r, &report);
     if let Some(b) = bar.get() {
         b.finish();
     }
     let found = found?;
-    let (x, y) = (&m.plane.x.name, &m.plane.y.name);
-    let curves: Vec<store::Curve> = found
-        .curves
-        .iter()
-        .map(|c| stored(c, [x, y], c.ended.as_deref().unwrap_or("reached the plane's edges")))
-        .collect();
-    let command = command_line();
-    if let Some(out) = &a.output {
-        store::write_curves(out, &curves, &command, &m.scene_toml)?;
-    }
-    if a.into {
-        store::add_curves(&a.file, &curves, &command)?;
-    }
-    let codim2: usize = curves.iter().map(|c| c.codim2.len()).sum();
-    let secs = clock.elapsed().as_secs_f64();
     if a.json {
-        let list: Vec<Value> = curves
-            .iter()
-            .map(|c| json!({"kind": c.kind, "points": c.points.len(), "codim2": c.codim2.len(), "ended": c.ended}))
-            .collect();
-        outln!("{}", serde_json::to_string(&json!({"curves": list, "seeds": found.seeds, "seconds": secs}))?);
+        outln!("{}", serde_json::to_string(&found.to_json())?);
     } else {
-        outln!("{} curves ({codim2} codimension-two points) from {} seeds in {secs:.1} s", curves.len(), found.seeds);
-        for c in &curves {
+        let codim2: usize = found.curves.iter().map(|c| c.codim2.len()).sum();
+        let (n, seeds, secs) = (found.curves.len(), found.seeds, found.secs);
+        outln!("{n} curves ({codim2} codimension-two points) from {seeds} seeds in {secs:.1} s");
+        for c in &found.curves {
             outln!("  {:<8} {:>4} points  {}", c.kind, c.points.len(), c.ended);
         }
         for out in a.output.iter().chain(a.into.then_some(&a.file)) {

@@ -174,3 +174,93 @@ pub fn stored_setup(m: &grid::Meta, file: &std::path::Path) -> Result<Setup> {
         method: solver::Method::Exact,
     })
 }
+
+/// Curves seeded from a stored atlas (`curves`): where to find them and
+/// where to put them.
+#[derive(Debug, Clone)]
+pub struct CurvesRequest {
+    /// The atlas file.
+    pub file: PathBuf,
+    /// The kinds of bifurcation to follow.
+    pub kinds: Vec<Bifurcation>,
+    /// The sweeps whose maps seed them (the file's all when `None`).
+    pub sweep: Option<grid::SweepKind>,
+    /// The most curves.
+    pub max: usize,
+    /// A curve file to write, if any.
+    pub output: Option<PathBuf>,
+    /// Store the curves in the atlas file itself.
+    pub into: bool,
+    /// Worker threads.
+    pub threads: usize,
+    /// What made the curves (the files' `command` attribute).
+    pub command: String,
+}
+
+/// The curves found from an atlas.
+#[derive(Debug, Clone)]
+pub struct CurvesFound {
+    /// The curves, as stored.
+    pub curves: Vec<store::Curve>,
+    /// Seeds tried.
+    pub seeds: usize,
+    /// Seconds the search took.
+    pub secs: f64,
+}
+
+/// Finds the curves of a stored atlas's maps and writes them where asked;
+/// `report` hears how many seeds are done (from the worker threads).
+pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) -> Result<CurvesFound> {
+    let clock = std::time::Instant::now();
+    if r.output.is_none() && !r.into {
+        bail!("-o: give the curve file to write, or --into to store the curves in the atlas");
+    }
+    if r.max == 0 || r.max > 100_000 {
+        bail!("--max: expected 1 to 100000 curves, got {}", r.max);
+    }
+    if let Some(out) = &r.output {
+        store::check_output(out, &[&r.file], false)?;
+    }
+    let loaded = store::read(&r.file)?;
+    // Before the search: an atlas that cannot be rewritten is refused now.
+    if r.into {
+        store::check_writable(&r.file)?;
+    }
+    let atlas = &loaded.atlas;
+    let m = &atlas.meta;
+    let sweeps = r.sweep.map_or_else(|| m.sweeps.clone(), |s| vec![s]);
+    if let Some(missing) = sweeps.iter().find(|s| atlas.map(**s).is_none()) {
+        bail!("--sweep: the file has no {} sweep", missing.name());
+    }
+    let setup = stored_setup(m, &r.file)?.cell_setup(0)?;
+    let seeding = grid::curves::Seeding { kinds: r.kinds.clone(), sweeps, max: r.max, threads: r.threads };
+    if m.plane.x.count < 2 {
+        bail!("{}: curves need at least two columns", r.file.display());
+    }
+    let found = grid::curves::find(&setup, atlas, &seeding, report)?;
+    let (x, y) = (&m.plane.x.name, &m.plane.y.name);
+    let curves: Vec<store::Curve> = found
+        .curves
+        .iter()
+        .map(|c| stored(c, [x, y], c.ended.as_deref().unwrap_or("reached the plane's edges")))
+        .collect();
+    if let Some(out) = &r.output {
+        store::write_curves(out, &curves, &r.command, &m.scene_toml)?;
+    }
+    if r.into {
+        store::add_curves(&r.file, &curves, &r.command)?;
+    }
+    Ok(CurvesFound { curves, seeds: found.seeds, secs: clock.elapsed().as_secs_f64() })
+}
+
+impl CurvesFound {
+    /// The JSON object of the curves (the contract of `curves --json`).
+    pub fn to_json(&self) -> Value {
+        let list: Vec<Value> = self
+            .curves
+            .iter()
+            .map(|c| json!({"kind": c.kind, "points": c.points.len(), "codim2": c.codim2.len(), "ended": c.ended}))
+            .collect();
+        json!({"curves": list, "seeds": self.seeds, "seconds": self.secs})
+    }
+}

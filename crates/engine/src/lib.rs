@@ -51,7 +51,7 @@ mod trace;
 pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
 pub use cell::{cell, friction_names, Cell};
-pub use curve::{curve, stored, stored_setup, CurveRequest, Traced};
+pub use curve::{curve, curves, stored, stored_setup, CurveRequest, CurvesFound, CurvesRequest, Traced};
 pub use eta::{eta, Work};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{continuation, orbit, Continued, Found};
