@@ -44,6 +44,7 @@ mod observer;
 mod orbit;
 mod plan;
 mod sim;
+mod study;
 mod summary;
 mod sweep;
 mod trace;
@@ -60,6 +61,7 @@ pub use sim::{
     check_period, labels_json, parameters_json, parse_assignment, Origin, SceneLoadError, SceneSource, Setup, Sim,
     Start,
 };
+pub use study::{sheet_panel, study, StudyPlan};
 pub use summary::{reasons, summary_json};
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
 pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};

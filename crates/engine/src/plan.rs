@@ -11,6 +11,7 @@ use std::time::Instant;
 use store::{fingerprint, journal_path, Journal, RunInfo};
 
 /// Everything a run needs, checked before any work starts.
+#[derive(Debug)]
 pub struct Plan {
     /// The cells' set-up.
     pub setup: CellSetup,
