@@ -39,7 +39,7 @@ mod symbol;
 
 pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
-pub use model::{Friction, Label, Link, Mass, Model, Side, Stop, StopGeometry};
+pub use model::{Friction, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 
 use expr::{Compiled, Names, Range};
@@ -557,7 +557,7 @@ impl Scene {
             links,
             stops,
             friction,
-            labels: self.labels.iter().map(|&(mass, p, q)| Label { mass, p, q }).collect(),
+            labels: self.labels.iter().map(|&(mass, p, q)| LabelStops { mass, p, q }).collect(),
             parameters: self.names.iter().cloned().zip(values.iter().copied()).collect(),
         };
         if model.symmetric {

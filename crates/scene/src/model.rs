@@ -110,7 +110,7 @@ pub struct Friction {
 
 /// The stops counted in one mass's n-p-q label.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Label {
+pub struct LabelStops {
     /// The labelled mass.
     pub mass: usize,
     /// Stop counted as p, if any.
@@ -139,7 +139,7 @@ pub struct Model {
     /// Friction contacts.
     pub friction: Vec<Friction>,
     /// Label definitions, in mass order.
-    pub labels: Vec<Label>,
+    pub labels: Vec<LabelStops>,
     /// Parameter values used, in scene order.
     pub parameters: Vec<(String, f64)>,
 }

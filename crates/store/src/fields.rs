@@ -164,6 +164,24 @@ impl Field {
         m.stops.len() <= 4
     }
 
+    /// The empty `flags` dataset: a byte per cell up to 4 stops, else a u32,
+    /// with its CF flag masks and meanings.
+    fn create_flags(g: &Group, name: &str, m: &Meta, plane: &[usize], chunk: &[usize]) -> hdf5::Result<Dataset> {
+        let (masks, meanings) = flag_masks(&m.stops, sticking_shift(m.stops.len()));
+        let d = if Field::narrow_flags(m) {
+            let d = Deflater::chunked_empty::<u8>(g, name, plane, chunk)?;
+            netcdf::attr_array(&d, "flag_masks", &masks.iter().map(|&v| v as u8).collect::<Vec<_>>())?;
+            d
+        } else {
+            let d = Deflater::chunked_empty::<u32>(g, name, plane, chunk)?;
+            netcdf::attr_array(&d, "flag_masks", &masks)?;
+            d
+        };
+        netcdf::attr_str(&d, "flag_meanings", &meanings)?;
+        netcdf::attr_str(&d, "bits", &flag_bits(&m.stops))?;
+        Ok(d)
+    }
+
     /// Creates the dataset in `g`, empty, chunked by `chunks` and deflated,
     /// with its dimensions and attributes.
     pub(crate) fn create(self, g: &Group, m: &Meta, chunks: &Chunks, s: &Scales) -> hdf5::Result<Dataset> {
@@ -200,19 +218,8 @@ impl Field {
                 d
             }
             Field::Flags => {
-                let (masks, meanings) = flag_masks(&m.stops, sticking_shift(m.stops.len()));
-                let d = if Field::narrow_flags(m) {
-                    let d = Deflater::chunked_empty::<u8>(g, &name, &plane, &chunk)?;
-                    netcdf::attr_array(&d, "flag_masks", &masks.iter().map(|&v| v as u8).collect::<Vec<_>>())?;
-                    d
-                } else {
-                    let d = Deflater::chunked_empty::<u32>(g, &name, &plane, &chunk)?;
-                    netcdf::attr_array(&d, "flag_masks", &masks)?;
-                    d
-                };
+                let d = Field::create_flags(g, &name, m, &plane, &chunk)?;
                 gridded(&d, "chattering and sticking at each stop (bit flags)")?;
-                netcdf::attr_str(&d, "flag_meanings", &meanings)?;
-                netcdf::attr_str(&d, "bits", &flag_bits(&m.stops))?;
                 d
             }
             Field::Symmetry => {
