@@ -26,7 +26,7 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         sampling: Sampling { samples: a.samples, seed: a.seed, x, v },
         threads: engine::threads(a.threads)?,
     };
-    let res = engine::attractors(&r)?;
+    let res = engine::attractors(&r, &engine::Quiet)?;
     let (sys, sampling, found) = (&res.system, &res.sampling, &res.found);
     let masses = res.masses();
     let label = |a: &grid::attractors::Attractor| res.labels(a);

@@ -30,7 +30,7 @@ pub fn run(a: CurveArgs) -> Result<()> {
         output: a.output.clone(),
         command: command_line(),
     };
-    let t = engine::curve(&r)?;
+    let t = engine::curve(&r, &engine::Quiet)?;
     if a.json {
         outln!("{}", serde_json::to_string(&t.to_json())?);
     } else {

@@ -3,6 +3,7 @@
 //! `grid::attractors` for the sampling and the grouping); and the JSON object
 //! of `attractors --json` ([`Attractors::to_json`]).
 
+use crate::observer::{Begin, Observed, Observer};
 use crate::sim::{parameters_json, Sim};
 use anyhow::{bail, Result};
 use grid::attractors::{find, Attractor, Sampling};
@@ -34,8 +35,9 @@ pub struct Attractors {
     pub found: Vec<Attractor>,
 }
 
-/// Finds the coexisting attractors of a point.
-pub fn attractors(r: &AttractorsRequest) -> Result<Attractors> {
+/// Finds the coexisting attractors of a point, reporting each sample done to
+/// `observer` (which may stop the search).
+pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attractors> {
     let s = r.sim.setup()?;
     let k = r.sampling.samples;
     if k == 0 || k > MAX_SAMPLES {
@@ -46,7 +48,10 @@ pub fn attractors(r: &AttractorsRequest) -> Result<Attractors> {
         bail!("--box: expected X,V (two numbers >= 0), got '{x},{v}'");
     }
     let cs = s.cell_setup(0)?;
-    let found = find(&cs, &[], &r.sampling, r.threads)?;
+    observer.begin(&Begin { total: k as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
+    let found = find(&cs, &[], &r.sampling, r.threads, &Observed(observer));
+    observer.finish();
+    let found = found?;
     let system = cs.system(&[])?;
     Ok(Attractors { system, sampling: r.sampling, found })
 }

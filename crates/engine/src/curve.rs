@@ -49,8 +49,9 @@ pub struct Traced {
     pub sides: Vec<Value>,
 }
 
-/// Follows a curve (and writes its file when asked).
-pub fn curve(r: &CurveRequest) -> Result<Traced> {
+/// Follows a curve (and writes its file when asked, unless `observer` asked
+/// to stop meanwhile: a curve's steps cannot be interrupted, its file can).
+pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced> {
     let s = r.sim.setup()?;
     check_period(r.n)?;
     let [pa, pb] = &r.free;
@@ -103,6 +104,9 @@ pub fn curve(r: &CurveRequest) -> Result<Traced> {
         },
     };
     let ended = curve.ended.clone().unwrap_or_else(|| format!("reached {pb} = {}", r.to));
+    if observer.cancelled() {
+        return Err(grid::GridError::Cancelled.into());
+    }
     if let Some(out) = &r.output {
         let inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
         store::check_output(out, &inputs, false)?;

@@ -111,9 +111,25 @@ impl Plan {
         let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
             self.compute(observer, &jobs, atlas, journal, &resumed)?;
         if let Some((sampling, only_hysteresis)) = &self.attractors {
-            atlas.attractors = Some(self.find_attractors(&atlas, sampling, *only_hysteresis, &owns)?);
+            match self.find_attractors(&atlas, sampling, *only_hysteresis, &owns, observer) {
+                Ok(found) => atlas.attractors = Some(found),
+                Err(e) => {
+                    // Cancelled: abandoned, as in the lines (see `compute`).
+                    if let (Some(grid::GridError::Cancelled), Some(j)) = (e.downcast_ref(), journal.as_ref()) {
+                        let _ = std::fs::remove_file(j.path());
+                    }
+                    return Err(e);
+                }
+            }
         }
         let elapsed = start.elapsed().as_secs_f64();
+        // Asked to stop once the cells were done: nothing is written.
+        if observer.cancelled() {
+            if let Some(j) = journal.as_ref() {
+                let _ = std::fs::remove_file(j.path());
+            }
+            return Err(grid::GridError::Cancelled.into());
+        }
         let mut write_s = 0.0;
         if let (Some(draft), Some(j)) = (draft, journal) {
             let clock = Instant::now();
@@ -418,6 +434,7 @@ impl Plan {
         sampling: &grid::attractors::Sampling,
         only_hysteresis: bool,
         owns: &[bool],
+        observer: &dyn Observer,
     ) -> Result<grid::AttractorMap> {
         let p = &self.meta.plane;
         let hyst = atlas.hysteresis();
@@ -431,7 +448,12 @@ impl Plan {
             })
             .collect();
         let points: Vec<Vec<(String, f64)>> = chosen.iter().map(|&i| p.params(i / p.x.count, i % p.x.count)).collect();
-        let found = grid::attractors::find_all(&self.setup, &points, sampling, self.threads)?;
+        let total = (points.len() * sampling.samples) as u64;
+        let work = Begin { total, done: 0, lines: &[], prior: None, line_len: 1, threads: self.threads };
+        observer.begin(&work);
+        let found = grid::attractors::find_all(&self.setup, &points, sampling, self.threads, &Observed(observer));
+        observer.finish();
+        let found = found?;
         let mut cells = vec![None; p.cells()];
         for (&i, list) in chosen.iter().zip(found) {
             let masses = self.meta.masses.len();

@@ -186,6 +186,9 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>, observer: &dyn Obse
         }
     }
     observer.finish();
+    if observer.cancelled() {
+        return Err(grid::GridError::Cancelled.into());
+    }
     if let Some(out) = &plan.output {
         let info = store::RunInfo {
             command: plan.command.clone(),

@@ -18,6 +18,7 @@
 
 use crate::cell::{CellData, CellSetup};
 use crate::error::GridError;
+use crate::sweep::Progress;
 use rayon::prelude::*;
 use solver::Class;
 
@@ -96,16 +97,20 @@ pub fn find(
     params: &[(String, f64)],
     sampling: &Sampling,
     threads: usize,
+    progress: &dyn Progress,
 ) -> Result<Vec<Attractor>, GridError> {
-    Ok(find_all(setup, &[params.to_vec()], sampling, threads)?.remove(0))
+    Ok(find_all(setup, &[params.to_vec()], sampling, threads, progress)?.remove(0))
 }
 
-/// [`find`] at each of `points`, every (point, sample) pair in one pool.
+/// [`find`] at each of `points`, every (point, sample) pair in one pool;
+/// `progress` hears of every sample done and may stop the search before any
+/// sample ([`GridError::Cancelled`]).
 pub fn find_all(
     setup: &CellSetup,
     points: &[Vec<(String, f64)>],
     sampling: &Sampling,
     threads: usize,
+    progress: &dyn Progress,
 ) -> Result<Vec<Vec<Attractor>>, GridError> {
     let systems = points.iter().map(|p| setup.system(p)).collect::<Result<Vec<_>, _>>()?;
     // Every period-section point is kept, so that orbits can be compared.
@@ -119,9 +124,14 @@ pub fn find_all(
         (0..points.len() * k)
             .into_par_iter()
             .map(|j| {
+                if progress.cancelled() {
+                    return Err(GridError::Cancelled);
+                }
                 let (p, i) = (j / k, j % k);
                 let y0 = sample(&systems[p], sampling, i);
-                setup.run(&points[p], Some(&y0)).map(|c| (y0, c))
+                let cell = setup.run(&points[p], Some(&y0)).map(|c| (y0, c));
+                progress.advance(1);
+                cell
             })
             .collect::<Result<Vec<_>, _>>()
     })?;

@@ -313,9 +313,11 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         Some(s) => Some(Shard::parse(&s).map_err(|e| PyValueError::new_err(e.to_string()))?),
         None => None,
     };
+    // As on the command line, the seed and the cells chosen matter only with attractors.
+    let seed = o.get("seed")?.unwrap_or(1);
+    let where_ = o.get::<String>("attractors_where")?;
     if let Some(samples) = o.get::<usize>("attractors")? {
-        let seed = o.get("seed")?.unwrap_or(1);
-        let cells = match o.get::<String>("attractors_where")?.as_deref() {
+        let cells = match where_.as_deref() {
             None | Some("all") => AttractorCells::All,
             Some("hysteresis") => AttractorCells::Hysteresis,
             Some(other) => {
@@ -352,7 +354,7 @@ fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bou
         threads: threads(&mut o)?,
     };
     o.finish()?;
-    Ok(Job::start(move |_| text(&engine::attractors(&r)?.to_json())))
+    Ok(Job::start(move |shared| text(&engine::attractors(&r, shared)?.to_json())))
 }
 
 /// A bifurcation curve: the JSON of `curve --json`.
@@ -389,7 +391,7 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         command: "vibroatlas.curve (Python)".into(),
     };
     o.finish()?;
-    Ok(Job::start(move |_| text(&engine::curve(&r)?.to_json())))
+    Ok(Job::start(move |shared| text(&engine::curve(&r, shared)?.to_json())))
 }
 
 /// The module.

@@ -107,7 +107,9 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
         if value is not None:
             options[key] = _whole(key, value)
     if force is not None:
-        options["force"] = bool(force)
+        if not isinstance(force, bool):
+            raise TypeError(f"force: expected True or False, got {force!r}")
+        options["force"] = force
     tmp = None
     try:
         if output is None:

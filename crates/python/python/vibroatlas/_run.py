@@ -20,6 +20,8 @@ BAR_UNITS = 300
 BAR_SECONDS = 1.0
 #: How long one wait for the job lasts, seconds (the latency of Ctrl-C).
 SLICE = 0.1
+#: How long Ctrl-C waits for a cancelled job to stop, seconds.
+CANCEL_WAIT = 1.0
 
 
 def scene_arg(scene):
@@ -45,7 +47,10 @@ def number(what, v):
     """v as a float (ints and numpy scalars too; not bools or strings)."""
     if isinstance(v, bool) or not isinstance(v, numbers.Real):
         raise TypeError(f"{what}: expected a number, got {v!r}")
-    return float(v)
+    try:
+        return float(v)
+    except OverflowError:
+        raise ValueError(f"{what}: not a finite number, got {v!r}") from None
 
 
 def whole(what, v, least=None):
@@ -84,6 +89,8 @@ def axis(what, v):
 def params_arg(params, extra):
     """The --set list [(name, float)] in the order given: `params` (a dict, for
     names that clash with a keyword of the function) then the extra keywords."""
+    if params is not None and not hasattr(params, "items"):
+        raise TypeError(f"params: expected a dict of parameter values, got {type(params).__name__}")
     out = []
     for source in (params or {}), extra:
         for name, v in source.items():
@@ -109,7 +116,9 @@ def run(start, scene, params, options, progress=False, unit="cell", desc=None):
     decoded. With `progress`, a tqdm bar (tqdm.auto: a widget in a notebook)
     appears once the work is known to be long (more than BAR_UNITS units, or
     running for more than BAR_SECONDS). Ctrl-C cancels the job, waits for it
-    to end (it removes its partial output) and re-raises KeyboardInterrupt."""
+    to end (it removes its partial output) at most CANCEL_WAIT seconds, and
+    re-raises KeyboardInterrupt. A job that cannot stop at once (one cell's
+    simulation, a curve's steps) ends on its own thread and writes nothing."""
     job = start(scene_arg(scene), params, options)
     bar = None
     t0 = time.monotonic()
@@ -135,11 +144,10 @@ def run(start, scene, params, options, progress=False, unit="cell", desc=None):
         if bar is not None:
             bar.close()
             bar = None
-        # wait for the work to stop (it cleans up its partial output); a
-        # second Ctrl-C stops waiting, the job still ends on its own thread
+        # wait for the work to stop (it cleans up its partial output); past
+        # CANCEL_WAIT, or at a second Ctrl-C, the job ends on its own thread
         try:
-            while not job.wait(SLICE):
-                pass
+            job.wait(CANCEL_WAIT)
         except KeyboardInterrupt:
             pass
         raise
