@@ -119,29 +119,39 @@ pub fn find_all(
         .num_threads(threads)
         .build()
         .map_err(|e| GridError::field("threads", e.to_string()))?;
-    let k = sampling.samples;
-    let cells: Vec<(Vec<f64>, CellData)> = pool.install(|| {
-        (0..points.len() * k)
-            .into_par_iter()
-            .map(|j| {
-                if progress.cancelled() {
-                    return Err(GridError::Cancelled);
-                }
-                let (p, i) = (j / k, j % k);
-                let y0 = sample(&systems[p], sampling, i);
-                let cell = setup.run(&points[p], Some(&y0)).map(|c| (y0, c));
-                progress.advance(1);
-                cell
-            })
-            .collect::<Result<Vec<_>, _>>()
-    })?;
+    let k = sampling.samples.max(1);
+    // Points in batches, each grouped once its samples are done: the cells
+    // of at most BATCH samples are held at a time, however large the plane.
+    let batch = (BATCH / k).max(1);
     let mut out = Vec::with_capacity(points.len());
-    let mut it = cells.into_iter();
-    for _ in points {
-        out.push(group(it.by_ref().take(k)));
+    for first in (0..points.len()).step_by(batch) {
+        let these = first..(first + batch).min(points.len());
+        let cells: Vec<(Vec<f64>, CellData)> = pool.install(|| {
+            (these.start * k..these.end * k)
+                .into_par_iter()
+                .map(|j| {
+                    if progress.cancelled() {
+                        return Err(GridError::Cancelled);
+                    }
+                    let (p, i) = (j / k, j % k);
+                    let y0 = sample(&systems[p], sampling, i);
+                    let cell = setup.run(&points[p], Some(&y0)).map(|c| (y0, c));
+                    progress.advance(1);
+                    cell
+                })
+                .collect::<Result<Vec<_>, _>>()
+        })?;
+        let mut it = cells.into_iter();
+        for _ in these {
+            out.push(group(it.by_ref().take(k)));
+        }
     }
     Ok(out)
 }
+
+/// Samples computed before their points are grouped (bounds the memory of
+/// a search over many points).
+const BATCH: usize = 65_536;
 
 /// Groups the sampled cells of one point by attractor (see the module doc).
 fn group(cells: impl Iterator<Item = (Vec<f64>, CellData)>) -> Vec<Attractor> {
