@@ -4,7 +4,7 @@ files; never a crash."""
 import pytest
 
 try:
-    import tomllib
+    tomllib = pytest.importorskip("tomllib")
 except ImportError:  # Python < 3.11
     tomllib = pytest.importorskip("tomli")
 import vibroatlas as va
@@ -87,3 +87,22 @@ def test_wrong_types():
         va.atlas(MULTI, x="omega=0.1:1:3", y=("delta", 0.1, 1.0, 3))
     with pytest.raises(TypeError):
         va.cell(42)
+
+
+def test_a_dict_scene_names_the_field_it_cannot_hold():
+    """A value TOML cannot hold is refused naming its field; numpy numbers are numbers."""
+    import copy
+
+    import numpy as np
+    tomllib = pytest.importorskip("tomllib")
+
+    with open(MULTI, "rb") as f:
+        scene = tomllib.load(f)
+    for bad, why in ((float("nan"), "not a finite number"), (None, ".*not NoneType")):
+        s = copy.deepcopy(scene)
+        s["masses"][0]["mass"] = bad
+        with pytest.raises(va.SceneError, match=r"^masses\[0\]\.mass: " + why):
+            va.cell(s)
+    s = copy.deepcopy(scene)
+    s["masses"][0]["mass"] = np.float64(s["masses"][0]["mass"])
+    assert va.cell(s)["labels"] == va.cell(MULTI)["labels"]

@@ -29,10 +29,7 @@ def scene_arg(scene):
     ("toml", text) for a str holding a TOML text (one with a newline), ("json",
     text) for a dict (a parsed scene table)."""
     if isinstance(scene, dict):
-        try:
-            return ("json", json.dumps(scene, allow_nan=True))
-        except (TypeError, ValueError) as e:
-            raise _native.SceneError(f"scene: the dict cannot be passed as a scene table: {e}") from None
+        return ("json", json.dumps(_table(scene, ""), allow_nan=False))
     if isinstance(scene, os.PathLike):
         return ("path", os.fspath(scene))
     if isinstance(scene, str):
@@ -41,6 +38,32 @@ def scene_arg(scene):
         raise TypeError("scene: give a path (str or pathlib.Path), a TOML text (str) or a dict, not bytes")
     raise TypeError(f"scene: give a path (str or pathlib.Path), a TOML text (str) or a dict, "
                     f"not {type(scene).__name__}")
+
+
+def _table(value, field):
+    """A scene given as a dict, as plain JSON values: numpy numbers become
+    Python ones; a value TOML cannot hold (None, NaN, infinity, an object) is
+    a SceneError naming its field (`masses[0].mass`)."""
+    where = field or "scene"
+    if isinstance(value, dict):
+        out = {}
+        for k, v in value.items():
+            if not isinstance(k, str):
+                raise _native.SceneError(f"{where}: keys must be text, got {k!r}")
+            out[k] = _table(v, f"{field}.{k}" if field else k)
+        return out
+    if isinstance(value, (list, tuple)):
+        return [_table(v, f"{field}[{i}]") for i, v in enumerate(value)]
+    if isinstance(value, (str, bool)):
+        return value
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, numbers.Real):
+        v = float(value)
+        if not math.isfinite(v):
+            raise _native.SceneError(f"{where}: not a finite number, got {v}")
+        return v
+    raise _native.SceneError(f"{where}: a scene holds numbers, text, tables and lists, not {type(value).__name__}")
 
 
 def number(what, v):
