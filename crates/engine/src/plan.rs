@@ -460,7 +460,7 @@ impl Plan {
             cells[i] = Some(
                 list.iter()
                     .map(|a| {
-                        let labels = (0..masses).map(|m| a.cell.labels[m].to_string()).collect();
+                        let labels = a.cell.labels[..masses].to_vec();
                         (labels, a.count as f64 / sampling.samples as f64)
                     })
                     .collect(),

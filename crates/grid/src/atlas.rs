@@ -59,7 +59,7 @@ pub struct Map {
 /// The coexisting attractors found in one cell: per attractor, the label of
 /// each labelled mass and the share of the samples that reached it (largest
 /// first; see [`crate::attractors`]).
-pub type CellAttractors = Vec<(Vec<String>, f64)>;
+pub type CellAttractors = Vec<(Vec<solver::Label>, f64)>;
 
 /// Coexisting attractors sampled over a plane (`atlas --attractors K`).
 #[derive(Debug, Clone, PartialEq)]

@@ -170,14 +170,15 @@ fn ciede2000([l1, a1, b1]: [f64; 3], [l2, a2, b2]: [f64; 3]) -> f64 {
     (dl * dl + dc * dc + dhh * dhh + r_t * dc * dhh).sqrt()
 }
 
-/// `(n, p, q)` of a periodic label, `None` for a count that is `S`.
+/// `(n, p, q)` of a periodic label (read by the solver's label grammar),
+/// `None` for a count that is `S`.
 fn parse(label: &str) -> Option<(u32, Option<u32>, Option<u32>)> {
-    let mut it = label.split('-');
-    let n: u32 = it.next()?.parse().ok()?;
-    let count = |s: &str| if s == "S" { Some(None) } else { s.parse().ok().map(Some) };
-    let p = count(it.next()?)?;
-    let q = count(it.next()?)?;
-    (it.next().is_none() && n > 0).then_some((n, p, q))
+    let (n, p, q) = label.parse::<solver::Label>().ok()?.npq()?;
+    let count = |c: solver::Count| match c {
+        solver::Count::Impacts(k) => Some(k),
+        solver::Count::Stuck => None,
+    };
+    Some((n, count(p), count(q)))
 }
 
 /// Six or more impacts per forcing period on average at a stop.

@@ -136,6 +136,33 @@ impl std::fmt::Display for Label {
     }
 }
 
+impl std::str::FromStr for Label {
+    type Err = String;
+
+    /// Reads a label as it prints (`1-4-4`, `2-S-1`, `C`, `Q`, `U`): the one
+    /// grammar of labels for files and colours.
+    fn from_str(text: &str) -> Result<Label, String> {
+        let bad = || format!("'{text}' is not a label (n-p-q, C, Q or U)");
+        match text {
+            "C" => return Ok(Label::Chaotic),
+            "Q" => return Ok(Label::Quasiperiodic),
+            "U" => return Ok(Label::Unresolved),
+            _ => {}
+        }
+        let parts: Vec<&str> = text.split('-').collect();
+        let [n, p, q] = parts[..] else { return Err(bad()) };
+        let count = |s: &str| match s {
+            "S" => Ok(Count::Stuck),
+            _ => s.parse().map(Count::Impacts).map_err(|_| bad()),
+        };
+        let n: u32 = n.parse().map_err(|_| bad())?;
+        if n == 0 {
+            return Err(bad());
+        }
+        Ok(Label::Periodic { n, p: count(p)?, q: count(q)? })
+    }
+}
+
 /// The label of a named mass; prints as its [`Label`].
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct MassLabel {
@@ -205,6 +232,26 @@ pub fn label_masses(sys: &System, n: Option<usize>, class: Class, impacts: &[u32
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every label reads back from the text it prints as; other texts are refused.
+    #[test]
+    fn labels_read_back_from_their_text() {
+        let counts = [Count::Impacts(0), Count::Impacts(7), Count::Stuck];
+        let mut all = vec![Label::Chaotic, Label::Quasiperiodic, Label::Unresolved];
+        for n in [1, 2, 37] {
+            for p in counts {
+                for q in counts {
+                    all.push(Label::Periodic { n, p, q });
+                }
+            }
+        }
+        for l in all {
+            assert_eq!(l.to_string().parse::<Label>(), Ok(l));
+        }
+        for bad in ["", "0-1-1", "1-1", "1-1-1-1", "1-x-1", "c", "not-computed", "-1-1-1"] {
+            assert!(bad.parse::<Label>().is_err(), "{bad}");
+        }
+    }
 
     #[test]
     fn labels_print_as_the_literature_writes_them() {

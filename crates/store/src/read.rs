@@ -623,16 +623,23 @@ fn read_attractors(
             format!("{} attractors at ({}, {}), more than the {slots} slots", count[i], i / columns.0, i % columns.0),
         ));
     }
-    let text = |c: i16| table.get(c.max(0) as usize).cloned().unwrap_or_default();
-    let cells = (0..n)
-        .map(|i| {
-            (count[i] > 0).then(|| {
-                (0..count[i] as usize)
-                    .map(|k| (codes.iter().map(|c| text(c[i * slots + k])).collect(), fraction[i * slots + k]))
-                    .collect()
-            })
-        })
-        .collect();
+    let labels = table
+        .iter()
+        .map(|t| t.parse::<solver::Label>().map_err(|e| ck.bad(&table_set.name(), e)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let label = |c: i16| usize::try_from(c).ok().and_then(|c| labels.get(c).copied());
+    let mut cells = Vec::with_capacity(n);
+    for i in 0..n {
+        let mut found = Vec::with_capacity(count[i] as usize);
+        for k in 0..count[i] as usize {
+            let of_masses =
+                codes.iter().map(|c| label(c[i * slots + k])).collect::<Option<Vec<_>>>().ok_or_else(|| {
+                    ck.bad(&table_set.name(), format!("attractor {k} of cell {i} has a mass without a label"))
+                })?;
+            found.push((of_masses, fraction[i * slots + k]));
+        }
+        cells.push((count[i] > 0).then_some(found));
+    }
     let samples = g.attr(attr::SAMPLES).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
     let seed = g.attr(attr::SEED).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
     Ok(grid::AttractorMap { samples, seed, cells })

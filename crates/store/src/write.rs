@@ -428,7 +428,7 @@ fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap, z: &
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
     let texts = a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter());
-    let table = label_table(texts.cloned());
+    let table = label_table(texts.map(ToString::to_string));
     let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
     z.expected.texts(&label_dim, &table);
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
@@ -445,7 +445,7 @@ fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap, z: &
     netcdf::describe(&d, "share of the sampled initial states that reach the attractor (basin fraction)", "1")?;
     netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
     for (mi, mass) in m.masses.iter().enumerate() {
-        let index = |t: &String| table.iter().position(|l| l == t).unwrap_or(0) as i16;
+        let index = |l: &solver::Label| table.iter().position(|t| *t == l.to_string()).unwrap_or(0) as i16;
         let code = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
             cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.0[mi]))
         });
