@@ -65,7 +65,7 @@ impl AtlasRequest {
             shard: None,
             attractors: None,
             section_cap: 16,
-            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            threads: crate::threads(None).unwrap_or(1),
             output: None,
             resume: false,
             force: false,

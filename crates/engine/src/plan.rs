@@ -96,6 +96,19 @@ impl Plan {
         if let Some(done) = self.finished_before()? {
             return Ok(Executed { atlas: done, secs: 0.0, write_s: 0.0, prelude_s: 0.0, stream_s: 0.0, already: true });
         }
+        let ran = self.run(observer, start);
+        // A cancelled run is abandoned: its draft took its partial file, its
+        // journal goes too (a killed one keeps it, to resume).
+        if let (Err(e), Some(out)) = (&ran, &self.output) {
+            if let Some(grid::GridError::Cancelled) = e.downcast_ref() {
+                let _ = std::fs::remove_file(journal_path(out));
+            }
+        }
+        ran
+    }
+
+    /// [`Plan::execute`] once the output is locked and not already done.
+    fn run(&self, observer: &dyn Observer, start: Instant) -> Result<Executed> {
         let (atlas, journal) = self.open_journal()?;
         let done: Vec<Vec<bool>> = self.meta.sweeps.iter().map(|&s| atlas.lines_done(s)).collect();
         let owns = self.owned();
@@ -111,23 +124,11 @@ impl Plan {
         let Kept { mut atlas, journal, draft, prelude_s, stream_s } =
             self.compute(observer, &jobs, atlas, journal, &resumed)?;
         if let Some((sampling, only_hysteresis)) = &self.attractors {
-            match self.find_attractors(&atlas, sampling, *only_hysteresis, &owns, observer) {
-                Ok(found) => atlas.attractors = Some(found),
-                Err(e) => {
-                    // Cancelled: abandoned, as in the lines (see `compute`).
-                    if let (Some(grid::GridError::Cancelled), Some(j)) = (e.downcast_ref(), journal.as_ref()) {
-                        let _ = std::fs::remove_file(j.path());
-                    }
-                    return Err(e);
-                }
-            }
+            atlas.attractors = Some(self.find_attractors(&atlas, sampling, *only_hysteresis, &owns, observer)?);
         }
         let elapsed = start.elapsed().as_secs_f64();
         // Asked to stop once the cells were done: nothing is written.
         if observer.cancelled() {
-            if let Some(j) = journal.as_ref() {
-                let _ = std::fs::remove_file(j.path());
-            }
             return Err(grid::GridError::Cancelled.into());
         }
         let mut write_s = 0.0;
@@ -240,12 +241,7 @@ impl Plan {
         drop(tx);
         observer.finish();
         let kept = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
-        // An error or a cancel drops the draft, which removes its partial
-        // file; a cancelled run is abandoned, its journal too (a killed one
-        // keeps it, to resume).
-        if let (Err(grid::GridError::Cancelled), Some(j)) = (&ran, kept.journal.as_ref()) {
-            let _ = std::fs::remove_file(j.path());
-        }
+        // An error or a cancel drops the draft, which removes its partial file.
         ran?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
             return Err(e);

@@ -109,13 +109,13 @@ impl Sim {
     fn setup_with(&self, preset: Preset, method: Method, knobs: &[(String, f64)]) -> Result<Setup> {
         let scene = self.scene.load()?;
         for (name, value) in &self.set {
-            check_finite(value, &format!("--set {name}"))?;
+            check_finite(*value, &format!("--set {name}"))?;
             scene.check_parameter(name, &format!("--set {name}"))?;
         }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();
         for (k, v) in knobs.iter().chain(&self.accuracy) {
-            check_finite(v, &format!("--accuracy {k}"))?;
+            check_finite(*v, &format!("--accuracy {k}"))?;
             accuracy.set_named(k, *v)?;
             accuracy_overrides.push((k.clone(), *v));
         }
@@ -124,7 +124,7 @@ impl Sim {
 }
 
 /// Refuses a value that is not finite (`field` names it).
-fn check_finite(v: &f64, field: &str) -> Result<()> {
+fn check_finite(v: f64, field: &str) -> Result<()> {
     if !v.is_finite() {
         bail!("{field}: not a finite number, got {v}");
     }
@@ -182,7 +182,7 @@ pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
     let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{flag} {text}: expected NAME=VALUE"))?;
     let name = name.trim().to_string();
     let v: f64 = value.trim().parse().map_err(|_| anyhow!("{flag} {name}: '{}' is not a number", value.trim()))?;
-    check_finite(&v, &format!("{flag} {name}"))?;
+    check_finite(v, &format!("{flag} {name}"))?;
     Ok((name, v))
 }
 

@@ -298,14 +298,9 @@ fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
 fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
     let sim = sim(scene, params, &mut o)?;
-    let sweeps = match o.get::<String>("sweep")?.as_deref() {
-        None | Some("fresh") => vec![SweepKind::Fresh],
-        Some("up") => vec![SweepKind::Up],
-        Some("down") => vec![SweepKind::Down],
-        Some("both") => vec![SweepKind::Up, SweepKind::Down],
-        Some(other) => {
-            return Err(PyValueError::new_err(format!("sweep: expected fresh, up, down or both, got '{other}'")))
-        }
+    let sweeps = match o.get::<String>("sweep")? {
+        Some(text) => SweepKind::parse_set(&text, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))?,
+        None => vec![SweepKind::Fresh],
     };
     let mut r = AtlasRequest::new(sim, axis(o.need("x")?), axis(o.need("y")?), sweeps);
     r.along = named("along", o.get("along")?, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(Along::X);
@@ -362,20 +357,8 @@ fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bou
 fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
     let sim = sim(scene, params, &mut o)?;
-    let kind = named(
-        "kind",
-        o.get("kind")?,
-        |k| match k {
-            "pd" => Some(solver::Bifurcation::PeriodDoubling),
-            "sn" => Some(solver::Bifurcation::SaddleNode),
-            "pf" => Some(solver::Bifurcation::Pitchfork),
-            "ns" => Some(solver::Bifurcation::NeimarkSacker),
-            "grazing" => Some(solver::Bifurcation::Grazing),
-            _ => None,
-        },
-        "pd, sn, pf, ns or grazing",
-    )?
-    .ok_or_else(|| PyValueError::new_err("kind: required"))?;
+    let kind = named("kind", o.get("kind")?, solver::Bifurcation::parse, "pd, sn, pf, ns or grazing")?
+        .ok_or_else(|| PyValueError::new_err("kind: required"))?;
     let (a, b): (String, String) = o.need("free")?;
     let r = CurveRequest {
         sim,

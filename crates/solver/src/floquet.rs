@@ -59,6 +59,20 @@ pub enum Bifurcation {
 }
 
 impl Bifurcation {
+    /// Every kind.
+    pub const ALL: [Bifurcation; 5] = [
+        Bifurcation::PeriodDoubling,
+        Bifurcation::SaddleNode,
+        Bifurcation::Pitchfork,
+        Bifurcation::NeimarkSacker,
+        Bifurcation::Grazing,
+    ];
+
+    /// The kind of a short name ([`Bifurcation::name`]), in either case (`pd`, `PD`).
+    pub fn parse(name: &str) -> Option<Bifurcation> {
+        Bifurcation::ALL.into_iter().find(|b| b.name().eq_ignore_ascii_case(name))
+    }
+
     /// Short name: `PD`, `SN`, `PF`, `NS`, `grazing`.
     pub fn name(self) -> &'static str {
         match self {
@@ -89,6 +103,15 @@ pub fn kind(mu: C64, half: bool) -> Bifurcation {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn kinds_read_back_from_their_names_in_either_case() {
+        for b in Bifurcation::ALL {
+            assert_eq!(Bifurcation::parse(b.name()), Some(b));
+            assert_eq!(Bifurcation::parse(&b.name().to_lowercase()), Some(b));
+        }
+        assert_eq!(Bifurcation::parse("hopf"), None);
+    }
 
     #[test]
     fn kinds_of_crossings() {
