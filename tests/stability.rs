@@ -103,7 +103,7 @@ fn lyapunov_exponent_of_a_periodic_orbit() {
         assert!(mu[0].im.abs() < 1e-12 && mu[0].norm() > mu[1].norm() + 0.05, "{file}: leading multipliers {mu:?}");
         let expected = mu[0].norm().ln() / (n as f64 * sys.period);
         let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, sol.x.as_slice()).unwrap();
-        let (lambda, _) = solver::largest_exponent(&mut sim, 200, 100 * n).unwrap();
+        let lambda = solver::Exponent::measure(&mut sim, 200, 100 * n).unwrap().per_time();
         assert!((lambda - expected).abs() < 1e-6, "{file}: λ = {lambda} against ln|μ|/T = {expected}");
     }
 }

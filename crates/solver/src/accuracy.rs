@@ -216,21 +216,24 @@ knobs! {
     Multipliers multipliers: bool, Switch, max 1.0, "a switch";
     /// Times the record of a cell without a period is extended by `max_periods`
     /// when its largest Lyapunov exponent shows it still contracting (a long
-    /// transient, `λT < -0.002`): standard and precise 4, fast 1. Costs only on
-    /// such cells.
+    /// transient, `λT < -0.002`), or chaotic-looking while its record passes
+    /// near a stable periodic orbit (a chaotic transient that may yet settle):
+    /// standard and precise 4, fast 1. Costs only on such cells.
     Extensions extensions: usize, Whole, max 1e3, "time per cell";
     /// Periods over which the largest Lyapunov exponent of a cell without a
-    /// period is measured (standard 100; 0 skips it and leaves such cells `C`).
-    /// Costs about as much as that many periods of simulation, with tangents.
+    /// period is measured (standard 100; 0 skips it and leaves such cells `C`),
+    /// doubled at most twice while its interval contains 0 and the section is
+    /// not one closed curve. Costs about as much as that many periods of
+    /// simulation, with tangents.
     LyapunovPeriods lyapunov_periods: usize, Whole, max 1e6, "memory of the section points kept for the exponent";
     /// Periods after which a cell without a period has its largest Lyapunov
     /// exponent measured early (standard and fast 100; precise 0: off, the
     /// reference simulates every record in full). A clearly chaotic cell
-    /// (`λT > 0.05`, five times the quasi-periodic band) ends there as `C`
-    /// instead of simulating the rest of `max_periods`; any other goes on.
-    /// Saves most of the record of chaotic cells and costs one more Lyapunov
-    /// measurement on slow transients; a chaotic transient that would settle on
-    /// an orbit later stays `C`. On by default since the trade measured its
+    /// (`λT > 0.05`, its interval above 0, no stable orbit near its record)
+    /// ends there as `C` instead of simulating the rest of `max_periods`; any
+    /// other goes on. Saves most of the record of chaotic cells and costs one
+    /// more Lyapunov measurement on slow transients; a chaotic transient that
+    /// would settle on an orbit its record has not come near stays `C`. On by default since the trade measured its
     /// label agreement with `precise` above RK4's (docs/performance.md).
     ChaosCheck chaos_check: usize, Whole, max 1e7, "beyond max_periods it never acts";
     /// Step of the RK4 integrator (0.01, the literature's value).

@@ -30,8 +30,8 @@
 //! - Motions: a [`Simulator`] runs period by period ([`PeriodRecord`]) and
 //!   tells an [`Observer`] what happens ([`EventKind`]), or [`Halt`]s.
 //! - Stability: [`orbit_of_cell`] and [`solve`] find periodic orbits,
-//!   [`multipliers`] their Floquet multipliers, [`largest_exponent`] the
-//!   largest Lyapunov exponent of any motion.
+//!   [`multipliers`] their Floquet multipliers, [`Exponent`] the largest
+//!   Lyapunov exponent of any motion, with its confidence [`Interval`].
 //!
 //! ```
 //! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/multi-stop.toml")).unwrap();
@@ -80,7 +80,7 @@ pub use executor::{run_cell, run_cell_with_sections, CellResult, ImpactSections,
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
 pub use label::{Class, Count, Label, Mask, MassLabel, Symmetry};
-pub use lyapunov::largest_exponent;
+pub use lyapunov::{Exponent, Interval};
 /// Matrix type of Jacobians and monodromy matrices.
 pub use nalgebra::DMatrix;
 /// Column vector type of states passed to observers.

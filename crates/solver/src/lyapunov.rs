@@ -6,40 +6,141 @@
 //! is renormalised every period: `λ = Σ ln|Φ_k v_{k-1}| / (K T)`. For a periodic
 //! orbit this tends to `ln|μ_max| / (nT)`; it is clearly positive for chaos and
 //! zero for a motion on an invariant torus (quasi-periodic impacts), whose
-//! period-section points then fill a closed curve.
+//! period-section points then fill a closed curve. The estimate carries its
+//! own uncertainty ([`Exponent::interval`]), so that a motion is called chaotic
+//! only when its exponent is positive beyond it.
 
 use crate::simulate::{Halt, Ignore, Simulator};
 use nalgebra::{DMatrix, DVector};
 
-/// Largest Lyapunov exponent (per unit time) over `periods` forcing periods from
-/// the simulator's state, after `warmup` periods that only align the tangent
-/// vector with the most expanding direction; and the period-section points
-/// visited. The simulator goes on from where it is.
-pub fn largest_exponent(
-    sim: &mut Simulator<'_>,
-    warmup: usize,
-    periods: usize,
-) -> Result<(f64, Vec<DVector<f64>>), Halt> {
-    let dim = sim.state().len();
-    sim.track_tangent();
-    let mut v = DVector::from_element(dim, 1.0 / (dim as f64).sqrt());
-    let mut sum = 0.0;
-    let mut points = Vec::with_capacity(periods);
-    for k in 0..warmup + periods {
+/// Blocks the measured periods are split into for the exponent's uncertainty.
+const BLOCKS: usize = 10;
+
+/// Student's t at 97.5 % for `BLOCKS - 1` degrees of freedom: the half-width
+/// of the two-sided 95 % interval of a mean of `BLOCKS` block means, in their
+/// standard errors.
+const T_975_9: f64 = 2.262;
+
+/// Smallest half-width of the interval of `λT`: the resolution of the
+/// estimate. A neutral motion whose tangent map is a rotation (an undamped
+/// oscillator away from its stops) grows by exactly 0 each period, up to
+/// rounding; its interval must still contain 0.
+const RESOLUTION: f64 = 1e-9;
+
+/// The largest Lyapunov exponent of a motion, being measured on its own
+/// simulator: the growth of a renormalised tangent vector in each forcing
+/// period, and the period-section points visited. Its uncertainty comes from
+/// the spread of the means over [`BLOCKS`] consecutive blocks of periods
+/// (batch means: blocks of ten or more periods are nearly independent in a
+/// chaotic motion; on a torus the growth telescopes, the block means cancel
+/// and the interval is wide about 0).
+#[derive(Debug, Clone)]
+pub struct Exponent {
+    /// `ln |Φ_k v_{k-1}|`, the growth of each measured period.
+    growth: Vec<f64>,
+    /// The tangent vector after the last period (unit length).
+    v: DVector<f64>,
+    /// The forcing period `T`.
+    period: f64,
+    /// Period-section points visited, one per measured period.
+    pub points: Vec<DVector<f64>>,
+}
+
+/// A 95 % confidence interval of `λT`, the growth per forcing period.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interval {
+    /// The estimate, `λT`.
+    pub mean: f64,
+    /// Half the interval's width, at least [`RESOLUTION`] (infinite when too
+    /// few periods are measured).
+    pub half_width: f64,
+    /// Forcing periods measured.
+    pub periods: usize,
+}
+
+impl Interval {
+    /// Its lower end.
+    pub fn low(&self) -> f64 {
+        self.mean - self.half_width
+    }
+
+    /// Its upper end.
+    pub fn high(&self) -> f64 {
+        self.mean + self.half_width
+    }
+}
+
+impl Exponent {
+    /// Measures over `periods` forcing periods from the simulator's state,
+    /// after `warmup` periods that only align the tangent vector with the
+    /// most expanding direction. The simulator goes on from where it is.
+    pub fn measure(sim: &mut Simulator<'_>, warmup: usize, periods: usize) -> Result<Exponent, Halt> {
+        let dim = sim.state().len();
+        sim.track_tangent();
+        let mut e = Exponent {
+            growth: Vec::with_capacity(periods),
+            v: DVector::from_element(dim, 1.0 / (dim as f64).sqrt()),
+            period: sim.period(),
+            points: Vec::with_capacity(periods),
+        };
+        for _ in 0..warmup {
+            e.step(sim)?;
+        }
+        e.extend(sim, periods)?;
+        Ok(e)
+    }
+
+    /// Measures `periods` more forcing periods with `sim`, which must be the
+    /// simulator it was measured with, where it stopped.
+    pub fn extend(&mut self, sim: &mut Simulator<'_>, periods: usize) -> Result<(), Halt> {
+        for _ in 0..periods {
+            let growth = self.step(sim)?;
+            self.growth.push(growth);
+            self.points.push(sim.state().clone());
+        }
+        Ok(())
+    }
+
+    /// One forcing period of the tangent: its growth.
+    fn step(&mut self, sim: &mut Simulator<'_>) -> Result<f64, Halt> {
         sim.reset_tangent();
         sim.run_period(&[], false, &mut Ignore)?;
-        let w: DVector<f64> = sim.tangent().ok_or(Halt::Stalled)? * &v;
+        let w: DVector<f64> = sim.tangent().ok_or(Halt::Stalled)? * &self.v;
         let norm = w.norm();
         if !(norm.is_finite() && norm > 0.0) {
             return Err(Halt::Stalled);
         }
-        v = w / norm;
-        if k >= warmup {
-            sum += norm.ln();
-            points.push(sim.state().clone());
-        }
+        self.v = w / norm;
+        Ok(norm.ln())
     }
-    Ok((sum / (periods as f64 * sim.period()), points))
+
+    /// The largest Lyapunov exponent, per unit time:
+    /// `λ = Σ ln|Φ_k v_{k-1}| / (K T)`.
+    pub fn per_time(&self) -> f64 {
+        self.interval().mean / self.period
+    }
+
+    /// Forcing periods measured.
+    pub fn periods(&self) -> usize {
+        self.growth.len()
+    }
+
+    /// The 95 % confidence interval of `λT` from the means of [`BLOCKS`]
+    /// equal blocks of the measured periods (the first `K mod BLOCKS` periods
+    /// count in the estimate, not in the blocks).
+    pub fn interval(&self) -> Interval {
+        let k = self.growth.len();
+        let mean = self.growth.iter().sum::<f64>() / k as f64;
+        let len = k / BLOCKS;
+        if len == 0 {
+            return Interval { mean, half_width: f64::INFINITY, periods: k };
+        }
+        let blocks: Vec<f64> =
+            self.growth[k % BLOCKS..].chunks(len).map(|b| b.iter().sum::<f64>() / len as f64).collect();
+        let centre = blocks.iter().sum::<f64>() / BLOCKS as f64;
+        let var = blocks.iter().map(|b| (b - centre).powi(2)).sum::<f64>() / (BLOCKS - 1) as f64;
+        Interval { mean, half_width: (T_975_9 * (var / BLOCKS as f64).sqrt()).max(RESOLUTION), periods: k }
+    }
 }
 
 /// Whether the points lie on one closed curve: in the plane of their two
@@ -87,4 +188,52 @@ pub fn fills_closed_curve(points: &[DVector<f64>]) -> bool {
     // In whitened coordinates the points of an ellipse lie near the circle of
     // radius √2 (unit variance in each direction): perimeter 2π√2.
     gap < std::f64::consts::FRAC_PI_4 && length < 2.0 * std::f64::consts::TAU * std::f64::consts::SQRT_2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn estimate(growth: Vec<f64>) -> Exponent {
+        Exponent { points: Vec::new(), v: DVector::zeros(2), period: 2.0, growth }
+    }
+
+    /// A reproducible noise, uniform in [-1, 1) (SplitMix64 of `k`).
+    fn noise(k: usize) -> f64 {
+        let mut z = (k as u64).wrapping_add(1).wrapping_mul(0x9E3779B97F4A7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+        2.0 * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 - 1.0
+    }
+
+    /// Chaos: independent growths of mean 0.02 and spread 0.3. Over 100
+    /// periods the interval contains 0 (undecided); over 6 400 it lies above
+    /// 0, contains the mean, and is about eight times narrower (`1/√K`).
+    #[test]
+    fn a_positive_mean_is_told_once_measured_long_enough() {
+        let short = estimate((0..100).map(|k| 0.02 + 0.3 * noise(k)).collect()).interval();
+        assert!(short.low() < 0.0 && short.high() > 0.0, "{short:?}");
+        let long = estimate((0..6400).map(|k| 0.02 + 0.3 * noise(k)).collect()).interval();
+        assert!(long.low() > 0.0 && long.low() < 0.02 && long.high() > 0.02, "{long:?}");
+        assert!((4.0..16.0).contains(&(short.half_width / long.half_width)), "{short:?} {long:?}");
+        assert_eq!(long.periods, 6400);
+    }
+
+    /// A torus: the growths telescope (`ln|v_k| - ln|v_{k-1}|` of a bounded
+    /// oscillation), so the mean falls like `1/K` and the interval contains 0
+    /// however long the measurement; too few periods for the blocks leave it
+    /// unbounded, and a growth of exactly 0 up to rounding stays undecided.
+    #[test]
+    fn a_torus_stays_about_zero() {
+        let level = |k: usize| (0.7 * k as f64).sin();
+        for k in [100, 1600] {
+            let growth = estimate((1..=k).map(|i| level(i) - level(i - 1)).collect()).interval();
+            assert!(growth.low() < 0.0 && growth.high() > 0.0 && growth.mean.abs() < 2.0 / k as f64, "{growth:?}");
+        }
+        let neutral = estimate(vec![-1e-17; 100]).interval();
+        assert!(neutral.low() < 0.0 && neutral.high() > 0.0, "rounding is not contraction: {neutral:?}");
+        let few = estimate(vec![0.1; 9]).interval();
+        assert!(few.half_width.is_infinite() && (few.mean - 0.1).abs() < 1e-15);
+        assert!((estimate(vec![0.1; 10]).per_time() - 0.05).abs() < 1e-15);
+    }
 }
