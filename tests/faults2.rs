@@ -277,6 +277,12 @@ fn journals_locks_and_temporary_files_must_be_regular_files() {
         assert!(std::fs::symlink_metadata(&path).is_ok(), "{special} is left as it was");
         assert!(!d.join(format!(".{out}.lock")).exists() || *special == format!(".{out}.lock"), "lock released");
     }
+    // The output itself a pipe, even with --force (which replaces a file):
+    // refused before any work (the second audit: it hung at the final write).
+    let pipe = d.join("o.h5");
+    mkfifo(&pipe);
+    refused(&run_within(&atlas(&SMALL, pipe.to_str().unwrap(), &["--quiet", "--force"]), 60), "not a regular file");
+    assert!(!d.join(".o.h5.journal").exists() && !d.join(".o.h5.lock").exists());
     // The same through merge, whose output has a lock and a temporary file.
     let part = d.join("part.h5");
     assert!(run_within(&atlas(&SMALL, part.to_str().unwrap(), &["--quiet", "--shard", "1/1"]), 120).status.success());
@@ -338,8 +344,11 @@ fn a_trace_writes_each_period_boundary_once() {
     assert!(rows.windows(2).all(|w| w[0] != w[1]), "a row repeated");
 }
 
-/// Item 10: stop and mass names follow HDF5's group-name rules, checked when
-/// the scene loads (one error naming the field), never after the cells.
+/// Item 10: stop and mass names follow HDF5's group-name rules and leave the
+/// file's own names alone, and no mass is too light to resolve, checked when
+/// the scene loads (one error naming the field), never after the cells (the
+/// second audit: a stop named `period` failed after every cell, with an
+/// advice to `--resume` that could never succeed).
 #[test]
 fn stop_and_mass_names_are_checked_at_load() {
     let d = scratch("f2-names");
@@ -353,6 +362,12 @@ fn stop_and_mass_names_are_checked_at_load() {
         ("long.toml", "name = \"A1\"", &format!("name = \"{}\"", "A".repeat(65)), "stops[0].name"),
         ("mass.toml", "name = \"M2\"", "name = \"M/2\"", "masses[1].name"),
         ("space.toml", "name = \"M1\"", "name = \"M1 \"", "masses[0].name"),
+        // Names the file's own datasets use: sections/period, label_colour, label_code_M2.
+        ("period.toml", "name = \"A2\"", "name = \"period\"", "stops[1].name"),
+        ("colour.toml", "name = \"M2\"", "name = \"colour\"", "masses[1].name"),
+        ("code.toml", "name = \"M1\"", "name = \"code_M2\"", "masses[0].name"),
+        // A mass lighter than 1e-9 of the heaviest (wrong physics from 1e-14).
+        ("light.toml", "mass = 1\n", "mass = 1e-14\n", "masses[0].mass"),
     ];
     for (file, from, to, field) in cases {
         let p = d.join(file);

@@ -244,6 +244,44 @@ print("\n".join(out))
     }
 }
 
+/// Issue 30, item 1 (second audit): the index of a dataset's chunks, damaged
+/// (every copy of chunk 0's address pointed at another dataset's chunk), is
+/// an error on read, never chunks read as missing (fill values) or as another
+/// dataset's. The files are written in the HDF5 1.10 format, whose metadata,
+/// chunk indexes included, carries checksums (superblock version 2 or more);
+/// in the oldest format the index had none and `inspect` printed wrong counts.
+#[test]
+fn a_damaged_chunk_index_is_an_error_never_data() {
+    let d = scratch("integrity-index");
+    const UNINDEX: &str = r#"
+import sys, shutil, struct, h5py
+src, dst, name, other = sys.argv[1:5]
+with h5py.File(src, "r") as f:
+    ci, to = f[name].id.get_chunk_info(0), f[other].id.get_chunk_info(0)
+b = bytearray(open(src, "rb").read())
+print(b[8])
+pat = struct.pack("<Q", ci.byte_offset)
+hits = [i for i in range(len(b) - 8) if b[i:i + 8] == pat and not ci.byte_offset <= i < ci.byte_offset + ci.size]
+for i in hits:
+    b[i:i + 8] = struct.pack("<Q", to.byte_offset)
+open(dst, "wb").write(b)
+print(len(hits))
+"#;
+    let original = originals().atlas.to_str().unwrap();
+    for (name, other) in [("up/class", "up/lyapunov"), ("up/label_M1", "down/label_M1")] {
+        let bad = d.join(format!("unindexed-{}.h5", name.replace('/', "-")));
+        let said = python(UNINDEX, &[original, bad.to_str().unwrap(), name, other]);
+        let (superblock, hits) = said.trim().split_once('\n').unwrap();
+        assert!(superblock.parse::<u8>().unwrap() >= 2, "superblock version {superblock}: metadata without checksums");
+        assert!(hits.parse::<usize>().unwrap() >= 1, "the address of {name}'s chunk is in the file");
+        let out = run(&["inspect", bad.to_str().unwrap()]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: inspect read it: {}", String::from_utf8_lossy(&out.stdout));
+        assert!(!err.contains("panicked") && err.trim().lines().count() == 1, "{err}");
+        assert!(store::read(&bad).is_err(), "{name}");
+    }
+}
+
 /// Issue 30, item 4: datasets that disagree with the grid in length are one
 /// error naming the dataset (they panicked at read.rs:165, 167, 171, 156).
 #[test]

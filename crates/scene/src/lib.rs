@@ -142,6 +142,26 @@ fn index_of(names: &[String], name: &str, field: &str, what: &str) -> Result<usi
         .ok_or_else(|| SceneError::field(field, format!("unknown {what} '{name}' (known: {})", names.join(", "))))
 }
 
+/// Smallest ratio of a mass to the heaviest of its scene. Below it the modes
+/// of the linear flow are ill-conditioned: the solver can only call its cells
+/// unresolved, and from about 1e-14 rounding loses the light mass altogether.
+pub const MASS_RATIO_MIN: f64 = 1e-9;
+
+/// Refuses a mass lighter than [`MASS_RATIO_MIN`] times the heaviest.
+fn check_mass_ratio(masses: &[Mass]) -> Result<(), SceneError> {
+    let heaviest = masses.iter().map(|m| m.mass).fold(0.0, f64::max);
+    match masses.iter().position(|m| m.mass < MASS_RATIO_MIN * heaviest) {
+        Some(i) => Err(SceneError::field(
+            format!("masses[{i}].mass"),
+            format!(
+                "{:e} is less than {MASS_RATIO_MIN:e} times the heaviest mass ({heaviest:e}): the motion cannot be resolved in double precision",
+                masses[i].mass
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Longest name of a mass or stop, in characters.
 pub const MAX_NAME_CHARS: usize = 64;
 
@@ -171,9 +191,23 @@ fn name_problem(name: &str) -> Option<String> {
     None
 }
 
+/// Why `name` cannot name a mass (`masses`) or a stop (`stops`) of a file's
+/// layout, if it cannot: a sweep holds `label_<mass>`, `label_code_<mass>`
+/// and `label_colour`, and `sections/<stop>` beside `sections/period`.
+fn reserved(name: &str, field: &str) -> Option<String> {
+    let clash = match field {
+        "masses" => name == "colour" || name.starts_with("code_"),
+        _ => name == "period",
+    };
+    clash.then(|| {
+        let what = if field == "masses" { "'colour' or begin with 'code_'" } else { "'period'" };
+        format!("'{name}' is reserved: a file names its own datasets with it (a name must not be {what})")
+    })
+}
+
 fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
     for (i, n) in names.iter().enumerate() {
-        if let Some(problem) = name_problem(n) {
+        if let Some(problem) = name_problem(n).or_else(|| reserved(n, field)) {
             return Err(SceneError::field(format!("{field}[{i}].name"), problem));
         }
         if names[..i].contains(n) {
@@ -533,6 +567,7 @@ impl Scene {
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
+        check_mass_ratio(&masses)?;
         let links = self
             .links
             .iter()

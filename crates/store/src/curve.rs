@@ -36,7 +36,7 @@ pub struct Curve {
 /// Writes `curves` to `path` atomically; `command` and `scene` are provenance.
 pub fn write_curves(path: &Path, curves: &[Curve], command: &str, scene: &str) -> Result<(), StoreError> {
     crate::write_atomically(path, |tmp| -> hdf5::Result<()> {
-        let f = hdf5::File::create(tmp)?;
+        let f = netcdf::create_file(tmp)?;
         netcdf::attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
         netcdf::attr_str(&f, attr::SCENE, scene)?;
         write_all(&f, curves, command)?;

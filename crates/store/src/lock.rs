@@ -52,6 +52,12 @@ pub fn canonical_output(output: &Path) -> Result<PathBuf, StoreError> {
                 let target = std::fs::read_link(&full).map_err(|e| StoreError::io(&full, e))?;
                 path = folder.join(target);
             }
+            // A pipe or device is never replaced (a pipe would block the final
+            // write); a folder is refused where the output is opened.
+            Ok(m) if !m.file_type().is_file() && !m.file_type().is_dir() => {
+                let what = kind_of(m.file_type());
+                return Err(StoreError::format(output, format!("is {what}, not a regular file; refusing to write it")));
+            }
             _ => return Ok(full),
         }
     }

@@ -97,3 +97,12 @@ pub fn dimension(g: &Group, name: &str, len: usize) -> hdf5::Result<Dataset> {
     set_scale(&ds, &format!("{DIM_ONLY}{len:>10}"))?;
     Ok(ds)
 }
+
+/// Creates (truncates) an HDF5 file in the HDF5 1.10 format: its metadata,
+/// the index of every dataset's chunks included, carries checksums, so that a
+/// damaged index is an error on read rather than chunks read as never
+/// written (fill values). Readers of HDF5 1.10 and later (h5py, netCDF-C,
+/// xarray) read it.
+pub(crate) fn create_file(path: &std::path::Path) -> hdf5::Result<hdf5::File> {
+    hdf5::File::with_options().with_fapl(|p| p.libver_v110()).create(path)
+}

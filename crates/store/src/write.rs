@@ -196,7 +196,7 @@ type Created = (hdf5::File, Vec<Vec<(Field, hdf5::Dataset)>>);
 
 fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
     let p = &m.plane;
-    let f = hdf5::File::create(path)?;
+    let f = crate::netcdf::create_file(path)?;
     attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
     attr_str(&f, "title", &format!("vibroatlas map of the {} scene over ({}, {})", m.scene_name, p.x.name, p.y.name))?;
     attr_str(&f, "source", &format!("vibroatlas {} (git {})", env!("CARGO_PKG_VERSION"), GIT_COMMIT))?;
