@@ -311,6 +311,12 @@ fn datasets_of_the_wrong_length_are_one_error_naming_them() {
         assert!(text.contains(what), "{spec}: expected '{what}' in: {text}");
         assert_eq!(text.lines().count(), 1, "{text}");
     }
+    // An attribute out of its range (the second audit: a section_cap of -1
+    // was read as 0, and a replayed cell differed from the stored one).
+    for cap in ["-1", "99999999999"] {
+        let file = mutated(original, &d.join("cap.h5"), &[&format!("attr|@section_cap|np.int64({cap})")]);
+        every_command_refuses(&file, &format!("attribute section_cap: {cap}; it is 0 to 100000"));
+    }
     // Through every command: the short flags of the audit.
     let file = mutated(original, &d.join("flags.h5"), &["data|up/flags|a[:-1]"]);
     every_command_refuses(&file, "up/flags: 2 rows, the grid has 3");

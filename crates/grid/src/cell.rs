@@ -47,6 +47,9 @@ pub fn start_state(sys: &System, start: Option<&[f64]>) -> Vec<f64> {
     }
 }
 
+/// Largest `section_cap`: points kept per section per cell.
+pub const MAX_SECTION_CAP: usize = 100_000;
+
 /// Everything needed to run cells of one scene.
 #[derive(Debug, Clone)]
 pub struct CellSetup {
@@ -58,7 +61,8 @@ pub struct CellSetup {
     pub accuracy: Accuracy,
     /// Integrator.
     pub method: Method,
-    /// Largest number of points kept per section per cell.
+    /// Largest number of points kept per section per cell (at most
+    /// [`MAX_SECTION_CAP`]).
     pub section_cap: usize,
 }
 

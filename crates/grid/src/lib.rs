@@ -50,7 +50,7 @@ mod sweep;
 
 pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
 pub use axis::{Axis, MAX_COUNT};
-pub use cell::{start_state, CellData, CellSetup};
+pub use cell::{start_state, CellData, CellSetup, MAX_SECTION_CAP};
 pub use error::GridError;
 pub use notation::Notation;
 pub use plane::{Along, Line, Plane};

@@ -453,7 +453,13 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         stops,
         stop_normals,
         dim,
-        section_cap: f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize,
+        section_cap: {
+            // Read as signed, so that a negative value is refused rather than converted to 0.
+            let cap = f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<i64>()).map_err(h)?;
+            usize::try_from(cap).ok().filter(|&c| c <= grid::MAX_SECTION_CAP).ok_or_else(|| {
+                fmt(format!("attribute {}: {cap}; it is 0 to {}", attr::SECTION_CAP, grid::MAX_SECTION_CAP))
+            })?
+        },
         notation,
     })
 }
