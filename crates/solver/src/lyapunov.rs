@@ -30,7 +30,7 @@ const RESOLUTION: f64 = 1e-9;
 /// The largest Lyapunov exponent of a motion, being measured on its own
 /// simulator: the growth of a renormalised tangent vector in each forcing
 /// period, and the period-section points visited. Its uncertainty comes from
-/// the spread of the means over [`BLOCKS`] consecutive blocks of periods
+/// the spread of the means over ten consecutive blocks of periods
 /// (batch means: blocks of ten or more periods are nearly independent in a
 /// chaotic motion; on a torus the growth telescopes, the block means cancel
 /// and the interval is wide about 0).
@@ -51,8 +51,8 @@ pub struct Exponent {
 pub struct Interval {
     /// The estimate, `λT`.
     pub mean: f64,
-    /// Half the interval's width, at least [`RESOLUTION`] (infinite when too
-    /// few periods are measured).
+    /// Half the interval's width: at least 1e-9, the estimate's resolution;
+    /// infinite when fewer than ten periods are measured.
     pub half_width: f64,
     /// Forcing periods measured.
     pub periods: usize,
@@ -125,9 +125,9 @@ impl Exponent {
         self.growth.len()
     }
 
-    /// The 95 % confidence interval of `λT` from the means of [`BLOCKS`]
-    /// equal blocks of the measured periods (the first `K mod BLOCKS` periods
-    /// count in the estimate, not in the blocks).
+    /// The 95 % confidence interval of `λT` from the means of ten equal
+    /// blocks of the measured periods (the first `K mod 10` periods count in
+    /// the estimate, not in the blocks).
     pub fn interval(&self) -> Interval {
         let k = self.growth.len();
         let mean = self.growth.iter().sum::<f64>() / k as f64;
