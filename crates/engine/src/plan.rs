@@ -151,8 +151,8 @@ impl Plan {
             Journal::resume(&jp, &key, &self.meta)?
         } else {
             // Name the file the user asked for; the journal is ours.
-            let j =
-                Journal::create(&jp, &key).map_err(|e| anyhow!("{}: cannot write beside it ({e})", out.display()))?;
+            let j = Journal::create(&jp, &key)
+                .map_err(|e| anyhow!("{}: cannot write beside it ({:#})", out.display(), anyhow!(e)))?;
             (j, Vec::new())
         };
         for l in lines {
@@ -261,7 +261,9 @@ impl Plan {
     ) -> Result<()> {
         let info =
             RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
-        let kept = |e: store::StoreError| anyhow!("{e} (the computed lines are kept: --resume once it can be written)");
+        let kept = |e: store::StoreError| {
+            anyhow!("{:#} (the computed lines are kept: --resume once it can be written)", anyhow!(e))
+        };
         draft.map_err(kept)?.finish(atlas, &info).map_err(kept)?;
         // A journal removed from outside during the run: the file is
         // complete all the same (exit 0), but a kill would have lost the

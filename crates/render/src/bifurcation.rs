@@ -153,7 +153,7 @@ fn directions(atlas: &Atlas, first: Option<SweepKind>) -> String {
     }
 }
 
-fn draw<DB: DrawingBackend>(
+fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

@@ -92,7 +92,7 @@ impl<'a> CellGrid<'a> {
 
     /// A chart over the whole plane (half a cell of margin), axes named after
     /// the parameters' symbols.
-    pub(crate) fn chart<'b, DB: DrawingBackend>(
+    pub(crate) fn chart<'b, DB: crate::Backend>(
         &self,
         area: &'b DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -145,7 +145,7 @@ enum Paint {
 }
 
 /// Draws cells as `paint` gives them (None: not drawn), and `curves` over them.
-fn draw_cells<DB: DrawingBackend>(
+fn draw_cells<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -310,7 +310,7 @@ struct Placed {
     size: u32,
 }
 
-fn place<DB: DrawingBackend>(
+fn place<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     below_rows: usize,
@@ -339,7 +339,7 @@ fn place<DB: DrawingBackend>(
 
 impl Placed {
     /// `area` split into the panels' area and the legend's.
-    fn split<DB: DrawingBackend>(
+    fn split<DB: crate::Backend>(
         &self,
         area: &DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -353,7 +353,7 @@ impl Placed {
     }
 
     /// Draws the legend into its area.
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
+    fn draw<DB: crate::Backend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
         legend::draw(area, canvas, &self.rows)
     }
 }
@@ -381,7 +381,7 @@ pub fn map(
     save!(path, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
 }
 
-fn draw_map<DB: DrawingBackend>(
+fn draw_map<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -416,7 +416,7 @@ fn draw_map<DB: DrawingBackend>(
 
 /// The three panels of the hysteresis view and their legend: labels of both
 /// sweeps, then the (up, down) pairs of the differing cells.
-fn draw_hysteresis<DB: DrawingBackend>(
+fn draw_hysteresis<DB: crate::Backend>(
     body: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -500,7 +500,7 @@ pub fn sheet(
     save!(path, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
 }
 
-fn draw_sheet<DB: DrawingBackend>(
+fn draw_sheet<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     panels: &[(String, Atlas)],
@@ -542,7 +542,7 @@ pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), Rend
     save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }
 
-fn draw_attractors<DB: DrawingBackend>(
+fn draw_attractors<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

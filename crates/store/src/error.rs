@@ -1,4 +1,7 @@
-//! Errors of the store: one line naming the file and what failed.
+//! Errors of the store: one line naming the file and what failed. A cause
+//! of another library (HDF5, a picture's writer) is kept as the error's
+//! [`source`](std::error::Error::source), so that `{:#}` (anyhow) prints
+//! `file: cause` on one line.
 
 use thiserror::Error;
 
@@ -7,12 +10,23 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum StoreError {
     /// HDF5 library error.
-    #[error("{path}: {message}")]
+    #[error("{path}")]
     Hdf5 {
         /// File.
         path: String,
-        /// The library's message.
-        message: String,
+        /// The library's error (the source).
+        #[source]
+        cause: Hdf5Error,
+    },
+    /// The writer of a file written atomically ([`crate::write_atomically`])
+    /// failed: nothing was put in place.
+    #[error("{path}")]
+    Write {
+        /// The file that was to be written.
+        path: String,
+        /// The writer's error (the source): a picture's, the HDF5 library's, the system's.
+        #[source]
+        cause: Box<dyn std::error::Error + Send + Sync>,
     },
     /// Operating-system I/O error.
     #[error("{path}: {cause}")]
@@ -59,9 +73,7 @@ pub enum StoreError {
 impl StoreError {
     /// Wraps an HDF5 error with the file's path.
     pub fn hdf5(path: &std::path::Path, e: hdf5::Error) -> Self {
-        // The library's messages span lines: one line, as every error.
-        let message = e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-        StoreError::Hdf5 { path: path.display().to_string(), message }
+        StoreError::Hdf5 { path: path.display().to_string(), cause: Hdf5Error(e) }
     }
 
     /// Wraps an I/O error with the file's path.
@@ -83,3 +95,29 @@ impl StoreError {
         StoreError::Format { path: path.display().to_string(), message: message.into() }
     }
 }
+
+/// An error of the HDF5 library, shown on one line (the library's messages
+/// span lines); [`Hdf5Error::library`] is the library's own error.
+#[derive(Debug)]
+pub struct Hdf5Error(hdf5::Error);
+
+impl Hdf5Error {
+    /// The library's error.
+    pub fn library(&self) -> &hdf5::Error {
+        &self.0
+    }
+}
+
+impl From<hdf5::Error> for Hdf5Error {
+    fn from(e: hdf5::Error) -> Self {
+        Hdf5Error(e)
+    }
+}
+
+impl std::fmt::Display for Hdf5Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0.to_string().split_whitespace().collect::<Vec<_>>().join(" "))
+    }
+}
+
+impl std::error::Error for Hdf5Error {}
