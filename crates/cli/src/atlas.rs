@@ -17,7 +17,7 @@ pub fn run(a: AtlasArgs) -> Result<()> {
         AtlasSweep::Down => vec![SweepKind::Down],
         AtlasSweep::Both => vec![SweepKind::Up, SweepKind::Down],
     };
-    let flags = |e| engine::in_flags(e, &[("shard", "--shard")]);
+    let flags = |e| engine::grid_error(e, &[("shard", engine::Opt::Shard)]);
     let mut r = AtlasRequest::new(sim(&a.sim)?, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, sweeps);
     r.along = match a.along {
         AlongArg::X => Along::X,

@@ -3,6 +3,7 @@
 //! `grid::attractors` for the sampling and the grouping); and the JSON object
 //! of `attractors --json` ([`Attractors::to_json`]).
 
+use crate::error::{Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::sim::{parameters_json, Sim};
 use anyhow::{bail, Result};
@@ -41,11 +42,11 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
     let s = r.sim.setup()?;
     let k = r.sampling.samples;
     if k == 0 || k > MAX_SAMPLES {
-        bail!("--samples: expected 1 to {MAX_SAMPLES}, got {k}");
+        bail!(RequestError::option(Opt::Samples).text(format!("expected 1 to {MAX_SAMPLES}, got {k}")));
     }
     let (x, v) = (r.sampling.x, r.sampling.v);
     if !(x.is_finite() && v.is_finite() && x >= 0.0 && v >= 0.0) {
-        bail!("--box: expected X,V (two numbers >= 0), got '{x},{v}'");
+        bail!(RequestError::option(Opt::Box).text(format!("expected X,V (two numbers >= 0), got '{x},{v}'")));
     }
     let cs = s.cell_setup(0)?;
     observer.begin(&Begin { total: k as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });

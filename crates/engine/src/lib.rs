@@ -13,8 +13,10 @@
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
 //! them ([`Observer::cancelled`]: the run ends with
-//! [`grid::GridError::Cancelled`] and writes no file). Errors are one line
-//! naming the option at fault as the command line spells it (`--set mu_k: …`).
+//! [`grid::GridError::Cancelled`] and writes no file). Errors are one line;
+//! a refused request is a [`RequestError`] naming the option at fault in the
+//! request's terms ([`Opt`]: `set mu_k: …`), which each front end spells in
+//! its own words ([`Words`], [`in_words`]: the command line's `--set mu_k: …`).
 //!
 //! The README's main job, the reference plane of the multi-stop scene with
 //! both sweeps (here on a coarse grid, written to a file):
@@ -39,6 +41,7 @@ mod attractors;
 pub mod bench;
 mod cell;
 mod curve;
+mod error;
 mod eta;
 mod observer;
 mod orbit;
@@ -53,6 +56,7 @@ pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
 pub use cell::{cell, friction_names, Cell};
 pub use curve::{curve, curves, stored, stored_setup, CurveRequest, CurvesFound, CurvesRequest, Traced};
+pub use error::{grid_error, in_words, Fields, Opt, RequestError, Words};
 pub use eta::{eta, Work};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{continuation, orbit, Continued, Found};
@@ -65,18 +69,3 @@ pub use study::{sheet_panel, study, StudyPlan};
 pub use summary::{reasons, summary_json};
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
 pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};
-
-/// A grid error in the words of the command line: the field it names (`x`,
-/// `x omega`, `shard`) becomes the flag (`--x`, `--x omega`, `--shard`) that
-/// `flags` maps it to.
-pub fn in_flags(e: grid::GridError, flags: &[(&str, &str)]) -> anyhow::Error {
-    match e {
-        grid::GridError::Field { field, message } => {
-            let (head, rest) = field.split_once(' ').map_or((field.as_str(), ""), |(h, r)| (h, r));
-            let flag = flags.iter().find(|(f, _)| *f == head).map_or(head, |(_, flag)| flag);
-            let sep = if rest.is_empty() { "" } else { " " };
-            anyhow::anyhow!("{flag}{sep}{rest}: {message}")
-        }
-        other => anyhow::anyhow!(other),
-    }
-}

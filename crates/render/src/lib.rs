@@ -64,6 +64,14 @@ fn err<E: std::error::Error + Send + Sync + 'static>(e: E) -> RenderError {
     RenderError::because("", e)
 }
 
+/// What an atlas lacks for the picture asked of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Missing {
+    /// Its coexisting attractors (a map of their number).
+    Attractors,
+}
+
 /// A picture could not be drawn or written: `render: ` and what failed,
 /// with the error of the library or of the system that failed (plotters, the
 /// scene, svg2pdf, the file system) as its [`source`](std::error::Error::source)
@@ -74,17 +82,32 @@ pub struct RenderError {
     what: String,
     /// The error that made it fail.
     cause: Option<Box<dyn std::error::Error + Send + Sync>>,
+    /// What the atlas lacks, when that is why.
+    missing: Option<Missing>,
 }
 
 impl RenderError {
     /// An error saying `message`.
     pub fn new(message: impl Into<String>) -> RenderError {
-        RenderError { what: message.into(), cause: None }
+        RenderError { what: message.into(), cause: None, missing: None }
     }
 
     /// An error saying `what` failed because of `cause`.
     pub fn because(what: impl Into<String>, cause: impl Into<Box<dyn std::error::Error + Send + Sync>>) -> RenderError {
-        RenderError { what: what.into(), cause: Some(cause.into()) }
+        RenderError { what: what.into(), cause: Some(cause.into()), missing: None }
+    }
+
+    /// The atlas lacks `what` for the picture: `the file has no …`.
+    pub fn lacks(what: Missing) -> RenderError {
+        let name = match what {
+            Missing::Attractors => "attractors",
+        };
+        RenderError { what: format!("the file has no {name}"), cause: None, missing: Some(what) }
+    }
+
+    /// What the atlas lacks, when that is why the picture was not drawn.
+    pub fn missing(&self) -> Option<Missing> {
+        self.missing
     }
 
     /// What failed, without its cause.

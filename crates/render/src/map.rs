@@ -534,10 +534,7 @@ const COEXISTING: [RGBColor; 4] =
 /// `atlas` (`atlas --attractors`), cells not sampled white (format by the
 /// extension of `path`).
 pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let a = atlas
-        .attractors
-        .as_ref()
-        .ok_or_else(|| RenderError::new("the file has no attractors: make it with atlas --attractors K"))?;
+    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::Missing::Attractors))?;
     let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }

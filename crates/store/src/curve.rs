@@ -9,7 +9,7 @@
 //! the same way (`vibroatlas curves ATLAS --into`); [`read_curves`] reads
 //! either.
 
-use crate::error::{Hdf5Error, StoreError};
+use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
 use crate::layout::curves::*;
 use crate::netcdf;
@@ -119,12 +119,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     } else {
         match f.group(GROUP) {
             Ok(g) if content(&g).ok().as_deref() == Some(CONTENT) => g,
-            _ => {
-                return Err(StoreError::format(
-                    path,
-                    "not a vibroatlas curve file (vibroatlas curve -o FILE.h5) nor an atlas with curves (vibroatlas curves ATLAS --into)",
-                ))
-            }
+            _ => return Err(StoreError::Kind { path: path.display().to_string(), found: OtherKind::NoCurves }),
         }
     };
     let ck = crate::read::Checker { path };

@@ -18,6 +18,33 @@ pub enum StoreError {
         #[source]
         cause: Hdf5Error,
     },
+    /// A resume journal that cannot be resumed from: the run must start over
+    /// (the journal removed) or run without resuming.
+    #[error("{path}: {problem}")]
+    Journal {
+        /// The journal.
+        path: String,
+        /// What is wrong with it.
+        problem: JournalProblem,
+    },
+    /// A vibroatlas file of another kind than the one asked for.
+    #[error("{path}: {found}")]
+    Kind {
+        /// The file.
+        path: String,
+        /// What it is instead.
+        found: OtherKind,
+    },
+    /// Two parts of a merge that are not parts of the same run.
+    #[error("{path}: is not a part of the same run as {first}: different {setting}")]
+    OtherRun {
+        /// The part refused.
+        path: String,
+        /// The first part.
+        first: String,
+        /// The first of their settings that differs.
+        setting: Setting,
+    },
     /// The writer of a file written atomically ([`crate::write_atomically`])
     /// failed: nothing was put in place.
     #[error("{path}")]
@@ -68,6 +95,60 @@ pub enum StoreError {
         /// How it failed.
         message: String,
     },
+}
+
+/// Why a journal cannot be resumed from.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum JournalProblem {
+    /// A line that this run did not write as it is (edited, truncated, foreign).
+    #[error("line {line}: {why}; the journal cannot be trusted")]
+    Damaged {
+        /// The line's number (from 1, the header's).
+        line: usize,
+        /// What is wrong with it.
+        why: String,
+    },
+    /// The journal of a run with other settings.
+    #[error("the journal belongs to a run with other settings")]
+    OtherRun,
+}
+
+/// What a file read is instead of the kind asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum OtherKind {
+    /// A curve file where an atlas was asked for.
+    #[error("not an atlas (a curve file)")]
+    CurvesNotAtlas,
+    /// Neither a curve file nor an atlas with curves, where curves were asked for.
+    #[error("not a vibroatlas curve file nor an atlas with curves")]
+    NoCurves,
+}
+
+/// The setting in which two parts of a merge differ (the first that does,
+/// in this order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[non_exhaustive]
+pub enum Setting {
+    /// The scene.
+    #[error("scene")]
+    Scene,
+    /// The parameter values that override the scene's.
+    #[error("parameter overrides")]
+    Overrides,
+    /// The grid: its axes, or the axis its chains follow.
+    #[error("grid")]
+    Grid,
+    /// The sweeps.
+    #[error("sweeps")]
+    Sweeps,
+    /// The preset, the accuracy knobs or the integrator.
+    #[error("accuracy settings")]
+    Accuracy,
+    /// Any other setting.
+    #[error("settings")]
+    Other,
 }
 
 impl StoreError {
