@@ -11,7 +11,6 @@ mod cell;
 mod common;
 mod continue_cmd;
 mod curve;
-mod diagram;
 mod figure;
 mod flags;
 mod inspect;

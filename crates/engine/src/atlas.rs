@@ -20,6 +20,17 @@ pub enum AttractorCells {
     Hysteresis,
 }
 
+impl AttractorCells {
+    /// `all` or `hysteresis`.
+    pub fn parse(name: &str) -> Option<AttractorCells> {
+        match name {
+            "all" => Some(AttractorCells::All),
+            "hysteresis" => Some(AttractorCells::Hysteresis),
+            _ => None,
+        }
+    }
+}
+
 /// An atlas to compute.
 #[derive(Debug, Clone)]
 pub struct AtlasRequest {

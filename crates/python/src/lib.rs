@@ -338,15 +338,8 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     let seed = o.get("seed")?.unwrap_or(1);
     let where_ = o.get::<String>("attractors_where")?;
     if let Some(samples) = o.get::<usize>("attractors")? {
-        let cells = match where_.as_deref() {
-            None | Some("all") => AttractorCells::All,
-            Some("hysteresis") => AttractorCells::Hysteresis,
-            Some(other) => {
-                return Err(PyValueError::new_err(format!(
-                    "attractors_where: expected all or hysteresis, got '{other}'"
-                )))
-            }
-        };
+        let cells = named("attractors_where", where_, AttractorCells::parse, "all or hysteresis")?
+            .unwrap_or(AttractorCells::All);
         r.attractors = Some((Sampling { samples, seed, x: 2.0, v: 2.0 }, cells));
     }
     r.section_cap = o.get("section_cap")?.unwrap_or(16);

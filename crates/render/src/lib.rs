@@ -23,7 +23,7 @@ pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use map::{attractor_map, map, sheet, Overlay, View};
 pub use output::Format;
-pub use page::{Page, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
+pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};
 pub use scalar::{scalar_map, Quantity};
 pub use section::{sections, Panel};
@@ -134,6 +134,20 @@ impl std::error::Error for RenderError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_page_of_figure_options() {
+        assert_eq!(Page::of(None, None, None), Ok(Page::screen()));
+        assert_eq!(Page::of(None, Some(8.0), None), Err(PageError::WithoutSize(PageOption::FontSize)));
+        assert_eq!(Page::of(None, None, Some(300)).unwrap_err().option(), PageOption::Dpi);
+        assert_eq!(
+            Page::of(Some("single"), Some(30.0), None).unwrap_err().to_string(),
+            "must be in [6, 24] pt, got 30"
+        );
+        assert_eq!(Page::of(Some("single"), None, Some(10)).unwrap_err().to_string(), "must be in [72, 1200], got 10");
+        assert_eq!(Page::of(Some("10x"), None, None).unwrap_err().option(), PageOption::Size);
+        assert!(Page::of(Some("120x80"), Some(10.0), Some(600)).is_ok());
+    }
 
     /// A picture written where it cannot be: the system's error is the
     /// source, typed, and the chain reads `render: path: cause` on one line.

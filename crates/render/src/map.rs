@@ -31,6 +31,16 @@ pub enum View {
     Hysteresis,
 }
 
+impl View {
+    /// `hysteresis`, or the name of a sweep (`fresh`, `up`, `down`).
+    pub fn parse(name: &str) -> Option<View> {
+        match name {
+            "hysteresis" => Some(View::Hysteresis),
+            sweep => SweepKind::parse(sweep).map(View::Sweep),
+        }
+    }
+}
+
 /// Colour of cells a panel does not show (not computed, or no hysteresis):
 /// white, apart from every label's colour.
 const BLANK: RGBColor = RGBColor(255, 255, 255);
