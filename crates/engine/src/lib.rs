@@ -9,6 +9,7 @@
 //! | [`atlas()`] | [`AtlasRequest`] | [`Executed`] (the atlas, the file written) |
 //! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
 //! | [`curve()`] | [`CurveRequest`] | [`Traced`] (`to_json`: `curve --json`) |
+//! | [`merge()`] | [`MergeRequest`] | [`store::Merged`] (the atlas written) |
 //! | [`bench::bench()`] | [`bench::BenchRequest`] | [`bench::Bench`] (`to_json`: `bench --json`) |
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
@@ -43,6 +44,7 @@ mod cell;
 mod curve;
 mod error;
 mod eta;
+mod merge;
 mod observer;
 mod orbit;
 mod plan;
@@ -58,6 +60,7 @@ pub use cell::{cell, friction_names, Cell};
 pub use curve::{curve, curves, stored, stored_setup, CurveRequest, CurvesFound, CurvesRequest, Traced};
 pub use error::{grid_error, in_words, Fields, Opt, RequestError, Words};
 pub use eta::{eta, Work};
+pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{continuation, orbit, Continued, Found};
 pub use plan::{threads, Executed, Plan};
@@ -66,6 +69,6 @@ pub use sim::{
     Start,
 };
 pub use study::{sheet_panel, study, StudyPlan};
-pub use summary::{reasons, summary_json};
+pub use summary::{inspect_json, reasons, summary_json, Summary, SweepSummary, CLASSES};
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
 pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};
