@@ -59,7 +59,7 @@ pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
 pub use cell::{cell, friction_names, Cell};
 pub use curve::{curve, curves, stored, stored_setup, CurveRequest, CurvesFound, CurvesRequest, Traced};
 pub use error::{grid_error, in_words, Fields, Opt, RequestError, Words};
-pub use eta::{eta, Work};
+pub use eta::{eta, Meter, Status, Work};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{continuation, orbit, Continued, Found};
