@@ -77,6 +77,10 @@ pub enum Opt {
     TradeRepeat,
     /// The scene of the bench.
     Scene,
+    /// Samples per forcing period of a cell's trace.
+    TraceSamples,
+    /// Forcing periods of a cell's Poincaré sections.
+    SectionPeriods,
 }
 
 impl Opt {
@@ -116,6 +120,8 @@ impl Opt {
             Opt::Repeat => "repeat",
             Opt::TradeRepeat => "trade_repeat",
             Opt::Scene => "scene",
+            Opt::TraceSamples => "trace_samples",
+            Opt::SectionPeriods => "section_periods",
         }
     }
 

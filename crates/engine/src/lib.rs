@@ -71,4 +71,7 @@ pub use sim::{
 pub use study::{sheet_panel, study, StudyPlan};
 pub use summary::{inspect_json, reasons, summary_json, Summary, SweepSummary, CLASSES};
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
-pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};
+pub use trace::{
+    check_trace_samples, halt_text, sections, trace, trace_csv, window, window_periods, Row, Sections, Window,
+    MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
+};

@@ -91,6 +91,8 @@ pub struct Continued {
     pub system: System,
     /// The parameter.
     pub axis: Axis,
+    /// The parameter's symbol in the scene (`ω`), for figures.
+    pub symbol: String,
     /// The branch and its bifurcations.
     pub branch: Branch,
     /// A warning about the start (the scene differs from a stored one).
@@ -118,10 +120,23 @@ pub fn continuation(sim: &Sim, start: &Start, axis: &Axis, n: Option<usize>, arc
     } else {
         solver::continuation::follow(&family, &s.accuracy, &values, start)
     };
-    Ok(Continued { system, axis: axis.clone(), branch, warning })
+    Ok(Continued { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning })
 }
 
 impl Continued {
+    /// Each point of the branch as a figure draws it: the parameter, the
+    /// first coordinate of the fixed point, the largest |Floquet multiplier|,
+    /// and whether the orbit is stable.
+    pub fn points(&self) -> Vec<(f64, f64, f64, bool)> {
+        let radius = |o: &Orbit| solver::floquet::spectral_radius(&o.multipliers);
+        self.branch.points.iter().map(|p| (p.value, p.orbit.solution.x[0], radius(&p.orbit), p.orbit.stable)).collect()
+    }
+
+    /// Each bifurcation: the parameter and the kind's name (`PD`).
+    pub fn marks(&self) -> Vec<(f64, String)> {
+        self.branch.bifurcations.iter().map(|b| (b.value, b.kind.name().to_string())).collect()
+    }
+
     /// The JSON object of the branch (the contract of `continue --json`).
     pub fn to_json(&self) -> Value {
         let b = &self.branch;

@@ -184,6 +184,16 @@ impl Setup {
     pub fn system(&self) -> Result<solver::System> {
         self.system_with(&[])
     }
+
+    /// The parameters given, by their symbols, for titles (`ω = 0.33, δ =
+    /// 0.6`), or `scene defaults`.
+    pub fn described(&self) -> String {
+        if self.overrides.is_empty() {
+            return "scene defaults".to_string();
+        }
+        let each: Vec<String> = self.overrides.iter().map(|(k, v)| format!("{} = {v}", self.scene.symbol(k))).collect();
+        each.join(", ")
+    }
 }
 
 /// Parses `NAME=VALUE` with a finite value; `option` names the option in
