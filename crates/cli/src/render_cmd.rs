@@ -58,10 +58,21 @@ pub fn run(a: RenderArgs) -> Result<()> {
         return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
     }
-    let mut curves = Vec::new();
+    let (mut curves, p) = (Vec::new(), &m.plane);
     for file in &a.curves {
         for c in store::read_curves(file)? {
-            curves.push(overlay(&l.atlas, file, &c)?);
+            let marks = c.codim2.iter().map(|m| (m.1, m.2));
+            curves.push(render::Overlay::on(p, &c.kind, &c.free, &c.points, marks).ok_or_else(|| {
+                let (curve, map) = (&c.free, (&p.x.name, &p.y.name));
+                anyhow!(
+                    "--curves: {} is a curve in ({}, {}), the map is in ({}, {})",
+                    file.display(),
+                    curve[0],
+                    curve[1],
+                    map.0,
+                    map.1
+                )
+            })?);
         }
     }
     match (quantity, view) {
@@ -101,23 +112,4 @@ fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
         bail!("--row: the file's rows are values of {}, got '{name}'", y.name);
     }
     y.nearest(value).map_err(|e| anyhow!("--row: {e}"))
-}
-
-/// A curve of file `path` as an overlay of `atlas`'s plane (its free
-/// parameters are the plane's axes, in either order).
-fn overlay(atlas: &grid::Atlas, path: &std::path::Path, c: &store::Curve) -> Result<render::Overlay> {
-    let p = &atlas.meta.plane;
-    let swap = match (c.free[0].as_str(), c.free[1].as_str()) {
-        (a, b) if a == p.x.name && b == p.y.name => false,
-        (a, b) if a == p.y.name && b == p.x.name => true,
-        (a, b) => {
-            bail!("--curves: {} is a curve in ({a}, {b}), the map is in ({}, {})", path.display(), p.x.name, p.y.name)
-        }
-    };
-    let xy = |(a, b): (f64, f64)| if swap { (b, a) } else { (a, b) };
-    Ok(render::Overlay {
-        kind: c.kind.clone(),
-        points: c.points.iter().copied().map(xy).collect(),
-        marks: c.codim2.iter().map(|m| xy((m.1, m.2))).collect(),
-    })
 }

@@ -134,6 +134,29 @@ pub struct Overlay {
     pub marks: Vec<(f64, f64)>,
 }
 
+impl Overlay {
+    /// A curve of `kind` in the parameters `free`, through `points` with
+    /// codimension-two points `marks` (each in the order of `free`), as an
+    /// overlay of `plane`, whose axes its parameters must be in either order
+    /// (`None` otherwise).
+    pub fn on(
+        plane: &grid::Plane,
+        kind: &str,
+        free: &[String; 2],
+        points: &[(f64, f64)],
+        marks: impl IntoIterator<Item = (f64, f64)>,
+    ) -> Option<Overlay> {
+        let swap = match (free[0].as_str(), free[1].as_str()) {
+            (a, b) if a == plane.x.name && b == plane.y.name => false,
+            (a, b) if a == plane.y.name && b == plane.x.name => true,
+            _ => return None,
+        };
+        let xy = |(a, b): (f64, f64)| if swap { (b, a) } else { (a, b) };
+        let (points, marks) = (points.iter().copied().map(xy).collect(), marks.into_iter().map(xy).collect());
+        Some(Overlay { kind: kind.to_string(), points, marks })
+    }
+}
+
 /// Line style of a kind of curve: colour, width (pt) and dash (pt on, off).
 fn curve_style(kind: &str) -> (RGBColor, f64, (f64, f64)) {
     match kind {

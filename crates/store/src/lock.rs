@@ -361,9 +361,34 @@ pub fn write_atomically<E: Into<Box<dyn std::error::Error + Send + Sync>>>(
     })
 }
 
+/// Creates the folder `dir` (and its missing parents); returns the outermost
+/// folder it created, if any (for a caller to remove again when it writes
+/// nothing there); the system's error when it cannot.
+pub fn create_folder(dir: &Path) -> std::io::Result<Option<PathBuf>> {
+    let missing: Option<PathBuf> = dir
+        .ancestors()
+        .filter(|p| !p.as_os_str().is_empty())
+        .take_while(|p| std::fs::symlink_metadata(p).is_err())
+        .last()
+        .map(Path::to_path_buf);
+    std::fs::create_dir_all(dir)?;
+    Ok(missing)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_folder_is_created_and_its_outermost_new_parent_named() {
+        let base = std::env::temp_dir().join(format!("vibroatlas-study-folder-{}", std::process::id()));
+        let dir = base.join("a/b");
+        std::fs::create_dir_all(&base).unwrap();
+        assert_eq!(create_folder(&dir).unwrap(), Some(base.join("a")));
+        assert!(dir.is_dir());
+        assert_eq!(create_folder(&dir).unwrap(), None);
+        std::fs::remove_dir_all(&base).unwrap();
+    }
 
     /// A writer's error is the source of the store's (typed, whole), and
     /// nothing is put in place; an HDF5 error is a source on one line.
