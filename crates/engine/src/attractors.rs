@@ -69,6 +69,19 @@ impl Attractors {
         (0..self.system.model.labels.len()).map(|i| at.cell.labels[i].to_string()).collect()
     }
 
+    /// The mass whose start states [`Attractors::basin`] gives: the first labelled one.
+    pub fn basin_mass(&self) -> usize {
+        self.system.model.labels.first().map_or(0, |l| l.mass)
+    }
+
+    /// The sampled start states that reach `at`, as `(x, v)` of
+    /// [`Attractors::basin_mass`] (at t = 0).
+    pub fn basin(&self, at: &Attractor) -> Vec<(f64, f64)> {
+        let (mass, m) = (self.basin_mass(), self.system.dof());
+        let state = |i: usize| grid::attractors::sample(&self.system, &self.sampling, i);
+        at.members.iter().map(|&i| state(i)).map(|y| (y[mass], y[m + mass])).collect()
+    }
+
     /// An attractor's basin fraction.
     pub fn fraction(&self, at: &Attractor) -> f64 {
         at.count as f64 / self.sampling.samples as f64
