@@ -379,11 +379,17 @@ pub fn create_folder(dir: &Path) -> std::io::Result<Option<PathBuf>> {
 mod tests {
     use super::*;
 
+    /// A new folder of this process for test `name`.
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     #[test]
     fn a_folder_is_created_and_its_outermost_new_parent_named() {
-        let base = std::env::temp_dir().join(format!("vibroatlas-study-folder-{}", std::process::id()));
+        let base = scratch("study-folder");
         let dir = base.join("a/b");
-        std::fs::create_dir_all(&base).unwrap();
         assert_eq!(create_folder(&dir).unwrap(), Some(base.join("a")));
         assert!(dir.is_dir());
         assert_eq!(create_folder(&dir).unwrap(), None);
@@ -395,8 +401,7 @@ mod tests {
     #[test]
     fn a_failed_writer_is_the_source() {
         use std::error::Error;
-        let dir = std::env::temp_dir().join(format!("vibroatlas-write-cause-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("write-cause");
         let out = dir.join("a.csv");
         let e = write_atomically(&out, |_| Err(std::io::Error::other("disk full"))).unwrap_err();
         assert!(matches!(e, StoreError::Write { .. }), "{e:?}");
@@ -415,8 +420,7 @@ mod tests {
 
     #[test]
     fn a_second_lock_is_refused_and_the_first_is_released_on_drop() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-lock-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("lock");
         let out = dir.join("a.h5");
         let first = OutputLock::acquire(&out).unwrap();
         let err = OutputLock::acquire(&out).unwrap_err().to_string();
@@ -430,7 +434,7 @@ mod tests {
 
     #[test]
     fn the_lock_and_the_commit_follow_symbolic_links() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-links-{}", std::process::id()));
+        let dir = scratch("links");
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(dir.join("sub")).unwrap();
         let dir = dir.canonicalize().unwrap();
@@ -467,8 +471,7 @@ mod tests {
 
     #[test]
     fn outputs_that_are_folders_inputs_or_devices_are_refused() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-out-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("out");
         let scene = dir.join("s.toml");
         std::fs::write(&scene, "x").unwrap();
         assert!(check_output(&dir, &[], false).unwrap_err().to_string().contains("is a directory"));
