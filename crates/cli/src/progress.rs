@@ -105,9 +105,8 @@ impl Bar {
 
     /// `done/total cells (p %), [work q %,] elapsed, rate, time left`.
     fn status(s: &Status) -> String {
-        let (w, total) = s.work;
         let weighed = match s.weighed {
-            true => format!(", work {} %", (100.0 * w / total.max(1e-300)).floor() as u64),
+            true => format!(", work {} %", s.work_percent()),
             false => String::new(),
         };
         format!(

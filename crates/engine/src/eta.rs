@@ -189,6 +189,19 @@ pub struct Meter {
     work: Option<Work>,
 }
 
+impl Status {
+    /// The work done in whole percent, rounded down: 100 exactly when all of
+    /// it is done (`100 w / W` in floating point can fall just below 100 when
+    /// `w = W`, for about one `W` in fifteen).
+    pub fn work_percent(&self) -> u64 {
+        let (w, total) = self.work;
+        match w >= total {
+            true => 100,
+            false => (100.0 * w / total.max(1e-300)).floor() as u64,
+        }
+    }
+}
+
 impl Meter {
     /// The meter of a run that begins ([`crate::Begin`]): weighed by its
     /// jobs' probed costs where it has them, else counted in cells.
@@ -268,6 +281,26 @@ impl WorkState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// All work done reads 100 %, also for a total whose `100 w / w` falls
+    /// just below 100 in floating point (751.5627143418114 is one).
+    #[test]
+    fn all_the_work_done_is_a_hundred_percent() {
+        let at = |w: f64, total: f64| Status {
+            done: 1,
+            total: 1,
+            elapsed: 1.0,
+            rate: 1.0,
+            work: (w, total),
+            weighed: true,
+            left: None,
+        };
+        let total: f64 = 751.5627143418114;
+        assert!((100.0 * total / total).floor() < 100.0, "the case this guards against");
+        assert_eq!(at(total, total).work_percent(), 100);
+        assert_eq!(at(0.999 * total, total).work_percent(), 99);
+        assert_eq!(at(0.0, total).work_percent(), 0);
+    }
 
     #[test]
     fn eta_is_the_rate_so_far_applied_to_the_work_left() {
