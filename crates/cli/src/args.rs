@@ -1,6 +1,6 @@
 //! Command-line arguments as clap structures (raw, before validation).
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::path::PathBuf;
 
 /// Maps the dynamics of vibro-impact systems: n-p-q labels of periodic impact
@@ -606,34 +606,38 @@ pub enum ViewArg {
     Attractors,
 }
 
-impl PresetArg {
-    /// The solver's preset.
-    pub fn preset(self) -> solver::Preset {
-        match self {
-            PresetArg::Fast => solver::Preset::Fast,
-            PresetArg::Standard => solver::Preset::Standard,
-            PresetArg::Precise => solver::Preset::Precise,
-        }
-    }
+/// The library's value of an argument's value: its name read by the
+/// library's own parser (`solver::Preset::parse`, `grid::SweepKind::parse`,
+/// …), the one grammar of the names that Python and the files use too (every
+/// value of every argument reads back: tested).
+pub fn lib<T>(value: impl ValueEnum, parse: impl Fn(&str) -> Option<T>) -> T {
+    let name = value.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
+    parse(&name).unwrap_or_else(|| unreachable!("'{name}' is not a library name"))
 }
 
-impl IntegratorArg {
-    /// The solver's method.
-    pub fn method(self) -> solver::Method {
-        match self {
-            IntegratorArg::Exact => solver::Method::Exact,
-            IntegratorArg::Rk4 => solver::Method::Rk4,
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn all<V: ValueEnum, T>(parse: impl Fn(&str) -> Option<T>) {
+        for v in V::value_variants() {
+            lib(v.clone(), &parse);
         }
     }
-}
 
-impl SweepName {
-    /// The grid's sweep.
-    pub fn kind(self) -> grid::SweepKind {
-        match self {
-            SweepName::Fresh => grid::SweepKind::Fresh,
-            SweepName::Up => grid::SweepKind::Up,
-            SweepName::Down => grid::SweepKind::Down,
-        }
+    #[test]
+    fn every_value_reads_back_in_its_library() {
+        all::<PresetArg, _>(solver::Preset::parse);
+        all::<IntegratorArg, _>(solver::Method::parse);
+        all::<SweepName, _>(grid::SweepKind::parse);
+        all::<AtlasSweep, _>(|s| grid::SweepKind::parse_set(s, "sweep").ok());
+        all::<AlongArg, _>(|s| grid::Along::parse(s).ok());
+        all::<AttractorsWhere, _>(engine::AttractorCells::parse);
+        all::<Direction, _>(engine::Direction::parse);
+        all::<KindArg, _>(solver::Bifurcation::parse);
+        all::<ImpactArg, _>(render::Impact::parse);
+        all::<RenderSweep, _>(render::View::parse);
+        assert_eq!(lib(Direction::DownUp, engine::Direction::parse), engine::Direction::DownUp);
+        assert_eq!(lib(KindArg::Pd, solver::Bifurcation::parse), solver::Bifurcation::PeriodDoubling);
     }
 }

@@ -1,6 +1,6 @@
 //! `vibroatlas atlas`: map a parameter plane.
 
-use crate::args::{AlongArg, AtlasArgs, AtlasSweep, AttractorsWhere};
+use crate::args::{lib, AtlasArgs};
 use crate::common::{command_line, sim};
 use crate::out::outln;
 use crate::progress::Shown;
@@ -11,26 +11,14 @@ use grid::{Along, Axis, Shard, SweepKind};
 
 /// Runs the command.
 pub fn run(a: AtlasArgs) -> Result<()> {
-    let sweeps = match a.sweep {
-        AtlasSweep::Fresh => vec![SweepKind::Fresh],
-        AtlasSweep::Up => vec![SweepKind::Up],
-        AtlasSweep::Down => vec![SweepKind::Down],
-        AtlasSweep::Both => vec![SweepKind::Up, SweepKind::Down],
-    };
-    let flags = |e| engine::in_flags(e, &[("shard", "--shard")]);
+    let sweeps = lib(a.sweep, |s| SweepKind::parse_set(s, "sweep").ok());
+    let flags = |e| engine::grid_error(e, &[("shard", engine::Opt::Shard)]);
     let mut r = AtlasRequest::new(sim(&a.sim)?, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, sweeps);
-    r.along = match a.along {
-        AlongArg::X => Along::X,
-        AlongArg::Y => Along::Y,
-    };
+    r.along = lib(a.along, |s| Along::parse(s).ok());
     r.shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(flags)?;
     r.attractors = a.attractors.map(|samples| {
         let sampling = grid::attractors::Sampling { samples, seed: a.seed, x: 2.0, v: 2.0 };
-        let cells = match a.attractors_where {
-            AttractorsWhere::All => AttractorCells::All,
-            AttractorsWhere::Hysteresis => AttractorCells::Hysteresis,
-        };
-        (sampling, cells)
+        (sampling, lib(a.attractors_where, AttractorCells::parse))
     });
     r.section_cap = a.run.section_cap;
     r.threads = engine::threads(a.run.threads)?;

@@ -7,7 +7,7 @@ use crate::common::sim;
 use crate::out::outln;
 use anyhow::{anyhow, Result};
 use engine::AttractorsRequest;
-use grid::attractors::{sample, Sampling};
+use grid::attractors::Sampling;
 use store::write_atomically;
 
 /// Runs the command.
@@ -27,19 +27,17 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         threads: engine::threads(a.threads)?,
     };
     let res = engine::attractors(&r, &engine::Quiet)?;
-    let (sys, sampling, found) = (&res.system, &res.sampling, &res.found);
+    let (sys, found) = (&res.system, &res.found);
     let masses = res.masses();
     let label = |a: &grid::attractors::Attractor| res.labels(a);
     if let Some(png) = &a.png {
-        let mass = sys.model.labels.first().map_or(0, |l| l.mass);
-        let m = sys.dof();
+        let mass = res.basin_mass();
         let groups: Vec<(String, Vec<(f64, f64)>)> = found
             .iter()
             .map(|at| {
-                let pts = at.members.iter().map(|&i| sample(sys, sampling, i)).map(|y| (y[mass], y[m + mass]));
                 let named: Vec<String> = masses.iter().zip(label(at)).map(|(m, l)| format!("{m} {l}")).collect();
-                let name = format!("{} ({:.0} %)", named.join(", "), 100.0 * at.count as f64 / a.samples as f64);
-                (name, pts.collect())
+                let share = 100.0 * at.count as f64 / a.samples as f64;
+                (format!("{} ({share:.0} %)", named.join(", ")), res.basin(at))
             })
             .collect();
         let colours: Vec<String> = found.iter().map(|at| at.cell.labels[0].to_string()).collect();

@@ -3,60 +3,40 @@
 use crate::args::CellArgs;
 use crate::common::{sim, start};
 use crate::out::{errln, outln, outp};
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use engine::{friction_names, Setup};
 use solver::{CellResult, System};
 use std::fmt::Write as _;
 use store::write_atomically;
 
-/// Largest `--trace-samples` (samples per forcing period): a trace of n periods
-/// holds about n × 100 000 rows.
-pub const MAX_TRACE_SAMPLES: usize = 100_000;
-/// Largest number of rows of a trace (about 1 GB of CSV for two masses).
-pub const MAX_TRACE_ROWS: usize = 10_000_000;
-
 /// Runs the command.
 pub fn run(a: CellArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
-    if a.trace_samples == 0 || a.trace_samples > MAX_TRACE_SAMPLES {
-        return Err(anyhow!("--trace-samples: expected 1 to {MAX_TRACE_SAMPLES}, got {}", a.trace_samples));
-    }
+    engine::check_trace_samples(a.trace_samples)?;
     let c = engine::cell(&sim(&a.sim)?, &start(&a.start)?)?;
     crate::common::warn(c.origin.as_ref().and_then(|o| o.warning.as_ref()));
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
-        let periods = cell.n.unwrap_or(cell.section.len().max(1));
-        if periods.saturating_mul(a.trace_samples) > MAX_TRACE_ROWS {
-            return Err(anyhow!(
-                "--trace-samples: {periods} periods x {} samples is more than {MAX_TRACE_ROWS} rows; take fewer samples",
-                a.trace_samples
-            ));
-        }
-        let w = engine::window(sys, s, cell, periods, a.trace_samples);
-        let csv = engine::trace_csv(sys, &w.rows);
-        write_atomically(path, |tmp| std::fs::write(tmp, csv.as_bytes()))?;
-        if let Some(note) = w.note(periods) {
+        let w = engine::trace(sys, s, cell, a.trace_samples)?;
+        write_atomically(path, |tmp| std::fs::write(tmp, engine::trace_csv(sys, &w.rows)))?;
+        if let Some(note) = w.note(engine::window_periods(cell)) {
             errln!("warning: trace {}: {note}", path.display());
         }
     }
     if let Some(path) = &a.portrait {
         render::Format::of(path)?;
-        let periods = cell.n.unwrap_or(cell.section.len().max(1));
-        let rows = engine::window(sys, s, cell, periods, 400).rows;
-        let p = portrait(sys, &rows, &describe_parameters(s));
+        let rows = engine::window(sys, s, cell, engine::window_periods(cell), 400).rows;
+        let p = portrait(sys, &rows, &s.described());
         write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;
     }
     if let Some(path) = &a.section_png {
-        if a.section_periods == 0 || a.section_periods > 1_000_000 {
-            return Err(anyhow!("--section-periods: expected 1 to 1000000, got {}", a.section_periods));
-        }
         let (panels, silent) = sections(sys, s, cell, a.section_periods)?;
         let labels: Vec<String> = cell.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
         let silent = if silent.is_empty() { String::new() } else { format!("; no impacts at {}", silent.join(", ")) };
         let title = format!(
             "{} ({}): {}, Poincaré sections over {} periods{silent}",
             sys.model.name,
-            describe_parameters(s),
+            s.described(),
             labels.join(", "),
             a.section_periods
         );
@@ -161,13 +141,4 @@ fn portrait(sys: &System, rows: &[engine::Row], parameters: &str) -> render::Por
         events: rows.iter().enumerate().filter_map(|(i, r)| r.2.clone().map(|e| (i, e))).collect(),
         stops,
     }
-}
-
-/// The parameters set on the command line, by their symbols, for titles
-/// (`ω = 0.33, δ = 0.6`), or `scene defaults`.
-fn describe_parameters(s: &Setup) -> String {
-    if s.overrides.is_empty() {
-        return "scene defaults".to_string();
-    }
-    s.overrides.iter().map(|(k, v)| format!("{} = {v}", s.scene.symbol(k))).collect::<Vec<_>>().join(", ")
 }

@@ -1,6 +1,6 @@
 //! The command line's simulation options as the engine's requests.
 
-use crate::args::{FromArgs, SimArgs};
+use crate::args::{lib, FromArgs, SimArgs};
 use anyhow::{anyhow, Result};
 use engine::{parse_assignment, Sim, Start};
 
@@ -9,9 +9,9 @@ pub fn sim(a: &SimArgs) -> Result<Sim> {
     Ok(Sim {
         scene: engine::SceneSource::File(a.scene.clone()),
         set: a.set.iter().map(|s| parse_assignment(s, "--set")).collect::<Result<Vec<_>>>()?,
-        preset: a.preset.map(|p| p.preset()),
+        preset: a.preset.map(|p| lib(p, solver::Preset::parse)),
         accuracy: a.accuracy.iter().map(|s| parse_assignment(s, "--accuracy")).collect::<Result<Vec<_>>>()?,
-        integrator: a.integrator.map(|m| m.method()),
+        integrator: a.integrator.map(|m| lib(m, solver::Method::parse)),
     })
 }
 
@@ -22,7 +22,7 @@ pub fn start(f: &FromArgs) -> Result<Start> {
             Some(at) => at.split(',').map(|t| parse_assignment(t, "--at")).collect::<Result<Vec<_>>>()?,
             None => Vec::new(),
         };
-        return Ok(Start::Cell { file: file.clone(), at, sweep: f.from_sweep.map(|s| s.kind()) });
+        return Ok(Start::Cell { file: file.clone(), at, sweep: f.from_sweep.map(|s| lib(s, grid::SweepKind::parse)) });
     }
     let Some(text) = &f.state else { return Ok(Start::Initial) };
     let state: Vec<f64> = text

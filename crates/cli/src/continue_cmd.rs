@@ -18,20 +18,9 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     crate::common::warn(c.warning.as_ref());
     let (sys, branch) = (&c.system, &c.branch);
     if let Some(path) = &a.png {
-        let pts: Vec<(f64, f64, f64, bool)> = branch
-            .points
-            .iter()
-            .map(|p| {
-                (p.value, p.orbit.solution.x[0], solver::floquet::spectral_radius(&p.orbit.multipliers), p.orbit.stable)
-            })
-            .collect();
-        let marks: Vec<(f64, String)> =
-            branch.bifurcations.iter().map(|b| (b.value, b.kind.name().to_string())).collect();
-        let scene = engine::SceneSource::File(a.sim.scene.clone()).load()?;
-        let symbol = scene.symbol(&axis.name);
-        let title = format!("{}: orbit continued in {symbol}", sys.model.name);
-        let first = sys.model.masses[0].name.clone();
-        write_atomically(path, |tmp| render::branch(&pts, &marks, &title, &symbol, &first, &page, tmp))?;
+        let title = format!("{}: orbit continued in {}", sys.model.name, c.symbol);
+        let first = &sys.model.masses[0].name;
+        write_atomically(path, |tmp| render::branch(&c.points(), &c.marks(), &title, &c.symbol, first, &page, tmp))?;
     }
     if a.json {
         outln!("{}", serde_json::to_string(&c.to_json())?);

@@ -2,7 +2,7 @@
 //! [`solver::curve`]) and `vibroatlas curves` (curves seeded from a stored
 //! map, [`grid::curves`]): parsing, and the JSON, text and files they write.
 
-use crate::args::{CurveArgs, CurvesArgs, KindArg};
+use crate::args::{lib, CurveArgs, CurvesArgs};
 use crate::common::{command_line, sim};
 use crate::out::outln;
 use anyhow::{anyhow, bail, Result};
@@ -19,7 +19,7 @@ pub fn run(a: CurveArgs) -> Result<()> {
     };
     let r = CurveRequest {
         sim: sim(&a.sim)?,
-        kind: solver_kind(a.kind),
+        kind: lib(a.kind, Bifurcation::parse),
         free: [pa.to_string(), pb.to_string()],
         start: a.start.split(',').map(|t| parse_assignment(t, "--start")).collect::<Result<Vec<_>>>()?,
         to: a.to,
@@ -62,23 +62,12 @@ fn parse_range(text: &str, name: &str) -> Result<[f64; 2]> {
     Ok([lo, hi])
 }
 
-/// The bifurcation of `kind` as a solver kind.
-fn solver_kind(kind: KindArg) -> Bifurcation {
-    match kind {
-        KindArg::Pd => Bifurcation::PeriodDoubling,
-        KindArg::Sn => Bifurcation::SaddleNode,
-        KindArg::Pf => Bifurcation::Pitchfork,
-        KindArg::Ns => Bifurcation::NeimarkSacker,
-        KindArg::Grazing => Bifurcation::Grazing,
-    }
-}
-
 /// Runs `curves`.
 pub fn run_curves(a: CurvesArgs) -> Result<()> {
     let r = engine::CurvesRequest {
         file: a.file.clone(),
-        kinds: a.kinds.iter().map(|&k| solver_kind(k)).collect(),
-        sweep: a.sweep.map(|s| s.kind()),
+        kinds: a.kinds.iter().map(|&k| lib(k, Bifurcation::parse)).collect(),
+        sweep: a.sweep.map(|s| lib(s, grid::SweepKind::parse)),
         max: a.max,
         output: a.output.clone(),
         into: a.into,

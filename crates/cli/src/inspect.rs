@@ -4,20 +4,12 @@ use crate::args::InspectArgs;
 use crate::out::outln;
 use crate::summary::print_summary;
 use anyhow::Result;
-use engine::summary_json;
 
 /// Runs the command.
 pub fn run(a: InspectArgs) -> Result<()> {
     let l = store::read(&a.file)?;
     if a.json {
-        let mut o = summary_json(&l.atlas);
-        o["file"] = a.file.display().to_string().into();
-        o["created"] = l.created.clone().into();
-        o["command"] = l.info.command.clone().into();
-        o["history"] = l.info.history.clone().into();
-        o["run_time_s"] = l.info.run_time_s.into();
-        o["shard"] = l.info.shard.map(|s| s.to_string()).into();
-        outln!("{}", serde_json::to_string(&o)?);
+        outln!("{}", serde_json::to_string(&engine::inspect_json(&a.file, &l))?);
         return Ok(());
     }
     outln!("file      {}", a.file.display());

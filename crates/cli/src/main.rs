@@ -11,8 +11,8 @@ mod cell;
 mod common;
 mod continue_cmd;
 mod curve;
-mod diagram;
 mod figure;
+mod flags;
 mod inspect;
 mod merge;
 mod orbit;
@@ -72,7 +72,7 @@ fn main() {
         args::Command::Curves(a) => curve::run_curves(a),
     };
     if let Err(e) = result {
-        out::errln!("error: {e:#}");
+        out::errln!("error: {}", flags::message(&e));
         std::process::exit(2);
     }
 }

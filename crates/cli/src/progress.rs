@@ -1,23 +1,15 @@
 //! Progress of a run: a bar on a terminal, a line at most every few seconds
 //! otherwise (`VIBROATLAS_PROGRESS_EVERY`: another interval, in seconds),
 //! nothing with `--quiet`. Numbers are written for people (`3 650 cells/s`,
-//! `2 min 05 s`).
-//!
-//! The time left is the time run so far times the work left over the work
-//! done, `t (W - w) / w`. Cells cost very unevenly (a recent-steps estimate
-//! swings by a factor of five), and an atlas's lines are computed the most
-//! expensive first, so counting cells says the first tenth of the cells took
-//! a tenth of the time when it took a third (the ETA was 2 to 4 times too
-//! long until three quarters of the run). Where the scheduler probed the
-//! lines' costs (and ordered them by it), the work is counted per line
-//! ([`Work`]): the lines finished weigh the time they took, the others the
-//! time lines near them took; elsewhere in cells.
+//! `2 min 05 s`). What they say is counted by [`engine::Meter`]: the cells
+//! done, and where the scheduler probed the lines' costs the work they stand
+//! for, from which the time left is estimated (see [`engine::Work`]: counting
+//! cells says the first tenth of an atlas's cells took a tenth of the time,
+//! when the most expensive lines, computed first, took a third).
 
-use engine::{eta, Work};
-use grid::Progress;
+use engine::{Begin, Meter, Status};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -38,17 +30,13 @@ fn line_every() -> Duration {
         .map_or(LINE_EVERY, Duration::from_secs_f64)
 }
 
-/// Progress reporter for `total` cells.
+/// A run's progress on standard error.
 pub struct Bar {
     bar: Option<ProgressBar>,
-    total: u64,
-    already: u64,
-    done: AtomicU64,
+    meter: Meter,
     quiet: bool,
-    start: Instant,
     last: Mutex<Instant>,
     every: Duration,
-    work: Option<Work>,
 }
 
 /// `n` with a thin space between groups of three digits (`116 032`).
@@ -103,59 +91,32 @@ fn due(last: &Mutex<Instant>, every: Duration, last_one: bool) -> bool {
 }
 
 impl Bar {
-    /// A reporter; `already` cells are done before it starts (resume). The
-    /// time left is counted in the estimated `work` of the cells this run
-    /// computes (when given, reported by [`Bar::finish_job`]), else in cells.
-    pub fn weighted(label: &str, total: u64, already: u64, quiet: bool, work: Option<Work>) -> Bar {
-        let bar = terminal_bar(label, if work.is_some() { BAR_STEPS } else { total }, quiet);
-        if let (Some(b), None) = (&bar, &work) {
-            b.set_position(already);
+    /// The bar of a run called `label` that begins (`w`: cells done before it
+    /// starts on a resume, probed costs).
+    pub fn new(label: &str, w: &Begin<'_>, quiet: bool) -> Bar {
+        let meter = Meter::new(w);
+        let bar = terminal_bar(label, if meter.weighed() { BAR_STEPS } else { w.total }, quiet);
+        if let (Some(b), false) = (&bar, meter.weighed()) {
+            b.set_position(w.done);
         }
-        let start = Instant::now();
         let every = if bar.is_some() { BAR_EVERY } else { line_every() };
-        Bar { bar, total, already, done: AtomicU64::new(already), quiet, start, last: Mutex::new(start), every, work }
+        Bar { bar, meter, quiet, last: Mutex::new(Instant::now()), every }
     }
 
-    /// Job `job` of the weighted work (its place in the order taken) is
-    /// finished, on the thread that computed it.
-    pub fn finish_job(&self, job: usize) {
-        if let Some(w) = &self.work {
-            w.finish_at(job, self.start.elapsed().as_secs_f64());
-        }
-    }
-
-    /// This run's work done and to do: estimated units, or cells.
-    fn work(&self, done: u64) -> (f64, f64) {
-        let run = done.saturating_sub(self.already);
-        match &self.work {
-            // The last cell: done, whatever the last lines are thought to weigh.
-            Some(w) if done >= self.total => {
-                let (_, total) = w.done(run);
-                (total, total)
-            }
-            Some(w) => w.done(run),
-            None => (run as f64, self.total.saturating_sub(self.already) as f64),
-        }
-    }
-
-    /// `done/total cells (p %), [work q %,] elapsed, rate, time left` at
-    /// `done` cells and `elapsed` seconds.
-    fn status(&self, done: u64, elapsed: f64) -> String {
-        let run = done.saturating_sub(self.already);
-        let rate = run as f64 / elapsed.max(1e-9);
-        let (w, total) = self.work(done);
-        let weighed = match &self.work {
-            Some(_) => format!(", work {} %", (100.0 * w / total.max(1e-300)).floor() as u64),
-            None => String::new(),
+    /// `done/total cells (p %), [work q %,] elapsed, rate, time left`.
+    fn status(s: &Status) -> String {
+        let weighed = match s.weighed {
+            true => format!(", work {} %", s.work_percent()),
+            false => String::new(),
         };
         format!(
             "{}/{} cells ({} %){weighed}, {} elapsed, {} cells/s, about {} left",
-            thousands(done),
-            thousands(self.total),
-            done * 100 / self.total.max(1),
-            duration(elapsed),
-            thousands(rate.round() as u64),
-            eta(elapsed, w, total).map_or("?".into(), duration)
+            thousands(s.done),
+            thousands(s.total),
+            s.done * 100 / s.total.max(1),
+            duration(s.elapsed),
+            thousands(s.rate.round() as u64),
+            s.left.map_or("?".into(), duration)
         )
     }
 
@@ -166,37 +127,27 @@ impl Bar {
         }
     }
 
-    /// Where the terminal bar stands at `done` cells.
-    fn position(&self, done: u64) -> u64 {
-        match &self.work {
-            Some(_) => {
-                let (w, total) = self.work(done);
-                ((w / total.max(1e-300)) * BAR_STEPS as f64).round() as u64
-            }
-            None => done,
-        }
-    }
-}
-
-impl Progress for Bar {
+    /// `cells` more cells are done.
     fn advance(&self, cells: u64) {
-        let now = self.done.fetch_add(cells, Ordering::Relaxed) + cells;
+        let now = self.meter.advance(cells);
         if self.quiet {
             return;
         }
-        if !due(&self.last, self.every, now == self.total) {
-            if let (Some(b), None) = (&self.bar, &self.work) {
+        let weighed = self.meter.weighed();
+        if !due(&self.last, self.every, now == self.meter.total()) {
+            if let (Some(b), false) = (&self.bar, weighed) {
                 b.set_position(now);
             }
             return;
         }
-        let status = self.status(now, self.start.elapsed().as_secs_f64());
+        let s = self.meter.status();
         match &self.bar {
             Some(b) => {
-                b.set_position(self.position(now));
-                b.set_message(status);
+                let (w, total) = s.work;
+                b.set_position(if weighed { ((w / total.max(1e-300)) * BAR_STEPS as f64).round() as u64 } else { now });
+                b.set_message(Bar::status(&s));
             }
-            None => crate::out::errln!("progress: {status}"),
+            None => crate::out::errln!("progress: {}", Bar::status(&s)),
         }
     }
 }
@@ -268,9 +219,8 @@ impl Shown {
 }
 
 impl engine::Observer for Shown {
-    fn begin(&self, w: &engine::Begin<'_>) {
-        let work = w.prior.and_then(|prior| Work::new(w.lines.to_vec(), prior.to_vec(), w.line_len, w.threads));
-        let _ = self.bar.set(Bar::weighted(&self.label, w.total, w.done, self.quiet, work));
+    fn begin(&self, w: &Begin<'_>) {
+        let _ = self.bar.set(Bar::new(&self.label, w, self.quiet));
     }
     fn advance(&self, cells: u64) {
         if let Some(b) = self.bar.get() {
@@ -279,7 +229,7 @@ impl engine::Observer for Shown {
     }
     fn line_done(&self, job: usize) {
         if let Some(b) = self.bar.get() {
-            b.finish_job(job);
+            b.meter.line_done(job);
         }
     }
     fn finish(&self) {

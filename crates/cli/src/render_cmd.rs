@@ -3,9 +3,8 @@
 //! map of the Lyapunov exponent or the Floquet multiplier, or a bifurcation
 //! diagram of a sweep file or of one row of an atlas (`--row`).
 
-use crate::args::{RenderArgs, RenderSweep, ViewArg};
+use crate::args::{lib, ImpactArg, RenderArgs, ViewArg};
 use anyhow::{anyhow, bail, Result};
-use grid::SweepKind;
 use render::{Quantity, View};
 use store::write_atomically;
 
@@ -24,22 +23,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .ok_or_else(|| anyhow!("--mass: no labelled mass '{name}' (the file has {})", m.masses.join(", ")))?,
         None => 0,
     };
-    let view = match a.sweep {
-        None => View::Sweep(m.sweeps[0]),
-        Some(RenderSweep::Hysteresis) => View::Hysteresis,
-        Some(s) => {
-            let kind = match s {
-                RenderSweep::Up => SweepKind::Up,
-                RenderSweep::Down => SweepKind::Down,
-                _ => SweepKind::Fresh,
-            };
-            if !m.sweeps.contains(&kind) {
-                let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
-                bail!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name());
-            }
-            View::Sweep(kind)
+    let view = a.sweep.map_or(View::Sweep(m.sweeps[0]), |s| lib(s, View::parse));
+    match (a.sweep, view) {
+        (Some(_), View::Sweep(kind)) if !m.sweeps.contains(&kind) => {
+            let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+            bail!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name());
         }
-    };
+        _ => {}
+    }
     if a.view == ViewArg::Attractors {
         return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
@@ -63,14 +54,25 @@ pub fn run(a: RenderArgs) -> Result<()> {
         if let (Some(_), View::Sweep(s)) = (a.sweep, view) {
             l.atlas.maps.retain(|map| map.sweep == s);
         }
-        let d = crate::diagram::diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
+        let d = diagram(&l.atlas, row, a.variable.as_deref(), a.impact)?;
         return Ok(write_atomically(&a.output, |tmp| render::bifurcation(&l.atlas, &d, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
     }
-    let mut curves = Vec::new();
+    let (mut curves, p) = (Vec::new(), &m.plane);
     for file in &a.curves {
         for c in store::read_curves(file)? {
-            curves.push(overlay(&l.atlas, file, &c)?);
+            let marks = c.codim2.iter().map(|m| (m.1, m.2));
+            curves.push(render::Overlay::on(p, &c.kind, &c.free, &c.points, marks).ok_or_else(|| {
+                let (curve, map) = (&c.free, (&p.x.name, &p.y.name));
+                anyhow!(
+                    "--curves: {} is a curve in ({}, {}), the map is in ({}, {})",
+                    file.display(),
+                    curve[0],
+                    curve[1],
+                    map.0,
+                    map.1
+                )
+            })?);
         }
     }
     match (quantity, view) {
@@ -81,6 +83,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (Some(_), View::Hysteresis) => bail!("--view {}: needs --sweep fresh, up or down", view_name(a.view)),
     }
     wrote(&a.output, &page)
+}
+
+/// The bifurcation diagram of row `row` (`sweep --png`, `render` of a sweep
+/// file or of one row of an atlas): `--variable`, `--impact`.
+pub fn diagram(atlas: &grid::Atlas, row: usize, variable: Option<&str>, impact: ImpactArg) -> Result<render::Diagram> {
+    render::Diagram::of(atlas, row, variable, lib(impact, render::Impact::parse))
+        .map_err(|e| anyhow!("--variable: {}", e.what()))
 }
 
 /// Says what was written: the file and its printed size (or its pixels).
@@ -103,23 +112,4 @@ fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
         bail!("--row: the file's rows are values of {}, got '{name}'", y.name);
     }
     y.nearest(value).map_err(|e| anyhow!("--row: {e}"))
-}
-
-/// A curve of file `path` as an overlay of `atlas`'s plane (its free
-/// parameters are the plane's axes, in either order).
-fn overlay(atlas: &grid::Atlas, path: &std::path::Path, c: &store::Curve) -> Result<render::Overlay> {
-    let p = &atlas.meta.plane;
-    let swap = match (c.free[0].as_str(), c.free[1].as_str()) {
-        (a, b) if a == p.x.name && b == p.y.name => false,
-        (a, b) if a == p.y.name && b == p.x.name => true,
-        (a, b) => {
-            bail!("--curves: {} is a curve in ({a}, {b}), the map is in ({}, {})", path.display(), p.x.name, p.y.name)
-        }
-    };
-    let xy = |(a, b): (f64, f64)| if swap { (b, a) } else { (a, b) };
-    Ok(render::Overlay {
-        kind: c.kind.clone(),
-        points: c.points.iter().copied().map(xy).collect(),
-        marks: c.codim2.iter().map(|m| xy((m.1, m.2))).collect(),
-    })
 }

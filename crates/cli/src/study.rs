@@ -12,19 +12,24 @@ use crate::progress::Shown;
 use anyhow::{anyhow, bail, Context, Result};
 use engine::sheet_panel;
 use render::View;
-use std::path::{Path, PathBuf};
 use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: StudyArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let threads = engine::threads(a.run.threads)?;
-    let plan = engine::study(&a.study, a.preset.preset(), a.run.section_cap, threads, &command_line())?;
+    let plan = engine::study(
+        &a.study,
+        crate::args::lib(a.preset, solver::Preset::parse),
+        a.run.section_cap,
+        threads,
+        &command_line(),
+    )?;
     if a.output.exists() && !a.output.is_dir() {
         bail!("{}: exists and is not a folder; give a folder for the study's files", a.output.display());
     }
     let engine::StudyPlan { study, scene, sweeps, mut plans } = plan;
-    let created = create_folder(&a.output)?;
+    let created = store::create_folder(&a.output).with_context(|| format!("cannot create {}", a.output.display()))?;
     let mut written = false;
     let result = (|| -> Result<()> {
         for (v, plan) in &mut plans {
@@ -63,34 +68,5 @@ pub fn run(a: StudyArgs) -> Result<()> {
             Err(_) => Err(e),
         },
         (result, _) => result,
-    }
-}
-
-/// Creates the folder `dir` (and its missing parents); returns the outermost
-/// folder it created, if any (to be removed again when nothing is written).
-fn create_folder(dir: &Path) -> Result<Option<PathBuf>> {
-    let missing: Option<PathBuf> = dir
-        .ancestors()
-        .filter(|p| !p.as_os_str().is_empty())
-        .take_while(|p| std::fs::symlink_metadata(p).is_err())
-        .last()
-        .map(Path::to_path_buf);
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    Ok(missing)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_folder_is_created_and_its_outermost_new_parent_named() {
-        let base = std::env::temp_dir().join(format!("vibroatlas-study-folder-{}", std::process::id()));
-        let dir = base.join("a/b");
-        std::fs::create_dir_all(&base).unwrap();
-        assert_eq!(create_folder(&dir).unwrap(), Some(base.join("a")));
-        assert!(dir.is_dir());
-        assert_eq!(create_folder(&dir).unwrap(), None);
-        std::fs::remove_dir_all(&base).unwrap();
     }
 }

@@ -2,7 +2,7 @@
 //! one row (the other axis is a plain parameter held at its value), so the file,
 //! the renderer and the hysteresis logic are those of the atlas.
 
-use crate::args::{Direction, SweepArgs};
+use crate::args::{lib, SweepArgs};
 use crate::common::{command_line, sim, start};
 use crate::out::outln;
 use crate::progress::Shown;
@@ -22,13 +22,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         sim: sim(&a.sim)?,
         start: start(&a.start)?,
         axis,
-        direction: a.direction.map(|d| match d {
-            Direction::Up => engine::Direction::Up,
-            Direction::Down => engine::Direction::Down,
-            Direction::Both => engine::Direction::Both,
-            Direction::DownUp => engine::Direction::DownUp,
-            Direction::UpDown => engine::Direction::UpDown,
-        }),
+        direction: a.direction.map(|d| lib(d, engine::Direction::parse)),
         section_cap: a.points.unwrap_or(a.run.section_cap),
         threads: engine::threads(a.run.threads)?,
         output: a.output.clone(),
@@ -39,7 +33,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     crate::common::warn(swept.origin.as_ref().and_then(|o| o.warning.as_ref()));
     let atlas = &swept.atlas;
     if let Some(png) = &a.png {
-        let mut d = crate::diagram::diagram(atlas, 0, a.variable.as_deref(), a.impact)?;
+        let mut d = crate::render_cmd::diagram(atlas, 0, a.variable.as_deref(), a.impact)?;
         if let Legs::Loop(first) = swept.legs {
             d.first = Some(first);
         }

@@ -2,6 +2,7 @@
 //! down, on threads, optionally one shard of it, with the coexisting
 //! attractors of its cells; written to an HDF5 file through a journal.
 
+use crate::error::{with_fields, Opt, RequestError};
 use crate::observer::Observer;
 use crate::plan::{Executed, Plan};
 use crate::sim::Sim;
@@ -17,6 +18,17 @@ pub enum AttractorCells {
     All,
     /// The cells where the up and down sweeps differ.
     Hysteresis,
+}
+
+impl AttractorCells {
+    /// `all` or `hysteresis`.
+    pub fn parse(name: &str) -> Option<AttractorCells> {
+        match name {
+            "all" => Some(AttractorCells::All),
+            "hysteresis" => Some(AttractorCells::Hysteresis),
+            _ => None,
+        }
+    }
 }
 
 /// An atlas to compute.
@@ -74,14 +86,14 @@ impl AtlasRequest {
     }
 }
 
-/// The flags of the grid's fields.
-const FLAGS: &[(&str, &str)] =
-    &[("x", "--x"), ("y", "--y"), ("along", "--along"), ("shard", "--shard"), ("threads", "--threads")];
+/// The options of the grid's fields.
+const FIELDS: &[(&str, Opt)] =
+    &[("x", Opt::X), ("y", Opt::Y), ("along", Opt::Along), ("shard", Opt::Shard), ("threads", Opt::Threads)];
 
 /// Computes an atlas, reporting to `observer` (and writes it when asked).
 pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     let s = r.sim.setup()?;
-    let plane = Plane::new(r.x.clone(), r.y.clone(), r.along).map_err(|e| crate::in_flags(e, FLAGS))?;
+    let plane = Plane::new(r.x.clone(), r.y.clone(), r.along).map_err(|e| crate::grid_error(e, FIELDS))?;
     let mut plan = Plan::new(&s, r.section_cap, plane, r.sweeps.clone(), r.threads)?;
     plan.shard = r.shard;
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
@@ -91,14 +103,12 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.command = r.command.clone();
     if let Some((sampling, cells)) = r.attractors {
         if sampling.samples == 0 || sampling.samples > 100_000 {
-            bail!("--attractors: expected 1 to 100000 samples per cell, got {}", sampling.samples);
+            let why = format!("expected 1 to 100000 samples per cell, got {}", sampling.samples);
+            bail!(RequestError::option(Opt::Attractors).text(why));
         }
         plan.attractors = Some((sampling, cells == AttractorCells::Hysteresis));
     }
-    plan.check().map_err(|e| match e.downcast::<grid::GridError>() {
-        Ok(g) => crate::in_flags(g, FLAGS),
-        Err(e) => e,
-    })?;
+    plan.check().map_err(|e| with_fields(e, FIELDS))?;
     plan.execute(observer)
 }
 

@@ -3,6 +3,7 @@
 //! `grid::attractors` for the sampling and the grouping); and the JSON object
 //! of `attractors --json` ([`Attractors::to_json`]).
 
+use crate::error::{Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::sim::{parameters_json, Sim};
 use anyhow::{bail, Result};
@@ -41,11 +42,11 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
     let s = r.sim.setup()?;
     let k = r.sampling.samples;
     if k == 0 || k > MAX_SAMPLES {
-        bail!("--samples: expected 1 to {MAX_SAMPLES}, got {k}");
+        bail!(RequestError::option(Opt::Samples).text(format!("expected 1 to {MAX_SAMPLES}, got {k}")));
     }
     let (x, v) = (r.sampling.x, r.sampling.v);
     if !(x.is_finite() && v.is_finite() && x >= 0.0 && v >= 0.0) {
-        bail!("--box: expected X,V (two numbers >= 0), got '{x},{v}'");
+        bail!(RequestError::option(Opt::Box).text(format!("expected X,V (two numbers >= 0), got '{x},{v}'")));
     }
     let cs = s.cell_setup(0)?;
     observer.begin(&Begin { total: k as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
@@ -66,6 +67,19 @@ impl Attractors {
     /// An attractor's labels, one per labelled mass.
     pub fn labels(&self, at: &Attractor) -> Vec<String> {
         (0..self.system.model.labels.len()).map(|i| at.cell.labels[i].to_string()).collect()
+    }
+
+    /// The mass whose start states [`Attractors::basin`] gives: the first labelled one.
+    pub fn basin_mass(&self) -> usize {
+        self.system.model.labels.first().map_or(0, |l| l.mass)
+    }
+
+    /// The sampled start states that reach `at`, as `(x, v)` of
+    /// [`Attractors::basin_mass`] (at t = 0).
+    pub fn basin(&self, at: &Attractor) -> Vec<(f64, f64)> {
+        let (mass, m) = (self.basin_mass(), self.system.dof());
+        let state = |i: usize| grid::attractors::sample(&self.system, &self.sampling, i);
+        at.members.iter().map(|&i| state(i)).map(|y| (y[mass], y[m + mass])).collect()
     }
 
     /// An attractor's basin fraction.

@@ -15,6 +15,7 @@
 //! # Ok::<(), anyhow::Error>(())
 //! ```
 
+use crate::error::{Opt, RequestError};
 use crate::observer::Quiet;
 use crate::plan::Plan;
 use crate::sim::{SceneSource, Setup};
@@ -112,17 +113,19 @@ impl BenchRequest {
 
     /// Refuses counts out of range (each error names its option).
     pub fn check(&self) -> Result<()> {
+        let refuse = RequestError::option;
         if self.threads.is_empty() || self.threads.iter().any(|t| !(1..=1024).contains(t)) {
-            bail!("--threads: expected a comma-separated list of counts 1..1024, got {:?}", self.threads);
+            let why = format!("expected a comma-separated list of counts 1..1024, got {:?}", self.threads);
+            bail!(refuse(Opt::Threads).text(why));
         }
         if !(2..=2000).contains(&self.grid) {
-            bail!("--grid: must be in 2..=2000, got {}", self.grid);
+            bail!(refuse(Opt::Grid).text(format!("must be in 2..=2000, got {}", self.grid)));
         }
         if self.repeat == 0 {
-            bail!("--repeat: must be >= 1");
+            bail!(refuse(Opt::Repeat).text("must be >= 1"));
         }
         if self.trade_rounds == Some(0) {
-            bail!("--trade-repeat: must be >= 1");
+            bail!(refuse(Opt::TradeRepeat).text("must be >= 1"));
         }
         Ok(())
     }
@@ -139,7 +142,9 @@ impl BenchRequest {
         }
         .map_err(|e| anyhow!("scene: {e}"))?;
         for name in ["omega", "delta"] {
-            scene.check_parameter(name, "--scene").map_err(|e| anyhow!("{e} (bench maps the omega-delta plane)"))?;
+            scene.check_parameter(name, "").map_err(|e| {
+                crate::sim::unknown(RequestError::option(Opt::Scene), e).text(" (bench maps the omega-delta plane)")
+            })?;
         }
         Ok(scene)
     }
@@ -147,11 +152,8 @@ impl BenchRequest {
     /// The N x N plane of the bench.
     pub fn plane(&self) -> Result<Plane> {
         let n = self.grid;
-        Ok(Plane::new(
-            Axis::parse(&format!("omega=0.1:3.05:{n}"), "--grid")?,
-            Axis::parse(&format!("delta=0.05:2:{n}"), "--grid")?,
-            Along::X,
-        )?)
+        let axis = |text: String| Axis::parse(&text, "grid").map_err(|e| crate::grid_error(e, &[("grid", Opt::Grid)]));
+        Ok(Plane::new(axis(format!("omega=0.1:3.05:{n}"))?, axis(format!("delta=0.05:2:{n}"))?, Along::X)?)
     }
 
     /// Checked request, scene and plane.
@@ -456,13 +458,13 @@ mod tests {
         let error = |f: fn(&mut BenchRequest)| {
             let mut r = BenchRequest::new(8);
             f(&mut r);
-            r.check().unwrap_err().to_string()
+            r.check().unwrap_err().downcast_ref::<RequestError>().and_then(RequestError::at_fault)
         };
-        assert!(error(|r| r.grid = 1).starts_with("--grid:"));
-        assert!(error(|r| r.threads = vec![0]).starts_with("--threads:"));
-        assert!(error(|r| r.threads.clear()).starts_with("--threads:"));
-        assert!(error(|r| r.repeat = 0).starts_with("--repeat:"));
-        assert!(error(|r| r.trade_rounds = Some(0)).starts_with("--trade-repeat:"));
+        assert_eq!(error(|r| r.grid = 1), Some(Opt::Grid));
+        assert_eq!(error(|r| r.threads = vec![0]), Some(Opt::Threads));
+        assert_eq!(error(|r| r.threads.clear()), Some(Opt::Threads));
+        assert_eq!(error(|r| r.repeat = 0), Some(Opt::Repeat));
+        assert_eq!(error(|r| r.trade_rounds = Some(0)), Some(Opt::TradeRepeat));
         assert!(BenchRequest::new(8).check().is_ok());
     }
 

@@ -2,7 +2,8 @@
 //! [`solver::curve`]), the file it writes and the JSON object of
 //! `curve --json` ([`Traced::to_json`]).
 
-use crate::sim::{check_period, labels_json, Setup, Sim};
+use crate::error::{Opt, RequestError};
+use crate::sim::{check_period, labels_json, unknown, Setup, Sim};
 use anyhow::{anyhow, bail, Result};
 use serde_json::{json, Value};
 use solver::curve::{Curve, CurvePoint, Tracing};
@@ -55,34 +56,38 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     let s = r.sim.setup()?;
     check_period(r.n)?;
     let [pa, pb] = &r.free;
+    let refuse = RequestError::option;
     if pa == pb {
-        bail!("--free: expected two different parameters, got '{}' twice", pa);
+        bail!(refuse(Opt::Free).text(format!("expected two different parameters, got '{pa}' twice")));
     }
     for p in [pa, pb] {
-        s.scene.check_parameter(p, "--free")?;
+        s.scene.check_parameter(p, "").map_err(|e| unknown(refuse(Opt::Free), e))?;
     }
     if let Some((other, _)) = r.start.iter().find(|(n, _)| n != pa && n != pb) {
-        bail!("--start: gives the free parameters {pa} and {pb} only, got {other} (fix others with --set)");
+        let why = format!("gives the free parameters {pa} and {pb} only, got {other} (fix others with ");
+        bail!(refuse(Opt::Start).text(why).opt(Opt::Set).text(")"));
     }
     let value = |name: &str| {
-        r.start.iter().find(|(n, _)| n == name).map(|x| x.1).ok_or_else(|| anyhow!("--start: give {name}=VALUE"))
+        let missing = || refuse(Opt::Start).text(format!("give {name}=VALUE"));
+        r.start.iter().find(|(n, _)| n == name).map(|x| x.1).ok_or_else(missing)
     };
     let (a0, b0) = (value(pa)?, value(pb)?);
     if r.steps == 0 || r.steps > 10_000 {
-        bail!("--steps: expected 1 to 10000, got {}", r.steps);
+        bail!(refuse(Opt::Steps).text(format!("expected 1 to 10000, got {}", r.steps)));
     }
     if !(r.window > 0.0 && r.window.is_finite()) {
-        bail!("--window: expected a finite number > 0, got {}", r.window);
+        bail!(refuse(Opt::Window).text(format!("expected a finite number > 0, got {}", r.window)));
     }
     if !r.to.is_finite() {
-        bail!("--to: expected a finite number, got {}", r.to);
+        bail!(refuse(Opt::To).text(format!("expected a finite number, got {}", r.to)));
     }
     // The start and the end in B must make valid scenes (ranges of the parameters).
-    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| anyhow!("--start: {e}"))?;
-    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), r.to)]).map_err(|e| anyhow!("--to: {e}"))?;
+    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| refuse(Opt::Start).because(e))?;
+    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), r.to)]).map_err(|e| refuse(Opt::To).because(e))?;
     let a_bounds = r.bounds.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
     if a0 < a_bounds[0] || a0 > a_bounds[1] {
-        bail!("--bounds: the start {pa} = {a0} is outside {}:{}", a_bounds[0], a_bounds[1]);
+        let why = format!("the start {pa} = {a0} is outside {}:{}", a_bounds[0], a_bounds[1]);
+        bail!(refuse(Opt::Bounds).text(why));
     }
     let step = (r.to - b0).abs() / r.steps as f64;
     let tracing = Tracing {
@@ -217,10 +222,11 @@ pub struct CurvesFound {
 pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) -> Result<CurvesFound> {
     let clock = std::time::Instant::now();
     if r.output.is_none() && !r.into {
-        bail!("-o: give the curve file to write, or --into to store the curves in the atlas");
+        let refusal = RequestError::option(Opt::Output).text("give the curve file to write, or ").opt(Opt::Into);
+        bail!(refusal.text(" to store the curves in the atlas"));
     }
     if r.max == 0 || r.max > 100_000 {
-        bail!("--max: expected 1 to 100000 curves, got {}", r.max);
+        bail!(RequestError::option(Opt::Max).text(format!("expected 1 to 100000 curves, got {}", r.max)));
     }
     if let Some(out) = &r.output {
         store::check_output(out, &[&r.file], false)?;
@@ -234,7 +240,7 @@ pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) 
     let m = &atlas.meta;
     let sweeps = r.sweep.map_or_else(|| m.sweeps.clone(), |s| vec![s]);
     if let Some(missing) = sweeps.iter().find(|s| atlas.map(**s).is_none()) {
-        bail!("--sweep: the file has no {} sweep", missing.name());
+        bail!(RequestError::option(Opt::Sweep).text(format!("the file has no {} sweep", missing.name())));
     }
     let setup = stored_setup(m, &r.file)?.cell_setup(0)?;
     let seeding = grid::curves::Seeding { kinds: r.kinds.clone(), sweeps, max: r.max, threads: r.threads };

@@ -158,6 +158,113 @@ impl Work {
     }
 }
 
+/// Where a run stands, for a bar or a line ([`Meter::status`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Status {
+    /// Cells done, those done before the run (a resume) included.
+    pub done: u64,
+    /// Cells of the run, those done before included.
+    pub total: u64,
+    /// Seconds since the run began.
+    pub elapsed: f64,
+    /// Cells per second this run.
+    pub rate: f64,
+    /// This run's work done and its whole work, `(w, W)`: estimated
+    /// ([`Work`]) when the lines' costs were probed, else in cells.
+    pub work: (f64, f64),
+    /// Whether `work` is estimated rather than counted in cells.
+    pub weighed: bool,
+    /// Seconds left ([`eta`]), once any work is done.
+    pub left: Option<f64>,
+}
+
+/// A run's progress, counted from any thread: its cells, the work they stand
+/// for where the lines' costs were probed ([`Work`]), the rate and the time
+/// left ([`Meter::status`]). Any front end's bar reads it.
+pub struct Meter {
+    total: u64,
+    already: u64,
+    done: std::sync::atomic::AtomicU64,
+    start: std::time::Instant,
+    work: Option<Work>,
+}
+
+impl Status {
+    /// The work done in whole percent, rounded down: 100 exactly when all of
+    /// it is done (`100 w / W` in floating point can fall just below 100 when
+    /// `w = W`, for about one `W` in fifteen).
+    pub fn work_percent(&self) -> u64 {
+        let (w, total) = self.work;
+        match w >= total {
+            true => 100,
+            false => (100.0 * w / total.max(1e-300)).floor() as u64,
+        }
+    }
+}
+
+impl Meter {
+    /// The meter of a run that begins ([`crate::Begin`]): weighed by its
+    /// jobs' probed costs where it has them, else counted in cells.
+    pub fn new(b: &crate::Begin<'_>) -> Meter {
+        let work = b.prior.and_then(|prior| Work::new(b.lines.to_vec(), prior.to_vec(), b.line_len, b.threads));
+        Meter {
+            total: b.total,
+            already: b.done,
+            done: std::sync::atomic::AtomicU64::new(b.done),
+            start: std::time::Instant::now(),
+            work,
+        }
+    }
+
+    /// Cells of the run, those done before it included.
+    pub fn total(&self) -> u64 {
+        self.total
+    }
+
+    /// Whether the work is weighed by the lines' costs (else counted in cells).
+    pub fn weighed(&self) -> bool {
+        self.work.is_some()
+    }
+
+    /// `cells` more cells are done; returns the cells done.
+    pub fn advance(&self, cells: u64) -> u64 {
+        self.done.fetch_add(cells, std::sync::atomic::Ordering::Relaxed) + cells
+    }
+
+    /// Job `job` (its place in the order taken) is finished, on the thread
+    /// that computed it.
+    pub fn line_done(&self, job: usize) {
+        if let Some(w) = &self.work {
+            w.finish_at(job, self.start.elapsed().as_secs_f64());
+        }
+    }
+
+    /// Where the run stands now.
+    pub fn status(&self) -> Status {
+        let done = self.done.load(std::sync::atomic::Ordering::Relaxed);
+        let elapsed = self.start.elapsed().as_secs_f64();
+        let run = done.saturating_sub(self.already);
+        let (w, total) = match &self.work {
+            // The last cell: done, whatever the last lines are thought to weigh.
+            Some(work) if done >= self.total => {
+                let (_, total) = work.done(run);
+                (total, total)
+            }
+            Some(work) => work.done(run),
+            None => (run as f64, self.total.saturating_sub(self.already) as f64),
+        };
+        Status {
+            done,
+            total: self.total,
+            elapsed,
+            rate: run as f64 / elapsed.max(1e-9),
+            work: (w, total),
+            weighed: self.work.is_some(),
+            left: eta(elapsed, w, total),
+        }
+    }
+}
+
 impl WorkState {
     fn record(&mut self, job: usize, secs: f64) {
         if job >= self.secs.len() || self.secs[job].is_some() {
@@ -174,6 +281,26 @@ impl WorkState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// All work done reads 100 %, also for a total whose `100 w / w` falls
+    /// just below 100 in floating point (751.5627143418114 is one).
+    #[test]
+    fn all_the_work_done_is_a_hundred_percent() {
+        let at = |w: f64, total: f64| Status {
+            done: 1,
+            total: 1,
+            elapsed: 1.0,
+            rate: 1.0,
+            work: (w, total),
+            weighed: true,
+            left: None,
+        };
+        let total: f64 = 751.5627143418114;
+        assert!((100.0 * total / total).floor() < 100.0, "the case this guards against");
+        assert_eq!(at(total, total).work_percent(), 100);
+        assert_eq!(at(0.999 * total, total).work_percent(), 99);
+        assert_eq!(at(0.0, total).work_percent(), 0);
+    }
 
     #[test]
     fn eta_is_the_rate_so_far_applied_to_the_work_left() {
@@ -228,6 +355,24 @@ mod tests {
         }
         assert!(worst_weighted < 1.3, "weighted ETA off by a factor {worst_weighted}");
         assert!(worst_cells > 2.0, "counting cells should be far off here, got {worst_cells}");
+    }
+
+    #[test]
+    fn a_meter_counts_cells_or_weighs_lines() {
+        let b = crate::Begin { total: 10, done: 4, lines: &[], prior: None, line_len: 1, threads: 1 };
+        let m = Meter::new(&b);
+        assert!(!m.weighed());
+        assert_eq!(m.advance(3), 7);
+        let s = m.status();
+        assert_eq!((s.done, s.total, s.work, s.weighed), (7, 10, (3.0, 6.0), false));
+        let prior = [10.0, 30.0];
+        let b = crate::Begin { total: 8, done: 0, lines: &[0, 1], prior: Some(&prior), line_len: 4, threads: 2 };
+        let m = Meter::new(&b);
+        assert!(m.weighed());
+        assert_eq!(m.status().work, (0.0, 40.0));
+        m.advance(8);
+        let (w, total) = m.status().work;
+        assert_eq!(w, total, "the last cell: all the work done");
     }
 
     #[test]

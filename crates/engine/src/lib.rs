@@ -9,12 +9,15 @@
 //! | [`atlas()`] | [`AtlasRequest`] | [`Executed`] (the atlas, the file written) |
 //! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
 //! | [`curve()`] | [`CurveRequest`] | [`Traced`] (`to_json`: `curve --json`) |
+//! | [`merge()`] | [`MergeRequest`] | [`store::Merged`] (the atlas written) |
 //! | [`bench::bench()`] | [`bench::BenchRequest`] | [`bench::Bench`] (`to_json`: `bench --json`) |
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
 //! them ([`Observer::cancelled`]: the run ends with
-//! [`grid::GridError::Cancelled`] and writes no file). Errors are one line
-//! naming the option at fault as the command line spells it (`--set mu_k: …`).
+//! [`grid::GridError::Cancelled`] and writes no file). Errors are one line;
+//! a refused request is a [`RequestError`] naming the option at fault in the
+//! request's terms ([`Opt`]: `set mu_k: …`), which each front end spells in
+//! its own words ([`Words`], [`in_words`]: the command line's `--set mu_k: …`).
 //!
 //! The README's main job, the reference plane of the multi-stop scene with
 //! both sweeps (here on a coarse grid, written to a file):
@@ -39,7 +42,9 @@ mod attractors;
 pub mod bench;
 mod cell;
 mod curve;
+mod error;
 mod eta;
+mod merge;
 mod observer;
 mod orbit;
 mod plan;
@@ -53,7 +58,9 @@ pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
 pub use cell::{cell, friction_names, Cell};
 pub use curve::{curve, curves, stored, stored_setup, CurveRequest, CurvesFound, CurvesRequest, Traced};
-pub use eta::{eta, Work};
+pub use error::{grid_error, in_words, Fields, Opt, RequestError, Words};
+pub use eta::{eta, Meter, Status, Work};
+pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{continuation, orbit, Continued, Found};
 pub use plan::{threads, Executed, Plan};
@@ -62,21 +69,9 @@ pub use sim::{
     Start,
 };
 pub use study::{sheet_panel, study, StudyPlan};
-pub use summary::{reasons, summary_json};
+pub use summary::{inspect_json, reasons, summary_json, Summary, SweepSummary, CLASSES};
 pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
-pub use trace::{halt_text, sections, trace_csv, window, Row, Sections, Window};
-
-/// A grid error in the words of the command line: the field it names (`x`,
-/// `x omega`, `shard`) becomes the flag (`--x`, `--x omega`, `--shard`) that
-/// `flags` maps it to.
-pub fn in_flags(e: grid::GridError, flags: &[(&str, &str)]) -> anyhow::Error {
-    match e {
-        grid::GridError::Field { field, message } => {
-            let (head, rest) = field.split_once(' ').map_or((field.as_str(), ""), |(h, r)| (h, r));
-            let flag = flags.iter().find(|(f, _)| *f == head).map_or(head, |(_, flag)| flag);
-            let sep = if rest.is_empty() { "" } else { " " };
-            anyhow::anyhow!("{flag}{sep}{rest}: {message}")
-        }
-        other => anyhow::anyhow!(other),
-    }
-}
+pub use trace::{
+    check_trace_samples, halt_text, sections, trace, trace_csv, window, window_periods, Row, Sections, Window,
+    MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
+};

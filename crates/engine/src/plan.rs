@@ -2,6 +2,7 @@
 //! journal, one writer thread, atomic HDF5 output, progress reported to an
 //! [`Observer`] that may also stop the run.
 
+use crate::error::{chain_text, Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::sim::Setup;
 use anyhow::{anyhow, bail, Result};
@@ -41,8 +42,8 @@ pub struct Plan {
 /// Worker threads: the option, or every core.
 pub fn threads(opt: Option<usize>) -> Result<usize> {
     match opt {
-        Some(0) => bail!("--threads: must be >= 1"),
-        Some(n) if n > 1024 => bail!("--threads: at most 1024, got {n}"),
+        Some(0) => bail!(RequestError::option(Opt::Threads).text("must be >= 1")),
+        Some(n) if n > 1024 => bail!(RequestError::option(Opt::Threads).text(format!("at most 1024, got {n}"))),
         Some(n) => Ok(n),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }
@@ -74,13 +75,14 @@ impl Plan {
         let need = cells.saturating_mul(cell_bytes(&self.meta)).saturating_add(held);
         let have = store::available_memory();
         if need > have / 10 * 8 {
-            bail!(
-                "grid: {} cells x {} sweeps{what} need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, more --shard parts, or a smaller --section-cap",
+            let why = format!(
+                "grid: {} cells x {} sweeps{what} need about {:.1} GiB, more than the {:.1} GiB available; use a coarser grid, more ",
                 lines * p.line_len() as u64,
                 self.meta.sweeps.len(),
                 need as f64 / (1u64 << 30) as f64,
                 have as f64 / (1u64 << 30) as f64
             );
+            bail!(RequestError::message().text(why).opt(Opt::Shard).text(" parts, or a smaller ").opt(Opt::SectionCap));
         }
         Ok(())
     }
@@ -148,11 +150,11 @@ impl Plan {
         let Some(out) = &self.output else { return Ok((atlas, None)) };
         let jp = journal_path(out);
         let (j, lines) = if self.resume {
-            Journal::resume(&jp, &key, &self.meta)?
+            Journal::resume(&jp, &key, &self.meta).map_err(journal_advice)?
         } else {
             // Name the file the user asked for; the journal is ours.
-            let j =
-                Journal::create(&jp, &key).map_err(|e| anyhow!("{}: cannot write beside it ({e})", out.display()))?;
+            let j = Journal::create(&jp, &key)
+                .map_err(|e| anyhow!("{}: cannot write beside it ({})", out.display(), chain_text(e)))?;
             (j, Vec::new())
         };
         for l in lines {
@@ -261,7 +263,10 @@ impl Plan {
     ) -> Result<()> {
         let info =
             RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
-        let kept = |e: store::StoreError| anyhow!("{e} (the computed lines are kept: --resume once it can be written)");
+        let kept = |e: store::StoreError| {
+            let text = chain_text(e) + " (the computed lines are kept: ";
+            RequestError::message().text(text).opt(Opt::Resume).text(" once it can be written)")
+        };
         draft.map_err(kept)?.finish(atlas, &info).map_err(kept)?;
         // A journal removed from outside during the run: the file is
         // complete all the same (exit 0), but a kill would have lost the
@@ -275,6 +280,19 @@ impl Plan {
         }
         Ok(())
     }
+}
+
+/// A journal that cannot be resumed from, with what to do about it: remove
+/// it, or run without resuming.
+fn journal_advice(e: store::StoreError) -> anyhow::Error {
+    let advice = match &e {
+        store::StoreError::Journal { problem: store::JournalProblem::Damaged { .. }, .. } => {
+            ": remove it (the run starts over) or run without "
+        }
+        store::StoreError::Journal { .. } => "; remove it or run without ",
+        _ => return e.into(),
+    };
+    RequestError::message().text(e.to_string() + advice).opt(Opt::Resume).into()
 }
 
 /// The writer thread of a run: creates the output file (`draft_of`: path,
@@ -352,10 +370,9 @@ impl Plan {
     pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
         for axis in [&plane.x, &plane.y].into_iter().filter(|a| a.count > 1) {
             if s.overrides.iter().any(|(name, _)| *name == axis.name) {
-                bail!(
-                    "--set {0}: {0} is also an axis of the run, which would override it; remove the --set",
-                    axis.name
-                );
+                bail!(RequestError::keyed(Opt::Set, &axis.name)
+                    .text(format!("{} is also an axis of the run, which would override it; remove the ", axis.name))
+                    .opt(Opt::Set));
             }
         }
         let setup = s.cell_setup(section_cap)?;
@@ -410,7 +427,8 @@ impl Plan {
         if let Some(s) = self.shard {
             let lines = self.meta.plane.lines();
             if s.n > lines {
-                bail!("--shard: N must be at most the {lines} lines of the plane, got {}", s.n);
+                let why = format!("N must be at most the {lines} lines of the plane, got {}", s.n);
+                bail!(RequestError::option(Opt::Shard).text(why));
             }
         }
         self.check_memory()?;
@@ -435,7 +453,7 @@ impl Plan {
         let p = &self.meta.plane;
         let hyst = atlas.hysteresis();
         if only_hysteresis && hyst.is_none() {
-            bail!("--attractors-where hysteresis: needs --sweep both");
+            bail!(RequestError::given(Opt::AttractorsWhere, "hysteresis").text("needs ").opt_given(Opt::Sweep, "both"));
         }
         let chosen: Vec<usize> = (0..p.cells())
             .filter(|&i| {

@@ -4,6 +4,7 @@
 //! starts ([`Start`]): the scene's initial state, a given state, or a cell of
 //! a stored file, whose settings it then takes ([`Origin`]).
 
+use crate::error::{Opt, RequestError};
 use anyhow::{anyhow, bail, Result};
 use scene::Scene;
 use solver::{Accuracy, Method, Preset};
@@ -109,13 +110,13 @@ impl Sim {
     fn setup_with(&self, preset: Preset, method: Method, knobs: &[(String, f64)]) -> Result<Setup> {
         let scene = self.scene.load()?;
         for (name, value) in &self.set {
-            check_finite(*value, &format!("--set {name}"))?;
-            scene.check_parameter(name, &format!("--set {name}"))?;
+            check_finite(*value, || RequestError::keyed(Opt::Set, name))?;
+            scene.check_parameter(name, "").map_err(|e| unknown(RequestError::keyed(Opt::Set, name), e))?;
         }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();
         for (k, v) in knobs.iter().chain(&self.accuracy) {
-            check_finite(*v, &format!("--accuracy {k}"))?;
+            check_finite(*v, || RequestError::keyed(Opt::Accuracy, k))?;
             accuracy.set_named(k, *v)?;
             accuracy_overrides.push((k.clone(), *v));
         }
@@ -123,12 +124,20 @@ impl Sim {
     }
 }
 
-/// Refuses a value that is not finite (`field` names it).
-fn check_finite(v: f64, field: &str) -> Result<()> {
+/// Refuses a value that is not finite (`option` names it).
+fn check_finite(v: f64, option: impl FnOnce() -> RequestError) -> Result<()> {
     if !v.is_finite() {
-        bail!("{field}: not a finite number, got {v}");
+        bail!(option().text(format!("not a finite number, got {v}")));
     }
     Ok(())
+}
+
+/// `option` refused by the scene (an unknown parameter): the scene's message.
+pub(crate) fn unknown(option: RequestError, e: scene::SceneError) -> RequestError {
+    match e {
+        scene::SceneError::Field { message, .. } => option.text(message),
+        other => option.because(other),
+    }
 }
 
 /// A validated simulation set-up.
@@ -152,7 +161,7 @@ impl Setup {
     /// The grid's cell set-up, with sections of at most `section_cap` points.
     pub fn cell_setup(&self, section_cap: usize) -> Result<grid::CellSetup> {
         if section_cap > 100_000 {
-            bail!("--section-cap: at most 100000, got {section_cap}");
+            bail!(RequestError::option(Opt::SectionCap).text(format!("at most 100000, got {section_cap}")));
         }
         Ok(grid::CellSetup {
             scene: self.scene.clone(),
@@ -175,21 +184,36 @@ impl Setup {
     pub fn system(&self) -> Result<solver::System> {
         self.system_with(&[])
     }
+
+    /// The parameters given, by their symbols, for titles (`ω = 0.33, δ =
+    /// 0.6`), or `scene defaults`.
+    pub fn described(&self) -> String {
+        if self.overrides.is_empty() {
+            return "scene defaults".to_string();
+        }
+        let each: Vec<String> = self.overrides.iter().map(|(k, v)| format!("{} = {v}", self.scene.symbol(k))).collect();
+        each.join(", ")
+    }
 }
 
-/// Parses `NAME=VALUE` with a finite value; `flag` names the option in errors.
-pub fn parse_assignment(text: &str, flag: &str) -> Result<(String, f64)> {
-    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{flag} {text}: expected NAME=VALUE"))?;
+/// Parses `NAME=VALUE` with a finite value; `option` names the option in
+/// errors, in the caller's words (the command line's `--set`).
+pub fn parse_assignment(text: &str, option: &str) -> Result<(String, f64)> {
+    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{option} {text}: expected NAME=VALUE"))?;
     let name = name.trim().to_string();
-    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{flag} {name}: '{}' is not a number", value.trim()))?;
-    check_finite(v, &format!("{flag} {name}"))?;
+    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{option} {name}: '{}' is not a number", value.trim()))?;
+    if !v.is_finite() {
+        bail!("{option} {name}: not a finite number, got {v}");
+    }
     Ok((name, v))
 }
 
-/// Checks an orbit period (`--n`): 1 to 1000 forcing periods.
+/// Checks an orbit period ([`Opt::N`]): 1 to 1000 forcing periods.
 pub fn check_period(n: Option<usize>) -> Result<()> {
     match n {
-        Some(n) if n == 0 || n > 1000 => bail!("--n: expected a period between 1 and 1000, got {n}"),
+        Some(n) if n == 0 || n > 1000 => {
+            bail!(RequestError::option(Opt::N).text(format!("expected a period between 1 and 1000, got {n}")))
+        }
         _ => Ok(()),
     }
 }
@@ -262,7 +286,10 @@ impl Sim {
         sweep: Option<grid::SweepKind>,
     ) -> Result<(Setup, Option<Origin>)> {
         if at.is_empty() {
-            bail!("--from: give the cell with --at NAME=VALUE,NAME=VALUE");
+            bail!(RequestError::option(Opt::From)
+                .text("give the cell with ")
+                .opt(Opt::At)
+                .text(" NAME=VALUE,NAME=VALUE"));
         }
         let loaded = store::read(file)?;
         let atlas = &loaded.atlas;
@@ -270,23 +297,27 @@ impl Sim {
         let sweep = match sweep {
             Some(kind) if !m.sweeps.contains(&kind) => {
                 let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
-                bail!("--sweep: {} has {}, not {}", file.display(), have.join(", "), kind.name());
+                let what = format!("{} has {}, not {}", file.display(), have.join(", "), kind.name());
+                bail!(RequestError::option(Opt::Sweep).text(what));
             }
             Some(kind) => kind,
             None => m.sweeps[0],
         };
-        let (iy, ix) = atlas.nearest(at).map_err(|e| anyhow!("--at: {e}"))?;
-        let cell = atlas
-            .map(sweep)
-            .and_then(|map| map.cells[iy * m.plane.x.count + ix].as_ref())
-            .ok_or_else(|| anyhow!("--at: the cell was not computed in {} (a shard?)", file.display()))?;
+        let (iy, ix) = atlas.nearest(at).map_err(|e| RequestError::option(Opt::At).text(e))?;
+        let cell = atlas.map(sweep).and_then(|map| map.cells[iy * m.plane.x.count + ix].as_ref()).ok_or_else(|| {
+            RequestError::option(Opt::At).text(format!("the cell was not computed in {} (a shard?)", file.display()))
+        })?;
         // The file's settings, unless given.
         let preset = self.preset.unwrap_or(m.preset);
         let method = self.integrator.unwrap_or(m.integrator);
         let mut s = self.setup_with(preset, method, &m.accuracy)?;
         let params = m.plane.params(iy, ix);
         if let Some((k, _)) = s.overrides.iter().find(|(k, _)| params.iter().any(|(p, _)| p == k)) {
-            bail!("--set {k}: the cell of --from fixes {k} (an axis of {}); choose the cell with --at", file.display());
+            bail!(RequestError::keyed(Opt::Set, k)
+                .text("the cell of ")
+                .opt(Opt::From)
+                .text(format!(" fixes {k} (an axis of {}); choose the cell with ", file.display()))
+                .opt(Opt::At));
         }
         let mut overrides = m.overrides.clone();
         overrides.extend(params.iter().cloned());
@@ -294,7 +325,9 @@ impl Sim {
         s.overrides = overrides;
         let model = s.scene.evaluate(&s.overrides)?;
         if 2 * model.masses.len() != m.dim {
-            bail!("--from: {} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
+            let what =
+                format!("{} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
+            bail!(RequestError::option(Opt::From).text(what));
         }
         let warning = (s.scene.source() != m.scene_toml)
             .then(|| format!("the scene differs from the one stored in {}", file.display()));
@@ -322,18 +355,19 @@ impl Sim {
 /// and for v, no stop penetrated.
 fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
     if state.iter().any(|v| !v.is_finite()) {
-        bail!("--state: expected finite numbers");
+        bail!(RequestError::option(Opt::State).text("expected finite numbers"));
     }
     let model = s.scene.evaluate(&s.overrides)?;
     let dim = 2 * model.masses.len();
     if state.len() != dim {
-        bail!("--state: the scene's state has {dim} numbers (x of every mass, then v), got {}", state.len());
+        let what = format!("the scene's state has {dim} numbers (x of every mass, then v), got {}", state.len());
+        bail!(RequestError::option(Opt::State).text(what));
     }
     let x: Vec<f64> = state[..dim / 2].to_vec();
     for (k, stop) in model.stops.iter().enumerate() {
         let g = model.gap(k, &x);
         if g < -solver::ADMISSIBLE_PENETRATION {
-            bail!("--state: penetrates stop {} by {}", stop.name, -g);
+            bail!(RequestError::option(Opt::State).text(format!("penetrates stop {} by {}", stop.name, -g)));
         }
     }
     let about = serde_json::json!({"state": state});

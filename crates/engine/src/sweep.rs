@@ -3,10 +3,11 @@
 //! renderer and the hysteresis logic are those of the atlas; and the JSON
 //! object of `sweep --json` ([`Swept::to_json`]).
 
+use crate::error::{grid_error, with_fields, Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::plan::Plan;
 use crate::sim::{Origin, Sim, Start};
-use anyhow::{anyhow, Result};
+use anyhow::Result;
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
 use serde_json::{json, Map, Value};
 use std::path::PathBuf;
@@ -112,23 +113,18 @@ pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
     };
     let x = if given == SweepKind::Up { axis.clone() } else { axis.reversed() };
     let model = s.scene.evaluate(&s.overrides)?;
-    let (held, value) = model
-        .parameters
-        .iter()
-        .find(|(n, _)| *n != x.name && s.scene.is_plain(n))
-        .cloned()
-        .ok_or_else(|| anyhow!("--axis: the scene needs a second plain parameter to hold fixed"))?;
+    let (held, value) =
+        model.parameters.iter().find(|(n, _)| *n != x.name && s.scene.is_plain(n)).cloned().ok_or_else(|| {
+            RequestError::option(Opt::Axis).text("the scene needs a second plain parameter to hold fixed")
+        })?;
     let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)
-        .map_err(|e| crate::in_flags(e, &[("x", "--axis")]))?;
+        .map_err(|e| grid_error(e, &[("x", Opt::Axis)]))?;
     let mut plan = Plan::new(&s, r.section_cap, plane, sweeps.clone(), r.threads)?;
     plan.output = r.output.clone();
     plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
     plan.force = r.force;
     plan.command = r.command.clone();
-    plan.check().map_err(|e| match e.downcast::<grid::GridError>() {
-        Ok(g) => crate::in_flags(g, &[("x", "--axis"), ("threads", "--threads")]),
-        Err(e) => e,
-    })?;
+    plan.check().map_err(|e| with_fields(e, &[("x", Opt::Axis), ("threads", Opt::Threads)]))?;
     let atlas = match (legs, &origin) {
         (Legs::Separate, None) => plan.execute(observer)?.atlas,
         _ => legs_from(&plan, legs, origin.as_ref().map(|o| o.state.as_slice()), observer)?,

@@ -2,8 +2,9 @@
 //! event named ([`window`], as CSV by [`trace_csv`]), and its Poincaré
 //! sections over many periods ([`sections`]).
 
+use crate::error::{Opt, RequestError};
 use crate::sim::Setup;
-use anyhow::{anyhow, Result};
+use anyhow::{anyhow, bail, Result};
 use solver::{CellResult, Simulator, System};
 use std::fmt::Write as _;
 
@@ -20,8 +21,21 @@ pub struct Sections {
     pub impacts: Vec<Vec<(f64, f64)>>,
 }
 
-/// The sections of cell `c` over `periods` periods from its final state.
+/// Largest number of forcing periods of [`sections`].
+pub const MAX_SECTION_PERIODS: usize = 1_000_000;
+/// Largest number of samples per forcing period of a trace ([`trace`]): a
+/// trace of n periods holds about n × 100 000 rows.
+pub const MAX_TRACE_SAMPLES: usize = 100_000;
+/// Largest number of rows of a trace (about 1 GB of CSV for two masses).
+pub const MAX_TRACE_ROWS: usize = 10_000_000;
+
+/// The sections of cell `c` over `periods` periods (1 to
+/// [`MAX_SECTION_PERIODS`]) from its final state.
 pub fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Result<Sections> {
+    if periods == 0 || periods > MAX_SECTION_PERIODS {
+        let why = format!("expected 1 to {MAX_SECTION_PERIODS}, got {periods}");
+        bail!(RequestError::option(Opt::SectionPeriods).text(why));
+    }
     struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
     impl solver::Observer for Points<'_> {
         fn impact(&mut self, t: f64, stop: usize, before: &solver::DVector<f64>, _: &solver::DVector<f64>) {
@@ -120,6 +134,33 @@ pub fn window(sys: &System, s: &Setup, c: &CellResult, periods: usize, samples: 
         events_only.push((k, halt_text(&h, s)));
     }
     Window { rows: rows.0, events_only, ended: None }
+}
+
+/// Refuses samples per forcing period of a trace out of 1 to [`MAX_TRACE_SAMPLES`].
+pub fn check_trace_samples(samples: usize) -> Result<()> {
+    if samples == 0 || samples > MAX_TRACE_SAMPLES {
+        let why = format!("expected 1 to {MAX_TRACE_SAMPLES}, got {samples}");
+        bail!(RequestError::option(Opt::TraceSamples).text(why));
+    }
+    Ok(())
+}
+
+/// Forcing periods of a cell's window: its period, or its section's periods.
+pub fn window_periods(c: &CellResult) -> usize {
+    c.n.unwrap_or(c.section.len().max(1))
+}
+
+/// The trace of cell `c`: its [`window`] over [`window_periods`], `samples`
+/// per forcing period, refused when that is more than [`MAX_TRACE_ROWS`] rows.
+pub fn trace(sys: &System, s: &Setup, c: &CellResult, samples: usize) -> Result<Window> {
+    check_trace_samples(samples)?;
+    let periods = window_periods(c);
+    if periods.saturating_mul(samples) > MAX_TRACE_ROWS {
+        let why =
+            format!("{periods} periods x {samples} samples is more than {MAX_TRACE_ROWS} rows; take fewer samples");
+        bail!(RequestError::option(Opt::TraceSamples).text(why));
+    }
+    Ok(window(sys, s, c, periods, samples))
 }
 
 /// The window as CSV: `t`, every coordinate and velocity, and the event.

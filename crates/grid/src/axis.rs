@@ -133,11 +133,11 @@ mod tests {
 
     #[test]
     fn parses_and_spaces_values() {
-        let a = Axis::parse("omega=0.1:0.3:3", "--x").unwrap();
+        let a = Axis::parse("omega=0.1:0.3:3", "x").unwrap();
         assert_eq!(a.name, "omega");
         assert_eq!(a.values().len(), 3);
         assert!((a.value(1) - 0.2).abs() < 1e-15 && (a.value(2) - 0.3).abs() < 1e-15);
-        assert_eq!(Axis::parse("d=1:1:1", "--y").unwrap().values(), vec![1.0]);
+        assert_eq!(Axis::parse("d=1:1:1", "y").unwrap().values(), vec![1.0]);
     }
 
     #[test]
@@ -152,8 +152,8 @@ mod tests {
             "omega=1:inf:3",
             "omega=1:2:-1",
         ] {
-            assert!(Axis::parse(bad, "--x").is_err(), "{bad}");
+            assert!(Axis::parse(bad, "x").is_err(), "{bad}");
         }
-        assert!(Axis::parse("omega=2:1:3", "--x").unwrap().ascending("--x").is_err());
+        assert!(Axis::parse("omega=2:1:3", "x").unwrap().ascending("x").is_err());
     }
 }

@@ -5,12 +5,14 @@
 //! so that Ctrl-C and progress bars work while the engine computes. The
 //! Python package (`python/vibroatlas`) wraps these calls.
 //!
-//! Errors keep the command line's one-line messages: `SceneError` (a
-//! `ValueError`) for scene files and texts, `OSError` for files, `ValueError`
-//! for everything else the caller gave; a panic of the engine becomes a
-//! `RuntimeError`, never an abort of the interpreter.
+//! Errors are one line, the engine's options named as Python's keyword
+//! arguments ([`Keywords`]: `section_cap: …`, `resume=True`, a scene
+//! parameter by its name): `SceneError` (a `ValueError`) for scene files and
+//! texts, `OSError` for files, `ValueError` for everything else the caller
+//! gave; a panic of the engine becomes a `RuntimeError`, never an abort of
+//! the interpreter.
 
-use engine::{AtlasRequest, AttractorCells, CurveRequest, Direction, SceneSource, Sim, Start, SweepRequest};
+use engine::{AtlasRequest, AttractorCells, CurveRequest, Direction, Opt, SceneSource, Sim, Start, SweepRequest};
 use grid::attractors::Sampling;
 use grid::{Along, Axis, Shard, SweepKind};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -26,6 +28,30 @@ pyo3::create_exception!(
     PyValueError,
     "A scene file or text that cannot be read as a scene (the message names the field)."
 );
+
+/// The engine's options as keyword arguments: `section_cap`, `resume=True`,
+/// a scene parameter by its name (`params` for all of them).
+struct Keywords;
+
+impl engine::Words for Keywords {
+    fn option(&self, o: Opt) -> String {
+        match o {
+            Opt::Set => "params".into(),
+            o if o.is_switch() => format!("{}=True", o.name()),
+            o => o.name().into(),
+        }
+    }
+    fn keyed(&self, o: Opt, key: &str) -> String {
+        match o {
+            Opt::Set => key.into(),
+            Opt::Accuracy => format!("accuracy['{key}']"),
+            o => format!("{} {key}", self.option(o)),
+        }
+    }
+    fn given(&self, o: Opt, value: &str) -> String {
+        format!("{}='{value}'", o.name())
+    }
+}
 
 /// Why a run failed, as the Python exception it becomes.
 #[derive(Debug, Clone)]
@@ -44,9 +70,9 @@ enum Failure {
 
 impl Failure {
     /// The failure of an engine error: its kind from the chain of causes,
-    /// its text as the command line prints it.
+    /// its text in Python's words.
     fn of(e: &anyhow::Error) -> Failure {
-        let text = format!("{e:#}");
+        let text = engine::in_words(e, &Keywords);
         for cause in e.chain() {
             if let Some(grid::GridError::Cancelled) = cause.downcast_ref::<grid::GridError>() {
                 return Failure::Cancelled;
@@ -251,7 +277,7 @@ fn axis(t: (String, f64, f64, usize)) -> Axis {
 /// Worker threads: the option, or every core.
 fn threads(o: &mut Options<'_>) -> PyResult<usize> {
     let n = o.get::<usize>("threads")?;
-    engine::threads(n).map_err(|e| PyValueError::new_err(format!("{e:#}").replace("--threads", "threads")))
+    engine::threads(n).map_err(|e| PyValueError::new_err(engine::in_words(&e, &Keywords)))
 }
 
 /// JSON text of a value.
@@ -312,15 +338,8 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     let seed = o.get("seed")?.unwrap_or(1);
     let where_ = o.get::<String>("attractors_where")?;
     if let Some(samples) = o.get::<usize>("attractors")? {
-        let cells = match where_.as_deref() {
-            None | Some("all") => AttractorCells::All,
-            Some("hysteresis") => AttractorCells::Hysteresis,
-            Some(other) => {
-                return Err(PyValueError::new_err(format!(
-                    "attractors_where: expected all or hysteresis, got '{other}'"
-                )))
-            }
-        };
+        let cells = named("attractors_where", where_, AttractorCells::parse, "all or hysteresis")?
+            .unwrap_or(AttractorCells::All);
         r.attractors = Some((Sampling { samples, seed, x: 2.0, v: 2.0 }, cells));
     }
     r.section_cap = o.get("section_cap")?.unwrap_or(16);

@@ -1,4 +1,5 @@
-"""Bad inputs raise Python exceptions with the CLI's one-line messages:
+"""Bad inputs raise Python exceptions with the CLI's one-line messages, the
+options named as keyword arguments (the CLI's `--set nosuch` is `nosuch`):
 SceneError (a ValueError) for scenes, ValueError for arguments, OSError for
 files; never a crash."""
 import pytest
@@ -9,7 +10,7 @@ except ImportError:  # Python < 3.11
     tomllib = pytest.importorskip("tomli")
 import vibroatlas as va
 
-from conftest import MULTI, cli_error
+from conftest import DRY, MULTI, cli_error
 
 BROKEN = "name = \"broken\"\n[parameters\nomega = 1\n"
 
@@ -48,7 +49,8 @@ def test_unknown_parameter():
     with pytest.raises(ValueError) as e:
         va.cell(str(MULTI), nosuch=1.0)
     assert not isinstance(e.value, va.SceneError)
-    assert one_line(e) == cli_error("cell", MULTI, "--set", "nosuch=1.0")
+    assert one_line(e) == cli_error("cell", MULTI, "--set", "nosuch=1.0").replace("--set nosuch: ", "nosuch: ")
+    assert one_line(e).startswith("nosuch: unknown parameter 'nosuch'")
 
 
 @pytest.mark.parametrize("call", [
@@ -70,7 +72,36 @@ def test_bad_option_value_message():
     with pytest.raises(ValueError) as e:
         va.atlas(MULTI, x=("omega", 0.1, 1.0, 0), y=("delta", 0.1, 1.0, 3), progress=False)
     assert one_line(e) == cli_error("atlas", MULTI, "--x", "omega=0.1:1.0:0", "--y", "delta=0.1:1.0:3",
-                                     "-o", "/tmp/vibroatlas-never-written.h5")
+                                     "-o", "/tmp/vibroatlas-never-written.h5").replace("--x omega: ", "x omega: ")
+    assert one_line(e).startswith("x omega: COUNT must be")
+
+
+def test_options_are_named_as_keywords(tmp_path):
+    """Options named in a message are Python's keyword arguments, never the CLI's flags."""
+    grid = dict(x=("omega", 0.1, 1.0, 3), y=("delta", 0.1, 1.0, 2), progress=False)
+    cases = [
+        (lambda: va.atlas(MULTI, omega=0.3, output=str(tmp_path / "a.h5"), **grid),
+         "omega: omega is also an axis of the run, which would override it; remove the params"),
+        (lambda: va.atlas(MULTI, threads=0, output=str(tmp_path / "a.h5"), **grid), "threads: must be >= 1"),
+        (lambda: va.atlas(MULTI, section_cap=200000, output=str(tmp_path / "a.h5"), **grid),
+         "section_cap: at most 100000, got 200000"),
+        (lambda: va.atlas(MULTI, attractors=2, attractors_where="hysteresis", sweep="up",
+                          output=str(tmp_path / "a.h5"), **grid),
+         "attractors_where='hysteresis': needs sweep='both'"),
+        (lambda: va.curve(DRY, kind="pf", start={"omega": 6.845, "fk": 0.01},
+                          free=("omega", "fk"), to=0.1, n=0), "n: expected a period between 1 and 1000, got 0"),
+    ]
+    for call, message in cases:
+        with pytest.raises(ValueError) as e:
+            call()
+        assert one_line(e) == message
+        assert "--" not in one_line(e)
+    # A journal of another run: resume=True, not --resume.
+    out = tmp_path / "j.h5"
+    (tmp_path / ".j.h5.journal").write_text('{"fingerprint":"x"}\n')
+    with pytest.raises(ValueError) as e:
+        va.atlas(MULTI, output=str(out), resume=True, **grid)
+    assert one_line(e).endswith("the journal belongs to a run with other settings; remove it or run without resume=True")
 
 
 def test_missing_scene_file(tmp_path):

@@ -27,7 +27,7 @@ pub fn basins(
     save!(path, canvas, |root| draw(&root, &canvas, groups, colours, title, axes))
 }
 
-fn draw<DB: DrawingBackend>(
+fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     groups: &[(String, Vec<(f64, f64)>)],

@@ -28,6 +28,17 @@ pub enum Impact {
     Phase,
 }
 
+impl Impact {
+    /// `speed` or `phase`.
+    pub fn parse(name: &str) -> Option<Impact> {
+        match name {
+            "speed" => Some(Impact::Speed),
+            "phase" => Some(Impact::Phase),
+            _ => None,
+        }
+    }
+}
+
 /// What a diagram shows.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Diagram {
@@ -40,6 +51,25 @@ pub struct Diagram {
     /// For a hysteresis loop (`sweep --direction down-up|up-down`), the
     /// sweep run first: the other started from its end state.
     pub first: Option<SweepKind>,
+}
+
+impl Diagram {
+    /// The diagram of row `row` of `atlas`, its period-section panel showing
+    /// the state component named `variable` (`x_M1`, `v_M2`: see
+    /// [`component_name`]; default: the position of the first labelled mass);
+    /// an error, whose [`RenderError::what`] lists the names, for another name.
+    pub fn of(atlas: &Atlas, row: usize, variable: Option<&str>, impact: Impact) -> Result<Diagram, RenderError> {
+        let m = &atlas.meta;
+        let component = match variable {
+            Some(v) => {
+                let names: Vec<String> = (0..m.dim).map(|k| component_name(atlas, k)).collect();
+                let unknown = || RenderError::new(format!("expected one of {}, got '{v}'", names.join(", ")));
+                names.iter().position(|n| n == v).ok_or_else(unknown)?
+            }
+            None => m.masses.first().and_then(|first| m.state_masses.iter().position(|n| n == first)).unwrap_or(0),
+        };
+        Ok(Diagram { row, component, impact, first: None })
+    }
 }
 
 /// Radius (pt) of a down sweep's ring and of an up sweep's dot.
@@ -153,7 +183,7 @@ fn directions(atlas: &Atlas, first: Option<SweepKind>) -> String {
     }
 }
 
-fn draw<DB: DrawingBackend>(
+fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

@@ -26,7 +26,7 @@ pub fn branch(
     save!(path, canvas, |root| draw(&root, &canvas, points, marks, title, axis, mass))
 }
 
-fn draw<DB: DrawingBackend>(
+fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     points: &[(f64, f64, f64, bool)],

@@ -20,9 +20,10 @@ pub fn path() -> Result<std::path::PathBuf, RenderError> {
         .chain(CANDIDATES.iter().map(|s| s.to_string()))
         .map(std::path::PathBuf::from)
         .find(|p| p.exists())
-        .ok_or_else(|| RenderError {
-            message: "no TrueType font found: install fonts-dejavu-core (scripts/setup.sh does) or set VIBROATLAS_FONT"
-                .into(),
+        .ok_or_else(|| {
+            RenderError::new(
+                "no TrueType font found: install fonts-dejavu-core (scripts/setup.sh does) or set VIBROATLAS_FONT",
+            )
         })
 }
 
@@ -33,7 +34,7 @@ pub const FAMILY: &str = "DejaVu Sans, sans-serif";
 /// Registers the font as [`FAMILY`] (once).
 pub fn ensure() -> Result<(), RenderError> {
     FONT.get_or_init(|| {
-        let path = path().map_err(|e| e.message)?;
+        let path = path().map_err(|e| e.what().to_string())?;
         let path = path.display().to_string();
         let bytes = std::fs::read(&path).map_err(|e| format!("{path}: {e}"))?;
         let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
@@ -41,5 +42,5 @@ pub fn ensure() -> Result<(), RenderError> {
             .map_err(|_| format!("{path}: not a usable font"))
     })
     .clone()
-    .map_err(|message| RenderError { message })
+    .map_err(RenderError::new)
 }

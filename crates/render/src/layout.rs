@@ -23,7 +23,7 @@ const LINE: f64 = 1.3;
 
 /// `text` broken at spaces into lines no wider than `width` pixels in `font`
 /// (a word longer than the width stays whole).
-pub(crate) fn wrap<DB: DrawingBackend>(
+pub(crate) fn wrap<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     text: &str,
     font: &FontDesc,
@@ -45,7 +45,7 @@ pub(crate) fn wrap<DB: DrawingBackend>(
 
 /// Draws `text` at the top of `area`, centred and wrapped, at `scale` times
 /// the body size; returns the area below it.
-pub(crate) fn header<DB: DrawingBackend>(
+pub(crate) fn header<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -66,7 +66,7 @@ pub(crate) fn header<DB: DrawingBackend>(
 
 /// Draws `text` at the bottom of `area`, left-aligned and wrapped, at the
 /// footnote size; returns the area above it.
-pub(crate) fn footer<DB: DrawingBackend>(
+pub(crate) fn footer<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -86,7 +86,7 @@ pub(crate) fn footer<DB: DrawingBackend>(
 }
 
 /// `area` split into `n` panels in rows of `cols`, left to right, top to bottom.
-pub(crate) fn panels<DB: DrawingBackend>(
+pub(crate) fn panels<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     n: usize,
     cols: usize,
@@ -99,7 +99,7 @@ pub(crate) fn panels<DB: DrawingBackend>(
 /// `area` split into `n` panels in as many columns as give the panels the
 /// most room for their least size `least` (width, height in text heights):
 /// side by side on a wide page, one above the other on a tall one.
-pub(crate) fn grid<DB: DrawingBackend>(
+pub(crate) fn grid<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     n: usize,
@@ -142,7 +142,7 @@ fn tick_chars(range: (f64, f64)) -> usize {
 
 /// `text` at `scale` times the body size, or smaller (down to 6 pt) when it
 /// is longer than `width` pixels.
-fn fitted<DB: DrawingBackend>(
+fn fitted<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -160,7 +160,7 @@ fn fitted<DB: DrawingBackend>(
 
 /// A chart on `area` with the axes `a`: label areas and tick counts sized to
 /// the canvas's text, no grid, ticks without `-0`.
-pub(crate) fn chart<'b, DB: DrawingBackend>(
+pub(crate) fn chart<'b, DB: crate::Backend>(
     area: &'b DrawingArea<DB, Shift>,
     canvas: &Canvas,
     a: &Axes,

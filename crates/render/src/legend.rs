@@ -54,7 +54,7 @@ const SWATCH: f64 = 1.1;
 const LINE_SWATCH: f64 = 3.2;
 
 /// Width (px) of the widest row of `entries`, swatch included.
-pub(crate) fn width<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, canvas: &Canvas, entries: &[Entry]) -> u32 {
+pub(crate) fn width<DB: crate::Backend>(area: &DrawingArea<DB, Shift>, canvas: &Canvas, entries: &[Entry]) -> u32 {
     let font = canvas.font(1.0);
     entries
         .iter()
@@ -76,7 +76,7 @@ fn swatch_width(s: Swatch) -> f64 {
 }
 
 /// Widths (px) of the columns of `entries` laid out `rows` to a column.
-pub(crate) fn columns<DB: DrawingBackend>(
+pub(crate) fn columns<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     entries: &[Entry],
@@ -98,7 +98,7 @@ pub(crate) fn height(canvas: &Canvas, rows: usize) -> u32 {
 /// Draws `entries` down `area` in columns of as many rows as its height
 /// holds, each column as wide as its widest row; rows beyond its width are
 /// left out (callers size their entries with [`rows`] and [`columns`]).
-pub(crate) fn draw<DB: DrawingBackend>(
+pub(crate) fn draw<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     entries: &[Entry],
@@ -122,7 +122,7 @@ pub(crate) fn draw<DB: DrawingBackend>(
 }
 
 /// Draws one row, its swatch's left edge at `x`, in row `r` of its column.
-fn draw_row<DB: DrawingBackend>(
+fn draw_row<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     e: &Entry,
@@ -137,7 +137,7 @@ fn draw_row<DB: DrawingBackend>(
 }
 
 /// Draws a swatch whose left edge is `x`, centred on `y`.
-fn swatch<DB: DrawingBackend>(
+fn swatch<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     s: Swatch,
@@ -190,7 +190,7 @@ fn swatch<DB: DrawingBackend>(
 
 /// Draws a polyline (in the area's coordinates) with a white halo, width
 /// (pt) and dash (pt).
-pub(crate) fn line<DB: DrawingBackend, CT: plotters::coord::CoordTranslate>(
+pub(crate) fn line<DB: crate::Backend, CT: plotters::coord::CoordTranslate>(
     area: &DrawingArea<DB, CT>,
     canvas: &Canvas,
     points: &[CT::From],

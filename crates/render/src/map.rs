@@ -31,6 +31,16 @@ pub enum View {
     Hysteresis,
 }
 
+impl View {
+    /// `hysteresis`, or the name of a sweep (`fresh`, `up`, `down`).
+    pub fn parse(name: &str) -> Option<View> {
+        match name {
+            "hysteresis" => Some(View::Hysteresis),
+            sweep => SweepKind::parse(sweep).map(View::Sweep),
+        }
+    }
+}
+
 /// Colour of cells a panel does not show (not computed, or no hysteresis):
 /// white, apart from every label's colour.
 const BLANK: RGBColor = RGBColor(255, 255, 255);
@@ -92,7 +102,7 @@ impl<'a> CellGrid<'a> {
 
     /// A chart over the whole plane (half a cell of margin), axes named after
     /// the parameters' symbols.
-    pub(crate) fn chart<'b, DB: DrawingBackend>(
+    pub(crate) fn chart<'b, DB: crate::Backend>(
         &self,
         area: &'b DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -124,6 +134,29 @@ pub struct Overlay {
     pub marks: Vec<(f64, f64)>,
 }
 
+impl Overlay {
+    /// A curve of `kind` in the parameters `free`, through `points` with
+    /// codimension-two points `marks` (each in the order of `free`), as an
+    /// overlay of `plane`, whose axes its parameters must be in either order
+    /// (`None` otherwise).
+    pub fn on(
+        plane: &grid::Plane,
+        kind: &str,
+        free: &[String; 2],
+        points: &[(f64, f64)],
+        marks: impl IntoIterator<Item = (f64, f64)>,
+    ) -> Option<Overlay> {
+        let swap = match (free[0].as_str(), free[1].as_str()) {
+            (a, b) if a == plane.x.name && b == plane.y.name => false,
+            (a, b) if a == plane.y.name && b == plane.x.name => true,
+            _ => return None,
+        };
+        let xy = |(a, b): (f64, f64)| if swap { (b, a) } else { (a, b) };
+        let (points, marks) = (points.iter().copied().map(xy).collect(), marks.into_iter().map(xy).collect());
+        Some(Overlay { kind: kind.to_string(), points, marks })
+    }
+}
+
 /// Line style of a kind of curve: colour, width (pt) and dash (pt on, off).
 fn curve_style(kind: &str) -> (RGBColor, f64, (f64, f64)) {
     match kind {
@@ -145,7 +178,7 @@ enum Paint {
 }
 
 /// Draws cells as `paint` gives them (None: not drawn), and `curves` over them.
-fn draw_cells<DB: DrawingBackend>(
+fn draw_cells<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -310,7 +343,7 @@ struct Placed {
     size: u32,
 }
 
-fn place<DB: DrawingBackend>(
+fn place<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     below_rows: usize,
@@ -339,7 +372,7 @@ fn place<DB: DrawingBackend>(
 
 impl Placed {
     /// `area` split into the panels' area and the legend's.
-    fn split<DB: DrawingBackend>(
+    fn split<DB: crate::Backend>(
         &self,
         area: &DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -353,7 +386,7 @@ impl Placed {
     }
 
     /// Draws the legend into its area.
-    fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
+    fn draw<DB: crate::Backend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
         legend::draw(area, canvas, &self.rows)
     }
 }
@@ -381,7 +414,7 @@ pub fn map(
     save!(path, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
 }
 
-fn draw_map<DB: DrawingBackend>(
+fn draw_map<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -416,7 +449,7 @@ fn draw_map<DB: DrawingBackend>(
 
 /// The three panels of the hysteresis view and their legend: labels of both
 /// sweeps, then the (up, down) pairs of the differing cells.
-fn draw_hysteresis<DB: DrawingBackend>(
+fn draw_hysteresis<DB: crate::Backend>(
     body: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -500,7 +533,7 @@ pub fn sheet(
     save!(path, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
 }
 
-fn draw_sheet<DB: DrawingBackend>(
+fn draw_sheet<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     panels: &[(String, Atlas)],
@@ -534,15 +567,12 @@ const COEXISTING: [RGBColor; 4] =
 /// `atlas` (`atlas --attractors`), cells not sampled white (format by the
 /// extension of `path`).
 pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let a = atlas
-        .attractors
-        .as_ref()
-        .ok_or_else(|| RenderError::new("the file has no attractors: make it with atlas --attractors K"))?;
+    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::Missing::Attractors))?;
     let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }
 
-fn draw_attractors<DB: DrawingBackend>(
+fn draw_attractors<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

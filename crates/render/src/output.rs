@@ -26,13 +26,11 @@ impl Format {
             Some("png") => Ok(Format::Png),
             Some("svg") => Ok(Format::Svg),
             Some("pdf") => Ok(Format::Pdf),
-            other => Err(RenderError {
-                message: format!(
-                    "{}: unknown picture format{}; use .png, .svg or .pdf",
-                    path.display(),
-                    other.map(|e| format!(" '.{e}'")).unwrap_or_default()
-                ),
-            }),
+            other => Err(RenderError::new(format!(
+                "{}: unknown picture format{}; use .png, .svg or .pdf",
+                path.display(),
+                other.map(|e| format!(" '.{e}'")).unwrap_or_default()
+            ))),
         }
     }
 }
@@ -40,21 +38,24 @@ impl Format {
 /// Converts an SVG text to a PDF file at `path`, the font included, at `dpi`
 /// SVG units per inch.
 pub(crate) fn pdf(svg: &str, path: &Path, dpi: f64) -> Result<(), RenderError> {
-    let fail = |m: String| RenderError { message: format!("{}: {m}", path.display()) };
+    let fail = |e: Box<dyn std::error::Error + Send + Sync>| RenderError::because(path.display().to_string(), e);
     let mut options = svg2pdf::usvg::Options::default();
     let font = crate::font::path()?;
     let db = options.fontdb_mut();
-    db.load_font_file(&font).map_err(|e| fail(format!("{}: {e}", font.display())))?;
+    db.load_font_file(&font).map_err(|e| RenderError::because(format!("{}: {}", path.display(), font.display()), e))?;
     // The figures name the generic family; it must resolve to the loaded font,
     // or usvg drops every text.
     let family = db.faces().next().and_then(|f| f.families.first()).map(|f| f.0.clone());
-    let family = family.ok_or_else(|| fail(format!("{}: no font family in the file", font.display())))?;
+    let family = family.ok_or_else(|| {
+        RenderError::new(format!("{}: {}: no font family in the file", path.display(), font.display()))
+    })?;
     db.set_sans_serif_family(family.clone());
     options.font_family = family;
-    let tree = svg2pdf::usvg::Tree::from_str(svg, &options).map_err(|e| fail(e.to_string()))?;
+    let tree = svg2pdf::usvg::Tree::from_str(svg, &options).map_err(|e| fail(Box::new(e)))?;
     let bytes = svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), svg2pdf::PageOptions { dpi: dpi as f32 })
-        .map_err(|e| fail(e.to_string()))?;
-    std::fs::write(path, bytes).map_err(|e| fail(e.to_string()))
+        // svg2pdf's error is not a std::error::Error: its text is kept.
+        .map_err(|e| RenderError::new(format!("{}: {e}", path.display())))?;
+    std::fs::write(path, bytes).map_err(|e| fail(Box::new(e)))
 }
 
 /// An SVG text whose size is stated in millimetres (its user units stay
@@ -85,16 +86,16 @@ pub(crate) fn svg_in_mm(svg: &str, (w, h): (f64, f64)) -> String {
 /// Writes RGB pixels as a PNG file at `path` that states its resolution
 /// (`dpi`, a pHYs chunk), so that documents place it at its printed size.
 pub(crate) fn png(path: &Path, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Result<(), RenderError> {
-    let fail = |m: String| RenderError::new(format!("{}: {m}", path.display()));
-    let file = std::fs::File::create(path).map_err(|e| fail(e.to_string()))?;
+    let fail = |e: Box<dyn std::error::Error + Send + Sync>| RenderError::because(path.display().to_string(), e);
+    let file = std::fs::File::create(path).map_err(|e| fail(Box::new(e)))?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     let per_metre = (dpi / 0.0254).round() as u32;
     encoder.set_pixel_dims(Some(png::PixelDimensions { xppu: per_metre, yppu: per_metre, unit: png::Unit::Meter }));
-    let mut writer = encoder.write_header().map_err(|e| fail(e.to_string()))?;
-    writer.write_image_data(rgb).map_err(|e| fail(e.to_string()))?;
-    writer.finish().map_err(|e| fail(e.to_string()))
+    let mut writer = encoder.write_header().map_err(|e| fail(Box::new(e)))?;
+    writer.write_image_data(rgb).map_err(|e| fail(Box::new(e)))?;
+    writer.finish().map_err(|e| fail(Box::new(e)))
 }
 
 /// Draws a figure into `$path` in the format of its extension on `$canvas`
@@ -126,7 +127,7 @@ macro_rules! save {
                     crate::output::pdf(&svg, $path, $canvas.dpi)
                 } else {
                     let svg = $canvas.mm.map_or(svg.clone(), |mm| crate::output::svg_in_mm(&svg, mm));
-                    std::fs::write($path, svg).map_err(|e| crate::RenderError::new(format!("{}: {e}", $path.display())))
+                    std::fs::write($path, svg).map_err(|e| crate::RenderError::because($path.display().to_string(), e))
                 }
             }
         }

@@ -61,6 +61,39 @@ impl std::str::FromStr for PrintSize {
     }
 }
 
+/// An option of a figure's size.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PageOption {
+    /// The print size ([`PrintSize`]).
+    Size,
+    /// The body text size (points).
+    FontSize,
+    /// The resolution of a printed PNG (dots per inch).
+    Dpi,
+}
+
+/// Figure options that make no page: the option at fault and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PageError {
+    /// A text size or a resolution without a print size (only a printed
+    /// figure has them).
+    #[error("sets the {} of a printed figure", if *.0 == PageOption::FontSize { "text" } else { "resolution" })]
+    WithoutSize(PageOption),
+    /// A value that cannot be read or is out of range.
+    #[error("{1}")]
+    Value(PageOption, String),
+}
+
+impl PageError {
+    /// The option at fault.
+    pub fn option(&self) -> PageOption {
+        match self {
+            PageError::WithoutSize(o) | PageError::Value(o, _) => *o,
+        }
+    }
+}
+
 /// How large a figure is drawn: on screen (today's pixel canvases) or on a
 /// printed page.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -89,16 +122,33 @@ impl Page {
 
     /// A printed page of `size`, body text `font_pt` points (6 to 24; default
     /// 8) and, for PNG, `dpi` dots per inch (72 to 1200; default 300).
-    pub fn print(size: PrintSize, font_pt: Option<f64>, dpi: Option<u32>) -> Result<Page, RenderError> {
+    pub fn print(size: PrintSize, font_pt: Option<f64>, dpi: Option<i64>) -> Result<Page, PageError> {
         let font_pt = font_pt.unwrap_or(Page::FONT_PT);
         if !(MIN_TEXT_PT..=24.0).contains(&font_pt) {
-            return Err(RenderError::new(format!("font size: must be in [{MIN_TEXT_PT}, 24] pt, got {font_pt}")));
+            let why = format!("must be in [{MIN_TEXT_PT}, 24] pt, got {font_pt}");
+            return Err(PageError::Value(PageOption::FontSize, why));
         }
-        let dpi = dpi.unwrap_or(Page::DPI);
+        let dpi = dpi.unwrap_or(Page::DPI.into());
         if !(72..=1200).contains(&dpi) {
-            return Err(RenderError::new(format!("dpi: must be in [72, 1200], got {dpi}")));
+            return Err(PageError::Value(PageOption::Dpi, format!("must be in [72, 1200], got {dpi}")));
         }
         Ok(Page { print: Some(size), font_pt, dpi: dpi as f64 })
+    }
+
+    /// The page of a figure's options: a printed page of `size` (`single`,
+    /// `double`, `WxH`: [`PrintSize`]) with [`Page::print`]'s text size and
+    /// resolution, or without a size each figure's screen size, which takes
+    /// neither.
+    pub fn of(size: Option<&str>, font_pt: Option<f64>, dpi: Option<i64>) -> Result<Page, PageError> {
+        match size {
+            Some(size) => {
+                let size: PrintSize = size.parse().map_err(|e| PageError::Value(PageOption::Size, e))?;
+                Page::print(size, font_pt, dpi)
+            }
+            None if font_pt.is_some() => Err(PageError::WithoutSize(PageOption::FontSize)),
+            None if dpi.is_some() => Err(PageError::WithoutSize(PageOption::Dpi)),
+            None => Ok(Page::screen()),
+        }
     }
 
     /// The printed size, if any.

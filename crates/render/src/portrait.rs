@@ -41,7 +41,7 @@ pub fn portrait(p: &Portrait, page: &Page, path: &Path) -> Result<(), RenderErro
     save!(path, canvas, |root| draw(&root, &canvas, p))
 }
 
-fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &Portrait) -> Result<(), RenderError> {
+fn draw<DB: crate::Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &Portrait) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
     let body = layout::header(root, canvas, &p.title, layout::TITLE)?;
     let (top, bottom) = body.split_vertically(body.dim_in_pixel().1 * 4 / 7);

@@ -90,7 +90,7 @@ pub fn scalar_map(
     save!(path, canvas, |root| draw(&root, &canvas, atlas, sweep, quantity))
 }
 
-fn draw<DB: DrawingBackend>(
+fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

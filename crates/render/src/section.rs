@@ -33,7 +33,7 @@ pub fn sections(panels: &[Panel], title: &str, page: &Page, path: &Path) -> Resu
     save!(path, canvas, |root| draw(&root, &canvas, panels, title))
 }
 
-fn draw<DB: DrawingBackend>(
+fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     panels: &[Panel],

@@ -134,7 +134,8 @@ pub fn natural_map(sys: &System, acc: &Accuracy, x0: &DVector<f64>, n: usize) ->
 #[derive(Debug, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum OrbitError {
-    /// The simulated cell is not periodic and no period was given.
+    /// The simulated cell is not periodic and no period was given (the
+    /// caller says how to give one).
     NoPeriod(String),
     /// Newton's method did not converge.
     NoConvergence,
@@ -144,7 +145,7 @@ impl std::fmt::Display for OrbitError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             OrbitError::NoPeriod(class) => {
-                write!(f, "the simulated motion is {class}, not periodic; give its period with --n")
+                write!(f, "the simulated motion is {class}, not periodic")
             }
             OrbitError::NoConvergence => write!(f, "Newton's method did not converge to a periodic orbit"),
         }

@@ -9,7 +9,7 @@
 //! the same way (`vibroatlas curves ATLAS --into`); [`read_curves`] reads
 //! either.
 
-use crate::error::StoreError;
+use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
 use crate::layout::curves::*;
 use crate::netcdf;
@@ -35,12 +35,12 @@ pub struct Curve {
 
 /// Writes `curves` to `path` atomically; `command` and `scene` are provenance.
 pub fn write_curves(path: &Path, curves: &[Curve], command: &str, scene: &str) -> Result<(), StoreError> {
-    crate::write_atomically(path, |tmp| -> hdf5::Result<()> {
+    crate::write_atomically(path, |tmp| -> Result<(), Hdf5Error> {
         let f = netcdf::create_file(tmp)?;
         netcdf::attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
         netcdf::attr_str(&f, attr::SCENE, scene)?;
         write_all(&f, curves, command)?;
-        f.flush()
+        Ok(f.flush()?)
     })
 }
 
@@ -49,8 +49,8 @@ pub fn write_curves(path: &Path, curves: &[Curve], command: &str, scene: &str) -
 /// copy renamed over it (locked meanwhile, as every output).
 pub fn add_curves(path: &Path, curves: &[Curve], command: &str) -> Result<(), StoreError> {
     let _lock = crate::OutputLock::acquire(path)?;
-    crate::write_atomically(path, |tmp| -> Result<(), String> {
-        std::fs::copy(path, tmp).map_err(|e| e.to_string())?;
+    crate::write_atomically(path, |tmp| -> Result<(), Box<dyn std::error::Error + Send + Sync>> {
+        std::fs::copy(path, tmp)?;
         let add = || -> hdf5::Result<()> {
             let f = hdf5::File::open_rw(tmp)?;
             if f.link_exists(GROUP) {
@@ -59,7 +59,7 @@ pub fn add_curves(path: &Path, curves: &[Curve], command: &str) -> Result<(), St
             write_all(&f.create_group(GROUP)?, curves, command)?;
             f.flush()
         };
-        add().map_err(|e| e.to_string())
+        Ok(add().map_err(Hdf5Error::from)?)
     })
 }
 
@@ -119,12 +119,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     } else {
         match f.group(GROUP) {
             Ok(g) if content(&g).ok().as_deref() == Some(CONTENT) => g,
-            _ => {
-                return Err(StoreError::format(
-                    path,
-                    "not a vibroatlas curve file (vibroatlas curve -o FILE.h5) nor an atlas with curves (vibroatlas curves ATLAS --into)",
-                ))
-            }
+            _ => return Err(StoreError::Kind { path: path.display().to_string(), found: OtherKind::NoCurves }),
         }
     };
     let ck = crate::read::Checker { path };

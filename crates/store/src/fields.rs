@@ -365,8 +365,8 @@ mod tests {
     use grid::Axis;
 
     fn plane(nx: usize, ny: usize, along: Along) -> Plane {
-        let x = Axis::parse(&format!("omega=0.1:3:{nx}"), "--x").unwrap();
-        let y = Axis::parse(&format!("delta=0.1:2:{ny}"), "--y").unwrap();
+        let x = Axis::parse(&format!("omega=0.1:3:{nx}"), "x").unwrap();
+        let y = Axis::parse(&format!("delta=0.1:2:{ny}"), "y").unwrap();
         Plane::new(x, y, along).unwrap()
     }
 

@@ -12,7 +12,7 @@
 //! socket or symbolic link at its path is refused with one line, never opened
 //! for reading (see [`crate::lock::check_own_file`]).
 
-use crate::error::StoreError;
+use crate::error::{JournalProblem, StoreError};
 use grid::{CellData, Line, Meta, SweepKind};
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
@@ -227,21 +227,19 @@ impl Journal {
         let mut rows: Vec<&[u8]> = bytes.split(|&b| b == b'\n').collect();
         // The text after the last newline is a torn append (or nothing).
         let torn = rows.pop().unwrap_or_default();
-        let refuse = |n: usize, why: String| {
-            StoreError::format(
-                path,
-                format!("line {n}: {why}; the journal cannot be trusted: remove it (the run starts over) or run without --resume"),
-            )
+        let refuse = |line: usize, why: String| StoreError::Journal {
+            path: path.display().to_string(),
+            problem: JournalProblem::Damaged { line, why },
         };
         for (i, text) in rows.iter().enumerate() {
             if i == 0 {
                 let h: Header =
                     serde_json::from_slice(text).map_err(|_| StoreError::format(path, "not a vibroatlas journal"))?;
                 if h.fingerprint != fingerprint {
-                    return Err(StoreError::format(
-                        path,
-                        "the journal belongs to a run with other settings; remove it or run without --resume",
-                    ));
+                    return Err(StoreError::Journal {
+                        path: path.display().to_string(),
+                        problem: JournalProblem::OtherRun,
+                    });
                 }
             } else {
                 let sealed: Sealed =

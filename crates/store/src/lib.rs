@@ -34,10 +34,11 @@ mod verify;
 mod write;
 
 pub use curve::{add_curves, read_curves, write_curves, Curve};
-pub use error::StoreError;
+pub use error::{Hdf5Error, JournalProblem, OtherKind, Setting, StoreError};
 pub use journal::{fingerprint, journal_path, Journal, SealedLine, Sealer};
 pub use lock::{
-    canonical_output, check_output, check_own_file, check_writable, commit, lock_path, write_atomically, OutputLock,
+    canonical_output, check_output, check_own_file, check_writable, commit, create_folder, lock_path, write_atomically,
+    OutputLock,
 };
 pub use merge::{merge, Merged};
 pub use read::{available_memory, read, Loaded, MAX_DIM, MAX_EXPANSION};

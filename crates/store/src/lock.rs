@@ -344,7 +344,8 @@ pub(crate) fn check_folder(path: &Path) -> Result<(), StoreError> {
 /// Writes `path` through `write`, which fills a temporary file beside it (see
 /// [`crate::partial_path`]); the temporary replaces `path` only once complete
 /// ([`commit`]), so a failure never leaves a half-written file under its name.
-pub fn write_atomically<E: std::fmt::Display>(
+/// The writer's error becomes the source of a [`StoreError::Write`].
+pub fn write_atomically<E: Into<Box<dyn std::error::Error + Send + Sync>>>(
     path: &Path,
     write: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), StoreError> {
@@ -353,22 +354,73 @@ pub fn write_atomically<E: std::fmt::Display>(
     check_own_file(&tmp, "temporary file")?;
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);
-        // One line, whatever the writer's message spans (HDF5's span several).
-        return Err(StoreError::format(path, e.to_string().split_whitespace().collect::<Vec<_>>().join(" ")));
+        return Err(StoreError::Write { path: path.display().to_string(), cause: e.into() });
     }
     commit(&tmp, path).inspect_err(|_| {
         let _ = std::fs::remove_file(&tmp);
     })
 }
 
+/// Creates the folder `dir` (and its missing parents); returns the outermost
+/// folder it created, if any (for a caller to remove again when it writes
+/// nothing there); the system's error when it cannot.
+pub fn create_folder(dir: &Path) -> std::io::Result<Option<PathBuf>> {
+    let missing: Option<PathBuf> = dir
+        .ancestors()
+        .filter(|p| !p.as_os_str().is_empty())
+        .take_while(|p| std::fs::symlink_metadata(p).is_err())
+        .last()
+        .map(Path::to_path_buf);
+    std::fs::create_dir_all(dir)?;
+    Ok(missing)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
+    /// A new folder of this process for test `name`.
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn a_folder_is_created_and_its_outermost_new_parent_named() {
+        let base = scratch("study-folder");
+        let dir = base.join("a/b");
+        assert_eq!(create_folder(&dir).unwrap(), Some(base.join("a")));
+        assert!(dir.is_dir());
+        assert_eq!(create_folder(&dir).unwrap(), None);
+        std::fs::remove_dir_all(&base).unwrap();
+    }
+
+    /// A writer's error is the source of the store's (typed, whole), and
+    /// nothing is put in place; an HDF5 error is a source on one line.
+    #[test]
+    fn a_failed_writer_is_the_source() {
+        use std::error::Error;
+        let dir = scratch("write-cause");
+        let out = dir.join("a.csv");
+        let e = write_atomically(&out, |_| Err(std::io::Error::other("disk full"))).unwrap_err();
+        assert!(matches!(e, StoreError::Write { .. }), "{e:?}");
+        let cause = e.source().expect("a source");
+        assert_eq!(cause.downcast_ref::<std::io::Error>().map(|c| c.to_string()).as_deref(), Some("disk full"));
+        assert_eq!(format!("{e}: {cause}"), format!("{}: disk full", out.display()));
+        assert!(!out.exists() && !crate::partial_path(&out).exists());
+        let bad = dir.join("not-hdf5.h5");
+        std::fs::write(&bad, "text").unwrap();
+        let e = StoreError::hdf5(&bad, hdf5::File::open(&bad).unwrap_err());
+        let cause = e.source().and_then(|c| c.downcast_ref::<crate::Hdf5Error>()).expect("the library's error");
+        assert!(!cause.to_string().contains('\n') && cause.to_string().contains("file signature not found"), "{cause}");
+        assert!(cause.library().contains_minor(hdf5::MinorErrorCode::NotHdf5));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn a_second_lock_is_refused_and_the_first_is_released_on_drop() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-lock-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("lock");
         let out = dir.join("a.h5");
         let first = OutputLock::acquire(&out).unwrap();
         let err = OutputLock::acquire(&out).unwrap_err().to_string();
@@ -382,7 +434,7 @@ mod tests {
 
     #[test]
     fn the_lock_and_the_commit_follow_symbolic_links() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-links-{}", std::process::id()));
+        let dir = scratch("links");
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(dir.join("sub")).unwrap();
         let dir = dir.canonicalize().unwrap();
@@ -419,8 +471,7 @@ mod tests {
 
     #[test]
     fn outputs_that_are_folders_inputs_or_devices_are_refused() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-out-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("out");
         let scene = dir.join("s.toml");
         std::fs::write(&scene, "x").unwrap();
         assert!(check_output(&dir, &[], false).unwrap_err().to_string().contains("is a directory"));

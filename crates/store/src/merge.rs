@@ -1,25 +1,25 @@
 //! Merging shard files (`--shard K/N`) back into one atlas equal to a
 //! single-machine run.
 
-use crate::error::StoreError;
+use crate::error::{Setting, StoreError};
 use crate::read::read;
 use grid::{Atlas, Meta, Shard};
 use std::path::{Path, PathBuf};
 
 /// Why two atlases cannot be merged: the first field of [`Meta`] that differs.
-fn difference(a: &Meta, b: &Meta) -> Option<&'static str> {
+fn difference(a: &Meta, b: &Meta) -> Option<Setting> {
     if a.scene_toml != b.scene_toml || a.scene_name != b.scene_name {
-        Some("scene")
+        Some(Setting::Scene)
     } else if a.overrides != b.overrides {
-        Some("parameter overrides (--set)")
+        Some(Setting::Overrides)
     } else if a.plane != b.plane {
-        Some("grid (axes or --along)")
+        Some(Setting::Grid)
     } else if a.sweeps != b.sweeps {
-        Some("sweeps")
+        Some(Setting::Sweeps)
     } else if a.preset != b.preset || a.accuracy != b.accuracy || a.integrator != b.integrator {
-        Some("accuracy settings")
+        Some(Setting::Accuracy)
     } else if a != b {
-        Some("settings")
+        Some(Setting::Other)
     } else {
         None
     }
@@ -52,11 +52,9 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
     let mut shards = vec![(base.info.shard, first.clone())];
     for p in &paths[1..] {
         let part = read(p)?;
-        if let Some(what) = difference(&atlas.meta, &part.atlas.meta) {
-            return Err(StoreError::format(
-                p,
-                format!("is not a part of the same run as {}: different {what}", first.display()),
-            ));
+        if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
+            let (path, first) = (p.display().to_string(), first.display().to_string());
+            return Err(StoreError::OtherRun { path, first, setting });
         }
         if let Some((_, other)) = shards.iter().find(|(s, _)| s.is_some() && *s == part.info.shard) {
             let k = part.info.shard.map(|s| s.to_string()).unwrap_or_default();

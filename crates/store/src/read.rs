@@ -1,7 +1,7 @@
 //! Reading an atlas file back into memory (for merge, render, inspect, resume
 //! checks and round-trip tests).
 
-use crate::error::StoreError;
+use crate::error::{OtherKind, StoreError};
 use crate::layout::*;
 use crate::write::RunInfo;
 use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
@@ -289,12 +289,10 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         return Err(fmt("not a vibroatlas file".into()));
     }
     if f.attr(attr::X).is_err() {
-        let what = if f.attr(curves::CONTENT_ATTR).is_ok() {
-            " (a curve file: render an atlas with --curves FILE)"
-        } else {
-            ""
-        };
-        return Err(fmt(format!("not an atlas{what}")));
+        if f.attr(curves::CONTENT_ATTR).is_ok() {
+            return Err(StoreError::Kind { path: path.display().to_string(), found: OtherKind::CurvesNotAtlas });
+        }
+        return Err(fmt("not an atlas".into()));
     }
     let meta = read_meta(&ck, &f)?;
     let (nx, ny) = (meta.plane.x.count, meta.plane.y.count);
@@ -700,12 +698,9 @@ mod tests {
     /// over (omega, fk), nothing computed.
     fn atlas(scene_toml: &str) -> Atlas {
         let scene = scene::Scene::parse(scene_toml).unwrap();
-        let plane = Plane::new(
-            Axis::parse("omega=1:8:4", "--x").unwrap(),
-            Axis::parse("fk=0.01:0.1:3", "--y").unwrap(),
-            Along::X,
-        )
-        .unwrap();
+        let plane =
+            Plane::new(Axis::parse("omega=1:8:4", "x").unwrap(), Axis::parse("fk=0.01:0.1:3", "y").unwrap(), Along::X)
+                .unwrap();
         Atlas::new(Meta {
             scene_name: scene.name().into(),
             scene_toml: scene_toml.into(),

@@ -568,8 +568,8 @@ mod tests {
     use grid::{Along, Axis, Plane, SweepKind};
 
     fn meta() -> grid::Meta {
-        let x = Axis::parse("omega=0.5:2:5", "--x").unwrap();
-        let y = Axis::parse("delta=0.1:1:3", "--y").unwrap();
+        let x = Axis::parse("omega=0.5:2:5", "x").unwrap();
+        let y = Axis::parse("delta=0.1:1:3", "y").unwrap();
         grid::Meta {
             scene_name: "test".into(),
             scene_toml: String::new(),
@@ -619,8 +619,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
         for along in [Along::X, Along::Y] {
-            let x = Axis::parse("omega=0.5:2:70", "--x").unwrap();
-            let y = Axis::parse("delta=0.1:1:40", "--y").unwrap();
+            let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
+            let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
             let m = grid::Meta { plane: Plane::new(x, y, along).unwrap(), ..meta() };
             let p = m.plane.clone();
             let mut atlas = Atlas::new(m.clone());
@@ -715,8 +715,8 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("vibroatlas-cut-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
-        let x = Axis::parse("omega=0.5:2:70", "--x").unwrap();
-        let y = Axis::parse("delta=0.1:1:40", "--y").unwrap();
+        let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
+        let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
         let m = grid::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
         let p = m.plane.clone();
         let mut atlas = Atlas::new(m.clone());

@@ -9,7 +9,8 @@ the same numbers) behind functions that return dicts and xarray DataTrees.
 
 Every function takes the scene as a path, a TOML text or a dict; extra keyword
 arguments are scene parameters (the CLI's `--set NAME=VALUE`, in the order
-given). Errors are exceptions with the CLI's one-line messages: SceneError (a
+given). Errors are exceptions with the CLI's one-line messages, options named
+as keyword arguments (`threads: must be >= 1`): SceneError (a
 ValueError) for scenes, ValueError for arguments, OSError for files.
 Reference: docs/python.md.
 """
@@ -79,7 +80,7 @@ def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, preset
 
 
 def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None, attractors=None,
-          attractors_where=None, seed=None, output=None, force=None, preset=None, integrator=None,
+          attractors_where=None, seed=None, output=None, force=None, resume=None, preset=None, integrator=None,
           accuracy=None, progress=True, params=None, **parameters):
     """Maps a plane of two parameters, like `vibroatlas atlas SCENE --x ... --y
     ... -o FILE`, and returns it as an xarray.DataTree with the file's groups
@@ -92,7 +93,9 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
     cell (16); attractors: K initial states sampled per cell (the
     /attractors group), attractors_where: "all" or "hysteresis", seed: their
     seed. output: also keep the file, written by the Rust writer at that path
-    (force: write into an existing non-regular file); without it the file is
+    (force: write into an existing non-regular file; resume: continue a run
+    killed from outside from its journal beside `output`, or do nothing when
+    `output` is already this run's finished file); without it the file is
     written to a temporary folder and deleted once loaded. Either way the
     tree returned is in memory (no file stays open). progress: a tqdm
     bar (False: never). Ctrl-C stops the run within about a second and leaves
@@ -106,10 +109,11 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
                        ("seed", seed)):
         if value is not None:
             options[key] = _whole(key, value)
-    if force is not None:
-        if not isinstance(force, bool):
-            raise TypeError(f"force: expected True or False, got {force!r}")
-        options["force"] = force
+    for key, value in (("force", force), ("resume", resume)):
+        if value is not None:
+            if not isinstance(value, bool):
+                raise TypeError(f"{key}: expected True or False, got {value!r}")
+            options[key] = value
     tmp = None
     try:
         if output is None:
