@@ -338,7 +338,12 @@ impl Tracing {
     fn natural(&self, plane: &Plane2, curve: &mut Curve, to: f64, initial: [f64; 2]) -> Result<(), ()> {
         let b0 = curve.points[0].b;
         let sign = if to >= b0 { 1.0 } else { -1.0 };
-        let steps = if to.is_finite() { ((to - b0).abs() / self.scale[1]).round() as usize } else { usize::MAX };
+        let steps = match to.is_finite() {
+            // A last step shorter than one unit still reaches `to`.
+            true if (to - b0).abs() > 0.0 => (((to - b0).abs() / self.scale[1]).round() as usize).max(1),
+            true => 0,
+            false => usize::MAX,
+        };
         let b_at = |k: usize| match to.is_finite() {
             true => b0 + (to - b0) * k as f64 / steps as f64,
             false => b0 + sign * k as f64 * self.scale[1],
