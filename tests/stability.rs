@@ -362,6 +362,32 @@ fn grazing_curve_passes_through_the_published_point() {
     assert!(omegas.windows(2).all(|w| w[1] < w[0] && w[0] - w[1] < 0.02), "{omegas:?}");
 }
 
+/// Issue 28: without `--to` a curve is followed both ways from its start,
+/// within the scene's range of B: the dry-friction pitchfork down to fk = 0,
+/// where fk's range ends, and up until its 10 × 2 + 1 points run out; one
+/// curve in order of fk, both ends said.
+#[test]
+fn a_curve_without_to_is_followed_both_ways_within_the_scene() {
+    let j = json_of(&[
+        "curve",
+        "configs/dry-friction.toml",
+        "--kind",
+        "pf",
+        "--start",
+        "omega=6.845,fk=0.01",
+        "--free",
+        "omega,fk",
+        "--steps",
+        "2",
+        "--json",
+    ]);
+    let fk: Vec<f64> = j["points"].as_array().unwrap().iter().map(|p| p["fk"].as_f64().unwrap()).collect();
+    assert!(fk[0].abs() < 1e-12 && fk.windows(2).all(|w| w[0] < w[1]), "{fk:?}");
+    assert!(fk.iter().any(|f| (f - 0.01).abs() < 1e-12), "the start is a point: {fk:?}");
+    assert_eq!(fk.len(), 22, "{j}");
+    assert_eq!(j["ended"], "reached fk = 0; 21 points");
+}
+
 /// Issue 20: the Neimark–Sacker curve of the impact damper's symmetric 1-1-1
 /// in (ω, δ) passes through the NS point `continue` finds at δ = 2, with the
 /// symmetric orbit below it and quasi-periodic motion above.

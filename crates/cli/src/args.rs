@@ -85,17 +85,20 @@ pub struct CurveArgs {
     /// The two free parameters A,B: A is located, B is stepped.
     #[arg(long, value_name = "A,B")]
     pub free: String,
-    /// The last value of B.
+    /// The last value of B (default: the curve is followed both ways from
+    /// the start, within the scene's range of B, until it ends, in steps of B
+    /// as large as --window).
     #[arg(long, value_name = "VALUE", allow_negative_numbers = true)]
-    pub to: f64,
-    /// Steps from the start to --to.
+    pub to: Option<f64>,
+    /// Steps from the start to --to (the curve takes at most 10 × STEPS + 1
+    /// points each way).
     #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
     pub steps: usize,
     /// Half-width of the search for the bifurcation in A around its prediction.
     #[arg(long, default_value_t = 0.05, value_name = "W", allow_negative_numbers = true)]
     pub window: f64,
-    /// Range of A the curve may take, A=LO:HI (default: any); B stays between
-    /// its start and --to.
+    /// Range of A the curve may take, A=LO:HI (default: the scene's range of
+    /// A); B stays between its start and --to.
     #[arg(long, value_name = "A=LO:HI")]
     pub bounds: Option<String>,
     /// Period of the orbit in forcing periods (default: the cell's).

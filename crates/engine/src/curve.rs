@@ -21,13 +21,14 @@ pub struct CurveRequest {
     pub free: [String; 2],
     /// Where to start: values of A and B (`--start`), in any order.
     pub start: Vec<(String, f64)>,
-    /// The value of B to go to.
-    pub to: f64,
+    /// The value of B to go to; `None`: both ways, within the scene's range
+    /// of B, until the curve ends.
+    pub to: Option<f64>,
     /// Steps in B.
     pub steps: usize,
     /// Half-width of the window in A searched for the bifurcation.
     pub window: f64,
-    /// Bounds of A, if any.
+    /// Bounds of A (default: the scene's range of A).
     pub bounds: Option<[f64; 2]>,
     /// The orbit's period in forcing periods (found from the start when `None`).
     pub n: Option<usize>,
@@ -78,29 +79,35 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     if !(r.window > 0.0 && r.window.is_finite()) {
         bail!(refuse(Opt::Window).text(format!("expected a finite number > 0, got {}", r.window)));
     }
-    if !r.to.is_finite() {
-        bail!(refuse(Opt::To).text(format!("expected a finite number, got {}", r.to)));
+    if let Some(to) = r.to.filter(|to| !to.is_finite()) {
+        bail!(refuse(Opt::To).text(format!("expected a finite number, got {to}")));
     }
     // The start and the end in B must make valid scenes (ranges of the parameters).
     s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| refuse(Opt::Start).because(e))?;
-    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), r.to)]).map_err(|e| refuse(Opt::To).because(e))?;
-    let a_bounds = r.bounds.unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
+    if let Some(to) = r.to {
+        s.system_with(&[(pa.as_str(), a0), (pb.as_str(), to)]).map_err(|e| refuse(Opt::To).because(e))?;
+    }
+    let range = |name: &str| s.scene.range(name).unwrap_or([f64::NEG_INFINITY, f64::INFINITY]);
+    let a_bounds = r.bounds.unwrap_or_else(|| range(pa));
     if a0 < a_bounds[0] || a0 > a_bounds[1] {
         let why = format!("the start {pa} = {a0} is outside {}:{}", a_bounds[0], a_bounds[1]);
         bail!(refuse(Opt::Bounds).text(why));
     }
-    let step = (r.to - b0).abs() / r.steps as f64;
+    let (b_bounds, step) = match r.to {
+        Some(to) => ([b0.min(to), b0.max(to)], (to - b0).abs() / r.steps as f64),
+        None => (range(pb), r.window),
+    };
     let tracing = Tracing {
         kind: r.kind,
         acc: s.accuracy,
         n: r.n,
         scale: [r.window, if step > 0.0 { step } else { r.window }],
-        bounds: [a_bounds, [b0.min(r.to), b0.max(r.to)]],
+        bounds: [a_bounds, b_bounds],
         max_points: 10 * r.steps + 1,
     };
     let plane = |va: f64, vb: f64| s.system_with(&[(pa.as_str(), va), (pb.as_str(), vb)]).ok();
     let curve = match tracing.locate(&plane, a0, b0, solver::curve::Start::Fresh) {
-        Ok(first) => tracing.follow(&plane, first, r.to),
+        Ok(first) => follow(&tracing, &plane, first, r.to.map_or(b_bounds, |to| [to, to]), pb),
         Err(why) => Curve {
             kind: r.kind,
             points: Vec::new(),
@@ -108,7 +115,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
             ended: Some(format!("at {pb} = {b0}: {why}")),
         },
     };
-    let ended = curve.ended.clone().unwrap_or_else(|| format!("reached {pb} = {}", r.to));
+    let ended = curve.ended.clone().unwrap_or_default();
     if observer.cancelled() {
         return Err(grid::GridError::Cancelled.into());
     }
@@ -120,6 +127,22 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     }
     let sides = curve.points.iter().map(|p| sides_json(&tracing, &plane, p)).collect();
     Ok(Traced { free: r.free.clone(), curve, ended, sides })
+}
+
+/// Follows the curve through `first` to B = `ends[1]`, and from there back
+/// to `ends[0]` too where they differ (one curve, in order of B); each way
+/// that reaches its end says so in `ended`.
+fn follow(tracing: &Tracing, plane: &solver::curve::Plane2, first: CurvePoint, ends: [f64; 2], pb: &str) -> Curve {
+    let way = |first: CurvePoint, to: f64| {
+        let mut c = tracing.follow(plane, first, to);
+        c.ended.get_or_insert_with(|| format!("reached {pb} = {to}"));
+        c
+    };
+    if ends[0] == ends[1] {
+        return way(first, ends[1]);
+    }
+    let back = way(first.clone(), ends[0]);
+    Curve::join(back, way(first, ends[1]))
 }
 
 impl Traced {

@@ -242,20 +242,7 @@ fn trace(
     } else {
         (t.follow(plane, first.clone(), y.start), t.follow(plane, first, y.stop))
     };
-    Some(join(back, ahead))
-}
-
-/// One curve of two followed from the same point in opposite directions.
-fn join(back: Curve, ahead: Curve) -> Curve {
-    let first = [ahead.points[0].a.to_bits(), ahead.points[0].b.to_bits()];
-    // Both halves record the codimension-two points of the shared first point.
-    let mut codim2: Vec<_> =
-        back.codim2.into_iter().filter(|c| [c.a.to_bits(), c.b.to_bits()] != first).rev().collect();
-    codim2.extend(ahead.codim2);
-    let mut points: Vec<_> = back.points.into_iter().skip(1).rev().collect();
-    points.extend(ahead.points);
-    let ended = [back.ended, ahead.ended].into_iter().flatten().collect::<Vec<_>>();
-    Curve { kind: ahead.kind, points, codim2, ended: (!ended.is_empty()).then(|| ended.join("; ")) }
+    Some(Curve::join(back, ahead))
 }
 
 /// Whether `curve` passes between the seed's two cells: one of its segments

@@ -384,7 +384,7 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         kind,
         free: [a, b],
         start: o.need("start")?,
-        to: o.need("to")?,
+        to: o.get("to")?,
         steps: o.get("steps")?.unwrap_or(20),
         window: o.get("window")?.unwrap_or(0.05),
         bounds: o.get::<(f64, f64)>("bounds")?.map(|(lo, hi)| [lo, hi]),

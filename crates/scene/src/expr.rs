@@ -332,6 +332,11 @@ impl Range {
         Ok(Range { lo, hi, lo_open, hi_open })
     }
 
+    /// Its ends `[lo, hi]` (open or closed; infinite where unbounded).
+    pub fn bounds(&self) -> [f64; 2] {
+        [self.lo, self.hi]
+    }
+
     /// Whether `v` lies in the interval.
     pub fn contains(&self, v: f64) -> bool {
         let above = if self.lo_open { v > self.lo } else { v >= self.lo };

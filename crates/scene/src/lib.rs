@@ -491,6 +491,14 @@ impl Scene {
         self.names.iter().position(|n| n == name).is_some_and(|i| matches!(self.params[i].0, Compiled::Value(_)))
     }
 
+    /// The ends `[lo, hi]` of the range parameter `name` declares (open or
+    /// closed, infinite where unbounded); `None` when it declares none or is
+    /// no parameter of the scene.
+    pub fn range(&self, name: &str) -> Option<[f64; 2]> {
+        let i = self.names.iter().position(|n| n == name)?;
+        self.params[i].1.as_ref().map(Range::bounds)
+    }
+
     /// Checks that `name` is a parameter of the scene.
     pub fn check_parameter(&self, name: &str, field: &str) -> Result<(), SceneError> {
         index_of(&self.names, name, field, "parameter").map(|_| ())

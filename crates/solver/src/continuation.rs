@@ -190,6 +190,18 @@ fn locate_boundary(family: &Family, acc: &Accuracy, good: &BranchPoint, mut v_ba
 
 /// Follows `start` (the orbit at `values[0]`) over `values`.
 pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> Branch {
+    follow_with(family, acc, values, start, true)
+}
+
+/// [`follow`] up to the first change of the impact pattern (a grazing, its
+/// orbit there the branch's last point): the bifurcations of `start`'s own
+/// orbit only.
+pub fn follow_own(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> Branch {
+    follow_with(family, acc, values, start, false)
+}
+
+/// [`follow`], going on past a grazing with the new pattern when `past`.
+fn follow_with(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit, past: bool) -> Branch {
     let mut branch = Branch { points: vec![BranchPoint { value: values[0], orbit: start }], ..Branch::default() };
     for &target in &values[1..] {
         let mut depth = 0;
@@ -233,6 +245,11 @@ pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> 
                         return branch;
                     }
                     branch.bifurcations.push(Located::at_leading(Bifurcation::Grazing, edge.value, &edge.orbit));
+                    if !past {
+                        branch.ended = Some(format!("the impact pattern changes at {:.9} (grazing)", edge.value));
+                        branch.points.push(edge);
+                        return branch;
+                    }
                     // Go on past the grazing with the new event sequence.
                     match solve_at(family, acc, &edge.orbit, v, &edge.orbit.solution.x, true) {
                         Some(o) => {

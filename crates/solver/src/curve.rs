@@ -1,39 +1,66 @@
 //! Bifurcation curves in a plane of two parameters `(a, b)`.
 //!
 //! A point of a curve is a bifurcation of one kind (PD, SN, PF, NS, grazing)
-//! located by one-parameter continuation ([`crate::continuation::follow`])
-//! along a short line of the plane: the orbit is found at one end of the
-//! line (from a given state, else the scene's initial state) and continued
-//! across it, and the bifurcation of the kind nearest the line's middle is
-//! located to [`crate::continuation::PARAM_TOL`] by the exact-Jacobian test
-//! functions of `continue`.
+//! of one periodic orbit, located by one-parameter continuation
+//! ([`crate::continuation::follow`]) along a short line of the plane (a
+//! corrector line) to [`crate::continuation::PARAM_TOL`] by the
+//! exact-Jacobian test functions of `continue`. The first point's orbit is
+//! found at one end of its line (from a given state, else the scene's initial
+//! state) and continued across it; the bifurcation of the kind nearest the
+//! line's middle is the point.
+//!
+//! Every later point continues the orbit of the point before ([`line`]): that
+//! orbit is carried by Newton's method along a straight segment of the plane
+//! to the corrector line, on the side of the curve it was continued from,
+//! keeping its period, map and impact pattern, then continued along the line
+//! across the curve; the first bifurcation of the kind that this orbit meets
+//! there (for a grazing, the first change of its impact pattern, of the same
+//! stops as before) is the point. A step whose orbit cannot be carried to its
+//! line, or that finds no such bifurcation, or one farther from the
+//! prediction than allowed, is refused, never taken as the point: the located
+//! points do not depend on the step settings, only on the orbit.
 //!
 //! The curve is followed in two ways. While it can, it steps `b` by equal
 //! steps and locates the point on the line of constant `b` (natural
-//! continuation: the points fall on the requested values of `b`). Where that
-//! fails (the curve turns back in `b`, or becomes too steep for the line), it
+//! continuation: the points fall on the requested values of `b`), the first
+//! predicted along the curve's tangent (from a point located a sixteenth of a
+//! step away), the others along the secant, each within half a window of its
+//! prediction. Where that fails (the curve turns back in `b`, becomes too steep
+//! for the line, or its orbit does not reach a window's width beyond it), it
 //! goes on by pseudo-arclength: a predictor along the secant of the last two
 //! points, in units of the plane's scales (`a` in window widths, `b` in steps),
 //! and a corrector that locates the point on the line normal to the secant
-//! through the prediction. Steps are halved where the corrector fails, down
-//! to a sixteenth.
+//! through the prediction, the orbit carried to it a step's length from the
+//! prediction and the point at most a step's length from it. Steps are halved
+//! where the corrector is refused, down to a sixteenth; a refused sixteenth
+//! ends the curve with why (its orbit grazes other stops, folds, changes its
+//! pattern, or shows no bifurcation of the kind near the prediction).
 //!
-//! Codimension-two points are recorded where two bifurcations meet on the
-//! curve: another kind located within [`CODIM2_TOL`] (a fraction of the line)
-//! of a curve point (e.g. where a PD curve meets a grazing), and where, between
-//! two consecutive points, one more of the orbit's other multipliers (all but
-//! the critical one, or pair) leaves or enters the unit circle: named after
-//! where it crosses (`SN` at +1, `PD` at -1, `NS` off the real axis), placed by
-//! linear interpolation of `|μ| - 1` between the two points.
+//! Codimension-two points are recorded where two bifurcations of the curve's
+//! orbit meet on the curve: another kind located on the orbit within
+//! [`CODIM2_TOL`] (a fraction of the line) of a curve point (e.g. where a PD
+//! curve meets a grazing), where the curve ends at a bifurcation of its orbit
+//! that stops it (a grazing of other stops, a fold), and where, between two
+//! consecutive points, one more of the orbit's other multipliers (all but the
+//! critical one, or pair) leaves or enters the unit circle: named after where
+//! it crosses (`SN` at +1, `PD` at -1, `NS` off the real axis), placed by
+//! linear interpolation of `|μ| - 1` between the two points. Bifurcations of
+//! other orbits met on a line (past a change of the impact pattern) are not
+//! the curve's.
+
+mod line;
+#[cfg(test)]
+mod tests;
 
 use crate::accuracy::Accuracy;
-use crate::continuation::{follow, Branch, Located};
+use crate::continuation::Located;
 use crate::executor::run_cell;
 use crate::floquet::Bifurcation;
 use crate::flow::Method;
 use crate::label::{MassLabel, Symmetry};
-use crate::orbit::{orbit_of_cell, solve_orbit, Orbit};
+use crate::orbit::Orbit;
 use crate::system::System;
+use line::Path;
 use num_complex::Complex64 as C64;
 
 /// Points of the continuation across a corrector line: an even number, so
@@ -46,7 +73,13 @@ const LINE_POINTS: usize = 40;
 pub const CODIM2_TOL: f64 = 1e-3;
 
 /// Smallest step, as a fraction of the requested one.
-const MIN_STEP: f64 = 1.0 / 16.0;
+const MIN_STEP: f64 = 1.0 / 256.0;
+
+/// Largest turn of the curve within a step (between the tangent at its
+/// start and the chord to its new point, in scaled units) before the step is
+/// halved; at the smallest step a sharper turn (a corner of the curve) is
+/// taken.
+const MAX_TURN: f64 = std::f64::consts::PI / 6.0;
 
 /// Where the orbit of a corrector line comes from.
 #[derive(Debug, Clone, Copy)]
@@ -55,8 +88,8 @@ pub enum Start<'a> {
     Fresh,
     /// A cell simulated from this state (e.g. a stored cell's final state).
     State(&'a [f64]),
-    /// Newton's method from this orbit (the previous point's), keeping its
-    /// map, period and impact pattern; failing that, a cell from its state.
+    /// Newton's method from this orbit, keeping its map, period and impact
+    /// pattern (no simulated cell: another orbit is never taken for it).
     Orbit(&'a Orbit),
 }
 
@@ -93,8 +126,21 @@ pub struct CurvePoint {
     pub located: Located,
     /// The periodic orbit at the point (the start of the next one).
     pub orbit: Orbit,
-    /// Other bifurcations located on the same line: kind and position `(a, b)`.
+    /// Where `orbit` is, `(a, b)`: the point itself, but for a fold the
+    /// point of its corrector's continuation before it (at the fold Newton's
+    /// method is singular).
+    pub orbit_at: [f64; 2],
+    /// Other bifurcations of the orbit located on the same line (before its
+    /// impact pattern changes): kind and position `(a, b)`.
     pub others: Vec<(Bifurcation, f64, f64)>,
+    /// Unit vector (in `(a, b)`, scaled units) from the point towards the side
+    /// of the curve its orbit was continued from: the next point's orbit is
+    /// carried to its line on that side.
+    pub side: [f64; 2],
+    /// For a grazing: the stops whose impacts change across it (found by one
+    /// map evaluation just past it), the same at every point of a curve; empty
+    /// for other kinds, or where the change was not seen.
+    pub grazes: Vec<usize>,
 }
 
 /// Where two bifurcations meet on a curve.
@@ -120,6 +166,24 @@ pub struct Curve {
     /// Why it ended before its region's edge (`None`: it reached the edge in
     /// `b`).
     pub ended: Option<String>,
+}
+
+impl Curve {
+    /// One curve of two followed from the same point in opposite directions:
+    /// `back`'s points reversed, then `ahead`'s (their shared first point
+    /// once); the codimension-two points in the same order, and the reasons
+    /// either ended joined by `; `.
+    pub fn join(back: Curve, ahead: Curve) -> Curve {
+        let first = [ahead.points[0].a.to_bits(), ahead.points[0].b.to_bits()];
+        // Both halves record the codimension-two points of the shared first point.
+        let mut codim2: Vec<_> =
+            back.codim2.into_iter().filter(|c| [c.a.to_bits(), c.b.to_bits()] != first).rev().collect();
+        codim2.extend(ahead.codim2);
+        let mut points: Vec<_> = back.points.into_iter().skip(1).rev().collect();
+        points.extend(ahead.points);
+        let ended = [back.ended, ahead.ended].into_iter().flatten().collect::<Vec<_>>();
+        Curve { kind: ahead.kind, points, codim2, ended: (!ended.is_empty()).then(|| ended.join("; ")) }
+    }
 }
 
 /// The labels of the motion a map shows on either side of a curve point:
@@ -149,25 +213,11 @@ impl std::fmt::Display for Missed {
     }
 }
 
-/// A line of the plane: `(a, b) = origin + s · direction · scale`.
-#[derive(Debug, Clone, Copy)]
-struct Line {
-    origin: [f64; 2],
-    /// Unit vector in scaled units.
-    direction: [f64; 2],
-}
-
-impl Line {
-    fn at(&self, s: f64, scale: [f64; 2]) -> [f64; 2] {
-        [self.origin[0] + s * self.direction[0] * scale[0], self.origin[1] + s * self.direction[1] * scale[1]]
-    }
-}
-
 impl Tracing {
     /// Locates the bifurcation nearest `(a, b)` along `a` (a line of constant
     /// `b`, half-width one unit of `a`), the orbit found from `start`.
     pub fn locate(&self, plane: &Plane2, a: f64, b: f64, start: Start) -> Result<CurvePoint, Missed> {
-        self.locate_on(plane, Line { origin: [a, b], direction: [1.0, 0.0] }, start)
+        self.locate_on(plane, Path::Line { origin: [a, b], direction: [1.0, 0.0] }, start)
     }
 
     /// Per kind of `kinds`, the bifurcation of that kind nearest `(a, b)`
@@ -183,7 +233,26 @@ impl Tracing {
         kinds: &[Bifurcation],
     ) -> Vec<Result<CurvePoint, Missed>> {
         let direction = if along_b { [0.0, 1.0] } else { [1.0, 0.0] };
-        self.locate_each(plane, Line { origin: [a, b], direction }, start, kinds)
+        self.locate_each(plane, Path::Line { origin: [a, b], direction }, start, kinds)
+    }
+
+    /// The bifurcation of the curve's kind of `from`'s orbit on the line
+    /// through `at` along `direction` (in `(a, b)`, scaled units; half-width
+    /// one unit): the orbit carried from `from` to the line, on `from`'s side
+    /// of the curve, and continued across it, as a curve's steps locate their
+    /// points (see [`line`]). A point of another curve located again from a
+    /// point of this one shows whether the two curves are one.
+    pub fn locate_from(
+        &self,
+        plane: &Plane2,
+        from: &CurvePoint,
+        at: [f64; 2],
+        direction: [f64; 2],
+    ) -> Result<CurvePoint, Missed> {
+        let n = direction[0].hypot(direction[1]);
+        let direction = [direction[0] / n, direction[1] / n];
+        let span = Tracing::span(from, direction, 1.0);
+        self.continue_on(plane, from, Path::Line { origin: at, direction }, span, None)
     }
 
     /// The labels on either side of `p`, along `a`.
@@ -199,108 +268,29 @@ impl Tracing {
     /// The bifurcation of the curve's kind nearest the middle of `line`
     /// (half-width one scaled unit): the orbit found at one end, continued
     /// across; failing that, from the other end.
-    fn locate_on(&self, plane: &Plane2, line: Line, start: Start) -> Result<CurvePoint, Missed> {
+    fn locate_on(&self, plane: &Plane2, line: Path, start: Start) -> Result<CurvePoint, Missed> {
         self.locate_each(plane, line, start, &[self.kind]).pop().expect("one kind asked, one answer")
     }
 
-    /// [`Tracing::locate_on`] for each of `kinds`: the continuation from an
-    /// end of the line is run once, when a kind first needs it, and serves
-    /// every kind.
-    fn locate_each(
-        &self,
-        plane: &Plane2,
-        line: Line,
-        start: Start,
-        kinds: &[Bifurcation],
-    ) -> Vec<Result<CurvePoint, Missed>> {
-        let family = |s: f64| {
-            let [a, b] = line.at(s, self.scale);
-            plane(a, b)
-        };
-        let at = |o: &Located| {
-            let [oa, ob] = line.at(o.value, self.scale);
-            (o.kind, oa, ob)
-        };
-        let run = |(from, to): (f64, f64)| -> Option<Branch> {
-            let sys = family(from)?;
-            let orbit = self.orbit_at(&sys, start)?;
-            let values: Vec<f64> =
-                (0..LINE_POINTS).map(|i| from + (to - from) * i as f64 / (LINE_POINTS - 1) as f64).collect();
-            Some(follow(&family, &self.acc, &values, orbit))
-        };
-        // From the upper end; from the lower one only for kinds it lacks.
-        let first = run((1.0, -1.0));
-        let holds = |k: Bifurcation| first.as_ref().is_some_and(|b| b.bifurcations.iter().any(|x| x.kind == k));
-        let second = if kinds.iter().all(|&k| holds(k)) { None } else { run((-1.0, 1.0)) };
-        let branches = [first, second];
-        kinds
-            .iter()
-            .map(|&kind| {
-                let mut seen = Vec::new();
-                for branch in branches.iter().flatten() {
-                    let nearest = |k: Bifurcation| {
-                        branch
-                            .bifurcations
-                            .iter()
-                            .filter(|b| b.kind == k)
-                            .min_by(|x, y| x.value.abs().total_cmp(&y.value.abs()))
-                    };
-                    let Some(best) = nearest(kind) else {
-                        seen.extend(branch.bifurcations.iter().map(at));
-                        continue;
-                    };
-                    let [a, b] = line.at(best.value, self.scale);
-                    let orbit = branch
-                        .points
-                        .iter()
-                        .min_by(|p, q| (p.value - best.value).abs().total_cmp(&(q.value - best.value).abs()))
-                        .expect("a branch has its start")
-                        .orbit
-                        .clone();
-                    let others = branch.bifurcations.iter().filter(|o| o.kind != kind).map(at).collect();
-                    return Ok(CurvePoint { a, b, located: best.clone(), orbit, others });
-                }
-                let [a, b] = line.origin;
-                Err(Missed { why: format!("no {} within one window of ({a}, {b})", kind.name()), others: seen })
-            })
-            .collect()
-    }
-
-    /// The periodic orbit of `sys` reached from `start` (see [`Start`]).
-    fn orbit_at(&self, sys: &System, start: Start) -> Option<Orbit> {
-        let cell = |y0: &[f64]| {
-            let y0 = if sys.admits(y0) { y0.to_vec() } else { sys.model.initial_state() };
-            orbit_of_cell(sys, &self.acc, &y0, self.n).ok()
-        };
-        match start {
-            Start::Fresh => cell(&sys.model.initial_state()),
-            Start::State(y) => cell(y),
-            Start::Orbit(o) => {
-                let x = &o.solution.x;
-                solve_orbit(sys, &self.acc, x, o.map, o.n, Some(&o.solution.pattern))
-                    .ok()
-                    .or_else(|| cell(x.as_slice()))
-            }
-        }
-    }
-
     /// Follows the curve through `first` (a located point) from `b = first.b`
-    /// towards the end of the region in `b` in the direction of `to`, in steps
-    /// of one unit of `b` while the curve allows, then by pseudo-arclength.
+    /// towards `to` (infinite: until the curve ends), in steps of one unit of
+    /// `b` while the curve allows, then by pseudo-arclength.
     pub fn follow(&self, plane: &Plane2, first: CurvePoint, to: f64) -> Curve {
         let sign = if to >= first.b { 1.0 } else { -1.0 };
+        let initial = self.initial_tangent(plane, &first, [0.0, sign]);
         let mut curve = self.begin(first);
-        if self.natural(plane, &mut curve, to).is_err() {
-            self.arclength(plane, &mut curve, [0.0, sign]);
+        if self.natural(plane, &mut curve, to, initial).is_err() {
+            self.arclength(plane, &mut curve, initial);
         }
         curve
     }
 
     /// Follows the curve through `first` by pseudo-arclength only, leaving it
-    /// along `tangent` (in `(a, b)`, scaled units).
-    pub fn follow_along(&self, plane: &Plane2, first: CurvePoint, tangent: [f64; 2]) -> Curve {
+    /// in the direction of `towards` (in `(a, b)`, scaled units).
+    pub fn follow_along(&self, plane: &Plane2, first: CurvePoint, towards: [f64; 2]) -> Curve {
+        let initial = self.initial_tangent(plane, &first, towards);
         let mut curve = self.begin(first);
-        self.arclength(plane, &mut curve, tangent);
+        self.arclength(plane, &mut curve, initial);
         curve
     }
 
@@ -311,28 +301,71 @@ impl Tracing {
         curve
     }
 
-    /// Natural continuation in `b`: `Ok` when the curve reached `to`, `Err`
-    /// when a point could not be located (left to arclength).
-    fn natural(&self, plane: &Plane2, curve: &mut Curve, to: f64) -> Result<(), ()> {
+    /// The unit tangent (scaled) of the curve at `first`, oriented along
+    /// `towards`: the secant to the point of the curve on the line parallel to
+    /// the one `first` was located on, [`MIN_STEP`] away in the direction of
+    /// `towards`; `towards` itself where that point is not found.
+    fn initial_tangent(&self, plane: &Plane2, first: &CurvePoint, towards: [f64; 2]) -> [f64; 2] {
+        let unit = |v: [f64; 2]| {
+            let n = v[0].hypot(v[1]);
+            if n > 0.0 {
+                [v[0] / n, v[1] / n]
+            } else {
+                [0.0, 1.0]
+            }
+        };
+        let side = unit(first.side);
+        let mut across = [-side[1], side[0]];
+        if across[0] * towards[0] + across[1] * towards[1] < 0.0 {
+            across = [-across[0], -across[1]];
+        }
+        let here = self.scaled(first);
+        let middle = [here[0] + MIN_STEP * across[0], here[1] + MIN_STEP * across[1]];
+        let line = Path::Line { origin: [middle[0] * self.scale[0], middle[1] * self.scale[1]], direction: side };
+        match self.continue_on(plane, first, line, [1.0, -1.0], None) {
+            Ok(p) => {
+                let q = self.scaled(&p);
+                unit([q[0] - here[0], q[1] - here[1]])
+            }
+            Err(_) => unit(towards),
+        }
+    }
+
+    /// Natural continuation in `b` (steps of one unit, the first predicted
+    /// along `initial`, the others along the secant): `Ok` when the curve
+    /// reached `to` or ended, `Err` when a point could not be located (left
+    /// to arclength).
+    fn natural(&self, plane: &Plane2, curve: &mut Curve, to: f64, initial: [f64; 2]) -> Result<(), ()> {
         let b0 = curve.points[0].b;
-        let steps = ((to - b0).abs() / self.scale[1]).round() as usize;
+        let sign = if to >= b0 { 1.0 } else { -1.0 };
+        let steps = match to.is_finite() {
+            // A last step shorter than one unit still reaches `to`.
+            true if (to - b0).abs() > 0.0 => (((to - b0).abs() / self.scale[1]).round() as usize).max(1),
+            true => 0,
+            false => usize::MAX,
+        };
+        let b_at = |k: usize| match to.is_finite() {
+            true => b0 + (to - b0) * k as f64 / steps as f64,
+            false => b0 + sign * k as f64 * self.scale[1],
+        };
+        if initial[1].abs() < 0.1 {
+            return Err(());
+        }
         for k in 1..=steps {
             if curve.points.len() >= self.max_points {
                 curve.ended = Some(format!("{} points", self.max_points));
                 return Ok(());
             }
-            let b = b0 + (to - b0) * k as f64 / steps as f64;
+            let b = b_at(k);
             let n = curve.points.len();
-            let guess = match n {
-                1 => curve.points[0].a,
-                _ => 2.0 * curve.points[n - 1].a - curve.points[n - 2].a,
-            };
             let last = &curve.points[n - 1];
-            // A point far from a secant prediction, or of another orbit, is on
-            // another curve: left to arclength.
-            let near = |p: &CurvePoint| n == 1 || (p.a - guess).abs() <= 0.5 * self.scale[0];
-            match self.locate(plane, guess, b, Start::Orbit(&last.orbit)) {
-                Ok(p) if !near(&p) || !self.continues(last, &p) => return Err(()),
+            let guess = match n {
+                1 => last.a + initial[0] / initial[1] * (b - last.b) / self.scale[1] * self.scale[0],
+                _ => 2.0 * last.a - curve.points[n - 2].a,
+            };
+            // Half a window from the prediction at most: farther is another curve.
+            let line = Path::Line { origin: [guess, b], direction: [1.0, 0.0] };
+            match self.continue_on(plane, last, line, Tracing::span(last, [1.0, 0.0], 1.0), Some(0.5)) {
                 Ok(p) if self.inside(&p) => {
                     curve.points.push(p);
                     self.after_step(curve);
@@ -348,15 +381,15 @@ impl Tracing {
     }
 
     /// Pseudo-arclength from the last points of `curve` (see the module doc),
-    /// until it leaves the region or a point cannot be located.
+    /// until it leaves the region, or ends where no step, down to the
+    /// smallest, continues its orbit.
     fn arclength(&self, plane: &Plane2, curve: &mut Curve, initial: [f64; 2]) {
         let mut h = 1.0;
         while curve.points.len() < self.max_points {
             let tangent = self.tangent(curve, initial);
             match self.step(plane, curve, tangent, h) {
                 Ok(p) if !self.inside(&p) => {
-                    let last = curve.points.last().expect("a curve has a point");
-                    curve.ended = Some(format!("leaves the region after ({}, {})", last.a, last.b));
+                    self.end_at_edge(plane, curve, &p);
                     return;
                 }
                 Ok(p) => {
@@ -365,65 +398,140 @@ impl Tracing {
                     h = (1.5 * h).min(1.0);
                 }
                 Err(_) if h > MIN_STEP => h /= 2.0,
-                Err(others) => {
-                    self.end_at_meeting(plane, curve, tangent, h, &others);
-                    return;
-                }
+                Err(missed) => match self.turn_corner(plane, curve, tangent, h) {
+                    Some(p) if self.inside(&p) => {
+                        curve.points.push(p);
+                        self.after_step(curve);
+                    }
+                    _ => {
+                        self.end_at_meeting(plane, curve, tangent, h, &missed);
+                        return;
+                    }
+                },
             }
         }
         curve.ended = Some(format!("{} points", self.max_points));
     }
 
-    /// One pseudo-arclength step of length `h` (scaled) along `tangent` from
-    /// the end of `curve`: the point located on the line normal to the
-    /// tangent through the prediction, when it continues the curve forwards
-    /// within two steps; else the other bifurcations found on that line.
-    fn step(
+    /// One step of length `h` (scaled) from the end of `curve`, ahead along
+    /// `tangent`: the point that continues its orbit on the arc of radius `h`
+    /// around it, the orbit carried to the arc on its side of the curve and
+    /// continued along the arc, turning towards `tangent`, across the curve
+    /// ([`Tracing::continue_on`]). Where the curve bends, even by a corner,
+    /// the arc finds it where a line normal to a lagging tangent would not.
+    fn step(&self, plane: &Plane2, curve: &Curve, tangent: [f64; 2], h: f64) -> Result<CurvePoint, Missed> {
+        let last = curve.points.last().expect("a curve has a point");
+        self.step_from(plane, last, last.side, tangent, h)
+    }
+
+    /// [`Tracing::step`] from `last`, its orbit carried to the arc along
+    /// `side` (a direction, scaled, into the side of the curve it lies on).
+    fn step_from(
         &self,
         plane: &Plane2,
-        curve: &Curve,
+        last: &CurvePoint,
+        side: [f64; 2],
         tangent: [f64; 2],
         h: f64,
-    ) -> Result<CurvePoint, Vec<(Bifurcation, f64, f64)>> {
+    ) -> Result<CurvePoint, Missed> {
+        let turn = if side[0] * tangent[1] - side[1] * tangent[0] < 0.0 { -1.0 } else { 1.0 };
+        let from = side[1].atan2(side[0]);
+        let arc = Path::Arc { center: [last.a, last.b], radius: h };
+        let p = self.continue_on(plane, last, arc, [from, from + turn * std::f64::consts::PI], None)?;
+        let (here, there) = (self.scaled(last), self.scaled(&p));
+        let chord = [there[0] - here[0], there[1] - here[1]];
+        let cos = (chord[0] * tangent[0] + chord[1] * tangent[1]) / chord[0].hypot(chord[1]);
+        if h > MIN_STEP && cos < MAX_TURN.cos() {
+            let why = format!("the curve turns by {:.0}° within a step", cos.clamp(-1.0, 1.0).acos().to_degrees());
+            return Err(Missed { why, others: Vec::new() });
+        }
+        if h > MIN_STEP {
+            self.bends_gently(plane, last, &p)?;
+        }
+        Ok(p)
+    }
+
+    /// Whether the curve between its points `last` and `p` bends no more than
+    /// an arc turning by [`MAX_TURN`]: the point of `last`'s orbit on the
+    /// line normal to the chord through its middle lies within that arc's
+    /// sagitta of the chord. A step that passed a turn of the curve (a
+    /// feature smaller than the step, e.g. a tongue of another motion)
+    /// fails it.
+    fn bends_gently(&self, plane: &Plane2, last: &CurvePoint, p: &CurvePoint) -> Result<(), Missed> {
+        let (u, v) = (self.scaled(last), self.scaled(p));
+        let chord = (v[0] - u[0]).hypot(v[1] - u[1]);
+        let normal = [-(v[1] - u[1]) / chord, (v[0] - u[0]) / chord];
+        let sagitta = 0.5 * chord * (0.5 * MAX_TURN).tan();
+        let origin = [0.5 * (u[0] + v[0]) * self.scale[0], 0.5 * (u[1] + v[1]) * self.scale[1]];
+        let [from, _] = Tracing::span(last, normal, 2.0 * sagitta);
+        let line = Path::Line { origin, direction: normal };
+        self.continue_on(plane, last, line, [from, -from], Some(sagitta)).map(|_| ())
+    }
+
+    /// Ends `curve` where a step left its region at `outside`: on the edge
+    /// crossed (the line of constant `a` or `b` there, through the point
+    /// where the segment to `outside` crosses it), its orbit continued to it
+    /// as in a step. A curve ended on an edge of `b` reached it (`ended`
+    /// stays `None`).
+    fn end_at_edge(&self, plane: &Plane2, curve: &mut Curve, outside: &CurvePoint) {
         let last = curve.points.last().expect("a curve has a point");
-        let here = self.scaled(last);
-        let predicted = [here[0] + h * tangent[0], here[1] + h * tangent[1]];
-        let origin = [predicted[0] * self.scale[0], predicted[1] * self.scale[1]];
-        let line = Line { origin, direction: [-tangent[1], tangent[0]] };
-        let p = self.locate_on(plane, line, Start::Orbit(&last.orbit)).map_err(|m| m.others)?;
-        let s = self.scaled(&p);
-        let ahead = (s[0] - here[0]) * tangent[0] + (s[1] - here[1]) * tangent[1];
-        let distance = ((s[0] - here[0]).powi(2) + (s[1] - here[1]).powi(2)).sqrt();
-        if self.continues(last, &p) && ahead > 0.25 * h && distance < 2.0 * h {
-            Ok(p)
-        } else {
-            Err(Vec::new())
+        let (p, q) = ([last.a, last.b], [outside.a, outside.b]);
+        // The first edge crossed from p to q: fraction along the segment, axis, value.
+        let crossing = (0..2)
+            .flat_map(|i| self.bounds[i].iter().map(move |&e| (i, e)))
+            .filter(|&(i, e)| (p[i] - e) * (q[i] - e) <= 0.0 && (q[i] - p[i]).abs() > 0.0)
+            .map(|(i, e)| ((e - p[i]) / (q[i] - p[i]), i, e))
+            .min_by(|x, y| x.0.total_cmp(&y.0));
+        let left = format!("leaves the region after ({}, {})", last.a, last.b);
+        let Some((t, axis, edge)) = crossing else {
+            curve.ended = Some(left);
+            return;
+        };
+        let mut origin = [p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])];
+        origin[axis] = edge;
+        let direction = if axis == 1 { [1.0, 0.0] } else { [0.0, 1.0] };
+        let line = Path::Line { origin, direction };
+        match self.continue_on(plane, last, line, Tracing::span(last, direction, 1.0), Some(1.0)) {
+            Ok(e) if self.inside(&e) => {
+                let (a, b) = (e.a, e.b);
+                curve.points.push(e);
+                self.after_step(curve);
+                curve.ended = (axis == 0).then(|| format!("reaches the region's edge in a at ({a}, {b})"));
+            }
+            _ => curve.ended = Some(left),
         }
     }
 
+    /// A smallest step `h` past a corner of the curve at its last point,
+    /// where the side the step carries its orbit along (the previous
+    /// corrector's normal) leaves the region of the orbit at once: the step
+    /// again with that side turned by 30° and 60° either way.
+    fn turn_corner(&self, plane: &Plane2, curve: &Curve, tangent: [f64; 2], h: f64) -> Option<CurvePoint> {
+        let last = curve.points.last().expect("a curve has a point");
+        let [x, y] = last.side;
+        [30.0f64, -30.0, 60.0, -60.0].iter().find_map(|deg| {
+            let (sin, cos) = deg.to_radians().sin_cos();
+            self.step_from(plane, last, [x * cos - y * sin, x * sin + y * cos], tangent, h).ok()
+        })
+    }
+
     /// Ends `curve`, which cannot be followed a step `h` past its last point
-    /// along `tangent`. Where another bifurcation found on the last line tried
-    /// lies within that step, the curve ends where they meet (a
-    /// codimension-two point, e.g. a fold or doubling that meets a grazing):
-    /// the last point of the curve before it is found by bisection of the
-    /// step (twelve halvings), and the meeting recorded there.
-    fn end_at_meeting(
-        &self,
-        plane: &Plane2,
-        curve: &mut Curve,
-        tangent: [f64; 2],
-        h: f64,
-        others: &[(Bifurcation, f64, f64)],
-    ) {
+    /// along `tangent` (`missed`: why, and the bifurcations of its orbit met
+    /// on the last try). Where one of those lies within that step, the curve
+    /// ends where they meet (a codimension-two point, e.g. a fold or doubling
+    /// that meets a grazing, or two grazings): the last point of the curve
+    /// before it is found by bisection of the step (twelve halvings), and the
+    /// meeting recorded there. Otherwise it ends with why.
+    fn end_at_meeting(&self, plane: &Plane2, curve: &mut Curve, tangent: [f64; 2], h: f64, missed: &Missed) {
         let p = curve.points.last().expect("a curve has a point");
         let here = self.scaled(p);
         let distance = |o: &(Bifurcation, f64, f64)| {
             ((o.1 / self.scale[0] - here[0]).powi(2) + (o.2 / self.scale[1] - here[1]).powi(2)).sqrt()
         };
         let meeting =
-            others.iter().filter(|o| distance(o) <= 2.0 * h).min_by(|x, y| distance(x).total_cmp(&distance(y)));
+            missed.others.iter().filter(|o| distance(o) <= 2.0 * h).min_by(|x, y| distance(x).total_cmp(&distance(y)));
         let Some(&(kind, ..)) = meeting else {
-            curve.ended = Some(format!("no {} found beyond ({}, {})", self.kind.name(), p.a, p.b));
+            curve.ended = Some(format!("stops after ({}, {}), no step continues its orbit: {}", p.a, p.b, missed.why));
             return;
         };
         let (mut lo, mut hi, mut best) = (0.0, h, None);
@@ -444,15 +552,19 @@ impl Tracing {
         let end = curve.points.last().expect("a curve has a point");
         let name = format!("{}-{}", self.kind.name(), kind.name());
         curve.ended = Some(format!("ends where it meets a {} at ({}, {}) ({name})", kind.name(), end.a, end.b));
-        curve.codim2.push(Codim2 { kind: name, a: end.a, b: end.b });
+        let meeting = Codim2 { kind: name, a: end.a, b: end.b };
+        self.record(curve, meeting);
     }
 
-    /// Whether `p` lies on the curve of `prev`: the same orbit (period, map
-    /// and impact pattern), but for grazing curves, where the pattern changes
-    /// across the curve.
-    fn continues(&self, prev: &CurvePoint, p: &CurvePoint) -> bool {
-        let (o, q) = (&prev.orbit, &p.orbit);
-        self.kind == Bifurcation::Grazing || (o.n == q.n && o.map == q.map && o.solution.pattern == q.solution.pattern)
+    /// Records a codimension-two point, once: not where the last one recorded
+    /// is of the same kind and within [`CODIM2_TOL`] of it.
+    fn record(&self, curve: &mut Curve, c: Codim2) {
+        let near = |d: &Codim2| {
+            d.kind == c.kind && ((d.a - c.a) / self.scale[0]).hypot((d.b - c.b) / self.scale[1]) <= CODIM2_TOL
+        };
+        if !curve.codim2.last().is_some_and(near) {
+            curve.codim2.push(c);
+        }
     }
 
     /// A point in scaled units.
@@ -460,22 +572,33 @@ impl Tracing {
         [p.a / self.scale[0], p.b / self.scale[1]]
     }
 
-    /// The unit tangent (scaled) at the end of `curve`: the secant of its last
-    /// two points, or `initial` (normalised) for a single point.
+    /// The unit tangent (scaled) at the end of `curve`: of the parabola
+    /// through its last three points (by chord length; where the curve turns
+    /// fast, the secant lags behind it), the secant of its last two points
+    /// where the curve turns by more than a right angle between them or has
+    /// only two, or `initial` for a single point.
     fn tangent(&self, curve: &Curve, initial: [f64; 2]) -> [f64; 2] {
-        let n = curve.points.len();
-        let (da, db) = if n < 2 {
-            (initial[0], initial[1])
-        } else {
-            let (p, q) = (self.scaled(&curve.points[n - 2]), self.scaled(&curve.points[n - 1]));
-            (q[0] - p[0], q[1] - p[1])
+        let unit = |v: [f64; 2]| {
+            let n = v[0].hypot(v[1]);
+            (n > 0.0).then(|| [v[0] / n, v[1] / n])
         };
-        let norm = (da * da + db * db).sqrt();
-        if norm > 0.0 {
-            [da / norm, db / norm]
-        } else {
-            [0.0, 1.0]
-        }
+        let n = curve.points.len();
+        let p: Vec<[f64; 2]> = curve.points[n.saturating_sub(3)..].iter().map(|p| self.scaled(p)).collect();
+        let chord = |i: usize| unit([p[i + 1][0] - p[i][0], p[i + 1][1] - p[i][1]]);
+        let t = match p.len() {
+            3 => match (chord(0), chord(1)) {
+                (Some(d1), Some(d2)) if d1[0] * d2[0] + d1[1] * d2[1] > 0.0 => {
+                    let (s1, s2) =
+                        ((p[1][0] - p[0][0]).hypot(p[1][1] - p[0][1]), (p[2][0] - p[1][0]).hypot(p[2][1] - p[1][1]));
+                    let w = s2 / (s1 + s2);
+                    unit([d2[0] + (d2[0] - d1[0]) * w, d2[1] + (d2[1] - d1[1]) * w])
+                }
+                (_, d2) => d2,
+            },
+            2 => chord(0),
+            _ => unit(initial),
+        };
+        t.unwrap_or([0.0, 1.0])
     }
 
     fn inside(&self, p: &CurvePoint) -> bool {
@@ -494,7 +617,7 @@ impl Tracing {
         self.record_coincidences(curve, n - 1);
         let (p, q) = (&curve.points[n - 2], &curve.points[n - 1]);
         if let Some(c) = self.crossing(p, q) {
-            curve.codim2.push(c);
+            self.record(curve, c);
         }
     }
 
@@ -512,7 +635,9 @@ impl Tracing {
             .filter(|o| close(o.1, o.2))
             .map(|o| Codim2 { kind: format!("{}-{}", self.kind.name(), o.0.name()), a: p.a, b: p.b })
             .collect();
-        curve.codim2.extend(found);
+        for c in found {
+            self.record(curve, c);
+        }
     }
 
     /// A second multiplier crossing the unit circle between points `p` and `q`.

@@ -163,7 +163,7 @@ def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset
                     unit="sample", desc="attractors")
 
 
-def curve(scene, kind, start, free, to, *, steps=None, window=None, n=None, output=None, preset=None,
+def curve(scene, kind, start, free, to=None, *, steps=None, window=None, n=None, output=None, preset=None,
           integrator=None, accuracy=None, progress=None, params=None, **parameters):
     """Follows a bifurcation in a plane of two parameters, like `vibroatlas
     curve SCENE --kind ... --json`.
@@ -171,7 +171,8 @@ def curve(scene, kind, start, free, to, *, steps=None, window=None, n=None, outp
     kind: "pd", "sn", "pf", "ns" or "grazing"; start: {A: value, B: value}
     (or a sequence of two (name, value) pairs) where the bifurcation is
     located near A's value; free: (A, B), A located and B stepped; to: the
-    last value of B; steps (20), window (0.05): the search half-width in A;
+    last value of B (None: the curve is followed both ways from the start,
+    within the scene's range of B, until it ends); steps (20), window (0.05): the search half-width in A;
     n: the orbit's period (default: the cell's); output: also write the curve
     file (for `vibroatlas render --curves`). progress: accepted and ignored
     (no bar).
@@ -186,7 +187,9 @@ def curve(scene, kind, start, free, to, *, steps=None, window=None, n=None, outp
         raise TypeError(f"start: expected two (name, value) pairs, got {start!r}")
     options = {"kind": _text("kind", kind),
                "start": [(_text("start name", a), _number(f"start {a}", v)) for a, v in pairs],
-               "to": _number("to", to)}
+               }
+    if to is not None:
+        options["to"] = _number("to", to)
     try:
         fa, fb = free
     except (TypeError, ValueError):

@@ -1,0 +1,151 @@
+//! Issue 28, item 4: curves that stay on their branch. The grazing curve
+//! that bounds 1-3-3 in the multi-stop scene, followed from δ = 0.7 down to
+//! δ = 0.5 and up towards δ = 0.9 with two step settings each, passes the
+//! same points (located to 1e-6 on either run's curve), and a step that
+//! would take another orbit's grazing is refused.
+
+use super::*;
+use std::sync::OnceLock;
+
+/// The multi-stop scene at `(ω, δ)`, `None` where the scene refuses them.
+fn plane(omega: f64, delta: f64) -> Option<System> {
+    static SCENE: OnceLock<scene::Scene> = OnceLock::new();
+    let scene = SCENE.get_or_init(|| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/multi-stop.toml");
+        scene::Scene::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+    });
+    let model = scene.evaluate(&[("omega".to_string(), omega), ("delta".to_string(), delta)]).ok()?;
+    System::new(model).ok()
+}
+
+/// The tracing of `curve --kind grazing --start omega=0.3146,delta=0.7
+/// --free omega,delta --to TO --steps STEPS --window WINDOW`.
+fn tracing(to: f64, steps: usize, window: f64) -> Tracing {
+    Tracing {
+        kind: Bifurcation::Grazing,
+        acc: Accuracy::default(),
+        n: None,
+        scale: [window, (to - 0.7f64).abs() / steps as f64],
+        bounds: [[0.0, f64::INFINITY], [to.min(0.7), to.max(0.7)]],
+        max_points: 10 * steps + 1,
+    }
+}
+
+/// That curve.
+fn grazing_curve(t: &Tracing, to: f64) -> Curve {
+    let first = t.locate(&plane, 0.3146, 0.7, Start::Fresh).expect("the grazing at δ = 0.7");
+    t.follow(&plane, first, to)
+}
+
+/// Every point of `x` but those past the end of `y` lies on the curve of `y`:
+/// located again from the nearest point of `y` (its orbit carried from there,
+/// as a step carries it)
+/// on the line through it normal to `x`'s chord there, as long either way as
+/// that point is far from it (a sixteenth of `y`'s units at least), it is
+/// found within 1e-6.
+fn lies_on(x: &Curve, y: &Curve, ty: &Tracing) {
+    let scaled = |p: &CurvePoint| [p.a / ty.scale[0], p.b / ty.scale[1]];
+    let distance = |p: &CurvePoint, q: &CurvePoint| (scaled(p)[0] - scaled(q)[0]).hypot(scaled(p)[1] - scaled(q)[1]);
+    for (i, q) in x.points.iter().enumerate() {
+        let (u, v) = (scaled(&x.points[i.saturating_sub(1)]), scaled(&x.points[(i + 1).min(x.points.len() - 1)]));
+        let chord = (v[0] - u[0]).hypot(v[1] - u[1]);
+        let normal = [-(v[1] - u[1]) / chord, (v[0] - u[0]) / chord];
+        let r = y.points.iter().min_by(|r, s| distance(r, q).total_cmp(&distance(s, q))).unwrap();
+        // Past the end of `y` (where it stopped) `y` reaches no point.
+        if let [.., before, end] = &y.points[..] {
+            let ahead = (scaled(q)[0] - scaled(end)[0]) * (scaled(end)[0] - scaled(before)[0])
+                + (scaled(q)[1] - scaled(end)[1]) * (scaled(end)[1] - scaled(before)[1]);
+            if std::ptr::eq(r, end) && ahead > 0.0 && y.ended.is_some() {
+                continue;
+            }
+        }
+        let unit = distance(r, q).max(1.0 / 16.0);
+        let t = Tracing { scale: [ty.scale[0] * unit, ty.scale[1] * unit], ..ty.clone() };
+        let found = t.locate_from(&plane, r, [q.a, q.b], normal);
+        let p = found.unwrap_or_else(|m| panic!("({}, {}) from ({}, {}): {m}", q.a, q.b, r.a, r.b));
+        let off = (p.a - q.a).abs().max((p.b - q.b).abs());
+        assert!(off < 1e-6, "({}, {}) is not on the other curve: ({}, {}) there", q.a, q.b, p.a, p.b);
+    }
+}
+
+/// Points of `x` and `y` at the same δ have the same ω within 1e-6; how many.
+fn same_at_common_delta(x: &Curve, y: &Curve) -> usize {
+    let mut common = 0;
+    for p in &x.points {
+        for q in y.points.iter().filter(|q| q.b.to_bits() == p.b.to_bits()) {
+            assert!((p.a - q.a).abs() < 1e-6, "δ = {}: ω = {} and {}", p.b, p.a, q.a);
+            common += 1;
+        }
+    }
+    common
+}
+
+/// Every point continues the first point's orbit: its period, map and
+/// impact pattern, and the stop it grazes.
+fn one_orbit(c: &Curve) {
+    let first = &c.points[0];
+    assert!(!first.grazes.is_empty(), "the grazed stop is seen");
+    for p in &c.points {
+        assert!(line::same_orbit(&first.orbit, &p.orbit), "({}, {}) is on another orbit", p.a, p.b);
+        assert!(p.grazes.is_empty() || p.grazes == first.grazes, "({}, {}) grazes {:?}", p.a, p.b, p.grazes);
+    }
+}
+
+#[test]
+fn grazing_curve_down_from_delta_07_passes_the_same_points_with_two_step_settings() {
+    let (t1, t2) = (tracing(0.5, 4, 0.01), tracing(0.5, 4, 0.05));
+    let (c1, c2) = (grazing_curve(&t1, 0.5), grazing_curve(&t2, 0.5));
+    for c in [&c1, &c2] {
+        one_orbit(c);
+        // Down to δ = 0.5 itself, where the grazing is at ω = 0.47959.
+        let end = c.points.last().unwrap();
+        assert_eq!((end.b.to_bits(), c.ended.as_deref()), (0.5f64.to_bits(), None), "{:?}", c.ended);
+        assert!((end.a - 0.479589).abs() < 1e-5, "ends at ω = {}", end.a);
+    }
+    // δ = 0.7, 0.65 and 0.5 in both.
+    assert!(same_at_common_delta(&c1, &c2) >= 3);
+    lies_on(&c1, &c2, &t2);
+    lies_on(&c2, &c1, &t1);
+}
+
+#[test]
+fn grazing_curve_up_from_delta_07_passes_the_same_points_with_two_step_settings() {
+    let (t1, t2) = (tracing(0.9, 4, 0.01), tracing(0.9, 20, 0.05));
+    let (c1, c2) = (grazing_curve(&t1, 0.9), grazing_curve(&t2, 0.9));
+    for c in [&c1, &c2] {
+        one_orbit(c);
+        // Where the 1-3-3 orbit folds as it grazes (past δ ≈ 0.8178 it folds
+        // before it grazes): the curve ends there, with the meeting.
+        let end = c.points.last().unwrap();
+        assert!((end.b - 0.81778).abs() < 1e-4 && (end.a - 0.28925).abs() < 1e-5, "({}, {})", end.a, end.b);
+        assert!(c.ended.as_deref().is_some_and(|e| e.contains("grazing-SN")), "{:?}", c.ended);
+        assert_eq!(c.codim2.last().map(|x| x.kind.as_str()), Some("grazing-SN"));
+    }
+    assert!(same_at_common_delta(&c1, &c2) >= 2);
+    lies_on(&c1, &c2, &t2);
+    lies_on(&c2, &c1, &t1);
+}
+
+/// At δ = 0.6 the corrector line of 4 steps and a window of 0.05 around the
+/// secant prediction (ω = 0.3531) holds two grazings: the 1-3-3 orbit's at
+/// ω = 0.35996, and, past it, that of the orbit with the new impact at
+/// ω = 0.35439, nearer the prediction, which such a step once took. Carried
+/// from the point before, the curve's orbit finds its own.
+#[test]
+fn a_step_that_would_take_another_orbits_grazing_is_refused() {
+    let t = tracing(0.5, 4, 0.05);
+    let first = t.locate(&plane, 0.3146, 0.7, Start::Fresh).unwrap();
+    let next = t.locate_from(&plane, &first, [0.3146, 0.65], [1.0, 0.0]).unwrap();
+    assert!((next.a - 0.333842061).abs() < 1e-8, "{}", next.a);
+    let guess = 2.0 * next.a - first.a;
+    let p = t.locate_from(&plane, &next, [guess, 0.6], [1.0, 0.0]).unwrap();
+    assert!((p.a - 0.35996077).abs() < 1e-7, "the grazing found at δ = 0.6 is at ω = {}", p.a);
+    assert!(line::same_orbit(&first.orbit, &p.orbit));
+    // The other orbit's grazing is nearer the prediction: a step that took the
+    // nearest would have taken it.
+    assert!((0.354387705 - guess).abs() < (p.a - guess).abs());
+    let c = t.follow(&plane, first, 0.5);
+    let at = c.points.iter().find(|q| q.b.to_bits() == 0.6f64.to_bits()).expect("a natural step at δ = 0.6");
+    assert!((at.a - p.a).abs() < 1e-9);
+    assert!(c.points.iter().all(|q| (q.a - 0.354387705).abs() > 1e-4 || (q.b - 0.6).abs() > 1e-9));
+}
