@@ -96,6 +96,63 @@ fn bad_options() {
     expect_error(&["cell", "configs/multi-stop.toml", "--trace", "/nonexistent-dir/t.csv"], "/nonexistent-dir/t.csv");
 }
 
+/// A value that starts with '-' is refused by the option's own check, which
+/// names the option (clap named none: "unexpected argument '-1' found").
+#[test]
+fn negative_values_name_their_option() {
+    let plane = ["--x", "omega=0.1:3:4", "--y", "delta=0.05:2:3", "-o", "/nonexistent-dir/o.h5"];
+    let atlas = |flag: &'static str, value: &'static str| {
+        let mut v = vec!["atlas", "configs/multi-stop.toml", flag, value];
+        v.extend(plane);
+        v
+    };
+    for (flag, value) in [("--shard", "-1/2"), ("--attractors", "-1"), ("--seed", "-1"), ("--threads", "-2")] {
+        expect_error(&atlas(flag, value), flag);
+    }
+    let sweep = ["sweep", "configs/multi-stop.toml", "--axis", "omega=0.2:0.4:5", "--section-cap", "-1"];
+    expect_error(&sweep, "--section-cap");
+    expect_error(&["attractors", "configs/multi-stop.toml", "--box", "-1,-1"], "--box");
+    expect_error(&["orbit", "configs/multi-stop.toml", "--n", "-1"], "--n");
+}
+
+/// No command: the line lists the commands (it was the program's description).
+#[test]
+fn no_command_names_the_commands() {
+    expect_error(&[], "a command is needed: cell, sweep, atlas");
+}
+
+/// What an error echoes stays readable: a number written out in 309 digits
+/// is shown in exponent form, a 100 000-character name cut with its length.
+#[test]
+fn echoed_values_stay_short() {
+    let out = run(&["cell", "configs/multi-stop.toml", "--state", "1e308,0,0,0"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--state") && err.contains("1e308") && err.len() < 200, "{err}");
+    let name = format!("{}=1", "a".repeat(100_000));
+    let out = run(&["cell", "configs/multi-stop.toml", "--set", &name]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(err.contains("--set") && err.contains("(100000 characters)") && err.len() < 1000, "{err}");
+}
+
+/// A picture's format is checked before any work, naming the option and the
+/// user's file (it was checked after the computation, naming a temporary file).
+#[test]
+fn picture_formats_are_checked_before_the_work() {
+    let d = crate::util::scratch("picture-formats");
+    let (txt, gif) = (d.join("s.txt"), d.join("x.gif"));
+    let (txt, gif) = (txt.to_str().unwrap(), gif.to_str().unwrap());
+    expect_error(&["cell", "configs/multi-stop.toml", "--section-png", txt], "--section-png");
+    expect_error(&["cell", "configs/multi-stop.toml", "--portrait", gif], "--portrait");
+    expect_error(&["continue", "configs/multi-stop.toml", "--axis", "omega=0.3:0.4:5", "--png", gif], "x.gif");
+    expect_error(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.3:0.4:5", "--png", txt], "s.txt");
+    let err =
+        String::from_utf8_lossy(&run(&["cell", "configs/multi-stop.toml", "--section-png", txt]).stderr).to_string();
+    assert!(!err.contains("partial"), "{err}");
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "nothing written");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// Issue 3: bad planes, shards, outputs and merges are refused before any work,
 /// with nothing left under the final name.
 #[test]

@@ -332,3 +332,31 @@ fn an_output_that_cannot_be_written_keeps_the_lines_for_resume() {
     assert_eq!(store::read(&out).unwrap().atlas, store::read(&full).unwrap().atlas);
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// A file that grows past the process's size limit (`ulimit -f`) is a write
+/// error (EFBIG) like a full disk: one line, exit 2, the journal kept; the
+/// signal SIGXFSZ used to end the run without a word (exit 153). `--resume`
+/// without the limit then completes it, equal to an uninterrupted run.
+#[test]
+fn a_file_size_limit_is_an_error_and_the_run_resumes() {
+    let d = scratch("file-size-limit");
+    let (full, out) = (d.join("full.h5"), d.join("x.h5"));
+    assert!(run(&strs(&atlas(full.to_str().unwrap(), &[]))).status.success());
+    assert!(std::fs::metadata(&full).unwrap().len() > 64 * 1024, "the limit below is below the file's size");
+    let limited = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 16; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_vibroatlas"))
+        .args(atlas(out.to_str().unwrap(), &[]))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&limited.stderr);
+    assert_eq!(limited.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("File too large"), "{err}");
+    assert!(d.join(".x.h5.journal").exists() && !out.exists());
+    let resumed = run(&strs(&atlas(out.to_str().unwrap(), &["--resume"])));
+    assert!(resumed.status.success(), "{}", String::from_utf8_lossy(&resumed.stderr));
+    assert_eq!(store::read(&out).unwrap().atlas, store::read(&full).unwrap().atlas);
+    std::fs::remove_dir_all(&d).unwrap();
+}

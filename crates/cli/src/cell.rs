@@ -13,6 +13,8 @@ use store::write_atomically;
 pub fn run(a: CellArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     engine::check_trace_samples(a.trace_samples)?;
+    crate::figure::format("--portrait", a.portrait.as_ref())?;
+    crate::figure::format("--section-png", a.section_png.as_ref())?;
     let c = engine::cell(&sim(&a.sim)?, &start(&a.start)?)?;
     crate::common::warn(c.origin.as_ref().and_then(|o| o.warning.as_ref()));
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
@@ -24,7 +26,6 @@ pub fn run(a: CellArgs) -> Result<()> {
         }
     }
     if let Some(path) = &a.portrait {
-        render::Format::of(path)?;
         let rows = engine::window(sys, s, cell, engine::window_periods(cell), 400).rows;
         let p = portrait(sys, &rows, &s.described());
         write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;

@@ -14,6 +14,7 @@ use store::write_atomically;
 pub fn run(a: ContinueArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
+    crate::figure::format("--png", a.png.as_ref())?;
     let c = engine::continuation(&sim(&a.sim)?, &start(&a.start)?, &axis, a.n, a.arclength)?;
     crate::common::warn(c.warning.as_ref());
     let (sys, branch) = (&c.system, &c.branch);

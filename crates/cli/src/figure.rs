@@ -3,7 +3,8 @@
 
 use crate::args::FigureArgs;
 use anyhow::{anyhow, Result};
-use render::{Page, PageError, PageOption};
+use render::{Format, Page, PageError, PageOption};
+use std::path::PathBuf;
 
 /// The page of the figure options: a print size, or each figure's screen size.
 pub fn page(f: &FigureArgs) -> Result<Page> {
@@ -16,4 +17,14 @@ pub fn page(f: &FigureArgs) -> Result<Page> {
         let advice = if matches!(e, PageError::WithoutSize(_)) { "; give --size too" } else { "" };
         anyhow!("{flag}: {e}{advice}")
     })
+}
+
+/// Checks, before any work, that the picture asked for with `flag` (if any)
+/// has a format (`.png`, `.svg`, `.pdf`), so that a wrong name is refused up
+/// front, naming the flag and the user's file.
+pub fn format(flag: &str, path: Option<&PathBuf>) -> Result<()> {
+    match path {
+        Some(p) => Format::of(p).map(|_| ()).map_err(|e| anyhow!("{flag}: {e}")),
+        None => Ok(()),
+    }
 }

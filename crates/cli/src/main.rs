@@ -23,29 +23,64 @@ mod study;
 mod summary;
 mod sweep;
 
-use clap::Parser;
+use clap::{error::ErrorKind, CommandFactory, FromArgMatches};
+
+/// The command line's grammar: every option that takes a value also takes
+/// one that starts with '-' (`--seed -1`, `--shard -1/2`, `--box -1,-1`), so
+/// that the value's own check refuses it, naming the option (clap would name
+/// no option: "unexpected argument '-1'").
+fn grammar() -> clap::Command {
+    args::Cli::command().mut_subcommands(|c| {
+        c.mut_args(|a| match a.get_long().is_some() && a.get_action().takes_values() {
+            true => a.allow_hyphen_values(true),
+            false => a,
+        })
+    })
+}
+
+/// A file grown past the process's size limit (`ulimit -f`) is a write
+/// error like a full disk (EFBIG, "File too large"): reported, the journal
+/// kept for `--resume`, instead of the signal SIGXFSZ ending the process
+/// without a word.
+fn ignore_file_size_signal() {
+    // SAFETY: sets a signal's disposition, before any other thread exists.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
+}
+
+/// The one line of a command line that does not parse (clap's message up
+/// to its usage and tips, the missing arguments it lists on the lines after
+/// the first included).
+fn parse_error(e: &clap::Error) -> String {
+    if matches!(e.kind(), ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand | ErrorKind::MissingSubcommand) {
+        let names: Vec<String> = args::Cli::command().get_subcommands().map(|c| c.get_name().to_string()).collect();
+        return format!("a command is needed: {}", names.join(", "));
+    }
+    let text = e.to_string();
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("tip:") && !l.starts_with("For more"))
+        .filter(|l| !l.is_empty())
+        .collect();
+    let message = lines.join(" ");
+    let message = message.trim_start_matches("error: ");
+    if message.is_empty() {
+        "invalid arguments".into()
+    } else {
+        message.into()
+    }
+}
 
 fn main() {
-    let cli = match args::Cli::try_parse() {
+    ignore_file_size_signal();
+    let cli = match grammar().try_get_matches().and_then(|m| args::Cli::from_arg_matches(&m)) {
         Ok(cli) => cli,
         // Help and version go to standard output as clap prints them.
         Err(e) if !e.use_stderr() => e.exit(),
         Err(e) => {
-            // One line: clap's message up to its usage and tips (the missing
-            // arguments it lists on the lines after the first included).
-            let text = e.to_string();
-            let lines: Vec<&str> = text
-                .lines()
-                .map(str::trim)
-                .take_while(|l| !l.starts_with("Usage:") && !l.starts_with("tip:") && !l.starts_with("For more"))
-                .filter(|l| !l.is_empty())
-                .collect();
-            let message = lines.join(" ");
-            let message = message.trim_start_matches("error: ");
-            out::errln!(
-                "error: {} (see vibroatlas --help)",
-                if message.is_empty() { "invalid arguments" } else { message }
-            );
+            out::error(&format!("{} (see vibroatlas --help)", parse_error(&e)));
             std::process::exit(2);
         }
     };
@@ -72,7 +107,7 @@ fn main() {
         args::Command::Curves(a) => curve::run_curves(a),
     };
     if let Err(e) = result {
-        out::errln!("error: {}", flags::message(&e));
+        out::error(&flags::message(&e));
         std::process::exit(2);
     }
 }

@@ -49,6 +49,56 @@ pub fn err_line(text: &str) {
     let _ = err.write_all(format!("{text}\n").as_bytes()).and_then(|()| err.flush());
 }
 
+/// Writes the command's error line, `error: MESSAGE`, to standard error,
+/// with what it echoes kept readable ([`readable`]).
+pub fn error(message: &str) {
+    let words: Vec<String> = message.split(' ').map(readable).collect();
+    err_line(&format!("error: {}", words.join(" ")));
+}
+
+/// Longest word an error line echoes whole.
+const LONGEST_WORD: usize = 200;
+/// Characters kept of a longer word.
+const WORD_KEPT: usize = 60;
+
+/// A word of an error line as a reader takes it in: a number longer than 24
+/// characters (`1e308` written out in full) in exponent form, any other word
+/// longer than [`LONGEST_WORD`] characters (a 100 000-character name) cut to
+/// its first [`WORD_KEPT`] and its length; punctuation around it kept.
+fn readable(word: &str) -> String {
+    let edge = |c: char| ",;:()'\"".contains(c);
+    let core = word.trim_start_matches(edge).trim_end_matches(edge);
+    let start = word.len() - word.trim_start_matches(edge).len();
+    let (before, after) = (&word[..start], &word[start + core.len()..]);
+    let length = core.chars().count();
+    match core.parse::<f64>() {
+        Ok(x) if length > 24 => format!("{before}{x:e}{after}"),
+        _ if length > LONGEST_WORD => {
+            let kept: String = core.chars().take(WORD_KEPT).collect();
+            format!("{before}{kept}… ({length} characters){after}")
+        }
+        _ => word.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::readable;
+
+    #[test]
+    fn echoed_words_stay_readable() {
+        let big = format!("1{}", "0".repeat(308));
+        assert_eq!(readable(&big), "1e308");
+        assert_eq!(readable(&format!("'{big}',")), "'1e308',");
+        assert_eq!(readable(&format!("0.{}1", "0".repeat(30))), "1e-31");
+        let name = "a".repeat(100_000);
+        assert_eq!(readable(&format!("{name}=1:")), format!("{}… (100002 characters):", "a".repeat(60)));
+        for kept in ["omega", "0.31459999999999999", "/a/b.h5:", "1-3-3", ""] {
+            assert_eq!(readable(kept), kept);
+        }
+    }
+}
+
 /// `println!` through [`line()`], returning its error from the enclosing function.
 macro_rules! outln {
     ($($arg:tt)*) => { $crate::out::line(&format!($($arg)*))? };

@@ -10,7 +10,7 @@ use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
-    render::Format::of(&a.output)?;
+    crate::figure::format("-o", Some(&a.output))?;
     let page = crate::figure::page(&a.figure)?;
     store::check_output(&a.output, &[&a.file], false)?;
     let mut l = store::read(&a.file)?;

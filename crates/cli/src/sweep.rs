@@ -15,9 +15,7 @@ use store::write_atomically;
 pub fn run(a: SweepArgs) -> Result<()> {
     let axis = Axis::parse(&a.axis, "--axis")?;
     let page = crate::figure::page(&a.figure)?;
-    if let Some(png) = &a.png {
-        render::Format::of(png)?;
-    }
+    crate::figure::format("--png", a.png.as_ref())?;
     let r = SweepRequest {
         sim: sim(&a.sim)?,
         start: start(&a.start)?,
