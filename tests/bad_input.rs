@@ -309,3 +309,27 @@ fn bad_curve_and_replay_options() {
     crate::util::ok(&crate::util::pitchfork("0.02", "1", &["-o", c.to_str().unwrap()]));
     expect_error(&["curves", c.to_str().unwrap(), "-o", d.join("x.h5").to_str().unwrap()], "not an atlas");
 }
+
+/// A cell taken from a file made with another scene says so, not only that
+/// the file's axis is an unknown parameter of this scene.
+#[test]
+fn a_cell_of_another_scenes_file_says_so() {
+    let d = crate::util::scratch("another-scene");
+    let a = d.join("a.h5");
+    let a = a.to_str().unwrap();
+    crate::util::ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--x",
+        "omega=0.5:1:2",
+        "--y",
+        "delta=0.5:1:2",
+        "--quiet",
+        "-o",
+        a,
+    ]);
+    let args = ["cell", "configs/single-stop.toml", "--from", a, "--at", "omega=1,delta=1"];
+    expect_error(&args, "--from");
+    expect_error(&args, "do not fit this scene (made from another?): parameters.delta: unknown parameter 'delta'");
+    std::fs::remove_dir_all(&d).unwrap();
+}

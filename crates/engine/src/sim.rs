@@ -160,8 +160,9 @@ pub struct Setup {
 impl Setup {
     /// The grid's cell set-up, with sections of at most `section_cap` points.
     pub fn cell_setup(&self, section_cap: usize) -> Result<grid::CellSetup> {
-        if section_cap > 100_000 {
-            bail!(RequestError::option(Opt::SectionCap).text(format!("at most 100000, got {section_cap}")));
+        if section_cap > grid::MAX_SECTION_CAP {
+            let what = format!("at most {}, got {section_cap}", grid::MAX_SECTION_CAP);
+            bail!(RequestError::option(Opt::SectionCap).text(what));
         }
         Ok(grid::CellSetup {
             scene: self.scene.clone(),
@@ -323,7 +324,10 @@ impl Sim {
         overrides.extend(params.iter().cloned());
         overrides.extend(s.overrides.iter().filter(|(k, _)| !params.iter().any(|(p, _)| p == k)).cloned());
         s.overrides = overrides;
-        let model = s.scene.evaluate(&s.overrides)?;
+        let model = s.scene.evaluate(&s.overrides).map_err(|e| {
+            let what = format!("{}: its cell's parameters do not fit this scene (made from another?)", file.display());
+            RequestError::option(Opt::From).text(what).because(e)
+        })?;
         if 2 * model.masses.len() != m.dim {
             let what =
                 format!("{} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
