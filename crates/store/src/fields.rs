@@ -182,6 +182,24 @@ impl Field {
         Ok(d)
     }
 
+    /// The `(y, x, 3)` dataset of `mass`'s labels' n, p, q.
+    fn create_npq(
+        g: &Group,
+        name: &str,
+        mass: &str,
+        shape: [usize; 3],
+        chunk: [usize; 3],
+        s: &Scales,
+    ) -> hdf5::Result<Dataset> {
+        let d = Deflater::chunked_empty::<u16>(g, name, &shape, &chunk)?;
+        netcdf::dims(&d, &[s.y, s.x, s.npq])?;
+        netcdf::attr_str(&d, "long_name", &format!("n, p, q of {mass}'s label ({STUCK} = S, the mass sticks)"))?;
+        netcdf::attr_str(&d, "units", "1")?;
+        netcdf::attr_str(&d, "dims", "y, x, (n, p, q)")?;
+        netcdf::attr_num(&d, "stuck_code", STUCK)?;
+        Ok(d)
+    }
+
     /// Creates the dataset in `g`, empty, chunked by `chunks` and deflated,
     /// with its dimensions and attributes.
     pub(crate) fn create(self, g: &Group, m: &Meta, chunks: &Chunks, s: &Scales) -> hdf5::Result<Dataset> {
@@ -194,20 +212,7 @@ impl Field {
             netcdf::describe(d, long_name, "1")
         };
         let d = match self {
-            Field::Npq(k) => {
-                let d = Deflater::chunked_empty::<u16>(g, &name, &[ny, nx, 3], &[h, w, 3])?;
-                let mass = &m.masses[k];
-                netcdf::dims(&d, &[s.y, s.x, s.npq])?;
-                netcdf::attr_str(
-                    &d,
-                    "long_name",
-                    &format!("n, p, q of {mass}'s label ({STUCK} = S, the mass sticks)"),
-                )?;
-                netcdf::attr_str(&d, "units", "1")?;
-                netcdf::attr_str(&d, "dims", "y, x, (n, p, q)")?;
-                netcdf::attr_num(&d, "stuck_code", STUCK)?;
-                d
-            }
+            Field::Npq(k) => Field::create_npq(g, &name, &m.masses[k], [ny, nx, 3], [h, w, 3], s)?,
             Field::Class => {
                 let d = Deflater::chunked_empty::<u8>(g, &name, &plane, &chunk)?;
                 gridded(&d, "kind of steady motion")?;
