@@ -81,6 +81,23 @@ fn readable(word: &str) -> String {
     }
 }
 
+/// `println!` through [`line()`], returning its error from the enclosing function.
+macro_rules! outln {
+    ($($arg:tt)*) => { $crate::out::line(&format!($($arg)*))? };
+}
+
+/// `print!` through [`text()`], returning its error from the enclosing function.
+macro_rules! outp {
+    ($($arg:tt)*) => { $crate::out::text(&format!($($arg)*))? };
+}
+
+/// `eprintln!` through [`err_line()`]: never panics, never fails.
+macro_rules! errln {
+    ($($arg:tt)*) => { $crate::out::err_line(&format!($($arg)*)) };
+}
+
+pub(crate) use {errln, outln, outp};
+
 #[cfg(test)]
 mod tests {
     use super::readable;
@@ -98,20 +115,3 @@ mod tests {
         }
     }
 }
-
-/// `println!` through [`line()`], returning its error from the enclosing function.
-macro_rules! outln {
-    ($($arg:tt)*) => { $crate::out::line(&format!($($arg)*))? };
-}
-
-/// `print!` through [`text()`], returning its error from the enclosing function.
-macro_rules! outp {
-    ($($arg:tt)*) => { $crate::out::text(&format!($($arg)*))? };
-}
-
-/// `eprintln!` through [`err_line()`]: never panics, never fails.
-macro_rules! errln {
-    ($($arg:tt)*) => { $crate::out::err_line(&format!($($arg)*)) };
-}
-
-pub(crate) use {errln, outln, outp};
