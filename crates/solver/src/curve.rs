@@ -40,7 +40,9 @@
 //! orbit meet on the curve: another kind located on the orbit within
 //! [`CODIM2_TOL`] (a fraction of the line) of a curve point (e.g. where a PD
 //! curve meets a grazing), where the curve ends at a bifurcation of its orbit
-//! that stops it (a grazing of other stops, a fold), and where, between two
+//! that stops it (a grazing of other stops, a fold; where a grazing curve's
+//! orbit folds as it grazes, the meeting is extrapolated from points of the
+//! curve near it, in `meet`), and where, between two
 //! consecutive points, one more of the orbit's other multipliers (all but the
 //! critical one, or pair) leaves or enters the unit circle: named after where
 //! it crosses (`SN` at +1, `PD` at -1, `NS` off the real axis), placed by
@@ -49,6 +51,7 @@
 //! the curve's.
 
 mod line;
+mod meet;
 #[cfg(test)]
 mod tests;
 
@@ -521,7 +524,11 @@ impl Tracing {
     /// ends where they meet (a codimension-two point, e.g. a fold or doubling
     /// that meets a grazing, or two grazings): the last point of the curve
     /// before it is found by bisection of the step (twelve halvings), and the
-    /// meeting recorded there. Otherwise it ends with why.
+    /// meeting recorded there; for a grazing curve meeting a fold, where the
+    /// fold test function of its orbit extrapolates to zero
+    /// ([`Tracing::fold_meeting`]; the bisection's point where that fails).
+    /// The meeting supersedes one of its kind recorded near it. Otherwise it
+    /// ends with why.
     fn end_at_meeting(&self, plane: &Plane2, curve: &mut Curve, tangent: [f64; 2], h: f64, missed: &Missed) {
         let p = curve.points.last().expect("a curve has a point");
         let here = self.scaled(p);
@@ -550,21 +557,33 @@ impl Tracing {
             self.after_step(curve);
         }
         let end = curve.points.last().expect("a curve has a point");
+        let [a, b] = match (self.kind, kind) {
+            (Bifurcation::Grazing, Bifurcation::SaddleNode) => {
+                self.fold_meeting(plane, curve, self.tangent(curve, tangent)).unwrap_or([end.a, end.b])
+            }
+            _ => [end.a, end.b],
+        };
         let name = format!("{}-{}", self.kind.name(), kind.name());
-        curve.ended = Some(format!("ends where it meets a {} at ({}, {}) ({name})", kind.name(), end.a, end.b));
-        let meeting = Codim2 { kind: name, a: end.a, b: end.b };
-        self.record(curve, meeting);
+        curve.ended = Some(format!("ends where it meets a {} at ({a}, {b}) ({name})", kind.name()));
+        let meeting = Codim2 { kind: name, a, b };
+        // It supersedes one of its kind recorded near it (by a crossing).
+        if curve.codim2.last().is_some_and(|d| self.near(d, &meeting)) {
+            curve.codim2.pop();
+        }
+        curve.codim2.push(meeting);
     }
 
     /// Records a codimension-two point, once: not where the last one recorded
     /// is of the same kind and within [`CODIM2_TOL`] of it.
     fn record(&self, curve: &mut Curve, c: Codim2) {
-        let near = |d: &Codim2| {
-            d.kind == c.kind && ((d.a - c.a) / self.scale[0]).hypot((d.b - c.b) / self.scale[1]) <= CODIM2_TOL
-        };
-        if !curve.codim2.last().is_some_and(near) {
+        if !curve.codim2.last().is_some_and(|d| self.near(d, &c)) {
             curve.codim2.push(c);
         }
+    }
+
+    /// Whether `d` and `c` are of the same kind and within [`CODIM2_TOL`].
+    fn near(&self, d: &Codim2, c: &Codim2) -> bool {
+        d.kind == c.kind && ((d.a - c.a) / self.scale[0]).hypot((d.b - c.b) / self.scale[1]) <= CODIM2_TOL
     }
 
     /// A point in scaled units.

@@ -11,6 +11,7 @@
 //! grazing: that change itself), so that a curve never takes a bifurcation
 //! of another orbit for its own.
 
+use super::meet::{fold_test, FOLD_MARGIN};
 use super::{CurvePoint, Missed, Plane2, Start, Tracing, LINE_POINTS};
 use crate::continuation::{follow_own, Branch, Located};
 use crate::floquet::Bifurcation;
@@ -272,8 +273,9 @@ impl Tracing {
     /// the curve's kind of that orbit, at most `tol` from `s = 0` when given.
     /// Refused, with why and the other bifurcations of the orbit met (where
     /// the curve may end), when the orbit cannot be carried there, holds no
-    /// such bifurcation there, or its first grazing there is of other stops
-    /// than `last`'s.
+    /// such bifurcation there, its first grazing there is of other stops
+    /// than `last`'s, or its orbit folds as it grazes (its fold test function
+    /// fallen below [`FOLD_MARGIN`]: there the fold is taken for a grazing).
     pub(super) fn continue_on(
         &self,
         plane: &Plane2,
@@ -300,6 +302,13 @@ impl Tracing {
             let (now, before) = (self.stop_names(plane, &p, &p.grazes), self.stop_names(plane, &p, &last.grazes));
             let why = format!("its orbit grazes {now} (not {before}) first, at ({}, {})", p.a, p.b);
             return Err(Missed { why, others: vec![(Bifurcation::Grazing, p.a, p.b)] });
+        }
+        if self.kind == Bifurcation::Grazing
+            && fold_test(&last.orbit) >= FOLD_MARGIN
+            && fold_test(&p.orbit) < FOLD_MARGIN
+        {
+            let why = format!("its orbit folds as it grazes at ({}, {})", p.a, p.b);
+            return Err(Missed { why, others: vec![(Bifurcation::SaddleNode, p.a, p.b)] });
         }
         if tol.is_some_and(|tol| best.value.abs() > tol) || !same_orbit(&last.orbit, &p.orbit) {
             let why = format!(

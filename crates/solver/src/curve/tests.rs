@@ -114,10 +114,10 @@ fn grazing_curve_up_from_delta_07_passes_the_same_points_with_two_step_settings(
     let (c1, c2) = (grazing_curve(&t1, 0.9), grazing_curve(&t2, 0.9));
     for c in [&c1, &c2] {
         one_orbit(c);
-        // Where the 1-3-3 orbit folds as it grazes (past δ ≈ 0.8178 it folds
-        // before it grazes): the curve ends there, with the meeting.
+        // Where the 1-3-3 orbit folds as it grazes (past δ ≈ 0.81776 it folds
+        // before it grazes): the curve ends just before it, with the meeting.
         let end = c.points.last().unwrap();
-        assert!((end.b - 0.81778).abs() < 1e-4 && (end.a - 0.28925).abs() < 1e-5, "({}, {})", end.a, end.b);
+        assert!((end.b - 0.81776).abs() < 2e-5 && (end.a - 0.28925).abs() < 1e-5, "({}, {})", end.a, end.b);
         assert!(c.ended.as_deref().is_some_and(|e| e.contains("grazing-SN")), "{:?}", c.ended);
         assert_eq!(c.codim2.last().map(|x| x.kind.as_str()), Some("grazing-SN"));
     }
@@ -148,4 +148,38 @@ fn a_step_that_would_take_another_orbits_grazing_is_refused() {
     let at = c.points.iter().find(|q| q.b.to_bits() == 0.6f64.to_bits()).expect("a natural step at δ = 0.6");
     assert!((at.a - p.a).abs() < 1e-9);
     assert!(c.points.iter().all(|q| (q.a - 0.354387705).abs() > 1e-4 || (q.b - 0.6).abs() > 1e-9));
+}
+
+/// The meeting of `c` with the fold of its orbit.
+fn fold_meeting_of(c: &Curve) -> Codim2 {
+    let m = c.codim2.last().filter(|m| m.kind == "grazing-SN");
+    m.cloned().unwrap_or_else(|| panic!("no grazing-SN: {:?}", c.ended))
+}
+
+/// Where the 1-3-3 orbit folds as it grazes, the grazing curve followed up
+/// from δ = 0.7 ends at one meeting, (0.2892524, 0.8177646), with 4 steps and
+/// a window of 0.01 as with 40 and 0.05 (measured: within 3e-9). The meeting
+/// is a fold of the grazing orbit: the curve's last point, just before it,
+/// grazes with a multiplier within 2e-4 of +1; a hundredth of a step (1e-5 in
+/// δ) before it the orbit grazes before it folds, as far past it it folds
+/// first, on the line of constant δ, where the curve's tangent at the meeting
+/// reaches that δ (the fold curve touches the grazing curve there).
+#[test]
+fn grazing_sn_meeting_is_the_same_with_two_step_settings_and_is_where_the_grazing_orbit_folds() {
+    let (t1, t2) = (tracing(0.9, 4, 0.01), tracing(0.9, 40, 0.05));
+    let (c1, c2) = (grazing_curve(&t1, 0.9), grazing_curve(&t2, 0.9));
+    let (m1, m2) = (fold_meeting_of(&c1), fold_meeting_of(&c2));
+    assert!((m1.a - m2.a).abs().max((m1.b - m2.b).abs()) < 1e-6, "{m1:?} and {m2:?}");
+    assert!((m1.a - 0.2892524).abs() < 1e-6 && (m1.b - 0.8177646).abs() < 1e-6, "{m1:?}");
+    let last = c1.points.last().unwrap();
+    let f = meet::fold_test(&last.orbit);
+    assert!((meet::FOLD_MARGIN..2.0 * meet::FOLD_MARGIN).contains(&f), "1 - μ = {f} at the last point");
+    // The grazing curve's slope dω/dδ at the meeting.
+    let slope = (m1.a - last.a) / (m1.b - last.b);
+    let fold = Tracing { kind: Bifurcation::SaddleNode, scale: [1e-4, 1e-4], ..t1.clone() };
+    let at = |d: f64| fold.locate_from(&plane, last, [m1.a, m1.b + d], [1.0, 0.0]);
+    let before = at(-1e-5).expect_err("the orbit grazes first before the meeting");
+    assert!(before.others.iter().any(|o| o.0 == Bifurcation::Grazing), "{before}");
+    let past = at(1e-5).expect("the orbit folds first past the meeting");
+    assert!((past.a - (m1.a + slope * 1e-5)).abs() < 1e-8, "the fold at δ = {} is at ω = {}", past.b, past.a);
 }
