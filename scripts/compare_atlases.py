@@ -5,7 +5,8 @@
 
 Every dataset present in either file is compared by its raw bytes (NaN equal to
 the same NaN), and every attribute except those that record when and how a
-file was made (created, command, run_time_s, history, source, git_commit, and names given with
+file was made (created, command, run_time_s, history, source, git_commit, the root's
+attributes_crc32 that covers them, and names given with
 --ignore). Prints one line per difference and exits 1 when there is any.
 """
 import argparse
@@ -14,7 +15,8 @@ import sys
 import h5py
 import numpy as np
 
-VOLATILE = {"created", "command", "run_time_s", "history", "git_commit", "source"}
+# attributes_crc32 covers the root's text attributes, created, command and history among them.
+VOLATILE = {"created", "command", "run_time_s", "history", "git_commit", "source", "attributes_crc32"}
 
 
 def items(f):

@@ -54,7 +54,7 @@ fn ok(args: &[&str]) {
 }
 
 /// Runs `script` with Debian's python3 (h5py), `args` after it.
-fn python(script: &str, args: &[&str]) -> String {
+pub(crate) fn python(script: &str, args: &[&str]) -> String {
     let out = Command::new("/usr/bin/python3").arg("-c").arg(script).args(args).output().unwrap();
     assert!(out.status.success(), "python: {}", String::from_utf8_lossy(&out.stderr));
     String::from_utf8_lossy(&out.stdout).to_string()
@@ -62,18 +62,40 @@ fn python(script: &str, args: &[&str]) -> String {
 
 /// Copies `from` to `to` and rewrites one dataset of the copy with h5py:
 /// `EXPR` is Python computing the new values from `a` (the old ones, a
-/// numpy array), e.g. `a[:-1]`.
-const REWRITE: &str = r#"
-import sys, shutil, h5py, numpy as np
+/// numpy array), e.g. `a[:-1]`. An attribute rewritten (`attr|OBJ@NAME|EXPR`)
+/// has its object's checksum of text attributes written again, as
+/// docs/file-format.md says to compute it (a file whose texts are whole but
+/// wrong); `rawattr|…` leaves the checksum as it was (a file changed since
+/// it was written).
+pub(crate) const REWRITE: &str = r#"
+import sys, shutil, struct, zlib, h5py, numpy as np
+
+def seal(o):
+    if "attributes_crc32" not in o.attrs:
+        return
+    crc = 0
+    for n in sorted(o.attrs.keys(), key=lambda k: k.encode()):
+        a = o.attrs.get_id(n)
+        t = a.get_type()
+        if a.shape != () or not isinstance(t, h5py.h5t.TypeStringID) or not t.is_variable_str() or t.get_cset() != h5py.h5t.CSET_UTF8:
+            continue
+        v = o.attrs[n]
+        v = v.encode() if isinstance(v, str) else bytes(v)
+        for b in (n.encode(), v):
+            crc = zlib.crc32(struct.pack("<Q", len(b)) + b, crc)
+    o.attrs["attributes_crc32"] = np.uint32(crc)
+
 src, dst = sys.argv[1], sys.argv[2]
 shutil.copy(src, dst)
 with h5py.File(dst, "r+") as f:
     for spec in sys.argv[3:]:
         kind, name, expr = spec.split("|", 2)
-        if kind == "attr":
+        if kind in ("attr", "rawattr"):
             obj, key = name.rsplit("@", 1)
             o = f[obj] if obj else f
             o.attrs[key] = eval(expr)
+            if kind == "attr":
+                seal(o)
             continue
         a = f[name][()]
         b = np.asarray(eval(expr)).astype(a.dtype)
@@ -83,7 +105,7 @@ with h5py.File(dst, "r+") as f:
 
 /// A copy of `from` at `to` with `specs` applied (see [`REWRITE`]:
 /// `data|up/flags|a[:-1]`, `attr|@dim|np.uint64(3)`).
-fn mutated(from: &Path, to: &Path, specs: &[&str]) -> PathBuf {
+pub(crate) fn mutated(from: &Path, to: &Path, specs: &[&str]) -> PathBuf {
     let mut args = vec![from.to_str().unwrap(), to.to_str().unwrap()];
     args.extend_from_slice(specs);
     python(REWRITE, &args);

@@ -11,6 +11,7 @@ mod edges;
 mod extremes;
 mod faults;
 mod faults2;
+mod faults3;
 mod figures;
 mod friction;
 mod integrity;

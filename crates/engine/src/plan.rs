@@ -486,7 +486,10 @@ impl Plan {
     /// On a resume without a journal, the output when it is already the
     /// finished file of this very run (the same settings and shard): a
     /// cluster job that reruns a finished shard does nothing. Anything else
-    /// (no file, another run's, a damaged one) is computed again.
+    /// (no file, another run's, one that does not read) is computed again.
+    /// The run's finished file is first checked whole, as the writer checks
+    /// it before putting it in place ([`store::check_finished`]): one whose
+    /// other datasets are damaged is an error naming the dataset.
     fn finished_before(&self) -> Result<Option<Atlas>> {
         let Some(out) = self.output.as_deref().filter(|_| self.resume) else { return Ok(None) };
         if !out.is_file() || journal_path(out).exists() {
@@ -497,10 +500,13 @@ impl Plan {
             (Some((s, _)), Some(a)) => a.samples == s.samples && a.seed == s.seed,
             _ => false,
         };
-        Ok(store::read(out)
-            .ok()
-            .filter(|l| l.atlas.meta == self.meta && l.info.shard == self.shard && same_attractors(&l.atlas.attractors))
-            .map(|l| l.atlas))
+        let Some(loaded) = store::read(out).ok().filter(|l| {
+            l.atlas.meta == self.meta && l.info.shard == self.shard && same_attractors(&l.atlas.attractors)
+        }) else {
+            return Ok(None);
+        };
+        store::check_finished(out, &loaded)?;
+        Ok(Some(loaded.atlas))
     }
 
     /// Whether the run computes continuation chains (up or down sweeps).

@@ -13,8 +13,6 @@ use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
 use crate::layout::curves::*;
 use crate::netcdf;
-use crate::read::utf8;
-use hdf5::types::VarLenUnicode;
 use ndarray::Array1;
 use std::path::Path;
 
@@ -77,13 +75,14 @@ fn write_all(g: &hdf5::Group, curves: &[Curve], command: &str) -> hdf5::Result<(
     for (k, c) in curves.iter().enumerate() {
         write_one(&g.create_group(&curve(k))?, c)?;
     }
-    Ok(())
+    netcdf::seal(g)
 }
 
 fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
     netcdf::attr_str(g, KIND, &curve.kind)?;
     netcdf::attr_str(g, ENDED, &curve.ended)?;
     netcdf::attr_str(g, FREE, &curve.free.join(","))?;
+    netcdf::seal(g)?;
     let point = netcdf::dimension(g, POINT, curve.points.len())?;
     for (k, name) in curve.free.iter().enumerate() {
         let v: Vec<f64> = curve.points.iter().map(|p| if k == 0 { p.0 } else { p.1 }).collect();
@@ -98,8 +97,8 @@ fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
         netcdf::dims(&d, &[&codim])?;
         netcdf::describe(&d, &format!("parameter {name} at the codimension-two points"), "1")?;
     }
-    let kinds: Vec<VarLenUnicode> = curve.codim2.iter().map(|p| netcdf::text(&p.0)).collect();
-    let d = g.new_dataset_builder().with_data(&Array1::from(kinds)).create(CODIM2_KIND)?;
+    let kinds: Vec<String> = curve.codim2.iter().map(|p| p.0.clone()).collect();
+    let d = netcdf::texts(g, CODIM2_KIND, &kinds)?;
     netcdf::dims(&d, &[&codim])?;
     netcdf::attr_str(&d, "long_name", "kinds of the two bifurcations that meet")
 }
@@ -112,13 +111,15 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     }
     crate::read::check_global_heaps(path)?;
     let f = hdf5::File::open(path).map_err(h)?;
-    let content =
-        |g: &hdf5::Group| g.attr(CONTENT_ATTR).and_then(|a| a.read_scalar::<VarLenUnicode>()).and_then(|v| utf8(&v));
-    let holder: hdf5::Group = if content(&f).ok().as_deref() == Some(CONTENT) {
+    let content = |g: &hdf5::Group| -> Result<Option<String>, StoreError> {
+        crate::attrs::verify(path, g)?;
+        crate::attrs::text(path, g, CONTENT_ATTR)
+    };
+    let holder: hdf5::Group = if content(&f)?.as_deref() == Some(CONTENT) {
         (*f).clone()
     } else {
         match f.group(GROUP) {
-            Ok(g) if content(&g).ok().as_deref() == Some(CONTENT) => g,
+            Ok(g) if content(&g)?.as_deref() == Some(CONTENT) => g,
             _ => return Err(StoreError::Kind { path: path.display().to_string(), found: OtherKind::NoCurves }),
         }
     };
@@ -134,16 +135,15 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
 /// against the file ([`crate::read::MAX_EXPANSION`]), the two coordinates of
 /// the points and of the codimension-two points of one length each.
 fn read_one(ck: &crate::read::Checker, g: &hdf5::Group) -> Result<Curve, StoreError> {
-    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
-    let attr = |name: &str| g.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).and_then(|v| utf8(&v));
-    let free: Vec<String> = attr(FREE).map_err(h)?.split(',').map(str::to_string).collect();
+    crate::attrs::verify(ck.path, g)?;
+    let attr = |name: &str| crate::attrs::required_text(ck.path, g, name);
+    let free: Vec<String> = attr(FREE)?.split(',').map(str::to_string).collect();
     let [a, b] = [free.first().cloned().unwrap_or_default(), free.get(1).cloned().unwrap_or_default()];
     let read = |name: &str| ck.open(g, name).and_then(|d| Ok((ck.raw::<f64>(&d)?, d.name())));
     let (va, vb) = (read(&a)?, read(&b)?);
     let (ca, cb) = (read(&codim2(&a))?, read(&codim2(&b))?);
     let kinds_set = ck.open(g, CODIM2_KIND)?;
-    let kinds = ck.raw::<VarLenUnicode>(&kinds_set)?.iter().map(utf8).collect::<hdf5::Result<Vec<_>>>();
-    let kinds = kinds.map_err(|e| ck.bad(&kinds_set.name(), e.to_string()))?;
+    let kinds = crate::attrs::texts(ck, &kinds_set)?;
     for ((x, y), what) in [((&va, &vb), "points"), ((&ca, &cb), "codimension-two points")] {
         if x.0.len() != y.0.len() {
             return Err(ck.bad(&y.1, format!("{} {what}, but {} has {}", y.0.len(), x.1, x.0.len())));
@@ -155,10 +155,10 @@ fn read_one(ck: &crate::read::Checker, g: &hdf5::Group) -> Result<Curve, StoreEr
         );
     }
     Ok(Curve {
-        kind: attr(KIND).map_err(h)?,
+        kind: attr(KIND)?,
         free: [a, b],
         points: va.0.into_iter().zip(vb.0).collect(),
         codim2: kinds.into_iter().zip(ca.0).zip(cb.0).map(|((k, x), y)| (k, x, y)).collect(),
-        ended: attr(ENDED).unwrap_or_default(),
+        ended: crate::attrs::text(ck.path, g, ENDED)?.unwrap_or_default(),
     })
 }

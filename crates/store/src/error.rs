@@ -36,7 +36,7 @@ pub enum StoreError {
         found: OtherKind,
     },
     /// Two parts of a merge that are not parts of the same run.
-    #[error("{path}: is not a part of the same run as {first}: different {setting}")]
+    #[error("{path}: is not a part of the same run as {first}: different {}", differing(.setting, .differences))]
     OtherRun {
         /// The part refused.
         path: String,
@@ -44,6 +44,9 @@ pub enum StoreError {
         first: String,
         /// The first of their settings that differs.
         setting: Setting,
+        /// Each setting that differs with its values, the first part's then
+        /// this part's (`section_cap 100 and 4`).
+        differences: Vec<String>,
     },
     /// The writer of a file written atomically ([`crate::write_atomically`])
     /// failed: nothing was put in place.
@@ -86,7 +89,7 @@ pub enum StoreError {
     /// A file just written does not read back as it was written (a chunk that
     /// fails its checksum or does not inflate, a file cut short under the
     /// writer, values that differ): it was not renamed into place.
-    #[error("{path}: the file written does not read back as written ({dataset}: {message}); it was not put in place")]
+    #[error("{path}: the file written does not read back as written ({}); it was not put in place", at(.dataset, .message))]
     Unverified {
         /// The file that was to be written.
         path: String,
@@ -154,7 +157,8 @@ pub enum Setting {
 impl StoreError {
     /// Wraps an HDF5 error with the file's path.
     pub fn hdf5(path: &std::path::Path, e: hdf5::Error) -> Self {
-        StoreError::Hdf5 { path: path.display().to_string(), cause: Hdf5Error(e) }
+        let plain = plain_of(&e, Some(path));
+        StoreError::Hdf5 { path: path.display().to_string(), cause: Hdf5Error(e, plain) }
     }
 
     /// Wraps an I/O error with the file's path.
@@ -177,10 +181,32 @@ impl StoreError {
     }
 }
 
+/// The settings that differ (`section_cap 100 and 4, preset standard and
+/// fast`), or the first's words where none is listed.
+fn differing(setting: &Setting, differences: &[String]) -> String {
+    if differences.is_empty() {
+        setting.to_string()
+    } else {
+        differences.join(", ")
+    }
+}
+
+/// `dataset: message`, or the message alone for the file as a whole.
+fn at(dataset: &str, message: &str) -> String {
+    if dataset.is_empty() {
+        message.to_string()
+    } else {
+        format!("{dataset}: {message}")
+    }
+}
+
 /// An error of the HDF5 library, shown on one line (the library's messages
-/// span lines); [`Hdf5Error::library`] is the library's own error.
+/// span lines); an error of the system under it (the library's text carries
+/// `errno = N`) in the system's words with the file's name (`No space left
+/// on device`). [`Hdf5Error::library`] is the library's own error, its whole
+/// text.
 #[derive(Debug)]
-pub struct Hdf5Error(hdf5::Error);
+pub struct Hdf5Error(hdf5::Error, Option<String>);
 
 impl Hdf5Error {
     /// The library's error.
@@ -191,14 +217,81 @@ impl Hdf5Error {
 
 impl From<hdf5::Error> for Hdf5Error {
     fn from(e: hdf5::Error) -> Self {
-        Hdf5Error(e)
+        let plain = plain_of(&e, None);
+        Hdf5Error(e, plain)
     }
 }
 
 impl std::fmt::Display for Hdf5Error {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0.to_string().split_whitespace().collect::<Vec<_>>().join(" "))
+        match &self.1 {
+            Some(plain) => f.write_str(plain),
+            None => f.write_str(&one_line(&self.0.to_string())),
+        }
     }
 }
 
+/// The library's messages span lines: one line.
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// An HDF5 error in one line: where the library failed on a system call
+/// (`errno = N` in its text), the system's words for `N` after the name of
+/// the file (`name = '…'` in the text), left out when it is `path`'s;
+/// otherwise the library's text on one line.
+pub(crate) fn plain(e: &hdf5::Error) -> String {
+    plain_of(e, None).unwrap_or_else(|| one_line(&e.to_string()))
+}
+
+/// The system's words for the error `errno = N` of an HDF5 error's text,
+/// after the file's name unless it is `path`'s; `None` without an errno.
+fn plain_of(e: &hdf5::Error, path: Option<&std::path::Path>) -> Option<String> {
+    let text = e.to_string();
+    let at = text.find("errno = ")? + "errno = ".len();
+    let digits: String = text[at..].chars().take_while(char::is_ascii_digit).collect();
+    let errno: i32 = digits.parse().ok().filter(|&n| n > 0)?;
+    let words = std::io::Error::from_raw_os_error(errno).to_string();
+    // `No such file or directory (os error 2)`: the words alone.
+    let words = words.split(" (os error").next().unwrap_or(&words).to_string();
+    let name = text.find("name = '").and_then(|i| {
+        let rest = &text[i + "name = '".len()..];
+        rest.find('\'').map(|j| rest[..j].to_string())
+    });
+    let same = |n: &str| path.is_some_and(|p| std::path::Path::new(n) == p || p.ends_with(n));
+    Some(match name {
+        Some(n) if !n.is_empty() && !same(&n) => format!("{n}: {words}"),
+        _ => words,
+    })
+}
+
 impl std::error::Error for Hdf5Error {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The library's text of a failed system call reads as the system's
+    /// words with the file's name, on one line; other texts as they are.
+    #[test]
+    fn a_system_error_under_hdf5_is_said_in_the_systems_words() {
+        let open = hdf5::Error::from(
+            "H5Fopen(): unable to open file: unable to open file: name = '/tmp/d/.o.partial.h5', errno = 2, error message = 'No such file or directory', flags = 0, o_flags = 0",
+        );
+        assert_eq!(plain(&open), "/tmp/d/.o.partial.h5: No such file or directory");
+        let full = hdf5::Error::from(
+            "H5Fflush(): unable to flush file's cached information: file write failed: time = Thu Nov 27 17:10:20 2026\n, filename = '/tmp/d/.m.partial.h5', file descriptor = 4, errno = 28, error message = 'No space left on device', buf = 0x5, total write size = 2048, bytes this sub-write = 2048, bytes actually written = 18446744073709551615, offset = 0",
+        );
+        assert_eq!(plain(&full), "/tmp/d/.m.partial.h5: No space left on device");
+        let e = StoreError::hdf5(std::path::Path::new("/tmp/d/.m.partial.h5"), full);
+        let StoreError::Hdf5 { cause, .. } = &e else { panic!() };
+        assert_eq!(cause.to_string(), "No space left on device", "the file's name once");
+        assert!(cause.library().to_string().contains("errno = 28"), "the library's text kept");
+        assert_eq!(plain(&hdf5::Error::from("no conversion\n path")), "no conversion path");
+        let unverified = StoreError::Unverified { path: "o.h5".into(), dataset: String::new(), message: "gone".into() };
+        assert_eq!(
+            unverified.to_string(),
+            "o.h5: the file written does not read back as written (gone); it was not put in place"
+        );
+    }
+}

@@ -3,7 +3,8 @@
 //! ```text
 //! /                       attrs: software, version, scene, scene_name, preset, accuracy,
 //!                                integrator, command, created, run_time_s, x, y, along,
-//!                                sweeps, overrides, masses, stops, dim, section_cap, [shard]
+//!                                sweeps, overrides, masses, stops, dim, section_cap, [shard],
+//!                                attributes_crc32 (CRC-32 of the text attributes)
 //! /axes/<x>, /axes/<y>    f64 [n]  coordinate vectors (attrs CLASS=DIMENSION_SCALE, NAME, start, stop)
 //! /<x>, /<y>              f64 [n]  coordinate variables (dimension scales; attrs long_name, units, symbol),
 //!                                  again in every sweep group and in /attractors
@@ -26,6 +27,7 @@
 //! /hysteresis             u8  [ny, nx]     1 where up and down are periodic with different labels
 //! /legend/<sweep>/<mass>/label   strings, most frequent first
 //! /legend/<sweep>/<mass>/count   u64
+//! (every string dataset: attribute text_crc32, the CRC-32 of its texts)
 //! ```
 
 /// Version of this layout (root attribute `layout_version`; files without it
@@ -291,6 +293,17 @@ pub mod attr {
     pub const SAMPLES: &str = "samples";
     /// `seed`.
     pub const SEED: &str = "seed";
+    /// `text_crc32` of a dataset of texts (a string coordinate: `reason`,
+    /// `label`, a legend's labels, …): the CRC-32 (zlib's) of its values, each
+    /// its byte length (u64, little-endian) then its UTF-8 bytes, in order.
+    /// HDF5 keeps texts in its global heap, which has no checksum; this
+    /// attribute lives in the dataset's (checksummed) object header.
+    pub const TEXT_CRC32: &str = "text_crc32";
+    /// `attributes_crc32` of an object (the root group, a coordinate, a
+    /// curve's group): the CRC-32 of its scalar text attributes, in the byte
+    /// order of their names, each its name's byte length (u64,
+    /// little-endian), the name, its value's byte length and the value.
+    pub const ATTRIBUTES_CRC32: &str = "attributes_crc32";
 }
 
 /// Dataset names inside a sweep group (and the sections and attractors groups).

@@ -20,6 +20,7 @@
 //! ```
 #![deny(missing_docs)]
 
+mod attrs;
 mod chunked;
 mod curve;
 mod error;
@@ -42,4 +43,4 @@ pub use lock::{
 };
 pub use merge::{merge, Merged};
 pub use read::{available_memory, read, Loaded, MAX_DIM, MAX_EXPANSION};
-pub use write::{pairs, partial_path, write, Draft, RunInfo, GIT_COMMIT};
+pub use write::{check_finished, pairs, partial_path, write, Draft, RunInfo, GIT_COMMIT};

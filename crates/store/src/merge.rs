@@ -25,6 +25,39 @@ fn difference(a: &Meta, b: &Meta) -> Option<Setting> {
     }
 }
 
+/// Each setting in which two atlases differ, with both values (`a`'s
+/// first): `section_cap 100 and 4`.
+fn differences(a: &Meta, b: &Meta) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut differ = |name: &str, x: String, y: String| {
+        if x != y {
+            out.push(format!("{name} {x} and {y}"));
+        }
+    };
+    let none = |s: String| if s.is_empty() { "none".to_string() } else { s };
+    let pairs = |p: &[(String, f64)]| none(crate::write::pairs(p));
+    let sweeps = |m: &Meta| m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>().join(",");
+    differ("scene", a.scene_name.clone(), b.scene_name.clone());
+    if a.scene_name == b.scene_name && a.scene_toml != b.scene_toml {
+        out.push(format!("scene {} (two texts of it)", a.scene_name));
+    }
+    let mut differ = |name: &str, x: String, y: String| {
+        if x != y {
+            out.push(format!("{name} {x} and {y}"));
+        }
+    };
+    differ("overrides", pairs(&a.overrides), pairs(&b.overrides));
+    differ("grid x", a.plane.x.to_string(), b.plane.x.to_string());
+    differ("grid y", a.plane.y.to_string(), b.plane.y.to_string());
+    differ("grid along", a.plane.along.name().into(), b.plane.along.name().into());
+    differ("sweeps", sweeps(a), sweeps(b));
+    differ("preset", a.preset.name().into(), b.preset.name().into());
+    differ("accuracy", pairs(&a.accuracy), pairs(&b.accuracy));
+    differ("integrator", a.integrator.name().into(), b.integrator.name().into());
+    differ("section_cap", a.section_cap.to_string(), b.section_cap.to_string());
+    out
+}
+
 /// The result of merging parts.
 #[derive(Debug)]
 pub struct Merged {
@@ -54,7 +87,8 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
         let part = read(p)?;
         if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
             let (path, first) = (p.display().to_string(), first.display().to_string());
-            return Err(StoreError::OtherRun { path, first, setting });
+            let differences = differences(&atlas.meta, &part.atlas.meta);
+            return Err(StoreError::OtherRun { path, first, setting, differences });
         }
         if let Some((_, other)) = shards.iter().find(|(s, _)| s.is_some() && *s == part.info.shard) {
             let k = part.info.shard.map(|s| s.to_string()).unwrap_or_default();

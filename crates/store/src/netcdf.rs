@@ -81,13 +81,67 @@ pub fn coordinate(g: &Group, name: &str, values: &[f64], long_name: &str) -> hdf
     Ok(ds)
 }
 
-/// A string coordinate variable: a dimension scale named `name` holding `values`.
+/// A string coordinate variable: a dimension scale named `name` holding
+/// `values`, with their checksum ([`texts`]).
 pub fn labels(g: &Group, name: &str, values: &[String], long_name: &str) -> hdf5::Result<Dataset> {
-    let data: Vec<VarLenUnicode> = values.iter().map(|s| text(s)).collect();
-    let ds = g.new_dataset_builder().with_data(&Array1::from(data)).create(name)?;
+    let ds = texts(g, name, values)?;
     set_scale(&ds, name)?;
     attr_str(&ds, "long_name", long_name)?;
     Ok(ds)
+}
+
+/// A 1-D dataset of texts, with the checksum of their stored bytes
+/// (attribute [`TEXT_CRC32`](crate::layout::attr::TEXT_CRC32)): HDF5 keeps
+/// the texts in its global heap, which carries no checksum.
+pub fn texts(g: &Group, name: &str, values: &[String]) -> hdf5::Result<Dataset> {
+    let data: Vec<VarLenUnicode> = values.iter().map(|s| text(s)).collect();
+    let ds = g.new_dataset_builder().with_data(&Array1::from(data.clone())).create(name)?;
+    attr_num(&ds, crate::layout::attr::TEXT_CRC32, texts_crc32(data.iter().map(|t| t.as_bytes())))?;
+    Ok(ds)
+}
+
+/// The CRC-32 of texts: each its byte length (u64, little-endian), then its bytes.
+pub fn texts_crc32<'a>(texts: impl IntoIterator<Item = &'a [u8]>) -> u32 {
+    let mut crc = crc32fast::Hasher::new();
+    for t in texts {
+        crc.update(&(t.len() as u64).to_le_bytes());
+        crc.update(t);
+    }
+    crc.finalize()
+}
+
+/// The scalar text attributes of `loc` (but the checksum's), by name in
+/// byte order: name and stored bytes.
+pub fn text_attributes(loc: &Location) -> hdf5::Result<Vec<(String, Vec<u8>)>> {
+    let mut names = loc.attr_names()?;
+    names.sort();
+    let mut out = Vec::new();
+    for name in names {
+        let a = loc.attr(&name)?;
+        if !a.is_scalar() || a.dtype()?.to_descriptor()? != hdf5::types::TypeDescriptor::VarLenUnicode {
+            continue;
+        }
+        let value = a.read_scalar::<VarLenUnicode>()?;
+        out.push((name, value.as_bytes().to_vec()));
+    }
+    Ok(out)
+}
+
+/// The CRC-32 of text attributes: each its name and its value, as [`texts_crc32`] takes texts.
+pub fn attributes_crc32(attributes: &[(String, Vec<u8>)]) -> u32 {
+    texts_crc32(attributes.iter().flat_map(|(n, v)| [n.as_bytes(), v.as_slice()]))
+}
+
+/// Writes (again) the checksum of the text attributes of `loc` (attribute
+/// [`ATTRIBUTES_CRC32`](crate::layout::attr::ATTRIBUTES_CRC32)), once they
+/// are all written.
+pub fn seal(loc: &Location) -> hdf5::Result<()> {
+    let name = crate::layout::attr::ATTRIBUTES_CRC32;
+    let crc = attributes_crc32(&text_attributes(loc)?);
+    if loc.attr_names()?.iter().any(|n| n == name) {
+        loc.delete_attr(name)?;
+    }
+    attr_num(loc, name, crc)
 }
 
 /// A dimension of length `len` without a coordinate variable (netCDF-4 writes

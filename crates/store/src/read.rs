@@ -5,7 +5,6 @@ use crate::error::{OtherKind, StoreError};
 use crate::layout::*;
 use crate::write::RunInfo;
 use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
-use hdf5::types::VarLenUnicode;
 use std::path::Path;
 
 /// An atlas file's contents.
@@ -19,15 +18,7 @@ pub struct Loaded {
     pub created: String,
 }
 
-fn attr(f: &hdf5::Location, name: &str) -> hdf5::Result<String> {
-    utf8(&f.attr(name)?.read_scalar::<VarLenUnicode>()?)
-}
-
-/// The text of an HDF5 string, refused when it is not UTF-8 (the library
-/// does not check what a file claims to be UTF-8).
-pub(crate) fn utf8(v: &VarLenUnicode) -> hdf5::Result<String> {
-    String::from_utf8(v.as_bytes().to_vec()).map_err(|_| hdf5::Error::from("a text that is not UTF-8"))
-}
+use crate::attrs::{required, required_text as attr, text as attr_opt};
 
 fn list(s: &str) -> Vec<String> {
     if s.is_empty() {
@@ -114,13 +105,8 @@ impl Checker<'_> {
 
     /// Reads `ds` whole (its size checked by [`Checker::open`]).
     pub(crate) fn raw<T: hdf5::H5Type>(&self, ds: &hdf5::Dataset) -> Result<Vec<T>, StoreError> {
-        ds.read_raw::<T>().map_err(|e| self.bad(&ds.name(), one_line(&e.to_string())))
+        ds.read_raw::<T>().map_err(|e| self.bad(&ds.name(), crate::error::plain(&e)))
     }
-}
-
-/// The library's messages span lines: one line.
-fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 /// Memory available to the process, bytes (`MemAvailable` of
@@ -258,8 +244,7 @@ pub(crate) fn check_global_heaps(path: &Path) -> Result<(), StoreError> {
 /// A sweep's table of reasons and its cells' codes into it, each code -1 or
 /// an index of the table.
 fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result<(Vec<String>, Vec<i32>), StoreError> {
-    let text = ck.raw::<VarLenUnicode>(table)?.iter().map(utf8).collect::<hdf5::Result<Vec<_>>>();
-    let text = text.map_err(|e| ck.bad(&table.name(), e.to_string()))?;
+    let text = crate::attrs::texts(ck, table)?;
     let c = ck.raw::<i32>(codes)?;
     if let Some(bad) = c.iter().find(|&&c| c < -1 || c as i64 >= text.len() as i64) {
         return Err(ck.bad(&codes.name(), format!("code {bad} is not in the table of {} reasons", text.len())));
@@ -285,7 +270,8 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     let ck = Checker { path };
     check_global_heaps(path)?;
     let f = hdf5::File::open(path).map_err(h)?;
-    if attr(&f, attr::SOFTWARE).map_err(h)? != SOFTWARE {
+    crate::attrs::verify(path, &f)?;
+    if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) {
         return Err(fmt("not a vibroatlas file".into()));
     }
     if f.attr(attr::X).is_err() {
@@ -311,40 +297,49 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         )));
     }
 
+    // The text tables that the file's readers (xarray, h5py) decode its codes by.
+    for &sweep in &meta.sweeps {
+        let g = f.group(sweep.name()).map_err(h)?;
+        for table in [LABEL, NPQ, COMPONENT, IMPACT_COLUMN, MASS] {
+            if g.link_exists(table) {
+                crate::attrs::texts(&ck, &ck.open(&g, table)?)?;
+            }
+        }
+        for mass in &meta.masses {
+            let at = format!("{LEGEND}/{}/{mass}/label", sweep.name());
+            if f.link_exists(&at) {
+                crate::attrs::texts(&ck, &ck.open(&f, &at)?)?;
+            }
+        }
+    }
     let mut maps = Vec::new();
     for (&sweep, s) in meta.sweeps.iter().zip(&sets) {
         maps.push(Map { sweep, cells: read_cells(&ck, s, &meta)? });
     }
-    let shard = match attr(&f, attr::SHARD) {
-        Ok(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
-        Err(_) => None,
+    let shard = match attr_opt(path, &f, attr::SHARD)? {
+        Some(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
+        None => None,
     };
     let attractors = match f.group(ATTRACTORS) {
         Ok(g) => Some(read_attractors(&ck, &g, [rows, columns], &meta.masses)?),
         Err(_) => None,
     };
     // Layout 1 had no history: its command is the whole of it.
-    let command = attr(&f, attr::COMMAND).map_err(h)?;
-    let created = attr(&f, attr::CREATED).map_err(h)?;
-    let history = match attr(&f, attr::HISTORY) {
-        Ok(text) => text.lines().map(str::to_string).collect(),
-        Err(_) => vec![format!("{created}: {command}")],
+    let command = attr(path, &f, attr::COMMAND)?;
+    let created = attr(path, &f, attr::CREATED)?;
+    let history = match attr_opt(path, &f, attr::HISTORY)? {
+        Some(text) => text.lines().map(str::to_string).collect(),
+        None => vec![format!("{created}: {command}")],
     };
     Ok(Loaded {
         atlas: Atlas { meta, maps, attractors },
-        info: RunInfo {
-            command,
-            run_time_s: f.attr(attr::RUN_TIME_S).and_then(|a| a.read_scalar::<f64>()).map_err(h)?,
-            shard,
-            history,
-        },
-        created: attr(&f, attr::CREATED).map_err(h)?,
+        info: RunInfo { command, run_time_s: required::<f64>(path, &f, attr::RUN_TIME_S)?, shard, history },
+        created,
     })
 }
 
 /// The axis `name` of the `/axes` group: 1 to `MAX_COUNT` values, finite ends.
 fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, StoreError> {
-    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
     let d = ck.open(axes, name)?;
     let at = format!("{AXES}/{name}");
     let count = d.size();
@@ -352,7 +347,7 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
         return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::MAX_COUNT)));
     }
     let end = |which: &str| -> Result<f64, StoreError> {
-        let v = d.attr(which).and_then(|a| a.read_scalar::<f64>()).map_err(h)?;
+        let v = required::<f64>(ck.path, &d, which)?;
         if !v.is_finite() {
             return Err(ck.bad(&at, format!("attribute {which} is {v}, not a finite number")));
         }
@@ -363,17 +358,20 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
 
 /// The names of the scene's masses, one per two state components (layout 1
 /// did not name them: `mass1`, …).
-fn state_masses(f: &hdf5::File, dim: usize) -> Result<Vec<String>, String> {
-    let names = match attr(f, attr::STATE_MASSES) {
-        Ok(s) => list(&s),
-        Err(_) => (1..=dim / 2).map(|i| format!("mass{i}")).collect(),
+fn state_masses(path: &Path, f: &hdf5::File, dim: usize) -> Result<Vec<String>, StoreError> {
+    let names = match attr_opt(path, f, attr::STATE_MASSES)? {
+        Some(s) => list(&s),
+        None => (1..=dim / 2).map(|i| format!("mass{i}")).collect(),
     };
     if names.len() * 2 != dim {
-        return Err(format!(
-            "attribute {}: {} masses, but the state dimension {} is {dim}",
-            attr::STATE_MASSES,
-            names.len(),
-            attr::DIM
+        return Err(StoreError::format(
+            path,
+            format!(
+                "attribute {}: {} masses, but the state dimension {} is {dim}",
+                attr::STATE_MASSES,
+                names.len(),
+                attr::DIM
+            ),
         ));
     }
     Ok(names)
@@ -387,40 +385,51 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     let h = |e: hdf5::Error| StoreError::hdf5(path, e);
     let axes = f.group(AXES).map_err(h)?;
     let axis = |name: &str| read_axis(ck, &axes, name);
-    let x = axis(&attr(f, attr::X).map_err(h)?)?;
-    let y = axis(&attr(f, attr::Y).map_err(h)?)?;
-    let version = f.attr(attr::LAYOUT_VERSION).and_then(|a| a.read_scalar::<u64>()).unwrap_or(1);
+    let x = axis(&attr(path, f, attr::X)?)?;
+    let y = axis(&attr(path, f, attr::Y)?)?;
+    let version = crate::attrs::optional::<u64>(path, f, attr::LAYOUT_VERSION)?.unwrap_or(1);
     if version > LAYOUT_VERSION {
         return Err(fmt(format!(
             "layout version {version}, newer than this vibroatlas reads ({LAYOUT_VERSION}); use a newer vibroatlas"
         )));
     }
-    let dim = f.attr(attr::DIM).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
+    let dim = required::<u64>(path, f, attr::DIM)?;
     if dim == 0 || dim % 2 != 0 || dim > MAX_DIM as u64 {
         return Err(fmt(format!("attribute {}: {dim}; the state dimension is even, 2 to {MAX_DIM}", attr::DIM)));
     }
     let dim = dim as usize;
-    let along = Along::parse(&attr(f, attr::ALONG).map_err(h)?).map_err(|e| fmt(e.to_string()))?;
-    let sweeps = list(&attr(f, attr::SWEEPS).map_err(h)?)
+    let along = Along::parse(&attr(path, f, attr::ALONG)?).map_err(|e| fmt(e.to_string()))?;
+    let sweeps = list(&attr(path, f, attr::SWEEPS)?)
         .iter()
-        .map(|s| SweepKind::parse(s).ok_or_else(|| fmt(format!("unknown sweep '{s}'"))))
+        .map(|s| {
+            SweepKind::parse(s).ok_or_else(|| {
+                fmt(format!("attribute {} of /: unknown sweep '{s}' (the sweeps are fresh, up, down)", attr::SWEEPS))
+            })
+        })
         .collect::<Result<Vec<_>, _>>()?;
+    if sweeps.is_empty() {
+        return Err(fmt(format!(
+            "attribute {} of /: empty; an atlas has one sweep at least (fresh, up, down)",
+            attr::SWEEPS
+        )));
+    }
     if let Some(twice) = sweeps.iter().enumerate().find(|(i, s)| sweeps[..*i].contains(s)) {
         return Err(fmt(format!("attribute {}: sweep {} is listed twice", attr::SWEEPS, twice.1.name())));
     }
-    let masses = list(&attr(f, attr::MASSES).map_err(h)?);
+    let masses = list(&attr(path, f, attr::MASSES)?);
     // Layout 1 did not name the stops of each label.
     let n_masses = masses.len();
-    let stops_of = |name: &str| {
-        let v: Vec<String> = attr(f, name).map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
-        (0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default())
+    let stops_of = |name: &str| -> Result<Vec<String>, StoreError> {
+        let v: Vec<String> =
+            attr_opt(path, f, name)?.map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
+        Ok((0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default()).collect())
     };
-    let label_stops = stops_of(attr::P_STOPS).zip(stops_of(attr::Q_STOPS)).map(|(p, q)| [p, q]).collect();
-    let scene_toml = attr(f, attr::SCENE).map_err(h)?;
-    let notation = notation(f, &scene_toml, [&x.name, &y.name]);
-    let stops = list(&attr(f, attr::STOPS).map_err(h)?);
-    let state_masses = state_masses(f, dim).map_err(fmt)?;
-    let stop_normals = stop_normals(f, &scene_toml, dim / 2).map_err(fmt)?;
+    let label_stops = stops_of(attr::P_STOPS)?.into_iter().zip(stops_of(attr::Q_STOPS)?).map(|(p, q)| [p, q]).collect();
+    let scene_toml = attr(path, f, attr::SCENE)?;
+    let notation = notation(path, f, &scene_toml, [&x.name, &y.name])?;
+    let stops = list(&attr(path, f, attr::STOPS)?);
+    let state_masses = state_masses(path, f, dim)?;
+    let stop_normals = stop_normals(path, f, &scene_toml, dim / 2)?;
     if stop_normals.len() != stops.len() || stop_normals.iter().any(|n| n.len() != dim / 2) {
         return Err(fmt(format!(
             "attribute {}: {} normals for {} stops of {} masses",
@@ -431,16 +440,16 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         )));
     }
     Ok(Meta {
-        scene_name: attr(f, attr::SCENE_NAME).map_err(h)?,
+        scene_name: attr(path, f, attr::SCENE_NAME)?,
         scene_toml: scene_toml.clone(),
-        overrides: pairs(&attr(f, attr::OVERRIDES).map_err(h)?).map_err(fmt)?,
+        overrides: pairs(&attr(path, f, attr::OVERRIDES)?).map_err(fmt)?,
         preset: {
-            let name = attr(f, attr::PRESET).map_err(h)?;
+            let name = attr(path, f, attr::PRESET)?;
             solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
         },
-        accuracy: pairs(&attr(f, attr::ACCURACY).map_err(h)?).map_err(fmt)?,
+        accuracy: pairs(&attr(path, f, attr::ACCURACY)?).map_err(fmt)?,
         integrator: {
-            let name = attr(f, attr::INTEGRATOR).map_err(h)?;
+            let name = attr(path, f, attr::INTEGRATOR)?;
             solver::Method::parse(&name).ok_or_else(|| fmt(format!("unknown integrator '{name}'")))?
         },
         plane: Plane { x, y, along },
@@ -453,7 +462,7 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         dim,
         section_cap: {
             // Read as signed, so that a negative value is refused rather than converted to 0.
-            let cap = f.attr(attr::SECTION_CAP).and_then(|a| a.read_scalar::<i64>()).map_err(h)?;
+            let cap = required::<i64>(path, f, attr::SECTION_CAP)?;
             usize::try_from(cap).ok().filter(|&c| c <= grid::MAX_SECTION_CAP).ok_or_else(|| {
                 fmt(format!("attribute {}: {cap}; it is 0 to {}", attr::SECTION_CAP, grid::MAX_SECTION_CAP))
             })?
@@ -596,7 +605,6 @@ fn read_attractors(
     [rows, columns]: [Dim; 2],
     masses: &[String],
 ) -> Result<grid::AttractorMap, StoreError> {
-    let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
     let n = rows.0 * columns.0;
     let count_set = ck.shaped(g, var::COUNT, &[rows, columns])?;
     let fraction_set = ck.open(g, var::FRACTION)?;
@@ -611,8 +619,7 @@ fn read_attractors(
         masses.iter().map(|m| ck.shaped(g, &label_code(m), &[rows, columns, slot])).collect::<Result<Vec<_>, _>>()?;
     let count = ck.raw::<u8>(&count_set)?;
     let fraction = ck.raw::<f64>(&fraction_set)?;
-    let table = ck.raw::<VarLenUnicode>(&table_set)?.iter().map(utf8).collect::<hdf5::Result<Vec<_>>>();
-    let table = table.map_err(|e| ck.bad(&table_set.name(), e.to_string()))?;
+    let table = crate::attrs::texts(ck, &table_set)?;
     let mut codes = Vec::new();
     for d in &code_sets {
         let c = ck.raw::<i16>(d)?;
@@ -644,21 +651,26 @@ fn read_attractors(
         }
         cells.push((count[i] > 0).then_some(found));
     }
-    let samples = g.attr(attr::SAMPLES).and_then(|a| a.read_scalar::<u64>()).map_err(h)? as usize;
-    let seed = g.attr(attr::SEED).and_then(|a| a.read_scalar::<u64>()).map_err(h)?;
+    let samples = required::<u64>(ck.path, g, attr::SAMPLES)? as usize;
+    let seed = required::<u64>(ck.path, g, attr::SEED)?;
     Ok(grid::AttractorMap { samples, seed, cells })
 }
 
 /// The stops' normals of a file (stops × masses), or, in files written before
 /// they were stored, those of its scene.
-fn stop_normals(f: &hdf5::File, scene_toml: &str, masses: usize) -> Result<Vec<Vec<f64>>, String> {
-    if let Ok(flat) = f.attr(attr::STOP_NORMALS).and_then(|a| a.read_raw::<f64>()) {
+fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) -> Result<Vec<Vec<f64>>, StoreError> {
+    let fmt = |m: String| StoreError::format(path, m);
+    if let Some(flat) = crate::attrs::values::<f64>(path, f, attr::STOP_NORMALS)? {
         if masses == 0 || flat.len() % masses != 0 {
-            return Err(format!("{}: {} values, not a multiple of {masses} masses", attr::STOP_NORMALS, flat.len()));
+            return Err(fmt(format!(
+                "{}: {} values, not a multiple of {masses} masses",
+                attr::STOP_NORMALS,
+                flat.len()
+            )));
         }
         return Ok(flat.chunks(masses).map(<[f64]>::to_vec).collect());
     }
-    let scene = scene::Scene::parse(scene_toml).map_err(|e| format!("the stored scene: {e}"))?;
+    let scene = scene::Scene::parse(scene_toml).map_err(|e| fmt(format!("the stored scene: {e}")))?;
     Ok(scene.stop_normals())
 }
 
@@ -667,17 +679,15 @@ fn stop_normals(f: &hdf5::File, scene_toml: &str, masses: usize) -> Result<Vec<V
 /// [`scene::symbol_of`]), and each axis as its root coordinate's `symbol` and
 /// `long_name` say, where it has them (files written before them do not; the
 /// `long_name` `parameter <name>` says nothing more than the name).
-fn notation(f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Vec<grid::Notation> {
+fn notation(path: &Path, f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Result<Vec<grid::Notation>, StoreError> {
     let mut notation = scene::Scene::parse(scene_toml).map(|s| grid::Notation::of_scene(&s)).unwrap_or_default();
     for name in axes {
-        let Ok(symbol) = f.dataset(name).and_then(|d| attr(&d, attr::SYMBOL)) else {
+        let Ok(d) = f.dataset(name) else { continue };
+        crate::attrs::verify(path, &d)?;
+        let Some(symbol) = attr_opt(path, &d, attr::SYMBOL)? else {
             continue;
         };
-        let long_name = f
-            .dataset(name)
-            .and_then(|d| attr(&d, attr::LONG_NAME))
-            .ok()
-            .filter(|l| *l != crate::write::generic_long_name(name));
+        let long_name = attr_opt(path, &d, attr::LONG_NAME)?.filter(|l| *l != crate::write::generic_long_name(name));
         match notation.iter_mut().find(|n| n.name == name) {
             Some(n) => {
                 n.symbol = symbol;
@@ -686,7 +696,7 @@ fn notation(f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Vec<grid::Nota
             None => notation.push(grid::Notation { name: name.to_string(), symbol, long_name }),
         }
     }
-    notation
+    Ok(notation)
 }
 
 #[cfg(test)]
@@ -722,7 +732,7 @@ mod tests {
     }
 
     fn text(d: &hdf5::Dataset, name: &str) -> String {
-        attr(d, name).unwrap()
+        attr(Path::new("test"), d, name).unwrap()
     }
 
     /// The axis coordinates of every group carry their parameter's `symbol`
@@ -776,7 +786,10 @@ mod tests {
             assert_eq!(text(&f.dataset("up/fk").unwrap(), attr::LONG_NAME), "parameter fk");
             for g in ["", "up/", "down/"] {
                 for name in ["omega", "fk"] {
-                    f.dataset(&format!("{g}{name}")).unwrap().delete_attr(attr::SYMBOL).unwrap();
+                    // Written before symbols, and before the checksum of the texts.
+                    let d = f.dataset(&format!("{g}{name}")).unwrap();
+                    d.delete_attr(attr::SYMBOL).unwrap();
+                    d.delete_attr(attr::ATTRIBUTES_CRC32).unwrap();
                 }
             }
         }

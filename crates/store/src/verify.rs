@@ -105,25 +105,25 @@ pub(crate) fn file(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) 
     let failed = |dataset: &str, message: String| StoreError::Unverified {
         path: path.display().to_string(),
         dataset: dataset.trim_start_matches('/').to_string(),
-        message: one_line(&message),
+        message,
     };
-    let f = hdf5::File::open(tmp).map_err(|e| failed("/", e.to_string()))?;
+    let f = hdf5::File::open(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
     let m = &atlas.meta;
     for map in &atlas.maps {
         for field in Field::all(m) {
             let name = format!("{}/{}", map.sweep.name(), field.name(m));
-            let ds = f.dataset(&name).map_err(|e| failed(&name, e.to_string()))?;
+            let ds = f.dataset(&name).map_err(|e| failed(&name, crate::error::plain(&e)))?;
             match field.compare(m, &ds, &map.cells) {
                 Ok(true) => {}
                 Ok(false) => return Err(failed(&name, "its values differ from those written".into())),
-                Err(e) => return Err(failed(&name, e.to_string())),
+                Err(e) => return Err(failed(&name, crate::error::plain(&e))),
             }
         }
     }
     let entries = expected.entries.lock().unwrap_or_else(|p| p.into_inner());
     for e in entries.iter() {
-        let ds = f.dataset(&e.path).map_err(|err| failed(&e.path, err.to_string()))?;
-        let (hash, count) = (e.read)(&ds).map_err(|err| failed(&e.path, err.to_string()))?;
+        let ds = f.dataset(&e.path).map_err(|err| failed(&e.path, crate::error::plain(&err)))?;
+        let (hash, count) = (e.read)(&ds).map_err(|err| failed(&e.path, crate::error::plain(&err)))?;
         if count != e.count {
             return Err(failed(&e.path, format!("{count} values read back, {} written", e.count)));
         }
@@ -132,11 +132,6 @@ pub(crate) fn file(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) 
         }
     }
     Ok(())
-}
-
-/// The library's messages span lines: one line.
-fn one_line(s: &str) -> String {
-    s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 #[cfg(test)]

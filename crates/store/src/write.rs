@@ -8,7 +8,6 @@ use crate::fields::{self, Chunks, Field};
 use crate::layout::*;
 use crate::netcdf::{self, attr_array, attr_num, attr_str};
 use grid::Atlas;
-use hdf5::types::VarLenUnicode;
 use hdf5::Group;
 use ndarray::{Array1, Array2, Array3};
 use std::collections::{HashMap, HashSet};
@@ -179,6 +178,35 @@ impl Draft {
     }
 }
 
+/// Checks a finished atlas file as [`Draft::finish`] checks the file it
+/// wrote before renaming it: the file `path`, `loaded` from it, is written
+/// again into memory (nothing on disk) to learn what each of its datasets
+/// must hold, then every dataset of the file is read through the library's
+/// filters and compared (the per-cell datasets with the cells, every other
+/// one with a hash of what the writer would write). A dataset that does not
+/// read (a damaged object header, chunk index or checksum) or reads other
+/// values is one [`StoreError::Dataset`] naming it.
+pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreError> {
+    static MEMORY_FILES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let atlas = &loaded.atlas;
+    let m = &atlas.meta;
+    let z = Deflater { threads: 1, ..Default::default() };
+    let chunks = Chunks::new(&m.plane, Field::most_cell_bytes(m));
+    let k = MEMORY_FILES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let name = std::env::temp_dir().join(format!("vibroatlas-check-{}-{k}.h5", std::process::id()));
+    let expected = || -> hdf5::Result<()> {
+        let f = hdf5::File::with_options().with_fapl(|p| p.core_filebacked(false).libver_v110()).create(&name)?;
+        let (f, datasets) = create_in(f, m, &chunks, &z)?;
+        drop(datasets);
+        fill_file(&f, atlas, &loaded.info, &z)
+    };
+    expected().map_err(|e| StoreError::hdf5(path, e))?;
+    crate::verify::file(path, path, atlas, &z.expected).map_err(|e| match e {
+        StoreError::Unverified { path, dataset, message } => StoreError::Dataset { path, dataset, message },
+        e => e,
+    })
+}
+
 impl Drop for Draft {
     fn drop(&mut self) {
         if !self.committed {
@@ -195,8 +223,12 @@ impl Drop for Draft {
 type Created = (hdf5::File, Vec<Vec<(Field, hdf5::Dataset)>>);
 
 fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
+    create_in(crate::netcdf::create_file(path)?, m, chunks, z)
+}
+
+/// [`create_file`] into the file `f`, new.
+fn create_in(f: hdf5::File, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
     let p = &m.plane;
-    let f = crate::netcdf::create_file(path)?;
     attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
     attr_str(&f, "title", &format!("vibroatlas map of the {} scene over ({}, {})", m.scene_name, p.x.name, p.y.name))?;
     attr_str(&f, "source", &format!("vibroatlas {} (git {})", env!("CARGO_PKG_VERSION"), GIT_COMMIT))?;
@@ -309,16 +341,18 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
             let mg = g.create_group(mass)?;
             let entries = atlas.legend(map.sweep, mi);
             let entry = netcdf::dimension(&mg, ENTRY, entries.len())?;
-            let labels: Vec<VarLenUnicode> = entries.iter().map(|(l, _)| netcdf::text(l)).collect();
+            let labels: Vec<String> = entries.iter().map(|(l, _)| l.clone()).collect();
             let counts: Vec<u64> = entries.iter().map(|&(_, c)| c).collect();
-            let d = mg.new_dataset_builder().with_data(&Array1::from(labels)).create("label")?;
-            z.expected.texts(&d, &entries.iter().map(|(l, _)| l.clone()).collect::<Vec<_>>());
+            let d = netcdf::texts(&mg, "label", &labels)?;
+            z.expected.texts(&d, &labels);
             netcdf::dims(&d, &[&entry])?;
             let d = mg.new_dataset_builder().with_data(&Array1::from(counts.clone())).create(var::COUNT)?;
             z.expected.numbers(&d, &counts);
             netcdf::dims(&d, &[&entry])?;
         }
     }
+    // Every text attribute of the root is written: their checksum.
+    netcdf::seal(f)?;
     f.flush()
 }
 
@@ -479,6 +513,7 @@ impl Grid {
             let d = netcdf::coordinate(g, &a.name, &values, &long_name)?;
             z.expected.numbers(&d, &values);
             attr_str(&d, attr::SYMBOL, &m.symbol(&a.name))?;
+            netcdf::seal(&d)?;
             Ok(d)
         };
         Ok(Grid { x: axis(&p.x)?, y: axis(&p.y)? })
@@ -704,6 +739,27 @@ mod tests {
         assert!(class.iter().all(|&c| c == NOT_COMPUTED));
         let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();
         assert!(state.iter().all(|v| v.is_nan()));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A temporary file removed under its writer: the error says so in the
+    /// system's words, naming the file, on one line (not the library's text).
+    #[test]
+    fn a_file_removed_under_its_draft_says_so_plainly() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-removed-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let out = dir.join("o.h5");
+        let draft = Draft::create(&out, &meta(), 1).unwrap();
+        std::fs::remove_file(partial_path(&out)).unwrap();
+        let err = draft.finish(&Atlas::new(meta()), &info).unwrap_err().to_string();
+        let want = format!(
+            "{}: the file written does not read back as written ({}: No such file or directory); it was not put in place",
+            out.display(),
+            partial_path(&out).display()
+        );
+        assert_eq!(err, want);
+        assert!(!out.exists());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -1,0 +1,189 @@
+//! Issue 30, second audit: never a file that lies, checksums a reader
+//! verifies. Each test reproduces one finding and checks the fix through the
+//! binary.
+
+use crate::integrity::{mutated, python};
+use crate::util::{run, scratch};
+use std::path::{Path, PathBuf};
+
+/// Exit code 2, one line on stderr containing `what`, no panic.
+fn refused(args: &[&str], what: &str) {
+    let out = run(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "one line expected: {err}");
+    assert!(err.contains(what), "{args:?}: expected '{what}' in: {err}");
+}
+
+/// The audit's atlas: both sweeps, with an unresolved cell in each (its
+/// reason in the sweep's `reason` table).
+const PLANE: [&str; 7] =
+    ["configs/multi-stop.toml", "--x", "omega=0.1:3:20", "--y", "delta=0.05:2:12", "--sweep", "both"];
+
+fn atlas_args<'a>(out: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["atlas"];
+    v.extend(PLANE);
+    v.extend_from_slice(extra);
+    v.extend(["--threads", "1", "--quiet", "-o", out]);
+    v
+}
+
+fn atlas(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
+    let out = dir.join(name);
+    let o = out.to_str().unwrap();
+    let r = run(&atlas_args(o, extra));
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    out
+}
+
+/// A copy of `from` at `to` with the byte at the first occurrence of
+/// `text` (offset `at` into it) changed.
+fn flipped(from: &Path, to: &Path, text: &[u8], at: usize) -> PathBuf {
+    let mut b = std::fs::read(from).unwrap();
+    let i = b.windows(text.len()).position(|w| w == text).unwrap_or_else(|| panic!("{text:?} not in the file"));
+    b[i + at] ^= 0x1b;
+    std::fs::write(to, b).unwrap();
+    to.to_path_buf()
+}
+
+/// Item 1: a byte flipped in a text that HDF5 keeps in its unchecksummed
+/// global heap (a reason, the stored scene) is refused, naming the dataset or
+/// the object and the checksum attribute; the checksums are the ones the
+/// file format documents (CRC-32, zlib's), which Python verifies with no
+/// project code; xarray still reads the file through both engines.
+#[test]
+fn texts_in_the_global_heap_carry_checksums_readers_verify() {
+    let d = scratch("faults3-texts");
+    let a = atlas(&d, "a.h5", &[]);
+    let f = a.to_str().unwrap();
+    let out = run(&["inspect", f]);
+    assert!(String::from_utf8_lossy(&out.stdout).contains("no period within the record"));
+
+    let x = flipped(&a, &d.join("reason.h5"), b"no period within", 4);
+    let x = x.to_str().unwrap();
+    refused(&["inspect", x], "up/reason: its texts do not match their checksum (attribute text_crc32)");
+    refused(&["cell", "configs/multi-stop.toml", "--from", x, "--at", "omega=1,delta=1"], "up/reason");
+
+    let scene = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/multi-stop.toml")).unwrap();
+    let line = scene.lines().find(|l| l.len() > 12 && !l.starts_with('#')).unwrap();
+    let x = flipped(&a, &d.join("scene.h5"), line.as_bytes(), 2);
+    refused(
+        &["inspect", x.to_str().unwrap()],
+        "the text attributes of / do not match their checksum (attribute attributes_crc32)",
+    );
+
+    // The documented checksums, computed in Python.
+    const CHECK: &str = r#"
+import sys, struct, zlib, h5py
+def crc(texts):
+    c = 0
+    for b in texts:
+        c = zlib.crc32(struct.pack("<Q", len(b)) + b, c)
+    return c
+with h5py.File(sys.argv[1], "r") as f:
+    for name in ["up/reason", "down/reason", "up/label", "legend/up/M1/label"]:
+        d = f[name]
+        assert crc(v for v in d[()]) == d.attrs["text_crc32"], name
+    for o in [f, f["omega"]]:
+        texts = []
+        for n in sorted(o.attrs.keys(), key=lambda k: k.encode()):
+            t = o.attrs.get_id(n).get_type()
+            if isinstance(t, h5py.h5t.TypeStringID) and t.is_variable_str() and t.get_cset() == h5py.h5t.CSET_UTF8:
+                texts += [n.encode(), o.attrs[n].encode()]
+        assert crc(texts) == o.attrs["attributes_crc32"], o.name
+import xarray as xr
+for engine in ["h5netcdf", "netcdf4"]:
+    ds = xr.open_dataset(sys.argv[1], group="up", engine=engine)
+    assert "no period within" in str(ds.reason.values[0]), engine
+    root = xr.open_dataset(sys.argv[1], engine=engine)
+    assert root.attrs["sweeps"] == "up,down", engine
+print("ok")
+"#;
+    assert_eq!(python(CHECK, &[f]).trim(), "ok");
+}
+
+/// Item 2: `--resume` on this run's finished file whose datasets that the
+/// reader skips are damaged (a chunk of a label code, of the hysteresis) is
+/// refused naming the dataset, not taken as done; whole, it is done.
+#[test]
+fn resume_checks_a_finished_file_whole() {
+    let d = scratch("faults3-resume");
+    let a = atlas(&d, "a.h5", &[]);
+    let again = |out: &Path| {
+        let mut args = atlas_args(out.to_str().unwrap(), &["--resume"]);
+        args.retain(|&s| s != "--quiet");
+        run(&args)
+    };
+    let out = again(&a);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("nothing to do"));
+    // One byte of a dataset's stored bytes flipped (its checksum then fails).
+    const FLIP: &str = r#"
+import sys, shutil, h5py
+src, dst, name = sys.argv[1:4]
+shutil.copy(src, dst)
+with h5py.File(dst, "r") as f:
+    d = f[name]
+    off = d.id.get_chunk_info(0).byte_offset if d.chunks else d.id.get_offset()
+with open(dst, "r+b") as g:
+    g.seek(off + 3)
+    b = g.read(1)
+    g.seek(off + 3)
+    g.write(bytes([b[0] ^ 0x5A]))
+"#;
+    for name in ["up/label_code_M1", "hysteresis"] {
+        let x = d.join("x.h5");
+        python(FLIP, &[a.to_str().unwrap(), x.to_str().unwrap(), name]);
+        let out = again(&x);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert!(!String::from_utf8_lossy(&out.stdout).contains("nothing to do"), "{name}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(&format!("x.h5: {name}: ")), "{name}: {err}");
+    }
+}
+
+/// Items 4 and 5: an attribute of another type than the layout's, or a
+/// `sweeps` attribute empty or naming an unknown sweep, in a file whose
+/// texts are whole (their checksum written again), is refused when the file
+/// is opened, naming the attribute; changed without its checksum, the file
+/// is refused by the checksum.
+#[test]
+fn attributes_of_the_wrong_type_or_empty_sweeps_are_named() {
+    let d = scratch("faults3-attrs");
+    let a = atlas(&d, "a.h5", &[]);
+    let cases = [
+        ("attr|@dim|'four'", "attribute dim of /: expected an unsigned integer, found a string"),
+        ("attr|@sweeps|''", "attribute sweeps of /: empty"),
+        ("attr|@sweeps|'up,sideways'", "attribute sweeps of /: unknown sweep 'sideways'"),
+        ("attr|@section_cap|'a lot'", "attribute section_cap of /: expected an integer, found a string"),
+        ("attr|@scene|np.int64(3)", "attribute scene of /: expected a string, found a signed integer"),
+        ("rawattr|@sweeps|''", "do not match their checksum (attribute attributes_crc32)"),
+    ];
+    for (k, (spec, what)) in cases.iter().enumerate() {
+        let x = mutated(&a, &d.join(format!("m{k}.h5")), &[spec]);
+        let x = x.to_str().unwrap();
+        refused(&["inspect", x], what);
+        refused(&["cell", "configs/multi-stop.toml", "--from", x, "--at", "omega=1,delta=1", "--sweep", "up"], what);
+    }
+}
+
+/// Item 6: parts of a merge with other settings are refused naming each
+/// setting that differs, with both values.
+#[test]
+fn a_merge_of_parts_with_other_settings_names_each_difference() {
+    let d = scratch("faults3-merge");
+    let q1 = atlas(&d, "q1.h5", &["--shard", "1/2"]);
+    let q2 = atlas(&d, "q2.h5", &["--shard", "2/2", "--section-cap", "4", "--preset", "fast"]);
+    let m = d.join("m.h5");
+    let out = run(&["merge", q1.to_str().unwrap(), q2.to_str().unwrap(), "-o", m.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("is not a part of the same run as"), "{err}");
+    assert!(err.contains("preset standard and fast"), "{err}");
+    let cap = err.split("section_cap ").nth(1).unwrap_or_else(|| panic!("{err}"));
+    assert!(cap.split(" and 4").count() == 2, "{err}");
+    assert!(!m.exists());
+}
