@@ -300,10 +300,50 @@ pub mod attr {
     /// attribute lives in the dataset's (checksummed) object header.
     pub const TEXT_CRC32: &str = "text_crc32";
     /// `attributes_crc32` of an object (the root group, a coordinate, a
-    /// curve's group): the CRC-32 of its scalar text attributes, in the byte
+    /// curve's group): the CRC-32 of its scalar text attributes named in
+    /// [`CHECKED_TEXTS`], in the byte
     /// order of their names, each its name's byte length (u64,
     /// little-endian), the name, its value's byte length and the value.
     pub const ATTRIBUTES_CRC32: &str = "attributes_crc32";
+    /// The text attributes [`ATTRIBUTES_CRC32`] covers, those vibroatlas
+    /// writes on the objects it seals (the root group, axis coordinates, a
+    /// curve file's root and its curves' groups): any other text attribute,
+    /// one a user adds with h5py for instance, is not checked, so that the
+    /// file still reads.
+    pub const CHECKED_TEXTS: &[&str] = &[
+        "Conventions",
+        "accuracy",
+        "along",
+        "command",
+        "content",
+        "created",
+        "ended",
+        "free",
+        "git_commit",
+        "history",
+        "integrator",
+        "kind",
+        "knobs",
+        "long_name",
+        "masses",
+        "overrides",
+        "p_stops",
+        "preset",
+        "q_stops",
+        "scene",
+        "scene_name",
+        "software",
+        "source",
+        "state_masses",
+        "stops",
+        "sweeps",
+        "symbol",
+        "title",
+        "units",
+        "version",
+        "x",
+        "y",
+    ];
 }
 
 /// Dataset names inside a sweep group (and the sections and attractors groups).

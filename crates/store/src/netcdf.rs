@@ -110,10 +110,12 @@ pub fn texts_crc32<'a>(texts: impl IntoIterator<Item = &'a [u8]>) -> u32 {
     crc.finalize()
 }
 
-/// The scalar text attributes of `loc` (but the checksum's), by name in
-/// byte order: name and stored bytes.
+/// The scalar text attributes of `loc` that the checksum covers
+/// ([`CHECKED_TEXTS`](crate::layout::attr::CHECKED_TEXTS)), by name in byte
+/// order: name and stored bytes.
 pub fn text_attributes(loc: &Location) -> hdf5::Result<Vec<(String, Vec<u8>)>> {
     let mut names = loc.attr_names()?;
+    names.retain(|n| crate::layout::attr::CHECKED_TEXTS.contains(&n.as_str()));
     names.sort();
     let mut out = Vec::new();
     for name in names {
