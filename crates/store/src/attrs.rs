@@ -137,6 +137,7 @@ pub(crate) fn verify(path: &Path, loc: &Location) -> Result<(), StoreError> {
 /// The texts of the 1-D dataset `ds`, checked against their checksum
 /// ([`attr::TEXT_CRC32`]; datasets written before it have none) and as UTF-8.
 pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec<String>, StoreError> {
+    crate::heap::check(ds).map_err(|e| ck.bad(&ds.name(), e))?;
     let raw = ck.raw::<VarLenUnicode>(ds)?;
     if let Some(want) = optional::<u32>(ck.path, ds, attr::TEXT_CRC32)? {
         if netcdf::texts_crc32(raw.iter().map(|t| t.as_bytes())) != want {

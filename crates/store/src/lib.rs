@@ -25,6 +25,7 @@ mod chunked;
 mod curve;
 mod error;
 mod fields;
+mod heap;
 mod journal;
 pub mod layout;
 mod lock;

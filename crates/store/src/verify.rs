@@ -62,6 +62,7 @@ fn read_numbers<T: H5Type + Copy>(ds: &Dataset) -> hdf5::Result<(u64, usize)> {
 }
 
 fn read_texts(ds: &Dataset) -> hdf5::Result<(u64, usize)> {
+    crate::heap::check(ds)?;
     let v = ds.read_raw::<VarLenUnicode>()?;
     Ok((hash_texts(v.iter().map(|t| t.as_str())), v.len()))
 }
