@@ -6,7 +6,7 @@ use crate::util::{run, scratch};
 use std::process::{Command, Stdio};
 
 /// Exit code 2, one line on stderr containing `what`, no panic.
-fn refused(args: &[&str], what: &str) {
+pub(crate) fn refused(args: &[&str], what: &str) {
     let out = run(args);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");

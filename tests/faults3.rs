@@ -2,19 +2,10 @@
 //! verifies. Each test reproduces one finding and checks the fix through the
 //! binary.
 
+use crate::faults::refused;
 use crate::integrity::{mutated, python};
 use crate::util::{run, scratch};
 use std::path::{Path, PathBuf};
-
-/// Exit code 2, one line on stderr containing `what`, no panic.
-fn refused(args: &[&str], what: &str) {
-    let out = run(args);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
-    assert!(!err.contains("panicked"), "{err}");
-    assert_eq!(err.trim().lines().count(), 1, "one line expected: {err}");
-    assert!(err.contains(what), "{args:?}: expected '{what}' in: {err}");
-}
 
 /// The audit's atlas: both sweeps, with an unresolved cell in each (its
 /// reason in the sweep's `reason` table).
