@@ -164,6 +164,7 @@ fn attributes_of_the_wrong_type_or_empty_sweeps_are_named() {
         ("attr|@dim|'four'", "attribute dim of /: expected an unsigned integer, found a string"),
         ("attr|@sweeps|''", "attribute sweeps of /: empty"),
         ("attr|@sweeps|'up,sideways'", "attribute sweeps of /: unknown sweep 'sideways'"),
+        ("attr|@sweeps|'up,down,fresh'", "attribute sweeps of /: names sweep fresh, whose group the file lacks"),
         ("attr|@section_cap|'a lot'", "attribute section_cap of /: expected an integer, found a string"),
         ("attr|@scene|np.int64(3)", "attribute scene of /: expected a string, found a signed integer"),
         ("rawattr|@sweeps|''", "do not match their checksum (attribute attributes_crc32)"),

@@ -422,6 +422,27 @@ fn curve_files_are_checked_before_use() {
     }
     let text = store::read_curves(&d.join("missing.h5")).unwrap_err().to_string();
     assert!(text.contains("no such curve file"), "{text}");
+    // A curve's points carry checksums: a byte changed in them, or their
+    // chunk zeroed with its checksum, is an error, not another curve.
+    const DAMAGE: &str = r#"
+import sys, h5py
+with h5py.File(sys.argv[1], "r") as f:
+    info = f["curve_0/omega"].id.get_chunk_info(0)
+    at, size = info.byte_offset, info.size
+b = bytearray(open(sys.argv[1], "rb").read())
+if sys.argv[3] == "flip":
+    b[at + size // 2] ^= 0x10
+else:
+    b[at:at + size] = bytes(size)
+open(sys.argv[2], "wb").write(b)
+print("ok")
+"#;
+    for how in ["flip", "zero"] {
+        let bad = d.join(format!("{how}.h5"));
+        assert_eq!(python(DAMAGE, &[c.to_str().unwrap(), bad.to_str().unwrap(), how]).trim(), "ok");
+        let text = store::read_curves(&bad).unwrap_err().to_string();
+        assert!(text.contains("curve_0/omega"), "{how}: {text}");
+    }
 }
 
 /// One mutation of a file's bytes.

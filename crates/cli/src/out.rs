@@ -72,7 +72,9 @@ fn readable(word: &str) -> String {
     let (before, after) = (&word[..start], &word[start + core.len()..]);
     let length = core.chars().count();
     match core.parse::<f64>() {
-        Ok(x) if length > 24 => format!("{before}{x:e}{after}"),
+        Ok(x) if length > 24 && x.is_finite() && core.bytes().all(|b| b"0123456789.eE+-".contains(&b)) => {
+            format!("{before}{x:e}{after}")
+        }
         _ if length > LONGEST_WORD => {
             let kept: String = core.chars().take(WORD_KEPT).collect();
             format!("{before}{kept}… ({length} characters){after}")
@@ -108,6 +110,9 @@ mod tests {
         assert_eq!(readable(&big), "1e308");
         assert_eq!(readable(&format!("'{big}',")), "'1e308',");
         assert_eq!(readable(&format!("0.{}1", "0".repeat(30))), "1e-31");
+        // Digits too many for a finite number are a word, cut like any other.
+        let digits = "9".repeat(100_000);
+        assert_eq!(readable(&digits), format!("{}… (100000 characters)", "9".repeat(60)));
         let name = "a".repeat(100_000);
         assert_eq!(readable(&format!("{name}=1:")), format!("{}… (100002 characters):", "a".repeat(60)));
         for kept in ["omega", "0.31459999999999999", "/a/b.h5:", "1-3-3", ""] {

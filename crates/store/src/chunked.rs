@@ -244,21 +244,18 @@ pub(crate) fn fletcher32(data: &[u8]) -> u32 {
 /// first element), bypassing the library's filters.
 pub(crate) fn write_chunk(ds: &Dataset, offset: &[u64], bytes: &[u8]) -> hdf5::Result<()> {
     // SAFETY: the dataset is open and chunked, `offset` has its rank, and
-    // `bytes` holds one whole chunk after the dataset's filters.
-    let status = unsafe {
-        hdf5_sys::h5d::H5Dwrite_chunk(
-            ds.id(),
-            hdf5_sys::h5p::H5P_DEFAULT,
-            0,
-            offset.as_ptr(),
-            bytes.len(),
-            bytes.as_ptr().cast(),
-        )
-    };
-    if status < 0 {
-        return Err(hdf5::Error::from(format!("direct chunk write to {} failed", ds.name()).as_str()));
-    }
-    Ok(())
+    // `bytes` holds one whole chunk after the dataset's filters. The call is
+    // made under the library's lock, and a failure brings the library's
+    // error stack (with the system's error, such as a full disk).
+    hdf5::h5call!(hdf5_sys::h5d::H5Dwrite_chunk(
+        ds.id(),
+        hdf5_sys::h5p::H5P_DEFAULT,
+        0,
+        offset.as_ptr(),
+        bytes.len(),
+        bytes.as_ptr().cast(),
+    ))
+    .map(|_| ())
 }
 
 #[cfg(test)]

@@ -72,14 +72,25 @@ fn collection(file: &mut File, len: u64, address: u64) -> Result<HashMap<u16, u6
         return Err(bad("is smaller than its header"));
     }
     let chunk = read_at(file, len, address, size).map_err(|_| bad("extends past the end of the file"))?;
+    walk(&chunk)
+        .map_err(|(index, object)| bad(&format!("has an object ({index}, {object} bytes) that does not fit in it")))
+}
+
+/// The objects (index: size in bytes) of a collection's bytes, walked as
+/// HDF5 walks them: each object's header and its bytes, padded to a
+/// multiple of 8 (object 0, the free space, counting its header), must lie
+/// within the collection; what is left after the last object, too short for
+/// a header, is free space. `Err`: the first object that does not fit
+/// (index, size). HDF5 1.10 loops forever on an object of size 0 and reads
+/// out of bounds past one that overruns.
+fn walk(chunk: &[u8]) -> Result<HashMap<u16, u64>, (u16, u64)> {
+    let size = chunk.len() as u64;
     let mut objects = HashMap::new();
     let mut p = HEADER;
-    // What is left after the last object, too short for a header, is free space.
     while p + OBJECT_HEADER <= size {
         let at = p as usize;
         let index = u16::from_le_bytes(chunk[at..at + 2].try_into().expect("2 bytes"));
         let object = u64::from_le_bytes(chunk[at + 8..at + 16].try_into().expect("8 bytes"));
-        // Object 0 is the free space, its size counting its header.
         let need = match index {
             0 => Some(object),
             _ => object.checked_add(7).map(|s| OBJECT_HEADER + s / 8 * 8),
@@ -89,10 +100,58 @@ fn collection(file: &mut File, len: u64, address: u64) -> Result<HashMap<u16, u6
                 objects.insert(index, object);
                 p += n;
             }
-            None => return Err(bad(&format!("has an object ({index}, {object} bytes) that does not fit in it"))),
+            None => return Err((index, object)),
         }
     }
     Ok(objects)
+}
+
+/// Refuses a file with a corrupt global heap collection before the library
+/// reads any of it (its text attributes included): every collection in the
+/// file (signature `GCOL`, version 1, 4096 bytes at least, within the file;
+/// anything else with those four bytes is data) is walked as [`walk`] does,
+/// reading the file in blocks of 8 MiB.
+pub(crate) fn check_collections(path: &std::path::Path) -> Result<(), crate::StoreError> {
+    use std::os::unix::fs::FileExt;
+    let io = |e| crate::StoreError::io(path, e);
+    let mut file = File::open(path).map_err(io)?;
+    let len = file.metadata().map_err(io)?.len();
+    let mut block = vec![0u8; 8 << 20];
+    // Bytes of the block before that carry over (a signature across blocks).
+    let mut kept = 0usize;
+    let mut start = 0u64;
+    loop {
+        let n = file.read(&mut block[kept..]).map_err(io)?;
+        if n == 0 {
+            break;
+        }
+        let have = kept + n;
+        for at in block[..have].windows(4).enumerate().filter(|(_, w)| w == SIGNATURE).map(|(i, _)| i) {
+            let offset = start + at as u64;
+            let mut head = [0u8; HEADER as usize];
+            if file.read_at(&mut head, offset).map_err(io)? < head.len() || head[4] != 1 {
+                continue;
+            }
+            let size = u64::from_le_bytes(head[8..16].try_into().expect("8 bytes"));
+            if size < 4096 || size > len - offset {
+                continue;
+            }
+            let mut heap = vec![0u8; size as usize];
+            file.read_exact_at(&mut heap, offset).map_err(io)?;
+            if let Err((index, object)) = walk(&heap) {
+                let what = format!(
+                    "the global heap at byte {offset} is corrupt (object {index} of {object} bytes does not fit in it): the file is damaged"
+                );
+                return Err(crate::StoreError::format(path, what));
+            }
+        }
+        // Keep the last 3 bytes: a signature may begin there.
+        let carry = have.min(3);
+        block.copy_within(have - carry..have, 0);
+        start += (have - carry) as u64;
+        kept = carry;
+    }
+    Ok(())
 }
 
 /// `count` bytes of `file` (`len` bytes long) from `offset`.

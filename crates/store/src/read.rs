@@ -175,72 +175,6 @@ impl SweepSets {
     }
 }
 
-/// Refuses a file with a corrupt global heap collection (`GCOL`, where HDF5
-/// keeps variable-length strings: attributes, label tables) before the
-/// library reads it: HDF5 1.10 loops forever on a collection whose object
-/// sizes do not add up (an object of size 0; h5py hangs alike). Every
-/// collection in the file is walked as the library walks it: each object
-/// must take a positive number of bytes within the collection.
-pub(crate) fn check_global_heaps(path: &Path) -> Result<(), StoreError> {
-    use std::io::Read;
-    use std::os::unix::fs::FileExt;
-    const SIGNATURE: &[u8; 4] = b"GCOL";
-    let io = |e| StoreError::io(path, e);
-    let mut file = std::fs::File::open(path).map_err(io)?;
-    let len = file.metadata().map_err(io)?.len();
-    let mut block = vec![0u8; 8 << 20];
-    // Bytes of the block before that carry over (a signature across blocks).
-    let mut kept = 0usize;
-    let mut start = 0u64;
-    loop {
-        let n = file.read(&mut block[kept..]).map_err(io)?;
-        if n == 0 {
-            break;
-        }
-        let have = kept + n;
-        for at in block[..have].windows(4).enumerate().filter(|(_, w)| w == SIGNATURE).map(|(i, _)| i) {
-            let offset = start + at as u64;
-            let mut head = [0u8; 16];
-            if file.read_at(&mut head, offset).map_err(io)? < 16 || head[4] != 1 {
-                continue;
-            }
-            let size = u64::from_le_bytes(head[8..16].try_into().expect("8 bytes"));
-            // Not a collection (4096 bytes at least, within the file): data.
-            if size < 4096 || size > len - offset {
-                continue;
-            }
-            let mut heap = vec![0u8; size as usize];
-            file.read_exact_at(&mut heap, offset).map_err(io)?;
-            let mut p = 16u64;
-            while p < size {
-                if p + 16 > size {
-                    break;
-                }
-                let at = p as usize;
-                let index = u16::from_le_bytes([heap[at], heap[at + 1]]);
-                let object = u64::from_le_bytes(heap[at + 8..at + 16].try_into().expect("8 bytes"));
-                let need =
-                    if index > 0 { object.checked_add(7).and_then(|o| (o & !7).checked_add(16)) } else { Some(object) };
-                match need {
-                    Some(need) if need > 0 && need <= size - p => p += need,
-                    _ => {
-                        return Err(StoreError::format(
-                            path,
-                            format!("the global heap at byte {offset} is corrupt (object {index} at byte {p} of it): the file is damaged"),
-                        ))
-                    }
-                }
-            }
-        }
-        // Keep the last 3 bytes: a signature may begin there.
-        let carry = have.min(3);
-        block.copy_within(have - carry..have, 0);
-        start += (have - carry) as u64;
-        kept = carry;
-    }
-    Ok(())
-}
-
 /// A sweep's table of reasons and its cells' codes into it, each code -1 or
 /// an index of the table.
 fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result<(Vec<String>, Vec<i32>), StoreError> {
@@ -268,7 +202,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         return Err(fmt("not a file (an atlas is one HDF5 file)".into()));
     }
     let ck = Checker { path };
-    check_global_heaps(path)?;
+    crate::heap::check_collections(path)?;
     let f = hdf5::File::open(path).map_err(h)?;
     crate::attrs::verify(path, &f)?;
     if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) {
@@ -415,6 +349,11 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     }
     if let Some(twice) = sweeps.iter().enumerate().find(|(i, s)| sweeps[..*i].contains(s)) {
         return Err(fmt(format!("attribute {}: sweep {} is listed twice", attr::SWEEPS, twice.1.name())));
+    }
+    if let Some(missing) = sweeps.iter().find(|s| !f.link_exists(s.name())) {
+        let what =
+            format!("attribute {} of /: names sweep {}, whose group the file lacks", attr::SWEEPS, missing.name());
+        return Err(fmt(what));
     }
     let masses = list(&attr(path, f, attr::MASSES)?);
     // Layout 1 did not name the stops of each label.
