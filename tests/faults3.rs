@@ -110,9 +110,9 @@ print("ok")
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
-/// Item 2: `--resume` on this run's finished file whose datasets that the
-/// reader skips are damaged (a chunk of a label code, of the hysteresis) is
-/// refused naming the dataset, not taken as done; whole, it is done.
+/// Item 2: `--resume` on this run's finished file with a damaged dataset
+/// (one the reader skips, or one it reads) is refused naming the dataset,
+/// neither taken as done nor computed again over it; whole, it is done.
 #[test]
 fn resume_checks_a_finished_file_whole() {
     let d = scratch("faults3-resume");
@@ -139,7 +139,9 @@ with open(dst, "r+b") as g:
     g.seek(off + 3)
     g.write(bytes([b[0] ^ 0x5A]))
 "#;
-    for name in ["up/label_code_M1", "hysteresis"] {
+    // Datasets the reader reads (up/class, a reason table) and ones it skips
+    // (a label code, the hysteresis): each refused, none recomputed over.
+    for name in ["up/label_code_M1", "hysteresis", "up/class", "down/reason"] {
         let x = d.join("x.h5");
         python(FLIP, &[a.to_str().unwrap(), x.to_str().unwrap(), name]);
         let out = again(&x);

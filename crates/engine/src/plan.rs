@@ -486,10 +486,10 @@ impl Plan {
     /// On a resume without a journal, the output when it is already the
     /// finished file of this very run (the same settings and shard): a
     /// cluster job that reruns a finished shard does nothing. Anything else
-    /// (no file, another run's, one that does not read) is computed again.
-    /// The run's finished file is first checked whole, as the writer checks
-    /// it before putting it in place ([`store::check_finished`]): one whose
-    /// other datasets are damaged is an error naming the dataset.
+    /// (no file, another run's, one that is not an atlas) is computed again.
+    /// An atlas with a damaged dataset is an error naming the dataset, and
+    /// the run's finished file is first checked whole, as the writer checks
+    /// it before putting it in place ([`store::check_finished`]).
     fn finished_before(&self) -> Result<Option<Atlas>> {
         let Some(out) = self.output.as_deref().filter(|_| self.resume) else { return Ok(None) };
         if !out.is_file() || journal_path(out).exists() {
@@ -500,11 +500,18 @@ impl Plan {
             (Some((s, _)), Some(a)) => a.samples == s.samples && a.seed == s.seed,
             _ => false,
         };
-        let Some(loaded) = store::read(out).ok().filter(|l| {
-            l.atlas.meta == self.meta && l.info.shard == self.shard && same_attractors(&l.atlas.attractors)
-        }) else {
-            return Ok(None);
+        let loaded = match store::read(out) {
+            Ok(loaded) => loaded,
+            // An atlas whose dataset is damaged is said, never overwritten.
+            Err(e @ store::StoreError::Dataset { .. }) => return Err(e.into()),
+            Err(_) => return Ok(None),
         };
+        if loaded.atlas.meta != self.meta
+            || loaded.info.shard != self.shard
+            || !same_attractors(&loaded.atlas.attractors)
+        {
+            return Ok(None);
+        }
         store::check_finished(out, &loaded)?;
         Ok(Some(loaded.atlas))
     }
