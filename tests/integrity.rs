@@ -445,6 +445,34 @@ print("ok")
     }
 }
 
+/// A section's values are stored without compression: a chunk of them
+/// zeroed together with its Fletcher-32 checksum (0 for zeros) passes the
+/// library's check, as a block a file system lost would; the dataset's own
+/// CRC-32 (`data_crc32`) refuses it, naming the dataset. h5py reads the
+/// zeros without complaint: the check is the reader's.
+#[test]
+fn a_section_chunk_zeroed_with_its_checksum_is_refused() {
+    let d = scratch("integrity-zeroed");
+    let a = &originals().atlas;
+    const ZERO: &str = r#"
+import sys, h5py
+name = "up/sections/period/values"
+with h5py.File(sys.argv[1], "r") as f:
+    info = f[name].id.get_chunk_info(0)
+    at, size = info.byte_offset, info.size
+b = bytearray(open(sys.argv[1], "rb").read())
+b[at:at + size] = bytes(size)
+open(sys.argv[2], "wb").write(b)
+with h5py.File(sys.argv[2], "r") as f:
+    assert (f[name][:4] == 0).all()
+print("ok")
+"#;
+    let bad = d.join("zeroed.h5");
+    assert_eq!(python(ZERO, &[a.to_str().unwrap(), bad.to_str().unwrap()]).trim(), "ok");
+    let text = store::read(&bad).unwrap_err().to_string();
+    assert!(text.contains("up/sections/period/values") && text.contains("data_crc32"), "{text}");
+}
+
 /// One mutation of a file's bytes.
 #[derive(Debug, Clone)]
 enum Mutation {

@@ -155,3 +155,19 @@ pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec
         .collect::<Result<Vec<_>, _>>()
         .map_err(|_| ck.bad(&ds.name(), "a text that is not UTF-8"))
 }
+
+/// Checks the values of `ds` (`bytes`, as read) against their checksum
+/// ([`attr::DATA_CRC32`]; datasets written before it, or deflated, have
+/// none).
+pub(crate) fn data(ck: &crate::read::Checker, ds: &hdf5::Dataset, bytes: &[u8]) -> Result<(), StoreError> {
+    match optional::<u32>(ck.path, ds, attr::DATA_CRC32)? {
+        Some(want) if crc32fast::hash(bytes) != want => Err(ck.bad(
+            &ds.name(),
+            format!(
+                "its values do not match their checksum (attribute {}): the file is damaged or was changed since vibroatlas wrote it",
+                attr::DATA_CRC32
+            ),
+        )),
+        _ => Ok(()),
+    }
+}

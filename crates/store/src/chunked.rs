@@ -95,6 +95,9 @@ impl Deflater {
         let flat = data.as_standard_layout();
         let flat = flat.as_slice().expect("a standard layout is contiguous");
         self.expected.numbers(&ds, flat);
+        if !deflated {
+            crate::netcdf::attr_num(&ds, crate::layout::attr::DATA_CRC32, crc32fast::hash(bytes_of(flat)))?;
+        }
         let per_chunk = rows * shape[1..].iter().product::<usize>();
         let pieces: Vec<&[T]> = flat.chunks(per_chunk).collect();
         let filtered = self.map(pieces.len(), |c| {

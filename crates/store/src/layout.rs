@@ -27,7 +27,7 @@
 //! /hysteresis             u8  [ny, nx]     1 where up and down are periodic with different labels
 //! /legend/<sweep>/<mass>/label   strings, most frequent first
 //! /legend/<sweep>/<mass>/count   u64
-//! (every string dataset: attribute text_crc32, the CRC-32 of its texts)
+//! (every string dataset: attribute text_crc32, the CRC-32 of its texts; every section values: data_crc32)
 //! ```
 
 /// Version of this layout (root attribute `layout_version`; files without it
@@ -299,6 +299,12 @@ pub mod attr {
     /// HDF5 keeps texts in its global heap, which has no checksum; this
     /// attribute lives in the dataset's (checksummed) object header.
     pub const TEXT_CRC32: &str = "text_crc32";
+    /// `data_crc32` of a dataset stored without compression (a section's
+    /// `values`): the CRC-32 (zlib's) of all its values' bytes, in order,
+    /// little-endian. Fletcher-32 of a chunk of zeros is 0, so a chunk
+    /// zeroed with its checksum (a block a file system lost) passes the
+    /// library's check; it does not pass this one.
+    pub const DATA_CRC32: &str = "data_crc32";
     /// `attributes_crc32` of an object (the root group, a coordinate, a
     /// curve's group): the CRC-32 of its scalar text attributes named in
     /// [`CHECKED_TEXTS`], in the byte

@@ -501,6 +501,7 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
             return Err(ck.bad(&at, format!("ends at {}, but values has {} points", offsets[n], sec.points)));
         }
         let values = ck.raw::<f64>(&sec.values)?;
+        crate::attrs::data(ck, &sec.values, crate::verify::bytes_of(&values))?;
         Ok((values, offsets.into_iter().map(|o| o as usize).collect(), sec.cols))
     };
     let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> Vec<Vec<f64>> {
