@@ -151,6 +151,13 @@ with open(dst, "r+b") as g:
         assert_eq!(err.trim().lines().count(), 1, "{err}");
         assert!(err.contains(&format!("x.h5: {name}: ")), "{name}: {err}");
     }
+    // A root attribute that no longer reads (its checksum written again:
+    // the file says it is an atlas): refused, naming it, not computed again.
+    let x = mutated(&a, &d.join("sweeps.h5"), &["attr|@sweeps|'up,down,fresh'"]);
+    let out = again(&x);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("attribute sweeps of /"), "{err}");
 }
 
 /// Items 4 and 5: an attribute of another type than the layout's, or a

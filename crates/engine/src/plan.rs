@@ -487,7 +487,7 @@ impl Plan {
     /// finished file of this very run (the same settings and shard): a
     /// cluster job that reruns a finished shard does nothing. Anything else
     /// (no file, another run's, one that is not an atlas) is computed again.
-    /// An atlas with a damaged dataset is an error naming the dataset, and
+    /// A damaged atlas (a dataset, an attribute) is an error naming it, and
     /// the run's finished file is first checked whole, as the writer checks
     /// it before putting it in place ([`store::check_finished`]).
     fn finished_before(&self) -> Result<Option<Atlas>> {
@@ -502,8 +502,9 @@ impl Plan {
         };
         let loaded = match store::read(out) {
             Ok(loaded) => loaded,
-            // An atlas whose dataset is damaged is said, never overwritten.
-            Err(e @ store::StoreError::Dataset { .. }) => return Err(e.into()),
+            // A damaged atlas (a dataset, an attribute) is said, never
+            // computed again over.
+            Err(e) if store::is_atlas(out) => return Err(e.into()),
             Err(_) => return Ok(None),
         };
         if loaded.atlas.meta != self.meta

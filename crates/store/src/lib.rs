@@ -43,5 +43,5 @@ pub use lock::{
     OutputLock,
 };
 pub use merge::{merge, Merged};
-pub use read::{available_memory, read, Loaded, MAX_DIM, MAX_EXPANSION};
+pub use read::{available_memory, is_atlas, read, Loaded, MAX_DIM, MAX_EXPANSION};
 pub use write::{check_finished, pairs, partial_path, write, Draft, RunInfo, GIT_COMMIT};

@@ -186,6 +186,19 @@ fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result
     Ok((text, c))
 }
 
+/// Whether `path` says it is a vibroatlas atlas (its root attributes
+/// `software` and `x`), whether or not the rest of it reads: a file that
+/// says so but does not read is a damaged atlas, not another program's
+/// file.
+pub fn is_atlas(path: &Path) -> bool {
+    let says = || -> Result<bool, StoreError> {
+        crate::heap::check_collections(path)?;
+        let f = hdf5::File::open(path).map_err(|e| StoreError::hdf5(path, e))?;
+        Ok(attr_opt(path, &f, attr::SOFTWARE)?.as_deref() == Some(SOFTWARE) && f.attr(attr::X).is_ok())
+    };
+    path.is_file() && says().unwrap_or(false)
+}
+
 /// Reads an atlas file. Every dataset is checked before it is used: its
 /// shape against the grid and the other datasets, its size against the
 /// file's (see [`MAX_EXPANSION`]), the sections' offsets against their
