@@ -149,6 +149,9 @@ fn merge_refuses_missing_duplicated_and_foreign_parts() {
     // Issue 30: a part sampled for attractors and one not (or sampled otherwise).
     let sampled = part("3/3", &["--attractors", "2"]);
     refused(&["merge", &p1, &p2, &sampled, "-o", o], "attractors 2 samples per cell, seed 1 against none");
+    // A shard of a run split in two beside shards of one split in three.
+    let half = part("2/2", &[]);
+    refused(&["merge", &p1, &half, "-o", o], "the parts split the run into different numbers of shards");
     let with_gap = run(&["merge", &p1, &p2, "--allow-missing", "-o", o]);
     assert!(with_gap.status.success() && out.exists());
     assert!(run(&["merge", &p1, &p2, &p3, "-o", o]).status.success());

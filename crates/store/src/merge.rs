@@ -90,6 +90,15 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             let differences = differences(&atlas.meta, &part.atlas.meta);
             return Err(StoreError::OtherRun { path, first, setting, differences });
         }
+        // Shards of runs split into other numbers of parts deal other lines.
+        let other_split = |s: &Option<Shard>| matches!((s, part.info.shard), (Some(a), Some(b)) if a.n != b.n);
+        if let (Some((Some(s), other)), Some(ours)) = (shards.iter().find(|(s, _)| other_split(s)), part.info.shard) {
+            let what = format!(
+                "is shard {ours}, {} is shard {s}: the parts split the run into different numbers of shards",
+                other.display()
+            );
+            return Err(StoreError::format(p, what));
+        }
         if let Some((_, other)) = shards.iter().find(|(s, _)| s.is_some() && *s == part.info.shard) {
             let k = part.info.shard.map(|s| s.to_string()).unwrap_or_default();
             return Err(StoreError::format(p, format!("shard {k} is given twice (also {})", other.display())));
