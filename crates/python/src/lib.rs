@@ -6,7 +6,7 @@
 //! Python package (`python/vibroatlas`) wraps these calls.
 //!
 //! Errors are one line, the engine's options named as Python's keyword
-//! arguments ([`Keywords`]: `section_cap: …`, `resume=True`, a scene
+//! arguments (`Keywords`: `section_cap: …`, `resume=True`, a scene
 //! parameter by its name): `SceneError` (a `ValueError`) for scene files and
 //! texts, `OSError` for files, `ValueError` for everything else the caller
 //! gave; a panic of the engine becomes a `RuntimeError`, never an abort of
