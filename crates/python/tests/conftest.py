@@ -16,7 +16,9 @@ MULTI = CONFIGS / "multi-stop.toml"
 DRY = CONFIGS / "dry-friction.toml"
 
 # Root attributes that say when and how a file was made, not what it holds.
-VOLATILE = {"command", "created", "history", "run_time_s", "source", "git_commit"}
+# attributes_crc32 is the checksum of the text attributes, `command` and
+# `created` among them: it differs whenever they do.
+VOLATILE = {"command", "created", "history", "run_time_s", "source", "git_commit", "attributes_crc32"}
 
 
 def bin_path():
