@@ -116,20 +116,21 @@ pub(crate) fn required_text(path: &Path, loc: &Location, name: &str) -> Result<S
     text(path, loc, name)?.ok_or_else(|| bad(path, loc, name, "missing"))
 }
 
+/// What a checksum attribute `name` that does not match says.
+fn mismatch(name: &str) -> String {
+    format!(
+        "do not match their checksum (attribute {name}): the file is damaged or was changed since vibroatlas wrote it"
+    )
+}
+
 /// Checks the text attributes of `loc` against their checksum
 /// ([`attr::ATTRIBUTES_CRC32`]; objects written before it have none).
 pub(crate) fn verify(path: &Path, loc: &Location) -> Result<(), StoreError> {
     let Some(want) = optional::<u32>(path, loc, attr::ATTRIBUTES_CRC32)? else { return Ok(()) };
     let texts = netcdf::text_attributes(loc).map_err(|e| StoreError::hdf5(path, e))?;
     if netcdf::attributes_crc32(&texts) != want {
-        return Err(StoreError::format(
-            path,
-            format!(
-                "the text attributes of {} do not match their checksum (attribute {}): the file is damaged or was changed since vibroatlas wrote it",
-                object(loc),
-                attr::ATTRIBUTES_CRC32
-            ),
-        ));
+        let what = format!("the text attributes of {} {}", object(loc), mismatch(attr::ATTRIBUTES_CRC32));
+        return Err(StoreError::format(path, what));
     }
     Ok(())
 }
@@ -141,13 +142,7 @@ pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec
     let raw = ck.raw::<VarLenUnicode>(ds)?;
     if let Some(want) = optional::<u32>(ck.path, ds, attr::TEXT_CRC32)? {
         if netcdf::texts_crc32(raw.iter().map(|t| t.as_bytes())) != want {
-            return Err(ck.bad(
-                &ds.name(),
-                format!(
-                    "its texts do not match their checksum (attribute {}): the file is damaged or was changed since vibroatlas wrote it",
-                    attr::TEXT_CRC32
-                ),
-            ));
+            return Err(ck.bad(&ds.name(), format!("its texts {}", mismatch(attr::TEXT_CRC32))));
         }
     }
     raw.iter()
@@ -161,13 +156,9 @@ pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec
 /// none).
 pub(crate) fn data(ck: &crate::read::Checker, ds: &hdf5::Dataset, bytes: &[u8]) -> Result<(), StoreError> {
     match optional::<u32>(ck.path, ds, attr::DATA_CRC32)? {
-        Some(want) if crc32fast::hash(bytes) != want => Err(ck.bad(
-            &ds.name(),
-            format!(
-                "its values do not match their checksum (attribute {}): the file is damaged or was changed since vibroatlas wrote it",
-                attr::DATA_CRC32
-            ),
-        )),
+        Some(want) if crc32fast::hash(bytes) != want => {
+            Err(ck.bad(&ds.name(), format!("its values {}", mismatch(attr::DATA_CRC32))))
+        }
         _ => Ok(()),
     }
 }

@@ -119,12 +119,10 @@ fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
 
 /// Reads every curve of a curve file.
 pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
-    let h = |e: hdf5::Error| StoreError::hdf5(path, e);
     if !path.is_file() {
         return Err(StoreError::format(path, "no such curve file"));
     }
-    crate::heap::check_collections(path)?;
-    let f = hdf5::File::open(path).map_err(h)?;
+    let f = crate::heap::open(path)?;
     let content = |g: &hdf5::Group| -> Result<Option<String>, StoreError> {
         crate::attrs::verify(path, g)?;
         crate::attrs::text(path, g, CONTENT_ATTR)

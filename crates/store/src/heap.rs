@@ -11,7 +11,9 @@
 
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{Read, Seek, SeekFrom};
+use std::io::Read;
+use std::os::unix::fs::FileExt;
+use std::path::Path;
 
 /// A collection's signature.
 const SIGNATURE: &[u8; 4] = b"GCOL";
@@ -33,9 +35,9 @@ pub(crate) fn check(ds: &hdf5::Dataset) -> Result<(), String> {
         return Ok(());
     }
     let offset = ds.offset().ok_or("its texts are not stored contiguously, as vibroatlas stores them")?;
-    let mut file = File::open(ds.filename()).map_err(|e| e.to_string())?;
+    let file = File::open(ds.filename()).map_err(|e| e.to_string())?;
     let len = file.metadata().map_err(|e| e.to_string())?.len();
-    let bytes = read_at(&mut file, len, offset, n.saturating_mul(REFERENCE) as u64)?;
+    let bytes = read_at(&file, len, offset, n.saturating_mul(REFERENCE) as u64)?;
     let mut collections: HashMap<u64, HashMap<u16, u64>> = HashMap::new();
     for r in bytes.chunks_exact(REFERENCE) {
         let size = u64::from(u32::from_le_bytes(r[0..4].try_into().expect("4 bytes")));
@@ -46,7 +48,7 @@ pub(crate) fn check(ds: &hdf5::Dataset) -> Result<(), String> {
         }
         let objects = match collections.entry(address) {
             std::collections::hash_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::hash_map::Entry::Vacant(e) => e.insert(collection(&mut file, len, address)?),
+            std::collections::hash_map::Entry::Vacant(e) => e.insert(collection(&file, len, address)?),
         };
         let object = u16::try_from(index).ok().filter(|&i| i > 0).and_then(|i| objects.get(&i));
         if object != Some(&size) {
@@ -61,7 +63,7 @@ pub(crate) fn check(ds: &hdf5::Dataset) -> Result<(), String> {
 /// The objects (index: size in bytes) of the collection at `address`, walked
 /// as the library walks it, every object within the collection, and the
 /// collection within the file of `len` bytes.
-fn collection(file: &mut File, len: u64, address: u64) -> Result<HashMap<u16, u64>, String> {
+fn collection(file: &File, len: u64, address: u64) -> Result<HashMap<u16, u64>, String> {
     let bad = |what: &str| format!("the heap collection at byte {address} {what}");
     let head = read_at(file, len, address, HEADER).map_err(|_| bad("lies outside the file"))?;
     if &head[0..4] != SIGNATURE || head[4] != 1 {
@@ -111,8 +113,7 @@ fn walk(chunk: &[u8]) -> Result<HashMap<u16, u64>, (u16, u64)> {
 /// file (signature `GCOL`, version 1, 4096 bytes at least, within the file;
 /// anything else with those four bytes is data) is walked as [`walk`] does,
 /// reading the file in blocks of 8 MiB.
-pub(crate) fn check_collections(path: &std::path::Path) -> Result<(), crate::StoreError> {
-    use std::os::unix::fs::FileExt;
+fn check_collections(path: &Path) -> Result<(), crate::StoreError> {
     let io = |e| crate::StoreError::io(path, e);
     let mut file = File::open(path).map_err(io)?;
     let len = file.metadata().map_err(io)?.len();
@@ -155,13 +156,20 @@ pub(crate) fn check_collections(path: &std::path::Path) -> Result<(), crate::Sto
 }
 
 /// `count` bytes of `file` (`len` bytes long) from `offset`.
-fn read_at(file: &mut File, len: u64, offset: u64, count: u64) -> Result<Vec<u8>, String> {
+fn read_at(file: &File, len: u64, offset: u64, count: u64) -> Result<Vec<u8>, String> {
     if offset.checked_add(count).is_none_or(|end| end > len) {
         return Err(format!("{count} bytes at byte {offset} lie past the end of the file ({len} bytes)"));
     }
     let mut bytes = vec![0u8; count as usize];
-    file.seek(SeekFrom::Start(offset)).and_then(|_| file.read_exact(&mut bytes)).map_err(|e| e.to_string())?;
+    file.read_exact_at(&mut bytes, offset).map_err(|e| e.to_string())?;
     Ok(bytes)
+}
+
+/// Opens the HDF5 file at `path` once its global heap collections are
+/// checked ([`check_collections`]): every reader opens its files so.
+pub(crate) fn open(path: &Path) -> Result<hdf5::File, crate::StoreError> {
+    check_collections(path)?;
+    hdf5::File::open(path).map_err(|e| crate::StoreError::hdf5(path, e))
 }
 
 #[cfg(test)]

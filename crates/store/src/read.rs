@@ -192,8 +192,7 @@ fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result
 /// file.
 pub fn is_atlas(path: &Path) -> bool {
     let says = || -> Result<bool, StoreError> {
-        crate::heap::check_collections(path)?;
-        let f = hdf5::File::open(path).map_err(|e| StoreError::hdf5(path, e))?;
+        let f = crate::heap::open(path)?;
         Ok(attr_opt(path, &f, attr::SOFTWARE)?.as_deref() == Some(SOFTWARE) && f.attr(attr::X).is_ok())
     };
     path.is_file() && says().unwrap_or(false)
@@ -215,8 +214,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         return Err(fmt("not a file (an atlas is one HDF5 file)".into()));
     }
     let ck = Checker { path };
-    crate::heap::check_collections(path)?;
-    let f = hdf5::File::open(path).map_err(h)?;
+    let f = crate::heap::open(path)?;
     crate::attrs::verify(path, &f)?;
     if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) {
         return Err(fmt("not a vibroatlas file".into()));
