@@ -89,3 +89,212 @@ fn corners_of_the_parameter_space() {
     eprintln!("unresolved corner cells: {unresolved} of {}", cells.len());
     assert!(unresolved < cells.len() / 6, "{unresolved} unresolved corners");
 }
+
+/// The one-mass scene of issue 42's audit: a mass `m` on a spring `K` and
+/// damper `C`, forced by `F sin(ω t)`, starting at x = −0.5 below a stop at
+/// 0 with restitution 0.8.
+const ONE_MASS: &str = r#"
+name = "extremes"
+[parameters]
+m = { value = 1.0 }
+K = { value = 1.0 }
+C = { value = 0.1 }
+F = { value = 1.0 }
+omega = { value = 2.5 }
+[forcing]
+omega = "omega"
+[[masses]]
+name = "M"
+mass = "m"
+force = "F"
+x0 = -0.5
+[[links]]
+masses = ["M"]
+stiffness = "K"
+damping = "C"
+[[stops]]
+name = "A"
+mass = "M"
+side = "above"
+position = 0
+restitution = 0.8
+[labels.M]
+p = "A"
+"#;
+
+fn one_mass(sets: &[(&str, f64)]) -> solver::System {
+    let scene = scene::Scene::parse(ONE_MASS).unwrap();
+    let overrides: Vec<(String, f64)> = sets.iter().map(|(k, v)| (k.to_string(), *v)).collect();
+    solver::System::new(scene.evaluate(&overrides).unwrap()).unwrap()
+}
+
+/// Whether two results describe the same motion: the class, the period,
+/// and at each stop the same impacts, or contact in both where either
+/// chattered or stuck (a chattering sequence's count, or its end in
+/// sticking, depends on the integrator's resolution of its accumulation).
+fn same_motion(a: &CellResult, b: &CellResult) -> bool {
+    let contact = |c: &CellResult, k: usize| c.impacts[k] > 0 || c.sticking.contains(k);
+    let resolved_apart = |c: &CellResult, k: usize| c.chatter.contains(k) || c.sticking.contains(k);
+    a.class == b.class
+        && a.n == b.n
+        && (0..a.impacts.len()).all(|k| {
+            if resolved_apart(a, k) || resolved_apart(b, k) {
+                contact(a, k) && contact(b, k)
+            } else {
+                a.impacts[k] == b.impacts[k]
+            }
+        })
+}
+
+fn reason(c: &CellResult) -> String {
+    c.reason.as_ref().map(ToString::to_string).unwrap_or_default()
+}
+
+/// Issue 42, R1: a forcing amplitude whose products overflow (F ≥ 1e155 gave
+/// `periodic 1-0-0` with the state never moving) is `unresolved`, naming it.
+#[test]
+fn an_amplitude_beyond_double_precision_is_named_not_labelled() {
+    for f in [1e155, 1e160, 1e300] {
+        let sys = one_mass(&[("C", 0.0), ("F", f)]);
+        let c = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+        assert_eq!(c.class, Class::Unresolved, "F = {f:e}: {c:?}");
+        assert!(reason(&c).contains("force on M") && reason(&c).contains("out of range"), "{}", reason(&c));
+    }
+}
+
+/// Issue 42, R2: a conservative oscillation under a forcing a trillion times
+/// faster moves too little per period to tell from a fixed point; it was
+/// `periodic 1-0-0` with |multiplier| 1 after 9 periods and no event.
+#[test]
+fn a_free_oscillation_that_does_not_contract_is_not_periodic() {
+    for omega in [1e10, 1e12] {
+        let sys = system("single-stop.toml", &[("zeta", 0.0), ("omega", omega)]);
+        for method in [Method::Exact, Method::Rk4] {
+            let c = run_cell(&sys, &Accuracy::default(), method, &sys.model.initial_state());
+            assert_eq!(c.class, Class::Unresolved, "ω = {omega:e}, {method:?}: {c:?}");
+            assert!(reason(&c).contains("does not contract"), "{}", reason(&c));
+        }
+    }
+    // A heavy mass on an undamped spring: the same.
+    let sys = one_mass(&[("C", 0.0), ("m", 1e12)]);
+    let c = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+    assert_eq!(c.class, Class::Unresolved, "{c:?}");
+    // Damping, however light, contracts: the no-impact orbit is found (Newton
+    // on the affine map) and is a label.
+    let sys = system("single-stop.toml", &[("zeta", 0.0), ("omega", 2.5)]);
+    let c = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+    assert_eq!(c.labels[0].label.to_string(), "1-1-0", "{c:?}");
+}
+
+/// Issue 42, R3: a mass held by no spring drifts away from its stop without
+/// bound; it was `chaotic` (λ = 0.0094) while its section ran to x = −1490.
+#[test]
+fn a_mass_that_escapes_is_unbounded_not_chaotic() {
+    let sys = one_mass(&[("K", 0.0), ("C", 0.0)]);
+    let c = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+    assert_eq!(c.class, Class::Unresolved, "{c:?}");
+    assert!(reason(&c).contains("unbounded"), "{}", reason(&c));
+    // With damping the free mass's velocity settles: bounded, and periodic.
+    let sys = one_mass(&[("K", 0.0), ("C", 0.1)]);
+    let c = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+    assert_eq!(c.class, Class::Periodic, "{c:?}");
+}
+
+/// Issue 42: the physical extremes, each of amplitude, frequency, mass,
+/// stiffness and damping over 1e-12 … 1e12 (and zero damping, zero
+/// stiffness, and both), find no confident label that an independent answer
+/// contradicts: RK4 where it is confident too (the same class and labels),
+/// and the closed form of the linear system where it applies (a motion
+/// without impacts cannot be steady here once the free system's transient
+/// has died out within the record: the forced response of the free linear
+/// system swings about x = 0, where the stop is, so a periodic label without
+/// an impact needs an amplitude below the contact tolerance).
+#[test]
+fn physical_extremes_get_no_confident_wrong_label() {
+    let decades = [1e-12, 1e-6, 1e-3, 1.0, 1e3, 1e6, 1e12];
+    let mut cases: Vec<Vec<(&str, f64)>> = Vec::new();
+    for name in ["F", "omega", "m", "K", "C"] {
+        // The scene refuses ω below 1e-6 (contacts could not be told from rest).
+        for v in decades.into_iter().filter(|&v| name != "omega" || v >= 1e-6) {
+            cases.push(vec![(name, v)]);
+            if name != "C" {
+                cases.push(vec![(name, v), ("C", 0.0)]);
+            }
+        }
+    }
+    // Beyond double precision (issue 42, R1).
+    for f in [1e155, 1e300] {
+        cases.push(vec![("F", f), ("C", 0.0)]);
+    }
+    cases.push(vec![("C", 0.0)]);
+    cases.push(vec![("K", 0.0)]);
+    cases.push(vec![("K", 0.0), ("C", 0.0)]);
+    let acc = Accuracy::default().with(solver::Knob::MaxEvents, 1e5).unwrap();
+    let next = AtomicUsize::new(0);
+    let confident = AtomicUsize::new(0);
+    let checked = AtomicUsize::new(0);
+    let worker = || {
+        while let Some(p) = cases.get(next.fetch_add(1, Ordering::Relaxed)) {
+            let sys = one_mass(p);
+            let y0 = sys.model.initial_state();
+            let a = run_cell(&sys, &acc, Method::Exact, &y0);
+            assert!(finite(&a), "{p:?}: non-finite result {a:?}");
+            if a.class == Class::Unresolved {
+                continue;
+            }
+            confident.fetch_add(1, Ordering::Relaxed);
+            // RK4 with a step that resolves the fastest time scale (the
+            // natural period, the forcing period, the damping time), where
+            // its floor allows one.
+            let fastest =
+                (sys.stiffness[(0, 0)] / sys.mass[0]).sqrt().max(sys.omega).max(sys.damping[(0, 0)] / sys.mass[0]);
+            let step = (0.01f64).min(0.05 / fastest);
+            if step >= 1e-5 {
+                let fine = acc.with(solver::Knob::Rk4Step, step).unwrap();
+                let rk4 = run_cell(&sys, &fine, Method::Rk4, &y0);
+                if rk4.class != Class::Unresolved {
+                    checked.fetch_add(1, Ordering::Relaxed);
+                    assert!(same_motion(&a, &rk4), "{p:?}: exact {a:?}\nRK4 {rk4:?}");
+                }
+            }
+            let (m, k, c) = (sys.mass[0], sys.stiffness[(0, 0)], sys.damping[(0, 0)]);
+            // The slowest decay rate of the free system `m s² + c s + k = 0`:
+            // the closed form is the steady state once it has died out.
+            let disc = c * c - 4.0 * m * k;
+            let slowest = if disc >= 0.0 { 2.0 * k / (c + disc.sqrt()) } else { c / (2.0 * m) };
+            let settled = slowest * a.periods as f64 * sys.period > 30.0;
+            if settled && a.class == Class::Periodic && a.impacts.iter().all(|&i| i == 0) && a.sticking.bits() == 0 {
+                let w = sys.omega;
+                let amplitude = sys.forcing[0] / ((k - m * w * w).powi(2) + (c * w).powi(2)).sqrt();
+                assert!(
+                    c > 0.0 && amplitude < acc.contact_tol(),
+                    "{p:?}: no impact with amplitude {amplitude:e}: {a:?}"
+                );
+            }
+        }
+    };
+    std::thread::scope(|s| {
+        for _ in 0..2 {
+            s.spawn(worker);
+        }
+    });
+    eprintln!(
+        "extremes: {} cases, {} confident, {} of them checked against RK4",
+        cases.len(),
+        confident.load(Ordering::Relaxed),
+        checked.load(Ordering::Relaxed)
+    );
+}
+
+/// Issue 42 (found by its scan): a record that settled near an unstable
+/// orbit of the impact damper was labelled `periodic 2-2-2` with |multiplier|
+/// 1.057 (the other samples of its cell reach 4-4-4). A periodic label is
+/// never an unstable orbit.
+#[test]
+fn an_unstable_orbit_is_not_a_label() {
+    let sys = system("impact-damper.toml", &[("omega", 1.7482758620689656), ("delta", 0.5)]);
+    let y0 = [1.570606855225737, 1.7515801914012314, -1.347929345544788, 0.6025192144361391];
+    let c = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+    assert_eq!(c.class, Class::Unresolved, "{c:?}");
+    assert!(reason(&c).contains("unstable orbit"), "{}", reason(&c));
+}

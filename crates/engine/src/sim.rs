@@ -292,6 +292,11 @@ impl Sim {
                 .opt(Opt::At)
                 .text(" NAME=VALUE,NAME=VALUE"));
         }
+        if let Some((i, (k, _))) = at.iter().enumerate().find(|(i, (k, _))| at[..*i].iter().any(|(j, _)| j == k)) {
+            let first = at.iter().find(|(j, _)| j == k).map_or(0.0, |p| p.1);
+            bail!(RequestError::keyed(Opt::At, k)
+                .text(format!("given twice ({first} and {}); give each parameter once", at[i].1)));
+        }
         let loaded = store::read(file)?;
         let atlas = &loaded.atlas;
         let m = &atlas.meta;

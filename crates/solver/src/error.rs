@@ -20,6 +20,14 @@ pub enum SolverError {
         /// What is not supported.
         message: String,
     },
+    /// A number of the system or its state lies where double precision holds
+    /// no answer: beyond [`crate::LARGEST_MAGNITUDE`] (products of two such
+    /// numbers overflow), below its reciprocal but not zero, or not finite.
+    #[error("out of range: {message}")]
+    OutOfRange {
+        /// Which number, and its value.
+        message: String,
+    },
     /// An accuracy setting is out of range.
     #[error("accuracy.{field}: {message}")]
     Accuracy {

@@ -29,7 +29,16 @@
 //!    ([`Executor::confirm`]), or it ends `unresolved`
 //!    ([`Unresolved::LongPeriod`]);
 //! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
-//!    Floquet multiplier modulus of the n-period map at the final state;
+//!    Floquet multiplier modulus of the n-period map at the final state. An
+//!    orbit whose multiplier exceeds 1 is unstable: the record only passed
+//!    near it, and the cell is `unresolved` ([`Unresolved::Unsettled`]); so
+//!    is one whose multiplier says that the state is still far from it where
+//!    rounding hid the contraction from the record ([`Executor::unsettled`]:
+//!    a conservative oscillation under fast forcing, a mass on a vanishing
+//!    spring). Without a period, a motion that drifts away from every stop
+//!    with no event is unbounded ([`Executor::unbounded`]), not chaos;
+//!    numbers beyond what double precision answers for end a cell before it
+//!    starts ([`System::check_range`]);
 //! 4. **window** ([`Executor::window`]): impacts, sticking and chattering over
 //!    the classified window (n periods, or the last `n_max` without a period),
 //!    hence the labels;
@@ -86,6 +95,20 @@ const NEAR_RETURN: f64 = 0.1;
 /// with (see [`Executor::confirm`]).
 const LONG_REACH: f64 = 1e-3;
 
+/// How far beyond `periodic_tol` the distance to a found orbit that its
+/// multiplier gives may be before the orbit is not a result (see
+/// [`Executor::unsettled`]): well clear of the tolerance's own estimate, so
+/// that only orbits far from settled are refused.
+const UNSETTLED: f64 = 100.0;
+
+/// A found orbit whose largest multiplier modulus exceeds 1 by more than this
+/// is unstable: the record only passed near it (see [`Executor::unsettled`]).
+const UNSTABLE: f64 = 1e-6;
+
+/// Fewest periods without an event over which growing gaps show a motion
+/// that escapes (see [`Executor::unbounded`]).
+const ESCAPE_PERIODS: usize = 20;
+
 /// Newton polishes of a found, slowly converging orbit per cell (see
 /// [`Executor::polish`]).
 const POLISHES: usize = 2;
@@ -127,6 +150,30 @@ pub enum Unresolved {
         /// The longest period tested (`Accuracy::n_max`).
         n_max: usize,
     },
+    /// The section repeated within `periodic_tol`, but the orbit's own
+    /// largest Floquet multiplier modulus says that the state is still far
+    /// from it: the distance still to go, `e / (1 − |μ|)` from the last step
+    /// `e`, is beyond [`UNSETTLED`] × `periodic_tol`, or infinite where the map
+    /// does not contract (|μ| ≥ 1: a conservative oscillation that moved too
+    /// little per period to tell from a fixed point). A contraction too slow
+    /// for the record, not a converged orbit (issue 42).
+    Unsettled {
+        /// Periods of the record.
+        periods: usize,
+        /// The largest Floquet multiplier modulus of the period map.
+        multiplier: f64,
+        /// The estimated distance to the orbit, relative (infinite when |μ| ≥ 1).
+        distance: f64,
+    },
+    /// No period, and the motion leaves every stop behind without bound: no
+    /// event over the last periods of the record, a rigid mode (a mass held
+    /// by no spring), and every gap growing from period to period (issue 42).
+    Unbounded {
+        /// Periods without an event over which every gap grew.
+        periods: usize,
+        /// The largest growth of a position per forcing period at the end.
+        drift: f64,
+    },
 }
 
 impl Unresolved {
@@ -157,6 +204,22 @@ impl std::fmt::Display for Unresolved {
             Unresolved::LongPeriod { n, n_max } => write!(
                 f,
                 "no period up to n_max = {n_max}: the motion contracts onto an orbit of period {n}, which Newton's method on the {n}-period map did not confirm (raise n_max to search for it in the record)"
+            ),
+            Unresolved::Unsettled { periods, multiplier, .. } if *multiplier > 1.0 + UNSTABLE => write!(
+                f,
+                "the section repeated after {periods} periods, but near an unstable orbit (largest |multiplier| {multiplier:.6}): a transient passing it, not its motion"
+            ),
+            Unresolved::Unsettled { periods, multiplier, distance } if distance.is_infinite() => write!(
+                f,
+                "the section repeated after {periods} periods, but the motion does not contract (largest |multiplier| {multiplier:.9}): a free oscillation that never settles, not a converged orbit"
+            ),
+            Unresolved::Unsettled { periods, multiplier, distance } => write!(
+                f,
+                "the section repeated after {periods} periods, but its orbit contracts too slowly to have reached it (largest |multiplier| {multiplier:.12}; still about {distance:.1e} from it, relative)"
+            ),
+            Unresolved::Unbounded { periods, drift } => write!(
+                f,
+                "the motion is unbounded: no event in the last {periods} periods, every gap growing, a position drifting by {drift:.3e} per forcing period"
             ),
             Unresolved::NoExponent(why) => {
                 write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {why}")
@@ -224,6 +287,9 @@ pub fn run_cell_with_sections(
     section_cap: usize,
 ) -> (CellResult, ImpactSections) {
     let no_sections = || vec![Vec::new(); sys.stops.len()];
+    if let Err(e) = sys.check_range(y0) {
+        return (unresolved(sys, Unresolved::Failed(e), 0, 0, y0.to_vec()), no_sections());
+    }
     let mut cell = match Executor::start(sys, acc, method, y0) {
         Ok(cell) => cell,
         Err(why) => return (unresolved(sys, why, 0, 0, y0.to_vec()), no_sections()),
@@ -236,7 +302,10 @@ pub fn run_cell_with_sections(
         }
     };
     let (class, n, lyapunov, reason) = match steady {
-        Steady::Periodic(n) => (Class::Periodic, Some(n), None, None),
+        Steady::Periodic(n) => match cell.unsettled.take() {
+            Some(why) => (Class::Unresolved, None, None, Some(why)),
+            None => (Class::Periodic, Some(n), None, None),
+        },
         Steady::LongPeriod(n, l) => {
             (Class::Unresolved, None, Some(l), Some(Unresolved::LongPeriod { n, n_max: acc.n_max }))
         }
@@ -244,11 +313,27 @@ pub fn run_cell_with_sections(
         Steady::Failed(halt) => {
             (Class::Unresolved, None, None, Some(Unresolved::NoExponent(Box::new(Unresolved::of(halt, acc)))))
         }
-        Steady::Aperiodic(class, l, reason) => (class, None, Some(l), reason),
+        Steady::Aperiodic(class, l, reason) => match cell.unbounded() {
+            Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
+            None => (class, None, Some(l), reason),
+        },
     };
     let multiplier = match n {
-        Some(n) if acc.multipliers => cell.multiplier(n),
+        Some(n) if acc.multipliers => cell.measured.or_else(|| cell.multiplier(n)),
         _ => None,
+    };
+    // An unstable orbit is not where the motion stays: the record only passed near it.
+    let (class, n, reason, multiplier) = match multiplier {
+        Some(mu) if mu > 1.0 + UNSTABLE => {
+            let periods = cell.sim.periods() as usize;
+            (
+                Class::Unresolved,
+                None,
+                Some(Unresolved::Unsettled { periods, multiplier: mu, distance: f64::INFINITY }),
+                None,
+            )
+        }
+        _ => (class, n, reason, multiplier),
     };
     let mut result = cell.window(class, n, y0);
     let sections = if section_cap == 0 { no_sections() } else { cell.sections(&result, section_cap) };
@@ -291,6 +376,11 @@ struct Executor<'s> {
     /// Newton polishes of a found but slowly converging orbit left to this cell.
     polishes: usize,
     budget: Budget,
+    /// The largest multiplier modulus of the accepted period's map, where
+    /// [`Executor::unsettled`] measured it (the cell's own).
+    measured: Option<f64>,
+    /// Why the accepted period is not a result, where it is not.
+    unsettled: Option<Unresolved>,
 }
 
 impl<'s> Executor<'s> {
@@ -306,6 +396,8 @@ impl<'s> Executor<'s> {
             newton: Newton::default(),
             polishes: POLISHES,
             budget: Budget::new(acc.max_events),
+            measured: None,
+            unsettled: None,
         })
     }
 
@@ -327,6 +419,10 @@ impl<'s> Executor<'s> {
             if let Some(n) = detect(&self.hist, acc) {
                 // Accepted once converged, so that its symmetry and final state are the orbit's.
                 if converged(&self.hist, n, acc) {
+                    // Where rounding hid the contraction, the orbit's multiplier tells.
+                    if remaining(&self.hist, n).is_none() {
+                        self.unsettled = self.unsettled(n);
+                    }
                     return Ok(Some(n));
                 }
                 if let Some(x) = self.polish(n) {
@@ -555,6 +651,66 @@ impl<'s> Executor<'s> {
         Steady::Aperiodic(class, lyapunov, reason)
     }
 
+    /// Why a period n found by the record is not a result, where the ratio
+    /// of its steps showed no contraction ([`remaining`]): the distance to
+    /// its orbit that its largest multiplier modulus μ gives, `e / (1 − μ)`
+    /// from the record's last n-period step `e` (infinite for μ ≥ 1 and e >
+    /// 0), is beyond [`UNSETTLED`] × `periodic_tol`. The record's own test
+    /// ([`converged`]) estimates the contraction from the ratio of two
+    /// steps, which rounding hides once the steps are near the rounding of
+    /// the state: a map whose multiplier is 1 within 1e-9 (a conservative
+    /// oscillation under fast forcing, a mass on a vanishing spring)
+    /// repeats within the tolerance while still far from its orbit. The
+    /// multiplier is the cell's own (kept in `measured`); it is measured
+    /// here only where it is measured anyway (`multipliers`), or where the
+    /// record had no event (one linear flow). `None` for a settled orbit.
+    fn unsettled(&mut self, n: usize) -> Option<Unresolved> {
+        if !self.acc.multipliers && self.hist.iter().any(|r| r.events > 0) {
+            return None;
+        }
+        let multiplier = self.multiplier(n)?;
+        self.measured = Some(multiplier);
+        let len = self.hist.len();
+        let step = (len.saturating_sub(n)..len)
+            .filter(|&i| i >= n)
+            .map(|i| distance(&self.hist[i].end, &self.hist[i - n].end));
+        let step = step.fold(0.0, f64::max);
+        let distance = if step == 0.0 {
+            0.0
+        } else if multiplier >= 1.0 {
+            f64::INFINITY
+        } else {
+            step / (1.0 - multiplier)
+        };
+        (distance > UNSETTLED * self.acc.periodic_tol).then_some(Unresolved::Unsettled {
+            periods: self.sim.periods() as usize,
+            multiplier,
+            distance,
+        })
+    }
+
+    /// Why a record without a period is not chaos or a torus: the motion
+    /// escapes. The masses have a rigid mode, the last half of the record
+    /// (at least [`ESCAPE_PERIODS`] periods) had no event, and every stop's
+    /// gap grew at every one of its periods: nothing is left that would stop
+    /// the drift. `None` otherwise.
+    fn unbounded(&self) -> Option<Unresolved> {
+        let (sys, hist) = (self.sys, &self.hist);
+        let half = hist.len() / 2;
+        if half < ESCAPE_PERIODS || hist.iter().skip(half).any(|r| r.events > 0) || !sys.has_rigid_mode() {
+            return None;
+        }
+        let recs: Vec<&PeriodRecord> = hist.iter().skip(half).collect();
+        let grows = |k: usize| recs.windows(2).all(|w| sys.gap(k, &w[1].end) > sys.gap(k, &w[0].end));
+        if !(0..sys.stops.len()).all(grows) {
+            return None;
+        }
+        let m = sys.dof();
+        let (a, b) = (&recs[recs.len() - 2].end, &recs[recs.len() - 1].end);
+        let drift = (0..m).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max);
+        Some(Unresolved::Unbounded { periods: recs.len(), drift })
+    }
+
     /// Phase 3: the largest Floquet multiplier modulus of the n-period map at
     /// the main simulator's state, on a probe tracking its tangent.
     fn multiplier(&mut self, n: usize) -> Option<f64> {
@@ -678,7 +834,10 @@ mod tests {
         assert!(d <= 10.0 * with.periodic_tol, "final states {d:e} apart");
         assert!(a.sim.periods() < b.sim.periods(), "{} against {} periods", a.sim.periods(), b.sim.periods());
         assert!(a.budget.periods(&a.sim) > a.sim.periods(), "the probe's periods are counted");
-        assert_eq!(b.budget.periods(&b.sim), b.sim.periods(), "no probe without Newton");
+        // Without Newton the only probe is the multiplier of an orbit whose
+        // contraction the ratio of its steps did not show (one period).
+        let measured = u64::from(b.measured.is_some());
+        assert_eq!(b.budget.periods(&b.sim), b.sim.periods() + measured, "no other probe without Newton");
     }
 
     /// Phases 2 and 3 agree on a periodic orbit: the largest Lyapunov exponent

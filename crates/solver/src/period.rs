@@ -190,6 +190,7 @@ mod tests {
             stuck: 0,
             end: DVector::from_vec(vec![x, 0.0]),
             end_key: Key::FREE,
+            events: impacts as usize,
             half: Some(DVector::from_vec(vec![-x, 0.0])),
             half_tangent: None,
         }

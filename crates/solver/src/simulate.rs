@@ -93,6 +93,9 @@ pub struct PeriodRecord {
     pub end: DVector<f64>,
     /// Mode (held stops, friction states) at the end of the period.
     pub(crate) end_key: Key,
+    /// Events handled during the period (impacts, sticks, releases, friction
+    /// events): none means the period was one linear flow.
+    pub(crate) events: usize,
     /// State at the middle of the period, when asked for.
     pub half: Option<DVector<f64>>,
     /// Tangent map at the middle of the period, when asked for and tracked.
@@ -395,6 +398,8 @@ impl<'s> Simulator<'s> {
             stuck: self.key.stuck,
             end: DVector::zeros(0),
             end_key: Key::FREE,
+            // The count at the period's start, made the period's own by `end_period`.
+            events: self.events,
             half: None,
             half_tangent: None,
         }
@@ -402,11 +407,18 @@ impl<'s> Simulator<'s> {
 
     /// Closes the period just simulated: the clock restarts, the record gets
     /// the end state, the observer its sample at the period's end.
+    /// A state that is no longer finite (an overflow) halts the simulation.
     fn end_period(&mut self, mut rec: PeriodRecord, obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
+        if let Some(v) = self.y.iter().find(|v| !v.is_finite()) {
+            return Err(Halt::Error(SolverError::OutOfRange {
+                message: format!("the state became {v} after {} periods (an overflow)", self.periods),
+            }));
+        }
         self.clock = 0.0;
         self.periods += 1;
         rec.end = self.y.clone();
         rec.end_key = self.key;
+        rec.events = self.events - rec.events;
         obs.sample(self.time(), &self.y);
         Ok(rec)
     }

@@ -44,6 +44,14 @@ pub struct FrictionRow {
 /// every stop (standard: 1e-10), so that a state it produced is admissible.
 pub const ADMISSIBLE_PENETRATION: f64 = 1e-9;
 
+/// Largest magnitude of a number of a system or its initial state that the
+/// solver answers for: the product of two such numbers (an energy, a
+/// stiffness times a displacement) still fits a double. Beyond it, and below
+/// its reciprocal for a number that is not zero, a cell is `unresolved` with
+/// the number named ([`System::check_range`]), never a label computed from
+/// overflowed or vanished values.
+pub const LARGEST_MAGNITUDE: f64 = 1e150;
+
 /// Matrices of the equations of motion, built once per cell.
 #[derive(Debug, Clone)]
 pub struct System {
@@ -135,6 +143,52 @@ impl System {
             period,
             model,
         })
+    }
+
+    /// Whether every number of the system and of the state `y0` a cell starts
+    /// from is finite and within [`LARGEST_MAGNITUDE`] (or zero, or at least
+    /// its reciprocal): masses, link stiffnesses and dampings, forcing
+    /// amplitudes, frequency and phase, stop positions and clearances,
+    /// friction forces and the state. The first one that is not, named.
+    pub fn check_range(&self, y0: &[f64]) -> Result<(), SolverError> {
+        let model = &self.model;
+        let mut numbers: Vec<(String, f64)> = vec![("omega".into(), model.omega), ("tau".into(), model.tau)];
+        for m in &model.masses {
+            numbers.push((format!("mass of {}", m.name), m.mass));
+            numbers.push((format!("force on {}", m.name), m.force));
+        }
+        for (i, l) in model.links.iter().enumerate() {
+            numbers.push((format!("stiffness of link {}", i + 1), l.stiffness));
+            numbers.push((format!("damping of link {}", i + 1), l.damping));
+        }
+        for (s, row) in model.stops.iter().zip(&self.stops) {
+            numbers.push((format!("position of stop {}", s.name), row.offset));
+        }
+        for (i, f) in model.friction.iter().enumerate() {
+            numbers.push((format!("static friction limit of contact {}", i + 1), f.static_limit));
+        }
+        let names = model.masses.iter().map(|m| format!("x of {}", m.name));
+        let names = names.chain(model.masses.iter().map(|m| format!("v of {}", m.name)));
+        numbers.extend(names.zip(y0.iter().copied()));
+        let outside =
+            |v: f64| !v.is_finite() || v.abs() > LARGEST_MAGNITUDE || (v != 0.0 && v.abs() < 1.0 / LARGEST_MAGNITUDE);
+        match numbers.into_iter().find(|&(_, v)| outside(v)) {
+            Some((what, v)) => Err(SolverError::OutOfRange {
+                message: format!(
+                    "{what} = {v:e} is beyond the {LARGEST_MAGNITUDE:e} (or, not zero, within 1/{LARGEST_MAGNITUDE:e}) that double precision answers for; rescale the scene"
+                ),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether the masses have a rigid mode: the stiffness matrix is
+    /// singular (a mass, or a group of masses, held by no spring), so that
+    /// a motion without contacts may drift without bound.
+    pub fn has_rigid_mode(&self) -> bool {
+        let eig = self.stiffness.clone().symmetric_eigenvalues();
+        let largest = eig.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        eig.iter().any(|v| v.abs() <= 1e-12 * largest.max(f64::MIN_POSITIVE))
     }
 
     /// Number of masses (degrees of freedom).

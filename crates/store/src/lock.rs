@@ -242,6 +242,15 @@ pub(crate) fn same_file(_: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
     true
 }
 
+/// Whether paths `a` and `b` name one existing file (the same path, a link
+/// to it, or a hard link: the same device and inode).
+pub(crate) fn same_path(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) if cfg!(unix) => same_file(&x, &y),
+        _ => a.canonicalize().ok().is_some_and(|c| b.canonicalize().ok() == Some(c)),
+    }
+}
+
 impl Drop for OutputLock {
     fn drop(&mut self) {
         // Removed while still held, so that no one can lock the old file.

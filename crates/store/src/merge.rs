@@ -83,7 +83,15 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
     let mut run_time = base.info.run_time_s;
     let mut history = base.info.history;
     let mut shards = vec![(base.info.shard, first.clone())];
-    for p in &paths[1..] {
+    for (i, p) in paths.iter().enumerate().skip(1) {
+        if let Some(other) = paths[..i].iter().find(|q| crate::lock::same_path(q, p)) {
+            let what = if other == p {
+                "is given twice".to_string()
+            } else {
+                format!("is given twice (also as {})", other.display())
+            };
+            return Err(StoreError::format(p, what));
+        }
         let part = read(p)?;
         if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
             let (path, first) = (p.display().to_string(), first.display().to_string());
