@@ -331,5 +331,18 @@ fn a_cell_of_another_scenes_file_says_so() {
     let args = ["cell", "configs/single-stop.toml", "--from", a, "--at", "omega=1,delta=1"];
     expect_error(&args, "--from");
     expect_error(&args, "do not fit this scene (made from another?): parameters.delta: unknown parameter 'delta'");
+    // Issue 42, R15: a parameter given twice was read once, the second ignored.
+    let twice = ["cell", "configs/multi-stop.toml", "--from", a, "--at", "omega=0.5,delta=0.6,omega=0.3"];
+    expect_error(&twice, "--at omega: given twice (0.5 and 0.3)");
     std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Issue 42, R12: a scene "file" that never ends (`/dev/zero`) was read until
+/// the memory ran out; a scene or study file is read up to 1 MiB.
+#[test]
+fn an_endless_scene_file_is_refused() {
+    if std::path::Path::new("/dev/zero").exists() {
+        expect_error(&["cell", "/dev/zero"], "cannot read scene file /dev/zero: longer than 1048576 bytes");
+        expect_error(&["study", "/dev/zero", "-o", "/tmp/never"], "longer than 1048576 bytes");
+    }
 }

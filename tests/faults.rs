@@ -145,6 +145,14 @@ fn merge_refuses_missing_duplicated_and_foreign_parts() {
     refused(&["merge", &p1, &p2, "-o", o], "shards 3/3 missing");
     assert!(!out.exists());
     refused(&["merge", &p1, &p2, &p2, "-o", o], "given twice");
+    // Issue 42, R9: one file twice, by another name too (it merged, doubling the run time).
+    let whole = d.join("whole.h5");
+    assert!(run(&strs(&atlas(whole.to_str().unwrap(), &[]))).status.success());
+    let w = whole.to_str().unwrap();
+    refused(&["merge", w, w, "-o", o], "is given twice");
+    let alias = d.join("alias.h5");
+    std::os::unix::fs::symlink(&whole, &alias).unwrap();
+    refused(&["merge", w, alias.to_str().unwrap(), "-o", o], &format!("is given twice (also as {w})"));
     refused(&["merge", &p1, &p2, &foreign, "-o", o], "is not a part of the same run");
     // Issue 30: a part sampled for attractors and one not (or sampled otherwise).
     let sampled = part("3/3", &["--attractors", "2"]);

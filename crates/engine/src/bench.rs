@@ -135,7 +135,7 @@ impl BenchRequest {
         let scene = match &self.scene {
             SceneSource::File(p) => {
                 let text =
-                    std::fs::read_to_string(p).map_err(|e| anyhow!("cannot read scene file {}: {e}", p.display()))?;
+                    crate::sim::read_text(p).map_err(|e| anyhow!("cannot read scene file {}: {e}", p.display()))?;
                 Scene::parse(&text)
             }
             SceneSource::Text(text) => Scene::parse(text),

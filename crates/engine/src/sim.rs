@@ -57,12 +57,29 @@ impl std::fmt::Display for SceneLoadError {
 
 impl std::error::Error for SceneLoadError {}
 
+/// Largest scene or study file read, in bytes: a scene is a page of TOML,
+/// and a bound keeps a device (`/dev/zero`) or a wrong file from filling the
+/// memory.
+pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+
+/// The text of the file `path`, read up to [`MAX_SCENE_BYTES`]; a longer
+/// one is an error saying so.
+pub(crate) fn read_text(path: &std::path::Path) -> std::io::Result<String> {
+    use std::io::Read;
+    let mut text = String::new();
+    std::fs::File::open(path)?.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text)?;
+    if text.len() as u64 > MAX_SCENE_BYTES {
+        return Err(std::io::Error::other(format!("longer than {MAX_SCENE_BYTES} bytes, the most a scene or study file may be")));
+    }
+    Ok(text)
+}
+
 impl SceneSource {
     /// The scene it holds.
     pub fn load(&self) -> Result<Scene, SceneLoadError> {
         let (text, origin) = match self {
             SceneSource::File(path) => (
-                std::fs::read_to_string(path).map_err(|cause| SceneLoadError::Read { path: path.clone(), cause })?,
+                read_text(path).map_err(|cause| SceneLoadError::Read { path: path.clone(), cause })?,
                 path.display().to_string(),
             ),
             SceneSource::Text(text) => (text.clone(), TEXT.to_string()),

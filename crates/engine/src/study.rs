@@ -34,7 +34,7 @@ pub fn study(
     threads: usize,
     command: &str,
 ) -> Result<StudyPlan> {
-    let text = std::fs::read_to_string(file).with_context(|| format!("cannot read study file {}", file.display()))?;
+    let text = crate::sim::read_text(file).with_context(|| format!("cannot read study file {}", file.display()))?;
     let study = Study::parse(&text).map_err(|e| anyhow!("{}: {e}", file.display()))?;
     let scene = file.parent().unwrap_or(Path::new(".")).join(&study.scene);
     let sweeps = SweepKind::parse_set(&study.sweep, "sweep")?;
