@@ -91,6 +91,8 @@ fi
 ((allow_missing == 0 || merge_only)) || die "--allow-missing goes with --merge-only"
 if [[ $mode == submit ]]; then
     is_count "$shards" || die "--shards N (a positive whole number) is required"
+    # vibroatlas takes --shard K/N up to N = 100000 (checked before bash's arithmetic overflows).
+    ((${#shards} <= 6 && shards <= 100000)) || die "--shards: at most 100000 shards, not '$shards'"
     ((${#atlas[@]})) || die "nothing after '--': give the scene and the atlas options, e.g. -- configs/multi-stop.toml --x omega=0.1:3:60 --y delta=0.05:2:40"
     out=$(readlink -m -- "${out:-out/slurm-$(date +%Y%m%d-%H%M%S)}")
 else
@@ -110,10 +112,8 @@ fi
 run_line="cwd=$(q "$PWD") shards=$shards atlas: $(words "${atlas[@]}")"
 if [[ $mode == submit ]]; then
     if [[ -f $out/run.txt ]]; then
-        [[ $(<"$out/run.txt") == "$run_line" ]] || die "'$out' holds another run:
-    $(<"$out/run.txt")
-  not
-    $run_line"
+        [[ $(<"$out/run.txt") == "$run_line" ]] ||
+            die "'$out' holds another run ($(<"$out/run.txt")), not this one ($run_line); choose another --out"
     elif [[ -e $out && -n $(ls -A -- "$out" 2>/dev/null) ]]; then
         die "'$out' exists and holds no run of this script; choose another --out"
     fi

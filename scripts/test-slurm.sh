@@ -124,6 +124,17 @@ if ! o=$("$SLURM_ATLAS" --shards 2 --dry-run --out "$W/run-refused" configs/mult
 else
     fail "G: atlas options without '--' not refused: $o"
 fi
+# Issue 42, R16: more shards than vibroatlas takes, and a folder of another run, in one line each.
+rc=0
+o=$("$SLURM_ATLAS" --shards 99999999999999999999 --dry-run --out "$W/run-refused" -- configs/multi-stop.toml "${GRID_G[@]}" 2>&1) || rc=$?
+rc2=0
+o2=$(cd "$W" && "$SLURM_ATLAS" --shards 3 --dry-run --out run-G -- "my scenes/two masses.toml" "${GRID_G[@]}" 2>&1) || rc2=$?
+if [[ $rc == 2 && $(wc -l <<<"$o") == 1 && $o == *"at most 100000 shards"* && ! -e $W/run-refused &&
+    $rc2 == 2 && $(wc -l <<<"$o2") == 1 && $o2 == *"holds another run"* ]]; then
+    pass "G: --shards beyond 100000 and a folder of another run refused in one line each: $o | $o2"
+else
+    fail "G: not refused in one line: ($rc) $o | ($rc2) $o2"
+fi
 
 # ---- root, packages ----------------------------------------------------------------
 [[ $(id -u) == 0 ]] || skip "needs root to install and start munged, slurmctld and slurmd (run it as root in a throwaway VM or container)"
