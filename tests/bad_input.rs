@@ -338,11 +338,11 @@ fn a_cell_of_another_scenes_file_says_so() {
 }
 
 /// Issue 42, R12: a scene "file" that never ends (`/dev/zero`) was read until
-/// the memory ran out; a scene or study file is read up to 1 MiB.
+/// the memory ran out; a scene or study file is read up to 16 MiB.
 #[test]
 fn an_endless_scene_file_is_refused() {
     if std::path::Path::new("/dev/zero").exists() {
-        expect_error(&["cell", "/dev/zero"], "cannot read scene file /dev/zero: longer than 1048576 bytes");
-        expect_error(&["study", "/dev/zero", "-o", "/tmp/never"], "longer than 1048576 bytes");
+        expect_error(&["cell", "/dev/zero"], "cannot read scene file /dev/zero: longer than 16777216 bytes");
+        expect_error(&["study", "/dev/zero", "-o", "/tmp/never"], "longer than 16777216 bytes");
     }
 }

@@ -316,8 +316,8 @@ pub struct AtlasArgs {
     /// Continue an interrupted run from its journal.
     #[arg(long)]
     pub resume: bool,
-    /// Write into an output that exists and is not a regular file (a device, a
-    /// pipe) instead of refusing it; it is never replaced.
+    /// Accepted and ignored, for scripts that pass it: an output that exists
+    /// and is not a regular file (a device, a pipe) is always refused.
     #[arg(long)]
     pub force: bool,
     /// Output HDF5 file.
@@ -359,8 +359,8 @@ pub struct SweepArgs {
     /// What the diagram's impact panels show: speed or phase.
     #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
     pub impact: ImpactArg,
-    /// Write into an output that exists and is not a regular file (a device, a
-    /// pipe) instead of refusing it; it is never replaced.
+    /// Accepted and ignored, for scripts that pass it: an output that exists
+    /// and is not a regular file (a device, a pipe) is always refused.
     #[arg(long)]
     pub force: bool,
     /// Print one JSON object.
@@ -384,8 +384,8 @@ pub struct MergeArgs {
     /// `not computed`); without it a missing shard is an error.
     #[arg(long)]
     pub allow_missing: bool,
-    /// Write into an output that exists and is not a regular file (a device, a
-    /// pipe) instead of refusing it; it is never replaced.
+    /// Accepted and ignored, for scripts that pass it: an output that exists
+    /// and is not a regular file (a device, a pipe) is always refused.
     #[arg(long)]
     pub force: bool,
 }

@@ -24,7 +24,6 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     r.threads = engine::threads(a.run.threads)?;
     r.output = Some(a.output.clone());
     r.resume = a.resume;
-    r.force = a.force;
     r.command = command_line();
     let run = engine::atlas(&r, &Shown::new("atlas", a.run.quiet))?;
     // The file written: a symbolic link's target (the link stays).

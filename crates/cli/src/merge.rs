@@ -11,7 +11,6 @@ pub fn run(a: MergeArgs) -> Result<()> {
         parts: a.parts.clone(),
         output: a.output.clone(),
         allow_missing: a.allow_missing,
-        force: a.force,
         command: command_line(),
     };
     engine::merge(&r, &Shown::new("merge", false))?;

@@ -12,7 +12,7 @@ use store::write_atomically;
 pub fn run(a: RenderArgs) -> Result<()> {
     crate::figure::format("-o", Some(&a.output))?;
     let page = crate::figure::page(&a.figure)?;
-    store::check_output(&a.output, &[&a.file], false)?;
+    store::check_output(&a.output, &[&a.file])?;
     let mut l = store::read(&a.file)?;
     let m = &l.atlas.meta;
     let mass = match &a.mass {

@@ -34,7 +34,7 @@ pub fn run(a: StudyArgs) -> Result<()> {
     let result = (|| -> Result<()> {
         for (v, plan) in &mut plans {
             let out = a.output.join(format!("{}.h5", study.stem(*v)));
-            store::check_output(&out, &[&scene, &a.study], false)?;
+            store::check_output(&out, &[&scene, &a.study])?;
             plan.output = Some(store::canonical_output(&out)?);
         }
         let mut panels = Vec::new();

@@ -24,7 +24,6 @@ pub fn run(a: SweepArgs) -> Result<()> {
         section_cap: a.points.unwrap_or(a.run.section_cap),
         threads: engine::threads(a.run.threads)?,
         output: a.output.clone(),
-        force: a.force,
         command: command_line(),
     };
     let swept = engine::sweep(&r, &Shown::new("sweep", a.run.quiet || a.json))?;

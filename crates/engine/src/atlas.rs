@@ -57,8 +57,6 @@ pub struct AtlasRequest {
     /// Continue from the journal beside the output (or do nothing when the
     /// output is already this run's finished file).
     pub resume: bool,
-    /// Allow a non-regular output file.
-    pub force: bool,
     /// What made the run (the file's `command` attribute).
     pub command: String,
 }
@@ -80,7 +78,6 @@ impl AtlasRequest {
             threads: crate::threads(None).unwrap_or(1),
             output: None,
             resume: false,
-            force: false,
             command: String::new(),
         }
     }
@@ -99,7 +96,6 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.resume = r.resume;
     plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
-    plan.force = r.force;
     plan.command = r.command.clone();
     if let Some((sampling, cells)) = r.attractors {
         if sampling.samples == 0 || sampling.samples > 100_000 {

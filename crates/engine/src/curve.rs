@@ -121,7 +121,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     }
     if let Some(out) = &r.output {
         let inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
-        store::check_output(out, &inputs, false)?;
+        store::check_output(out, &inputs)?;
         let stored = stored(&curve, [pa, pb], &ended);
         store::write_curves(out, std::slice::from_ref(&stored), &r.command, s.scene.source())?;
     }
@@ -252,7 +252,7 @@ pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) 
         bail!(RequestError::option(Opt::Max).text(format!("expected 1 to 100000 curves, got {}", r.max)));
     }
     if let Some(out) = &r.output {
-        store::check_output(out, &[&r.file], false)?;
+        store::check_output(out, &[&r.file])?;
     }
     let loaded = store::read(&r.file)?;
     // Before the search: an atlas that cannot be rewritten is refused now.

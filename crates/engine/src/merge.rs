@@ -19,8 +19,6 @@ pub struct MergeRequest {
     /// Write the atlas even when cells are in none of the parts (a shard
     /// missing): they are stored as not computed.
     pub allow_missing: bool,
-    /// Allow a non-regular output file.
-    pub force: bool,
     /// What made the merge (the file's `command` attribute).
     pub command: String,
 }
@@ -30,7 +28,7 @@ pub struct MergeRequest {
 /// `observer`. Returns the merged parts.
 pub fn merge(r: &MergeRequest, observer: &dyn Observer) -> Result<store::Merged> {
     let inputs: Vec<&std::path::Path> = r.parts.iter().map(|p| p.as_path()).collect();
-    store::check_output(&r.output, &inputs, r.force)?;
+    store::check_output(&r.output, &inputs)?;
     // A symbolic link's target is written (the link stays), locked by that name.
     let output = store::canonical_output(&r.output)?;
     let _lock = store::OutputLock::acquire(&output)?;

@@ -30,8 +30,6 @@ pub struct Plan {
     pub command: String,
     /// Files the run reads, never to be overwritten by its output (the scene).
     pub inputs: Vec<PathBuf>,
-    /// Allow a non-regular output file (`--force`).
-    pub force: bool,
     /// Estimated cost of each line (see `grid::schedule`), when probed.
     pub cost: Option<Vec<f64>>,
     /// Coexisting attractors to find once the lines are done: the sampling,
@@ -408,7 +406,6 @@ impl Plan {
             resume: false,
             command: String::new(),
             inputs: Vec::new(),
-            force: false,
             cost: None,
             attractors: None,
         })
@@ -422,7 +419,7 @@ impl Plan {
     pub fn check(&mut self) -> Result<()> {
         if let Some(out) = &self.output {
             let inputs: Vec<&std::path::Path> = self.inputs.iter().map(PathBuf::as_path).collect();
-            store::check_output(out, &inputs, self.force)?;
+            store::check_output(out, &inputs)?;
         }
         if let Some(s) = self.shard {
             let lines = self.meta.plane.lines();

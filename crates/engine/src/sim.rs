@@ -60,7 +60,7 @@ impl std::error::Error for SceneLoadError {}
 /// Largest scene or study file read, in bytes: a scene is a page of TOML,
 /// and a bound keeps a device (`/dev/zero`) or a wrong file from filling the
 /// memory.
-pub const MAX_SCENE_BYTES: u64 = 1 << 20;
+pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 
 /// The text of the file `path`, read up to [`MAX_SCENE_BYTES`]; a longer
 /// one is an error saying so.

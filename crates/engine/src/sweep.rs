@@ -75,8 +75,6 @@ pub struct SweepRequest {
     pub threads: usize,
     /// The file to write, if any.
     pub output: Option<PathBuf>,
-    /// Allow a non-regular output file.
-    pub force: bool,
     /// What made the run (the file's `command` attribute).
     pub command: String,
 }
@@ -122,7 +120,6 @@ pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
     let mut plan = Plan::new(&s, r.section_cap, plane, sweeps.clone(), r.threads)?;
     plan.output = r.output.clone();
     plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
-    plan.force = r.force;
     plan.command = r.command.clone();
     plan.check().map_err(|e| with_fields(e, &[("x", Opt::Axis), ("threads", Opt::Threads)]))?;
     let atlas = match (legs, &origin) {

@@ -312,7 +312,6 @@ fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         section_cap: o.get("section_cap")?.unwrap_or(16),
         threads: threads(&mut o)?,
         output: o.get::<String>("output")?.map(Into::into),
-        force: o.get("force")?.unwrap_or(false),
         command: "vibroatlas.sweep (Python)".into(),
     };
     o.finish()?;
@@ -347,7 +346,8 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     let output: String = o.need("output")?;
     r.output = Some(output.clone().into());
     r.resume = o.get("resume")?.unwrap_or(false);
-    r.force = o.get("force")?.unwrap_or(false);
+    // Accepted and ignored, as `--force` is: a special file is always refused.
+    let _: Option<bool> = o.get("force")?;
     r.command = "vibroatlas.atlas (Python)".into();
     o.finish()?;
     Ok(Job::start(move |shared| {

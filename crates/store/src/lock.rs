@@ -261,9 +261,10 @@ impl Drop for OutputLock {
 
 /// Checks, before any work, that `output` can be written as a new or replaced
 /// regular file: not a directory, not one of `inputs` (the scene, the parts of
-/// a merge), not a device or other special file unless `force`, and in a folder
-/// that exists.
-pub fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), StoreError> {
+/// a merge), not a device or other special file (an output is written beside
+/// its target and renamed over it, which such a file cannot take), and in a
+/// folder that exists.
+pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
     let bad = |m: &str| Err(StoreError::format(output, m.to_string()));
     if output.as_os_str().is_empty() {
         return Err(StoreError::format(Path::new("output"), "empty path"));
@@ -277,7 +278,7 @@ pub fn check_output(output: &Path, inputs: &[&Path], force: bool) -> Result<(), 
     }
     match std::fs::metadata(output) {
         Ok(m) if m.is_dir() => return bad("is a directory; give a file name"),
-        Ok(m) if !m.is_file() && !force => {
+        Ok(m) if !m.is_file() => {
             return bad("exists and is not a regular file (a device, a pipe, …); refusing to replace it")
         }
         _ => {}
@@ -483,9 +484,9 @@ mod tests {
         let dir = scratch("out");
         let scene = dir.join("s.toml");
         std::fs::write(&scene, "x").unwrap();
-        assert!(check_output(&dir, &[], false).unwrap_err().to_string().contains("is a directory"));
-        assert!(check_output(&scene, &[&scene], false).unwrap_err().to_string().contains("is also an input"));
-        assert!(check_output(Path::new("/dev/null"), &[], false).is_err());
+        assert!(check_output(&dir, &[]).unwrap_err().to_string().contains("is a directory"));
+        assert!(check_output(&scene, &[&scene]).unwrap_err().to_string().contains("is also an input"));
+        assert!(check_output(Path::new("/dev/null"), &[]).is_err());
         assert!(check_output(Path::new("/dev/null"), &[], true).is_ok());
         // A device is written into, never replaced by a file.
         let tmp = dir.join("t");

@@ -93,7 +93,8 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
     cell (16); attractors: K initial states sampled per cell (the
     /attractors group), attractors_where: "all" or "hysteresis", seed: their
     seed. output: also keep the file, written by the Rust writer at that path
-    (force: write into an existing non-regular file; resume: continue a run
+    (force: accepted and ignored, as `--force` is: an output that is a device
+    or a pipe is always refused; resume: continue a run
     killed from outside from its journal beside `output`, or do nothing when
     `output` is already this run's finished file); without it the file is
     written to a temporary folder and deleted once loaded. Either way the
