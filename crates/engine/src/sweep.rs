@@ -100,6 +100,8 @@ pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
     let axis = &r.axis;
     // From a stored cell, the swept parameter is the axis, not the cell's value.
     s.overrides.retain(|(k, _)| *k != axis.name || origin.is_none());
+    // Checked as given, before a down sweep reverses it (its message shows START:STOP as written).
+    axis.clone().checked("x").map_err(|e| grid_error(e, &[("x", Opt::Axis)]))?;
     let given = if axis.start <= axis.stop { SweepKind::Up } else { SweepKind::Down };
     let (sweeps, legs) = match r.direction {
         None => (vec![given], Legs::Separate),

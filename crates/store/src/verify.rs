@@ -135,6 +135,89 @@ pub(crate) fn file(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) 
     Ok(())
 }
 
+/// Attributes that say when and by which build a file was made, not what it
+/// holds: a file rebuilt from its own content differs in them (the root's
+/// text attributes are covered by their checksum, checked by every reader).
+const MADE: &[&str] = &["created", "history", "source", "git_commit", "attributes_crc32"];
+
+/// Attributes the HDF5 dimension-scale API keeps (object references, which
+/// differ between two files however equal).
+const SCALES: &[&str] = &["DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"];
+
+/// The value of attribute `a` as bytes comparable between two files: texts
+/// as their bytes, numbers as stored; `None` for a type vibroatlas does not
+/// write as a value (references).
+fn attribute_bytes(a: &hdf5::Attribute) -> hdf5::Result<Option<Vec<u8>>> {
+    use hdf5::types::{FloatSize, IntSize, TypeDescriptor as T, VarLenAscii};
+    fn raw<V: H5Type + Copy>(a: &hdf5::Attribute) -> hdf5::Result<Vec<u8>> {
+        Ok(bytes_of(&a.read_raw::<V>()?).to_vec())
+    }
+    Ok(Some(match a.dtype()?.to_descriptor()? {
+        T::VarLenUnicode => {
+            let v = a.read_raw::<VarLenUnicode>()?;
+            v.iter().flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied())).collect()
+        }
+        T::VarLenAscii => {
+            let v = a.read_raw::<VarLenAscii>()?;
+            v.iter().flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied())).collect()
+        }
+        T::Float(FloatSize::U8) => raw::<f64>(a)?,
+        T::Float(FloatSize::U4) => raw::<f32>(a)?,
+        T::Integer(IntSize::U1) | T::Unsigned(IntSize::U1) => raw::<u8>(a)?,
+        T::Integer(IntSize::U2) | T::Unsigned(IntSize::U2) => raw::<u16>(a)?,
+        T::Integer(IntSize::U4) | T::Unsigned(IntSize::U4) => raw::<u32>(a)?,
+        T::Integer(IntSize::U8) | T::Unsigned(IntSize::U8) => raw::<u64>(a)?,
+        _ => return Ok(None),
+    }))
+}
+
+/// Checks that every group, dataset and attribute of `expected` (a file
+/// written afresh from what `actual` read back as) is in `actual` with the
+/// same value: an attribute that a reader does not use (a unit, the CF
+/// `flag_meanings` of codes) changed, damaged or deleted, or a dataset or
+/// group deleted, is an error naming it. Attributes a user added to
+/// `actual` are allowed; so are those of [`MADE`] and [`SCALES`].
+pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path) -> Result<(), StoreError> {
+    let fail = |object: &str, message: String| StoreError::Dataset {
+        path: path.display().to_string(),
+        dataset: object.trim_start_matches('/').to_string(),
+        message,
+    };
+    let mut pending = vec!["/".to_string()];
+    while let Some(name) = pending.pop() {
+        let (want, have): (hdf5::Location, hdf5::Location) = match expected.group(&name) {
+            Ok(g) => {
+                for child in g.member_names().map_err(|e| fail(&name, crate::error::plain(&e)))? {
+                    pending.push(if name == "/" { format!("/{child}") } else { format!("{name}/{child}") });
+                }
+                let have = actual.group(&name).map_err(|_| fail(&name, "the group is missing".into()))?;
+                (hdf5::Location::clone(&g), hdf5::Location::clone(&have))
+            }
+            Err(_) => {
+                let ds = expected.dataset(&name).map_err(|e| fail(&name, crate::error::plain(&e)))?;
+                let have = actual.dataset(&name).map_err(|_| fail(&name, "the dataset is missing".into()))?;
+                (hdf5::Location::clone(&ds), hdf5::Location::clone(&have))
+            }
+        };
+        let root = name == "/";
+        for attr in want.attr_names().map_err(|e| fail(&name, crate::error::plain(&e)))? {
+            if SCALES.contains(&attr.as_str()) || (root && MADE.contains(&attr.as_str())) {
+                continue;
+            }
+            let w = want.attr(&attr).and_then(|a| attribute_bytes(&a)).map_err(|e| fail(&name, crate::error::plain(&e)))?;
+            let Some(w) = w else { continue };
+            let h = have
+                .attr(&attr)
+                .map_err(|_| fail(&name, format!("its attribute {attr} is missing")))
+                .and_then(|a| attribute_bytes(&a).map_err(|e| fail(&name, format!("its attribute {attr} does not read ({})", crate::error::plain(&e)))))?;
+            if h.as_ref() != Some(&w) {
+                return Err(fail(&name, format!("its attribute {attr} differs from what vibroatlas writes for this content: the file is damaged or was changed")));
+            }
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

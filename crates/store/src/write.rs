@@ -194,13 +194,17 @@ pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreEr
     let chunks = Chunks::new(&m.plane, Field::most_cell_bytes(m));
     let k = MEMORY_FILES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let name = std::env::temp_dir().join(format!("vibroatlas-check-{}-{k}.h5", std::process::id()));
-    let expected = || -> hdf5::Result<()> {
+    let expected = || -> hdf5::Result<hdf5::File> {
         let f = hdf5::File::with_options().with_fapl(|p| p.core_filebacked(false).libver_v110()).create(&name)?;
         let (f, datasets) = create_in(f, m, &chunks, &z)?;
         drop(datasets);
-        fill_file(&f, atlas, &loaded.info, &z)
+        fill_file(&f, atlas, &loaded.info, &z)?;
+        Ok(f)
     };
-    expected().map_err(|e| StoreError::hdf5(path, e))?;
+    let written = expected().map_err(|e| StoreError::hdf5(path, e))?;
+    let actual = crate::heap::open(path)?;
+    crate::verify::attributes(&written, &actual, path)?;
+    drop((written, actual));
     crate::verify::file(path, path, atlas, &z.expected).map_err(|e| match e {
         StoreError::Unverified { path, dataset, message } => StoreError::Dataset { path, dataset, message },
         e => e,

@@ -216,10 +216,20 @@ def open(path, **kwargs):  # noqa: A001 (va.open, as the issue names it)
     xarray.open_datatree (e.g. mask_and_scale=False keeps `class` as u8)."""
     import xarray as xr
 
+    path = os.fspath(path)
+    if os.path.isdir(path):
+        raise IsADirectoryError(f"{path}: is a folder, not a vibroatlas file")
+    if not os.path.exists(path):
+        raise FileNotFoundError(f"{path}: no such file")
     kwargs.setdefault("engine", "h5netcdf")
     if kwargs["engine"] == "h5netcdf":
         kwargs.setdefault("phony_dims", "sort")  # as netCDF-C names unnamed dims (none in layout 2)
-    return xr.open_datatree(os.fspath(path), **kwargs)
+    try:
+        return xr.open_datatree(path, **kwargs)
+    except OSError as e:
+        # h5py's message runs over several lines; its first says why
+        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise OSError(f"{path}: not a file that HDF5 reads ({first})") from e
 
 
 def labels(ds, mass=None):
@@ -245,6 +255,11 @@ def labels(ds, mass=None):
     if c.dtype.kind == "f":  # a masked fill decoded as NaN
         c = np.where(np.isnan(c), -1, c)
     c = c.astype(np.int64)
+    outside = (c < -1) | (c >= len(table))
+    if outside.any():
+        at = tuple(int(i) for i in np.argwhere(outside)[0])
+        raise ValueError(f"{name}: code {int(c[at])} at {dict(zip(code.dims, at))} is outside the label table "
+                         f"(0 to {len(table) - 1}, -1 for none): the file is damaged or was changed")
     out = np.where(c >= 0, table[np.clip(c, 0, len(table) - 1)], "")
     return xr.DataArray(out, dims=code.dims, coords=code.coords, name=f"label_text_{mass}",
                         attrs={"long_name": f"{mass} label n-p-q", "mass": mass})
@@ -263,10 +278,16 @@ def label_table(ds, code=None):
 
 
 def _dataset(ds):
-    """A Dataset from a Dataset or a DataTree node."""
+    """A Dataset from a Dataset or a DataTree node; anything else is a
+    TypeError saying what it takes."""
     import xarray as xr
 
-    return ds.to_dataset() if isinstance(ds, xr.DataTree) else ds
+    if isinstance(ds, xr.DataTree):
+        return ds.to_dataset()
+    if isinstance(ds, xr.Dataset):
+        return ds
+    raise TypeError(f"expected a sweep group of an atlas (an xarray Dataset, or a DataTree node such as "
+                    f"t['up']), got {type(ds).__name__}")
 
 
 def _first_mass(ds):

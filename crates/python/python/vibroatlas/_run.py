@@ -29,7 +29,12 @@ def scene_arg(scene):
     ("toml", text) for a str holding a TOML text (one with a newline), ("json",
     text) for a dict (a parsed scene table)."""
     if isinstance(scene, dict):
-        return ("json", json.dumps(_table(scene, ""), allow_nan=False))
+        try:
+            table = _table(scene, "")
+        except RecursionError:
+            raise _native.SceneError("scene: a table nested deeper than Python can follow, "
+                                     "or one that contains itself") from None
+        return ("json", json.dumps(table, allow_nan=False))
     if isinstance(scene, os.PathLike):
         return ("path", os.fspath(scene))
     if isinstance(scene, str):
@@ -162,19 +167,30 @@ def run(start, scene, params, options, progress=False, unit="cell", desc=None):
             if total and bar.total != total:
                 bar.total = total
             bar.update(done - bar.n)
-    except KeyboardInterrupt:
+    except BaseException:
+        # Ctrl-C, or a bar that cannot draw (stderr closed, None or full):
+        # nothing may go on writing after the call has raised.
         job.cancel()
-        if bar is not None:
-            bar.close()
-            bar = None
+        bar = _close(bar)
         # wait for the work to stop (it cleans up its partial output); past
         # CANCEL_WAIT, or at a second Ctrl-C, the job ends on its own thread
+        # and, cancelled, writes nothing
         try:
             job.wait(CANCEL_WAIT)
         except KeyboardInterrupt:
             pass
         raise
     finally:
-        if bar is not None:
-            bar.close()
+        _close(bar)
     return json.loads(job.result())
+
+
+def _close(bar):
+    """Closes a tqdm bar, if any, ignoring a stream that no longer takes its
+    last line; returns None."""
+    if bar is not None:
+        try:
+            bar.close()
+        except (OSError, ValueError, AttributeError):
+            pass
+    return None

@@ -1,0 +1,74 @@
+"""Issue 42: what a reader or a caller gets wrong is said, never a wrong value
+or a run that goes on after the call raised: label codes outside the table
+(R8), a progress bar that cannot draw (R13), and the messages of R14."""
+import os
+import sys
+import time
+
+import numpy as np
+import pytest
+import vibroatlas as va
+
+from conftest import MULTI
+
+SMALL = dict(x=("omega", 0.13, 0.53, 5), y=("delta", 0.4, 0.8, 3), progress=False)
+
+
+def test_a_label_code_outside_the_table_is_refused():
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"].to_dataset()
+    assert va.labels(up, "M1").values[0, 0]  # decodes as written
+    for bad in (9999, -5):
+        ds = up.copy(deep=True)
+        code = np.asarray(ds["label_code_M1"].values).copy()
+        code[1, 2] = bad
+        ds["label_code_M1"].values = code
+        with pytest.raises(ValueError) as e:
+            va.labels(ds, "M1")
+        assert f"code {bad} at" in str(e.value) and "outside the label table" in str(e.value), e.value
+
+
+def test_a_bar_that_cannot_draw_cancels_the_run(tmp_path, monkeypatch):
+    out = tmp_path / "a.h5"
+    monkeypatch.setattr(sys, "stderr", None)
+    with pytest.raises(Exception):
+        va.atlas(MULTI, x=("omega", 0.1, 3.05, 30), y=("delta", 0.05, 2, 20), sweep="both", threads=1,
+                 output=str(out), progress=True)
+    monkeypatch.undo()
+    # The cancelled run stops at its next cell and writes nothing, then or later.
+    time.sleep(3)
+    assert not out.exists()
+    assert not [p for p in os.listdir(tmp_path) if p != "a.h5" and not p.startswith(".")], os.listdir(tmp_path)
+
+
+def test_a_scene_dict_that_contains_itself_is_a_scene_error():
+    d = {"name": "loop"}
+    d["self"] = d
+    with pytest.raises(va.SceneError) as e:
+        va.cell(d)
+    assert "contains itself" in str(e.value)
+    deep = {}
+    node = deep
+    for _ in range(5000):
+        node["x"] = {}
+        node = node["x"]
+    with pytest.raises(va.SceneError):
+        va.cell(deep)
+
+
+def test_what_is_not_a_group_or_a_file_is_named():
+    with pytest.raises(TypeError) as e:
+        va.labels(None)
+    assert "got NoneType" in str(e.value)
+    with pytest.raises(TypeError):
+        va.plot.map(None)
+    with pytest.raises(IsADirectoryError) as e:
+        va.open(os.path.dirname(__file__))
+    assert "\n" not in str(e.value)
+    with pytest.raises(FileNotFoundError):
+        va.open("/nonexistent/a.h5")
+
+
+def test_a_sweep_axis_that_is_not_finite_shows_it_as_given():
+    with pytest.raises(ValueError) as e:
+        va.sweep(MULTI, axis=("omega", float("nan"), 0.4, 5))
+    assert "got NaN:0.4" in str(e.value), e.value
