@@ -78,7 +78,7 @@ pub(crate) fn python(script: &str, args: &[&str]) -> String {
 /// has its object's checksum of text attributes written again, as
 /// docs/file-format.md says to compute it (a file whose texts are whole but
 /// wrong); `rawattr|…` leaves the checksum as it was (a file changed since
-/// it was written).
+/// it was written); `del|OBJ|` deletes a dataset or group.
 pub(crate) const REWRITE: &str = r#"
 import os, sys, shutil, struct, zlib, h5py, numpy as np
 
@@ -106,6 +106,9 @@ shutil.copy(src, dst)
 with h5py.File(dst, "r+") as f:
     for spec in sys.argv[3:]:
         kind, name, expr = spec.split("|", 2)
+        if kind == "del":
+            del f[name]
+            continue
         if kind in ("attr", "rawattr"):
             obj, key = name.rsplit("@", 1)
             o = f[obj] if obj else f
@@ -672,4 +675,79 @@ for k, spec in enumerate(sys.argv[3:]):
             assert!(!store::lock_path(&merged).exists(), "{}: merge left its lock", specs[k]);
         }
     }
+}
+
+/// Issue 42, R4: numbers a reader builds on, changed with h5py (whose
+/// Fletcher-32 stays valid): an axis's end (the grid moved: `cell --from`
+/// picked another cell), the section cap, the stops' normals, the number of
+/// attractor samples. Each is checked against what fixes it (the axis's
+/// stored values, the sections kept, the stored scene, the basin
+/// fractions) and refused by every command.
+#[test]
+fn numbers_a_reader_builds_on_are_checked() {
+    let o = originals();
+    let d = scratch("numbers");
+    for (name, spec, what) in [
+        ("start", "rawattr|axes/omega@start|0.2", "axes/omega: its values are not those of its attributes start, stop"),
+        ("cap", "rawattr|@section_cap|np.int64(0)", "attribute section_cap: 0, but sweep up keeps"),
+        ("normals", "rawattr|@stop_normals|f.attrs['stop_normals'] * 2", "attribute stop_normals: not the normals"),
+    ] {
+        let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
+        every_command_refuses(&f, what);
+    }
+    // Basin fractions are counts of the samples (here 1/8, 3/8, …; a cell
+    // whose samples all reach one attractor, fraction 1, fits any number).
+    let damper = d.join("damper.h5");
+    let x = ["--x", "omega=1.3:2.3:6", "--y", "delta=0.5:3:3", "--sweep", "up", "--attractors", "8"];
+    let mut args = vec!["atlas", "configs/impact-damper.toml"];
+    args.extend(x);
+    args.extend(["--quiet", "-o", damper.to_str().unwrap()]);
+    ok(&args);
+    let f = mutated(&damper, &d.join("samples.h5"), &["rawattr|attractors@samples|np.uint64(9)"]);
+    refused(&["inspect", f.to_str().unwrap()], "are not counts of its 9 samples");
+}
+
+/// Issue 42, R5 and R7: what no reader of vibroatlas uses to draw its cells
+/// (a unit, the CF `flag_meanings` that xarray decodes codes with, a legend
+/// dataset, the multipliers) changed or deleted: `inspect --verify`, `merge`
+/// and `atlas --resume` (which would keep the file as complete) compare the
+/// whole file with what vibroatlas writes for its content and refuse it,
+/// naming the object. An attribute a user adds is allowed.
+#[test]
+fn the_whole_file_check_sees_what_readers_skip() {
+    let o = originals();
+    let d = scratch("whole");
+    let clean = o.atlas.to_str().unwrap();
+    let resume = |f: &str| {
+        let x = ["--x", "omega=0.13:0.53:4", "--y", "delta=0.4:0.8:3", "--sweep", "both", "--attractors", "4"];
+        let mut args = vec!["atlas", "configs/multi-stop.toml"];
+        args.extend(x);
+        args.extend(["--quiet", "--resume", "-o", f]);
+        run(&args)
+    };
+    for (name, spec, what) in [
+        ("units", "rawattr|up/omega@units|'m'", "up/omega: its attribute units differs"),
+        (
+            "flags",
+            "rawattr|up/label_code_M1@flag_meanings|f['up/label_code_M1'].attrs['flag_meanings'].replace('-', '+', 1)",
+            "up/label_code_M1: its attribute flag_meanings differs",
+        ),
+        ("legend", "del|legend/up/M2/entry|", "legend/up/M2/entry: the dataset is missing"),
+        ("multiplier", "del|up/multiplier|", "up/multiplier: the dataset is missing"),
+    ] {
+        let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
+        let f = f.to_str().unwrap();
+        refused(&["inspect", f, "--verify"], what);
+        let merged = d.join("merged.h5");
+        refused(&["merge", f, "-o", merged.to_str().unwrap()], what);
+        assert!(!merged.exists());
+        let out = resume(f);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.code() == Some(2) && err.contains(what), "--resume on {name}: {err}");
+    }
+    let noted = mutated(&o.atlas, &d.join("noted.h5"), &["rawattr|up/class@my_note|'checked by hand'"]);
+    let noted = noted.to_str().unwrap();
+    ok(&["inspect", noted, "--verify"]);
+    assert!(resume(noted).status.success());
+    ok(&["inspect", clean, "--verify"]);
 }

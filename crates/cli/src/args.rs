@@ -398,6 +398,12 @@ pub struct InspectArgs {
     /// counts, hysteresis zones, run time).
     #[arg(long)]
     pub json: bool,
+    /// Check the whole file first: every group, dataset and attribute that
+    /// vibroatlas writes for the file's content is read back and compared
+    /// (what `atlas --resume` and `merge` check); a difference is an error
+    /// naming it.
+    #[arg(long)]
+    pub verify: bool,
 }
 
 /// The printed size of figures: without `--size`, each figure's screen size.

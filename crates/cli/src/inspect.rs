@@ -8,11 +8,21 @@ use anyhow::Result;
 /// Runs the command.
 pub fn run(a: InspectArgs) -> Result<()> {
     let l = store::read(&a.file)?;
+    if a.verify {
+        store::check_finished(&a.file, &l)?;
+    }
     if a.json {
-        outln!("{}", serde_json::to_string(&engine::inspect_json(&a.file, &l))?);
+        let mut j = engine::inspect_json(&a.file, &l);
+        if a.verify {
+            j["verified"] = serde_json::Value::Bool(true);
+        }
+        outln!("{}", serde_json::to_string(&j)?);
         return Ok(());
     }
     outln!("file      {}", a.file.display());
+    if a.verify {
+        outln!("verified  every group, dataset and attribute reads as vibroatlas writes this content");
+    }
     outln!("created   {} by: {}", l.created, l.info.command);
     if let Some(s) = l.info.shard {
         outln!("shard     {s} (merge the parts with `vibroatlas merge`)");

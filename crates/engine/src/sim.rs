@@ -69,7 +69,9 @@ pub(crate) fn read_text(path: &std::path::Path) -> std::io::Result<String> {
     let mut text = String::new();
     std::fs::File::open(path)?.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text)?;
     if text.len() as u64 > MAX_SCENE_BYTES {
-        return Err(std::io::Error::other(format!("longer than {MAX_SCENE_BYTES} bytes, the most a scene or study file may be")));
+        return Err(std::io::Error::other(format!(
+            "longer than {MAX_SCENE_BYTES} bytes, the most a scene or study file may be"
+        )));
     }
     Ok(text)
 }

@@ -487,14 +487,13 @@ mod tests {
         assert!(check_output(&dir, &[]).unwrap_err().to_string().contains("is a directory"));
         assert!(check_output(&scene, &[&scene]).unwrap_err().to_string().contains("is also an input"));
         assert!(check_output(Path::new("/dev/null"), &[]).is_err());
-        assert!(check_output(Path::new("/dev/null"), &[], true).is_ok());
         // A device is written into, never replaced by a file.
         let tmp = dir.join("t");
         std::fs::write(&tmp, "bytes").unwrap();
         commit(&tmp, Path::new("/dev/null")).unwrap();
         assert!(!std::fs::metadata("/dev/null").unwrap().is_file() && !tmp.exists());
-        assert!(check_output(&dir.join("nope/a.h5"), &[], false).is_err());
-        assert!(check_output(&dir.join("a.h5"), &[&scene], false).is_ok());
+        assert!(check_output(&dir.join("nope/a.h5"), &[]).is_err());
+        assert!(check_output(&dir.join("a.h5"), &[&scene]).is_ok());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

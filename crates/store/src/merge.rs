@@ -79,6 +79,8 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
         return Err(StoreError::format(Path::new("merge"), "no input files"));
     };
     let base = read(first)?;
+    // Every part whole: a dataset or group missing, or an attribute changed, is refused.
+    crate::write::check_finished(first, &base)?;
     let mut atlas = base.atlas;
     let mut run_time = base.info.run_time_s;
     let mut history = base.info.history;
@@ -93,6 +95,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             return Err(StoreError::format(p, what));
         }
         let part = read(p)?;
+        crate::write::check_finished(p, &part)?;
         if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
             let (path, first) = (p.display().to_string(), first.display().to_string());
             let differences = differences(&atlas.meta, &part.atlas.meta);

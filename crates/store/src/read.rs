@@ -261,6 +261,18 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     for (&sweep, s) in meta.sweeps.iter().zip(&sets) {
         maps.push(Map { sweep, cells: read_cells(&ck, s, &meta)? });
     }
+    // A cell never keeps more section points than the run's cap.
+    for map in &maps {
+        let kept = |c: &grid::CellData| c.impact_sections.iter().map(Vec::len).fold(c.period_section.len(), usize::max);
+        if let Some(most) = map.cells.iter().flatten().map(kept).max().filter(|&k| k > meta.section_cap) {
+            return Err(fmt(format!(
+                "attribute {}: {}, but sweep {} keeps {most} section points in a cell: the file is damaged or was changed",
+                attr::SECTION_CAP,
+                meta.section_cap,
+                map.sweep.name()
+            )));
+        }
+    }
     let shard = match attr_opt(path, &f, attr::SHARD)? {
         Some(s) => Some(Shard::parse(&s).map_err(|e| fmt(e.to_string()))?),
         None => None,
@@ -298,7 +310,20 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
         }
         Ok(v)
     };
-    Ok(Axis { name: name.to_string(), start: end(attr::START)?, stop: end(attr::STOP)?, count })
+    let axis = Axis { name: name.to_string(), start: end(attr::START)?, stop: end(attr::STOP)?, count };
+    // The values stored are the axis's, bit for bit: an edited end is not a new grid.
+    let stored = ck.raw::<f64>(&d)?;
+    if stored.iter().zip(axis.values()).any(|(a, b)| a.to_bits() != b.to_bits()) {
+        return Err(ck.bad(
+            &at,
+            format!(
+                "its values are not those of its attributes {}, {} and its {count} points: the file is damaged or was changed",
+                attr::START,
+                attr::STOP
+            ),
+        ));
+    }
+    Ok(axis)
 }
 
 /// The names of the scene's masses, one per two state components (layout 1
@@ -604,6 +629,27 @@ fn read_attractors(
     }
     let samples = required::<u64>(ck.path, g, attr::SAMPLES)? as usize;
     let seed = required::<u64>(ck.path, g, attr::SEED)?;
+    // Each fraction is a count of the samples over their number, and the
+    // counts of a cell add up to at most that number.
+    let whole = |f: f64| {
+        let k = (f * samples as f64).round();
+        (k >= 1.0 && k as f64 / samples as f64 == f).then_some(k as usize)
+    };
+    for (i, found) in cells.iter().enumerate() {
+        let Some(found) = found else { continue };
+        let counts: Option<Vec<usize>> = found.iter().map(|(_, f)| whole(*f)).collect();
+        if counts.is_none_or(|c| c.iter().sum::<usize>() > samples) {
+            return Err(ck.bad(
+                &fraction_set.name(),
+                format!(
+                    "the fractions of cell ({}, {}) are not counts of its {samples} samples (attribute {}): the file is damaged or was changed",
+                    i / columns.0,
+                    i % columns.0,
+                    attr::SAMPLES
+                ),
+            ));
+        }
+    }
     Ok(grid::AttractorMap { samples, seed, cells })
 }
 
@@ -619,7 +665,17 @@ fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) ->
                 flat.len()
             )));
         }
-        return Ok(flat.chunks(masses).map(<[f64]>::to_vec).collect());
+        let normals: Vec<Vec<f64>> = flat.chunks(masses).map(<[f64]>::to_vec).collect();
+        // The stored scene (checksummed with the root's texts) fixes them.
+        if let Ok(scene) = scene::Scene::parse(scene_toml) {
+            if scene.stop_normals() != normals {
+                return Err(fmt(format!(
+                    "attribute {}: not the normals of the stored scene's stops: the file is damaged or was changed",
+                    attr::STOP_NORMALS
+                )));
+            }
+        }
+        return Ok(normals);
     }
     let scene = scene::Scene::parse(scene_toml).map_err(|e| fmt(format!("the stored scene: {e}")))?;
     Ok(scene.stop_normals())

@@ -155,11 +155,15 @@ fn attribute_bytes(a: &hdf5::Attribute) -> hdf5::Result<Option<Vec<u8>>> {
     Ok(Some(match a.dtype()?.to_descriptor()? {
         T::VarLenUnicode => {
             let v = a.read_raw::<VarLenUnicode>()?;
-            v.iter().flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied())).collect()
+            v.iter()
+                .flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied()))
+                .collect()
         }
         T::VarLenAscii => {
             let v = a.read_raw::<VarLenAscii>()?;
-            v.iter().flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied())).collect()
+            v.iter()
+                .flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied()))
+                .collect()
         }
         T::Float(FloatSize::U8) => raw::<f64>(a)?,
         T::Float(FloatSize::U4) => raw::<f32>(a)?,
@@ -204,12 +208,16 @@ pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path
             if SCALES.contains(&attr.as_str()) || (root && MADE.contains(&attr.as_str())) {
                 continue;
             }
-            let w = want.attr(&attr).and_then(|a| attribute_bytes(&a)).map_err(|e| fail(&name, crate::error::plain(&e)))?;
+            let w =
+                want.attr(&attr).and_then(|a| attribute_bytes(&a)).map_err(|e| fail(&name, crate::error::plain(&e)))?;
             let Some(w) = w else { continue };
-            let h = have
-                .attr(&attr)
-                .map_err(|_| fail(&name, format!("its attribute {attr} is missing")))
-                .and_then(|a| attribute_bytes(&a).map_err(|e| fail(&name, format!("its attribute {attr} does not read ({})", crate::error::plain(&e)))))?;
+            let h = have.attr(&attr).map_err(|_| fail(&name, format!("its attribute {attr} is missing"))).and_then(
+                |a| {
+                    attribute_bytes(&a).map_err(|e| {
+                        fail(&name, format!("its attribute {attr} does not read ({})", crate::error::plain(&e)))
+                    })
+                },
+            )?;
             if h.as_ref() != Some(&w) {
                 return Err(fail(&name, format!("its attribute {attr} differs from what vibroatlas writes for this content: the file is damaged or was changed")));
             }

@@ -624,7 +624,7 @@ mod tests {
             stops: vec!["A".into()],
             stop_normals: vec![vec![1.0]],
             dim: 2,
-            section_cap: 0,
+            section_cap: 4,
             notation: Vec::new(),
         }
     }
@@ -731,7 +731,7 @@ mod tests {
         let atlas = Atlas::new(meta());
         let mut draft = Draft::create(&out, &meta(), 2).unwrap();
         draft.keep(&atlas, SweepKind::Down, 0).unwrap();
-        let other = grid::Meta { section_cap: 4, ..meta() };
+        let other = grid::Meta { section_cap: 8, ..meta() };
         let err = Draft::create(&dir.join("b.h5"), &other, 1).unwrap().finish(&atlas, &info).unwrap_err().to_string();
         assert!(err.contains("not of the set-up"), "{err}");
         assert!(!dir.join("b.h5").exists() && !partial_path(&dir.join("b.h5")).exists());
