@@ -633,7 +633,7 @@ fn read_attractors(
     // counts of a cell add up to at most that number.
     let whole = |f: f64| {
         let k = (f * samples as f64).round();
-        (k >= 1.0 && k as f64 / samples as f64 == f).then_some(k as usize)
+        (k >= 1.0 && k / samples as f64 == f).then_some(k as usize)
     };
     for (i, found) in cells.iter().enumerate() {
         let Some(found) = found else { continue };
