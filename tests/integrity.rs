@@ -72,13 +72,20 @@ pub(crate) fn python(script: &str, args: &[&str]) -> String {
     String::from_utf8_lossy(&out.stdout).to_string()
 }
 
-/// Copies `from` to `to` and rewrites one dataset of the copy with h5py:
-/// `EXPR` is Python computing the new values from `a` (the old ones, a
-/// numpy array), e.g. `a[:-1]`. An attribute rewritten (`attr|OBJ@NAME|EXPR`)
-/// has its object's checksum of text attributes written again, as
-/// docs/file-format.md says to compute it (a file whose texts are whole but
-/// wrong); `rawattr|…` leaves the checksum as it was (a file changed since
-/// it was written); `del|OBJ|` deletes a dataset or group.
+/// Copies `from` to `to` and changes the copy with h5py, spec by spec
+/// (`KIND|NAME|EXPR`; `EXPR` is Python computing the new values from `a`,
+/// the old ones as a numpy array, e.g. `a[:-1]`):
+/// - `data|NAME|EXPR` rewrites a dataset whole, with a `values_crc32` forged
+///   for its new values (so that the reader's checks of shapes, offsets and
+///   codes are what refuse it); `bare|NAME|EXPR` without one;
+/// - `inplace|NAME|EXPR` writes new values into the dataset as h5py does
+///   (its chunks' Fletcher-32 written anew, its attributes kept);
+/// - `attr|OBJ@NAME|EXPR` rewrites an attribute and writes its object's
+///   checksum of text attributes again, as docs/file-format.md says to
+///   compute it (a file whose texts are whole but wrong); `rawattr|…` leaves
+///   the checksum as it was (a file changed since it was written);
+/// - `del|OBJ|` deletes a dataset or group; `swap|A,B|` swaps two objects'
+///   paths.
 pub(crate) const REWRITE: &str = r#"
 import os, sys, shutil, struct, zlib, h5py, numpy as np
 
@@ -109,6 +116,16 @@ with h5py.File(dst, "r+") as f:
         if kind == "del":
             del f[name]
             continue
+        if kind == "inplace":
+            a = f[name][()]
+            f[name][...] = np.asarray(eval(expr)).astype(a.dtype)
+            continue
+        if kind == "swap":
+            one, other = name.split(",")
+            f.move(one, "swapping")
+            f.move(other, one)
+            f.move("swapping", other)
+            continue
         if kind in ("attr", "rawattr"):
             obj, key = name.rsplit("@", 1)
             o = f[obj] if obj else f
@@ -119,7 +136,13 @@ with h5py.File(dst, "r+") as f:
         a = f[name][()]
         b = np.asarray(eval(expr)).astype(a.dtype)
         del f[name]
-        f.create_dataset(name, data=b, chunks=True if b.size else None, fletcher32=bool(b.size))
+        d = f.create_dataset(name, data=b, chunks=True if b.size else None, fletcher32=bool(b.size))
+        # Forged whole: its values_crc32 written for the new values, so that
+        # the reader's checks of shapes, offsets and codes are what refuse it.
+        if kind == "data" and b.dtype.kind in "iuf":
+            path = d.name.encode()
+            head = zlib.crc32(struct.pack("<Q", len(path)) + path)
+            d.attrs["values_crc32"] = np.uint32(zlib.crc32(np.ascontiguousarray(b).tobytes(), head))
 "#;
 
 /// A copy of `from` at `to` with `specs` applied (see [`REWRITE`]:
@@ -451,7 +474,8 @@ print("ok")
 /// A section's values are stored without compression: a chunk of them
 /// zeroed together with its Fletcher-32 checksum (0 for zeros) passes the
 /// library's check, as a block a file system lost would; the dataset's own
-/// CRC-32 (`data_crc32`) refuses it, naming the dataset. h5py reads the
+/// CRC-32 (`values_crc32`; `data_crc32` in layout-2 files) refuses it,
+/// naming the dataset. h5py reads the
 /// zeros without complaint: the check is the reader's.
 #[test]
 fn a_section_chunk_zeroed_with_its_checksum_is_refused() {
@@ -473,7 +497,7 @@ print("ok")
     let bad = d.join("zeroed.h5");
     assert_eq!(python(ZERO, &[a.to_str().unwrap(), bad.to_str().unwrap()]).trim(), "ok");
     let text = store::read(&bad).unwrap_err().to_string();
-    assert!(text.contains("up/sections/period/values") && text.contains("data_crc32"), "{text}");
+    assert!(text.contains("up/sections/period/values") && text.contains("values_crc32"), "{text}");
 }
 
 /// One mutation of a file's bytes.
@@ -750,4 +774,31 @@ fn the_whole_file_check_sees_what_readers_skip() {
     ok(&["inspect", noted, "--verify"]);
     assert!(resume(noted).status.success());
     ok(&["inspect", clean, "--verify"]);
+}
+
+/// Issue 42, R6: values changed with h5py in place (their chunks'
+/// Fletcher-32 written anew), a dataset rewritten whole, and datasets or
+/// groups swapped (`up` and `down`, `multiplier` and `lyapunov`, two stops'
+/// sections) were read by every reader; each dataset's `values_crc32` binds
+/// its values to its path, and every command refuses them.
+#[test]
+fn values_changed_or_moved_with_h5py_are_refused() {
+    let o = originals();
+    let d = scratch("values");
+    for (name, spec, what) in [
+        (
+            "class",
+            "inplace|up/class|np.where(np.arange(a.size).reshape(a.shape) == 5, (a + 1) % 4, a)",
+            "up/class: its values (at this path) do not match",
+        ),
+        ("state", "inplace|up/final_state|a + 1", "up/final_state: its values (at this path)"),
+        ("sweeps", "swap|up,down|", "its values (at this path) do not match"),
+        ("stability", "swap|up/multiplier,up/lyapunov|", "its values (at this path) do not match"),
+        ("sections", "swap|up/sections/A1,up/sections/A2|", "up/sections/A1/offsets: its values (at this path)"),
+        ("fractions", "inplace|attractors/fraction|a * 0.5", "attractors/fraction: its values (at this path)"),
+        ("rewritten", "bare|up/periods|a + 1", "up/periods: its values have no checksum"),
+    ] {
+        let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
+        every_command_refuses(&f, what);
+    }
 }

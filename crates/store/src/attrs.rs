@@ -139,16 +139,37 @@ pub(crate) fn verify(path: &Path, loc: &Location) -> Result<(), StoreError> {
 /// ([`attr::TEXT_CRC32`]; datasets written before it have none) and as UTF-8.
 pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec<String>, StoreError> {
     crate::heap::check(ds).map_err(|e| ck.bad(&ds.name(), e))?;
-    let raw = ck.raw::<VarLenUnicode>(ds)?;
+    let raw = ds.read_raw::<VarLenUnicode>().map_err(|e| ck.bad(&ds.name(), crate::error::plain(&e)))?;
     if let Some(want) = optional::<u32>(ck.path, ds, attr::TEXT_CRC32)? {
         if netcdf::texts_crc32(raw.iter().map(|t| t.as_bytes())) != want {
             return Err(ck.bad(&ds.name(), format!("its texts {}", mismatch(attr::TEXT_CRC32))));
         }
     }
+    values_at(ck, ds, &crate::verify::text_bytes(raw.iter().map(|t| t.as_str())))?;
     raw.iter()
         .map(|v| String::from_utf8(v.as_bytes().to_vec()))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|_| ck.bad(&ds.name(), "a text that is not UTF-8"))
+}
+
+/// Checks the values of `ds` (`bytes`, as read; texts as
+/// [`crate::verify::text_bytes`]) against the checksum that binds them to
+/// its path ([`attr::VALUES_CRC32`]; datasets written before it have none).
+pub(crate) fn values_at(ck: &crate::read::Checker, ds: &hdf5::Dataset, bytes: &[u8]) -> Result<(), StoreError> {
+    match optional::<u32>(ck.path, ds, attr::VALUES_CRC32)? {
+        Some(want) if crate::verify::values_crc32(&ds.name(), bytes) != want => Err(ck.bad(
+            &ds.name(),
+            format!("its values (at this path) {}", mismatch(attr::VALUES_CRC32)),
+        )),
+        None if ck.sealed => Err(ck.bad(
+            &ds.name(),
+            format!(
+                "its values have no checksum (attribute {}), which vibroatlas gives every dataset: it was replaced since vibroatlas wrote the file",
+                attr::VALUES_CRC32
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// Checks the values of `ds` (`bytes`, as read) against their checksum

@@ -303,7 +303,9 @@ impl Field {
 
     /// Whether `ds`, read through the library's filters, holds the dataset
     /// of `cells`, bit for bit.
-    pub(crate) fn compare(self, m: &Meta, ds: &Dataset, cells: &[Option<CellData>]) -> hdf5::Result<bool> {
+    /// The dataset `ds` of the file compared with the values of `cells`:
+    /// the [`crate::verify::values_crc32`] of what it read where equal.
+    pub(crate) fn compare(self, m: &Meta, ds: &Dataset, cells: &[Option<CellData>]) -> hdf5::Result<Option<u32>> {
         self.encode(m, Compare { ds, cells })
     }
 }
@@ -336,14 +338,19 @@ struct Compare<'a> {
 }
 
 impl Encode for Compare<'_> {
-    type Out = hdf5::Result<bool>;
-    fn values<T: H5Type + Copy>(self, per: usize, f: impl Fn(Option<&CellData>, usize) -> T) -> hdf5::Result<bool> {
+    type Out = hdf5::Result<Option<u32>>;
+    fn values<T: H5Type + Copy>(
+        self,
+        per: usize,
+        f: impl Fn(Option<&CellData>, usize) -> T,
+    ) -> hdf5::Result<Option<u32>> {
         let read = self.ds.read_raw::<T>()?;
         let mut want = Vec::with_capacity(self.cells.len() * per);
         for cell in self.cells {
             want.extend((0..per).map(|k| f(cell.as_ref(), k)));
         }
-        Ok(bytes_of(&read) == bytes_of(&want))
+        let same = bytes_of(&read) == bytes_of(&want);
+        Ok(same.then(|| crate::verify::values_crc32(&self.ds.name(), bytes_of(&read))))
     }
 }
 

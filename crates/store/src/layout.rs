@@ -27,12 +27,14 @@
 //! /hysteresis             u8  [ny, nx]     1 where up and down are periodic with different labels
 //! /legend/<sweep>/<mass>/label   strings, most frequent first
 //! /legend/<sweep>/<mass>/count   u64
-//! (every string dataset: attribute text_crc32, the CRC-32 of its texts; every section values: data_crc32)
+//! (every string dataset: attribute text_crc32, the CRC-32 of its texts; every section values: data_crc32;
+//! every dataset with values, from layout 3 on: values_crc32, the CRC-32 of its path and values)
 //! ```
 
 /// Version of this layout (root attribute `layout_version`; files without it
-/// are version 1, read as well; newer versions are refused).
-pub const LAYOUT_VERSION: u64 = 2;
+/// are version 1, read as well; newer versions are refused). Layout 3 (issue
+/// 42) is layout 2 with `values_crc32` on every dataset with values.
+pub const LAYOUT_VERSION: u64 = 3;
 /// Dimension of the (n, p, q) counts of a label.
 pub const NPQ: &str = "npq";
 /// Dimension and coordinate of the state components (`x_M1`, …, `v_M1`, …).
@@ -305,6 +307,15 @@ pub mod attr {
     /// zeroed with its checksum (a block a file system lost) passes the
     /// library's check; it does not pass this one.
     pub const DATA_CRC32: &str = "data_crc32";
+    /// `values_crc32` of every dataset vibroatlas writes with values (issue
+    /// 42): the CRC-32 (zlib's) of the dataset's path in the file (`/up/class`;
+    /// its byte length, u64 little-endian, then its bytes) followed by its
+    /// values as stored (numbers: their bytes in order, little-endian; texts:
+    /// each its byte length, u64 little-endian, then its bytes). A value
+    /// changed with its chunk's Fletcher-32 rewritten (h5py writes it), or a
+    /// dataset moved to another's path (`up` and `down` swapped), does not
+    /// pass it. Written once the file has been read back.
+    pub const VALUES_CRC32: &str = "values_crc32";
     /// `attributes_crc32` of an object (the root group, a coordinate, a
     /// curve's group): the CRC-32 of its scalar text attributes named in
     /// [`CHECKED_TEXTS`], in the byte

@@ -52,6 +52,9 @@ pub const MAX_DIM: usize = 4096;
 /// against the grid and each other, their sizes against the file's own.
 pub(crate) struct Checker<'a> {
     pub(crate) path: &'a Path,
+    /// Every dataset with values carries its `values_crc32` (layout 3 on):
+    /// one without it was replaced.
+    pub(crate) sealed: bool,
 }
 
 /// One axis of a dataset's expected shape: its length, what it counts, and
@@ -104,8 +107,19 @@ impl Checker<'_> {
     }
 
     /// Reads `ds` whole (its size checked by [`Checker::open`]).
-    pub(crate) fn raw<T: hdf5::H5Type>(&self, ds: &hdf5::Dataset) -> Result<Vec<T>, StoreError> {
-        ds.read_raw::<T>().map_err(|e| self.bad(&ds.name(), crate::error::plain(&e)))
+    /// The values of `ds`, checked against their `values_crc32` where it
+    /// has one (files written before it have none).
+    pub(crate) fn raw<T: hdf5::H5Type + Copy>(&self, ds: &hdf5::Dataset) -> Result<Vec<T>, StoreError> {
+        let h = |e: hdf5::Error| self.bad(&ds.name(), crate::error::plain(&e));
+        let v = ds.read_raw::<T>().map_err(h)?;
+        // The checksum is of the values as stored: a dataset read as another
+        // type (narrow flags read as u32) is checked in its own.
+        if ds.dtype().and_then(|d| d.to_descriptor()).map_err(h)? == T::type_descriptor() {
+            crate::attrs::values_at(self, ds, crate::verify::bytes_of(&v))?;
+        } else if let Some(stored) = crate::verify::stored_bytes(ds).map_err(h)? {
+            crate::attrs::values_at(self, ds, &stored)?;
+        }
+        Ok(v)
     }
 }
 
@@ -213,9 +227,10 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     if !path.is_file() {
         return Err(fmt("not a file (an atlas is one HDF5 file)".into()));
     }
-    let ck = Checker { path };
     let f = crate::heap::open(path)?;
     crate::attrs::verify(path, &f)?;
+    let version = crate::attrs::optional::<u64>(path, &f, attr::LAYOUT_VERSION)?.unwrap_or(1);
+    let ck = Checker { path, sealed: version >= 3 };
     if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) {
         return Err(fmt("not a vibroatlas file".into()));
     }

@@ -33,11 +33,40 @@ struct Entry {
     path: String,
     hash: u64,
     count: usize,
-    read: fn(&Dataset) -> hdf5::Result<(u64, usize)>,
+    read: fn(&Dataset) -> hdf5::Result<Read>,
+}
+
+/// A dataset read back: the hash and number of its values, and their
+/// [`values_crc32`].
+struct Read {
+    hash: u64,
+    count: usize,
+    crc: u32,
+}
+
+/// The `values_crc32` of the dataset at `path` whose values are `bytes` (see
+/// [`crate::layout::attr::VALUES_CRC32`]).
+pub(crate) fn values_crc32(path: &str, bytes: &[u8]) -> u32 {
+    let mut crc = crc32fast::Hasher::new();
+    crc.update(&(path.len() as u64).to_le_bytes());
+    crc.update(path.as_bytes());
+    crc.update(bytes);
+    crc.finalize()
+}
+
+/// Texts as [`values_crc32`] takes them: each its byte length (u64,
+/// little-endian), then its bytes.
+pub(crate) fn text_bytes<'a>(texts: impl Iterator<Item = &'a str>) -> Vec<u8> {
+    let mut all = Vec::new();
+    for t in texts {
+        all.extend_from_slice(&(t.len() as u64).to_le_bytes());
+        all.extend_from_slice(t.as_bytes());
+    }
+    all
 }
 
 impl Expected {
-    fn push(&self, ds: &Dataset, hash: u64, count: usize, read: fn(&Dataset) -> hdf5::Result<(u64, usize)>) {
+    fn push(&self, ds: &Dataset, hash: u64, count: usize, read: fn(&Dataset) -> hdf5::Result<Read>) {
         let entry = Entry { path: ds.name(), hash, count, read };
         self.entries.lock().unwrap_or_else(|p| p.into_inner()).push(entry);
     }
@@ -56,15 +85,16 @@ impl Expected {
     }
 }
 
-fn read_numbers<T: H5Type + Copy>(ds: &Dataset) -> hdf5::Result<(u64, usize)> {
+fn read_numbers<T: H5Type + Copy>(ds: &Dataset) -> hdf5::Result<Read> {
     let v = ds.read_raw::<T>()?;
-    Ok((hash(bytes_of(&v)), v.len()))
+    Ok(Read { hash: hash(bytes_of(&v)), count: v.len(), crc: values_crc32(&ds.name(), bytes_of(&v)) })
 }
 
-fn read_texts(ds: &Dataset) -> hdf5::Result<(u64, usize)> {
+fn read_texts(ds: &Dataset) -> hdf5::Result<Read> {
     crate::heap::check(ds)?;
     let v = ds.read_raw::<VarLenUnicode>()?;
-    Ok((hash_texts(v.iter().map(|t| t.as_str())), v.len()))
+    let bytes = text_bytes(v.iter().map(|t| t.as_str()));
+    Ok(Read { hash: hash(&bytes), count: v.len(), crc: values_crc32(&ds.name(), &bytes) })
 }
 
 /// The bytes of plain numbers, as HDF5 stores them (native order).
@@ -91,18 +121,19 @@ fn hash(bytes: &[u8]) -> u64 {
 }
 
 fn hash_texts<'a>(texts: impl Iterator<Item = &'a str>) -> u64 {
-    let mut all = Vec::new();
-    for t in texts {
-        all.extend_from_slice(&(t.len() as u64).to_le_bytes());
-        all.extend_from_slice(t.as_bytes());
-    }
-    hash(&all)
+    hash(&text_bytes(texts))
 }
 
 /// Reads the closed file `tmp` (to be renamed to `path`) back: the per-cell
 /// datasets of `atlas`'s sweeps against the atlas, every other dataset
-/// against `expected`.
-pub(crate) fn file(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) -> Result<(), StoreError> {
+/// against `expected`. Returns each dataset's path and the
+/// [`values_crc32`] of what it read.
+pub(crate) fn file(
+    tmp: &Path,
+    path: &Path,
+    atlas: &Atlas,
+    expected: &Expected,
+) -> Result<Vec<(String, u32)>, StoreError> {
     let failed = |dataset: &str, message: String| StoreError::Unverified {
         path: path.display().to_string(),
         dataset: dataset.trim_start_matches('/').to_string(),
@@ -110,13 +141,14 @@ pub(crate) fn file(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) 
     };
     let f = hdf5::File::open(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
     let m = &atlas.meta;
+    let mut crcs = Vec::new();
     for map in &atlas.maps {
         for field in Field::all(m) {
             let name = format!("{}/{}", map.sweep.name(), field.name(m));
             let ds = f.dataset(&name).map_err(|e| failed(&name, crate::error::plain(&e)))?;
             match field.compare(m, &ds, &map.cells) {
-                Ok(true) => {}
-                Ok(false) => return Err(failed(&name, "its values differ from those written".into())),
+                Ok(Some(crc)) => crcs.push((ds.name(), crc)),
+                Ok(None) => return Err(failed(&name, "its values differ from those written".into())),
                 Err(e) => return Err(failed(&name, crate::error::plain(&e))),
             }
         }
@@ -124,13 +156,53 @@ pub(crate) fn file(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) 
     let entries = expected.entries.lock().unwrap_or_else(|p| p.into_inner());
     for e in entries.iter() {
         let ds = f.dataset(&e.path).map_err(|err| failed(&e.path, crate::error::plain(&err)))?;
-        let (hash, count) = (e.read)(&ds).map_err(|err| failed(&e.path, crate::error::plain(&err)))?;
-        if count != e.count {
-            return Err(failed(&e.path, format!("{count} values read back, {} written", e.count)));
+        let read = (e.read)(&ds).map_err(|err| failed(&e.path, crate::error::plain(&err)))?;
+        if read.count != e.count {
+            return Err(failed(&e.path, format!("{} values read back, {} written", read.count, e.count)));
         }
-        if hash != e.hash {
+        if read.hash != e.hash {
             return Err(failed(&e.path, "its values differ from those written".into()));
         }
+        crcs.push((e.path.clone(), read.crc));
+    }
+    Ok(crcs)
+}
+
+/// The values of the numeric dataset `ds` as stored (in its own type); `None`
+/// for a type vibroatlas does not write as numbers.
+pub(crate) fn stored_bytes(ds: &Dataset) -> hdf5::Result<Option<Vec<u8>>> {
+    use hdf5::types::{FloatSize, IntSize, TypeDescriptor as T};
+    fn raw<V: H5Type + Copy>(ds: &Dataset) -> hdf5::Result<Vec<u8>> {
+        Ok(bytes_of(&ds.read_raw::<V>()?).to_vec())
+    }
+    Ok(Some(match ds.dtype()?.to_descriptor()? {
+        T::Float(FloatSize::U8) => raw::<f64>(ds)?,
+        T::Float(FloatSize::U4) => raw::<f32>(ds)?,
+        T::Integer(IntSize::U1) => raw::<i8>(ds)?,
+        T::Unsigned(IntSize::U1) => raw::<u8>(ds)?,
+        T::Integer(IntSize::U2) => raw::<i16>(ds)?,
+        T::Unsigned(IntSize::U2) => raw::<u16>(ds)?,
+        T::Integer(IntSize::U4) => raw::<i32>(ds)?,
+        T::Unsigned(IntSize::U4) => raw::<u32>(ds)?,
+        T::Integer(IntSize::U8) => raw::<i64>(ds)?,
+        T::Unsigned(IntSize::U8) => raw::<u64>(ds)?,
+        _ => return Ok(None),
+    }))
+}
+
+/// Writes each dataset's `values_crc32` (see [`file`]) into the closed file
+/// `tmp`, read back and verified.
+pub(crate) fn seal_values(tmp: &Path, path: &Path, crcs: &[(String, u32)]) -> Result<(), StoreError> {
+    let failed = |dataset: &str, message: String| StoreError::Unverified {
+        path: path.display().to_string(),
+        dataset: dataset.trim_start_matches('/').to_string(),
+        message,
+    };
+    let f = hdf5::File::open_rw(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
+    for (name, crc) in crcs {
+        let ds = f.dataset(name).map_err(|e| failed(name, crate::error::plain(&e)))?;
+        crate::netcdf::attr_num(&ds, crate::layout::attr::VALUES_CRC32, *crc)
+            .map_err(|e| failed(name, crate::error::plain(&e)))?;
     }
     Ok(())
 }

@@ -152,7 +152,8 @@ impl Draft {
         // are closed first.
         self.sweeps.clear();
         drop(f);
-        crate::verify::file(&self.tmp, &self.path, atlas, &self.z.expected)?;
+        let crcs = crate::verify::file(&self.tmp, &self.path, atlas, &self.z.expected)?;
+        crate::verify::seal_values(&self.tmp, &self.path, &crcs)?;
         crate::commit(&self.tmp, &self.path)?;
         self.committed = true;
         Ok(())
@@ -205,7 +206,7 @@ pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreEr
     let actual = crate::heap::open(path)?;
     crate::verify::attributes(&written, &actual, path)?;
     drop((written, actual));
-    crate::verify::file(path, path, atlas, &z.expected).map_err(|e| match e {
+    crate::verify::file(path, path, atlas, &z.expected).map(drop).map_err(|e| match e {
         StoreError::Unverified { path, dataset, message } => StoreError::Dataset { path, dataset, message },
         e => e,
     })
