@@ -161,10 +161,12 @@ pub enum Unresolved {
     /// The section repeated within `periodic_tol`, but the orbit's own
     /// largest Floquet multiplier modulus says that the state is still far
     /// from it: the distance still to go, `e / (1 − |μ|)` from the last step
-    /// `e`, is beyond [`UNSETTLED`] × `periodic_tol`, or infinite where the map
-    /// does not contract (|μ| ≥ 1: a conservative oscillation that moved too
-    /// little per period to tell from a fixed point). A contraction too slow
-    /// for the record, not a converged orbit (issue 42).
+    /// `e`, is beyond 100 × `periodic_tol`, or infinite where the map
+    /// does not contract (|μ| within 1e-9 of 1: a conservative oscillation
+    /// that moved too little per period to tell from a fixed point): a
+    /// contraction too slow for the record, not a converged orbit. Or the
+    /// orbit is unstable (|μ| > 1.01): the record only passed near it
+    /// (issue 42).
     Unsettled {
         /// Periods of the record.
         periods: usize,
