@@ -6,32 +6,91 @@ use grid::hysteresis::zones;
 use grid::Atlas;
 use solver::Class;
 
-/// Why a sweep's unresolved cells are unresolved: each kind of reason (its
-/// text with the numbers of each cell shown as `…`) and how many cells, the
-/// most frequent first.
+/// Why a sweep's unresolved cells are unresolved: each kind of reason and
+/// how many cells, the most frequent first. A kind is a reason's text with
+/// its numbers set apart; it is shown with each number as it varies over
+/// its cells: the number where they all agree, else its range (`λT =
+/// -2.103e-3 to -4.000e-4`), each end as one of the cells wrote it.
 pub fn reasons(cells: &[Option<grid::CellData>]) -> Vec<(String, usize)> {
-    let mut kinds: std::collections::BTreeMap<String, usize> = std::collections::BTreeMap::new();
+    let mut kinds: std::collections::BTreeMap<String, (usize, Vec<Range>)> = std::collections::BTreeMap::new();
     for r in cells.iter().flatten().filter_map(|c| c.reason.as_deref()) {
-        *kinds.entry(without_numbers(r)).or_default() += 1;
+        let (template, numbers) = split_numbers(r);
+        let (n, ranges) = kinds.entry(template).or_insert_with(|| (0, numbers.iter().map(Range::of).collect()));
+        *n += 1;
+        for (range, number) in ranges.iter_mut().zip(&numbers) {
+            range.take(number);
+        }
     }
-    let mut v: Vec<(String, usize)> = kinds.into_iter().collect();
+    let mut v: Vec<(String, usize)> =
+        kinds.into_iter().map(|(template, (n, ranges))| (filled(&template, &ranges), n)).collect();
     v.sort_by(|a, b| b.1.cmp(&a.1).then_with(|| a.0.cmp(&b.0)));
     v
 }
 
-/// `text` with every number (`-1.5e-3`, `400000`) written `…`.
-fn without_numbers(text: &str) -> String {
+/// A number of a reason as written (`-1.5e-3`) and its value.
+type Number = (f64, String);
+
+/// The least and the greatest of one number over the cells of a kind.
+struct Range {
+    low: Number,
+    high: Number,
+}
+
+impl Range {
+    fn of(n: &Number) -> Range {
+        Range { low: n.clone(), high: n.clone() }
+    }
+
+    fn take(&mut self, n: &Number) {
+        if n.0 < self.low.0 {
+            self.low = n.clone();
+        }
+        if n.0 > self.high.0 {
+            self.high = n.clone();
+        }
+    }
+
+    fn text(&self) -> String {
+        if self.low.1 == self.high.1 {
+            self.low.1.clone()
+        } else {
+            format!("{} to {}", self.low.1, self.high.1)
+        }
+    }
+}
+
+/// `text` with every number (`-1.5e-3`, `400000`) written `…`, and the
+/// numbers in order.
+fn split_numbers(text: &str) -> (String, Vec<Number>) {
     let mut out = String::new();
+    let mut numbers = Vec::new();
     let mut chars = text.chars().peekable();
     while let Some(c) = chars.next() {
         let sign = c == '-' && chars.peek().is_some_and(char::is_ascii_digit);
         if c.is_ascii_digit() || sign {
-            while chars.peek().is_some_and(|&d| d.is_ascii_digit() || ".eE".contains(d) || "+-".contains(d)) {
+            let mut token = c.to_string();
+            while let Some(&d) = chars.peek().filter(|&&d| d.is_ascii_digit() || ".eE".contains(d) || "+-".contains(d))
+            {
+                token.push(d);
                 chars.next();
             }
+            numbers.push((token.trim_end_matches(['.', 'e', 'E', '+', '-']).parse().unwrap_or(f64::NAN), token));
             out.push('…');
         } else {
             out.push(c);
+        }
+    }
+    (out, numbers)
+}
+
+/// `template` with its `…` replaced by the ranges, in order.
+fn filled(template: &str, ranges: &[Range]) -> String {
+    let mut out = String::new();
+    let mut ranges = ranges.iter();
+    for c in template.chars() {
+        match (c, c == '…') {
+            (_, true) => out.push_str(&ranges.next().map_or("…".to_string(), Range::text)),
+            (c, false) => out.push(c),
         }
     }
     out
@@ -159,4 +218,47 @@ pub fn inspect_json(path: &std::path::Path, loaded: &store::Loaded) -> serde_jso
     o["run_time_s"] = loaded.info.run_time_s.into();
     o["shard"] = loaded.info.shard.map(|s| s.to_string()).into();
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unresolved(reason: &str) -> Option<grid::CellData> {
+        Some(grid::CellData {
+            class: Class::Unresolved,
+            labels: Vec::new(),
+            chatter: solver::Mask::EMPTY,
+            sticking: solver::Mask::EMPTY,
+            symmetry: None,
+            lyapunov: None,
+            multiplier: None,
+            final_state: Vec::new(),
+            periods: 0,
+            events: 0,
+            period_section: Vec::new(),
+            impact_sections: Vec::new(),
+            reason: Some(reason.to_string()),
+        })
+    }
+
+    /// Issue 40: reasons are shown with their numbers (each as it varies over
+    /// the cells of its kind), not as templates.
+    #[test]
+    fn reasons_show_their_numbers() {
+        let cells = vec![
+            unresolved("still contracts (λT = -1.5e-3) after 600 periods"),
+            None,
+            unresolved("still contracts (λT = -4.0e-2) after 600 periods"),
+            unresolved("still contracts (λT = -2.0e-3) after 600 periods"),
+            unresolved("event budget of 400000 events exhausted"),
+        ];
+        assert_eq!(
+            reasons(&cells),
+            vec![
+                ("still contracts (λT = -4.0e-2 to -1.5e-3) after 600 periods".to_string(), 3),
+                ("event budget of 400000 events exhausted".to_string(), 1),
+            ]
+        );
+    }
 }
