@@ -44,8 +44,8 @@ impl Axis {
     }
 
     /// The axis, once checked: a name, finite ends, 1 to [`MAX_COUNT`]
-    /// values, and a range that is not empty when there are several
-    /// (`field` names it in errors).
+    /// values, one value where its ends are equal, and a range that is not
+    /// empty when there are several (`field` names it in errors).
     pub fn checked(self, field: &str) -> Result<Axis, GridError> {
         let Axis { name, start, stop, count } = &self;
         let field = format!("{field} {name}");
@@ -57,6 +57,12 @@ impl Axis {
         }
         if *count == 0 || *count > MAX_COUNT {
             return Err(GridError::field(field, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
+        }
+        if *count == 1 && (stop - start).abs() > 0.0 {
+            return Err(GridError::field(
+                field,
+                format!("COUNT 1 is one value, but START {start} and STOP {stop} differ: give {start}:{start}:1, or more values"),
+            ));
         }
         if *count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
             return Err(GridError::field(field, format!("empty range {start}:{stop} with {count} values")));
