@@ -351,3 +351,19 @@ fn an_endless_scene_file_is_refused() {
         expect_error(&["study", "/dev/zero", "-o", "/tmp/never"], "longer than 16777216 bytes");
     }
 }
+
+/// Issue 43: `render --sweep hysteresis` of a file without both up and down
+/// drew its one sweep without a word.
+#[test]
+fn hysteresis_needs_up_and_down() {
+    let d = crate::util::scratch("hysteresis-needs");
+    let f = d.join("up.h5");
+    let f = f.to_str().unwrap();
+    crate::util::ok(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.2:0.5:4", "--quiet", "-o", f]);
+    let png = d.join("h.png");
+    expect_error(
+        &["render", f, "--sweep", "hysteresis", "-o", png.to_str().unwrap()],
+        "--sweep hysteresis: needs up and down sweeps; the file has up",
+    );
+    assert!(!png.exists());
+}

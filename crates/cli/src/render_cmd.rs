@@ -5,6 +5,7 @@
 
 use crate::args::{lib, ImpactArg, RenderArgs, ViewArg};
 use anyhow::{anyhow, bail, Result};
+use grid::SweepKind;
 use render::{Quantity, View};
 use store::write_atomically;
 
@@ -28,6 +29,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (Some(_), View::Sweep(kind)) if !m.sweeps.contains(&kind) => {
             let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
             bail!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name());
+        }
+        // Hysteresis is up against down: a file without both has none to draw.
+        (_, View::Hysteresis) if !(m.sweeps.contains(&SweepKind::Up) && m.sweeps.contains(&SweepKind::Down)) => {
+            let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+            bail!("--sweep hysteresis: needs up and down sweeps; the file has {}", have.join(", "));
         }
         _ => {}
     }
@@ -93,7 +99,7 @@ pub fn diagram(atlas: &grid::Atlas, row: usize, variable: Option<&str>, impact: 
 }
 
 /// Says what was written: the file and its printed size (or its pixels).
-fn wrote(path: &std::path::Path, page: &render::Page) -> Result<()> {
+pub(crate) fn wrote(path: &std::path::Path, page: &render::Page) -> Result<()> {
     let size = match page.print_size() {
         Some(s) => match s.height_mm {
             Some(h) => format!("{} x {} mm", s.width_mm, h),

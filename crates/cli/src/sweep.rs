@@ -40,14 +40,24 @@ pub fn run(a: SweepArgs) -> Result<()> {
         outln!("{}", serde_json::to_string(&swept.to_json())?);
     } else {
         print_text(atlas, &atlas.meta.sweeps)?;
+        if let Some(png) = &a.png {
+            crate::render_cmd::wrote(png, &page)?;
+        }
     }
     Ok(())
 }
 
+/// The table of the sweep: a row per value of the swept parameter, a column
+/// per sweep with each labelled mass's label (the header names them); with
+/// up and down, rows where they differ are marked `*` (hysteresis).
 fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) -> Result<()> {
     let p = &atlas.meta.plane;
-    let header: Vec<String> = sweeps.iter().map(|s| format!("{:<24}", s.name())).collect();
-    outln!("{:<12} {}", p.x.name, header.join(""));
+    let masses = atlas.meta.masses.join(" ");
+    let header: Vec<String> = sweeps.iter().map(|s| format!("{:<24}", format!("{} ({masses})", s.name()))).collect();
+    outln!("{}", format!("{:<12} {}", p.x.name, header.join("")).trim_end());
+    let both = sweeps.contains(&SweepKind::Up) && sweeps.contains(&SweepKind::Down);
+    let labels = |s: SweepKind, ix: usize| atlas.map(s).and_then(|m| m.cells[ix].as_ref()).map(|c| c.labels.clone());
+    let mut differ = 0;
     for ix in 0..p.x.count {
         let cols: Vec<String> = sweeps
             .iter()
@@ -59,7 +69,13 @@ fn print_text(atlas: &Atlas, sweeps: &[SweepKind]) -> Result<()> {
                 format!("{text:<24}")
             })
             .collect();
-        outln!("{:<12.6} {}", p.x.value(ix), cols.join(""));
+        let mark = both && labels(SweepKind::Up, ix) != labels(SweepKind::Down, ix);
+        differ += usize::from(mark);
+        let row = format!("{:<12.6} {}{}", p.x.value(ix), cols.join(""), if mark { "*" } else { "" });
+        outln!("{}", row.trim_end());
+    }
+    if differ > 0 {
+        outln!("* up and down differ ({differ} of {} values: hysteresis)", p.x.count);
     }
     Ok(())
 }
