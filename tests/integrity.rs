@@ -802,3 +802,14 @@ fn values_changed_or_moved_with_h5py_are_refused() {
         every_command_refuses(&f, what);
     }
 }
+
+/// Issue 43: a file with an atlas's attributes but not its layout (xarray's
+/// `to_netcdf` of a DataTree keeps the root attributes, not `/axes`) was
+/// refused with HDF5's "unable to open dataset: object 'omega' doesn't
+/// exist"; it is said for what it is.
+#[test]
+fn a_file_rewritten_by_another_program_is_named() {
+    let d = scratch("rewritten");
+    let f = mutated(&originals().atlas, &d.join("resaved.h5"), &["del|axes|"]);
+    refused(&["inspect", f.to_str().unwrap()], "not an atlas as vibroatlas writes it");
+}

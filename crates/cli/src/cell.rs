@@ -51,12 +51,23 @@ pub fn run(a: CellArgs) -> Result<()> {
     Ok(())
 }
 
+/// The first sentence of a scene's description, its lines joined (the
+/// whole description when it has no full stop followed by a space).
+fn first_sentence(text: &str) -> String {
+    let joined = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    match joined.find(". ") {
+        Some(end) => joined[..=end].to_string(),
+        None => joined,
+    }
+}
+
 fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     let mut o = String::new();
     let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect();
     let _ = writeln!(o, "scene     {} ({})", sys.model.name, params.join(" "));
-    if let Some(about) = s.scene.description().lines().find(|l| !l.trim().is_empty()) {
-        let _ = writeln!(o, "about     {}", about.trim());
+    let about = first_sentence(s.scene.description());
+    if !about.is_empty() {
+        let _ = writeln!(o, "about     {about}");
     }
     let _ = writeln!(o, "settings  preset {}, integrator {}", s.preset.name(), s.method.name());
     let _ = write!(o, "class     {}", c.class.name());

@@ -240,6 +240,14 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         }
         return Err(fmt("not an atlas".into()));
     }
+    // A file another program wrote from an atlas (xarray's to_netcdf keeps
+    // the attributes, not the layout): said so, not as a missing dataset.
+    let x = attr(path, &f, attr::X)?;
+    if !f.link_exists(AXES) || !f.group(AXES).is_ok_and(|g| g.link_exists(&x)) {
+        return Err(fmt(format!(
+            "not an atlas as vibroatlas writes it: it has the attributes of one but no {AXES}/{x} (written again by another program, such as xarray's to_netcdf?); open it with xarray, or use the file vibroatlas wrote"
+        )));
+    }
     let meta = read_meta(&ck, &f)?;
     let (nx, ny) = (meta.plane.x.count, meta.plane.y.count);
     let n = nx * ny;
