@@ -17,14 +17,16 @@
 //! skipped; a curve whose points mostly lie on one found before (same kind) is
 //! dropped, and one found before whose points mostly lie on a new one gives way
 //! to it; a curve of fewer than three points is dropped too (the fine structure of a map
-//! seeds many short ones). Seeds are traced in parallel in fixed batches and
-//! accepted in seed order, so the result is the same on any number of threads.
+//! seeds many short ones). Seeds are decided in fixed batches and accepted
+//! in seed order, so the result is the same on any number of threads; the
+//! threads trace seeds of later batches while a batch's slowest curve
+//! finishes (speculatively: a seed that the batches before it turn out to
+//! cross is dropped), so that no core waits for it.
 
 use crate::atlas::Atlas;
 use crate::cell::CellSetup;
 use crate::error::GridError;
 use crate::sweep::SweepKind;
-use rayon::prelude::*;
 use solver::curve::{Curve, Plane2, Start, Tracing};
 use solver::{Bifurcation, Class};
 
@@ -163,49 +165,161 @@ pub fn find(
         .build()
         .map_err(|e| GridError::field("threads", e.to_string()))?;
     let all = seeds(atlas, &seeding.sweeps);
-    let mut found = Found { curves: Vec::new(), seeds: 0 };
     let total = all.len();
-    let mut done = 0;
-    progress(Tally { done, total, traced: 0, kept: 0 });
-    for batch in all.chunks(BATCH) {
-        let todo: Vec<&Seed> = batch.iter().filter(|s| !found.curves.iter().any(|c| crosses(c, s))).collect();
-        let (before, traced_before, kept) = (done + batch.len() - todo.len(), found.seeds, found.curves.len());
-        let finished = std::sync::atomic::AtomicUsize::new(0);
-        let traced: Vec<Option<Curve>> = pool.install(|| {
-            todo.par_iter()
-                .map(|s| {
-                    let c = trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y);
-                    let k = finished.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
-                    // The batch's last seed is told below, with the curves it kept.
-                    if k < todo.len() {
-                        progress(Tally { done: before + k, total, traced: traced_before + k, kept });
-                    }
-                    c
-                })
-                .collect()
-        });
-        found.seeds += todo.len();
-        done += batch.len();
-        for curve in traced.into_iter().flatten() {
-            let duplicate = found.curves.iter().any(|c| same(c, &curve, [dx, dy]));
-            if curve.points.len() >= MIN_POINTS && !duplicate {
-                // A shorter piece of this curve found before gives way to it.
-                found.curves.retain(|c| !same(&curve, c, [dx, dy]));
-                found.curves.push(curve);
-                if found.curves.len() >= seeding.max {
-                    // The seeds left are not needed.
-                    progress(Tally { done: total, total, traced: found.seeds, kept: found.curves.len() });
-                    return Ok(found);
-                }
-            }
+    progress(Tally { done: 0, total, traced: 0, kept: 0 });
+    let run = Run { all: &all, max: seeding.max, cell: [dx, dy], progress };
+    let state = std::sync::Mutex::new(Schedule::new(total));
+    let advanced = std::sync::Condvar::new();
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let trace_one = |s: &Seed| trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y);
+    pool.scope(|scope| {
+        for _ in 0..seeding.threads.max(1) {
+            scope.spawn(|_| run.worker(&state, &advanced, &next, &trace_one));
         }
-        progress(Tally { done, total, traced: found.seeds, kept: found.curves.len() });
-    }
-    Ok(found)
+    });
+    let state = state.into_inner().unwrap_or_else(|p| p.into_inner());
+    progress(Tally { done: total, total, traced: state.found.seeds, kept: state.found.curves.len() });
+    Ok(state.found)
 }
 
-/// Locates the seed's bifurcation (the kind nearest the seed) and follows it
-/// both ways.
+/// Batches a worker may trace ahead of the last one committed: seeds of
+/// later batches wait, so that speculative work on seeds a committed curve
+/// may yet cross stays bounded.
+const AHEAD: usize = 4;
+
+/// Where one seed stands.
+#[derive(Debug)]
+enum SeedState {
+    /// Not traced yet (or being traced).
+    Pending,
+    /// A curve committed before its batch crosses it: not traced.
+    Skipped,
+    /// Traced (speculatively, if its batch was not yet decided).
+    Traced(Option<Curve>),
+}
+
+/// The curves committed so far and each seed's state: batches are committed
+/// in order, each as the batched scheme of [`BATCH`] would (its seeds that
+/// the curves before it cross are skipped, the others' curves accepted in
+/// seed order), so the result does not depend on how many threads traced
+/// them or in which order they finished.
+struct Schedule {
+    found: Found,
+    states: Vec<SeedState>,
+    /// Batches committed.
+    committed: usize,
+    /// Seeds decided (skipped or traced).
+    decided: usize,
+    /// `max` curves are kept: nothing more is traced.
+    finished: bool,
+}
+
+impl Schedule {
+    fn new(total: usize) -> Schedule {
+        Schedule {
+            found: Found { curves: Vec::new(), seeds: 0 },
+            states: (0..total).map(|_| SeedState::Pending).collect(),
+            committed: 0,
+            decided: 0,
+            finished: false,
+        }
+    }
+}
+
+/// What the workers of one search share.
+struct Run<'a> {
+    all: &'a [Seed],
+    max: usize,
+    cell: [f64; 2],
+    progress: &'a (dyn Fn(Tally) + Sync),
+}
+
+impl Run<'_> {
+    /// Takes seeds in order, traces those no committed curve crosses, and
+    /// commits every batch whose seeds are all decided. A seed whose batch
+    /// follows the committed ones directly is decided on the committed
+    /// curves (skipped when one crosses it); one further ahead is traced
+    /// speculatively (its batch's commit drops it if a curve crosses it), at
+    /// most [`AHEAD`] batches ahead.
+    fn worker(
+        &self,
+        state: &std::sync::Mutex<Schedule>,
+        advanced: &std::sync::Condvar,
+        next: &std::sync::atomic::AtomicUsize,
+        trace_one: &(dyn Fn(&Seed) -> Option<Curve> + Sync),
+    ) {
+        let lock = || state.lock().unwrap_or_else(|p| p.into_inner());
+        loop {
+            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(seed) = self.all.get(i) else { return };
+            let batch = i / BATCH;
+            {
+                let mut st = lock();
+                while !st.finished && batch > st.committed + AHEAD {
+                    st = advanced.wait(st).unwrap_or_else(|p| p.into_inner());
+                }
+                if st.finished {
+                    advanced.notify_all();
+                    return;
+                }
+                if batch == st.committed && st.found.curves.iter().any(|c| crosses(c, seed)) {
+                    st.states[i] = SeedState::Skipped;
+                    st.decided += 1;
+                    self.commit(&mut st);
+                    advanced.notify_all();
+                    continue;
+                }
+            }
+            let curve = trace_one(seed);
+            let mut st = lock();
+            st.states[i] = SeedState::Traced(curve);
+            st.decided += 1;
+            let (done, total, traced, kept) = (st.decided, self.all.len(), st.found.seeds, st.found.curves.len());
+            if !self.commit(&mut st) {
+                (self.progress)(Tally { done, total, traced, kept });
+            }
+            advanced.notify_all();
+        }
+    }
+
+    /// Commits every batch, in order, whose seeds are all decided; whether
+    /// one was.
+    fn commit(&self, st: &mut Schedule) -> bool {
+        let total = self.all.len();
+        let mut any = false;
+        while !st.finished && st.committed * BATCH < total {
+            let range = st.committed * BATCH..((st.committed + 1) * BATCH).min(total);
+            if st.states[range.clone()].iter().any(|s| matches!(s, SeedState::Pending)) {
+                break;
+            }
+            any = true;
+            // The seeds of the batch that no curve committed before it crosses.
+            let todo: Vec<usize> =
+                range.filter(|&i| !st.found.curves.iter().any(|c| crosses(c, &self.all[i]))).collect();
+            st.found.seeds += todo.len();
+            st.committed += 1;
+            for i in todo {
+                let SeedState::Traced(curve) = std::mem::replace(&mut st.states[i], SeedState::Skipped) else {
+                    continue;
+                };
+                let Some(curve) = curve else { continue };
+                let duplicate = st.found.curves.iter().any(|c| same(c, &curve, self.cell));
+                if curve.points.len() >= MIN_POINTS && !duplicate {
+                    st.found.curves.retain(|c| !same(&curve, c, self.cell));
+                    st.found.curves.push(curve);
+                    if st.found.curves.len() >= self.max {
+                        st.finished = true;
+                        break;
+                    }
+                }
+            }
+            let done = (st.committed * BATCH).min(total).max(st.decided);
+            (self.progress)(Tally { done, total, traced: st.found.seeds, kept: st.found.curves.len() });
+        }
+        any
+    }
+}
+
 fn trace(
     plane: &Plane2,
     seed: &Seed,
