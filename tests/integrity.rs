@@ -84,7 +84,7 @@ pub(crate) fn python(script: &str, args: &[&str]) -> String {
 ///   checksum of text attributes again, as docs/file-format.md says to
 ///   compute it (a file whose texts are whole but wrong); `rawattr|…` leaves
 ///   the checksum as it was (a file changed since it was written);
-/// - `del|OBJ|` deletes a dataset or group; `swap|A,B|` swaps two objects'
+/// - `del|OBJ|` deletes a dataset or group (`del|@NAME|` a root attribute); `swap|A,B|` swaps two objects'
 ///   paths.
 pub(crate) const REWRITE: &str = r#"
 import os, sys, shutil, struct, zlib, h5py, numpy as np
@@ -114,7 +114,10 @@ with h5py.File(dst, "r+") as f:
     for spec in sys.argv[3:]:
         kind, name, expr = spec.split("|", 2)
         if kind == "del":
-            del f[name]
+            if name.startswith("@"):
+                del f.attrs[name[1:]]
+            else:
+                del f[name]
             continue
         if kind == "inplace":
             a = f[name][()]
@@ -812,4 +815,14 @@ fn a_file_rewritten_by_another_program_is_named() {
     let d = scratch("rewritten");
     let f = mutated(&originals().atlas, &d.join("resaved.h5"), &["del|axes|"]);
     refused(&["inspect", f.to_str().unwrap()], "not an atlas as vibroatlas writes it");
+}
+
+/// The fifth audit (issue 42): the root's `attributes_crc32` deleted let its
+/// texts (`integrator`, `overrides`, `scene`) be changed unseen, `inspect
+/// --verify` and `merge` included; a file of layout 3 always has it.
+#[test]
+fn the_roots_text_checksum_cannot_be_deleted() {
+    let d = scratch("root-crc");
+    let f = mutated(&originals().atlas, &d.join("f.h5"), &["del|@attributes_crc32|", "rawattr|@integrator|'rk4'"]);
+    every_command_refuses(&f, "attribute attributes_crc32 of / is missing");
 }

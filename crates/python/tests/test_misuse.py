@@ -27,6 +27,14 @@ def test_a_label_code_outside_the_table_is_refused():
         assert f"code {bad} at" in str(e.value) and "outside the label table" in str(e.value), e.value
 
 
+def test_label_codes_that_are_not_whole_numbers_are_refused():
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"].to_dataset()
+    ds = up.assign(label_code_M1=up.label_code_M1.astype(float) / 3)
+    with pytest.raises(ValueError) as e:
+        va.labels(ds, "M1")
+    assert "not whole numbers" in str(e.value)
+
+
 def test_a_bar_that_cannot_draw_cancels_the_run(tmp_path, monkeypatch):
     out = tmp_path / "a.h5"
     monkeypatch.setattr(sys, "stderr", None)

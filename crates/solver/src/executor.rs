@@ -175,6 +175,14 @@ pub enum Unresolved {
         /// The estimated distance to the orbit, relative (infinite when |μ| ≥ 1).
         distance: f64,
     },
+    /// No period, and a growing Lyapunov exponent, but not one event over
+    /// the record: one linear flow, which is never chaotic (the exponent is
+    /// the transient growth of a record shorter than the system's slowest
+    /// motion; issue 42).
+    Linear {
+        /// Periods of the record without an event.
+        periods: usize,
+    },
     /// No period, and the motion leaves every stop behind without bound: no
     /// event over the last periods of the record, a rigid mode (a mass held
     /// by no spring), and every gap growing from period to period (issue 42).
@@ -226,6 +234,10 @@ impl std::fmt::Display for Unresolved {
             Unresolved::Unsettled { periods, multiplier, distance } => write!(
                 f,
                 "the section repeated after {periods} periods, but its orbit contracts too slowly to have reached it (largest |multiplier| {multiplier:.12}; still about {distance:.1e} from it, relative)"
+            ),
+            Unresolved::Linear { periods } => write!(
+                f,
+                "no period, and a growing exponent, but no impact or other event in the {periods} periods recorded: one linear flow is never chaotic (its motion is slower than the record)"
             ),
             Unresolved::Unbounded { periods, drift } => write!(
                 f,
@@ -325,6 +337,11 @@ pub fn run_cell_with_sections(
         }
         Steady::Aperiodic(class, l, reason) => match cell.unbounded() {
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
+            // One linear flow is never chaotic: its positive exponent is the
+            // transient growth of a record shorter than its slowest motion.
+            None if class == Class::Chaotic && cell.hist.iter().all(|r| r.events == 0) => {
+                (Class::Unresolved, None, Some(l), Some(Unresolved::Linear { periods: cell.hist.len() }))
+            }
             None => (class, None, Some(l), reason),
         },
     };
@@ -429,9 +446,11 @@ impl<'s> Executor<'s> {
             if let Some(n) = detect(&self.hist, acc) {
                 // Accepted once converged, so that its symmetry and final state are the orbit's.
                 if converged(&self.hist, n, acc) {
-                    // Where rounding hid the contraction, the orbit's multiplier tells.
-                    if remaining(&self.hist, n).is_none() {
-                        self.unsettled = self.unsettled(n);
+                    // Where rounding hid the contraction, the orbit's multiplier tells;
+                    // so it does where it barely contracts (not a rigid mode's family).
+                    let hidden = remaining(&self.hist, n).is_none();
+                    if hidden || (self.acc.multipliers && !self.sys.has_rigid_mode()) {
+                        self.unsettled = self.unsettled(n, hidden);
                     }
                     return Ok(Some(n));
                 }
@@ -674,12 +693,21 @@ impl<'s> Executor<'s> {
     /// multiplier is the cell's own (kept in `measured`); it is measured
     /// here only where it is measured anyway (`multipliers`), or where the
     /// record had no event (one linear flow). `None` for a settled orbit.
-    fn unsettled(&mut self, n: usize) -> Option<Unresolved> {
+    fn unsettled(&mut self, n: usize, hidden: bool) -> Option<Unresolved> {
         if !self.acc.multipliers && self.hist.iter().any(|r| r.events > 0) {
             return None;
         }
         let multiplier = self.multiplier(n)?;
         self.measured = Some(multiplier);
+        if !hidden {
+            // The record saw a contraction: only a neutral map belies it.
+            let neutral = (multiplier - 1.0).abs() <= NEUTRAL;
+            return neutral.then_some(Unresolved::Unsettled {
+                periods: self.sim.periods() as usize,
+                multiplier,
+                distance: f64::INFINITY,
+            });
+        }
         let len = self.hist.len();
         let step = (len.saturating_sub(n)..len)
             .filter(|&i| i >= n)

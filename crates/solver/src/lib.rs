@@ -90,4 +90,4 @@ pub use newton::{solve, MapKind, Solution};
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};
 pub use simulate::{EventKind, Halt, Ignore, Observer, PeriodRecord, Simulator};
-pub use system::{System, ADMISSIBLE_PENETRATION, LARGEST_MAGNITUDE};
+pub use system::{System, ADMISSIBLE_PENETRATION, FASTEST_FORCING, LARGEST_MAGNITUDE};

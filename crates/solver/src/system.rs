@@ -52,6 +52,13 @@ pub const ADMISSIBLE_PENETRATION: f64 = 1e-9;
 /// overflowed or vanished values.
 pub const LARGEST_MAGNITUDE: f64 = 1e150;
 
+/// Largest ratio of the forcing frequency to the fastest free rate of the
+/// masses ([`System::fastest_rate`]) that the solver answers for: beyond it a
+/// state moves by less than one part in 1e9 of its own motion per forcing
+/// period, and a record of thousands of periods cannot tell an orbit from a
+/// state that has not moved ([`System::check_range`]).
+pub const FASTEST_FORCING: f64 = 1e9;
+
 /// Matrices of the equations of motion, built once per cell.
 #[derive(Debug, Clone)]
 pub struct System {
@@ -172,14 +179,33 @@ impl System {
         numbers.extend(names.zip(y0.iter().copied()));
         let outside =
             |v: f64| !v.is_finite() || v.abs() > LARGEST_MAGNITUDE || (v != 0.0 && v.abs() < 1.0 / LARGEST_MAGNITUDE);
-        match numbers.into_iter().find(|&(_, v)| outside(v)) {
-            Some((what, v)) => Err(SolverError::OutOfRange {
+        if let Some((what, v)) = numbers.into_iter().find(|&(_, v)| outside(v)) {
+            return Err(SolverError::OutOfRange {
                 message: format!(
                     "{what} = {v:e} is beyond the {LARGEST_MAGNITUDE:e} (or, not zero, within 1/{LARGEST_MAGNITUDE:e}) that double precision answers for; rescale the scene"
                 ),
-            }),
-            None => Ok(()),
+            });
         }
+        let rate = self.fastest_rate();
+        if rate > 0.0 && self.omega > FASTEST_FORCING * rate {
+            return Err(SolverError::OutOfRange {
+                message: format!(
+                    "omega = {:e} is {:.1e} times the fastest free rate of the masses ({rate:.3e}): within a forcing period the state cannot change at double precision",
+                    self.omega,
+                    self.omega / rate
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// The fastest rate of the free system, from each mass's own spring and
+    /// damper: the largest of `sqrt(K_ii / m_i)` and `C_ii / m_i` (per unit
+    /// time; 0 for masses held by nothing).
+    pub fn fastest_rate(&self) -> f64 {
+        (0..self.dof())
+            .map(|i| (self.stiffness[(i, i)] / self.mass[i]).sqrt().max(self.damping[(i, i)] / self.mass[i]))
+            .fold(0.0, f64::max)
     }
 
     /// Whether the masses have a rigid mode: the stiffness matrix is

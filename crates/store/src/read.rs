@@ -231,6 +231,14 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     crate::attrs::verify(path, &f)?;
     let version = crate::attrs::optional::<u64>(path, &f, attr::LAYOUT_VERSION)?.unwrap_or(1);
     let ck = Checker { path, sealed: version >= 3 };
+    // From layout 3 on the root's texts always have their checksum: one
+    // deleted would let them be changed unseen.
+    if ck.sealed && f.attr(attr::ATTRIBUTES_CRC32).is_err() {
+        return Err(fmt(format!(
+            "attribute {} of / is missing, which vibroatlas writes on every file of layout 3: the file was changed since vibroatlas wrote it",
+            attr::ATTRIBUTES_CRC32
+        )));
+    }
     if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) {
         return Err(fmt("not a vibroatlas file".into()));
     }

@@ -254,6 +254,8 @@ def labels(ds, mass=None):
     c = np.asarray(code.values)
     if c.dtype.kind == "f":  # a masked fill decoded as NaN
         c = np.where(np.isnan(c), -1, c)
+        if (c != np.floor(c)).any():
+            raise ValueError(f"{name}: codes that are not whole numbers: the file is damaged or was changed")
     c = c.astype(np.int64)
     outside = (c < -1) | (c >= len(table))
     if outside.any():
