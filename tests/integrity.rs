@@ -718,6 +718,9 @@ fn numbers_a_reader_builds_on_are_checked() {
         ("start", "rawattr|axes/omega@start|0.2", "axes/omega: its values are not those of its attributes start, stop"),
         ("cap", "rawattr|@section_cap|np.int64(0)", "attribute section_cap: 0, but sweep up keeps"),
         ("normals", "rawattr|@stop_normals|f.attrs['stop_normals'] * 2", "attribute stop_normals: not the normals"),
+        // The attractors group deleted (R7: merged without attractors), or its seed changed (R4).
+        ("attractors", "del|attractors|", "says attractors 4 samples per cell, seed 1, the file holds none"),
+        ("seed", "rawattr|attractors@seed|np.uint64(7)", "the file holds 4 samples per cell, seed 7"),
     ] {
         let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
         every_command_refuses(&f, what);

@@ -291,6 +291,11 @@ pub mod attr {
     /// `long_name` (CF) of a variable; of an axis coordinate, what its
     /// parameter is (`forcing frequency`, or `parameter <name>`).
     pub const LONG_NAME: &str = "long_name";
+    /// `attractor_sampling` of the root (layout 3): `K samples per cell,
+    /// seed S` when the atlas has an `/attractors` group, which a reader then
+    /// requires (a text covered by the root's checksum, so the group cannot
+    /// be deleted unseen).
+    pub const ATTRACTOR_SAMPLING: &str = "attractor_sampling";
     /// `samples`.
     pub const SAMPLES: &str = "samples";
     /// `seed`.
@@ -331,6 +336,7 @@ pub mod attr {
         "Conventions",
         "accuracy",
         "along",
+        "attractor_sampling",
         "command",
         "content",
         "created",

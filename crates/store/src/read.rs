@@ -312,6 +312,18 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Ok(g) => Some(read_attractors(&ck, &g, [rows, columns], &meta.masses)?),
         Err(_) => None,
     };
+    // From layout 3 on the root says whether the file has attractors, and how sampled.
+    let said = attr_opt(path, &f, attr::ATTRACTOR_SAMPLING)?;
+    let found = attractors.as_ref().map(crate::write::sampling_text);
+    if ck.sealed && said != found {
+        let say = |s: &Option<String>| s.clone().unwrap_or_else(|| "none".into());
+        return Err(fmt(format!(
+            "attribute {} of / says attractors {}, the file holds {}: the file is damaged or was changed",
+            attr::ATTRACTOR_SAMPLING,
+            say(&said),
+            say(&found)
+        )));
+    }
     // Layout 1 had no history: its command is the whole of it.
     let command = attr(path, &f, attr::COMMAND)?;
     let created = attr(path, &f, attr::CREATED)?;

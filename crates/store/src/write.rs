@@ -338,6 +338,7 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
     }
     if let Some(a) = &atlas.attractors {
         write_attractors(f, m, a, z)?;
+        attr_str(f, attr::ATTRACTOR_SAMPLING, &sampling_text(a))?;
     }
     let legend = f.create_group(LEGEND)?;
     for map in &atlas.maps {
@@ -453,6 +454,11 @@ fn write_reasons(g: &Group, cells: &[Option<grid::CellData>], grid: &Grid, z: &D
         "1",
     )?;
     Ok(())
+}
+
+/// The root's `attractor_sampling` of an atlas with attractors.
+pub(crate) fn sampling_text(a: &grid::AttractorMap) -> String {
+    format!("{} samples per cell, seed {}", a.samples, a.seed)
 }
 
 /// The coexisting attractors of the sampled cells (`/attractors`, see
