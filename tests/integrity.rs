@@ -721,6 +721,8 @@ fn numbers_a_reader_builds_on_are_checked() {
         // The attractors group deleted (R7: merged without attractors), or its seed changed (R4).
         ("attractors", "del|attractors|", "says attractors 4 samples per cell, seed 1, the file holds none"),
         ("seed", "rawattr|attractors@seed|np.uint64(7)", "the file holds 4 samples per cell, seed 7"),
+        // A shard's number (the fifth audit): covered by the root's text checksum from layout 3 on.
+        ("shard", "rawattr|@shard|'1/2'", "the text attributes of / do not match their checksum"),
     ] {
         let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
         every_command_refuses(&f, what);

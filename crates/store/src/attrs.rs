@@ -127,7 +127,12 @@ fn mismatch(name: &str) -> String {
 /// ([`attr::ATTRIBUTES_CRC32`]; objects written before it have none).
 pub(crate) fn verify(path: &Path, loc: &Location) -> Result<(), StoreError> {
     let Some(want) = optional::<u32>(path, loc, attr::ATTRIBUTES_CRC32)? else { return Ok(()) };
-    let texts = netcdf::text_attributes(loc).map_err(|e| StoreError::hdf5(path, e))?;
+    let mut texts = netcdf::text_attributes(loc).map_err(|e| StoreError::hdf5(path, e))?;
+    // Files before layout 3 did not cover a shard's `shard`.
+    let older = optional::<u64>(path, loc, attr::LAYOUT_VERSION)?.is_some_and(|v| v < 3);
+    if older && netcdf::attributes_crc32(&texts) != want {
+        texts.retain(|(name, _)| name != attr::SHARD);
+    }
     if netcdf::attributes_crc32(&texts) != want {
         let what = format!("the text attributes of {} {}", object(loc), mismatch(attr::ATTRIBUTES_CRC32));
         return Err(StoreError::format(path, what));

@@ -355,6 +355,7 @@ pub mod attr {
         "q_stops",
         "scene",
         "scene_name",
+        "shard",
         "software",
         "source",
         "state_masses",
