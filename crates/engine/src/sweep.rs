@@ -240,6 +240,9 @@ fn point(atlas: &Atlas, ix: usize, c: &CellData) -> Value {
         "symmetry": c.symmetry.map(|s| s.name()),
         "lyapunov": c.lyapunov,
         "max_multiplier": c.multiplier,
+        "reason": c.reason,
+        "final_state": c.final_state,
+        "period_section": c.period_section,
     })
 }
 

@@ -93,3 +93,21 @@ def test_curve_equals_cli(tmp_path):
 def test_cell_result_is_plain_json():
     r = va.cell(MULTI)
     assert json.loads(json.dumps(r)) == r
+
+
+def test_sweep_writes_its_file_and_returns_its_sections(tmp_path):
+    """Issue 43: va.sweep(output=) writes the file `sweep -o` writes, and its
+    points carry the period sections `sweep --png` draws, as `--json` does."""
+    import h5py
+
+    mine = tmp_path / "py.h5"
+    s = va.sweep(MULTI, axis=("omega", 0.28, 0.32, 5), direction="both", output=mine, progress=False)
+    theirs = tmp_path / "cli.h5"
+    p = cli("sweep", MULTI, "--axis", "omega=0.28:0.32:5", "--direction", "both", "--quiet", "--json",
+            "-o", theirs)
+    j = json.loads(p.stdout)
+    assert [q["period_section"] for q in s["up"]] == [q["period_section"] for q in j["up"]]
+    assert all(len(q["period_section"]) >= 1 and len(q["final_state"]) == 4 for q in s["down"])
+    with h5py.File(mine) as a, h5py.File(theirs) as b:
+        for name in ("up/class", "down/final_state", "up/sections/period/values"):
+            assert (a[name][()] == b[name][()]).all(), name

@@ -54,8 +54,8 @@ def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, p
     return _run.run(_native.cell, scene, _params(params, parameters), options)
 
 
-def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, preset=None, integrator=None,
-          accuracy=None, progress=True, params=None, **parameters):
+def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, output=None, preset=None,
+          integrator=None, accuracy=None, progress=True, params=None, **parameters):
     """Follows one motion along a parameter (each cell from the final state of
     the one before), like `vibroatlas sweep SCENE --axis ... --json`.
 
@@ -63,10 +63,13 @@ def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, preset
     down). direction: "up", "down", "both" (each from the scene's initial
     state), "down-up" or "up-down" (a hysteresis loop); default: the order of
     the axis. threads: worker threads; section_cap: section points kept per
-    cell. progress: a tqdm bar on long sweeps (False: never).
+    cell. output: also write the sweep's file there, as `sweep -o FILE`
+    does (an atlas of one row: `va.open` and `render` read it). progress: a
+    tqdm bar on long sweeps (False: never).
 
     Returns the dict `sweep --json` prints (the points of each leg, in run
-    order, and the hysteresis values).
+    order, each with its labels, stability, reason, final state and period
+    section, and the hysteresis values).
     """
     options = _common({"axis": _axis("axis", axis)}, preset, integrator, accuracy)
     if direction is not None:
@@ -75,6 +78,8 @@ def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, preset
         options["threads"] = _whole("threads", threads)
     if section_cap is not None:
         options["section_cap"] = _whole("section_cap", section_cap)
+    if output is not None:
+        options["output"] = os.fspath(output)
     return _run.run(_native.sweep, scene, _params(params, parameters), options, progress, unit="cell",
                     desc="sweep")
 
