@@ -80,3 +80,24 @@ def test_a_sweep_axis_that_is_not_finite_shows_it_as_given():
     with pytest.raises(ValueError) as e:
         va.sweep(MULTI, axis=("omega", float("nan"), 0.4, 5))
     assert "got NaN:0.4" in str(e.value), e.value
+
+
+def test_what_a_new_user_mistypes_is_named():
+    """Issue 43: a misspelt keyword, a negative count, an unknown mass, a
+    progress that is not a bool, and a dict scene's errors."""
+    with pytest.raises(TypeError) as e:
+        va.cell(MULTI, presett="fast")
+    assert "did you mean 'preset'" in str(e.value)
+    with pytest.raises(ValueError) as e:
+        va.sweep(MULTI, axis=("omega", 0.3, 0.4, 3), threads=-2, progress=False)
+    assert str(e.value) == "threads: must be >= 0, got -2"
+    with pytest.raises(TypeError) as e:
+        va.cell(MULTI, progress="yes")
+    assert "progress: expected True or False" in str(e.value)
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"]
+    with pytest.raises(ValueError) as e:
+        va.plot.map(up, mass="M9")
+    assert "this group labels M1, M2" in str(e.value)
+    with pytest.raises(va.SceneError) as e:
+        va.cell({"name": "x", "parameters": {"omega": {"value": 1.0}}})
+    assert str(e.value).startswith("scene: ") and "scene text" not in str(e.value), e.value

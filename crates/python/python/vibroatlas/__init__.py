@@ -51,6 +51,7 @@ def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, p
     periods_simulated, events (and friction_stick in scenes with friction).
     """
     options = _common({}, preset, integrator, accuracy)
+    _run.flag("progress", progress)
     return _run.run(_native.cell, scene, _params(params, parameters), options)
 
 
@@ -89,7 +90,8 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
           accuracy=None, progress=True, params=None, **parameters):
     """Maps a plane of two parameters, like `vibroatlas atlas SCENE --x ... --y
     ... -o FILE`, and returns it as an xarray.DataTree with the file's groups
-    (/up, /down or /fresh, /hysteresis, /legend, /attractors), variables,
+    (/up, /down or /fresh, /legend, /attractors; the root holds the axes and,
+    with up and down, the `hysteresis` mask), variables,
     coordinates and attributes, loaded into memory.
 
     x, y: (name, start, stop, count). sweep: "fresh" (default), "up", "down"
@@ -210,6 +212,7 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, n=None,
         options["n"] = _whole("n", n)
     if output is not None:
         options["output"] = os.fspath(output)
+    _run.flag("progress", progress)
     return _run.run(_native.curve, scene, _params(params, parameters), options)
 
 

@@ -6,6 +6,7 @@ into the job's (scene, params, options), waits for it in slices of 0.1 s
 (so that Ctrl-C is seen within a slice), draws a tqdm bar for long work, and
 cancels the job on KeyboardInterrupt.
 """
+import difflib
 import json
 import math
 import numbers
@@ -81,8 +82,9 @@ def number(what, v):
         raise ValueError(f"{what}: not a finite number, got {v!r}") from None
 
 
-def whole(what, v, least=None):
-    """v as an int (a whole number; an integral float too)."""
+def whole(what, v, least=0):
+    """v as an int (a whole number; an integral float too), at least `least`
+    (no count, seed or cap is negative)."""
     if isinstance(v, bool) or not isinstance(v, numbers.Real):
         raise TypeError(f"{what}: expected a whole number, got {v!r}")
     if isinstance(v, numbers.Integral):
@@ -95,6 +97,12 @@ def whole(what, v, least=None):
     if least is not None and n < least:
         raise ValueError(f"{what}: must be >= {least}, got {n}")
     return n
+
+
+def flag(what, v):
+    """Refuses a flag that is neither True, False nor None (`"yes"`)."""
+    if v is not None and not isinstance(v, bool):
+        raise TypeError(f"{what}: expected True or False, got {v!r}")
 
 
 def text(what, v):
@@ -114,11 +122,25 @@ def axis(what, v):
             whole(f"{what} count", count))
 
 
+#: The keywords of the functions of the package: an extra keyword close to
+#: one of them is a misspelt keyword, not a scene parameter.
+KEYWORDS = ("preset", "integrator", "accuracy", "progress", "params", "direction", "threads", "section_cap",
+            "output", "sweep", "along", "attractors", "attractors_where", "seed", "force", "resume", "samples",
+            "box", "kind", "start", "free", "to", "steps", "window", "bounds", "n")
+
+
 def params_arg(params, extra):
     """The --set list [(name, float)] in the order given: `params` (a dict, for
-    names that clash with a keyword of the function) then the extra keywords."""
+    names that clash with a keyword of the function) then the extra keywords.
+    An extra keyword that is not a number and is spelt like a keyword of the
+    package (`presett`) is a TypeError naming the keyword meant."""
     if params is not None and not hasattr(params, "items"):
         raise TypeError(f"params: expected a dict of parameter values, got {type(params).__name__}")
+    for name, v in extra.items():
+        close = difflib.get_close_matches(name, KEYWORDS, n=1, cutoff=0.8)
+        if close and (isinstance(v, (str, bool, dict, list, tuple)) or v is None):
+            raise TypeError(f"unexpected keyword {name!r}: did you mean {close[0]!r}? (other keywords are "
+                            f"scene parameters, which take numbers)")
     out = []
     for source in (params or {}), extra:
         for name, v in source.items():
@@ -140,6 +162,19 @@ def common(options, preset, integrator, accuracy):
 
 
 def run(start, scene, params, options, progress=False, unit="cell", desc=None):
+    """`_job` with its arguments checked; a dict scene's errors name it as
+    the scene, not as the TOML text it is sent as."""
+    flag("progress", progress)
+    try:
+        return _job(start, scene, params, options, progress, unit, desc)
+    except _native.SceneError as e:
+        said = str(e)
+        if isinstance(scene, dict) and said.startswith("scene text: "):
+            raise _native.SceneError("scene: " + said[len("scene text: "):]) from None
+        raise
+
+
+def _job(start, scene, params, options, progress, unit, desc):
     """Starts a native job and waits for it; returns its result, the JSON text
     decoded. With `progress`, a tqdm bar (tqdm.auto: a widget in a notebook)
     appears once the work is known to be long (more than BAR_UNITS units, or

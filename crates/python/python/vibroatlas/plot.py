@@ -58,6 +58,9 @@ def axis_label(coord):
 
 def _grid(ds, mass):
     """(code [y, x] as ints, x coordinate, y coordinate, table, rgb [label, 3])."""
+    if f"label_code_{mass}" not in ds:
+        have = sorted(str(v)[len("label_code_"):] for v in ds.data_vars if str(v).startswith("label_code_"))
+        raise ValueError(f"mass {mass!r}: this group labels {', '.join(have) or 'no mass'}")
     code = ds[f"label_code_{mass}"]
     if code.ndim != 2:
         raise ValueError(f"label_code_{mass} has dims {code.dims}: map draws a sweep group's [y, x] plane")
