@@ -831,3 +831,20 @@ fn the_roots_text_checksum_cannot_be_deleted() {
     let f = mutated(&originals().atlas, &d.join("f.h5"), &["del|@attributes_crc32|", "rawattr|@integrator|'rk4'"]);
     every_command_refuses(&f, "attribute attributes_crc32 of / is missing");
 }
+
+/// The sixth round (issue 42): a layout-3 file whose `layout_version` was
+/// lowered by hand, with its root checksum deleted and a text changed, was
+/// read as a layout-2 file; a layout-3 file without `up/lyapunov` was drawn
+/// as all NaN. Both are refused.
+#[test]
+fn a_lowered_version_or_a_deleted_stability_dataset_is_refused() {
+    let d = scratch("lowered");
+    let lowered = mutated(
+        &originals().atlas,
+        &d.join("lowered.h5"),
+        &["del|@attributes_crc32|", "rawattr|@layout_version|np.uint64(2)", "rawattr|@integrator|'rk4'"],
+    );
+    every_command_refuses(&lowered, "attribute attributes_crc32 of / is missing");
+    let deleted = mutated(&originals().atlas, &d.join("deleted.h5"), &["del|up/lyapunov|"]);
+    every_command_refuses(&deleted, "up/lyapunov: missing, which every file of layout 3 has");
+}

@@ -175,10 +175,11 @@ pub enum Unresolved {
         /// The estimated distance to the orbit, relative (infinite when |μ| ≥ 1).
         distance: f64,
     },
-    /// No period, and a growing Lyapunov exponent, but not one event over
-    /// the record: one linear flow, which is never chaotic (the exponent is
-    /// the transient growth of a record shorter than the system's slowest
-    /// motion; issue 42).
+    /// No period, chaotic or quasi-periodic by its exponent, but not one
+    /// event over the record: one linear flow, which is never chaotic (a
+    /// positive exponent is the transient growth of a record shorter than
+    /// the system's slowest motion), and whose torus (an undamped
+    /// oscillation beside the forcing) attracts nothing (issue 42).
     Linear {
         /// Periods of the record without an event.
         periods: usize,
@@ -237,7 +238,7 @@ impl std::fmt::Display for Unresolved {
             ),
             Unresolved::Linear { periods } => write!(
                 f,
-                "no period, and a growing exponent, but no impact or other event in the {periods} periods recorded: one linear flow is never chaotic (its motion is slower than the record)"
+                "no period, but no impact or other event in the {periods} periods recorded: one linear flow, never chaotic, and its torus (an undamped oscillation beside the forcing) attracts nothing"
             ),
             Unresolved::Unbounded { periods, drift } => write!(
                 f,
@@ -337,9 +338,12 @@ pub fn run_cell_with_sections(
         }
         Steady::Aperiodic(class, l, reason) => match cell.unbounded() {
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
-            // One linear flow is never chaotic: its positive exponent is the
-            // transient growth of a record shorter than its slowest motion.
-            None if class == Class::Chaotic && cell.hist.iter().all(|r| r.events == 0) => {
+            // One linear flow is never chaotic (a positive exponent is the
+            // transient growth of a record shorter than its slowest motion),
+            // and its torus, undamped, attracts nothing.
+            None if matches!(class, Class::Chaotic | Class::Quasiperiodic)
+                && cell.hist.iter().all(|r| r.events == 0) =>
+            {
                 (Class::Unresolved, None, Some(l), Some(Unresolved::Linear { periods: cell.hist.len() }))
             }
             None => (class, None, Some(l), reason),

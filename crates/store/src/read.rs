@@ -230,7 +230,11 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     let f = crate::heap::open(path)?;
     crate::attrs::verify(path, &f)?;
     let version = crate::attrs::optional::<u64>(path, &f, attr::LAYOUT_VERSION)?.unwrap_or(1);
-    let ck = Checker { path, sealed: version >= 3 };
+    // Layout 3 by its version, or by its axis's checksum (a version lowered
+    // by hand does not make a file of layout 3 one of layout 2).
+    let x_checked = attr_opt(path, &f, attr::X)?
+        .is_some_and(|x| f.dataset(&format!("{AXES}/{x}")).is_ok_and(|d| d.attr(attr::VALUES_CRC32).is_ok()));
+    let ck = Checker { path, sealed: version >= 3 || x_checked };
     // From layout 3 on the root's texts always have their checksum: one
     // deleted would let them be changed unseen.
     if ck.sealed && f.attr(attr::ATTRIBUTES_CRC32).is_err() {
@@ -497,8 +501,16 @@ fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Re
     let (rows, columns) = (Dim(ny, "rows", "the grid has"), Dim(nx, "columns", "the grid has"));
     let g = f.group(sweep.name()).map_err(h)?;
     let plane = |name: &str| ck.shaped(&g, name, &[rows, columns]);
-    // Files written before the stability datasets existed have none.
-    let optional = |name: &str| if g.link_exists(name) { plane(name).map(Some) } else { Ok(None) };
+    // Files written before the stability datasets existed have none; a file
+    // of layout 3 has them.
+    let optional = |name: &str| match (g.link_exists(name), ck.sealed) {
+        (true, _) => plane(name).map(Some),
+        (false, true) => Err(ck.bad(
+            &format!("{}/{name}", sweep.name()),
+            "missing, which every file of layout 3 has: the file was changed since vibroatlas wrote it",
+        )),
+        (false, false) => Ok(None),
+    };
     let section = |name: &str, cols: usize| -> Result<Section, StoreError> {
         let s = g.group(&format!("{SECTIONS}/{name}")).map_err(h)?;
         let offsets = ck.shaped(&s, var::OFFSETS, &[Dim(n + 1, "entries", "the grid's cells + 1 are")])?;

@@ -256,7 +256,7 @@ fn attribute_bytes(a: &hdf5::Attribute) -> hdf5::Result<Option<Vec<u8>>> {
 pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path) -> Result<(), StoreError> {
     let fail = |object: &str, message: String| StoreError::Dataset {
         path: path.display().to_string(),
-        dataset: object.trim_start_matches('/').to_string(),
+        dataset: if object == "/" { "/".into() } else { object.trim_start_matches('/').to_string() },
         message,
     };
     let mut pending = vec!["/".to_string()];
