@@ -6,8 +6,8 @@
 Every dataset present in either file is compared by its raw bytes (NaN equal to
 the same NaN), and every attribute except those that record when and how a
 file was made (created, command, run_time_s, history, source, git_commit, the root's
-attributes_crc32 that covers them, and names given with
---ignore). Prints one line per difference and exits 1 when there is any.
+attributes_crc32 that covers them, each dataset's values_crc32 that binds its values
+to created and command, and names given with --ignore). Prints one line per difference and exits 1 when there is any.
 """
 import argparse
 import sys
@@ -15,8 +15,10 @@ import sys
 import h5py
 import numpy as np
 
-# attributes_crc32 covers the root's text attributes, created, command and history among them.
-VOLATILE = {"created", "command", "run_time_s", "history", "git_commit", "source", "attributes_crc32"}
+# attributes_crc32 covers the root's text attributes, created, command and history among them;
+# values_crc32 binds each dataset's values (compared themselves) to created and command.
+VOLATILE = {"created", "command", "run_time_s", "history", "git_commit", "source", "attributes_crc32",
+            "values_crc32"}
 
 
 def items(f):

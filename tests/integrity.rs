@@ -138,14 +138,21 @@ with h5py.File(dst, "r+") as f:
             continue
         a = f[name][()]
         b = np.asarray(eval(expr)).astype(a.dtype)
+        had = "values_crc32" in f[name].attrs
         del f[name]
         d = f.create_dataset(name, data=b, chunks=True if b.size else None, fletcher32=bool(b.size))
         # Forged whole: its values_crc32 written for the new values, so that
         # the reader's checks of shapes, offsets and codes are what refuse it.
-        if kind == "data" and b.dtype.kind in "iuf":
+        if kind == "data" and had and b.dtype.kind in "iuf":
             path = d.name.encode()
             head = zlib.crc32(struct.pack("<Q", len(path)) + path)
-            d.attrs["values_crc32"] = np.uint32(zlib.crc32(np.ascontiguousarray(b).tobytes(), head))
+            texts = [f.attrs[k] for k in ("created", "command")]
+            texts = [t.encode() if isinstance(t, str) else bytes(t) for t in texts]
+            run = 0
+            for t in texts:
+                run = zlib.crc32(struct.pack("<Q", len(t)) + t, run)
+            run = struct.pack("<I", run)
+            d.attrs["values_crc32"] = np.uint32(zlib.crc32(run, zlib.crc32(np.ascontiguousarray(b).tobytes(), head)))
 "#;
 
 /// A copy of `from` at `to` with `specs` applied (see [`REWRITE`]:
@@ -765,7 +772,7 @@ fn the_whole_file_check_sees_what_readers_skip() {
             "up/label_code_M1: its attribute flag_meanings differs",
         ),
         ("legend", "del|legend/up/M2/entry|", "legend/up/M2/entry: the dataset is missing"),
-        ("multiplier", "del|up/multiplier|", "up/multiplier: the dataset is missing"),
+        ("multiplier", "del|up/multiplier|", "up/multiplier: missing"),
     ] {
         let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
         let f = f.to_str().unwrap();
@@ -847,4 +854,31 @@ fn a_lowered_version_or_a_deleted_stability_dataset_is_refused() {
     every_command_refuses(&lowered, "attribute attributes_crc32 of / is missing");
     let deleted = mutated(&originals().atlas, &d.join("deleted.h5"), &["del|up/lyapunov|"]);
     every_command_refuses(&deleted, "up/lyapunov: missing, which every file of layout 3 has");
+}
+
+/// The sixth round (issue 42, N2): a dataset copied in from another run's
+/// file of the same grid (`up/lyapunov` of a run with another ζ) carried a
+/// valid `values_crc32` of its own; the checksum is bound to the file's run
+/// (its `created` and `command`), so every command refuses it.
+#[test]
+fn a_dataset_from_another_run_is_refused() {
+    let d = scratch("foreign");
+    let other = d.join("other.h5");
+    let x = ["--x", "omega=0.13:0.53:4", "--y", "delta=0.4:0.8:3", "--sweep", "both", "--attractors", "4"];
+    let mut args = vec!["atlas", "configs/multi-stop.toml", "--set", "zeta=0.2"];
+    args.extend(x);
+    args.extend(["--quiet", "-o", other.to_str().unwrap()]);
+    ok(&args);
+    let copy = d.join("copied.h5");
+    const COPY: &str = r#"
+import sys, shutil, h5py
+shutil.copy(sys.argv[1], sys.argv[3])
+with h5py.File(sys.argv[2], "r") as o, h5py.File(sys.argv[3], "r+") as f:
+    del f["up/lyapunov"]
+    o.copy("up/lyapunov", f["up"])
+print("ok")
+"#;
+    let (a, o, c) = (originals().atlas.to_str().unwrap(), other.to_str().unwrap(), copy.to_str().unwrap());
+    assert_eq!(python(COPY, &[a, o, c]).trim(), "ok");
+    every_command_refuses(&copy, "up/lyapunov: its values (at this path) do not match");
 }

@@ -17,8 +17,10 @@ DRY = CONFIGS / "dry-friction.toml"
 
 # Root attributes that say when and how a file was made, not what it holds.
 # attributes_crc32 is the checksum of the text attributes, `command` and
-# `created` among them: it differs whenever they do.
-VOLATILE = {"command", "created", "history", "run_time_s", "source", "git_commit", "attributes_crc32"}
+# `created` among them: it differs whenever they do; so does each dataset's
+# values_crc32, which binds its values to them.
+VOLATILE = {"command", "created", "history", "run_time_s", "source", "git_commit", "attributes_crc32",
+            "values_crc32"}
 
 
 def bin_path():

@@ -162,7 +162,7 @@ pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec
 /// its path ([`attr::VALUES_CRC32`]; datasets written before it have none).
 pub(crate) fn values_at(ck: &crate::read::Checker, ds: &hdf5::Dataset, bytes: &[u8]) -> Result<(), StoreError> {
     match optional::<u32>(ck.path, ds, attr::VALUES_CRC32)? {
-        Some(want) if crate::verify::values_crc32(&ds.name(), bytes) != want => Err(ck.bad(
+        Some(want) if crate::verify::of_run(crate::verify::values_crc32(&ds.name(), bytes), ck.run) != want => Err(ck.bad(
             &ds.name(),
             format!("its values (at this path) {}", mismatch(attr::VALUES_CRC32)),
         )),

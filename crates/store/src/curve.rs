@@ -136,7 +136,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
         }
     };
     // Curves are written apart from the atlas's writer, without values_crc32.
-    let ck = crate::read::Checker { path, sealed: false };
+    let ck = crate::read::Checker { path, sealed: false, run: 0 };
     let mut out = Vec::new();
     while let Ok(g) = holder.group(&curve(out.len())) {
         out.push(read_one(&ck, &g)?);

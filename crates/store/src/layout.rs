@@ -314,12 +314,15 @@ pub mod attr {
     pub const DATA_CRC32: &str = "data_crc32";
     /// `values_crc32` of every dataset vibroatlas writes with values (issue
     /// 42): the CRC-32 (zlib's) of the dataset's path in the file (`/up/class`;
-    /// its byte length, u64 little-endian, then its bytes) followed by its
-    /// values as stored (numbers: their bytes in order, little-endian; texts:
-    /// each its byte length, u64 little-endian, then its bytes). A value
-    /// changed with its chunk's Fletcher-32 rewritten (h5py writes it), or a
-    /// dataset moved to another's path (`up` and `down` swapped), does not
-    /// pass it. Written once the file has been read back.
+    /// its byte length, u64 little-endian, then its bytes), its values as
+    /// stored (numbers: their bytes in order, little-endian; texts: each its
+    /// byte length, u64 little-endian, then its bytes), and the file's run
+    /// (u32 little-endian: the CRC-32 of the root's `created` and `command`
+    /// texts, each its byte length, u64 little-endian, then its bytes). A value changed
+    /// with its chunk's Fletcher-32 rewritten (h5py writes it), a dataset
+    /// moved to another's path (`up` and `down` swapped), or one copied in
+    /// from another run's file does not pass it. Written once the file has
+    /// been read back.
     pub const VALUES_CRC32: &str = "values_crc32";
     /// `attributes_crc32` of an object (the root group, a coordinate, a
     /// curve's group): the CRC-32 of its scalar text attributes named in

@@ -55,6 +55,9 @@ pub(crate) struct Checker<'a> {
     /// Every dataset with values carries its `values_crc32` (layout 3 on):
     /// one without it was replaced.
     pub(crate) sealed: bool,
+    /// The file's run, which its `values_crc32` are bound to
+    /// ([`crate::verify::run_of`]).
+    pub(crate) run: u32,
 }
 
 /// One axis of a dataset's expected shape: its length, what it counts, and
@@ -234,7 +237,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     // by hand does not make a file of layout 3 one of layout 2).
     let x_checked = attr_opt(path, &f, attr::X)?
         .is_some_and(|x| f.dataset(&format!("{AXES}/{x}")).is_ok_and(|d| d.attr(attr::VALUES_CRC32).is_ok()));
-    let ck = Checker { path, sealed: version >= 3 || x_checked };
+    let ck = Checker { path, sealed: version >= 3 || x_checked, run: crate::verify::run_of(&f) };
     // From layout 3 on the root's texts always have their checksum: one
     // deleted would let them be changed unseen.
     if ck.sealed && f.attr(attr::ATTRIBUTES_CRC32).is_err() {

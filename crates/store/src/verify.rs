@@ -44,7 +44,9 @@ struct Read {
     crc: u32,
 }
 
-/// The `values_crc32` of the dataset at `path` whose values are `bytes` (see
+/// The CRC-32 of the dataset at `path` whose values are `bytes`: its path
+/// (byte length, u64 little-endian, then the bytes) and its values; the
+/// first part of its `values_crc32` ([`of_run`] the rest; see
 /// [`crate::layout::attr::VALUES_CRC32`]).
 pub(crate) fn values_crc32(path: &str, bytes: &[u8]) -> u32 {
     let mut crc = crc32fast::Hasher::new();
@@ -52,6 +54,25 @@ pub(crate) fn values_crc32(path: &str, bytes: &[u8]) -> u32 {
     crc.update(path.as_bytes());
     crc.update(bytes);
     crc.finalize()
+}
+
+/// [`values_crc32`] `crc` continued with the file's run (see [`run_of`]): a
+/// dataset copied in from another run's file, however alike, does not pass.
+pub(crate) fn of_run(crc: u32, run: u32) -> u32 {
+    let mut h = crc32fast::Hasher::new_with_initial(crc);
+    h.update(&run.to_le_bytes());
+    h.finalize()
+}
+
+/// The run of a file: the CRC-32 of the root's `created` and `command` texts
+/// (each its byte length, u64 little-endian, then its bytes; a missing one
+/// empty): when and by what command the file was written.
+pub(crate) fn run_of(f: &hdf5::File) -> u32 {
+    let text = |name: &str| {
+        f.attr(name).and_then(|a| a.read_scalar::<VarLenUnicode>()).map(|v| v.as_str().to_string()).unwrap_or_default()
+    };
+    let (created, command) = (text(crate::layout::attr::CREATED), text(crate::layout::attr::COMMAND));
+    crate::netcdf::texts_crc32([created.as_bytes(), command.as_bytes()])
 }
 
 /// Texts as [`values_crc32`] takes them: each its byte length (u64,
@@ -199,9 +220,10 @@ pub(crate) fn seal_values(tmp: &Path, path: &Path, crcs: &[(String, u32)]) -> Re
         message,
     };
     let f = hdf5::File::open_rw(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
+    let run = run_of(&f);
     for (name, crc) in crcs {
         let ds = f.dataset(name).map_err(|e| failed(name, crate::error::plain(&e)))?;
-        crate::netcdf::attr_num(&ds, crate::layout::attr::VALUES_CRC32, *crc)
+        crate::netcdf::attr_num(&ds, crate::layout::attr::VALUES_CRC32, of_run(*crc, run))
             .map_err(|e| failed(name, crate::error::plain(&e)))?;
     }
     Ok(())
