@@ -975,7 +975,10 @@ mod tests {
     /// above that period (period detection as the oracle; issue 28: it was
     /// `unresolved`, naming the period). A neutral torus that closes after
     /// more than `n_max` periods (the undamped oscillator away from its stop
-    /// at ω = 33/13: period 33) does not contract and stays quasi-periodic.
+    /// at ω = 33/13: period 33) does not contract: one linear flow without
+    /// an event, whose torus attracts nothing, is `unresolved` (issue 42; it
+    /// was quasi-periodic, while the same oscillator at ω = 1.5 was already
+    /// `unresolved`).
     #[test]
     fn an_orbit_longer_than_n_max_is_confirmed_and_labelled() {
         let sys = multi_stop(1.1042553191489362, 2.0);
@@ -991,7 +994,8 @@ mod tests {
         assert_eq!(cell.impacts, oracle.impacts);
         let torus = system("single-stop.toml", &[("sigma", 0.3), ("omega", 33.0 / 13.0)]);
         let cell = run_cell(&torus, &acc, Method::Exact, &torus.model.initial_state());
-        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        assert_eq!(cell.class, Class::Unresolved, "{:?}", cell.reason);
+        assert!(matches!(cell.reason, Some(Unresolved::Linear { .. })), "{:?}", cell.reason);
     }
 
     /// Phases 1 and 4 on complete chattering (ω = 0.2, δ = 0.6): M1 sticks to
