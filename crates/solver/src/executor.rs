@@ -30,10 +30,11 @@
 //!    ([`Unresolved::LongPeriod`]);
 //! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
 //!    Floquet multiplier modulus of the n-period map at the final state. An
-//!    orbit whose multiplier exceeds 1 is unstable: the record only passed
-//!    near it, and the cell is `unresolved` ([`Unresolved::Unsettled`]); so
+//!    orbit whose multiplier exceeds 1.01 is unstable: the record only passed
+//!    near it, and the cell is `unresolved` ([`Unresolved::Unstable`]); so
 //!    is one whose multiplier says that the state is still far from it where
-//!    rounding hid the contraction from the record ([`Executor::unsettled`]:
+//!    rounding hid the contraction from the record, or that the map does not
+//!    contract at all ([`Executor::unsettled`]:
 //!    a conservative oscillation under fast forcing, a mass on a vanishing
 //!    spring). Without a period, a motion that drifts away from every stop
 //!    with no event is unbounded ([`Executor::unbounded`]), not chaos;
@@ -102,7 +103,7 @@ const LONG_REACH: f64 = 1e-3;
 const UNSETTLED: f64 = 100.0;
 
 /// A found orbit whose largest multiplier modulus exceeds 1 by more than this
-/// is unstable: the record only passed near it (see [`Executor::unsettled`]).
+/// is unstable: the record only passed near it ([`Unresolved::Unstable`]).
 /// Within it, an orbit at a bifurcation (a pitchfork's new orbits have a
 /// multiplier that crosses 1 there, measured at a state not yet on them)
 /// keeps its label.
@@ -164,8 +165,7 @@ pub enum Unresolved {
     /// `e`, is beyond 100 × `periodic_tol`, or infinite where the map
     /// does not contract (|μ| within 1e-9 of 1: a conservative oscillation
     /// that moved too little per period to tell from a fixed point): a
-    /// contraction too slow for the record, not a converged orbit. Or the
-    /// orbit is unstable (|μ| > 1.01): the record only passed near it
+    /// contraction too slow for the record, not a converged orbit
     /// (issue 42).
     Unsettled {
         /// Periods of the record.
@@ -174,6 +174,15 @@ pub enum Unresolved {
         multiplier: f64,
         /// The estimated distance to the orbit, relative (infinite when |μ| ≥ 1).
         distance: f64,
+    },
+    /// The section repeated, but the orbit is unstable (its largest Floquet
+    /// multiplier modulus beyond 1.01): the record only passed near it
+    /// (issue 42).
+    Unstable {
+        /// Periods of the record.
+        periods: usize,
+        /// The largest Floquet multiplier modulus of the period map.
+        multiplier: f64,
     },
     /// No period, chaotic or quasi-periodic by its exponent, but not one
     /// event over the record: one linear flow, which is never chaotic (a
@@ -224,7 +233,7 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "no period up to n_max = {n_max}: the motion contracts onto an orbit of period {n}, which Newton's method on the {n}-period map did not confirm (raise n_max to search for it in the record)"
             ),
-            Unresolved::Unsettled { periods, multiplier, .. } if *multiplier > 1.0 + UNSTABLE => write!(
+            Unresolved::Unstable { periods, multiplier } => write!(
                 f,
                 "the section repeated after {periods} periods, but near an unstable orbit (largest |multiplier| {multiplier:.6}): a transient passing it, not its motion"
             ),
@@ -357,12 +366,7 @@ pub fn run_cell_with_sections(
     let (class, n, reason, multiplier) = match multiplier {
         Some(mu) if mu > 1.0 + UNSTABLE => {
             let periods = cell.sim.periods() as usize;
-            (
-                Class::Unresolved,
-                None,
-                Some(Unresolved::Unsettled { periods, multiplier: mu, distance: f64::INFINITY }),
-                None,
-            )
+            (Class::Unresolved, None, Some(Unresolved::Unstable { periods, multiplier: mu }), None)
         }
         _ => (class, n, reason, multiplier),
     };
@@ -684,11 +688,13 @@ impl<'s> Executor<'s> {
         Steady::Aperiodic(class, lyapunov, reason)
     }
 
-    /// Why a period n found by the record is not a result, where the ratio
-    /// of its steps showed no contraction ([`remaining`]): the distance to
-    /// its orbit that its largest multiplier modulus μ gives, `e / (1 − μ)`
-    /// from the record's last n-period step `e` (infinite for μ ≥ 1 and e >
-    /// 0), is beyond [`UNSETTLED`] × `periodic_tol`. The record's own test
+    /// Why a period n found by the record is not a result. Where the ratio
+    /// of its steps showed no contraction (`hidden`, see [`remaining`]): the
+    /// distance to its orbit that its largest multiplier modulus μ gives,
+    /// `e / (1 − μ)` from the record's last n-period step `e` (infinite for
+    /// μ within [`NEUTRAL`] of 1 and e > 0), is beyond [`UNSETTLED`] ×
+    /// `periodic_tol`. Where it did: μ within [`NEUTRAL`] of 1 (a map that
+    /// does not contract; not asked of a rigid mode's family of orbits). The record's own test
     /// ([`converged`]) estimates the contraction from the ratio of two
     /// steps, which rounding hides once the steps are near the rounding of
     /// the state: a map whose multiplier is 1 within 1e-9 (a conservative

@@ -82,6 +82,8 @@ pub struct System {
     pub tau: f64,
     /// Forcing period `2π/ω`.
     pub period: f64,
+    /// Whether the stiffness matrix is singular (see [`System::has_rigid_mode`]).
+    rigid: bool,
 }
 
 impl System {
@@ -138,6 +140,11 @@ impl System {
             })
             .collect();
         let period = model.period();
+        let rigid = {
+            let eig = stiffness.clone().symmetric_eigenvalues();
+            let largest = eig.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            eig.iter().any(|v| v.abs() <= 1e-12 * largest.max(f64::MIN_POSITIVE))
+        };
         Ok(System {
             mass,
             damping,
@@ -148,6 +155,7 @@ impl System {
             omega: model.omega,
             tau: model.tau,
             period,
+            rigid,
             model,
         })
     }
@@ -212,9 +220,7 @@ impl System {
     /// singular (a mass, or a group of masses, held by no spring), so that
     /// a motion without contacts may drift without bound.
     pub fn has_rigid_mode(&self) -> bool {
-        let eig = self.stiffness.clone().symmetric_eigenvalues();
-        let largest = eig.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        eig.iter().any(|v| v.abs() <= 1e-12 * largest.max(f64::MIN_POSITIVE))
+        self.rigid
     }
 
     /// Number of masses (degrees of freedom).

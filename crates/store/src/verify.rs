@@ -145,6 +145,15 @@ fn hash_texts<'a>(texts: impl Iterator<Item = &'a str>) -> u64 {
     hash(&text_bytes(texts))
 }
 
+/// A dataset of the file about to be put at `path` that did not read back.
+fn unverified(path: &Path, dataset: &str, message: String) -> StoreError {
+    StoreError::Unverified {
+        path: path.display().to_string(),
+        dataset: dataset.trim_start_matches('/').to_string(),
+        message,
+    }
+}
+
 /// Reads the closed file `tmp` (to be renamed to `path`) back: the per-cell
 /// datasets of `atlas`'s sweeps against the atlas, every other dataset
 /// against `expected`. Returns each dataset's path and the
@@ -155,11 +164,7 @@ pub(crate) fn file(
     atlas: &Atlas,
     expected: &Expected,
 ) -> Result<Vec<(String, u32)>, StoreError> {
-    let failed = |dataset: &str, message: String| StoreError::Unverified {
-        path: path.display().to_string(),
-        dataset: dataset.trim_start_matches('/').to_string(),
-        message,
-    };
+    let failed = |dataset: &str, message: String| unverified(path, dataset, message);
     let f = hdf5::File::open(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
     let m = &atlas.meta;
     let mut crcs = Vec::new();
@@ -189,24 +194,27 @@ pub(crate) fn file(
     Ok(crcs)
 }
 
-/// The values of the numeric dataset `ds` as stored (in its own type); `None`
-/// for a type vibroatlas does not write as numbers.
-pub(crate) fn stored_bytes(ds: &Dataset) -> hdf5::Result<Option<Vec<u8>>> {
-    use hdf5::types::{FloatSize, IntSize, TypeDescriptor as T};
-    fn raw<V: H5Type + Copy>(ds: &Dataset) -> hdf5::Result<Vec<u8>> {
-        Ok(bytes_of(&ds.read_raw::<V>()?).to_vec())
+/// The values of a dataset or an attribute as stored: numbers as their bytes
+/// in their own type, texts as [`text_bytes`] takes them; `None` for a type
+/// vibroatlas does not write as values (references, compounds).
+pub(crate) fn stored_bytes(c: &hdf5::Container) -> hdf5::Result<Option<Vec<u8>>> {
+    use hdf5::types::{FloatSize, IntSize, TypeDescriptor as T, VarLenAscii};
+    fn raw<V: H5Type + Copy>(c: &hdf5::Container) -> hdf5::Result<Vec<u8>> {
+        Ok(bytes_of(&c.read_raw::<V>()?).to_vec())
     }
-    Ok(Some(match ds.dtype()?.to_descriptor()? {
-        T::Float(FloatSize::U8) => raw::<f64>(ds)?,
-        T::Float(FloatSize::U4) => raw::<f32>(ds)?,
-        T::Integer(IntSize::U1) => raw::<i8>(ds)?,
-        T::Unsigned(IntSize::U1) => raw::<u8>(ds)?,
-        T::Integer(IntSize::U2) => raw::<i16>(ds)?,
-        T::Unsigned(IntSize::U2) => raw::<u16>(ds)?,
-        T::Integer(IntSize::U4) => raw::<i32>(ds)?,
-        T::Unsigned(IntSize::U4) => raw::<u32>(ds)?,
-        T::Integer(IntSize::U8) => raw::<i64>(ds)?,
-        T::Unsigned(IntSize::U8) => raw::<u64>(ds)?,
+    Ok(Some(match c.dtype()?.to_descriptor()? {
+        T::VarLenUnicode => text_bytes(c.read_raw::<VarLenUnicode>()?.iter().map(|t| t.as_str())),
+        T::VarLenAscii => text_bytes(c.read_raw::<VarLenAscii>()?.iter().map(|t| t.as_str())),
+        T::Float(FloatSize::U8) => raw::<f64>(c)?,
+        T::Float(FloatSize::U4) => raw::<f32>(c)?,
+        T::Integer(IntSize::U1) => raw::<i8>(c)?,
+        T::Unsigned(IntSize::U1) => raw::<u8>(c)?,
+        T::Integer(IntSize::U2) => raw::<i16>(c)?,
+        T::Unsigned(IntSize::U2) => raw::<u16>(c)?,
+        T::Integer(IntSize::U4) => raw::<i32>(c)?,
+        T::Unsigned(IntSize::U4) => raw::<u32>(c)?,
+        T::Integer(IntSize::U8) => raw::<i64>(c)?,
+        T::Unsigned(IntSize::U8) => raw::<u64>(c)?,
         _ => return Ok(None),
     }))
 }
@@ -214,11 +222,7 @@ pub(crate) fn stored_bytes(ds: &Dataset) -> hdf5::Result<Option<Vec<u8>>> {
 /// Writes each dataset's `values_crc32` (see [`file`]) into the closed file
 /// `tmp`, read back and verified.
 pub(crate) fn seal_values(tmp: &Path, path: &Path, crcs: &[(String, u32)]) -> Result<(), StoreError> {
-    let failed = |dataset: &str, message: String| StoreError::Unverified {
-        path: path.display().to_string(),
-        dataset: dataset.trim_start_matches('/').to_string(),
-        message,
-    };
+    let failed = |dataset: &str, message: String| unverified(path, dataset, message);
     let f = hdf5::File::open_rw(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
     let run = run_of(&f);
     for (name, crc) in crcs {
@@ -237,37 +241,6 @@ const MADE: &[&str] = &["created", "history", "source", "git_commit", "attribute
 /// Attributes the HDF5 dimension-scale API keeps (object references, which
 /// differ between two files however equal).
 const SCALES: &[&str] = &["DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"];
-
-/// The value of attribute `a` as bytes comparable between two files: texts
-/// as their bytes, numbers as stored; `None` for a type vibroatlas does not
-/// write as a value (references).
-fn attribute_bytes(a: &hdf5::Attribute) -> hdf5::Result<Option<Vec<u8>>> {
-    use hdf5::types::{FloatSize, IntSize, TypeDescriptor as T, VarLenAscii};
-    fn raw<V: H5Type + Copy>(a: &hdf5::Attribute) -> hdf5::Result<Vec<u8>> {
-        Ok(bytes_of(&a.read_raw::<V>()?).to_vec())
-    }
-    Ok(Some(match a.dtype()?.to_descriptor()? {
-        T::VarLenUnicode => {
-            let v = a.read_raw::<VarLenUnicode>()?;
-            v.iter()
-                .flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied()))
-                .collect()
-        }
-        T::VarLenAscii => {
-            let v = a.read_raw::<VarLenAscii>()?;
-            v.iter()
-                .flat_map(|t| (t.len() as u64).to_le_bytes().into_iter().chain(t.as_bytes().iter().copied()))
-                .collect()
-        }
-        T::Float(FloatSize::U8) => raw::<f64>(a)?,
-        T::Float(FloatSize::U4) => raw::<f32>(a)?,
-        T::Integer(IntSize::U1) | T::Unsigned(IntSize::U1) => raw::<u8>(a)?,
-        T::Integer(IntSize::U2) | T::Unsigned(IntSize::U2) => raw::<u16>(a)?,
-        T::Integer(IntSize::U4) | T::Unsigned(IntSize::U4) => raw::<u32>(a)?,
-        T::Integer(IntSize::U8) | T::Unsigned(IntSize::U8) => raw::<u64>(a)?,
-        _ => return Ok(None),
-    }))
-}
 
 /// Checks that every group, dataset and attribute of `expected` (a file
 /// written afresh from what `actual` read back as) is in `actual` with the
@@ -303,11 +276,11 @@ pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path
                 continue;
             }
             let w =
-                want.attr(&attr).and_then(|a| attribute_bytes(&a)).map_err(|e| fail(&name, crate::error::plain(&e)))?;
+                want.attr(&attr).and_then(|a| stored_bytes(&a)).map_err(|e| fail(&name, crate::error::plain(&e)))?;
             let Some(w) = w else { continue };
             let h = have.attr(&attr).map_err(|_| fail(&name, format!("its attribute {attr} is missing"))).and_then(
                 |a| {
-                    attribute_bytes(&a).map_err(|e| {
+                    stored_bytes(&a).map_err(|e| {
                         fail(&name, format!("its attribute {attr} does not read ({})", crate::error::plain(&e)))
                     })
                 },
