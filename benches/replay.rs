@@ -131,7 +131,8 @@ fn serial_costs(m: &Executed, out: &Path, probe: f64, threads: usize) -> Result<
     let n = lines.len().max(1) as f64;
     // The file finished again on one thread, every line kept as in the run:
     // with the run's finish, the shared part.
-    let info = store::RunInfo { command: "bench".into(), run_time_s: m.secs, shard: None, history: Vec::new() };
+    let info =
+        store::RunInfo { command: "bench".into(), run_time_s: m.secs, shard: None, history: Vec::new(), parent: None };
     let mut draft = store::Draft::create(&out.with_extension("one.h5"), &m.atlas.meta, 1)?;
     for l in &lines {
         draft.keep(&m.atlas, l.sweep, l.index)?;

@@ -23,3 +23,4 @@ mod properties;
 mod stability;
 mod symbols;
 mod util;
+mod zoom;

@@ -20,6 +20,8 @@ pub enum Command {
     Sweep(SweepArgs),
     /// Map a parameter plane in parallel, fresh or by up/down continuation.
     Atlas(AtlasArgs),
+    /// Compute a box of a stored atlas again on a finer grid, its chains entering from the parent.
+    Zoom(ZoomArgs),
     /// One atlas per value of a parameter, and a contact sheet comparing them.
     Study(StudyArgs),
     /// Draw the coloured map of an atlas file.
@@ -325,6 +327,31 @@ pub struct AtlasArgs {
     pub output: std::path::PathBuf,
     #[command(flatten)]
     pub run: RunArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct ZoomArgs {
+    /// The parent atlas.
+    #[arg(value_name = "PARENT.h5")]
+    pub parent: std::path::PathBuf,
+    /// The box along the parent's x axis, NAME=START:STOP:COUNT (ascending, within the parent's).
+    #[arg(long, value_name = "NAME=START:STOP:COUNT")]
+    pub x: String,
+    /// The box along the parent's y axis, NAME=START:STOP:COUNT (ascending, within the parent's).
+    #[arg(long, value_name = "NAME=START:STOP:COUNT")]
+    pub y: String,
+    /// The sweeps computed, among the parent's (default: all of them).
+    #[arg(long, value_enum)]
+    pub sweep: Option<AtlasSweep>,
+    /// Output HDF5 file (an atlas that records its parent).
+    #[arg(short = 'o', long = "output", value_name = "CHILD.h5")]
+    pub output: std::path::PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress bar or summary.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Args)]

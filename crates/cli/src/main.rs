@@ -22,6 +22,7 @@ mod render_cmd;
 mod study;
 mod summary;
 mod sweep;
+mod zoom;
 
 use clap::{error::ErrorKind, CommandFactory, FromArgMatches};
 
@@ -87,7 +88,11 @@ fn main() {
     // Commands whose result is a file: what they print reports it.
     if matches!(
         cli.command,
-        args::Command::Atlas(_) | args::Command::Study(_) | args::Command::Merge(_) | args::Command::Render(_)
+        args::Command::Atlas(_)
+            | args::Command::Zoom(_)
+            | args::Command::Study(_)
+            | args::Command::Merge(_)
+            | args::Command::Render(_)
     ) {
         out::reports_only();
     }
@@ -95,6 +100,7 @@ fn main() {
         args::Command::Cell(a) => cell::run(a),
         args::Command::Sweep(a) => sweep::run(a),
         args::Command::Atlas(a) => atlas::run(a),
+        args::Command::Zoom(a) => zoom::run(a),
         args::Command::Study(a) => study::run(a),
         args::Command::Render(a) => render_cmd::run(a),
         args::Command::Merge(a) => merge::run(a),

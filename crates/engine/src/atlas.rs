@@ -137,8 +137,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let out = dir.join("a.h5");
         let sim = Sim::new(SceneSource::File("../../configs/multi-stop.toml".into()));
-        let x = Axis { name: "omega".into(), start: 0.2, stop: 2.5, count: 40 };
-        let y = Axis { name: "delta".into(), start: 0.1, stop: 1.5, count: 20 };
+        let x = Axis::new("omega", 0.2, 2.5, 40);
+        let y = Axis::new("delta", 0.1, 1.5, 20);
         let mut r = AtlasRequest::new(sim, x, y, vec![SweepKind::Up, SweepKind::Down]);
         r.threads = 2;
         r.output = Some(out.clone());

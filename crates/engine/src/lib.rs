@@ -7,6 +7,7 @@
 //! | [`cell()`] | [`Sim`] and a [`Start`] | [`Cell`] (`to_json`: `cell --json`) |
 //! | [`sweep()`] | [`SweepRequest`] | [`Swept`] (`to_json`: `sweep --json`) |
 //! | [`atlas()`] | [`AtlasRequest`] | [`Executed`] (the atlas, the file written) |
+//! | [`zoom()`] | [`ZoomRequest`] | [`Executed`] (a box of a stored atlas, computed again) |
 //! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
 //! | [`curve()`] | [`CurveRequest`] | [`Traced`] (`to_json`: `curve --json`) |
 //! | [`merge()`] | [`MergeRequest`] | [`store::Merged`] (the atlas written) |
@@ -27,8 +28,8 @@
 //! use grid::{Axis, SweepKind};
 //!
 //! let sim = Sim::new(SceneSource::File("configs/multi-stop.toml".into()));
-//! let x = Axis { name: "omega".into(), start: 0.1, stop: 3.05, count: 296 };
-//! let y = Axis { name: "delta".into(), start: 0.05, stop: 2.0, count: 196 };
+//! let x = Axis::new("omega", 0.1, 3.05, 296);
+//! let y = Axis::new("delta", 0.05, 2.0, 196);
 //! let mut run = AtlasRequest::new(sim, x, y, vec![SweepKind::Up, SweepKind::Down]);
 //! run.output = Some("out/reference.h5".into());
 //! let done = atlas(&run, &Quiet)?;
@@ -53,6 +54,7 @@ mod study;
 mod summary;
 mod sweep;
 mod trace;
+mod zoom;
 
 pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
@@ -75,3 +77,4 @@ pub use trace::{
     check_trace_samples, halt_text, sections, trace, trace_csv, window, window_periods, Row, Sections, Window,
     MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
 };
+pub use zoom::{zoom, ZoomRequest, MAX_ZOOM_CELLS};

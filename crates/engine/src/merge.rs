@@ -54,6 +54,7 @@ pub fn merge(r: &MergeRequest, observer: &dyn Observer) -> Result<store::Merged>
         run_time_s: merged.run_time_s,
         shard: None,
         history: merged.history.clone(),
+        parent: None,
     };
     store::write(&output, atlas, &info, crate::threads(None)?)?;
     Ok(merged)

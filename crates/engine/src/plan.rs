@@ -35,6 +35,10 @@ pub struct Plan {
     /// Coexisting attractors to find once the lines are done: the sampling,
     /// and whether only hysteresis cells.
     pub attractors: Option<(grid::attractors::Sampling, bool)>,
+    /// The states the continuation chains enter the plane with (a zoom's).
+    pub entries: grid::Entries,
+    /// The atlas a zoom refines (stored in the file).
+    pub parent: Option<store::Parent>,
 }
 
 /// Worker threads: the option, or every core.
@@ -143,8 +147,13 @@ impl Plan {
     /// The journal beside the output (resumed, or new) and the atlas of the
     /// lines it kept; none without an output.
     fn open_journal(&self) -> Result<(Atlas, Option<Journal>)> {
-        let key = fingerprint(&format!("{:?} {:?}", self.meta, self.shard));
+        let mut key = format!("{:?} {:?}", self.meta, self.shard);
+        if let Some(parent) = &self.parent {
+            key += &format!(" {parent:?} {:?}", self.entries);
+        }
+        let key = fingerprint(&key);
         let mut atlas = Atlas::new(self.meta.clone());
+        atlas.entries = self.entries.clone();
         let Some(out) = &self.output else { return Ok((atlas, None)) };
         let jp = journal_path(out);
         let (j, lines) = if self.resume {
@@ -237,7 +246,7 @@ impl Plan {
             // A closed channel means the writer failed; its error is reported below.
             let _ = tx.send((line, sealed));
         };
-        let ran = self.meta.plane.run(&self.setup, jobs, self.threads, &Observed(observer), &sink);
+        let ran = self.meta.plane.run(&self.setup, jobs, &self.entries, self.threads, &Observed(observer), &sink);
         drop(tx);
         observer.finish();
         let kept = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
@@ -259,8 +268,13 @@ impl Plan {
         journal: Journal,
         elapsed: f64,
     ) -> Result<()> {
-        let info =
-            RunInfo { command: self.command.clone(), run_time_s: elapsed, shard: self.shard, history: Vec::new() };
+        let info = RunInfo {
+            command: self.command.clone(),
+            run_time_s: elapsed,
+            shard: self.shard,
+            history: Vec::new(),
+            parent: self.parent.clone(),
+        };
         let kept = |e: store::StoreError| {
             let text = chain_text(e) + " (the computed lines are kept: ";
             RequestError::message().text(text).opt(Opt::Resume).text(" once it can be written)")
@@ -408,6 +422,8 @@ impl Plan {
             inputs: Vec::new(),
             cost: None,
             attractors: None,
+            entries: grid::Entries::default(),
+            parent: None,
         })
     }
 

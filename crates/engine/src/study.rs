@@ -95,7 +95,7 @@ pub fn sheet_panel(atlas: Atlas, sweep: SweepKind) -> Atlas {
                 .collect(),
         })
         .collect();
-    Atlas { meta, maps, attractors: None }
+    Atlas { meta, maps, attractors: None, entries: grid::Entries::default() }
 }
 
 /// Bytes a panel of [`sheet_panel`] holds at most for an atlas of `meta`.

@@ -117,8 +117,8 @@ pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
         model.parameters.iter().find(|(n, _)| *n != x.name && s.scene.is_plain(n)).cloned().ok_or_else(|| {
             RequestError::option(Opt::Axis).text("the scene needs a second plain parameter to hold fixed")
         })?;
-    let plane = Plane::new(x, Axis { name: held, start: value, stop: value, count: 1 }, Along::X)
-        .map_err(|e| grid_error(e, &[("x", Opt::Axis)]))?;
+    let plane =
+        Plane::new(x, Axis::new(held, value, value, 1), Along::X).map_err(|e| grid_error(e, &[("x", Opt::Axis)]))?;
     let mut plan = Plan::new(&s, r.section_cap, plane, sweeps.clone(), r.threads)?;
     plan.output = r.output.clone();
     plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
@@ -190,6 +190,7 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>, observer: &dyn Obse
             run_time_s: clock.elapsed().as_secs_f64(),
             shard: None,
             history: Vec::new(),
+            parent: None,
         };
         store::write(out, &atlas, &info, plan.threads)?;
     }

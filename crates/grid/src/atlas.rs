@@ -4,7 +4,7 @@
 
 use crate::cell::CellData;
 use crate::hysteresis::mask;
-use crate::plane::{Line, Plane};
+use crate::plane::{Entries, Line, Plane};
 use crate::sweep::SweepKind;
 use std::collections::HashMap;
 
@@ -81,6 +81,9 @@ pub struct Atlas {
     pub maps: Vec<Map>,
     /// Coexisting attractors per cell, when sampled.
     pub attractors: Option<AttractorMap>,
+    /// The states its chains entered the plane with (a zoom's, from its
+    /// parent); empty: every chain from the scene's initial state.
+    pub entries: Entries,
 }
 
 impl Atlas {
@@ -88,7 +91,7 @@ impl Atlas {
     pub fn new(meta: Meta) -> Atlas {
         let n = meta.plane.cells();
         let maps = meta.sweeps.iter().map(|&sweep| Map { sweep, cells: vec![None; n] }).collect();
-        Atlas { meta, maps, attractors: None }
+        Atlas { meta, maps, attractors: None, entries: Entries::default() }
     }
 
     /// The map of one sweep.
@@ -154,17 +157,19 @@ impl Atlas {
     }
 
     /// The state cell `(iy, ix)` of `sweep` started from: the final state of
-    /// the cell before it along its continuation chain, `None` for a fresh
-    /// cell or the first of a chain (they start from the scene's initial state).
+    /// the cell before it along its continuation chain, or for the first of
+    /// a chain its entry; `None` for a fresh cell or a chain's first without
+    /// an entry (they start from the scene's initial state).
     pub fn start_of(&self, sweep: SweepKind, iy: usize, ix: usize) -> Option<&[f64]> {
         let p = &self.meta.plane;
         let map = self.map(sweep)?;
         let (line, pos) = p.position(iy, ix);
         let prev = match sweep {
-            SweepKind::Fresh => None,
+            SweepKind::Fresh => return None,
             SweepKind::Up => pos.checked_sub(1),
             SweepKind::Down => Some(pos + 1).filter(|&q| q < p.line_len()),
-        }?;
+        };
+        let Some(prev) = prev else { return self.entries.get(sweep, line) };
         let (jy, jx) = p.cell(line, prev);
         map.cells[jy * p.x.count + jx].as_ref().map(|c| c.final_state.as_slice())
     }

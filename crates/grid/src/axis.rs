@@ -1,5 +1,8 @@
 //! A parameter axis `NAME=START:STOP:COUNT`: COUNT equally spaced values from
-//! START to STOP inclusive.
+//! START to STOP inclusive; a zoomed axis also takes, where its values
+//! coincide with those of its parent's axis to rounding, the parent's own
+//! values ([`Lattice`]), so that a box aligned with the parent's grid computes
+//! at the very same parameters.
 
 use crate::error::GridError;
 
@@ -18,9 +21,59 @@ pub struct Axis {
     pub stop: f64,
     /// Number of values (>= 1).
     pub count: usize,
+    /// The parent's axis whose values this one takes where they coincide
+    /// (a zoom's axis); `None` for an axis of its own.
+    pub lattice: Option<Lattice>,
+}
+
+/// The values `START:STOP:COUNT` of a parent axis that a zoomed [`Axis`]
+/// snaps to: its value `v` becomes the lattice's nearest value `w` where
+/// `|v - w|` is at most [`Lattice::SNAP`] of the lattice's spacing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Lattice {
+    /// The parent's first value.
+    pub start: f64,
+    /// The parent's last value.
+    pub stop: f64,
+    /// The parent's number of values (>= 2).
+    pub count: usize,
+}
+
+impl Lattice {
+    /// How near, in parts of the lattice's spacing, a value must be to a
+    /// lattice value to be taken as it: far above rounding (1e-16 of the
+    /// values), far below any spacing a user asks for.
+    pub const SNAP: f64 = 1e-9;
+
+    /// The lattice of `axis`'s values (`None` for a single value).
+    pub fn of(axis: &Axis) -> Option<Lattice> {
+        (axis.count > 1).then_some(Lattice { start: axis.start, stop: axis.stop, count: axis.count })
+    }
+
+    /// The lattice's value `j`, computed as its own axis computes it.
+    pub fn value(&self, j: usize) -> f64 {
+        self.start + (self.stop - self.start) * j as f64 / (self.count - 1) as f64
+    }
+
+    /// The index of the lattice value that `v` coincides with to rounding.
+    pub fn index_of(&self, v: f64) -> Option<usize> {
+        let step = (self.stop - self.start) / (self.count - 1) as f64;
+        let j = ((v - self.start) / step).round();
+        if !(j >= 0.0 && j < self.count as f64) {
+            return None;
+        }
+        let j = j as usize;
+        ((v - self.value(j)).abs() <= Lattice::SNAP * step.abs()).then_some(j)
+    }
 }
 
 impl Axis {
+    /// `count` values from `start` to `stop`, of no lattice (not checked:
+    /// see [`Axis::checked`]).
+    pub fn new(name: impl Into<String>, start: f64, stop: f64, count: usize) -> Axis {
+        Axis { name: name.into(), start, stop, count, lattice: None }
+    }
+
     /// Parses `NAME=START:STOP:COUNT`; `flag` names the option in errors.
     pub fn parse(text: &str, flag: &str) -> Result<Axis, GridError> {
         let bad = |m: &str| GridError::field(flag, format!("{m} (expected NAME=START:STOP:COUNT, got '{text}')"));
@@ -40,14 +93,14 @@ impl Axis {
         if name.trim().is_empty() {
             return Err(bad("empty parameter name"));
         }
-        Axis { name: name.trim().to_string(), start, stop, count }.checked(flag)
+        Axis::new(name.trim(), start, stop, count).checked(flag)
     }
 
     /// The axis, once checked: a name, finite ends, 1 to [`MAX_COUNT`]
     /// values, one value where its ends are equal, and a range that is not
     /// empty when there are several (`field` names it in errors).
     pub fn checked(self, field: &str) -> Result<Axis, GridError> {
-        let Axis { name, start, stop, count } = &self;
+        let Axis { name, start, stop, count, .. } = &self;
         let field = format!("{field} {name}");
         if name.is_empty() {
             return Err(GridError::field(field, "empty parameter name"));
@@ -94,12 +147,16 @@ impl Axis {
         }
     }
 
-    /// The i-th value.
+    /// The i-th value (the lattice's where they coincide).
     pub fn value(&self, i: usize) -> f64 {
-        if self.count == 1 {
+        let v = if self.count == 1 {
             self.start
         } else {
             self.start + (self.stop - self.start) * i as f64 / (self.count - 1) as f64
+        };
+        match self.lattice.and_then(|l| Some(l.value(l.index_of(v)?))) {
+            Some(w) => w,
+            None => v,
         }
     }
 
@@ -123,7 +180,7 @@ impl Axis {
 
     /// The same values in the opposite order.
     pub fn reversed(&self) -> Axis {
-        Axis { name: self.name.clone(), start: self.stop, stop: self.start, count: self.count }
+        Axis { name: self.name.clone(), start: self.stop, stop: self.start, count: self.count, lattice: self.lattice }
     }
 }
 

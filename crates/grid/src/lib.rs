@@ -23,11 +23,11 @@
 //!     method: solver::Method::Exact,
 //!     section_cap: 0,
 //! };
-//! let x = Axis { name: "omega".into(), start: 0.3, stop: 0.36, count: 3 };
-//! let y = Axis { name: "delta".into(), start: 0.6, stop: 0.6, count: 1 };
+//! let x = Axis::new("omega", 0.3, 0.36, 3);
+//! let y = Axis::new("delta", 0.6, 0.6, 1);
 //! let plane = Plane::new(x, y, Along::X).unwrap();
 //! // The up sweep of the one line: each cell from the previous one's end state.
-//! let line = plane.line(&setup, SweepKind::Up, 0, &Silent).unwrap();
+//! let line = plane.line(&setup, SweepKind::Up, 0, None, &Silent).unwrap();
 //! assert_eq!(line.cells[1].labels[0].to_string(), "1-4-4"); // M1 at omega = 0.33
 //! ```
 #![deny(missing_docs)]
@@ -49,11 +49,11 @@ mod study;
 mod sweep;
 
 pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
-pub use axis::{Axis, MAX_COUNT};
+pub use axis::{Axis, Lattice, MAX_COUNT};
 pub use cell::{start_state, CellData, CellSetup, MAX_SECTION_CAP};
 pub use error::GridError;
 pub use notation::Notation;
-pub use plane::{Along, Line, Plane};
+pub use plane::{Along, Entries, Line, Plane};
 pub use shard::{Shard, MAX_SHARDS};
 pub use study::{Study, MAX_VALUES};
 pub use sweep::{chain, chain_from, Progress, Silent, SweepKind};

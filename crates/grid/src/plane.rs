@@ -8,8 +8,9 @@
 use crate::axis::Axis;
 use crate::cell::{CellData, CellSetup};
 use crate::error::GridError;
-use crate::sweep::{chain, Progress, SweepKind};
+use crate::sweep::{chain_from, Progress, SweepKind};
 use rayon::prelude::*;
+use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
@@ -50,6 +51,19 @@ pub struct Plane {
     pub y: Axis,
     /// Direction of continuation chains.
     pub along: Along,
+}
+
+/// The states continuation chains enter a plane with, per `(sweep, line)`:
+/// a zoom's lines start from the state its parent's chain had at the box's
+/// edge. A chain without an entry starts from the scene's initial state.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Entries(pub BTreeMap<(SweepKind, usize), Vec<f64>>);
+
+impl Entries {
+    /// The state line `line` of `sweep` starts from, if given.
+    pub fn get(&self, sweep: SweepKind, line: usize) -> Option<&[f64]> {
+        self.0.get(&(sweep, line)).map(Vec::as_slice)
+    }
 }
 
 /// The cells of one line, in increasing position along it.
@@ -139,12 +153,14 @@ impl Plane {
         failed.map_or(Ok(()), Err)
     }
 
-    /// Computes one line of one sweep.
+    /// Computes one line of one sweep; a chain starts from `entry` (the
+    /// scene's initial state when `None`).
     pub fn line(
         &self,
         setup: &CellSetup,
         sweep: SweepKind,
         index: usize,
+        entry: Option<&[f64]>,
         progress: &dyn Progress,
     ) -> Result<Line, GridError> {
         let len = self.line_len();
@@ -164,9 +180,9 @@ impl Plane {
                     c
                 })
                 .collect::<Result<Vec<_>, _>>()?,
-            SweepKind::Up => chain(setup, &(0..len).map(point).collect::<Vec<_>>(), progress)?,
+            SweepKind::Up => chain_from(setup, &(0..len).map(point).collect::<Vec<_>>(), entry, progress)?,
             SweepKind::Down => {
-                let mut c = chain(setup, &(0..len).rev().map(point).collect::<Vec<_>>(), progress)?;
+                let mut c = chain_from(setup, &(0..len).rev().map(point).collect::<Vec<_>>(), entry, progress)?;
                 c.reverse();
                 c
             }
@@ -174,14 +190,16 @@ impl Plane {
         Ok(Line { sweep, index, cells })
     }
 
-    /// Computes the given `(sweep, line)` jobs on `threads` threads, handing each
-    /// finished line to `sink` (from the worker thread that computed it). Workers
-    /// take jobs first come, first served in the order given, so that a caller
-    /// listing expensive lines first keeps both cores busy to the end.
+    /// Computes the given `(sweep, line)` jobs on `threads` threads (chains
+    /// from their `entries`), handing each finished line to `sink` (from the
+    /// worker thread that computed it). Workers take jobs first come, first
+    /// served in the order given, so that a caller listing expensive lines
+    /// first keeps both cores busy to the end.
     pub fn run(
         &self,
         setup: &CellSetup,
         jobs: &[(SweepKind, usize)],
+        entries: &Entries,
         threads: usize,
         progress: &dyn Progress,
         sink: &(dyn Fn(Line) + Sync),
@@ -195,7 +213,7 @@ impl Plane {
         pool.broadcast(|_| loop {
             let i = next.fetch_add(1, Ordering::Relaxed);
             let Some(&(sweep, index)) = jobs.get(i) else { break };
-            match self.line(setup, sweep, index, progress) {
+            match self.line(setup, sweep, index, entries.get(sweep, index), progress) {
                 Ok(line) => sink(line),
                 Err(e) => {
                     failed.lock().unwrap_or_else(|p| p.into_inner()).get_or_insert(e);

@@ -271,7 +271,7 @@ fn sim<'py>(scene: (String, String), params: Vec<(String, f64)>, o: &mut Options
 
 /// An axis `(name, start, stop, count)`.
 fn axis(t: (String, f64, f64, usize)) -> Axis {
-    Axis { name: t.0, start: t.1, stop: t.2, count: t.3 }
+    Axis::new(t.0, t.1, t.2, t.3)
 }
 
 /// Worker threads: the option, or every core.

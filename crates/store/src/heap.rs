@@ -168,8 +168,25 @@ fn read_at(file: &File, len: u64, offset: u64, count: u64) -> Result<Vec<u8>, St
 /// Opens the HDF5 file at `path` once its global heap collections are
 /// checked ([`check_collections`]): every reader opens its files so.
 pub(crate) fn open(path: &Path) -> Result<hdf5::File, crate::StoreError> {
+    if !has_signature(path) {
+        let what = "not an HDF5 file (an atlas is the HDF5 file that vibroatlas atlas writes)";
+        return Err(crate::StoreError::format(path, what.to_string()));
+    }
     check_collections(path)?;
     hdf5::File::open(path).map_err(|e| crate::StoreError::hdf5(path, e))
+}
+
+/// Whether `path` holds HDF5's signature where the format puts it: at byte
+/// 0, or after a user block of 512, 1024, 2048, … bytes.
+fn has_signature(path: &Path) -> bool {
+    use std::io::{Read, Seek, SeekFrom};
+    const HDF5: &[u8; 8] = b"\x89HDF\r\n\x1a\n";
+    let Ok(mut f) = std::fs::File::open(path) else { return true };
+    let len = f.metadata().map_or(0, |m| m.len());
+    std::iter::once(0u64).chain((9..40).map(|k| 1u64 << k)).take_while(|&at| at + 8 <= len).any(|at| {
+        let mut head = [0u8; 8];
+        f.seek(SeekFrom::Start(at)).is_ok() && f.read_exact(&mut head).is_ok() && &head == HDF5
+    })
 }
 
 #[cfg(test)]

@@ -4,8 +4,10 @@
 //! /                       attrs: software, version, scene, scene_name, preset, accuracy,
 //!                                integrator, command, created, run_time_s, x, y, along,
 //!                                sweeps, overrides, masses, stops, dim, section_cap, [shard],
+//!                                [parent, parent_labels_crc32, parent_box] (a zoom's),
 //!                                attributes_crc32 (CRC-32 of the text attributes)
-//! /axes/<x>, /axes/<y>    f64 [n]  coordinate vectors (attrs CLASS=DIMENSION_SCALE, NAME, start, stop)
+//! /axes/<x>, /axes/<y>    f64 [n]  coordinate vectors (attrs CLASS=DIMENSION_SCALE, NAME, start, stop,
+//!                                  [lattice_start, lattice_stop, lattice_count] (layout 4))
 //! /<x>, /<y>              f64 [n]  coordinate variables (dimension scales; attrs long_name, units, symbol),
 //!                                  again in every sweep group and in /attractors
 //! /<sweep>/               one group per sweep: fresh, up, down
@@ -20,6 +22,7 @@
 //!     reason              strings [reasons]  the distinct reasons of the sweep's unresolved cells (coordinate)
 //!     reason_code         i32 [ny, nx]     why the cell is unresolved: index into reason; -1 resolved or not computed
 //!     lines_done          u8  [lines]      1 where the line (row, or column with along=y) is computed
+//!     entry_state         f64 [lines, dim] a zoom's up/down: the state each chain entered with (NaN: initial)
 //!     sections/period/values   f64 [N, dim]      states at t = kT
 //!     sections/<stop>/values   f64 [N, 1 + dim]  (phase t mod T, state just before impact)
 //!     sections/<name>/offsets  u64 [ny*nx + 1]   CSR: cell i = iy*nx + ix owns rows offsets[i]..offsets[i+1]
@@ -33,8 +36,11 @@
 
 /// Version of this layout (root attribute `layout_version`; files without it
 /// are version 1, read as well; newer versions are refused). Layout 3 (issue
-/// 42) is layout 2 with `values_crc32` on every dataset with values.
-pub const LAYOUT_VERSION: u64 = 3;
+/// 42) is layout 2 with `values_crc32` on every dataset with values. Layout
+/// 4 is layout 3 with an axis on its parent's lattice (a zoom's: attributes
+/// `lattice_start`, `lattice_stop`, `lattice_count`); a file without one is
+/// written as layout 3.
+pub const LAYOUT_VERSION: u64 = 4;
 /// Dimension of the (n, p, q) counts of a label.
 pub const NPQ: &str = "npq";
 /// Dimension and coordinate of the state components (`x_M1`, …, `v_M1`, …).
@@ -250,6 +256,20 @@ pub mod attr {
     pub const STOP: &str = "stop";
     /// `shard`.
     pub const SHARD: &str = "shard";
+    /// `lattice_start` of an axis (layout 4): the first value of the parent
+    /// axis whose values a zoom's axis takes where they coincide.
+    pub const LATTICE_START: &str = "lattice_start";
+    /// `lattice_stop` of an axis (layout 4): the parent axis's last value.
+    pub const LATTICE_STOP: &str = "lattice_stop";
+    /// `lattice_count` of an axis (layout 4): the parent axis's values.
+    pub const LATTICE_COUNT: &str = "lattice_count";
+    /// `parent` of a zoom's root: the atlas it computed a box of, as given.
+    pub const PARENT: &str = "parent";
+    /// `parent_labels_crc32` of a zoom's root: the CRC-32 of the parent's
+    /// labels (`store::labels_crc32`), 8 hexadecimal digits.
+    pub const PARENT_LABELS_CRC32: &str = "parent_labels_crc32";
+    /// `parent_box` of a zoom's root: the box's axes, `omega=A:B:N delta=C:D:M`.
+    pub const PARENT_BOX: &str = "parent_box";
     /// `section_cap`.
     pub const SECTION_CAP: &str = "section_cap";
     /// `scene_name`.
@@ -354,6 +374,9 @@ pub mod attr {
         "masses",
         "overrides",
         "p_stops",
+        "parent",
+        "parent_box",
+        "parent_labels_crc32",
         "preset",
         "q_stops",
         "scene",
@@ -401,6 +424,10 @@ pub mod var {
     pub const FRACTION: &str = "fraction";
     /// `lines_done`.
     pub const LINES_DONE: &str = "lines_done";
+    /// `entry_state` of a zoom's continuation sweep: per line, the state its
+    /// chain entered the plane with, from the parent (NaN: the scene's
+    /// initial state).
+    pub const ENTRY_STATE: &str = "entry_state";
 }
 
 #[cfg(test)]

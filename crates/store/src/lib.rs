@@ -44,4 +44,4 @@ pub use lock::{
 };
 pub use merge::{merge, Merged};
 pub use read::{available_memory, is_atlas, read, Loaded, MAX_DIM, MAX_EXPANSION};
-pub use write::{check_finished, pairs, partial_path, write, Draft, RunInfo, GIT_COMMIT};
+pub use write::{check_finished, labels_crc32, pairs, partial_path, write, Draft, Parent, RunInfo, GIT_COMMIT};

@@ -338,11 +338,58 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         Some(text) => text.lines().map(str::to_string).collect(),
         None => vec![format!("{created}: {command}")],
     };
+    let parent = parent(path, &f)?;
+    let entries = entries(&ck, &f, &meta, parent.is_some())?;
     Ok(Loaded {
-        atlas: Atlas { meta, maps, attractors },
-        info: RunInfo { command, run_time_s: required::<f64>(path, &f, attr::RUN_TIME_S)?, shard, history },
+        atlas: Atlas { meta, maps, attractors, entries },
+        info: RunInfo { command, run_time_s: required::<f64>(path, &f, attr::RUN_TIME_S)?, shard, history, parent },
         created,
     })
+}
+
+/// The atlas a zoom refined (root attributes `parent`, `parent_labels_crc32`, `parent_box`).
+fn parent(path: &Path, f: &hdf5::File) -> Result<Option<crate::write::Parent>, StoreError> {
+    let Some(parent) = attr_opt(path, f, attr::PARENT)? else { return Ok(None) };
+    let crc = attr(path, f, attr::PARENT_LABELS_CRC32)?;
+    let labels_crc32 = u32::from_str_radix(&crc, 16).map_err(|_| {
+        StoreError::format(
+            path,
+            format!("attribute {}: '{crc}' is not 8 hexadecimal digits", attr::PARENT_LABELS_CRC32),
+        )
+    })?;
+    Ok(Some(crate::write::Parent { path: parent, labels_crc32, region: attr(path, f, attr::PARENT_BOX)? }))
+}
+
+/// The states a zoom's chains entered its plane with (its continuation
+/// sweeps' `entry_state`, which a file with a parent must have): NaN rows
+/// are chains from the scene's initial state.
+fn entries(ck: &Checker, f: &hdf5::File, meta: &Meta, zoom: bool) -> Result<grid::Entries, StoreError> {
+    let mut entries = grid::Entries::default();
+    let lines = meta.plane.lines();
+    for &sweep in meta.sweeps.iter().filter(|&&s| s != SweepKind::Fresh) {
+        let at = format!("{}/{}", sweep.name(), var::ENTRY_STATE);
+        if !f.link_exists(&at) {
+            if zoom {
+                return Err(
+                    ck.bad(&at, "missing, which a zoom's file has: the file was changed since vibroatlas wrote it")
+                );
+            }
+            continue;
+        }
+        let g = f.group(sweep.name()).map_err(|e| StoreError::hdf5(ck.path, e))?;
+        let d = ck.shaped(
+            &g,
+            var::ENTRY_STATE,
+            &[Dim(lines, "lines", "the plane has"), Dim(meta.dim, "components", "the state has")],
+        )?;
+        let values = ck.raw::<f64>(&d)?;
+        for (line, state) in values.chunks(meta.dim).enumerate() {
+            if state.iter().all(|v| v.is_finite()) {
+                entries.0.insert((sweep, line), state.to_vec());
+            }
+        }
+    }
+    Ok(entries)
 }
 
 /// The axis `name` of the `/axes` group: 1 to `MAX_COUNT` values, finite ends.
@@ -360,7 +407,19 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
         }
         Ok(v)
     };
-    let axis = Axis { name: name.to_string(), start: end(attr::START)?, stop: end(attr::STOP)?, count };
+    let mut axis = Axis::new(name, end(attr::START)?, end(attr::STOP)?, count);
+    if let Some(lattice_count) = crate::attrs::optional::<u64>(ck.path, &d, attr::LATTICE_COUNT)? {
+        if !(2..=grid::MAX_COUNT as u64).contains(&lattice_count) {
+            let what = format!(
+                "attribute {}: {lattice_count}; a lattice has 2 to {} values",
+                attr::LATTICE_COUNT,
+                grid::MAX_COUNT
+            );
+            return Err(ck.bad(&at, what));
+        }
+        let (start, stop) = (end(attr::LATTICE_START)?, end(attr::LATTICE_STOP)?);
+        axis.lattice = Some(grid::Lattice { start, stop, count: lattice_count as usize });
+    }
     // The values stored are the axis's, bit for bit: an edited end is not a new grid.
     let stored = ck.raw::<f64>(&d)?;
     if stored.iter().zip(axis.values()).any(|(a, b)| a.to_bits() != b.to_bits()) {
@@ -810,7 +869,7 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/dry-friction.toml");
         let toml = std::fs::read_to_string(path).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
         let out = dir.join("a.h5");
         let a = atlas(&toml);
         write(&out, &a, &info, 1).unwrap();

@@ -25,6 +25,33 @@ pub struct RunInfo {
     /// Earlier history lines (`TIME: command`, oldest first): those of the
     /// parts of a merge; the file adds its own.
     pub history: Vec<String>,
+    /// The atlas a zoom computed a box of.
+    pub parent: Option<Parent>,
+}
+
+/// The atlas a zoom refines (root attributes `parent`, `parent_labels_crc32`
+/// and `parent_box`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parent {
+    /// The parent file, as given.
+    pub path: String,
+    /// [`labels_crc32`] of the parent's atlas: which parent's labels the box
+    /// refines, even once the file is moved or replaced.
+    pub labels_crc32: u32,
+    /// The box: its two axes, `omega=0.6:1.2:61 delta=0.05:2:196`.
+    pub region: String,
+}
+
+/// The CRC-32 of an atlas's labels: per sweep in order, per cell row-major,
+/// its class name and each labelled mass's label (`-` for a cell not
+/// computed), each text as [`netcdf::texts_crc32`] takes it.
+pub fn labels_crc32(atlas: &Atlas) -> u32 {
+    let texts = atlas.maps.iter().flat_map(|m| m.cells.iter()).flat_map(|c| match c {
+        Some(c) => std::iter::once(c.class.name().to_string()).chain(c.labels.iter().map(|l| l.to_string())).collect(),
+        None => vec!["-".to_string()],
+    });
+    let texts: Vec<String> = texts.collect();
+    netcdf::texts_crc32(texts.iter().map(|t| t.as_bytes()))
 }
 
 /// The git commit the binary was built from (`unknown` outside a checkout).
@@ -240,7 +267,9 @@ fn create_in(f: hdf5::File, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hd
     attr_str(&f, attr::SOFTWARE, SOFTWARE)?;
     attr_str(&f, "version", env!("CARGO_PKG_VERSION"))?;
     attr_str(&f, "git_commit", GIT_COMMIT)?;
-    attr_num(&f, attr::LAYOUT_VERSION, LAYOUT_VERSION)?;
+    // Layout 4 only where its one addition is used: an axis on a lattice.
+    let lattice = p.x.lattice.is_some() || p.y.lattice.is_some();
+    attr_num(&f, attr::LAYOUT_VERSION, if lattice { LAYOUT_VERSION } else { 3 })?;
     attr_str(&f, attr::SCENE, &m.scene_toml)?;
     attr_str(&f, attr::SCENE_NAME, &m.scene_name)?;
     attr_str(&f, attr::PRESET, m.preset.name())?;
@@ -268,6 +297,11 @@ fn create_in(f: hdf5::File, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hd
         z.expected.numbers(&d, &values);
         attr_num(&d, attr::START, axis.start)?;
         attr_num(&d, attr::STOP, axis.stop)?;
+        if let Some(l) = axis.lattice {
+            attr_num(&d, attr::LATTICE_START, l.start)?;
+            attr_num(&d, attr::LATTICE_STOP, l.stop)?;
+            attr_num(&d, attr::LATTICE_COUNT, l.count as u64)?;
+        }
     }
     // Root coordinates, for the root's gridded datasets (hysteresis).
     Grid::new(&f, m, z)?;
@@ -321,6 +355,11 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
     attr_num(f, attr::RUN_TIME_S, info.run_time_s)?;
     if let Some(s) = info.shard {
         attr_str(f, attr::SHARD, &s.to_string())?;
+    }
+    if let Some(parent) = &info.parent {
+        attr_str(f, attr::PARENT, &parent.path)?;
+        attr_str(f, attr::PARENT_LABELS_CRC32, &format!("{:08x}", parent.labels_crc32))?;
+        attr_str(f, attr::PARENT_BOX, &parent.region)?;
     }
     for map in &atlas.maps {
         fill_sweep(&f.group(map.sweep.name())?, atlas, map, z)?;
@@ -404,6 +443,18 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::
     let d = z.dataset(g, var::LINES_DONE, &Array1::from(done))?;
     netcdf::dims(&d, &[&lines])?;
     netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
+    if map.sweep != grid::SweepKind::Fresh && !atlas.entries.0.is_empty() {
+        let entry = Array2::from_shape_fn((p.lines(), m.dim), |(l, k)| {
+            atlas.entries.get(map.sweep, l).map_or(f64::NAN, |s| s[k])
+        });
+        let d = z.dataset(g, var::ENTRY_STATE, &entry)?;
+        netcdf::dims(&d, &[&lines, &g.dataset(COMPONENT)?])?;
+        netcdf::attr_str(
+            &d,
+            "long_name",
+            "state the line's chain entered the plane with (NaN: the scene's initial state)",
+        )?;
+    }
 
     let sections = g.create_group(SECTIONS)?;
     write_section(
@@ -663,7 +714,7 @@ mod tests {
     fn kept_lines_and_the_end_write_the_same_cells() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-keep-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
         for along in [Along::X, Along::Y] {
             let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
             let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
@@ -734,7 +785,7 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&out).unwrap(), "the previous file");
 
         // Finished with no line computed: every cell reads as not computed.
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
         let atlas = Atlas::new(meta());
         let mut draft = Draft::create(&out, &meta(), 2).unwrap();
         draft.keep(&atlas, SweepKind::Down, 0).unwrap();
@@ -759,7 +810,7 @@ mod tests {
     fn a_file_removed_under_its_draft_says_so_plainly() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-removed-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
         let out = dir.join("o.h5");
         let draft = Draft::create(&out, &meta(), 1).unwrap();
         std::fs::remove_file(partial_path(&out)).unwrap();
@@ -781,7 +832,7 @@ mod tests {
     fn a_file_cut_short_under_its_draft_is_not_put_in_place() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-cut-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new() };
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
         let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
         let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
         let m = grid::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };

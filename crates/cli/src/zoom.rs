@@ -1,0 +1,26 @@
+//! `vibroatlas zoom`: a box of a stored atlas, computed again.
+
+use crate::args::{lib, ZoomArgs};
+use crate::common::command_line;
+use crate::out::outln;
+use crate::progress::Shown;
+use crate::summary::print_summary;
+use anyhow::Result;
+use engine::ZoomRequest;
+use grid::{Axis, SweepKind};
+
+/// Runs the command.
+pub fn run(a: ZoomArgs) -> Result<()> {
+    let mut r = ZoomRequest::new(&a.parent, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?);
+    r.sweeps = a.sweep.map(|s| lib(s, |s| SweepKind::parse_set(s, "sweep").ok()));
+    r.threads = engine::threads(a.threads)?;
+    r.output = Some(a.output.clone());
+    r.command = command_line();
+    let run = engine::zoom(&r, &Shown::new("zoom", a.quiet))?;
+    if a.quiet {
+        return Ok(());
+    }
+    print_summary(&run.atlas, run.secs, r.threads)?;
+    outln!("wrote {} (a box of {})", a.output.display(), a.parent.display());
+    Ok(())
+}

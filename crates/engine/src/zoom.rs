@@ -1,0 +1,173 @@
+//! A box of a stored atlas computed again on a grid of its own ([`zoom`]):
+//! with the parent's scene, parameter values, preset, accuracy, integrator,
+//! section cap and sweeps. A fresh sweep starts every cell from the scene's
+//! initial state, as the parent did; a continuation sweep enters the box
+//! from the parent: each chain starts from the parent's final state of the
+//! cell just before the box's edge in the sweep's direction, in the parent
+//! line nearest to the chain's. The box's values coincide with the parent's
+//! where they are the same to rounding ([`grid::Lattice`]), so that a box
+//! aligned with the parent's grid reproduces its cells bit for bit.
+
+use crate::error::{Opt, RequestError};
+use crate::observer::Observer;
+use crate::plan::{Executed, Plan};
+use anyhow::{bail, Result};
+use grid::{Along, Atlas, Axis, Entries, Lattice, Plane, SweepKind};
+use std::path::PathBuf;
+
+/// Largest number of cells of a zoom's box (per sweep): a box is looked at,
+/// not mapped at a cluster's scale.
+pub const MAX_ZOOM_CELLS: usize = 4_000_000;
+
+/// A box of a stored atlas to compute.
+#[derive(Debug, Clone)]
+pub struct ZoomRequest {
+    /// The parent atlas.
+    pub parent: PathBuf,
+    /// The box's axis along the parent's x (the same parameter).
+    pub x: Axis,
+    /// The box's axis along the parent's y.
+    pub y: Axis,
+    /// The sweeps to compute, among the parent's (all of them when `None`).
+    pub sweeps: Option<Vec<SweepKind>>,
+    /// Worker threads.
+    pub threads: usize,
+    /// The file to write, if any.
+    pub output: Option<PathBuf>,
+    /// What made the run (the file's `command` attribute).
+    pub command: String,
+}
+
+impl ZoomRequest {
+    /// A request for the box `x` by `y` of `parent`, every sweep of it, on
+    /// one thread per core, written nowhere.
+    pub fn new(parent: impl Into<PathBuf>, x: Axis, y: Axis) -> ZoomRequest {
+        ZoomRequest {
+            parent: parent.into(),
+            x,
+            y,
+            sweeps: None,
+            threads: crate::threads(None).unwrap_or(1),
+            output: None,
+            command: String::new(),
+        }
+    }
+}
+
+/// Computes the box, reporting to `observer` (and writes it when asked).
+pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
+    let loaded = store::read(&r.parent)?;
+    let parent = &loaded.atlas;
+    let m = &parent.meta;
+    if let Some(shard) = loaded.info.shard {
+        bail!(
+            "{}: shard {shard} of an atlas, whose other lines are missing; zoom into the merged atlas",
+            r.parent.display()
+        );
+    }
+    let x = box_axis(&r.x, &m.plane.x, Opt::X)?;
+    let y = box_axis(&r.y, &m.plane.y, Opt::Y)?;
+    let cells = x.count.saturating_mul(y.count);
+    if cells > MAX_ZOOM_CELLS {
+        let why = format!("the box has {cells} cells ({} x {}), more than the {MAX_ZOOM_CELLS} a zoom computes; give fewer values, or map it with atlas", x.count, y.count);
+        bail!(RequestError::option(Opt::X).text(why));
+    }
+    let sweeps = match &r.sweeps {
+        None => m.sweeps.clone(),
+        Some(asked) => {
+            if asked.is_empty() {
+                bail!(RequestError::option(Opt::Sweep).text("no sweep given"));
+            }
+            if let Some(s) = asked.iter().find(|s| !m.sweeps.contains(s)) {
+                let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+                let why = format!("{} has {}, not {}", r.parent.display(), have.join(", "), s.name());
+                bail!(RequestError::option(Opt::Sweep).text(why));
+            }
+            m.sweeps.iter().copied().filter(|s| asked.contains(s)).collect()
+        }
+    };
+    let mut setup = crate::stored_setup(m, &r.parent)?;
+    setup.method = m.integrator;
+    let plane = Plane { x, y, along: m.plane.along };
+    let mut plan = Plan::new(&setup, m.section_cap, plane, sweeps, r.threads)?;
+    plan.entries = entries(parent, &plan.meta.plane, &plan.meta.sweeps);
+    plan.parent = Some(store::Parent {
+        path: r.parent.display().to_string(),
+        labels_crc32: store::labels_crc32(parent),
+        region: format!("{} {}", r.x, r.y),
+    });
+    plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
+    plan.inputs = vec![r.parent.clone()];
+    plan.command = r.command.clone();
+    plan.check()
+        .map_err(|e| crate::error::with_fields(e, &[("x", Opt::X), ("y", Opt::Y), ("threads", Opt::Threads)]))?;
+    plan.execute(observer)
+}
+
+/// The box's axis `given` of the parent's axis `parent`: the same parameter,
+/// ascending, within the parent's values (to rounding), on the parent's
+/// lattice.
+fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
+    let field = opt.name();
+    let axis = given.clone().checked(field).and_then(|a| a.ascending(field)).map_err(|e| match e {
+        grid::GridError::Field { message, .. } => RequestError::option(opt).text(message),
+        other => RequestError::option(opt).because(other),
+    })?;
+    if axis.name != parent.name {
+        let why = format!("the parent's {field} axis is {}, not {}", parent.name, axis.name);
+        bail!(RequestError::option(opt).text(why));
+    }
+    let slack = Lattice::SNAP * parent.step().abs();
+    if axis.start < parent.start - slack || axis.stop > parent.stop + slack {
+        let why = format!(
+            "{}={}:{} is not within the parent's {} to {}",
+            axis.name, axis.start, axis.stop, parent.start, parent.stop
+        );
+        bail!(RequestError::option(opt).text(why));
+    }
+    Ok(Axis { lattice: Lattice::of(parent), ..axis })
+}
+
+/// The states the box's chains enter with: for each chain sweep and line of
+/// `plane`, the parent's final state of the cell just before the box's first
+/// cell in the sweep's direction (strictly before: a box value that is a
+/// parent value starts as the parent's cell there did), in the parent line
+/// nearest to the box's line. None where the box starts at the parent's
+/// first cell of the chain (it starts, as the parent did, from the scene's
+/// initial state).
+fn entries(parent: &Atlas, plane: &Plane, sweeps: &[SweepKind]) -> Entries {
+    let pp = &parent.meta.plane;
+    let (along, across, p_along, p_across) = match pp.along {
+        Along::X => (&plane.x, &plane.y, &pp.x, &pp.y),
+        Along::Y => (&plane.y, &plane.x, &pp.y, &pp.x),
+    };
+    let mut out = Entries::default();
+    for &sweep in sweeps.iter().filter(|&&s| s != SweepKind::Fresh) {
+        // The position along the parent's chains whose final state the box's chains take.
+        let before = match sweep {
+            SweepKind::Up => {
+                let first = along.value(0);
+                (0..p_along.count).rev().find(|&i| p_along.value(i) < first && !coincide(p_along, i, first))
+            }
+            _ => {
+                let last = along.value(along.count - 1);
+                (0..p_along.count).find(|&i| p_along.value(i) > last && !coincide(p_along, i, last))
+            }
+        };
+        let Some(pos) = before else { continue };
+        for line in 0..across.count {
+            let Ok(p_line) = p_across.nearest(across.value(line)) else { continue };
+            let (iy, ix) = pp.cell(p_line, pos);
+            let cell = parent.map(sweep).and_then(|map| map.cells[iy * pp.x.count + ix].as_ref());
+            if let Some(c) = cell {
+                out.0.insert((sweep, line), c.final_state.clone());
+            }
+        }
+    }
+    out
+}
+
+/// Whether the parent's value `i` and `v` are the same to rounding.
+fn coincide(axis: &Axis, i: usize, v: f64) -> bool {
+    (axis.value(i) - v).abs() <= Lattice::SNAP * axis.step().abs()
+}

@@ -1,0 +1,216 @@
+//! Issue 39: `zoom` computes a box of a stored atlas again, its chains
+//! entering from the parent. The oracle: a box aligned with the parent's grid
+//! at the parent's spacing reproduces the parent's cells bit for bit, every
+//! sweep, on the shipped two-mass scenes; the child file is an ordinary atlas
+//! whose stored cells `cell --from` reproduces, chains' first cells included.
+
+use crate::util::{config, run};
+use engine::{atlas, zoom, AtlasRequest, Quiet, SceneSource, Sim, Start, ZoomRequest};
+use grid::{Along, Atlas, Axis, SweepKind};
+use std::path::{Path, PathBuf};
+
+/// A fresh folder for one test.
+fn folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("vibroatlas-zoom-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Writes the atlas of `scene` over `x` by `y` with `sweeps` to `out`.
+fn parent(scene: &str, x: Axis, y: Axis, along: Along, sweeps: Vec<SweepKind>, out: &Path) -> Atlas {
+    let mut r = AtlasRequest::new(Sim::new(SceneSource::File(config(scene))), x, y, sweeps);
+    r.along = along;
+    r.threads = 2;
+    r.output = Some(out.to_path_buf());
+    atlas(&r, &Quiet).unwrap().atlas
+}
+
+/// The box `x` by `y` of `parent_file` (every sweep), written to `out`.
+fn child(parent_file: &Path, x: &str, y: &str, out: &Path) -> Atlas {
+    let mut r = ZoomRequest::new(parent_file, Axis::parse(x, "x").unwrap(), Axis::parse(y, "y").unwrap());
+    r.threads = 2;
+    r.output = Some(out.to_path_buf());
+    zoom(&r, &Quiet).unwrap().atlas
+}
+
+/// Asserts that every cell of `child` equals the parent's cell `(iy + dy, ix + dx)`, bit for bit.
+fn same_cells(parent: &Atlas, child: &Atlas, dy: usize, dx: usize, what: &str) {
+    let (pnx, cnx) = (parent.meta.plane.x.count, child.meta.plane.x.count);
+    assert_eq!(child.meta.sweeps, parent.meta.sweeps, "{what}");
+    for map in &child.maps {
+        let pmap = parent.map(map.sweep).unwrap();
+        for (i, c) in map.cells.iter().enumerate() {
+            let (iy, ix) = (i / cnx, i % cnx);
+            let p = &pmap.cells[(iy + dy) * pnx + ix + dx];
+            assert_eq!(c, p, "{what}: {} cell ({iy}, {ix}) differs from the parent's", map.sweep.name());
+        }
+    }
+}
+
+#[test]
+fn an_aligned_box_reproduces_its_parents_cells_bit_for_bit() {
+    let dir = folder("oracle");
+    let both = vec![SweepKind::Up, SweepKind::Down];
+    // (scene, parent x, parent y, along, aligned boxes: (x, y, rows skipped, columns skipped))
+    type Case<'a> = (&'a str, &'a str, &'a str, Along, Vec<(&'a str, &'a str, usize, usize)>);
+    let cases: Vec<Case> = vec![
+        (
+            "multi-stop.toml",
+            "omega=0.2:2.0:37",
+            "delta=0.1:1.0:10",
+            Along::X,
+            vec![("omega=0.5:1.0:11", "delta=0.3:0.6:4", 2, 6), ("omega=0.2:0.8:13", "delta=0.1:1.0:10", 0, 0)],
+        ),
+        (
+            "impact-damper.toml",
+            "omega=0.8:2.4:17",
+            "delta=0.5:3:6",
+            Along::X,
+            vec![("omega=1.5:2.4:10", "delta=1:2.5:4", 1, 7)],
+        ),
+        (
+            "symmetric-stops.toml",
+            "omega=0.5:2.5:21",
+            "delta=0.1:0.5:5",
+            Along::X,
+            vec![("omega=1.2:2.0:9", "delta=0.2:0.4:3", 1, 7)],
+        ),
+        // Chains along y: the box's columns enter from the parent's.
+        (
+            "dry-friction.toml",
+            "omega=6.5:7.1:7",
+            "fk=0.005:0.1:20",
+            Along::Y,
+            vec![("omega=6.6:6.9:4", "fk=0.03:0.08:11", 5, 1)],
+        ),
+    ];
+    for (scene, px, py, along, boxes) in cases {
+        let pfile = dir.join(scene.replace(".toml", ".h5"));
+        let p =
+            parent(scene, Axis::parse(px, "x").unwrap(), Axis::parse(py, "y").unwrap(), along, both.clone(), &pfile);
+        for (k, (bx, by, dy, dx)) in boxes.into_iter().enumerate() {
+            let cfile = dir.join(format!("{}-box{k}.h5", scene.replace(".toml", "")));
+            let c = child(&pfile, bx, by, &cfile);
+            let what = format!("{scene} box {bx} {by}");
+            same_cells(&p, &c, dy, dx, &what);
+            // The file is an ordinary atlas holding what was computed, with its parent.
+            let loaded = store::read(&cfile).unwrap();
+            assert_eq!(loaded.atlas, c, "{what}: the file holds the zoom's atlas");
+            let parent_of = loaded.info.parent.as_ref().unwrap();
+            assert_eq!(parent_of.path, pfile.display().to_string());
+            assert_eq!(parent_of.labels_crc32, store::labels_crc32(&p));
+            assert_eq!(
+                parent_of.region,
+                format!("{} {}", Axis::parse(bx, "x").unwrap(), Axis::parse(by, "y").unwrap())
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `cell --from` a zoom's file re-runs a stored cell from the state it
+/// started from: the first cell of a chain starts from the entry the parent
+/// gave it, not the scene's initial state.
+#[test]
+fn a_zooms_stored_cells_run_again_from_their_entry() {
+    let dir = folder("entry");
+    let pfile = dir.join("p.h5");
+    let both = vec![SweepKind::Up, SweepKind::Down];
+    parent(
+        "multi-stop.toml",
+        Axis::parse("omega=0.2:2.0:37", "x").unwrap(),
+        Axis::parse("delta=0.1:1.0:10", "y").unwrap(),
+        Along::X,
+        both,
+        &pfile,
+    );
+    // Not aligned: a third of the parent's spacing, in a box of its own.
+    let cfile = dir.join("c.h5");
+    let c = child(&pfile, "omega=0.9:1.3:25", "delta=0.45:0.85:5", &cfile);
+    let sim = Sim::new(SceneSource::File(config("multi-stop.toml")));
+    let nx = c.meta.plane.x.count;
+    let mut entered = 0;
+    for (sweep, ix) in [(SweepKind::Up, 0), (SweepKind::Down, nx - 1), (SweepKind::Up, 7)] {
+        for iy in 0..c.meta.plane.y.count {
+            let stored = c.map(sweep).unwrap().cells[iy * nx + ix].as_ref().unwrap();
+            let at =
+                vec![("omega".to_string(), c.meta.plane.x.value(ix)), ("delta".to_string(), c.meta.plane.y.value(iy))];
+            let again = engine::cell(&sim, &Start::Cell { file: cfile.clone(), at, sweep: Some(sweep) }).unwrap();
+            assert_eq!(again.result.final_state, stored.final_state, "{} ({iy}, {ix})", sweep.name());
+            assert_eq!(again.result.labels.iter().map(|l| l.label).collect::<Vec<_>>(), stored.labels);
+            entered += usize::from(ix != 7 && c.entries.get(sweep, iy).is_some());
+        }
+    }
+    assert_eq!(entered, 10, "every chain of both sweeps entered from the parent");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// At three times the parent's resolution a fresh sweep's cells at the
+/// parent's own values are the parent's, bit for bit (the box takes the
+/// parent's values where they coincide to rounding).
+#[test]
+fn a_finer_box_computes_at_the_parents_own_values() {
+    let dir = folder("finer");
+    let pfile = dir.join("p.h5");
+    let p = parent(
+        "multi-stop.toml",
+        Axis::parse("omega=0.1:3.05:60", "x").unwrap(),
+        Axis::parse("delta=0.05:2:9", "y").unwrap(),
+        Along::X,
+        vec![SweepKind::Fresh],
+        &pfile,
+    );
+    let step = 2.95 / 59.0;
+    let (a, b) = (0.1 + 10.0 * step, 0.1 + 20.0 * step);
+    let c = child(&pfile, &format!("omega={a}:{b}:31"), "delta=0.05:2:9", &dir.join("c.h5"));
+    let (cx, px) = (&c.meta.plane.x, &p.meta.plane.x);
+    for k in 0..=10 {
+        assert_eq!(cx.value(3 * k).to_bits(), px.value(10 + k).to_bits(), "value {k}");
+        for iy in 0..9 {
+            assert_eq!(c.maps[0].cells[iy * 31 + 3 * k], p.maps[0].cells[iy * 60 + 10 + k], "cell ({iy}, {k})");
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Bad boxes and parents: one line naming what is wrong, exit 2, no file.
+#[test]
+fn zoom_refuses_bad_boxes_with_one_clear_line() {
+    let dir = folder("bad");
+    let pfile = dir.join("p.h5");
+    parent(
+        "multi-stop.toml",
+        Axis::parse("omega=0.2:2.0:10", "x").unwrap(),
+        Axis::parse("delta=0.1:1.0:4", "y").unwrap(),
+        Along::X,
+        vec![SweepKind::Up],
+        &pfile,
+    );
+    let p = pfile.to_str().unwrap();
+    let out = dir.join("c.h5");
+    let o = out.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![p, "--x", "omega=1.5:2.5:5", "--y", "delta=0.1:1:4"],
+            "--x: omega=1.5:2.5 is not within the parent's 0.2 to 2",
+        ),
+        (vec![p, "--x", "zeta=0.5:1:5", "--y", "delta=0.1:1:4"], "--x: the parent's x axis is omega, not zeta"),
+        (vec![p, "--x", "omega=1:0.5:5", "--y", "delta=0.1:1:4"], "inverted range"),
+        (vec![p, "--x", "omega=0.5:1:10000", "--y", "delta=0.1:1:1000"], "more than the 4000000 a zoom computes"),
+        (vec![p, "--x", "omega=0.5:1:5", "--y", "delta=0.1:1:4", "--sweep", "down"], "--sweep: "),
+        (vec!["configs/multi-stop.toml", "--x", "omega=0.5:1:5", "--y", "delta=0.1:1:4"], "not an HDF5 file"),
+    ];
+    for (args, said) in cases {
+        let mut all = vec!["zoom"];
+        all.extend(&args);
+        all.extend(["-o", o, "--quiet"]);
+        let r = run(&all);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(said), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!out.exists(), "{args:?} left {o}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
