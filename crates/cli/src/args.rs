@@ -159,8 +159,9 @@ pub struct AttractorsArgs {
 /// Options shared by every command that simulates a scene.
 #[derive(Debug, Args, Clone)]
 pub struct SimArgs {
-    /// Scene file (TOML).
-    pub scene: PathBuf,
+    /// Scene file (TOML). With --from, the scene stored in that file when not given.
+    #[arg(required = true)]
+    pub scene: Option<PathBuf>,
     /// Override a scene parameter, e.g. `--set omega=0.33` (repeatable).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,

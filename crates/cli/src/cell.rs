@@ -1,7 +1,7 @@
 //! `vibroatlas cell`: simulate one cell and print its classification.
 
 use crate::args::CellArgs;
-use crate::common::{sim, start};
+use crate::common::{sim_from, start};
 use crate::out::{errln, outln, outp};
 use anyhow::Result;
 use engine::{friction_names, Setup};
@@ -15,7 +15,7 @@ pub fn run(a: CellArgs) -> Result<()> {
     engine::check_trace_samples(a.trace_samples)?;
     crate::figure::format("--portrait", a.portrait.as_ref())?;
     crate::figure::format("--section-png", a.section_png.as_ref())?;
-    let c = engine::cell(&sim(&a.sim)?, &start(&a.start)?)?;
+    let c = engine::cell(&sim_from(&a.sim, &a.start)?, &start(&a.start)?)?;
     crate::common::warn(c.origin.as_ref().and_then(|o| o.warning.as_ref()));
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
@@ -26,21 +26,11 @@ pub fn run(a: CellArgs) -> Result<()> {
         }
     }
     if let Some(path) = &a.portrait {
-        let rows = engine::window(sys, s, cell, engine::window_periods(cell), 400).rows;
-        let p = portrait(sys, &rows, &s.described());
+        let p = engine::portrait(&c);
         write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;
     }
     if let Some(path) = &a.section_png {
-        let (panels, silent) = sections(sys, s, cell, a.section_periods)?;
-        let labels: Vec<String> = cell.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
-        let silent = if silent.is_empty() { String::new() } else { format!("; no impacts at {}", silent.join(", ")) };
-        let title = format!(
-            "{} ({}): {}, Poincaré sections over {} periods{silent}",
-            sys.model.name,
-            s.described(),
-            labels.join(", "),
-            a.section_periods
-        );
+        let (panels, title) = engine::section_panels(&c, a.section_periods)?;
         write_atomically(path, |tmp| render::sections(&panels, &title, &page, tmp))?;
     }
     if a.json {
@@ -112,45 +102,3 @@ fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     o
 }
 
-/// Panels `(x label, y label, points)` of the sections over `periods` periods
-/// from the final state ([`engine::sections`]); and the stops without impacts.
-fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Result<(Vec<render::Panel>, Vec<String>)> {
-    let sec = engine::sections(sys, s, c, periods)?;
-    let name = &sys.model.masses[sec.mass].name;
-    let mut panels =
-        vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: sec.period }];
-    let mut silent = Vec::new();
-    for (stop, points) in sys.model.stops.iter().zip(sec.impacts) {
-        if points.is_empty() {
-            silent.push(stop.name.clone());
-        } else {
-            panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: "impact speed".into(), points });
-        }
-    }
-    Ok((panels, silent))
-}
-
-/// The portrait of the window: per mass its (x, v) path, its frame stops, and
-/// the events.
-fn portrait(sys: &System, rows: &[engine::Row], parameters: &str) -> render::Portrait {
-    let m = sys.dof();
-    let masses: Vec<String> = sys.model.masses.iter().map(|x| x.name.clone()).collect();
-    let stops = sys
-        .model
-        .stops
-        .iter()
-        .filter_map(|st| match st.geometry {
-            scene::StopGeometry::Frame { mass, position, .. } => Some((mass, position, st.name.clone())),
-            scene::StopGeometry::Pair { .. } => None,
-        })
-        .collect();
-    render::Portrait {
-        title: format!("{} ({parameters})", sys.model.name),
-        masses,
-        t: rows.iter().map(|r| r.0).collect(),
-        x: (0..m).map(|k| rows.iter().map(|r| r.1[k]).collect()).collect(),
-        v: (0..m).map(|k| rows.iter().map(|r| r.1[m + k]).collect()).collect(),
-        events: rows.iter().enumerate().filter_map(|(i, r)| r.2.clone().map(|e| (i, e))).collect(),
-        stops,
-    }
-}

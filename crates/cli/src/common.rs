@@ -6,8 +6,19 @@ use engine::{parse_assignment, Sim, Start};
 
 /// The simulation options of `a` (the scene a file).
 pub fn sim(a: &SimArgs) -> Result<Sim> {
+    sim_from(a, &FromArgs::default())
+}
+
+/// [`sim`] of a command that may start from a stored cell: without a scene
+/// file, the scene stored in the `--from` file.
+pub fn sim_from(a: &SimArgs, f: &FromArgs) -> Result<Sim> {
+    let scene = match (&a.scene, &f.from) {
+        (Some(scene), _) => engine::SceneSource::File(scene.clone()),
+        (None, Some(file)) => engine::SceneSource::Stored(file.clone()),
+        (None, None) => anyhow::bail!("a scene file is needed (or --from FILE.h5, whose stored scene is taken)"),
+    };
     Ok(Sim {
-        scene: engine::SceneSource::File(a.scene.clone()),
+        scene,
         set: a.set.iter().map(|s| parse_assignment(s, "--set")).collect::<Result<Vec<_>>>()?,
         preset: a.preset.map(|p| lib(p, solver::Preset::parse)),
         accuracy: a.accuracy.iter().map(|s| parse_assignment(s, "--accuracy")).collect::<Result<Vec<_>>>()?,

@@ -2,7 +2,7 @@
 //! locate its bifurcations (PD, SN, PF, NS, grazing).
 
 use crate::args::ContinueArgs;
-use crate::common::{sim, start};
+use crate::common::{sim_from, start};
 use crate::out::{outln, outp};
 use anyhow::Result;
 use grid::Axis;
@@ -15,7 +15,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
     crate::figure::format("--png", a.png.as_ref())?;
-    let c = engine::continuation(&sim(&a.sim)?, &start(&a.start)?, &axis, a.n, a.arclength)?;
+    let c = engine::continuation(&sim_from(&a.sim, &a.start)?, &start(&a.start)?, &axis, a.n, a.arclength)?;
     crate::common::warn(c.warning.as_ref());
     let (sys, branch) = (&c.system, &c.branch);
     if let Some(path) = &a.png {

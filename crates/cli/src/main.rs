@@ -30,10 +30,18 @@ use clap::{error::ErrorKind, CommandFactory, FromArgMatches};
 /// one that starts with '-' (`--seed -1`, `--shard -1/2`, `--box -1,-1`), so
 /// that the value's own check refuses it, naming the option (clap would name
 /// no option: "unexpected argument '-1'").
+///
+/// A command that starts from a stored cell (`--from FILE.h5`) needs no
+/// scene file: the file's stored scene is taken.
 fn grammar() -> clap::Command {
     args::Cli::command().mut_subcommands(|c| {
+        let from = c.get_arguments().any(|a| a.get_id() == "from");
         c.mut_args(|a| match a.get_long().is_some() && a.get_action().takes_values() {
             true => a.allow_hyphen_values(true),
+            false => a,
+        })
+        .mut_args(|a| match from && a.get_id() == "scene" {
+            true => a.required(false).required_unless_present("from"),
             false => a,
         })
     })

@@ -2,7 +2,7 @@
 //! and Floquet multipliers.
 
 use crate::args::OrbitArgs;
-use crate::common::{sim, start};
+use crate::common::{sim_from, start};
 use crate::out::{outln, outp};
 use anyhow::Result;
 use solver::{Orbit, System};
@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 
 /// Runs the command.
 pub fn run(a: OrbitArgs) -> Result<()> {
-    let found = engine::orbit(&sim(&a.sim)?, &start(&a.start)?, a.n)?;
+    let found = engine::orbit(&sim_from(&a.sim, &a.start)?, &start(&a.start)?, a.n)?;
     crate::common::warn(found.warning.as_ref());
     if a.json {
         outln!("{}", serde_json::to_string(&found.to_json())?);

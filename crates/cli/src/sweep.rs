@@ -3,7 +3,7 @@
 //! the renderer and the hysteresis logic are those of the atlas.
 
 use crate::args::{lib, SweepArgs};
-use crate::common::{command_line, sim, start};
+use crate::common::{command_line, sim_from, start};
 use crate::out::outln;
 use crate::progress::Shown;
 use anyhow::Result;
@@ -17,7 +17,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     crate::figure::format("--png", a.png.as_ref())?;
     let r = SweepRequest {
-        sim: sim(&a.sim)?,
+        sim: sim_from(&a.sim, &a.start)?,
         start: start(&a.start)?,
         axis,
         direction: a.direction.map(|d| lib(d, engine::Direction::parse)),

@@ -139,6 +139,7 @@ impl BenchRequest {
                 Scene::parse(&text)
             }
             SceneSource::Text(text) => Scene::parse(text),
+            SceneSource::Stored(p) => Scene::parse(&store::stored_scene(p)?),
         }
         .map_err(|e| anyhow!("scene: {e}"))?;
         for name in ["omega", "delta"] {

@@ -17,6 +17,9 @@ pub enum SceneSource {
     File(PathBuf),
     /// A TOML text (a notebook's scene, never written to a file).
     Text(String),
+    /// The scene stored in an atlas or sweep file (`cell --from FILE`
+    /// without a scene file).
+    Stored(PathBuf),
 }
 
 /// What errors in a scene given as text name it.
@@ -26,6 +29,8 @@ const TEXT: &str = "scene text";
 /// `scene` for a text) and the field.
 #[derive(Debug)]
 pub enum SceneLoadError {
+    /// The atlas holding the scene cannot be read.
+    Stored(store::StoreError),
     /// The file cannot be read.
     Read {
         /// The file.
@@ -45,6 +50,7 @@ pub enum SceneLoadError {
 impl std::fmt::Display for SceneLoadError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            SceneLoadError::Stored(cause) => write!(f, "{cause}"),
             SceneLoadError::Read { path, cause } => write!(f, "cannot read scene file {}: {cause}", path.display()),
             // A text has no file to name: its syntax errors say where in the text.
             SceneLoadError::Invalid { origin, cause: scene::SceneError::Syntax { message } } if origin == TEXT => {
@@ -85,6 +91,10 @@ impl SceneSource {
                 path.display().to_string(),
             ),
             SceneSource::Text(text) => (text.clone(), TEXT.to_string()),
+            SceneSource::Stored(path) => (
+                store::stored_scene(path).map_err(SceneLoadError::Stored)?,
+                format!("{}: its stored scene", path.display()),
+            ),
         };
         Scene::parse(&text).map_err(|cause| SceneLoadError::Invalid { origin, cause })
     }
@@ -93,7 +103,7 @@ impl SceneSource {
     pub fn file(&self) -> Option<&std::path::Path> {
         match self {
             SceneSource::File(path) => Some(path),
-            SceneSource::Text(_) => None,
+            SceneSource::Text(_) | SceneSource::Stored(_) => None,
         }
     }
 }

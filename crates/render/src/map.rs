@@ -158,7 +158,7 @@ impl Overlay {
 }
 
 /// Line style of a kind of curve: colour, width (pt) and dash (pt on, off).
-fn curve_style(kind: &str) -> (RGBColor, f64, (f64, f64)) {
+pub(crate) fn curve_style(kind: &str) -> (RGBColor, f64, (f64, f64)) {
     match kind {
         "PD" => (RGBColor(213, 94, 0), 1.3, (4.0, 1.5)),
         "SN" => (RGBColor(0, 0, 0), 1.3, (1.0, 0.0)),
@@ -170,7 +170,7 @@ fn curve_style(kind: &str) -> (RGBColor, f64, (f64, f64)) {
 
 /// How one cell is painted.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Paint {
+pub(crate) enum Paint {
     /// One colour.
     Fill(RGBColor),
     /// Split along the rising diagonal: the first colour above, the second below.
@@ -239,7 +239,7 @@ fn curve_entries(curves: &[Overlay]) -> Vec<Entry> {
 }
 
 /// Paint of one sweep's labels of mass `mass`, cell by cell.
-fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<Paint> + '_ {
+pub(crate) fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<Paint> + '_ {
     move |i| Some(Paint::Fill(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.labels[mass].to_string()))))
 }
 
@@ -318,7 +318,7 @@ fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
 }
 
 /// `(label, cells)` of mass `mass` over several sweeps' cells, most frequent first.
-fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
+pub(crate) fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
     let mut counts: BTreeMap<String, u64> = BTreeMap::new();
     for c in cells.iter().flat_map(|c| c.iter()).flatten() {
         *counts.entry(c.labels[mass].to_string()).or_default() += 1;
@@ -431,13 +431,7 @@ fn draw_map<DB: crate::Backend>(
         View::Sweep(sweep) => {
             let cells = sweep_cells(atlas, sweep)?;
             let counts = count(&[cells], mass);
-            let curve_rows = curve_entries(curves);
-            let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |room| {
-                let mut rows = curve_rows.clone();
-                rows.push(Entry::new(Swatch::Heading, "label (cells)"));
-                rows.extend(label_entries(&counts, room.saturating_sub(rows.len())));
-                rows
-            });
+            let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |room| sweep_rows(&counts, curves, room));
             let (maps, key) = placed.split(&body, canvas);
             let title = format!("{name}, {} sweep", sweep.name());
             draw_cells(&maps, canvas, m, &title, label_paint(cells, mass), curves)?;
@@ -457,26 +451,87 @@ fn draw_hysteresis<DB: crate::Backend>(
     curves: &[Overlay],
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
-    let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
-    let hyst = atlas
-        .hysteresis()
-        .ok_or_else(|| RenderError::new("the hysteresis view needs an atlas with up and down sweeps"))?;
-    let label = |c: &Option<CellData>| c.as_ref().map(|c| c.labels[mass].to_string());
-    let mut pairs: BTreeMap<(String, String), u64> = BTreeMap::new();
-    for (i, &h) in hyst.iter().enumerate() {
-        if let (1, Some(a), Some(b)) = (h, label(&up[i]), label(&down[i])) {
-            *pairs.entry((a, b)).or_default() += 1;
+    let h = Hysteresis::of(atlas, mass)?;
+    let placed = place(body, canvas, LEGEND_BELOW_ROWS * 3 / 2, |room| h.rows(curves, room));
+    let (maps, key) = placed.split(body, canvas);
+    let panels = layout::grid(&maps, canvas, 3, PANEL_EM);
+    let name = &m.masses[mass];
+    draw_cells(&panels[0], canvas, m, &format!("{name}, up sweep"), label_paint(h.up, mass), curves)?;
+    draw_cells(&panels[1], canvas, m, &format!("{name}, down sweep"), label_paint(h.down, mass), curves)?;
+    let title = format!("up / down differ: {} cells", h.zones());
+    draw_cells(&panels[2], canvas, m, &title, |i| Some(h.paint(i)), curves)?;
+    placed.draw(&key, canvas)
+}
+
+/// The labels of a sweep's map and their legend: the curves drawn over it,
+/// then its labels (`counts`), in `room` rows.
+pub(crate) fn sweep_rows(counts: &[(String, u64)], curves: &[Overlay], room: usize) -> Vec<Entry> {
+    let mut rows = curve_entries(curves);
+    rows.push(Entry::new(Swatch::Heading, "label (cells)"));
+    rows.extend(label_entries(counts, room.saturating_sub(rows.len())));
+    rows
+}
+
+/// The hysteresis of one mass: both sweeps' cells, where they end on
+/// different periodic motions, and the (up, down) label pairs there.
+pub(crate) struct Hysteresis<'a> {
+    /// The up sweep's cells.
+    pub up: &'a [Option<CellData>],
+    /// The down sweep's cells.
+    pub down: &'a [Option<CellData>],
+    /// 1 where they differ.
+    hyst: Vec<u8>,
+    /// The (up, down) label pairs where they differ, most frequent first.
+    pairs: Vec<((String, String), u64)>,
+    /// The labels of both sweeps, most frequent first.
+    counts: Vec<(String, u64)>,
+    mass: usize,
+}
+
+impl Hysteresis<'_> {
+    /// The hysteresis of mass `mass` of `atlas` (an error without both sweeps).
+    pub fn of(atlas: &Atlas, mass: usize) -> Result<Hysteresis<'_>, RenderError> {
+        let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
+        let hyst = atlas
+            .hysteresis()
+            .ok_or_else(|| RenderError::new("the hysteresis view needs an atlas with up and down sweeps"))?;
+        let label = |c: &Option<CellData>| c.as_ref().map(|c| c.labels[mass].to_string());
+        let mut pairs: BTreeMap<(String, String), u64> = BTreeMap::new();
+        for (i, &h) in hyst.iter().enumerate() {
+            if let (1, Some(a), Some(b)) = (h, label(&up[i]), label(&down[i])) {
+                *pairs.entry((a, b)).or_default() += 1;
+            }
+        }
+        let counts = count(&[up, down], mass);
+        Ok(Hysteresis { up, down, hyst, pairs: sorted(pairs), counts, mass })
+    }
+
+    /// Cells where the sweeps differ.
+    pub fn zones(&self) -> u64 {
+        self.pairs.iter().map(|p| p.1).sum()
+    }
+
+    /// Cell `i` of the third panel: split between its up and down labels
+    /// where they differ, blank elsewhere.
+    pub fn paint(&self, i: usize) -> Paint {
+        match (self.hyst[i], &self.up[i], &self.down[i]) {
+            (1, Some(a), Some(b)) => {
+                Paint::Split(rgb(&a.labels[self.mass].to_string()), rgb(&b.labels[self.mass].to_string()))
+            }
+            _ => Paint::Fill(BLANK),
         }
     }
-    let pairs = sorted(pairs);
-    let zones: u64 = pairs.iter().map(|p| p.1).sum();
-    let pair_entry =
-        |((a, b), n): &((String, String), u64)| Entry::new(Swatch::Split(rgb(a), rgb(b)), format!("{a} / {b}  ({n})"));
-    let counts = count(&[up, down], mass);
-    let curve_rows = curve_entries(curves);
-    let rows_in = |room: usize| {
+
+    /// The legend in `room` rows: the curves, the labels of both sweeps,
+    /// then the (up, down) pairs (up to two fifths of the rows, the rest
+    /// summed in one).
+    pub fn rows(&self, curves: &[Overlay], room: usize) -> Vec<Entry> {
+        let pair_entry = |((a, b), n): &((String, String), u64)| {
+            Entry::new(Swatch::Split(rgb(a), rgb(b)), format!("{a} / {b}  ({n})"))
+        };
+        let curve_rows = curve_entries(curves);
+        let pairs = &self.pairs;
         let room = room.saturating_sub(2 + curve_rows.len());
-        // The pairs take up to two fifths of the rows (the rest summed in one).
         let pair_room = if pairs.len() <= room / 2 { pairs.len() } else { (2 * room / 5).max(2) };
         let mut pair_rows: Vec<Entry> = pairs.iter().take(pair_room.saturating_sub(1)).map(pair_entry).collect();
         match &pairs[pair_rows.len()..] {
@@ -488,26 +543,13 @@ fn draw_hysteresis<DB: crate::Backend>(
                 pair_rows.push(Entry::new(Swatch::Hatch(RGBColor(90, 90, 90)), text));
             }
         }
-        let mut rows = curve_rows.clone();
+        let mut rows = curve_rows;
         rows.push(Entry::new(Swatch::Heading, "label (cells, both)"));
-        rows.extend(label_entries(&counts, room.saturating_sub(pair_rows.len())));
+        rows.extend(label_entries(&self.counts, room.saturating_sub(pair_rows.len())));
         rows.push(Entry::new(Swatch::Heading, "up / down (cells)"));
         rows.extend(pair_rows);
         rows
-    };
-    let placed = place(body, canvas, LEGEND_BELOW_ROWS * 3 / 2, rows_in);
-    let (maps, key) = placed.split(body, canvas);
-    let panels = layout::grid(&maps, canvas, 3, PANEL_EM);
-    let name = &m.masses[mass];
-    draw_cells(&panels[0], canvas, m, &format!("{name}, up sweep"), label_paint(up, mass), curves)?;
-    draw_cells(&panels[1], canvas, m, &format!("{name}, down sweep"), label_paint(down, mass), curves)?;
-    let differ = |i: usize| match (hyst[i], &up[i], &down[i]) {
-        (1, Some(a), Some(b)) => Some(Paint::Split(rgb(&a.labels[mass].to_string()), rgb(&b.labels[mass].to_string()))),
-        _ => Some(Paint::Fill(BLANK)),
-    };
-    let title = format!("up / down differ: {zones} cells");
-    draw_cells(&panels[2], canvas, m, &title, differ, curves)?;
-    placed.draw(&key, canvas)
+    }
 }
 
 /// Draws a contact sheet: the maps of one mass and sweep for several atlases

@@ -33,7 +33,7 @@ impl Quantity {
         }
     }
 
-    fn title(self) -> &'static str {
+    pub(crate) fn title(self) -> &'static str {
         match self {
             Quantity::Lyapunov => "largest Lyapunov exponent (cells without a period)",
             Quantity::Multiplier => "largest |Floquet multiplier| (periodic cells)",
@@ -41,7 +41,7 @@ impl Quantity {
     }
 
     /// What a cell without the number is (legend text).
-    fn none(self) -> &'static str {
+    pub(crate) fn none(self) -> &'static str {
         match self {
             Quantity::Lyapunov => "periodic",
             Quantity::Multiplier => "no period",
@@ -49,7 +49,7 @@ impl Quantity {
     }
 
     /// Colour-bar label.
-    fn unit(self) -> &'static str {
+    pub(crate) fn unit(self) -> &'static str {
         match self {
             Quantity::Lyapunov => "λ (per unit time)",
             Quantity::Multiplier => "max |μ|",
@@ -66,7 +66,7 @@ impl Quantity {
 }
 
 /// Colour of cells without the number.
-const NONE: RGBColor = RGBColor(190, 190, 190);
+pub(crate) const NONE: RGBColor = RGBColor(190, 190, 190);
 
 /// Blue (below the centre) to white (at it) to red (above), symmetric: `t`
 /// in [-1, 1].
@@ -75,6 +75,38 @@ fn diverging(t: f64) -> RGBColor {
     let (end, w) = if t < 0.0 { ([33.0, 102.0, 172.0], -t) } else { ([178.0, 24.0, 43.0], t) };
     let c = end.map(|e: f64| (255.0 + w * (e - 255.0)).round() as u8);
     RGBColor(c[0], c[1], c[2])
+}
+
+/// The numbers of one sweep's cells on the map's diverging scale.
+pub(crate) struct Scaled {
+    /// Per cell, its number (`None`: the cell has none, or was not computed).
+    pub values: Vec<Option<f64>>,
+    /// The neutral value, white.
+    pub centre: f64,
+    /// How far from the centre the most distant value lies (1 when none
+    /// does): the full colour.
+    pub reach: f64,
+}
+
+impl Scaled {
+    /// The numbers `quantity` of the cells of `sweep`.
+    pub fn of(atlas: &Atlas, sweep: SweepKind, quantity: Quantity) -> Result<Scaled, RenderError> {
+        let cells = sweep_cells(atlas, sweep)?;
+        let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.of(c))).collect();
+        let centre = quantity.centre();
+        let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
+        Ok(Scaled { values, centre, reach: if reach > 0.0 { reach } else { 1.0 } })
+    }
+
+    /// The colour of cell `i`.
+    pub fn colour(&self, i: usize) -> RGBColor {
+        self.values[i].map_or(NONE, |v| self.colour_of(v))
+    }
+
+    /// The colour of the value `v`.
+    pub fn colour_of(&self, v: f64) -> RGBColor {
+        diverging((v - self.centre) / self.reach)
+    }
 }
 
 /// Draws `quantity` over the plane of one sweep of `atlas` at the size of
@@ -98,12 +130,8 @@ fn draw<DB: crate::Backend>(
     quantity: Quantity,
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
-    let cells = sweep_cells(atlas, sweep)?;
-    let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.of(c))).collect();
-    let centre = quantity.centre();
-    let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
-    let reach = if reach > 0.0 { reach } else { 1.0 };
-    let (lo, hi) = (centre - reach, centre + reach);
+    let scaled = Scaled::of(atlas, sweep, quantity)?;
+    let (lo, hi) = (scaled.centre - scaled.reach, scaled.centre + scaled.reach);
     root.fill(&WHITE).map_err(err)?;
     let title = format!("{} sweep: {}", sweep.name(), quantity.title());
     let body = layout::header(root, canvas, &title, layout::TITLE)?;
@@ -116,9 +144,8 @@ fn draw<DB: crate::Backend>(
     let grid = CellGrid::of(m);
     let chart = grid.chart(&left, canvas, m, "")?;
     let plot = chart.plotting_area();
-    for (i, v) in values.iter().enumerate() {
-        let colour = v.map_or(NONE, |v| diverging((v - centre) / reach));
-        plot.draw(&Rectangle::new(grid.rect(i), colour.filled())).map_err(err)?;
+    for i in 0..scaled.values.len() {
+        plot.draw(&Rectangle::new(grid.rect(i), scaled.colour(i).filled())).map_err(err)?;
     }
     let mut bar = ChartBuilder::on(&right)
         .margin_top(canvas.em(1.0))
@@ -142,7 +169,7 @@ fn draw<DB: crate::Backend>(
     let n = 200;
     bar.draw_series((0..n).map(|k| {
         let (a, b) = (lo + (hi - lo) * k as f64 / n as f64, lo + (hi - lo) * (k + 1) as f64 / n as f64);
-        Rectangle::new([(0.0, a), (1.0, b)], diverging((0.5 * (a + b) - centre) / reach).filled())
+        Rectangle::new([(0.0, a), (1.0, b)], scaled.colour_of(0.5 * (a + b)).filled())
     }))
     .map_err(err)?;
     Ok(())

@@ -43,5 +43,5 @@ pub use lock::{
     OutputLock,
 };
 pub use merge::{merge, Merged};
-pub use read::{available_memory, is_atlas, read, Loaded, MAX_DIM, MAX_EXPANSION};
+pub use read::{available_memory, is_atlas, read, stored_scene, Loaded, MAX_DIM, MAX_EXPANSION};
 pub use write::{check_finished, labels_crc32, pairs, partial_path, write, Draft, Parent, RunInfo, GIT_COMMIT};

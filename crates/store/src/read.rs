@@ -215,6 +215,21 @@ pub fn is_atlas(path: &Path) -> bool {
     path.is_file() && says().unwrap_or(false)
 }
 
+/// The scene text stored in an atlas or sweep file (its root's checked
+/// attributes only: the cells are not read).
+pub fn stored_scene(path: &Path) -> Result<String, StoreError> {
+    if !path.is_file() {
+        let why = if path.exists() { "not a file (an atlas is one HDF5 file)" } else { "no such file" };
+        return Err(StoreError::io(path, std::io::Error::new(std::io::ErrorKind::NotFound, why)));
+    }
+    let f = crate::heap::open(path)?;
+    crate::attrs::verify(path, &f)?;
+    if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) || f.attr(attr::X).is_err() {
+        return Err(StoreError::format(path, "not an atlas"));
+    }
+    attr(path, &f, attr::SCENE)
+}
+
 /// Reads an atlas file. Every dataset is checked before it is used: its
 /// shape against the grid and the other datasets, its size against the
 /// file's (see [`MAX_EXPANSION`]), the sections' offsets against their

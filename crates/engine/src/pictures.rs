@@ -1,0 +1,62 @@
+//! What the pictures of one cell show (`cell --portrait`, `--section-png`,
+//! the explorer's cell panel): its phase portraits and time series over the
+//! classified window, and its Poincaré sections over many periods.
+
+use crate::cell::Cell;
+use anyhow::Result;
+
+/// The portrait of the cell's classified window: per mass its (x, v) path,
+/// its frame stops, and the events (400 samples per forcing period).
+pub fn portrait(c: &Cell) -> render::Portrait {
+    let (sys, s) = (&c.system, &c.setup);
+    let rows = crate::window(sys, s, &c.result, crate::window_periods(&c.result), 400).rows;
+    let m = sys.dof();
+    let masses: Vec<String> = sys.model.masses.iter().map(|x| x.name.clone()).collect();
+    let stops = sys
+        .model
+        .stops
+        .iter()
+        .filter_map(|st| match st.geometry {
+            scene::StopGeometry::Frame { mass, position, .. } => Some((mass, position, st.name.clone())),
+            scene::StopGeometry::Pair { .. } => None,
+        })
+        .collect();
+    render::Portrait {
+        title: format!("{} ({})", sys.model.name, s.described()),
+        masses,
+        t: rows.iter().map(|r| r.0).collect(),
+        x: (0..m).map(|k| rows.iter().map(|r| r.1[k]).collect()).collect(),
+        v: (0..m).map(|k| rows.iter().map(|r| r.1[m + k]).collect()).collect(),
+        events: rows.iter().enumerate().filter_map(|(i, r)| r.2.clone().map(|e| (i, e))).collect(),
+        stops,
+    }
+}
+
+/// The panels of the cell's sections over `periods` periods from its final
+/// state ([`crate::sections`]): the first labelled mass's (x, v) at t = kT,
+/// then each stop's impacts (phase, speed) where it has any; and the title,
+/// which names the stops without impacts.
+pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, String)> {
+    let (sys, s) = (&c.system, &c.setup);
+    let sec = crate::sections(sys, s, &c.result, periods)?;
+    let name = &sys.model.masses[sec.mass].name;
+    let mut panels =
+        vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: sec.period }];
+    let mut silent = Vec::new();
+    for (stop, points) in sys.model.stops.iter().zip(sec.impacts) {
+        if points.is_empty() {
+            silent.push(stop.name.clone());
+        } else {
+            panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: "impact speed".into(), points });
+        }
+    }
+    let labels: Vec<String> = c.result.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
+    let silent = if silent.is_empty() { String::new() } else { format!("; no impacts at {}", silent.join(", ")) };
+    let title = format!(
+        "{} ({}): {}, Poincaré sections over {periods} periods{silent}",
+        sys.model.name,
+        s.described(),
+        labels.join(", "),
+    );
+    Ok((panels, title))
+}
