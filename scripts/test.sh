@@ -33,9 +33,13 @@ target/release/vibroatlas sweep configs/multi-stop.toml --axis omega=0.2:0.5:7 -
     -o "$tmp/sweep.h5" >/dev/null
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/netcdf.h5" --expect up:M1:omega=0.33,delta=0.6:1-4-4
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/sweep.h5" --expect up:M1:omega=0.35:1-4-4
+# The explorer in a real browser (chromium through chromedriver); its
+# screenshots are kept in target/explore-screenshots.
+/usr/bin/python3 scripts/test_explore.py target/release/vibroatlas target/explore-screenshots 2>&1 | tee "$tmp/explore.log"
 # Every command of README.md, as printed.
 scripts/check_readme.sh
 # The Python package as a user installs it (README's "Python" section).
 scripts/test-python.sh 2>&1 | tee "$tmp/python.log"
 awk '/^test result:/ { p += $4; f += $6 } /^python tests:/ { p += $3; f += $5 }
-    END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log"
+    /^explore tests:/ { p += $3; f += $5 }
+    END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log" "$tmp/explore.log"

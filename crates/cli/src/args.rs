@@ -22,6 +22,8 @@ pub enum Command {
     Atlas(AtlasArgs),
     /// Compute a box of a stored atlas again on a finer grid, its chains entering from the parent.
     Zoom(ZoomArgs),
+    /// Explore an atlas in the browser: hover, click a cell for its motion, drag a box to zoom.
+    Explore(ExploreArgs),
     /// One atlas per value of a parameter, and a contact sheet comparing them.
     Study(StudyArgs),
     /// Draw the coloured map of an atlas file.
@@ -328,6 +330,22 @@ pub struct AtlasArgs {
     pub output: std::path::PathBuf,
     #[command(flatten)]
     pub run: RunArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct ExploreArgs {
+    /// The atlas file.
+    #[arg(value_name = "FILE.h5")]
+    pub file: std::path::PathBuf,
+    /// Port on 127.0.0.1 (0: a free one; the URL is printed).
+    #[arg(long, default_value_t = 8765)]
+    pub port: u16,
+    /// Do not open a browser; only print the URL.
+    #[arg(long)]
+    pub no_browser: bool,
+    /// Worker threads of zooms and attractor searches (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 #[derive(Debug, Args)]

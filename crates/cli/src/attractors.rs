@@ -25,24 +25,10 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         threads: engine::threads(a.threads)?,
     };
     let res = engine::attractors(&r, &engine::Quiet)?;
-    let (sys, found) = (&res.system, &res.found);
-    let masses = res.masses();
+    let found = &res.found;
     let label = |a: &grid::attractors::Attractor| res.labels(a);
     if let Some(png) = &a.png {
-        let mass = res.basin_mass();
-        let groups: Vec<(String, Vec<(f64, f64)>)> = found
-            .iter()
-            .map(|at| {
-                let named: Vec<String> = masses.iter().zip(label(at)).map(|(m, l)| format!("{m} {l}")).collect();
-                let share = 100.0 * at.count as f64 / a.samples as f64;
-                (format!("{} ({share:.0} %)", named.join(", ")), res.basin(at))
-            })
-            .collect();
-        let colours: Vec<String> = found.iter().map(|at| at.cell.labels[0].to_string()).collect();
-        let title = format!("{}: basins of attraction at t = 0 ({} samples)", sys.model.name, a.samples);
-        let axes =
-            (format!("x_{} at t = 0", sys.model.masses[mass].name), format!("v_{}", sys.model.masses[mass].name));
-        write_atomically(png, |tmp| render::basins(&groups, &colours, &title, &axes, &page, tmp))?;
+        write_atomically(png, |tmp| engine::draw_basins(&res, &page, tmp))?;
     }
     if a.json {
         outln!("{}", serde_json::to_string(&res.to_json())?);

@@ -101,4 +101,3 @@ fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);
     o
 }
-

@@ -11,6 +11,7 @@ mod cell;
 mod common;
 mod continue_cmd;
 mod curve;
+mod explore;
 mod figure;
 mod flags;
 mod inspect;
@@ -109,6 +110,7 @@ fn main() {
         args::Command::Sweep(a) => sweep::run(a),
         args::Command::Atlas(a) => atlas::run(a),
         args::Command::Zoom(a) => zoom::run(a),
+        args::Command::Explore(a) => explore::run(a),
         args::Command::Study(a) => study::run(a),
         args::Command::Render(a) => render_cmd::run(a),
         args::Command::Merge(a) => merge::run(a),

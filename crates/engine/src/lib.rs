@@ -66,7 +66,7 @@ pub use eta::{eta, Meter, Status, Work};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{continuation, orbit, Continued, Found};
-pub use pictures::{portrait, section_panels};
+pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};
 pub use sim::{
     check_period, labels_json, parameters_json, parse_assignment, Origin, SceneLoadError, SceneSource, Setup, Sim,

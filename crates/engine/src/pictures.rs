@@ -60,3 +60,29 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
     );
     Ok((panels, title))
 }
+
+/// Draws the sampled start states of the attractors `res` found, coloured
+/// by the attractor each reaches, with its basin fraction (`attractors
+/// --png`; format by the extension of `path`).
+pub fn draw_basins(
+    res: &crate::Attractors,
+    page: &render::Page,
+    path: &std::path::Path,
+) -> Result<(), render::RenderError> {
+    let (sys, found) = (&res.system, &res.found);
+    let samples = res.sampling.samples;
+    let masses = res.masses();
+    let mass = res.basin_mass();
+    let groups: Vec<(String, Vec<(f64, f64)>)> = found
+        .iter()
+        .map(|at| {
+            let named: Vec<String> = masses.iter().zip(res.labels(at)).map(|(m, l)| format!("{m} {l}")).collect();
+            let share = 100.0 * at.count as f64 / samples as f64;
+            (format!("{} ({share:.0} %)", named.join(", ")), res.basin(at))
+        })
+        .collect();
+    let colours: Vec<String> = found.iter().map(|at| at.cell.labels[0].to_string()).collect();
+    let title = format!("{}: basins of attraction at t = 0 ({samples} samples)", sys.model.name);
+    let axes = (format!("x_{} at t = 0", sys.model.masses[mass].name), format!("v_{}", sys.model.masses[mass].name));
+    render::basins(&groups, &colours, &title, &axes, page, path)
+}

@@ -79,7 +79,7 @@ impl Failure {
             }
             if let Some(s) = cause.downcast_ref::<engine::SceneLoadError>() {
                 return match s {
-                    engine::SceneLoadError::Read { .. } => Failure::File(text),
+                    engine::SceneLoadError::Read { .. } | engine::SceneLoadError::Stored(_) => Failure::File(text),
                     engine::SceneLoadError::Invalid { .. } => Failure::Scene(text),
                 };
             }

@@ -1,0 +1,482 @@
+// The page of `vibroatlas explore`: a thin client of the JSON API
+// (docs/explore.md). Every colour, legend, label and figure comes from the
+// server; this file only lays cells out on a canvas and asks for more.
+'use strict';
+
+const $ = (id) => document.getElementById(id);
+const canvas = $('map');
+const ctx = canvas.getContext('2d');
+// Margins of the plot inside the canvas (axes and their labels), px.
+const M = { left: 72, right: 14, top: 14, bottom: 52 };
+
+const S = {
+  id: 0, info: null, view: null, mass: null,
+  image: null, k: 1,           // the cells painted at k x k pixels each
+  box: null,                   // the visible region in cell indices: cell i spans [i - 0.5, i + 0.5]
+  curves: [], hovered: null, drag: null, job: null,
+};
+
+async function getJSON(url, options) {
+  const r = await fetch(url, options);
+  const body = await r.json().catch(() => ({ error: r.statusText }));
+  if (!r.ok) throw new Error(body.error || r.statusText);
+  return body;
+}
+
+function say(text) { $('message').textContent = text || ''; }
+
+// Parameter value of a (fractional) index of axis a, and back.
+function value(a, f) { return a.count > 1 ? a.start + (f * (a.stop - a.start)) / (a.count - 1) : a.start; }
+function index(a, v) { return a.count > 1 ? ((v - a.start) * (a.count - 1)) / (a.stop - a.start) : 0; }
+function short(v) { return String(+v.toPrecision(6)); }
+
+function whole() {
+  const { x, y } = S.info;
+  return { x0: -0.5, x1: x.count - 0.5, y0: -0.5, y1: y.count - 0.5 };
+}
+
+// The view kept in the address: atlas, view, mass, and the visible box in parameter values.
+function fromAddress() {
+  const p = new URLSearchParams(location.search);
+  return { atlas: +(p.get('atlas') || 0), view: p.get('view'), mass: p.get('mass'), box: p.get('box') };
+}
+
+function toAddress(push) {
+  const p = new URLSearchParams();
+  p.set('atlas', S.id);
+  p.set('view', S.view);
+  p.set('mass', S.mass);
+  const b = S.box, { x, y } = S.info;
+  p.set('box', [value(x, b.x0), value(x, b.x1), value(y, b.y0), value(y, b.y1)].map(short).join(','));
+  const url = '?' + p.toString();
+  if (push) history.pushState(null, '', url); else history.replaceState(null, '', url);
+}
+
+function fill(select, names, chosen) {
+  select.innerHTML = '';
+  for (const n of names) {
+    const o = document.createElement('option');
+    o.value = o.textContent = n;
+    select.appendChild(o);
+  }
+  select.value = names.includes(chosen) ? chosen : names[0];
+  return select.value;
+}
+
+async function load(at, push) {
+  say('');
+  S.info = await getJSON(`/api/atlas?atlas=${at.atlas}`);
+  S.id = at.atlas;
+  S.view = fill($('view'), S.info.views, at.view);
+  S.mass = fill($('mass'), S.info.masses, at.mass);
+  S.box = whole();
+  if (at.box) {
+    const v = at.box.split(',').map(Number);
+    if (v.length === 4 && v.every(Number.isFinite)) {
+      const { x, y } = S.info;
+      S.box = { x0: index(x, v[0]), x1: index(x, v[1]), y0: index(y, v[2]), y1: index(y, v[3]) };
+    }
+  }
+  const i = S.info;
+  const parent = i.parent ? ` — a box (${i.parent.box}) of atlas ${i.parent.id}` : '';
+  $('title').textContent = `${i.scene}: ${i.file}, ${i.x.count} × ${i.y.count} cells${parent}`;
+  $('cell').hidden = true;
+  S.curves = [];
+  await layer();
+  toAddress(push);
+}
+
+function query() {
+  return `atlas=${S.id}&view=${encodeURIComponent(S.view)}&mass=${encodeURIComponent(S.mass)}`;
+}
+
+// The view's colours, painted once into an image of the cells.
+async function layer() {
+  const curves = $('curves').checked ? '&curves=1' : '';
+  const [bytes, key] = await Promise.all([
+    fetch('/api/map?' + query()).then((r) => (r.ok ? r.arrayBuffer() : r.json().then((e) => Promise.reject(new Error(e.error))))),
+    getJSON('/api/legend?' + query() + curves),
+  ]);
+  if ($('curves').checked) S.curves = (await getJSON(`/api/curves?atlas=${S.id}`)).curves;
+  const { x, y } = S.info, nx = x.count, ny = y.count;
+  const split = S.view === 'hysteresis' && nx * ny * 9 <= 12e6;
+  const k = split ? 3 : 1;
+  const rgb = new Uint8Array(bytes);
+  const image = new ImageData(nx * k, ny * k);
+  const px = new Uint32Array(image.data.buffer);
+  const n = nx * ny;
+  for (let iy = 0; iy < ny; iy++) {
+    const row = ny - 1 - iy;
+    for (let ix = 0; ix < nx; ix++) {
+      const c = 3 * (iy * nx + ix), d = c + 3 * n;
+      const above = 0xff000000 | (rgb[c + 2] << 16) | (rgb[c + 1] << 8) | rgb[c];
+      const below = 0xff000000 | (rgb[d + 2] << 16) | (rgb[d + 1] << 8) | rgb[d];
+      for (let sy = 0; sy < k; sy++) {
+        for (let sx = 0; sx < k; sx++) {
+          // The upper-left triangle (the rising diagonal included) is the first colour.
+          px[(row * k + sy) * nx * k + ix * k + sx] = sx + sy <= k - 1 ? above : below;
+        }
+      }
+    }
+  }
+  const off = document.createElement('canvas');
+  off.width = nx * k;
+  off.height = ny * k;
+  off.getContext('2d').putImageData(image, 0, 0);
+  S.image = off;
+  S.k = k;
+  legend(key);
+  draw();
+  links();
+}
+
+function swatch(row) {
+  const s = document.createElement('span');
+  s.className = 'swatch';
+  const c = row.colours.map((v) => `rgb(${v[0]},${v[1]},${v[2]})`);
+  if (row.swatch === 'fill') s.style.background = c[0];
+  else if (row.swatch === 'split') s.style.background = `linear-gradient(to bottom right, ${c[0]} 50%, ${c[1]} 50%)`;
+  else if (row.swatch === 'hatch') s.style.background = `repeating-linear-gradient(45deg, ${c[0]} 0 2px, #fff 2px 5px)`;
+  else if (row.swatch === 'line') { s.style.border = 'none'; s.style.borderTop = `3px solid ${c[0]}`; s.style.height = '0'; }
+  else { s.style.borderRadius = '50%'; s.style.borderColor = c[0]; if (row.swatch === 'dot') s.style.background = c[0]; }
+  return s;
+}
+
+function legend(key) {
+  const box = $('legend');
+  box.innerHTML = '';
+  if (key.scale) {
+    const t = document.createElement('div');
+    t.className = 'heading';
+    t.textContent = key.scale.title;
+    const bar = document.createElement('div');
+    bar.className = 'bar';
+    bar.style.background = `linear-gradient(to right, ${key.scale.colours.map((v) => `rgb(${v})`).join(',')})`;
+    const ends = document.createElement('div');
+    ends.className = 'row';
+    ends.innerHTML = `<span>${short(key.scale.lo)}</span><span style="flex:1"></span><span>${short(key.scale.hi)}</span>`;
+    box.append(t, bar, ends);
+  }
+  for (const row of key.legend) {
+    const d = document.createElement('div');
+    if (row.swatch === 'heading') {
+      d.className = 'heading';
+      d.textContent = row.text;
+    } else {
+      d.className = 'row';
+      const text = document.createElement('span');
+      text.textContent = row.text;
+      d.append(swatch(row), text);
+    }
+    box.appendChild(d);
+  }
+}
+
+function plotSize() {
+  return { w: canvas.width - M.left - M.right, h: canvas.height - M.top - M.bottom };
+}
+
+// Canvas pixel of a (fractional) cell index, and back.
+function toCanvas(fx, fy) {
+  const b = S.box, { w, h } = plotSize();
+  return [M.left + ((fx - b.x0) / (b.x1 - b.x0)) * w, M.top + ((b.y1 - fy) / (b.y1 - b.y0)) * h];
+}
+function toCell(cx, cy) {
+  const b = S.box, { w, h } = plotSize();
+  return [b.x0 + ((cx - M.left) / w) * (b.x1 - b.x0), b.y1 - ((cy - M.top) / h) * (b.y1 - b.y0)];
+}
+
+function ticks(lo, hi) {
+  const span = hi - lo, raw = span / 6, mag = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 5, 10].map((m) => m * mag).find((s) => span / s <= 7);
+  const out = [];
+  for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-12 * span; v += step) out.push(+v.toPrecision(12));
+  return out;
+}
+
+function draw() {
+  const b = S.box, { w, h } = plotSize(), k = S.k, ny = S.info.y.count;
+  ctx.fillStyle = '#fff';
+  ctx.fillRect(0, 0, canvas.width, canvas.height);
+  ctx.imageSmoothingEnabled = false;
+  ctx.drawImage(S.image, (b.x0 + 0.5) * k, (ny - 0.5 - b.y1) * k, (b.x1 - b.x0) * k, (b.y1 - b.y0) * k, M.left, M.top, w, h);
+  ctx.strokeStyle = '#333';
+  ctx.strokeRect(M.left, M.top, w, h);
+  // Axes in parameter values, with their symbols.
+  const { x, y } = S.info;
+  ctx.fillStyle = '#222';
+  ctx.font = '12px "DejaVu Sans", sans-serif';
+  ctx.textAlign = 'center';
+  for (const v of ticks(value(x, b.x0), value(x, b.x1))) {
+    const [cx] = toCanvas(index(x, v), b.y0);
+    ctx.fillRect(cx, M.top + h, 1, 5);
+    ctx.fillText(short(v), cx, M.top + h + 18);
+  }
+  ctx.fillText(x.symbol, M.left + w / 2, M.top + h + 40);
+  ctx.textAlign = 'right';
+  for (const v of ticks(value(y, b.y0), value(y, b.y1))) {
+    const [, cy] = toCanvas(b.x0, index(y, v));
+    ctx.fillRect(M.left - 5, cy, 5, 1);
+    ctx.fillText(short(v), M.left - 8, cy + 4);
+  }
+  ctx.save();
+  ctx.translate(16, M.top + h / 2);
+  ctx.rotate(-Math.PI / 2);
+  ctx.textAlign = 'center';
+  ctx.fillText(y.symbol, 0, 0);
+  ctx.restore();
+  // Stored bifurcation curves, clipped to the plot.
+  ctx.save();
+  ctx.beginPath();
+  ctx.rect(M.left, M.top, w, h);
+  ctx.clip();
+  for (const c of S.curves) {
+    ctx.strokeStyle = `rgb(${c.colour})`;
+    ctx.lineWidth = Math.max(1.5, c.width_pt * 1.33);
+    ctx.setLineDash(c.dash_pt[1] > 0 ? c.dash_pt.map((d) => d * 1.33) : []);
+    ctx.beginPath();
+    c.points.forEach(([px, py], i) => {
+      const [cx, cy] = toCanvas(index(x, px), index(y, py));
+      if (i === 0) ctx.moveTo(cx, cy); else ctx.lineTo(cx, cy);
+    });
+    ctx.stroke();
+  }
+  ctx.setLineDash([]);
+  if (S.drag && S.drag.mode === 'box') {
+    const d = S.drag;
+    ctx.strokeStyle = '#000';
+    ctx.lineWidth = 1.5;
+    ctx.setLineDash([5, 3]);
+    ctx.strokeRect(Math.min(d.x, d.cx), Math.min(d.y, d.cy), Math.abs(d.cx - d.x), Math.abs(d.cy - d.y));
+    ctx.setLineDash([]);
+  }
+  ctx.restore();
+  canvas.dataset.plot = JSON.stringify({ left: M.left, top: M.top, width: w, height: h, ...b });
+}
+
+function links() {
+  const f = $('fig-format').value, size = $('fig-size').value, curves = $('curves').checked ? '&curves=1' : '';
+  $('save-figure').href = `/api/figure?${query()}&format=${f}&size=${size}${curves}`;
+  $('save-file').href = `/api/files/${S.id}`;
+}
+
+function eventCell(e) {
+  const r = canvas.getBoundingClientRect();
+  const cx = ((e.clientX - r.left) * canvas.width) / r.width, cy = ((e.clientY - r.top) * canvas.height) / r.height;
+  const [fx, fy] = toCell(cx, cy);
+  const { x, y } = S.info;
+  const ix = Math.round(fx), iy = Math.round(fy);
+  const inside = ix >= 0 && iy >= 0 && ix < x.count && iy < y.count && cx >= M.left && cy >= M.top;
+  return { cx, cy, ix, iy, inside };
+}
+
+// The plane's parameters of a cell, x first, by their symbols.
+function parameters(values) {
+  const { x, y } = S.info;
+  return `${x.symbol} = ${short(values[x.name])}, ${y.symbol} = ${short(values[y.name])}`;
+}
+
+function describe(at) {
+  const lines = [parameters(at.parameters)];
+  for (const sweep of S.info.sweeps) {
+    const c = at.sweeps[sweep];
+    if (!c) { lines.push(`${sweep}: not computed`); continue; }
+    const labels = Object.entries(c.labels).map(([m, l]) => `${m} ${l}`).join(', ');
+    lines.push(`${sweep}: ${labels} (${c.class})`);
+    if (c.reason) lines.push(`  ${c.reason}`);
+  }
+  return lines.join('\n');
+}
+
+async function hover(e) {
+  const c = eventCell(e);
+  const tip = $('hover');
+  if (!c.inside) { tip.hidden = true; S.hovered = null; return; }
+  const key = `${S.id}:${c.ix}:${c.iy}`;
+  tip.style.left = `${e.offsetX + 14}px`;
+  tip.style.top = `${e.offsetY + 14}px`;
+  if (key === S.hovered) return;
+  S.hovered = key;
+  try {
+    const at = await getJSON(`/api/at?atlas=${S.id}&ix=${c.ix}&iy=${c.iy}`);
+    if (S.hovered !== key) return;
+    tip.textContent = describe(at);
+    tip.hidden = false;
+  } catch (err) { say(err.message); }
+}
+
+function sweepOfView() {
+  const sweeps = S.info.sweeps;
+  const named = S.view.includes(':') ? S.view.split(':')[1] : S.view;
+  return sweeps.includes(named) ? named : sweeps.includes('up') ? 'up' : sweeps[0];
+}
+
+async function showCell(ix, iy, sweep) {
+  const panel = $('cell');
+  panel.hidden = false;
+  panel.dataset.state = 'loading';
+  panel.innerHTML = '<p>computing the cell…</p>';
+  try {
+    const at = await getJSON(`/api/at?atlas=${S.id}&ix=${ix}&iy=${iy}`);
+    const q = `atlas=${S.id}&sweep=${sweep}&` + Object.entries(at.parameters).map(([k, v]) => `${encodeURIComponent(k)}=${v}`).join('&');
+    const c = await getJSON('/api/cell?' + q);
+    panel.dataset.json = JSON.stringify(c);
+    panel.dataset.query = q;
+    const others = S.info.sweeps.filter((s) => s !== sweep).map((s) => `<button data-sweep="${s}">${s}</button>`).join(' ');
+    const rows = [
+      ['class', c.class + (c.n ? `, n = ${c.n}` : '') + (c.symmetry ? `, ${c.symmetry}` : '')],
+      ...Object.entries(c.labels).map(([m, l]) => [`label ${m}`, l]),
+      ['max |multiplier|', c.max_multiplier === null ? '—' : c.max_multiplier.toFixed(6)],
+      ['Lyapunov', c.lyapunov === null ? '—' : `${c.lyapunov.toFixed(6)} per unit time`],
+      ['impacts', Object.entries(c.impacts).map(([s, n]) => `${s} ${n}`).join(', ')],
+      ['chatter', Object.entries(c.chatter).filter(([, v]) => v).map(([s]) => s).join(', ') || 'none'],
+      ['sticking', Object.entries(c.sticking).filter(([, v]) => v).map(([s]) => s).join(', ') || 'none'],
+      ['work', `${c.periods_simulated} periods, ${c.events} events`],
+    ];
+    if (c.reason) rows.push(['reason', c.reason]);
+    panel.innerHTML = `<h3>${parameters(c.from.cell)} (${sweep} sweep)</h3>
+      <p>other sweeps: ${others || 'none'}</p>
+      <table>${rows.map(([a, b]) => `<tr><th>${a}</th><td class="v" data-key="${a}">${b}</td></tr>`).join('')}</table>
+      <div class="pictures"><img alt="phase portraits and time series" src="/api/cell/portrait.png?${q}">
+      <img alt="Poincaré sections" src="/api/cell/sections.png?${q}"></div>
+      <p><button id="attractors">coexisting attractors</button></p><div id="attractor-list"></div>`;
+    panel.querySelectorAll('button[data-sweep]').forEach((b) => b.addEventListener('click', () => showCell(ix, iy, b.dataset.sweep)));
+    $('attractors').addEventListener('click', () => attractors(q));
+    panel.dataset.state = 'done';
+  } catch (err) {
+    panel.dataset.state = 'failed';
+    panel.textContent = err.message;
+  }
+}
+
+async function attractors(q) {
+  const list = $('attractor-list');
+  list.textContent = 'sampling 64 start states…';
+  try {
+    const a = await getJSON('/api/attractors?' + q);
+    list.innerHTML = '';
+    a.attractors.forEach((at, i) => {
+      const d = document.createElement('div');
+      d.className = 'attractor';
+      const labels = Object.entries(at.labels).map(([m, l]) => `${m} ${l}`).join(', ');
+      d.append(swatch({ swatch: 'fill', colours: [a.colours[i]] }), document.createTextNode(`${(100 * at.fraction).toFixed(1)} %  ${labels} (${at.class})`));
+      list.appendChild(d);
+    });
+    const img = document.createElement('img');
+    img.alt = 'basins of attraction';
+    img.src = 'data:image/png;base64,' + a.basins_png;
+    list.appendChild(img);
+  } catch (err) { list.textContent = err.message; }
+}
+
+// The zoom dialog for a box dragged between two canvas points.
+function offerZoom(d) {
+  const { x, y } = S.info;
+  const [ax, ay] = toCell(Math.min(d.x, d.cx), Math.max(d.y, d.cy));
+  const [bx, by] = toCell(Math.max(d.x, d.cx), Math.min(d.y, d.cy));
+  const clampX = (f) => Math.min(Math.max(f, 0), x.count - 1), clampY = (f) => Math.min(Math.max(f, 0), y.count - 1);
+  const [x0, x1, y0, y1] = [clampX(ax), clampX(bx), clampY(ay), clampY(by)];
+  if (x1 <= x0 || y1 <= y0) return;
+  // As many cells as the screen shows of the box.
+  const nx = Math.max(2, Math.round(Math.abs(d.cx - d.x))), ny = Math.max(2, Math.round(Math.abs(d.cy - d.y)));
+  $('zoom-x').value = `${x.name}=${short(value(x, x0))}:${short(value(x, x1))}:${nx}`;
+  $('zoom-y').value = `${y.name}=${short(value(y, y0))}:${short(value(y, y1))}:${ny}`;
+  $('zoom-dialog').hidden = false;
+  $('progress').value = 0;
+  $('progress').dataset.state = 'idle';
+  $('progress-text').textContent = '';
+}
+
+async function runZoom() {
+  say('');
+  const progress = $('progress');
+  try {
+    const body = JSON.stringify({ atlas: S.id, x: $('zoom-x').value, y: $('zoom-y').value });
+    const { job } = await getJSON('/api/zoom', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
+    S.job = job;
+    progress.dataset.state = 'running';
+    $('zoom-cancel').hidden = false;
+    for (;;) {
+      const j = await getJSON(`/api/jobs/${job}`);
+      progress.value = j.progress;
+      $('progress-text').textContent = `${(100 * j.progress).toFixed(0)} %`;
+      if (j.state === 'running') { await new Promise((r) => setTimeout(r, 250)); continue; }
+      $('zoom-cancel').hidden = true;
+      S.job = null;
+      if (j.state === 'done') {
+        $('progress-text').textContent = 'done';
+        await load({ atlas: j.child, view: S.view, mass: S.mass }, true);
+        progress.dataset.state = 'done';
+      } else if (j.state === 'failed') {
+        progress.dataset.state = 'failed';
+        $('progress-text').textContent = 'failed';
+        say(j.error);
+      } else {
+        progress.dataset.state = 'cancelled';
+        $('progress-text').textContent = 'cancelled';
+      }
+      return;
+    }
+  } catch (err) {
+    progress.dataset.state = 'failed';
+    say(err.message);
+  }
+}
+
+canvas.addEventListener('mousedown', (e) => {
+  const c = eventCell(e);
+  S.drag = { x: c.cx, y: c.cy, cx: c.cx, cy: c.cy, mode: e.shiftKey || e.button === 1 ? 'pan' : 'box', box: { ...S.box } };
+});
+canvas.addEventListener('mousemove', (e) => {
+  if (!S.drag) { hover(e); return; }
+  const c = eventCell(e);
+  const d = S.drag;
+  d.cx = c.cx;
+  d.cy = c.cy;
+  if (d.mode === 'pan') {
+    const { w, h } = plotSize(), b = d.box;
+    const dx = ((c.cx - d.x) / w) * (b.x1 - b.x0), dy = ((c.cy - d.y) / h) * (b.y1 - b.y0);
+    S.box = { x0: b.x0 - dx, x1: b.x1 - dx, y0: b.y0 + dy, y1: b.y1 + dy };
+  }
+  draw();
+});
+window.addEventListener('mouseup', (e) => {
+  const d = S.drag;
+  if (!d) return;
+  S.drag = null;
+  const moved = Math.hypot(d.cx - d.x, d.cy - d.y);
+  if (d.mode === 'pan') { toAddress(false); draw(); return; }
+  if (moved < 4) {
+    const c = eventCell(e);
+    if (c.inside) showCell(c.ix, c.iy, sweepOfView());
+  } else {
+    offerZoom(d);
+  }
+  draw();
+});
+canvas.addEventListener('mouseleave', () => { $('hover').hidden = true; S.hovered = null; });
+canvas.addEventListener('wheel', (e) => {
+  e.preventDefault();
+  const c = eventCell(e), [fx, fy] = toCell(c.cx, c.cy), f = e.deltaY > 0 ? 1.25 : 0.8, b = S.box;
+  S.box = { x0: fx - (fx - b.x0) * f, x1: fx + (b.x1 - fx) * f, y0: fy - (fy - b.y0) * f, y1: fy + (b.y1 - fy) * f };
+  draw();
+  toAddress(false);
+}, { passive: false });
+canvas.addEventListener('dblclick', () => { S.box = whole(); draw(); toAddress(false); });
+$('reset').addEventListener('click', () => { S.box = whole(); draw(); toAddress(false); });
+$('view').addEventListener('change', async () => { S.view = $('view').value; await layer(); toAddress(false); });
+$('mass').addEventListener('change', async () => { S.mass = $('mass').value; await layer(); toAddress(false); });
+$('curves').addEventListener('change', () => layer().catch((e) => say(e.message)));
+$('fig-format').addEventListener('change', links);
+$('fig-size').addEventListener('change', links);
+$('back').addEventListener('click', () => history.back());
+$('forward').addEventListener('click', () => history.forward());
+$('zoom-run').addEventListener('click', runZoom);
+$('zoom-close').addEventListener('click', () => { $('zoom-dialog').hidden = true; });
+$('zoom-cancel').addEventListener('click', () => { if (S.job !== null) fetch(`/api/jobs/${S.job}`, { method: 'DELETE' }); });
+window.addEventListener('popstate', () => load(fromAddress(), false).catch((e) => say(e.message)));
+
+// For scripts and tests: the canvas pixel at the centre of cell (ix, iy).
+window.vibroatlas = { cellCentre: (ix, iy) => toCanvas(ix, iy), state: S };
+
+load(fromAddress(), false).catch((e) => say(e.message));

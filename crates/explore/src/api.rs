@@ -1,0 +1,528 @@
+//! The explorer's HTTP API (docs/explore.md): JSON objects and, for a
+//! view's colours, bytes. Every answer comes from the libraries (engine,
+//! render, store); a bad request is a 4xx with `{"error": "…"}` naming what is
+//! wrong, never a crash of the server.
+
+use crate::state::{Job, Opened, Phase, State};
+use axum::body::Body;
+use axum::extract::{Path, Query, State as Shared};
+use axum::http::{header, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::{Json, Router};
+use base64::prelude::{Engine as _, BASE64_STANDARD};
+use engine::{Opt, SceneSource, Sim, Start, Words};
+use grid::{Axis, SweepKind};
+use render::{Quantity, Show, View};
+use serde_json::{json, Value};
+use std::collections::HashMap;
+use std::sync::Arc;
+
+type St = Arc<State>;
+type Params = Query<HashMap<String, String>>;
+
+/// A refused or failed request: its status and message.
+pub(crate) struct Refusal(StatusCode, String);
+
+impl IntoResponse for Refusal {
+    fn into_response(self) -> Response {
+        (self.0, Json(json!({ "error": self.1 }))).into_response()
+    }
+}
+
+fn bad(message: impl Into<String>) -> Refusal {
+    Refusal(StatusCode::BAD_REQUEST, message.into())
+}
+
+fn not_found(message: impl Into<String>) -> Refusal {
+    Refusal(StatusCode::NOT_FOUND, message.into())
+}
+
+/// How the page's messages name a request's options: by its fields.
+struct Fields;
+impl Words for Fields {
+    fn option(&self, o: Opt) -> String {
+        o.name().to_string()
+    }
+}
+
+/// An engine error as one line (each cause of its chain, a refusal in the
+/// API's words).
+fn message(e: &anyhow::Error) -> String {
+    let parts: Vec<String> = e
+        .chain()
+        .map(|c| match c.downcast_ref::<engine::RequestError>() {
+            Some(r) => r.in_words(&Fields),
+            None => c.to_string(),
+        })
+        .collect();
+    parts.join(": ")
+}
+
+fn failed(e: anyhow::Error) -> Refusal {
+    Refusal(StatusCode::UNPROCESSABLE_ENTITY, message(&e))
+}
+
+/// The page's routes.
+pub(crate) fn router(state: St) -> Router {
+    Router::new()
+        .route("/", get(page))
+        .route("/explore.js", get(|| asset(include_str!("../assets/explore.js"), "text/javascript; charset=utf-8")))
+        .route("/explore.css", get(|| asset(include_str!("../assets/explore.css"), "text/css; charset=utf-8")))
+        .route("/api/atlas", get(atlas))
+        .route("/api/map", get(map))
+        .route("/api/legend", get(legend))
+        .route("/api/at", get(at))
+        .route("/api/cell", get(cell))
+        .route("/api/cell/portrait.png", get(portrait))
+        .route("/api/cell/sections.png", get(sections))
+        .route("/api/attractors", get(attractors))
+        .route("/api/zoom", axum::routing::post(zoom))
+        .route("/api/jobs/{id}", get(job).delete(cancel))
+        .route("/api/figure", get(figure))
+        .route("/api/curves", get(curves))
+        .route("/api/files/{id}", get(file))
+        .with_state(state)
+}
+
+async fn page() -> Response {
+    asset(include_str!("../assets/index.html"), "text/html; charset=utf-8").await
+}
+
+async fn asset(text: &'static str, kind: &'static str) -> Response {
+    ([(header::CONTENT_TYPE, kind), (header::CACHE_CONTROL, "no-cache")], text).into_response()
+}
+
+/// Runs blocking work (a simulation, a file) off the server's threads.
+async fn blocking<T: Send + 'static>(f: impl FnOnce() -> Result<T, Refusal> + Send + 'static) -> Result<T, Refusal> {
+    tokio::task::spawn_blocking(f)
+        .await
+        .unwrap_or_else(|e| Err(Refusal(StatusCode::INTERNAL_SERVER_ERROR, format!("the work failed: {e}"))))
+}
+
+/// The atlas of the `atlas` parameter (0, the file given, by default).
+fn opened(state: &State, q: &HashMap<String, String>) -> Result<(usize, Arc<Opened>), Refusal> {
+    let id = match q.get("atlas") {
+        None => 0,
+        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("atlas: expected an atlas id, got '{t}'")))?,
+    };
+    state.atlas(id).map(|a| (id, a)).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))
+}
+
+/// The labelled mass of the `mass` parameter (the first by default).
+fn mass(o: &Opened, q: &HashMap<String, String>) -> Result<usize, Refusal> {
+    let masses = &o.atlas.meta.masses;
+    match q.get("mass") {
+        None => Ok(0),
+        Some(m) => masses
+            .iter()
+            .position(|n| n == m)
+            .ok_or_else(|| bad(format!("mass: no labelled mass {m}; the atlas labels {}", masses.join(", ")))),
+    }
+}
+
+/// The sweep of the `sweep` parameter (the file's first by default).
+fn sweep(o: &Opened, q: &HashMap<String, String>) -> Result<SweepKind, Refusal> {
+    let sweeps = &o.atlas.meta.sweeps;
+    match q.get("sweep") {
+        None => Ok(sweeps[0]),
+        Some(s) => SweepKind::parse(s).filter(|k| sweeps.contains(k)).ok_or_else(|| {
+            let have: Vec<&str> = sweeps.iter().map(|k| k.name()).collect();
+            bad(format!("sweep: '{s}' is not a sweep of the atlas ({})", have.join(", ")))
+        }),
+    }
+}
+
+/// The views of an atlas: its sweeps, hysteresis with up and down, and the
+/// numbers of each sweep.
+fn views(o: &Opened) -> Vec<String> {
+    let sweeps = &o.atlas.meta.sweeps;
+    let mut v: Vec<String> = sweeps.iter().map(|s| s.name().to_string()).collect();
+    if sweeps.contains(&SweepKind::Up) && sweeps.contains(&SweepKind::Down) {
+        v.push("hysteresis".into());
+    }
+    for q in ["multiplier", "lyapunov"] {
+        v.extend(sweeps.iter().map(|s| format!("{q}:{}", s.name())));
+    }
+    v
+}
+
+/// The view of the `view` parameter: a sweep, `hysteresis`, or
+/// `multiplier:SWEEP` / `lyapunov:SWEEP`.
+fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
+    let name = q.get("view").cloned().unwrap_or_else(|| o.atlas.meta.sweeps[0].name().to_string());
+    if !views(o).contains(&name) {
+        return Err(bad(format!("view: '{name}' is not a view of the atlas ({})", views(o).join(", "))));
+    }
+    Ok(match name.split_once(':') {
+        Some((quantity, s)) => {
+            let quantity = if quantity == "multiplier" { Quantity::Multiplier } else { Quantity::Lyapunov };
+            Show::Scalar(SweepKind::parse(s).unwrap_or(SweepKind::Fresh), quantity)
+        }
+        None => Show::Map(View::parse(&name).unwrap_or(View::Hysteresis)),
+    })
+}
+
+fn axis_json(a: &Axis, o: &Opened) -> Value {
+    let m = &o.atlas.meta;
+    json!({
+        "name": a.name,
+        "symbol": m.symbol(&a.name),
+        "long_name": m.long_name(&a.name),
+        "start": a.start,
+        "stop": a.stop,
+        "count": a.count,
+        "values": a.values(),
+    })
+}
+
+async fn atlas(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (id, o) = opened(&state, &q)?;
+    let m = &o.atlas.meta;
+    let labels: serde_json::Map<String, Value> = m
+        .sweeps
+        .iter()
+        .map(|&s| {
+            let per_mass: serde_json::Map<String, Value> = m
+                .masses
+                .iter()
+                .enumerate()
+                .map(|(mi, name)| {
+                    let rows: Vec<Value> = o
+                        .atlas
+                        .legend(s, mi)
+                        .into_iter()
+                        .map(|(l, n)| json!({"label": l, "count": n, "colour": grid::palette::colour(&l)}))
+                        .collect();
+                    (name.clone(), Value::from(rows))
+                })
+                .collect();
+            (s.name().to_string(), Value::from(per_mass))
+        })
+        .collect();
+    Ok(Json(json!({
+        "id": id,
+        "file": o.path.display().to_string(),
+        "parent": o.parent.as_ref().map(|(p, region)| json!({"id": p, "box": region})),
+        "scene": m.scene_name,
+        "preset": m.preset.name(),
+        "x": axis_json(&m.plane.x, &o),
+        "y": axis_json(&m.plane.y, &o),
+        "along": m.plane.along.name(),
+        "sweeps": m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>(),
+        "masses": m.masses,
+        "views": views(&o),
+        "labels": labels,
+        "settings": m.overrides.iter().map(|(k, v)| json!({"name": k, "symbol": m.symbol(k), "value": v})).collect::<Vec<_>>(),
+    })))
+}
+
+async fn map(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
+    let layer = blocking(move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string()))).await?;
+    let mut bytes = layer.above;
+    bytes.extend(layer.below);
+    Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
+}
+
+async fn legend(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
+    let curves = if q.get("curves").is_some_and(|c| c == "1") { overlays(&state, &o) } else { Vec::new() };
+    let layer = blocking(move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string()))).await?;
+    let rows: Vec<Value> =
+        layer.legend.iter().map(|k| json!({"swatch": k.swatch, "colours": k.colours, "text": k.text})).collect();
+    let scale =
+        layer.scale.map(|(title, lo, hi, colours)| json!({"title": title, "lo": lo, "hi": hi, "colours": colours}));
+    Ok(Json(json!({"legend": rows, "scale": scale})))
+}
+
+/// The cell `(iy, ix)` of the `ix`, `iy` parameters.
+fn cell_index(o: &Opened, q: &HashMap<String, String>) -> Result<(usize, usize), Refusal> {
+    let p = &o.atlas.meta.plane;
+    let index = |name: &str, count: usize| -> Result<usize, Refusal> {
+        let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing")))?;
+        t.parse::<usize>()
+            .ok()
+            .filter(|&i| i < count)
+            .ok_or_else(|| bad(format!("{name}: expected 0 to {}, got '{t}'", count - 1)))
+    };
+    Ok((index("iy", p.y.count)?, index("ix", p.x.count)?))
+}
+
+async fn at(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let (iy, ix) = cell_index(&o, &q)?;
+    let m = &o.atlas.meta;
+    let i = iy * m.plane.x.count + ix;
+    let sweeps: serde_json::Map<String, Value> = o
+        .atlas
+        .maps
+        .iter()
+        .map(|map| {
+            let v = match &map.cells[i] {
+                None => json!(null),
+                Some(c) => json!({
+                    "class": c.class.name(),
+                    "labels": m.masses.iter().zip(&c.labels).map(|(n, l)| (n.clone(), json!(l.to_string()))).collect::<serde_json::Map<_, _>>(),
+                    "reason": c.reason,
+                }),
+            };
+            (map.sweep.name().to_string(), v)
+        })
+        .collect();
+    let parameters: serde_json::Map<String, Value> =
+        m.plane.params(iy, ix).into_iter().map(|(k, v)| (k, json!(v))).collect();
+    Ok(Json(json!({"ix": ix, "iy": iy, "parameters": parameters, "sweeps": sweeps})))
+}
+
+/// The stored cell of the request: `sweep` and a value of each axis (the
+/// plane's own parameter names), as `cell --from FILE --sweep S --at …`.
+fn stored_cell(o: &Opened, q: &HashMap<String, String>) -> Result<(Sim, Start), Refusal> {
+    let sweep = sweep(o, q)?;
+    let p = &o.atlas.meta.plane;
+    let mut at = Vec::new();
+    for a in [&p.x, &p.y] {
+        let Some(t) = q.get(&a.name) else {
+            return Err(bad(format!(
+                "{}: missing (give the cell by the plane's parameters {} and {})",
+                a.name, p.x.name, p.y.name
+            )));
+        };
+        let v = t
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(format!("{}: '{t}' is not a number", a.name)))?;
+        at.push((a.name.clone(), v));
+    }
+    let sim = Sim::new(SceneSource::Stored(o.path.clone()));
+    Ok((sim, Start::Cell { file: o.path.clone(), at, sweep: Some(sweep) }))
+}
+
+fn run_cell(o: &Opened, q: &HashMap<String, String>) -> Result<engine::Cell, Refusal> {
+    let (sim, start) = stored_cell(o, q)?;
+    engine::cell(&sim, &start).map_err(failed)
+}
+
+async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let c = blocking(move || run_cell(&o, &q)).await?;
+    Ok(Json(c.to_json()))
+}
+
+/// A picture drawn to a temporary file of the state's folder, as bytes.
+fn drawn(
+    state: &State,
+    ext: &str,
+    draw: impl FnOnce(&std::path::Path) -> Result<(), render::RenderError>,
+) -> Result<Vec<u8>, Refusal> {
+    static N: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
+    let path = state.dir.join(format!("figure-{n}.{ext}"));
+    let done = draw(&path).map_err(|e| Refusal(StatusCode::UNPROCESSABLE_ENTITY, format!("{e:#}")));
+    let bytes =
+        done.and_then(|_| std::fs::read(&path).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string())));
+    let _ = std::fs::remove_file(&path);
+    bytes
+}
+
+fn png(bytes: Vec<u8>) -> Response {
+    ([(header::CONTENT_TYPE, "image/png")], bytes).into_response()
+}
+
+async fn portrait(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let bytes = blocking(move || {
+        let c = run_cell(&o, &q)?;
+        let p = engine::portrait(&c);
+        drawn(&state, "png", |path| render::portrait(&p, &render::Page::screen(), path))
+    })
+    .await?;
+    Ok(png(bytes))
+}
+
+async fn sections(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let periods = match q.get("periods") {
+        None => 1000,
+        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("periods: '{t}' is not a whole number")))?,
+    };
+    let bytes = blocking(move || {
+        let c = run_cell(&o, &q)?;
+        let (panels, title) = engine::section_panels(&c, periods).map_err(failed)?;
+        drawn(&state, "png", |path| render::sections(&panels, &title, &render::Page::screen(), path))
+    })
+    .await?;
+    Ok(png(bytes))
+}
+
+async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let samples = match q.get("samples") {
+        None => 64,
+        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("samples: '{t}' is not a whole number")))?,
+    };
+    let threads = state.threads;
+    let found = blocking(move || {
+        let (_, start) = stored_cell(&o, &q)?;
+        let Start::Cell { at, .. } = start else { unreachable!("a stored cell") };
+        let m = &o.atlas.meta;
+        let (iy, ix) = o.atlas.nearest(&at).map_err(bad)?;
+        let mut sim = Sim::new(SceneSource::Stored(o.path.clone()));
+        sim.set = m.overrides.iter().cloned().chain(m.plane.params(iy, ix)).collect();
+        sim.preset = Some(m.preset);
+        sim.accuracy = m.accuracy.clone();
+        sim.integrator = Some(m.integrator);
+        let sampling = grid::attractors::Sampling { samples, seed: 1, x: 2.0, v: 2.0 };
+        let r = engine::AttractorsRequest { sim, sampling, threads };
+        let res = engine::attractors(&r, &engine::Quiet).map_err(failed)?;
+        let picture = drawn(&state, "png", |path| engine::draw_basins(&res, &render::Page::screen(), path))?;
+        let mut out = res.to_json();
+        let colours: Vec<Value> =
+            res.found.iter().map(|a| json!(grid::palette::colour(&a.cell.labels[0].to_string()))).collect();
+        out["colours"] = Value::from(colours);
+        out["basins_png"] = Value::from(BASE64_STANDARD.encode(&picture));
+        Ok(out)
+    })
+    .await?;
+    Ok(Json(found))
+}
+
+async fn zoom(Shared(state): Shared<St>, Json(body): Json<Value>) -> Result<Json<Value>, Refusal> {
+    let id = body.get("atlas").and_then(Value::as_u64).unwrap_or(0) as usize;
+    let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
+    let text = |k: &str| {
+        body.get(k).and_then(Value::as_str).ok_or_else(|| bad(format!("{k}: missing (NAME=START:STOP:COUNT)")))
+    };
+    let x = Axis::parse(text("x")?, "x").map_err(|e| bad(e.to_string()))?;
+    let y = Axis::parse(text("y")?, "y").map_err(|e| bad(e.to_string()))?;
+    let cells = x.count.saturating_mul(y.count);
+    if cells > engine::MAX_ZOOM_CELLS {
+        return Err(bad(format!(
+            "x, y: the box has {cells} cells ({} x {}), more than the {} a zoom computes",
+            x.count,
+            y.count,
+            engine::MAX_ZOOM_CELLS
+        )));
+    }
+    std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
+    let (job_id, job) = state.start_job();
+    let mut r = engine::ZoomRequest::new(&o.path, x, y);
+    r.threads = state.threads;
+    r.output = Some(state.dir.join(format!("zoom-{job_id}.h5")));
+    r.command = format!("vibroatlas explore: zoom {} --x {} --y {}", o.path.display(), r.x, r.y);
+    let region = format!("{} {}", r.x, r.y);
+    let worker = state.clone();
+    std::thread::spawn(move || run_zoom(&worker, &job, &r, id, region));
+    Ok(Json(json!({"job": job_id})))
+}
+
+/// Runs a zoom for job `job`; its child, once done, is an atlas of the state.
+fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: usize, region: String) {
+    match engine::zoom(r, job) {
+        Ok(done) => {
+            let path = r.output.clone().unwrap_or_default();
+            let child = state.add(Opened { path, atlas: done.atlas, parent: Some((parent, region)) });
+            job.end(Phase::Done(child));
+        }
+        Err(_) if engine::Observer::cancelled(job) => job.end(Phase::Cancelled),
+        Err(e) => job.end(Phase::Failed(message(&e))),
+    }
+}
+
+fn job_id(state: &State, id: &str) -> Result<Arc<Job>, Refusal> {
+    id.parse::<usize>().ok().and_then(|i| state.job(i)).ok_or_else(|| not_found(format!("no job {id}")))
+}
+
+async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
+    let job = job_id(&state, &id)?;
+    let (name, child, error) = match job.phase() {
+        Phase::Running => ("running", None, None),
+        Phase::Done(c) => ("done", Some(c), None),
+        Phase::Failed(e) => ("failed", None, Some(e)),
+        Phase::Cancelled => ("cancelled", None, None),
+    };
+    Ok(Json(json!({
+        "state": name,
+        "progress": job.progress(),
+        "child": child,
+        "url": child.map(|c| format!("/?atlas={c}")),
+        "error": error,
+    })))
+}
+
+async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
+    let job = job_id(&state, &id)?;
+    job.cancel();
+    Ok(Json(json!({"cancelled": true})))
+}
+
+async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+    let (id, o) = opened(&state, &q)?;
+    let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
+    let format = q.get("format").map_or("png", String::as_str).to_string();
+    let kind = match format.as_str() {
+        "png" => "image/png",
+        "svg" => "image/svg+xml",
+        "pdf" => "application/pdf",
+        other => return Err(bad(format!("format: expected png, svg or pdf, got '{other}'"))),
+    };
+    let size = q.get("size").filter(|s| *s != "screen").cloned();
+    let page = render::Page::of(size.as_deref(), None, None).map_err(|e| bad(format!("size: {e}")))?;
+    let curves = if q.get("curves").is_some_and(|c| c == "1") { overlays(&state, &o) } else { Vec::new() };
+    let name = format!("atlas{id}-{}.{format}", q.get("view").map_or("map", String::as_str).replace(':', "-"));
+    let bytes = blocking(move || {
+        drawn(&state, &format, |path| match show {
+            Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, path),
+            Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, &page, path),
+        })
+    })
+    .await?;
+    let disposition = format!("attachment; filename=\"{name}\"");
+    Ok(([(header::CONTENT_TYPE, kind.to_string()), (header::CONTENT_DISPOSITION, disposition)], bytes).into_response())
+}
+
+/// The bifurcation curves stored in the explored file, over atlas `o`'s plane.
+fn overlays(state: &State, o: &Opened) -> Vec<render::Overlay> {
+    let curves = store::read_curves(&state.root()).unwrap_or_default();
+    curves
+        .iter()
+        .filter_map(|c| {
+            let marks = c.codim2.iter().map(|m| (m.1, m.2));
+            render::Overlay::on(&o.atlas.meta.plane, &c.kind, &c.free, &c.points, marks)
+        })
+        .collect()
+}
+
+async fn curves(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let list: Vec<Value> = blocking(move || Ok(overlays(&state, &o)))
+        .await?
+        .into_iter()
+        .map(|c| {
+            let (colour, width, dash) = render::curve_style(&c.kind);
+            json!({"kind": c.kind, "colour": colour, "width_pt": width, "dash_pt": [dash.0, dash.1], "points": c.points, "marks": c.marks})
+        })
+        .collect();
+    Ok(Json(json!({"curves": list})))
+}
+
+async fn file(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Response, Refusal> {
+    let o = id.parse::<usize>().ok().and_then(|i| state.atlas(i)).ok_or_else(|| not_found(format!("no atlas {id}")))?;
+    let name = match &o.parent {
+        Some((_, region)) => format!("zoom {region}.h5").replace([' ', '='], "_").replace(':', "-"),
+        None => o.path.file_name().map_or("atlas.h5".into(), |n| n.to_string_lossy().to_string()),
+    };
+    let path = o.path.clone();
+    let bytes =
+        blocking(move || std::fs::read(&path).map_err(|e| not_found(format!("{}: {e}", path.display())))).await?;
+    let disposition = format!("attachment; filename=\"{name}\"");
+    Ok(Response::builder()
+        .header(header::CONTENT_TYPE, "application/x-hdf5")
+        .header(header::CONTENT_DISPOSITION, disposition)
+        .body(Body::from(bytes))
+        .unwrap_or_default())
+}

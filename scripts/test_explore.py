@@ -1,0 +1,242 @@
+#!/usr/bin/env python3
+"""The explorer in a real browser (issue 39): Debian's chromium, driven by
+chromedriver through selenium, on `vibroatlas explore` of a test atlas.
+
+Checks the map's pixels against the file's label colours (read with h5py),
+hovers and clicks a cell and compares the cell panel with `cell --from …
+--json`, drags a box, runs its zoom and compares the child map's pixels with
+`vibroatlas zoom` run on the same box, cancels a zoom, and refuses a port in
+use. Screenshots of each state go to the folder given (test artefacts).
+
+Usage: test_explore.py VIBROATLAS SCREENSHOT_DIR
+Prints one line per check and "explore tests: N passed, 0 failed".
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+
+import h5py
+import numpy as np
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import WebDriverWait
+
+BIN = os.path.abspath(sys.argv[1])
+SHOTS = os.path.abspath(sys.argv[2])
+os.makedirs(SHOTS, exist_ok=True)
+passed = 0
+
+
+def check(what, ok, detail=""):
+    global passed
+    if not ok:
+        print(f"FAILED {what}: {detail}")
+        print(f"explore tests: {passed} passed, 1 failed")
+        sys.exit(1)
+    passed += 1
+    print(f"ok {what}")
+
+
+def run(*args):
+    return subprocess.run([BIN, *args], capture_output=True, text=True, check=True)
+
+
+def colours(path, sweep, mass):
+    """Per cell (iy, ix), the RGB the file gives its label."""
+    with h5py.File(path, "r") as f:
+        g = f[sweep]
+        codes = g[f"label_code_{mass}"][:]
+        table = g["label_colour"][:]
+    return table[codes]
+
+
+def shot(driver, name):
+    driver.save_screenshot(os.path.join(SHOTS, name))
+
+
+def plot(driver):
+    return json.loads(driver.find_element(By.ID, "map").get_attribute("data-plot"))
+
+
+def pixel(driver, ix, iy):
+    """The canvas pixel at the centre of cell (ix, iy)."""
+    return driver.execute_script(
+        "const [x, y] = window.vibroatlas.cellCentre(arguments[0], arguments[1]);"
+        "return Array.from(document.getElementById('map').getContext('2d')"
+        ".getImageData(Math.round(x), Math.round(y), 1, 1).data.slice(0, 3));",
+        ix,
+        iy,
+    )
+
+
+def offset(driver, ix, iy):
+    """Selenium's offset of cell (ix, iy) from the canvas's centre (CSS px)."""
+    x, y = driver.execute_script("return window.vibroatlas.cellCentre(arguments[0], arguments[1]);", ix, iy)
+    canvas = driver.find_element(By.ID, "map")
+    return int(round(x - canvas.size["width"] / 2)), int(round(y - canvas.size["height"] / 2))
+
+
+def same_pixels(driver, path, sweep, mass, cells, what):
+    want = colours(path, sweep, mass)
+    for iy, ix in cells:
+        got = pixel(driver, ix, iy)
+        check(f"{what}: cell ({iy}, {ix}) is its label's colour", list(want[iy, ix]) == got, f"{got} != {list(want[iy, ix])}")
+
+
+tmp = tempfile.mkdtemp(prefix="vibroatlas-explore-test-")
+atlas = os.path.join(tmp, "a.h5")
+run("atlas", "configs/multi-stop.toml", "--x", "omega=0.2:2.0:40", "--y", "delta=0.1:1.0:20",
+    "--sweep", "both", "--quiet", "-o", atlas)
+
+server = subprocess.Popen([BIN, "explore", atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True)
+url = server.stdout.readline().split(" at ")[-1].strip()
+check("explore prints its URL on 127.0.0.1", url.startswith("http://127.0.0.1:"), url)
+
+# A second explorer on the same port: one line, exit 2.
+port = url.rsplit(":", 1)[1].strip("/")
+busy = subprocess.run([BIN, "explore", atlas, "--port", port, "--no-browser"], capture_output=True, text=True, timeout=30)
+check("a port in use is refused in one line", busy.returncode == 2 and f"port {port}" in busy.stderr
+      and len(busy.stderr.strip().splitlines()) == 1, busy.stderr)
+bad = subprocess.run([BIN, "explore", "configs/multi-stop.toml", "--port", "0", "--no-browser"],
+                     capture_output=True, text=True, timeout=30)
+check("a file that is not an atlas is refused", bad.returncode == 2 and "not an HDF5 file" in bad.stderr, bad.stderr)
+
+options = webdriver.ChromeOptions()
+for a in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1500,1000", "--disable-dev-shm-usage"]:
+    options.add_argument(a)
+options.binary_location = "/usr/bin/chromium"
+driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+wait = WebDriverWait(driver, 120)
+try:
+    started = time.time()
+    driver.get(url + "?view=up&mass=M1")
+    wait.until(lambda d: d.find_element(By.ID, "map").get_attribute("data-plot"))
+    print(f"first paint {time.time() - started:.2f} s (40 x 20 cells)")
+    shot(driver, "1-map.png")
+    cells = [(0, 0), (19, 39), (5, 7), (10, 20), (15, 33), (3, 30), (12, 2), (18, 11)]
+    same_pixels(driver, atlas, "up", "M1", cells, "the up map of M1")
+
+    # The hysteresis view: a cell where up and down differ is split along its
+    # rising diagonal, the up label's colour above, the down label's below.
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='hysteresis']").click()
+    wait.until(lambda d: "view=hysteresis" in d.current_url)
+    time.sleep(0.5)
+    with h5py.File(atlas, "r") as f:
+        split = np.argwhere(f["hysteresis"][:] == 1)
+    up, down = colours(atlas, "up", "M1"), colours(atlas, "down", "M1")
+    differ = [(iy, ix) for iy, ix in split if list(up[iy, ix]) != list(down[iy, ix])]
+    check("the test atlas has hysteresis cells of two colours", len(differ) > 0, str(len(split)))
+    for iy, ix in differ[:4]:
+        above = pixel(driver, ix - 0.3, iy + 0.3)
+        below = pixel(driver, ix + 0.3, iy - 0.3)
+        check(f"hysteresis cell ({iy}, {ix}): up above, down below the diagonal",
+              above == list(up[iy, ix]) and below == list(down[iy, ix]), f"{above} {below}")
+    shot(driver, "1-hysteresis.png")
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='multiplier:up']").click()
+    wait.until(lambda d: "view=multiplier" in d.current_url)
+    time.sleep(0.5)
+    shot(driver, "1-multiplier.png")
+
+    # Another mass and sweep through the page's own controls.
+    driver.find_element(By.CSS_SELECTOR, "#mass option[value='M2']").click()
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='down']").click()
+    wait.until(lambda d: "view=down" in d.current_url and "mass=M2" in d.current_url)
+    time.sleep(0.5)
+    same_pixels(driver, atlas, "down", "M2", cells, "the down map of M2")
+
+    # Hover: the stored labels of every sweep.
+    ix, iy = 20, 10
+    dx, dy = offset(driver, ix, iy)
+    ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx, dy).perform()
+    wait.until(lambda d: d.find_element(By.ID, "hover").is_displayed())
+    text = driver.find_element(By.ID, "hover").text
+    with h5py.File(atlas, "r") as f:
+        for sweep in ["up", "down"]:
+            for mass in ["M1", "M2"]:
+                label = f[sweep]["label"][f[sweep][f"label_code_{mass}"][iy, ix]].decode()
+                check(f"hover shows {sweep} {mass} {label}", f"{mass} {label}" in text, text)
+        omega, delta = f["omega"][ix], f["delta"][iy]
+    shot(driver, "2-hover.png")
+
+    # Click: the cell panel holds the object of `cell --from … --json`.
+    ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx, dy).click().perform()
+    wait.until(lambda d: d.find_element(By.ID, "cell").get_attribute("data-state") in ("done", "failed"))
+    panel = json.loads(driver.find_element(By.ID, "cell").get_attribute("data-json"))
+    cli = json.loads(run("cell", "--from", atlas, "--sweep", "down", "--at", f"omega={omega!r},delta={delta!r}", "--json").stdout)
+    check("the cell panel is cell --from … --json, key for key", panel == cli, f"{panel} != {cli}")
+    wait.until(lambda d: all(i.get_attribute("naturalWidth") not in (None, "0") for i in d.find_elements(By.CSS_SELECTOR, "#cell img")))
+    driver.execute_script("document.getElementById('cell').scrollIntoView()")
+    shot(driver, "3-cell.png")
+    driver.execute_script("window.scrollTo(0, 0)")
+
+    # Drag a box, zoom it, and compare with `vibroatlas zoom` on the same box.
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='up']").click()
+    driver.find_element(By.CSS_SELECTOR, "#mass option[value='M1']").click()
+    time.sleep(0.5)
+    a, b = offset(driver, 8, 4), offset(driver, 17, 11)
+    canvas = driver.find_element(By.ID, "map")
+    ActionChains(driver).move_to_element_with_offset(canvas, *a).click_and_hold().move_by_offset(
+        b[0] - a[0], b[1] - a[1]).release().perform()
+    wait.until(lambda d: d.find_element(By.ID, "zoom-dialog").is_displayed())
+    xbox, ybox = (driver.find_element(By.ID, i).get_attribute("value") for i in ("zoom-x", "zoom-y"))
+    check("the dragged box is offered for a zoom", xbox.startswith("omega=") and ybox.startswith("delta="), f"{xbox} {ybox}")
+    shot(driver, "4-box.png")
+    # A coarser count than the screen's, to keep the test short.
+    xbox, ybox = xbox.rsplit(":", 1)[0] + ":18", ybox.rsplit(":", 1)[0] + ":9"
+    for i, v in (("zoom-x", xbox), ("zoom-y", ybox)):
+        e = driver.find_element(By.ID, i)
+        e.clear()
+        e.send_keys(v)
+    driver.find_element(By.ID, "zoom-run").click()
+    wait.until(lambda d: d.find_element(By.ID, "progress").get_attribute("data-state") in ("done", "failed", "cancelled"))
+    check("the zoom finishes", driver.find_element(By.ID, "progress").get_attribute("data-state") == "done",
+          driver.find_element(By.ID, "message").text)
+    child = os.path.join(tmp, "child.h5")
+    run("zoom", atlas, "--x", xbox, "--y", ybox, "-o", child, "--quiet")
+    wait.until(lambda d: "atlas=1" in d.current_url)
+    time.sleep(0.5)
+    same_pixels(driver, child, "up", "M1", [(0, 0), (8, 17), (4, 9), (2, 13), (7, 3)], "the child map")
+    shot(driver, "5-child.png")
+
+    # Back to the parent through the history.
+    driver.find_element(By.ID, "back").click()
+    wait.until(lambda d: "atlas=0" in d.current_url)
+    time.sleep(0.5)
+    same_pixels(driver, atlas, "up", "M1", cells[:3], "the parent again, after back")
+
+    # The API a script calls: a refused view, a cancelled zoom.
+    try:
+        urllib.request.urlopen(url + "api/map?view=sideways")
+        check("a bad view is refused", False, "no error")
+    except urllib.error.HTTPError as e:
+        check("a bad view is a 400 with its reason", e.code == 400 and "view" in json.loads(e.read())["error"])
+    body = json.dumps({"atlas": 0, "x": "omega=0.2:2.0:400", "y": "delta=0.1:1.0:300"}).encode()
+    req = urllib.request.Request(url + "api/zoom", data=body, headers={"Content-Type": "application/json"})
+    job = json.loads(urllib.request.urlopen(req).read())["job"]
+    urllib.request.urlopen(urllib.request.Request(url + f"api/jobs/{job}", method="DELETE"))
+    for _ in range(600):
+        state = json.loads(urllib.request.urlopen(url + f"api/jobs/{job}").read())["state"]
+        if state != "running":
+            break
+        time.sleep(0.1)
+    check("a cancelled zoom ends cancelled", state == "cancelled", state)
+    body = json.dumps({"atlas": 0, "x": "omega=0.2:2.0:10000", "y": "delta=0.1:1.0:10000"}).encode()
+    try:
+        urllib.request.urlopen(urllib.request.Request(url + "api/zoom", data=body, headers={"Content-Type": "application/json"}))
+        check("a zoom of 10^8 cells is refused", False, "accepted")
+    except urllib.error.HTTPError as e:
+        check("a zoom of 10^8 cells is refused", e.code == 400 and "cells" in json.loads(e.read())["error"])
+finally:
+    driver.quit()
+    server.send_signal(signal.SIGINT)
+    code = server.wait(timeout=60)
+check("Ctrl-C stops the server cleanly", code == 0, str(code))
+print(f"explore tests: {passed} passed, 0 failed")
