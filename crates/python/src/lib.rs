@@ -397,6 +397,72 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
 }
 
 /// The module.
+/// A box of a stored atlas computed again (`vibroatlas zoom`): the JSON
+/// `{"output", "seconds"}` once written.
+#[pyfunction]
+fn zoom(parent: String, options: &Bound<'_, PyDict>) -> PyResult<Job> {
+    let mut o = Options::new(options);
+    let mut r = engine::ZoomRequest::new(&parent, axis(o.need("x")?), axis(o.need("y")?));
+    r.sweeps = match o.get::<String>("sweep")? {
+        Some(text) => Some(SweepKind::parse_set(&text, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))?),
+        None => None,
+    };
+    r.threads = threads(&mut o)?;
+    let output: String = o.need("output")?;
+    r.output = Some(output.clone().into());
+    r.command = "vibroatlas.zoom (Python)".into();
+    o.finish()?;
+    Ok(Job::start(move |shared| {
+        let run = engine::zoom(&r, shared)?;
+        text(&serde_json::json!({"output": output, "seconds": run.secs}))
+    }))
+}
+
+/// The interactive atlas of a file, served on 127.0.0.1 from a thread of
+/// this process until [`Explorer::stop`].
+#[pyclass(module = "vibroatlas._native")]
+struct Explorer {
+    server: Mutex<Option<explore::Server>>,
+    url: String,
+}
+
+#[pymethods]
+impl Explorer {
+    /// Serves the atlas `path` on `port` (0: a free one).
+    #[new]
+    #[pyo3(signature = (path, port = 0, threads = None))]
+    fn new(path: String, port: u16, threads: Option<usize>) -> PyResult<Explorer> {
+        let threads = engine::threads(threads).map_err(|e| Failure::of(&e).into_py())?;
+        let r = explore::ExploreRequest { file: path.into(), port, threads };
+        let server = explore::serve(&r).map_err(|e| match e {
+            explore::ExploreError::Atlas(_) | explore::ExploreError::Port { .. } => PyOSError::new_err(e.to_string()),
+            other => PyValueError::new_err(other.to_string()),
+        })?;
+        let url = server.url().to_string();
+        Ok(Explorer { server: Mutex::new(Some(server)), url })
+    }
+
+    /// The page's address.
+    #[getter]
+    fn url(&self) -> String {
+        self.url.clone()
+    }
+
+    /// Whether it still serves.
+    #[getter]
+    fn running(&self) -> bool {
+        self.server.lock().unwrap_or_else(|p| p.into_inner()).is_some()
+    }
+
+    /// Stops serving (running zooms cancelled, their files removed).
+    fn stop(&self, py: Python<'_>) {
+        let server = self.server.lock().unwrap_or_else(|p| p.into_inner()).take();
+        if let Some(s) = server {
+            py.detach(|| s.stop());
+        }
+    }
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
@@ -406,5 +472,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(atlas, m)?)?;
     m.add_function(wrap_pyfunction!(attractors, m)?)?;
     m.add_function(wrap_pyfunction!(curve, m)?)?;
+    m.add_function(wrap_pyfunction!(zoom, m)?)?;
+    m.add_class::<Explorer>()?;
     Ok(())
 }

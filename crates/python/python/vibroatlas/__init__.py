@@ -31,7 +31,8 @@ try:
 except Exception:  # not installed (run from the sources)
     __version__ = "unknown"
 
-__all__ = ["cell", "sweep", "atlas", "attractors", "curve", "open", "labels", "plot", "SceneError"]
+__all__ = ["cell", "sweep", "atlas", "zoom", "explore", "attractors", "curve", "open", "labels", "plot",
+           "SceneError"]
 
 
 def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, params=None, **parameters):
@@ -131,15 +132,114 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
             options["output"] = os.fspath(output)
         result = _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
                           unit="cell", desc="atlas")
-        tree = open(result.get("output", options["output"]))
-        try:
-            tree.load()
-        finally:
-            tree.close()
-        return tree
+        return _loaded(result.get("output", options["output"]))
     finally:
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _loaded(path):
+    """The file at `path` as a DataTree in memory (no file left open)."""
+    tree = open(path)
+    try:
+        tree.load()
+    finally:
+        tree.close()
+    return tree
+
+
+def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
+    """Computes a box of a stored atlas again, like `vibroatlas zoom PARENT
+    --x ... --y ... -o FILE`, and returns it as an xarray.DataTree like
+    `atlas`: with the parent's scene, parameter values, preset, accuracy and
+    sweeps, its continuation chains entering the box from the parent's final
+    states at the box's edge. A box aligned with the parent's grid at the
+    parent's spacing reproduces the parent's cells bit for bit.
+
+    parent: the parent atlas's file, or a DataTree that `va.open` or
+    `va.atlas(..., output=...)` made from one (its file is used). x, y:
+    (name, start, stop, count), the parent's axes' parameters, within its
+    plane. sweep: narrows the parent's sweeps ("up", "down", "fresh" or
+    "both"). threads, output, progress: as for `atlas` (without output the
+    file is written to a temporary folder and deleted once loaded).
+    """
+    parent = _file_of(parent, "parent")
+    options = {"x": _axis("x", x), "y": _axis("y", y)}
+    if sweep is not None:
+        options["sweep"] = _text("sweep", sweep)
+    if threads is not None:
+        options["threads"] = _whole("threads", threads)
+    tmp = None
+    try:
+        if output is None:
+            tmp = tempfile.mkdtemp(prefix="vibroatlas-")
+            options["output"] = os.path.join(tmp, "zoom.h5")
+        else:
+            options["output"] = os.fspath(output)
+        _run.flag("progress", progress)
+        result = _run.wait(lambda: _native.zoom(parent, options), progress, "cell", "zoom")
+        return _loaded(result.get("output", options["output"]))
+    finally:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+def _file_of(source, what):
+    """The path of an atlas given as a path or as a DataTree read from a file."""
+    if isinstance(source, (str, os.PathLike)):
+        return os.fspath(source)
+    encoding = getattr(source, "encoding", None) or {}
+    path = encoding.get("source")
+    if path is None:
+        raise TypeError(f"{what}: expected an atlas file's path, or a DataTree opened from one "
+                        f"(va.open, or va.atlas with output=), got {type(source).__name__}")
+    return path
+
+
+class Explorer:
+    """The interactive atlas of a file (`vibroatlas explore`), served from a
+    thread of this process on 127.0.0.1: `.url`, `.stop()`; in Jupyter it
+    shows the page inline."""
+
+    def __init__(self, path, port=0, threads=None, height=900):
+        self._native = _native.Explorer(path, port, threads)
+        self.path = path
+        self.height = height
+
+    @property
+    def url(self):
+        """The page's address."""
+        return self._native.url
+
+    def stop(self):
+        """Stops serving (running zooms are cancelled; their files removed)."""
+        self._native.stop()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.stop()
+
+    def __repr__(self):
+        state = "serving" if self._native.running else "stopped"
+        return f"<vibroatlas.Explorer of {self.path} at {self.url} ({state})>"
+
+    def _repr_html_(self):
+        return (f'<iframe src="{self.url}" width="100%" height="{int(self.height)}" '
+                f'style="border:1px solid #ccc"></iframe>')
+
+
+def explore(source, *, port=0, threads=None):
+    """Starts the interactive atlas of `source` (an atlas file, or a DataTree
+    with a file behind it) in a background thread and returns an `Explorer`:
+    its `.url` opens in a browser, `.stop()` ends it, and in Jupyter the
+    object displays the page inline. port: on 127.0.0.1 (0: a free one)."""
+    if not isinstance(port, int) or isinstance(port, bool) or not 0 <= port <= 65535:
+        raise ValueError(f"port: expected 0 to 65535, got {port!r}")
+    if threads is not None:
+        threads = _whole("threads", threads)
+    return Explorer(_file_of(source, "source"), port, threads)
 
 
 def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset=None, integrator=None,
