@@ -337,8 +337,8 @@ async function showCell(ix, iy, sweep) {
     panel.innerHTML = `<h3>${parameters(c.from.cell)} (${sweep} sweep)</h3>
       <p>other sweeps: ${others || 'none'}</p>
       <table>${rows.map(([a, b]) => `<tr><th>${a}</th><td class="v" data-key="${a}">${b}</td></tr>`).join('')}</table>
-      <div class="pictures"><img alt="phase portraits and time series" src="/api/cell/portrait.png?${q}">
-      <img alt="Poincaré sections" src="/api/cell/sections.png?${q}"></div>
+      <div class="pictures"><a href="/api/cell/portrait.png?${q}" target="_blank"><img alt="phase portraits and time series" src="/api/cell/portrait.png?${q}"></a>
+      <a href="/api/cell/sections.png?${q}" target="_blank"><img alt="Poincaré sections" src="/api/cell/sections.png?${q}"></a></div>
       <p><button id="attractors">coexisting attractors</button></p><div id="attractor-list"></div>`;
     panel.querySelectorAll('button[data-sweep]').forEach((b) => b.addEventListener('click', () => showCell(ix, iy, b.dataset.sweep)));
     $('attractors').addEventListener('click', () => attractors(q));
