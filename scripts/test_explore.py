@@ -212,6 +212,14 @@ try:
     time.sleep(0.5)
     same_pixels(driver, atlas, "up", "M1", cells[:3], "the parent again, after back")
 
+    # The figure of the view, through render, at a print size.
+    with urllib.request.urlopen(url + "api/figure?atlas=0&view=hysteresis&mass=M1&format=pdf&size=single") as r:
+        check("the view saves as a PDF at a print size", r.read(5) == b"%PDF-")
+    with urllib.request.urlopen(url + f"api/orbit?sweep=down&omega={omega!r}&delta={delta!r}") as r:
+        orbit = json.loads(r.read())
+    cli_orbit = json.loads(run("orbit", "--from", atlas, "--sweep", "down", "--at", f"omega={omega!r},delta={delta!r}", "--json").stdout)
+    check("the orbit's multipliers are orbit --from … --json", orbit == cli_orbit, f"{orbit} != {cli_orbit}")
+
     # The API a script calls: a refused view, a cancelled zoom.
     try:
         urllib.request.urlopen(url + "api/map?view=sideways")

@@ -343,10 +343,23 @@ async function showCell(ix, iy, sweep) {
     panel.querySelectorAll('button[data-sweep]').forEach((b) => b.addEventListener('click', () => showCell(ix, iy, b.dataset.sweep)));
     $('attractors').addEventListener('click', () => attractors(q));
     panel.dataset.state = 'done';
+    if (c.class === 'periodic') multipliers(q);
   } catch (err) {
     panel.dataset.state = 'failed';
     panel.textContent = err.message;
   }
+}
+
+// The Floquet multipliers of a periodic cell's orbit (Newton's method), a row of the table.
+async function multipliers(q) {
+  const row = document.createElement('tr');
+  row.innerHTML = '<th>Floquet multipliers</th><td>solving the orbit…</td>';
+  $('cell').querySelector('table').appendChild(row);
+  try {
+    const o = await getJSON('/api/orbit?' + q);
+    const mu = o.multipliers.map((m) => (Math.abs(m.im) > 1e-12 ? `${short(m.re)} ${m.im < 0 ? '−' : '+'} ${short(Math.abs(m.im))}i` : short(m.re)));
+    row.lastChild.textContent = `${mu.join(', ')} (${o.stable ? 'stable' : 'unstable'}; period ${o.n})`;
+  } catch (err) { row.lastChild.textContent = err.message; }
 }
 
 async function attractors(q) {

@@ -74,6 +74,7 @@ pub(crate) fn router(state: St) -> Router {
         .route("/api/legend", get(legend))
         .route("/api/at", get(at))
         .route("/api/cell", get(cell))
+        .route("/api/orbit", get(orbit))
         .route("/api/cell/portrait.png", get(portrait))
         .route("/api/cell/sections.png", get(sections))
         .route("/api/attractors", get(attractors))
@@ -310,6 +311,18 @@ async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>
     let (_, o) = opened(&state, &q)?;
     let c = blocking(move || run_cell(&o, &q)).await?;
     Ok(Json(c.to_json()))
+}
+
+/// The cell's periodic orbit solved by Newton's method with its Floquet
+/// multipliers: the object of `orbit --from FILE --sweep S --at … --json`.
+async fn orbit(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let found = blocking(move || {
+        let (sim, start) = stored_cell(&o, &q)?;
+        engine::orbit(&sim, &start, None).map_err(failed)
+    })
+    .await?;
+    Ok(Json(found.to_json()))
 }
 
 /// A picture drawn to a temporary file of the state's folder, as bytes.

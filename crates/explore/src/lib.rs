@@ -1,7 +1,7 @@
 //! The interactive atlas (`vibroatlas explore`, `va.explore`): a local web
 //! page over an atlas file, on 127.0.0.1 only. The page is a thin client of
 //! the engine: every colour, legend, cell, zoom and figure comes from the
-//! libraries through the JSON API of [`api`] (docs/explore.md), which a
+//! libraries through its JSON API (`api.rs`, docs/explore.md), which a
 //! script may call as well.
 //!
 //! | route | what |
@@ -11,6 +11,7 @@
 //! | `GET /api/map`, `/api/legend` | a view's colours per cell (bytes), its legend rows |
 //! | `GET /api/at` | one cell's stored labels, class and reason in every sweep (hover) |
 //! | `GET /api/cell` | the object of `cell --from FILE --sweep S --at … --json` |
+//! | `GET /api/orbit` | the object of `orbit --from FILE --sweep S --at … --json` (Floquet multipliers) |
 //! | `GET /api/cell/portrait.png`, `/api/cell/sections.png` | the cell's pictures |
 //! | `GET /api/attractors` | the coexisting attractors of the cell's parameters |
 //! | `POST /api/zoom`, `GET`/`DELETE /api/jobs/ID` | a zoom in the background, its progress, its cancel |

@@ -44,7 +44,7 @@ pub struct Parent {
 
 /// The CRC-32 of an atlas's labels: per sweep in order, per cell row-major,
 /// its class name and each labelled mass's label (`-` for a cell not
-/// computed), each text as [`netcdf::texts_crc32`] takes it.
+/// computed), each text its byte length (u64, little-endian) then its bytes.
 pub fn labels_crc32(atlas: &Atlas) -> u32 {
     let texts = atlas.maps.iter().flat_map(|m| m.cells.iter()).flat_map(|c| match c {
         Some(c) => std::iter::once(c.class.name().to_string()).chain(c.labels.iter().map(|l| l.to_string())).collect(),

@@ -123,15 +123,22 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
             if not isinstance(value, bool):
                 raise TypeError(f"{key}: expected True or False, got {value!r}")
             options[key] = value
+    return _tree_of(lambda: _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
+                                     unit="cell", desc="atlas"), options, output, "atlas.h5")
+
+
+def _tree_of(run, options, output, name):
+    """Runs `run()`, which writes options["output"] (`output`, or `name` in a
+    temporary folder deleted once read), and returns the file's DataTree
+    in memory."""
     tmp = None
     try:
         if output is None:
             tmp = tempfile.mkdtemp(prefix="vibroatlas-")
-            options["output"] = os.path.join(tmp, "atlas.h5")
+            options["output"] = os.path.join(tmp, name)
         else:
             options["output"] = os.fspath(output)
-        result = _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
-                          unit="cell", desc="atlas")
+        result = run()
         return _loaded(result.get("output", options["output"]))
     finally:
         if tmp is not None:
@@ -169,19 +176,9 @@ def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
         options["sweep"] = _text("sweep", sweep)
     if threads is not None:
         options["threads"] = _whole("threads", threads)
-    tmp = None
-    try:
-        if output is None:
-            tmp = tempfile.mkdtemp(prefix="vibroatlas-")
-            options["output"] = os.path.join(tmp, "zoom.h5")
-        else:
-            options["output"] = os.fspath(output)
-        _run.flag("progress", progress)
-        result = _run.wait(lambda: _native.zoom(parent, options), progress, "cell", "zoom")
-        return _loaded(result.get("output", options["output"]))
-    finally:
-        if tmp is not None:
-            shutil.rmtree(tmp, ignore_errors=True)
+    _run.flag("progress", progress)
+    return _tree_of(lambda: _run.wait(lambda: _native.zoom(parent, options), progress, "cell", "zoom"),
+                    options, output, "zoom.h5")
 
 
 def _file_of(source, what):
