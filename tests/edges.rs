@@ -83,3 +83,42 @@ fn a_confirmed_long_period_is_a_label() {
         assert!(off(sim.state().as_slice()) > acc.periodic_tol(), "returns after {n} periods");
     }
 }
+
+/// Issue 40, a wrong reason: a record whose exponent looked undecided and
+/// turned out contracting once its measurement was doubled was labelled `U`
+/// ("a transient longer than max_periods x (1 + extensions)") without any
+/// extension spent. Multi-stop, the up chain along ω = 0.1…3.05 (120 values)
+/// at δ = 1.5804, its cell ω = 1.5874 (the referee's up (1.5874, 1.5804)):
+/// with extensions it is 21-21-16. Independent checks: from the same start
+/// state, without extensions, a record twice as long (max_periods 1200)
+/// finds the same orbit; and without extensions and at the preset's record
+/// the cell stays the transient it was.
+#[test]
+fn a_record_found_contracting_after_its_doublings_is_extended() {
+    let delta = 0.05 + (2.0 - 0.05) * 62.0 / 79.0;
+    let sweep = run(&[
+        "sweep",
+        "configs/multi-stop.toml",
+        "--axis",
+        "omega=0.1:3.05:120",
+        "--set",
+        &format!("delta={delta:?}"),
+        "--direction",
+        "up",
+        "--json",
+    ]);
+    let sweep: serde_json::Value = serde_json::from_slice(&sweep.stdout).unwrap();
+    let points = sweep["points"].as_array().unwrap();
+    let cell = &points[60];
+    assert_eq!((cell["labels"]["M1"].as_str(), cell["class"].as_str()), (Some("21-21-16"), Some("periodic")), "{cell}");
+    let start: Vec<f64> = serde_json::from_value(points[59]["final_state"].clone()).unwrap();
+    let omega = cell["value"].as_f64().unwrap();
+    let sys = system("multi-stop.toml", &[("omega", omega), ("delta", delta)]);
+    let acc = Accuracy::preset(Preset::Standard).with(solver::Knob::Extensions, 0.0).unwrap();
+    let long = run_cell(&sys, &acc.with(solver::Knob::MaxPeriods, 1200.0).unwrap(), Method::Exact, &start);
+    assert_eq!((long.class, long.n), (Class::Periodic, Some(21)), "{:?}", long.reason);
+    assert_eq!(long.labels.iter().map(|l| l.to_string()).collect::<Vec<_>>(), ["21-21-16", "21-0-21"]);
+    let short = run_cell(&sys, &acc, Method::Exact, &start);
+    assert_eq!(short.class, Class::Unresolved);
+    assert!(short.reason.as_ref().is_some_and(|r| r.to_string().contains("still contracts")), "{:?}", short.reason);
+}

@@ -675,10 +675,21 @@ impl<'s> Executor<'s> {
                 limit += acc.max_periods;
                 continue;
             }
-            return Ok(match exponent {
-                Ok((tangent, e)) => self.aperiodic(tangent, e),
-                Err(halt) => Steady::Failed(halt),
-            });
+            let (tangent, e) = match exponent {
+                Ok(measured) => measured,
+                Err(halt) => return Ok(Steady::Failed(halt)),
+            };
+            let (class, lyapunov, reason) = self.decide(tangent, e);
+            // Contracting once its measurement was doubled: a transient
+            // like any other, extended while extensions remain (from where
+            // the doublings left the record).
+            if matches!(reason, Some(Unresolved::Contracting { .. })) && extensions < acc.extensions {
+                extensions += 1;
+                self.newton.renew();
+                limit = limit.max(self.sim.periods() as usize) + acc.max_periods;
+                continue;
+            }
+            return Ok(Steady::Aperiodic(class, lyapunov, reason));
         }
     }
 
