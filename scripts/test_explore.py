@@ -242,6 +242,32 @@ try:
         check("a zoom of 10^8 cells is refused", False, "accepted")
     except urllib.error.HTTPError as e:
         check("a zoom of 10^8 cells is refused", e.code == 400 and "cells" in json.loads(e.read())["error"])
+
+    def error_of(request):
+        try:
+            urllib.request.urlopen(request)
+            return None, None
+        except urllib.error.HTTPError as e:
+            return e.code, json.loads(e.read())["error"]
+
+    code, said = error_of(url + "api/nothing")
+    check("an unknown route is a 404 with a JSON reason", code == 404 and "route" in said, f"{code} {said}")
+    code, said = error_of(urllib.request.Request(url + "api/zoom", data=b"{not json", method="POST"))
+    check("a body that is not JSON is a 400 saying so", code == 400 and "JSON" in said, f"{code} {said}")
+    body = json.dumps({"atlas": -1, "x": "omega=0.5:1:5", "y": "delta=0.3:0.6:4"}).encode()
+    code, said = error_of(urllib.request.Request(url + "api/zoom", data=body, method="POST"))
+    check("a zoom of atlas -1 is refused", code == 400 and said.startswith("atlas:"), f"{code} {said}")
+    with urllib.request.urlopen(urllib.request.Request(url + "api/jobs/0", method="DELETE")) as r:
+        answer = json.loads(r.read())
+    check("cancelling a finished zoom says it was not running", answer == {"cancelled": False, "state": "done"}, answer)
+
+    # The file replaced under the explorer: refused, never read as the map on screen.
+    other = os.path.join(tmp, "other.h5")
+    run("atlas", "configs/multi-stop.toml", "--x", "omega=0.2:2.0:40", "--y", "delta=0.1:1.0:20",
+        "--set", "R=0.6", "--sweep", "both", "--quiet", "-o", other)
+    os.replace(other, atlas)
+    code, said = error_of(url + f"api/cell?sweep=up&omega={omega!r}&delta={delta!r}")
+    check("a cell of a file replaced since it was read is refused", code == 409 and "changed" in said, f"{code} {said}")
 finally:
     driver.quit()
     server.send_signal(signal.SIGINT)

@@ -214,3 +214,34 @@ fn zoom_refuses_bad_boxes_with_one_clear_line() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A zoom of a zoom: a box aligned with the child's grid (three times the
+/// parent's resolution) reproduces the child's cells bit for bit, its values
+/// snapped level by level (to the child's, and through them to the
+/// parent's), every sweep.
+#[test]
+fn a_zoom_of_a_zoom_reproduces_its_parent() {
+    let dir = folder("grandchild");
+    let pfile = dir.join("p.h5");
+    let both = vec![SweepKind::Up, SweepKind::Down];
+    let p = parent(
+        "multi-stop.toml",
+        Axis::parse("omega=0.2:2.0:37", "x").unwrap(),
+        Axis::parse("delta=0.1:1.0:10", "y").unwrap(),
+        Along::X,
+        both,
+        &pfile,
+    );
+    let cfile = dir.join("c.h5");
+    let c = child(&pfile, "omega=0.5:1.0:31", "delta=0.3:0.6:10", &cfile);
+    assert_eq!(c.meta.plane.x.value(0).to_bits(), p.meta.plane.x.value(6).to_bits());
+    let (cx, cy) = (&c.meta.plane.x, &c.meta.plane.y);
+    let (x, y) =
+        (format!("omega={}:{}:13", cx.value(3), cx.value(15)), format!("delta={}:{}:5", cy.value(2), cy.value(6)));
+    let g = child(&cfile, &x, &y, &dir.join("g.h5"));
+    same_cells(&c, &g, 2, 3, "a box of the zoom");
+    // Its own box: the chains start as the child's did, from its entries.
+    let again = child(&cfile, "omega=0.5:1.0:31", "delta=0.3:0.6:10", &dir.join("again.h5"));
+    same_cells(&c, &again, 0, 0, "the zoom's own box");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -3,15 +3,6 @@
 use crate::args::ExploreArgs;
 use crate::out::outln;
 use anyhow::Result;
-use std::sync::atomic::{AtomicBool, Ordering};
-
-/// Set by SIGINT or SIGTERM: the server stops, its zooms cancelled and
-/// their files removed.
-static STOP: AtomicBool = AtomicBool::new(false);
-
-extern "C" fn on_signal(_: libc::c_int) {
-    STOP.store(true, Ordering::SeqCst);
-}
 
 /// Runs the command.
 pub fn run(a: ExploreArgs) -> Result<()> {
@@ -22,13 +13,9 @@ pub fn run(a: ExploreArgs) -> Result<()> {
     if !a.no_browser {
         open_browser(server.url());
     }
-    // SAFETY: sets the disposition of two signals to a handler that only
-    // stores to an atomic.
-    unsafe {
-        libc::signal(libc::SIGINT, on_signal as *const () as libc::sighandler_t);
-        libc::signal(libc::SIGTERM, on_signal as *const () as libc::sighandler_t);
-    }
-    while !STOP.load(Ordering::SeqCst) {
+    // Ctrl-C or SIGTERM: the server stops, its zooms cancelled and their files removed.
+    crate::interrupt::install();
+    while !crate::interrupt::requested() {
         std::thread::sleep(std::time::Duration::from_millis(100));
     }
     server.stop();

@@ -27,6 +27,9 @@ pub fn run(a: InspectArgs) -> Result<()> {
     if let Some(s) = l.info.shard {
         outln!("shard     {s} (merge the parts with `vibroatlas merge`)");
     }
+    if let Some(p) = &l.info.parent {
+        outln!("zoom of   {} (labels crc32 {:08x}), box {}", p.path, p.labels_crc32, p.region);
+    }
     outln!("run time  {:.2} s", l.info.run_time_s);
     print_summary(&l.atlas, 0.0, 0)?;
     Ok(())

@@ -15,6 +15,7 @@ mod explore;
 mod figure;
 mod flags;
 mod inspect;
+mod interrupt;
 mod merge;
 mod orbit;
 mod out;

@@ -16,7 +16,16 @@ pub fn run(a: ZoomArgs) -> Result<()> {
     r.threads = engine::threads(a.threads)?;
     r.output = Some(a.output.clone());
     r.command = command_line();
-    let run = engine::zoom(&r, &Shown::new("zoom", a.quiet))?;
+    // A zoom has no journal to resume from: Ctrl-C cancels it, leaving nothing.
+    crate::interrupt::install();
+    let shown = Shown::new("zoom", a.quiet);
+    let run = match engine::zoom(&r, &crate::interrupt::Stoppable(&shown)) {
+        Err(_) if crate::interrupt::requested() => {
+            crate::out::errln!("zoom: interrupted; nothing was written");
+            std::process::exit(130);
+        }
+        run => run?,
+    };
     if a.quiet {
         return Ok(());
     }

@@ -208,7 +208,7 @@ pub fn summary_json(atlas: &Atlas) -> serde_json::Value {
 
 /// The object of `inspect --json` for the file `path` read as `loaded`: the
 /// [`summary_json`] with the file's provenance (its path, when and by what
-/// it was made, its history, run time and shard).
+/// it was made, its history, run time and shard; a zoom's parent).
 pub fn inspect_json(path: &std::path::Path, loaded: &store::Loaded) -> serde_json::Value {
     let mut o = summary_json(&loaded.atlas);
     o["file"] = path.display().to_string().into();
@@ -217,6 +217,10 @@ pub fn inspect_json(path: &std::path::Path, loaded: &store::Loaded) -> serde_jso
     o["history"] = loaded.info.history.clone().into();
     o["run_time_s"] = loaded.info.run_time_s.into();
     o["shard"] = loaded.info.shard.map(|s| s.to_string()).into();
+    if let Some(p) = &loaded.info.parent {
+        o["parent"] =
+            serde_json::json!({"file": p.path, "labels_crc32": format!("{:08x}", p.labels_crc32), "box": p.region});
+    }
     o
 }
 

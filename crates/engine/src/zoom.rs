@@ -36,6 +36,10 @@ pub struct ZoomRequest {
     pub output: Option<PathBuf>,
     /// What made the run (the file's `command` attribute).
     pub command: String,
+    /// The parent's labels as the caller knows them
+    /// ([`store::labels_crc32`]): a parent file that no longer holds them
+    /// (rewritten since) is refused.
+    pub parent_labels: Option<u32>,
 }
 
 impl ZoomRequest {
@@ -50,6 +54,7 @@ impl ZoomRequest {
             threads: crate::threads(None).unwrap_or(1),
             output: None,
             command: String::new(),
+            parent_labels: None,
         }
     }
 }
@@ -57,8 +62,13 @@ impl ZoomRequest {
 /// Computes the box, reporting to `observer` (and writes it when asked).
 pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     let loaded = store::read(&r.parent)?;
+    store::check_finished(&r.parent, &loaded)?;
     let parent = &loaded.atlas;
     let m = &parent.meta;
+    let labels_crc32 = store::labels_crc32(parent);
+    if r.parent_labels.is_some_and(|known| known != labels_crc32) {
+        bail!("{}: the file changed since it was opened (its labels differ); open it again", r.parent.display());
+    }
     if let Some(shard) = loaded.info.shard {
         bail!(
             "{}: shard {shard} of an atlas, whose other lines are missing; zoom into the merged atlas",
@@ -91,11 +101,8 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     let plane = Plane { x, y, along: m.plane.along };
     let mut plan = Plan::new(&setup, m.section_cap, plane, sweeps, r.threads)?;
     plan.entries = entries(parent, &plan.meta.plane, &plan.meta.sweeps);
-    plan.parent = Some(store::Parent {
-        path: r.parent.display().to_string(),
-        labels_crc32: store::labels_crc32(parent),
-        region: format!("{} {}", r.x, r.y),
-    });
+    plan.parent =
+        Some(store::Parent { path: r.parent.display().to_string(), labels_crc32, region: format!("{} {}", r.x, r.y) });
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.inputs = vec![r.parent.clone()];
     plan.command = r.command.clone();
@@ -132,9 +139,9 @@ fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
 /// `plane`, the parent's final state of the cell just before the box's first
 /// cell in the sweep's direction (strictly before: a box value that is a
 /// parent value starts as the parent's cell there did), in the parent line
-/// nearest to the box's line. None where the box starts at the parent's
-/// first cell of the chain (it starts, as the parent did, from the scene's
-/// initial state).
+/// nearest to the box's line. Where the box starts at the parent's first
+/// cell of the chain, it starts as the parent's chain did: from the parent's
+/// own entry (a zoom's), or else from the scene's initial state.
 fn entries(parent: &Atlas, plane: &Plane, sweeps: &[SweepKind]) -> Entries {
     let pp = &parent.meta.plane;
     let (along, across, p_along, p_across) = match pp.along {
@@ -154,13 +161,21 @@ fn entries(parent: &Atlas, plane: &Plane, sweeps: &[SweepKind]) -> Entries {
                 (0..p_along.count).find(|&i| p_along.value(i) > last && !coincide(p_along, i, last))
             }
         };
-        let Some(pos) = before else { continue };
         for line in 0..across.count {
             let Ok(p_line) = p_across.nearest(across.value(line)) else { continue };
-            let (iy, ix) = pp.cell(p_line, pos);
-            let cell = parent.map(sweep).and_then(|map| map.cells[iy * pp.x.count + ix].as_ref());
-            if let Some(c) = cell {
-                out.0.insert((sweep, line), c.final_state.clone());
+            let entry = match before {
+                Some(pos) => {
+                    let (iy, ix) = pp.cell(p_line, pos);
+                    parent
+                        .map(sweep)
+                        .and_then(|map| map.cells[iy * pp.x.count + ix].as_ref())
+                        .map(|c| &c.final_state[..])
+                }
+                // At the parent's first cell: as the parent's chain started (a zoom's, from its entry).
+                None => parent.entries.get(sweep, p_line),
+            };
+            if let Some(state) = entry {
+                out.0.insert((sweep, line), state.to_vec());
             }
         }
     }

@@ -3,7 +3,7 @@
 //! render, store); a bad request is a 4xx with `{"error": "…"}` naming what is
 //! wrong, never a crash of the server.
 
-use crate::state::{Job, Opened, Phase, State};
+use crate::state::{lock, Job, Opened, Phase, Request, State};
 use axum::body::Body;
 use axum::extract::{Path, Query, State as Shared};
 use axum::http::{header, StatusCode};
@@ -19,6 +19,11 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 type St = Arc<State>;
+
+/// Most forcing periods of a cell's sections on the page (a few seconds).
+const MAX_PERIODS: usize = 100_000;
+/// Most start states of an attractor search on the page.
+const MAX_SAMPLES: usize = 4096;
 type Params = Query<HashMap<String, String>>;
 
 /// A refused or failed request: its status and message.
@@ -83,6 +88,10 @@ pub(crate) fn router(state: St) -> Router {
         .route("/api/figure", get(figure))
         .route("/api/curves", get(curves))
         .route("/api/files/{id}", get(file))
+        .fallback(|| async { not_found("no such page or API route (see docs/explore.md)") })
+        .method_not_allowed_fallback(|| async {
+            Refusal(StatusCode::METHOD_NOT_ALLOWED, "this route does not take that method (see docs/explore.md)".into())
+        })
         .with_state(state)
 }
 
@@ -108,6 +117,50 @@ fn opened(state: &State, q: &HashMap<String, String>) -> Result<(usize, Arc<Open
         Some(t) => t.parse::<usize>().map_err(|_| bad(format!("atlas: expected an atlas id, got '{t}'")))?,
     };
     state.atlas(id).map(|a| (id, a)).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))
+}
+
+/// Refuses an atlas whose file was replaced or removed since it was read:
+/// its cells on the page would no longer be the file's.
+fn unchanged(o: &Opened) -> Result<(), Refusal> {
+    if o.unchanged() {
+        return Ok(());
+    }
+    Err(Refusal(
+        StatusCode::CONFLICT,
+        format!(
+            "{}: the file changed or was removed since the explorer read it; start explore again to see it",
+            o.path.display()
+        ),
+    ))
+}
+
+/// A whole number of the parameter `name` in `lo..=hi` (`default` when absent).
+fn count(q: &HashMap<String, String>, name: &str, default: usize, lo: usize, hi: usize) -> Result<usize, Refusal> {
+    match q.get(name) {
+        None => Ok(default),
+        Some(t) => t
+            .parse::<usize>()
+            .ok()
+            .filter(|n| (lo..=hi).contains(n))
+            .ok_or_else(|| bad(format!("{name}: expected a whole number from {lo} to {hi}, got '{}'", short(t)))),
+    }
+}
+
+/// A text as an error message shows it: at most 80 characters.
+fn short(t: &str) -> String {
+    match t.char_indices().nth(80) {
+        Some((at, _)) => format!("{}…", &t[..at]),
+        None => t.to_string(),
+    }
+}
+
+/// A switch parameter: absent or `0` off, `1` on.
+fn switch(q: &HashMap<String, String>, name: &str) -> Result<bool, Refusal> {
+    match q.get(name).map(String::as_str) {
+        None | Some("0") => Ok(false),
+        Some("1") => Ok(true),
+        Some(t) => Err(bad(format!("{name}: expected 0 or 1, got '{}'", short(t)))),
+    }
 }
 
 /// The labelled mass of the `mass` parameter (the first by default).
@@ -230,7 +283,7 @@ async fn map(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Re
 async fn legend(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
-    let curves = if q.get("curves").is_some_and(|c| c == "1") { overlays(&state, &o) } else { Vec::new() };
+    let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
     let layer = blocking(move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string()))).await?;
     let rows: Vec<Value> =
         layer.legend.iter().map(|k| json!({"swatch": k.swatch, "colours": k.colours, "text": k.text})).collect();
@@ -303,6 +356,7 @@ fn stored_cell(o: &Opened, q: &HashMap<String, String>) -> Result<(Sim, Start), 
 }
 
 fn run_cell(o: &Opened, q: &HashMap<String, String>) -> Result<engine::Cell, Refusal> {
+    unchanged(o)?;
     let (sim, start) = stored_cell(o, q)?;
     engine::cell(&sim, &start).map_err(failed)
 }
@@ -318,6 +372,7 @@ async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>
 async fn orbit(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let found = blocking(move || {
+        unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
         engine::orbit(&sim, &start, None).map_err(failed)
     })
@@ -359,10 +414,7 @@ async fn portrait(Shared(state): Shared<St>, Query(q): Params) -> Result<Respons
 
 async fn sections(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let periods = match q.get("periods") {
-        None => 1000,
-        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("periods: '{t}' is not a whole number")))?,
-    };
+    let periods = count(&q, "periods", 1000, 1, MAX_PERIODS)?;
     let bytes = blocking(move || {
         let c = run_cell(&o, &q)?;
         let (panels, title) = engine::section_panels(&c, periods).map_err(failed)?;
@@ -374,12 +426,11 @@ async fn sections(Shared(state): Shared<St>, Query(q): Params) -> Result<Respons
 
 async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let samples = match q.get("samples") {
-        None => 64,
-        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("samples: '{t}' is not a whole number")))?,
-    };
+    let samples = count(&q, "samples", 64, 1, MAX_SAMPLES)?;
     let threads = state.threads;
+    let (work, _guard) = Request::new(state.clone());
     let found = blocking(move || {
+        unchanged(&o)?;
         let (_, start) = stored_cell(&o, &q)?;
         let Start::Cell { at, .. } = start else { unreachable!("a stored cell") };
         let m = &o.atlas.meta;
@@ -391,7 +442,7 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
         sim.integrator = Some(m.integrator);
         let sampling = grid::attractors::Sampling { samples, seed: 1, x: 2.0, v: 2.0 };
         let r = engine::AttractorsRequest { sim, sampling, threads };
-        let res = engine::attractors(&r, &engine::Quiet).map_err(failed)?;
+        let res = engine::attractors(&r, &work).map_err(failed)?;
         let picture = drawn(&state, "png", |path| engine::draw_basins(&res, &render::Page::screen(), path))?;
         let mut out = res.to_json();
         let colours: Vec<Value> =
@@ -404,14 +455,31 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
     Ok(Json(found))
 }
 
-async fn zoom(Shared(state): Shared<St>, Json(body): Json<Value>) -> Result<Json<Value>, Refusal> {
-    let id = body.get("atlas").and_then(Value::as_u64).unwrap_or(0) as usize;
-    let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
-    let text = |k: &str| {
-        body.get(k).and_then(Value::as_str).ok_or_else(|| bad(format!("{k}: missing (NAME=START:STOP:COUNT)")))
+async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json<Value>, Refusal> {
+    let body: Value = serde_json::from_slice(&body).map_err(|e| bad(format!("the body is not JSON ({e})")))?;
+    let Some(fields) = body.as_object() else {
+        return Err(bad(r#"the body: expected an object {"atlas": ID, "x": "NAME=A:B:N", "y": "NAME=C:D:M"}"#));
     };
-    let x = Axis::parse(text("x")?, "x").map_err(|e| bad(e.to_string()))?;
-    let y = Axis::parse(text("y")?, "y").map_err(|e| bad(e.to_string()))?;
+    if let Some(k) = fields.keys().find(|k| !["atlas", "x", "y", "sweep"].contains(&k.as_str())) {
+        return Err(bad(format!("{}: not a field of a zoom (atlas, x, y, sweep)", short(k))));
+    }
+    let id = match fields.get("atlas") {
+        None => 0,
+        Some(v) => {
+            v.as_u64().ok_or_else(|| bad(format!("atlas: expected an atlas id, got {}", short(&v.to_string()))))?
+                as usize
+        }
+    };
+    let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
+    unchanged(&o)?;
+    let text = |k: &str| match fields.get(k) {
+        None => Err(bad(format!("{k}: missing (NAME=START:STOP:COUNT)"))),
+        Some(v) => v
+            .as_str()
+            .ok_or_else(|| bad(format!("{k}: expected a text NAME=START:STOP:COUNT, got {}", short(&v.to_string())))),
+    };
+    let axis = |k: &str| -> Result<Axis, Refusal> { Axis::parse(text(k)?, k).map_err(|e| bad(short(&e.to_string()))) };
+    let (x, y) = (axis("x")?, axis("y")?);
     let cells = x.count.saturating_mul(y.count);
     if cells > engine::MAX_ZOOM_CELLS {
         return Err(bad(format!(
@@ -421,12 +489,21 @@ async fn zoom(Shared(state): Shared<St>, Json(body): Json<Value>) -> Result<Json
             engine::MAX_ZOOM_CELLS
         )));
     }
+    let sweeps = match fields.get("sweep") {
+        None => None,
+        Some(v) => {
+            let t = v.as_str().ok_or_else(|| bad("sweep: expected fresh, up, down or both"))?;
+            Some(SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))?)
+        }
+    };
     std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
     let (job_id, job) = state.start_job();
     let mut r = engine::ZoomRequest::new(&o.path, x, y);
+    r.sweeps = sweeps;
     r.threads = state.threads;
     r.output = Some(state.dir.join(format!("zoom-{job_id}.h5")));
     r.command = format!("vibroatlas explore: zoom {} --x {} --y {}", o.path.display(), r.x, r.y);
+    r.parent_labels = Some(o.labels_crc32);
     let region = format!("{} {}", r.x, r.y);
     let worker = state.clone();
     std::thread::spawn(move || run_zoom(&worker, &job, &r, id, region));
@@ -435,10 +512,16 @@ async fn zoom(Shared(state): Shared<St>, Json(body): Json<Value>) -> Result<Json
 
 /// Runs a zoom for job `job`; its child, once done, is an atlas of the state.
 fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: usize, region: String) {
+    // One zoom at a time: the others wait their turn (cancelled meanwhile, they never start).
+    let _turn = lock(&state.zoom_slot);
+    if engine::Observer::cancelled(job) {
+        job.end(Phase::Cancelled);
+        return;
+    }
     match engine::zoom(r, job) {
         Ok(done) => {
             let path = r.output.clone().unwrap_or_default();
-            let child = state.add(Opened { path, atlas: done.atlas, parent: Some((parent, region)) });
+            let child = state.add(Opened::new(path, done.atlas, Some((parent, region))));
             job.end(Phase::Done(child));
         }
         Err(_) if engine::Observer::cancelled(job) => job.end(Phase::Cancelled),
@@ -447,19 +530,19 @@ fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: usize, re
 }
 
 fn job_id(state: &State, id: &str) -> Result<Arc<Job>, Refusal> {
-    id.parse::<usize>().ok().and_then(|i| state.job(i)).ok_or_else(|| not_found(format!("no job {id}")))
+    id.parse::<usize>().ok().and_then(|i| state.job(i)).ok_or_else(|| not_found(format!("no job {}", short(id))))
 }
 
 async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
     let job = job_id(&state, &id)?;
-    let (name, child, error) = match job.phase() {
-        Phase::Running => ("running", None, None),
-        Phase::Done(c) => ("done", Some(c), None),
-        Phase::Failed(e) => ("failed", None, Some(e)),
-        Phase::Cancelled => ("cancelled", None, None),
+    let phase = job.phase();
+    let (child, error) = match &phase {
+        Phase::Done(c) => (Some(*c), None),
+        Phase::Failed(e) => (None, Some(e.clone())),
+        _ => (None, None),
     };
     Ok(Json(json!({
-        "state": name,
+        "state": phase.name(),
         "progress": job.progress(),
         "child": child,
         "url": child.map(|c| format!("/?atlas={c}")),
@@ -469,8 +552,8 @@ async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<V
 
 async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
     let job = job_id(&state, &id)?;
-    job.cancel();
-    Ok(Json(json!({"cancelled": true})))
+    let was_running = job.cancel();
+    Ok(Json(json!({"cancelled": was_running, "state": job.phase().name()})))
 }
 
 async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
@@ -484,8 +567,8 @@ async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response,
         other => return Err(bad(format!("format: expected png, svg or pdf, got '{other}'"))),
     };
     let size = q.get("size").filter(|s| *s != "screen").cloned();
-    let page = render::Page::of(size.as_deref(), None, None).map_err(|e| bad(format!("size: {e}")))?;
-    let curves = if q.get("curves").is_some_and(|c| c == "1") { overlays(&state, &o) } else { Vec::new() };
+    let page = render::Page::of(size.as_deref(), None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
+    let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
     let name = format!("atlas{id}-{}.{format}", q.get("view").map_or("map", String::as_str).replace(':', "-"));
     let bytes = blocking(move || {
         drawn(&state, &format, |path| match show {
@@ -524,7 +607,12 @@ async fn curves(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
 }
 
 async fn file(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Response, Refusal> {
-    let o = id.parse::<usize>().ok().and_then(|i| state.atlas(i)).ok_or_else(|| not_found(format!("no atlas {id}")))?;
+    let o = id
+        .parse::<usize>()
+        .ok()
+        .and_then(|i| state.atlas(i))
+        .ok_or_else(|| not_found(format!("no atlas {}", short(&id))))?;
+    unchanged(&o)?;
     let name = match &o.parent {
         Some((_, region)) => format!("zoom {region}.h5").replace([' ', '='], "_").replace(':', "-"),
         None => o.path.file_name().map_or("atlas.h5".into(), |n| n.to_string_lossy().to_string()),

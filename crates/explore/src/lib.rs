@@ -54,7 +54,7 @@ pub enum ExploreError {
         shard: grid::Shard,
     },
     /// The port cannot be listened on (in use, or not allowed).
-    #[error("port {port} on 127.0.0.1: {source}")]
+    #[error("port {port} on 127.0.0.1 cannot be listened on")]
     Port {
         /// The port asked for.
         port: u16,

@@ -16,6 +16,37 @@ pub(crate) struct Opened {
     pub atlas: Atlas,
     /// The atlas it is a box of, and the box (`omega=… delta=…`).
     pub parent: Option<(usize, String)>,
+    /// The CRC-32 of its labels (`store::labels_crc32`).
+    pub labels_crc32: u32,
+    /// The file as it was when read: a rewritten file is refused, not read.
+    pub identity: Option<Identity>,
+}
+
+/// What tells a file from the one that replaces it: device, inode, length,
+/// modification time.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Identity(u64, u64, u64, Option<std::time::SystemTime>);
+
+impl Identity {
+    /// The identity of the file at `path` now (`None` when it cannot be read).
+    pub fn of(path: &std::path::Path) -> Option<Identity> {
+        use std::os::unix::fs::MetadataExt;
+        let m = std::fs::metadata(path).ok()?;
+        Some(Identity(m.dev(), m.ino(), m.len(), m.modified().ok()))
+    }
+}
+
+impl Opened {
+    /// An atlas read from `path`, now.
+    pub fn new(path: PathBuf, atlas: Atlas, parent: Option<(usize, String)>) -> Opened {
+        let identity = Identity::of(&path);
+        Opened { labels_crc32: store::labels_crc32(&atlas), path, atlas, parent, identity }
+    }
+
+    /// Whether its file is still the one read.
+    pub fn unchanged(&self) -> bool {
+        self.identity.is_some() && Identity::of(&self.path) == self.identity
+    }
 }
 
 /// Where a zoom is.
@@ -29,6 +60,18 @@ pub(crate) enum Phase {
     Failed(String),
     /// Cancelled: nothing left behind.
     Cancelled,
+}
+
+impl Phase {
+    /// `running`, `done`, `failed` or `cancelled`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Phase::Running => "running",
+            Phase::Done(_) => "done",
+            Phase::Failed(_) => "failed",
+            Phase::Cancelled => "cancelled",
+        }
+    }
 }
 
 /// A zoom running in the background.
@@ -64,9 +107,11 @@ impl Job {
         lock(&self.phase).clone()
     }
 
-    /// Asks it to stop (it ends within a cell per worker, leaving nothing).
-    pub fn cancel(&self) {
+    /// Asks it to stop (it ends within a cell per worker, leaving nothing);
+    /// whether it was running.
+    pub fn cancel(&self) -> bool {
         self.cancel.store(true, Ordering::Relaxed);
+        self.phase() == Phase::Running
     }
 
     /// Sets where it ended.
@@ -88,9 +133,40 @@ impl engine::Observer for Job {
     }
 }
 
+/// A request's long work (an attractor search), stopped when its client
+/// goes away (the guard of its handler is dropped) or the server stops.
+pub(crate) struct Request {
+    gone: Arc<AtomicBool>,
+    state: Arc<State>,
+}
+
+/// Held by a request's handler: dropped (the client went away, or the
+/// answer was sent), it stops the request's work.
+pub(crate) struct Guard(Arc<AtomicBool>);
+
+impl Drop for Guard {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+}
+
+impl Request {
+    /// The work of a request of `state`, and the guard its handler holds.
+    pub fn new(state: Arc<State>) -> (Request, Guard) {
+        let gone = Arc::new(AtomicBool::new(false));
+        (Request { gone: gone.clone(), state }, Guard(gone))
+    }
+}
+
+impl engine::Observer for Request {
+    fn cancelled(&self) -> bool {
+        self.gone.load(Ordering::Relaxed) || self.state.stopping.load(Ordering::Relaxed)
+    }
+}
+
 /// A lock, whether or not a thread panicked holding it (what it guards
 /// is replaced whole, never left half-changed).
-fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
@@ -98,6 +174,11 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
 pub(crate) struct State {
     atlases: Mutex<Vec<Arc<Opened>>>,
     jobs: Mutex<Vec<Arc<Job>>>,
+    /// Held by the zoom that computes: zooms run one after the other, each
+    /// on every worker thread.
+    pub zoom_slot: Mutex<()>,
+    /// Set when the server stops: long requests end at once.
+    pub stopping: AtomicBool,
     /// The folder of the zooms' files (removed when the server stops).
     pub dir: PathBuf,
     /// Worker threads of a zoom or an attractor search.
@@ -111,8 +192,10 @@ impl State {
         let n = SERVERS.fetch_add(1, Ordering::Relaxed);
         let dir = std::env::temp_dir().join(format!("vibroatlas-explore-{}-{n}", std::process::id()));
         State {
-            atlases: Mutex::new(vec![Arc::new(Opened { path, atlas, parent: None })]),
+            atlases: Mutex::new(vec![Arc::new(Opened::new(path, atlas, None))]),
             jobs: Mutex::new(Vec::new()),
+            zoom_slot: Mutex::new(()),
+            stopping: AtomicBool::new(false),
             dir,
             threads,
         }
@@ -151,8 +234,11 @@ impl State {
     /// Cancels every running job and waits for them to end (each within a
     /// cell per worker; at most a minute).
     pub fn cancel_all(&self) {
+        self.stopping.store(true, Ordering::Relaxed);
         let jobs: Vec<Arc<Job>> = lock(&self.jobs).clone();
-        jobs.iter().for_each(|j| j.cancel());
+        jobs.iter().for_each(|j| {
+            j.cancel();
+        });
         let until = std::time::Instant::now() + std::time::Duration::from_secs(60);
         while jobs.iter().any(|j| j.phase() == Phase::Running) && std::time::Instant::now() < until {
             std::thread::sleep(std::time::Duration::from_millis(20));

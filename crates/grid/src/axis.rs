@@ -26,17 +26,17 @@ pub struct Axis {
     pub lattice: Option<Lattice>,
 }
 
-/// The values `START:STOP:COUNT` of a parent axis that a zoomed [`Axis`]
-/// snaps to: its value `v` becomes the lattice's nearest value `w` where
-/// `|v - w|` is at most [`Lattice::SNAP`] of the lattice's spacing.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The values of a parent axis that a zoomed [`Axis`] snaps to: its value
+/// `v` becomes the parent's value `j` where `v` lies within [`Lattice::SNAP`]
+/// of the parent's spacing of the parent's own `START + (STOP - START) j /
+/// (COUNT - 1)`; and as the parent's value is itself snapped to its own
+/// parent's where it was a zoom, so on, level by level (a zoom of a zoom
+/// computes at its grandparent's values where they coincide).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Lattice {
-    /// The parent's first value.
-    pub start: f64,
-    /// The parent's last value.
-    pub stop: f64,
-    /// The parent's number of values (>= 2).
-    pub count: usize,
+    /// `(START, STOP, COUNT)` of the parent's axis, then of its parent's, …
+    /// (each COUNT >= 2).
+    pub levels: Vec<(f64, f64, usize)>,
 }
 
 impl Lattice {
@@ -47,23 +47,23 @@ impl Lattice {
 
     /// The lattice of `axis`'s values (`None` for a single value).
     pub fn of(axis: &Axis) -> Option<Lattice> {
-        (axis.count > 1).then_some(Lattice { start: axis.start, stop: axis.stop, count: axis.count })
+        let mut levels = vec![(axis.start, axis.stop, axis.count)];
+        levels.extend(axis.lattice.iter().flat_map(|l| l.levels.iter().copied()));
+        (axis.count > 1).then_some(Lattice { levels })
     }
 
-    /// The lattice's value `j`, computed as its own axis computes it.
-    pub fn value(&self, j: usize) -> f64 {
-        self.start + (self.stop - self.start) * j as f64 / (self.count - 1) as f64
-    }
-
-    /// The index of the lattice value that `v` coincides with to rounding.
-    pub fn index_of(&self, v: f64) -> Option<usize> {
-        let step = (self.stop - self.start) / (self.count - 1) as f64;
-        let j = ((v - self.start) / step).round();
-        if !(j >= 0.0 && j < self.count as f64) {
-            return None;
-        }
-        let j = j as usize;
-        ((v - self.value(j)).abs() <= Lattice::SNAP * step.abs()).then_some(j)
+    /// `v` snapped level by level: the parent's value it coincides with, if any.
+    pub fn snap(&self, v: f64) -> f64 {
+        self.levels.iter().fold(v, |v, &(start, stop, count)| {
+            let step = (stop - start) / (count - 1) as f64;
+            let value = |j: f64| start + (stop - start) * j / (count - 1) as f64;
+            let j = ((v - start) / step).round();
+            if j >= 0.0 && j < count as f64 && (v - value(j)).abs() <= Lattice::SNAP * step.abs() {
+                value(j)
+            } else {
+                v
+            }
+        })
     }
 }
 
@@ -154,8 +154,8 @@ impl Axis {
         } else {
             self.start + (self.stop - self.start) * i as f64 / (self.count - 1) as f64
         };
-        match self.lattice.and_then(|l| Some(l.value(l.index_of(v)?))) {
-            Some(w) => w,
+        match &self.lattice {
+            Some(l) => l.snap(v),
             None => v,
         }
     }
@@ -180,7 +180,13 @@ impl Axis {
 
     /// The same values in the opposite order.
     pub fn reversed(&self) -> Axis {
-        Axis { name: self.name.clone(), start: self.stop, stop: self.start, count: self.count, lattice: self.lattice }
+        Axis {
+            name: self.name.clone(),
+            start: self.stop,
+            stop: self.start,
+            count: self.count,
+            lattice: self.lattice.clone(),
+        }
     }
 }
 

@@ -434,9 +434,10 @@ impl Explorer {
     fn new(path: String, port: u16, threads: Option<usize>) -> PyResult<Explorer> {
         let threads = engine::threads(threads).map_err(|e| Failure::of(&e).into_py())?;
         let r = explore::ExploreRequest { file: path.into(), port, threads };
-        let server = explore::serve(&r).map_err(|e| match e {
-            explore::ExploreError::Atlas(_) | explore::ExploreError::Port { .. } => PyOSError::new_err(e.to_string()),
-            other => PyValueError::new_err(other.to_string()),
+        let server = explore::serve(&r).map_err(|e| match &e {
+            explore::ExploreError::Port { source, .. } => PyOSError::new_err(format!("{e}: {source}")),
+            explore::ExploreError::Atlas(_) => PyOSError::new_err(e.to_string()),
+            _ => PyValueError::new_err(e.to_string()),
         })?;
         let url = server.url().to_string();
         Ok(Explorer { server: Mutex::new(Some(server)), url })

@@ -423,17 +423,30 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
         Ok(v)
     };
     let mut axis = Axis::new(name, end(attr::START)?, end(attr::STOP)?, count);
-    if let Some(lattice_count) = crate::attrs::optional::<u64>(ck.path, &d, attr::LATTICE_COUNT)? {
-        if !(2..=grid::MAX_COUNT as u64).contains(&lattice_count) {
+    if let Some(counts) = crate::attrs::values::<u64>(ck.path, &d, attr::LATTICE_COUNT)? {
+        let ends = |which: &str| -> Result<Vec<f64>, StoreError> {
+            let v = crate::attrs::values::<f64>(ck.path, &d, which)?.unwrap_or_default();
+            if v.len() != counts.len() || v.iter().any(|x| !x.is_finite()) {
+                let what = format!(
+                    "attribute {which}: {} finite values expected, one per level of {}",
+                    counts.len(),
+                    attr::LATTICE_COUNT
+                );
+                return Err(ck.bad(&at, what));
+            }
+            Ok(v)
+        };
+        let (starts, stops) = (ends(attr::LATTICE_START)?, ends(attr::LATTICE_STOP)?);
+        if counts.is_empty() || counts.iter().any(|c| !(2..=grid::MAX_COUNT as u64).contains(c)) {
             let what = format!(
-                "attribute {}: {lattice_count}; a lattice has 2 to {} values",
+                "attribute {}: {counts:?}; each level has 2 to {} values",
                 attr::LATTICE_COUNT,
                 grid::MAX_COUNT
             );
             return Err(ck.bad(&at, what));
         }
-        let (start, stop) = (end(attr::LATTICE_START)?, end(attr::LATTICE_STOP)?);
-        axis.lattice = Some(grid::Lattice { start, stop, count: lattice_count as usize });
+        let levels = (0..counts.len()).map(|k| (starts[k], stops[k], counts[k] as usize)).collect();
+        axis.lattice = Some(grid::Lattice { levels });
     }
     // The values stored are the axis's, bit for bit: an edited end is not a new grid.
     let stored = ck.raw::<f64>(&d)?;

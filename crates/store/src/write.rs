@@ -297,10 +297,10 @@ fn create_in(f: hdf5::File, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hd
         z.expected.numbers(&d, &values);
         attr_num(&d, attr::START, axis.start)?;
         attr_num(&d, attr::STOP, axis.stop)?;
-        if let Some(l) = axis.lattice {
-            attr_num(&d, attr::LATTICE_START, l.start)?;
-            attr_num(&d, attr::LATTICE_STOP, l.stop)?;
-            attr_num(&d, attr::LATTICE_COUNT, l.count as u64)?;
+        if let Some(l) = &axis.lattice {
+            attr_array(&d, attr::LATTICE_START, &l.levels.iter().map(|l| l.0).collect::<Vec<_>>())?;
+            attr_array(&d, attr::LATTICE_STOP, &l.levels.iter().map(|l| l.1).collect::<Vec<_>>())?;
+            attr_array(&d, attr::LATTICE_COUNT, &l.levels.iter().map(|l| l.2 as u64).collect::<Vec<_>>())?;
         }
     }
     // Root coordinates, for the root's gridded datasets (hysteresis).
