@@ -21,7 +21,9 @@
 //!    `extensions` times ([`Executor::steady`] runs phases 1 and 2). An
 //!    interval that contains 0 is a torus when the period section is one
 //!    closed curve; otherwise the measurement is doubled, at most
-//!    [`EXPONENT_DOUBLINGS`] times, until it decides ([`Executor::decide`]).
+//!    [`EXPONENT_DOUBLINGS`] times, until it decides ([`Executor::decide`]);
+//!    one that the doubled measurement finds contracting is a transient,
+//!    extended as above while extensions remain.
 //!    A record that still contracts but whose section has
 //!    settled on an orbit longer than `n_max` (up to 128 periods) is not
 //!    extended (no extension would find a period): Newton's method on that
@@ -681,12 +683,13 @@ impl<'s> Executor<'s> {
             };
             let (class, lyapunov, reason) = self.decide(tangent, e);
             // Contracting once its measurement was doubled: a transient
-            // like any other, extended while extensions remain (from where
-            // the doublings left the record).
+            // like any other, extended while extensions remain (within the
+            // same budget of max_periods x (1 + extensions) periods, which
+            // the doublings' periods count in).
             if matches!(reason, Some(Unresolved::Contracting { .. })) && extensions < acc.extensions {
                 extensions += 1;
                 self.newton.renew();
-                limit = limit.max(self.sim.periods() as usize) + acc.max_periods;
+                limit += acc.max_periods;
                 continue;
             }
             return Ok(Steady::Aperiodic(class, lyapunov, reason));
