@@ -6,7 +6,9 @@
 # PyPI), installs pytest, runs crates/python/tests against the CLI binary
 # (VIBROATLAS_BIN, default target/release/vibroatlas, built first if missing),
 # then runs the README's Python example (the ```py block of its "Python"
-# section) and the worked example of docs/python.md in a scratch folder.
+# section) and the worked example of docs/python.md in a scratch folder, its
+# output compared with the text blocks the page shows (a change that moves a
+# number moves the page too).
 # Ends with one line "python tests: N passed, M failed" (the examples count as
 # tests) and exits non-zero if any failed.
 #
@@ -54,13 +56,15 @@ failed=$(echo "$summary" | awk '{for (i = 1; i < NF; i++) if ($(i+1) ~ /^(failed
 # The examples, in a folder with configs/ and an out/ folder, as the docs run them.
 mkdir -p "$tmp/ex/out"
 ln -s "$root/configs" "$tmp/ex/configs"
-example() {  # NAME FILE
-    if (cd "$tmp/ex" && "$py" "$2") >"$tmp/ex.log" 2>&1; then
+example() {  # NAME FILE [EXPECTED]: runs FILE; with EXPECTED, what it prints must be that text
+    if (cd "$tmp/ex" && "$py" "$2") >"$tmp/ex.out" 2>"$tmp/ex.log" \
+        && { [ -z "${3:-}" ] || diff -u "$3" "$tmp/ex.out" >"$tmp/ex.diff"; }; then
         echo "test-python: ok    $1"
         passed=$((passed + 1))
     else
         echo "test-python: FAIL  $1"
         tail -n 8 "$tmp/ex.log" | sed 's/^/    /'
+        [ -n "${3:-}" ] && [ -s "$tmp/ex.diff" ] && sed 's/^/    /' "$tmp/ex.diff" | head -n 30
         failed=$((failed + 1))
     fi
 }
@@ -71,8 +75,10 @@ else
     echo "test-python: README.md has no \`\`\`py block under '## Python' yet"
 fi
 awk '/^## Worked example/{s=1;next} /^## /{s=0} s&&/^```python$/{f=1;next} /^```/{f=0} s&&f' docs/python.md > "$tmp/worked.py"
+# What the page shows it prints: its ```text blocks, in order.
+awk '/^## Worked example/{s=1;next} /^## /{s=0} s&&/^```text$/{f=1;next} /^```/{f=0} s&&f' docs/python.md > "$tmp/worked.txt"
 if [ -s "$tmp/worked.py" ]; then
-    example "docs/python.md, worked example" "$tmp/worked.py"
+    example "docs/python.md, worked example (what it prints, as the page shows it)" "$tmp/worked.py" "$tmp/worked.txt"
 else
     echo "test-python: FAIL  docs/python.md has no worked example"
     failed=$((failed + 1))
