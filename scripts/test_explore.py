@@ -212,6 +212,16 @@ try:
     time.sleep(0.5)
     same_pixels(driver, atlas, "up", "M1", cells[:3], "the parent again, after back")
 
+    # A colleague's link to the child (its atlas id unknown to a new server):
+    # the page computes the zoom the address names again.
+    driver.forward()
+    wait.until(lambda d: "atlas=1" in d.current_url and "zoom=" in d.current_url)
+    link = driver.current_url.replace("atlas=1", "atlas=99")
+    driver.get(link)
+    wait.until(lambda d: "atlas=2" in d.current_url)
+    time.sleep(0.5)
+    same_pixels(driver, child, "up", "M1", [(0, 0), (8, 17), (4, 9)], "a link's zoom computed again")
+
     # The figure of the view, through render, at a print size.
     with urllib.request.urlopen(url + "api/figure?atlas=0&view=hysteresis&mass=M1&format=pdf&size=single") as r:
         check("the view saves as a PDF at a print size", r.read(5) == b"%PDF-")

@@ -38,7 +38,7 @@ function whole() {
 // The view kept in the address: atlas, view, mass, and the visible box in parameter values.
 function fromAddress() {
   const p = new URLSearchParams(location.search);
-  return { atlas: +(p.get('atlas') || 0), view: p.get('view'), mass: p.get('mass'), box: p.get('box') };
+  return { atlas: +(p.get('atlas') || 0), view: p.get('view'), mass: p.get('mass'), box: p.get('box'), zoom: p.get('zoom') };
 }
 
 function toAddress(push) {
@@ -48,6 +48,8 @@ function toAddress(push) {
   p.set('mass', S.mass);
   const b = S.box, { x, y } = S.info;
   p.set('box', [value(x, b.x0), value(x, b.x1), value(y, b.y0), value(y, b.y1)].map(short).join(','));
+  // The zooms from the file to this atlas: a colleague's page computes them again.
+  if (S.info.boxes.length) p.set('zoom', S.info.boxes.join(' | '));
   const url = '?' + p.toString();
   if (push) history.pushState(null, '', url); else history.replaceState(null, '', url);
 }
@@ -63,8 +65,26 @@ function fill(select, names, chosen) {
   return select.value;
 }
 
+// The atlas of an address whose zooms this server may not have computed
+// (another session's link): the chain of boxes from the file, computed again.
+async function resolve(at) {
+  if (!at.zoom) return at.atlas;
+  const known = await getJSON(`/api/atlas?atlas=${at.atlas}`).catch(() => null);
+  if (known && known.boxes.join(' | ') === at.zoom) return at.atlas;
+  let atlas = 0;
+  $('zoom-dialog').hidden = false;
+  for (const box of at.zoom.split(' | ')) {
+    const [x, y] = box.trim().split(' ');
+    $('zoom-x').value = x;
+    $('zoom-y').value = y;
+    atlas = await zoomJob(atlas, x, y);
+  }
+  return atlas;
+}
+
 async function load(at, push) {
   say('');
+  at = { ...at, atlas: await resolve(at) };
   S.info = await getJSON(`/api/atlas?atlas=${at.atlas}`);
   S.id = at.atlas;
   S.view = fill($('view'), S.info.views, at.view);
@@ -400,38 +420,41 @@ function offerZoom(d) {
   $('progress-text').textContent = '';
 }
 
-async function runZoom() {
-  say('');
+// Runs the zoom of box (x, y) of atlas `atlas` with its progress shown;
+// the child's id once done (an error when it failed or was cancelled).
+async function zoomJob(atlas, x, y) {
   const progress = $('progress');
+  const body = JSON.stringify({ atlas, x, y });
+  const { job } = await getJSON('/api/zoom', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
+  S.job = job;
+  progress.dataset.state = 'running';
+  $('zoom-cancel').hidden = false;
   try {
-    const body = JSON.stringify({ atlas: S.id, x: $('zoom-x').value, y: $('zoom-y').value });
-    const { job } = await getJSON('/api/zoom', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
-    S.job = job;
-    progress.dataset.state = 'running';
-    $('zoom-cancel').hidden = false;
     for (;;) {
       const j = await getJSON(`/api/jobs/${job}`);
       progress.value = j.progress;
       $('progress-text').textContent = `${(100 * j.progress).toFixed(0)} %`;
       if (j.state === 'running') { await new Promise((r) => setTimeout(r, 250)); continue; }
-      $('zoom-cancel').hidden = true;
-      S.job = null;
-      if (j.state === 'done') {
-        $('progress-text').textContent = 'done';
-        await load({ atlas: j.child, view: S.view, mass: S.mass }, true);
-        progress.dataset.state = 'done';
-      } else if (j.state === 'failed') {
-        progress.dataset.state = 'failed';
-        $('progress-text').textContent = 'failed';
-        say(j.error);
-      } else {
-        progress.dataset.state = 'cancelled';
-        $('progress-text').textContent = 'cancelled';
-      }
-      return;
+      $('progress-text').textContent = j.state;
+      if (j.state === 'done') return j.child;
+      progress.dataset.state = j.state;
+      throw new Error(j.state === 'failed' ? j.error : 'the zoom was cancelled');
     }
+  } finally {
+    $('zoom-cancel').hidden = true;
+    S.job = null;
+  }
+}
+
+async function runZoom() {
+  say('');
+  const progress = $('progress');
+  try {
+    const child = await zoomJob(S.id, $('zoom-x').value, $('zoom-y').value);
+    await load({ atlas: child, view: S.view, mass: S.mass }, true);
+    progress.dataset.state = 'done';
   } catch (err) {
-    progress.dataset.state = 'failed';
+    if (progress.dataset.state === 'running' || progress.dataset.state === 'idle') progress.dataset.state = 'failed';
     say(err.message);
   }
 }

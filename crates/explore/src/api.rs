@@ -258,6 +258,7 @@ async fn atlas(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value
         "id": id,
         "file": o.path.display().to_string(),
         "parent": o.parent.as_ref().map(|(p, region)| json!({"id": p, "box": region})),
+        "boxes": o.boxes,
         "scene": m.scene_name,
         "preset": m.preset.name(),
         "x": axis_json(&m.plane.x, &o),
@@ -506,12 +507,12 @@ async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json
     r.parent_labels = Some(o.labels_crc32);
     let region = format!("{} {}", r.x, r.y);
     let worker = state.clone();
-    std::thread::spawn(move || run_zoom(&worker, &job, &r, id, region));
+    std::thread::spawn(move || run_zoom(&worker, &job, &r, (id, &o), region));
     Ok(Json(json!({"job": job_id})))
 }
 
 /// Runs a zoom for job `job`; its child, once done, is an atlas of the state.
-fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: usize, region: String) {
+fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: (usize, &Opened), region: String) {
     // One zoom at a time: the others wait their turn (cancelled meanwhile, they never start).
     let _turn = lock(&state.zoom_slot);
     if engine::Observer::cancelled(job) {
@@ -521,7 +522,7 @@ fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: usize, re
     match engine::zoom(r, job) {
         Ok(done) => {
             let path = r.output.clone().unwrap_or_default();
-            let child = state.add(Opened::new(path, done.atlas, Some((parent, region))));
+            let child = state.add(Opened::new(path, done.atlas, Some((parent.0, parent.1, region))));
             job.end(Phase::Done(child));
         }
         Err(_) if engine::Observer::cancelled(job) => job.end(Phase::Cancelled),

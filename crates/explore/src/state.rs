@@ -16,6 +16,8 @@ pub(crate) struct Opened {
     pub atlas: Atlas,
     /// The atlas it is a box of, and the box (`omega=… delta=…`).
     pub parent: Option<(usize, String)>,
+    /// The boxes from the explored file to it, in order (empty for the file).
+    pub boxes: Vec<String>,
     /// The CRC-32 of its labels (`store::labels_crc32`).
     pub labels_crc32: u32,
     /// The file as it was when read: a rewritten file is refused, not read.
@@ -37,10 +39,19 @@ impl Identity {
 }
 
 impl Opened {
-    /// An atlas read from `path`, now.
-    pub fn new(path: PathBuf, atlas: Atlas, parent: Option<(usize, String)>) -> Opened {
+    /// An atlas read from `path`, now: the file explored, or the box
+    /// `region` of atlas `parent` (with its own `boxes` from the file).
+    pub fn new(path: PathBuf, atlas: Atlas, parent: Option<(usize, &Opened, String)>) -> Opened {
         let identity = Identity::of(&path);
-        Opened { labels_crc32: store::labels_crc32(&atlas), path, atlas, parent, identity }
+        let (parent, boxes) = match parent {
+            None => (None, Vec::new()),
+            Some((id, of, region)) => {
+                let mut boxes = of.boxes.clone();
+                boxes.push(region.clone());
+                (Some((id, region)), boxes)
+            }
+        };
+        Opened { labels_crc32: store::labels_crc32(&atlas), path, atlas, parent, boxes, identity }
     }
 
     /// Whether its file is still the one read.
