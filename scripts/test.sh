@@ -9,6 +9,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
+# An unused dependency is a defect: cargo-machete (built once, into ~/.cargo/bin) finds them.
+command -v cargo-machete >/dev/null 2>&1 || cargo install cargo-machete --locked --quiet
+cargo machete
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # Tests open HDF5 files in their own process while other tests spawn the

@@ -186,7 +186,7 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         .configure_mesh()
         .disable_mesh()
         .axis_style(spine)
-        .x_labels(x_ticks.clamp(3, 10))
+        .x_labels(x_ticks.clamp(2, 10))
         .y_labels(y_ticks.clamp(3, 10))
         .x_desc(a.x_desc)
         .y_desc(a.y_desc)
