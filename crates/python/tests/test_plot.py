@@ -109,3 +109,37 @@ def test_hysteresis_default_figure(tree):
     assert [a.get_title().split(",")[0] for a in axes[:2]] == ["M1", "M1"]
     assert axes[2].get_title().startswith("coexisting motions:")
     plt.close(axes[0].figure)
+
+
+@pytest.mark.parametrize("quantity", ["multiplier", "lyapunov"])
+def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
+    """va.plot.scalar draws each cell in the colour `render --view` gives it:
+    the oracle is the explorer's /api/map, render's own per-cell colours."""
+    import json
+    import urllib.request
+
+    path = tmp_path / "a.h5"
+    cli("atlas", MULTI, "--x", axis(X), "--y", axis(Y), "--sweep", "both", "--quiet", "-o", path)
+    tree = open_tree(path)
+    ds = tree["up"].ds
+    fig, ax = plt.subplots(figsize=(8, 5))
+    va.plot.scalar(tree["up"], quantity, ax=ax)
+    img = pixels(fig)
+    ex = va.explore(path)
+    try:
+        info = json.load(urllib.request.urlopen(ex.url + "api/atlas"))
+        nx, ny = info["x"]["count"], info["y"]["count"]
+        with urllib.request.urlopen(ex.url + f"api/map?view={quantity}:up") as r:
+            want = np.frombuffer(r.read(), np.uint8)[: 3 * nx * ny].reshape(ny, nx, 3)
+    finally:
+        ex.stop()
+    xs, ys = ds["omega"].values, ds["delta"].values
+    checked = 0
+    for iy in range(0, ny, 3):
+        for ix in range(0, nx, 3):
+            assert pixel_at(ax, img, xs[ix], ys[iy]) == tuple(int(c) for c in want[iy, ix]), (quantity, iy, ix)
+            checked += 1
+    assert checked >= 40
+    plt.close(fig)
+    with pytest.raises(ValueError, match="quantity"):
+        va.plot.scalar(tree["up"], "period")

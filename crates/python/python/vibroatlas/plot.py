@@ -13,7 +13,15 @@ import numpy as np
 
 from . import _dataset, _first_mass, label_table
 
-__all__ = ["map", "hysteresis", "colours"]
+__all__ = ["map", "hysteresis", "scalar", "colours"]
+
+# The continuous views' diverging scale, as `vibroatlas render --view
+# multiplier|lyapunov` paints it: blue below the neutral value, white at it,
+# red above; cells without the number grey.
+_LOW, _HIGH, _NONE = (33, 102, 172), (178, 24, 43), (190, 190, 190)
+_CENTRE = {"multiplier": 1.0, "lyapunov": 0.0}
+_TITLE = {"multiplier": "largest |Floquet multiplier| (periodic cells)",
+          "lyapunov": "largest Lyapunov exponent (cells without a period)"}
 
 
 def _node_name(ds):
@@ -211,3 +219,53 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
                    fontsize="small", frameon=False, title=f"{mass} n-p-q (cells, up + down)",
                    title_fontsize="small")
     return axes
+
+
+def _diverging(t):
+    """RGB (0-255) of t in [-1, 1] on the diverging scale, rounded as render rounds."""
+    t = np.clip(t, -1.0, 1.0)
+    end = np.where(t[..., None] < 0, np.array(_LOW, float), np.array(_HIGH, float))
+    w = np.abs(t)[..., None]
+    return np.round(255.0 + w * (end - 255.0)).astype(int)
+
+
+def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
+    """Draws one number per cell of a sweep group, as `vibroatlas render
+    --view multiplier|lyapunov` does, and returns the Axes: `multiplier`,
+    the largest Floquet multiplier modulus of periodic cells, on a diverging
+    scale centred at 1 (where stability is lost), or `lyapunov`, the largest
+    Lyapunov exponent of cells without a period, centred at 0; blue below,
+    white at the centre, red above, reaching full colour at the value
+    farthest from it; cells without the number grey. Each cell is drawn in
+    exactly the colour render gives it."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LinearSegmentedColormap, Normalize
+
+    if quantity not in _CENTRE:
+        raise ValueError(f"quantity: expected multiplier or lyapunov, got {quantity!r}")
+    node = _node_name(ds)
+    ds = _dataset(ds)
+    if quantity not in ds:
+        raise ValueError(f"{quantity}: this group has no such variable")
+    v = np.asarray(ds[quantity].values, float)
+    ydim, xdim = ds[quantity].dims
+    centre = _CENTRE[quantity]
+    finite = np.isfinite(v)
+    reach = float(np.max(np.abs(v[finite] - centre))) if finite.any() else 0.0
+    reach = reach if reach > 0 else 1.0
+    rgb = np.where(finite[..., None], _diverging((np.where(finite, v, centre) - centre) / reach), np.array(_NONE))
+    flat = rgb.reshape(-1, 3)
+    present, codes = np.unique(flat, axis=0, return_inverse=True)
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
+    _mesh(ax, ds[xdim].values, ds[ydim].values, codes.reshape(v.shape), present / 255.0)
+    ax.set_xlabel(axis_label(ds[xdim]))
+    ax.set_ylabel(axis_label(ds[ydim]))
+    sweep = f"{node} sweep: " if node else ""
+    ax.set_title(title if title is not None else sweep + _TITLE[quantity])
+    if colorbar:
+        cmap = LinearSegmentedColormap.from_list(
+            "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
+        bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(centre - reach, centre + reach), cmap), ax=ax)
+        bar.set_label("max |μ|" if quantity == "multiplier" else "λ (per unit time)")
+    return ax
