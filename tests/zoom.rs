@@ -26,6 +26,13 @@ fn parent(scene: &str, x: Axis, y: Axis, along: Along, sweeps: Vec<SweepKind>, o
     atlas(&r, &Quiet).unwrap().atlas
 }
 
+/// The multi-stop atlas over omega=0.2:2.0:37 by delta=0.1:1.0:10, up and
+/// down, written to `out`.
+fn multi_stop(out: &Path) -> Atlas {
+    let (x, y) = (Axis::parse("omega=0.2:2.0:37", "x").unwrap(), Axis::parse("delta=0.1:1.0:10", "y").unwrap());
+    parent("multi-stop.toml", x, y, Along::X, vec![SweepKind::Up, SweepKind::Down], out)
+}
+
 /// The box `x` by `y` of `parent_file` (every sweep), written to `out`.
 fn child(parent_file: &Path, x: &str, y: &str, out: &Path) -> Atlas {
     let mut r = ZoomRequest::new(parent_file, Axis::parse(x, "x").unwrap(), Axis::parse(y, "y").unwrap());
@@ -116,15 +123,7 @@ fn an_aligned_box_reproduces_its_parents_cells_bit_for_bit() {
 fn a_zooms_stored_cells_run_again_from_their_entry() {
     let dir = folder("entry");
     let pfile = dir.join("p.h5");
-    let both = vec![SweepKind::Up, SweepKind::Down];
-    parent(
-        "multi-stop.toml",
-        Axis::parse("omega=0.2:2.0:37", "x").unwrap(),
-        Axis::parse("delta=0.1:1.0:10", "y").unwrap(),
-        Along::X,
-        both,
-        &pfile,
-    );
+    multi_stop(&pfile);
     // Not aligned: a third of the parent's spacing, in a box of its own.
     let cfile = dir.join("c.h5");
     let c = child(&pfile, "omega=0.9:1.3:25", "delta=0.45:0.85:5", &cfile);
@@ -223,15 +222,7 @@ fn zoom_refuses_bad_boxes_with_one_clear_line() {
 fn a_zoom_of_a_zoom_reproduces_its_parent() {
     let dir = folder("grandchild");
     let pfile = dir.join("p.h5");
-    let both = vec![SweepKind::Up, SweepKind::Down];
-    let p = parent(
-        "multi-stop.toml",
-        Axis::parse("omega=0.2:2.0:37", "x").unwrap(),
-        Axis::parse("delta=0.1:1.0:10", "y").unwrap(),
-        Along::X,
-        both,
-        &pfile,
-    );
+    let p = multi_stop(&pfile);
     let cfile = dir.join("c.h5");
     let c = child(&pfile, "omega=0.5:1.0:31", "delta=0.3:0.6:10", &cfile);
     assert_eq!(c.meta.plane.x.value(0).to_bits(), p.meta.plane.x.value(6).to_bits());

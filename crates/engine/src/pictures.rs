@@ -51,7 +51,8 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
         }
     }
     let labels: Vec<String> = c.result.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
-    let silent = if silent.is_empty() { String::new() } else { format!("; no impacts at\u{a0}{}", silent.join(",\u{a0}")) };
+    let silent =
+        if silent.is_empty() { String::new() } else { format!("; no impacts at\u{a0}{}", silent.join(",\u{a0}")) };
     let title = format!(
         "{} ({}): {}, Poincaré sections over {periods} periods{silent}",
         sys.model.name,
