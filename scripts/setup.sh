@@ -9,12 +9,16 @@
 #   python3-netcdf4           xarray's netcdf4 engine (the netCDF-C library)
 #   python3-matplotlib        scripts/plot_atlas.py, and the rendering check of check_netcdf.py
 #   poppler-utils             pdffonts and pdftotext, to check the text of PDF figures (tests)
+# With --tests (scripts/test.sh), also:
 #   chromium, chromium-driver, python3-selenium
 #                             a real headless browser on the explorer's page (scripts/test_explore.py)
 set -euo pipefail
 
 APT_PACKAGES=(pkg-config libhdf5-dev fonts-dejavu-core python3-h5py python3-xarray python3-h5netcdf
-    python3-netcdf4 python3-matplotlib poppler-utils chromium chromium-driver python3-selenium)
+    python3-netcdf4 python3-matplotlib poppler-utils)
+if [ "${1:-}" = "--tests" ]; then
+    APT_PACKAGES+=(chromium chromium-driver python3-selenium)
+fi
 
 if ! command -v cargo >/dev/null 2>&1; then
     echo "setup: cargo not found; install a Rust toolchain (rustup) first" >&2

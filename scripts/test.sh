@@ -8,7 +8,7 @@
 # result and the Python ones.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/setup.sh
+scripts/setup.sh --tests
 # An unused dependency is a defect: cargo-machete (built once, into ~/.cargo/bin) finds them.
 command -v cargo-machete >/dev/null 2>&1 || cargo install cargo-machete --locked --quiet
 cargo machete
