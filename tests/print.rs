@@ -180,3 +180,25 @@ fn bad_print_options_are_refused_naming_the_option() {
         assert!(!out.exists(), "{args:?} wrote a figure");
     }
 }
+
+/// Issue 43: split cells smaller than about 1 mm at 300 dpi alias into a
+/// moiré where neither colour reads. At the single-column size a 150 × 100
+/// plane's hysteresis panel is drawn in blocks of cells (its title says how
+/// many), at the screen size cell by cell.
+#[test]
+fn tiny_split_cells_print_in_blocks_that_say_so() {
+    let d = std::env::temp_dir().join(format!("vibroatlas-print-blocks-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let atlas = d.join("a.h5");
+    let (x, y) = ("omega=1.2:2.4:150", "delta=0.2:1.6:100");
+    ok(&["atlas", "configs/multi-stop.toml", "--x", x, "--y", y, "--sweep", "both", "--quiet", "-o", p(&atlas)]);
+    let pdf = d.join("h.pdf");
+    ok(&["render", p(&atlas), "-o", p(&pdf), "--sweep", "hysteresis", "--size", "single"]);
+    let text = poppler("pdftotext", &[p(&pdf), "-"]);
+    assert!(text.contains("in blocks of"), "{text}");
+    let svg = d.join("h.svg");
+    ok(&["render", p(&atlas), "-o", p(&svg), "--sweep", "hysteresis"]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("up / down differ") && !text.contains("in blocks of"));
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -177,6 +177,12 @@ pub(crate) enum Paint {
     Split(RGBColor, RGBColor),
 }
 
+/// The least size on a printed page, in millimetres, of a cell drawn split
+/// along its diagonal: smaller halves alias into a moiré in which neither
+/// colour reads once printed (a 296-cell-wide plane in a 12 cm panel has
+/// 0.4 mm cells; 0.5 mm is 6 pixels at 300 dpi).
+const MIN_SPLIT_MM: f64 = 0.5;
+
 /// Draws cells as `paint` gives them (None: not drawn), and `curves` over them.
 fn draw_cells<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
@@ -186,12 +192,57 @@ fn draw_cells<DB: crate::Backend>(
     paint: impl Fn(usize) -> Option<Paint>,
     curves: &[Overlay],
 ) -> Result<(), RenderError> {
+    draw_blocks(area, canvas, meta, title, 1, paint, curves)
+}
+
+/// [`draw_cells`] of split cells (the hysteresis panel): on a printed
+/// figure whose cells would be smaller than [`MIN_SPLIT_MM`], blocks of
+/// k × k cells are drawn, each as the paint most of its cells have (an
+/// area-faithful picture of the zones; a tie goes to a split); `title` says
+/// the block's side. On screen sizes every cell is drawn (a viewer zooms).
+fn draw_split_cells<DB: crate::Backend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    meta: &Meta,
+    title: &dyn Fn(usize) -> String,
+    paint: impl Fn(usize) -> Option<Paint>,
+    curves: &[Overlay],
+) -> Result<(), RenderError> {
+    let (nx, ny) = (meta.plane.x.count as f64, meta.plane.y.count as f64);
+    // The plot's size before the chart is built: the area less its axes (about).
+    let (w, h) = area.dim_in_pixel();
+    let cell = ((w as f64 - canvas.em(8.0) as f64) / nx).min((h as f64 - canvas.em(5.0) as f64) / ny);
+    let cell_mm = cell / canvas.dpi * 25.4;
+    let k = match canvas.mm {
+        Some(_) if cell_mm < MIN_SPLIT_MM => (MIN_SPLIT_MM / cell_mm.max(1e-3)).ceil() as usize,
+        _ => 1,
+    };
+    draw_blocks(area, canvas, meta, &title(k), k, paint, curves)
+}
+
+/// Draws the plane's cells in blocks of `k` × `k` cells, each painted as
+/// most of its cells are (the cells themselves for blocks of one).
+fn draw_blocks<DB: crate::Backend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    meta: &Meta,
+    title: &str,
+    k: usize,
+    paint: impl Fn(usize) -> Option<Paint>,
+    curves: &[Overlay],
+) -> Result<(), RenderError> {
     let grid = CellGrid::of(meta);
     let chart = grid.chart(area, canvas, meta, title)?;
     let plot = chart.plotting_area();
-    for i in 0..meta.plane.cells() {
-        let [(x0, y0), (x1, y1)] = grid.rect(i);
-        match paint(i) {
+    let (nx, ny, k) = (meta.plane.x.count, meta.plane.y.count, k.max(1));
+    for (by, bx) in (0..ny.div_ceil(k)).flat_map(|by| (0..nx.div_ceil(k)).map(move |bx| (by, bx))) {
+        let cells: Vec<usize> = (by * k..((by + 1) * k).min(ny))
+            .flat_map(|iy| (bx * k..((bx + 1) * k).min(nx)).map(move |ix| iy * nx + ix))
+            .collect();
+        let (first, last) = (cells[0], cells[cells.len() - 1]);
+        let ([(x0, y0), _], [_, (x1, y1)]) = (grid.rect(first), grid.rect(last));
+        let chosen = if k == 1 { paint(first) } else { most(cells.iter().filter_map(|&i| paint(i))) };
+        match chosen {
             None => {}
             Some(Paint::Fill(c)) => plot.draw(&Rectangle::new([(x0, y0), (x1, y1)], c.filled())).map_err(err)?,
             Some(Paint::Split(above, below)) => {
@@ -212,6 +263,21 @@ fn draw_cells<DB: crate::Backend>(
         }
     }
     Ok(())
+}
+
+/// The paint most frequent among `paints` (a tie: a split before a fill,
+/// then the first met).
+fn most(paints: impl Iterator<Item = Paint>) -> Option<Paint> {
+    let mut counts: Vec<(Paint, usize)> = Vec::new();
+    for p in paints {
+        match counts.iter_mut().find(|(q, _)| *q == p) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((p, 1)),
+        }
+    }
+    let rank = |(p, n): &(Paint, usize)| (*n, matches!(p, Paint::Split(..)));
+    let best = counts.iter().map(rank).max()?;
+    counts.iter().find(|c| rank(c) == best).map(|c| c.0)
 }
 
 /// Legend rows of the kinds of `curves` (one per kind, in order of appearance).
@@ -458,8 +524,12 @@ fn draw_hysteresis<DB: crate::Backend>(
     let name = &m.masses[mass];
     draw_cells(&panels[0], canvas, m, &format!("{name}, up sweep"), label_paint(h.up, mass), curves)?;
     draw_cells(&panels[1], canvas, m, &format!("{name}, down sweep"), label_paint(h.down, mass), curves)?;
-    let title = format!("up / down differ: {} cells", h.zones());
-    draw_cells(&panels[2], canvas, m, &title, |i| Some(h.paint(i)), curves)?;
+    let zones = h.zones();
+    let title = |k: usize| match k {
+        1 => format!("up / down differ: {zones} cells"),
+        k => format!("up / down differ: {zones} cells (in blocks of {k} × {k})"),
+    };
+    draw_split_cells(&panels[2], canvas, m, &title, |i| Some(h.paint(i)), curves)?;
     placed.draw(&key, canvas)
 }
 
