@@ -28,12 +28,25 @@ run() {
 while IFS= read -r cmd; do
     run "$cmd"
 done < <(awk '/^```sh/{f=1;next} /^```/{f=0} f' "$root/README.md" | grep '^vibroatlas ' | sed 's/  *#.*$//')
-# The Python examples read out/small.h5, made as README says.
+# The Python examples read out/small.h5, made as README says. A ```text
+# block right after one (the next fenced block) is what it prints, compared
+# exactly: a change that moves a number moves the page too.
+awk -v dir="$work" '
+    /^```python/ { n++; f = 1; next }
+    /^```text/ && after { t = 1; after = 0; file = dir "/py" n ".expected"; printf "" > file; next }
+    /^```/ { if (f) { printf "%c", 0; after = 1 } else if (!t) { after = 0 }; f = 0; t = 0; next }
+    f { print }
+    t { print > file }
+' "$root/README.md" > "$work/python-blocks"
 n=0
 while IFS= read -r -d '' block; do
     n=$((n + 1))
     printf '%s' "$block" > "py$n.py"
-    run "/usr/bin/python3 py$n.py"
-done < <(awk '/^```python/{f=1;next} /^```/{if(f){printf "%c", 0}; f=0} f' "$root/README.md")
+    if [ -e "py$n.expected" ]; then
+        run "/usr/bin/python3 py$n.py > py$n.out && diff -u py$n.expected py$n.out"
+    else
+        run "/usr/bin/python3 py$n.py"
+    fi
+done < "$work/python-blocks"
 echo "check_readme: $count commands, $failed failed"
 [ "$failed" -eq 0 ]
