@@ -40,7 +40,7 @@ fi
 py="$venv/bin/python"
 # The README's install command, as printed, inside the venv.
 (source "$venv/bin/activate" && pip install ./crates/python) || { echo "python tests: 0 passed, 1 failed (pip install ./crates/python)"; exit 1; }
-"$py" -m pip install --quiet pytest || exit 1
+"$py" -m pip install --quiet pytest mypy || exit 1
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -81,6 +81,16 @@ if [ -s "$tmp/worked.py" ]; then
     example "docs/python.md, worked example (what it prints, as the page shows it)" "$tmp/worked.py" "$tmp/worked.txt"
 else
     echo "test-python: FAIL  docs/python.md has no worked example"
+    failed=$((failed + 1))
+fi
+
+# The package's type hints (its .pyi stubs) against the two examples, strictly.
+if (cd "$tmp" && "$py" -m mypy --strict --no-incremental readme.py worked.py) >"$tmp/mypy.log" 2>&1; then
+    echo "test-python: ok    mypy --strict on the README's and docs/python.md's examples"
+    passed=$((passed + 1))
+else
+    echo "test-python: FAIL  mypy --strict on the README's and docs/python.md's examples"
+    grep -v ' note: ' "$tmp/mypy.log" | tail -n 12 | sed 's/^/    /'
     failed=$((failed + 1))
 fi
 
