@@ -96,6 +96,9 @@ atlas = os.path.join(tmp, "a.h5")
 run("atlas", "configs/multi-stop.toml", "--x", "omega=0.2:2.0:40", "--y", "delta=0.1:1.0:20",
     "--sweep", "both", "--quiet", "-o", atlas)
 
+# Bifurcation curves stored in the atlas, for the page to draw on demand.
+run("curves", atlas, "--into", "--max", "2", "--threads", "2")
+
 server = subprocess.Popen([BIN, "explore", atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True)
 url = server.stdout.readline().split(" at ")[-1].strip()
 check("explore prints its URL on 127.0.0.1", url.startswith("http://127.0.0.1:"), url)
@@ -123,6 +126,49 @@ try:
     shot(driver, "1-map.png")
     cells = [(0, 0), (19, 39), (5, 7), (10, 20), (15, 33), (3, 30), (12, 2), (18, 11)]
     same_pixels(driver, atlas, "up", "M1", cells, "the up map of M1")
+
+    # The stored curves over the map: each drawn in its colour through its points.
+    driver.find_element(By.ID, "curves").click()
+    wait.until(lambda d: d.execute_script("return window.vibroatlas.state.curves.length") > 0)
+    time.sleep(0.3)
+    curves = json.loads(urllib.request.urlopen(url + "api/curves").read())["curves"]
+    check("the atlas's curves are served", len(curves) >= 1, str(len(curves)))
+    with h5py.File(atlas, "r") as f:
+        xs, ys = f["omega"][:], f["delta"][:]
+    def canvas_xy(px, py):
+        fx = (px - xs[0]) * (len(xs) - 1) / (xs[-1] - xs[0])
+        fy = (py - ys[0]) * (len(ys) - 1) / (ys[-1] - ys[0])
+        return driver.execute_script("return window.vibroatlas.cellCentre(arguments[0], arguments[1]);", fx, fy)
+
+    rings = [canvas_xy(*m) for c in curves for m in c["marks"]]
+    checked = 0
+    for c in curves:
+        on = tried = 0
+        for px, py in c["points"][1:-1]:
+            x, y = canvas_xy(px, py)
+            if any(abs(x - rx) <= 7 and abs(y - ry) <= 7 for rx, ry in rings):
+                continue  # under a codimension-two point's ring
+            tried += 1
+            near = driver.execute_script(
+                "return Array.from(document.getElementById('map').getContext('2d')"
+                ".getImageData(Math.round(arguments[0]) - 1, Math.round(arguments[1]) - 1, 3, 3).data);", x, y)
+            pixels3 = [near[i:i + 3] for i in range(0, len(near), 4)]
+            on += any(sum(abs(a - b) for a, b in zip(p, c["colour"])) <= 30 for p in pixels3)
+        if tried:
+            checked += 1
+            check(f"the {c['kind']} curve is drawn in its colour through its points", on >= 0.8 * tried,
+                  f"{on} of {tried}")
+    check("a curve's points were checked away from the rings", checked >= 1, str(checked))
+    for rx, ry in rings:
+        ring = driver.execute_script(
+            "return Array.from(document.getElementById('map').getContext('2d')"
+            ".getImageData(Math.round(arguments[0]), Math.round(arguments[1]), 1, 1).data.slice(0, 3));", rx, ry)
+        check("a codimension-two point is a white ring", ring == [255, 255, 255], str(ring))
+    legend = driver.find_element(By.ID, "legend").text
+    check("the legend names the curves", "bifurcation curves" in legend, legend[:200])
+    shot(driver, "1-curves.png")
+    driver.find_element(By.ID, "curves").click()
+    time.sleep(0.3)
 
     # The hysteresis view: a cell where up and down differ is split along its
     # rising diagonal, the up label's colour above, the down label's below.

@@ -262,6 +262,19 @@ function draw() {
     ctx.stroke();
   }
   ctx.setLineDash([]);
+  // Codimension-two points: white rings, as the figures mark them.
+  for (const c of S.curves) {
+    for (const [px, py] of c.marks) {
+      const [cx, cy] = toCanvas(index(x, px), index(y, py));
+      ctx.beginPath();
+      ctx.arc(cx, cy, 4, 0, 2 * Math.PI);
+      ctx.fillStyle = '#fff';
+      ctx.fill();
+      ctx.strokeStyle = '#000';
+      ctx.lineWidth = 1;
+      ctx.stroke();
+    }
+  }
   if (S.drag && S.drag.mode === 'box') {
     const d = S.drag;
     ctx.strokeStyle = '#000';
