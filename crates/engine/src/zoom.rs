@@ -77,11 +77,7 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     }
     let x = box_axis(&r.x, &m.plane.x, Opt::X)?;
     let y = box_axis(&r.y, &m.plane.y, Opt::Y)?;
-    let cells = x.count.saturating_mul(y.count);
-    if cells > MAX_ZOOM_CELLS {
-        let why = format!("the box has {cells} cells ({} x {}), more than the {MAX_ZOOM_CELLS} a zoom computes; give fewer values, or map it with atlas", x.count, y.count);
-        bail!(RequestError::option(Opt::X).text(why));
-    }
+    check_size(&x, &y)?;
     let sweeps = match &r.sweeps {
         None => m.sweeps.clone(),
         Some(asked) => {
@@ -111,6 +107,17 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.execute(observer)
 }
 
+/// Refuses a box of more than [`MAX_ZOOM_CELLS`] cells (before any file is read,
+/// where a caller wants to say so at once).
+pub fn check_size(x: &Axis, y: &Axis) -> Result<()> {
+    let cells = x.count.saturating_mul(y.count);
+    if cells > MAX_ZOOM_CELLS {
+        let why = format!("the box has {cells} cells ({} x {}), more than the {MAX_ZOOM_CELLS} a zoom computes; give fewer values, or map it with atlas", x.count, y.count);
+        bail!(RequestError::option(Opt::X).text(why));
+    }
+    Ok(())
+}
+
 /// The box's axis `given` of the parent's axis `parent`: the same parameter,
 /// ascending, within the parent's values (to rounding), on the parent's
 /// lattice.
@@ -136,53 +143,39 @@ fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
 }
 
 /// The states the box's chains enter with: for each chain sweep and line of
-/// `plane`, the parent's final state of the cell just before the box's first
-/// cell in the sweep's direction (strictly before: a box value that is a
-/// parent value starts as the parent's cell there did), in the parent line
-/// nearest to the box's line. Where the box starts at the parent's first
-/// cell of the chain, it starts as the parent's chain did: from the parent's
-/// own entry (a zoom's), or else from the scene's initial state.
+/// `plane`, the state the parent's chain had where the box starts — the
+/// state its cell at the box's first value (or the first after it, in the
+/// sweep's direction) started from ([`Atlas::start_of`]: the final state of
+/// the cell before it, or at the parent's first cell the parent's own entry)
+/// — in the parent line nearest to the box's line.
 fn entries(parent: &Atlas, plane: &Plane, sweeps: &[SweepKind]) -> Entries {
     let pp = &parent.meta.plane;
     let (along, across, p_along, p_across) = match pp.along {
         Along::X => (&plane.x, &plane.y, &pp.x, &pp.y),
         Along::Y => (&plane.y, &plane.x, &pp.y, &pp.x),
     };
+    let slack = Lattice::SNAP * p_along.step().abs();
     let mut out = Entries::default();
     for &sweep in sweeps.iter().filter(|&&s| s != SweepKind::Fresh) {
-        // The position along the parent's chains whose final state the box's chains take.
-        let before = match sweep {
+        // The parent's position along its chains where the box's chains start.
+        let start = match sweep {
             SweepKind::Up => {
                 let first = along.value(0);
-                (0..p_along.count).rev().find(|&i| p_along.value(i) < first && !coincide(p_along, i, first))
+                (0..p_along.count).find(|&i| p_along.value(i) >= first - slack)
             }
             _ => {
                 let last = along.value(along.count - 1);
-                (0..p_along.count).find(|&i| p_along.value(i) > last && !coincide(p_along, i, last))
+                (0..p_along.count).rev().find(|&i| p_along.value(i) <= last + slack)
             }
         };
+        let Some(pos) = start else { continue };
         for line in 0..across.count {
             let Ok(p_line) = p_across.nearest(across.value(line)) else { continue };
-            let entry = match before {
-                Some(pos) => {
-                    let (iy, ix) = pp.cell(p_line, pos);
-                    parent
-                        .map(sweep)
-                        .and_then(|map| map.cells[iy * pp.x.count + ix].as_ref())
-                        .map(|c| &c.final_state[..])
-                }
-                // At the parent's first cell: as the parent's chain started (a zoom's, from its entry).
-                None => parent.entries.get(sweep, p_line),
-            };
-            if let Some(state) = entry {
+            let (iy, ix) = pp.cell(p_line, pos);
+            if let Some(state) = parent.start_of(sweep, iy, ix) {
                 out.0.insert((sweep, line), state.to_vec());
             }
         }
     }
     out
-}
-
-/// Whether the parent's value `i` and `v` are the same to rounding.
-fn coincide(axis: &Axis, i: usize, v: f64) -> bool {
-    (axis.value(i) - v).abs() <= Lattice::SNAP * axis.step().abs()
 }

@@ -481,15 +481,7 @@ async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json
     };
     let axis = |k: &str| -> Result<Axis, Refusal> { Axis::parse(text(k)?, k).map_err(|e| bad(short(&e.to_string()))) };
     let (x, y) = (axis("x")?, axis("y")?);
-    let cells = x.count.saturating_mul(y.count);
-    if cells > engine::MAX_ZOOM_CELLS {
-        return Err(bad(format!(
-            "x, y: the box has {cells} cells ({} x {}), more than the {} a zoom computes",
-            x.count,
-            y.count,
-            engine::MAX_ZOOM_CELLS
-        )));
-    }
+    engine::check_zoom_size(&x, &y).map_err(|e| bad(message(&e)))?;
     let sweeps = match fields.get("sweep") {
         None => None,
         Some(v) => {
@@ -584,8 +576,8 @@ async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response,
 
 /// The bifurcation curves stored in the explored file, over atlas `o`'s plane.
 fn overlays(state: &State, o: &Opened) -> Vec<render::Overlay> {
-    let curves = store::read_curves(&state.root()).unwrap_or_default();
-    curves
+    state
+        .curves()
         .iter()
         .filter_map(|c| {
             let marks = c.codim2.iter().map(|m| (m.1, m.2));

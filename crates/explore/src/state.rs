@@ -190,6 +190,8 @@ pub(crate) struct State {
     pub zoom_slot: Mutex<()>,
     /// Set when the server stops: long requests end at once.
     pub stopping: AtomicBool,
+    /// The bifurcation curves stored in the explored file, read once asked for.
+    curves: std::sync::OnceLock<Vec<store::Curve>>,
     /// The folder of the zooms' files (removed when the server stops).
     pub dir: PathBuf,
     /// Worker threads of a zoom or an attractor search.
@@ -207,6 +209,7 @@ impl State {
             jobs: Mutex::new(Vec::new()),
             zoom_slot: Mutex::new(()),
             stopping: AtomicBool::new(false),
+            curves: std::sync::OnceLock::new(),
             dir,
             threads,
         }
@@ -224,9 +227,13 @@ impl State {
         all.len() - 1
     }
 
-    /// The root atlas's file (the one the explorer was given).
-    pub fn root(&self) -> PathBuf {
-        lock(&self.atlases)[0].path.clone()
+    /// The bifurcation curves stored in the explored file (none where it has
+    /// none), read on the first call.
+    pub fn curves(&self) -> &[store::Curve] {
+        self.curves.get_or_init(|| {
+            let root = lock(&self.atlases)[0].path.clone();
+            store::read_curves(&root).unwrap_or_default()
+        })
     }
 
     /// Starts a job; its id.
