@@ -29,6 +29,9 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 target/release/vibroatlas atlas configs/multi-stop.toml --x omega=0.2:2.5:12 --y delta=0.1:1.5:5 \
     --sweep both --quiet -o "$tmp/check.h5"
 /usr/bin/python3 scripts/check_atlas.py "$tmp/check.h5"
+# A zoom's file (layout 4: axes on the parent's lattice, entry states) reads as an atlas too.
+target/release/vibroatlas zoom "$tmp/check.h5" --x omega=0.4:1.2:9 --y delta=0.3:1.2:4 --quiet -o "$tmp/zoom.h5"
+/usr/bin/python3 scripts/check_atlas.py "$tmp/zoom.h5"
 # netCDF-4/CF: both xarray engines, label decoding, and plot_atlas.py's colours.
 target/release/vibroatlas atlas configs/multi-stop.toml --x omega=0.13:0.53:5 --y delta=0.4:0.8:3 \
     --sweep both --quiet -o "$tmp/netcdf.h5"
@@ -36,6 +39,7 @@ target/release/vibroatlas sweep configs/multi-stop.toml --axis omega=0.2:0.5:7 -
     -o "$tmp/sweep.h5" >/dev/null
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/netcdf.h5" --expect up:M1:omega=0.33,delta=0.6:1-4-4
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/sweep.h5" --expect up:M1:omega=0.35:1-4-4
+/usr/bin/python3 scripts/check_netcdf.py "$tmp/zoom.h5"
 # The explorer in a real browser (chromium through chromedriver); its
 # screenshots are kept in target/explore-screenshots.
 /usr/bin/python3 scripts/test_explore.py target/release/vibroatlas target/explore-screenshots 2>&1 | tee "$tmp/explore.log"
