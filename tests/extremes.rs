@@ -288,7 +288,7 @@ fn physical_extremes_get_no_confident_wrong_label() {
             let settled = slowest * a.periods as f64 * sys.period > 30.0;
             if settled && a.class == Class::Periodic && a.impacts.iter().all(|&i| i == 0) && a.sticking.bits() == 0 {
                 let w = sys.omega;
-                let amplitude = sys.forcing[0] / ((k - m * w * w).powi(2) + (c * w).powi(2)).sqrt();
+                let amplitude = sys.harmonics[0][0][0] / ((k - m * w * w).powi(2) + (c * w).powi(2)).sqrt();
                 assert!(
                     c > 0.0 && amplitude < acc.contact_tol(),
                     "{p:?}: no impact with amplitude {amplitude:e}: {a:?}"

@@ -8,7 +8,7 @@ use solver::{Accuracy, DVector, Method, Observer, Simulator, System};
 fn free_forces(sys: &System, t: f64, y: &DVector<f64>) -> DVector<f64> {
     let m = sys.dof();
     let (x, v) = (y.rows(0, m), y.rows(m, m));
-    &sys.forcing * (sys.omega * t + sys.tau).sin() - &sys.stiffness * x - &sys.damping * v
+    &sys.harmonics[0][0] * (sys.omega * t + sys.tau).sin() - &sys.stiffness * x - &sys.damping * v
 }
 
 /// Mechanical energy `½ vᵀ M v + ½ xᵀ K x`.

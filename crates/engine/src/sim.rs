@@ -402,7 +402,7 @@ fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
         bail!(RequestError::option(Opt::State).text(what));
     }
     let x: Vec<f64> = state[..dim / 2].to_vec();
-    for (k, stop) in model.stops.iter().enumerate() {
+    for (k, stop) in model.stops.iter().enumerate().filter(|(_, s)| !s.is_soft()) {
         let g = model.gap(k, &x);
         if g < -solver::ADMISSIBLE_PENETRATION {
             bail!(RequestError::option(Opt::State).text(format!("penetrates stop {} by {}", stop.name, -g)));

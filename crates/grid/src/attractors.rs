@@ -70,7 +70,7 @@ pub fn sample(sys: &solver::System, s: &Sampling, i: usize) -> Vec<f64> {
                 half * (2.0 * unit(draw) - 1.0)
             })
             .collect();
-        if (0..sys.stops.len()).all(|k| sys.model.gap(k, &y[..m]) >= 0.0) || draw > 64_000 {
+        if (0..sys.stops.len()).all(|k| sys.is_soft(k) || sys.model.gap(k, &y[..m]) >= 0.0) || draw > 64_000 {
             return y;
         }
     }

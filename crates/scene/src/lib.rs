@@ -39,7 +39,7 @@ mod symbol;
 
 pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
-pub use model::{Friction, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry};
+pub use model::{Friction, Harmonic, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 
 use expr::{Compiled, Names, Range};
@@ -51,6 +51,29 @@ enum StopPlace {
     Frame { mass: usize, side: Side, position: Compiled },
     Pair { first: usize, second: usize, gap: Compiled },
 }
+
+/// The compiled law of one `[[stops]]` entry.
+#[derive(Debug, Clone)]
+enum CompiledLaw {
+    Rigid { restitution: Compiled },
+    Soft { stiffness: Compiled, damping: Compiled },
+}
+
+/// The compiled values of one `[[masses]]` entry.
+#[derive(Debug, Clone)]
+struct CompiledMass {
+    mass: Compiled,
+    force: Compiled,
+    load: Compiled,
+    x0: Compiled,
+    v0: Compiled,
+    /// Order, amplitude and phase of each further harmonic.
+    harmonics: Vec<(u32, Compiled, Compiled)>,
+}
+
+/// Highest multiple of ω a harmonic of the forcing may have: each harmonic
+/// adds two states to every mode of the solver.
+pub const MAX_HARMONIC: u32 = 16;
 
 /// Smallest forcing frequency a scene may have. Below it the forced velocities
 /// (of order ω times the displacements) fall under the stick velocity of the
@@ -87,9 +110,9 @@ pub struct Scene {
     params: Vec<(Compiled, Option<Range>)>,
     omega: Compiled,
     tau: Compiled,
-    masses: Vec<[Compiled; 4]>,
+    masses: Vec<CompiledMass>,
     links: Vec<(usize, Option<usize>, Compiled, Compiled)>,
-    stops: Vec<(StopPlace, Compiled)>,
+    stops: Vec<(StopPlace, CompiledLaw)>,
     friction: Vec<(usize, usize, Compiled, Compiled)>,
     labels: Vec<(usize, Option<usize>, Option<usize>)>,
     /// Parameters in an order that evaluates each after those it depends on
@@ -240,19 +263,46 @@ fn compile_params(file: &SceneFile, index: &Names) -> Result<Vec<(Compiled, Opti
         .collect()
 }
 
-/// The compiled mass, force, x0 and v0 of each mass.
-fn compile_masses(file: &SceneFile, index: &Names) -> Result<Vec<[Compiled; 4]>, SceneError> {
+/// The order of a harmonic: a whole number from 1 to [`MAX_HARMONIC`],
+/// written as a number.
+fn harmonic_order(order: &Num, field: &str) -> Result<u32, SceneError> {
+    let range =
+        format!("a whole number from 1 to {MAX_HARMONIC} (the multiple of omega; the forcing period stays 2 pi/omega)");
+    match *order {
+        Num::Value(v) if v.fract() == 0.0 && (1.0..=f64::from(MAX_HARMONIC)).contains(&v) => Ok(v as u32),
+        Num::Value(v) => Err(SceneError::field(field, format!("must be {range}, got {v}"))),
+        Num::Expr(ref e) => Err(SceneError::field(field, format!("must be {range} written as a number, got '{e}'"))),
+    }
+}
+
+/// The compiled values of each mass.
+fn compile_masses(file: &SceneFile, index: &Names) -> Result<Vec<CompiledMass>, SceneError> {
     let c = |n: &Num, f: String| Compiled::new(n, index, &f);
     file.masses
         .iter()
         .enumerate()
         .map(|(i, m)| {
-            Ok([
-                c(&m.mass, format!("masses[{i}].mass"))?,
-                c(&m.force, format!("masses[{i}].force"))?,
-                c(&m.x0, format!("masses[{i}].x0"))?,
-                c(&m.v0, format!("masses[{i}].v0"))?,
-            ])
+            let harmonics = m
+                .harmonics
+                .iter()
+                .enumerate()
+                .map(|(j, h)| {
+                    let f = |k: &str| format!("masses[{i}].harmonics[{j}].{k}");
+                    Ok((
+                        harmonic_order(&h.order, &f("order"))?,
+                        c(&h.amplitude, f("amplitude"))?,
+                        c(&h.phase, f("phase"))?,
+                    ))
+                })
+                .collect::<Result<Vec<_>, SceneError>>()?;
+            Ok(CompiledMass {
+                mass: c(&m.mass, format!("masses[{i}].mass"))?,
+                force: c(&m.force, format!("masses[{i}].force"))?,
+                load: c(&m.load, format!("masses[{i}].load"))?,
+                x0: c(&m.x0, format!("masses[{i}].x0"))?,
+                v0: c(&m.v0, format!("masses[{i}].v0"))?,
+                harmonics,
+            })
         })
         .collect()
 }
@@ -285,14 +335,59 @@ fn compile_links(file: &SceneFile, index: &Names, mass_names: &[String]) -> Resu
         .collect()
 }
 
+/// The law of stop `i` of a scene file: `restitution` (rigid) or `stiffness`
+/// and `damping` (soft), never both.
+fn compile_law(i: usize, s: &schema::StopSpec, index: &Names) -> Result<CompiledLaw, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let f = |k: &str| format!("stops[{i}].{k}");
+    let zero = Num::Value(0.0);
+    match (&s.restitution, &s.stiffness, &s.damping) {
+        (Some(r), None, None) => Ok(CompiledLaw::Rigid { restitution: c(r, f("restitution"))? }),
+        (None, None, None) => Err(SceneError::field(
+            format!("stops[{i}]"),
+            format!("stop {} needs `restitution` (a rigid stop) or `stiffness` and `damping` (a soft stop)", s.name),
+        )),
+        (None, k, d) => Ok(CompiledLaw::Soft {
+            stiffness: c(k.as_ref().unwrap_or(&zero), f("stiffness"))?,
+            damping: c(d.as_ref().unwrap_or(&zero), f("damping"))?,
+        }),
+        (Some(_), _, _) => Err(SceneError::field(
+            f("restitution"),
+            format!(
+                "stop {} has both `restitution` (a rigid stop) and `stiffness`/`damping` (a soft stop); give one law",
+                s.name
+            ),
+        )),
+    }
+}
+
+/// Refuses the combinations of stop laws and friction the solver does not
+/// simulate: soft stops beside rigid stops or friction contacts (one line
+/// naming the first soft stop).
+fn check_combination(file: &SceneFile, laws: &[CompiledLaw]) -> Result<(), SceneError> {
+    let Some(soft) = laws.iter().position(|l| matches!(l, CompiledLaw::Soft { .. })) else { return Ok(()) };
+    let name = &file.stops[soft].name;
+    if let Some(rigid) = laws.iter().position(|l| matches!(l, CompiledLaw::Rigid { .. })) {
+        return Err(SceneError::field(
+            format!("stops[{soft}]"),
+            format!(
+                "soft stop {name} beside rigid stop {}: a scene's stops are all rigid or all soft (not supported together)",
+                file.stops[rigid].name
+            ),
+        ));
+    }
+    if !file.friction.is_empty() {
+        return Err(SceneError::field(
+            format!("stops[{soft}]"),
+            format!("soft stop {name} in a scene with friction contacts: soft stops and friction are not supported together"),
+        ));
+    }
+    Ok(())
+}
+
 /// Stop `i` of a scene file: where it is (a frame stop on one mass, or a
-/// pair stop between two) and its compiled restitution.
-fn compile_stop(
-    i: usize,
-    s: &schema::StopSpec,
-    index: &Names,
-    mass_names: &[String],
-) -> Result<(StopPlace, Compiled), SceneError> {
+/// pair stop between two).
+fn compile_stop(i: usize, s: &schema::StopSpec, index: &Names, mass_names: &[String]) -> Result<StopPlace, SceneError> {
     let c = |n: &Num, f: String| Compiled::new(n, index, &f);
     let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
     let f = |k: &str| format!("stops[{i}].{k}");
@@ -334,7 +429,7 @@ fn compile_stop(
             ))
         }
     };
-    Ok((place, c(&s.restitution, f("restitution"))?))
+    Ok(place)
 }
 
 /// The friction contacts: two masses, kinetic and static coefficients.
@@ -396,8 +491,9 @@ impl Scene {
             .stops
             .iter()
             .enumerate()
-            .map(|(i, st)| compile_stop(i, st, &index, &mass_names))
+            .map(|(i, st)| Ok((compile_stop(i, st, &index, &mass_names)?, compile_law(i, st, &index)?)))
             .collect::<Result<Vec<_>, SceneError>>()?;
+        check_combination(&file, &stops.iter().map(|(_, l)| l.clone()).collect::<Vec<_>>())?;
         let friction = compile_friction(&file, &index, &mass_names)?;
 
         let mut labels = Vec::new();
@@ -561,17 +657,28 @@ impl Scene {
             .iter()
             .zip(&self.file.masses)
             .enumerate()
-            .map(|(i, ([m, f, x0, v0], spec))| {
-                let mass = ev(m, format!("masses[{i}].mass"))?;
+            .map(|(i, (m, spec))| {
+                let mass = ev(&m.mass, format!("masses[{i}].mass"))?;
                 if mass <= 0.0 {
                     return Err(SceneError::field(format!("masses[{i}].mass"), format!("must be > 0, got {mass}")));
                 }
+                let harmonics = m
+                    .harmonics
+                    .iter()
+                    .enumerate()
+                    .map(|(j, (order, a, p))| {
+                        let f = |k: &str| format!("masses[{i}].harmonics[{j}].{k}");
+                        Ok(Harmonic { order: *order, amplitude: ev(a, f("amplitude"))?, phase: ev(p, f("phase"))? })
+                    })
+                    .collect::<Result<Vec<_>, SceneError>>()?;
                 Ok(Mass {
                     name: spec.name.clone(),
                     mass,
-                    force: ev(f, format!("masses[{i}].force"))?,
-                    x0: ev(x0, format!("masses[{i}].x0"))?,
-                    v0: ev(v0, format!("masses[{i}].v0"))?,
+                    force: ev(&m.force, format!("masses[{i}].force"))?,
+                    load: ev(&m.load, format!("masses[{i}].load"))?,
+                    harmonics,
+                    x0: ev(&m.x0, format!("masses[{i}].x0"))?,
+                    v0: ev(&m.v0, format!("masses[{i}].v0"))?,
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
@@ -605,9 +712,10 @@ impl Scene {
         };
         if model.symmetric {
             check_mirror(&model.stops)?;
+            check_odd_forcing(&model.masses)?;
         }
         let x0: Vec<f64> = model.masses.iter().map(|m| m.x0).collect();
-        for (i, s) in model.stops.iter().enumerate() {
+        for (i, s) in model.stops.iter().enumerate().filter(|(_, s)| !s.is_soft()) {
             let g = model.gap(i, &x0);
             if g < -INITIAL_PENETRATION {
                 return Err(SceneError::field(
@@ -618,19 +726,42 @@ impl Scene {
         }
         Ok(model)
     }
-    /// The stops at the parameter `values`: geometry and restitution in [0, 1].
+    /// The stops at the parameter `values`: geometry and law (a restitution
+    /// in [0, 1]; a soft stop's stiffness and damping not negative, not both zero).
     fn build_stops(&self, values: &[f64]) -> Result<Vec<Stop>, SceneError> {
         let ev = |c: &Compiled, f: String| c.eval(values, &f);
         self.stops
             .iter()
             .zip(&self.file.stops)
             .enumerate()
-            .map(|(i, ((place, r), spec))| {
+            .map(|(i, ((place, law), spec))| {
                 let f = |k: &str| format!("stops[{i}].{k}");
-                let restitution = ev(r, f("restitution"))?;
-                if !(0.0..=1.0).contains(&restitution) {
-                    return Err(SceneError::field(f("restitution"), format!("must be in [0, 1], got {restitution}")));
-                }
+                let law = match law {
+                    CompiledLaw::Rigid { restitution } => {
+                        let restitution = ev(restitution, f("restitution"))?;
+                        if !(0.0..=1.0).contains(&restitution) {
+                            return Err(SceneError::field(
+                                f("restitution"),
+                                format!("must be in [0, 1], got {restitution}"),
+                            ));
+                        }
+                        StopLaw::Rigid { restitution }
+                    }
+                    CompiledLaw::Soft { stiffness, damping } => {
+                        let stiffness = nonneg(ev(stiffness, f("stiffness"))?, f("stiffness"))?;
+                        let damping = nonneg(ev(damping, f("damping"))?, f("damping"))?;
+                        if stiffness == 0.0 && damping == 0.0 {
+                            return Err(SceneError::field(
+                                f("stiffness"),
+                                format!(
+                                    "soft stop {} has zero stiffness and zero damping: it would never act",
+                                    spec.name
+                                ),
+                            ));
+                        }
+                        StopLaw::Soft { stiffness, damping }
+                    }
+                };
                 let geometry = match place {
                     StopPlace::Frame { mass, side, position } => {
                         StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, f("position"))? }
@@ -641,7 +772,7 @@ impl Scene {
                         gap: nonneg(ev(gap, f("gap"))?, f("gap"))?,
                     },
                 };
-                Ok(Stop { name: spec.name.clone(), geometry, restitution })
+                Ok(Stop { name: spec.name.clone(), geometry, law })
             })
             .collect()
     }
@@ -678,13 +809,21 @@ fn nonneg(v: f64, f: String) -> Result<f64, SceneError> {
 /// Checks that a scene declared `symmetric` is: every stop has a mirror image
 /// under `x -> -x` among the stops (a frame stop at `p` on one side, one at `-p`
 /// on the other side of the same mass; a pair stop `x_a - x_b <= g`, one with
-/// the masses swapped), with the same restitution. Links and harmonic forces
-/// are odd under the mirror with a half-period shift whatever their values.
+/// the masses swapped), with the same law. Links and the first harmonic are odd
+/// under the mirror with a half-period shift whatever their values; loads and
+/// even harmonics are checked by [`check_odd_forcing`].
 fn check_mirror(stops: &[Stop]) -> Result<(), SceneError> {
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + a.abs().max(b.abs()));
+    let same_law = |a: StopLaw, b: StopLaw| match (a, b) {
+        (StopLaw::Rigid { restitution: r }, StopLaw::Rigid { restitution: s }) => close(r, s),
+        (StopLaw::Soft { stiffness: k, damping: c }, StopLaw::Soft { stiffness: k2, damping: c2 }) => {
+            close(k, k2) && close(c, c2)
+        }
+        _ => false,
+    };
     for (i, s) in stops.iter().enumerate() {
         let mirrored = stops.iter().any(|t| {
-            close(s.restitution, t.restitution)
+            same_law(s.law, t.law)
                 && match (&s.geometry, &t.geometry) {
                     (
                         StopGeometry::Frame { mass, side, position },
@@ -703,6 +842,30 @@ fn check_mirror(stops: &[Stop]) -> Result<(), SceneError> {
                 format!(
                     "true, but stop {} (stops[{i}]) has no mirror image under x -> -x; set symmetric = false",
                     s.name
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Checks that the forcing of a scene declared `symmetric` is odd under a
+/// half-period shift: no load, no harmonic of even order (with any
+/// amplitude), which `x -> -x` would not map onto itself.
+fn check_odd_forcing(masses: &[Mass]) -> Result<(), SceneError> {
+    for (i, m) in masses.iter().enumerate() {
+        if m.load != 0.0 {
+            return Err(SceneError::field(
+                format!("masses[{i}].load"),
+                format!("{} breaks the mirror symmetry the scene declares (a load is even under x -> -x with a half-period shift); set symmetric = false", m.load),
+            ));
+        }
+        if let Some(j) = m.harmonics.iter().position(|h| h.order % 2 == 0 && h.amplitude != 0.0) {
+            return Err(SceneError::field(
+                format!("masses[{i}].harmonics[{j}].order"),
+                format!(
+                    "{} (even) breaks the mirror symmetry the scene declares; set symmetric = false",
+                    m.harmonics[j].order
                 ),
             ));
         }

@@ -1,8 +1,10 @@
 //! The numeric model of one cell: every expression evaluated, every value checked.
 //!
 //! Units are dimensionless throughout. The equations of motion are
-//! `M x'' + C x' + K x = P sin(omega t + tau) + friction + stop reactions`, with
-//! `M` diagonal (the masses), `C`, `K` assembled from the links.
+//! `M x'' + C x' + K x = P sin(omega t + tau) + Σ_k (harmonic k) + L + friction +
+//! stop reactions`, with `M` diagonal (the masses), `C`, `K` assembled from the
+//! links, `L` the constant loads and each further harmonic a force
+//! `amplitude sin(k omega t + phase)` at a whole multiple k of omega.
 
 pub use crate::schema::Side;
 
@@ -15,10 +17,26 @@ pub struct Mass {
     pub mass: f64,
     /// Amplitude of the harmonic force `force * sin(omega t + tau)` on it.
     pub force: f64,
+    /// Constant force on it (a static or mean load).
+    pub load: f64,
+    /// Further harmonic forces on it.
+    pub harmonics: Vec<Harmonic>,
     /// Initial displacement.
     pub x0: f64,
     /// Initial velocity.
     pub v0: f64,
+}
+
+/// A force `amplitude * sin(order * omega t + phase)` (`t` the absolute time,
+/// so that `phase` is the harmonic's phase at `t = 0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Harmonic {
+    /// Multiple of omega (1 to [`crate::MAX_HARMONIC`]).
+    pub order: u32,
+    /// Amplitude.
+    pub amplitude: f64,
+    /// Phase at `t = 0` (radians).
+    pub phase: f64,
 }
 
 /// A spring and damper in parallel, from mass `a` to mass `b` or to the frame.
@@ -84,15 +102,42 @@ impl StopGeometry {
     }
 }
 
-/// A rigid stop with Newton's restitution law.
+/// How a stop acts when its gap `g` closes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StopLaw {
+    /// Rigid: an impact with Newton's law, the normal velocity reversed and
+    /// scaled by the coefficient of restitution in [0, 1].
+    Rigid {
+        /// Coefficient of restitution.
+        restitution: f64,
+    },
+    /// Soft (compliant): beyond the clearance (`g < 0`) a spring and a dashpot
+    /// push the gap open with the force `-stiffness g - damping g'` along the
+    /// gap's normal while that force is positive (a contact never pulls).
+    Soft {
+        /// Contact stiffness (>= 0).
+        stiffness: f64,
+        /// Contact damping coefficient (>= 0; not both zero).
+        damping: f64,
+    },
+}
+
+/// A stop: where it is and how it acts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stop {
     /// Name (`A12`).
     pub name: String,
     /// Geometry.
     pub geometry: StopGeometry,
-    /// Coefficient of restitution in [0, 1].
-    pub restitution: f64,
+    /// Rigid (restitution) or soft (stiffness and damping).
+    pub law: StopLaw,
+}
+
+impl Stop {
+    /// Whether the stop is soft (a spring–dashpot contact).
+    pub fn is_soft(&self) -> bool {
+        matches!(self.law, StopLaw::Soft { .. })
+    }
 }
 
 /// Coulomb friction between masses `a` and `b`.
@@ -148,6 +193,11 @@ impl Model {
     /// Value of a parameter by name.
     pub fn parameter(&self, name: &str) -> Option<f64> {
         self.parameters.iter().find(|(n, _)| n == name).map(|&(_, v)| v)
+    }
+
+    /// Highest multiple of omega in the forcing (1 without further harmonics).
+    pub fn harmonic_orders(&self) -> u32 {
+        self.masses.iter().flat_map(|m| m.harmonics.iter().map(|h| h.order)).fold(1, u32::max)
     }
 
     /// Forcing period `2 pi / omega`.

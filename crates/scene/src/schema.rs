@@ -105,15 +105,38 @@ pub struct MassSpec {
     pub name: String,
     /// Mass (> 0).
     pub mass: Num,
-    /// Amplitude of the harmonic force on this mass.
+    /// Amplitude of the harmonic force `force * sin(omega t + phase)` on this mass.
     #[serde(default)]
     pub force: Num,
+    /// A constant force on this mass (a static or mean load).
+    #[serde(default)]
+    pub load: Num,
+    /// Further harmonics of the forcing on this mass,
+    /// `amplitude * sin(order * omega t + phase)`.
+    #[serde(default)]
+    pub harmonics: Vec<HarmonicSpec>,
     /// Initial displacement.
     #[serde(default)]
     pub x0: Num,
     /// Initial velocity.
     #[serde(default)]
     pub v0: Num,
+}
+
+/// `harmonics = [{ order = 2, amplitude = "f2", phase = "phi2" }]` of a mass:
+/// a force `amplitude * sin(order * omega t + phase)`, `order` a whole number
+/// (the forcing period stays `2 pi / omega`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HarmonicSpec {
+    /// Multiple of ω: a whole number from 1 to [`crate::MAX_HARMONIC`], written
+    /// as a number (not an expression: it shapes the state of the solver).
+    pub order: Num,
+    /// Amplitude.
+    pub amplitude: Num,
+    /// Phase at `t = 0` (radians).
+    #[serde(default)]
+    pub phase: Num,
 }
 
 /// `[[links]]`: a spring and a damper in parallel.
@@ -141,7 +164,9 @@ pub enum Side {
 }
 
 /// `[[stops]]`: either `mass` + `side` + `position`, or `masses = [a, b]` + `gap`
-/// meaning `x_a - x_b <= gap`.
+/// meaning `x_a - x_b <= gap`; either `restitution` (a rigid stop, Newton's
+/// impact law) or `stiffness` and `damping` (a soft stop: a spring and dashpot
+/// that push beyond the clearance).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StopSpec {
@@ -157,8 +182,12 @@ pub struct StopSpec {
     pub masses: Option<Vec<String>>,
     /// Gap of a pair stop (>= 0).
     pub gap: Option<Num>,
-    /// Coefficient of restitution in [0, 1].
-    pub restitution: Num,
+    /// Coefficient of restitution in [0, 1] (a rigid stop).
+    pub restitution: Option<Num>,
+    /// Contact stiffness (>= 0) of a soft stop.
+    pub stiffness: Option<Num>,
+    /// Contact damping coefficient (>= 0) of a soft stop.
+    pub damping: Option<Num>,
 }
 
 /// `[[friction]]`: Coulomb friction between two masses.

@@ -128,8 +128,10 @@ fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVecto
     struct Gaps<'a>(&'a System, Vec<f64>);
     impl Observer for Gaps<'_> {
         fn sample(&mut self, _t: f64, y: &DVector<f64>) {
+            // A soft stop pressed all along keeps its distance from the clearance.
             for (k, g) in self.1.iter_mut().enumerate() {
-                *g = g.min(self.0.gap(k, y));
+                let gap = self.0.gap(k, y);
+                *g = g.min(if self.0.is_soft(k) { gap.abs() } else { gap });
             }
         }
     }

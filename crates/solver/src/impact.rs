@@ -66,8 +66,8 @@ pub fn resolve(
         for &k in contacts {
             let vn = sys.gap_rate(k, y);
             if vn < -stick_velocity {
-                apply(sys, k, sys.stops[k].restitution, y);
-                applied.push((k, sys.stops[k].restitution));
+                apply(sys, k, sys.restitution(k), y);
+                applied.push((k, sys.restitution(k)));
                 hits.push(Hit { stop: k, speed: -vn });
                 any = true;
             } else if vn < 0.0 {

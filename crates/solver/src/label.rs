@@ -210,14 +210,15 @@ impl Mask {
 
 /// The n-p-q label of every labelled mass of a cell of class `class`, from
 /// the impacts per stop over n periods and the stops that held their mass
-/// (`S`); `n` is `None` when no period was found.
+/// (`S`; a soft stop only when its contact never separated: no contact begun
+/// in the n periods); `n` is `None` when no period was found.
 pub fn label_masses(sys: &System, n: Option<usize>, class: Class, impacts: &[u32], held: Mask) -> Vec<MassLabel> {
     sys.model
         .labels
         .iter()
         .map(|l| {
             let count = |s: Option<usize>| match s {
-                Some(k) if held.contains(k) => Count::Stuck,
+                Some(k) if held.contains(k) && !(sys.is_soft(k) && impacts[k] > 0) => Count::Stuck,
                 Some(k) => Count::Impacts(impacts[k]),
                 None => Count::Impacts(0),
             };

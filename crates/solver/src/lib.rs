@@ -2,11 +2,11 @@
 //! vibro-impact systems under harmonic forcing, and n-p-q classification.
 //!
 //! Physics stages, one private module each: `system` (matrices of
-//! `M x'' + C x' + K x = P sin(ωt+τ)`, stop gaps, friction contacts), `mode`
+//! `M x'' + C x' + K x = Σ_k (P_k sin kφ + Q_k cos kφ) + L`, stop gaps, friction contacts), `mode`
 //! (the linear system with held stops and stuck or slipping contacts), `flow`
 //! (exact modal flow and RK4, event location), `impact` (Newton's law with
 //! momentum exchange), `chatter` and `stick` (accumulation, sticking,
-//! stick/slip), `simulate` (the event loop, period by period, with exact
+//! stick/slip), `soft` (soft stops' contacts), `simulate` (the event loop, period by period, with exact
 //! tangent maps). Classification: `executor` (the phases of one cell and its
 //! budget), `period` (period detection), `acceleration` (Newton acceleration
 //! of transients), `label` (classes, n-p-q labels), `lyapunov`, `section`
@@ -69,6 +69,7 @@ mod period;
 pub mod reference;
 mod section;
 mod simulate;
+mod soft;
 mod stick;
 mod system;
 #[cfg(test)]

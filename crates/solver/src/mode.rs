@@ -7,10 +7,19 @@
 //! `x = N q + x_c + E p` with `N` an orthonormal basis of `ker G`, `x_c` the
 //! least-norm solution of the stop constraints and `E` that of the frozen
 //! displacements. The reduced equations
-//! `Nᵀ M N q'' + Nᵀ C N q' + Nᵀ K (N q + x_c + E p) = Nᵀ (P sin φ + f)`, with `f`
-//! the constant kinetic friction forces `-f_k sgn(x_a' - x_b') n` of slipping
-//! contacts, become the augmented linear system `s' = Â s` with
-//! `s = [q; q'; p; sin φ; cos φ; 1]`, `φ = ω t + τ` (`p` is constant).
+//! `Nᵀ M N q'' + Nᵀ C N q' + Nᵀ K (N q + x_c + E p) = Nᵀ (Σ_k (P_k sin kφ + Q_k cos kφ) + f)`,
+//! with `f` the constant forces (loads, and the kinetic friction
+//! `-f_k sgn(x_a' - x_b') n` of slipping contacts), become the augmented linear
+//! system `s' = Â s` with `s = [q; q'; p; sin φ; cos φ; …; sin Hφ; cos Hφ; 1]`,
+//! `φ = ω t + τ` (`p` is constant; H the highest harmonic of the forcing).
+//!
+//! Soft stops are not constraints: a pressed one adds its spring and dashpot
+//! along its normal to `K` and `C` (`k n nᵀ`, `c n nᵀ`) and its spring's
+//! preload `-k c_g n` to `f` (`g = n·x + c_g`); its guard is its contact force
+//! `-k g - c g'`, which ends the contact at zero. A *parting* soft stop (its
+//! force fell to zero while the gap is still closed, which damping causes)
+//! flows free with two guards: the overlap `-g` (the gap reopens at zero) and
+//! `k g + c g'` (the force would push again at zero).
 //!
 //! The constraint forces `λ = (G Gᵀ)^{-1} G (M x'' + C x' + K x - P sin φ - f)`
 //! are linear functionals of `s`: a held stop's reaction (released when it
@@ -63,6 +72,12 @@ pub enum GuardKind {
     /// Relative velocity (signed along the slip) of a slipping contact: the slip
     /// ends at zero (then the contact sticks or reverses).
     Slip,
+    /// Contact force `-k g - c g'` of a pressed soft stop: the contact ends at zero.
+    Push,
+    /// Overlap `-g` of a parting soft stop: its gap reopens at zero.
+    Overlap,
+    /// `k g + c g'` of a parting soft stop: its contact pushes again at zero.
+    Return,
 }
 
 impl GuardKind {
@@ -112,7 +127,9 @@ pub struct Guard {
 impl Guard {
     fn new(kind: GuardKind, index: usize, row: DVector<f64>) -> Guard {
         let target = match kind {
-            GuardKind::Gap | GuardKind::Reaction => Target::Stop(index),
+            GuardKind::Gap | GuardKind::Reaction | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {
+                Target::Stop(index)
+            }
             GuardKind::Grip | GuardKind::Slip => Target::Contact(index),
         };
         let row_abs = row.abs();
@@ -121,7 +138,8 @@ impl Guard {
     }
 }
 
-/// Which linear system holds: the held stops and the state of each friction contact.
+/// Which linear system holds: the held stops, the state of each friction
+/// contact and of each soft stop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Key {
     /// Bit k: stop k holds its mass.
@@ -130,12 +148,16 @@ pub struct Key {
     pub stuck: u32,
     /// Bit i: friction contact i slips with `x_a' - x_b' < 0` (when not stuck).
     pub negative: u32,
+    /// Bit k: soft stop k pushes (its gap is closed and its force positive).
+    pub pressed: u32,
+    /// Bit k: soft stop k is parting (its gap still closed, its force zero).
+    pub parting: u32,
 }
 
 impl Key {
     /// Free flight, every contact slipping forwards: the key of a scene without
     /// held stops or friction.
-    pub const FREE: Key = Key { held: 0, stuck: 0, negative: 0 };
+    pub const FREE: Key = Key { held: 0, stuck: 0, negative: 0, pressed: 0, parting: 0 };
 
     /// Whether the mode has constraints (held stops or stuck contacts), so that
     /// a state must be projected onto them.
@@ -148,7 +170,8 @@ impl Key {
 ///
 /// Guard order (a contract with the integrators, which report the first
 /// guard in this order among those that vanish at the same time): the gaps of
-/// free stops by stop index, then the reactions of held stops by stop index,
+/// free stops by stop index, then the soft stops in contact by stop index (a
+/// pressed one's force; a parting one's overlap, then its return), then the reactions of held stops by stop index,
 /// then the grips of stuck contacts (`-F` side, then `+F`) by contact index,
 /// then the slips of slipping contacts by contact index.
 #[derive(Debug, Clone)]
@@ -168,6 +191,8 @@ pub struct Mode {
     pub spectral: Arc<Spectral>,
     /// Event guards, in the order above.
     pub guards: Vec<Guard>,
+    /// Harmonics H of the forcing in the augmented state.
+    harmonics: usize,
     /// `P = ∂s/∂y`, see [`Mode::project_matrix`].
     project_matrix: DMatrix<f64>,
     /// `L`, see [`Mode::lift_matrix`].
@@ -280,29 +305,64 @@ impl Reduction {
     }
 }
 
-/// The augmented state `s = [q; q'; p; sin φ; cos φ; 1]` of a mode with `r`
-/// free coordinates and `hf` frozen displacements.
+/// The augmented state `s = [q; q'; p; sin φ; cos φ; …; sin Hφ; cos Hφ; 1]` of
+/// a mode with `r` free coordinates, `hf` frozen displacements and `h`
+/// harmonics.
 #[derive(Debug, Clone, Copy)]
 struct Layout {
     r: usize,
     hf: usize,
+    h: usize,
 }
 
 impl Layout {
     fn dim(self) -> usize {
-        2 * self.r + self.hf + 3
+        2 * self.r + self.hf + 2 * self.h + 1
     }
     fn frozen(self) -> usize {
         2 * self.r
     }
-    fn sin(self) -> usize {
-        self.dim() - 3
+    /// Index of `sin kφ` (k from 1); `cos kφ` follows it.
+    fn sin(self, k: usize) -> usize {
+        2 * self.r + self.hf + 2 * (k - 1)
     }
-    fn cos(self) -> usize {
-        self.dim() - 2
+    fn cos(self, k: usize) -> usize {
+        self.sin(k) + 1
     }
     fn one(self) -> usize {
         self.dim() - 1
+    }
+}
+
+/// The stiffness, damping and extra constant force of a mode: the links', and
+/// for each pressed soft stop its spring and dashpot along the normal,
+/// `k n nᵀ` and `c n nᵀ`, and its spring's preload `-k c_g n`; plus the loads.
+/// (A mode with neither loads nor pressed stops borrows the system's matrices
+/// and has no extra force.)
+struct Forces<'s> {
+    stiffness: std::borrow::Cow<'s, DMatrix<f64>>,
+    damping: std::borrow::Cow<'s, DMatrix<f64>>,
+    /// Loads and preloads, `None` when zero.
+    extra: Option<DVector<f64>>,
+}
+
+impl<'s> Forces<'s> {
+    fn of(sys: &'s System, key: Key) -> Forces<'s> {
+        use std::borrow::Cow;
+        let mut forces =
+            Forces { stiffness: Cow::Borrowed(&sys.stiffness), damping: Cow::Borrowed(&sys.damping), extra: None };
+        if sys.load.iter().any(|&l| l != 0.0) {
+            forces.extra = Some(sys.load.clone());
+        }
+        for (_, stop) in sys.stops.iter().enumerate().filter(|(k, _)| key.pressed & (1 << k) != 0) {
+            let scene::StopLaw::Soft { stiffness, damping } = stop.law else { continue };
+            let outer = &stop.normal * stop.normal.transpose();
+            *forces.stiffness.to_mut() += &outer * stiffness;
+            *forces.damping.to_mut() += &outer * damping;
+            let preload = &stop.normal * (-stiffness * stop.offset);
+            forces.extra = Some(forces.extra.take().map_or_else(|| preload.clone(), |e| e + &preload));
+        }
+        forces
     }
 }
 
@@ -327,8 +387,14 @@ fn kinetic_force(sys: &System, slipping: &[(usize, f64)]) -> DVector<f64> {
 }
 
 /// The augmented matrix Â of the reduced equations
-/// `Nᵀ M N q'' + Nᵀ C N q' + Nᵀ K (N q + x_c + E p) = Nᵀ (P sin φ + f)`.
-fn augmented(sys: &System, red: &Reduction, kinetic: &DVector<f64>, lay: Layout) -> Result<DMatrix<f64>, SolverError> {
+/// `Nᵀ M N q'' + Nᵀ C N q' + Nᵀ K (N q + x_c + E p) = Nᵀ (Σ_k (P_k sin kφ + Q_k cos kφ) + f)`.
+fn augmented(
+    sys: &System,
+    forces: &Forces,
+    red: &Reduction,
+    kinetic: &DVector<f64>,
+    lay: Layout,
+) -> Result<DMatrix<f64>, SolverError> {
     let (r, hf, basis) = (lay.r, lay.hf, &red.basis);
     let mdiag = DMatrix::from_diagonal(&sys.mass);
     let mr = basis.transpose() * &mdiag * basis;
@@ -339,12 +405,15 @@ fn augmented(sys: &System, red: &Reduction, kinetic: &DVector<f64>, lay: Layout)
             .ok_or_else(|| SolverError::IllConditioned { message: "reduced mass matrix is not positive".into() })?
             .inverse()
     };
-    let kr = basis.transpose() * &sys.stiffness * basis;
-    let cr = basis.transpose() * &sys.damping * basis;
-    let pr = basis.transpose() * &sys.forcing;
-    let mut fr = basis.transpose() * -(&sys.stiffness * &red.offset);
+    let (stiffness, damping) = (forces.stiffness.as_ref(), forces.damping.as_ref());
+    let kr = basis.transpose() * stiffness * basis;
+    let cr = basis.transpose() * damping * basis;
+    let mut fr = basis.transpose() * -(stiffness * &red.offset);
     if !sys.frictions.is_empty() {
         fr += basis.transpose() * kinetic;
+    }
+    if let Some(extra) = &forces.extra {
+        fr += basis.transpose() * extra;
     }
     let mut aug = DMatrix::zeros(lay.dim(), lay.dim());
     for i in 0..r {
@@ -353,33 +422,68 @@ fn augmented(sys: &System, red: &Reduction, kinetic: &DVector<f64>, lay: Layout)
     aug.view_mut((r, 0), (r, r)).copy_from(&(-&mr_inv * &kr));
     aug.view_mut((r, r), (r, r)).copy_from(&(-&mr_inv * &cr));
     if hf > 0 {
-        aug.view_mut((r, lay.frozen()), (r, hf))
-            .copy_from(&(-&mr_inv * basis.transpose() * &sys.stiffness * &red.spread));
+        aug.view_mut((r, lay.frozen()), (r, hf)).copy_from(&(-&mr_inv * basis.transpose() * stiffness * &red.spread));
     }
-    aug.view_mut((r, lay.sin()), (r, 1)).copy_from(&(&mr_inv * &pr));
+    for (k, [p, q]) in (1..).zip(&sys.harmonics) {
+        // Columns of harmonics without force stay zero (bit for bit the
+        // matrix of a scene with one harmonic).
+        if k == 1 || p.iter().any(|&v| v != 0.0) {
+            aug.view_mut((r, lay.sin(k)), (r, 1)).copy_from(&(&mr_inv * (basis.transpose() * p)));
+        }
+        if q.iter().any(|&v| v != 0.0) {
+            aug.view_mut((r, lay.cos(k)), (r, 1)).copy_from(&(&mr_inv * (basis.transpose() * q)));
+        }
+        let rate = k as f64 * sys.omega;
+        aug[(lay.sin(k), lay.cos(k))] = rate;
+        aug[(lay.cos(k), lay.sin(k))] = -rate;
+    }
     aug.view_mut((r, lay.one()), (r, 1)).copy_from(&(&mr_inv * &fr));
-    aug[(lay.sin(), lay.cos())] = sys.omega;
-    aug[(lay.cos(), lay.sin())] = -sys.omega;
     Ok(aug)
 }
 
-/// The gaps of the free stops, `n·x + c` in augmented coordinates.
+/// The gap `n·x + c` of stop `k` in augmented coordinates; `None` when it
+/// lies along constrained directions only (a pair stop while its masses stick
+/// together), where it is constant and has no events.
+fn gap_row(sys: &System, k: usize, red: &Reduction, lay: Layout) -> Option<DVector<f64>> {
+    let stop = &sys.stops[k];
+    let along = red.basis.transpose() * &stop.normal;
+    if along.amax() < CONSTRAINED_NORMAL {
+        return None;
+    }
+    let mut row = DVector::zeros(lay.dim());
+    row.rows_mut(0, lay.r).copy_from(&along);
+    if lay.hf > 0 {
+        row.rows_mut(lay.frozen(), lay.hf).copy_from(&(red.spread.transpose() * &stop.normal));
+    }
+    row[lay.one()] = stop.normal.dot(&red.offset) + stop.offset;
+    Some(row)
+}
+
+/// The gaps of the free stops (neither held nor in soft contact).
 fn gap_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard> {
+    let closed = key.held | key.pressed | key.parting;
+    (0..sys.stops.len())
+        .filter(|k| closed & (1 << k) == 0)
+        .filter_map(|k| gap_row(sys, k, red, lay).map(|row| Guard::new(GuardKind::Gap, k, row)))
+        .collect()
+}
+
+/// The guards of the soft stops in contact, by stop index: a pressed stop's
+/// force `-k g - c g'`, a parting stop's overlap `-g` and `k g + c g'`.
+fn soft_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard> {
     let mut guards = Vec::new();
-    for (k, stop) in sys.stops.iter().enumerate().filter(|(k, _)| key.held & (1 << k) == 0) {
-        // A gap along constrained directions only (a pair stop while its
-        // masses stick together) is constant: it has no events.
-        let along = red.basis.transpose() * &stop.normal;
-        if along.amax() < CONSTRAINED_NORMAL {
-            continue;
+    for (k, stop) in sys.stops.iter().enumerate().filter(|(k, _)| (key.pressed | key.parting) & (1 << k) != 0) {
+        let scene::StopLaw::Soft { stiffness, damping } = stop.law else { continue };
+        let Some(gap) = gap_row(sys, k, red, lay) else { continue };
+        // g' = n·v: the gap's position part, moved to the velocities.
+        let mut force = &gap * -stiffness;
+        force.rows_mut(lay.r, lay.r).axpy(-damping, &gap.rows(0, lay.r), 1.0);
+        if key.pressed & (1 << k) != 0 {
+            guards.push(Guard::new(GuardKind::Push, k, force));
+        } else {
+            guards.push(Guard::new(GuardKind::Overlap, k, -gap));
+            guards.push(Guard::new(GuardKind::Return, k, -force));
         }
-        let mut row = DVector::zeros(lay.dim());
-        row.rows_mut(0, lay.r).copy_from(&along);
-        if lay.hf > 0 {
-            row.rows_mut(lay.frozen(), lay.hf).copy_from(&(red.spread.transpose() * &stop.normal));
-        }
-        row[lay.one()] = stop.normal.dot(&red.offset) + stop.offset;
-        guards.push(Guard::new(GuardKind::Gap, k, row));
     }
     guards
 }
@@ -389,6 +493,7 @@ fn gap_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard
 /// `s`: a row per constraint, over the augmented state.
 fn constraint_forces(
     sys: &System,
+    forces: &Forces,
     c: &Constraints,
     red: &Reduction,
     aug: &DMatrix<f64>,
@@ -397,16 +502,27 @@ fn constraint_forces(
 ) -> DMatrix<f64> {
     let (m, r, hf, basis) = (sys.dof(), lay.r, lay.hf, &red.basis);
     let mdiag = DMatrix::from_diagonal(&sys.mass);
+    let (stiffness, damping) = (forces.stiffness.as_ref(), forces.damping.as_ref());
     let mut res = &mdiag * basis * aug.rows(r, r);
-    res.view_mut((0, 0), (m, r)).add_assign(&(&sys.stiffness * basis));
-    res.view_mut((0, r), (m, r)).add_assign(&(&sys.damping * basis));
+    res.view_mut((0, 0), (m, r)).add_assign(&(stiffness * basis));
+    res.view_mut((0, r), (m, r)).add_assign(&(damping * basis));
     if hf > 0 {
-        res.view_mut((0, lay.frozen()), (m, hf)).add_assign(&(&sys.stiffness * &red.spread));
+        res.view_mut((0, lay.frozen()), (m, hf)).add_assign(&(stiffness * &red.spread));
     }
-    res.view_mut((0, lay.sin()), (m, 1)).add_assign(&(-&sys.forcing));
-    res.view_mut((0, lay.one()), (m, 1)).add_assign(&(&sys.stiffness * &red.offset));
+    for (k, [p, q]) in (1..).zip(&sys.harmonics) {
+        if k == 1 || p.iter().any(|&v| v != 0.0) {
+            res.view_mut((0, lay.sin(k)), (m, 1)).add_assign(&(-p));
+        }
+        if q.iter().any(|&v| v != 0.0) {
+            res.view_mut((0, lay.cos(k)), (m, 1)).add_assign(&(-q));
+        }
+    }
+    res.view_mut((0, lay.one()), (m, 1)).add_assign(&(stiffness * &red.offset));
     if !sys.frictions.is_empty() {
         res.view_mut((0, lay.one()), (m, 1)).add_assign(&(-kinetic));
+    }
+    if let Some(extra) = &forces.extra {
+        res.view_mut((0, lay.one()), (m, 1)).add_assign(&(-extra));
     }
     &red.ggt_inv * &c.g * res
 }
@@ -464,13 +580,15 @@ impl Mode {
     pub fn new(sys: &System, key: Key) -> Result<Option<Mode>, SolverError> {
         let cons = Constraints::of(sys, key);
         let Some(red) = Reduction::of(&cons, sys.dof()) else { return Ok(None) };
-        let lay = Layout { r: red.free(), hf: cons.frozen.len() };
+        let lay = Layout { r: red.free(), hf: cons.frozen.len(), h: sys.harmonic_orders() };
         let slipping = slipping(sys, key, cons.locked);
         let kinetic = kinetic_force(sys, &slipping);
-        let aug = augmented(sys, &red, &kinetic, lay)?;
+        let forces = Forces::of(sys, key);
+        let aug = augmented(sys, &forces, &red, &kinetic, lay)?;
         let mut guards = gap_guards(sys, key, &red, lay);
+        guards.extend(soft_guards(sys, key, &red, lay));
         if cons.count() > 0 {
-            let lambda = constraint_forces(sys, &cons, &red, &aug, &kinetic, lay);
+            let lambda = constraint_forces(sys, &forces, &cons, &red, &aug, &kinetic, lay);
             guards.extend(constraint_guards(sys, &cons, &lambda, lay));
         }
         guards.extend(slip_guards(sys, &slipping, &red, lay));
@@ -487,6 +605,7 @@ impl Mode {
             aug,
             spectral,
             guards,
+            harmonics: lay.h,
             project_matrix,
             lift_matrix,
             tangent_terms: OnceLock::new(),
@@ -508,13 +627,15 @@ impl Mode {
         let m = self.basis.nrows();
         let r = self.basis.ncols();
         let hf = self.frozen.nrows();
-        let dim = 2 * r + hf + 3;
+        let dim = 2 * r + hf + 2 * self.harmonics + 1;
         if s.len() != dim {
             *s = DVector::zeros(dim);
         }
-        let (sn, cs) = phase.sin_cos();
-        s[dim - 3] = sn;
-        s[dim - 2] = cs;
+        for k in 0..self.harmonics {
+            let (sn, cs) = if k == 0 { phase.sin_cos() } else { ((k + 1) as f64 * phase).sin_cos() };
+            s[2 * r + hf + 2 * k] = sn;
+            s[2 * r + hf + 2 * k + 1] = cs;
+        }
         s[dim - 1] = 1.0;
         if !self.key.constrained() {
             // Free of constraints the reduced coordinates are the full state.
@@ -528,6 +649,12 @@ impl Mode {
             // The frozen displacements: the stuck contacts' relative coordinates.
             s.rows_mut(2 * r, hf).copy_from(&(&self.frozen * y.rows(0, m)));
         }
+    }
+
+    /// Harmonics H of the forcing: the pairs `sin kφ`, `cos kφ` (k = 1 … H)
+    /// just before the constant state `1` of the augmented state.
+    pub fn harmonics(&self) -> usize {
+        self.harmonics
     }
 
     /// The linear map `y ↦ s` of [`Mode::project`] without its constant rows

@@ -17,6 +17,7 @@ use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
 use crate::impact;
 use crate::mode::{Guard, GuardKind, Key, Mode};
+use crate::soft;
 use crate::stick::{candidates, settle, touching, ModeCache};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector};
@@ -53,6 +54,14 @@ pub enum EventKind {
     SlipReversal(usize),
     /// A stuck friction contact reached its static limit and slips.
     Breakaway(usize),
+    /// A soft stop's gap closed and its contact pushes.
+    Contact(usize),
+    /// A soft stop's contact force fell to zero: the contact ends.
+    Separation(usize),
+    /// The gap of a soft stop whose contact ended under damping reopened.
+    Reopen(usize),
+    /// A soft stop's contact pushes again before its gap reopened.
+    Return(usize),
 }
 
 impl EventKind {
@@ -71,6 +80,10 @@ impl EventKind {
             EventKind::FrictionStick(i) => format!("stick {}", contact(i)),
             EventKind::SlipReversal(i) => format!("slip-reversal {}", contact(i)),
             EventKind::Breakaway(i) => format!("breakaway {}", contact(i)),
+            EventKind::Contact(k) => format!("contact {}", stop(k)),
+            EventKind::Separation(k) => format!("separation {}", stop(k)),
+            EventKind::Reopen(k) => format!("reopen {}", stop(k)),
+            EventKind::Return(k) => format!("return {}", stop(k)),
         }
     }
 }
@@ -83,9 +96,10 @@ impl Observer for Ignore {}
 /// What happened during one forcing period.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodRecord {
-    /// Impacts per stop.
+    /// Impacts per stop (for a soft stop: contacts begun).
     pub impacts: Vec<u32>,
-    /// Stops that held their mass at some time during the period (bit mask).
+    /// Stops that held their mass at some time during the period, and soft
+    /// stops whose gap stayed closed through the whole period (bit mask).
     pub(crate) held: u32,
     /// Friction contacts stuck at some time during the period (bit mask).
     pub(crate) stuck: u32,
@@ -325,6 +339,7 @@ impl<'s> Simulator<'s> {
         let cand = candidates(self.sys, &self.acc, &self.y);
         let phase = self.phase();
         self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0)?;
+        (self.key.pressed, self.key.parting) = soft::contacts(self.sys, &self.acc, &self.y);
         self.snap()
     }
 
@@ -394,7 +409,7 @@ impl<'s> Simulator<'s> {
     fn new_record(&self) -> PeriodRecord {
         PeriodRecord {
             impacts: vec![0; self.sys.stops.len()],
-            held: self.key.held,
+            held: self.key.held | self.key.pressed | self.key.parting,
             stuck: self.key.stuck,
             end: DVector::zeros(0),
             end_key: Key::FREE,
@@ -535,7 +550,12 @@ impl<'s> Simulator<'s> {
     /// What the event of guard `kind` at stop or contact `stop`, just
     /// handled from mode `was`, turned out to be.
     fn name_event(&self, kind: GuardKind, stop: usize, was: Key) -> EventKind {
+        let bit = 1 << stop;
         match kind {
+            GuardKind::Gap if self.sys.is_soft(stop) && self.key.pressed & !was.pressed & bit != 0 => {
+                EventKind::Contact(stop)
+            }
+            GuardKind::Gap if self.sys.is_soft(stop) => EventKind::Grazing(stop),
             GuardKind::Gap => match self.buffers.hits.first() {
                 Some(h) => EventKind::Impact(h.stop),
                 None if self.key.held & !was.held & (1 << stop) != 0 => EventKind::Stick(stop),
@@ -545,7 +565,36 @@ impl<'s> Simulator<'s> {
             GuardKind::Grip => EventKind::Breakaway(stop),
             GuardKind::Slip if self.key.stuck & !was.stuck & (1 << stop) != 0 => EventKind::FrictionStick(stop),
             GuardKind::Slip => EventKind::SlipReversal(stop),
+            GuardKind::Push => EventKind::Separation(stop),
+            GuardKind::Overlap => EventKind::Reopen(stop),
+            GuardKind::Return => EventKind::Return(stop),
         }
+    }
+
+    /// Handles an event of soft stop `stop` ([`soft::after`]): a contact begun
+    /// counts in the record as the stop's impact (reported to the observer
+    /// with the state unchanged), a gap reopened clears the stop from the
+    /// period's closed stops.
+    fn handle_soft(
+        &mut self,
+        kind: GuardKind,
+        stop: usize,
+        rec: &mut PeriodRecord,
+        obs: &mut dyn Observer,
+    ) -> Result<(), Halt> {
+        let (sys, bit) = (self.sys, 1 << stop);
+        let phase = self.phase();
+        let key = soft::after(sys, &self.acc, &mut self.cache, self.key, kind, stop, &self.y, phase)?;
+        let closed = |k: Key| (k.pressed | k.parting) & bit != 0;
+        if !closed(self.key) && closed(key) {
+            rec.impacts[stop] += 1;
+            obs.impact(self.time(), stop, &self.y, &self.y);
+        }
+        if closed(self.key) && !closed(key) {
+            rec.held &= !bit;
+        }
+        self.key = key;
+        Ok(())
     }
 
     fn handle(
@@ -557,6 +606,11 @@ impl<'s> Simulator<'s> {
     ) -> Result<(), Halt> {
         let sys = self.sys;
         self.applied.clear();
+        if sys.is_soft(stop)
+            && matches!(kind, GuardKind::Gap | GuardKind::Push | GuardKind::Overlap | GuardKind::Return)
+        {
+            return self.handle_soft(kind, stop, rec, obs);
+        }
         match kind {
             GuardKind::Gap => {
                 let t = self.time();
@@ -588,7 +642,7 @@ impl<'s> Simulator<'s> {
                 }
             }
             GuardKind::Reaction => self.key.held &= !(1 << stop),
-            GuardKind::Grip | GuardKind::Slip => {}
+            GuardKind::Grip | GuardKind::Slip | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {}
         }
         // A stop released by its reaction (zero and decreasing) cannot hold now,
         // nor can a contact that broke away stick at once.

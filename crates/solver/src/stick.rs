@@ -47,10 +47,11 @@ pub fn touching(sys: &System, acc: &Accuracy, k: usize, y: &DVector<f64>) -> boo
     sys.gap(k, y) <= 10.0 * acc.contact_tol
 }
 
-/// Stops in contact (touching, closing speed below the stick velocity) at full state `y`.
+/// Rigid stops in contact (touching, closing speed below the stick velocity)
+/// at full state `y` (soft stops never hold: [`crate::soft`]).
 pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
     (0..sys.stops.len())
-        .filter(|&k| touching(sys, acc, k, y) && sys.gap_rate(k, y).abs() <= acc.stick_velocity)
+        .filter(|&k| !sys.is_soft(k) && touching(sys, acc, k, y) && sys.gap_rate(k, y).abs() <= acc.stick_velocity)
         .fold(0, |m, k| m | (1 << k))
 }
 
@@ -58,9 +59,9 @@ pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
 fn friction_options(sys: &System, acc: &Accuracy, y: &DVector<f64>, i: usize, may_stick: bool) -> Vec<Key> {
     let rate = sys.slip_rate(i, y);
     let bit = 1 << i;
-    let stuck = Key { held: 0, stuck: bit, negative: 0 };
+    let stuck = Key { stuck: bit, ..Key::FREE };
     let positive = Key::FREE;
-    let negative = Key { held: 0, stuck: 0, negative: bit };
+    let negative = Key { negative: bit, ..Key::FREE };
     if rate > acc.stick_velocity {
         vec![positive]
     } else if rate < -acc.stick_velocity {
@@ -130,9 +131,9 @@ fn friction_combinations(sys: &System, acc: &Accuracy, y: &DVector<f64>, no_stic
             .iter()
             .flat_map(|f| {
                 options.iter().map(move |o| Key {
-                    held: 0,
                     stuck: f.stuck | o.stuck,
                     negative: f.negative | o.negative,
+                    ..Key::FREE
                 })
             })
             .collect();
@@ -175,7 +176,9 @@ impl At<'_> {
                     let s = mode.project(y, phase);
                     mode.guards.iter().filter(checked).all(|g| match g.kind {
                         GuardKind::Reaction | GuardKind::Grip => !releasing(mode, acc, g, &s),
-                        GuardKind::Gap | GuardKind::Slip => start(mode, acc, g, &s) != Start::Approaching,
+                        GuardKind::Gap | GuardKind::Slip | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {
+                            start(mode, acc, g, &s) != Start::Approaching
+                        }
                     })
                 };
                 if consistent {

@@ -1,4 +1,5 @@
-//! The linear system of a scene: `M x'' + C x' + K x = P sin(ω t + τ)` plus stop
+//! The linear system of a scene: `M x'' + C x' + K x = Σ_k (P_k sin kφ + Q_k cos kφ) + L`
+//! (`φ = ω t + τ`, harmonics k = 1 … H, `L` the constant loads) plus stop
 //! reactions, and each stop as a gap function `g(x) = n·x + c >= 0`.
 //!
 //! Frame stop below mass i: `n = e_i`, `c = -position`; above: `n = -e_i`,
@@ -10,7 +11,7 @@
 
 use crate::error::SolverError;
 use nalgebra::{DMatrix, DVector};
-use scene::Model;
+use scene::{Model, StopLaw};
 
 /// A stop as a linear gap function of the positions.
 #[derive(Debug, Clone)]
@@ -19,8 +20,8 @@ pub struct StopRow {
     pub normal: DVector<f64>,
     /// Offset `c`.
     pub offset: f64,
-    /// Coefficient of restitution.
-    pub restitution: f64,
+    /// Rigid (restitution) or soft (stiffness and damping).
+    pub law: StopLaw,
     /// `M^{-1} n`, the velocity change per unit impulse.
     pub inv_mass_normal: DVector<f64>,
     /// `nᵀ M^{-1} n`, the inverse effective mass of the contact.
@@ -70,8 +71,12 @@ pub struct System {
     pub damping: DMatrix<f64>,
     /// Stiffness matrix K.
     pub stiffness: DMatrix<f64>,
-    /// Harmonic force amplitudes P.
-    pub forcing: DVector<f64>,
+    /// The forcing per harmonic of `φ = ω t + τ`: entry `k - 1` holds the
+    /// amplitudes `[P_k, Q_k]` of `sin kφ` and `cos kφ` on each mass (H entries,
+    /// H the highest order in the scene, at least 1).
+    pub harmonics: Vec<[DVector<f64>; 2]>,
+    /// Constant forces `L` on the masses (loads).
+    pub load: DVector<f64>,
     /// Stops as gap rows.
     pub stops: Vec<StopRow>,
     /// Friction contacts.
@@ -84,6 +89,25 @@ pub struct System {
     pub period: f64,
     /// Whether the stiffness matrix is singular (see [`System::has_rigid_mode`]).
     rigid: bool,
+}
+
+/// The amplitudes `[P_k, Q_k]` of `sin kφ`, `cos kφ` per mass for k = 1 … H
+/// (`φ = ω t + τ`): each mass's `force` on `sin φ`, and each harmonic
+/// `a sin(k ω t + ψ) = a sin(kφ + ψ - kτ)` split into its sine and cosine parts.
+fn harmonic_amplitudes(model: &Model) -> Vec<[DVector<f64>; 2]> {
+    let m = model.masses.len();
+    let orders = model.harmonic_orders() as usize;
+    let mut out = vec![[DVector::zeros(m), DVector::zeros(m)]; orders];
+    for (i, mass) in model.masses.iter().enumerate() {
+        out[0][0][i] = mass.force;
+        for h in &mass.harmonics {
+            let (sn, cs) = (h.phase - f64::from(h.order) * model.tau).sin_cos();
+            let [p, q] = &mut out[h.order as usize - 1];
+            p[i] += h.amplitude * cs;
+            q[i] += h.amplitude * sn;
+        }
+    }
+    out
 }
 
 impl System {
@@ -117,7 +141,8 @@ impl System {
             add(&mut damping, l.damping);
             add(&mut stiffness, l.stiffness);
         }
-        let forcing = DVector::from_iterator(m, model.masses.iter().map(|x| x.force));
+        let harmonics = harmonic_amplitudes(&model);
+        let load = DVector::from_iterator(m, model.masses.iter().map(|x| x.load));
         let stops = model
             .stops
             .iter()
@@ -126,7 +151,7 @@ impl System {
                 let normal = DVector::from_vec(normal);
                 let inv_mass_normal = normal.component_div(&mass);
                 let inv_effective_mass = normal.dot(&inv_mass_normal);
-                StopRow { normal, offset, restitution: s.restitution, inv_mass_normal, inv_effective_mass }
+                StopRow { normal, offset, law: s.law, inv_mass_normal, inv_effective_mass }
             })
             .collect();
         let frictions = model
@@ -149,7 +174,8 @@ impl System {
             mass,
             damping,
             stiffness,
-            forcing,
+            harmonics,
+            load,
             stops,
             frictions,
             omega: model.omega,
@@ -171,6 +197,10 @@ impl System {
         for m in &model.masses {
             numbers.push((format!("mass of {}", m.name), m.mass));
             numbers.push((format!("force on {}", m.name), m.force));
+            numbers.push((format!("load on {}", m.name), m.load));
+            for h in &m.harmonics {
+                numbers.push((format!("harmonic {} on {}", h.order, m.name), h.amplitude));
+            }
         }
         for (i, l) in model.links.iter().enumerate() {
             numbers.push((format!("stiffness of link {}", i + 1), l.stiffness));
@@ -178,6 +208,10 @@ impl System {
         }
         for (s, row) in model.stops.iter().zip(&self.stops) {
             numbers.push((format!("position of stop {}", s.name), row.offset));
+            if let StopLaw::Soft { stiffness, damping } = s.law {
+                numbers.push((format!("stiffness of stop {}", s.name), stiffness));
+                numbers.push((format!("damping of stop {}", s.name), damping));
+            }
         }
         for (i, f) in model.friction.iter().enumerate() {
             numbers.push((format!("static friction limit of contact {}", i + 1), f.static_limit));
@@ -235,11 +269,32 @@ impl System {
     }
 
     /// Whether full state `y` may start a simulation of this system: of its
-    /// dimension and penetrating no stop by more than
-    /// [`ADMISSIBLE_PENETRATION`].
+    /// dimension and penetrating no rigid stop by more than
+    /// [`ADMISSIBLE_PENETRATION`] (a soft stop may be pressed in).
     pub fn admits(&self, y: &[f64]) -> bool {
         let m = self.dof();
-        y.len() == 2 * m && (0..self.stops.len()).all(|k| self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
+        y.len() == 2 * m
+            && (0..self.stops.len())
+                .all(|k| self.model.stops[k].is_soft() || self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
+    }
+
+    /// Whether stop `k` is soft.
+    pub fn is_soft(&self, k: usize) -> bool {
+        matches!(self.stops[k].law, StopLaw::Soft { .. })
+    }
+
+    /// The coefficient of restitution of rigid stop `k` (0 for a soft stop,
+    /// which has no impacts).
+    pub fn restitution(&self, k: usize) -> f64 {
+        match self.stops[k].law {
+            StopLaw::Rigid { restitution } => restitution,
+            StopLaw::Soft { .. } => 0.0,
+        }
+    }
+
+    /// Highest multiple of ω in the forcing (H >= 1).
+    pub fn harmonic_orders(&self) -> usize {
+        self.harmonics.len()
     }
 
     /// Rate of change of a stop's gap at full state `y` (negative when closing).

@@ -38,75 +38,103 @@ pub const FULL_STEP_WORK: u64 = 1;
 /// integrator takes, cost one event.
 pub const REFINED_STEP_WORK: u64 = 100;
 
-/// The classic RK4 step of `s' = Â s` with the forcing `(sin φ, cos φ)` set
-/// exactly at each stage's time, on reused buffers (no allocation per step).
+/// The classic RK4 step of `s' = Â s` with the forcing `(sin kφ, cos kφ)` of
+/// every harmonic k set exactly at each stage's time, on reused buffers (no
+/// allocation per step).
 struct Stepper<'m> {
     a: &'m DMatrix<f64>,
-    /// Indices of `sin φ` and `cos φ` in the augmented state.
-    isin: usize,
-    icos: usize,
-    /// `sin φ`, `cos φ` and ω at the start of the advance.
-    start: (f64, f64),
-    omega: f64,
+    /// Per harmonic: the indices of `sin kφ` and `cos kφ` in the augmented
+    /// state, their values at the start of the advance and the rate `kω`.
+    harmonics: Vec<Harmonic>,
+    /// The forcing at a step's middle and end, per harmonic.
+    mid: Vec<(f64, f64)>,
+    end: Vec<(f64, f64)>,
     k: [DVector<f64>; 4],
     tmp: DVector<f64>,
 }
 
+/// One harmonic of the forcing in the augmented state.
+#[derive(Debug, Clone, Copy)]
+struct Harmonic {
+    isin: usize,
+    icos: usize,
+    start: (f64, f64),
+    rate: f64,
+}
+
+impl Harmonic {
+    /// `(sin kφ, cos kφ)` at time `u` of the advance.
+    fn at(&self, u: f64) -> (f64, f64) {
+        let (sin0, cos0) = self.start;
+        let (su, cu) = (self.rate * u).sin_cos();
+        (sin0 * cu + cos0 * su, cos0 * cu - sin0 * su)
+    }
+}
+
 impl<'m> Stepper<'m> {
-    fn new(a: &'m DMatrix<f64>, s0: &DVector<f64>) -> Self {
+    /// `count` harmonics: the rotation blocks `[[0, kω], [-kω, 0]]` of `sin kφ`
+    /// and `cos kφ`, in order of k, just before the constant state.
+    fn new(a: &'m DMatrix<f64>, s0: &DVector<f64>, count: usize) -> Self {
         let dim = s0.len();
-        let (isin, icos) = (dim - 3, dim - 2);
+        let harmonics: Vec<Harmonic> = (0..count)
+            .map(|k| {
+                let isin = dim - 1 - 2 * count + 2 * k;
+                let icos = isin + 1;
+                Harmonic { isin, icos, start: (s0[isin], s0[icos]), rate: a[(isin, icos)] }
+            })
+            .collect();
         let zero = || DVector::zeros(dim);
+        let n = harmonics.len();
         Stepper {
             a,
-            isin,
-            icos,
-            start: (s0[isin], s0[icos]),
-            omega: a[(isin, icos)],
+            harmonics,
+            mid: vec![(0.0, 0.0); n],
+            end: vec![(0.0, 0.0); n],
             k: [zero(), zero(), zero(), zero()],
             tmp: zero(),
         }
     }
 
-    /// The forcing `(sin φ, cos φ)` at time `u` of the advance.
-    fn forcing(&self, u: f64) -> (f64, f64) {
-        let (sin0, cos0) = self.start;
-        let (su, cu) = (self.omega * u).sin_cos();
-        (sin0 * cu + cos0 * su, cos0 * cu - sin0 * su)
-    }
-
     /// The derivative of `s` into `d`, the forcing rows zeroed (they are set, not integrated).
-    fn deriv(a: &DMatrix<f64>, (isin, icos): (usize, usize), s: &DVector<f64>, d: &mut DVector<f64>) {
+    fn deriv(a: &DMatrix<f64>, harmonics: &[Harmonic], s: &DVector<f64>, d: &mut DVector<f64>) {
         a.mul_to(s, d);
-        d[isin] = 0.0;
-        d[icos] = 0.0;
+        for h in harmonics {
+            d[h.isin] = 0.0;
+            d[h.icos] = 0.0;
+        }
     }
 
     /// One step of length `hh` from `s` at time `u` (ending at `t_next`) into `next`.
     fn step(&mut self, s: &DVector<f64>, u: f64, hh: f64, t_next: f64, next: &mut DVector<f64>) {
-        let (mid, end) = (self.forcing(u + hh / 2.0), self.forcing(t_next));
-        let (a, ix) = (self.a, (self.isin, self.icos));
+        for ((h, mid), end) in self.harmonics.iter().zip(&mut self.mid).zip(&mut self.end) {
+            (*mid, *end) = (h.at(u + hh / 2.0), h.at(t_next));
+        }
+        let (a, hs, mid, end) = (self.a, &self.harmonics[..], &self.mid[..], &self.end[..]);
         let [k1, k2, k3, k4] = &mut self.k;
         let tmp = &mut self.tmp;
         // A stage's state `s + c k` at the forcing `f` of its time.
-        let stage = |tmp: &mut DVector<f64>, c: f64, k: &DVector<f64>, (sn, cs): (f64, f64)| {
+        let stage = |tmp: &mut DVector<f64>, c: f64, k: &DVector<f64>, f: &[(f64, f64)]| {
             tmp.copy_from(s);
             tmp.axpy(c, k, 1.0);
-            tmp[ix.0] = sn;
-            tmp[ix.1] = cs;
+            for (h, &(sn, cs)) in hs.iter().zip(f) {
+                tmp[h.isin] = sn;
+                tmp[h.icos] = cs;
+            }
         };
-        Self::deriv(a, ix, s, k1);
+        Self::deriv(a, hs, s, k1);
         stage(tmp, hh / 2.0, k1, mid);
-        Self::deriv(a, ix, tmp, k2);
+        Self::deriv(a, hs, tmp, k2);
         stage(tmp, hh / 2.0, k2, mid);
-        Self::deriv(a, ix, tmp, k3);
+        Self::deriv(a, hs, tmp, k3);
         stage(tmp, hh, k3, end);
-        Self::deriv(a, ix, tmp, k4);
+        Self::deriv(a, hs, tmp, k4);
         for i in 0..s.len() {
             next[i] = s[i] + (k1[i] + k2[i] * 2.0 + k3[i] * 2.0 + k4[i]) * (hh / 6.0);
         }
-        next[ix.0] = end.0;
-        next[ix.1] = end.1;
+        for (h, &(sn, cs)) in hs.iter().zip(end) {
+            next[h.isin] = sn;
+            next[h.icos] = cs;
+        }
     }
 }
 
@@ -146,7 +174,7 @@ pub fn advance(
             return (Advance::Event { guard, time: 0.0 }, 0);
         }
     };
-    let mut stepper = Stepper::new(&mode.aug, s0);
+    let mut stepper = Stepper::new(&mode.aug, s0, mode.harmonics());
     let (mut s, mut next) = (s0.clone(), DVector::zeros(s0.len()));
     let mut u = 0.0;
     let mut h = acc.rk4_step;
