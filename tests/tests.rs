@@ -20,6 +20,7 @@ mod palette;
 mod print;
 mod progress;
 mod properties;
+mod soft;
 mod stability;
 mod symbols;
 mod util;

@@ -1,7 +1,7 @@
 //! Parameter expressions: parsed once per scene, evaluated per cell.
 //!
 //! Expressions use exmex's float operators (`+ - * / ^`, `sin`, `cos`, `sqrt`,
-//! `exp`, `ln`, `abs`, …) and constants `PI`/`π`, `E`. Any other identifier must be
+//! `exp`, `ln`, `abs`, …) and constants `PI`/`π`, `E`/`e`. Any other identifier must be
 //! a parameter of the scene.
 
 use crate::error::SceneError;
@@ -131,7 +131,7 @@ pub const FUNCTIONS: [&str; 26] = [
     "round", "trunc", "fract", "sqrt", "cbrt", "exp", "ln", "log", "log2", "log10", "abs", "signum",
 ];
 /// Constants an expression may use.
-pub const CONSTANTS: [&str; 3] = ["PI", "π", "E"];
+pub const CONSTANTS: [&str; 4] = ["PI", "π", "E", "e"];
 
 /// Whether `name` may name a parameter: an identifier (a letter or `_`, then
 /// letters, digits, `_`) that is neither a function nor a constant.

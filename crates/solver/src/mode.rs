@@ -72,6 +72,10 @@ pub enum GuardKind {
     /// Relative velocity (signed along the slip) of a slipping contact: the slip
     /// ends at zero (then the contact sticks or reverses).
     Slip,
+    /// Gap of a free soft stop: its contact begins at zero. Located in time
+    /// at rounding level like a force (a soft contact has no landing to
+    /// tolerate: it begins exactly where the gap closes).
+    Touch,
     /// Contact force `-k g - c g'` of a pressed soft stop: the contact ends at zero.
     Push,
     /// Overlap `-g` of a parting soft stop: its gap reopens at zero.
@@ -127,9 +131,12 @@ pub struct Guard {
 impl Guard {
     fn new(kind: GuardKind, index: usize, row: DVector<f64>) -> Guard {
         let target = match kind {
-            GuardKind::Gap | GuardKind::Reaction | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {
-                Target::Stop(index)
-            }
+            GuardKind::Gap
+            | GuardKind::Reaction
+            | GuardKind::Touch
+            | GuardKind::Push
+            | GuardKind::Overlap
+            | GuardKind::Return => Target::Stop(index),
             GuardKind::Grip | GuardKind::Slip => Target::Contact(index),
         };
         let row_abs = row.abs();
@@ -459,12 +466,16 @@ fn gap_row(sys: &System, k: usize, red: &Reduction, lay: Layout) -> Option<DVect
     Some(row)
 }
 
-/// The gaps of the free stops (neither held nor in soft contact).
+/// The gaps of the free stops (neither held nor in soft contact): a rigid
+/// stop's [`GuardKind::Gap`], a soft stop's [`GuardKind::Touch`].
 fn gap_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard> {
     let closed = key.held | key.pressed | key.parting;
     (0..sys.stops.len())
         .filter(|k| closed & (1 << k) == 0)
-        .filter_map(|k| gap_row(sys, k, red, lay).map(|row| Guard::new(GuardKind::Gap, k, row)))
+        .filter_map(|k| {
+            let kind = if sys.is_soft(k) { GuardKind::Touch } else { GuardKind::Gap };
+            gap_row(sys, k, red, lay).map(|row| Guard::new(kind, k, row))
+        })
         .collect()
 }
 

@@ -552,10 +552,8 @@ impl<'s> Simulator<'s> {
     fn name_event(&self, kind: GuardKind, stop: usize, was: Key) -> EventKind {
         let bit = 1 << stop;
         match kind {
-            GuardKind::Gap if self.sys.is_soft(stop) && self.key.pressed & !was.pressed & bit != 0 => {
-                EventKind::Contact(stop)
-            }
-            GuardKind::Gap if self.sys.is_soft(stop) => EventKind::Grazing(stop),
+            GuardKind::Touch if self.key.pressed & !was.pressed & bit != 0 => EventKind::Contact(stop),
+            GuardKind::Touch => EventKind::Grazing(stop),
             GuardKind::Gap => match self.buffers.hits.first() {
                 Some(h) => EventKind::Impact(h.stop),
                 None if self.key.held & !was.held & (1 << stop) != 0 => EventKind::Stick(stop),
@@ -584,6 +582,7 @@ impl<'s> Simulator<'s> {
     ) -> Result<(), Halt> {
         let (sys, bit) = (self.sys, 1 << stop);
         let phase = self.phase();
+        soft::snap(sys, stop, &mut self.y);
         let key = soft::after(sys, &self.acc, &mut self.cache, self.key, kind, stop, &self.y, phase)?;
         let closed = |k: Key| (k.pressed | k.parting) & bit != 0;
         if !closed(self.key) && closed(key) {
@@ -606,9 +605,7 @@ impl<'s> Simulator<'s> {
     ) -> Result<(), Halt> {
         let sys = self.sys;
         self.applied.clear();
-        if sys.is_soft(stop)
-            && matches!(kind, GuardKind::Gap | GuardKind::Push | GuardKind::Overlap | GuardKind::Return)
-        {
+        if matches!(kind, GuardKind::Touch | GuardKind::Push | GuardKind::Overlap | GuardKind::Return) {
             return self.handle_soft(kind, stop, rec, obs);
         }
         match kind {
@@ -642,7 +639,12 @@ impl<'s> Simulator<'s> {
                 }
             }
             GuardKind::Reaction => self.key.held &= !(1 << stop),
-            GuardKind::Grip | GuardKind::Slip | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {}
+            GuardKind::Grip
+            | GuardKind::Slip
+            | GuardKind::Touch
+            | GuardKind::Push
+            | GuardKind::Overlap
+            | GuardKind::Return => {}
         }
         // A stop released by its reaction (zero and decreasing) cannot hold now,
         // nor can a contact that broke away stick at once.

@@ -13,11 +13,27 @@
 use crate::accuracy::Accuracy;
 use crate::error::SolverError;
 use crate::flow::{guard_start, Start};
-use crate::mode::{GuardKind, Key};
+use crate::mode::{GuardKind, Key, Target};
 use crate::stick::ModeCache;
 use crate::system::System;
 use nalgebra::DVector;
 use scene::StopLaw;
+
+/// Moves the positions of `y` along soft stop `stop`'s normal onto its
+/// clearance (`g = 0`) when its gap is within rounding of it (an event located
+/// there), so that the stop's state is decided from the rates, not from the
+/// sign of a rounding error.
+pub fn snap(sys: &System, stop: usize, y: &mut DVector<f64>) {
+    let m = sys.dof();
+    let row = &sys.stops[stop];
+    let g = sys.gap(stop, y);
+    let scale = row.normal.abs().dot(&y.rows(0, m).abs()) + row.offset.abs();
+    if g != 0.0 && g.abs() <= 1e-12 * (1.0 + scale) {
+        let shift = &row.normal * (-g / row.normal.norm_squared());
+        let mut x = y.rows_mut(0, m);
+        x += shift;
+    }
+}
 
 /// The pressed and parting soft stops at full state `y` (bit masks), for a
 /// motion that starts there: closed beyond the contact tolerance with a
@@ -42,10 +58,15 @@ pub fn contacts(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> (u32, u32) {
 }
 
 /// The key after event `kind` of soft stop `stop` at full state `y` and
-/// forcing phase `phase`, from `key`: the gap closed (pressed, unless the
-/// force would pull at once: a grazing touch stays free), the force fell to
-/// zero (free, or parting while the gap is still closed), a parting stop's gap
-/// reopened (free) or its force pushes again (pressed).
+/// forcing phase `phase`, from `key`. The natural successor first: the gap
+/// closed → pressed; the force fell to zero → parting while the gap is closed
+/// (damping), else free; a parting stop's gap reopened → free, its force
+/// pushes again → pressed. The first of the stop's states (natural one first)
+/// whose guards for this stop do not vanish at once ([`consistent`]) is
+/// taken: at a tangency (the force falling to zero just as the gap closes,
+/// which a stiff contact ringing in its transient meets) the natural
+/// successor may turn back at once, and a state that does not is the motion's
+/// next; the natural one when none is.
 #[allow(clippy::too_many_arguments)]
 pub fn after(
     sys: &System,
@@ -58,30 +79,29 @@ pub fn after(
     phase: f64,
 ) -> Result<Key, SolverError> {
     let bit = 1 << stop;
-    Ok(match kind {
-        GuardKind::Gap => {
-            let pressed = Key { pressed: key.pressed | bit, ..key };
-            if pushes(sys, acc, cache, pressed, stop, y, phase)? {
-                pressed
-            } else {
-                key
-            }
+    let g = sys.gap(stop, y);
+    let base = Key { pressed: key.pressed & !bit, parting: key.parting & !bit, ..key };
+    let (free, pressed, parting) =
+        (base, Key { pressed: base.pressed | bit, ..base }, Key { parting: base.parting | bit, ..base });
+    let order = match kind {
+        GuardKind::Touch => [pressed, free, parting],
+        GuardKind::Push if g < 0.0 => [parting, free, pressed],
+        GuardKind::Push => [free, parting, pressed],
+        GuardKind::Overlap => [free, pressed, parting],
+        _ => [pressed, parting, free],
+    };
+    for candidate in order {
+        if consistent(sys, acc, cache, candidate, stop, y, phase)? {
+            return Ok(candidate);
         }
-        GuardKind::Push => {
-            let mut next = Key { pressed: key.pressed & !bit, ..key };
-            if sys.gap(stop, y) < -acc.contact_tol {
-                next.parting |= bit;
-            }
-            next
-        }
-        GuardKind::Overlap => Key { parting: key.parting & !bit, ..key },
-        _ => Key { parting: key.parting & !bit, pressed: key.pressed | bit, ..key },
-    })
+    }
+    Ok(order[0])
 }
 
-/// Whether soft stop `stop`, pressed in `key`'s mode at `y`, pushes from now
-/// on: its force is positive, or zero and growing.
-fn pushes(
+/// Whether none of soft stop `stop`'s guards in `key`'s mode vanishes at
+/// once from `y` (is at zero and approaching) or starts below zero beyond
+/// rounding (a free stop with its gap closed, a pressed one pulling).
+fn consistent(
     sys: &System,
     acc: &Accuracy,
     cache: &mut ModeCache,
@@ -91,9 +111,9 @@ fn pushes(
     phase: f64,
 ) -> Result<bool, SolverError> {
     let Some(mode) = cache.get(sys, key)? else { return Ok(false) };
-    let Some(guard) = mode.guards.iter().find(|g| g.kind == GuardKind::Push && g.target.index() == stop) else {
-        return Ok(false);
-    };
     let s = mode.project(y, phase);
-    Ok(guard_start(acc, guard, &mode.aug, &s).0 != Start::Approaching)
+    Ok(mode.guards.iter().filter(|g| g.target == Target::Stop(stop)).all(|g| {
+        let (start, value, magnitude) = guard_start(acc, g, &mode.aug, &s);
+        start != Start::Approaching && value >= -1e-12 * (1.0 + magnitude)
+    }))
 }

@@ -176,9 +176,12 @@ impl At<'_> {
                     let s = mode.project(y, phase);
                     mode.guards.iter().filter(checked).all(|g| match g.kind {
                         GuardKind::Reaction | GuardKind::Grip => !releasing(mode, acc, g, &s),
-                        GuardKind::Gap | GuardKind::Slip | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {
-                            start(mode, acc, g, &s) != Start::Approaching
-                        }
+                        GuardKind::Gap
+                        | GuardKind::Slip
+                        | GuardKind::Touch
+                        | GuardKind::Push
+                        | GuardKind::Overlap
+                        | GuardKind::Return => start(mode, acc, g, &s) != Start::Approaching,
                     })
                 };
                 if consistent {
