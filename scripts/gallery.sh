@@ -88,4 +88,10 @@ vibroatlas atlas configs/multi-stop.toml --x omega=0.1:3.05:96 --y delta=0.05:2:
 vibroatlas curves $out/ref96.h5 --max 40 -o $out/ref96-curves.h5 >/dev/null
 vibroatlas render $out/ref96.h5 -o $img/curves.png --sweep up --curves $out/ref96-curves.h5
 
+# Soft stops: the gear pair with backlash and the soft-stop impact oscillator.
+vibroatlas atlas configs/gear-backlash.toml --x omega=0.3:2:120 --y f1=0.01:0.3:80 --sweep both --quiet -o $out/gear.h5 >/dev/null
+vibroatlas render $out/gear.h5 -o $img/gear.png --sweep down
+vibroatlas atlas configs/soft-stop.toml --x omega=0.3:3:120 --y clearance=0:2:80 --sweep both --quiet -o $out/soft.h5 >/dev/null
+vibroatlas render $out/soft.h5 -o $img/soft-stop.png --sweep up
+
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
