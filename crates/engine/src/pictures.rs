@@ -42,17 +42,23 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
     let name = &sys.model.masses[sec.mass].name;
     let mut panels =
         vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: sec.period }];
+    // Soft stops' events are contacts (a scene's stops are all of one law).
+    let (events, speed) = if sys.model.stops.iter().any(|s| s.is_soft()) {
+        ("contacts", "contact speed")
+    } else {
+        ("impacts", "impact speed")
+    };
     let mut silent = Vec::new();
     for (stop, points) in sys.model.stops.iter().zip(sec.impacts) {
         if points.is_empty() {
             silent.push(stop.name.clone());
         } else {
-            panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: "impact speed".into(), points });
+            panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: speed.into(), points });
         }
     }
     let labels: Vec<String> = c.result.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
     let silent =
-        if silent.is_empty() { String::new() } else { format!("; no impacts at\u{a0}{}", silent.join(",\u{a0}")) };
+        if silent.is_empty() { String::new() } else { format!("; no {events} at\u{a0}{}", silent.join(",\u{a0}")) };
     let title = format!(
         "{} ({}): {}, Poincaré sections over {periods} periods{silent}",
         sys.model.name,

@@ -46,6 +46,13 @@ impl Meta {
     pub fn long_name(&self, name: &str) -> Option<&str> {
         self.notation.iter().find(|n| n.name == name).and_then(|n| n.long_name.as_deref())
     }
+
+    /// What the events at the stops are called in figures: `contacts` for
+    /// soft stops, `impacts` for rigid ones ([`scene::Scene::stop_events`]
+    /// of the stored scene; `impacts` when it no longer parses).
+    pub fn stop_events(&self) -> &'static str {
+        scene::Scene::parse(&self.scene_toml).map_or("impacts", |s| s.stop_events())
+    }
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ except ImportError:  # Python < 3.11
     tomllib = pytest.importorskip("tomli")
 import vibroatlas as va
 
-from conftest import DRY, MULTI, assert_trees_equal, axis, cli, cli_json, open_tree, sets
+from conftest import CONFIGS, DRY, MULTI, assert_trees_equal, axis, cli, cli_json, open_tree, sets
 
 
 @pytest.mark.parametrize("params,kw,args", [
@@ -25,6 +25,19 @@ from conftest import DRY, MULTI, assert_trees_equal, axis, cli, cli_json, open_t
 def test_cell_equals_cli(params, kw, args):
     r = va.cell(str(MULTI), **kw, **params)
     assert r == cli_json("cell", MULTI, *sets(**params), *args)
+
+
+@pytest.mark.parametrize("params", [
+    {"omega": 2.0},                      # drive-side contact: 1-0-S
+    {"omega": 1.0, "f2": 0.05},          # single-sided rattle, with a second harmonic
+    {"omega": 0.5},                      # the mean load and the backlash's soft stops
+])
+def test_gear_backlash_cell_equals_cli(params):
+    """Issue 41: soft stops, a load and harmonics give the CLI's answer in Python too."""
+    gear = CONFIGS / "gear-backlash.toml"
+    r = va.cell(gear, **params)
+    assert r == cli_json("cell", gear, *sets(**params))
+    assert r["class"] == "periodic"
 
 
 def test_cell_readme_example():

@@ -309,10 +309,12 @@ pub(crate) fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(us
     move |i| Some(Paint::Fill(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.labels[mass].to_string()))))
 }
 
-/// What p and q count for a mass, e.g. `M1: p = impacts at A12, q = impacts at A1`.
+/// What p and q count for a mass, e.g. `M1: p = impacts at A12, q = impacts at A1`
+/// (`contacts at` for soft stops).
 pub(crate) fn pq_text(meta: &Meta, mass: usize) -> String {
     let stops = meta.label_stops.get(mass).cloned().unwrap_or_default();
-    let side = |s: &str| if s.is_empty() { "no stop".to_string() } else { format!("impacts at {s}") };
+    let events = meta.stop_events();
+    let side = |s: &str| if s.is_empty() { "no stop".to_string() } else { format!("{events} at {s}") };
     format!(
         "{}: n-p-q, n = period (forcing periods), p = {}, q = {} in n periods",
         meta.masses[mass],

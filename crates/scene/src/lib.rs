@@ -542,6 +542,17 @@ impl Scene {
             .collect()
     }
 
+    /// What the events at the scene's stops are called: `"contacts"` where
+    /// its stops are soft (a contact begins where a gap closes), `"impacts"`
+    /// where they are rigid (a scene's stops are all of one law).
+    pub fn stop_events(&self) -> &'static str {
+        if self.stops.iter().any(|(_, law)| matches!(law, CompiledLaw::Soft { .. })) {
+            "contacts"
+        } else {
+            "impacts"
+        }
+    }
+
     /// The scene's name.
     pub fn name(&self) -> &str {
         &self.file.name

@@ -76,9 +76,17 @@ pub(crate) fn converged(h: &History, n: usize, acc: &Accuracy) -> bool {
     remaining(h, n).is_none_or(|(to_go, _)| to_go <= acc.periodic_tol)
 }
 
+/// A relative step between section points n periods apart at or below this
+/// is rounding, not a contraction: a few units in the last place. (A motion
+/// with a rigid mode can repeat such a step exactly, period after period,
+/// and the ratio of two equal rounding steps, just below 1, would read as a
+/// contraction never done.)
+const ROUNDING_STEP: f64 = 1e-13;
+
 /// The largest estimated distance to the fixed point over the last period's
 /// points and its contraction ρ (see [`converged`]); `None` when no step
-/// contracts or the record is shorter than 3n periods.
+/// contracts (or none is larger than rounding, [`ROUNDING_STEP`]) or the
+/// record is shorter than 3n periods.
 pub(crate) fn remaining(h: &History, n: usize) -> Option<(f64, f64)> {
     let len = h.len();
     if len < 3 * n {
@@ -88,7 +96,7 @@ pub(crate) fn remaining(h: &History, n: usize) -> Option<(f64, f64)> {
         .filter_map(|i| {
             let (e1, e0) = (distance(&h[i].end, &h[i - n].end), distance(&h[i - n].end, &h[i - 2 * n].end));
             let rho = e1 / e0;
-            (rho < 1.0).then(|| (e1 / (1.0 - rho), rho))
+            (rho < 1.0 && e1 > ROUNDING_STEP).then(|| (e1 / (1.0 - rho), rho))
         })
         .max_by(|a, b| a.0.total_cmp(&b.0))
 }
