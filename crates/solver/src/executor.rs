@@ -60,7 +60,7 @@ use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
 use crate::lyapunov::{fills_closed_curve, Exponent, Interval};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
-use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
+use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, Drift, History, Trail};
 use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
@@ -438,6 +438,15 @@ impl<'s> Executor<'s> {
         })
     }
 
+    /// How a repeated rounding drift of the section reads ([`Drift`]).
+    fn drift(&self) -> Drift {
+        if self.sys.has_soft_stops() {
+            Drift::Converged
+        } else {
+            Drift::Contracting
+        }
+    }
+
     /// Phase 1: simulates periods until the section repeats (the period n,
     /// returned) or `limit` periods in all are simulated (`None`), with Newton
     /// acceleration of slowly contracting patterns on the way.
@@ -455,10 +464,10 @@ impl<'s> Executor<'s> {
             }
             if let Some(n) = detect(&self.hist, acc) {
                 // Accepted once converged, so that its symmetry and final state are the orbit's.
-                if converged(&self.hist, n, acc) {
+                if converged(&self.hist, n, acc, self.drift()) {
                     // Where rounding hid the contraction, the orbit's multiplier tells;
                     // so it does where it barely contracts (not a rigid mode's family).
-                    let hidden = remaining(&self.hist, n).is_none();
+                    let hidden = remaining(&self.hist, n, self.drift()).is_none();
                     if hidden || (self.acc.multipliers && !self.sys.has_rigid_mode()) {
                         self.unsettled = self.unsettled(n, hidden);
                     }
@@ -493,7 +502,7 @@ impl<'s> Executor<'s> {
     /// [`POLISHES`] tries a cell (in every preset: the orbit and its period are
     /// already found, only its convergence is finished).
     fn polish(&mut self, n: usize) -> Option<DVector<f64>> {
-        let (to_go, rho) = remaining(&self.hist, n)?;
+        let (to_go, rho) = remaining(&self.hist, n, self.drift())?;
         let dim = self.sim.state().len() as f64;
         let brute = (self.acc.periodic_tol / to_go).ln() / rho.ln() * n as f64;
         if self.polishes == 0 || brute <= 3.0 * (dim + 1.0) * n as f64 {

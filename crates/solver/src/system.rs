@@ -278,6 +278,11 @@ impl System {
                 .all(|k| self.model.stops[k].is_soft() || self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
     }
 
+    /// Whether the scene has soft stops.
+    pub fn has_soft_stops(&self) -> bool {
+        (0..self.stops.len()).any(|k| self.is_soft(k))
+    }
+
     /// Whether stop `k` is soft.
     pub fn is_soft(&self, k: usize) -> bool {
         matches!(self.stops[k].law, StopLaw::Soft { .. })
