@@ -42,11 +42,12 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
     let name = &sys.model.masses[sec.mass].name;
     let mut panels =
         vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: sec.period }];
-    // Soft stops' events are contacts (a scene's stops are all of one law).
-    let (events, speed) = if sys.model.stops.iter().any(|s| s.is_soft()) {
-        ("contacts", "contact speed")
-    } else {
-        ("impacts", "impact speed")
+    // Soft stops' events are contacts, rigid stops' impacts.
+    let soft = sys.model.stops.iter().filter(|s| s.is_soft()).count();
+    let (events, speed) = match soft {
+        0 => ("impacts", "impact speed"),
+        n if n == sys.model.stops.len() => ("contacts", "contact speed"),
+        _ => ("impacts or contacts", "impact or contact speed"),
     };
     let mut silent = Vec::new();
     for (stop, points) in sys.model.stops.iter().zip(sec.impacts) {

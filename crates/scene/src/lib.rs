@@ -361,21 +361,12 @@ fn compile_law(i: usize, s: &schema::StopSpec, index: &Names) -> Result<Compiled
     }
 }
 
-/// Refuses the combinations of stop laws and friction the solver does not
-/// simulate: soft stops beside rigid stops or friction contacts (one line
-/// naming the first soft stop).
+/// Refuses the combination of stop laws and friction the solver does not
+/// simulate: soft stops in a scene with friction contacts (one line naming
+/// the first soft stop).
 fn check_combination(file: &SceneFile, laws: &[CompiledLaw]) -> Result<(), SceneError> {
     let Some(soft) = laws.iter().position(|l| matches!(l, CompiledLaw::Soft { .. })) else { return Ok(()) };
     let name = &file.stops[soft].name;
-    if let Some(rigid) = laws.iter().position(|l| matches!(l, CompiledLaw::Rigid { .. })) {
-        return Err(SceneError::field(
-            format!("stops[{soft}]"),
-            format!(
-                "soft stop {name} beside rigid stop {}: a scene's stops are all rigid or all soft (not supported together)",
-                file.stops[rigid].name
-            ),
-        ));
-    }
     if !file.friction.is_empty() {
         return Err(SceneError::field(
             format!("stops[{soft}]"),
@@ -543,13 +534,14 @@ impl Scene {
     }
 
     /// What the events at the scene's stops are called: `"contacts"` where
-    /// its stops are soft (a contact begins where a gap closes), `"impacts"`
-    /// where they are rigid (a scene's stops are all of one law).
+    /// every stop is soft (a contact begins where a gap closes), `"impacts"`
+    /// where every stop is rigid, `"impacts or contacts"` where both meet.
     pub fn stop_events(&self) -> &'static str {
-        if self.stops.iter().any(|(_, law)| matches!(law, CompiledLaw::Soft { .. })) {
-            "contacts"
-        } else {
-            "impacts"
+        let soft = self.stops.iter().filter(|(_, law)| matches!(law, CompiledLaw::Soft { .. })).count();
+        match soft {
+            0 => "impacts",
+            n if n == self.stops.len() => "contacts",
+            _ => "impacts or contacts",
         }
     }
 

@@ -338,8 +338,9 @@ impl<'s> Simulator<'s> {
         self.chatter = ChatterTracker::new(self.sys.stops.len());
         let cand = candidates(self.sys, &self.acc, &self.y);
         let phase = self.phase();
-        self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0)?;
-        (self.key.pressed, self.key.parting) = soft::contacts(self.sys, &self.acc, &self.y);
+        let (pressed, parting) = soft::contacts(self.sys, &self.acc, &self.y);
+        let soft = Key { pressed, parting, ..Key::FREE };
+        self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0, soft)?;
         self.snap()
     }
 
@@ -572,7 +573,9 @@ impl<'s> Simulator<'s> {
     /// Handles an event of soft stop `stop` ([`soft::after`]): a contact begun
     /// counts in the record as the stop's impact (reported to the observer
     /// with the state unchanged), a gap reopened clears the stop from the
-    /// period's closed stops.
+    /// period's closed stops. Beside rigid stops, which stops hold is then
+    /// decided again (a contact's force may press a mass onto a rigid stop
+    /// or pull it off).
     fn handle_soft(
         &mut self,
         kind: GuardKind,
@@ -593,7 +596,10 @@ impl<'s> Simulator<'s> {
             rec.held &= !bit;
         }
         self.key = key;
-        Ok(())
+        if (0..sys.stops.len()).all(|k| sys.is_soft(k)) {
+            return Ok(());
+        }
+        self.resettle(0, 0)
     }
 
     fn handle(
@@ -613,7 +619,10 @@ impl<'s> Simulator<'s> {
                 let t = self.time();
                 let b = &mut self.buffers;
                 b.contacts.clear();
-                b.contacts.extend((0..sys.stops.len()).filter(|&k| k == stop || touching(sys, &self.acc, k, &self.y)));
+                b.contacts.extend(
+                    (0..sys.stops.len())
+                        .filter(|&k| k == stop || (!sys.is_soft(k) && touching(sys, &self.acc, k, &self.y))),
+                );
                 b.before.clone_from(&self.y);
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.
@@ -650,9 +659,26 @@ impl<'s> Simulator<'s> {
         // nor can a contact that broke away stick at once.
         let released = if kind == GuardKind::Reaction { 1 << stop } else { 0 };
         let broke = if kind == GuardKind::Grip { 1 << stop } else { 0 };
+        if sys.has_soft_stops() && !self.applied.is_empty() {
+            // Impulses at rigid stops change the rates of soft contacts: a
+            // contact whose force no longer pushes parts (or ends), one that
+            // pushes again resumes.
+            let (pressed, parting) = soft::contacts(sys, &self.acc, &self.y);
+            let closed = self.key.pressed | self.key.parting;
+            (self.key.pressed, self.key.parting) = (pressed & closed, parting & closed);
+        }
+        self.resettle(released, broke)
+    }
+
+    /// Decides which rigid stops hold and each friction contact's state
+    /// after an event ([`settle`], soft stops kept as they are), except the
+    /// stops `released` by it and the contacts that `broke` away, and
+    /// projects the state onto the new mode's constraints.
+    fn resettle(&mut self, released: u32, broke: u32) -> Result<(), Halt> {
+        let sys = self.sys;
         let cand = (candidates(sys, &self.acc, &self.y) | self.key.held) & !released;
         let phase = self.phase();
-        let key = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand, broke)?;
+        let key = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand, broke, self.key)?;
         for k in 0..sys.stops.len() {
             if key.held & !self.key.held & (1 << k) != 0 {
                 self.chatter.reset(k);

@@ -86,6 +86,10 @@ fn friction_options(sys: &System, acc: &Accuracy, y: &DVector<f64>, i: usize, ma
 /// contact keeps its direction; one at relative rest sticks unless its friction
 /// force is beyond the static limit (or at it and growing), or it is in
 /// `no_stick` (it just broke away); otherwise it slips the way it departs.
+///
+/// Soft stops keep the states of `soft` (its pressed and parting bits; soft
+/// stops and friction contacts do not meet in one scene).
+#[allow(clippy::too_many_arguments)]
 pub fn settle(
     sys: &System,
     acc: &Accuracy,
@@ -94,11 +98,13 @@ pub fn settle(
     phase: f64,
     cand: u32,
     no_stick: u32,
+    soft: Key,
 ) -> Result<Key, SolverError> {
     // No allocation for a scene without friction: this runs at every event.
     let combinations: Vec<Key>;
+    let only = [Key { pressed: soft.pressed, parting: soft.parting, ..Key::FREE }];
     let frictions: &[Key] = if sys.frictions.is_empty() {
-        &[Key::FREE]
+        &only
     } else {
         combinations = friction_combinations(sys, acc, y, no_stick);
         &combinations
@@ -262,7 +268,7 @@ mod tests {
             [(-std::f64::consts::FRAC_PI_2, true), (-1.0, true), (-0.5, false), (0.0, false), (1.0, false)]
         {
             let mut cache = ModeCache::default();
-            let key = settle(&sys, &acc, &mut cache, &y, phase, 1, 0).unwrap();
+            let key = settle(&sys, &acc, &mut cache, &y, phase, 1, 0, Key::FREE).unwrap();
             assert_eq!(key.held == 1, holds, "φ = {phase}: sin φ = {} against -δ = {}", phase.sin(), -delta);
             assert_eq!(phase.sin() < -delta, holds);
         }
@@ -278,18 +284,18 @@ mod tests {
         // `sin φ` on M1 alone must be carried by friction (M2 is 10 times heavier).
         let y = DVector::from_vec(vec![0.0, 0.0, 0.0, 0.0]);
         let weak = system("dry-friction.toml", &[("fk", 1.0)]);
-        let key = settle(&weak, &acc, &mut ModeCache::default(), &y, 0.3, 0, 0).unwrap();
+        let key = settle(&weak, &acc, &mut ModeCache::default(), &y, 0.3, 0, 0, Key::FREE).unwrap();
         assert_eq!(key.stuck, 1, "a force of sin 0.3 is within the static limit 1.5");
         let slippery = system("dry-friction.toml", &[("fk", 0.01)]);
-        let key = settle(&slippery, &acc, &mut ModeCache::default(), &y, 1.2, 0, 0).unwrap();
+        let key = settle(&slippery, &acc, &mut ModeCache::default(), &y, 1.2, 0, 0, Key::FREE).unwrap();
         assert_eq!((key.stuck, key.negative), (0, 0), "sin 1.2 beyond 0.015: M1 slips forwards");
-        let key = settle(&slippery, &acc, &mut ModeCache::default(), &y, -1.2, 0, 0).unwrap();
+        let key = settle(&slippery, &acc, &mut ModeCache::default(), &y, -1.2, 0, 0, Key::FREE).unwrap();
         assert_eq!((key.stuck, key.negative), (0, 1), "and backwards for a negative force");
         // Just broken away: it may not stick at once, even within the limit.
-        let key = settle(&weak, &acc, &mut ModeCache::default(), &y, 0.3, 0, 1).unwrap();
+        let key = settle(&weak, &acc, &mut ModeCache::default(), &y, 0.3, 0, 1, Key::FREE).unwrap();
         assert_eq!(key.stuck, 0);
         let sliding = DVector::from_vec(vec![0.0, 0.0, -0.5, 0.0]);
-        let key = settle(&weak, &acc, &mut ModeCache::default(), &sliding, 0.3, 0, 0).unwrap();
+        let key = settle(&weak, &acc, &mut ModeCache::default(), &sliding, 0.3, 0, 0, Key::FREE).unwrap();
         assert_eq!((key.stuck, key.negative), (0, 1), "a contact slipping backwards keeps slipping");
     }
 }
