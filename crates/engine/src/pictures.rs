@@ -43,20 +43,18 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
     let mut panels =
         vec![render::Panel { x: format!("x_{name} at t = kT"), y: format!("v_{name}"), points: sec.period }];
     // Soft stops' events are contacts, rigid stops' impacts.
-    let soft = sys.model.stops.iter().filter(|s| s.is_soft()).count();
-    let (events, speed) = match soft {
-        0 => ("impacts", "impact speed"),
-        n if n == sys.model.stops.len() => ("contacts", "contact speed"),
-        _ => ("impacts or contacts", "impact or contact speed"),
-    };
     let mut silent = Vec::new();
+    let mut soft_silent = true;
     for (stop, points) in sys.model.stops.iter().zip(sec.impacts) {
         if points.is_empty() {
             silent.push(stop.name.clone());
+            soft_silent &= stop.is_soft();
         } else {
+            let speed = if stop.is_soft() { "contact speed" } else { "impact speed" };
             panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: speed.into(), points });
         }
     }
+    let events = if soft_silent { "contacts" } else { "impacts" };
     let labels: Vec<String> = c.result.labels.iter().map(|l| format!("{} {l}", l.mass)).collect();
     let silent =
         if silent.is_empty() { String::new() } else { format!("; no {events} at\u{a0}{}", silent.join(",\u{a0}")) };

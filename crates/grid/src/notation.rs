@@ -47,11 +47,11 @@ impl Meta {
         self.notation.iter().find(|n| n.name == name).and_then(|n| n.long_name.as_deref())
     }
 
-    /// What the events at the stops are called in figures: `contacts` for
-    /// soft stops, `impacts` for rigid ones ([`scene::Scene::stop_events`]
-    /// of the stored scene; `impacts` when it no longer parses).
-    pub fn stop_events(&self) -> &'static str {
-        scene::Scene::parse(&self.scene_toml).map_or("impacts", |s| s.stop_events())
+    /// What the events at stop `name` are called in figures: `contacts` at a
+    /// soft stop, `impacts` at a rigid one ([`scene::Scene::stop_events`] of
+    /// the stored scene; `impacts` when it no longer parses).
+    pub fn stop_events(&self, name: &str) -> &'static str {
+        scene::Scene::parse(&self.scene_toml).map_or("impacts", |s| s.stop_events(name))
     }
 }
 

@@ -204,7 +204,9 @@ fn draw<DB: crate::Backend>(
         (1..all.len()).filter(|pi| !shown.contains(pi)).map(|pi| m.stops[pi - 1].as_str()).collect();
     let mut foot = crate::map::settings_text(m);
     if !silent.is_empty() {
-        foot.push_str(&format!("; no {} at {}", m.stop_events(), silent.join(", ")));
+        let soft = silent.iter().all(|s| m.stop_events(s) == "contacts");
+        let events = if soft { "contacts" } else { "impacts" };
+        foot.push_str(&format!("; no {events} at {}", silent.join(", ")));
     }
     let body = layout::footer(&body, canvas, &foot)?;
     // The legend, one row above the panels.
@@ -227,8 +229,12 @@ fn draw<DB: crate::Backend>(
             format!("{} at t = kT", component_name(atlas, d.component))
         } else {
             match d.impact {
-                Impact::Speed if m.stop_events() == "contacts" => format!("contact speed at {}", m.stops[pi - 1]),
-                Impact::Phase if m.stop_events() == "contacts" => format!("contact phase at {} (rad)", m.stops[pi - 1]),
+                Impact::Speed if m.stop_events(&m.stops[pi - 1]) == "contacts" => {
+                    format!("contact speed at {}", m.stops[pi - 1])
+                }
+                Impact::Phase if m.stop_events(&m.stops[pi - 1]) == "contacts" => {
+                    format!("contact phase at {} (rad)", m.stops[pi - 1])
+                }
                 Impact::Speed => format!("impact speed at {}", m.stops[pi - 1]),
                 Impact::Phase => format!("impact phase at {} (rad)", m.stops[pi - 1]),
             }

@@ -313,8 +313,7 @@ pub(crate) fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(us
 /// (`contacts at` for soft stops).
 pub(crate) fn pq_text(meta: &Meta, mass: usize) -> String {
     let stops = meta.label_stops.get(mass).cloned().unwrap_or_default();
-    let events = meta.stop_events();
-    let side = |s: &str| if s.is_empty() { "no stop".to_string() } else { format!("{events} at {s}") };
+    let side = |s: &str| if s.is_empty() { "no stop".to_string() } else { format!("{} at {s}", meta.stop_events(s)) };
     format!(
         "{}: n-p-q, n = period (forcing periods), p = {}, q = {} in n periods",
         meta.masses[mass],

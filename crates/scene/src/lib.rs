@@ -533,15 +533,20 @@ impl Scene {
             .collect()
     }
 
-    /// What the events at the scene's stops are called: `"contacts"` where
-    /// every stop is soft (a contact begins where a gap closes), `"impacts"`
-    /// where every stop is rigid, `"impacts or contacts"` where both meet.
-    pub fn stop_events(&self) -> &'static str {
-        let soft = self.stops.iter().filter(|(_, law)| matches!(law, CompiledLaw::Soft { .. })).count();
-        match soft {
-            0 => "impacts",
-            n if n == self.stops.len() => "contacts",
-            _ => "impacts or contacts",
+    /// What the events at stop `name` are called: `"contacts"` at a soft
+    /// stop (a contact begins where its gap closes), `"impacts"` at a rigid
+    /// one (or a name that is no stop of the scene).
+    pub fn stop_events(&self, name: &str) -> &'static str {
+        let soft = self
+            .file
+            .stops
+            .iter()
+            .zip(&self.stops)
+            .any(|(spec, (_, law))| spec.name == name && matches!(law, CompiledLaw::Soft { .. }));
+        if soft {
+            "contacts"
+        } else {
+            "impacts"
         }
     }
 

@@ -12,7 +12,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::error::SolverError;
-use crate::flow::{guard_start, Start};
+use crate::flow::{classify_start, derivatives, start_tolerances, time_resolution, Start};
 use crate::mode::{GuardKind, Key, Target};
 use crate::stick::ModeCache;
 use crate::system::System;
@@ -99,8 +99,11 @@ pub fn after(
 }
 
 /// Whether none of soft stop `stop`'s guards in `key`'s mode vanishes at
-/// once from `y` (is at zero and approaching) or starts below zero beyond
-/// rounding (a free stop with its gap closed, a pressed one pulling).
+/// once from `y` or starts below zero. A guard's value counts as zero within
+/// rounding and within what its rate moves it in 100 time resolutions (as a
+/// held stop's reaction does, [`crate::stick`]): an event located in time to
+/// rounding leaves a fast contact's gap a few 1e-12 from zero, which at a
+/// closing speed of thousands is 1e-15 in time.
 fn consistent(
     sys: &System,
     acc: &Accuracy,
@@ -113,7 +116,9 @@ fn consistent(
     let Some(mode) = cache.get(sys, key)? else { return Ok(false) };
     let s = mode.project(y, phase);
     Ok(mode.guards.iter().filter(|g| g.target == Target::Stop(stop)).all(|g| {
-        let (start, value, magnitude) = guard_start(acc, g, &mode.aug, &s);
-        start != Start::Approaching && value >= -1e-12 * (1.0 + magnitude)
+        let (d, scale) = derivatives(g, &mode.aug, &s);
+        let mut tol = start_tolerances(acc, false, &scale, &d);
+        tol[0] = tol[0].max(100.0 * time_resolution(acc) * d[1].abs());
+        d[0] >= -tol[0] && classify_start(&d, &tol) != Start::Approaching
     }))
 }
