@@ -499,7 +499,8 @@ impl Tracing {
                 let (a, b) = (e.a, e.b);
                 curve.points.push(e);
                 self.after_step(curve);
-                curve.ended = (axis == 0).then(|| format!("reaches the region's edge in a at ({a}, {b})"));
+                curve.ended =
+                    (axis == 0).then(|| format!("reaches the region's edge in its first parameter at ({a}, {b})"));
             }
             _ => curve.ended = Some(left),
         }
