@@ -560,3 +560,27 @@ fn the_documented_base_excitation_follows_the_closed_form() {
         assert_eq!(cell.labels[0].to_string(), label, "σ = {sigma}");
     }
 }
+
+/// Issue 41: RK4 with a step that does not resolve a soft contact (more than
+/// a tenth of its period) is refused in one line naming `rk4_step`, rather
+/// than simulating wrong contacts; a step that resolves it runs.
+#[test]
+fn rk4_is_refused_a_step_longer_than_a_contact() {
+    let out = run(&["cell", "configs/soft-stop.toml", "--integrator", "rk4", "--set", "beta=1e4"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("--accuracy rk4_step: 0.01 does not resolve the contact of soft stop A"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let json = json_of(&[
+        "cell",
+        "configs/soft-stop.toml",
+        "--integrator",
+        "rk4",
+        "--set",
+        "beta=1e4",
+        "--accuracy",
+        "rk4_step=1e-3",
+        "--json",
+    ]);
+    assert_eq!(json["class"], "periodic");
+}
