@@ -47,11 +47,15 @@ impl Meta {
         self.notation.iter().find(|n| n.name == name).and_then(|n| n.long_name.as_deref())
     }
 
-    /// What the events at stop `name` are called in figures: `contacts` at a
-    /// soft stop, `impacts` at a rigid one ([`scene::Scene::stop_events`] of
-    /// the stored scene; `impacts` when it no longer parses).
-    pub fn stop_events(&self, name: &str) -> &'static str {
-        scene::Scene::parse(&self.scene_toml).map_or("impacts", |s| s.stop_events(name))
+    /// What the events at each stop of [`Meta::stops`] are called in figures:
+    /// `contacts` at a soft stop, `impacts` at a rigid one
+    /// ([`scene::Scene::stop_events`] of the stored scene, parsed once per
+    /// call; `impacts` everywhere when it does not parse into these stops).
+    pub fn stop_events(&self) -> Vec<&'static str> {
+        match scene::Scene::parse(&self.scene_toml).map(|s| s.stop_events()) {
+            Ok(events) if events.len() == self.stops.len() => events,
+            _ => vec!["impacts"; self.stops.len()],
+        }
     }
 }
 

@@ -203,8 +203,9 @@ fn draw<DB: crate::Backend>(
     let silent: Vec<&str> =
         (1..all.len()).filter(|pi| !shown.contains(pi)).map(|pi| m.stops[pi - 1].as_str()).collect();
     let mut foot = crate::map::settings_text(m);
+    let stop_events = m.stop_events();
     if !silent.is_empty() {
-        let soft = silent.iter().all(|s| m.stop_events(s) == "contacts");
+        let soft = (1..all.len()).filter(|pi| !shown.contains(pi)).all(|pi| stop_events[pi - 1] == "contacts");
         let events = if soft { "contacts" } else { "impacts" };
         foot.push_str(&format!("; no {events} at {}", silent.join(", ")));
     }
@@ -229,10 +230,8 @@ fn draw<DB: crate::Backend>(
             format!("{} at t = kT", component_name(atlas, d.component))
         } else {
             match d.impact {
-                Impact::Speed if m.stop_events(&m.stops[pi - 1]) == "contacts" => {
-                    format!("contact speed at {}", m.stops[pi - 1])
-                }
-                Impact::Phase if m.stop_events(&m.stops[pi - 1]) == "contacts" => {
+                Impact::Speed if stop_events[pi - 1] == "contacts" => format!("contact speed at {}", m.stops[pi - 1]),
+                Impact::Phase if stop_events[pi - 1] == "contacts" => {
                     format!("contact phase at {} (rad)", m.stops[pi - 1])
                 }
                 Impact::Speed => format!("impact speed at {}", m.stops[pi - 1]),

@@ -236,12 +236,14 @@ fn draw_blocks<DB: crate::Backend>(
     let plot = chart.plotting_area();
     let (nx, ny, k) = (meta.plane.x.count, meta.plane.y.count, k.max(1));
     for (by, bx) in (0..ny.div_ceil(k)).flat_map(|by| (0..nx.div_ceil(k)).map(move |bx| (by, bx))) {
-        let cells: Vec<usize> = (by * k..((by + 1) * k).min(ny))
-            .flat_map(|iy| (bx * k..((bx + 1) * k).min(nx)).map(move |ix| iy * nx + ix))
-            .collect();
-        let (first, last) = (cells[0], cells[cells.len() - 1]);
+        let (rows, columns) = (by * k..((by + 1) * k).min(ny), bx * k..((bx + 1) * k).min(nx));
+        let (first, last) = (rows.start * nx + columns.start, (rows.end - 1) * nx + columns.end - 1);
         let ([(x0, y0), _], [_, (x1, y1)]) = (grid.rect(first), grid.rect(last));
-        let chosen = if k == 1 { paint(first) } else { most(cells.iter().filter_map(|&i| paint(i))) };
+        let chosen = if k == 1 {
+            paint(first)
+        } else {
+            most(rows.flat_map(|iy| columns.clone().map(move |ix| iy * nx + ix)).filter_map(&paint))
+        };
         match chosen {
             None => {}
             Some(Paint::Fill(c)) => plot.draw(&Rectangle::new([(x0, y0), (x1, y1)], c.filled())).map_err(err)?,
@@ -313,7 +315,14 @@ pub(crate) fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(us
 /// (`contacts at` for soft stops).
 pub(crate) fn pq_text(meta: &Meta, mass: usize) -> String {
     let stops = meta.label_stops.get(mass).cloned().unwrap_or_default();
-    let side = |s: &str| if s.is_empty() { "no stop".to_string() } else { format!("{} at {s}", meta.stop_events(s)) };
+    let events = meta.stop_events();
+    let side = |s: &str| {
+        if s.is_empty() {
+            return "no stop".to_string();
+        }
+        let word = meta.stops.iter().position(|n| n == s).map_or("impacts", |k| events[k]);
+        format!("{word} at {s}")
+    };
     format!(
         "{}: n-p-q, n = period (forcing periods), p = {}, q = {} in n periods",
         meta.masses[mass],

@@ -533,21 +533,12 @@ impl Scene {
             .collect()
     }
 
-    /// What the events at stop `name` are called: `"contacts"` at a soft
-    /// stop (a contact begins where its gap closes), `"impacts"` at a rigid
-    /// one (or a name that is no stop of the scene).
-    pub fn stop_events(&self, name: &str) -> &'static str {
-        let soft = self
-            .file
-            .stops
-            .iter()
-            .zip(&self.stops)
-            .any(|(spec, (_, law))| spec.name == name && matches!(law, CompiledLaw::Soft { .. }));
-        if soft {
-            "contacts"
-        } else {
-            "impacts"
-        }
+    /// What the events at each stop are called, in stop order: `"contacts"`
+    /// at a soft stop (a contact begins where its gap closes), `"impacts"` at
+    /// a rigid one.
+    pub fn stop_events(&self) -> Vec<&'static str> {
+        let word = |law: &CompiledLaw| if matches!(law, CompiledLaw::Soft { .. }) { "contacts" } else { "impacts" };
+        self.stops.iter().map(|(_, law)| word(law)).collect()
     }
 
     /// The scene's name.

@@ -198,8 +198,8 @@ pub struct Mode {
     pub spectral: Arc<Spectral>,
     /// Event guards, in the order above.
     pub guards: Vec<Guard>,
-    /// Harmonics H of the forcing in the augmented state.
-    harmonics: usize,
+    /// Where the augmented state holds what.
+    layout: Layout,
     /// `P = ∂s/∂y`, see [`Mode::project_matrix`].
     project_matrix: DMatrix<f64>,
     /// `L`, see [`Mode::lift_matrix`].
@@ -356,18 +356,22 @@ struct Forces<'s> {
 impl<'s> Forces<'s> {
     fn of(sys: &'s System, key: Key) -> Forces<'s> {
         use std::borrow::Cow;
-        let mut forces =
-            Forces { stiffness: Cow::Borrowed(&sys.stiffness), damping: Cow::Borrowed(&sys.damping), extra: None };
-        if sys.load.iter().any(|&l| l != 0.0) {
-            forces.extra = Some(sys.load.clone());
-        }
-        for (_, stop) in sys.stops.iter().enumerate().filter(|(k, _)| key.pressed & (1 << k) != 0) {
+        let mut forces = Forces {
+            stiffness: Cow::Borrowed(&sys.stiffness),
+            damping: Cow::Borrowed(&sys.damping),
+            extra: sys.load.iter().any(|&l| l != 0.0).then(|| sys.load.clone()),
+        };
+        let pressed = sys.stops.iter().enumerate().filter(|(k, _)| key.pressed & (1 << k) != 0);
+        for stop in pressed.map(|(_, stop)| stop) {
             let scene::StopLaw::Soft { stiffness, damping } = stop.law else { continue };
             let outer = &stop.normal * stop.normal.transpose();
             *forces.stiffness.to_mut() += &outer * stiffness;
             *forces.damping.to_mut() += &outer * damping;
             let preload = &stop.normal * (-stiffness * stop.offset);
-            forces.extra = Some(forces.extra.take().map_or_else(|| preload.clone(), |e| e + &preload));
+            forces.extra = Some(match forces.extra.take() {
+                Some(extra) => extra + preload,
+                None => preload,
+            });
         }
         forces
     }
@@ -431,15 +435,11 @@ fn augmented(
     if hf > 0 {
         aug.view_mut((r, lay.frozen()), (r, hf)).copy_from(&(-&mr_inv * basis.transpose() * stiffness * &red.spread));
     }
-    for (k, [p, q]) in (1..).zip(&sys.harmonics) {
-        // Columns of harmonics without force stay zero (bit for bit the
-        // matrix of a scene with one harmonic).
-        if k == 1 || p.iter().any(|&v| v != 0.0) {
-            aug.view_mut((r, lay.sin(k)), (r, 1)).copy_from(&(&mr_inv * (basis.transpose() * p)));
-        }
-        if q.iter().any(|&v| v != 0.0) {
-            aug.view_mut((r, lay.cos(k)), (r, 1)).copy_from(&(&mr_inv * (basis.transpose() * q)));
-        }
+    for (k, cosine, amplitudes) in sys.forcing_columns() {
+        aug.view_mut((r, lay.sin(k) + usize::from(cosine)), (r, 1))
+            .copy_from(&(&mr_inv * (basis.transpose() * amplitudes)));
+    }
+    for k in 1..=lay.h {
         let rate = k as f64 * sys.omega;
         aug[(lay.sin(k), lay.cos(k))] = rate;
         aug[(lay.cos(k), lay.sin(k))] = -rate;
@@ -520,13 +520,8 @@ fn constraint_forces(
     if hf > 0 {
         res.view_mut((0, lay.frozen()), (m, hf)).add_assign(&(stiffness * &red.spread));
     }
-    for (k, [p, q]) in (1..).zip(&sys.harmonics) {
-        if k == 1 || p.iter().any(|&v| v != 0.0) {
-            res.view_mut((0, lay.sin(k)), (m, 1)).add_assign(&(-p));
-        }
-        if q.iter().any(|&v| v != 0.0) {
-            res.view_mut((0, lay.cos(k)), (m, 1)).add_assign(&(-q));
-        }
+    for (k, cosine, amplitudes) in sys.forcing_columns() {
+        res.view_mut((0, lay.sin(k) + usize::from(cosine)), (m, 1)).add_assign(&(-amplitudes));
     }
     res.view_mut((0, lay.one()), (m, 1)).add_assign(&(stiffness * &red.offset));
     if !sys.frictions.is_empty() {
@@ -616,7 +611,7 @@ impl Mode {
             aug,
             spectral,
             guards,
-            harmonics: lay.h,
+            layout: lay,
             project_matrix,
             lift_matrix,
             tangent_terms: OnceLock::new(),
@@ -636,18 +631,16 @@ impl Mode {
     /// allocation once sized in a mode without constraints).
     pub fn project_into(&self, y: &DVector<f64>, phase: f64, s: &mut DVector<f64>) {
         let m = self.basis.nrows();
-        let r = self.basis.ncols();
-        let hf = self.frozen.nrows();
-        let dim = 2 * r + hf + 2 * self.harmonics + 1;
+        let (lay, r, hf) = (self.layout, self.layout.r, self.layout.hf);
+        let dim = lay.dim();
         if s.len() != dim {
             *s = DVector::zeros(dim);
         }
-        for k in 0..self.harmonics {
-            let (sn, cs) = if k == 0 { phase.sin_cos() } else { ((k + 1) as f64 * phase).sin_cos() };
-            s[2 * r + hf + 2 * k] = sn;
-            s[2 * r + hf + 2 * k + 1] = cs;
+        for k in 1..=lay.h {
+            // `1.0 * φ` is φ exactly: the first harmonic is `phase.sin_cos()`.
+            (s[lay.sin(k)], s[lay.cos(k)]) = (k as f64 * phase).sin_cos();
         }
-        s[dim - 1] = 1.0;
+        s[lay.one()] = 1.0;
         if !self.key.constrained() {
             // Free of constraints the reduced coordinates are the full state.
             s.rows_mut(0, 2 * m).copy_from(&y.rows(0, 2 * m));
@@ -662,10 +655,10 @@ impl Mode {
         }
     }
 
-    /// Harmonics H of the forcing: the pairs `sin kφ`, `cos kφ` (k = 1 … H)
-    /// just before the constant state `1` of the augmented state.
-    pub fn harmonics(&self) -> usize {
-        self.harmonics
+    /// The indices of `sin kφ` and `cos kφ` in the augmented state for each
+    /// harmonic k = 1 … H of the forcing.
+    pub fn harmonic_indices(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (1..=self.layout.h).map(|k| (self.layout.sin(k), self.layout.cos(k)))
     }
 
     /// The linear map `y ↦ s` of [`Mode::project`] without its constant rows

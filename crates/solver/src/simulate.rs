@@ -596,10 +596,11 @@ impl<'s> Simulator<'s> {
             rec.held &= !bit;
         }
         self.key = key;
-        if (0..sys.stops.len()).all(|k| sys.is_soft(k)) {
-            return Ok(());
+        if sys.has_rigid_stops() {
+            self.resettle(0, 0)
+        } else {
+            Ok(())
         }
-        self.resettle(0, 0)
     }
 
     fn handle(
@@ -611,10 +612,10 @@ impl<'s> Simulator<'s> {
     ) -> Result<(), Halt> {
         let sys = self.sys;
         self.applied.clear();
-        if matches!(kind, GuardKind::Touch | GuardKind::Push | GuardKind::Overlap | GuardKind::Return) {
-            return self.handle_soft(kind, stop, rec, obs);
-        }
         match kind {
+            GuardKind::Touch | GuardKind::Push | GuardKind::Overlap | GuardKind::Return => {
+                return self.handle_soft(kind, stop, rec, obs)
+            }
             GuardKind::Gap => {
                 let t = self.time();
                 let b = &mut self.buffers;
@@ -648,12 +649,7 @@ impl<'s> Simulator<'s> {
                 }
             }
             GuardKind::Reaction => self.key.held &= !(1 << stop),
-            GuardKind::Grip
-            | GuardKind::Slip
-            | GuardKind::Touch
-            | GuardKind::Push
-            | GuardKind::Overlap
-            | GuardKind::Return => {}
+            GuardKind::Grip | GuardKind::Slip => {}
         }
         // A stop released by its reaction (zero and decreasing) cannot hold now,
         // nor can a contact that broke away stick at once.

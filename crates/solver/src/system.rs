@@ -274,13 +274,17 @@ impl System {
     pub fn admits(&self, y: &[f64]) -> bool {
         let m = self.dof();
         y.len() == 2 * m
-            && (0..self.stops.len())
-                .all(|k| self.model.stops[k].is_soft() || self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
+            && (0..self.stops.len()).all(|k| self.is_soft(k) || self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
     }
 
     /// Whether the scene has soft stops.
     pub fn has_soft_stops(&self) -> bool {
         (0..self.stops.len()).any(|k| self.is_soft(k))
+    }
+
+    /// Whether the scene has rigid stops.
+    pub fn has_rigid_stops(&self) -> bool {
+        (0..self.stops.len()).any(|k| !self.is_soft(k))
     }
 
     /// Whether stop `k` is soft.
@@ -300,6 +304,19 @@ impl System {
     /// Highest multiple of ω in the forcing (H >= 1).
     pub fn harmonic_orders(&self) -> usize {
         self.harmonics.len()
+    }
+
+    /// The forcing's columns that act, `(k, cosine, amplitudes)`: the
+    /// amplitudes on `sin kφ` (`cosine` false) or `cos kφ` of harmonic k, a
+    /// column without force left out (`sin φ` always kept: the matrices of a
+    /// scene with one harmonic stay what they were, bit for bit).
+    pub fn forcing_columns(&self) -> impl Iterator<Item = (usize, bool, &DVector<f64>)> {
+        (1..).zip(&self.harmonics).flat_map(|(k, [p, q])| {
+            let acts = |v: &DVector<f64>| v.iter().any(|&a| a != 0.0);
+            let sine = (k == 1 || acts(p)).then_some((k, false, p));
+            let cosine = acts(q).then_some((k, true, q));
+            sine.into_iter().chain(cosine)
+        })
     }
 
     /// Rate of change of a stop's gap at full state `y` (negative when closing).

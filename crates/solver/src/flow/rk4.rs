@@ -72,16 +72,12 @@ impl Harmonic {
 }
 
 impl<'m> Stepper<'m> {
-    /// `count` harmonics: the rotation blocks `[[0, kω], [-kω, 0]]` of `sin kφ`
-    /// and `cos kφ`, in order of k, just before the constant state.
-    fn new(a: &'m DMatrix<f64>, s0: &DVector<f64>, count: usize) -> Self {
+    /// The harmonics at `indices` (of `sin kφ` and `cos kφ`), whose rotation
+    /// blocks `[[0, kω], [-kω, 0]]` in `a` give their rates.
+    fn new(a: &'m DMatrix<f64>, s0: &DVector<f64>, indices: impl Iterator<Item = (usize, usize)>) -> Self {
         let dim = s0.len();
-        let harmonics: Vec<Harmonic> = (0..count)
-            .map(|k| {
-                let isin = dim - 1 - 2 * count + 2 * k;
-                let icos = isin + 1;
-                Harmonic { isin, icos, start: (s0[isin], s0[icos]), rate: a[(isin, icos)] }
-            })
+        let harmonics: Vec<Harmonic> = indices
+            .map(|(isin, icos)| Harmonic { isin, icos, start: (s0[isin], s0[icos]), rate: a[(isin, icos)] })
             .collect();
         let zero = || DVector::zeros(dim);
         let n = harmonics.len();
@@ -174,7 +170,7 @@ pub fn advance(
             return (Advance::Event { guard, time: 0.0 }, 0);
         }
     };
-    let mut stepper = Stepper::new(&mode.aug, s0, mode.harmonics());
+    let mut stepper = Stepper::new(&mode.aug, s0, mode.harmonic_indices());
     let (mut s, mut next) = (s0.clone(), DVector::zeros(s0.len()));
     let mut u = 0.0;
     let mut h = acc.rk4_step;
