@@ -15,7 +15,7 @@ use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use grid::palette::{colour, family, family_colour};
+use grid::palette::{colour, delta_e, family, family_colour};
 use grid::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -348,22 +348,41 @@ fn label_text(label: &str) -> String {
     }
 }
 
+/// Least CIEDE2000 difference between the colours of two labels that a
+/// legend names one by one (what the palette's table keeps between its
+/// labels): a label nearer than this to a more frequent one named is counted
+/// in its family's hatched group instead, so that every named swatch can be
+/// told apart in the map.
+pub(crate) const LEGEND_MIN_DE: f64 = 10.0;
+
 /// Legend rows of `(label, cells)` entries, most frequent first, in at most
 /// `room` rows: the most frequent labels one by one (at least half the rows),
-/// the rest summed per family, or in one row when the families do not fit,
-/// each group hatched so that it is never taken for a listed label.
+/// each at least [`LEGEND_MIN_DE`] from every label named before it; the rest
+/// summed per family, or in one row when the families do not fit, each group
+/// hatched so that it is never taken for a listed label (a family of one
+/// label told apart from the named ones is named too, before the groups).
 fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
     let entry =
         |(label, n): &(String, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
-    if counts.len() <= room.min(LEGEND_ROWS) {
+    // Indices of the labels told apart from every more frequent one so told.
+    let mut named: Vec<usize> = Vec::new();
+    for (i, (label, _)) in counts.iter().enumerate() {
+        if named.iter().all(|&j| delta_e(colour(&counts[j].0), colour(label)) >= LEGEND_MIN_DE) {
+            named.push(i);
+        }
+    }
+    if named.len() == counts.len() && counts.len() <= room.min(LEGEND_ROWS) {
         return counts.iter().map(entry).collect();
     }
     if room == 0 {
         return Vec::new();
     }
-    let families = |rest: &[(String, u64)]| {
+    // The labels not named when the first `k` told apart are, most frequent first.
+    let rest = |k: usize| -> Vec<usize> { (0..counts.len()).filter(|i| !named[..k].contains(i)).collect() };
+    let families = |rest: &[usize]| {
         let mut g: BTreeMap<&str, (u64, u64, usize)> = BTreeMap::new();
-        for (i, (label, n)) in rest.iter().enumerate() {
+        for &i in rest {
+            let (label, n) = &counts[i];
             let e = g.entry(family(label)).or_insert((0, 0, i));
             e.0 += 1;
             e.1 += n;
@@ -372,24 +391,26 @@ fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
         v.sort_by(|a, b| b.1 .1.cmp(&a.1 .1).then(a.0.cmp(b.0)));
         v
     };
-    let most = LEGEND_ROWS.min(room - 1);
-    let fits = (room.div_ceil(2).min(most)..=most).rev().find(|&k| k + families(&counts[k..]).len() <= room);
-    let listed = fits.unwrap_or(room - 1);
-    let mut rows: Vec<Entry> = counts[..listed].iter().map(entry).collect();
-    let rest = &counts[listed..];
+    let most = LEGEND_ROWS.min(room - 1).min(named.len());
+    let fits = (room.div_ceil(2).min(most)..=most).rev().find(|&k| k + families(&rest(k)).len() <= room);
+    let listed = fits.unwrap_or(most);
+    let mut rows: Vec<Entry> = named[..listed].iter().map(|&i| entry(&counts[i])).collect();
+    let rest = rest(listed);
     if fits.is_none() {
-        let cells: u64 = rest.iter().map(|r| r.1).sum();
+        let cells: u64 = rest.iter().map(|&i| counts[i].1).sum();
         rows.push(Entry::new(Swatch::Hatch(RGBColor(90, 90, 90)), format!("+{} other labels ({cells})", rest.len())));
         return rows;
     }
-    for (fam, (labels, cells, first)) in families(rest) {
-        rows.push(if labels == 1 {
-            entry(&rest[first]) // a family of one label: the label itself
+    let mut groups = Vec::new();
+    for (fam, (labels, cells, first)) in families(&rest) {
+        if labels == 1 && named.contains(&first) {
+            rows.push(entry(&counts[first])); // a family of one label: the label itself
         } else {
             let [r, g, b] = family_colour(fam);
-            Entry::new(Swatch::Hatch(RGBColor(r, g, b)), format!("+{labels} {fam} ({cells})"))
-        });
+            groups.push(Entry::new(Swatch::Hatch(RGBColor(r, g, b)), format!("+{labels} {fam} ({cells})")));
+        }
     }
+    rows.extend(groups);
     rows
 }
 
@@ -724,4 +745,64 @@ fn draw_attractors<DB: crate::Backend>(
     let paint = |i: usize| Some(Paint::Fill(a.cells[i].as_ref().map_or(BLANK, |c| shade(c.len()))));
     draw_cells(&plot, canvas, m, "number of attractors", paint, &[])?;
     placed.draw(&key, canvas)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells a legend row counts: the number in its last parentheses.
+    fn cells(e: &Entry) -> u64 {
+        let open = e.text.rfind('(').expect("a count");
+        e.text[open + 1..e.text.len() - 1].parse().expect("a number")
+    }
+
+    fn named(rows: &[Entry]) -> Vec<(String, [u8; 3])> {
+        rows.iter()
+            .filter_map(|e| match e.swatch {
+                Swatch::Fill(c) => Some((e.text.split_whitespace().next().unwrap().to_string(), [c.0, c.1, c.2])),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn legends_name_only_labels_told_apart_by_colour() {
+        // Two pairs of the tour's second mass that the palette's rules put
+        // near each other (ΔE 4.1 and 8.3), among labels told apart.
+        for (a, b) in [("4-0-2", "3-0-6"), ("1-1-6", "1-0-12")] {
+            assert!(delta_e(colour(a), colour(b)) < LEGEND_MIN_DE, "{a} and {b} are told apart: pick another pair");
+        }
+        let labels = ["1-1-1", "4-0-2", "3-0-6", "1-1-6", "1-0-12", "C", "2-1-1", "1-0-1"];
+        let counts: Vec<(String, u64)> =
+            labels.iter().enumerate().map(|(i, l)| (l.to_string(), 1000 - 10 * i as u64)).collect();
+        for room in [4, 6, 9, 40] {
+            let rows = label_entries(&counts, room);
+            assert!(rows.len() <= room, "{} rows in room for {room}", rows.len());
+            let named = named(&rows);
+            for (i, (a, ca)) in named.iter().enumerate() {
+                for (b, cb) in &named[..i] {
+                    let d = delta_e(*ca, *cb);
+                    assert!(d >= LEGEND_MIN_DE, "room {room}: {a} and {b} both named, ΔE {d:.1}");
+                }
+            }
+            assert!(!named.iter().any(|(l, _)| l == "3-0-6" || l == "1-0-12"), "room {room}: {named:?}");
+            // No cell lost or counted twice.
+            let total: u64 = rows.iter().map(cells).sum();
+            assert_eq!(total, counts.iter().map(|c| c.1).sum::<u64>(), "room {room}");
+            // Groups come after every named label.
+            let first_group = rows.iter().position(|e| matches!(e.swatch, Swatch::Hatch(_)));
+            let last_named = rows.iter().rposition(|e| matches!(e.swatch, Swatch::Fill(_)));
+            if let (Some(g), Some(n)) = (first_group, last_named) {
+                assert!(n < g, "room {room}: a named label after a group: {:?}", rows);
+            }
+        }
+        // Labels of the palette's table (ΔE ≥ 10.25 apart) that fit are all
+        // named, most frequent first.
+        let table = ["1-1-1", "1-2-2", "1-1-2", "1-3-3", "C", "1-0-1", "1-2-1"];
+        let apart: Vec<(String, u64)> = table.iter().enumerate().map(|(i, l)| (l.to_string(), 90 - i as u64)).collect();
+        let rows = label_entries(&apart, 40);
+        let names: Vec<String> = named(&rows).into_iter().map(|n| n.0).collect();
+        assert_eq!(names, table.map(String::from));
+    }
 }
