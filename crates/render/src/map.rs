@@ -773,6 +773,9 @@ mod tests {
         for (a, b) in [("4-0-2", "3-0-6"), ("1-1-6", "1-0-12")] {
             assert!(delta_e(colour(a), colour(b)) < LEGEND_MIN_DE, "{a} and {b} are told apart: pick another pair");
         }
+        // docs/gallery.md quotes the first pair's difference.
+        let d = delta_e(colour("4-0-2"), colour("3-0-6"));
+        assert!((d - 4.1).abs() < 0.05, "docs/gallery.md says ΔE 4.1, it is {d:.2}");
         let labels = ["1-1-1", "4-0-2", "3-0-6", "1-1-6", "1-0-12", "C", "2-1-1", "1-0-1"];
         let counts: Vec<(String, u64)> =
             labels.iter().enumerate().map(|(i, l)| (l.to_string(), 1000 - 10 * i as u64)).collect();
