@@ -464,6 +464,17 @@ impl Explorer {
     }
 }
 
+/// The legend rows `vibroatlas render` draws for label counts `(label,
+/// cells)` in at most `rows` rows: `(swatch, colours, text)`, the swatch
+/// `fill` (a named label) or `hatch` (a family group), colours RGB 0-255.
+#[pyfunction]
+fn legend(counts: Vec<(String, u64)>, rows: usize) -> Vec<(&'static str, Vec<(u8, u8, u8)>, String)> {
+    render::label_legend(&counts, rows)
+        .into_iter()
+        .map(|k| (k.swatch, k.colours.into_iter().map(|[r, g, b]| (r, g, b)).collect(), k.text))
+        .collect()
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
@@ -474,6 +485,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(attractors, m)?)?;
     m.add_function(wrap_pyfunction!(curve, m)?)?;
     m.add_function(wrap_pyfunction!(zoom, m)?)?;
+    m.add_function(wrap_pyfunction!(legend, m)?)?;
     m.add_class::<Explorer>()?;
     Ok(())
 }

@@ -78,6 +78,33 @@ def test_map_with_legend_returns_axes(tree):
     plt.close(ax.figure)
 
 
+@pytest.mark.parametrize("rows", [4, 8, 40])
+def test_map_legend_is_renders(tree, rows):
+    """The legend is the one vibroatlas render draws: at most `rows` rows,
+    named labels in the file's colours first, hatched family groups after
+    them, and every labelled cell counted once."""
+    ds = tree["down"].ds
+    ax = va.plot.map(tree["down"], "M2", max_legend=rows)
+    handles = ax.get_legend().legend_handles
+    assert 0 < len(handles) <= rows
+    codes = ds["label_code_M2"].values
+    table = va.label_table(ds, ds["label_code_M2"])
+    colours = {label: tuple(ds["label_colour"].values[i]) for i, label in enumerate(table)}
+    counted, grouped = 0, False
+    for h in handles:
+        text = h.get_label()
+        counted += int(text[text.rindex("(") + 1:-1])
+        if h.get_hatch():
+            grouped = True
+            assert text.startswith("+"), text
+            continue
+        assert not grouped, "a named label after a group"
+        label = text.split()[0]
+        assert tuple(round(255 * c) for c in h.get_facecolor()[:3]) == colours[label], label
+    assert counted == int((codes >= 0).sum())
+    plt.close(ax.figure)
+
+
 def test_hysteresis_panels(tree):
     fig = plt.figure(figsize=(14.4, 3.2), dpi=100)
     axes = va.plot.hysteresis(tree, mass="M1", fig=fig, legend=False)

@@ -115,6 +115,16 @@ pub fn layer(atlas: &Atlas, show: Show, mass: usize, curves: &[Overlay]) -> Resu
     Ok(Layer { nx, ny, above, below, legend: legend.iter().map(key).collect(), scale })
 }
 
+/// The legend rows the figures draw for `(label, cells)` counts in at most
+/// `rows` rows, for a client that draws a map itself (`vibroatlas.plot`):
+/// the most frequent labels told apart by colour, the rest in hatched
+/// family groups (the counts are ordered here, most frequent first).
+pub fn label_legend(counts: &[(String, u64)], rows: usize) -> Vec<Key> {
+    let mut counts = counts.to_vec();
+    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    crate::map::label_entries(&counts, rows).iter().map(key).collect()
+}
+
 /// The colour, width (pt) and dash (pt on, pt off; off 0: solid) the
 /// figures draw a bifurcation curve of `kind` with.
 pub fn curve_style(kind: &str) -> ([u8; 3], f64, (f64, f64)) {

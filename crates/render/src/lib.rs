@@ -22,7 +22,7 @@ mod trade;
 pub use basins::basins;
 pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
-pub use layers::{curve_style, layer, Key, Layer, Show};
+pub use layers::{curve_style, label_legend, layer, Key, Layer, Show};
 pub use map::{attractor_map, map, sheet, Overlay, View};
 pub use output::Format;
 pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};

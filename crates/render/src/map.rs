@@ -361,7 +361,7 @@ pub(crate) const LEGEND_MIN_DE: f64 = 10.0;
 /// summed per family, or in one row when the families do not fit, each group
 /// hatched so that it is never taken for a listed label (a family of one
 /// label told apart from the named ones is named too, before the groups).
-fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
+pub(crate) fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
     let entry =
         |(label, n): &(String, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
     // Indices of the labels told apart from every more frequent one so told.

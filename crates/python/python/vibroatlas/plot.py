@@ -98,17 +98,22 @@ def _mesh(ax, xs, ys, codes, rgb):
     return m
 
 
-def _legend_handles(counts, colour, max_entries):
-    """Patches for the most frequent labels, and one for the rest."""
+def _legend_handles(counts, max_rows):
+    """Patches of the legend rows vibroatlas render draws for these label
+    counts in at most max_rows rows: the most frequent labels told apart by
+    colour (CIEDE2000 ΔE ≥ 10 from every label named above), the rest in
+    hatched family groups."""
     from matplotlib.patches import Patch
 
-    items = sorted(counts.items(), key=lambda e: (-e[1], e[0]))
-    handles = [Patch(facecolor=colour[t], edgecolor="0.5", linewidth=0.4, label=f"{t} ({n})")
-               for t, n in items[:max_entries]]
-    rest = items[max_entries:]
-    if rest:
-        handles.append(Patch(facecolor="white", edgecolor="0.5", hatch="///", linewidth=0.4,
-                             label=f"+ {len(rest)} more ({sum(n for _, n in rest)})"))
+    from . import _native
+
+    handles = []
+    for swatch, colours, text in _native.legend(list(counts.items()), max_rows):
+        c = tuple(v / 255 for v in colours[0])
+        if swatch == "hatch":
+            handles.append(Patch(facecolor="white", edgecolor=c, hatch="///", linewidth=0.4, label=text))
+        else:
+            handles.append(Patch(facecolor=c, edgecolor="0.5", linewidth=0.4, label=text))
     return handles
 
 
@@ -118,8 +123,10 @@ def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12):  # n
 
     ds: a sweep group (t["up"], t["up"].ds or an xarray Dataset opened with
     group="up"); mass: "M1" (default: the group's first mass); ax: the Axes
-    to draw into (default: a new figure); legend: the most frequent labels
-    (at most max_legend, with their number of cells) beside the map; title:
+    to draw into (default: a new figure); legend: the legend of vibroatlas
+    render beside the map, in at most max_legend rows (the most frequent
+    labels told apart by colour, with their number of cells, the rest in
+    hatched family groups); title:
     default "<mass>, <sweep> sweep" (a DataTree node knows its sweep)."""
     import matplotlib.pyplot as plt
 
@@ -135,8 +142,7 @@ def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12):  # n
     ax.set_title(title if title is not None else (f"{mass}, {node} sweep" if node else mass))
     if legend:
         counts = Counter(table[codes[codes >= 0]].tolist())
-        colour = {t: tuple(rgb[i]) for i, t in enumerate(table)}
-        ax.legend(handles=_legend_handles(counts, colour, max_legend), loc="upper left",
+        ax.legend(handles=_legend_handles(counts, max_legend), loc="upper left",
                   bbox_to_anchor=(1.01, 1.0), borderaxespad=0, fontsize="small", frameon=False,
                   title=f"{mass} n-p-q (cells)", title_fontsize="small")
     return ax
@@ -213,9 +219,7 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
             a.set_ylabel(axis_label(yc))
     if legend:
         counts = Counter(tu[cu[cu >= 0]].tolist()) + Counter(td[cd[cd >= 0]].tolist())
-        colour = {t: tuple(ru[i]) for i, t in enumerate(tu)}
-        colour.update({t: tuple(rd[i]) for i, t in enumerate(td)})
-        fig.legend(handles=_legend_handles(counts, colour, max_legend), loc="outside right upper",
+        fig.legend(handles=_legend_handles(counts, max_legend), loc="outside right upper",
                    fontsize="small", frameon=False, title=f"{mass} n-p-q (cells, up + down)",
                    title_fontsize="small")
     return axes
