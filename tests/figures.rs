@@ -166,6 +166,12 @@ fn diagrams_say_which_directions_were_run() {
     for want in ["up and down sweeps", "up sweep", "down sweep", "v_M1 at t = kT", "impact phase"] {
         assert!(text.contains(want), "{want} missing");
     }
+    // Its panels, stacked, share the swept axis: named once, under the lowest.
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let texts: Vec<&str> = doc.descendants().filter(|n| n.is_text()).filter_map(|n| n.text()).map(str::trim).collect();
+    let panels = texts.iter().filter(|t| t.starts_with("impact phase") || t.ends_with("at t = kT")).count();
+    assert!(panels >= 2, "{texts:?}");
+    assert_eq!(texts.iter().filter(|t| **t == "ω").count(), 1, "{texts:?}");
 }
 
 /// Issue 20: a curve file is self-describing (read back equal to the curve's

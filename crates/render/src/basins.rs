@@ -55,6 +55,7 @@ fn draw<DB: crate::Backend>(
         y: crate::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.1))),
         x_desc: &axes.0,
         y_desc: &axes.1,
+        x_labels: true,
     };
     let chart = layout::chart(&plot_area, canvas, &a)?;
     let plot = chart.plotting_area();

@@ -223,7 +223,10 @@ fn draw<DB: crate::Backend>(
     let keys_w: u32 = legend::columns(&key, canvas, &keys, 1).iter().sum();
     let spare = key.dim_in_pixel().0.saturating_sub(keys_w) / 2;
     legend::draw(&key.margin(0, 0, spare as i32, 0), canvas, &keys)?;
-    for (&pi, area) in shown.iter().zip(layout::grid(&body, canvas, shown.len(), (24.0, 8.0)).iter()) {
+    // Panels stacked in a column share its horizontal axis: only the lowest names it.
+    let (n, least) = (shown.len(), (24.0, 8.0));
+    let cols = layout::grid_columns(&body, canvas, n, least);
+    for (i, (&pi, area)) in shown.iter().zip(layout::panels(&body, n, cols).iter()).enumerate() {
         let series = &all[pi];
         let y_range = crate::range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
         let desc = if pi == 0 {
@@ -241,7 +244,14 @@ fn draw<DB: crate::Backend>(
         // A ring's width of margin at both ends, so that no mark sits on an axis.
         let (x0, x1) = (x.start.min(x.stop), x.start.max(x.stop));
         let x_range = if x.count > 1 { (x0 - 0.01 * (x1 - x0), x1 + 0.01 * (x1 - x0)) } else { (x0 - 1.0, x0 + 1.0) };
-        let axes = Axes { caption: None, x: x_range, y: y_range, x_desc: &sym(&x.name), y_desc: &desc };
+        let axes = Axes {
+            caption: None,
+            x: x_range,
+            y: y_range,
+            x_desc: &sym(&x.name),
+            y_desc: &desc,
+            x_labels: i + cols >= n,
+        };
         let chart = layout::chart(area, canvas, &axes)?;
         let plot = chart.plotting_area();
         for (sweep, pts) in series {

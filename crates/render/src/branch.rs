@@ -55,7 +55,11 @@ fn draw<DB: crate::Backend>(
         let y =
             if pi == 1 { crate::range(ys.iter().copied().chain([0.9, 1.1])) } else { crate::range(ys.iter().copied()) };
         let desc = if pi == 0 { format!("x_{mass} at the section") } else { "largest |multiplier|".to_string() };
-        let chart = layout::chart(area, canvas, &Axes { caption: None, x: (x0, x1), y, x_desc: axis, y_desc: &desc })?;
+        let chart = layout::chart(
+            area,
+            canvas,
+            &Axes { caption: None, x: (x0, x1), y, x_desc: axis, y_desc: &desc, x_labels: true },
+        )?;
         let plot = chart.plotting_area();
         if pi == 1 {
             plot.draw(&PathElement::new(vec![(x0, 1.0), (x1, 1.0)], BLACK.mix(0.4).stroke_width(canvas.pt(0.5))))

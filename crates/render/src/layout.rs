@@ -21,8 +21,9 @@ pub(crate) const FOOT: f64 = 0.9;
 /// Height of one line of text, in text heights.
 const LINE: f64 = 1.3;
 
-/// `text` broken at spaces into lines no wider than `width` pixels in `font`
-/// (a word longer than the width stays whole).
+/// `text` broken into lines no wider than `width` pixels in `font`: a
+/// clause (the text between `; `) is kept on one line where it fits on one,
+/// else broken at spaces (a word longer than the width stays whole).
 pub(crate) fn wrap<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     text: &str,
@@ -31,13 +32,27 @@ pub(crate) fn wrap<DB: crate::Backend>(
 ) -> Vec<String> {
     let fits = |s: &str| area.estimate_text_size(s, &TextStyle::from(font.clone())).map_or(true, |(w, _)| w <= width);
     let mut lines: Vec<String> = Vec::new();
-    for word in text.split(' ') {
+    for clause in text.split_inclusive("; ").map(str::trim_end) {
         match lines.last_mut() {
-            Some(line) if fits(&format!("{line} {word}")) => {
+            Some(line) if fits(&format!("{line} {clause}")) => {
                 line.push(' ');
-                line.push_str(word);
+                line.push_str(clause);
+                continue;
             }
-            _ => lines.push(word.to_string()),
+            Some(_) if fits(clause) => {
+                lines.push(clause.to_string());
+                continue;
+            }
+            _ => {}
+        }
+        for word in clause.split(' ') {
+            match lines.last_mut() {
+                Some(line) if fits(&format!("{line} {word}")) => {
+                    line.push(' ');
+                    line.push_str(word);
+                }
+                _ => lines.push(word.to_string()),
+            }
         }
     }
     lines
@@ -105,6 +120,16 @@ pub(crate) fn grid<DB: crate::Backend>(
     n: usize,
     least: (f64, f64),
 ) -> Vec<DrawingArea<DB, Shift>> {
+    panels(area, n, grid_columns(area, canvas, n, least))
+}
+
+/// The columns [`grid`] lays `n` panels out in.
+pub(crate) fn grid_columns<DB: crate::Backend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    n: usize,
+    least: (f64, f64),
+) -> usize {
     let (w, h) = area.dim_in_pixel();
     let room = |cols: usize| {
         let rows = n.div_ceil(cols);
@@ -112,8 +137,7 @@ pub(crate) fn grid<DB: crate::Backend>(
         let down = h as f64 / rows as f64 / canvas.em(least.1).max(1) as f64;
         across.min(down)
     };
-    let cols = (1..=n.max(1)).fold(1, |best, c| if room(c) > room(best) * 1.05 { c } else { best });
-    panels(area, n, cols)
+    (1..=n.max(1)).fold(1, |best, c| if room(c) > room(best) * 1.05 { c } else { best })
 }
 
 /// What a chart shows: its caption, axis ranges and descriptions.
@@ -128,6 +152,10 @@ pub(crate) struct Axes<'t> {
     pub x_desc: &'t str,
     /// Vertical axis description.
     pub y_desc: &'t str,
+    /// Whether the horizontal axis's tick values and description are drawn
+    /// (false: tick marks only, for a panel stacked on another that shares
+    /// its horizontal axis and names it).
+    pub x_labels: bool,
 }
 
 /// Widest tick text of a range (characters), for the vertical label area:
@@ -174,7 +202,7 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
     let mut chart = builder
         .margin(canvas.em(0.5))
         .margin_right(canvas.em(1.2))
-        .x_label_area_size(canvas.em(2.8))
+        .x_label_area_size(canvas.em(if a.x_labels { 2.8 } else { 0.6 }))
         .y_label_area_size(y_area)
         .build_cartesian_2d(a.x.0..a.x.1, a.y.0..a.y.1)
         .map_err(err)?;
@@ -188,9 +216,9 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         .axis_style(spine)
         .x_labels(x_ticks.clamp(2, 10))
         .y_labels(y_ticks.clamp(3, 10))
-        .x_desc(a.x_desc)
+        .x_desc(if a.x_labels { a.x_desc } else { "" })
         .y_desc(a.y_desc)
-        .x_label_formatter(&|v| crate::tick(*v))
+        .x_label_formatter(&|v| if a.x_labels { crate::tick(*v) } else { String::new() })
         .y_label_formatter(&|v| crate::tick(*v))
         .label_style(canvas.font(1.0))
         .axis_desc_style(fitted(area, canvas, a.y_desc, 1.0, h))
@@ -198,4 +226,33 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         .draw()
         .map_err(err)?;
     Ok(chart)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A footnote's clause goes to the next line whole rather than split
+    /// across two ("no impacts at / A2"); a clause wider than a line is
+    /// broken at spaces.
+    #[test]
+    fn wrap_keeps_clauses_whole() {
+        crate::font::ensure().unwrap();
+        let mut svg = String::new();
+        let area = SVGBackend::with_string(&mut svg, (400, 100)).into_drawing_area();
+        let font: FontDesc = (crate::font::FAMILY, 12.0).into_font();
+        let text = "multi-stop; preset standard; scene defaults; no impacts at A2";
+        let width = |s: &str| area.estimate_text_size(s, &TextStyle::from(font.clone())).unwrap().0;
+        // Wide enough for all but the last clause's last word on the first line.
+        let w = width("multi-stop; preset standard; scene defaults; no impacts at");
+        let lines = wrap(&area, text, &font, w);
+        assert_eq!(lines, ["multi-stop; preset standard; scene defaults;", "no impacts at A2"]);
+        assert_eq!(wrap(&area, text, &font, 10 * w).len(), 1);
+        let long = "a clause much wider than the line; b";
+        let narrow = wrap(&area, long, &font, width("a clause much"));
+        assert!(narrow.len() > 2, "{narrow:?}");
+        assert_eq!(narrow.join(" "), long, "words lost or reordered");
+        assert!(narrow.iter().all(|l| width(l) <= width("a clause much")), "{narrow:?}");
+        assert!(lines.iter().all(|l| width(l) <= w));
+    }
 }

@@ -116,6 +116,7 @@ impl<'a> CellGrid<'a> {
             y: (y.start - dy / 2.0, y.stop + dy / 2.0),
             x_desc: &meta.symbol(&x.name),
             y_desc: &meta.symbol(&y.name),
+            x_labels: true,
         };
         layout::chart(area, canvas, &axes)
     }

@@ -54,7 +54,7 @@ fn draw<DB: crate::Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &
         let (v0, v1) = crate::range(p.v[k].iter().copied());
         let caption = format!("{}: phase portrait", p.masses[k]);
         let (xd, vd) = (format!("x_{}", p.masses[k]), format!("v_{}", p.masses[k]));
-        let axes = Axes { caption: Some(&caption), x: (x0, x1), y: (v0, v1), x_desc: &xd, y_desc: &vd };
+        let axes = Axes { caption: Some(&caption), x: (x0, x1), y: (v0, v1), x_desc: &xd, y_desc: &vd, x_labels: true };
         let chart = layout::chart(area, canvas, &axes)?;
         let plot = chart.plotting_area();
         let colour = CURVES[k % CURVES.len()];
@@ -76,6 +76,7 @@ fn draw<DB: crate::Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &
         y: crate::range(p.x.iter().flatten().copied()),
         x_desc: "t",
         y_desc: "x",
+        x_labels: true,
     };
     let chart = layout::chart(&plot_area, canvas, &axes)?;
     let plot = chart.plotting_area();

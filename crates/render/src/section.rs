@@ -48,6 +48,7 @@ fn draw<DB: crate::Backend>(
             y: crate::range(panel.points.iter().map(|p| p.1)),
             x_desc: &panel.x,
             y_desc: &panel.y,
+            x_labels: true,
         };
         let chart = layout::chart(area, canvas, &axes)?;
         // A periodic motion's few distinct points (repeated every n periods)
