@@ -464,12 +464,12 @@ impl Explorer {
     }
 }
 
-/// The legend rows `vibroatlas render` draws for label counts `(label,
-/// cells)` in at most `rows` rows: `(swatch, colours, text)`, the swatch
-/// `fill` (a named label) or `hatch` (a family group), colours RGB 0-255.
 /// A legend row for Python: swatch, colours (RGB), text.
 type LegendRow = (&'static str, Vec<(u8, u8, u8)>, String);
 
+/// The legend rows `vibroatlas render` draws for label counts `(label,
+/// cells)` in at most `rows` rows: `(swatch, colours, text)`, the swatch
+/// `fill` (a named label) or `hatch` (a family group), colours RGB 0-255.
 #[pyfunction]
 fn legend(counts: Vec<(String, u64)>, rows: usize) -> Vec<LegendRow> {
     render::label_legend(&counts, rows)
