@@ -163,7 +163,7 @@ fn diagrams_say_which_directions_were_run() {
     let svg = d.join("both.svg");
     ok(&["render", file.to_str().unwrap(), "-o", svg.to_str().unwrap(), "--variable", "v_M1", "--impact", "phase"]);
     let text = std::fs::read_to_string(&svg).unwrap();
-    for want in ["up and down sweeps", "up sweep", "down sweep", "v_M1 at t = kT", "impact phase"] {
+    for want in ["up and down sweeps", "up sweep", "down sweep", "impact phase"] {
         assert!(text.contains(want), "{want} missing");
     }
     // Its panels, stacked, share the swept axis: named once, under the lowest.
@@ -172,6 +172,14 @@ fn diagrams_say_which_directions_were_run() {
     let panels = texts.iter().filter(|t| t.starts_with("impact phase") || t.ends_with("at t = kT")).count();
     assert!(panels >= 2, "{texts:?}");
     assert_eq!(texts.iter().filter(|t| **t == "ω").count(), 1, "{texts:?}");
+    // v_M1 written v with the subscript M1, drawn smaller.
+    let size = |t: &str| {
+        let node = doc.descendants().find(|n| n.is_element() && n.text().map(str::trim) == Some(t)).unwrap();
+        node.attribute("font-size").and_then(|s| s.trim_end_matches("px").parse::<f64>().ok()).unwrap()
+    };
+    let at = texts.iter().position(|t| *t == "at t = kT").expect("the period panel's axis");
+    assert_eq!(texts[..at].iter().rev().filter(|t| !t.is_empty()).take(2).collect::<Vec<_>>(), [&"M1", &"v"]);
+    assert!(size("M1") < size("v"), "{} {}", size("M1"), size("v"));
 }
 
 /// Issue 20: a curve file is self-describing (read back equal to the curve's

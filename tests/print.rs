@@ -103,7 +103,7 @@ fn pdf_figures_keep_their_text_in_an_embedded_font() {
         for want in ["M1, down sweep", "up / down differ", "ω", "δ", "up / down (cells)", "1-1-1 / 1-0-0"] {
             assert!(h.contains(want), "{tag} hysteresis view: '{want}' missing from {h}");
         }
-        for want in ["bifurcation diagram in ω", "up sweep", "down sweep", "x_M1 at t = kT", "impact phase", "7"] {
+        for want in ["bifurcation diagram in ω", "up sweep", "down sweep", "M1", "at t = kT", "impact phase", "7"] {
             assert!(b.contains(want), "{tag} diagram: '{want}' missing from {b}");
         }
     }

@@ -170,3 +170,17 @@ def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     plt.close(fig)
     with pytest.raises(ValueError, match="quantity"):
         va.plot.scalar(tree["up"], "period")
+
+
+def test_axis_labels_draw_subscripts():
+    """A symbol's subscript (f_k) is drawn as one, as the CLI's figures draw it."""
+    import xarray as xr
+
+    c = xr.DataArray([0.01, 0.02], dims="fk", name="fk",
+                     attrs={"symbol": "f_k", "long_name": "kinetic friction force"})
+    label = va.plot.axis_label(c)
+    assert label == "kinetic friction force f$_{\\mathrm{k}}$"
+    fig, ax = plt.subplots()
+    ax.set_xlabel(label)
+    fig.canvas.draw()  # mathtext parses it
+    plt.close(fig)

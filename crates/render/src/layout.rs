@@ -4,6 +4,7 @@
 //! number of ticks follow the size of its text.
 
 use crate::page::Canvas;
+use crate::rich::{self, Direction};
 use crate::{err, RenderError};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -70,10 +71,10 @@ pub(crate) fn header<DB: crate::Backend>(
     let font = canvas.font(scale);
     let lines = wrap(area, text, &font, w.saturating_sub(canvas.emu(1.0)));
     let step = canvas.text_px(scale) * LINE;
-    let style = font.into_text_style(area).pos(Pos::new(HPos::Center, VPos::Top));
     for (i, line) in lines.iter().enumerate() {
         let y = canvas.em(0.4) + (step * i as f64).round() as i32;
-        area.draw(&Text::new(line.clone(), (w as i32 / 2, y), style.clone())).map_err(err)?;
+        let at = Pos::new(HPos::Center, VPos::Top);
+        rich::draw(area, canvas, line, (w as i32 / 2, y), at, scale, Direction::Across)?;
     }
     let used = (canvas.em(0.4) as f64 + step * lines.len() as f64 + canvas.em(0.2) as f64).round() as u32;
     Ok(area.split_vertically(used.min(h)).1)
@@ -92,10 +93,10 @@ pub(crate) fn footer<DB: crate::Backend>(
     let step = canvas.text_px(FOOT) * LINE;
     let used = (step * lines.len() as f64 + canvas.em(0.5) as f64).round() as u32;
     let (top, foot) = area.split_vertically(h.saturating_sub(used));
-    let style = font.into_text_style(area).pos(Pos::new(HPos::Left, VPos::Top));
     for (i, line) in lines.iter().enumerate() {
         let y = (step * i as f64).round() as i32;
-        foot.draw(&Text::new(line.clone(), (canvas.em(0.6), y), style.clone())).map_err(err)?;
+        let at = Pos::new(HPos::Left, VPos::Top);
+        rich::draw(&foot, canvas, line, (canvas.em(0.6), y), at, FOOT, Direction::Across)?;
     }
     Ok(top)
 }
@@ -168,21 +169,20 @@ fn tick_chars(range: (f64, f64)) -> usize {
     text.min(crate::tick(range.0).chars().count().max(crate::tick(range.1).chars().count()))
 }
 
-/// `text` at `scale` times the body size, or smaller (down to 6 pt) when it
-/// is longer than `width` pixels.
-fn fitted<DB: crate::Backend>(
+/// `scale`, or less (down to the least text size) where `text` at `scale`
+/// times the body size is longer than `width` pixels.
+fn fitted_scale<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
     scale: f64,
     width: u32,
-) -> FontDesc<'static> {
-    let font = canvas.font(scale);
-    let wide = area.estimate_text_size(text, &TextStyle::from(font.clone())).map_or(0, |s| s.0);
+) -> f64 {
+    let wide = area.estimate_text_size(text, &TextStyle::from(canvas.font(scale))).map_or(0, |s| s.0);
     if wide <= width || wide == 0 {
-        font
+        scale
     } else {
-        canvas.font(scale * width as f64 / wide as f64)
+        scale * width as f64 / wide as f64
     }
 }
 
@@ -196,7 +196,7 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
     let mut builder = ChartBuilder::on(area);
     if let Some(caption) = a.caption {
         let width = area.dim_in_pixel().0.saturating_sub(canvas.emu(0.5));
-        builder.caption(caption, fitted(area, canvas, caption, CAPTION, width));
+        builder.caption(caption, canvas.font(fitted_scale(area, canvas, caption, CAPTION, width)));
     }
     let y_area = canvas.em(0.62 * tick_chars(a.y) as f64 + 2.2);
     let mut chart = builder
@@ -207,6 +207,7 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         .build_cartesian_2d(a.x.0..a.x.1, a.y.0..a.y.1)
         .map_err(err)?;
     let (w, h) = chart.plotting_area().dim_in_pixel();
+    let (xs, ys) = chart.plotting_area().get_pixel_range();
     let x_ticks = (w as f64 / (canvas.em(0.62 * tick_chars(a.x) as f64 + 1.2) as f64).max(1.0)).floor() as usize;
     let y_ticks = (h as f64 / canvas.em(2.0).max(1) as f64).floor() as usize;
     let spine = BLACK.stroke_width(canvas.pt(0.6));
@@ -216,15 +217,24 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         .axis_style(spine)
         .x_labels(x_ticks.clamp(2, 10))
         .y_labels(y_ticks.clamp(3, 10))
-        .x_desc(if a.x_labels { a.x_desc } else { "" })
-        .y_desc(a.y_desc)
         .x_label_formatter(&|v| if a.x_labels { crate::tick(*v) } else { String::new() })
         .y_label_formatter(&|v| crate::tick(*v))
         .label_style(canvas.font(1.0))
-        .axis_desc_style(fitted(area, canvas, a.y_desc, 1.0, h))
         .set_all_tick_mark_size(canvas.em(0.35))
         .draw()
         .map_err(err)?;
+    // The descriptions, with their subscripts: the horizontal one centred at
+    // the foot of its label area, the vertical one up the left of its own.
+    let base = area.get_base_pixel();
+    let (left, right, bottom) = (xs.start - base.0, xs.end - base.0, ys.end - base.1);
+    let middle = (ys.start + ys.end) / 2 - base.1;
+    if a.x_labels {
+        let at = ((left + right) / 2, bottom + canvas.em(2.7));
+        rich::draw(area, canvas, a.x_desc, at, Pos::new(HPos::Center, VPos::Bottom), 1.0, Direction::Across)?;
+    }
+    let scale = fitted_scale(area, canvas, &rich::plain(a.y_desc), 1.0, h);
+    let at = (left - y_area + canvas.em(0.1), middle);
+    rich::draw(area, canvas, a.y_desc, at, Pos::new(HPos::Center, VPos::Top), scale, Direction::Up)?;
     Ok(chart)
 }
 

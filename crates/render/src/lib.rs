@@ -15,6 +15,7 @@ mod map;
 mod output;
 mod page;
 mod portrait;
+mod rich;
 mod scalar;
 mod section;
 mod trade;

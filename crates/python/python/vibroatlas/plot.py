@@ -48,9 +48,18 @@ def colours(ds):
     return {t: tuple(int(c) for c in rgb[i]) for i, t in enumerate(table)}
 
 
+def _subscripts(text):
+    """text with each `_` between word characters and the run after it a
+    mathtext subscript, as vibroatlas's figures draw symbols (f_k, x_M1)."""
+    import re
+
+    return re.sub(r"(?<=[^\W_])_([^\W_]+)", r"$_{\\mathrm{\1}}$", text)
+
+
 def axis_label(coord):
     """`long_name symbol` of an axis coordinate (the symbol alone where the
-    long name is generic), as vibroatlas's figures write it."""
+    long name is generic), as vibroatlas's figures write it, subscripts
+    drawn as subscripts (f_k as f with the subscript k)."""
     name = str(coord.name)
     sym = str(coord.attrs.get("symbol") or name)
     long = str(coord.attrs.get("long_name") or "")
@@ -61,7 +70,7 @@ def axis_label(coord):
     else:
         text = f"{long} {sym}"
     units = str(coord.attrs.get("units") or "1")
-    return text if units in ("1", "") else f"{text} ({units})"
+    return _subscripts(text if units in ("1", "") else f"{text} ({units})")
 
 
 def _grid(ds, mass):
