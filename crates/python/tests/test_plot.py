@@ -184,3 +184,48 @@ def test_axis_labels_draw_subscripts():
     ax.set_xlabel(label)
     fig.canvas.draw()  # mathtext parses it
     plt.close(fig)
+
+
+def test_row_diagram_draws_the_files_sections(tmp_path):
+    """va.plot.row draws what `render SWEEP.h5` draws: the period panel holds
+    every period-section point of each sweep (as `sweep --json` reports them),
+    each impact panel every impact's normal speed |n·v| (read here with h5py),
+    the down sweep as rings, and a stop without impacts gets no panel."""
+    import h5py
+
+    path = tmp_path / "s.h5"
+    s = va.sweep(MULTI, axis=("omega", 0.28, 0.36, 9), direction="both", output=path, progress=False)
+    axes = va.plot.row(path)
+    with h5py.File(path) as f:
+        stops = f.attrs["stops"].split(",")
+        normals = np.asarray(f.attrs["stop_normals"], float).reshape(len(stops), -1)
+        dof = normals.shape[1]
+        speeds = {}
+        for sweep in ("up", "down"):
+            for k, stop in enumerate(stops):
+                values = f[f"{sweep}/sections/{stop}/values"][()]
+                offsets = f[f"{sweep}/sections/{stop}/offsets"][()]
+                xs = f[f"{sweep}/omega"][()]
+                cell = np.searchsorted(offsets, np.arange(len(values)), side="right") - 1
+                speeds[sweep, stop] = sorted(zip(xs[cell % len(xs)].tolist(),
+                                                 np.abs(values[:, 1 + dof:] @ normals[k]).tolist()))
+    with_impacts = [stop for stop in stops if speeds["up", stop] or speeds["down", stop]]
+    assert len(axes) == 1 + len(with_impacts)
+    assert [a.get_ylabel() for a in axes[1:]] == [f"impact speed at {stop}" for stop in with_impacts]
+
+    def drawn(ax):
+        return {c.get_label(): sorted(map(tuple, c.get_offsets().tolist())) for c in ax.collections}
+
+    period = drawn(axes[0])
+    for sweep in ("up", "down"):
+        want = sorted((q["value"], sec[0]) for q in s[sweep] for sec in q["period_section"])
+        np.testing.assert_allclose(period[f"{sweep} sweep"], want, rtol=1e-15, atol=0, err_msg=sweep)
+    for ax, stop in zip(axes[1:], with_impacts):
+        got = drawn(ax)
+        for sweep in ("up", "down"):
+            np.testing.assert_allclose(got[f"{sweep} sweep"], speeds[sweep, stop], rtol=1e-15, atol=0,
+                                       err_msg=f"{sweep} {stop}")
+    ring = [c for c in axes[0].collections if c.get_label() == "down sweep"][0]
+    assert len(ring.get_facecolors()) == 0 or ring.get_facecolors()[0][3] == 0, "down sweep drawn as rings"
+    assert "x$_{\\mathrm{M1}}$" in axes[0].get_ylabel()
+    plt.close(axes[0].figure)

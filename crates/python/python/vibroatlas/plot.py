@@ -13,7 +13,7 @@ import numpy as np
 
 from . import _dataset, _first_mass, label_table
 
-__all__ = ["map", "hysteresis", "scalar", "colours"]
+__all__ = ["map", "hysteresis", "scalar", "row", "colours"]
 
 # The continuous views' diverging scale, as `vibroatlas render --view
 # multiplier|lyapunov` paints it: blue below the neutral value, white at it,
@@ -282,3 +282,101 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(centre - reach, centre + reach), cmap), ax=ax)
         bar.set_label("max |μ|" if quantity == "multiplier" else "λ (per unit time)")
     return ax
+
+
+# Colours of the sweeps in diagrams (render's): down vermillion rings, up
+# blue dots drawn inside them, fresh cells black dots; sizes in points.
+_SWEEP_COLOUR = {"down": (213, 94, 0), "up": (0, 114, 178), "fresh": (0, 0, 0)}
+_RING_PT, _DOT_PT = 1.7, 0.9
+
+
+def _names(attr):
+    """A list attribute of the file (comma-separated text, or an array)."""
+    if isinstance(attr, str):
+        return [s for s in attr.split(",") if s]
+    return [str(s) for s in np.atleast_1d(attr)]
+
+
+def _sections(tree, sweep, name):
+    """Section `name` (period or a stop) of a sweep: per cell i (iy * nx + ix)
+    its rows, as a function of i."""
+    node = tree[f"{sweep}/sections/{name}"]
+    offsets, values = np.asarray(node["offsets"].values), np.asarray(node["values"].values)
+    return lambda cell: values[offsets[cell]:offsets[cell + 1]]
+
+
+def row(tree, at=None, variable=None, fig=None):
+    """The bifurcation diagram of one row of an atlas (or of a sweep file),
+    as `vibroatlas render --row NAME=VALUE` (`render SWEEP.h5`) draws it:
+    one panel per section against the row's parameter, stacked on a shared
+    axis: the period section (the state component `variable` at t = kT,
+    default the position of the first labelled mass, x_M1) and, per stop
+    with impacts, each impact's normal speed |n·v| just before it; the down
+    sweep as vermillion rings, the up sweep as blue dots inside them (where
+    they agree both show), fresh cells as black dots.
+
+    tree: a DataTree (va.atlas, va.open) or a path; at: the value of the y
+    axis whose nearest row is drawn (default: the first row, a sweep file's
+    only one); fig: the figure to draw into. Returns the panels' Axes, top
+    to bottom."""
+    import matplotlib.pyplot as plt
+
+    from . import open as open_atlas
+
+    if not hasattr(tree, "children"):
+        tree = open_atlas(tree)
+    attrs = tree.attrs
+    sweeps = [s for s in ("down", "up", "fresh") if s in tree.children]
+    if not sweeps:
+        raise ValueError("no sweep group (up, down or fresh) in this tree")
+    first = _dataset(tree[sweeps[0]])
+    code = first[f"label_code_{_first_mass(first)}"]
+    ydim, xdim = code.dims
+    xs, ys = first[xdim], first[ydim]
+    iy = 0 if at is None else int(np.argmin(np.abs(np.asarray(ys.values, float) - float(at))))
+    nx = len(xs)
+    state = _names(attrs["state_masses"])
+    dof = len(state)
+    components = [f"x_{m}" for m in state] + [f"v_{m}" for m in state]
+    if variable is None:
+        masses = _names(attrs["masses"])
+        variable = f"x_{masses[0]}" if masses and f"x_{masses[0]}" in components else components[0]
+    if variable not in components:
+        raise ValueError(f"variable {variable!r}: expected one of {', '.join(components)}")
+    k = components.index(variable)
+    stops = _names(attrs["stops"])
+    normals = np.asarray(attrs["stop_normals"], float).reshape(len(stops), dof)
+    x = np.asarray(xs.values, float)
+
+    def points(sweep, panel):
+        rows = _sections(tree, sweep, "period" if panel == 0 else stops[panel - 1])
+        out = []
+        for ix in range(nx):
+            for r in rows(iy * nx + ix):
+                out.append((x[ix], r[k] if panel == 0 else abs(float(normals[panel - 1] @ r[1 + dof:1 + 2 * dof]))))
+        return np.array(out, float).reshape(-1, 2)
+
+    series = [{s: points(s, p) for s in sweeps} for p in range(1 + len(stops))]
+    shown = [p for p in range(len(series)) if p == 0 or any(len(v) for v in series[p].values())]
+    if fig is None:
+        fig = plt.figure(figsize=(8, 1.2 + 2.2 * len(shown)), layout="constrained")
+    axes = fig.subplots(len(shown), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, p in zip(axes, shown):
+        for sweep in sweeps:
+            pts = series[p][sweep]
+            colour = tuple(c / 255 for c in _SWEEP_COLOUR[sweep])
+            if sweep == "down":
+                ax.scatter(pts[:, 0], pts[:, 1], s=(2 * _RING_PT) ** 2, facecolors="none", edgecolors=colour,
+                           linewidths=0.6, label="down sweep")
+            else:
+                ax.scatter(pts[:, 0], pts[:, 1], s=(2 * _DOT_PT) ** 2, color=colour, linewidths=0,
+                           label=f"{sweep} sweep" if sweep == "up" else "fresh cells")
+        ax.set_ylabel(_subscripts(f"{variable} at t = kT") if p == 0 else f"impact speed at {stops[p - 1]}")
+    axes[-1].set_xlabel(axis_label(xs))
+    silent = [stops[p - 1] for p in range(1, len(series)) if p not in shown]
+    fixed = f", {axis_label(ys)} = {float(ys.values[iy]):g}" if len(ys) > 1 else ""
+    axes[0].set_title(f"bifurcation diagram in {axis_label(xs)}{fixed}"
+                      + (f"; no impacts at {', '.join(silent)}" if silent else ""))
+    axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.12), ncols=len(sweeps), frameon=False,
+                   fontsize="small")
+    return list(axes)

@@ -40,3 +40,9 @@ def scalar(
     colorbar: bool = ...,
     title: str | None = ...,
 ) -> Axes: ...
+def row(
+    tree: xarray.DataTree | str,
+    at: float | None = ...,
+    variable: str | None = ...,
+    fig: Figure | None = ...,
+) -> list[Axes]: ...
