@@ -202,3 +202,24 @@ fn tiny_split_cells_print_in_blocks_that_say_so() {
     assert!(text.contains("up / down differ") && !text.contains("in blocks of"));
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// Issue 43: at double width the hysteresis view is two up (up | down over
+/// the differing cells | the legend), not three strips stacked beside the
+/// legend: the two sweeps' captions on one line, the third panel's below.
+#[test]
+fn the_hysteresis_view_prints_two_up_at_double_width() {
+    let d = scratch("two-up");
+    let (atlas, _) = inputs(&d);
+    let pdf = d.join("hyst.pdf");
+    ok(&["render", p(&atlas), "--sweep", "hysteresis", "--size", "double", "-o", p(&pdf)]);
+    let (w, _, list) = words(&pdf);
+    let at = |text: &str| -> Vec<[f64; 4]> { list.iter().filter(|x| x.0 == text).map(|x| x.2).collect() };
+    let sweeps = at("sweep");
+    assert_eq!(sweeps.len(), 2, "{list:?}");
+    assert!((sweeps[0][1] - sweeps[1][1]).abs() < 1.0, "captions on one line: {sweeps:?}");
+    assert!((sweeps[0][0] - sweeps[1][0]).abs() > w / 4.0, "side by side: {sweeps:?}");
+    let differ = at("differ:");
+    assert_eq!(differ.len(), 1, "{list:?}");
+    assert!(differ[0][1] > sweeps[0][3] + 50.0, "the differing cells below: {differ:?} {sweeps:?}");
+    assert!(differ[0][0] < w / 2.0, "in the left half: {differ:?}");
+}

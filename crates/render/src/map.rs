@@ -552,16 +552,32 @@ fn draw_hysteresis<DB: crate::Backend>(
     let h = Hysteresis::of(atlas, mass)?;
     let placed = place(body, canvas, LEGEND_BELOW_ROWS * 3 / 2, |room| h.rows(curves, room));
     let (maps, key) = placed.split(body, canvas);
-    let panels = layout::grid(&maps, canvas, 3, PANEL_EM);
     let name = &m.masses[mass];
-    draw_cells(&panels[0], canvas, m, &format!("{name}, up sweep"), label_paint(h.up, mass), curves)?;
-    draw_cells(&panels[1], canvas, m, &format!("{name}, down sweep"), label_paint(h.down, mass), curves)?;
-    let zones = h.zones();
-    let title = |k: usize| match k {
-        1 => format!("up / down differ: {zones} cells"),
-        k => format!("up / down differ: {zones} cells (in blocks of {k} × {k})"),
+    let panels = |up: &DrawingArea<DB, Shift>, down: &DrawingArea<DB, Shift>, differ: &DrawingArea<DB, Shift>| {
+        draw_cells(up, canvas, m, &format!("{name}, up sweep"), label_paint(h.up, mass), curves)?;
+        draw_cells(down, canvas, m, &format!("{name}, down sweep"), label_paint(h.down, mass), curves)?;
+        let zones = h.zones();
+        let title = |k: usize| match k {
+            1 => format!("up / down differ: {zones} cells"),
+            k => format!("up / down differ: {zones} cells (in blocks of {k} × {k})"),
+        };
+        draw_split_cells(differ, canvas, m, &title, |i| Some(h.paint(i)), curves)
     };
-    draw_split_cells(&panels[2], canvas, m, &title, |i| Some(h.paint(i)), curves)?;
+    if placed.beside && layout::grid_columns(&maps, canvas, 3, PANEL_EM) == 1 {
+        // Stacked beside the legend the panels would be strips: two up
+        // instead (up | down over differ | legend), each panel its aspect.
+        let quarters = body.split_evenly((2, 2));
+        panels(&quarters[0], &quarters[1], &quarters[2])?;
+        let key = quarters[3].margin(canvas.em(0.5), 0, canvas.em(0.5), 0);
+        let (w, height) = key.dim_in_pixel();
+        let per_column = legend::rows(canvas, height);
+        let fits = |rows: &[Entry]| legend::columns(&key, canvas, rows, per_column).iter().sum::<u32>() <= w;
+        let most = h.rows(curves, usize::MAX).len();
+        let rows = (1..=most).rev().map(|room| h.rows(curves, room)).find(|r| fits(r)).unwrap_or_default();
+        return legend::draw(&key, canvas, &rows);
+    }
+    let grid = layout::grid(&maps, canvas, 3, PANEL_EM);
+    panels(&grid[0], &grid[1], &grid[2])?;
     placed.draw(&key, canvas)
 }
 
