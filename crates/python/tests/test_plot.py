@@ -229,3 +229,18 @@ def test_row_diagram_draws_the_files_sections(tmp_path):
     assert len(ring.get_facecolors()) == 0 or ring.get_facecolors()[0][3] == 0, "down sweep drawn as rings"
     assert "x$_{\\mathrm{M1}}$" in axes[0].get_ylabel()
     plt.close(axes[0].figure)
+
+
+@pytest.mark.parametrize("view", ["multiplier", "lyapunov"])
+def test_map_views_are_the_scalar_views(tree, view):
+    """va.plot.map(view=...) draws what va.plot.scalar draws, pixel for pixel."""
+    images = []
+    for draw in (lambda ax: va.plot.map(tree["up"], ax=ax, view=view),
+                 lambda ax: va.plot.scalar(tree["up"], view, ax=ax)):
+        fig = plt.figure(figsize=(4.8, 3.2), dpi=100)
+        draw(fig.add_axes([0.1, 0.1, 0.6, 0.8]))
+        images.append(pixels(fig))
+        plt.close(fig)
+    assert (images[0] == images[1]).all()
+    with pytest.raises(ValueError, match="view 'speed'"):
+        va.plot.map(tree["up"], view="speed")

@@ -126,9 +126,11 @@ def _legend_handles(counts, max_rows):
     return handles
 
 
-def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12):  # noqa: A001
+def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12, view="labels"):  # noqa: A001
     """Draws one mass's label map of a sweep group in the file's colours and
-    returns the Axes.
+    returns the Axes; with view="multiplier" or "lyapunov" the continuous
+    view of `vibroatlas render --view` instead (`scalar`; mass and the
+    legend do not apply).
 
     ds: a sweep group (t["up"], t["up"].ds or an xarray Dataset opened with
     group="up"); mass: "M1" (default: the group's first mass); ax: the Axes
@@ -138,6 +140,11 @@ def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12):  # n
     hatched family groups); title:
     default "<mass>, <sweep> sweep" (a DataTree node knows its sweep)."""
     import matplotlib.pyplot as plt
+
+    if view != "labels":
+        if view not in _CENTRE:
+            raise ValueError(f"view {view!r}: expected labels, multiplier or lyapunov")
+        return scalar(ds, view, ax, title=title)
 
     node = _node_name(ds)
     ds = _dataset(ds)

@@ -22,6 +22,7 @@ def map(
     legend: bool = ...,
     title: str | None = ...,
     max_legend: int = ...,
+    view: Literal["labels", "multiplier", "lyapunov"] = ...,
 ) -> Axes: ...
 def hysteresis_mask(tree: xarray.DataTree | str, masses: Sequence[str] | None = ...) -> xarray.DataArray: ...
 def hysteresis(
