@@ -1,4 +1,5 @@
-//! Issue 30 (items 2, 6, 7, 8, 10): the second adversarial audit's streams,
+//! Standard streams, studies, symbolic links, pipes and names (issue 30,
+//! items 2, 6, 7, 8, 10): the second adversarial audit's streams,
 //! studies, symbolic links, pipes and names. Each test runs the real binary on
 //! one reproducer: one clear error or a correct result, the exit code
 //! documented (README, "Exit codes"), nothing lost, and never a hang (every

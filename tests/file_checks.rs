@@ -1,9 +1,9 @@
-//! Issue 30, second audit: never a file that lies, checksums a reader
+//! File checks (issue 30, second audit): never a file that lies, checksums a reader
 //! verifies. Each test reproduces one finding and checks the fix through the
 //! binary.
 
-use crate::faults::refused;
 use crate::integrity::{mutated, python};
+use crate::run_safety::refused;
 use crate::util::{run, scratch};
 use std::path::{Path, PathBuf};
 
@@ -45,7 +45,7 @@ fn flipped(from: &Path, to: &Path, text: &[u8], at: usize) -> PathBuf {
 /// project code; xarray still reads the file through both engines.
 #[test]
 fn texts_in_the_global_heap_carry_checksums_readers_verify() {
-    let d = scratch("faults3-texts");
+    let d = scratch("file-checks-texts");
     let a = atlas(&d, "a.h5", &[]);
     let f = a.to_str().unwrap();
     let out = run(&["inspect", f]);
@@ -115,7 +115,7 @@ print("ok")
 /// neither taken as done nor computed again over it; whole, it is done.
 #[test]
 fn resume_checks_a_finished_file_whole() {
-    let d = scratch("faults3-resume");
+    let d = scratch("file-checks-resume");
     let a = atlas(&d, "a.h5", &[]);
     let again = |out: &Path| {
         let mut args = atlas_args(out.to_str().unwrap(), &["--resume"]);
@@ -167,7 +167,7 @@ with open(dst, "r+b") as g:
 /// is refused by the checksum.
 #[test]
 fn attributes_of_the_wrong_type_or_empty_sweeps_are_named() {
-    let d = scratch("faults3-attrs");
+    let d = scratch("file-checks-attrs");
     let a = atlas(&d, "a.h5", &[]);
     let cases = [
         ("attr|@dim|'four'", "attribute dim of /: expected an unsigned integer, found a string"),
@@ -190,7 +190,7 @@ fn attributes_of_the_wrong_type_or_empty_sweeps_are_named() {
 /// setting that differs, with both values.
 #[test]
 fn a_merge_of_parts_with_other_settings_names_each_difference() {
-    let d = scratch("faults3-merge");
+    let d = scratch("file-checks-merge");
     let q1 = atlas(&d, "q1.h5", &["--shard", "1/2"]);
     let q2 = atlas(&d, "q2.h5", &["--shard", "2/2", "--section-cap", "4", "--preset", "fast"]);
     let m = d.join("m.h5");

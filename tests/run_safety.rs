@@ -1,4 +1,4 @@
-//! Issue 21: nothing lost, nothing wrong, never a crash. Each test reproduces
+//! Run safety (issue 21): nothing lost, nothing wrong, never a crash. Each test reproduces
 //! one defect of the adversarial audit and checks the fix through the binary.
 
 use crate::util::{run, scratch};
