@@ -223,3 +223,21 @@ fn the_hysteresis_view_prints_two_up_at_double_width() {
     assert!(differ[0][1] > sweeps[0][3] + 50.0, "the differing cells below: {differ:?} {sweeps:?}");
     assert!(differ[0][0] < w / 2.0, "in the left half: {differ:?}");
 }
+
+/// Issue 43: a subscript follows its symbol in a PDF's text as the figure was
+/// laid out (`f_k` in the footnote of a long line: the f set from its end, so
+/// that the viewer's narrower setting of the text before it leaves no gap),
+/// smaller and lower than the f.
+#[test]
+fn a_subscript_follows_its_symbol_in_a_pdf() {
+    let d = scratch("subscript");
+    let (_, sweep) = inputs(&d);
+    let pdf = d.join("s.pdf");
+    ok(&["render", p(&sweep), "--size", "single", "-o", p(&pdf)]);
+    let (_, _, list) = words(&pdf);
+    let i = (1..list.len()).find(|&i| list[i - 1].0 == "f" && list[i].0 == "k");
+    let i = i.unwrap_or_else(|| panic!("no f followed by k: {list:?}")) - 1;
+    let (f, k) = (&list[i], &list[i + 1]);
+    assert!((k.2[0] - f.2[2]).abs() < 0.5, "gap between f and its subscript: {:?} {:?}", f.2, k.2);
+    assert!(k.1 < f.1 && k.2[3] > f.2[3], "the subscript smaller and lower: {f:?} {k:?}");
+}

@@ -244,3 +244,20 @@ def test_map_views_are_the_scalar_views(tree, view):
     assert (images[0] == images[1]).all()
     with pytest.raises(ValueError, match="view 'speed'"):
         va.plot.map(tree["up"], view="speed")
+
+
+def test_row_refuses_what_render_refuses(tree, tmp_path):
+    """A row outside the file, a value that is not a number, a group for the
+    tree and a file without section points are refused, each saying so."""
+    for at, kind, words in [(5.0, ValueError, "delta = 5.0 is outside the file's 0.05 to 2"),
+                            (float("nan"), ValueError, "not a finite number"),
+                            ("0.5", TypeError, "expected a number")]:
+        with pytest.raises(kind, match=words):
+            va.plot.row(tree, at=at)
+    with pytest.raises(ValueError, match="got its group 'up'"):
+        va.plot.row(tree["up"])
+    bare = tmp_path / "bare.h5"
+    cli("atlas", MULTI, "--x", "omega=0.3:0.4:3", "--y", "delta=0.5:0.6:2", "--section-cap", "0", "--quiet",
+        "-o", bare)
+    with pytest.raises(ValueError, match="no section points"):
+        va.plot.row(bare)

@@ -56,6 +56,7 @@ fn draw<DB: crate::Backend>(
         x_desc: &axes.0,
         y_desc: &axes.1,
         x_labels: true,
+        y_label_chars: None,
     };
     let chart = layout::chart(&plot_area, canvas, &a)?;
     let plot = chart.plotting_area();

@@ -226,9 +226,11 @@ fn draw<DB: crate::Backend>(
     // Panels stacked in a column share its horizontal axis: only the lowest names it.
     let (n, least) = (shown.len(), (24.0, 8.0));
     let cols = layout::grid_columns(&body, canvas, n, least);
+    let y_range = |pi: usize| crate::range(all[pi].iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+    let y_chars = shown.iter().map(|&pi| layout::tick_chars(y_range(pi))).max();
     for (i, (&pi, area)) in shown.iter().zip(layout::panels(&body, n, cols).iter()).enumerate() {
         let series = &all[pi];
-        let y_range = crate::range(series.iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+        let y_range = y_range(pi);
         let desc = if pi == 0 {
             format!("{} at t = kT", component_name(atlas, d.component))
         } else {
@@ -251,6 +253,7 @@ fn draw<DB: crate::Backend>(
             x_desc: &sym(&x.name),
             y_desc: &desc,
             x_labels: i + cols >= n,
+            y_label_chars: y_chars,
         };
         let chart = layout::chart(area, canvas, &axes)?;
         let plot = chart.plotting_area();

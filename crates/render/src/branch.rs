@@ -58,7 +58,7 @@ fn draw<DB: crate::Backend>(
         let chart = layout::chart(
             area,
             canvas,
-            &Axes { caption: None, x: (x0, x1), y, x_desc: axis, y_desc: &desc, x_labels: true },
+            &Axes { caption: None, x: (x0, x1), y, x_desc: axis, y_desc: &desc, x_labels: true, y_label_chars: None },
         )?;
         let plot = chart.plotting_area();
         if pi == 1 {

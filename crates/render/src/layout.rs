@@ -24,7 +24,8 @@ const LINE: f64 = 1.3;
 
 /// `text` broken into lines no wider than `width` pixels in `font`: a
 /// clause (the text between `; `) is kept on one line where it fits on one,
-/// else broken at spaces (a word longer than the width stays whole).
+/// else broken at spaces but not at an equation's `=` (a word longer than
+/// the width stays whole).
 pub(crate) fn wrap<DB: crate::Backend>(
     area: &DrawingArea<DB, Shift>,
     text: &str,
@@ -46,13 +47,24 @@ pub(crate) fn wrap<DB: crate::Backend>(
             }
             _ => {}
         }
+        // An equation (`f_k = 0.05`, `p = impacts`) is not broken at its `=`.
+        let mut words: Vec<String> = Vec::new();
         for word in clause.split(' ') {
+            match words.last_mut() {
+                Some(w) if word == "=" || w.ends_with(" =") => {
+                    w.push(' ');
+                    w.push_str(word);
+                }
+                _ => words.push(word.to_string()),
+            }
+        }
+        for word in &words {
             match lines.last_mut() {
                 Some(line) if fits(&format!("{line} {word}")) => {
                     line.push(' ');
                     line.push_str(word);
                 }
-                _ => lines.push(word.to_string()),
+                _ => lines.push(word.clone()),
             }
         }
     }
@@ -157,11 +169,15 @@ pub(crate) struct Axes<'t> {
     /// (false: tick marks only, for a panel stacked on another that shares
     /// its horizontal axis and names it).
     pub x_labels: bool,
+    /// Characters of the widest vertical tick value the label area is sized
+    /// for (`None`: from `y`); panels stacked on a shared axis take the
+    /// widest of theirs, so that their plots line up.
+    pub y_label_chars: Option<usize>,
 }
 
 /// Widest tick text of a range (characters), for the vertical label area:
 /// ticks are round numbers, so one more digit than the step needs.
-fn tick_chars(range: (f64, f64)) -> usize {
+pub(crate) fn tick_chars(range: (f64, f64)) -> usize {
     let step = (range.1 - range.0).abs() / 5.0;
     let decimals = if step > 0.0 { (-step.log10().floor()).max(0.0) as usize + 1 } else { 1 };
     let whole = range.0.abs().max(range.1.abs()).max(1.0).log10().floor() as usize + 1;
@@ -198,9 +214,12 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         let width = area.dim_in_pixel().0.saturating_sub(canvas.emu(0.5));
         builder.caption(caption, canvas.font(fitted_scale(area, canvas, caption, CAPTION, width)));
     }
-    let y_area = canvas.em(0.62 * tick_chars(a.y) as f64 + 2.2);
+    let y_area = canvas.em(0.62 * a.y_label_chars.unwrap_or_else(|| tick_chars(a.y)) as f64 + 2.2);
     let mut chart = builder
         .margin(canvas.em(0.5))
+        // Room between a caption and the top tick value, which stands half
+        // a text height above the plot.
+        .margin_top(canvas.em(if a.caption.is_some() { 0.9 } else { 0.5 }))
         .margin_right(canvas.em(1.2))
         .x_label_area_size(canvas.em(if a.x_labels { 2.8 } else { 0.6 }))
         .y_label_area_size(y_area)
@@ -258,6 +277,8 @@ mod tests {
         let lines = wrap(&area, text, &font, w);
         assert_eq!(lines, ["multi-stop; preset standard; scene defaults;", "no impacts at A2"]);
         assert_eq!(wrap(&area, text, &font, 10 * w).len(), 1);
+        let eq = wrap(&area, "a title with f_k = 0.0509", &font, width("a title with f_k ="));
+        assert_eq!(eq, ["a title with", "f_k = 0.0509"], "an equation broken at its =");
         let long = "a clause much wider than the line; b";
         let narrow = wrap(&area, long, &font, width("a clause much"));
         assert!(narrow.len() > 2, "{narrow:?}");

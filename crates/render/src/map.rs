@@ -117,6 +117,7 @@ impl<'a> CellGrid<'a> {
             x_desc: &meta.symbol(&x.name),
             y_desc: &meta.symbol(&y.name),
             x_labels: true,
+            y_label_chars: None,
         };
         layout::chart(area, canvas, &axes)
     }
@@ -566,14 +567,20 @@ fn draw_hysteresis<DB: crate::Backend>(
     if placed.beside && layout::grid_columns(&maps, canvas, 3, PANEL_EM) == 1 {
         // Stacked beside the legend the panels would be strips: two up
         // instead (up | down over differ | legend), each panel its aspect.
-        let quarters = body.split_evenly((2, 2));
-        panels(&quarters[0], &quarters[1], &quarters[2])?;
-        let key = quarters[3].margin(canvas.em(0.5), 0, canvas.em(0.5), 0);
-        let (w, height) = key.dim_in_pixel();
-        let per_column = legend::rows(canvas, height);
-        let fits = |rows: &[Entry]| legend::columns(&key, canvas, rows, per_column).iter().sum::<u32>() <= w;
-        let most = h.rows(curves, usize::MAX).len();
-        let rows = (1..=most).rev().map(|room| h.rows(curves, room)).find(|r| fits(r)).unwrap_or_default();
+        // The legend as wide as its columns need, between half and three
+        // fifths of the width; the differing cells keep the rest.
+        let (w, height) = body.dim_in_pixel();
+        let (top, bottom) = body.split_vertically(height / 2);
+        let sweeps = top.split_evenly((1, 2));
+        let per_column = legend::rows(canvas, bottom.dim_in_pixel().1.saturating_sub(canvas.emu(1.0)));
+        let all = h.rows(curves, usize::MAX);
+        let need = legend::columns(&bottom, canvas, &all, per_column).iter().sum::<u32>() + canvas.emu(1.0);
+        let (differ, key) = bottom.split_horizontally(w - need.clamp(w / 2, 3 * w / 5));
+        panels(&sweeps[0], &sweeps[1], &differ)?;
+        let key = key.margin(canvas.em(0.5), canvas.em(0.5), canvas.em(0.5), 0);
+        let width = key.dim_in_pixel().0;
+        let fits = |rows: &[Entry]| legend::columns(&key, canvas, rows, per_column).iter().sum::<u32>() <= width;
+        let rows = (1..=all.len()).rev().map(|room| h.rows(curves, room)).find(|r| fits(r)).unwrap_or_default();
         return legend::draw(&key, canvas, &rows);
     }
     let grid = layout::grid(&maps, canvas, 3, PANEL_EM);

@@ -54,7 +54,15 @@ fn draw<DB: crate::Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &
         let (v0, v1) = crate::range(p.v[k].iter().copied());
         let caption = format!("{}: phase portrait", p.masses[k]);
         let (xd, vd) = (format!("x_{}", p.masses[k]), format!("v_{}", p.masses[k]));
-        let axes = Axes { caption: Some(&caption), x: (x0, x1), y: (v0, v1), x_desc: &xd, y_desc: &vd, x_labels: true };
+        let axes = Axes {
+            caption: Some(&caption),
+            x: (x0, x1),
+            y: (v0, v1),
+            x_desc: &xd,
+            y_desc: &vd,
+            x_labels: true,
+            y_label_chars: None,
+        };
         let chart = layout::chart(area, canvas, &axes)?;
         let plot = chart.plotting_area();
         let colour = CURVES[k % CURVES.len()];
@@ -77,6 +85,7 @@ fn draw<DB: crate::Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &
         x_desc: "t",
         y_desc: "x",
         x_labels: true,
+        y_label_chars: None,
     };
     let chart = layout::chart(&plot_area, canvas, &axes)?;
     let plot = chart.plotting_area();

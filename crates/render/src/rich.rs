@@ -97,7 +97,11 @@ pub(crate) fn draw<DB: crate::Backend>(
         VPos::Bottom => -size,
     };
     let mut along = -lead;
-    for (t, sub, space, w) in pieces {
+    for (i, &(t, sub, space, w)) in pieces.iter().enumerate() {
+        // A text before a subscript ends where the subscript begins: drawn
+        // from its end, so that a viewer that sets it narrower than
+        // estimated (kerning, in a vector format) leaves no gap there.
+        let to_end = direction == Direction::Across && pieces.get(i + 1).is_some_and(|p| p.1);
         let (font, offset) = if sub {
             // Baselines about 0.8 of a size below the top: lowered by DROP.
             (&small, top + 0.8 * size * (1.0 - SUB) + DROP * size)
@@ -105,12 +109,13 @@ pub(crate) fn draw<DB: crate::Backend>(
             (&base, top)
         };
         let (font, point) = match direction {
+            Direction::Across if to_end => (font.clone(), (at.0 + along + w, at.1 + offset.round() as i32)),
             Direction::Across => (font.clone(), (at.0 + along + space, at.1 + offset.round() as i32)),
             Direction::Up => {
                 (font.clone().transform(FontTransform::Rotate270), (at.0 + offset.round() as i32, at.1 - along - space))
             }
         };
-        let style = font.into_text_style(area).pos(Pos::new(HPos::Left, VPos::Top));
+        let style = font.into_text_style(area).pos(Pos::new(if to_end { HPos::Right } else { HPos::Left }, VPos::Top));
         area.draw(&Text::new(t.to_string(), point, style)).map_err(err)?;
         along += w;
     }

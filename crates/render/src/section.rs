@@ -49,6 +49,7 @@ fn draw<DB: crate::Backend>(
             x_desc: &panel.x,
             y_desc: &panel.y,
             x_labels: true,
+            y_label_chars: None,
         };
         let chart = layout::chart(area, canvas, &axes)?;
         // A periodic motion's few distinct points (repeated every n periods)

@@ -7,6 +7,8 @@ interpolation (a ListedColormap of the labels present and boundaries between
 their codes), so that a figure's pixel inside a cell has exactly that
 label's colour.
 """
+import math
+import numbers
 from collections import Counter
 
 import numpy as np
@@ -312,6 +314,21 @@ def _sections(tree, sweep, name):
     return lambda cell: values[offsets[cell]:offsets[cell + 1]]
 
 
+def _stop_events(attrs, count):
+    """`impact` or `contact` per stop: a soft stop (its scene entry has a
+    `stiffness`) is in contact for a while, as render's labels say."""
+    try:
+        import tomllib
+    except ImportError:  # Python before 3.11: every stop named for impacts
+        return ["impact"] * count
+    try:
+        stops = tomllib.loads(str(attrs.get("scene", ""))).get("stops", [])
+    except tomllib.TOMLDecodeError:
+        stops = []
+    events = ["contact" if isinstance(s, dict) and "stiffness" in s else "impact" for s in stops]
+    return events if len(events) == count else ["impact"] * count
+
+
 def row(tree, at=None, variable=None, fig=None):
     """The bifurcation diagram of one row of an atlas (or of a sweep file),
     as `vibroatlas render --row NAME=VALUE` (`render SWEEP.h5`) draws it:
@@ -335,12 +352,28 @@ def row(tree, at=None, variable=None, fig=None):
     attrs = tree.attrs
     sweeps = [s for s in ("down", "up", "fresh") if s in tree.children]
     if not sweeps:
+        if getattr(tree, "name", None) in ("down", "up", "fresh"):
+            raise ValueError(f"row draws the whole tree (va.open(path)) or a path, got its group {tree.name!r}")
         raise ValueError("no sweep group (up, down or fresh) in this tree")
+    if int(attrs.get("section_cap", 1)) == 0:
+        raise ValueError("this file keeps no section points (section_cap 0): "
+                         "run it again with a section cap above 0 to draw its diagram")
     first = _dataset(tree[sweeps[0]])
     code = first[f"label_code_{_first_mass(first)}"]
     ydim, xdim = code.dims
     xs, ys = first[xdim], first[ydim]
-    iy = 0 if at is None else int(np.argmin(np.abs(np.asarray(ys.values, float) - float(at))))
+    yv = np.asarray(ys.values, float)
+    if at is None:
+        iy = 0
+    else:
+        if isinstance(at, bool) or not isinstance(at, numbers.Real):
+            raise TypeError(f"at: expected a number, got {at!r}")
+        if not math.isfinite(at):
+            raise ValueError(f"at: not a finite number, got {at}")
+        lo, hi = float(yv.min()), float(yv.max())
+        if not lo - 1e-9 * (1 + abs(lo)) <= at <= hi + 1e-9 * (1 + abs(hi)):
+            raise ValueError(f"at: {ydim} = {at} is outside the file's {lo:g} to {hi:g}")
+        iy = int(np.argmin(np.abs(yv - float(at))))
     nx = len(xs)
     state = _names(attrs["state_masses"])
     dof = len(state)
@@ -352,6 +385,7 @@ def row(tree, at=None, variable=None, fig=None):
         raise ValueError(f"variable {variable!r}: expected one of {', '.join(components)}")
     k = components.index(variable)
     stops = _names(attrs["stops"])
+    events = _stop_events(attrs, len(stops))
     normals = np.asarray(attrs["stop_normals"], float).reshape(len(stops), dof)
     x = np.asarray(xs.values, float)
 
@@ -367,6 +401,8 @@ def row(tree, at=None, variable=None, fig=None):
     shown = [p for p in range(len(series)) if p == 0 or any(len(v) for v in series[p].values())]
     if fig is None:
         fig = plt.figure(figsize=(8, 1.2 + 2.2 * len(shown)), layout="constrained")
+    elif fig.get_layout_engine() is None:
+        fig.set_layout_engine("constrained")  # the stacked panels' labels apart
     axes = fig.subplots(len(shown), 1, sharex=True, squeeze=False)[:, 0]
     for ax, p in zip(axes, shown):
         for sweep in sweeps:
@@ -378,12 +414,12 @@ def row(tree, at=None, variable=None, fig=None):
             else:
                 ax.scatter(pts[:, 0], pts[:, 1], s=(2 * _DOT_PT) ** 2, color=colour, linewidths=0,
                            label=f"{sweep} sweep" if sweep == "up" else "fresh cells")
-        ax.set_ylabel(_subscripts(f"{variable} at t = kT") if p == 0 else f"impact speed at {stops[p - 1]}")
+        ax.set_ylabel(_subscripts(f"{variable} at t = kT") if p == 0 else f"{events[p - 1]} speed at {stops[p - 1]}")
     axes[-1].set_xlabel(axis_label(xs))
-    silent = [stops[p - 1] for p in range(1, len(series)) if p not in shown]
-    fixed = f", {axis_label(ys)} = {float(ys.values[iy]):g}" if len(ys) > 1 else ""
-    axes[0].set_title(f"bifurcation diagram in {axis_label(xs)}{fixed}"
-                      + (f"; no impacts at {', '.join(silent)}" if silent else ""))
+    silent = [p for p in range(1, len(series)) if p not in shown]
+    fixed = f", {axis_label(ys)} = {float(ys.values[iy]):.4g}" if len(ys) > 1 else ""
+    none = "; ".join(f"no {events[p - 1]}s at {stops[p - 1]}" for p in silent)
+    axes[0].set_title(f"bifurcation diagram in {axis_label(xs)}{fixed}" + (f"; {none}" if none else ""), wrap=True)
     axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.12), ncols=len(sweeps), frameon=False,
                    fontsize="small")
     return list(axes)
