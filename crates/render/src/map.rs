@@ -564,9 +564,10 @@ fn draw_hysteresis<DB: crate::Backend>(
         };
         draw_split_cells(differ, canvas, m, &title, |i| Some(h.paint(i)), curves)
     };
-    if placed.beside && layout::grid_columns(&maps, canvas, 3, PANEL_EM) == 1 {
-        // Stacked beside the legend the panels would be strips: two up
-        // instead (up | down over differ | legend), each panel its aspect.
+    if placed.beside && layout::grid_columns(&maps, canvas, 3, PANEL_EM) < 3 {
+        // Stacked beside the legend the panels would be strips, or a grid
+        // with an empty quarter: two up instead (up | down over differ |
+        // legend), each panel its aspect.
         // The legend as wide as its columns need, between half and three
         // fifths of the width; the differing cells keep the rest.
         let (w, height) = body.dim_in_pixel();
