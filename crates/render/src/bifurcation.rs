@@ -216,7 +216,9 @@ fn draw<DB: crate::Backend>(
         .map(|(sweep, _)| {
             let col = sweep_colour(*sweep);
             let swatch = if *sweep == SweepKind::Down { Swatch::Ring(col, RING_PT) } else { Swatch::Dot(col, DOT_PT) };
-            Entry::new(swatch, format!("{} sweep", sweep.name()))
+            let name =
+                if *sweep == SweepKind::Fresh { "fresh cells".to_string() } else { format!("{} sweep", sweep.name()) };
+            Entry::new(swatch, name)
         })
         .collect();
     let (key, body) = body.split_vertically(legend::height(canvas, 1));
