@@ -52,7 +52,7 @@ pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
 pub use axis::{Axis, Lattice, MAX_COUNT};
 pub use cell::{start_state, CellData, CellSetup, MAX_SECTION_CAP};
 pub use error::GridError;
-pub use notation::Notation;
+pub use notation::{stop_events, Notation};
 pub use plane::{Along, Entries, Line, Plane};
 pub use shard::{Shard, MAX_SHARDS};
 pub use study::{Study, MAX_VALUES};

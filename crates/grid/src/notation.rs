@@ -52,10 +52,18 @@ impl Meta {
     /// ([`scene::Scene::stop_events`] of the stored scene, parsed once per
     /// call; `impacts` everywhere when it does not parse into these stops).
     pub fn stop_events(&self) -> Vec<&'static str> {
-        match scene::Scene::parse(&self.scene_toml).map(|s| s.stop_events()) {
-            Ok(events) if events.len() == self.stops.len() => events,
-            _ => vec!["impacts"; self.stops.len()],
-        }
+        stop_events(&self.scene_toml, self.stops.len())
+    }
+}
+
+/// What the events at each of `stops` stops of the scene `scene_toml` are
+/// called in figures: `contacts` at a soft stop, `impacts` at a rigid one
+/// ([`scene::Scene::stop_events`]; `impacts` everywhere when the text does
+/// not parse into that many stops).
+pub fn stop_events(scene_toml: &str, stops: usize) -> Vec<&'static str> {
+    match scene::Scene::parse(scene_toml).map(|s| s.stop_events()) {
+        Ok(events) if events.len() == stops => events,
+        _ => vec!["impacts"; stops],
     }
 }
 

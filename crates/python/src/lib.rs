@@ -478,6 +478,20 @@ fn legend(counts: Vec<(String, u64)>, rows: usize) -> Vec<LegendRow> {
         .collect()
 }
 
+/// The pieces of `text` in order, each with whether the figures draw it as
+/// a subscript (`x_M1`: `x`, then `M1` lowered).
+#[pyfunction]
+fn subscript_runs(text: &str) -> Vec<(String, bool)> {
+    render::subscript_runs(text).into_iter().map(|(t, sub)| (t.to_string(), sub)).collect()
+}
+
+/// What the figures call the events at each of `stops` stops of the scene
+/// text `scene`: `contacts` (soft stops) or `impacts`.
+#[pyfunction]
+fn stop_events(scene: &str, stops: usize) -> Vec<&'static str> {
+    grid::stop_events(scene, stops)
+}
+
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;
@@ -489,6 +503,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(curve, m)?)?;
     m.add_function(wrap_pyfunction!(zoom, m)?)?;
     m.add_function(wrap_pyfunction!(legend, m)?)?;
+    m.add_function(wrap_pyfunction!(subscript_runs, m)?)?;
+    m.add_function(wrap_pyfunction!(stop_events, m)?)?;
     m.add_class::<Explorer>()?;
     Ok(())
 }

@@ -200,14 +200,14 @@ fn draw<DB: crate::Backend>(
     let title =
         format!("{}: bifurcation diagram in {}{fixed} ({})", m.scene_name, sym(&x.name), directions(atlas, d.first));
     let body = layout::header(root, canvas, &title, layout::TITLE)?;
-    let silent: Vec<&str> =
-        (1..all.len()).filter(|pi| !shown.contains(pi)).map(|pi| m.stops[pi - 1].as_str()).collect();
+    // The stops without impacts (indices into the stops), named in the footnote.
+    let silent: Vec<usize> = (1..all.len()).filter(|pi| !shown.contains(pi)).map(|pi| pi - 1).collect();
     let mut foot = crate::map::settings_text(m);
     let stop_events = m.stop_events();
     if !silent.is_empty() {
-        let soft = (1..all.len()).filter(|pi| !shown.contains(pi)).all(|pi| stop_events[pi - 1] == "contacts");
-        let events = if soft { "contacts" } else { "impacts" };
-        foot.push_str(&format!("; no {events} at {}", silent.join(", ")));
+        let events = if silent.iter().all(|&k| stop_events[k] == "contacts") { "contacts" } else { "impacts" };
+        let names: Vec<&str> = silent.iter().map(|&k| m.stops[k].as_str()).collect();
+        foot.push_str(&format!("; no {events} at {}", names.join(", ")));
     }
     let body = layout::footer(&body, canvas, &foot)?;
     // The legend, one row above the panels.

@@ -33,39 +33,32 @@ pub(crate) fn wrap<DB: crate::Backend>(
     width: u32,
 ) -> Vec<String> {
     let fits = |s: &str| area.estimate_text_size(s, &TextStyle::from(font.clone())).map_or(true, |(w, _)| w <= width);
-    let mut lines: Vec<String> = Vec::new();
+    // What may not be broken: a clause that fits a line, else its words (an
+    // equation, `f_k = 0.05`, `p = impacts`, one word).
+    let mut units: Vec<String> = Vec::new();
     for clause in text.split_inclusive("; ").map(str::trim_end) {
+        if fits(clause) {
+            units.push(clause.to_string());
+            continue;
+        }
+        for (i, word) in clause.split(' ').enumerate() {
+            match units.last_mut() {
+                Some(u) if i > 0 && (word == "=" || u.ends_with(" =")) => {
+                    u.push(' ');
+                    u.push_str(word);
+                }
+                _ => units.push(word.to_string()),
+            }
+        }
+    }
+    let mut lines: Vec<String> = Vec::new();
+    for unit in units {
         match lines.last_mut() {
-            Some(line) if fits(&format!("{line} {clause}")) => {
+            Some(line) if fits(&format!("{line} {unit}")) => {
                 line.push(' ');
-                line.push_str(clause);
-                continue;
+                line.push_str(&unit);
             }
-            Some(_) if fits(clause) => {
-                lines.push(clause.to_string());
-                continue;
-            }
-            _ => {}
-        }
-        // An equation (`f_k = 0.05`, `p = impacts`) is not broken at its `=`.
-        let mut words: Vec<String> = Vec::new();
-        for word in clause.split(' ') {
-            match words.last_mut() {
-                Some(w) if word == "=" || w.ends_with(" =") => {
-                    w.push(' ');
-                    w.push_str(word);
-                }
-                _ => words.push(word.to_string()),
-            }
-        }
-        for word in &words {
-            match lines.last_mut() {
-                Some(line) if fits(&format!("{line} {word}")) => {
-                    line.push(' ');
-                    line.push_str(word);
-                }
-                _ => lines.push(word.clone()),
-            }
+            _ => lines.push(unit),
         }
     }
     lines

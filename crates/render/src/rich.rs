@@ -18,7 +18,7 @@ const SUB: f64 = 0.75;
 const DROP: f64 = 0.2;
 
 /// The runs of `text`: its pieces in order, each with whether it is a subscript.
-pub(crate) fn runs(text: &str) -> Vec<(&str, bool)> {
+pub fn runs(text: &str) -> Vec<(&str, bool)> {
     let word = |c: Option<char>| c.is_some_and(char::is_alphanumeric);
     let mut out = Vec::new();
     let (mut start, mut sub) = (0, false);

@@ -51,11 +51,11 @@ def colours(ds):
 
 
 def _subscripts(text):
-    """text with each `_` between word characters and the run after it a
-    mathtext subscript, as vibroatlas's figures draw symbols (f_k, x_M1)."""
-    import re
+    """text with its subscripts (as vibroatlas's figures find them: f_k,
+    x_M1) written as mathtext subscripts."""
+    from . import _native
 
-    return re.sub(r"(?<=[^\W_])_([^\W_]+)", r"$_{\\mathrm{\1}}$", text)
+    return "".join(f"$_{{\\mathrm{{{t}}}}}$" if sub else t for t, sub in _native.subscript_runs(text))
 
 
 def axis_label(coord):
@@ -315,18 +315,11 @@ def _sections(tree, sweep, name):
 
 
 def _stop_events(attrs, count):
-    """`impact` or `contact` per stop: a soft stop (its scene entry has a
-    `stiffness`) is in contact for a while, as render's labels say."""
-    try:
-        import tomllib
-    except ImportError:  # Python before 3.11: every stop named for impacts
-        return ["impact"] * count
-    try:
-        stops = tomllib.loads(str(attrs.get("scene", ""))).get("stops", [])
-    except tomllib.TOMLDecodeError:
-        stops = []
-    events = ["contact" if isinstance(s, dict) and "stiffness" in s else "impact" for s in stops]
-    return events if len(events) == count else ["impact"] * count
+    """`impact` or `contact` per stop, as render's labels say (a soft stop is
+    in contact for a while)."""
+    from . import _native
+
+    return [e[:-1] for e in _native.stop_events(str(attrs.get("scene", "")), count)]
 
 
 def row(tree, at=None, variable=None, fig=None):
