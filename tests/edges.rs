@@ -91,8 +91,9 @@ fn a_confirmed_long_period_is_a_label() {
 /// at δ = 1.5804, its cell ω = 1.5874 (the referee's up (1.5874, 1.5804)):
 /// with extensions it is 21-21-16. Independent checks: from the same start
 /// state, without extensions, a record twice as long (max_periods 1200)
-/// finds the same orbit; and without extensions and at the preset's record
-/// the cell stays the transient it was.
+/// finds the same orbit; and without extensions, at the preset's record, the
+/// orbit its contracting section points are searched for (Newton's method
+/// on the 21-period map) is the same too (it was the transient's `U`).
 #[test]
 fn a_record_found_contracting_after_its_doublings_is_extended() {
     let delta = 0.05 + (2.0 - 0.05) * 62.0 / 79.0;
@@ -118,7 +119,78 @@ fn a_record_found_contracting_after_its_doublings_is_extended() {
     let long = run_cell(&sys, &acc.with(solver::Knob::MaxPeriods, 1200.0).unwrap(), Method::Exact, &start);
     assert_eq!((long.class, long.n), (Class::Periodic, Some(21)), "{:?}", long.reason);
     assert_eq!(long.labels.iter().map(|l| l.to_string()).collect::<Vec<_>>(), ["21-21-16", "21-0-21"]);
+    // Without extensions, at the preset's record, the contracting record is
+    // no longer a verdict either: Newton's method finds the orbit its section
+    // points contract onto.
     let short = run_cell(&sys, &acc, Method::Exact, &start);
-    assert_eq!(short.class, Class::Unresolved);
-    assert!(short.reason.as_ref().is_some_and(|r| r.to_string().contains("still contracts")), "{:?}", short.reason);
+    assert_eq!((short.class, short.n), (Class::Periodic, Some(21)), "{:?}", short.reason);
+    assert_eq!(short.labels, long.labels);
+}
+
+/// Issue 40: the periodic cells of the referee's 120 × 80 both-sweep atlas
+/// of the reference plane (`atlas configs/multi-stop.toml --x
+/// omega=0.1:3.05:120 --y delta=0.05:2:80 --sweep both`) that were `U` or
+/// `Q`, each labelled with the orbit that a reference run of thousands of
+/// periods settles on: long periods beyond `n_max` and beyond the 128 of the
+/// record's own search (163, 224), phase-locked orbits on a torus (`Q`
+/// before: 163-163-117, 97-97-45, 122-204-122), undecided ones (`U` before).
+/// Each cell is computed in its own row's sweep (the atlas's continuation
+/// along ω), and checked independently of the decision: plain simulation
+/// from the cell's final state returns there after n periods (within
+/// `periodic_tol`), with the label's impacts on M1's stops, and not after
+/// any proper divisor of n.
+#[test]
+fn long_and_locked_orbits_at_the_edges_are_labelled() {
+    // (sweep, δ index of 80, ω index of 120, label of M1)
+    let cells = [
+        ("up", 51, 49, "163-163-117"),
+        ("down", 51, 49, "163-163-117"),
+        ("up", 52, 49, "97-97-45"),
+        ("down", 22, 48, "122-204-122"),
+        ("down", 65, 35, "7-5-7"),
+        ("up", 57, 52, "43-43-24"),
+        ("up", 73, 42, "48-44-38"),
+        ("up", 53, 54, "124-124-120"),
+        ("up", 61, 54, "224-224-134"),
+    ];
+    let acc = Accuracy::preset(Preset::Standard);
+    for (direction, j, i, label) in cells {
+        let delta = 0.05 + (2.0 - 0.05) * j as f64 / 79.0;
+        let out = run(&[
+            "sweep",
+            "configs/multi-stop.toml",
+            "--axis",
+            "omega=0.1:3.05:120",
+            "--set",
+            &format!("delta={delta:?}"),
+            "--direction",
+            direction,
+            "--json",
+        ]);
+        let sweep: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        // Points in sweep order: the down sweep starts at the top of ω.
+        let k = if direction == "up" { i } else { 119 - i };
+        let cell = &sweep["points"][k];
+        let at = format!("{direction} (ω, δ) = ({:.4}, {delta:.4})", cell["value"].as_f64().unwrap());
+        assert_eq!(cell["labels"]["M1"].as_str(), Some(label), "{at}: {cell}");
+        let n: usize = label.split('-').next().unwrap().parse().unwrap();
+        assert_eq!(cell["n"].as_u64(), Some(n as u64), "{at}");
+        let sys = system("multi-stop.toml", &[("omega", cell["value"].as_f64().unwrap()), ("delta", delta)]);
+        let y0: Vec<f64> = serde_json::from_value(cell["final_state"].clone()).unwrap();
+        let scale = 1.0 + y0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let off = |y: &[f64]| y.iter().zip(&y0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / scale;
+        let (rec, sim) = record(&sys, &acc, Method::Exact, &y0, n);
+        assert!(off(sim.state().as_slice()) <= acc.periodic_tol(), "{at}: {:e}", off(sim.state().as_slice()));
+        let mut impacts = vec![0u64; sys.stops.len()];
+        for hit in &rec.impacts {
+            impacts[hit.stop] += 1;
+        }
+        // M1's label counts impacts on its p stop (A12) and its q stop (A1).
+        let count = |k: usize| label.split('-').nth(k).unwrap().parse::<u64>().unwrap();
+        assert_eq!((impacts[2], impacts[0]), (count(1), count(2)), "{at}: impacts per stop {impacts:?}");
+        for d in (1..n).filter(|d| n % d == 0) {
+            let (_, sim) = record(&sys, &acc, Method::Exact, &y0, d);
+            assert!(off(sim.state().as_slice()) > acc.periodic_tol(), "{at}: returns after {d} periods");
+        }
+    }
 }

@@ -222,8 +222,8 @@ knobs! {
     Extensions extensions: usize, Whole, max 1e3, "time per cell";
     /// Periods over which the largest Lyapunov exponent of a cell without a
     /// period is measured (standard 100; 0 skips it and leaves such cells `C`),
-    /// doubled at most twice while its interval contains 0 and the section is
-    /// not one closed curve. Costs about as much as that many periods of
+    /// doubled while its interval contains 0, at most `2 + extensions / 2`
+    /// times (standard 4, fast 2). Costs about as much as that many periods of
     /// simulation, with tangents.
     LyapunovPeriods lyapunov_periods: usize, Whole, max 1e6, "memory of the section points kept for the exponent";
     /// Periods after which a cell without a period has its largest Lyapunov

@@ -19,11 +19,15 @@
 //!    record ends there; a record that still contracts, or a chaotic-looking
 //!    one near a stable orbit, is extended by `max_periods`, at most
 //!    `extensions` times ([`Executor::steady`] runs phases 1 and 2). An
-//!    interval that contains 0 is a torus when the period section is one
-//!    closed curve; otherwise the measurement is doubled, at most
-//!    [`EXPONENT_DOUBLINGS`] times, until it decides ([`Executor::decide`]);
-//!    one that the doubled measurement finds contracting is a transient,
-//!    extended as above while extensions remain.
+//!    interval that contains 0 is measured twice as long, at most
+//!    `2 + extensions / 2` times ([`Executor::decide`]): a record still
+//!    about 0 then, or one found contracting, is searched for a stable orbit
+//!    of period up to [`LONGEST_ORBIT`] that its section points contract
+//!    onto (an orbit locked on a torus, or a long one not yet reached;
+//!    [`Executor::orbit_among`]); without one, a torus when its section
+//!    points lie on one closed curve with a converged rotation number
+//!    ([`Rotation`], the weighted Birkhoff average), a transient (extended
+//!    as above while extensions remain) when contracting.
 //!    A record that still contracts but whose section has
 //!    settled on an orbit longer than `n_max` (up to 128 periods) is not
 //!    extended (no extension would find a period): Newton's method on that
@@ -58,7 +62,8 @@ use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
-use crate::lyapunov::{fills_closed_curve, Exponent, Interval};
+use crate::circle::{fills_closed_curve, Rotation};
+use crate::lyapunov::{Exponent, Interval};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, Drift, History, Trail};
 use crate::section::record_window;
@@ -80,9 +85,21 @@ const CONTRACTING_EXPONENT: f64 = 2e-3;
 const CHAOTIC_EXPONENT: f64 = 0.05;
 
 /// Times the exponent's measurement of a cell without a period is doubled
-/// while its interval contains 0 and its section is not one closed curve
-/// (`lyapunov_periods` × 4 periods at most).
+/// while its interval contains 0, beside one more for every two of
+/// `extensions` (standard: 4, to `lyapunov_periods` × 16 periods; fast: 2).
 const EXPONENT_DOUBLINGS: usize = 2;
+
+/// Longest period of an orbit sought among the exponent's section points of a
+/// record without a period (see [`Executor::orbit_among`]).
+const LONGEST_ORBIT: usize = 1000;
+
+/// Largest error of a converged rotation number, in turns per forcing period
+/// (see [`Rotation`]): the section points of a torus give it to this within a
+/// few hundred periods (1e-7 on smooth tori of the reference plane, 1e-5 on
+/// a stick-slip torus of dry friction); those of a chaotic motion, whose
+/// error falls like `K^(−1/2)`, to 1e-3 or worse (2e-4 at best on the
+/// reference plane's chaotic cells over 1 600 periods).
+const ROTATION_TOL: f64 = 1e-4;
 
 /// Periods tried by [`Executor::stable_orbit_near`] per look.
 const CANDIDATES: usize = 3;
@@ -149,6 +166,10 @@ pub enum Unresolved {
     Undecided {
         /// The estimate of `λT` (growth per forcing period) and its interval.
         growth: Interval,
+        /// The rotation number of the section points about their centroid,
+        /// where it can be measured, and its error (not converged, or the
+        /// points not on one closed curve).
+        rotation: Option<Rotation>,
     },
     /// No period, and the run that measures the exponent halted (why inside).
     NoExponent(Box<Unresolved>),
@@ -226,11 +247,21 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
             ),
-            Unresolved::Undecided { growth } => write!(
-                f,
-                "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, and the period section is not one closed curve",
-                growth.mean, growth.half_width, growth.periods
-            ),
+            Unresolved::Undecided { growth, rotation } => {
+                write!(
+                    f,
+                    "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, ",
+                    growth.mean, growth.half_width, growth.periods
+                )?;
+                match rotation {
+                    Some(r) => write!(
+                        f,
+                        "no stable orbit was found near its section points, and their rotation number ({:.9} ± {:.1e} turns per period) has not converged or they are not on one closed curve",
+                        r.turns, r.error
+                    ),
+                    None => write!(f, "no stable orbit was found near its section points, and they are not on one closed curve"),
+                }
+            }
             Unresolved::LongPeriod { n, n_max } => write!(
                 f,
                 "no period up to n_max = {n_max}: the motion contracts onto an orbit of period {n}, which Newton's method on the {n}-period map did not confirm (raise n_max to search for it in the record)"
@@ -521,39 +552,54 @@ impl<'s> Executor<'s> {
     /// Confirms an orbit of period `n` beyond `n_max` that the record
     /// contracts onto ([`Trail::long_period`]): Newton's method on the
     /// n-period map from the main state converges, on a probe, to a stable
-    /// fixed point within [`LONG_REACH`] of it; the record restarts there and
-    /// is simulated 3n periods, which must repeat with period n (the test of
-    /// period detection with `n_max = n`). The cell is then periodic with that
-    /// period, its window the last n of them; `n_max` stays the limit of the
-    /// search in the record (issue 28).
-    fn confirm(&mut self, n: usize) -> bool {
-        let acc = self.acc;
+    /// fixed point within [`LONG_REACH`] of it, on which the record settles
+    /// ([`Executor::settle_on`]: its period, n or a divisor). The cell is
+    /// then periodic with that period, its window the last period of the
+    /// record; `n_max` stays the limit of the search in the record (issue 28).
+    fn confirm(&mut self, n: usize) -> Option<usize> {
         let y = self.sim.state().clone();
-        let Some(x) = self.stable_fixed_point(&y, n).filter(|x| distance(&y, x) <= LONG_REACH) else { return false };
-        if self.sim.restart(x.as_slice()).is_err() {
-            return false;
+        let x = self.stable_fixed_point(&y, n).filter(|x| distance(&y, x) <= LONG_REACH)?;
+        self.settle_on(&x, n)
+    }
+
+    /// Restarts the record at `x`, a fixed point of the n-period map, and
+    /// simulates 3n periods, which must repeat with a period m dividing n
+    /// (the test of period detection with `n_max = n`): m, and the record is
+    /// the orbit's. Otherwise the record is left as it was.
+    fn settle_on(&mut self, x: &DVector<f64>, n: usize) -> Option<usize> {
+        let before = (self.sim.state().clone(), self.hist.clone(), self.trail.clone());
+        let settled = self.restart_on(x, n);
+        if settled.is_none() {
+            let (state, hist, trail) = before;
+            self.sim.restart(state.as_slice()).ok()?;
+            (self.hist, self.trail) = (hist, trail);
         }
+        settled
+    }
+
+    /// [`Executor::settle_on`]'s restart and test.
+    fn restart_on(&mut self, x: &DVector<f64>, n: usize) -> Option<usize> {
+        self.sim.restart(x.as_slice()).ok()?;
         self.hist.clear();
         self.trail.clear();
-        let wide = Accuracy { n_max: n, ..*acc };
+        let wide = Accuracy { n_max: n, ..*self.acc };
         for _ in 0..3 * n {
-            match self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore) {
-                Ok(rec) => self.hist.push_back(rec),
-                Err(_) => return false,
-            }
+            self.hist.push_back(self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore).ok()?);
         }
-        detect(&self.hist, &wide) == Some(n)
+        detect(&self.hist, &wide).filter(|&m| n.is_multiple_of(m))
     }
 
     /// A stable fixed point of the n-period map found by Newton's method from
-    /// `y`, on a probe: converged, with every multiplier inside the unit circle.
+    /// `y`, on a probe: converged, with every multiplier inside the unit circle
+    /// by more than [`NEUTRAL`] (a neutral family of orbits, such as an
+    /// undamped oscillation, attracts nothing).
     fn stable_fixed_point(&mut self, y: &DVector<f64>, n: usize) -> Option<DVector<f64>> {
         let tol = 1e-3 * self.acc.periodic_tol;
         let mut probe = self.sim.probe();
         self.budget.spend(&mut self.sim, &mut probe, |p| {
             let sol = crate::newton::solve(p, y, MapKind::Periods(n), None, tol, 8, 0.1)?;
             let mu = multipliers(&sol.jacobian);
-            (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0)).then_some(sol.x)
+            (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0 - NEUTRAL)).then_some(sol.x)
         })
     }
 
@@ -608,34 +654,87 @@ impl<'s> Executor<'s> {
 
     /// The class of a record without a period from its exponent (measured on
     /// `tangent`), and the reason when it is undecided: chaotic when the
-    /// interval of `λT` is above 0, contracting (a transient longer than the
-    /// record) when it is below, quasi-periodic when it contains 0 and the
-    /// period-section points lie on one closed curve. Otherwise the
-    /// measurement is doubled, at most [`EXPONENT_DOUBLINGS`] times, and the
-    /// cell is unresolved when it still cannot tell.
-    fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> (Class, f64, Option<Unresolved>) {
+    /// interval of `λT` is above 0. An interval about 0 is measured twice as
+    /// long, `2 + extensions / 2` times (the budget of a record without a
+    /// decision): it may be a torus, an orbit not yet reached (locked on a
+    /// torus or not), or chaos too weak to tell. A record that contracts (the
+    /// interval below 0), or is still about 0 after the last doubling, is
+    /// searched for a stable orbit of period up to [`LONGEST_ORBIT`] that its
+    /// section points contract onto ([`Executor::orbit_among`]: periodic).
+    /// Without one, the contracting record is a transient longer than the
+    /// record; the other is quasi-periodic when its section points lie on one
+    /// closed curve and their rotation number has converged
+    /// ([`ROTATION_TOL`]), and unresolved otherwise.
+    fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
         let mut doublings = 0;
         loop {
             let growth = e.interval();
             if growth.low() > 0.0 {
-                return (Class::Chaotic, e.per_time(), None);
+                return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
+            }
+            let last = doublings == EXPONENT_DOUBLINGS + self.acc.extensions / 2;
+            if growth.high() < 0.0 || last {
+                if let Some(n) = self.orbit_among(&e.points) {
+                    return Steady::Periodic(n);
+                }
             }
             if growth.high() < 0.0 {
-                return (Class::Unresolved, e.per_time(), Some(Unresolved::Contracting { growth: growth.mean }));
+                let why = Unresolved::Contracting { growth: growth.mean };
+                return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
-            if fills_closed_curve(&e.points) {
-                return (Class::Quasiperiodic, e.per_time(), None);
-            }
-            if doublings == EXPONENT_DOUBLINGS {
-                return (Class::Unresolved, e.per_time(), Some(Unresolved::Undecided { growth }));
+            if last {
+                let rotation = Rotation::of(&e.points);
+                if fills_closed_curve(&e.points) && rotation.is_some_and(|r| r.error <= ROTATION_TOL) {
+                    return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
+                }
+                let why = Unresolved::Undecided { growth, rotation };
+                return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             doublings += 1;
             let more = e.periods();
             if let Err(halt) = self.budget.spend(&mut self.sim, &mut tangent, |t| e.extend(t, more)) {
                 let why = Unresolved::NoExponent(Box::new(Unresolved::of(halt, self.acc)));
-                return (Class::Unresolved, e.per_time(), Some(why));
+                return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }
+    }
+
+    /// A stable periodic orbit that the section points (consecutive, the
+    /// last nearest the motion's end) contract onto, of a period n up to
+    /// [`LONGEST_ORBIT`] (beyond `n_max`, or within it where the record's
+    /// test missed it): the lags at which the last points came back within
+    /// [`NEAR_RETURN`] of the points' extent, nearest first (at most
+    /// [`CANDIDATES`], none a multiple of one tried), each tried by Newton's
+    /// method on the n-period map from the last point. One found within
+    /// [`LONG_REACH`] of it is settled on and checked by period detection
+    /// ([`Executor::settle_on`]); the cell is periodic with that period.
+    fn orbit_among(&mut self, points: &[DVector<f64>]) -> Option<usize> {
+        let len = points.len();
+        let last = points.last()?;
+        let (lo, hi) = points.iter().fold((last.clone(), last.clone()), |(lo, hi), p| {
+            (lo.zip_map(p, f64::min), hi.zip_map(p, f64::max))
+        });
+        let extent = distance(&hi, &lo);
+        // How far the last n points are from the n before them, at most.
+        let away = |n: usize| (len - n..len).map(|k| distance(&points[k], &points[k - n])).fold(0.0, f64::max);
+        let mut returns: Vec<(f64, usize)> =
+            (1..=LONGEST_ORBIT.min(len / 2)).map(|n| (away(n), n)).filter(|r| r.0 < NEAR_RETURN * extent).collect();
+        returns.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut tried: Vec<usize> = Vec::with_capacity(CANDIDATES);
+        for (_, n) in returns {
+            if tried.len() == CANDIDATES {
+                break;
+            }
+            if tried.iter().any(|&m| n % m == 0) {
+                continue;
+            }
+            tried.push(n);
+            let x = self.stable_fixed_point(last, n).filter(|x| distance(last, x) <= LONG_REACH);
+            if let Some(x) = x {
+                return self.settle_on(&x, n);
+            }
+        }
+        None
     }
 
     /// Phases 1 and 2: records until a period is found or the exponent ends
@@ -666,15 +765,15 @@ impl<'s> Executor<'s> {
                 early_look = false;
                 limit = acc.max_periods;
                 if let (true, Ok((tangent, e))) = (chaotic, exponent) {
-                    return Ok(self.aperiodic(tangent, e));
+                    return Ok(self.decide(tangent, e));
                 }
                 continue;
             }
             // A contracting record settled on an orbit longer than n_max: no extension finds a period.
             if let (true, Ok((_, e))) = (contracting, &exponent) {
                 if let Some(n) = self.trail.long_period(acc) {
-                    if self.confirm(n) {
-                        return Ok(Steady::Periodic(n));
+                    if let Some(m) = self.confirm(n) {
+                        return Ok(Steady::Periodic(m));
                     }
                     return Ok(Steady::LongPeriod(n, e.per_time()));
                 }
@@ -690,25 +789,21 @@ impl<'s> Executor<'s> {
                 Ok(measured) => measured,
                 Err(halt) => return Ok(Steady::Failed(halt)),
             };
-            let (class, lyapunov, reason) = self.decide(tangent, e);
+            let decided = self.decide(tangent, e);
             // Contracting once its measurement was doubled: a transient
             // like any other, extended while extensions remain (within the
             // same budget of max_periods x (1 + extensions) periods, which
             // the doublings' periods count in).
-            if matches!(reason, Some(Unresolved::Contracting { .. })) && extensions < acc.extensions {
+            if matches!(decided, Steady::Aperiodic(_, _, Some(Unresolved::Contracting { .. })))
+                && extensions < acc.extensions
+            {
                 extensions += 1;
                 self.newton.renew();
                 limit += acc.max_periods;
                 continue;
             }
-            return Ok(Steady::Aperiodic(class, lyapunov, reason));
+            return Ok(decided);
         }
-    }
-
-    /// [`Executor::decide`] as a [`Steady`] ending.
-    fn aperiodic(&mut self, tangent: Simulator<'s>, e: Exponent) -> Steady {
-        let (class, lyapunov, reason) = self.decide(tangent, e);
-        Steady::Aperiodic(class, lyapunov, reason)
     }
 
     /// Why a period n found by the record is not a result. Where the ratio
@@ -1095,8 +1190,9 @@ mod tests {
             .to_string()
             .starts_with("no period within the record, and the motion still contracts (λT = -5.000e-1)"));
         let growth = Interval { mean: 5.2e-3, half_width: 9.0e-3, periods: 1600 };
-        assert!(Unresolved::Undecided { growth }
-            .to_string()
-            .contains("(λT = 5.200e-3 ± 9.0e-3, 95 % over 1600 periods)"));
+        let rotation = Some(Rotation { turns: 0.25, error: 3e-4, points: 1600 });
+        let why = Unresolved::Undecided { growth, rotation }.to_string();
+        assert!(why.contains("(λT = 5.200e-3 ± 9.0e-3, 95 % over 1600 periods)"), "{why}");
+        assert!(why.contains("rotation number (0.250000000 ± 3.0e-4 turns per period)"), "{why}");
     }
 }

@@ -9,7 +9,8 @@
 //! stick/slip), `soft` (soft stops' contacts), `simulate` (the event loop, period by period, with exact
 //! tangent maps). Classification: `executor` (the phases of one cell and its
 //! budget), `period` (period detection), `acceleration` (Newton acceleration
-//! of transients), `label` (classes, n-p-q labels), `lyapunov`, `section`
+//! of transients), `label` (classes, n-p-q labels), `lyapunov`, `circle`
+//! (closed curves of the period section, rotation numbers), `section`
 //! (impact sections). Stability, public modules: [`floquet`] (multipliers,
 //! kinds of bifurcation), [`orbit`], [`continuation`] and [`arclength`]
 //! (branches and located bifurcations), [`curve`] (bifurcations followed in
@@ -53,6 +54,7 @@ mod accuracy;
 pub mod arclength;
 mod budget;
 mod chatter;
+mod circle;
 pub mod continuation;
 pub mod curve;
 mod error;
@@ -80,6 +82,7 @@ pub use error::SolverError;
 pub use executor::{run_cell, run_cell_with_sections, CellResult, ImpactSections, Unresolved};
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
+pub use circle::Rotation;
 pub use label::{Class, Count, Label, Mask, MassLabel, Symmetry};
 pub use lyapunov::{Exponent, Interval};
 /// Matrix type of Jacobians and monodromy matrices.

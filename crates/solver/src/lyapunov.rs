@@ -1,17 +1,16 @@
-//! The largest Lyapunov exponent of a motion, and the test that tells a
-//! quasi-periodic motion from a chaotic one.
+//! The largest Lyapunov exponent of a motion.
 //!
 //! The tangent map of each forcing period (flow transition and saltation
 //! matrices, [`Simulator::track_tangent`]) is applied to a tangent vector that
 //! is renormalised every period: `λ = Σ ln|Φ_k v_{k-1}| / (K T)`. For a periodic
 //! orbit this tends to `ln|μ_max| / (nT)`; it is clearly positive for chaos and
 //! zero for a motion on an invariant torus (quasi-periodic impacts), whose
-//! period-section points then fill a closed curve. The estimate carries its
+//! period-section points then fill a closed curve ([`crate::circle`]). The estimate carries its
 //! own uncertainty ([`Exponent::interval`]), so that a motion is called chaotic
 //! only when its exponent is positive beyond it.
 
 use crate::simulate::{Halt, Ignore, Simulator};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 /// Blocks the measured periods are split into for the exponent's uncertainty.
 const BLOCKS: usize = 10;
@@ -141,53 +140,6 @@ impl Exponent {
         let var = blocks.iter().map(|b| (b - centre).powi(2)).sum::<f64>() / (BLOCKS - 1) as f64;
         Interval { mean, half_width: (T_975_9 * (var / BLOCKS as f64).sqrt()).max(RESOLUTION), periods: k }
     }
-}
-
-/// Whether the points lie on one closed curve: in the plane of their two
-/// principal directions, sorted by angle about their centroid, they cover every
-/// direction (no angular gap above π/4) and the polygon through them is no
-/// longer than twice the perimeter of their bounding ellipse (a scattered cloud
-/// zig-zags and is many times longer).
-pub fn fills_closed_curve(points: &[DVector<f64>]) -> bool {
-    let n = points.len();
-    if n < 16 {
-        return false;
-    }
-    let dim = points[0].len();
-    let mean = points.iter().fold(DVector::zeros(dim), |a, p| a + p) / n as f64;
-    let mut cov = DMatrix::zeros(dim, dim);
-    for p in points {
-        let d = p - &mean;
-        cov += &d * d.transpose();
-    }
-    let eig = nalgebra::SymmetricEigen::new(cov / n as f64);
-    let mut order: Vec<usize> = (0..dim).collect();
-    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
-    let (e1, e2) = (eig.eigenvectors.column(order[0]), eig.eigenvectors.column(order[1]));
-    let (s1, s2) = (eig.eigenvalues[order[0]].max(0.0).sqrt(), eig.eigenvalues[order[1]].max(0.0).sqrt());
-    if s2 <= 1e-9 * (1.0 + mean.amax()) {
-        return false;
-    }
-    let mut plane: Vec<(f64, f64, f64)> = points
-        .iter()
-        .map(|p| {
-            let d = p - &mean;
-            let (u, w) = (d.dot(&e1) / s1, d.dot(&e2) / s2);
-            (w.atan2(u), u, w)
-        })
-        .collect();
-    plane.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let gap =
-        plane.windows(2).map(|w| w[1].0 - w[0].0).fold(plane[0].0 + std::f64::consts::TAU - plane[n - 1].0, f64::max);
-    let length: f64 = (0..n)
-        .map(|i| {
-            let (a, b) = (plane[i], plane[(i + 1) % n]);
-            ((a.1 - b.1).powi(2) + (a.2 - b.2).powi(2)).sqrt()
-        })
-        .sum();
-    // In whitened coordinates the points of an ellipse lie near the circle of
-    // radius √2 (unit variance in each direction): perimeter 2π√2.
-    gap < std::f64::consts::FRAC_PI_4 && length < 2.0 * std::f64::consts::TAU * std::f64::consts::SQRT_2
 }
 
 #[cfg(test)]
