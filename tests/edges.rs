@@ -188,7 +188,7 @@ fn long_and_locked_orbits_at_the_edges_are_labelled() {
         // M1's label counts impacts on its p stop (A12) and its q stop (A1).
         let count = |k: usize| label.split('-').nth(k).unwrap().parse::<u64>().unwrap();
         assert_eq!((impacts[2], impacts[0]), (count(1), count(2)), "{at}: impacts per stop {impacts:?}");
-        for d in (1..n).filter(|d| n % d == 0) {
+        for d in (1..n).filter(|&d| n.is_multiple_of(d)) {
             let (_, sim) = record(&sys, &acc, Method::Exact, &y0, d);
             assert!(off(sim.state().as_slice()) > acc.periodic_tol(), "{at}: returns after {d} periods");
         }
