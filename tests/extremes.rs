@@ -59,11 +59,17 @@ fn corners_of_the_parameter_space() {
             let a = run_cell(&sys, &acc, Method::Exact, &y0);
             assert!(finite(&a), "{p:?}: non-finite result {a:?}");
             // The record's budget, max_periods x (1 + extensions), and per
-            // record one exponent measured and at most doubled twice (10
-            // periods of warm-up, then up to 4 x lyapunov_periods), and the
-            // early look's.
-            let exponent = 10 + 4 * acc.lyapunov_periods();
-            let most = (acc.extensions() + 1) * (acc.max_periods() + exponent) + exponent;
+            // record one exponent measured and doubled at most 2 +
+            // extensions / 2 times (10 periods of warm-up, then up to
+            // 16 x lyapunov_periods in standard), and the early look's; and per
+            // decision the search for an orbit among the exponent's points:
+            // three periods n up to half of them, each Newton's method (at
+            // most 8 evaluations of the n-period map) and 3n periods from its
+            // fixed point.
+            let measured = acc.lyapunov_periods() << (2 + acc.extensions() / 2);
+            let exponent = 10 + measured;
+            let search = 3 * 11 * measured / 2;
+            let most = (acc.extensions() + 1) * (acc.max_periods() + exponent + search) + exponent;
             assert!(a.events <= acc.max_events() + 1 && a.periods as usize <= most, "{p:?}: {} periods", a.periods);
             match a.class {
                 Class::Periodic => assert!(a.n.is_some() && a.labels.iter().all(|l| l.label.npq().is_some()), "{p:?}"),
