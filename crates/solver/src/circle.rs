@@ -10,6 +10,7 @@
 //!
 //! - [`fills_closed_curve`]: the points cover every direction, and the polygon
 //!   through them, in the order of their angles, is short;
+//! - [`torus_loops`]: both, on every k-th point for a section of k loops;
 //! - [`Rotation`]: the mean angle turned per forcing period, in turns, by the
 //!   weighted Birkhoff average (Das, Saiki, Sander and Yorke, 2017). With the
 //!   weight `w(t) = exp(−1/(t(1 − t)))` over `t = k/K`, the average of a
@@ -119,6 +120,22 @@ impl Rotation {
     }
 }
 
+/// Most loops of a torus's section that [`torus_loops`] looks for.
+const MOST_LOOPS: usize = 8;
+
+/// The loops of the closed curve that the points of a quasi-periodic motion
+/// lie on: the fewest k ≤ 8 such that every k-th point, from the first, lies
+/// on one closed curve ([`fills_closed_curve`]) and their rotation number has
+/// converged within `tol` turns ([`Rotation`]). A torus about an orbit of
+/// period k crosses the period section in k closed curves, visited in turn.
+/// `None` when no k does.
+pub(crate) fn torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
+    (1..=MOST_LOOPS).find(|&k| {
+        let loop_points: Vec<DVector<f64>> = points.iter().step_by(k).cloned().collect();
+        fills_closed_curve(&loop_points) && Rotation::of(&loop_points).is_some_and(|r| r.error <= tol)
+    })
+}
+
 /// The weighted Birkhoff average of `values`, with the weight
 /// `exp(−1/(t(1 − t)))` at `t = (k + 1)/(K + 1)`, normalised.
 fn weighted_mean(values: &[f64]) -> f64 {
@@ -182,6 +199,22 @@ mod tests {
         assert!(d < 1e-4, "{r:?} against {plain}");
     }
 
+    /// A torus of three loops (a circle map's points moved in turn to three
+    /// places): not one closed curve, but every third point is, with a
+    /// converged rotation; the chaos below has no loops.
+    #[test]
+    fn a_torus_of_several_loops_is_found() {
+        let offsets = [0.0, 10.0, 20.0];
+        let points: Vec<DVector<f64>> = circle_map(0.381, 0.2, 1200)
+            .into_iter()
+            .enumerate()
+            .map(|(k, p)| p.add_scalar(offsets[k % 3]))
+            .collect();
+        assert!(!fills_closed_curve(&points));
+        assert_eq!(torus_loops(&points, 1e-4), Some(3));
+        assert_eq!(torus_loops(&circle_map(0.381, 0.2, 1200), 1e-4), Some(1));
+    }
+
     /// Chaos has no converged rotation: points of the logistic map at 4 (in a
     /// plane, as angles) give averages whose halves differ by far more than a
     /// torus's.
@@ -197,6 +230,7 @@ mod tests {
             .collect();
         let r = Rotation::of(&points).unwrap();
         assert!(r.error > 1e-4, "{r:?}");
+        assert_eq!(torus_loops(&points, 1e-4), None);
     }
 
     /// The closed-curve test: a torus's points pass; the Hénon attractor's (a

@@ -62,7 +62,7 @@ use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
-use crate::circle::{fills_closed_curve, Rotation};
+use crate::circle::{torus_loops, Rotation};
 use crate::lyapunov::{Exponent, Interval};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, Drift, History, Trail};
@@ -88,6 +88,15 @@ const CHAOTIC_EXPONENT: f64 = 0.05;
 /// while its interval contains 0, beside one more for every two of
 /// `extensions` (standard: 4, to `lyapunov_periods` × 16 periods; fast: 2).
 const EXPONENT_DOUBLINGS: usize = 2;
+
+/// Largest distance, as a fraction of the extent of the section points,
+/// between the last n points of a record without a period and the n before
+/// them from which [`Executor::orbit_among`] tries Newton's method on the
+/// n-period map: an orbit being reached comes back closer (1.1e-4 of the
+/// extent at most, 1e-8 and less mostly, for the long and locked orbits of
+/// the reference plane's edges), a torus's near returns are farther, and
+/// each try costs up to 8n periods.
+const ORBIT_RETURN: f64 = 1e-3;
 
 /// Longest period of an orbit sought among the exponent's section points of a
 /// record without a period (see [`Executor::orbit_among`]).
@@ -662,9 +671,10 @@ impl<'s> Executor<'s> {
     /// searched for a stable orbit of period up to [`LONGEST_ORBIT`] that its
     /// section points contract onto ([`Executor::orbit_among`]: periodic).
     /// Without one, the contracting record is a transient longer than the
-    /// record; the other is quasi-periodic when its section points lie on one
-    /// closed curve and their rotation number has converged
-    /// ([`ROTATION_TOL`]), and unresolved otherwise.
+    /// record; the other is quasi-periodic when its section points lie on a
+    /// torus's closed curve, or every k-th of them on one of its k loops
+    /// (k ≤ 8), with a converged rotation number ([`torus_loops`],
+    /// [`ROTATION_TOL`]), and unresolved otherwise.
     fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
         let mut doublings = 0;
         loop {
@@ -684,7 +694,7 @@ impl<'s> Executor<'s> {
             }
             if last {
                 let rotation = Rotation::of(&e.points);
-                if fills_closed_curve(&e.points) && rotation.is_some_and(|r| r.error <= ROTATION_TOL) {
+                if torus_loops(&e.points, ROTATION_TOL).is_some() {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
                 let why = Unresolved::Undecided { growth, rotation };
@@ -703,7 +713,7 @@ impl<'s> Executor<'s> {
     /// last nearest the motion's end) contract onto, of a period n up to
     /// [`LONGEST_ORBIT`] (beyond `n_max`, or within it where the record's
     /// test missed it): the lags at which the last points came back within
-    /// [`NEAR_RETURN`] of the points' extent, nearest first (at most
+    /// [`ORBIT_RETURN`] of the points' extent, nearest first (at most
     /// [`CANDIDATES`], none a multiple of one tried), each tried by Newton's
     /// method on the n-period map from the last point. One found within
     /// [`LONG_REACH`] of it is settled on and checked by period detection
@@ -718,7 +728,7 @@ impl<'s> Executor<'s> {
         // How far the last n points are from the n before them, at most.
         let away = |n: usize| (len - n..len).map(|k| distance(&points[k], &points[k - n])).fold(0.0, f64::max);
         let mut returns: Vec<(f64, usize)> =
-            (1..=LONGEST_ORBIT.min(len / 2)).map(|n| (away(n), n)).filter(|r| r.0 < NEAR_RETURN * extent).collect();
+            (1..=LONGEST_ORBIT.min(len / 2)).map(|n| (away(n), n)).filter(|r| r.0 < ORBIT_RETURN * extent).collect();
         returns.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut tried: Vec<usize> = Vec::with_capacity(CANDIDATES);
         for (_, n) in returns {
@@ -1064,7 +1074,7 @@ mod tests {
         let e = Exponent::measure(&mut sim, LYAPUNOV_WARMUP, 3200).unwrap();
         let growth = e.interval();
         assert!(growth.mean.abs() < 1e-3 && growth.low() < 0.0 && growth.high() > 0.0, "{growth:?}");
-        assert!(fills_closed_curve(&e.points));
+        assert_eq!(torus_loops(&e.points, ROTATION_TOL), Some(1));
     }
 
     /// Phase 3 against finite differences: the spectral radius of the
