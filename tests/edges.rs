@@ -84,6 +84,27 @@ fn a_confirmed_long_period_is_a_label() {
     }
 }
 
+/// Row `j` (of 80) of issue 40's referee atlas (`atlas configs/multi-stop.toml
+/// --x omega=0.1:3.05:120 --y delta=0.05:2:80 --sweep both`): its δ, and the
+/// `sweep --json` of that row in `direction`, which continues along ω as the
+/// atlas does.
+fn referee_row(j: usize, direction: &str) -> (f64, serde_json::Value) {
+    let delta = 0.05 + (2.0 - 0.05) * j as f64 / 79.0;
+    let out = run(&[
+        "sweep",
+        "configs/multi-stop.toml",
+        "--axis",
+        "omega=0.1:3.05:120",
+        "--set",
+        &format!("delta={delta:?}"),
+        "--direction",
+        direction,
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    (delta, serde_json::from_slice(&out.stdout).unwrap())
+}
+
 /// Issue 40, a wrong reason: a record whose exponent looked undecided and
 /// turned out contracting once its measurement was doubled was labelled `U`
 /// ("a transient longer than max_periods x (1 + extensions)") without any
@@ -96,19 +117,7 @@ fn a_confirmed_long_period_is_a_label() {
 /// on the 21-period map) is the same too (it was the transient's `U`).
 #[test]
 fn a_record_found_contracting_after_its_doublings_is_extended() {
-    let delta = 0.05 + (2.0 - 0.05) * 62.0 / 79.0;
-    let sweep = run(&[
-        "sweep",
-        "configs/multi-stop.toml",
-        "--axis",
-        "omega=0.1:3.05:120",
-        "--set",
-        &format!("delta={delta:?}"),
-        "--direction",
-        "up",
-        "--json",
-    ]);
-    let sweep: serde_json::Value = serde_json::from_slice(&sweep.stdout).unwrap();
+    let (delta, sweep) = referee_row(62, "up");
     let points = sweep["points"].as_array().unwrap();
     let cell = &points[60];
     assert_eq!((cell["labels"]["M1"].as_str(), cell["class"].as_str()), (Some("21-21-16"), Some("periodic")), "{cell}");
@@ -155,19 +164,7 @@ fn long_and_locked_orbits_at_the_edges_are_labelled() {
     ];
     let acc = Accuracy::preset(Preset::Standard);
     for (direction, j, i, label) in cells {
-        let delta = 0.05 + (2.0 - 0.05) * j as f64 / 79.0;
-        let out = run(&[
-            "sweep",
-            "configs/multi-stop.toml",
-            "--axis",
-            "omega=0.1:3.05:120",
-            "--set",
-            &format!("delta={delta:?}"),
-            "--direction",
-            direction,
-            "--json",
-        ]);
-        let sweep: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let (delta, sweep) = referee_row(j, direction);
         // Points in sweep order: the down sweep starts at the top of ω.
         let k = if direction == "up" { i } else { 119 - i };
         let cell = &sweep["points"][k];
