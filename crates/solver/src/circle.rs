@@ -205,11 +205,8 @@ mod tests {
     #[test]
     fn a_torus_of_several_loops_is_found() {
         let offsets = [0.0, 10.0, 20.0];
-        let points: Vec<DVector<f64>> = circle_map(0.381, 0.2, 1200)
-            .into_iter()
-            .enumerate()
-            .map(|(k, p)| p.add_scalar(offsets[k % 3]))
-            .collect();
+        let points: Vec<DVector<f64>> =
+            circle_map(0.381, 0.2, 1200).into_iter().enumerate().map(|(k, p)| p.add_scalar(offsets[k % 3])).collect();
         assert!(!fills_closed_curve(&points));
         assert_eq!(torus_loops(&points, 1e-4), Some(3));
         assert_eq!(torus_loops(&circle_map(0.381, 0.2, 1200), 1e-4), Some(1));

@@ -58,11 +58,11 @@
 use crate::acceleration::Newton;
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
+use crate::circle::{torus_loops, Rotation};
 use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
-use crate::circle::{torus_loops, Rotation};
 use crate::lyapunov::{Exponent, Interval};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, Drift, History, Trail};
@@ -721,9 +721,9 @@ impl<'s> Executor<'s> {
     fn orbit_among(&mut self, points: &[DVector<f64>]) -> Option<usize> {
         let len = points.len();
         let last = points.last()?;
-        let (lo, hi) = points.iter().fold((last.clone(), last.clone()), |(lo, hi), p| {
-            (lo.zip_map(p, f64::min), hi.zip_map(p, f64::max))
-        });
+        let (lo, hi) = points
+            .iter()
+            .fold((last.clone(), last.clone()), |(lo, hi), p| (lo.zip_map(p, f64::min), hi.zip_map(p, f64::max)));
         let extent = distance(&hi, &lo);
         // How far the last n points are from the n before them, at most.
         let away = |n: usize| (len - n..len).map(|k| distance(&points[k], &points[k - n])).fold(0.0, f64::max);
