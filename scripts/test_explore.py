@@ -317,6 +317,23 @@ try:
         answer = json.loads(r.read())
     check("cancelling a finished zoom says it was not running", answer == {"cancelled": False, "state": "done"}, answer)
 
+    # An axis symbol with a subscript (μ_k), drawn as the figures draw it: the
+    # page gets render's runs and draws k smaller and lower (screenshot 8).
+    mu_atlas = os.path.join(tmp, "mu.h5")
+    run("atlas", "configs/multi-stop.toml", "--x", "mu_k=0.2:0.9:12", "--y", "omega=0.5:1.5:8",
+        "--sweep", "up", "--quiet", "-o", mu_atlas)
+    second = subprocess.Popen([BIN, "explore", mu_atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True)
+    try:
+        driver.get(second.stdout.readline().split(" at ")[-1].strip() + "?view=up&mass=M1")
+        wait.until(lambda d: d.find_element(By.ID, "map").get_attribute("data-plot"))
+        runs = driver.execute_script("return window.vibroatlas.state.info.x.symbol_runs")
+        check("an axis symbol comes as the figures' runs (μ, then k as a subscript)",
+              runs == [["μ", False], ["k", True]], str(runs))
+        shot(driver, "8-subscript-axis.png")
+    finally:
+        second.send_signal(signal.SIGINT)
+        second.wait(timeout=60)
+
     # The file replaced under the explorer: refused, never read as the map on screen.
     other = os.path.join(tmp, "other.h5")
     run("atlas", "configs/multi-stop.toml", "--x", "omega=0.2:2.0:40", "--y", "delta=0.1:1.0:20",

@@ -232,7 +232,7 @@ function draw() {
     ctx.fillRect(cx, M.top + h, 1, 5);
     ctx.fillText(short(v), cx, M.top + h + 18);
   }
-  ctx.fillText(x.symbol, M.left + w / 2, M.top + h + 40);
+  drawRuns(ctx, x.symbol_runs, M.left + w / 2, M.top + h + 40);
   ctx.textAlign = 'right';
   for (const v of ticks(value(y, b.y0), value(y, b.y1))) {
     const [, cy] = toCanvas(b.x0, index(y, v));
@@ -242,8 +242,7 @@ function draw() {
   ctx.save();
   ctx.translate(16, M.top + h / 2);
   ctx.rotate(-Math.PI / 2);
-  ctx.textAlign = 'center';
-  ctx.fillText(y.symbol, 0, 0);
+  drawRuns(ctx, y.symbol_runs, 0, 0);
   ctx.restore();
   // Stored bifurcation curves, clipped to the plot.
   ctx.save();
@@ -301,6 +300,28 @@ function eventCell(e) {
   const ix = Math.round(fx), iy = Math.round(fy);
   const inside = ix >= 0 && iy >= 0 && ix < x.count && iy < y.count && cx >= M.left && cy >= M.top;
   return { cx, cy, ix, iy, inside };
+}
+
+// A symbol as the figures write it (`render`'s runs from the API): each
+// subscript run at three quarters of the size and a third of an em lower,
+// the whole centred on (cx, y), in the context's font and colour.
+function drawRuns(ctx, runs, cx, y) {
+  const size = parseFloat(ctx.font);
+  const font = ctx.font;
+  const fontOf = (sub) => (sub ? font.replace(`${size}px`, `${0.75 * size}px`) : font);
+  ctx.save();
+  const widths = runs.map(([text, sub]) => {
+    ctx.font = fontOf(sub);
+    return ctx.measureText(text).width;
+  });
+  let left = cx - widths.reduce((a, b) => a + b, 0) / 2;
+  ctx.textAlign = 'left';
+  runs.forEach(([text, sub], i) => {
+    ctx.font = fontOf(sub);
+    ctx.fillText(text, left, sub ? y + size / 3 : y);
+    left += widths[i];
+  });
+  ctx.restore();
 }
 
 // The plane's parameters of a cell, x first, by their symbols.

@@ -219,9 +219,12 @@ fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
 
 fn axis_json(a: &Axis, o: &Opened) -> Value {
     let m = &o.atlas.meta;
+    let symbol = m.symbol(&a.name);
+    let runs: Vec<Value> = render::subscript_runs(&symbol).into_iter().map(|(t, sub)| json!([t, sub])).collect();
     json!({
         "name": a.name,
-        "symbol": m.symbol(&a.name),
+        "symbol": symbol,
+        "symbol_runs": runs,
         "long_name": m.long_name(&a.name),
         "start": a.start,
         "stop": a.stop,
