@@ -72,7 +72,19 @@ pub(crate) fn header<DB: crate::Backend>(
     text: &str,
     scale: f64,
 ) -> Result<DrawingArea<DB, Shift>, RenderError> {
-    let (w, h) = area.dim_in_pixel();
+    let used = centred_lines(area, canvas, text, scale)?;
+    Ok(area.split_vertically(used.min(area.dim_in_pixel().1)).1)
+}
+
+/// Draws `text` at the top of `area`, centred and wrapped to its width less
+/// one em, at `scale` times the body size; returns the height it took (px).
+fn centred_lines<DB: crate::Backend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    text: &str,
+    scale: f64,
+) -> Result<u32, RenderError> {
+    let w = area.dim_in_pixel().0;
     let font = canvas.font(scale);
     let lines = wrap(area, text, &font, w.saturating_sub(canvas.emu(1.0)));
     let step = canvas.text_px(scale) * LINE;
@@ -81,8 +93,7 @@ pub(crate) fn header<DB: crate::Backend>(
         let at = Pos::new(HPos::Center, VPos::Top);
         rich::draw(area, canvas, line, (w as i32 / 2, y), at, scale, Direction::Across)?;
     }
-    let used = (canvas.em(0.4) as f64 + step * lines.len() as f64 + canvas.em(0.2) as f64).round() as u32;
-    Ok(area.split_vertically(used.min(h)).1)
+    Ok((canvas.em(0.4) as f64 + step * lines.len() as f64 + canvas.em(0.2) as f64).round() as u32)
 }
 
 /// Draws `text` at the bottom of `area`, left-aligned and wrapped, at the
@@ -202,17 +213,22 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
     canvas: &Canvas,
     a: &Axes,
 ) -> Result<Chart<'b, DB>, RenderError> {
-    let mut builder = ChartBuilder::on(area);
-    if let Some(caption) = a.caption {
-        let width = area.dim_in_pixel().0.saturating_sub(canvas.emu(0.5));
-        builder.caption(caption, canvas.font(fitted_scale(area, canvas, caption, CAPTION, width)));
-    }
+    // The caption at its size, or smaller down to the least text size where
+    // that fits it on one line, else wrapped at the least size; the plot
+    // below it, with room for the top tick value, which stands half a text
+    // height above the plot.
+    let top = match a.caption {
+        Some(caption) => {
+            let width = area.dim_in_pixel().0.saturating_sub(canvas.emu(1.0));
+            let scale = fitted_scale(area, canvas, caption, CAPTION, width);
+            centred_lines(area, canvas, caption, scale)? + canvas.emu(0.7)
+        }
+        None => canvas.emu(0.5),
+    };
     let y_area = canvas.em(0.62 * a.y_label_chars.unwrap_or_else(|| tick_chars(a.y)) as f64 + 2.2);
-    let mut chart = builder
+    let mut chart = ChartBuilder::on(area)
         .margin(canvas.em(0.5))
-        // Room between a caption and the top tick value, which stands half
-        // a text height above the plot.
-        .margin_top(canvas.em(if a.caption.is_some() { 0.9 } else { 0.5 }))
+        .margin_top(top)
         .margin_right(canvas.em(1.2))
         .x_label_area_size(canvas.em(if a.x_labels { 2.8 } else { 0.6 }))
         .y_label_area_size(y_area)

@@ -82,7 +82,26 @@ pub(crate) fn columns<DB: crate::Backend>(
     entries: &[Entry],
     rows: usize,
 ) -> Vec<u32> {
-    entries.chunks(rows.max(1)).map(|c| width(area, canvas, c)).collect()
+    in_columns(entries, rows).into_iter().map(|c| width(area, canvas, c)).collect()
+}
+
+/// `entries` cut into columns of at most `rows` rows, a heading never the
+/// last row of a column while rows follow it (it moves to the head of the
+/// next column, over the rows it names).
+fn in_columns(entries: &[Entry], rows: usize) -> Vec<&[Entry]> {
+    let rows = rows.max(1);
+    let mut out = Vec::new();
+    let mut rest = entries;
+    while !rest.is_empty() {
+        let mut take = rows.min(rest.len());
+        if take > 1 && take < rest.len() && rest[take - 1].swatch == Swatch::Heading {
+            take -= 1;
+        }
+        let (column, tail) = rest.split_at(take);
+        out.push(column);
+        rest = tail;
+    }
+    out
 }
 
 /// Rows that fit in a column of height `height` (px).
@@ -109,7 +128,7 @@ pub(crate) fn draw<DB: crate::Backend>(
     let font = canvas.font(1.0).into_text_style(area).pos(Pos::new(HPos::Left, VPos::Center));
     let row_px = ROW * canvas.em(1.0) as f64;
     let mut left = 0;
-    for (c, chunk) in entries.chunks(per_column).enumerate() {
+    for (c, chunk) in in_columns(entries, per_column).into_iter().enumerate() {
         if c > 0 && left + widths[c] > w {
             break;
         }
@@ -214,5 +233,28 @@ where
             style,
         );
         area.draw(&dashed).map_err(err)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A heading that would end a column opens the next one, over the rows
+    /// it names (the hysteresis legend's "up / down (cells)" stood at the foot
+    /// of the labels' column, its pairs in the next); a heading alone in a
+    /// one-row column, or as the last entry, stays where it is.
+    #[test]
+    fn a_heading_never_ends_a_column_before_its_rows() {
+        let row = |t: &str| Entry::new(Swatch::Fill(RGBColor(0, 0, 0)), t);
+        let head = |t: &str| Entry::new(Swatch::Heading, t);
+        let entries = vec![head("labels"), row("a"), row("b"), row("c"), head("pairs"), row("a / b"), row("c / d")];
+        let texts = |cols: Vec<&[Entry]>| -> Vec<Vec<String>> {
+            cols.into_iter().map(|c| c.iter().map(|e| e.text.clone()).collect()).collect()
+        };
+        assert_eq!(texts(in_columns(&entries, 5)), [vec!["labels", "a", "b", "c"], vec!["pairs", "a / b", "c / d"]]);
+        assert_eq!(texts(in_columns(&entries, 4)), [vec!["labels", "a", "b", "c"], vec!["pairs", "a / b", "c / d"]]);
+        assert_eq!(texts(in_columns(&entries, 1)).len(), 7);
+        assert_eq!(texts(in_columns(&[row("a"), head("end")], 2)), [vec!["a", "end"]]);
     }
 }

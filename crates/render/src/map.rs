@@ -560,7 +560,7 @@ fn draw_hysteresis<DB: crate::Backend>(
         let zones = h.zones();
         let title = |k: usize| match k {
             1 => format!("up / down differ: {zones} cells"),
-            k => format!("up / down differ: {zones} cells (in blocks of {k} × {k})"),
+            k => format!("up / down differ: {zones} cells; in blocks of {k} × {k}"),
         };
         draw_split_cells(differ, canvas, m, &title, |i| Some(h.paint(i)), curves)
     };
