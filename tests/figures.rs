@@ -278,3 +278,26 @@ fn curves_are_found_on_a_map() {
     let err = crate::util::run(&["curves", a.to_str().unwrap(), "--max", "2"]);
     assert!(!err.status.success() && String::from_utf8_lossy(&err.stderr).contains("--into"));
 }
+
+/// Issue 43: a legend writes a state variable as the axes do, `x` with the
+/// subscript `M1` drawn smaller (the portrait's time series named its lines
+/// `x_M1`, underscore and all).
+#[test]
+fn legends_draw_subscripts() {
+    let d = scratch("legend-subscripts");
+    let svg = d.join("portrait.svg");
+    ok(&["cell", "configs/multi-stop.toml", "--set", "omega=0.33", "--portrait", svg.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(!text.contains("x_M1") && !text.contains("x_M2"), "an underscore drawn");
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let texts: Vec<roxmltree::Node> =
+        doc.descendants().filter(|n| n.is_element() && n.text().is_some_and(|t| !t.trim().is_empty())).collect();
+    let size =
+        |n: &roxmltree::Node| n.attribute("font-size").and_then(|s| s.trim_end_matches("px").parse::<f64>().ok());
+    // The legend's "event" row follows its two lines' names, each an x then
+    // its subscript.
+    let event = texts.iter().position(|n| n.text().map(str::trim) == Some("event")).expect("the legend");
+    let names: Vec<&str> = texts[event - 4..event].iter().filter_map(|n| n.text()).map(str::trim).collect();
+    assert_eq!(names, ["x", "M1", "x", "M2"], "{names:?}");
+    assert!(size(&texts[event - 3]) < size(&texts[event - 4]), "the subscript drawn smaller");
+}

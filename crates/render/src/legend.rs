@@ -6,6 +6,7 @@
 //! dash, a ring or a dot of the size drawn in the data.
 
 use crate::page::Canvas;
+use crate::rich::{self, Direction};
 use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -59,7 +60,8 @@ pub(crate) fn width<DB: crate::Backend>(area: &DrawingArea<DB, Shift>, canvas: &
     entries
         .iter()
         .map(|e| {
-            let text = area.estimate_text_size(&e.text, &TextStyle::from(font.clone())).map_or(0, |s| s.0);
+            let text =
+                area.estimate_text_size(&rich::plain(&e.text), &TextStyle::from(font.clone())).map_or(0, |s| s.0);
             text + canvas.emu(swatch_width(e.swatch) + 0.6)
         })
         .max()
@@ -125,7 +127,6 @@ pub(crate) fn draw<DB: crate::Backend>(
     let (w, h) = area.dim_in_pixel();
     let per_column = rows(canvas, h);
     let widths = columns(area, canvas, entries, per_column);
-    let font = canvas.font(1.0).into_text_style(area).pos(Pos::new(HPos::Left, VPos::Center));
     let row_px = ROW * canvas.em(1.0) as f64;
     let mut left = 0;
     for (c, chunk) in in_columns(entries, per_column).into_iter().enumerate() {
@@ -133,7 +134,7 @@ pub(crate) fn draw<DB: crate::Backend>(
             break;
         }
         for (r, e) in chunk.iter().enumerate() {
-            draw_row(area, canvas, e, (left as i32 + canvas.em(0.4), r), row_px, &font)?;
+            draw_row(area, canvas, e, (left as i32 + canvas.em(0.4), r), row_px)?;
         }
         left += widths[c];
     }
@@ -147,12 +148,12 @@ fn draw_row<DB: crate::Backend>(
     e: &Entry,
     (x, r): (i32, usize),
     row_px: f64,
-    font: &TextStyle,
 ) -> Result<(), RenderError> {
     let y = canvas.em(0.25) + (r as f64 * row_px + row_px / 2.0).round() as i32;
     let text_x = x + canvas.em(swatch_width(e.swatch) + if e.swatch == Swatch::Heading { 0.0 } else { 0.5 });
     swatch(area, canvas, e.swatch, (x, y))?;
-    area.draw(&Text::new(e.text.clone(), (text_x, y), font.clone())).map_err(err)
+    let at = Pos::new(HPos::Left, VPos::Center);
+    rich::draw(area, canvas, &e.text, (text_x, y), at, 1.0, Direction::Across)
 }
 
 /// Draws a swatch whose left edge is `x`, centred on `y`.
