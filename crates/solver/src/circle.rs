@@ -8,7 +8,7 @@
 //! principal directions, whitened (unit variance in each), about their
 //! centroid:
 //!
-//! - [`fills_closed_curve`]: the points cover every direction, and the polygon
+//! - [`closed`]: the points cover every direction, and the polygon
 //!   through them, in the order of their angles, is short;
 //! - [`torus_loops`]: both, on every k-th point for a section of k loops;
 //! - [`Rotation`]: the mean angle turned per forcing period, in turns, by the
@@ -27,15 +27,15 @@ use std::f64::consts::{PI, TAU};
 /// The points in the plane of their two principal directions, whitened, about
 /// their centroid, in their order; `None` for fewer than two points or points
 /// on a line (no second direction).
-fn principal_plane(points: &[DVector<f64>]) -> Option<Vec<(f64, f64)>> {
-    let n = points.len();
+fn principal_plane<'a>(points: impl Iterator<Item = &'a DVector<f64>> + Clone) -> Option<Vec<(f64, f64)>> {
+    let n = points.clone().count();
+    let dim = points.clone().next()?.len();
     if n < 2 {
         return None;
     }
-    let dim = points[0].len();
-    let mean = points.iter().fold(DVector::zeros(dim), |a, p| a + p) / n as f64;
+    let mean = points.clone().fold(DVector::zeros(dim), |a, p| a + p) / n as f64;
     let mut cov = DMatrix::zeros(dim, dim);
-    for p in points {
+    for p in points.clone() {
         let d = p - &mean;
         cov += &d * d.transpose();
     }
@@ -49,7 +49,6 @@ fn principal_plane(points: &[DVector<f64>]) -> Option<Vec<(f64, f64)>> {
     }
     Some(
         points
-            .iter()
             .map(|p| {
                 let d = p - &mean;
                 (d.dot(&e1) / s1, d.dot(&e2) / s2)
@@ -58,18 +57,21 @@ fn principal_plane(points: &[DVector<f64>]) -> Option<Vec<(f64, f64)>> {
     )
 }
 
-/// Whether the points lie on one closed curve: in the plane of their two
-/// principal directions, sorted by angle about their centroid, they cover every
-/// direction (no angular gap above π/4) and the polygon through them is no
-/// longer than twice the perimeter of their bounding ellipse (a scattered cloud
-/// zig-zags and is many times longer). At least 16 points.
-pub(crate) fn fills_closed_curve(points: &[DVector<f64>]) -> bool {
-    let n = points.len();
-    if n < 16 {
+/// Fewest points either measure looks at.
+const FEWEST: usize = 16;
+
+/// Whether points in the plane of their two principal directions
+/// ([`principal_plane`]) lie on one closed curve: sorted by angle about
+/// their centroid, they cover every direction (no angular gap above π/4) and
+/// the polygon through them is no longer than twice the perimeter of their
+/// bounding ellipse (a scattered cloud zig-zags and is many times longer).
+/// At least 16 points.
+fn closed(plane: &[(f64, f64)]) -> bool {
+    let n = plane.len();
+    if n < FEWEST {
         return false;
     }
-    let Some(plane) = principal_plane(points) else { return false };
-    let mut plane: Vec<(f64, f64, f64)> = plane.into_iter().map(|(u, w)| (w.atan2(u), u, w)).collect();
+    let mut plane: Vec<(f64, f64, f64)> = plane.iter().map(|&(u, w)| (w.atan2(u), u, w)).collect();
     plane.sort_by(|a, b| a.0.total_cmp(&b.0));
     let gap = plane.windows(2).map(|w| w[1].0 - w[0].0).fold(plane[0].0 + TAU - plane[n - 1].0, f64::max);
     let length: f64 = (0..n)
@@ -101,11 +103,12 @@ impl Rotation {
     /// The rotation number of `points`, in the order visited; `None` for fewer
     /// than 16 points, points on a line, or one at the centroid.
     pub(crate) fn of(points: &[DVector<f64>]) -> Option<Rotation> {
-        if points.len() < 16 {
-            return None;
-        }
-        let plane = principal_plane(points)?;
-        if plane.iter().any(|&(u, w)| u == 0.0 && w == 0.0) {
+        Rotation::in_plane(&principal_plane(points.iter())?)
+    }
+
+    /// [`Rotation::of`] points already in their principal plane.
+    fn in_plane(plane: &[(f64, f64)]) -> Option<Rotation> {
+        if plane.len() < FEWEST || plane.iter().any(|&(u, w)| u == 0.0 && w == 0.0) {
             return None;
         }
         let angle: Vec<f64> = plane.iter().map(|&(u, w)| w.atan2(u)).collect();
@@ -116,7 +119,7 @@ impl Rotation {
         let steps: Vec<f64> = steps.into_iter().map(|d| wrap(d, centre) / TAU).collect();
         let half = steps.len() / 2;
         let error = (weighted_mean(&steps[..half]) - weighted_mean(&steps[half..])).abs();
-        Some(Rotation { turns: weighted_mean(&steps), error, points: points.len() })
+        Some(Rotation { turns: weighted_mean(&steps), error, points: plane.len() })
     }
 }
 
@@ -125,14 +128,14 @@ const MOST_LOOPS: usize = 8;
 
 /// The loops of the closed curve that the points of a quasi-periodic motion
 /// lie on: the fewest k ≤ 8 such that every k-th point, from the first, lies
-/// on one closed curve ([`fills_closed_curve`]) and their rotation number has
+/// on one closed curve ([`closed`]) and their rotation number has
 /// converged within `tol` turns ([`Rotation`]). A torus about an orbit of
 /// period k crosses the period section in k closed curves, visited in turn.
 /// `None` when no k does.
 pub(crate) fn torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
     (1..=MOST_LOOPS).find(|&k| {
-        let loop_points: Vec<DVector<f64>> = points.iter().step_by(k).cloned().collect();
-        fills_closed_curve(&loop_points) && Rotation::of(&loop_points).is_some_and(|r| r.error <= tol)
+        principal_plane(points.iter().step_by(k))
+            .is_some_and(|plane| closed(&plane) && Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol))
     })
 }
 
@@ -151,6 +154,10 @@ fn weighted_mean(values: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn on_one_curve(points: &[DVector<f64>]) -> bool {
+        principal_plane(points.iter()).is_some_and(|plane| closed(&plane))
+    }
 
     /// Points `x_k` of the map `θ → θ + 2π ρ + ε sin θ` on an ellipse in a
     /// tilted plane of a four-dimensional space: a circle map, conjugate to a
@@ -207,7 +214,7 @@ mod tests {
         let offsets = [0.0, 10.0, 20.0];
         let points: Vec<DVector<f64>> =
             circle_map(0.381, 0.2, 1200).into_iter().enumerate().map(|(k, p)| p.add_scalar(offsets[k % 3])).collect();
-        assert!(!fills_closed_curve(&points));
+        assert!(!on_one_curve(&points));
         assert_eq!(torus_loops(&points, 1e-4), Some(3));
         assert_eq!(torus_loops(&circle_map(0.381, 0.2, 1200), 1e-4), Some(1));
     }
@@ -234,7 +241,7 @@ mod tests {
     /// scattered, folded cloud) and points on a segment do not.
     #[test]
     fn closed_curves_are_told_from_clouds() {
-        assert!(fills_closed_curve(&circle_map(0.381, 0.2, 400)));
+        assert!(on_one_curve(&circle_map(0.381, 0.2, 400)));
         let (mut x, mut y) = (0.1_f64, 0.1_f64);
         let cloud: Vec<DVector<f64>> = (0..500)
             .map(|_| {
@@ -243,8 +250,8 @@ mod tests {
             })
             .skip(100)
             .collect();
-        assert!(!fills_closed_curve(&cloud));
+        assert!(!on_one_curve(&cloud));
         let line: Vec<DVector<f64>> = (0..400).map(|k| DVector::from_vec(vec![k as f64, 2.0 * k as f64])).collect();
-        assert!(!fills_closed_curve(&line));
+        assert!(!on_one_curve(&line));
     }
 }

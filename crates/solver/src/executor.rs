@@ -110,7 +110,8 @@ const LONGEST_ORBIT: usize = 1000;
 /// reference plane's chaotic cells over 1 600 periods).
 const ROTATION_TOL: f64 = 1e-4;
 
-/// Periods tried by [`Executor::stable_orbit_near`] per look.
+/// Periods tried by Newton's method per look for an orbit near a record
+/// ([`Executor::stable_orbit_near`], [`Executor::orbit_among`]).
 const CANDIDATES: usize = 3;
 
 /// Largest distance between two section points of a record n periods apart,
@@ -621,30 +622,17 @@ impl<'s> Executor<'s> {
     /// ([`Executor::stable_fixed_point`]).
     fn stable_orbit_near(&mut self) -> bool {
         let (hist, len) = (&self.hist, self.hist.len());
-        let Some(first) = hist.front() else { return false };
-        let (lo, hi) = hist.iter().fold((first.end.clone(), first.end.clone()), |(lo, hi), r| {
-            (lo.zip_map(&r.end, f64::min), hi.zip_map(&r.end, f64::max))
-        });
-        let extent = distance(&hi, &lo);
+        let extent = extent(hist.iter().map(|r| &r.end));
         let nearest = |n: usize| {
             (n..len).map(|k| (distance(&hist[k].end, &hist[k - n].end), n, k)).min_by(|a, b| a.0.total_cmp(&b.0))
         };
-        let returns: Vec<(f64, usize, usize)> = (1..=self.acc.n_max.min(len.saturating_sub(1)))
+        let returns = (1..=self.acc.n_max.min(len.saturating_sub(1)))
             .filter_map(nearest)
             .filter(|r| r.0 < NEAR_RETURN * extent)
-            .collect();
-        let mut tried: Vec<usize> = Vec::with_capacity(CANDIDATES);
-        for (_, n, k) in returns {
-            if tried.len() == CANDIDATES {
-                break;
-            }
-            if tried.iter().any(|&m| n % m == 0) {
-                continue;
-            }
-            tried.push(n);
+            .map(|(_, n, k)| (n, k));
+        for (n, k) in candidates(returns) {
             let y = self.hist[k].end.clone();
-            let found = self.stable_fixed_point(&y, n).is_some();
-            if found {
+            if self.stable_fixed_point(&y, n).is_some() {
                 return true;
             }
         }
@@ -693,11 +681,10 @@ impl<'s> Executor<'s> {
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             if last {
-                let rotation = Rotation::of(&e.points);
                 if torus_loops(&e.points, ROTATION_TOL).is_some() {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
-                let why = Unresolved::Undecided { growth, rotation };
+                let why = Unresolved::Undecided { growth, rotation: Rotation::of(&e.points) };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             doublings += 1;
@@ -721,24 +708,13 @@ impl<'s> Executor<'s> {
     fn orbit_among(&mut self, points: &[DVector<f64>]) -> Option<usize> {
         let len = points.len();
         let last = points.last()?;
-        let (lo, hi) = points
-            .iter()
-            .fold((last.clone(), last.clone()), |(lo, hi), p| (lo.zip_map(p, f64::min), hi.zip_map(p, f64::max)));
-        let extent = distance(&hi, &lo);
+        let extent = extent(points.iter());
         // How far the last n points are from the n before them, at most.
         let away = |n: usize| (len - n..len).map(|k| distance(&points[k], &points[k - n])).fold(0.0, f64::max);
         let mut returns: Vec<(f64, usize)> =
             (1..=LONGEST_ORBIT.min(len / 2)).map(|n| (away(n), n)).filter(|r| r.0 < ORBIT_RETURN * extent).collect();
         returns.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut tried: Vec<usize> = Vec::with_capacity(CANDIDATES);
-        for (_, n) in returns {
-            if tried.len() == CANDIDATES {
-                break;
-            }
-            if tried.iter().any(|&m| n % m == 0) {
-                continue;
-            }
-            tried.push(n);
+        for (n, ()) in candidates(returns.into_iter().map(|(_, n)| (n, ()))) {
             let x = self.stable_fixed_point(last, n).filter(|x| distance(last, x) <= LONG_REACH);
             if let Some(x) = x {
                 return self.settle_on(&x, n);
@@ -957,6 +933,31 @@ impl<'s> Executor<'s> {
             record_window(p, &cell.window_start, cell.section.len(), &cell.impacts, cap)
         })
     }
+}
+
+/// The extent of section points: the distance (relative, max norm) across
+/// their bounding box; 0 for none.
+fn extent<'a>(mut points: impl Iterator<Item = &'a DVector<f64>>) -> f64 {
+    let Some(first) = points.next() else { return 0.0 };
+    let (lo, hi) =
+        points.fold((first.clone(), first.clone()), |(lo, hi), p| (lo.zip_map(p, f64::min), hi.zip_map(p, f64::max)));
+    distance(&hi, &lo)
+}
+
+/// The periods Newton's method tries among `returns` (periods with what the
+/// try needs, in the order of preference): the first [`CANDIDATES`], none a
+/// multiple of one taken before it.
+fn candidates<T>(returns: impl IntoIterator<Item = (usize, T)>) -> Vec<(usize, T)> {
+    let mut taken: Vec<(usize, T)> = Vec::with_capacity(CANDIDATES);
+    for (n, with) in returns {
+        if taken.len() == CANDIDATES {
+            break;
+        }
+        if !taken.iter().any(|(m, _)| n.is_multiple_of(*m)) {
+            taken.push((n, with));
+        }
+    }
+    taken
 }
 
 /// The result of a cell that ended without a classification.
