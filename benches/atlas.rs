@@ -40,7 +40,7 @@ fn bench_atlas(c: &mut Criterion) {
                     let sink = |l: Line| {
                         black_box(l);
                     };
-                    plane.run(&cs, &jobs, &grid::Entries::default(), t, &Silent, &sink).unwrap()
+                    grid::run(&plane, &cs, &jobs, &grid::Entries::default(), t, &Silent, &sink).unwrap()
                 })
             });
         }

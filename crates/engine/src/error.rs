@@ -284,8 +284,9 @@ pub(crate) fn chain_text(e: impl Into<anyhow::Error>) -> String {
 /// A grid error in the engine's words: the field it names (`x`, `x omega`,
 /// `shard`) becomes the option that `fields` maps it to (`Opt::X` keyed
 /// `omega`); any other grid error stays as it is.
-pub fn grid_error(e: grid::GridError, fields: &[(&str, Opt)]) -> anyhow::Error {
-    if let grid::GridError::Field { field, message } = &e {
+pub fn grid_error(e: impl Into<grid::GridError>, fields: &[(&str, Opt)]) -> anyhow::Error {
+    let e = e.into();
+    if let grid::GridError::Field(grid::FieldError { field, message }) = &e {
         let (head, key) = field.split_once(' ').map_or((field.as_str(), None), |(h, k)| (h, Some(k)));
         if let Some(&(_, o)) = fields.iter().find(|(f, _)| *f == head) {
             let r = match key {

@@ -246,7 +246,8 @@ impl Plan {
             // A closed channel means the writer failed; its error is reported below.
             let _ = tx.send((line, sealed));
         };
-        let ran = self.meta.plane.run(&self.setup, jobs, &self.entries, self.threads, &Observed(observer), &sink);
+        let ran =
+            grid::run(&self.meta.plane, &self.setup, jobs, &self.entries, self.threads, &Observed(observer), &sink);
         drop(tx);
         observer.finish();
         let kept = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
@@ -445,7 +446,7 @@ impl Plan {
             }
         }
         self.check_memory()?;
-        self.meta.plane.validate(&self.setup, self.threads)?;
+        grid::validate(&self.meta.plane, &self.setup, self.threads)?;
         let lines = self.meta.plane.lines();
         if self.shard.is_some() || (self.chains() && self.threads > 1 && lines >= 4 * self.threads) {
             self.cost = Some(grid::schedule::probe(&self.meta.plane, &self.setup, self.threads)?);

@@ -123,10 +123,11 @@ pub fn check_size(x: &Axis, y: &Axis) -> Result<()> {
 /// lattice.
 fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
     let field = opt.name();
-    let axis = given.clone().checked(field).and_then(|a| a.ascending(field)).map_err(|e| match e {
-        grid::GridError::Field { message, .. } => RequestError::option(opt).text(message),
-        other => RequestError::option(opt).because(other),
-    })?;
+    let axis = given
+        .clone()
+        .checked(field)
+        .and_then(|a| a.ascending(field))
+        .map_err(|e| RequestError::option(opt).text(e.message))?;
     if axis.name != parent.name {
         let why = format!("the parent's {field} axis is {}, not {}", parent.name, axis.name);
         bail!(RequestError::option(opt).text(why));

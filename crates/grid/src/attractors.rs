@@ -16,9 +16,10 @@
 //! max norm): mirror images of an asymmetric orbit, or two orbits of one label,
 //! are told apart. Motions without a period are grouped by class and label.
 
-use crate::cell::{CellData, CellSetup};
+use crate::cell::CellSetup;
 use crate::error::GridError;
 use crate::sweep::Progress;
+use maps::CellData;
 use rayon::prelude::*;
 use solver::Class;
 

@@ -1,41 +1,10 @@
-//! One cell of a plane: its parameters, its run, and the record kept for
-//! storage (labels, flags as stop masks, the final state and capped raw
-//! sections).
+//! One cell of a plane: its parameters and its run into the record kept for
+//! storage ([`CellData`]).
 
 use crate::error::GridError;
+use maps::CellData;
 use scene::Scene;
-use solver::{run_cell_with_sections, Accuracy, Class, Label, Mask, Method, Symmetry, System};
-
-/// What is kept of a classified cell.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CellData {
-    /// Kind of motion.
-    pub class: Class,
-    /// Label per labelled mass.
-    pub labels: Vec<Label>,
-    /// Stops that chattered.
-    pub chatter: Mask,
-    /// Stops that held their mass.
-    pub sticking: Mask,
-    /// Symmetry of periodic orbits of symmetric scenes.
-    pub symmetry: Option<Symmetry>,
-    /// Largest Lyapunov exponent (per unit time) of a cell without a period.
-    pub lyapunov: Option<f64>,
-    /// Largest Floquet multiplier modulus of a periodic cell.
-    pub multiplier: Option<f64>,
-    /// Final state `[x…, v…]`.
-    pub final_state: Vec<f64>,
-    /// Periods simulated.
-    pub periods: u64,
-    /// Events handled.
-    pub events: u64,
-    /// Period-section points (states at `t = kT`).
-    pub period_section: Vec<Vec<f64>>,
-    /// Per stop: `[phase, x…, v…]` before each impact of the window.
-    pub impact_sections: Vec<Vec<Vec<f64>>>,
-    /// Why the cell is unresolved (the solver's reason, as text), if it is.
-    pub reason: Option<String>,
-}
+use solver::{run_cell_with_sections, Accuracy, Method, System};
 
 /// The state a cell starts from: `start` (a previous cell's final state, or a
 /// stored one) when it is admissible for this system's stops, else the
@@ -46,9 +15,6 @@ pub fn start_state(sys: &System, start: Option<&[f64]>) -> Vec<f64> {
         _ => sys.model.initial_state(),
     }
 }
-
-/// Largest `section_cap`: points kept per section per cell.
-pub const MAX_SECTION_CAP: usize = 100_000;
 
 /// Everything needed to run cells of one scene.
 #[derive(Debug, Clone)]
@@ -62,7 +28,7 @@ pub struct CellSetup {
     /// Integrator.
     pub method: Method,
     /// Largest number of points kept per section per cell (at most
-    /// [`MAX_SECTION_CAP`]).
+    /// [`maps::MAX_SECTION_CAP`]).
     pub section_cap: usize,
 }
 

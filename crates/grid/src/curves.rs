@@ -23,10 +23,10 @@
 //! finishes (speculatively: a seed that the batches before it turn out to
 //! cross is dropped), so that no core waits for it.
 
-use crate::atlas::Atlas;
 use crate::cell::CellSetup;
 use crate::error::GridError;
-use crate::sweep::SweepKind;
+use maps::Atlas;
+use maps::SweepKind;
 use solver::curve::{Curve, Plane2, Start, Tracing};
 use solver::{Bifurcation, Class};
 
@@ -122,7 +122,7 @@ fn seeds(atlas: &Atlas, sweeps: &[SweepKind]) -> Vec<Seed> {
                     let cells = [[x.value(jx), y.value(jy)], [x.value(kx), y.value(ky)]];
                     let at = [(cells[0][0] + cells[1][0]) / 2.0, (cells[0][1] + cells[1][1]) / 2.0];
                     let starts = [c1.final_state.clone(), c2.final_state.clone()];
-                    let size = |c: &crate::cell::CellData| c.labels.first().map_or(0, |l| count[l]);
+                    let size = |c: &maps::CellData| c.labels.first().map_or(0, |l| count[l]);
                     out.push(Seed { at, cells, vertical, starts, weight: size(c1).min(size(c2)) });
                 }
             }
@@ -326,7 +326,7 @@ fn trace(
     kinds: &[Bifurcation],
     tracing: &dyn Fn(Bifurcation, [f64; 2]) -> Tracing,
     cell: [f64; 2],
-    y: &crate::axis::Axis,
+    y: &maps::Axis,
 ) -> Option<Curve> {
     // On the segment between the two cells (half-width half a cell), per kind
     // the bifurcation from the first stored state that gives one.

@@ -7,13 +7,8 @@ use thiserror::Error;
 #[non_exhaustive]
 pub enum GridError {
     /// An option or field has a bad value.
-    #[error("{field}: {message}")]
-    Field {
-        /// The field (`x`, `shard`, a study file's key); the CLI names its flag.
-        field: String,
-        /// What is wrong.
-        message: String,
-    },
+    #[error(transparent)]
+    Field(#[from] maps::FieldError),
     /// A cell's parameters do not make a valid scene.
     #[error("cell {params}: {cause}")]
     Cell {
@@ -33,6 +28,6 @@ pub enum GridError {
 impl GridError {
     /// Builds a [`GridError::Field`].
     pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
-        GridError::Field { field: field.into(), message: message.into() }
+        GridError::Field(maps::FieldError::field(field, message))
     }
 }

@@ -1,16 +1,17 @@
-//! The vibroatlas grid scheduler: parameter axes, planes of cells computed in
-//! parallel (fresh tiles or continuation chains up and down), hysteresis,
-//! shards for clusters and parameter studies. The only user of threads; no file
-//! I/O (the store and the engine write results).
+//! The vibroatlas grid scheduler: planes of cells computed in parallel (fresh
+//! tiles or continuation chains up and down), shards for clusters and
+//! parameter studies. The only user of threads; no file I/O (the store and
+//! the engine write results).
 //!
-//! The API: the types at the crate root (a [`Plane`] of two [`Axis`] values,
-//! its [`Line`]s computed by [`Plane::run`] into an [`Atlas`] of [`Map`]s of
-//! [`CellData`], described by its [`Meta`]; [`CellSetup`] runs one cell;
-//! [`Shard`], [`Study`]; every error a [`GridError`]), and five modules whose
-//! functions share names: [`attractors`] (coexisting attractors of a point),
-//! [`curves`] (bifurcation curves seeded from a map), [`hysteresis`] (zones
-//! where the sweeps differ), [`palette`] (the fixed colour of each label) and
-//! [`schedule`] (line costs, their order and shards).
+//! The API: [`CellSetup`] runs one cell into the [`maps::CellData`] it keeps;
+//! [`run`] computes the lines of a [`maps::Plane`] into [`maps::Line`]s
+//! ([`line`] one of them, [`validate`] checks every cell's parameters first);
+//! [`Study`] runs planes over a third parameter; every error a [`GridError`].
+//! Four modules whose functions share names: [`attractors`] (coexisting
+//! attractors of a point), [`curves`] (bifurcation curves seeded from a
+//! map), [`schedule`] (line costs, their order and shards). The data types
+//! live in the `maps` crate and are re-exported here for the callers that
+//! run planes.
 //!
 //! ```
 //! use grid::{Along, Axis, CellSetup, Plane, Silent, SweepKind};
@@ -27,33 +28,27 @@
 //! let y = Axis::new("delta", 0.6, 0.6, 1);
 //! let plane = Plane::new(x, y, Along::X).unwrap();
 //! // The up sweep of the one line: each cell from the previous one's end state.
-//! let line = plane.line(&setup, SweepKind::Up, 0, None, &Silent).unwrap();
+//! let line = grid::line(&plane, &setup, SweepKind::Up, 0, None, &Silent).unwrap();
 //! assert_eq!(line.cells[1].labels[0].to_string(), "1-4-4"); // M1 at omega = 0.33
 //! ```
 #![deny(missing_docs)]
 #![deny(clippy::float_cmp)]
 
-mod atlas;
 pub mod attractors;
-mod axis;
 mod cell;
 pub mod curves;
 mod error;
-pub mod hysteresis;
-mod notation;
-pub mod palette;
-mod plane;
+mod run;
 pub mod schedule;
-mod shard;
 mod study;
 mod sweep;
 
-pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
-pub use axis::{Axis, Lattice, MAX_COUNT};
-pub use cell::{start_state, CellData, CellSetup, MAX_SECTION_CAP};
+pub use cell::{start_state, CellSetup};
 pub use error::GridError;
-pub use notation::{stop_events, Notation};
-pub use plane::{Along, Entries, Line, Plane};
-pub use shard::{Shard, MAX_SHARDS};
+pub use maps::{
+    hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, CellAttractors, CellData, Entries, FieldError,
+    Lattice, Line, Map, Meta, Notation, Plane, Shard, SweepKind, MAX_COUNT, MAX_SECTION_CAP, MAX_SHARDS,
+};
+pub use run::{line, run, validate};
 pub use study::{Study, MAX_VALUES};
-pub use sweep::{chain, chain_from, Progress, Silent, SweepKind};
+pub use sweep::{chain, chain_from, Progress, Silent};

@@ -15,8 +15,8 @@
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
-use crate::plane::Plane;
-use crate::sweep::SweepKind;
+use maps::Plane;
+use maps::SweepKind;
 use rayon::prelude::*;
 
 /// Cells of each line run by [`probe`].

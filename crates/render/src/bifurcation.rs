@@ -14,7 +14,7 @@ use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use grid::{Atlas, SweepKind};
+use maps::{Atlas, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -96,7 +96,7 @@ pub fn component_name(atlas: &Atlas, k: usize) -> String {
 /// scene's forcing expression at the cell's parameters (a stored impact's
 /// first column is its time within the forcing period, `t mod T`, whose phase
 /// is `ω (t mod T)`).
-fn forcing_frequencies(m: &grid::Meta, row: usize) -> Result<Vec<f64>, RenderError> {
+fn forcing_frequencies(m: &maps::Meta, row: usize) -> Result<Vec<f64>, RenderError> {
     let scene = scene::Scene::parse(&m.scene_toml).map_err(err)?;
     let (x, y) = (&m.plane.x, &m.plane.y);
     (0..x.count)
@@ -279,7 +279,7 @@ fn draw<DB: crate::Backend>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use grid::{Along, Axis, Meta, Plane};
+    use maps::{Along, Axis, Meta, Plane};
 
     fn meta(x: &str, y: &str, overrides: &[(&str, f64)]) -> Meta {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/multi-stop.toml");

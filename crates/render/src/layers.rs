@@ -7,7 +7,7 @@ use crate::legend::{Entry, Swatch};
 use crate::map::{count, label_paint, sweep_rows, Hysteresis, Overlay, Paint, View};
 use crate::scalar::{Quantity, Scaled, NONE};
 use crate::RenderError;
-use grid::{Atlas, SweepKind};
+use maps::{Atlas, SweepKind};
 use plotters::style::RGBColor;
 
 /// Rows of a legend on a screen, where it scrolls: every label up to the

@@ -1,5 +1,5 @@
 //! The coloured (x, y) map of one mass's labels, as in the literature: one
-//! rectangle per cell in the label's fixed colour ([`grid::palette`]: the same
+//! rectangle per cell in the label's fixed colour ([`maps::palette`]: the same
 //! label has the same colour in every figure), and a legend beside or below
 //! the map of the labels present, most frequent first (the rest grouped by
 //! family, hatched), that says what p and q count.
@@ -15,8 +15,8 @@ use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use grid::palette::{colour, delta_e, family, family_colour};
-use grid::{Atlas, Axis, CellData, Meta, SweepKind};
+use maps::palette::{colour, delta_e, family, family_colour};
+use maps::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::collections::BTreeMap;
@@ -142,7 +142,7 @@ impl Overlay {
     /// overlay of `plane`, whose axes its parameters must be in either order
     /// (`None` otherwise).
     pub fn on(
-        plane: &grid::Plane,
+        plane: &maps::Plane,
         kind: &str,
         free: &[String; 2],
         points: &[(f64, f64)],
@@ -744,7 +744,7 @@ fn draw_attractors<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
-    a: &grid::AttractorMap,
+    a: &maps::AttractorMap,
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     root.fill(&WHITE).map_err(err)?;

@@ -11,7 +11,7 @@ use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use grid::{Atlas, CellData, SweepKind};
+use maps::{Atlas, CellData, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;

@@ -7,8 +7,8 @@ use crate::chunked::{deflate, Deflater, CHUNK_BYTES};
 use crate::layout::*;
 use crate::netcdf;
 use crate::verify::bytes_of;
-use grid::{Along, CellData, Meta, Plane};
 use hdf5::{Dataset, Group, H5Type};
+use maps::{Along, CellData, Meta, Plane};
 
 /// Chunks a run of about this many per plane: the file's part left for the
 /// end of a run is about one chunk per dataset (fewer chunks, more of it;
@@ -374,7 +374,7 @@ pub(crate) fn write(ds: &Dataset, chunks: &Chunks, c: usize, bytes: &[u8]) -> hd
 #[cfg(test)]
 mod tests {
     use super::*;
-    use grid::Axis;
+    use maps::Axis;
 
     fn plane(nx: usize, ny: usize, along: Along) -> Plane {
         let x = Axis::parse(&format!("omega=0.1:3:{nx}"), "x").unwrap();

@@ -13,7 +13,7 @@
 //! for reading (see [`crate::lock::check_own_file`]).
 
 use crate::error::{JournalProblem, StoreError};
-use grid::{CellData, Line, Meta, SweepKind};
+use maps::{CellData, Line, Meta, SweepKind};
 use serde::{Deserialize, Serialize};
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Write};

@@ -13,7 +13,7 @@
 //!
 //! ```no_run
 //! let loaded = store::read(std::path::Path::new("out/reference.h5"))?;
-//! let up = loaded.atlas.map(grid::SweepKind::Up).expect("an up sweep");
+//! let up = loaded.atlas.map(maps::SweepKind::Up).expect("an up sweep");
 //! let unresolved = up.cells.iter().flatten().filter(|c| c.reason.is_some()).count();
 //! println!("{} cells, {unresolved} unresolved, made by {}", up.cells.len(), loaded.info.command);
 //! # Ok::<(), store::StoreError>(())

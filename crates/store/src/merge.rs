@@ -3,7 +3,7 @@
 
 use crate::error::{Setting, StoreError};
 use crate::read::read;
-use grid::{Atlas, Meta, Shard};
+use maps::{Atlas, Meta, Shard};
 use std::path::{Path, PathBuf};
 
 /// Why two atlases cannot be merged: the first field of [`Meta`] that differs.
@@ -116,7 +116,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
         }
         // Parts sampled for attractors differently (or one not at all) would
         // merge into a map that covers only some parts' cells.
-        let sampling = |a: &Option<grid::AttractorMap>| a.as_ref().map(|m| (m.samples, m.seed));
+        let sampling = |a: &Option<maps::AttractorMap>| a.as_ref().map(|m| (m.samples, m.seed));
         let (ours, theirs) = (sampling(&atlas.attractors), sampling(&part.atlas.attractors));
         if ours != theirs {
             let say = |s: Option<(usize, u64)>| {

@@ -4,7 +4,7 @@
 use crate::error::{OtherKind, StoreError};
 use crate::layout::*;
 use crate::write::RunInfo;
-use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
+use maps::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
 use std::path::Path;
 
 /// An atlas file's contents.
@@ -316,7 +316,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     }
     // A cell never keeps more section points than the run's cap.
     for map in &maps {
-        let kept = |c: &grid::CellData| c.impact_sections.iter().map(Vec::len).fold(c.period_section.len(), usize::max);
+        let kept = |c: &maps::CellData| c.impact_sections.iter().map(Vec::len).fold(c.period_section.len(), usize::max);
         if let Some(most) = map.cells.iter().flatten().map(kept).max().filter(|&k| k > meta.section_cap) {
             return Err(fmt(format!(
                 "attribute {}: {}, but sweep {} keeps {most} section points in a cell: the file is damaged or was changed",
@@ -378,8 +378,8 @@ fn parent(path: &Path, f: &hdf5::File) -> Result<Option<crate::write::Parent>, S
 /// The states a zoom's chains entered its plane with (its continuation
 /// sweeps' `entry_state`, which a file with a parent must have): NaN rows
 /// are chains from the scene's initial state.
-fn entries(ck: &Checker, f: &hdf5::File, meta: &Meta, zoom: bool) -> Result<grid::Entries, StoreError> {
-    let mut entries = grid::Entries::default();
+fn entries(ck: &Checker, f: &hdf5::File, meta: &Meta, zoom: bool) -> Result<maps::Entries, StoreError> {
+    let mut entries = maps::Entries::default();
     let lines = meta.plane.lines();
     for &sweep in meta.sweeps.iter().filter(|&&s| s != SweepKind::Fresh) {
         let at = format!("{}/{}", sweep.name(), var::ENTRY_STATE);
@@ -412,8 +412,8 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
     let d = ck.open(axes, name)?;
     let at = format!("{AXES}/{name}");
     let count = d.size();
-    if count == 0 || count > grid::MAX_COUNT {
-        return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", grid::MAX_COUNT)));
+    if count == 0 || count > maps::MAX_COUNT {
+        return Err(ck.bad(&at, format!("{count} values; an axis has 1 to {}", maps::MAX_COUNT)));
     }
     let end = |which: &str| -> Result<f64, StoreError> {
         let v = required::<f64>(ck.path, &d, which)?;
@@ -437,16 +437,16 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
             Ok(v)
         };
         let (starts, stops) = (ends(attr::LATTICE_START)?, ends(attr::LATTICE_STOP)?);
-        if counts.is_empty() || counts.iter().any(|c| !(2..=grid::MAX_COUNT as u64).contains(c)) {
+        if counts.is_empty() || counts.iter().any(|c| !(2..=maps::MAX_COUNT as u64).contains(c)) {
             let what = format!(
                 "attribute {}: {counts:?}; each level has 2 to {} values",
                 attr::LATTICE_COUNT,
-                grid::MAX_COUNT
+                maps::MAX_COUNT
             );
             return Err(ck.bad(&at, what));
         }
         let levels = (0..counts.len()).map(|k| (starts[k], stops[k], counts[k] as usize)).collect();
-        axis.lattice = Some(grid::Lattice { levels });
+        axis.lattice = Some(maps::Lattice { levels });
     }
     // The values stored are the axis's, bit for bit: an edited end is not a new grid.
     let stored = ck.raw::<f64>(&d)?;
@@ -575,8 +575,8 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         section_cap: {
             // Read as signed, so that a negative value is refused rather than converted to 0.
             let cap = required::<i64>(path, f, attr::SECTION_CAP)?;
-            usize::try_from(cap).ok().filter(|&c| c <= grid::MAX_SECTION_CAP).ok_or_else(|| {
-                fmt(format!("attribute {}: {cap}; it is 0 to {}", attr::SECTION_CAP, grid::MAX_SECTION_CAP))
+            usize::try_from(cap).ok().filter(|&c| c <= maps::MAX_SECTION_CAP).ok_or_else(|| {
+                fmt(format!("attribute {}: {cap}; it is 0 to {}", attr::SECTION_CAP, maps::MAX_SECTION_CAP))
             })?
         },
         notation,
@@ -725,7 +725,7 @@ fn read_attractors(
     g: &hdf5::Group,
     [rows, columns]: [Dim; 2],
     masses: &[String],
-) -> Result<grid::AttractorMap, StoreError> {
+) -> Result<maps::AttractorMap, StoreError> {
     let n = rows.0 * columns.0;
     let count_set = ck.shaped(g, var::COUNT, &[rows, columns])?;
     let fraction_set = ck.open(g, var::FRACTION)?;
@@ -795,7 +795,7 @@ fn read_attractors(
             ));
         }
     }
-    Ok(grid::AttractorMap { samples, seed, cells })
+    Ok(maps::AttractorMap { samples, seed, cells })
 }
 
 /// The stops' normals of a file (stops × masses), or, in files written before
@@ -831,8 +831,8 @@ fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) ->
 /// [`scene::symbol_of`]), and each axis as its root coordinate's `symbol` and
 /// `long_name` say, where it has them (files written before them do not; the
 /// `long_name` `parameter <name>` says nothing more than the name).
-fn notation(path: &Path, f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Result<Vec<grid::Notation>, StoreError> {
-    let mut notation = scene::Scene::parse(scene_toml).map(|s| grid::Notation::of_scene(&s)).unwrap_or_default();
+fn notation(path: &Path, f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Result<Vec<maps::Notation>, StoreError> {
+    let mut notation = scene::Scene::parse(scene_toml).map(|s| maps::Notation::of_scene(&s)).unwrap_or_default();
     for name in axes {
         let Ok(d) = f.dataset(name) else { continue };
         crate::attrs::verify(path, &d)?;
@@ -845,7 +845,7 @@ fn notation(path: &Path, f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> R
                 n.symbol = symbol;
                 n.long_name = long_name;
             }
-            None => notation.push(grid::Notation { name: name.to_string(), symbol, long_name }),
+            None => notation.push(maps::Notation { name: name.to_string(), symbol, long_name }),
         }
     }
     Ok(notation)
@@ -879,7 +879,7 @@ mod tests {
             stop_normals: scene.stop_normals(),
             dim: 4,
             section_cap: 16,
-            notation: grid::Notation::of_scene(&scene),
+            notation: maps::Notation::of_scene(&scene),
         })
     }
 

@@ -13,9 +13,9 @@
 
 use crate::error::StoreError;
 use crate::fields::Field;
-use grid::Atlas;
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, H5Type};
+use maps::Atlas;
 use std::path::Path;
 use std::sync::Mutex;
 

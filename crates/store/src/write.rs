@@ -7,8 +7,8 @@ use crate::error::StoreError;
 use crate::fields::{self, Chunks, Field};
 use crate::layout::*;
 use crate::netcdf::{self, attr_array, attr_num, attr_str};
-use grid::Atlas;
 use hdf5::Group;
+use maps::Atlas;
 use ndarray::{Array1, Array2, Array3};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
@@ -21,7 +21,7 @@ pub struct RunInfo {
     /// Wall time of the computation, seconds.
     pub run_time_s: f64,
     /// Shard of a partial file.
-    pub shard: Option<grid::Shard>,
+    pub shard: Option<maps::Shard>,
     /// Earlier history lines (`TIME: command`, oldest first): those of the
     /// parts of a merge; the file adds its own.
     pub history: Vec<String>,
@@ -92,7 +92,7 @@ pub struct Draft {
     tmp: PathBuf,
     /// Open while unfinished.
     file: Option<hdf5::File>,
-    meta: grid::Meta,
+    meta: maps::Meta,
     z: Deflater,
     chunks: Chunks,
     /// Per sweep, in the order of `meta.sweeps`.
@@ -112,7 +112,7 @@ struct Progress {
 impl Draft {
     /// Creates the temporary file of an atlas of `meta` to be written to
     /// `path`, compressing on `threads` threads at the end.
-    pub fn create(path: &Path, meta: &grid::Meta, threads: usize) -> Result<Draft, StoreError> {
+    pub fn create(path: &Path, meta: &maps::Meta, threads: usize) -> Result<Draft, StoreError> {
         crate::lock::check_folder(path)?;
         let chunks = Chunks::new(&meta.plane, Field::most_cell_bytes(meta));
         let mut draft = Draft {
@@ -143,7 +143,7 @@ impl Draft {
     /// Takes `line` of `sweep`, complete in `atlas` (whose set-up must be the
     /// draft's): writes the chunks of the per-cell datasets that it completes.
     /// A line kept twice is kept once.
-    pub fn keep(&mut self, atlas: &Atlas, sweep: grid::SweepKind, line: usize) -> Result<(), StoreError> {
+    pub fn keep(&mut self, atlas: &Atlas, sweep: maps::SweepKind, line: usize) -> Result<(), StoreError> {
         let (Some(s), Some(map)) = (self.meta.sweeps.iter().position(|&k| k == sweep), atlas.map(sweep)) else {
             return Ok(());
         };
@@ -254,12 +254,12 @@ impl Drop for Draft {
 /// its per-cell datasets.
 type Created = (hdf5::File, Vec<Vec<(Field, hdf5::Dataset)>>);
 
-fn create_file(path: &Path, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
+fn create_file(path: &Path, m: &maps::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
     create_in(crate::netcdf::create_file(path)?, m, chunks, z)
 }
 
 /// [`create_file`] into the file `f`, new.
-fn create_in(f: hdf5::File, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
+fn create_in(f: hdf5::File, m: &maps::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
     let p = &m.plane;
     attr_str(&f, attr::CONVENTIONS, "CF-1.8")?;
     attr_str(&f, "title", &format!("vibroatlas map of the {} scene over ({}, {})", m.scene_name, p.x.name, p.y.name))?;
@@ -311,13 +311,13 @@ fn create_in(f: hdf5::File, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hd
 }
 
 /// The state components (`x_M1, …, v_M1, …`).
-fn components(m: &grid::Meta) -> Vec<String> {
+fn components(m: &maps::Meta) -> Vec<String> {
     ["x", "v"].iter().flat_map(|q| m.state_masses.iter().map(move |n| format!("{q}_{n}"))).collect()
 }
 
 /// A sweep's group of [`Draft::create`]: coordinates, dimensions, and its
 /// per-cell datasets, empty (returned, to be filled chunk by chunk).
-fn create_sweep(g: &Group, m: &grid::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Vec<(Field, hdf5::Dataset)>> {
+fn create_sweep(g: &Group, m: &maps::Meta, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Vec<(Field, hdf5::Dataset)>> {
     let grid = Grid::new(g, m, z)?;
     let components = components(m);
     let labels = |name: &str, values: &[String], long_name: &str| -> hdf5::Result<hdf5::Dataset> {
@@ -403,7 +403,7 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
 
 /// A sweep's results but its per-cell datasets, into its group `g` of
 /// [`create_sweep`]: its label table and codes, lines done and sections.
-fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::Result<()> {
+fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
     let (nx, ny) = (p.x.count, p.y.count);
@@ -423,7 +423,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::
     let label_dim = netcdf::labels(g, LABEL, &table, "label n-p-q, or C, Q, U")?;
     z.expected.texts(&label_dim, &table);
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
-    let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| grid::palette::colour(&table[i])[k]);
+    let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| maps::palette::colour(&table[i])[k]);
     let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
     z.expected.numbers(&d, colours.as_slice().expect("a new array is contiguous"));
     netcdf::dims(&d, &[&label_dim, &g.dataset(RGB)?])?;
@@ -443,7 +443,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::
     let d = z.dataset(g, var::LINES_DONE, &Array1::from(done))?;
     netcdf::dims(&d, &[&lines])?;
     netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
-    if map.sweep != grid::SweepKind::Fresh && !atlas.entries.0.is_empty() {
+    if map.sweep != maps::SweepKind::Fresh && !atlas.entries.0.is_empty() {
         let entry = Array2::from_shape_fn((p.lines(), m.dim), |(l, k)| {
             atlas.entries.get(map.sweep, l).map_or(f64::NAN, |s| s[k])
         });
@@ -482,7 +482,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &grid::Map, z: &Deflater) -> hdf5::
 /// Why the unresolved cells of a sweep are unresolved: the table of their
 /// distinct reasons (a string coordinate, sorted; empty when every cell is
 /// resolved) and per cell an index into it (-1: resolved, or not computed).
-fn write_reasons(g: &Group, cells: &[Option<grid::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<()> {
+fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<()> {
     let table: Vec<String> = cells
         .iter()
         .flatten()
@@ -508,14 +508,14 @@ fn write_reasons(g: &Group, cells: &[Option<grid::CellData>], grid: &Grid, z: &D
 }
 
 /// The root's `attractor_sampling` of an atlas with attractors.
-pub(crate) fn sampling_text(a: &grid::AttractorMap) -> String {
+pub(crate) fn sampling_text(a: &maps::AttractorMap) -> String {
     format!("{} samples per cell, seed {}", a.samples, a.seed)
 }
 
 /// The coexisting attractors of the sampled cells (`/attractors`, see
 /// [`crate::layout`]): their count per cell, and per attractor slot the label
 /// code of each mass and the basin fraction.
-fn write_attractors(f: &hdf5::File, m: &grid::Meta, a: &grid::AttractorMap, z: &Deflater) -> hdf5::Result<()> {
+fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &Deflater) -> hdf5::Result<()> {
     let (nx, ny) = (m.plane.x.count, m.plane.y.count);
     let g = f.create_group(ATTRACTORS)?;
     netcdf::attr_num(&g, attr::SAMPLES, a.samples as u64)?;
@@ -566,10 +566,10 @@ struct Grid {
 impl Grid {
     /// The coordinates of `m`'s plane in `g`, each with its parameter's CF
     /// `long_name` (`parameter <name>` when the scene gives none) and
-    /// `symbol` ([`grid::Meta::symbol`]).
-    fn new(g: &Group, m: &grid::Meta, z: &Deflater) -> hdf5::Result<Grid> {
+    /// `symbol` ([`maps::Meta::symbol`]).
+    fn new(g: &Group, m: &maps::Meta, z: &Deflater) -> hdf5::Result<Grid> {
         let p = &m.plane;
-        let axis = |a: &grid::Axis| -> hdf5::Result<hdf5::Dataset> {
+        let axis = |a: &maps::Axis| -> hdf5::Result<hdf5::Dataset> {
             let long_name = m.long_name(&a.name).map_or_else(|| generic_long_name(&a.name), str::to_string);
             let values = a.values();
             let d = netcdf::coordinate(g, &a.name, &values, &long_name)?;
@@ -644,7 +644,7 @@ fn write_section<'a>(
 }
 
 /// Every accuracy knob of the run (`k=v,…`): the preset's with the overrides applied.
-fn knobs(m: &grid::Meta) -> String {
+fn knobs(m: &maps::Meta) -> String {
     let mut acc = solver::Accuracy::preset(m.preset);
     for (k, v) in &m.accuracy {
         // The overrides were validated when the run started.
@@ -662,12 +662,12 @@ pub fn pairs(p: &[(String, f64)]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use grid::{Along, Axis, Plane, SweepKind};
+    use maps::{Along, Axis, Plane, SweepKind};
 
-    fn meta() -> grid::Meta {
+    fn meta() -> maps::Meta {
         let x = Axis::parse("omega=0.5:2:5", "x").unwrap();
         let y = Axis::parse("delta=0.1:1:3", "y").unwrap();
-        grid::Meta {
+        maps::Meta {
             scene_name: "test".into(),
             scene_toml: String::new(),
             overrides: Vec::new(),
@@ -688,9 +688,9 @@ mod tests {
     }
 
     /// A cell whose every value tells where it is (cell `i`, sweep `s`).
-    fn cell(i: usize) -> grid::CellData {
+    fn cell(i: usize) -> maps::CellData {
         let n = 1 + (i % 3) as u32;
-        grid::CellData {
+        maps::CellData {
             class: solver::Class::Periodic,
             labels: vec![solver::Label::Periodic { n, p: solver::Count::Impacts(i as u32), q: solver::Count::Stuck }],
             chatter: Default::default(),
@@ -718,7 +718,7 @@ mod tests {
         for along in [Along::X, Along::Y] {
             let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
             let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
-            let m = grid::Meta { plane: Plane::new(x, y, along).unwrap(), ..meta() };
+            let m = maps::Meta { plane: Plane::new(x, y, along).unwrap(), ..meta() };
             let p = m.plane.clone();
             let mut atlas = Atlas::new(m.clone());
             // Every line but every fifth computed.
@@ -728,7 +728,7 @@ mod tests {
                     let (iy, ix) = p.cell(l, pos);
                     cell(iy * p.x.count + ix)
                 });
-                atlas.insert(grid::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
+                atlas.insert(maps::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
             }
             let kept = dir.join("kept.h5");
             let mut draft = Draft::create(&kept, &m, 2).unwrap();
@@ -789,7 +789,7 @@ mod tests {
         let atlas = Atlas::new(meta());
         let mut draft = Draft::create(&out, &meta(), 2).unwrap();
         draft.keep(&atlas, SweepKind::Down, 0).unwrap();
-        let other = grid::Meta { section_cap: 8, ..meta() };
+        let other = maps::Meta { section_cap: 8, ..meta() };
         let err = Draft::create(&dir.join("b.h5"), &other, 1).unwrap().finish(&atlas, &info).unwrap_err().to_string();
         assert!(err.contains("not of the set-up"), "{err}");
         assert!(!dir.join("b.h5").exists() && !partial_path(&dir.join("b.h5")).exists());
@@ -835,7 +835,7 @@ mod tests {
         let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
         let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
         let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
-        let m = grid::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
+        let m = maps::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
         let p = m.plane.clone();
         let mut atlas = Atlas::new(m.clone());
         for l in 0..p.lines() {
@@ -843,7 +843,7 @@ mod tests {
                 let (iy, ix) = p.cell(l, pos);
                 cell(iy * p.x.count + ix)
             });
-            atlas.insert(grid::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
+            atlas.insert(maps::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
         }
         let out = dir.join("cut.h5");
         let mut draft = Draft::create(&out, &m, 2).unwrap();

@@ -1,9 +1,9 @@
 //! Shards `K/N` of a plane for cluster job arrays: whole lines (continuation
 //! chains: rows or columns), dealt by estimated cost so that shards are
 //! disjoint, cover the plane and carry about equal work
-//! ([`crate::schedule::shard_lines`]).
+//! (`grid::schedule::shard_lines`).
 
-use crate::error::GridError;
+use crate::error::FieldError;
 
 /// Most shards a plane may be split into (and at most one per line).
 pub const MAX_SHARDS: usize = 100_000;
@@ -19,8 +19,8 @@ pub struct Shard {
 
 impl Shard {
     /// Parses `K/N`.
-    pub fn parse(text: &str) -> Result<Shard, GridError> {
-        let bad = |m: String| GridError::field("shard", m);
+    pub fn parse(text: &str) -> Result<Shard, FieldError> {
+        let bad = |m: String| FieldError::field("shard", m);
         let (k, n) = text.split_once('/').ok_or_else(|| bad(format!("expected K/N, got '{text}'")))?;
         let k: usize = k.trim().parse().map_err(|_| bad(format!("K '{k}' is not a whole number")))?;
         let n: usize = n.trim().parse().map_err(|_| bad(format!("N '{n}' is not a whole number")))?;

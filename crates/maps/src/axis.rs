@@ -4,7 +4,7 @@
 //! values ([`Lattice`]), so that a box aligned with the parent's grid computes
 //! at the very same parameters.
 
-use crate::error::GridError;
+use crate::error::FieldError;
 
 /// Largest number of values of one axis (a plane then has at most 10^12 cells,
 /// which the memory check refuses long before).
@@ -75,12 +75,12 @@ impl Axis {
     }
 
     /// Parses `NAME=START:STOP:COUNT`; `flag` names the option in errors.
-    pub fn parse(text: &str, flag: &str) -> Result<Axis, GridError> {
-        let bad = |m: &str| GridError::field(flag, format!("{m} (expected NAME=START:STOP:COUNT, got '{text}')"));
+    pub fn parse(text: &str, flag: &str) -> Result<Axis, FieldError> {
+        let bad = |m: &str| FieldError::field(flag, format!("{m} (expected NAME=START:STOP:COUNT, got '{text}')"));
         let (name, range) = text.split_once('=').ok_or_else(|| bad("missing '='"))?;
         let parts: Vec<&str> = range.split(':').collect();
         let [a, b, c] = parts.as_slice() else { return Err(bad("need three fields")) };
-        let num = |s: &str, what: &str| -> Result<f64, GridError> {
+        let num = |s: &str, what: &str| -> Result<f64, FieldError> {
             let v: f64 = s.trim().parse().map_err(|_| bad(&format!("{what} '{}' is not a number", s.trim())))?;
             if v.is_finite() {
                 Ok(v)
@@ -99,34 +99,34 @@ impl Axis {
     /// The axis, once checked: a name, finite ends, 1 to [`MAX_COUNT`]
     /// values, one value where its ends are equal, and a range that is not
     /// empty when there are several (`field` names it in errors).
-    pub fn checked(self, field: &str) -> Result<Axis, GridError> {
+    pub fn checked(self, field: &str) -> Result<Axis, FieldError> {
         let Axis { name, start, stop, count, .. } = &self;
         let field = format!("{field} {name}");
         if name.is_empty() {
-            return Err(GridError::field(field, "empty parameter name"));
+            return Err(FieldError::field(field, "empty parameter name"));
         }
         if !(start.is_finite() && stop.is_finite()) {
-            return Err(GridError::field(field, format!("START and STOP must be finite, got {start}:{stop}")));
+            return Err(FieldError::field(field, format!("START and STOP must be finite, got {start}:{stop}")));
         }
         if *count == 0 || *count > MAX_COUNT {
-            return Err(GridError::field(field, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
+            return Err(FieldError::field(field, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
         }
         if *count == 1 && (stop - start).abs() > 0.0 {
-            return Err(GridError::field(
+            return Err(FieldError::field(
                 field,
                 format!("COUNT 1 is one value, but START {start} and STOP {stop} differ: give {start}:{start}:1, or more values"),
             ));
         }
         if *count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
-            return Err(GridError::field(field, format!("empty range {start}:{stop} with {count} values")));
+            return Err(FieldError::field(field, format!("empty range {start}:{stop} with {count} values")));
         }
         Ok(self)
     }
 
     /// Refuses a descending axis (planes are stored ascending; sweep direction is separate).
-    pub fn ascending(self, flag: &str) -> Result<Axis, GridError> {
+    pub fn ascending(self, flag: &str) -> Result<Axis, FieldError> {
         if self.start > self.stop {
-            return Err(GridError::field(
+            return Err(FieldError::field(
                 format!("{flag} {}", self.name),
                 format!(
                     "inverted range {}:{} (give it ascending; sweep downwards with a down sweep)",

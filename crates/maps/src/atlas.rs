@@ -58,7 +58,7 @@ pub struct Map {
 
 /// The coexisting attractors found in one cell: per attractor, the label of
 /// each labelled mass and the share of the samples that reached it (largest
-/// first; see [`crate::attractors`]).
+/// first; found by `grid::attractors`).
 pub type CellAttractors = Vec<(Vec<solver::Label>, f64)>;
 
 /// Coexisting attractors sampled over a plane (`atlas --attractors K`).
