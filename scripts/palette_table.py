@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Chooses the curated label colours of crates/grid/src/palette.rs.
+"""Chooses the curated label colours of crates/maps/src/palette.rs.
 
     /usr/bin/python3 scripts/palette_table.py            # prints the Rust table
     /usr/bin/python3 scripts/palette_table.py --write    # rewrites it in palette.rs
@@ -31,7 +31,7 @@ cannot reach and keep the last table that reached its target.
 To change the table: edit LABELS (the labels that matter are those frequent in
 the shipped scenes' maps: `--scan` prints the top 20 of the reference planes
 of tests/palette.rs, from the release binary), run with --write, then
-`cargo test --release -p vibroatlas-grid palette` and
+`cargo test --release -p vibroatlas-maps palette` and
 `cargo test --release --test integration palette`.
 """
 

@@ -12,7 +12,7 @@ table, and each label is drawn in its `label_colour` (the colours of
 vibroatlas's own figures), one rectangle per cell. The legend is drawn as
 `vibroatlas render` draws it: the most frequent labels one by one with their
 number of cells, as many as fit, and the rest summed per family of
-crates/grid/src/palette.rs (`+ K more chattering (cells)`; `+ K chattering
+crates/maps/src/palette.rs (`+ K more chattering (cells)`; `+ K chattering
 (cells)` where that gains a column), its swatch white and hatched in the
 colour of the family's most frequent label, so that it cannot be taken for a
 listed label; a family of one label is that label's own row. The legend lies
@@ -66,7 +66,7 @@ from matplotlib.patches import Polygon, Rectangle  # noqa: E402
 from matplotlib.transforms import Bbox  # noqa: E402
 
 NAMES = {"C": "C chaotic", "Q": "Q quasi-periodic", "U": "U unresolved", "not-computed": "not computed"}
-# Families of crates/grid/src/palette.rs `family()`, in the order legends list them.
+# Families of crates/maps/src/palette.rs `family()`, in the order legends list them.
 FAMILIES = ["no impact", "fundamental", "subharmonic", "chattering", "complete chattering",
             "chaotic", "quasi-periodic", "unresolved", "not computed", "other"]
 GREEK = {g: chr(c) for g, c in [
@@ -120,7 +120,7 @@ def classes(path, sweep):
 def hysteresis_mask(path, masses):
     """The file's /hysteresis mask [y, x] as booleans; for a file without it, the
     same definition computed from the sweeps: both periodic and the labels of
-    some labelled mass differ (crates/grid/src/hysteresis.rs)."""
+    some labelled mass differ (crates/maps/src/hysteresis.rs)."""
     _, hyst = root(path)
     if hyst is not None:
         return hyst == 1
@@ -179,7 +179,7 @@ def present(texts):
 
 
 def family(label):
-    """The family of a label, as crates/grid/src/palette.rs `family()` names it
+    """The family of a label, as crates/maps/src/palette.rs `family()` names it
     (a symmetry suffix ` S`/` AS` is ignored; `not-computed` is its own)."""
     base = label.split(" ")[0]
     if base == "1-0-0":

@@ -2,7 +2,7 @@
 
 use crate::args::{lib, FromArgs, SimArgs};
 use anyhow::{anyhow, Result};
-use engine::{parse_assignment, Sim, Start};
+use engine::{Sim, Start};
 
 /// The simulation options of `a` (the scene a file).
 pub fn sim(a: &SimArgs) -> Result<Sim> {
@@ -54,4 +54,16 @@ pub fn warn(warning: Option<&String>) {
 /// The command line as one string (for the file's `command` attribute).
 pub fn command_line() -> String {
     std::env::args().collect::<Vec<_>>().join(" ")
+}
+
+/// Parses `NAME=VALUE` with a finite value; `option` names the flag in
+/// errors (`--set`).
+pub fn parse_assignment(text: &str, option: &str) -> Result<(String, f64)> {
+    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{option} {text}: expected NAME=VALUE"))?;
+    let name = name.trim().to_string();
+    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{option} {name}: '{}' is not a number", value.trim()))?;
+    if !v.is_finite() {
+        anyhow::bail!("{option} {name}: not a finite number, got {v}");
+    }
+    Ok((name, v))
 }

@@ -3,10 +3,11 @@
 //! map, [`grid::curves`]): parsing, and the JSON, text and files they write.
 
 use crate::args::{lib, CurveArgs, CurvesArgs};
+use crate::common::parse_assignment;
 use crate::common::{command_line, sim};
 use crate::out::outln;
 use anyhow::{anyhow, bail, Result};
-use engine::{parse_assignment, CurveRequest};
+use engine::CurveRequest;
 use solver::Bifurcation;
 
 /// Runs `curve`.
@@ -37,7 +38,7 @@ pub fn run(a: CurveArgs) -> Result<()> {
         let [pa, pb] = &t.free;
         outln!("{} curve in ({pa}, {pb}): {} points", t.curve.kind.name(), t.curve.points.len());
         for (p, l) in t.curve.points.iter().zip(&t.sides) {
-            outln!("  {pa} = {:.9}  {pb} = {:.9}  {l}", p.a, p.b);
+            outln!("  {pa} = {:.9}  {pb} = {:.9}  {}", p.a, p.b, serde_json::to_value(l)?);
         }
         for c in &t.curve.codim2 {
             outln!("codim-2   {} at {pa} = {:.9}, {pb} = {:.9}", c.kind, c.a, c.b);

@@ -25,6 +25,14 @@ pub fn message(e: &anyhow::Error) -> String {
 /// One error of a chain.
 fn one(e: &(dyn std::error::Error + 'static)) -> String {
     use store::{OtherKind, Setting, StoreError};
+    // The engine's error says what its library's error says (its sources
+    // follow in the chain): look at that one.
+    match e.downcast_ref::<engine::Error>() {
+        Some(engine::Error::Request(r)) => return one(r),
+        Some(engine::Error::Store(s)) => return one(s),
+        Some(engine::Error::Render(r)) => return one(r),
+        _ => {}
+    }
     if let Some(r) = e.downcast_ref::<engine::RequestError>() {
         return r.in_words(&Flags);
     }

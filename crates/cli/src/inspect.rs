@@ -12,11 +12,9 @@ pub fn run(a: InspectArgs) -> Result<()> {
         store::check_finished(&a.file, &l)?;
     }
     if a.json {
-        let mut j = engine::inspect_json(&a.file, &l);
-        if a.verify {
-            j["verified"] = serde_json::Value::Bool(true);
-        }
-        outln!("{}", serde_json::to_string(&j)?);
+        let mut report = engine::InspectReport::of(&a.file, &l);
+        report.verified = a.verify.then_some(true);
+        outln!("{}", serde_json::to_string(&report.to_json())?);
         return Ok(());
     }
     outln!("file      {}", a.file.display());

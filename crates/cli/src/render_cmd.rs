@@ -113,7 +113,7 @@ pub(crate) fn wrote(path: &std::path::Path, page: &render::Page) -> Result<()> {
 /// The row of the y axis nearest to `NAME=VALUE`.
 fn nearest_row(atlas: &grid::Atlas, text: &str) -> Result<usize> {
     let y = &atlas.meta.plane.y;
-    let (name, value) = engine::parse_assignment(text, "--row")?;
+    let (name, value) = crate::common::parse_assignment(text, "--row")?;
     if name != y.name {
         bail!("--row: the file's rows are values of {}, got '{name}'", y.name);
     }

@@ -2,11 +2,11 @@
 //! down, on threads, optionally one shard of it, with the coexisting
 //! attractors of its cells; written to an HDF5 file through a journal.
 
+use crate::error::Result;
 use crate::error::{with_fields, Opt, RequestError};
 use crate::observer::Observer;
 use crate::plan::{Executed, Plan};
 use crate::sim::Sim;
-use anyhow::{bail, Result};
 use grid::attractors::Sampling;
 use grid::{Along, Axis, Plane, Shard, SweepKind};
 use std::path::PathBuf;
@@ -100,7 +100,7 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     if let Some((sampling, cells)) = r.attractors {
         if sampling.samples == 0 || sampling.samples > 100_000 {
             let why = format!("expected 1 to 100000 samples per cell, got {}", sampling.samples);
-            bail!(RequestError::option(Opt::Attractors).text(why));
+            return Err(RequestError::option(Opt::Attractors).text(why).into());
         }
         plan.attractors = Some((sampling, cells == AttractorCells::Hysteresis));
     }
@@ -128,7 +128,7 @@ mod tests {
         }
     }
 
-    /// A cancelled atlas ends with `GridError::Cancelled` within a cell of
+    /// A cancelled atlas ends with `Error::Cancelled` within a cell of
     /// the request on each worker, and leaves no output, partial file or
     /// journal; the same request not cancelled writes its file.
     #[test]
@@ -144,7 +144,7 @@ mod tests {
         r.output = Some(out.clone());
         let stop = StopAfter { after: 50, done: AtomicU64::new(0) };
         let e = atlas(&r, &stop).unwrap_err();
-        assert!(matches!(e.downcast_ref::<grid::GridError>(), Some(grid::GridError::Cancelled)), "{e:#}");
+        assert!(matches!(e, crate::Error::Cancelled), "{e}");
         // Each of the two workers finishes at most the cell it is computing.
         assert!(stop.done.load(Ordering::Relaxed) <= 52, "{} cells", stop.done.load(Ordering::Relaxed));
         let left: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name()).collect();

@@ -3,13 +3,15 @@
 //! `grid::attractors` for the sampling and the grouping); and the JSON object
 //! of `attractors --json` ([`Attractors::to_json`]).
 
+use crate::error::Result;
 use crate::error::{Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
-use crate::sim::{parameters_json, Sim};
-use anyhow::{bail, Result};
+use crate::sim::{parameters_of, Sim};
 use grid::attractors::{find, Attractor, Sampling};
-use serde_json::{json, Value};
+use serde::Serialize;
+use serde_json::Value;
 use solver::System;
+use std::collections::BTreeMap;
 
 /// Most samples one run may take.
 pub const MAX_SAMPLES: usize = 1_000_000;
@@ -42,11 +44,13 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
     let s = r.sim.setup()?;
     let k = r.sampling.samples;
     if k == 0 || k > MAX_SAMPLES {
-        bail!(RequestError::option(Opt::Samples).text(format!("expected 1 to {MAX_SAMPLES}, got {k}")));
+        return Err(RequestError::option(Opt::Samples).text(format!("expected 1 to {MAX_SAMPLES}, got {k}")).into());
     }
     let (x, v) = (r.sampling.x, r.sampling.v);
     if !(x.is_finite() && v.is_finite() && x >= 0.0 && v >= 0.0) {
-        bail!(RequestError::option(Opt::Box).text(format!("expected X,V (two numbers >= 0), got '{x},{v}'")));
+        return Err(RequestError::option(Opt::Box)
+            .text(format!("expected X,V (two numbers >= 0), got '{x},{v}'"))
+            .into());
     }
     let cs = s.cell_setup(0)?;
     observer.begin(&Begin { total: k as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
@@ -87,34 +91,89 @@ impl Attractors {
         at.count as f64 / self.sampling.samples as f64
     }
 
-    /// The JSON object of the attractors (the contract of `attractors --json`).
-    pub fn to_json(&self) -> Value {
+    /// The attractors as their report ([`AttractorsReport`]).
+    pub fn report(&self) -> AttractorsReport {
         let masses = self.masses();
-        let list: Vec<Value> = self
+        let attractors = self
             .found
             .iter()
             .map(|at| {
                 let c = &at.cell;
-                json!({
-                    "class": c.class.name(),
-                    "labels": masses.iter().cloned().zip(self.labels(at).into_iter().map(Value::from)).collect::<serde_json::Map<_, _>>(),
-                    "symmetry": c.symmetry.map(|x| x.name()),
-                    "fraction": self.fraction(at),
-                    "count": at.count,
-                    "state": c.final_state,
-                    "start": at.start,
-                    "max_multiplier": c.multiplier,
-                    "lyapunov": c.lyapunov,
-                })
+                AttractorReport {
+                    class: c.class.name(),
+                    labels: masses.iter().cloned().zip(self.labels(at)).collect(),
+                    symmetry: c.symmetry.map(|x| x.name()),
+                    fraction: self.fraction(at),
+                    count: at.count,
+                    state: c.final_state.clone(),
+                    start: at.start.clone(),
+                    max_multiplier: c.multiplier,
+                    lyapunov: c.lyapunov,
+                }
             })
             .collect();
-        json!({
-            "scene": self.system.model.name,
-            "parameters": parameters_json(&self.system),
-            "samples": self.sampling.samples,
-            "seed": self.sampling.seed,
-            "box": {"x": self.sampling.x, "v": self.sampling.v},
-            "attractors": list,
-        })
+        AttractorsReport {
+            scene: self.system.model.name.clone(),
+            parameters: parameters_of(&self.system),
+            samples: self.sampling.samples,
+            seed: self.sampling.seed,
+            sample_box: SampleBox { x: self.sampling.x, v: self.sampling.v },
+            attractors,
+        }
     }
+
+    /// The JSON object of the attractors (the contract of `attractors --json`).
+    pub fn to_json(&self) -> Value {
+        crate::report::to_value(&self.report())
+    }
+}
+
+/// The JSON of a point's attractors (the contract of `attractors --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AttractorsReport {
+    /// The scene's name.
+    pub scene: String,
+    /// Every parameter of the point's model.
+    pub parameters: BTreeMap<String, f64>,
+    /// Start states sampled.
+    pub samples: usize,
+    /// The seed of the sampling.
+    pub seed: u64,
+    /// The half-widths of the box the start states were drawn from.
+    #[serde(rename = "box")]
+    pub sample_box: SampleBox,
+    /// The attractors found, largest basin first.
+    pub attractors: Vec<AttractorReport>,
+}
+
+/// The box of start states: positions within `±x`, velocities within `±v`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SampleBox {
+    /// Half-width in position.
+    pub x: f64,
+    /// Half-width in velocity.
+    pub v: f64,
+}
+
+/// One attractor found.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AttractorReport {
+    /// The kind of motion.
+    pub class: &'static str,
+    /// Per labelled mass, its label.
+    pub labels: BTreeMap<String, String>,
+    /// The symmetry of a periodic orbit of a symmetric scene.
+    pub symmetry: Option<&'static str>,
+    /// The share of the samples that reached it.
+    pub fraction: f64,
+    /// The samples that reached it.
+    pub count: usize,
+    /// Its final state, from the first sample that reached it.
+    pub state: Vec<f64>,
+    /// That sample's start state.
+    pub start: Vec<f64>,
+    /// The largest Floquet multiplier modulus, when periodic.
+    pub max_multiplier: Option<f64>,
+    /// The largest Lyapunov exponent, when not periodic.
+    pub lyapunov: Option<f64>,
 }

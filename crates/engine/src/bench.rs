@@ -9,20 +9,21 @@
 //! let mut request = BenchRequest::new(24);
 //! request.repeat = 1;
 //! request.trade_rounds = Some(1);
-//! let rows = throughput(&request, &mut |row| Ok(println!("{} cells/s", row.cells_per_s)))?;
+//! let rows = throughput(&request, &mut |row| Ok::<(), engine::Error>(println!("{} cells/s", row.cells_per_s)))?;
 //! let trade = trade(&request)?;
 //! println!("{}", engine::bench::Bench { grid: 24, throughput: rows, trade }.to_json());
-//! # Ok::<(), anyhow::Error>(())
+//! # Ok::<(), engine::Error>(())
 //! ```
 
+use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::observer::Quiet;
 use crate::plan::Plan;
-use crate::sim::{SceneSource, Setup};
-use anyhow::{anyhow, bail, Result};
+use crate::sim::{SceneLoadError, SceneSource, Setup};
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
-use serde_json::{json, Value};
+use serde::Serialize;
+use serde_json::Value;
 use solver::{Accuracy, Class, Knob, Method, Preset};
 
 /// The reference scene (the shipped multi-stop scene), the default of a bench.
@@ -116,16 +117,16 @@ impl BenchRequest {
         let refuse = RequestError::option;
         if self.threads.is_empty() || self.threads.iter().any(|t| !(1..=1024).contains(t)) {
             let why = format!("expected a comma-separated list of counts 1..1024, got {:?}", self.threads);
-            bail!(refuse(Opt::Threads).text(why));
+            return Err(refuse(Opt::Threads).text(why).into());
         }
         if !(2..=2000).contains(&self.grid) {
-            bail!(refuse(Opt::Grid).text(format!("must be in 2..=2000, got {}", self.grid)));
+            return Err(refuse(Opt::Grid).text(format!("must be in 2..=2000, got {}", self.grid)).into());
         }
         if self.repeat == 0 {
-            bail!(refuse(Opt::Repeat).text("must be >= 1"));
+            return Err(refuse(Opt::Repeat).text("must be >= 1").into());
         }
         if self.trade_rounds == Some(0) {
-            bail!(refuse(Opt::TradeRepeat).text("must be >= 1"));
+            return Err(refuse(Opt::TradeRepeat).text("must be >= 1").into());
         }
         Ok(())
     }
@@ -134,14 +135,13 @@ impl BenchRequest {
     pub fn scene(&self) -> Result<Scene> {
         let scene = match &self.scene {
             SceneSource::File(p) => {
-                let text =
-                    crate::sim::read_text(p).map_err(|e| anyhow!("cannot read scene file {}: {e}", p.display()))?;
+                let text = crate::sim::read_text(p).map_err(|cause| SceneLoadError::Read { path: p.clone(), cause })?;
                 Scene::parse(&text)
             }
             SceneSource::Text(text) => Scene::parse(text),
             SceneSource::Stored(p) => Scene::parse(&store::stored_scene(p)?),
         }
-        .map_err(|e| anyhow!("scene: {e}"))?;
+        .map_err(|cause| SceneLoadError::Invalid { origin: "scene".into(), cause })?;
         for name in ["omega", "delta"] {
             scene.check_parameter(name, "").map_err(|e| {
                 crate::sim::unknown(RequestError::option(Opt::Scene), e).text(" (bench maps the omega-delta plane)")
@@ -164,8 +164,8 @@ impl BenchRequest {
     }
 }
 
-/// One throughput measurement.
-#[derive(Debug, Clone, PartialEq)]
+/// One throughput measurement (a row of `bench --json`'s `throughput`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Throughput {
     /// `fresh` or `both`.
     pub sweep: &'static str,
@@ -181,15 +181,8 @@ pub struct Throughput {
     pub efficiency: f64,
 }
 
-impl Throughput {
-    /// The row's JSON object (the contract of `bench --json`).
-    pub fn to_json(&self) -> Value {
-        json!({"sweep": self.sweep, "threads": self.threads, "cells": self.cells, "seconds": self.seconds, "cells_per_s": self.cells_per_s, "efficiency": self.efficiency})
-    }
-}
-
 /// One setting's measured speed and agreement with the reference.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TradeRow {
     /// The setting's name.
     pub setting: &'static str,
@@ -210,16 +203,6 @@ pub struct TradeRow {
 }
 
 impl TradeRow {
-    /// The row's JSON object (the contract of `bench --trade --json`), with its
-    /// cells/s over those of the RK4 baseline `base`.
-    pub fn to_json(&self, base: Option<f64>) -> Value {
-        let mut row = json!({"setting": self.setting, "cells_per_s": self.cells_per_s, "label_agreement": self.label_agreement, "class_agreement": self.class_agreement, "median_state_error": self.median_state_error, "periods": self.periods, "us_per_period": self.us_per_period, "nonperiodic_periods": self.nonperiodic_periods});
-        if let Some(base) = base {
-            row["speedup_vs_rk4"] = json!(self.cells_per_s / base);
-        }
-        row
-    }
-
     /// Share of the periods simulated in cells without a period.
     pub fn nonperiodic_share(&self) -> f64 {
         self.nonperiodic_periods as f64 / self.periods.max(1) as f64
@@ -241,11 +224,40 @@ impl Trade {
         self.rows.iter().find(|r| r.setting == RK4.name).map(|r| r.cells_per_s)
     }
 
-    /// The rows' JSON objects.
-    pub fn to_json(&self) -> Value {
+    /// The rows as reported, each with its speed-up over RK4.
+    pub fn report(&self) -> Vec<TradeReportRow> {
         let base = self.rk4_cells_per_s();
-        Value::Array(self.rows.iter().map(|r| r.to_json(base)).collect())
+        self.rows
+            .iter()
+            .map(|r| TradeReportRow { row: r.clone(), speedup_vs_rk4: base.map(|b| r.cells_per_s / b) })
+            .collect()
     }
+}
+
+/// A row of the trade as `bench --trade --json` reports it: the setting's
+/// measurements and its cells/s over those of the RK4 baseline.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TradeReportRow {
+    /// The measurements.
+    #[serde(flatten)]
+    pub row: TradeRow,
+    /// Cells/s over RK4's, when RK4 was measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speedup_vs_rk4: Option<f64>,
+}
+
+/// The JSON of a bench (the contract of `bench --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BenchReport {
+    /// Grid size N.
+    pub grid: usize,
+    /// The trade's rows (empty without one).
+    pub trade: Vec<TradeReportRow>,
+    /// Throughput rows, by sweep then thread count.
+    pub throughput: Vec<Throughput>,
+    /// Always empty: the replay of the scheduler that filled it is
+    /// `cargo bench --bench replay`.
+    pub simulated: [f64; 0],
 }
 
 /// A bench's results.
@@ -264,23 +276,34 @@ impl Bench {
     /// `throughput`, and `simulated`, always empty (the replay of the
     /// scheduler that filled it is `cargo bench --bench replay`).
     pub fn to_json(&self) -> Value {
-        let trade = self.trade.as_ref().map_or(Value::Array(Vec::new()), Trade::to_json);
-        let throughput = self.throughput.iter().map(Throughput::to_json).collect();
-        json!({"grid": self.grid, "trade": trade, "throughput": Value::Array(throughput), "simulated": Value::Array(Vec::new())})
+        crate::report::to_value(&self.report())
+    }
+
+    /// The bench as its report ([`BenchReport`]).
+    pub fn report(&self) -> BenchReport {
+        BenchReport {
+            grid: self.grid,
+            trade: self.trade.as_ref().map_or_else(Vec::new, Trade::report),
+            throughput: self.throughput.clone(),
+            simulated: [],
+        }
     }
 }
 
 /// Measures throughput and, with [`BenchRequest::trade_rounds`], the trade.
 pub fn bench(request: &BenchRequest) -> Result<Bench> {
-    let throughput = throughput(request, &mut |_| Ok(()))?;
+    let throughput = throughput(request, &mut |_| Ok::<(), Error>(()))?;
     Ok(Bench { grid: request.grid, throughput, trade: trade(request)? })
 }
 
 /// Throughput of every sweep ([`sweeps`]) on every thread count, each the
 /// best of [`BenchRequest::repeat`] runs; `each` sees every row as it is
-/// measured (its error ends the bench). An error if any two runs of a sweep,
-/// on any thread count, give different atlases.
-pub fn throughput(request: &BenchRequest, each: &mut dyn FnMut(&Throughput) -> Result<()>) -> Result<Vec<Throughput>> {
+/// measured (its error, of the caller's type, ends the bench). An error if
+/// any two runs of a sweep, on any thread count, give different atlases.
+pub fn throughput<E: From<Error>>(
+    request: &BenchRequest,
+    each: &mut dyn FnMut(&Throughput) -> Result<(), E>,
+) -> Result<Vec<Throughput>, E> {
     let (scene, plane) = request.prepare()?;
     let mut rows = Vec::new();
     for (name, sweeps) in sweeps() {
@@ -317,13 +340,13 @@ pub fn trade(request: &BenchRequest) -> Result<Option<Trade>> {
         }
     }
     let measured: Vec<Measured> =
-        runs.into_iter().map(|best| best.ok_or_else(|| anyhow!("no run"))).collect::<Result<_>>()?;
+        runs.into_iter().map(|best| best.ok_or_else(|| Error::Internal("no run".into()))).collect::<Result<_>>()?;
     let reference = SETTINGS
         .iter()
         .zip(&measured)
         .find(|(s, _)| s.name == PRECISE.name)
         .map(|(_, m)| &m.atlas)
-        .ok_or_else(|| anyhow!("no reference setting"))?;
+        .ok_or_else(|| Error::Internal("no reference setting".into()))?;
     let rows = SETTINGS.iter().zip(&measured).map(|(setting, m)| trade_row(setting, m, reference, t)).collect();
     Ok(Some(Trade { threads: t, rows }))
 }
@@ -386,7 +409,9 @@ fn keep_faster(best: &mut Option<Measured>, m: Measured) -> Result<()> {
 /// An error unless two runs of the same grid gave the same atlas, bit for bit.
 fn same_atlas(a: &Atlas, b: &Atlas) -> Result<()> {
     if a != b {
-        bail!("results differ between runs of the same grid: the solver is not deterministic");
+        return Err(Error::Internal(
+            "results differ between runs of the same grid: the solver is not deterministic".into(),
+        ));
     }
     Ok(())
 }
@@ -399,7 +424,7 @@ fn best_of(repeat: usize, first: &mut Option<Atlas>, mut run: impl FnMut() -> Re
     for _ in 0..repeat {
         keep_faster(&mut best, run()?)?;
     }
-    let best = best.ok_or_else(|| anyhow!("no run"))?;
+    let best = best.ok_or_else(|| Error::Internal("no run".into()))?;
     same_atlas(first.get_or_insert_with(|| best.atlas.clone()), &best.atlas)?;
     Ok(best)
 }
@@ -459,7 +484,7 @@ mod tests {
         let error = |f: fn(&mut BenchRequest)| {
             let mut r = BenchRequest::new(8);
             f(&mut r);
-            r.check().unwrap_err().downcast_ref::<RequestError>().and_then(RequestError::at_fault)
+            r.check().unwrap_err().at_fault()
         };
         assert_eq!(error(|r| r.grid = 1), Some(Opt::Grid));
         assert_eq!(error(|r| r.threads = vec![0]), Some(Opt::Threads));
@@ -486,6 +511,7 @@ mod tests {
             }],
         };
         let j = Bench { grid: 2, throughput: vec![row], trade: Some(trade) }.to_json();
+        use serde_json::json;
         let mut keys: Vec<&String> = j.as_object().unwrap().keys().collect();
         keys.sort();
         assert_eq!(keys, ["grid", "simulated", "throughput", "trade"]);

@@ -1,10 +1,12 @@
-//! One cell: its classification from a start ([`cell`]) and the JSON object
-//! of `cell --json` ([`Cell::to_json`]).
+//! One cell: its classification from a start ([`cell`]) and its report, the
+//! JSON object of `cell --json` ([`CellReport`]).
 
-use crate::sim::{labels_json, parameters_json, Origin, Setup, Sim, Start};
-use anyhow::Result;
-use serde_json::{json, Map, Value};
+use crate::error::Result;
+use crate::sim::{labels_of, parameters_of, Origin, Setup, Sim, Source, Start};
+use serde::Serialize;
+use serde_json::Value;
 use solver::{run_cell_with_sections, CellResult, Mask, System};
+use std::collections::BTreeMap;
 
 /// A classified cell with what it was computed from.
 #[derive(Debug, Clone)]
@@ -36,56 +38,90 @@ pub fn cell(sim: &Sim, start: &Start) -> Result<Cell> {
     Ok(Cell { setup, system, origin, result })
 }
 
+/// The JSON of a cell (the contract of `cell --json`): what was run and
+/// how it was classified, per stop and per mass by name.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CellReport {
+    /// The scene's name.
+    pub scene: String,
+    /// Every parameter of the cell's model.
+    pub parameters: BTreeMap<String, f64>,
+    /// The accuracy preset.
+    pub preset: &'static str,
+    /// The integrator.
+    pub integrator: &'static str,
+    /// The kind of motion ([`solver::Class::name`]).
+    pub class: &'static str,
+    /// The period in forcing periods, when periodic.
+    pub n: Option<usize>,
+    /// Per labelled mass, its label (`1-4-4`).
+    pub labels: BTreeMap<String, String>,
+    /// Per stop, its impacts per period.
+    pub impacts: BTreeMap<String, u32>,
+    /// Per stop, whether it chattered.
+    pub chatter: BTreeMap<String, bool>,
+    /// Per stop, whether it held its mass.
+    pub sticking: BTreeMap<String, bool>,
+    /// The symmetry of a periodic orbit of a symmetric scene.
+    pub symmetry: Option<&'static str>,
+    /// The largest Lyapunov exponent (per unit time) of a cell without a period.
+    pub lyapunov: Option<f64>,
+    /// The largest Floquet multiplier modulus of a periodic cell.
+    pub max_multiplier: Option<f64>,
+    /// The final state `[x…, v…]`.
+    pub final_state: Vec<f64>,
+    /// The period-section points kept.
+    pub period_section: Vec<Vec<f64>>,
+    /// Forcing periods simulated.
+    pub periods_simulated: u64,
+    /// Events handled.
+    pub events: usize,
+    /// Why the cell is unresolved, when it is.
+    pub reason: Option<String>,
+    /// Per friction contact (`M1-M2`), whether it ended stuck; only for a
+    /// scene with friction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_stick: Option<BTreeMap<String, bool>>,
+    /// Where the simulation started, when not from the scene's initial state.
+    #[serde(rename = "from", skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Source>,
+}
+
 impl Cell {
+    /// The cell as its report ([`CellReport`]).
+    pub fn report(&self) -> CellReport {
+        let (sys, s, c) = (&self.system, &self.setup, &self.result);
+        let by_stop =
+            |mask: Mask| sys.model.stops.iter().enumerate().map(move |(k, s)| (s.name.clone(), mask.contains(k)));
+        let friction = friction_names(sys).into_iter().enumerate().map(|(i, n)| (n, c.friction_stick.contains(i)));
+        CellReport {
+            scene: sys.model.name.clone(),
+            parameters: parameters_of(sys),
+            preset: s.preset.name(),
+            integrator: s.method.name(),
+            class: c.class.name(),
+            n: c.n,
+            labels: labels_of(&c.labels),
+            impacts: sys.model.stops.iter().zip(&c.impacts).map(|(s, &v)| (s.name.clone(), v)).collect(),
+            chatter: by_stop(c.chatter).collect(),
+            sticking: by_stop(c.sticking).collect(),
+            symmetry: c.symmetry.map(|x| x.name()),
+            lyapunov: c.lyapunov,
+            max_multiplier: c.multiplier,
+            final_state: c.final_state.clone(),
+            period_section: c.section.clone(),
+            periods_simulated: c.periods,
+            events: c.events,
+            reason: c.reason.as_ref().map(ToString::to_string),
+            friction_stick: (!sys.model.friction.is_empty()).then(|| friction.collect()),
+            origin: self.origin.as_ref().map(|o| o.source.clone()),
+        }
+    }
+
     /// The JSON object of the cell (the contract of `cell --json`).
     pub fn to_json(&self) -> Value {
-        let (sys, s, c) = (&self.system, &self.setup, &self.result);
-        let mut out = json!({
-            "scene": sys.model.name,
-            "parameters": parameters_json(sys),
-            "preset": s.preset.name(),
-            "integrator": s.method.name(),
-            "class": c.class.name(),
-            "n": c.n,
-            "labels": labels_json(&c.labels),
-            "impacts": per_stop(sys, &c.impacts),
-            "chatter": members(sys, c.chatter),
-            "sticking": members(sys, c.sticking),
-            "symmetry": c.symmetry.map(|x| x.name()),
-            "lyapunov": c.lyapunov,
-            "max_multiplier": c.multiplier,
-            "final_state": c.final_state,
-            "period_section": c.section,
-            "periods_simulated": c.periods,
-            "events": c.events,
-            "reason": c.reason.as_ref().map(ToString::to_string),
-        });
-        if !sys.model.friction.is_empty() {
-            let stuck: Map<String, Value> = friction_names(sys)
-                .into_iter()
-                .enumerate()
-                .map(|(i, n)| (n, Value::from(c.friction_stick.contains(i))))
-                .collect();
-            out["friction_stick"] = Value::Object(stuck);
-        }
-        if let Some(origin) = &self.origin {
-            out["from"] = origin.about.clone();
-        }
-        out
+        crate::report::to_value(&self.report())
     }
-}
-
-/// Per stop (by name), its value.
-fn per_stop<T: Copy>(sys: &System, values: &[T]) -> Map<String, Value>
-where
-    Value: From<T>,
-{
-    sys.model.stops.iter().zip(values).map(|(s, &v)| (s.name.clone(), Value::from(v))).collect()
-}
-
-/// Per stop, whether it is in `mask`.
-fn members(sys: &System, mask: Mask) -> Map<String, Value> {
-    sys.model.stops.iter().enumerate().map(|(k, s)| (s.name.clone(), Value::from(mask.contains(k)))).collect()
 }
 
 /// Names of the friction contacts, `M1-M2` from their masses.

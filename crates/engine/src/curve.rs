@@ -2,12 +2,14 @@
 //! [`solver::curve`]), the file it writes and the JSON object of
 //! `curve --json` ([`Traced::to_json`]).
 
+use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::sim::{check_period, labels_json, unknown, Setup, Sim};
-use anyhow::{anyhow, bail, Result};
-use serde_json::{json, Value};
+use crate::sim::{check_period, labels_of, unknown, Setup, Sim};
+use serde::Serialize;
+use serde_json::Value;
 use solver::curve::{Curve, CurvePoint, Tracing};
 use solver::Bifurcation;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// A curve to follow.
@@ -47,8 +49,8 @@ pub struct Traced {
     pub curve: Curve,
     /// Why it ended.
     pub ended: String,
-    /// The labels either side of every point (`{"below": …, "above": …}`).
-    pub sides: Vec<Value>,
+    /// The labels either side of every point.
+    pub sides: Vec<Sides>,
 }
 
 /// Follows a curve (and writes its file when asked, unless `observer` asked
@@ -59,14 +61,14 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     let [pa, pb] = &r.free;
     let refuse = RequestError::option;
     if pa == pb {
-        bail!(refuse(Opt::Free).text(format!("expected two different parameters, got '{pa}' twice")));
+        return Err(refuse(Opt::Free).text(format!("expected two different parameters, got '{pa}' twice")).into());
     }
     for p in [pa, pb] {
         s.scene.check_parameter(p, "").map_err(|e| unknown(refuse(Opt::Free), e))?;
     }
     if let Some((other, _)) = r.start.iter().find(|(n, _)| n != pa && n != pb) {
         let why = format!("gives the free parameters {pa} and {pb} only, got {other} (fix others with ");
-        bail!(refuse(Opt::Start).text(why).opt(Opt::Set).text(")"));
+        return Err(refuse(Opt::Start).text(why).opt(Opt::Set).text(")").into());
     }
     let value = |name: &str| {
         let missing = || refuse(Opt::Start).text(format!("give {name}=VALUE"));
@@ -74,13 +76,13 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     };
     let (a0, b0) = (value(pa)?, value(pb)?);
     if r.steps == 0 || r.steps > 10_000 {
-        bail!(refuse(Opt::Steps).text(format!("expected 1 to 10000, got {}", r.steps)));
+        return Err(refuse(Opt::Steps).text(format!("expected 1 to 10000, got {}", r.steps)).into());
     }
     if !(r.window > 0.0 && r.window.is_finite()) {
-        bail!(refuse(Opt::Window).text(format!("expected a finite number > 0, got {}", r.window)));
+        return Err(refuse(Opt::Window).text(format!("expected a finite number > 0, got {}", r.window)).into());
     }
     if let Some(to) = r.to.filter(|to| !to.is_finite()) {
-        bail!(refuse(Opt::To).text(format!("expected a finite number, got {to}")));
+        return Err(refuse(Opt::To).text(format!("expected a finite number, got {to}")).into());
     }
     // The start and the end in B must make valid scenes (ranges of the parameters).
     s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| refuse(Opt::Start).because(e))?;
@@ -91,7 +93,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     let a_bounds = r.bounds.unwrap_or_else(|| range(pa));
     if a0 < a_bounds[0] || a0 > a_bounds[1] {
         let why = format!("the start {pa} = {a0} is outside {}:{}", a_bounds[0], a_bounds[1]);
-        bail!(refuse(Opt::Bounds).text(why));
+        return Err(refuse(Opt::Bounds).text(why).into());
     }
     let (b_bounds, step) = match r.to {
         Some(to) => ([b0.min(to), b0.max(to)], (to - b0).abs() / r.steps as f64),
@@ -125,7 +127,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
         let stored = stored(&curve, [pa, pb], &ended);
         store::write_curves(out, std::slice::from_ref(&stored), &r.command, s.scene.source())?;
     }
-    let sides = curve.points.iter().map(|p| sides_json(&tracing, &plane, p)).collect();
+    let sides = curve.points.iter().map(|p| sides_of(&tracing, &plane, p)).collect();
     Ok(Traced { free: r.free.clone(), curve, ended, sides })
 }
 
@@ -145,37 +147,90 @@ fn follow(tracing: &Tracing, plane: &solver::curve::Plane2, first: CurvePoint, e
     Curve::join(back, way(first, ends[1]))
 }
 
+/// The JSON of a followed curve (the contract of `curve --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CurveReport {
+    /// The bifurcation's kind (`pd`, `sn`, `pf`, `ns`, `grazing`).
+    pub kind: &'static str,
+    /// The two free parameters.
+    pub free: [String; 2],
+    /// The points, in order, with the labels either side.
+    pub points: Vec<CurveReportPoint>,
+    /// The codimension-two points met.
+    pub codim2: Vec<Codim2>,
+    /// Why the curve ended.
+    pub ended: String,
+}
+
+/// A point of a curve: its two parameters by name and the labels either side.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CurveReportPoint {
+    /// The free parameters' values by name.
+    #[serde(flatten)]
+    pub at: BTreeMap<String, f64>,
+    /// The labels either side.
+    pub labels: Sides,
+}
+
+/// A codimension-two point of a curve.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Codim2 {
+    /// Its kind.
+    pub kind: String,
+    /// The free parameters' values by name.
+    #[serde(flatten)]
+    pub at: BTreeMap<String, f64>,
+}
+
+/// The motions either side of a curve point (`None` where none was found).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Sides {
+    /// Below the curve.
+    pub below: Option<Side>,
+    /// Above it.
+    pub above: Option<Side>,
+}
+
+/// The motion on one side of a curve: its labels by mass and its symmetry.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Side {
+    /// Per labelled mass, its label.
+    #[serde(flatten)]
+    pub labels: BTreeMap<String, String>,
+    /// The symmetry of the orbit, when the scene is symmetric.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetry: Option<&'static str>,
+}
+
 impl Traced {
-    /// The JSON object of the curve (the contract of `curve --json`).
-    pub fn to_json(&self) -> Value {
+    /// The curve as its report ([`CurveReport`]).
+    pub fn report(&self) -> CurveReport {
         let [pa, pb] = &self.free;
-        let points: Vec<Value> = self
+        let at = |a: f64, b: f64| BTreeMap::from([(pa.clone(), a), (pb.clone(), b)]);
+        let points = self
             .curve
             .points
             .iter()
             .zip(&self.sides)
-            .map(|(p, l)| json!({pa.clone(): p.a, pb.clone(): p.b, "labels": l}))
+            .map(|(p, l)| CurveReportPoint { at: at(p.a, p.b), labels: l.clone() })
             .collect();
-        let codim2: Vec<Value> =
-            self.curve.codim2.iter().map(|c| json!({"kind": c.kind, pa.clone(): c.a, pb.clone(): c.b})).collect();
-        json!({"kind": self.curve.kind.name(), "free": [pa, pb], "points": points, "codim2": codim2, "ended": self.ended})
+        let codim2 = self.curve.codim2.iter().map(|c| Codim2 { kind: c.kind.clone(), at: at(c.a, c.b) }).collect();
+        CurveReport { kind: self.curve.kind.name(), free: self.free.clone(), points, codim2, ended: self.ended.clone() }
+    }
+
+    /// The JSON object of the curve (the contract of `curve --json`).
+    pub fn to_json(&self) -> Value {
+        crate::report::to_value(&self.report())
     }
 }
 
-/// The labels either side of a curve point, as `{"below": {...}, "above": {...}}`.
-fn sides_json(tracing: &Tracing, plane: &solver::curve::Plane2, p: &CurvePoint) -> Value {
-    let one = |side: Option<(Vec<solver::MassLabel>, Option<solver::Symmetry>)>| match side {
-        None => Value::Null,
-        Some((labels, symmetry)) => {
-            let mut l = labels_json(&labels);
-            if let Some(sym) = symmetry {
-                l["symmetry"] = sym.name().into();
-            }
-            l
-        }
+/// The labels either side of a curve point.
+fn sides_of(tracing: &Tracing, plane: &solver::curve::Plane2, p: &CurvePoint) -> Sides {
+    let one = |side: Option<(Vec<solver::MassLabel>, Option<solver::Symmetry>)>| {
+        side.map(|(labels, symmetry)| Side { labels: labels_of(&labels), symmetry: symmetry.map(|s| s.name()) })
     };
     let sides = tracing.sides(plane, p);
-    json!({"below": one(sides.below), "above": one(sides.above)})
+    Sides { below: one(sides.below), above: one(sides.above) }
 }
 
 /// A curve as stored in files.
@@ -191,7 +246,7 @@ pub fn stored(c: &Curve, free: [&str; 2], ended: &str) -> store::Curve {
 
 /// The simulation set-up a stored atlas was computed with.
 pub fn stored_setup(m: &grid::Meta, file: &std::path::Path) -> Result<Setup> {
-    let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| anyhow!("{}: stored scene: {e}", file.display()))?;
+    let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| Error::file(file, "stored scene", Some(e.into())))?;
     let preset = m.preset;
     let mut accuracy = solver::Accuracy::preset(preset);
     for (k, v) in &m.accuracy {
@@ -246,10 +301,10 @@ pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) 
     let clock = std::time::Instant::now();
     if r.output.is_none() && !r.into {
         let refusal = RequestError::option(Opt::Output).text("give the curve file to write, or ").opt(Opt::Into);
-        bail!(refusal.text(" to store the curves in the atlas"));
+        return Err(refusal.text(" to store the curves in the atlas").into());
     }
     if r.max == 0 || r.max > 100_000 {
-        bail!(RequestError::option(Opt::Max).text(format!("expected 1 to 100000 curves, got {}", r.max)));
+        return Err(RequestError::option(Opt::Max).text(format!("expected 1 to 100000 curves, got {}", r.max)).into());
     }
     if let Some(out) = &r.output {
         store::check_output(out, &[&r.file])?;
@@ -263,12 +318,12 @@ pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) 
     let m = &atlas.meta;
     let sweeps = r.sweep.map_or_else(|| m.sweeps.clone(), |s| vec![s]);
     if let Some(missing) = sweeps.iter().find(|s| atlas.map(**s).is_none()) {
-        bail!(RequestError::option(Opt::Sweep).text(format!("the file has no {} sweep", missing.name())));
+        return Err(RequestError::option(Opt::Sweep).text(format!("the file has no {} sweep", missing.name())).into());
     }
     let setup = stored_setup(m, &r.file)?.cell_setup(0)?;
     let seeding = grid::curves::Seeding { kinds: r.kinds.clone(), sweeps, max: r.max, threads: r.threads };
     if m.plane.x.count < 2 {
-        bail!("{}: curves need at least two columns", r.file.display());
+        return Err(Error::file(&r.file, "curves need at least two columns", None));
     }
     let found = grid::curves::find(&setup, atlas, &seeding, report)?;
     let (x, y) = (&m.plane.x.name, &m.plane.y.name);
@@ -286,14 +341,48 @@ pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) 
     Ok(CurvesFound { curves, seeds: found.seeds, secs: clock.elapsed().as_secs_f64() })
 }
 
+/// The JSON of the curves seeded from an atlas (the contract of `curves --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CurvesReport {
+    /// Each curve kept, in order.
+    pub curves: Vec<CurveSummary>,
+    /// Seeds traced.
+    pub seeds: usize,
+    /// Wall-clock seconds.
+    pub seconds: f64,
+}
+
+/// A curve kept: its kind, its size and why it ended.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CurveSummary {
+    /// Its kind.
+    pub kind: String,
+    /// Its points.
+    pub points: usize,
+    /// Its codimension-two points.
+    pub codim2: usize,
+    /// Why it ended.
+    pub ended: String,
+}
+
 impl CurvesFound {
-    /// The JSON object of the curves (the contract of `curves --json`).
-    pub fn to_json(&self) -> Value {
-        let list: Vec<Value> = self
+    /// The curves as their report ([`CurvesReport`]).
+    pub fn report(&self) -> CurvesReport {
+        let curves = self
             .curves
             .iter()
-            .map(|c| json!({"kind": c.kind, "points": c.points.len(), "codim2": c.codim2.len(), "ended": c.ended}))
+            .map(|c| CurveSummary {
+                kind: c.kind.clone(),
+                points: c.points.len(),
+                codim2: c.codim2.len(),
+                ended: c.ended.clone(),
+            })
             .collect();
-        json!({"curves": list, "seeds": self.seeds, "seconds": self.secs})
+        CurvesReport { curves, seeds: self.seeds, seconds: self.secs }
+    }
+
+    /// The JSON object of the curves (the contract of `curves --json`).
+    pub fn to_json(&self) -> Value {
+        crate::report::to_value(&self.report())
     }
 }

@@ -5,7 +5,9 @@
 //! Python as keyword arguments (`section_cap`); the error's own `Display`
 //! uses the request's field names ([`Fields`]).
 
+use crate::sim::SceneLoadError;
 use std::fmt;
+use std::path::PathBuf;
 
 /// An option of a run's request, as errors name it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -262,29 +264,159 @@ impl std::error::Error for RequestError {
     }
 }
 
-/// An error as one line in a front end's words: each error of its chain
-/// (`{:#}`), a [`RequestError`] in `w`.
-pub fn in_words(e: &anyhow::Error, w: &dyn Words) -> String {
-    let parts: Vec<String> = e
-        .chain()
-        .map(|c| match c.downcast_ref::<RequestError>() {
-            Some(r) => r.in_words(w),
-            None => c.to_string(),
-        })
-        .collect();
+/// Everything an engine call can fail with. A refused request names the
+/// option at fault ([`Error::Request`]); the errors of the libraries below
+/// keep their own types; every cause is a [`source`](std::error::Error::source),
+/// so that a front end prints the chain as one line ([`in_words`]) and tells
+/// the kinds apart by matching, not by text.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A request the engine refuses, naming the option at fault.
+    #[error(transparent)]
+    Request(#[from] RequestError),
+    /// The scene cannot be read or is not valid.
+    #[error(transparent)]
+    Scene(#[from] SceneLoadError),
+    /// A file the run reads or writes, and what is wrong with it (nothing
+    /// more than its cause when `what` is empty).
+    #[error("{}{}{what}", path.display(), if what.is_empty() { "" } else { ": " })]
+    File {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong with it.
+        what: String,
+        /// The error that made it wrong, if any.
+        #[source]
+        cause: Option<Box<dyn std::error::Error + Send + Sync>>,
+    },
+    /// A file that cannot be read (`what`: which kind, `study`).
+    #[error("cannot read {what} file {}", path.display())]
+    Unreadable {
+        /// What the file holds.
+        what: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        cause: std::io::Error,
+    },
+    /// The scene's parameters, with the request's values, do not make a
+    /// valid model.
+    #[error(transparent)]
+    Model(#[from] scene::SceneError),
+    /// No periodic orbit was found (`at`: where, when the call has several
+    /// points; the solver's reason is printed in the message, not chained).
+    #[error("{}{cause}", at.as_deref().unwrap_or(""))]
+    Orbit {
+        /// Where: `at omega = 0.3: `.
+        at: Option<String>,
+        /// Why.
+        cause: solver::OrbitError,
+    },
+    /// A plane, sweep or study the grid refuses, or a cell it cannot run.
+    #[error(transparent)]
+    Grid(grid::GridError),
+    /// The solver refuses the scene.
+    #[error(transparent)]
+    Solver(#[from] solver::SolverError),
+    /// The store cannot read or write a file.
+    #[error(transparent)]
+    Store(#[from] store::StoreError),
+    /// A figure cannot be drawn.
+    #[error(transparent)]
+    Render(#[from] render::RenderError),
+    /// The simulation of a cell's trace or sections stopped (`what`: which).
+    #[error("{what}: {why}")]
+    Halted {
+        /// What was being simulated (`sections`).
+        what: &'static str,
+        /// Why it stopped, with the time and state.
+        why: String,
+    },
+    /// The observer asked the run to stop ([`crate::Observer::cancelled`]).
+    #[error("cancelled")]
+    Cancelled,
+    /// The engine broke a promise of its own (a worker thread panicked, two
+    /// runs of one grid differ): a bug to report, not a bad request.
+    #[error("{0}")]
+    Internal(String),
+}
+
+/// What engine calls return.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl From<grid::GridError> for Error {
+    /// A cancelled grid run is [`Error::Cancelled`]; every other grid error
+    /// is [`Error::Grid`].
+    fn from(e: grid::GridError) -> Error {
+        match e {
+            grid::GridError::Cancelled => Error::Cancelled,
+            e => Error::Grid(e),
+        }
+    }
+}
+
+impl From<grid::FieldError> for Error {
+    fn from(e: grid::FieldError) -> Error {
+        Error::Grid(e.into())
+    }
+}
+
+impl Error {
+    /// The option at fault, when the request was refused for one.
+    pub fn at_fault(&self) -> Option<Opt> {
+        match self {
+            Error::Request(r) => r.at_fault(),
+            _ => None,
+        }
+    }
+
+    /// An error of the file `path`: `what` is wrong with it, because of `cause`.
+    pub(crate) fn file(
+        path: &std::path::Path,
+        what: impl Into<String>,
+        cause: Option<Box<dyn std::error::Error + Send + Sync>>,
+    ) -> Error {
+        Error::File { path: path.to_path_buf(), what: what.into(), cause }
+    }
+}
+
+/// An error as one line in a front end's words: the error, then each of its
+/// causes, joined by `: `; a [`RequestError`] in `w`.
+pub fn in_words(e: &Error, w: &dyn Words) -> String {
+    let one = |c: &(dyn std::error::Error + 'static)| match c.downcast_ref::<RequestError>() {
+        Some(r) => r.in_words(w),
+        None => c.to_string(),
+    };
+    let mut parts = vec![match e {
+        Error::Request(r) => r.in_words(w),
+        e => e.to_string(),
+    }];
+    let mut cause = std::error::Error::source(e);
+    while let Some(c) = cause {
+        parts.push(one(c));
+        cause = c.source();
+    }
     parts.join(": ")
 }
 
-/// The text of an error and its causes, `{:#}`: for a message that goes on
-/// after it.
-pub(crate) fn chain_text(e: impl Into<anyhow::Error>) -> String {
-    format!("{:#}", e.into())
+/// The text of an error and its causes, joined by `: `: for a message that
+/// goes on after it.
+pub(crate) fn chain_text(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut parts = vec![e.to_string()];
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        parts.push(c.to_string());
+        cause = c.source();
+    }
+    parts.join(": ")
 }
 
 /// A grid error in the engine's words: the field it names (`x`, `x omega`,
 /// `shard`) becomes the option that `fields` maps it to (`Opt::X` keyed
 /// `omega`); any other grid error stays as it is.
-pub fn grid_error(e: impl Into<grid::GridError>, fields: &[(&str, Opt)]) -> anyhow::Error {
+pub fn grid_error(e: impl Into<grid::GridError>, fields: &[(&str, Opt)]) -> Error {
     let e = e.into();
     if let grid::GridError::Field(grid::FieldError { field, message }) = &e {
         let (head, key) = field.split_once(' ').map_or((field.as_str(), None), |(h, k)| (h, Some(k)));
@@ -296,14 +428,15 @@ pub fn grid_error(e: impl Into<grid::GridError>, fields: &[(&str, Opt)]) -> anyh
             return r.text(message.clone()).into();
         }
     }
-    anyhow::Error::new(e)
+    e.into()
 }
 
-/// A grid error of a plane's set-up, or any other error unchanged.
-pub(crate) fn with_fields(e: anyhow::Error, fields: &[(&str, Opt)]) -> anyhow::Error {
-    match e.downcast::<grid::GridError>() {
-        Ok(g) => grid_error(g, fields),
-        Err(e) => e,
+/// A grid error of a plane's set-up in the engine's words ([`grid_error`]),
+/// or any other error unchanged.
+pub(crate) fn with_fields(e: Error, fields: &[(&str, Opt)]) -> Error {
+    match e {
+        Error::Grid(g) => grid_error(g, fields),
+        e => e,
     }
 }
 
@@ -333,9 +466,9 @@ mod tests {
     #[test]
     fn a_cause_is_the_source_and_ends_the_line() {
         let cause = scene::SceneError::field("parameters.fk", "must be in [0, inf), got -5");
-        let e = anyhow::Error::new(RequestError::option(Opt::To).because(cause));
-        assert!(e.chain().nth(1).and_then(|c| c.downcast_ref::<scene::SceneError>()).is_some());
-        assert_eq!(format!("{e:#}"), "to: parameters.fk: must be in [0, inf), got -5");
+        let e = Error::from(RequestError::option(Opt::To).because(cause));
+        assert!(std::error::Error::source(&e).and_then(|c| c.downcast_ref::<scene::SceneError>()).is_some());
+        assert_eq!(chain_text(&e), "to: parameters.fk: must be in [0, inf), got -5");
         assert_eq!(in_words(&e, &Flags), "--to: parameters.fk: must be in [0, inf), got -5");
     }
 

@@ -14,11 +14,12 @@
 //! | [`bench::bench()`] | [`bench::BenchRequest`] | [`bench::Bench`] (`to_json`: `bench --json`) |
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
-//! them ([`Observer::cancelled`]: the run ends with
-//! [`grid::GridError::Cancelled`] and writes no file). Errors are one line;
-//! a refused request is a [`RequestError`] naming the option at fault in the
-//! request's terms ([`Opt`]: `set mu_k: …`), which each front end spells in
-//! its own words ([`Words`], [`in_words`]: the command line's `--set mu_k: …`).
+//! them ([`Observer::cancelled`]: the run ends with [`Error::Cancelled`] and
+//! writes no file). Every call fails with an [`Error`], whose causes are its
+//! sources, printed as one line; a refused request is an [`Error::Request`]
+//! ([`RequestError`]) naming the option at fault in the request's terms
+//! ([`Opt`]: `set mu_k: …`), which each front end spells in its own words
+//! ([`Words`], [`in_words`]: the command line's `--set mu_k: …`).
 //!
 //! The README's main job, the reference plane of the multi-stop scene with
 //! both sweeps (here on a coarse grid, written to a file):
@@ -34,7 +35,7 @@
 //! run.output = Some("out/reference.h5".into());
 //! let done = atlas(&run, &Quiet)?;
 //! println!("{} cells in {:.1} s", done.atlas.meta.plane.cells(), done.secs);
-//! # Ok::<(), anyhow::Error>(())
+//! # Ok::<(), engine::Error>(())
 //! ```
 #![deny(missing_docs)]
 
@@ -50,6 +51,7 @@ mod observer;
 mod orbit;
 mod pictures;
 mod plan;
+mod report;
 mod sim;
 mod study;
 mod summary;
@@ -58,23 +60,31 @@ mod trace;
 mod zoom;
 
 pub use atlas::{atlas, AtlasRequest, AttractorCells};
-pub use attractors::{attractors, Attractors, AttractorsRequest, MAX_SAMPLES};
-pub use cell::{cell, friction_names, Cell};
-pub use curve::{curve, curves, stored, stored_setup, CurveRequest, CurvesFound, CurvesRequest, Traced};
-pub use error::{grid_error, in_words, Fields, Opt, RequestError, Words};
+pub use attractors::{
+    attractors, AttractorReport, Attractors, AttractorsReport, AttractorsRequest, SampleBox, MAX_SAMPLES,
+};
+pub use cell::{cell, friction_names, Cell, CellReport};
+pub use curve::{
+    curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
+    CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced,
+};
+pub use error::{grid_error, in_words, Error, Fields, Opt, RequestError, Result, Words};
 pub use eta::{eta, Meter, Status, Work};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
-pub use orbit::{continuation, orbit, Continued, Found};
+pub use orbit::{
+    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, Continued, Critical, Found, Multiplier,
+    OrbitImpact, OrbitReport,
+};
 pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};
-pub use sim::{
-    check_period, labels_json, parameters_json, parse_assignment, Origin, SceneLoadError, SceneSource, Setup, Sim,
-    Start,
-};
+pub use sim::{check_period, labels_of, parameters_of, Origin, SceneLoadError, SceneSource, Setup, Sim, Source, Start};
 pub use study::{sheet_panel, study, StudyPlan};
-pub use summary::{inspect_json, reasons, summary_json, Summary, SweepSummary, CLASSES};
-pub use sweep::{sweep, Direction, Legs, SweepRequest, Swept};
+pub use summary::{
+    reasons, AxisReport, ClassCounts, HysteresisCounts, InspectReport, ParentReport, ReasonCount, Summary,
+    SummaryReport, SweepCounts, SweepSummary, CLASSES,
+};
+pub use sweep::{sweep, Differing, Direction, Legs, SweepPoint, SweepReport, SweepRequest, Swept};
 pub use trace::{
     check_trace_samples, halt_text, sections, trace, trace_csv, window, window_periods, Row, Sections, Window,
     MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,

@@ -3,9 +3,9 @@
 //! the cells that no part holds refused or, when allowed, stored as not
 //! computed, and the atlas written.
 
+use crate::error::Result;
 use crate::error::{Opt, RequestError};
 use crate::observer::Observer;
-use anyhow::{bail, Result};
 use std::path::PathBuf;
 use store::RunInfo;
 
@@ -45,7 +45,7 @@ pub fn merge(r: &MergeRequest, observer: &dyn Observer) -> Result<store::Merged>
         let missing = format!("{cells} cells are in none of the parts{shards}");
         if !r.allow_missing {
             let refusal = RequestError::message().text(format!("merge: {missing}; add the missing parts, or pass "));
-            bail!(refusal.opt(Opt::AllowMissing).text(" to write them as not computed"));
+            return Err(refusal.opt(Opt::AllowMissing).text(" to write them as not computed").into());
         }
         observer.warn(&format!("{missing}; they are stored as not computed"));
     }

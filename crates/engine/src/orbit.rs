@@ -2,13 +2,15 @@
 //! one followed along a parameter with its bifurcations located
 //! ([`continuation`], `continue --json`).
 
+use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::sim::{check_period, labels_json, unknown, Sim, Start};
-use anyhow::{anyhow, bail, Result};
+use crate::sim::{check_period, labels_of, unknown, Sim, Start};
 use grid::Axis;
-use serde_json::{json, Value};
+use serde::Serialize;
+use serde_json::Value;
 use solver::continuation::Branch;
 use solver::{orbit_of_cell, Complex64, Orbit, OrbitError, System};
+use std::collections::BTreeMap;
 
 /// The orbit a cell settles on: simulated from its start, then solved by
 /// Newton's method on the `n`-period map (the cell's own period when `None`).
@@ -30,57 +32,116 @@ pub fn orbit(sim: &Sim, start: &Start, n: Option<usize>) -> Result<Found> {
     let warning = origin.as_ref().and_then(|o| o.warning.clone());
     let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
     let system = System::new(model)?;
-    let orbit = orbit_of_cell(&system, &s.accuracy, &y0, n).map_err(|e| no_orbit(String::new(), e))?;
+    let orbit = orbit_of_cell(&system, &s.accuracy, &y0, n).map_err(|e| no_orbit(None, e))?;
     Ok(Found { system, orbit, warning })
 }
 
 /// No orbit found (`at`: where, or empty): a motion that is not periodic
 /// needs its period given ([`Opt::N`]).
-fn no_orbit(at: String, e: OrbitError) -> anyhow::Error {
+fn no_orbit(at: Option<String>, e: OrbitError) -> Error {
     match e {
         OrbitError::NoPeriod(_) => {
+            let at = at.unwrap_or_default();
             RequestError::message().text(format!("{at}{e}; give its period with ")).opt(Opt::N).into()
         }
-        e => anyhow!("{at}{e}"),
+        cause => Error::Orbit { at, cause },
     }
 }
 
-/// Multipliers as `[{"re", "im", "abs"}, ...]` (the JSON contract).
-fn multipliers_json(mu: &[Complex64]) -> Value {
-    mu.iter().map(|m| json!({"re": m.re, "im": m.im, "abs": m.norm()})).collect()
+/// A Floquet multiplier: its parts and modulus (the JSON contract).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Multiplier {
+    /// Real part.
+    pub re: f64,
+    /// Imaginary part.
+    pub im: f64,
+    /// Modulus.
+    pub abs: f64,
+}
+
+/// The multipliers `mu`.
+fn multipliers(mu: &[Complex64]) -> Vec<Multiplier> {
+    mu.iter().map(|m| Multiplier { re: m.re, im: m.im, abs: m.norm() }).collect()
+}
+
+/// The JSON of an orbit (the contract of `orbit --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrbitReport {
+    /// The scene's name.
+    pub scene: String,
+    /// Per labelled mass, its label.
+    pub labels: BTreeMap<String, String>,
+    /// The period in forcing periods.
+    pub n: usize,
+    /// The period in time.
+    pub period: f64,
+    /// The fixed point of the `n`-period map, `[x…, v…]`.
+    pub fixed_point: Vec<f64>,
+    /// Newton's final residual.
+    pub residual: f64,
+    /// Newton's iterations.
+    pub newton_iterations: usize,
+    /// The Floquet multipliers.
+    pub multipliers: Vec<Multiplier>,
+    /// The multipliers of the half-period map of a symmetric orbit solved on it.
+    pub half_map_multipliers: Option<Vec<Multiplier>>,
+    /// Whether the orbit is stable.
+    pub stable: bool,
+    /// The orbit's symmetry, when the scene is symmetric.
+    pub symmetry: Option<&'static str>,
+    /// The impacts of one period, in time order.
+    pub impacts: Vec<OrbitImpact>,
+}
+
+/// An impact of a periodic orbit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrbitImpact {
+    /// The stop's name.
+    pub stop: String,
+    /// Time after the period's start.
+    pub time: f64,
+    /// Forcing phase in `[0, 2π)`.
+    pub phase: f64,
+    /// Closing speed before.
+    pub velocity_before: f64,
+    /// Speed after.
+    pub velocity_after: f64,
 }
 
 impl Found {
-    /// The JSON object of the orbit (the contract of `orbit --json`).
-    pub fn to_json(&self) -> Value {
+    /// The orbit as its report ([`OrbitReport`]).
+    pub fn report(&self) -> OrbitReport {
         let (sys, o) = (&self.system, &self.orbit);
-        let impacts: Vec<Value> = o
+        let impacts = o
             .impacts
             .iter()
-            .map(|i| {
-                json!({
-                    "stop": sys.model.stops[i.stop].name,
-                    "time": i.time,
-                    "phase": i.phase,
-                    "velocity_before": i.velocity.0,
-                    "velocity_after": i.velocity.1,
-                })
+            .map(|i| OrbitImpact {
+                stop: sys.model.stops[i.stop].name.clone(),
+                time: i.time,
+                phase: i.phase,
+                velocity_before: i.velocity.0,
+                velocity_after: i.velocity.1,
             })
             .collect();
-        json!({
-            "scene": sys.model.name,
-            "labels": labels_json(&o.labels),
-            "n": o.n,
-            "period": sys.period * o.n as f64,
-            "fixed_point": o.solution.x.as_slice(),
-            "residual": o.solution.residual,
-            "newton_iterations": o.solution.iterations,
-            "multipliers": multipliers_json(&o.multipliers),
-            "half_map_multipliers": (o.map == solver::MapKind::Half).then(|| multipliers_json(&o.map_multipliers)),
-            "stable": o.stable,
-            "symmetry": o.symmetry.map(|x| x.name()),
-            "impacts": impacts,
-        })
+        OrbitReport {
+            scene: sys.model.name.clone(),
+            labels: labels_of(&o.labels),
+            n: o.n,
+            period: sys.period * o.n as f64,
+            fixed_point: o.solution.x.as_slice().to_vec(),
+            residual: o.solution.residual,
+            newton_iterations: o.solution.iterations,
+            multipliers: multipliers(&o.multipliers),
+            half_map_multipliers: (o.map == solver::MapKind::Half).then(|| multipliers(&o.map_multipliers)),
+            stable: o.stable,
+            symmetry: o.symmetry.map(|x| x.name()),
+            impacts,
+        }
+    }
+
+    /// The JSON object of the orbit (the contract of `orbit --json`).
+    pub fn to_json(&self) -> Value {
+        crate::report::to_value(&self.report())
     }
 }
 
@@ -105,7 +166,9 @@ pub fn continuation(sim: &Sim, start: &Start, axis: &Axis, n: Option<usize>, arc
     let (s, origin) = sim.setup_from(start)?;
     s.scene.check_parameter(&axis.name, "").map_err(|e| unknown(RequestError::option(Opt::Axis), e))?;
     if axis.count < 2 {
-        bail!(RequestError::option(Opt::Axis).text(format!("COUNT must be at least 2, got {}", axis.count)));
+        return Err(RequestError::option(Opt::Axis)
+            .text(format!("COUNT must be at least 2, got {}", axis.count))
+            .into());
     }
     check_period(n)?;
     let values = axis.values();
@@ -114,7 +177,7 @@ pub fn continuation(sim: &Sim, start: &Start, axis: &Axis, n: Option<usize>, arc
     let warning = origin.as_ref().and_then(|o| o.warning.clone());
     let y0 = origin.map_or_else(|| system.model.initial_state(), |o| o.state);
     let start = orbit_of_cell(&system, &s.accuracy, &y0, n)
-        .map_err(|e| no_orbit(format!("at {} = {}: ", axis.name, values[0]), e))?;
+        .map_err(|e| no_orbit(Some(format!("at {} = {}: ", axis.name, values[0])), e))?;
     let branch = if arclength {
         solver::arclength::follow_arclength(&family, &s.accuracy, &values, start)
     } else {
@@ -137,35 +200,95 @@ impl Continued {
         self.branch.bifurcations.iter().map(|b| (b.value, b.kind.name().to_string())).collect()
     }
 
-    /// The JSON object of the branch (the contract of `continue --json`).
-    pub fn to_json(&self) -> Value {
+    /// The branch as its report ([`BranchReport`]).
+    pub fn report(&self) -> BranchReport {
         let b = &self.branch;
-        let branch: Vec<Value> = b
+        let branch = b
             .points
             .iter()
-            .map(|p| {
-                json!({
-                    "value": p.value,
-                    "stable": p.orbit.stable,
-                    "multipliers": multipliers_json(&p.orbit.multipliers),
-                    "labels": labels_json(&p.orbit.labels),
-                    "symmetry": p.orbit.symmetry.map(|x| x.name()),
-                    "fixed_point": p.orbit.solution.x.as_slice(),
-                })
+            .map(|p| BranchPoint {
+                value: p.value,
+                stable: p.orbit.stable,
+                multipliers: multipliers(&p.orbit.multipliers),
+                labels: labels_of(&p.orbit.labels),
+                symmetry: p.orbit.symmetry.map(|x| x.name()),
+                fixed_point: p.orbit.solution.x.as_slice().to_vec(),
             })
             .collect();
-        let bifurcations: Vec<Value> = b
+        let bifurcations = b
             .bifurcations
             .iter()
-            .map(|x| {
-                json!({
-                    "kind": x.kind.name(),
-                    "value": x.value,
-                    "multipliers": multipliers_json(&x.multipliers),
-                    "critical": {"re": x.critical.re, "im": x.critical.im, "abs": x.critical.norm(), "arg": x.critical.arg()},
-                })
+            .map(|x| BranchBifurcation {
+                kind: x.kind.name(),
+                value: x.value,
+                multipliers: multipliers(&x.multipliers),
+                critical: Critical {
+                    re: x.critical.re,
+                    im: x.critical.im,
+                    abs: x.critical.norm(),
+                    arg: x.critical.arg(),
+                },
             })
             .collect();
-        json!({"branch": branch, "bifurcations": bifurcations, "ended": b.ended})
+        BranchReport { branch, bifurcations, ended: b.ended.clone() }
     }
+
+    /// The JSON object of the branch (the contract of `continue --json`).
+    pub fn to_json(&self) -> Value {
+        crate::report::to_value(&self.report())
+    }
+}
+
+/// The JSON of a followed orbit (the contract of `continue --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BranchReport {
+    /// The points followed, in order.
+    pub branch: Vec<BranchPoint>,
+    /// The bifurcations located between them.
+    pub bifurcations: Vec<BranchBifurcation>,
+    /// Why the branch ended before the last value, if it did.
+    pub ended: Option<String>,
+}
+
+/// A point of a followed orbit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BranchPoint {
+    /// The parameter's value.
+    pub value: f64,
+    /// Whether the orbit is stable.
+    pub stable: bool,
+    /// The Floquet multipliers.
+    pub multipliers: Vec<Multiplier>,
+    /// Per labelled mass, its label.
+    pub labels: BTreeMap<String, String>,
+    /// The orbit's symmetry, when the scene is symmetric.
+    pub symmetry: Option<&'static str>,
+    /// The fixed point.
+    pub fixed_point: Vec<f64>,
+}
+
+/// A bifurcation located on a branch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BranchBifurcation {
+    /// Its kind (`PD`, `SN`, `NS`, …).
+    pub kind: &'static str,
+    /// The parameter's value.
+    pub value: f64,
+    /// The multipliers there.
+    pub multipliers: Vec<Multiplier>,
+    /// The multiplier that crossed the unit circle.
+    pub critical: Critical,
+}
+
+/// The critical multiplier of a bifurcation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Critical {
+    /// Real part.
+    pub re: f64,
+    /// Imaginary part.
+    pub im: f64,
+    /// Modulus.
+    pub abs: f64,
+    /// Argument in `(-π, π]`.
+    pub arg: f64,
 }

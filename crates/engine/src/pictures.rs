@@ -3,7 +3,7 @@
 //! classified window, and its Poincaré sections over many periods.
 
 use crate::cell::Cell;
-use anyhow::Result;
+use crate::error::Result;
 
 /// The portrait of the cell's classified window: per mass its (x, v) path,
 /// its frame stops, and the events (400 samples per forcing period).

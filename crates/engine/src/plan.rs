@@ -3,9 +3,9 @@
 //! [`Observer`] that may also stop the run.
 
 use crate::error::{chain_text, Opt, RequestError};
+use crate::error::{Error, Result};
 use crate::observer::{Begin, Observed, Observer};
 use crate::sim::Setup;
-use anyhow::{anyhow, bail, Result};
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -44,8 +44,8 @@ pub struct Plan {
 /// Worker threads: the option, or every core.
 pub fn threads(opt: Option<usize>) -> Result<usize> {
     match opt {
-        Some(0) => bail!(RequestError::option(Opt::Threads).text("must be >= 1")),
-        Some(n) if n > 1024 => bail!(RequestError::option(Opt::Threads).text(format!("at most 1024, got {n}"))),
+        Some(0) => Err(RequestError::option(Opt::Threads).text("must be >= 1").into()),
+        Some(n) if n > 1024 => Err(RequestError::option(Opt::Threads).text(format!("at most 1024, got {n}")).into()),
         Some(n) => Ok(n),
         None => Ok(std::thread::available_parallelism().map_or(1, |n| n.get())),
     }
@@ -84,7 +84,12 @@ impl Plan {
                 need as f64 / (1u64 << 30) as f64,
                 have as f64 / (1u64 << 30) as f64
             );
-            bail!(RequestError::message().text(why).opt(Opt::Shard).text(" parts, or a smaller ").opt(Opt::SectionCap));
+            return Err(RequestError::message()
+                .text(why)
+                .opt(Opt::Shard)
+                .text(" parts, or a smaller ")
+                .opt(Opt::SectionCap)
+                .into());
         }
         Ok(())
     }
@@ -104,7 +109,7 @@ impl Plan {
         // A cancelled run is abandoned: its draft took its partial file, its
         // journal goes too (a killed one keeps it, to resume).
         if let (Err(e), Some(out)) = (&ran, &self.output) {
-            if let Some(grid::GridError::Cancelled) = e.downcast_ref() {
+            if matches!(e, Error::Cancelled) {
                 let _ = std::fs::remove_file(journal_path(out));
             }
         }
@@ -160,8 +165,8 @@ impl Plan {
             Journal::resume(&jp, &key, &self.meta).map_err(journal_advice)?
         } else {
             // Name the file the user asked for; the journal is ours.
-            let j = Journal::create(&jp, &key)
-                .map_err(|e| anyhow!("{}: cannot write beside it ({})", out.display(), chain_text(e)))?;
+            let j =
+                Journal::create(&jp, &key).map_err(|e| Error::file(out, "cannot write beside it", Some(e.into())))?;
             (j, Vec::new())
         };
         for l in lines {
@@ -231,7 +236,7 @@ impl Plan {
         let draft_of = self.output.clone().map(|out| (out, self.meta.clone(), self.threads));
         let resumed = resumed.to_vec();
         let writer = std::thread::spawn(move || keep_lines(atlas, journal, draft_of, &resumed, rx));
-        let failed: std::sync::Mutex<Option<anyhow::Error>> = std::sync::Mutex::new(None);
+        let failed: std::sync::Mutex<Option<Error>> = std::sync::Mutex::new(None);
         let sink = |line: Line| {
             if let Some(&job) = place.get(&(line.sweep, line.index)) {
                 observer.line_done(job);
@@ -250,7 +255,7 @@ impl Plan {
             grid::run(&self.meta.plane, &self.setup, jobs, &self.entries, self.threads, &Observed(observer), &sink);
         drop(tx);
         observer.finish();
-        let kept = writer.join().map_err(|_| anyhow!("writer thread panicked"))??;
+        let kept = writer.join().map_err(|_| Error::Internal("the writer thread panicked".into()))??;
         // An error or a cancel drops the draft, which removes its partial file.
         ran?;
         if let Some(e) = failed.into_inner().unwrap_or_else(|p| p.into_inner()) {
@@ -277,7 +282,7 @@ impl Plan {
             parent: self.parent.clone(),
         };
         let kept = |e: store::StoreError| {
-            let text = chain_text(e) + " (the computed lines are kept: ";
+            let text = chain_text(&e) + " (the computed lines are kept: ";
             RequestError::message().text(text).opt(Opt::Resume).text(" once it can be written)")
         };
         draft.map_err(kept)?.finish(atlas, &info).map_err(kept)?;
@@ -297,7 +302,7 @@ impl Plan {
 
 /// A journal that cannot be resumed from, with what to do about it: remove
 /// it, or run without resuming.
-fn journal_advice(e: store::StoreError) -> anyhow::Error {
+fn journal_advice(e: store::StoreError) -> Error {
     let advice = match &e {
         store::StoreError::Journal { problem: store::JournalProblem::Damaged { .. }, .. } => {
             ": remove it (the run starts over) or run without "
@@ -383,9 +388,10 @@ impl Plan {
     pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
         for axis in [&plane.x, &plane.y].into_iter().filter(|a| a.count > 1) {
             if s.overrides.iter().any(|(name, _)| *name == axis.name) {
-                bail!(RequestError::keyed(Opt::Set, &axis.name)
+                return Err(RequestError::keyed(Opt::Set, &axis.name)
                     .text(format!("{} is also an axis of the run, which would override it; remove the ", axis.name))
-                    .opt(Opt::Set));
+                    .opt(Opt::Set)
+                    .into());
             }
         }
         let setup = s.cell_setup(section_cap)?;
@@ -442,7 +448,7 @@ impl Plan {
             let lines = self.meta.plane.lines();
             if s.n > lines {
                 let why = format!("N must be at most the {lines} lines of the plane, got {}", s.n);
-                bail!(RequestError::option(Opt::Shard).text(why));
+                return Err(RequestError::option(Opt::Shard).text(why).into());
             }
         }
         self.check_memory()?;
@@ -467,7 +473,10 @@ impl Plan {
         let p = &self.meta.plane;
         let hyst = atlas.hysteresis();
         if only_hysteresis && hyst.is_none() {
-            bail!(RequestError::given(Opt::AttractorsWhere, "hysteresis").text("needs ").opt_given(Opt::Sweep, "both"));
+            return Err(RequestError::given(Opt::AttractorsWhere, "hysteresis")
+                .text("needs ")
+                .opt_given(Opt::Sweep, "both")
+                .into());
         }
         let chosen: Vec<usize> = (0..p.cells())
             .filter(|&i| {

@@ -4,10 +4,12 @@
 //! starts ([`Start`]): the scene's initial state, a given state, or a cell of
 //! a stored file, whose settings it then takes ([`Origin`]).
 
+use crate::error::Result;
 use crate::error::{Opt, RequestError};
-use anyhow::{anyhow, bail, Result};
 use scene::Scene;
+use serde::Serialize;
 use solver::{Accuracy, Method, Preset};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// Where a scene comes from.
@@ -178,7 +180,7 @@ fn check_rk4_resolves_contacts(scene: &Scene, set: &[(String, f64)], accuracy: &
                 stop.name,
                 period / 10.0
             );
-            bail!(RequestError::keyed(Opt::Accuracy, "rk4_step").text(what));
+            return Err(RequestError::keyed(Opt::Accuracy, "rk4_step").text(what).into());
         }
     }
     Ok(())
@@ -187,7 +189,7 @@ fn check_rk4_resolves_contacts(scene: &Scene, set: &[(String, f64)], accuracy: &
 /// Refuses a value that is not finite (`option` names it).
 fn check_finite(v: f64, option: impl FnOnce() -> RequestError) -> Result<()> {
     if !v.is_finite() {
-        bail!(option().text(format!("not a finite number, got {v}")));
+        return Err(option().text(format!("not a finite number, got {v}")).into());
     }
     Ok(())
 }
@@ -222,7 +224,7 @@ impl Setup {
     pub fn cell_setup(&self, section_cap: usize) -> Result<grid::CellSetup> {
         if section_cap > grid::MAX_SECTION_CAP {
             let what = format!("at most {}, got {section_cap}", grid::MAX_SECTION_CAP);
-            bail!(RequestError::option(Opt::SectionCap).text(what));
+            return Err(RequestError::option(Opt::SectionCap).text(what).into());
         }
         Ok(grid::CellSetup {
             scene: self.scene.clone(),
@@ -257,23 +259,11 @@ impl Setup {
     }
 }
 
-/// Parses `NAME=VALUE` with a finite value; `option` names the option in
-/// errors, in the caller's words (the command line's `--set`).
-pub fn parse_assignment(text: &str, option: &str) -> Result<(String, f64)> {
-    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{option} {text}: expected NAME=VALUE"))?;
-    let name = name.trim().to_string();
-    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{option} {name}: '{}' is not a number", value.trim()))?;
-    if !v.is_finite() {
-        bail!("{option} {name}: not a finite number, got {v}");
-    }
-    Ok((name, v))
-}
-
 /// Checks an orbit period ([`Opt::N`]): 1 to 1000 forcing periods.
 pub fn check_period(n: Option<usize>) -> Result<()> {
     match n {
         Some(n) if n == 0 || n > 1000 => {
-            bail!(RequestError::option(Opt::N).text(format!("expected a period between 1 and 1000, got {n}")))
+            Err(RequestError::option(Opt::N).text(format!("expected a period between 1 and 1000, got {n}")).into())
         }
         _ => Ok(()),
     }
@@ -309,13 +299,38 @@ pub struct Origin {
     /// The state to start a new simulation from (the stored cell's final
     /// state, at a whole forcing period; or the given state).
     pub state: Vec<f64>,
-    /// What was taken, for the output (`{"file", "sweep", "cell": {…}}`).
-    pub about: serde_json::Value,
+    /// What was taken, as the results report it (`from`).
+    pub source: Source,
     /// The section cap of the stored run (its cells' work includes their
     /// sections), `None` for a given state.
     pub section_cap: Option<usize>,
     /// A warning for the user (the scene differs from the stored one).
     pub warning: Option<String>,
+}
+
+/// Where a simulation started, as results report it (their `from`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum Source {
+    /// A cell of a stored atlas: the file, its sweep, the cell's parameter
+    /// values, its labels and its reason.
+    Stored {
+        /// The file.
+        file: String,
+        /// The sweep.
+        sweep: &'static str,
+        /// The cell's parameter values (its axes).
+        cell: BTreeMap<String, f64>,
+        /// The stored labels per mass.
+        labels: BTreeMap<String, String>,
+        /// The stored reason of an unresolved cell.
+        reason: Option<String>,
+    },
+    /// A given state.
+    Given {
+        /// The state `[x…, v…]`.
+        state: Vec<f64>,
+    },
 }
 
 impl Origin {
@@ -347,15 +362,17 @@ impl Sim {
         sweep: Option<grid::SweepKind>,
     ) -> Result<(Setup, Option<Origin>)> {
         if at.is_empty() {
-            bail!(RequestError::option(Opt::From)
+            return Err(RequestError::option(Opt::From)
                 .text("give the cell with ")
                 .opt(Opt::At)
-                .text(" NAME=VALUE,NAME=VALUE"));
+                .text(" NAME=VALUE,NAME=VALUE")
+                .into());
         }
         if let Some((i, (k, _))) = at.iter().enumerate().find(|(i, (k, _))| at[..*i].iter().any(|(j, _)| j == k)) {
             let first = at.iter().find(|(j, _)| j == k).map_or(0.0, |p| p.1);
-            bail!(RequestError::keyed(Opt::At, k)
-                .text(format!("given twice ({first} and {}); give each parameter once", at[i].1)));
+            return Err(RequestError::keyed(Opt::At, k)
+                .text(format!("given twice ({first} and {}); give each parameter once", at[i].1))
+                .into());
         }
         let loaded = store::read(file)?;
         let atlas = &loaded.atlas;
@@ -364,7 +381,7 @@ impl Sim {
             Some(kind) if !m.sweeps.contains(&kind) => {
                 let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
                 let what = format!("{} has {}, not {}", file.display(), have.join(", "), kind.name());
-                bail!(RequestError::option(Opt::Sweep).text(what));
+                return Err(RequestError::option(Opt::Sweep).text(what).into());
             }
             Some(kind) => kind,
             None => m.sweeps[0],
@@ -379,11 +396,12 @@ impl Sim {
         let mut s = self.setup_with(preset, method, &m.accuracy)?;
         let params = m.plane.params(iy, ix);
         if let Some((k, _)) = s.overrides.iter().find(|(k, _)| params.iter().any(|(p, _)| p == k)) {
-            bail!(RequestError::keyed(Opt::Set, k)
+            return Err(RequestError::keyed(Opt::Set, k)
                 .text("the cell of ")
                 .opt(Opt::From)
                 .text(format!(" fixes {k} (an axis of {}); choose the cell with ", file.display()))
-                .opt(Opt::At));
+                .opt(Opt::At)
+                .into());
         }
         let mut overrides = m.overrides.clone();
         overrides.extend(params.iter().cloned());
@@ -396,23 +414,21 @@ impl Sim {
         if 2 * model.masses.len() != m.dim {
             let what =
                 format!("{} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
-            bail!(RequestError::option(Opt::From).text(what));
+            return Err(RequestError::option(Opt::From).text(what).into());
         }
         let warning = (s.scene.source() != m.scene_toml)
             .then(|| format!("the scene differs from the one stored in {}", file.display()));
-        let coords: serde_json::Map<String, serde_json::Value> =
-            params.iter().map(|(k, v)| (k.clone(), serde_json::json!(v))).collect();
-        let about = serde_json::json!({
-            "file": file.display().to_string(),
-            "sweep": sweep.name(),
-            "cell": coords,
-            "labels": m.masses.iter().enumerate().map(|(i, n)| (n.clone(), serde_json::json!(cell.labels[i].to_string()))).collect::<serde_json::Map<_, _>>(),
-            "reason": cell.reason,
-        });
+        let source = Source::Stored {
+            file: file.display().to_string(),
+            sweep: sweep.name(),
+            cell: params.iter().cloned().collect(),
+            labels: m.masses.iter().zip(&cell.labels).map(|(n, l)| (n.clone(), l.to_string())).collect(),
+            reason: cell.reason.clone(),
+        };
         let origin = Origin {
             cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
             state: cell.final_state.clone(),
-            about,
+            source,
             section_cap: Some(m.section_cap),
             warning,
         };
@@ -424,41 +440,34 @@ impl Sim {
 /// and for v, no stop penetrated.
 fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
     if state.iter().any(|v| !v.is_finite()) {
-        bail!(RequestError::option(Opt::State).text("expected finite numbers"));
+        return Err(RequestError::option(Opt::State).text("expected finite numbers").into());
     }
     let model = s.scene.evaluate(&s.overrides)?;
     let dim = 2 * model.masses.len();
     if state.len() != dim {
         let what = format!("the scene's state has {dim} numbers (x of every mass, then v), got {}", state.len());
-        bail!(RequestError::option(Opt::State).text(what));
+        return Err(RequestError::option(Opt::State).text(what).into());
     }
     let x: Vec<f64> = state[..dim / 2].to_vec();
     for (k, stop) in model.stops.iter().enumerate().filter(|(_, s)| !s.is_soft()) {
         let g = model.gap(k, &x);
         if g < -solver::ADMISSIBLE_PENETRATION {
-            bail!(RequestError::option(Opt::State).text(format!("penetrates stop {} by {}", stop.name, -g)));
+            return Err(RequestError::option(Opt::State)
+                .text(format!("penetrates stop {} by {}", stop.name, -g))
+                .into());
         }
     }
-    let about = serde_json::json!({"state": state});
-    Ok(Origin { cell_start: None, state: state.to_vec(), about, section_cap: None, warning: None })
+    let source = Source::Given { state: state.to_vec() };
+    Ok(Origin { cell_start: None, state: state.to_vec(), source, section_cap: None, warning: None })
 }
 
-/// Labels as a JSON object `{"M1": "1-4-4", …}` (the contract of `cell`, `orbit`
+/// Labels by mass, `{"M1": "1-4-4", …}` (the contract of `cell`, `orbit`
 /// and `continue`).
-pub fn labels_json(labels: &[solver::MassLabel]) -> serde_json::Value {
-    labels
-        .iter()
-        .map(|l| (l.mass.clone(), serde_json::Value::from(l.to_string())))
-        .collect::<serde_json::Map<_, _>>()
-        .into()
+pub fn labels_of(labels: &[solver::MassLabel]) -> BTreeMap<String, String> {
+    labels.iter().map(|l| (l.mass.clone(), l.to_string())).collect()
 }
 
-/// The parameters of a system as a JSON object.
-pub fn parameters_json(sys: &solver::System) -> serde_json::Value {
-    sys.model
-        .parameters
-        .iter()
-        .map(|(k, v)| (k.clone(), serde_json::json!(v)))
-        .collect::<serde_json::Map<_, _>>()
-        .into()
+/// The parameters of a system by name.
+pub fn parameters_of(sys: &solver::System) -> BTreeMap<String, f64> {
+    sys.model.parameters.iter().map(|(k, v)| (k.clone(), *v)).collect()
 }

@@ -6,9 +6,10 @@
 //! is kept only as its panel ([`sheet_panel`]: the drawn sweep's labels, no
 //! states or sections).
 
+use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::sim::{SceneSource, Sim};
-use anyhow::{anyhow, bail, Context, Result};
+
 use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Study, SweepKind};
 use std::path::{Path, PathBuf};
 
@@ -34,17 +35,16 @@ pub fn study(
     threads: usize,
     command: &str,
 ) -> Result<StudyPlan> {
-    let text = crate::sim::read_text(file).with_context(|| format!("cannot read study file {}", file.display()))?;
-    let study = Study::parse(&text).map_err(|e| anyhow!("{}: {e}", file.display()))?;
+    let text =
+        crate::sim::read_text(file).map_err(|cause| Error::Unreadable { what: "study", path: file.into(), cause })?;
+    let study = Study::parse(&text).map_err(|e| Error::file(file, "", Some(e.into())))?;
     let scene = file.parent().unwrap_or(Path::new(".")).join(&study.scene);
     let sweeps = SweepKind::parse_set(&study.sweep, "sweep")?;
     let plane = Plane::new(Axis::parse(&study.x, "x")?, Axis::parse(&study.y, "y")?, Along::parse(&study.along)?)?;
     if [&plane.x.name, &plane.y.name].contains(&&study.parameter) {
-        bail!(
-            "{}: parameter '{}' is also an axis of the study's plane; vary another parameter",
-            file.display(),
-            study.parameter
-        );
+        let why =
+            format!("parameter '{}' is also an axis of the study's plane; vary another parameter", study.parameter);
+        return Err(Error::file(file, why, None));
     }
     let plans = study
         .values

@@ -4,7 +4,9 @@
 
 use grid::hysteresis::zones;
 use grid::Atlas;
+use serde::Serialize;
 use solver::Class;
+use std::collections::BTreeMap;
 
 /// Why a sweep's unresolved cells are unresolved: each kind of reason and
 /// how many cells, the most frequent first. A kind is a reason's text with
@@ -153,75 +155,201 @@ impl Summary {
     }
 }
 
-/// The summary as one JSON object (`inspect --json`): grid, sweeps with class
-/// and label counts per mass, hysteresis cells and zone sizes.
-pub fn summary_json(atlas: &Atlas) -> serde_json::Value {
-    use serde_json::json;
-    let m = &atlas.meta;
-    let p = &m.plane;
-    let axis = |a: &grid::Axis| json!({"name": a.name, "start": a.start, "stop": a.stop, "count": a.count});
-    let summary = Summary::of(atlas);
-    let sweeps: Vec<serde_json::Value> = summary
-        .sweeps
-        .iter()
-        .map(|s| {
-            let labels: serde_json::Map<String, serde_json::Value> = m
-                .masses
-                .iter()
-                .zip(&s.labels)
-                .map(|(mass, legend)| {
-                    let counts: serde_json::Map<String, serde_json::Value> =
-                        legend.iter().map(|(l, c)| (l.clone(), (*c).into())).collect();
-                    (mass.clone(), counts.into())
-                })
-                .collect();
-            let [periodic, quasiperiodic, chaotic, unresolved] = s.classes;
-            json!({
-                "sweep": s.sweep.name(),
-                "computed": s.computed,
-                "classes": {
-                    "periodic": periodic,
-                    "quasiperiodic": quasiperiodic,
-                    "chaotic": chaotic,
-                    "unresolved": unresolved,
-                },
-                "labels": labels,
-                "reasons": s.reasons.iter().map(|(kind, n)| json!({"reason": kind, "cells": n})).collect::<Vec<_>>(),
-            })
-        })
-        .collect();
-    let hysteresis = summary.hysteresis.map(|(cells, z)| json!({"cells": cells, "zones": z}));
-    json!({
-        "scene": m.scene_name,
-        "preset": m.preset.name(),
-        "integrator": m.integrator.name(),
-        "x": axis(&p.x),
-        "y": axis(&p.y),
-        "along": p.along.name(),
-        "cells": p.cells(),
-        "masses": m.masses,
-        "stops": m.stops,
-        "sweeps": sweeps,
-        "hysteresis": hysteresis,
-    })
+/// The JSON of an atlas's summary: grid, sweeps with class and label
+/// counts per mass and reasons, hysteresis cells and zone sizes.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SummaryReport {
+    /// The scene's name.
+    pub scene: String,
+    /// The accuracy preset.
+    pub preset: &'static str,
+    /// The integrator.
+    pub integrator: &'static str,
+    /// The x axis.
+    pub x: AxisReport,
+    /// The y axis.
+    pub y: AxisReport,
+    /// The axis continuation chains follow (`x` or `y`).
+    pub along: &'static str,
+    /// Cells of the plane.
+    pub cells: usize,
+    /// Labelled masses.
+    pub masses: Vec<String>,
+    /// Stops.
+    pub stops: Vec<String>,
+    /// Each sweep, in the file's order.
+    pub sweeps: Vec<SweepCounts>,
+    /// Where up and down differ, when the atlas has both.
+    pub hysteresis: Option<HysteresisCounts>,
 }
 
-/// The object of `inspect --json` for the file `path` read as `loaded`: the
-/// [`summary_json`] with the file's provenance (its path, when and by what
-/// it was made, its history, run time and shard; a zoom's parent).
-pub fn inspect_json(path: &std::path::Path, loaded: &store::Loaded) -> serde_json::Value {
-    let mut o = summary_json(&loaded.atlas);
-    o["file"] = path.display().to_string().into();
-    o["created"] = loaded.created.clone().into();
-    o["command"] = loaded.info.command.clone().into();
-    o["history"] = loaded.info.history.clone().into();
-    o["run_time_s"] = loaded.info.run_time_s.into();
-    o["shard"] = loaded.info.shard.map(|s| s.to_string()).into();
-    if let Some(p) = &loaded.info.parent {
-        o["parent"] =
-            serde_json::json!({"file": p.path, "labels_crc32": format!("{:08x}", p.labels_crc32), "box": p.region});
+/// An axis: its parameter and values.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AxisReport {
+    /// The parameter.
+    pub name: String,
+    /// First value.
+    pub start: f64,
+    /// Last value.
+    pub stop: f64,
+    /// Number of values.
+    pub count: usize,
+}
+
+/// One sweep in numbers.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepCounts {
+    /// `fresh`, `up` or `down`.
+    pub sweep: &'static str,
+    /// Cells computed.
+    pub computed: usize,
+    /// Cells per class.
+    pub classes: ClassCounts,
+    /// Per labelled mass, the cells of each label.
+    pub labels: BTreeMap<String, BTreeMap<String, u64>>,
+    /// Why its unresolved cells are unresolved, the most frequent first.
+    pub reasons: Vec<ReasonCount>,
+}
+
+/// Cells per class.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ClassCounts {
+    /// Periodic.
+    pub periodic: usize,
+    /// Quasiperiodic.
+    pub quasiperiodic: usize,
+    /// Chaotic.
+    pub chaotic: usize,
+    /// Unresolved.
+    pub unresolved: usize,
+}
+
+/// The cells of one kind of reason ([`reasons`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ReasonCount {
+    /// The reason, its numbers as they vary over its cells.
+    pub reason: String,
+    /// Its cells.
+    pub cells: usize,
+}
+
+/// Where up and down differ.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct HysteresisCounts {
+    /// Cells.
+    pub cells: usize,
+    /// The size of each zone, the largest first.
+    pub zones: Vec<usize>,
+}
+
+impl SummaryReport {
+    /// The summary of `atlas` as its report.
+    pub fn of(atlas: &Atlas) -> SummaryReport {
+        let m = &atlas.meta;
+        let p = &m.plane;
+        let axis = |a: &grid::Axis| AxisReport { name: a.name.clone(), start: a.start, stop: a.stop, count: a.count };
+        let summary = Summary::of(atlas);
+        let sweeps = summary
+            .sweeps
+            .iter()
+            .map(|s| {
+                let labels =
+                    m.masses.iter().cloned().zip(s.labels.iter().map(|l| l.iter().cloned().collect())).collect();
+                let [periodic, quasiperiodic, chaotic, unresolved] = s.classes;
+                SweepCounts {
+                    sweep: s.sweep.name(),
+                    computed: s.computed,
+                    classes: ClassCounts { periodic, quasiperiodic, chaotic, unresolved },
+                    labels,
+                    reasons: s
+                        .reasons
+                        .iter()
+                        .map(|(reason, n)| ReasonCount { reason: reason.clone(), cells: *n })
+                        .collect(),
+                }
+            })
+            .collect();
+        SummaryReport {
+            scene: m.scene_name.clone(),
+            preset: m.preset.name(),
+            integrator: m.integrator.name(),
+            x: axis(&p.x),
+            y: axis(&p.y),
+            along: p.along.name(),
+            cells: p.cells(),
+            masses: m.masses.clone(),
+            stops: m.stops.clone(),
+            sweeps,
+            hysteresis: summary.hysteresis.map(|(cells, zones)| HysteresisCounts { cells, zones }),
+        }
     }
-    o
+}
+
+/// The JSON of an atlas file (the contract of `inspect --json`): its
+/// [`SummaryReport`] with the file's provenance (its path, when and by what
+/// it was made, its history, run time and shard; a zoom's parent).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct InspectReport {
+    /// The atlas's summary.
+    #[serde(flatten)]
+    pub summary: SummaryReport,
+    /// The file.
+    pub file: String,
+    /// When it was made.
+    pub created: String,
+    /// The command that made it.
+    pub command: String,
+    /// The commands that changed it since.
+    pub history: Vec<String>,
+    /// Seconds the run took.
+    pub run_time_s: f64,
+    /// The shard it holds (`K/N`), if one.
+    pub shard: Option<String>,
+    /// The atlas a zoom was computed in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parent: Option<ParentReport>,
+    /// Whether the whole file was checked (`inspect --verify`): set by the caller.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub verified: Option<bool>,
+}
+
+/// The atlas a zoom was computed in.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ParentReport {
+    /// Its file.
+    pub file: String,
+    /// The CRC-32 of its labels, in hex.
+    pub labels_crc32: String,
+    /// The box, as the zoom's axes.
+    #[serde(rename = "box")]
+    pub region: String,
+}
+
+impl InspectReport {
+    /// The report of the file `path` read as `loaded`.
+    pub fn of(path: &std::path::Path, loaded: &store::Loaded) -> InspectReport {
+        let info = &loaded.info;
+        InspectReport {
+            summary: SummaryReport::of(&loaded.atlas),
+            file: path.display().to_string(),
+            created: loaded.created.clone(),
+            command: info.command.clone(),
+            history: info.history.clone(),
+            run_time_s: info.run_time_s,
+            shard: info.shard.map(|s| s.to_string()),
+            parent: info.parent.as_ref().map(|p| ParentReport {
+                file: p.path.clone(),
+                labels_crc32: format!("{:08x}", p.labels_crc32),
+                region: p.region.clone(),
+            }),
+            verified: None,
+        }
+    }
+
+    /// The JSON object of the file (the contract of `inspect --json`).
+    pub fn to_json(&self) -> serde_json::Value {
+        crate::report::to_value(self)
+    }
 }
 
 #[cfg(test)]

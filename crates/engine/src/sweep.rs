@@ -3,13 +3,15 @@
 //! renderer and the hysteresis logic are those of the atlas; and the JSON
 //! object of `sweep --json` ([`Swept::to_json`]).
 
+use crate::error::Result;
 use crate::error::{grid_error, with_fields, Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::plan::Plan;
-use crate::sim::{Origin, Sim, Start};
-use anyhow::Result;
+use crate::sim::{Origin, Sim, Source, Start};
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
-use serde_json::{json, Map, Value};
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// The directions of a sweep.
@@ -197,81 +199,134 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>, observer: &dyn Obse
     Ok(atlas)
 }
 
+/// The JSON of a sweep (the contract of `sweep --json`): the points of the
+/// leg asked for (`points`, in the order computed), both legs and where
+/// they differ when both were run, and where it started.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepReport {
+    /// The swept parameter.
+    pub axis: String,
+    /// `up`, `down`, `both` or `fresh`.
+    pub direction: &'static str,
+    /// The points of the first leg, in the order computed.
+    pub points: Vec<SweepPoint>,
+    /// The up leg, in increasing order, when both were run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub up: Option<Vec<SweepPoint>>,
+    /// The down leg, in the order computed (decreasing), when both were run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub down: Option<Vec<SweepPoint>>,
+    /// The values where up and down end on different periodic motions.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub hysteresis: Option<Vec<Differing>>,
+    /// Where it started, when not from the scene's initial state.
+    #[serde(rename = "from", skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Source>,
+}
+
+/// One point of a sweep.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SweepPoint {
+    /// The parameter's value.
+    pub value: f64,
+    /// The kind of motion.
+    pub class: &'static str,
+    /// The period of the first labelled mass, when periodic.
+    pub n: Option<u32>,
+    /// Per labelled mass, its label.
+    pub labels: BTreeMap<String, String>,
+    /// The symmetry of a periodic orbit of a symmetric scene.
+    pub symmetry: Option<&'static str>,
+    /// The largest Lyapunov exponent of a cell without a period.
+    pub lyapunov: Option<f64>,
+    /// The largest Floquet multiplier modulus of a periodic cell.
+    pub max_multiplier: Option<f64>,
+    /// Why the cell is unresolved, when it is.
+    pub reason: Option<String>,
+    /// The final state `[x…, v…]`.
+    pub final_state: Vec<f64>,
+    /// The period-section points kept.
+    pub period_section: Vec<Vec<f64>>,
+}
+
+/// A value where the legs differ, with each leg's labels.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Differing {
+    /// The parameter's value.
+    pub value: f64,
+    /// The up leg's labels.
+    pub up: BTreeMap<String, String>,
+    /// The down leg's labels.
+    pub down: BTreeMap<String, String>,
+}
+
 impl Swept {
-    /// The JSON object of the sweep (the contract of `sweep --json`).
-    pub fn to_json(&self) -> Value {
+    /// The sweep as its report ([`SweepReport`]).
+    pub fn report(&self) -> SweepReport {
         let atlas = &self.atlas;
         let first = self.first;
-        let mut o = json!({
-            "axis": atlas.meta.plane.x.name,
-            "direction": self.direction.map_or(first.name(), Direction::name),
-            "points": points(atlas, first, first == SweepKind::Down),
-        });
-        if atlas.meta.sweeps.len() == 2 {
-            o["up"] = points(atlas, SweepKind::Up, false);
-            o["down"] = points(atlas, SweepKind::Down, true);
-            o["hysteresis"] = hysteresis(atlas);
+        let both = atlas.meta.sweeps.len() == 2;
+        SweepReport {
+            axis: atlas.meta.plane.x.name.clone(),
+            direction: self.direction.map_or(first.name(), Direction::name),
+            points: points(atlas, first, first == SweepKind::Down),
+            up: both.then(|| points(atlas, SweepKind::Up, false)),
+            down: both.then(|| points(atlas, SweepKind::Down, true)),
+            hysteresis: both.then(|| hysteresis(atlas)),
+            origin: self.origin.as_ref().map(|o| o.source.clone()),
         }
-        if let Some(origin) = &self.origin {
-            o["from"] = origin.about.clone();
-        }
-        o
+    }
+
+    /// The JSON object of the sweep (the contract of `sweep --json`).
+    pub fn to_json(&self) -> Value {
+        crate::report::to_value(&self.report())
     }
 }
 
 /// The labels of a cell by mass.
-fn labels(atlas: &Atlas, c: &CellData) -> Value {
-    let m: Map<String, Value> = atlas
-        .meta
-        .masses
-        .iter()
-        .enumerate()
-        .map(|(i, name)| (name.clone(), Value::from(c.labels[i].to_string())))
-        .collect();
-    Value::Object(m)
+fn labels(atlas: &Atlas, c: &CellData) -> BTreeMap<String, String> {
+    atlas.meta.masses.iter().zip(&c.labels).map(|(name, l)| (name.clone(), l.to_string())).collect()
 }
 
 /// One point of a sweep.
-fn point(atlas: &Atlas, ix: usize, c: &CellData) -> Value {
-    json!({
-        "value": atlas.meta.plane.x.value(ix),
-        "class": c.class.name(),
-        "n": c.labels.first().and_then(|l| l.npq()).map(|(n, _, _)| n),
-        "labels": labels(atlas, c),
-        "symmetry": c.symmetry.map(|s| s.name()),
-        "lyapunov": c.lyapunov,
-        "max_multiplier": c.multiplier,
-        "reason": c.reason,
-        "final_state": c.final_state,
-        "period_section": c.period_section,
-    })
+fn point(atlas: &Atlas, ix: usize, c: &CellData) -> SweepPoint {
+    SweepPoint {
+        value: atlas.meta.plane.x.value(ix),
+        class: c.class.name(),
+        n: c.labels.first().and_then(|l| l.npq()).map(|(n, _, _)| n),
+        labels: labels(atlas, c),
+        symmetry: c.symmetry.map(|s| s.name()),
+        lyapunov: c.lyapunov,
+        max_multiplier: c.multiplier,
+        reason: c.reason.clone(),
+        final_state: c.final_state.clone(),
+        period_section: c.period_section.clone(),
+    }
 }
 
 /// The points of one sweep in the order they were computed.
-fn points(atlas: &Atlas, sweep: SweepKind, descending: bool) -> Value {
-    let Some(map) = atlas.map(sweep) else { return Value::Array(Vec::new()) };
-    let mut v: Vec<Value> =
+fn points(atlas: &Atlas, sweep: SweepKind, descending: bool) -> Vec<SweepPoint> {
+    let Some(map) = atlas.map(sweep) else { return Vec::new() };
+    let mut v: Vec<SweepPoint> =
         map.cells.iter().enumerate().filter_map(|(ix, c)| c.as_ref().map(|c| point(atlas, ix, c))).collect();
     if descending {
         v.reverse();
     }
-    Value::Array(v)
+    v
 }
 
 /// Values where up and down end on different periodic motions.
-fn hysteresis(atlas: &Atlas) -> Value {
+fn hysteresis(atlas: &Atlas) -> Vec<Differing> {
     let (Some(h), Some(up), Some(down)) = (atlas.hysteresis(), atlas.map(SweepKind::Up), atlas.map(SweepKind::Down))
     else {
-        return Value::Array(Vec::new());
+        return Vec::new();
     };
-    Value::Array(
-        h.iter()
-            .enumerate()
-            .filter(|(_, &v)| v == 1)
-            .filter_map(|(ix, _)| {
-                let (u, d) = (up.cells[ix].as_ref()?, down.cells[ix].as_ref()?);
-                Some(json!({"value": atlas.meta.plane.x.value(ix), "up": labels(atlas, u), "down": labels(atlas, d)}))
-            })
-            .collect(),
-    )
+    h.iter()
+        .enumerate()
+        .filter(|(_, &v)| v == 1)
+        .filter_map(|(ix, _)| {
+            let (u, d) = (up.cells[ix].as_ref()?, down.cells[ix].as_ref()?);
+            Some(Differing { value: atlas.meta.plane.x.value(ix), up: labels(atlas, u), down: labels(atlas, d) })
+        })
+        .collect()
 }

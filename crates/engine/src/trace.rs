@@ -2,9 +2,9 @@
 //! event named ([`window`], as CSV by [`trace_csv`]), and its Poincaré
 //! sections over many periods ([`sections`]).
 
+use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::sim::Setup;
-use anyhow::{anyhow, bail, Result};
 use solver::{CellResult, Simulator, System};
 use std::fmt::Write as _;
 
@@ -34,7 +34,7 @@ pub const MAX_TRACE_ROWS: usize = 10_000_000;
 pub fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Result<Sections> {
     if periods == 0 || periods > MAX_SECTION_PERIODS {
         let why = format!("expected 1 to {MAX_SECTION_PERIODS}, got {periods}");
-        bail!(RequestError::option(Opt::SectionPeriods).text(why));
+        return Err(RequestError::option(Opt::SectionPeriods).text(why).into());
     }
     struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
     impl solver::Observer for Points<'_> {
@@ -45,11 +45,13 @@ pub fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Resu
     let mass = sys.model.labels.first().map_or(0, |l| l.mass);
     let m = sys.dof();
     let mut sim = Simulator::new(sys, s.accuracy, s.method, &c.final_state)
-        .map_err(|h| anyhow!("sections: {}", halt_text(&h, s)))?;
+        .map_err(|h| Error::Halted { what: "sections", why: halt_text(&h, s) })?;
     let mut obs = Points(sys, vec![Vec::new(); sys.stops.len()]);
     let mut period = Vec::with_capacity(periods);
     for _ in 0..periods {
-        let rec = sim.run_period(&[], false, &mut obs).map_err(|h| anyhow!("sections: {}", halt_text(&h, s)))?;
+        let rec = sim
+            .run_period(&[], false, &mut obs)
+            .map_err(|h| Error::Halted { what: "sections", why: halt_text(&h, s) })?;
         period.push((rec.end[mass], rec.end[m + mass]));
     }
     Ok(Sections { mass, period, impacts: obs.1 })
@@ -140,7 +142,7 @@ pub fn window(sys: &System, s: &Setup, c: &CellResult, periods: usize, samples: 
 pub fn check_trace_samples(samples: usize) -> Result<()> {
     if samples == 0 || samples > MAX_TRACE_SAMPLES {
         let why = format!("expected 1 to {MAX_TRACE_SAMPLES}, got {samples}");
-        bail!(RequestError::option(Opt::TraceSamples).text(why));
+        return Err(RequestError::option(Opt::TraceSamples).text(why).into());
     }
     Ok(())
 }
@@ -158,7 +160,7 @@ pub fn trace(sys: &System, s: &Setup, c: &CellResult, samples: usize) -> Result<
     if periods.saturating_mul(samples) > MAX_TRACE_ROWS {
         let why =
             format!("{periods} periods x {samples} samples is more than {MAX_TRACE_ROWS} rows; take fewer samples");
-        bail!(RequestError::option(Opt::TraceSamples).text(why));
+        return Err(RequestError::option(Opt::TraceSamples).text(why).into());
     }
     Ok(window(sys, s, c, periods, samples))
 }

@@ -8,10 +8,10 @@
 //! where they are the same to rounding ([`grid::Lattice`]), so that a box
 //! aligned with the parent's grid reproduces its cells bit for bit.
 
+use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::observer::Observer;
 use crate::plan::{Executed, Plan};
-use anyhow::{bail, Result};
 use grid::{Along, Atlas, Axis, Entries, Lattice, Plane, SweepKind};
 use std::path::PathBuf;
 
@@ -67,13 +67,12 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     let m = &parent.meta;
     let labels_crc32 = store::labels_crc32(parent);
     if r.parent_labels.is_some_and(|known| known != labels_crc32) {
-        bail!("{}: the file changed since it was opened (its labels differ); open it again", r.parent.display());
+        let why = "the file changed since it was opened (its labels differ); open it again";
+        return Err(Error::file(&r.parent, why, None));
     }
     if let Some(shard) = loaded.info.shard {
-        bail!(
-            "{}: shard {shard} of an atlas, whose other lines are missing; zoom into the merged atlas",
-            r.parent.display()
-        );
+        let why = format!("shard {shard} of an atlas, whose other lines are missing; zoom into the merged atlas");
+        return Err(Error::file(&r.parent, why, None));
     }
     let x = box_axis(&r.x, &m.plane.x, Opt::X)?;
     let y = box_axis(&r.y, &m.plane.y, Opt::Y)?;
@@ -82,12 +81,12 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
         None => m.sweeps.clone(),
         Some(asked) => {
             if asked.is_empty() {
-                bail!(RequestError::option(Opt::Sweep).text("no sweep given"));
+                return Err(RequestError::option(Opt::Sweep).text("no sweep given").into());
             }
             if let Some(s) = asked.iter().find(|s| !m.sweeps.contains(s)) {
                 let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
                 let why = format!("{} has {}, not {}", r.parent.display(), have.join(", "), s.name());
-                bail!(RequestError::option(Opt::Sweep).text(why));
+                return Err(RequestError::option(Opt::Sweep).text(why).into());
             }
             m.sweeps.iter().copied().filter(|s| asked.contains(s)).collect()
         }
@@ -113,7 +112,7 @@ pub fn check_size(x: &Axis, y: &Axis) -> Result<()> {
     let cells = x.count.saturating_mul(y.count);
     if cells > MAX_ZOOM_CELLS {
         let why = format!("the box has {cells} cells ({} x {}), more than the {MAX_ZOOM_CELLS} a zoom computes; give fewer values, or map it with atlas", x.count, y.count);
-        bail!(RequestError::option(Opt::X).text(why));
+        return Err(RequestError::option(Opt::X).text(why).into());
     }
     Ok(())
 }
@@ -130,7 +129,7 @@ fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
         .map_err(|e| RequestError::option(opt).text(e.message))?;
     if axis.name != parent.name {
         let why = format!("the parent's {field} axis is {}, not {}", parent.name, axis.name);
-        bail!(RequestError::option(opt).text(why));
+        return Err(RequestError::option(opt).text(why).into());
     }
     let slack = Lattice::SNAP * parent.step().abs();
     if axis.start < parent.start - slack || axis.stop > parent.stop + slack {
@@ -138,7 +137,7 @@ fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
             "{}={}:{} is not within the parent's {} to {}",
             axis.name, axis.start, axis.stop, parent.start, parent.stop
         );
-        bail!(RequestError::option(opt).text(why));
+        return Err(RequestError::option(opt).text(why).into());
     }
     Ok(Axis { lattice: Lattice::of(parent), ..axis })
 }

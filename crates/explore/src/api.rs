@@ -11,7 +11,7 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Json, Router};
 use base64::prelude::{Engine as _, BASE64_STANDARD};
-use engine::{Opt, SceneSource, Sim, Start, Words};
+use engine::{SceneSource, Sim, Start};
 use grid::{Axis, SweepKind};
 use render::{Quantity, Show, View};
 use serde_json::{json, Value};
@@ -43,28 +43,13 @@ fn not_found(message: impl Into<String>) -> Refusal {
     Refusal(StatusCode::NOT_FOUND, message.into())
 }
 
-/// How the page's messages name a request's options: by its fields.
-struct Fields;
-impl Words for Fields {
-    fn option(&self, o: Opt) -> String {
-        o.name().to_string()
-    }
-}
-
 /// An engine error as one line (each cause of its chain, a refusal in the
-/// API's words).
-fn message(e: &anyhow::Error) -> String {
-    let parts: Vec<String> = e
-        .chain()
-        .map(|c| match c.downcast_ref::<engine::RequestError>() {
-            Some(r) => r.in_words(&Fields),
-            None => c.to_string(),
-        })
-        .collect();
-    parts.join(": ")
+/// API's words: the request's fields).
+fn message(e: &engine::Error) -> String {
+    engine::in_words(e, &engine::Fields)
 }
 
-fn failed(e: anyhow::Error) -> Refusal {
+fn failed(e: engine::Error) -> Refusal {
     Refusal(StatusCode::UNPROCESSABLE_ENTITY, message(&e))
 }
 

@@ -71,23 +71,19 @@ enum Failure {
 impl Failure {
     /// The failure of an engine error: its kind from the chain of causes,
     /// its text in Python's words.
-    fn of(e: &anyhow::Error) -> Failure {
+    fn of(e: &engine::Error) -> Failure {
+        use engine::{Error, SceneLoadError};
         let text = engine::in_words(e, &Keywords);
-        for cause in e.chain() {
-            if let Some(grid::GridError::Cancelled) = cause.downcast_ref::<grid::GridError>() {
-                return Failure::Cancelled;
+        match e {
+            Error::Cancelled => Failure::Cancelled,
+            Error::Internal(m) => Failure::Panic(m.clone()),
+            Error::Scene(SceneLoadError::Invalid { .. }) => Failure::Scene(text),
+            Error::Scene(_) | Error::Unreadable { .. } | Error::Store(store::StoreError::Io { .. }) => {
+                Failure::File(text)
             }
-            if let Some(s) = cause.downcast_ref::<engine::SceneLoadError>() {
-                return match s {
-                    engine::SceneLoadError::Read { .. } | engine::SceneLoadError::Stored(_) => Failure::File(text),
-                    engine::SceneLoadError::Invalid { .. } => Failure::Scene(text),
-                };
-            }
-            if cause.is::<std::io::Error>() || matches!(cause.downcast_ref(), Some(store::StoreError::Io { .. })) {
-                return Failure::File(text);
-            }
+            e if io_failure(e) => Failure::File(text),
+            _ => Failure::Value(text),
         }
-        Failure::Value(text)
     }
 
     fn into_py(self) -> PyErr {
@@ -99,6 +95,19 @@ impl Failure {
             Failure::Panic(m) => PyRuntimeError::new_err(format!("internal error of the engine: {m}")),
         }
     }
+}
+
+/// Whether an error of a file comes from the system (a file missing, a disk
+/// full): the error or one of its causes is an I/O error.
+fn io_failure(e: &(dyn std::error::Error + 'static)) -> bool {
+    let mut cause = Some(e);
+    while let Some(c) = cause {
+        if c.is::<std::io::Error>() || matches!(c.downcast_ref(), Some(store::StoreError::Io { .. })) {
+            return true;
+        }
+        cause = c.source();
+    }
+    false
 }
 
 /// What the run's thread and Python share.
@@ -133,7 +142,7 @@ struct Job {
 
 impl Job {
     /// Starts `work` on a new thread; its text or error becomes the outcome.
-    fn start(work: impl FnOnce(&Shared) -> anyhow::Result<String> + Send + 'static) -> Job {
+    fn start(work: impl FnOnce(&Shared) -> engine::Result<String> + Send + 'static) -> Job {
         let shared = Arc::new(Shared::default());
         let theirs = Arc::clone(&shared);
         std::thread::spawn(move || {
@@ -281,8 +290,8 @@ fn threads(o: &mut Options<'_>) -> PyResult<usize> {
 }
 
 /// JSON text of a value.
-fn text(v: &serde_json::Value) -> anyhow::Result<String> {
-    Ok(serde_json::to_string(v)?)
+fn text(v: &serde_json::Value) -> engine::Result<String> {
+    Ok(v.to_string())
 }
 
 /// One cell: the JSON of `cell --json`.
