@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::observer::{Begin, Observed, Observer};
 use crate::sim::Setup;
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
+use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;
 use store::{fingerprint, journal_path, Journal, RunInfo};
@@ -149,14 +150,35 @@ impl Plan {
         Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s, already: false })
     }
 
+    /// What the journal is keyed by: every setting that decides the plan's
+    /// lines, in a stable, versioned encoding ([`JournalKey`] as JSON), so
+    /// that a journal resumes exactly the run that wrote it.
+    fn journal_key(&self) -> String {
+        let m = &self.meta;
+        let key = JournalKey {
+            version: JOURNAL_KEY_VERSION,
+            scene: &m.scene_toml,
+            overrides: &m.overrides,
+            preset: m.preset.name(),
+            accuracy: &m.accuracy,
+            integrator: m.integrator.name(),
+            x: AxisKey::of(&m.plane.x),
+            y: AxisKey::of(&m.plane.y),
+            along: m.plane.along.name(),
+            sweeps: m.sweeps.iter().map(|s| s.name()).collect(),
+            section_cap: m.section_cap,
+            shard: self.shard.map(|s| (s.k, s.n)),
+            parent: self.parent.as_ref().map(|p| (p.path.as_str(), p.labels_crc32, p.region.as_str())),
+            entries: self.entries.0.iter().map(|((s, line), state)| (s.name(), *line, state.as_slice())).collect(),
+        };
+        // Strings, numbers and sequences only: the encoding cannot fail.
+        serde_json::to_string(&key).unwrap_or_default()
+    }
+
     /// The journal beside the output (resumed, or new) and the atlas of the
     /// lines it kept; none without an output.
     fn open_journal(&self) -> Result<(Atlas, Option<Journal>)> {
-        let mut key = format!("{:?} {:?}", self.meta, self.shard);
-        if let Some(parent) = &self.parent {
-            key += &format!(" {parent:?} {:?}", self.entries);
-        }
-        let key = fingerprint(&key);
+        let key = fingerprint(&self.journal_key());
         let mut atlas = Atlas::new(self.meta.clone());
         atlas.entries = self.entries.clone();
         let Some(out) = &self.output else { return Ok((atlas, None)) };
@@ -553,6 +575,86 @@ impl Plan {
             // Not probed (check was not called): equal costs deal lines in turn.
             (Some(s), None) => grid::schedule::shard_lines(&vec![1.0; lines], s.k, s.n),
             (None, _) => vec![true; lines],
+        }
+    }
+}
+
+/// The version of [`JournalKey`]'s encoding: a journal of another version is
+/// not resumed from (its fingerprint differs).
+const JOURNAL_KEY_VERSION: u32 = 1;
+
+/// Every setting that decides a plan's lines, as its journal is keyed.
+#[derive(Serialize)]
+struct JournalKey<'a> {
+    version: u32,
+    scene: &'a str,
+    overrides: &'a [(String, f64)],
+    preset: &'static str,
+    accuracy: &'a [(String, f64)],
+    integrator: &'static str,
+    x: AxisKey<'a>,
+    y: AxisKey<'a>,
+    along: &'static str,
+    sweeps: Vec<&'static str>,
+    section_cap: usize,
+    shard: Option<(usize, usize)>,
+    parent: Option<(&'a str, u32, &'a str)>,
+    entries: Vec<(&'static str, usize, &'a [f64])>,
+}
+
+/// An axis as a journal is keyed: its values and the lattice they snap to.
+#[derive(Serialize)]
+struct AxisKey<'a> {
+    name: &'a str,
+    start: f64,
+    stop: f64,
+    count: usize,
+    lattice: &'a [(f64, f64, usize)],
+}
+
+impl AxisKey<'_> {
+    fn of(a: &grid::Axis) -> AxisKey<'_> {
+        let lattice = a.lattice.as_ref().map_or(&[][..], |l| l.levels.as_slice());
+        AxisKey { name: &a.name, start: a.start, stop: a.stop, count: a.count, lattice }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{SceneSource, Sim};
+    use grid::{Along, Axis};
+
+    /// The journal's key is a versioned encoding of the settings: equal for
+    /// equal plans, and changed by each setting that changes the lines.
+    #[test]
+    fn the_journal_key_changes_with_every_setting_of_the_lines() {
+        let s = Sim::new(SceneSource::File("../../configs/multi-stop.toml".into())).setup().unwrap();
+        let key = |edit: &dyn Fn(&mut Plan)| {
+            let plane = Plane::new(Axis::new("omega", 0.2, 2.5, 4), Axis::new("delta", 0.1, 1.5, 3), Along::X).unwrap();
+            let mut plan = Plan::new(&s, 0, plane, vec![SweepKind::Up], 1).unwrap();
+            edit(&mut plan);
+            plan.journal_key()
+        };
+        let base = key(&|_| {});
+        assert_eq!(base, key(&|_| {}));
+        let v: serde_json::Value = serde_json::from_str(&base).unwrap();
+        assert_eq!(
+            (v["version"].as_u64(), v["x"]["count"].as_u64(), v["along"].as_str()),
+            (Some(1), Some(4), Some("x"))
+        );
+        let edits: [(&str, &dyn Fn(&mut Plan)); 8] = [
+            ("section cap", &|p| p.meta.section_cap = 5),
+            ("shard", &|p| p.shard = Some(Shard { k: 1, n: 2 })),
+            ("accuracy", &|p| p.meta.accuracy.push(("max_periods".into(), 900.0))),
+            ("overrides", &|p| p.meta.overrides.push(("delta".into(), 0.5))),
+            ("sweeps", &|p| p.meta.sweeps = vec![SweepKind::Down]),
+            ("axis", &|p| p.meta.plane.x.stop = 2.6),
+            ("lattice", &|p| p.meta.plane.y.lattice = Some(grid::Lattice { levels: vec![(0.1, 1.5, 3)] })),
+            ("entries", &|p| drop(p.entries.0.insert((SweepKind::Up, 0), vec![0.1; 4]))),
+        ];
+        for (what, edit) in edits {
+            assert_ne!(key(edit), base, "{what}");
         }
     }
 }
