@@ -20,7 +20,7 @@ pub fn run(a: CellArgs) -> Result<()> {
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
         let w = engine::trace(sys, s, cell, a.trace_samples)?;
-        write_atomically(path, |tmp| std::fs::write(tmp, engine::trace_csv(sys, &w.rows)))?;
+        write_atomically(path, |tmp| std::fs::write(tmp, trace_csv(sys, &w.rows)))?;
         if let Some(note) = w.note(engine::window_periods(cell)) {
             errln!("warning: trace {}: {note}", path.display());
         }
@@ -100,4 +100,24 @@ fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     let _ = writeln!(o, "final     {:?}", c.final_state);
     let _ = writeln!(o, "work      {} periods, {} events", c.periods, c.events);
     o
+}
+
+/// The window as CSV: `t`, every coordinate and velocity, and the event.
+pub fn trace_csv(sys: &solver::System, rows: &[engine::Row]) -> String {
+    let mut out = String::from("t");
+    for m in &sys.model.masses {
+        let _ = write!(out, ",x_{}", m.name);
+    }
+    for m in &sys.model.masses {
+        let _ = write!(out, ",v_{}", m.name);
+    }
+    out.push_str(",event\n");
+    for (t, y, event) in rows {
+        let _ = write!(out, "{t:.15e}");
+        for v in y {
+            let _ = write!(out, ",{v:.15e}");
+        }
+        let _ = writeln!(out, ",{}", event.as_deref().unwrap_or(""));
+    }
+    out
 }

@@ -11,6 +11,7 @@ mod cell;
 mod common;
 mod continue_cmd;
 mod curve;
+mod eta;
 mod explore;
 mod figure;
 mod flags;

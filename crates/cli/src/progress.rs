@@ -1,13 +1,14 @@
 //! Progress of a run: a bar on a terminal, a line at most every few seconds
 //! otherwise (`VIBROATLAS_PROGRESS_EVERY`: another interval, in seconds),
 //! nothing with `--quiet`. Numbers are written for people (`3 650 cells/s`,
-//! `2 min 05 s`). What they say is counted by [`engine::Meter`]: the cells
+//! `2 min 05 s`). What they say is counted by [`crate::eta::Meter`]: the cells
 //! done, and where the scheduler probed the lines' costs the work they stand
-//! for, from which the time left is estimated (see [`engine::Work`]: counting
+//! for, from which the time left is estimated (see [`crate::eta::Work`]: counting
 //! cells says the first tenth of an atlas's cells took a tenth of the time,
 //! when the most expensive lines, computed first, took a third).
 
-use engine::{Begin, Meter, Status};
+use crate::eta::{Meter, Status};
+use engine::Begin;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::sync::Mutex;

@@ -45,7 +45,6 @@ pub mod bench;
 mod cell;
 mod curve;
 mod error;
-mod eta;
 mod merge;
 mod observer;
 mod orbit;
@@ -69,7 +68,6 @@ pub use curve::{
     CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced,
 };
 pub use error::{grid_error, in_words, Error, Fields, Opt, RequestError, Result, Words};
-pub use eta::{eta, Meter, Status, Work};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{
@@ -86,7 +84,7 @@ pub use summary::{
 };
 pub use sweep::{sweep, Differing, Direction, Legs, SweepPoint, SweepReport, SweepRequest, Swept};
 pub use trace::{
-    check_trace_samples, halt_text, sections, trace, trace_csv, window, window_periods, Row, Sections, Window,
+    check_trace_samples, halt_text, sections, trace, window, window_periods, Row, Sections, Window,
     MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
 };
 pub use zoom::{check_size as check_zoom_size, zoom, ZoomRequest, MAX_ZOOM_CELLS};

@@ -643,7 +643,8 @@ mod tests {
             (v["version"].as_u64(), v["x"]["count"].as_u64(), v["along"].as_str()),
             (Some(1), Some(4), Some("x"))
         );
-        let edits: [(&str, &dyn Fn(&mut Plan)); 8] = [
+        type Edit<'a> = (&'a str, &'a dyn Fn(&mut Plan));
+        let edits: [Edit; 8] = [
             ("section cap", &|p| p.meta.section_cap = 5),
             ("shard", &|p| p.shard = Some(Shard { k: 1, n: 2 })),
             ("accuracy", &|p| p.meta.accuracy.push(("max_periods".into(), 900.0))),

@@ -1,12 +1,11 @@
 //! Drilling into one cell: its classified window sampled densely with every
-//! event named ([`window`], as CSV by [`trace_csv`]), and its Poincaré
+//! event named ([`window`]), and its Poincaré
 //! sections over many periods ([`sections`]).
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::sim::Setup;
 use solver::{CellResult, Simulator, System};
-use std::fmt::Write as _;
 
 /// The sections of a cell over some periods from its final state: the first
 /// labelled mass's `(x, v)` at `t = kT`, and per stop its impacts as
@@ -163,24 +162,4 @@ pub fn trace(sys: &System, s: &Setup, c: &CellResult, samples: usize) -> Result<
         return Err(RequestError::option(Opt::TraceSamples).text(why).into());
     }
     Ok(window(sys, s, c, periods, samples))
-}
-
-/// The window as CSV: `t`, every coordinate and velocity, and the event.
-pub fn trace_csv(sys: &System, rows: &[Row]) -> String {
-    let mut out = String::from("t");
-    for m in &sys.model.masses {
-        let _ = write!(out, ",x_{}", m.name);
-    }
-    for m in &sys.model.masses {
-        let _ = write!(out, ",v_{}", m.name);
-    }
-    out.push_str(",event\n");
-    for (t, y, event) in rows {
-        let _ = write!(out, "{t:.15e}");
-        for v in y {
-            let _ = write!(out, ",{v:.15e}");
-        }
-        let _ = writeln!(out, ",{}", event.as_deref().unwrap_or(""));
-    }
-    out
 }

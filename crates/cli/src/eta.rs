@@ -203,9 +203,9 @@ impl Status {
 }
 
 impl Meter {
-    /// The meter of a run that begins ([`crate::Begin`]): weighed by its
+    /// The meter of a run that begins ([`engine::Begin`]): weighed by its
     /// jobs' probed costs where it has them, else counted in cells.
-    pub fn new(b: &crate::Begin<'_>) -> Meter {
+    pub fn new(b: &engine::Begin<'_>) -> Meter {
         let work = b.prior.and_then(|prior| Work::new(b.lines.to_vec(), prior.to_vec(), b.line_len, b.threads));
         Meter {
             total: b.total,
@@ -359,14 +359,14 @@ mod tests {
 
     #[test]
     fn a_meter_counts_cells_or_weighs_lines() {
-        let b = crate::Begin { total: 10, done: 4, lines: &[], prior: None, line_len: 1, threads: 1 };
+        let b = engine::Begin { total: 10, done: 4, lines: &[], prior: None, line_len: 1, threads: 1 };
         let m = Meter::new(&b);
         assert!(!m.weighed());
         assert_eq!(m.advance(3), 7);
         let s = m.status();
         assert_eq!((s.done, s.total, s.work, s.weighed), (7, 10, (3.0, 6.0), false));
         let prior = [10.0, 30.0];
-        let b = crate::Begin { total: 8, done: 0, lines: &[0, 1], prior: Some(&prior), line_len: 4, threads: 2 };
+        let b = engine::Begin { total: 8, done: 0, lines: &[0, 1], prior: Some(&prior), line_len: 4, threads: 2 };
         let m = Meter::new(&b);
         assert!(m.weighed());
         assert_eq!(m.status().work, (0.0, 40.0));
