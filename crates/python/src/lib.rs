@@ -116,8 +116,8 @@ struct Shared {
     done: AtomicU64,
     total: AtomicU64,
     cancel: AtomicBool,
-    /// The outcome (JSON text or failure), once the run has ended.
-    outcome: Mutex<Option<Result<String, Failure>>>,
+    /// The outcome (the result's value or the failure), once the run has ended.
+    outcome: Mutex<Option<Result<serde_json::Value, Failure>>>,
     ended: Condvar,
 }
 
@@ -141,14 +141,14 @@ struct Job {
 }
 
 impl Job {
-    /// Starts `work` on a new thread; its text or error becomes the outcome.
-    fn start(work: impl FnOnce(&Shared) -> engine::Result<String> + Send + 'static) -> Job {
+    /// Starts `work` on a new thread; its value or error becomes the outcome.
+    fn start(work: impl FnOnce(&Shared) -> engine::Result<serde_json::Value> + Send + 'static) -> Job {
         let shared = Arc::new(Shared::default());
         let theirs = Arc::clone(&shared);
         std::thread::spawn(move || {
             let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&theirs)));
             let outcome = match ran {
-                Ok(Ok(text)) => Ok(text),
+                Ok(Ok(value)) => Ok(value),
                 Ok(Err(e)) => Err(Failure::of(&e)),
                 Err(p) => Err(Failure::Panic(
                     p.downcast_ref::<&str>()
@@ -195,12 +195,13 @@ impl Job {
         self.shared.cancel.store(true, Ordering::Relaxed);
     }
 
-    /// The run's JSON text, waiting for it to end; raises its error.
-    fn result(&self, py: Python<'_>) -> PyResult<String> {
+    /// The run's result as Python objects (dicts, lists, numbers, text),
+    /// waiting for it to end; raises its error.
+    fn result<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         py.detach(|| self.wait_for(None));
         let outcome = self.shared.outcome.lock().unwrap_or_else(|p| p.into_inner()).clone();
         match outcome {
-            Some(Ok(text)) => Ok(text),
+            Some(Ok(value)) => Ok(pythonize::pythonize(py, &value)?),
             Some(Err(f)) => Err(f.into_py()),
             None => Err(PyRuntimeError::new_err("the run has not ended")),
         }
@@ -289,12 +290,20 @@ fn threads(o: &mut Options<'_>) -> PyResult<usize> {
     engine::threads(n).map_err(|e| PyValueError::new_err(engine::in_words(&e, &Keywords)))
 }
 
-/// JSON text of a value.
-fn text(v: &serde_json::Value) -> engine::Result<String> {
-    Ok(v.to_string())
+/// What a run that writes a file returns: the file and the seconds it took.
+#[derive(serde::Serialize)]
+struct Written {
+    output: String,
+    seconds: f64,
 }
 
-/// One cell: the JSON of `cell --json`.
+impl Written {
+    fn value(output: String, seconds: f64) -> serde_json::Value {
+        serde_json::to_value(Written { output, seconds }).unwrap_or_default()
+    }
+}
+
+/// One cell: the value of `cell --json`.
 #[pyfunction]
 fn cell(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -304,10 +313,10 @@ fn cell(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_,
         None => Start::Initial,
     };
     o.finish()?;
-    Ok(Job::start(move |_| text(&engine::cell(&sim, &start)?.to_json())))
+    Ok(Job::start(move |_| Ok(engine::cell(&sim, &start)?.to_json())))
 }
 
-/// A sweep along one parameter: the JSON of `sweep --json`.
+/// A sweep along one parameter: the value of `sweep --json`.
 #[pyfunction]
 fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -324,7 +333,7 @@ fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         command: "vibroatlas.sweep (Python)".into(),
     };
     o.finish()?;
-    Ok(Job::start(move |shared| text(&engine::sweep(&r, shared)?.to_json())))
+    Ok(Job::start(move |shared| Ok(engine::sweep(&r, shared)?.to_json())))
 }
 
 /// An atlas written to `output`: `{"output": path, "seconds": s}`.
@@ -361,11 +370,11 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     o.finish()?;
     Ok(Job::start(move |shared| {
         let run = engine::atlas(&r, shared)?;
-        text(&serde_json::json!({"output": output, "seconds": run.secs}))
+        Ok(Written::value(output, run.secs))
     }))
 }
 
-/// The coexisting attractors of one point: the JSON of `attractors --json`.
+/// The coexisting attractors of one point: the value of `attractors --json`.
 #[pyfunction]
 fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -377,10 +386,10 @@ fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bou
         threads: threads(&mut o)?,
     };
     o.finish()?;
-    Ok(Job::start(move |shared| text(&engine::attractors(&r, shared)?.to_json())))
+    Ok(Job::start(move |shared| Ok(engine::attractors(&r, shared)?.to_json())))
 }
 
-/// A bifurcation curve: the JSON of `curve --json`.
+/// A bifurcation curve: the value of `curve --json`.
 #[pyfunction]
 fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -402,7 +411,7 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         command: "vibroatlas.curve (Python)".into(),
     };
     o.finish()?;
-    Ok(Job::start(move |shared| text(&engine::curve(&r, shared)?.to_json())))
+    Ok(Job::start(move |shared| Ok(engine::curve(&r, shared)?.to_json())))
 }
 
 /// The module.
@@ -423,7 +432,7 @@ fn zoom(parent: String, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     o.finish()?;
     Ok(Job::start(move |shared| {
         let run = engine::zoom(&r, shared)?;
-        text(&serde_json::json!({"output": output, "seconds": run.secs}))
+        Ok(Written::value(output, run.secs))
     }))
 }
 

@@ -175,8 +175,8 @@ def run(start, scene, params, options, progress=False, unit="cell", desc=None):
 
 
 def _job(start, scene, params, options, progress, unit, desc):
-    """Starts a native job and waits for it; returns its result, the JSON text
-    decoded. With `progress`, a tqdm bar (tqdm.auto: a widget in a notebook)
+    """Starts a native job and waits for it; returns its result (the value of
+    the CLI's `--json`, as dicts, lists, numbers and text). With `progress`, a tqdm bar (tqdm.auto: a widget in a notebook)
     appears once the work is known to be long (more than BAR_UNITS units, or
     running for more than BAR_SECONDS). Ctrl-C cancels the job, waits for it
     to end (it removes its partial output) at most CANCEL_WAIT seconds, and
@@ -187,7 +187,7 @@ def _job(start, scene, params, options, progress, unit, desc):
 
 def wait(start, progress, unit, desc):
     """Starts the native job `start()` returns and waits for it (see
-    `_job`); returns its result, the JSON text decoded."""
+    `_job`); returns its result as Python objects."""
     job = start()
     bar = None
     t0 = time.monotonic()
@@ -223,7 +223,7 @@ def wait(start, progress, unit, desc):
         raise
     finally:
         _close(bar)
-    return json.loads(job.result())
+    return job.result()
 
 
 def _close(bar):
