@@ -117,7 +117,7 @@ pub(crate) fn required_text(path: &Path, loc: &Location, name: &str) -> Result<S
 }
 
 /// What a checksum attribute `name` that does not match says.
-fn mismatch(name: &str) -> String {
+pub(crate) fn mismatch(name: &str) -> String {
     format!(
         "do not match their checksum (attribute {name}): the file is damaged or was changed since vibroatlas wrote it"
     )
@@ -138,53 +138,4 @@ pub(crate) fn verify(path: &Path, loc: &Location) -> Result<(), StoreError> {
         return Err(StoreError::format(path, what));
     }
     Ok(())
-}
-
-/// The texts of the 1-D dataset `ds`, checked against their checksum
-/// ([`attr::TEXT_CRC32`]; datasets written before it have none) and as UTF-8.
-pub(crate) fn texts(ck: &crate::read::Checker, ds: &hdf5::Dataset) -> Result<Vec<String>, StoreError> {
-    crate::heap::check(ds).map_err(|e| ck.bad(&ds.name(), e))?;
-    let raw = ds.read_raw::<VarLenUnicode>().map_err(|e| ck.bad(&ds.name(), crate::error::plain(&e)))?;
-    if let Some(want) = optional::<u32>(ck.path, ds, attr::TEXT_CRC32)? {
-        if netcdf::texts_crc32(raw.iter().map(|t| t.as_bytes())) != want {
-            return Err(ck.bad(&ds.name(), format!("its texts {}", mismatch(attr::TEXT_CRC32))));
-        }
-    }
-    values_at(ck, ds, &crate::verify::text_bytes(raw.iter().map(|t| t.as_str())))?;
-    raw.iter()
-        .map(|v| String::from_utf8(v.as_bytes().to_vec()))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|_| ck.bad(&ds.name(), "a text that is not UTF-8"))
-}
-
-/// Checks the values of `ds` (`bytes`, as read; texts as
-/// [`crate::verify::text_bytes`]) against the checksum that binds them to
-/// its path ([`attr::VALUES_CRC32`]; datasets written before it have none).
-pub(crate) fn values_at(ck: &crate::read::Checker, ds: &hdf5::Dataset, bytes: &[u8]) -> Result<(), StoreError> {
-    match optional::<u32>(ck.path, ds, attr::VALUES_CRC32)? {
-        Some(want) if crate::verify::of_run(crate::verify::values_crc32(&ds.name(), bytes), ck.run) != want => Err(ck.bad(
-            &ds.name(),
-            format!("its values (at this path) {}", mismatch(attr::VALUES_CRC32)),
-        )),
-        None if ck.sealed => Err(ck.bad(
-            &ds.name(),
-            format!(
-                "its values have no checksum (attribute {}), which vibroatlas gives every dataset: it was replaced since vibroatlas wrote the file",
-                attr::VALUES_CRC32
-            ),
-        )),
-        _ => Ok(()),
-    }
-}
-
-/// Checks the values of `ds` (`bytes`, as read) against their checksum
-/// ([`attr::DATA_CRC32`]; datasets written before it, or deflated, have
-/// none).
-pub(crate) fn data(ck: &crate::read::Checker, ds: &hdf5::Dataset, bytes: &[u8]) -> Result<(), StoreError> {
-    match optional::<u32>(ck.path, ds, attr::DATA_CRC32)? {
-        Some(want) if crc32fast::hash(bytes) != want => {
-            Err(ck.bad(&ds.name(), format!("its values {}", mismatch(attr::DATA_CRC32))))
-        }
-        _ => Ok(()),
-    }
 }

@@ -19,7 +19,7 @@
 //! ([`fletcher32`], as `H5Z_filter_fletcher32` computes it), little-endian,
 //! with the filter mask 0 (every filter applied).
 
-use crate::verify::{bytes_of, Expected};
+use crate::checksum::{bytes_of, Expected};
 use flate2::write::ZlibEncoder;
 use flate2::Compression;
 use hdf5::{Dataset, Group, H5Type};

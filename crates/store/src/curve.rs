@@ -136,7 +136,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
         }
     };
     // Curves are written apart from the atlas's writer, without values_crc32.
-    let ck = crate::read::Checker { path, sealed: false, run: 0 };
+    let ck = crate::checked::Checker { path, sealed: false, run: 0 };
     let mut out = Vec::new();
     while let Ok(g) = holder.group(&curve(out.len())) {
         out.push(read_one(&ck, &g)?);
@@ -145,9 +145,9 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
 }
 
 /// One curve's group, its datasets checked before they are used: sizes
-/// against the file ([`crate::read::MAX_EXPANSION`]), the two coordinates of
+/// against the file ([`crate::checked::MAX_EXPANSION`]), the two coordinates of
 /// the points and of the codimension-two points of one length each.
-fn read_one(ck: &crate::read::Checker, g: &hdf5::Group) -> Result<Curve, StoreError> {
+fn read_one(ck: &crate::checked::Checker, g: &hdf5::Group) -> Result<Curve, StoreError> {
     crate::attrs::verify(ck.path, g)?;
     let attr = |name: &str| crate::attrs::required_text(ck.path, g, name);
     let free: Vec<String> = attr(FREE)?.split(',').map(str::to_string).collect();
@@ -156,7 +156,7 @@ fn read_one(ck: &crate::read::Checker, g: &hdf5::Group) -> Result<Curve, StoreEr
     let (va, vb) = (read(&a)?, read(&b)?);
     let (ca, cb) = (read(&codim2(&a))?, read(&codim2(&b))?);
     let kinds_set = ck.open(g, CODIM2_KIND)?;
-    let kinds = crate::attrs::texts(ck, &kinds_set)?;
+    let kinds = crate::checked::texts(ck, &kinds_set)?;
     for ((x, y), what) in [((&va, &vb), "points"), ((&ca, &cb), "codimension-two points")] {
         if x.0.len() != y.0.len() {
             return Err(ck.bad(&y.1, format!("{} {what}, but {} has {}", y.0.len(), x.1, x.0.len())));

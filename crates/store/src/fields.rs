@@ -3,10 +3,10 @@
 //! them, how each is created and how a cell fills it, cut into chunks of
 //! whole lines so that a chunk can be written as soon as its lines are done.
 
+use crate::checksum::bytes_of;
 use crate::chunked::{deflate, Deflater, CHUNK_BYTES};
 use crate::layout::*;
 use crate::netcdf;
-use crate::verify::bytes_of;
 use hdf5::{Dataset, Group, H5Type};
 use maps::{Along, CellData, Meta, Plane};
 
@@ -304,7 +304,7 @@ impl Field {
     /// Whether `ds`, read through the library's filters, holds the dataset
     /// of `cells`, bit for bit.
     /// The dataset `ds` of the file compared with the values of `cells`:
-    /// the [`crate::verify::values_crc32`] of what it read where equal.
+    /// the [`crate::checksum::values_crc32`] of what it read where equal.
     pub(crate) fn compare(self, m: &Meta, ds: &Dataset, cells: &[Option<CellData>]) -> hdf5::Result<Option<u32>> {
         self.encode(m, Compare { ds, cells })
     }
@@ -350,7 +350,7 @@ impl Encode for Compare<'_> {
             want.extend((0..per).map(|k| f(cell.as_ref(), k)));
         }
         let same = bytes_of(&read) == bytes_of(&want);
-        Ok(same.then(|| crate::verify::values_crc32(&self.ds.name(), bytes_of(&read))))
+        Ok(same.then(|| crate::checksum::values_crc32(&self.ds.name(), bytes_of(&read))))
     }
 }
 

@@ -95,12 +95,6 @@ pub struct Journal {
     fingerprint: String,
 }
 
-/// The journal path of an output file: `.<name>.journal` beside it.
-pub fn journal_path(output: &Path) -> PathBuf {
-    let name = output.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-    output.with_file_name(format!(".{name}.journal"))
-}
-
 /// 64-bit FNV-1a hash of a text, as hex.
 pub fn fingerprint(text: &str) -> String {
     let mut h: u64 = 0xcbf29ce484222325;

@@ -21,6 +21,8 @@
 #![deny(missing_docs)]
 
 mod attrs;
+mod checked;
+mod checksum;
 mod chunked;
 mod curve;
 mod error;
@@ -35,13 +37,14 @@ mod read;
 mod verify;
 mod write;
 
+pub use checked::MAX_EXPANSION;
 pub use curve::{add_curves, read_curves, write_curves, Curve};
 pub use error::{Hdf5Error, JournalProblem, OtherKind, Setting, StoreError};
-pub use journal::{fingerprint, journal_path, Journal, SealedLine, Sealer};
+pub use journal::{fingerprint, Journal, SealedLine, Sealer};
 pub use lock::{
-    canonical_output, check_output, check_own_file, check_writable, commit, create_folder, lock_path, write_atomically,
-    OutputLock,
+    canonical_output, check_output, check_own_file, check_writable, commit, create_folder, journal_path, lock_path,
+    partial_path, write_atomically, OutputLock,
 };
 pub use merge::{merge, Merged};
-pub use read::{available_memory, is_atlas, read, stored_scene, Loaded, MAX_DIM, MAX_EXPANSION};
-pub use write::{check_finished, labels_crc32, pairs, partial_path, write, Draft, Parent, RunInfo, GIT_COMMIT};
+pub use read::{available_memory, is_atlas, read, stored_scene, Loaded, MAX_DIM};
+pub use write::{check_finished, labels_crc32, pairs, write, Draft, Parent, RunInfo, GIT_COMMIT};

@@ -24,6 +24,22 @@ use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, Write};
 use std::path::{Path, PathBuf};
 
+/// The journal path of an output file: `.<name>.journal` beside it.
+pub fn journal_path(output: &Path) -> PathBuf {
+    let name = output.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    output.with_file_name(format!(".{name}.journal"))
+}
+
+/// The temporary path used while writing `path`: `.<stem>.partial.<ext>` beside
+/// it (the extension is kept for writers that choose a format by it).
+pub fn partial_path(path: &Path) -> PathBuf {
+    let stem = path.file_stem().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
+    match path.extension() {
+        Some(ext) => path.with_file_name(format!(".{stem}.partial.{}", ext.to_string_lossy())),
+        None => path.with_file_name(format!(".{stem}.partial")),
+    }
+}
+
 /// The file that writing `output` writes: `output` in its folder's canonical
 /// path (links and `..` resolved) or, when `output` is a symbolic link
 /// (dangling or not), the file it names, followed through every link. The file
@@ -223,8 +239,8 @@ impl OutputLock {
             writeln!(file, "{}", holder()).map_err(io)?;
             let lock = OutputLock { file, path };
             for out in [canonical.as_path(), output] {
-                check_own_file(&crate::journal_path(out), "journal")?;
-                check_own_file(&crate::partial_path(out), "temporary file")?;
+                check_own_file(&journal_path(out), "journal")?;
+                check_own_file(&partial_path(out), "temporary file")?;
             }
             return Ok(lock);
         }
@@ -299,7 +315,7 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
 pub fn check_writable(path: &Path) -> Result<(), StoreError> {
     let refused = |why: String| StoreError::format(path, why);
     std::fs::OpenOptions::new().write(true).open(path).map_err(|e| refused(format!("cannot be rewritten ({e})")))?;
-    let probe = crate::partial_path(path);
+    let probe = partial_path(path);
     let mut options = OpenOptions::new();
     options.write(true).create(true).truncate(true);
     open_own_file(&probe, "temporary file", &mut options).map_err(|e| match e {
@@ -360,7 +376,7 @@ pub fn write_atomically<E: Into<Box<dyn std::error::Error + Send + Sync>>>(
     write: impl FnOnce(&Path) -> Result<(), E>,
 ) -> Result<(), StoreError> {
     check_folder(path)?;
-    let tmp = crate::partial_path(path);
+    let tmp = partial_path(path);
     check_own_file(&tmp, "temporary file")?;
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);
@@ -418,7 +434,7 @@ mod tests {
         let cause = e.source().expect("a source");
         assert_eq!(cause.downcast_ref::<std::io::Error>().map(|c| c.to_string()).as_deref(), Some("disk full"));
         assert_eq!(format!("{e}: {cause}"), format!("{}: disk full", out.display()));
-        assert!(!out.exists() && !crate::partial_path(&out).exists());
+        assert!(!out.exists() && !partial_path(&out).exists());
         let bad = dir.join("not-hdf5.h5");
         std::fs::write(&bad, "text").unwrap();
         let e = StoreError::hdf5(&bad, hdf5::File::open(&bad).unwrap_err());

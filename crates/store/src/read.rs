@@ -19,6 +19,7 @@ pub struct Loaded {
 }
 
 use crate::attrs::{required, required_text as attr, text as attr_opt};
+use crate::checked::{data, texts, Checker, Dim};
 
 fn list(s: &str) -> Vec<String> {
     if s.is_empty() {
@@ -38,93 +39,8 @@ fn pairs(s: &str) -> Result<Vec<(String, f64)>, String> {
         .collect()
 }
 
-/// Largest uncompressed size of a dataset per byte it takes in the file:
-/// deflate's own bound (1032) with a margin. A dataset whose values would
-/// take more is refused before it is read: it is not one vibroatlas wrote
-/// (its chunks missing, its shape forged), and reading it would allocate far
-/// more than the file holds.
-pub const MAX_EXPANSION: u64 = 1100;
-
 /// Largest state dimension a reader takes (twice the number of masses).
 pub const MAX_DIM: usize = 4096;
-
-/// Checks the datasets of one file before they are read: their shapes
-/// against the grid and each other, their sizes against the file's own.
-pub(crate) struct Checker<'a> {
-    pub(crate) path: &'a Path,
-    /// Every dataset with values carries its `values_crc32` (layout 3 on):
-    /// one without it was replaced.
-    pub(crate) sealed: bool,
-    /// The file's run, which its `values_crc32` are bound to
-    /// ([`crate::verify::run_of`]).
-    pub(crate) run: u32,
-}
-
-/// One axis of a dataset's expected shape: its length, what it counts, and
-/// what says so (`rows`, `the grid has`).
-#[derive(Clone, Copy)]
-struct Dim<'a>(usize, &'a str, &'a str);
-
-impl Checker<'_> {
-    pub(crate) fn bad(&self, ds: &str, message: impl Into<String>) -> StoreError {
-        StoreError::dataset(self.path, ds, message)
-    }
-
-    /// Dataset `name` of `g`, its uncompressed size bounded by its bytes in
-    /// the file ([`MAX_EXPANSION`]).
-    pub(crate) fn open(&self, g: &hdf5::Group, name: &str) -> Result<hdf5::Dataset, StoreError> {
-        let ds = g.dataset(name).map_err(|e| StoreError::hdf5(self.path, e))?;
-        let elem = ds.dtype().map_err(|e| StoreError::hdf5(self.path, e))?.size() as u64;
-        let bytes = (ds.size() as u64).saturating_mul(elem);
-        let stored = ds.storage_size();
-        if bytes > stored.saturating_mul(MAX_EXPANSION) {
-            return Err(self.bad(
-                &ds.name(),
-                format!("{bytes} bytes of values stored in {stored} bytes of the file: not a dataset vibroatlas wrote"),
-            ));
-        }
-        Ok(ds)
-    }
-
-    /// [`Checker::open`], then its shape checked against `want` (axis by
-    /// axis when it has as many axes, else by its number of values).
-    fn shaped(&self, g: &hdf5::Group, name: &str, want: &[Dim]) -> Result<hdf5::Dataset, StoreError> {
-        let ds = self.open(g, name)?;
-        let shape = ds.shape();
-        if shape.len() == want.len() {
-            for (&got, &Dim(n, what, says)) in shape.iter().zip(want) {
-                if got != n {
-                    return Err(self.bad(&ds.name(), format!("{got} {what}, {says} {n}")));
-                }
-            }
-        } else {
-            let n = want.iter().fold(1usize, |p, d| p.saturating_mul(d.0));
-            if ds.size() != n {
-                let dims: Vec<String> = want.iter().map(|d| d.0.to_string()).collect();
-                return Err(
-                    self.bad(&ds.name(), format!("{} values, expected {} ({})", ds.size(), n, dims.join(" x ")))
-                );
-            }
-        }
-        Ok(ds)
-    }
-
-    /// Reads `ds` whole (its size checked by [`Checker::open`]).
-    /// The values of `ds`, checked against their `values_crc32` where it
-    /// has one (files written before it have none).
-    pub(crate) fn raw<T: hdf5::H5Type + Copy>(&self, ds: &hdf5::Dataset) -> Result<Vec<T>, StoreError> {
-        let h = |e: hdf5::Error| self.bad(&ds.name(), crate::error::plain(&e));
-        let v = ds.read_raw::<T>().map_err(h)?;
-        // The checksum is of the values as stored: a dataset read as another
-        // type (narrow flags read as u32) is checked in its own.
-        if ds.dtype().and_then(|d| d.to_descriptor()).map_err(h)? == T::type_descriptor() {
-            crate::attrs::values_at(self, ds, crate::verify::bytes_of(&v))?;
-        } else if let Some(stored) = crate::verify::stored_bytes(ds).map_err(h)? {
-            crate::attrs::values_at(self, ds, &stored)?;
-        }
-        Ok(v)
-    }
-}
 
 /// Memory available to the process, bytes (`MemAvailable` of
 /// /proc/meminfo; 4 GiB where it cannot be read): readers and runs bound
@@ -195,7 +111,7 @@ impl SweepSets {
 /// A sweep's table of reasons and its cells' codes into it, each code -1 or
 /// an index of the table.
 fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result<(Vec<String>, Vec<i32>), StoreError> {
-    let text = crate::attrs::texts(ck, table)?;
+    let text = texts(ck, table)?;
     let c = ck.raw::<i32>(codes)?;
     if let Some(bad) = c.iter().find(|&&c| c < -1 || c as i64 >= text.len() as i64) {
         return Err(ck.bad(&codes.name(), format!("code {bad} is not in the table of {} reasons", text.len())));
@@ -232,7 +148,7 @@ pub fn stored_scene(path: &Path) -> Result<String, StoreError> {
 
 /// Reads an atlas file. Every dataset is checked before it is used: its
 /// shape against the grid and the other datasets, its size against the
-/// file's (see [`MAX_EXPANSION`]), the sections' offsets against their
+/// file's (see [`crate::checked::MAX_EXPANSION`]), the sections' offsets against their
 /// values; the whole against the memory available. A bad file is one
 /// [`StoreError::Dataset`] naming the dataset (`up/flags: 59 rows, the grid
 /// has 60`).
@@ -252,7 +168,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     // by hand does not make a file of layout 3 one of layout 2).
     let x_checked = attr_opt(path, &f, attr::X)?
         .is_some_and(|x| f.dataset(&format!("{AXES}/{x}")).is_ok_and(|d| d.attr(attr::VALUES_CRC32).is_ok()));
-    let ck = Checker { path, sealed: version >= 3 || x_checked, run: crate::verify::run_of(&f) };
+    let ck = Checker { path, sealed: version >= 3 || x_checked, run: crate::checksum::run_of(&f) };
     // From layout 3 on the root's texts always have their checksum: one
     // deleted would let them be changed unseen.
     if ck.sealed && f.attr(attr::ATTRIBUTES_CRC32).is_err() {
@@ -300,13 +216,13 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
         let g = f.group(sweep.name()).map_err(h)?;
         for table in [LABEL, NPQ, COMPONENT, IMPACT_COLUMN, MASS] {
             if g.link_exists(table) {
-                crate::attrs::texts(&ck, &ck.open(&g, table)?)?;
+                texts(&ck, &ck.open(&g, table)?)?;
             }
         }
         for mass in &meta.masses {
             let at = format!("{LEGEND}/{}/{mass}/label", sweep.name());
             if f.link_exists(&at) {
-                crate::attrs::texts(&ck, &ck.open(&f, &at)?)?;
+                texts(&ck, &ck.open(&f, &at)?)?;
             }
         }
     }
@@ -682,7 +598,7 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
             return Err(ck.bad(&at, format!("ends at {}, but values has {} points", offsets[n], sec.points)));
         }
         let values = ck.raw::<f64>(&sec.values)?;
-        crate::attrs::data(ck, &sec.values, crate::verify::bytes_of(&values))?;
+        data(ck, &sec.values, crate::checksum::bytes_of(&values))?;
         Ok((values, offsets.into_iter().map(|o| o as usize).collect(), sec.cols))
     };
     let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> Vec<Vec<f64>> {
@@ -740,7 +656,7 @@ fn read_attractors(
         masses.iter().map(|m| ck.shaped(g, &label_code(m), &[rows, columns, slot])).collect::<Result<Vec<_>, _>>()?;
     let count = ck.raw::<u8>(&count_set)?;
     let fraction = ck.raw::<f64>(&fraction_set)?;
-    let table = crate::attrs::texts(ck, &table_set)?;
+    let table = texts(ck, &table_set)?;
     let mut codes = Vec::new();
     for d in &code_sets {
         let c = ck.raw::<i16>(d)?;

@@ -6,6 +6,7 @@ use crate::chunked::Deflater;
 use crate::error::StoreError;
 use crate::fields::{self, Chunks, Field};
 use crate::layout::*;
+use crate::lock::partial_path;
 use crate::netcdf::{self, attr_array, attr_num, attr_str};
 use hdf5::Group;
 use maps::Atlas;
@@ -56,16 +57,6 @@ pub fn labels_crc32(atlas: &Atlas) -> u32 {
 
 /// The git commit the binary was built from (`unknown` outside a checkout).
 pub const GIT_COMMIT: &str = env!("VIBROATLAS_GIT_COMMIT");
-
-/// The temporary path used while writing `path`: `.<stem>.partial.<ext>` beside
-/// it (the extension is kept for writers that choose a format by it).
-pub fn partial_path(path: &Path) -> PathBuf {
-    let stem = path.file_stem().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-    match path.extension() {
-        Some(ext) => path.with_file_name(format!(".{stem}.partial.{}", ext.to_string_lossy())),
-        None => path.with_file_name(format!(".{stem}.partial")),
-    }
-}
 
 /// Writes `atlas` to `path` (atomically, through a temporary file), its
 /// datasets' chunks compressed on `threads` threads: a [`Draft`] created and
