@@ -249,8 +249,8 @@ pub fn stored_setup(m: &grid::Meta, file: &std::path::Path) -> Result<Setup> {
     let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| Error::file(file, "stored scene", Some(e.into())))?;
     let preset = m.preset;
     let mut accuracy = solver::Accuracy::preset(preset);
-    for (k, v) in &m.accuracy {
-        accuracy.set_named(k, *v)?;
+    for &(k, v) in &m.accuracy {
+        accuracy.set(k, v)?;
     }
     Ok(Setup {
         scene,

@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::error::{Opt, RequestError};
 use scene::Scene;
 use serde::Serialize;
-use solver::{Accuracy, Method, Preset};
+use solver::{Accuracy, Knob, Method, Preset};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -138,7 +138,7 @@ impl Sim {
 
     /// [`Sim::setup`] with the preset and integrator given, and `knobs` applied
     /// before the options' own.
-    fn setup_with(&self, preset: Preset, method: Method, knobs: &[(String, f64)]) -> Result<Setup> {
+    fn setup_with(&self, preset: Preset, method: Method, knobs: &[(Knob, f64)]) -> Result<Setup> {
         let scene = self.scene.load()?;
         for (name, value) in &self.set {
             check_finite(*value, || RequestError::keyed(Opt::Set, name))?;
@@ -146,10 +146,14 @@ impl Sim {
         }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();
-        for (k, v) in knobs.iter().chain(&self.accuracy) {
-            check_finite(*v, || RequestError::keyed(Opt::Accuracy, k))?;
-            accuracy.set_named(k, *v)?;
-            accuracy_overrides.push((k.clone(), *v));
+        let named = self.accuracy.iter().map(|(name, v)| {
+            check_finite(*v, || RequestError::keyed(Opt::Accuracy, name))?;
+            Ok::<_, crate::Error>((Knob::named(name)?, *v))
+        });
+        for knob in knobs.iter().map(|&kv| Ok(kv)).chain(named) {
+            let (k, v) = knob?;
+            accuracy.set(k, v)?;
+            accuracy_overrides.push((k, v));
         }
         if method == Method::Rk4 {
             check_rk4_resolves_contacts(&scene, &self.set, &accuracy)?;
@@ -212,7 +216,7 @@ pub struct Setup {
     /// The tolerances and budgets.
     pub accuracy: Accuracy,
     /// The accuracy knobs as given (stored in files).
-    pub accuracy_overrides: Vec<(String, f64)>,
+    pub accuracy_overrides: Vec<(Knob, f64)>,
     /// The preset the accuracy starts from.
     pub preset: Preset,
     /// The integrator.

@@ -19,8 +19,8 @@ pub struct Meta {
     pub overrides: Vec<(String, f64)>,
     /// Accuracy preset.
     pub preset: solver::Preset,
-    /// Accuracy knobs overridden on the command line, as given.
-    pub accuracy: Vec<(String, f64)>,
+    /// Accuracy knobs overridden, in the order given.
+    pub accuracy: Vec<(solver::Knob, f64)>,
     /// Integrator.
     pub integrator: solver::Method,
     /// The plane.

@@ -116,6 +116,14 @@ macro_rules! knobs {
                 Knob::ALL.iter().copied().find(|k| k.name() == name)
             }
 
+            /// The knob of a name, or an error naming it as unknown.
+            pub fn named(name: &str) -> Result<Knob, SolverError> {
+                Knob::parse(name).ok_or_else(|| SolverError::Accuracy {
+                    field: name.to_string(),
+                    message: "unknown accuracy knob".to_string(),
+                })
+            }
+
             /// The kind of value it takes.
             pub fn kind(self) -> KnobKind {
                 match self {
@@ -308,11 +316,7 @@ impl Accuracy {
 
     /// Sets a knob by its name (`--accuracy NAME=VALUE`).
     pub fn set_named(&mut self, name: &str, value: f64) -> Result<(), SolverError> {
-        let knob = Knob::parse(name).ok_or_else(|| SolverError::Accuracy {
-            field: name.to_string(),
-            message: "unknown accuracy knob".to_string(),
-        })?;
-        self.set(knob, value)
+        self.set(Knob::named(name)?, value)
     }
 
     /// Sets a knob, checked against its kind and limits; `max_periods` must
@@ -358,6 +362,13 @@ impl Accuracy {
 impl Default for Accuracy {
     fn default() -> Self {
         Accuracy::preset(Preset::Standard)
+    }
+}
+
+impl std::fmt::Display for Knob {
+    /// The knob's name (`event_tol`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

@@ -36,6 +36,7 @@ fn differences(a: &Meta, b: &Meta) -> Vec<String> {
     };
     let none = |s: String| if s.is_empty() { "none".to_string() } else { s };
     let pairs = |p: &[(String, f64)]| none(crate::write::pairs(p));
+    let knobs = |p: &[(solver::Knob, f64)]| none(crate::write::pairs(p));
     let sweeps = |m: &Meta| m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>().join(",");
     differ("scene", a.scene_name.clone(), b.scene_name.clone());
     if a.scene_name == b.scene_name && a.scene_toml != b.scene_toml {
@@ -52,7 +53,7 @@ fn differences(a: &Meta, b: &Meta) -> Vec<String> {
     differ("grid along", a.plane.along.name().into(), b.plane.along.name().into());
     differ("sweeps", sweeps(a), sweeps(b));
     differ("preset", a.preset.name().into(), b.preset.name().into());
-    differ("accuracy", pairs(&a.accuracy), pairs(&b.accuracy));
+    differ("accuracy", knobs(&a.accuracy), knobs(&b.accuracy));
     differ("integrator", a.integrator.name().into(), b.integrator.name().into());
     differ("section_cap", a.section_cap.to_string(), b.section_cap.to_string());
     out

@@ -39,6 +39,14 @@ fn pairs(s: &str) -> Result<Vec<(String, f64)>, String> {
         .collect()
 }
 
+/// Accuracy knobs as `k=v,k=v`, each a knob of the solver.
+fn knobs(s: &str) -> Result<Vec<(solver::Knob, f64)>, String> {
+    pairs(s)?
+        .into_iter()
+        .map(|(k, v)| solver::Knob::parse(&k).map(|k| (k, v)).ok_or_else(|| format!("unknown accuracy knob '{k}'")))
+        .collect()
+}
+
 /// Largest state dimension a reader takes (twice the number of masses).
 pub const MAX_DIM: usize = 4096;
 
@@ -475,7 +483,7 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             let name = attr(path, f, attr::PRESET)?;
             solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
         },
-        accuracy: pairs(&attr(path, f, attr::ACCURACY)?).map_err(fmt)?,
+        accuracy: knobs(&attr(path, f, attr::ACCURACY)?).map_err(fmt)?,
         integrator: {
             let name = attr(path, f, attr::INTEGRATOR)?;
             solver::Method::parse(&name).ok_or_else(|| fmt(format!("unknown integrator '{name}'")))?

@@ -637,16 +637,16 @@ fn write_section<'a>(
 /// Every accuracy knob of the run (`k=v,…`): the preset's with the overrides applied.
 fn knobs(m: &maps::Meta) -> String {
     let mut acc = solver::Accuracy::preset(m.preset);
-    for (k, v) in &m.accuracy {
+    for &(k, v) in &m.accuracy {
         // The overrides were validated when the run started.
-        let _ = acc.set_named(k, *v);
+        let _ = acc.set(k, v);
     }
     let number = |v: f64| if v.fract() == 0.0 && v.abs() < 1e15 { format!("{v}") } else { format!("{v:e}") };
     acc.knobs().iter().map(|(k, v)| format!("{k}={}", number(*v))).collect::<Vec<_>>().join(",")
 }
 
 /// `k=v,k=v` text of parameter pairs.
-pub fn pairs(p: &[(String, f64)]) -> String {
+pub fn pairs<K: std::fmt::Display>(p: &[(K, f64)]) -> String {
     p.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(",")
 }
 

@@ -31,8 +31,13 @@ try:
 except Exception:  # not installed (run from the sources)
     __version__ = "unknown"
 
-__all__ = ["cell", "sweep", "atlas", "zoom", "explore", "attractors", "curve", "open", "labels", "plot",
-           "SceneError"]
+__all__ = ["cell", "sweep", "atlas", "zoom", "explore", "Explorer", "attractors", "curve", "open", "labels",
+           "label_table", "plot", "SceneError"]
+
+
+def __dir__():
+    """The package's API only (not the modules and helpers it uses)."""
+    return sorted(__all__ + ["__version__"])
 
 
 def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, params=None, **parameters):
