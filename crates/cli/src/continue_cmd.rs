@@ -15,7 +15,9 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
     crate::figure::format("--png", a.png.as_ref())?;
-    let c = engine::continuation(&sim_from(&a.sim, &a.start)?, &start(&a.start)?, &axis, a.n, a.arclength)?;
+    let mut r = engine::ContinuationRequest::new(sim_from(&a.sim, &a.start)?, axis.clone());
+    (r.start, r.n, r.arclength) = (start(&a.start)?, a.n, a.arclength);
+    let c = engine::continuation(&r, &engine::Quiet)?;
     crate::common::warn(c.warning.as_ref());
     let (sys, branch) = (&c.system, &c.branch);
     if let Some(path) = &a.png {

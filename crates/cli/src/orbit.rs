@@ -10,7 +10,9 @@ use std::fmt::Write as _;
 
 /// Runs the command.
 pub fn run(a: OrbitArgs) -> Result<()> {
-    let found = engine::orbit(&sim_from(&a.sim, &a.start)?, &start(&a.start)?, a.n)?;
+    let mut r = engine::OrbitRequest::new(sim_from(&a.sim, &a.start)?);
+    (r.start, r.n) = (start(&a.start)?, a.n);
+    let found = engine::orbit(&r, &engine::Quiet)?;
     crate::common::warn(found.warning.as_ref());
     if a.json {
         outln!("{}", serde_json::to_string(&found.to_json())?);

@@ -71,8 +71,8 @@ pub use error::{grid_error, in_words, Error, Fields, Opt, RequestError, Result, 
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{
-    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, Continued, Critical, Found, Multiplier,
-    OrbitImpact, OrbitReport,
+    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, ContinuationRequest, Continued, Critical, Found,
+    Multiplier, OrbitImpact, OrbitReport, OrbitRequest,
 };
 pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};

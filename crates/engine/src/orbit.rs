@@ -4,6 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
+use crate::observer::Observer;
 use crate::sim::{check_period, labels_of, unknown, Sim, Start};
 use grid::Axis;
 use serde::Serialize;
@@ -24,10 +25,34 @@ pub struct Found {
     pub warning: Option<String>,
 }
 
-/// Finds the periodic orbit of a cell.
-pub fn orbit(sim: &Sim, start: &Start, n: Option<usize>) -> Result<Found> {
-    let (s, origin) = sim.setup_from(start)?;
+/// What [`orbit`] solves: the orbit a cell settles on.
+#[derive(Debug, Clone)]
+pub struct OrbitRequest {
+    /// The simulation options.
+    pub sim: Sim,
+    /// Where the cell starts.
+    pub start: Start,
+    /// The period in forcing periods; the cell's own when `None`.
+    pub n: Option<usize>,
+}
+
+impl OrbitRequest {
+    /// The orbit of the cell of `sim` from the scene's initial state, of its own period.
+    pub fn new(sim: Sim) -> OrbitRequest {
+        OrbitRequest { sim, start: Start::Initial, n: None }
+    }
+}
+
+/// Finds the periodic orbit of a cell. `observer` may stop it before it
+/// starts (one cell's simulation and one Newton solve run to their end, as
+/// a cell of an atlas does).
+pub fn orbit(r: &OrbitRequest, observer: &dyn Observer) -> Result<Found> {
+    let (s, origin) = r.sim.setup_from(&r.start)?;
+    let n = r.n;
     check_period(n)?;
+    if observer.cancelled() {
+        return Err(Error::Cancelled);
+    }
     let model = s.scene.evaluate(&s.overrides)?;
     let warning = origin.as_ref().and_then(|o| o.warning.clone());
     let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
@@ -160,10 +185,35 @@ pub struct Continued {
     pub warning: Option<String>,
 }
 
-/// Follows the orbit of a cell along `axis` (natural continuation, or
-/// pseudo-arclength with `arclength`), locating its bifurcations.
-pub fn continuation(sim: &Sim, start: &Start, axis: &Axis, n: Option<usize>, arclength: bool) -> Result<Continued> {
-    let (s, origin) = sim.setup_from(start)?;
+/// What [`continuation`] follows: the orbit of a cell along one parameter.
+#[derive(Debug, Clone)]
+pub struct ContinuationRequest {
+    /// The simulation options.
+    pub sim: Sim,
+    /// Where the cell at the axis's first value starts.
+    pub start: Start,
+    /// The parameter and its values, in the order followed (at least two).
+    pub axis: Axis,
+    /// The orbit's period in forcing periods; the cell's own when `None`.
+    pub n: Option<usize>,
+    /// Pseudo-arclength continuation (around folds) instead of natural.
+    pub arclength: bool,
+}
+
+impl ContinuationRequest {
+    /// The orbit of the cell of `sim` at `axis`'s first value, from the
+    /// scene's initial state, followed naturally.
+    pub fn new(sim: Sim, axis: Axis) -> ContinuationRequest {
+        ContinuationRequest { sim, start: Start::Initial, axis, n: None, arclength: false }
+    }
+}
+
+/// Follows the orbit of a cell along the request's axis (natural
+/// continuation, or pseudo-arclength), locating its bifurcations. `observer`
+/// may stop it between any two solves ([`Error::Cancelled`]).
+pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<Continued> {
+    let (axis, n) = (&r.axis, r.n);
+    let (s, origin) = r.sim.setup_from(&r.start)?;
     s.scene.check_parameter(&axis.name, "").map_err(|e| unknown(RequestError::option(Opt::Axis), e))?;
     if axis.count < 2 {
         return Err(RequestError::option(Opt::Axis)
@@ -172,17 +222,26 @@ pub fn continuation(sim: &Sim, start: &Start, axis: &Axis, n: Option<usize>, arc
     }
     check_period(n)?;
     let values = axis.values();
-    let family = |v: f64| -> Option<System> { s.system_with(&[(&axis.name, v)]).ok() };
+    // Every solve asks for its system: a cancel ends the branch there.
+    let family = |v: f64| -> Option<System> {
+        if observer.cancelled() {
+            return None;
+        }
+        s.system_with(&[(&axis.name, v)]).ok()
+    };
     let system = s.system_with(&[(&axis.name, values[0])])?;
     let warning = origin.as_ref().and_then(|o| o.warning.clone());
     let y0 = origin.map_or_else(|| system.model.initial_state(), |o| o.state);
     let start = orbit_of_cell(&system, &s.accuracy, &y0, n)
         .map_err(|e| no_orbit(Some(format!("at {} = {}: ", axis.name, values[0])), e))?;
-    let branch = if arclength {
+    let branch = if r.arclength {
         solver::arclength::follow_arclength(&family, &s.accuracy, &values, start)
     } else {
         solver::continuation::follow(&family, &s.accuracy, &values, start)
     };
+    if observer.cancelled() {
+        return Err(Error::Cancelled);
+    }
     Ok(Continued { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning })
 }
 
@@ -291,4 +350,40 @@ pub struct Critical {
     pub abs: f64,
     /// Argument in `(-π, π]`.
     pub arg: f64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Quiet, SceneSource};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// Asks to stop once it has been asked `after` times.
+    struct StopAfter {
+        after: usize,
+        asked: AtomicUsize,
+    }
+    impl Observer for StopAfter {
+        fn advance(&self, _: u64) {}
+        fn cancelled(&self) -> bool {
+            self.asked.fetch_add(1, Ordering::Relaxed) >= self.after
+        }
+    }
+
+    /// A continuation asked to stop builds no system after that (each value
+    /// left is asked once and skipped, no step refined) and ends as
+    /// cancelled; the same request not stopped follows the whole axis.
+    #[test]
+    fn a_continuation_stops_when_its_observer_asks() {
+        let sim = Sim::new(SceneSource::File("../../configs/single-stop.toml".into()));
+        let r = ContinuationRequest::new(sim, Axis::new("sigma", 0.0, -1.5, 31));
+        let whole = continuation(&r, &Quiet).unwrap();
+        assert!(whole.branch.points.len() >= 31, "{} points", whole.branch.points.len());
+        let stop = StopAfter { after: 3, asked: AtomicUsize::new(0) };
+        assert!(matches!(continuation(&r, &stop), Err(Error::Cancelled)));
+        let asked = stop.asked.load(Ordering::Relaxed);
+        assert!(asked <= 3 + 31 + 1, "{asked} systems asked for");
+        let never = StopAfter { after: 0, asked: AtomicUsize::new(0) };
+        assert!(matches!(orbit(&OrbitRequest::new(r.sim.clone()), &never), Err(Error::Cancelled)));
+    }
 }

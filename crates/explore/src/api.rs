@@ -363,7 +363,9 @@ async fn orbit(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value
     let found = blocking(move || {
         unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
-        engine::orbit(&sim, &start, None).map_err(failed)
+        let mut r = engine::OrbitRequest::new(sim);
+        r.start = start;
+        engine::orbit(&r, &engine::Quiet).map_err(failed)
     })
     .await?;
     Ok(Json(found.to_json()))
