@@ -119,7 +119,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
     };
     let ended = curve.ended.clone().unwrap_or_default();
     if observer.cancelled() {
-        return Err(grid::GridError::Cancelled.into());
+        return Err(crate::Error::Cancelled);
     }
     if let Some(out) = &r.output {
         let inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();

@@ -97,7 +97,7 @@ impl Plan {
 
     /// Runs the plan, reporting to `observer`; returns the atlas (complete for
     /// this shard) and where the time went. Stopped by the observer
-    /// ([`Observer::cancelled`]), it returns [`grid::GridError::Cancelled`]
+    /// ([`Observer::cancelled`]), it returns [`crate::Error::Cancelled`]
     /// having written no output file and removed its journal.
     pub fn execute(&self, observer: &dyn Observer) -> Result<Executed> {
         let start = Instant::now();
@@ -139,7 +139,7 @@ impl Plan {
         let elapsed = start.elapsed().as_secs_f64();
         // Asked to stop once the cells were done: nothing is written.
         if observer.cancelled() {
-            return Err(grid::GridError::Cancelled.into());
+            return Err(crate::Error::Cancelled);
         }
         let mut write_s = 0.0;
         if let (Some(draft), Some(j)) = (draft, journal) {

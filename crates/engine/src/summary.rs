@@ -1,5 +1,5 @@
 //! What an atlas holds, in numbers: its grid, per sweep the cells of each
-//! class, label and reason, and its hysteresis ([`summary_json`], the
+//! class, label and reason, and its hysteresis ([`SummaryReport`], the
 //! object `inspect --json` prints).
 
 use grid::hysteresis::zones;

@@ -184,7 +184,7 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>, observer: &dyn Obse
     }
     observer.finish();
     if observer.cancelled() {
-        return Err(grid::GridError::Cancelled.into());
+        return Err(crate::Error::Cancelled);
     }
     if let Some(out) = &plan.output {
         let info = store::RunInfo {

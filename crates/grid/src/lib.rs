@@ -4,8 +4,8 @@
 //! the engine write results).
 //!
 //! The API: [`CellSetup`] runs one cell into the [`maps::CellData`] it keeps;
-//! [`run`] computes the lines of a [`maps::Plane`] into [`maps::Line`]s
-//! ([`line`] one of them, [`validate`] checks every cell's parameters first);
+//! [`run()`] computes the lines of a [`maps::Plane`] into [`maps::Line`]s
+//! ([`line()`] one of them, [`validate`] checks every cell's parameters first);
 //! [`Study`] runs planes over a third parameter; every error a [`GridError`].
 //! Four modules whose functions share names: [`attractors`] (coexisting
 //! attractors of a point), [`curves`] (bifurcation curves seeded from a
