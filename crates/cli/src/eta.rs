@@ -5,7 +5,7 @@
 //! tenth of the cells took a tenth of the time when it took a third. Where
 //! the scheduler probed the lines' costs, the work is counted per line
 //! ([`Work`]): the lines finished weigh the time they took, the others the
-//! time lines near them took. Front ends (the CLI's bar, Python's tqdm) show
+//! time lines near them took. The command line's progress bar shows
 //! what this estimates.
 
 use std::sync::Mutex;

@@ -382,35 +382,27 @@ impl Error {
     }
 }
 
+/// An error and each of its causes ([`source`](std::error::Error::source)), in order.
+pub fn causes<'a>(
+    e: &'a (dyn std::error::Error + 'static),
+) -> impl Iterator<Item = &'a (dyn std::error::Error + 'static)> {
+    std::iter::successors(Some(e), |c| c.source())
+}
+
 /// An error as one line in a front end's words: the error, then each of its
 /// causes, joined by `: `; a [`RequestError`] in `w`.
 pub fn in_words(e: &Error, w: &dyn Words) -> String {
-    let one = |c: &(dyn std::error::Error + 'static)| match c.downcast_ref::<RequestError>() {
-        Some(r) => r.in_words(w),
-        None => c.to_string(),
+    let one = |c: &(dyn std::error::Error + 'static)| match c.downcast_ref::<Error>() {
+        Some(Error::Request(r)) => r.in_words(w),
+        _ => c.downcast_ref::<RequestError>().map_or_else(|| c.to_string(), |r| r.in_words(w)),
     };
-    let mut parts = vec![match e {
-        Error::Request(r) => r.in_words(w),
-        e => e.to_string(),
-    }];
-    let mut cause = std::error::Error::source(e);
-    while let Some(c) = cause {
-        parts.push(one(c));
-        cause = c.source();
-    }
-    parts.join(": ")
+    causes(e).map(one).collect::<Vec<_>>().join(": ")
 }
 
 /// The text of an error and its causes, joined by `: `: for a message that
 /// goes on after it.
 pub(crate) fn chain_text(e: &(dyn std::error::Error + 'static)) -> String {
-    let mut parts = vec![e.to_string()];
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        parts.push(c.to_string());
-        cause = c.source();
-    }
-    parts.join(": ")
+    causes(e).map(ToString::to_string).collect::<Vec<_>>().join(": ")
 }
 
 /// A grid error in the engine's words: the field it names (`x`, `x omega`,

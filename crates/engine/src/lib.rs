@@ -67,7 +67,7 @@ pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
     CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced,
 };
-pub use error::{grid_error, in_words, Error, Fields, Opt, RequestError, Result, Words};
+pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, Words};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{

@@ -146,14 +146,15 @@ impl Sim {
         }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();
-        let named = self.accuracy.iter().map(|(name, v)| {
-            check_finite(*v, || RequestError::keyed(Opt::Accuracy, name))?;
-            Ok::<_, crate::Error>((Knob::named(name)?, *v))
-        });
-        for knob in knobs.iter().map(|&kv| Ok(kv)).chain(named) {
-            let (k, v) = knob?;
+        for &(k, v) in knobs {
             accuracy.set(k, v)?;
             accuracy_overrides.push((k, v));
+        }
+        for (name, v) in &self.accuracy {
+            check_finite(*v, || RequestError::keyed(Opt::Accuracy, name))?;
+            let k = Knob::named(name)?;
+            accuracy.set(k, *v)?;
+            accuracy_overrides.push((k, *v));
         }
         if method == Method::Rk4 {
             check_rk4_resolves_contacts(&scene, &self.set, &accuracy)?;

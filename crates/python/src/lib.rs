@@ -100,14 +100,8 @@ impl Failure {
 /// Whether an error of a file comes from the system (a file missing, a disk
 /// full): the error or one of its causes is an I/O error.
 fn io_failure(e: &(dyn std::error::Error + 'static)) -> bool {
-    let mut cause = Some(e);
-    while let Some(c) = cause {
-        if c.is::<std::io::Error>() || matches!(c.downcast_ref(), Some(store::StoreError::Io { .. })) {
-            return true;
-        }
-        cause = c.source();
-    }
-    false
+    engine::causes(e)
+        .any(|c| c.is::<std::io::Error>() || matches!(c.downcast_ref(), Some(store::StoreError::Io { .. })))
 }
 
 /// What the run's thread and Python share.
