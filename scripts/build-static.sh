@@ -46,45 +46,13 @@ TARGET_DIR=$(cd "$TARGET_DIR" && pwd)
 # Keep a build folder inside the repository out of `git status`.
 [ -e "$TARGET_DIR/.gitignore" ] || printf '*\n' > "$TARGET_DIR/.gitignore"
 
-say() { echo "build-static: $*"; }
-die() { echo "build-static: FAIL: $*" >&2; exit 1; }
-SUDO=""
-[ "$(id -u)" -eq 0 ] || SUDO="sudo"
-apt_install() {
-    say "installing $* (apt-get)"
-    $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "$@" >/dev/null
-}
+NAME=build-static
+# shellcheck source=lib/build.sh
+. "$ROOT/scripts/lib/build.sh"
 
 # ---- 1. tools -------------------------------------------------------------------------
-command -v cargo >/dev/null 2>&1 || die "cargo not found; install a Rust toolchain (rustup) first"
-need=()
-command -v cc >/dev/null 2>&1 || need+=(gcc libc6-dev)
-command -v make >/dev/null 2>&1 || need+=(make)
-command -v objdump >/dev/null 2>&1 || need+=(binutils)
-[ ${#need[@]} -eq 0 ] || apt_install "${need[@]}"
-
-CMAKE_MIN=3.26   # cmake_minimum_required of the HDF5 that hdf5-metno-src bundles (2.x)
-cmake_ok() {     # cmake_ok BIN: BIN runs and is at least CMAKE_MIN
-    local v
-    v=$("$1" --version 2>/dev/null | sed -n '1s/^cmake version \([0-9.]*\).*/\1/p') || return 1
-    [ -n "$v" ] && [ "$(printf '%s\n%s\n' "$CMAKE_MIN" "$v" | sort -V | head -1)" = "$CMAKE_MIN" ]
-}
-CMAKE_BIN=""
-for c in "${CMAKE:-}" "$(command -v cmake || true)" "$TARGET_DIR/tools/cmake/bin/cmake"; do
-    if [ -n "$c" ] && cmake_ok "$c"; then CMAKE_BIN=$c; break; fi
-done
-if [ -z "$CMAKE_BIN" ]; then
-    say "no cmake >= $CMAKE_MIN; installing one from PyPI into $TARGET_DIR/tools/cmake"
-    PY=/usr/bin/python3
-    [ -x "$PY" ] || PY=$(command -v python3) || die "python3 not found (needed to install cmake)"
-    if ! "$PY" -c 'import ensurepip, venv' >/dev/null 2>&1; then apt_install python3-venv; fi
-    rm -rf "$TARGET_DIR/tools/cmake"
-    "$PY" -m venv "$TARGET_DIR/tools/cmake"
-    "$TARGET_DIR/tools/cmake/bin/pip" install -q --disable-pip-version-check "cmake>=$CMAKE_MIN,<4"
-    CMAKE_BIN=$TARGET_DIR/tools/cmake/bin/cmake
-    cmake_ok "$CMAKE_BIN" || die "could not install cmake >= $CMAKE_MIN"
-fi
+build_tools
+find_cmake "$TARGET_DIR/tools"
 say "cmake: $CMAKE_BIN ($("$CMAKE_BIN" --version | head -1))"
 
 # ---- 2. build -------------------------------------------------------------------------
@@ -97,15 +65,9 @@ BIN=$TARGET_DIR/release/vibroatlas
 say "built $BIN in $(( $(date +%s) - start )) s, $(du -h "$BIN" | cut -f1) ($(stat -c %s "$BIN") bytes)"
 
 # ---- 3. shared libraries --------------------------------------------------------------
-say "ldd $BIN"
-ldd "$BIN" | sed 's/^/    /'
-# The C library and its loader, libm, libgcc_s (unwinding): on every Linux with glibc.
-SYSTEM='^(linux-vdso\.so|linux-gate\.so|ld-linux[-a-z0-9_.]*\.so|libc\.so|libm\.so|libgcc_s\.so|libpthread\.so|libdl\.so|librt\.so)'
-extra=$(ldd "$BIN" | awk '{print $1}' | sed 's|.*/||' | grep -Ev "$SYSTEM" || true)
-[ -z "$extra" ] || die "the binary still needs non-system libraries: $(echo $extra)"
-say "only system libraries (C library, libm, libgcc_s, loader)"
-glibc=$(objdump -T "$BIN" | grep -o 'GLIBC_[0-9.]*' | sed 's/GLIBC_//' | sort -Vu | tail -1)
-say "newest glibc symbol version needed: $glibc (a node needs glibc >= $glibc)"
+system_libs_only "$BIN"
+glibc=$GLIBC_NEEDED
+say "a node needs glibc >= $glibc"
 
 # ---- 4. a tiny atlas ------------------------------------------------------------------
 CHECK=${TMPDIR:-/tmp}/vibroatlas-static-check
