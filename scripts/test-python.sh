@@ -9,15 +9,32 @@
 # section) and the worked example of docs/python.md in a scratch folder, its
 # output compared with the text blocks the page shows (a change that moves a
 # number moves the page too).
+# With --wheel WHEEL (scripts/build-wheel.sh), the same tests run on that wheel
+# as a user without Rust gets it: `pip install WHEEL`, and every step with a
+# PATH that has no cargo and no rustc on it; one more test then checks that the
+# process running the package never loaded a libhdf5 other than the one h5py's
+# own wheel brings (the extension carries its HDF5 inside).
 # Ends with one line "python tests: N passed, M failed" (the examples count as
 # tests) and exits non-zero if any failed.
 #
 #   scripts/test-python.sh                 # a fresh venv in target/python-venv
+#   scripts/test-python.sh --wheel dist/vibroatlas-0.1.0-cp39-abi3-manylinux2014_x86_64.manylinux_2_17_x86_64.whl
+#   scripts/test-python.sh --examples-only # the install and the examples, not the pytest suite
 #   VIBROATLAS_VENV=/tmp/v scripts/test-python.sh
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
+wheel=""
+examples_only=0
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --wheel) wheel=$(cd "$(dirname "${2:?--wheel needs a wheel file}")" && pwd)/$(basename "$2"); shift 2 ;;
+        --examples-only) examples_only=1; shift ;;
+        *) echo "test-python: unknown argument $1" >&2; exit 2 ;;
+    esac
+done
 venv=${VIBROATLAS_VENV:-$root/target/python-venv}
+case "$venv" in /*) ;; *) venv="$root/$venv" ;; esac
 bin=${VIBROATLAS_BIN:-target/release/vibroatlas}
 case "$bin" in /*) ;; *) bin="$root/$bin" ;; esac
 export VIBROATLAS_BIN="$bin"
@@ -38,20 +55,44 @@ if ! python3 -m venv "$venv" >/dev/null 2>&1; then
     python3 -m venv "$venv" || exit 1
 fi
 py="$venv/bin/python"
-# The README's install command, as printed, inside the venv.
-(source "$venv/bin/activate" && pip install ./crates/python) || { echo "python tests: 0 passed, 1 failed (pip install ./crates/python)"; exit 1; }
-"$py" -m pip install --quiet pytest mypy || exit 1
+if [ -n "$wheel" ]; then
+    # A PATH without the Rust toolchain: the wheel must install and run without it.
+    PATH=$(printf '%s' "$PATH" | tr ':' '\n' \
+        | while IFS= read -r d; do [ -x "$d/cargo" ] || [ -x "$d/rustc" ] || printf '%s:' "$d"; done)
+    export PATH=${PATH%:}
+    if command -v cargo >/dev/null 2>&1 || command -v rustc >/dev/null 2>&1; then
+        echo "python tests: 0 passed, 1 failed (cargo still on PATH)"; exit 1
+    fi
+    echo "test-python: the wheel $wheel, PATH without cargo and rustc: $PATH"
+    (source "$venv/bin/activate" && pip install "$wheel") || { echo "python tests: 0 passed, 1 failed (pip install $wheel)"; exit 1; }
+else
+    # The README's install command, as printed, inside the venv.
+    (source "$venv/bin/activate" && pip install ./crates/python) || { echo "python tests: 0 passed, 1 failed (pip install ./crates/python)"; exit 1; }
+fi
+# The notebook extra (ipywidgets, for tqdm's widget in Jupyter) and what the tests use:
+# pytest, mypy, and nbclient with ipykernel to run a notebook in a real kernel.
+if [ -n "$wheel" ]; then
+    "$py" -m pip install --quiet "$wheel[notebook]" || exit 1
+else
+    "$py" -m pip install --quiet ipywidgets || exit 1   # the extra, without building the package again
+fi
+"$py" -m pip install --quiet pytest mypy nbclient ipykernel || exit 1
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 export HDF5_USE_FILE_LOCKING=FALSE MPLBACKEND=Agg
 # From the scratch folder, so that `import vibroatlas` is the installed package, never the sources.
-(cd "$tmp" && "$py" -m pytest "$root/crates/python/tests" -p no:cacheprovider -rfE) 2>&1 | tee "$tmp/pytest.log"
-# pytest's summary line, e.g. "2 failed, 50 passed, 1 error in 20.1s" (none: it did not run)
-summary=$(grep -E '^=* ?[0-9]+ (passed|failed|errors?|skipped)' "$tmp/pytest.log" | tail -1)
-passed=$(echo "$summary" | awk '{for (i = 1; i < NF; i++) if ($(i+1) ~ /^passed/) n += $i} END {print n + 0}')
-failed=$(echo "$summary" | awk '{for (i = 1; i < NF; i++) if ($(i+1) ~ /^(failed|error)/) n += $i} END {print n + 0}')
-[ -n "$summary" ] || failed=1
+if [ "$examples_only" -eq 1 ]; then
+    echo "test-python: pytest suite not run here (--examples-only)"
+    passed=0 failed=0
+else
+    (cd "$tmp" && "$py" -m pytest "$root/crates/python/tests" -p no:cacheprovider -rfE) 2>&1 | tee "$tmp/pytest.log"
+    # pytest's summary line, e.g. "2 failed, 50 passed, 1 error in 20.1s" (none: it did not run)
+    summary=$(grep -E '^=* ?[0-9]+ (passed|failed|errors?|skipped)' "$tmp/pytest.log" | tail -1)
+    passed=$(echo "$summary" | awk '{for (i = 1; i < NF; i++) if ($(i+1) ~ /^passed/) n += $i} END {print n + 0}')
+    failed=$(echo "$summary" | awk '{for (i = 1; i < NF; i++) if ($(i+1) ~ /^(failed|error)/) n += $i} END {print n + 0}')
+    [ -n "$summary" ] || failed=1
+fi
 
 # The examples, in a folder with configs/ and an out/ folder, as the docs run them.
 mkdir -p "$tmp/ex/out"
@@ -92,6 +133,23 @@ else
     echo "test-python: FAIL  mypy --strict on the README's and docs/python.md's examples"
     grep -v ' note: ' "$tmp/mypy.log" | tail -n 12 | sed 's/^/    /'
     failed=$((failed + 1))
+fi
+
+if [ -n "$wheel" ]; then
+    # The libraries the process maps after a cell and an atlas: a libhdf5 may come only
+    # from h5py's wheel (h5py.libs), never from the system (the extension's is inside it).
+    cat > "$tmp/static.py" <<'PY'
+import vibroatlas as va
+va.cell("configs/multi-stop.toml", omega=0.9)
+va.atlas("configs/multi-stop.toml", x=("omega", 0.3, 1.2, 4), y=("delta", 0.2, 1, 3), sweep="up",
+         progress=False)
+maps = {line.split()[-1] for line in open("/proc/self/maps") if "libhdf5" in line}
+foreign = sorted(m for m in maps if "h5py.libs" not in m)
+assert not foreign, f"a libhdf5 outside h5py's wheel was loaded: {foreign}"
+print("libhdf5 mapped:", sorted(maps))
+PY
+    example "the wheel's extension runs without the system's libhdf5" "$tmp/static.py"
+    cat "$tmp/ex.out"
 fi
 
 echo "python tests: $passed passed, $failed failed"

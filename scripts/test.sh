@@ -3,7 +3,8 @@
 # integration, doc tests) in release mode, clippy and rustdoc with warnings as
 # errors, checks with h5py alone that an atlas
 # file has every dataset of the documented layout, installs the Python package
-# into a fresh virtual environment and runs its tests (scripts/test-python.sh),
+# into a fresh virtual environment and runs its examples (scripts/test-python.sh),
+# builds the wheel (scripts/build-wheel.sh) and runs the Python tests on it,
 # and ends with one line "tests: N passed, M failed" summing every cargo test
 # result and the Python ones.
 set -euo pipefail
@@ -45,8 +46,16 @@ target/release/vibroatlas sweep configs/multi-stop.toml --axis omega=0.2:0.5:7 -
 /usr/bin/python3 scripts/test_explore.py target/release/vibroatlas target/explore-screenshots 2>&1 | tee "$tmp/explore.log"
 # Every command of README.md, as printed.
 scripts/check_readme.sh
-# The Python package as a user installs it (README's "Python" section).
-scripts/test-python.sh 2>&1 | tee "$tmp/python.log"
+# The Python package as a user installs it (README's "Python" section): from source (the
+# install, the README's and docs/python.md's examples, mypy on them),
+scripts/test-python.sh --examples-only 2>&1 | tee "$tmp/python.log"
+# and as the wheel a user without Rust and libhdf5 installs: the same, and the whole pytest
+# suite (every function against the CLI), with cargo off the PATH. The two builds differ
+# only in how HDF5 is linked.
+scripts/build-wheel.sh --out "$tmp/dist"
+VIBROATLAS_VENV=target/wheel-venv scripts/test-python.sh --wheel "$(ls "$tmp"/dist/vibroatlas-*.whl)" 2>&1 \
+    | tee "$tmp/wheel.log"
 awk '/^test result:/ { p += $4; f += $6 } /^python tests:/ { p += $3; f += $5 }
     /^explore tests:/ { p += $3; f += $5 }
-    END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log" "$tmp/explore.log"
+    END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log" "$tmp/wheel.log" \
+    "$tmp/explore.log"

@@ -16,6 +16,15 @@ from conftest import DRY, MULTI
 BIG = dict(x=("omega", 0.1, 3.05, 296), y=("delta", 0.05, 2.0, 196), sweep="both", threads=2)
 
 
+@pytest.fixture(autouse=True)
+def python_handles_sigint():
+    """Python's own SIGINT handler for each test: a shell starts a background job with
+    SIGINT ignored, and Python then keeps it ignored (the signal would never arrive)."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
 def sigint_after(delay):
     """Sends SIGINT to the main thread after `delay` s; returns a list that
     receives the time it was sent."""
