@@ -223,7 +223,7 @@ pub struct CellArgs {
     #[arg(long, value_name = "FILE")]
     pub section_png: Option<PathBuf>,
     /// Forcing periods simulated for the section PNG, from the final state.
-    #[arg(long, default_value_t = 1000, value_name = "N")]
+    #[arg(long, default_value_t = engine::DEFAULT_SECTION_PERIODS, value_name = "N")]
     pub section_periods: usize,
     /// Draw phase portraits (x against v of each mass, stops drawn, impacts
     /// marked) and the time series of the positions with their events, over

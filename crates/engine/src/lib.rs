@@ -85,6 +85,6 @@ pub use summary::{
 pub use sweep::{sweep, Differing, Direction, Legs, SweepPoint, SweepReport, SweepRequest, Swept};
 pub use trace::{
     check_trace_samples, halt_text, sections, trace, window, window_periods, Row, Sections, Window,
-    MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
+    DEFAULT_SECTION_PERIODS, MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
 };
 pub use zoom::{check_size as check_zoom_size, zoom, ZoomRequest, MAX_ZOOM_CELLS};

@@ -22,6 +22,9 @@ pub struct Sections {
 
 /// Largest number of forcing periods of [`sections`].
 pub const MAX_SECTION_PERIODS: usize = 1_000_000;
+/// The periods of a cell's sections when the caller names none (`cell
+/// --section-png`, Python's `va.cell(..., sections=True)`).
+pub const DEFAULT_SECTION_PERIODS: usize = 1000;
 /// Largest number of samples per forcing period of a trace ([`trace`]): a
 /// trace of n periods holds about n × 100 000 rows.
 pub const MAX_TRACE_SAMPLES: usize = 100_000;

@@ -297,7 +297,17 @@ impl Written {
     }
 }
 
-/// One cell: the value of `cell --json`.
+/// A cell's Poincaré sections, as `cell --section-png` draws them.
+#[derive(serde::Serialize)]
+struct CellSections {
+    title: String,
+    periods: usize,
+    panels: Vec<render::Panel>,
+}
+
+/// One cell: the value of `cell --json`, with `portrait` (what `cell
+/// --portrait` draws) and `sections` (what `cell --section-png` draws) when
+/// asked for.
 #[pyfunction]
 fn cell(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -306,8 +316,27 @@ fn cell(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_,
         Some(state) => Start::State(state),
         None => Start::Initial,
     };
+    let portrait = o.get::<bool>("portrait")?.unwrap_or(false);
+    let sections = o.get::<bool>("sections")?.unwrap_or(false);
+    let periods = o.get::<usize>("section_periods")?.unwrap_or(engine::DEFAULT_SECTION_PERIODS);
     o.finish()?;
-    Ok(Job::start(move |_| Ok(engine::cell(&sim, &start)?.to_json())))
+    Ok(Job::start(move |_| {
+        let c = engine::cell(&sim, &start)?;
+        let mut value = c.to_json();
+        if portrait {
+            value["portrait"] = json_of(&engine::portrait(&c))?;
+        }
+        if sections {
+            let (panels, title) = engine::section_panels(&c, periods)?;
+            value["sections"] = json_of(&CellSections { title, periods, panels })?;
+        }
+        Ok(value)
+    }))
+}
+
+/// The JSON value of a result (the engine's own serialisation).
+fn json_of(v: &impl serde::Serialize) -> engine::Result<serde_json::Value> {
+    serde_json::to_value(v).map_err(|e| engine::Error::Internal(e.to_string()))
 }
 
 /// A sweep along one parameter: the value of `sweep --json`.

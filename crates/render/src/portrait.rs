@@ -12,8 +12,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// What a portrait shows (all per row of the window).
-#[derive(Debug, Clone, PartialEq)]
+/// What a portrait shows (all per row of the window). Serialised as an
+/// object of these fields (an event as `[row, what]`, a stop as
+/// `[mass, position, name]`): Python's `va.cell(..., portrait=True)`.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Portrait {
     /// Title (scene and parameters).
     pub title: String,

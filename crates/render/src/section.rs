@@ -12,8 +12,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// One scatter panel.
-#[derive(Debug, Clone)]
+/// One scatter panel (serialised as an object of its fields, a point as
+/// `[x, y]`).
+#[derive(Debug, Clone, serde::Serialize)]
 pub struct Panel {
     /// Horizontal axis description.
     pub x: String,

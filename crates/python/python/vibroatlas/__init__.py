@@ -18,6 +18,8 @@ import os
 import shutil
 import tempfile
 
+import numpy as _np
+
 from . import _native
 from ._native import SceneError
 from . import _run
@@ -40,7 +42,8 @@ def __dir__():
     return sorted(__all__ + ["__version__"])
 
 
-def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, params=None, **parameters):
+def cell(scene, *, portrait=False, sections=False, section_periods=None, preset=None, integrator=None,
+         accuracy=None, progress=None, params=None, **parameters):
     """Simulates one parameter point from the scene's initial state and
     classifies its steady motion, like `vibroatlas cell SCENE --json`.
 
@@ -55,10 +58,41 @@ def cell(scene, *, preset=None, integrator=None, accuracy=None, progress=None, p
     symmetry, impacts, chatter, sticking, final_state, period_section,
     max_multiplier, lyapunov, scene, parameters, preset, integrator,
     periods_simulated, events (and friction_stick in scenes with friction).
+
+    portrait=True adds "portrait", what `cell --portrait FILE` draws
+    (va.plot.portrait): the classified window sampled 400 times a period,
+    as title, masses, t [row], x and v [mass, row] (numpy arrays), events
+    [(row, "impact A1"), ...] and the frame stops [(mass, position, name)].
+    sections=True adds "sections", what `cell --section-png FILE` draws
+    (va.plot.sections): over section_periods forcing periods from the final
+    state (default 1000, as `--section-periods`), its title, periods and
+    panels, each {"x": description, "y": description, "points": array
+    [point, 2]}: the first labelled mass's (x, v) at t = kT, then each stop
+    with impacts (phase in radians, normal speed just before).
     """
     options = _common({}, preset, integrator, accuracy)
     _run.flag("progress", progress)
-    return _run.run(_native.cell, scene, _params(params, parameters), options)
+    _run.flag("portrait", portrait)
+    _run.flag("sections", sections)
+    if portrait:
+        options["portrait"] = True
+    if sections:
+        options["sections"] = True
+    if section_periods is not None:
+        if not sections:
+            raise ValueError("section_periods: given without sections=True")
+        options["section_periods"] = _whole("section_periods", section_periods)
+    r = _run.run(_native.cell, scene, _params(params, parameters), options)
+    if "portrait" in r:
+        p = r["portrait"]
+        for key in ("t", "x", "v"):
+            p[key] = _np.asarray(p[key], dtype=float)
+        p["events"] = [(int(i), str(what)) for i, what in p["events"]]
+        p["stops"] = [(int(k), float(x), str(name)) for k, x, name in p["stops"]]
+    if "sections" in r:
+        for panel in r["sections"]["panels"]:
+            panel["points"] = _np.asarray(panel["points"], dtype=float).reshape(-1, 2)
+    return r
 
 
 def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, output=None, preset=None,

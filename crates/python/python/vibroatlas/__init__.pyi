@@ -23,6 +23,9 @@ class SceneError(ValueError): ...
 def cell(
     scene: Scene,
     *,
+    portrait: bool = ...,
+    sections: bool = ...,
+    section_periods: int | None = ...,
     preset: Preset | None = ...,
     integrator: Integrator | None = ...,
     accuracy: Mapping[str, float] | None = ...,

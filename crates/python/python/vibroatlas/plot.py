@@ -15,7 +15,7 @@ import numpy as np
 
 from . import _dataset, _first_mass, label_table
 
-__all__ = ["map", "hysteresis", "scalar", "row", "colours"]
+__all__ = ["map", "hysteresis", "scalar", "row", "portrait", "sections", "colours"]
 
 # The continuous views' diverging scale, as `vibroatlas render --view
 # multiplier|lyapunov` paints it: blue below the neutral value, white at it,
@@ -416,3 +416,103 @@ def row(tree, at=None, variable=None, fig=None):
     axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.12), ncols=len(sweeps), frameon=False,
                    fontsize="small")
     return list(axes)
+
+
+# The masses' curves in portraits (Okabe–Ito, as `vibroatlas cell --portrait`).
+_CURVES = [(0, 114, 178), (213, 94, 0), (0, 158, 115), (204, 121, 167)]
+
+
+def _cell_part(result, key, keyword):
+    """result[key] of a va.cell result, or a ValueError naming the keyword that computes it."""
+    if not isinstance(result, dict):
+        raise TypeError(f"expected the dict of va.cell(..., {keyword}), got {type(result).__name__}")
+    if key not in result:
+        raise ValueError(f"this cell result has no {key}: compute it with va.cell(..., {keyword})")
+    return result[key]
+
+
+def portrait(result, fig=None):
+    """The phase portraits and time series of a cell's steady motion, as
+    `vibroatlas cell --portrait FILE` draws them: per mass its (x, v) path
+    over the classified window, its frame stops as vertical lines and its
+    impacts as black dots; below, every mass's position against time with
+    every event marked.
+
+    result: the dict of va.cell(..., portrait=True); fig: the figure to
+    draw into. Returns the Axes: the masses' portraits, then the time
+    series."""
+    import matplotlib.pyplot as plt
+
+    p = _cell_part(result, "portrait", "portrait=True")
+    masses = list(p["masses"])
+    t, x, v = (np.asarray(p[k], float) for k in ("t", "x", "v"))
+    x, v = x.reshape(len(masses), -1), v.reshape(len(masses), -1)
+    rows = [i for i, _ in p["events"]]
+    impacts = [i for i, what in p["events"] if what.startswith("impact")]
+    if fig is None:
+        fig = plt.figure(figsize=(max(6.0, 3.4 * len(masses)), 6.5), layout="constrained")
+    grid = fig.add_gridspec(2, max(len(masses), 1), height_ratios=[4, 3])
+    axes = []
+    for k, name in enumerate(masses):
+        ax = fig.add_subplot(grid[0, k])
+        colour = tuple(c / 255 for c in _CURVES[k % len(_CURVES)])
+        ax.plot(x[k], v[k], color=colour, linewidth=0.8)
+        for mass, position, stop in p["stops"]:
+            if mass == k:
+                ax.axvline(position, color="black", linewidth=1.0)
+                ax.annotate(stop, (position, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10),
+                            textcoords="offset points", fontsize="small")
+        ax.plot(x[k][impacts], v[k][impacts], "o", color="black", markersize=2.6, linestyle="none")
+        ax.set_xlabel(_subscripts(f"x_{name}"))
+        ax.set_ylabel(_subscripts(f"v_{name}"))
+        ax.set_title(f"{name}: phase portrait", fontsize="medium")
+        axes.append(ax)
+    ax = fig.add_subplot(grid[1, :])
+    for k, name in enumerate(masses):
+        colour = tuple(c / 255 for c in _CURVES[k % len(_CURVES)])
+        ax.plot(t, x[k], color=colour, linewidth=0.9, label=_subscripts(f"x_{name}"))
+        ax.plot(t[rows], x[k][rows], "o", color="black", markersize=2.6, linestyle="none",
+                label="event" if k == len(masses) - 1 else None)
+    ax.set_xlabel("t")
+    ax.set_ylabel("x")
+    ax.set_title("positions against time (events marked)", fontsize="medium")
+    ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False, fontsize="small")
+    axes.append(ax)
+    fig.suptitle(p["title"], wrap=True)
+    return axes
+
+
+def sections(result, fig=None):
+    """The Poincaré sections of a cell, as `vibroatlas cell --section-png
+    FILE` draws them, two panels to a row: the first labelled mass's (x, v)
+    at t = kT, then each stop with impacts (phase, speed just before); a
+    periodic motion's few distinct points drawn large, a curve or cloud of
+    many small.
+
+    result: the dict of va.cell(..., sections=True); fig: the figure to
+    draw into. Returns the panels' Axes in order."""
+    import matplotlib.pyplot as plt
+
+    s = _cell_part(result, "sections", "sections=True")
+    panels = s["panels"]
+    cols = min(max(len(panels), 1), 2)
+    nrows = max(math.ceil(len(panels) / cols), 1)
+    if fig is None:
+        fig = plt.figure(figsize=(3.8 * cols, 3.3 * nrows + 0.6), layout="constrained")
+    grid = fig.add_gridspec(nrows, cols)
+    colour = tuple(c / 255 for c in _CURVES[0])
+    axes = []
+    for i, panel in enumerate(panels):
+        ax = fig.add_subplot(grid[i // cols, i % cols])
+        pts = np.asarray(panel["points"], float).reshape(-1, 2)
+        # About as render: on a 400 x 400 raster of the panel's ranges, few distinct points are a period.
+        span = np.ptp(pts, axis=0) if len(pts) else np.ones(2)
+        cells = np.round((pts - pts.min(axis=0)) / np.where(span > 0, span, 1.0) * 400) if len(pts) else pts
+        distinct = len(np.unique(cells, axis=0)) if len(pts) else 0
+        ax.plot(pts[:, 0], pts[:, 1], "o", color=colour, linestyle="none",
+                markersize=1.2 if distinct > 64 else 3.2, markeredgewidth=0)
+        ax.set_xlabel(_subscripts(panel["x"]))
+        ax.set_ylabel(_subscripts(panel["y"]))
+        axes.append(ax)
+    fig.suptitle(s["title"], wrap=True)
+    return axes
