@@ -117,9 +117,12 @@ def check_pixels(path, sweep, mass, tmp):
     labels = [t for t, _ in plot_atlas.present(texts)]
     missing = [t for t in labels if colours[t] not in seen]
     need(not missing, f"{sweep}/{mass}: map has no pixel of the colour of {missing} ({[colours[t] for t in missing]})")
-    shared = [t for t in labels if [colours[u] for u in labels].count(colours[t]) > 1]
-    need(len(seen) >= len(labels), f"{sweep}/{mass}: {len(seen)} colours in the map for {len(labels)} labels "
-         f"(labels sharing a colour: {shared})")
+    # A colour is a function of the label text alone (the same in every map), so among the
+    # hashed colours of hundreds of long-period labels two may coincide (the legends group
+    # those); the map must still show every colour its labels have.
+    distinct = {colours[t] for t in labels}
+    need(len(seen) >= len(distinct), f"{sweep}/{mass}: {len(seen)} colours in the map for the "
+         f"{len(distinct)} colours of its {len(labels)} labels")
     # The figure with its legend renders too, at screen and single-column size,
     # with nothing off the figure and the legend over no panel.
     for size in (None, "single"):
