@@ -1,22 +1,38 @@
 #!/usr/bin/env bash
-# Redraws every figure of docs/gallery.md into docs/img/, from small grids so
-# that the whole script takes about a minute on two cores. Intermediate files
-# (atlases, a sweep file, a study) go to out/gallery/ (git-ignored).
+# Redraws every figure of docs/gallery.md into docs/img/. Intermediate files
+# (atlases, a sweep file, a study) go to out/gallery/ (git-ignored). About six
+# minutes on two cores (5 min 40 s on the 2-core Xeon of 2026-11-28), most of
+# it the README's reference plane for the print previews and the curves of a
+# 96 x 64 map.
 #
 #   scripts/gallery.sh            # uses target/release/vibroatlas as built
+#   scripts/gallery.sh --check    # draws into a scratch folder instead and compares
+#                                 # every image with docs/img's pixel by pixel: lists
+#                                 # those that differ and fails if any does
 #   VIBROATLAS=path/to/vibroatlas scripts/gallery.sh
 #
 # Not redrawn here: docs/img/trade.png (`vibroatlas bench --trade -o DIR`, the
 # speed/accuracy trade), which measures every preset on a 48 x 48 grid several
-# times and takes minutes; see docs/performance.md.
+# times and takes minutes; see docs/performance.md; and the explorer's
+# screenshots docs/img/explore-*.png (scripts/test_explore.py, in chromium).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+check=0
+case "${1:-}" in
+    --check) check=1 ;;
+    "") ;;
+    *) echo "gallery: unknown argument $1" >&2; exit 2 ;;
+esac
 bin=${VIBROATLAS:-target/release/vibroatlas}
 if [ ! -x "$bin" ]; then
     echo "gallery: $bin not found; build it first (cargo build --release, or scripts/run.sh --version)" >&2
     exit 1
 fi
 img=docs/img
+if [ "$check" -eq 1 ]; then
+    img=$(mktemp -d)
+    trap 'rm -rf "$img"' EXIT
+fi
 out=out/gallery
 mkdir -p "$img" "$out"
 start=$SECONDS
@@ -95,3 +111,30 @@ vibroatlas atlas configs/soft-stop.toml --x omega=0.3:3:120 --y clearance=0:2:80
 vibroatlas render $out/soft.h5 -o $img/soft-stop.png --sweep up
 
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
+if [ "$check" -eq 1 ]; then
+    # Pixels, not bytes: the same picture may be encoded differently.
+    /usr/bin/python3 - "$img" docs/img <<'PY'
+import os, sys
+import matplotlib.image as mpimg
+import numpy as np
+drawn, kept = sys.argv[1], sys.argv[2]
+names = sorted(n for n in os.listdir(drawn) if n.endswith(".png"))
+differ = []
+for n in names:
+    a = mpimg.imread(os.path.join(drawn, n))
+    path = os.path.join(kept, n)
+    if not os.path.exists(path):
+        differ.append(f"{n}: not in {kept}")
+        continue
+    b = mpimg.imread(path)
+    if a.shape != b.shape:
+        differ.append(f"{n}: {a.shape[1]} x {a.shape[0]} pixels, {kept} has {b.shape[1]} x {b.shape[0]}")
+    elif not np.array_equal(a, b):
+        changed = np.any(a != b, axis=-1) if a.ndim == 3 else a != b
+        differ.append(f"{n}: {int(changed.sum())} of {changed.size} pixels differ")
+for d in differ:
+    print(f"gallery: DIFFERS {d}")
+print(f"gallery: {len(names) - len(differ)} of {len(names)} images equal to {kept}'s pixel for pixel")
+sys.exit(1 if differ else 0)
+PY
+fi
