@@ -27,7 +27,9 @@ use serde_json::Value;
 use solver::{Accuracy, Class, Knob, Method, Preset};
 
 /// The reference scene (the shipped multi-stop scene), the default of a bench.
-pub const REFERENCE_SCENE: &str = include_str!("../../../configs/multi-stop.toml");
+/// `reference-scene.toml` is a link to `configs/multi-stop.toml`: the crate's
+/// package carries the scene itself (`cargo package` follows the link).
+pub const REFERENCE_SCENE: &str = include_str!("reference-scene.toml");
 
 /// A setting of the trade: preset, integrator, and the accuracy knobs it
 /// overrides.
