@@ -174,7 +174,7 @@ fn atlas_bad_input() {
     // Issue 43: one value with two different ends dropped STOP without a word.
     check(
         with(&["--x", "omega=0.5:0.9:1", "--y", "delta=0.1:1:3", "-o", o]),
-        "--x omega: COUNT 1 is one value, but START 0.5 and STOP 0.9 differ: give 0.5:0.5:1, or more values",
+        "--x omega: a count of 1 is one value, but start 0.5 and stop 0.9 differ: give equal ends, or more values",
     );
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1", "-o", o]), "--y");
     check(with(&["--x", "omega=0.1:1:5", "--y", "omega=0.1:1:3", "-o", o]), "--y");

@@ -214,7 +214,7 @@ fn sizes_are_bounded_before_any_allocation() {
             "-o",
             "x.h5",
         ],
-        "COUNT must be 1 to 1000000",
+        "the count must be 1 to 1000000",
     );
     for knob in ["lyapunov_periods=1e12", "n_max=1e12", "max_periods=1e12", "max_events=1e12"] {
         refused(&["cell", "configs/multi-stop.toml", "--accuracy", knob], "at most");

@@ -466,8 +466,9 @@ mod tests {
 
     #[test]
     fn grid_fields_become_options() {
-        let e = grid_error(grid::GridError::field("x omega", "COUNT must be 1 to 1000000, got 0"), &[("x", Opt::Axis)]);
-        assert_eq!(in_words(&e, &Flags), "--axis omega: COUNT must be 1 to 1000000, got 0");
+        let e =
+            grid_error(grid::GridError::field("x omega", "the count must be 1 to 1000000, got 0"), &[("x", Opt::Axis)]);
+        assert_eq!(in_words(&e, &Flags), "--axis omega: the count must be 1 to 1000000, got 0");
         let e = grid_error(grid::GridError::field("values", "give at least one value"), &[("x", Opt::X)]);
         assert_eq!(in_words(&e, &Flags), "values: give at least one value");
     }

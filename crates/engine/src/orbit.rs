@@ -217,7 +217,7 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
     s.scene.check_parameter(&axis.name, "").map_err(|e| unknown(RequestError::option(Opt::Axis), e))?;
     if axis.count < 2 {
         return Err(RequestError::option(Opt::Axis)
-            .text(format!("COUNT must be at least 2, got {}", axis.count))
+            .text(format!("the count must be at least 2, got {}", axis.count))
             .into());
     }
     check_period(n)?;

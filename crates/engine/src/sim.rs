@@ -368,9 +368,8 @@ impl Sim {
     ) -> Result<(Setup, Option<Origin>)> {
         if at.is_empty() {
             return Err(RequestError::option(Opt::From)
-                .text("give the cell with ")
+                .text("give the cell's parameter values with ")
                 .opt(Opt::At)
-                .text(" NAME=VALUE,NAME=VALUE")
                 .into());
         }
         if let Some((i, (k, _))) = at.iter().enumerate().find(|(i, (k, _))| at[..*i].iter().any(|(j, _)| j == k)) {

@@ -106,19 +106,19 @@ impl Axis {
             return Err(FieldError::field(field, "empty parameter name"));
         }
         if !(start.is_finite() && stop.is_finite()) {
-            return Err(FieldError::field(field, format!("START and STOP must be finite, got {start}:{stop}")));
+            return Err(FieldError::field(field, format!("start and stop must be finite, got {start} and {stop}")));
         }
         if *count == 0 || *count > MAX_COUNT {
-            return Err(FieldError::field(field, format!("COUNT must be 1 to {MAX_COUNT}, got {count}")));
+            return Err(FieldError::field(field, format!("the count must be 1 to {MAX_COUNT}, got {count}")));
         }
         if *count == 1 && (stop - start).abs() > 0.0 {
             return Err(FieldError::field(
                 field,
-                format!("COUNT 1 is one value, but START {start} and STOP {stop} differ: give {start}:{start}:1, or more values"),
+                format!("a count of 1 is one value, but start {start} and stop {stop} differ: give equal ends, or more values"),
             ));
         }
         if *count > 1 && (stop - start).abs() <= f64::EPSILON * start.abs().max(stop.abs()) {
-            return Err(FieldError::field(field, format!("empty range {start}:{stop} with {count} values")));
+            return Err(FieldError::field(field, format!("empty range from {start} to {stop} with {count} values")));
         }
         Ok(self)
     }

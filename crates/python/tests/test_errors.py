@@ -73,7 +73,7 @@ def test_bad_option_value_message():
         va.atlas(MULTI, x=("omega", 0.1, 1.0, 0), y=("delta", 0.1, 1.0, 3), progress=False)
     assert one_line(e) == cli_error("atlas", MULTI, "--x", "omega=0.1:1.0:0", "--y", "delta=0.1:1.0:3",
                                      "-o", "/tmp/vibroatlas-never-written.h5").replace("--x omega: ", "x omega: ")
-    assert one_line(e).startswith("x omega: COUNT must be")
+    assert one_line(e).startswith("x omega: the count must be")
 
 
 def test_options_are_named_as_keywords(tmp_path):
