@@ -9,6 +9,10 @@
 #   scripts/gallery.sh --check    # draws into a scratch folder instead and compares
 #                                 # every image with docs/img's pixel by pixel: lists
 #                                 # those that differ and fails if any does
+#   scripts/gallery.sh --check --quick   # only the first two groups (the maps of a
+#                                 # 120 x 80 atlas and the print previews of the
+#                                 # reference plane, whose legends print cell counts):
+#                                 # about 80 s, what scripts/test.sh runs
 #   VIBROATLAS=path/to/vibroatlas scripts/gallery.sh
 #
 # Not redrawn here: docs/img/trade.png (`vibroatlas bench --trade -o DIR`, the
@@ -18,11 +22,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 check=0
-case "${1:-}" in
-    --check) check=1 ;;
-    "") ;;
-    *) echo "gallery: unknown argument $1" >&2; exit 2 ;;
-esac
+quick=0
+for a in "$@"; do
+    case "$a" in
+        --check) check=1 ;;
+        --quick) quick=1 ;;
+        *) echo "gallery: unknown argument $a" >&2; exit 2 ;;
+    esac
+done
 bin=${VIBROATLAS:-target/release/vibroatlas}
 if [ ! -x "$bin" ]; then
     echo "gallery: $bin not found; build it first (cargo build --release, or scripts/run.sh --version)" >&2
@@ -35,6 +42,47 @@ if [ "$check" -eq 1 ]; then
 fi
 out=out/gallery
 mkdir -p "$img" "$out"
+# Compares every PNG drawn into $img with docs/img's, pixel for pixel (not bytes: the same
+# picture may be encoded differently); fails if any differs.
+compare_with_kept() {
+    /usr/bin/python3 - "$img" docs/img <<'PY'
+import os, sys
+import matplotlib.image as mpimg
+import numpy as np
+drawn, kept = sys.argv[1], sys.argv[2]
+
+
+def rgba(path):
+    """The image as RGBA floats (an RGB file opaque), whatever channels its file stores."""
+    a = mpimg.imread(path)
+    if a.ndim == 2:
+        a = np.stack([a, a, a], axis=-1)
+    if a.shape[2] == 3:
+        a = np.concatenate([a, np.ones(a.shape[:2] + (1,), a.dtype)], axis=-1)
+    return a
+
+
+names = sorted(n for n in os.listdir(drawn) if n.endswith(".png"))
+differ = []
+for n in names:
+    a = rgba(os.path.join(drawn, n))
+    path = os.path.join(kept, n)
+    if not os.path.exists(path):
+        differ.append(f"{n}: not in {kept}")
+        continue
+    b = rgba(path)
+    if a.shape != b.shape:
+        differ.append(f"{n}: {a.shape[1]} x {a.shape[0]} pixels, {kept} has {b.shape[1]} x {b.shape[0]}")
+    elif not np.array_equal(a, b):
+        changed = np.any(a != b, axis=-1)
+        differ.append(f"{n}: {int(changed.sum())} of {changed.size} pixels differ")
+for d in differ:
+    print(f"gallery: DIFFERS {d}")
+print(f"gallery: {len(names) - len(differ)} of {len(names)} images equal to {kept}'s pixel for pixel")
+sys.exit(1 if differ else 0)
+PY
+}
+
 start=$SECONDS
 
 # Each command as docs/gallery.md prints it (vibroatlas = $bin).
@@ -60,6 +108,11 @@ vibroatlas render $out/reference.h5 -o $out/map-single.pdf --sweep up --size sin
 vibroatlas render $out/reference.h5 -o $out/hysteresis-double.pdf --sweep hysteresis --size double >/dev/null
 pdftoppm -r 150 -png -singlefile $out/map-single.pdf $img/print-map-single
 pdftoppm -r 150 -png -singlefile $out/hysteresis-double.pdf $img/print-hysteresis-double
+if [ "$quick" -eq 1 ]; then
+    echo "gallery: $(ls $img/*.png | wc -l) images (--quick) in $img, $((SECONDS - start)) s" >&2
+    [ "$check" -eq 0 ] || compare_with_kept
+    exit 0
+fi
 
 # Bifurcation diagram of the dry-friction oscillator, up and down.
 vibroatlas sweep configs/dry-friction.toml --axis omega=8:4.5:141 --set fk=0.01 --direction both --quiet --png $img/bifurcation.png >/dev/null
@@ -111,30 +164,4 @@ vibroatlas atlas configs/soft-stop.toml --x omega=0.3:3:120 --y clearance=0:2:80
 vibroatlas render $out/soft.h5 -o $img/soft-stop.png --sweep up
 
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
-if [ "$check" -eq 1 ]; then
-    # Pixels, not bytes: the same picture may be encoded differently.
-    /usr/bin/python3 - "$img" docs/img <<'PY'
-import os, sys
-import matplotlib.image as mpimg
-import numpy as np
-drawn, kept = sys.argv[1], sys.argv[2]
-names = sorted(n for n in os.listdir(drawn) if n.endswith(".png"))
-differ = []
-for n in names:
-    a = mpimg.imread(os.path.join(drawn, n))
-    path = os.path.join(kept, n)
-    if not os.path.exists(path):
-        differ.append(f"{n}: not in {kept}")
-        continue
-    b = mpimg.imread(path)
-    if a.shape != b.shape:
-        differ.append(f"{n}: {a.shape[1]} x {a.shape[0]} pixels, {kept} has {b.shape[1]} x {b.shape[0]}")
-    elif not np.array_equal(a, b):
-        changed = np.any(a != b, axis=-1) if a.ndim == 3 else a != b
-        differ.append(f"{n}: {int(changed.sum())} of {changed.size} pixels differ")
-for d in differ:
-    print(f"gallery: DIFFERS {d}")
-print(f"gallery: {len(names) - len(differ)} of {len(names)} images equal to {kept}'s pixel for pixel")
-sys.exit(1 if differ else 0)
-PY
-fi
+[ "$check" -eq 0 ] || compare_with_kept
