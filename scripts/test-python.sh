@@ -10,7 +10,7 @@
 # output compared with the text blocks the page shows (a change that moves a
 # number moves the page too).
 # With --wheel WHEEL (scripts/build-wheel.sh), the same tests run on that wheel
-# as a user without Rust gets it: `pip install WHEEL`, and every step with a
+# as a user without Rust gets it: `pip install WHEEL[notebook]`, and every step with a
 # PATH that has no cargo and no rustc on it; one more test then checks that the
 # process running the package never loaded a libhdf5 other than the one h5py's
 # own wheel brings (the extension carries its HDF5 inside).
@@ -64,18 +64,15 @@ if [ -n "$wheel" ]; then
         echo "python tests: 0 passed, 1 failed (cargo still on PATH)"; exit 1
     fi
     echo "test-python: the wheel $wheel, PATH without cargo and rustc: $PATH"
-    (source "$venv/bin/activate" && pip install "$wheel") || { echo "python tests: 0 passed, 1 failed (pip install $wheel)"; exit 1; }
+    # The wheel with its notebook extra (ipywidgets, for tqdm's widget in Jupyter).
+    (source "$venv/bin/activate" && pip install "$wheel[notebook]") || { echo "python tests: 0 passed, 1 failed (pip install $wheel)"; exit 1; }
 else
-    # The README's install command, as printed, inside the venv.
+    # The README's install command, as printed, inside the venv, then the notebook extra's
+    # ipywidgets (not `./crates/python[notebook]`, which would build the package again).
     (source "$venv/bin/activate" && pip install ./crates/python) || { echo "python tests: 0 passed, 1 failed (pip install ./crates/python)"; exit 1; }
+    "$py" -m pip install --quiet ipywidgets || exit 1
 fi
-# The notebook extra (ipywidgets, for tqdm's widget in Jupyter) and what the tests use:
-# pytest, mypy, and nbclient with ipykernel to run a notebook in a real kernel.
-if [ -n "$wheel" ]; then
-    "$py" -m pip install --quiet "$wheel[notebook]" || exit 1
-else
-    "$py" -m pip install --quiet ipywidgets || exit 1   # the extra, without building the package again
-fi
+# What the tests use: pytest, mypy, and nbclient with ipykernel to run a notebook in a real kernel.
 "$py" -m pip install --quiet pytest mypy nbclient ipykernel || exit 1
 
 tmp=$(mktemp -d)
