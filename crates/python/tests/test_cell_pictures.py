@@ -107,8 +107,12 @@ def test_plot_sections_draws_the_points():
     for ax, panel in zip(axes, r["sections"]["panels"]):
         np.testing.assert_array_equal(ax.lines[0].get_xydata(), panel["points"])
     assert axes[0].get_xlabel() == "x$_{\\mathrm{M1}}$ at t = kT"
-    # a period's few distinct points are drawn large
+    # a period's few distinct points are drawn large, amid readable ticks, not over a range of
+    # round-off (render's axis range: at least 5 % of the values' magnitude on each side)
     assert axes[0].lines[0].get_markersize() > 3
+    final = r["final_state"]
+    for (lo, hi), centre in ((axes[0].get_xlim(), final[0]), (axes[0].get_ylim(), final[2])):
+        assert hi - lo >= 0.1 * abs(centre) and lo < centre < hi, (lo, hi, centre)
     fig.canvas.draw()
     img = np.asarray(fig.canvas.buffer_rgba())[:, :, :3]
     px, py = axes[1].transData.transform(r["sections"]["panels"][1]["points"][0])

@@ -482,6 +482,21 @@ def portrait(result, fig=None):
     return axes
 
 
+def _padded(values):
+    """The axis range of `values` as vibroatlas's figures take it: a margin of
+    5 % of their span and at least 5 % of their magnitude (or 1e-3), so that
+    points agreeing to round-off (a period-n orbit) sit among readable ticks
+    instead of being spread over a range of 1e-10; -1 to 1 without values."""
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    if v.size == 0:
+        return -1.0, 1.0
+    lo, hi = float(v.min()), float(v.max())
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    half = max(1.1 * half, 0.05 * abs(mid), 1e-3)
+    return mid - half, mid + half
+
+
 def sections(result, fig=None):
     """The Poincaré sections of a cell, as `vibroatlas cell --section-png
     FILE` draws them, two panels to a row: the first labelled mass's (x, v)
@@ -505,12 +520,14 @@ def sections(result, fig=None):
     for i, panel in enumerate(panels):
         ax = fig.add_subplot(grid[i // cols, i % cols])
         pts = np.asarray(panel["points"], float).reshape(-1, 2)
-        # About as render: on a 400 x 400 raster of the panel's ranges, few distinct points are a period.
-        span = np.ptp(pts, axis=0) if len(pts) else np.ones(2)
-        cells = np.round((pts - pts.min(axis=0)) / np.where(span > 0, span, 1.0) * 400) if len(pts) else pts
-        distinct = len(np.unique(cells, axis=0)) if len(pts) else 0
+        (x0, x1), (y0, y1) = _padded(pts[:, 0]), _padded(pts[:, 1])
+        # As render: on a 400 x 400 raster of the panel's ranges, few distinct points are a period.
+        cells = np.round((pts - [x0, y0]) / [x1 - x0, y1 - y0] * 400)
+        distinct = len(np.unique(cells, axis=0))
         ax.plot(pts[:, 0], pts[:, 1], "o", color=colour, linestyle="none",
                 markersize=1.2 if distinct > 64 else 3.2, markeredgewidth=0)
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
         ax.set_xlabel(_subscripts(panel["x"]))
         ax.set_ylabel(_subscripts(panel["y"]))
         axes.append(ax)
