@@ -75,11 +75,11 @@ fn a_label_has_the_same_colour_in_every_sweep_and_file() {
         let map = atlas.map(grid::SweepKind::parse(sweep).unwrap()).unwrap();
         for iy in 0..2 {
             for ix in 0..2 {
-                let label = map.cells[iy * 2 + ix].as_ref().unwrap().labels[0].to_string();
+                let label = map.cells[iy * 2 + ix].as_ref().unwrap().labels[0];
                 let (x, y) = centre(ix, iy);
                 let got = sample(&img, x, y);
-                assert_eq!(got, grid::palette::colour(&label), "{png:?} cell ({ix}, {iy}) {label}");
-                if let Some(before) = seen.insert(label.clone(), got) {
+                assert_eq!(got, grid::palette::colour(label), "{png:?} cell ({ix}, {iy}) {label}");
+                if let Some(before) = seen.insert(label.to_string(), got) {
                     assert_eq!(before, got, "{label} changed colour");
                 }
             }

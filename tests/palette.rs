@@ -21,7 +21,12 @@
 //!   sticking (1-S-S); M1.
 
 use crate::util::{json_of, ok, scratch};
-use grid::palette::{colour, delta_e};
+use grid::palette::delta_e;
+
+/// The colour of a label as `inspect --json` writes it.
+fn colour(text: &str) -> [u8; 3] {
+    grid::palette::colour(text.parse().unwrap_or_else(|e| panic!("{e}")))
+}
 
 /// The least ΔE of a periodic label's colour from each fixed colour.
 const FIXED_GAP: [(&str, f64); 4] = [("C", 20.0), ("Q", 15.0), ("U", 15.0), ("1-0-0", 15.0)];

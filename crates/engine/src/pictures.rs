@@ -87,7 +87,7 @@ pub fn draw_basins(
             (format!("{} ({share:.0} %)", named.join(", ")), res.basin(at))
         })
         .collect();
-    let colours: Vec<String> = found.iter().map(|at| at.cell.labels[0].to_string()).collect();
+    let colours: Vec<solver::Label> = found.iter().map(|at| at.cell.labels[0]).collect();
     let title = format!("{}: basins of attraction at t = 0 ({samples} samples)", sys.model.name);
     let axes = (format!("x_{} at t = 0", sys.model.masses[mass].name), format!("v_{}", sys.model.masses[mass].name));
     render::basins(&groups, &colours, &title, &axes, page, path)

@@ -139,7 +139,9 @@ impl Summary {
                     sweep: map.sweep,
                     computed: cells.len(),
                     classes: CLASSES.map(|c| cells.iter().filter(|x| x.class == c).count()),
-                    labels: (0..atlas.meta.masses.len()).map(|mi| atlas.legend(map.sweep, mi)).collect(),
+                    labels: (0..atlas.meta.masses.len())
+                        .map(|mi| atlas.legend(map.sweep, mi).into_iter().map(|(l, n)| (l.to_string(), n)).collect())
+                        .collect(),
                     reasons: reasons(&map.cells),
                 }
             })

@@ -234,7 +234,7 @@ async fn atlas(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value
                         .atlas
                         .legend(s, mi)
                         .into_iter()
-                        .map(|(l, n)| json!({"label": l, "count": n, "colour": grid::palette::colour(&l)}))
+                        .map(|(l, n)| json!({"label": l.to_string(), "count": n, "colour": grid::palette::colour(l)}))
                         .collect();
                     (name.clone(), Value::from(rows))
                 })
@@ -436,8 +436,7 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
         let res = engine::attractors(&r, &work).map_err(failed)?;
         let picture = drawn(&state, "png", |path| engine::draw_basins(&res, &render::Page::screen(), path))?;
         let mut out = res.to_json();
-        let colours: Vec<Value> =
-            res.found.iter().map(|a| json!(grid::palette::colour(&a.cell.labels[0].to_string()))).collect();
+        let colours: Vec<Value> = res.found.iter().map(|a| json!(grid::palette::colour(a.cell.labels[0]))).collect();
         out["colours"] = Value::from(colours);
         out["basins_png"] = Value::from(BASE64_STANDARD.encode(&picture));
         Ok(out)

@@ -2,11 +2,10 @@
 //! sweep, the cells of the plane (row-major, `None` where not computed, e.g. in
 //! a shard). Stores, renderers and summaries all read this one structure.
 
-use crate::cell::CellData;
+use crate::cell::{label_counts, CellData};
 use crate::hysteresis::mask;
 use crate::plane::{Entries, Line, Plane};
 use crate::sweep::SweepKind;
-use std::collections::HashMap;
 
 /// What an atlas is a map of; two atlases with equal `Meta` can be merged.
 #[derive(Debug, Clone, PartialEq)]
@@ -174,16 +173,9 @@ impl Atlas {
         map.cells[jy * p.x.count + jx].as_ref().map(|c| c.final_state.as_slice())
     }
 
-    /// Labels of mass `m` in a sweep with their cell counts, most frequent first.
-    pub fn legend(&self, sweep: SweepKind, m: usize) -> Vec<(String, u64)> {
-        let mut counts: HashMap<solver::Label, u64> = HashMap::new();
-        if let Some(map) = self.map(sweep) {
-            for c in map.cells.iter().flatten() {
-                *counts.entry(c.labels[m]).or_default() += 1;
-            }
-        }
-        let mut v: Vec<(String, u64)> = counts.into_iter().map(|(l, n)| (l.to_string(), n)).collect();
-        v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-        v
+    /// Labels of mass `m` in a sweep with their cell counts, most frequent
+    /// first (ties in the order of the labels' text).
+    pub fn legend(&self, sweep: SweepKind, m: usize) -> Vec<(solver::Label, u64)> {
+        label_counts(self.map(sweep).into_iter().flat_map(|map| map.cells.iter().flatten()), m)
     }
 }

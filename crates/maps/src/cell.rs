@@ -2,6 +2,8 @@
 //! final state and capped raw sections.
 
 use solver::{Class, Label, Mask, Symmetry};
+use std::collections::HashMap;
+use std::hash::Hash;
 
 /// What is kept of a classified cell.
 #[derive(Debug, Clone, PartialEq)]
@@ -36,3 +38,22 @@ pub struct CellData {
 
 /// Largest `section_cap`: points kept per section per cell.
 pub const MAX_SECTION_CAP: usize = 100_000;
+
+/// The labels of mass `mass` over `cells` with their cell counts, most
+/// frequent first (ties in the order of the labels' text): the order of
+/// every legend and label table.
+pub fn label_counts<'a>(cells: impl IntoIterator<Item = &'a CellData>, mass: usize) -> Vec<(Label, u64)> {
+    let mut counts: HashMap<Label, u64> = HashMap::new();
+    for c in cells {
+        *counts.entry(c.labels[mass]).or_default() += 1;
+    }
+    by_frequency(counts, Label::to_string)
+}
+
+/// Counts most frequent first, ties in the order of `key` (the text a
+/// legend writes): the same order whatever order the counts came in.
+pub fn by_frequency<K: Eq + Hash, S: Ord>(counts: HashMap<K, u64>, key: impl Fn(&K) -> S) -> Vec<(K, u64)> {
+    let mut v: Vec<(K, u64)> = counts.into_iter().collect();
+    v.sort_by_cached_key(|(k, n)| (std::cmp::Reverse(*n), key(k)));
+    v
+}

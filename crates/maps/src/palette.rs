@@ -1,7 +1,7 @@
 //! The colour of a label: one fixed colour per label text, the same in every
 //! map, sweep, study sheet and file (the atlas files store it beside their
 //! label tables, so that scripts draw with the same colours). [`colour`] is a
-//! pure function of the text.
+//! pure function of the label (families' rules hash its text).
 //!
 //! Three tiers:
 //!
@@ -48,56 +48,98 @@
 //! shipped scenes. [`delta_e`] is the
 //! CIEDE2000 difference used throughout.
 
+use solver::{Count, Label};
+
 /// `1-0-0`, no impact: a neutral grey, ΔE 16 from white.
 const NO_IMPACT: [u8; 3] = [184, 184, 184];
 
-/// RGB colour of a label text (`1-4-4`, `2-S-3`, `C`, `Q`, `U`). Anything
-/// else (for instance `not-computed`) is white.
-pub fn colour(label: &str) -> [u8; 3] {
+/// The colour of a cell without a label (not computed): white, the
+/// figures' background, apart from every label's colour.
+pub const BLANK: [u8; 3] = [255, 255, 255];
+
+/// RGB colour of a label (`1-4-4`, `2-S-3`, `C`, `Q`, `U`).
+pub fn colour(label: Label) -> [u8; 3] {
     match label {
-        "1-0-0" => NO_IMPACT,
-        "C" => [0, 0, 0],
-        "Q" => [102, 102, 102],
-        "U" => [213, 40, 40],
-        _ => match TABLE.binary_search_by(|(l, _)| (*l).cmp(label)) {
-            Ok(i) => TABLE[i].1,
-            Err(_) => match parse(label) {
-                Some((n, p, q)) => hashed(label, n, p, q),
-                None => [255, 255, 255],
+        Label::Chaotic => [0, 0, 0],
+        Label::Quasiperiodic => [102, 102, 102],
+        Label::Unresolved => [213, 40, 40],
+        Label::Periodic { n: 1, p: Count::Impacts(0), q: Count::Impacts(0) } => NO_IMPACT,
+        Label::Periodic { n, p, q } => {
+            let text = label.to_string();
+            match TABLE.binary_search_by(|(l, _)| (*l).cmp(text.as_str())) {
+                Ok(i) => TABLE[i].1,
+                Err(_) => hashed(&text, n, impacts(p), impacts(q)),
+            }
+        }
+    }
+}
+
+/// The family of a label (see the module doc), as legends group labels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Family {
+    /// `1-0-0`.
+    NoImpact,
+    /// `1-p-q`, fewer than 6 impacts per period at each stop.
+    Fundamental,
+    /// `n-p-q`, `n > 1`, fewer than 6 impacts per forcing period at each stop.
+    Subharmonic,
+    /// 6 or more impacts per forcing period on average at a stop.
+    Chattering,
+    /// A stop held the mass (an `S`).
+    CompleteChattering,
+    /// `C`.
+    Chaotic,
+    /// `Q`.
+    Quasiperiodic,
+    /// `U`.
+    Unresolved,
+}
+
+impl Family {
+    /// The family of `label`.
+    pub fn of(label: Label) -> Family {
+        match label {
+            Label::Chaotic => Family::Chaotic,
+            Label::Quasiperiodic => Family::Quasiperiodic,
+            Label::Unresolved => Family::Unresolved,
+            Label::Periodic { n: 1, p: Count::Impacts(0), q: Count::Impacts(0) } => Family::NoImpact,
+            Label::Periodic { n, p, q } => match (impacts(p), impacts(q)) {
+                (None, _) | (_, None) => Family::CompleteChattering,
+                (p, q) if chattering(n, p, q) => Family::Chattering,
+                _ if n == 1 => Family::Fundamental,
+                _ => Family::Subharmonic,
             },
-        },
+        }
     }
-}
 
-/// A colour standing for a whole family in legends (its members vary).
-pub fn family_colour(family: &str) -> [u8; 3] {
-    match family {
-        "complete chattering" => colour("1-S-S"),
-        "chattering" => colour("1-6-6"),
-        "fundamental" => colour("1-1-1"),
-        "subharmonic" => colour("2-2-2"),
-        "no impact" => colour("1-0-0"),
-        "chaotic" => colour("C"),
-        "quasi-periodic" => colour("Q"),
-        "unresolved" => colour("U"),
-        _ => [255, 255, 255],
+    /// The family's name as legends write it (`complete chattering`, `no impact`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::NoImpact => "no impact",
+            Family::Fundamental => "fundamental",
+            Family::Subharmonic => "subharmonic",
+            Family::Chattering => "chattering",
+            Family::CompleteChattering => "complete chattering",
+            Family::Chaotic => "chaotic",
+            Family::Quasiperiodic => "quasi-periodic",
+            Family::Unresolved => "unresolved",
+        }
     }
-}
 
-/// The family of a label (see the module doc), as written in legends.
-pub fn family(label: &str) -> &'static str {
-    match label {
-        "1-0-0" => "no impact",
-        "C" => "chaotic",
-        "Q" => "quasi-periodic",
-        "U" => "unresolved",
-        _ => match parse(label) {
-            Some((_, p, q)) if p.is_none() || q.is_none() => "complete chattering",
-            Some((n, p, q)) if chattering(n, p, q) => "chattering",
-            Some((1, _, _)) => "fundamental",
-            Some(_) => "subharmonic",
-            None => "other",
-        },
+    /// A colour standing for the whole family in legends (a member's: its
+    /// members vary).
+    pub fn colour(self) -> [u8; 3] {
+        let periodic = |n, p, q| colour(Label::Periodic { n, p: Count::Impacts(p), q: Count::Impacts(q) });
+        match self {
+            Family::NoImpact => NO_IMPACT,
+            Family::Fundamental => periodic(1, 1, 1),
+            Family::Subharmonic => periodic(2, 2, 2),
+            Family::Chattering => periodic(1, 6, 6),
+            Family::CompleteChattering => colour(Label::Periodic { n: 1, p: Count::Stuck, q: Count::Stuck }),
+            Family::Chaotic => colour(Label::Chaotic),
+            Family::Quasiperiodic => colour(Label::Quasiperiodic),
+            Family::Unresolved => colour(Label::Unresolved),
+        }
     }
 }
 
@@ -170,15 +212,12 @@ fn ciede2000([l1, a1, b1]: [f64; 3], [l2, a2, b2]: [f64; 3]) -> f64 {
     (dl * dl + dc * dc + dhh * dhh + r_t * dc * dhh).sqrt()
 }
 
-/// `(n, p, q)` of a periodic label (read by the solver's label grammar),
-/// `None` for a count that is `S`.
-fn parse(label: &str) -> Option<(u32, Option<u32>, Option<u32>)> {
-    let (n, p, q) = label.parse::<solver::Label>().ok()?.npq()?;
-    let count = |c: solver::Count| match c {
-        solver::Count::Impacts(k) => Some(k),
-        solver::Count::Stuck => None,
-    };
-    Some((n, count(p), count(q)))
+/// The impacts of a count, `None` for `S` (the stop held the mass).
+fn impacts(c: Count) -> Option<u32> {
+    match c {
+        Count::Impacts(k) => Some(k),
+        Count::Stuck => None,
+    }
 }
 
 /// Six or more impacts per forcing period on average at a stop.
@@ -403,6 +442,20 @@ const TABLE_MIN_DE: f64 = 10.25;
 mod tests {
     use super::*;
 
+    /// The colour of a label written as text (the tests name labels as
+    /// the figures print them).
+    fn colour(text: &str) -> [u8; 3] {
+        super::colour(label(text))
+    }
+
+    fn label(text: &str) -> Label {
+        text.parse().unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn family(text: &str) -> &'static str {
+        Family::of(label(text)).name()
+    }
+
     const WHITE: [u8; 3] = [255, 255, 255];
     const FIXED: [&str; 4] = ["C", "Q", "U", "1-0-0"];
     /// The module doc's guarantees for every periodic colour, table or rule:
@@ -440,7 +493,7 @@ mod tests {
         assert_eq!(colour("C"), [0, 0, 0]);
         assert_eq!(colour("Q"), [102, 102, 102]);
         assert_eq!(colour("U"), [213, 40, 40]);
-        assert_eq!(colour("not-computed"), WHITE);
+        assert_eq!(BLANK, WHITE, "a cell not computed is the background's white");
         // No impact: a neutral grey, told apart from the white background
         // (#DDDDDD was ΔE 9 from it).
         let [r, g, b] = colour("1-0-0");
@@ -456,7 +509,7 @@ mod tests {
     fn table_is_well_formed() {
         assert!(TABLE.windows(2).all(|w| w[0].0 < w[1].0), "TABLE is not sorted or has a duplicate");
         for (label, rgb) in TABLE {
-            assert!(parse(label).is_some(), "{label} is not n-p-q");
+            assert!(label.parse::<Label>().is_ok_and(|l| l.npq().is_some()), "{label} is not n-p-q");
             assert!(!FIXED.contains(&label), "{label} is fixed");
             assert_eq!(colour(label), rgb, "{label}");
         }
@@ -565,16 +618,28 @@ mod tests {
         assert_eq!(family("1-S-S"), "complete chattering");
         assert_eq!(family("1-S-3"), "complete chattering");
         assert_eq!(family("C"), "chaotic");
-        assert_eq!(family("not-computed"), "other");
+        assert_eq!(family("Q"), "quasi-periodic");
+        assert_eq!(family("U"), "unresolved");
         // Each family's legend colour is a member's, and they differ.
-        let fams = ["complete chattering", "chattering", "fundamental", "subharmonic", "no impact", "chaotic"];
+        let fams = [
+            Family::CompleteChattering,
+            Family::Chattering,
+            Family::Fundamental,
+            Family::Subharmonic,
+            Family::NoImpact,
+            Family::Chaotic,
+            Family::Quasiperiodic,
+            Family::Unresolved,
+        ];
         for (i, a) in fams.iter().enumerate() {
-            assert_ne!(family_colour(a), WHITE, "{a}");
+            assert_ne!(a.colour(), WHITE, "{a:?}");
             for b in &fams[..i] {
-                assert_ne!(family_colour(a), family_colour(b), "{a} and {b}");
+                assert_ne!(a.colour(), b.colour(), "{a:?} and {b:?}");
             }
         }
-        assert_eq!(family_colour("fundamental"), colour("1-1-1"));
+        assert_eq!(Family::Fundamental.colour(), colour("1-1-1"));
+        assert_eq!(Family::CompleteChattering.colour(), colour("1-S-S"));
+        assert_eq!(Family::Chattering.colour(), colour("1-6-6"));
     }
 
     /// The user's report (issue 29): these looked the same.

@@ -511,9 +511,13 @@ type LegendRow = (&'static str, Vec<(u8, u8, u8)>, String);
 /// The legend rows `vibroatlas render` draws for label counts `(label,
 /// cells)` in at most `rows` rows: `(swatch, colours, text)`, the swatch
 /// `fill` (a named label) or `hatch` (a family group), colours RGB 0-255.
+/// A text that is not a label (a file's `not-computed`) is left out: those
+/// cells are blank, as the figures draw them.
 #[pyfunction]
 fn legend(counts: Vec<(String, u64)>, rows: usize) -> Vec<LegendRow> {
-    render::label_legend(&counts, rows)
+    let labels: Vec<(solver::Label, u64)> =
+        counts.into_iter().filter_map(|(text, n)| text.parse().ok().map(|l| (l, n))).collect();
+    render::label_legend(&labels, rows)
         .into_iter()
         .map(|k| (k.swatch, k.colours.into_iter().map(|[r, g, b]| (r, g, b)).collect(), k.text))
         .collect()

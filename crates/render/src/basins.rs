@@ -10,6 +10,7 @@ use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use solver::Label;
 use std::path::Path;
 
 /// Draws `groups` (legend text, points) in the colours of the labels
@@ -17,7 +18,7 @@ use std::path::Path;
 /// `path`).
 pub fn basins(
     groups: &[(String, Vec<(f64, f64)>)],
-    colours: &[String],
+    colours: &[Label],
     title: &str,
     axes: &(String, String),
     page: &Page,
@@ -31,7 +32,7 @@ fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     groups: &[(String, Vec<(f64, f64)>)],
-    colours: &[String],
+    colours: &[Label],
     title: &str,
     axes: &(String, String),
 ) -> Result<(), RenderError> {
@@ -40,7 +41,7 @@ fn draw<DB: crate::Backend>(
     let rows: Vec<Entry> = groups
         .iter()
         .zip(colours)
-        .map(|((name, _), label)| Entry::new(Swatch::Fill(rgb(label)), name.clone()))
+        .map(|((name, _), &label)| Entry::new(Swatch::Fill(rgb(label)), name.clone()))
         .collect();
     let column = legend::width(&body, canvas, &rows);
     let (w, h) = body.dim_in_pixel();
@@ -62,7 +63,7 @@ fn draw<DB: crate::Backend>(
     let plot = chart.plotting_area();
     // Every point ringed in black, so that light labels (1-0-0) stay visible.
     let (r, edge) = (canvas.pt(1.8), BLACK.mix(0.7).stroke_width(canvas.pt(0.3)));
-    for ((_, pts), label) in groups.iter().zip(colours) {
+    for ((_, pts), &label) in groups.iter().zip(colours) {
         let col = rgb(label);
         for &p in pts {
             plot.draw(&Circle::new(p, r, col.filled())).map_err(err)?;

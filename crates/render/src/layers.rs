@@ -119,9 +119,9 @@ pub fn layer(atlas: &Atlas, show: Show, mass: usize, curves: &[Overlay]) -> Resu
 /// `rows` rows, for a client that draws a map itself (`vibroatlas.plot`):
 /// the most frequent labels told apart by colour, the rest in hatched
 /// family groups (the counts are ordered here, most frequent first).
-pub fn label_legend(counts: &[(String, u64)], rows: usize) -> Vec<Key> {
+pub fn label_legend(counts: &[(solver::Label, u64)], rows: usize) -> Vec<Key> {
     let mut counts = counts.to_vec();
-    counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    counts.sort_by_cached_key(|(label, n)| (std::cmp::Reverse(*n), label.to_string()));
     crate::map::label_entries(&counts, rows).iter().map(key).collect()
 }
 

@@ -15,11 +15,12 @@ use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use maps::palette::{colour, delta_e, family, family_colour};
+use maps::palette::{self, colour, delta_e, Family};
 use maps::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::collections::BTreeMap;
+use solver::Label;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// What a map shows.
@@ -43,7 +44,7 @@ impl View {
 
 /// Colour of cells a panel does not show (not computed, or no hysteresis):
 /// white, apart from every label's colour.
-const BLANK: RGBColor = RGBColor(255, 255, 255);
+const BLANK: RGBColor = RGBColor(palette::BLANK[0], palette::BLANK[1], palette::BLANK[2]);
 /// Most labels a legend lists one by one; the rest are summed per family.
 const LEGEND_ROWS: usize = 30;
 /// A legend goes beside the panels on canvases at least this many text
@@ -59,7 +60,7 @@ const MIN_PANEL_EM: f64 = 14.0;
 const PANEL_EM: (f64, f64) = (16.0, 12.0);
 
 /// The plotters colour of a label.
-pub(crate) fn rgb(label: &str) -> RGBColor {
+pub(crate) fn rgb(label: Label) -> RGBColor {
     let [r, g, b] = colour(label);
     RGBColor(r, g, b)
 }
@@ -310,7 +311,7 @@ fn curve_entries(curves: &[Overlay]) -> Vec<Entry> {
 
 /// Paint of one sweep's labels of mass `mass`, cell by cell.
 pub(crate) fn label_paint(cells: &[Option<CellData>], mass: usize) -> impl Fn(usize) -> Option<Paint> + '_ {
-    move |i| Some(Paint::Fill(cells[i].as_ref().map_or(BLANK, |c| rgb(&c.labels[mass].to_string()))))
+    move |i| Some(Paint::Fill(cells[i].as_ref().map_or(BLANK, |c| rgb(c.labels[mass]))))
 }
 
 /// What p and q count for a mass, e.g. `M1: p = impacts at A12, q = impacts at A1`
@@ -341,11 +342,11 @@ pub(crate) fn settings_text(meta: &Meta) -> String {
 }
 
 /// A label's legend text: the letter classes spelled out.
-fn label_text(label: &str) -> String {
+fn label_text(label: Label) -> String {
     match label {
-        "C" => "C chaotic".to_string(),
-        "Q" => "Q quasi-periodic".to_string(),
-        "U" => "U unresolved".to_string(),
+        Label::Chaotic => "C chaotic".to_string(),
+        Label::Quasiperiodic => "Q quasi-periodic".to_string(),
+        Label::Unresolved => "U unresolved".to_string(),
         l => l.to_string(),
     }
 }
@@ -363,13 +364,13 @@ pub(crate) const LEGEND_MIN_DE: f64 = 10.0;
 /// summed per family, or in one row when the families do not fit, each group
 /// hatched so that it is never taken for a listed label (a family of one
 /// label told apart from the named ones is named too, before the groups).
-pub(crate) fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry> {
+pub(crate) fn label_entries(counts: &[(Label, u64)], room: usize) -> Vec<Entry> {
     let entry =
-        |(label, n): &(String, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
+        |&(label, n): &(Label, u64)| Entry::new(Swatch::Fill(rgb(label)), format!("{}  ({n})", label_text(label)));
     // Indices of the labels told apart from every more frequent one so told.
     let mut named: Vec<usize> = Vec::new();
     for (i, (label, _)) in counts.iter().enumerate() {
-        if named.iter().all(|&j| delta_e(colour(&counts[j].0), colour(label)) >= LEGEND_MIN_DE) {
+        if named.iter().all(|&j| delta_e(colour(counts[j].0), colour(*label)) >= LEGEND_MIN_DE) {
             named.push(i);
         }
     }
@@ -382,15 +383,15 @@ pub(crate) fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry>
     // The labels not named when the first `k` told apart are, most frequent first.
     let rest = |k: usize| -> Vec<usize> { (0..counts.len()).filter(|i| !named[..k].contains(i)).collect() };
     let families = |rest: &[usize]| {
-        let mut g: BTreeMap<&str, (u64, u64, usize)> = BTreeMap::new();
+        let mut g: HashMap<Family, (u64, u64, usize)> = HashMap::new();
         for &i in rest {
-            let (label, n) = &counts[i];
-            let e = g.entry(family(label)).or_insert((0, 0, i));
+            let (label, n) = counts[i];
+            let e = g.entry(Family::of(label)).or_insert((0, 0, i));
             e.0 += 1;
             e.1 += n;
         }
-        let mut v: Vec<(&str, (u64, u64, usize))> = g.into_iter().collect();
-        v.sort_by(|a, b| b.1 .1.cmp(&a.1 .1).then(a.0.cmp(b.0)));
+        let mut v: Vec<(Family, (u64, u64, usize))> = g.into_iter().collect();
+        v.sort_by(|a, b| b.1 .1.cmp(&a.1 .1).then(a.0.name().cmp(b.0.name())));
         v
     };
     let most = LEGEND_ROWS.min(room - 1).min(named.len());
@@ -408,8 +409,8 @@ pub(crate) fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry>
         if labels == 1 && named.contains(&first) {
             rows.push(entry(&counts[first])); // a family of one label: the label itself
         } else {
-            let [r, g, b] = family_colour(fam);
-            groups.push(Entry::new(Swatch::Hatch(RGBColor(r, g, b)), format!("+{labels} {fam} ({cells})")));
+            let [r, g, b] = fam.colour();
+            groups.push(Entry::new(Swatch::Hatch(RGBColor(r, g, b)), format!("+{labels} {} ({cells})", fam.name())));
         }
     }
     rows.extend(groups);
@@ -417,19 +418,8 @@ pub(crate) fn label_entries(counts: &[(String, u64)], room: usize) -> Vec<Entry>
 }
 
 /// `(label, cells)` of mass `mass` over several sweeps' cells, most frequent first.
-pub(crate) fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(String, u64)> {
-    let mut counts: BTreeMap<String, u64> = BTreeMap::new();
-    for c in cells.iter().flat_map(|c| c.iter()).flatten() {
-        *counts.entry(c.labels[mass].to_string()).or_default() += 1;
-    }
-    sorted(counts)
-}
-
-/// Counts, most frequent first (ties by key).
-fn sorted<K: Ord + Clone>(counts: BTreeMap<K, u64>) -> Vec<(K, u64)> {
-    let mut v: Vec<(K, u64)> = counts.into_iter().collect();
-    v.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    v
+pub(crate) fn count(cells: &[&[Option<CellData>]], mass: usize) -> Vec<(Label, u64)> {
+    maps::label_counts(cells.iter().flat_map(|c| c.iter()).flatten(), mass)
 }
 
 /// A legend placed beside the panels on a wide canvas (one column as high
@@ -591,7 +581,7 @@ fn draw_hysteresis<DB: crate::Backend>(
 
 /// The labels of a sweep's map and their legend: the curves drawn over it,
 /// then its labels (`counts`), in `room` rows.
-pub(crate) fn sweep_rows(counts: &[(String, u64)], curves: &[Overlay], room: usize) -> Vec<Entry> {
+pub(crate) fn sweep_rows(counts: &[(Label, u64)], curves: &[Overlay], room: usize) -> Vec<Entry> {
     let mut rows = curve_entries(curves);
     rows.push(Entry::new(Swatch::Heading, "label (cells)"));
     rows.extend(label_entries(counts, room.saturating_sub(rows.len())));
@@ -608,9 +598,9 @@ pub(crate) struct Hysteresis<'a> {
     /// 1 where they differ.
     hyst: Vec<u8>,
     /// The (up, down) label pairs where they differ, most frequent first.
-    pairs: Vec<((String, String), u64)>,
+    pairs: Vec<((Label, Label), u64)>,
     /// The labels of both sweeps, most frequent first.
-    counts: Vec<(String, u64)>,
+    counts: Vec<(Label, u64)>,
     mass: usize,
 }
 
@@ -621,15 +611,16 @@ impl Hysteresis<'_> {
         let hyst = atlas
             .hysteresis()
             .ok_or_else(|| RenderError::new("the hysteresis view needs an atlas with up and down sweeps"))?;
-        let label = |c: &Option<CellData>| c.as_ref().map(|c| c.labels[mass].to_string());
-        let mut pairs: BTreeMap<(String, String), u64> = BTreeMap::new();
+        let label = |c: &Option<CellData>| c.as_ref().map(|c| c.labels[mass]);
+        let mut pairs: HashMap<(Label, Label), u64> = HashMap::new();
         for (i, &h) in hyst.iter().enumerate() {
             if let (1, Some(a), Some(b)) = (h, label(&up[i]), label(&down[i])) {
                 *pairs.entry((a, b)).or_default() += 1;
             }
         }
         let counts = count(&[up, down], mass);
-        Ok(Hysteresis { up, down, hyst, pairs: sorted(pairs), counts, mass })
+        let pairs = maps::by_frequency(pairs, |(a, b)| (a.to_string(), b.to_string()));
+        Ok(Hysteresis { up, down, hyst, pairs, counts, mass })
     }
 
     /// Cells where the sweeps differ.
@@ -641,9 +632,7 @@ impl Hysteresis<'_> {
     /// where they differ, blank elsewhere.
     pub fn paint(&self, i: usize) -> Paint {
         match (self.hyst[i], &self.up[i], &self.down[i]) {
-            (1, Some(a), Some(b)) => {
-                Paint::Split(rgb(&a.labels[self.mass].to_string()), rgb(&b.labels[self.mass].to_string()))
-            }
+            (1, Some(a), Some(b)) => Paint::Split(rgb(a.labels[self.mass]), rgb(b.labels[self.mass])),
             _ => Paint::Fill(BLANK),
         }
     }
@@ -652,7 +641,7 @@ impl Hysteresis<'_> {
     /// then the (up, down) pairs (up to two fifths of the rows, the rest
     /// summed in one).
     pub fn rows(&self, curves: &[Overlay], room: usize) -> Vec<Entry> {
-        let pair_entry = |((a, b), n): &((String, String), u64)| {
+        let pair_entry = |&((a, b), n): &((Label, Label), u64)| {
             Entry::new(Swatch::Split(rgb(a), rgb(b)), format!("{a} / {b}  ({n})"))
         };
         let curve_rows = curve_entries(curves);
@@ -782,6 +771,14 @@ mod tests {
         e.text[open + 1..e.text.len() - 1].parse().expect("a number")
     }
 
+    fn label(text: &str) -> Label {
+        text.parse().unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    fn colour(text: &str) -> [u8; 3] {
+        super::colour(label(text))
+    }
+
     fn named(rows: &[Entry]) -> Vec<(String, [u8; 3])> {
         rows.iter()
             .filter_map(|e| match e.swatch {
@@ -802,8 +799,8 @@ mod tests {
         let d = delta_e(colour("4-0-2"), colour("3-0-6"));
         assert!((d - 4.1).abs() < 0.05, "docs/gallery.md says ΔE 4.1, it is {d:.2}");
         let labels = ["1-1-1", "4-0-2", "3-0-6", "1-1-6", "1-0-12", "C", "2-1-1", "1-0-1"];
-        let counts: Vec<(String, u64)> =
-            labels.iter().enumerate().map(|(i, l)| (l.to_string(), 1000 - 10 * i as u64)).collect();
+        let counts: Vec<(Label, u64)> =
+            labels.iter().enumerate().map(|(i, l)| (label(l), 1000 - 10 * i as u64)).collect();
         for room in [4, 6, 9, 40] {
             let rows = label_entries(&counts, room);
             assert!(rows.len() <= room, "{} rows in room for {room}", rows.len());
@@ -828,7 +825,7 @@ mod tests {
         // Labels of the palette's table (ΔE ≥ 10.25 apart) that fit are all
         // named, most frequent first.
         let table = ["1-1-1", "1-2-2", "1-1-2", "1-3-3", "C", "1-0-1", "1-2-1"];
-        let apart: Vec<(String, u64)> = table.iter().enumerate().map(|(i, l)| (l.to_string(), 90 - i as u64)).collect();
+        let apart: Vec<(Label, u64)> = table.iter().enumerate().map(|(i, l)| (label(l), 90 - i as u64)).collect();
         let rows = label_entries(&apart, 40);
         let names: Vec<String> = named(&rows).into_iter().map(|n| n.0).collect();
         assert_eq!(names, table.map(String::from));

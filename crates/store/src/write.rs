@@ -9,8 +9,9 @@ use crate::layout::*;
 use crate::lock::partial_path;
 use crate::netcdf::{self, attr_array, attr_num, attr_str};
 use hdf5::Group;
-use maps::Atlas;
+use maps::{palette, Atlas};
 use ndarray::{Array1, Array2, Array3};
+use solver::{Count, Label};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
@@ -377,7 +378,7 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
             let mg = g.create_group(mass)?;
             let entries = atlas.legend(map.sweep, mi);
             let entry = netcdf::dimension(&mg, ENTRY, entries.len())?;
-            let labels: Vec<String> = entries.iter().map(|(l, _)| l.clone()).collect();
+            let labels: Vec<String> = entries.iter().map(|(l, _)| l.to_string()).collect();
             let counts: Vec<u64> = entries.iter().map(|&(_, c)| c).collect();
             let d = netcdf::texts(&mg, "label", &labels)?;
             z.expected.texts(&d, &labels);
@@ -404,17 +405,14 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::
     // Label tables: every label of the sweep, any mass, in a fixed order
     // (`None`: a cell not computed).
     let label_at = |mi: usize, i: usize| cells[i].as_ref().map(|c| c.labels[mi]);
-    let distinct: HashSet<Option<solver::Label>> =
-        (0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))).collect();
-    let text = |l: &Option<solver::Label>| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string());
-    let table = label_table(distinct.iter().map(text));
-    let position: HashMap<&str, i16> = table.iter().enumerate().map(|(i, t)| (t.as_str(), i as i16)).collect();
-    let index: HashMap<Option<solver::Label>, i16> =
-        distinct.iter().map(|l| (*l, position.get(text(l).as_str()).copied().unwrap_or(0))).collect();
+    let labels = label_table((0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))));
+    let table = table_texts(&labels);
+    let index: HashMap<Option<Label>, i16> = labels.iter().enumerate().map(|(i, l)| (*l, i as i16)).collect();
     let label_dim = netcdf::labels(g, LABEL, &table, "label n-p-q, or C, Q, U")?;
     z.expected.texts(&label_dim, &table);
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
-    let colours = Array2::from_shape_fn((table.len(), 3), |(i, k)| maps::palette::colour(&table[i])[k]);
+    let colours =
+        Array2::from_shape_fn((labels.len(), 3), |(i, k)| labels[i].map_or(palette::BLANK, palette::colour)[k]);
     let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
     z.expected.numbers(&d, colours.as_slice().expect("a new array is contiguous"));
     netcdf::dims(&d, &[&label_dim, &g.dataset(RGB)?])?;
@@ -514,8 +512,10 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     let grid = Grid::new(&g, m, z)?;
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
-    let texts = a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter());
-    let table = label_table(texts.map(ToString::to_string));
+    let labels =
+        label_table(a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter().map(|l| Some(*l))));
+    let table = table_texts(&labels);
+    let position: HashMap<Option<Label>, i16> = labels.iter().enumerate().map(|(i, l)| (*l, i as i16)).collect();
     let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
     z.expected.texts(&label_dim, &table);
     netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
@@ -532,7 +532,7 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     netcdf::describe(&d, "share of the sampled initial states that reach the attractor (basin fraction)", "1")?;
     netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
     for (mi, mass) in m.masses.iter().enumerate() {
-        let index = |l: &solver::Label| table.iter().position(|t| *t == l.to_string()).unwrap_or(0) as i16;
+        let index = |l: &Label| position[&Some(*l)];
         let code = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
             cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.0[mi]))
         });
@@ -579,23 +579,27 @@ pub(crate) fn generic_long_name(name: &str) -> String {
     format!("parameter {name}")
 }
 
-/// The labels of a sweep in a fixed order: periodic labels by (n, p, q), then
-/// C, Q, U, then `not-computed`.
-fn label_table(texts: impl Iterator<Item = String>) -> Vec<String> {
-    let mut set: Vec<String> = texts.collect::<std::collections::BTreeSet<_>>().into_iter().collect();
-    let key = |l: &String| -> (u8, Vec<u32>) {
-        let nums: Option<Vec<u32>> =
-            l.split('-').map(|t| if t == "S" { Some(u32::MAX) } else { t.parse().ok() }).collect();
-        match (l.as_str(), nums) {
-            (_, Some(v)) if v.len() == 3 => (0, v),
-            ("C", _) => (1, Vec::new()),
-            ("Q", _) => (2, Vec::new()),
-            ("U", _) => (3, Vec::new()),
-            _ => (4, Vec::new()),
-        }
+/// The labels of a sweep in a fixed order: periodic labels by (n, p, q) (`S`
+/// after every number), then C, Q, U, then `None` (a cell not computed).
+fn label_table(labels: impl Iterator<Item = Option<Label>>) -> Vec<Option<Label>> {
+    let mut table: Vec<Option<Label>> = labels.collect::<HashSet<_>>().into_iter().collect();
+    let count = |c: Count| match c {
+        Count::Impacts(k) => k,
+        Count::Stuck => u32::MAX,
     };
-    set.sort_by_key(key);
-    set
+    table.sort_by_key(|l| match *l {
+        Some(Label::Periodic { n, p, q }) => (0, [n, count(p), count(q)]),
+        Some(Label::Chaotic) => (1, [0; 3]),
+        Some(Label::Quasiperiodic) => (2, [0; 3]),
+        Some(Label::Unresolved) => (3, [0; 3]),
+        None => (4, [0; 3]),
+    });
+    table
+}
+
+/// A label table as the file writes it (`not-computed` for `None`).
+fn table_texts(labels: &[Option<Label>]) -> Vec<String> {
+    labels.iter().map(|l| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string())).collect()
 }
 
 /// One ragged section (CSR): `values [point, column]` and `offsets [cell_edge]`,
