@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Redraws every figure of docs/gallery.md into docs/img/. Intermediate files
-# (atlases, a sweep file, a study) go to out/gallery/ (git-ignored). About six
-# minutes on two cores (5 min 40 s on the 2-core Xeon of 2026-11-28), most of
+# (atlases, a sweep file, a study) go to out/gallery/ (git-ignored). About five
+# minutes on two cores (4 min 35 s to 5 min 9 s on the 2-core Xeon of 2026-11-29), most of
 # it the README's reference plane for the print previews and the curves of a
 # 96 x 64 map.
 #
@@ -12,7 +12,8 @@
 #   scripts/gallery.sh --check --quick   # only the first two groups (the maps of a
 #                                 # 120 x 80 atlas and the print previews of the
 #                                 # reference plane, whose legends print cell counts):
-#                                 # about 80 s, what scripts/test.sh runs
+#                                 # about 80 s, a quick check while editing
+#                                 # (scripts/test.sh runs the whole --check)
 #   VIBROATLAS=path/to/vibroatlas scripts/gallery.sh
 #
 # Not redrawn here: docs/img/trade.png (`vibroatlas bench --trade -o DIR`, the
