@@ -21,9 +21,15 @@ pub fn sim_from(a: &SimArgs, f: &FromArgs) -> Result<Sim> {
         scene,
         set: a.set.iter().map(|s| parse_assignment(s, "--set")).collect::<Result<Vec<_>>>()?,
         preset: a.preset.map(|p| lib(p, solver::Preset::parse)),
-        accuracy: a.accuracy.iter().map(|s| parse_assignment(s, "--accuracy")).collect::<Result<Vec<_>>>()?,
+        accuracy: a.accuracy.iter().map(|s| knob(s)).collect::<Result<Vec<_>>>()?,
         integrator: a.integrator.map(|m| lib(m, solver::Method::parse)),
     })
+}
+
+/// An accuracy knob and its value, `KNOB=VALUE` (`--accuracy`).
+fn knob(text: &str) -> Result<(solver::Knob, f64)> {
+    let (name, value) = parse_assignment(text, "--accuracy")?;
+    Ok((solver::Knob::named(&name).map_err(engine::Error::from)?, value))
 }
 
 /// Where a simulation starts (`--from … --at … [--sweep …]` or `--state`).

@@ -120,7 +120,7 @@ pub struct Sim {
     /// The preset (`standard` when `None`; a stored cell's with [`Start::Cell`]).
     pub preset: Option<Preset>,
     /// Accuracy knobs replacing the preset's (`--accuracy KNOB=VALUE`), in order.
-    pub accuracy: Vec<(String, f64)>,
+    pub accuracy: Vec<(Knob, f64)>,
     /// The integrator (`exact` when `None`; a stored cell's with [`Start::Cell`]).
     pub integrator: Option<Method>,
 }
@@ -146,15 +146,10 @@ impl Sim {
         }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();
-        for &(k, v) in knobs {
+        for &(k, v) in knobs.iter().chain(&self.accuracy) {
+            check_finite(v, || RequestError::keyed(Opt::Accuracy, k.name()))?;
             accuracy.set(k, v)?;
             accuracy_overrides.push((k, v));
-        }
-        for (name, v) in &self.accuracy {
-            check_finite(*v, || RequestError::keyed(Opt::Accuracy, name))?;
-            let k = Knob::named(name)?;
-            accuracy.set(k, *v)?;
-            accuracy_overrides.push((k, *v));
         }
         if method == Method::Rk4 {
             check_rk4_resolves_contacts(&scene, &self.set, &accuracy)?;

@@ -429,7 +429,7 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
         let mut sim = Sim::new(SceneSource::Stored(o.path.clone()));
         sim.set = m.overrides.iter().cloned().chain(m.plane.params(iy, ix)).collect();
         sim.preset = Some(m.preset);
-        sim.accuracy = m.accuracy.iter().map(|(k, v)| (k.name().to_string(), *v)).collect();
+        sim.accuracy = m.accuracy.clone();
         sim.integrator = Some(m.integrator);
         let sampling = grid::attractors::Sampling { samples, seed: 1, x: 2.0, v: 2.0 };
         let r = engine::AttractorsRequest { sim, sampling, threads };

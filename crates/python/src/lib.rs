@@ -267,7 +267,9 @@ fn sim<'py>(scene: (String, String), params: Vec<(String, f64)>, o: &mut Options
     let mut knobs = Vec::new();
     if let Some(d) = o.get::<Bound<'py, PyDict>>("accuracy")? {
         for (k, v) in d.iter() {
-            knobs.push((k.extract()?, v.extract()?));
+            let name: String = k.extract()?;
+            let knob = solver::Knob::named(&name).map_err(|e| Failure::of(&e.into()).into_py())?;
+            knobs.push((knob, v.extract()?));
         }
     }
     Ok(Sim { scene: source, set: params, preset, accuracy: knobs, integrator })
