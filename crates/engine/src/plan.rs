@@ -61,6 +61,16 @@ fn cell_bytes(meta: &Meta) -> u64 {
     2 * (160 + 8 * masses + 8 * dim + cap * 8 * dim + stops * cap * 8 * (dim + 1) + 24 * (cap + stops * cap))
 }
 
+impl Executed {
+    /// The run's file as bytes, written in memory on `threads` threads
+    /// ([`store::image`]): what its output holds, or would hold, for a caller
+    /// that reads the atlas without a file (Python's `va.atlas` without
+    /// `output`).
+    pub fn image(&self, threads: usize) -> Result<Vec<u8>> {
+        Ok(store::image(&self.atlas, &self.info, threads)?)
+    }
+}
+
 impl Plan {
     /// Refuses a plane whose results would not fit in memory.
     fn check_memory(&self) -> Result<()> {
@@ -104,7 +114,16 @@ impl Plan {
         // Held for the whole run: a second run on the same output is refused.
         let _lock = self.output.as_deref().map(store::OutputLock::acquire).transpose()?;
         if let Some(done) = self.finished_before()? {
-            return Ok(Executed { atlas: done, secs: 0.0, write_s: 0.0, prelude_s: 0.0, stream_s: 0.0, already: true });
+            let info = self.info(0.0);
+            return Ok(Executed {
+                atlas: done,
+                info,
+                secs: 0.0,
+                write_s: 0.0,
+                prelude_s: 0.0,
+                stream_s: 0.0,
+                already: true,
+            });
         }
         let ran = self.run(observer, start);
         // A cancelled run is abandoned: its draft took its partial file, its
@@ -147,7 +166,7 @@ impl Plan {
             self.finish_file(observer, &atlas, draft, j, elapsed)?;
             write_s = clock.elapsed().as_secs_f64();
         }
-        Ok(Executed { atlas, secs: elapsed, write_s, prelude_s, stream_s, already: false })
+        Ok(Executed { atlas, info: self.info(elapsed), secs: elapsed, write_s, prelude_s, stream_s, already: false })
     }
 
     /// What the journal is keyed by: every setting that decides the plan's
@@ -286,6 +305,17 @@ impl Plan {
         Ok(kept)
     }
 
+    /// What the run's file says of the run, `elapsed` seconds long.
+    fn info(&self, elapsed: f64) -> RunInfo {
+        RunInfo {
+            command: self.command.clone(),
+            run_time_s: elapsed,
+            shard: self.shard,
+            history: Vec::new(),
+            parent: self.parent.clone(),
+        }
+    }
+
     /// Finishes the output file (its rest, after the last line, `elapsed`
     /// seconds into the run) and removes the journal.
     fn finish_file(
@@ -296,13 +326,7 @@ impl Plan {
         journal: Journal,
         elapsed: f64,
     ) -> Result<()> {
-        let info = RunInfo {
-            command: self.command.clone(),
-            run_time_s: elapsed,
-            shard: self.shard,
-            history: Vec::new(),
-            parent: self.parent.clone(),
-        };
+        let info = self.info(elapsed);
         let kept = |e: store::StoreError| {
             let text = chain_text(&e) + " (the computed lines are kept: ";
             RequestError::message().text(text).opt(Opt::Resume).text(" once it can be written)")
@@ -389,6 +413,8 @@ struct Kept {
 pub struct Executed {
     /// The atlas.
     pub atlas: Atlas,
+    /// What the run's file says of the run (its command, time, shard, parent).
+    pub info: RunInfo,
     /// Seconds from the start to the last line kept (the file not written).
     pub secs: f64,
     /// Seconds writing the file after the last line.

@@ -17,7 +17,7 @@ use grid::attractors::Sampling;
 use grid::{Along, Axis, Shard, SweepKind};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyBytes, PyDict};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
@@ -110,8 +110,8 @@ struct Shared {
     done: AtomicU64,
     total: AtomicU64,
     cancel: AtomicBool,
-    /// The outcome (the result's value or the failure), once the run has ended.
-    outcome: Mutex<Option<Result<serde_json::Value, Failure>>>,
+    /// The outcome (the result or the failure), once the run has ended.
+    outcome: Mutex<Option<Result<Outcome, Failure>>>,
     ended: Condvar,
 }
 
@@ -128,6 +128,22 @@ impl engine::Observer for Shared {
     }
 }
 
+/// What a run gives Python.
+#[derive(Clone)]
+enum Outcome {
+    /// A result's value (the engine's serialisation of it).
+    Value(serde_json::Value),
+    /// An atlas computed without an output file: its file's bytes, written
+    /// in memory, and the seconds it took.
+    Atlas { image: Arc<Vec<u8>>, seconds: f64 },
+}
+
+impl From<serde_json::Value> for Outcome {
+    fn from(v: serde_json::Value) -> Outcome {
+        Outcome::Value(v)
+    }
+}
+
 /// A run on a thread of its own.
 #[pyclass(module = "vibroatlas._native")]
 struct Job {
@@ -136,13 +152,13 @@ struct Job {
 
 impl Job {
     /// Starts `work` on a new thread; its value or error becomes the outcome.
-    fn start(work: impl FnOnce(&Shared) -> engine::Result<serde_json::Value> + Send + 'static) -> Job {
+    fn start<T: Into<Outcome>>(work: impl FnOnce(&Shared) -> engine::Result<T> + Send + 'static) -> Job {
         let shared = Arc::new(Shared::default());
         let theirs = Arc::clone(&shared);
         std::thread::spawn(move || {
             let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&theirs)));
             let outcome = match ran {
-                Ok(Ok(value)) => Ok(value),
+                Ok(Ok(value)) => Ok(value.into()),
                 Ok(Err(e)) => Err(Failure::of(&e)),
                 Err(p) => Err(Failure::Panic(
                     p.downcast_ref::<&str>()
@@ -195,7 +211,13 @@ impl Job {
         py.detach(|| self.wait_for(None));
         let outcome = self.shared.outcome.lock().unwrap_or_else(|p| p.into_inner()).clone();
         match outcome {
-            Some(Ok(value)) => Ok(pythonize::pythonize(py, &value)?),
+            Some(Ok(Outcome::Value(value))) => Ok(pythonize::pythonize(py, &value)?),
+            Some(Ok(Outcome::Atlas { image, seconds })) => {
+                let d = PyDict::new(py);
+                d.set_item("image", PyBytes::new(py, &image))?;
+                d.set_item("seconds", seconds)?;
+                Ok(d.into_any())
+            }
             Some(Err(f)) => Err(f.into_py()),
             None => Err(PyRuntimeError::new_err("the run has not ended")),
         }
@@ -299,6 +321,15 @@ impl Written {
     }
 }
 
+/// What an atlas run gives Python: its file and seconds where it wrote
+/// one, else the file's bytes written in memory on `threads` threads.
+fn written(output: Option<String>, run: &engine::Executed, threads: usize) -> engine::Result<Outcome> {
+    Ok(match output {
+        Some(output) => Written::value(output, run.secs).into(),
+        None => Outcome::Atlas { image: Arc::new(run.image(threads)?), seconds: run.secs },
+    })
+}
+
 /// A cell's Poincaré sections, as `cell --section-png` draws them.
 #[derive(serde::Serialize)]
 struct CellSections {
@@ -361,7 +392,8 @@ fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     Ok(Job::start(move |shared| Ok(engine::sweep(&r, shared)?.to_json())))
 }
 
-/// An atlas written to `output`: `{"output": path, "seconds": s}`.
+/// An atlas: `{"output": path, "seconds": s}` written to `output`, else
+/// `{"image": bytes, "seconds": s}`, its file written in memory.
 #[pyfunction]
 fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -386,8 +418,8 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     }
     r.section_cap = o.get("section_cap")?.unwrap_or(16);
     r.threads = threads(&mut o)?;
-    let output: String = o.need("output")?;
-    r.output = Some(output.clone().into());
+    let output: Option<String> = o.get("output")?;
+    r.output = output.clone().map(Into::into);
     r.resume = o.get("resume")?.unwrap_or(false);
     // Accepted and ignored, as `--force` is: a special file is always refused.
     let _: Option<bool> = o.get("force")?;
@@ -395,7 +427,7 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     o.finish()?;
     Ok(Job::start(move |shared| {
         let run = engine::atlas(&r, shared)?;
-        Ok(Written::value(output, run.secs))
+        written(output, &run, r.threads)
     }))
 }
 
@@ -439,9 +471,9 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     Ok(Job::start(move |shared| Ok(engine::curve(&r, shared)?.to_json())))
 }
 
-/// The module.
-/// A box of a stored atlas computed again (`vibroatlas zoom`): the JSON
-/// `{"output", "seconds"}` once written.
+/// A box of a stored atlas computed again (`vibroatlas zoom`): as
+/// [`atlas`], `{"output", "seconds"}` written to `output`, else `{"image",
+/// "seconds"}`.
 #[pyfunction]
 fn zoom(parent: String, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
@@ -451,13 +483,13 @@ fn zoom(parent: String, options: &Bound<'_, PyDict>) -> PyResult<Job> {
         None => None,
     };
     r.threads = threads(&mut o)?;
-    let output: String = o.need("output")?;
-    r.output = Some(output.clone().into());
+    let output: Option<String> = o.get("output")?;
+    r.output = output.clone().map(Into::into);
     r.command = "vibroatlas.zoom (Python)".into();
     o.finish()?;
     Ok(Job::start(move |shared| {
         let run = engine::zoom(&r, shared)?;
-        Ok(Written::value(output, run.secs))
+        written(output, &run, r.threads)
     }))
 }
 
@@ -539,6 +571,7 @@ fn stop_events(scene: &str, stops: usize) -> Vec<&'static str> {
     grid::stop_events(scene, stops)
 }
 
+/// The module.
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", m.py().get_type::<SceneError>())?;

@@ -77,11 +77,34 @@ def test_atlas_without_output_leaves_nothing(monkeypatch):
         return made[-1]
 
     monkeypatch.setattr(tempfile, "mkdtemp", spy)
+    tmp = tempfile.gettempdir()
+    before = {n for n in os.listdir(tmp) if n.startswith("vibroatlas")}
     t = va.atlas(MULTI, x=("omega", 0.3, 0.4, 3), y=("delta", 0.5, 0.6, 2), progress=False)
-    assert made and not os.path.exists(made[0])
-    # in memory: usable with the file gone
+    assert not made, "no temporary folder"
+    assert {n for n in os.listdir(tmp) if n.startswith("vibroatlas")} <= before, "no file in the temporary folder"
     assert t["fresh"].ds.label_code_M1.values.shape == (2, 3)
     assert float(t["fresh"].ds.multiplier.sum(skipna=True)) >= 0
+
+
+def test_atlas_in_memory_equals_the_file_it_would_write(tmp_path):
+    """Without output the file is written in memory and read from its bytes:
+    the tree equals va.open of the file the same call writes with output
+    (values, dtypes, coordinates, attributes; the run's time and provenance
+    aside), its datasets sealed with their checksums as the file's are; a
+    zoom likewise."""
+    kw = dict(x=X, y=Y, sweep="both", attractors=3, threads=2, progress=False)
+    memory = va.atlas(MULTI, **kw)
+    va.atlas(MULTI, output=tmp_path / "a.h5", **kw)
+    with va.open(tmp_path / "a.h5") as f:
+        assert_trees_equal(memory, f.load())
+    for node in memory.subtree:
+        for name, v in node.to_dataset(inherit=False).data_vars.items():
+            assert "values_crc32" in v.attrs, f"{node.path}/{name}: not sealed"
+    box = dict(x=("omega", 0.1, 1.0875, 5), y=("delta", 0.05, 0.9, 4), progress=False)
+    zoomed = va.zoom(tmp_path / "a.h5", **box)
+    va.zoom(tmp_path / "a.h5", output=tmp_path / "z.h5", **box)
+    with va.open(tmp_path / "z.h5") as f:
+        assert_trees_equal(zoomed, f.load())
 
 
 def test_dry_friction_sweep_both_with_params(tmp_path):

@@ -36,8 +36,18 @@ pub(crate) fn file(
     atlas: &Atlas,
     expected: &Expected,
 ) -> Result<Vec<(String, u32)>, StoreError> {
+    let f = hdf5::File::open(tmp).map_err(|e| unverified(path, "/", crate::error::plain(&e)))?;
+    datasets(&f, path, atlas, expected)
+}
+
+/// [`file`] of the open file `f` (one in memory: [`crate::image`]).
+pub(crate) fn datasets(
+    f: &hdf5::File,
+    path: &Path,
+    atlas: &Atlas,
+    expected: &Expected,
+) -> Result<Vec<(String, u32)>, StoreError> {
     let failed = |dataset: &str, message: String| unverified(path, dataset, message);
-    let f = hdf5::File::open(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
     let m = &atlas.meta;
     let mut crcs = Vec::new();
     for map in &atlas.maps {
@@ -51,16 +61,21 @@ pub(crate) fn file(
             }
         }
     }
-    crcs.extend(expected.read_back(&f, failed)?);
+    crcs.extend(expected.read_back(f, failed)?);
     Ok(crcs)
 }
 
 /// Writes each dataset's `values_crc32` (see [`file`]) into the closed file
 /// `tmp`, read back and verified.
 pub(crate) fn seal_values(tmp: &Path, path: &Path, crcs: &[(String, u32)]) -> Result<(), StoreError> {
+    let f = hdf5::File::open_rw(tmp).map_err(|e| unverified(path, "/", crate::error::plain(&e)))?;
+    seal_in(&f, path, crcs)
+}
+
+/// [`seal_values`] into the open file `f`.
+pub(crate) fn seal_in(f: &hdf5::File, path: &Path, crcs: &[(String, u32)]) -> Result<(), StoreError> {
     let failed = |dataset: &str, message: String| unverified(path, dataset, message);
-    let f = hdf5::File::open_rw(tmp).map_err(|e| failed("/", crate::error::plain(&e)))?;
-    let run = run_of(&f);
+    let run = run_of(f);
     for (name, crc) in crcs {
         let ds = f.dataset(name).map_err(|e| failed(name, crate::error::plain(&e)))?;
         crate::netcdf::attr_num(&ds, crate::layout::attr::VALUES_CRC32, of_run(*crc, run))

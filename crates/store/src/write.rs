@@ -181,21 +181,65 @@ impl Draft {
     /// The chunks of the per-cell datasets not written by [`Draft::keep`]
     /// (lines computed before, or not computed), compressed on the threads.
     fn remaining_chunks(&self, atlas: &Atlas) -> hdf5::Result<()> {
-        for (map, p) in atlas.maps.iter().zip(&self.sweeps) {
-            let todo: Vec<(&(Field, hdf5::Dataset), usize)> = p
-                .datasets
-                .iter()
-                .flat_map(|d| {
-                    (0..self.chunks.count()).filter(|&c| p.kept[c] < self.chunks.lines_in(c)).map(move |c| (d, c))
-                })
-                .collect();
-            let bytes = self.z.map(todo.len(), |i| todo[i].0 .0.chunk(&self.meta, &self.chunks, &map.cells, todo[i].1));
-            for (((_, ds), c), b) in todo.iter().zip(bytes) {
-                fields::write(ds, &self.chunks, *c, &b)?;
-            }
-        }
-        Ok(())
+        let datasets: Vec<&[(Field, hdf5::Dataset)]> = self.sweeps.iter().map(|p| p.datasets.as_slice()).collect();
+        let left = |s: usize, c: usize| self.sweeps[s].kept[c] < self.chunks.lines_in(c);
+        write_chunks(&self.z, &self.chunks, atlas, &datasets, left)
     }
+}
+
+/// Writes the chunks `c` of sweep `s` for which `todo(s, c)` holds of the
+/// per-cell datasets of each sweep of `atlas` (`datasets`, in the atlas's
+/// sweep order), compressed on the deflater's threads.
+fn write_chunks(
+    z: &Deflater,
+    chunks: &Chunks,
+    atlas: &Atlas,
+    datasets: &[&[(Field, hdf5::Dataset)]],
+    todo: impl Fn(usize, usize) -> bool,
+) -> hdf5::Result<()> {
+    for (s, (map, sweep)) in atlas.maps.iter().zip(datasets).enumerate() {
+        let todo: Vec<(&(Field, hdf5::Dataset), usize)> =
+            sweep.iter().flat_map(|d| (0..chunks.count()).filter(|&c| todo(s, c)).map(move |c| (d, c))).collect();
+        let bytes = z.map(todo.len(), |i| todo[i].0 .0.chunk(&atlas.meta, chunks, &map.cells, todo[i].1));
+        for (((_, ds), c), b) in todo.iter().zip(bytes) {
+            fields::write(ds, chunks, *c, &b)?;
+        }
+    }
+    Ok(())
+}
+
+/// The atlas file of `atlas` and the run's `info`, written in memory (HDF5's
+/// core driver: nothing on disk) on `threads` threads, read back and sealed
+/// as [`Draft::finish`] reads back and seals a file, as the file's bytes:
+/// what a reader of bytes (h5py, xarray through h5netcdf) opens as it opens
+/// the file that [`Draft`] would write. Errors name the file `(in memory)`.
+pub fn image(atlas: &Atlas, info: &RunInfo, threads: usize) -> Result<Vec<u8>, StoreError> {
+    static IMAGES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let here = Path::new("(in memory)");
+    let m = &atlas.meta;
+    let z = Deflater { threads, ..Default::default() };
+    let chunks = Chunks::new(&m.plane, Field::most_cell_bytes(m));
+    let k = IMAGES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    // The core driver's name: no file of that name is created or read.
+    let name = std::env::temp_dir().join(format!("vibroatlas-image-{}-{k}.h5", std::process::id()));
+    // The oldest format that holds the file, not 1.10's as on disk: HDF5
+    // 1.10's image of a file of format 1.10 (or 1.8) carries a superblock
+    // whose checksum does not match ("incorrect metadata checksum" on open;
+    // Debian's 1.10.8, through this crate and through h5py alike).
+    let written = || -> hdf5::Result<hdf5::File> {
+        let f = hdf5::File::with_options().with_fapl(|p| p.core_filebacked(false).libver_earliest()).create(&name)?;
+        let (f, datasets) = create_in(f, m, &chunks, &z)?;
+        let sweeps: Vec<&[(Field, hdf5::Dataset)]> = datasets.iter().map(Vec::as_slice).collect();
+        write_chunks(&z, &chunks, atlas, &sweeps, |_, _| true)?;
+        drop(sweeps);
+        drop(datasets);
+        fill_file(&f, atlas, info, &z)?;
+        Ok(f)
+    };
+    let f = written().map_err(|e| StoreError::hdf5(here, e))?;
+    let crcs = crate::verify::datasets(&f, here, atlas, &z.expected)?;
+    crate::verify::seal_in(&f, here, &crcs)?;
+    crate::netcdf::file_image(&f).map_err(|e| StoreError::hdf5(here, e))
 }
 
 /// Checks a finished atlas file as [`Draft::finish`] checks the file it
@@ -704,7 +748,8 @@ mod tests {
 
     /// The per-cell datasets hold each cell's values where the cell is,
     /// whether their chunks were written as lines were kept (in any order,
-    /// some never) or all at the end; along x and along y.
+    /// some never), all at the end, or into memory ([`image`], whose bytes
+    /// make a file that passes the whole-file check); along x and along y.
     #[test]
     fn kept_lines_and_the_end_write_the_same_cells() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-keep-{}", std::process::id()));
@@ -734,7 +779,11 @@ mod tests {
             draft.finish(&atlas, &info).unwrap();
             let end = dir.join("end.h5");
             write(&end, &atlas, &info, 3).unwrap();
-            for path in [&kept, &end] {
+            // The same file written in memory, its bytes put on disk here.
+            let memory = dir.join("memory.h5");
+            std::fs::write(&memory, image(&atlas, &info, 2).unwrap()).unwrap();
+            check_finished(&memory, &crate::read(&memory).unwrap()).unwrap();
+            for path in [&kept, &end, &memory] {
                 let f = hdf5::File::open(path).unwrap();
                 let periods = f.dataset("up/periods").unwrap().read_2d::<u64>().unwrap();
                 let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();

@@ -14,9 +14,8 @@ as keyword arguments (`threads: must be >= 1`): SceneError (a
 ValueError) for scenes, ValueError for arguments, OSError for files.
 Reference: docs/python.md.
 """
+import io
 import os
-import shutil
-import tempfile
 
 import numpy as _np
 
@@ -144,8 +143,9 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
     or a pipe is always refused; resume: continue a run
     killed from outside from its journal beside `output`, or do nothing when
     `output` is already this run's finished file); without it the file is
-    written to a temporary folder and deleted once loaded. Either way the
-    tree returned is in memory (no file stays open). progress: a tqdm
+    written in memory (nothing on disk) and read from there. Either way the
+    tree returned is in memory (no file stays open) and the same, but for
+    the run's time and provenance. progress: a tqdm
     bar (False: never). Ctrl-C stops the run within about a second and leaves
     no file, partial or whole, at `output`.
     """
@@ -163,30 +163,26 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
                 raise TypeError(f"{key}: expected True or False, got {value!r}")
             options[key] = value
     return _tree_of(lambda: _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
-                                     unit="cell", desc="atlas"), options, output, "atlas.h5")
+                                     unit="cell", desc="atlas"), options, output)
 
 
-def _tree_of(run, options, output, name):
-    """Runs `run()`, which writes options["output"] (`output`, or `name` in a
-    temporary folder deleted once read), and returns the file's DataTree
-    in memory."""
-    tmp = None
-    try:
-        if output is None:
-            tmp = tempfile.mkdtemp(prefix="vibroatlas-")
-            options["output"] = os.path.join(tmp, name)
-        else:
-            options["output"] = os.fspath(output)
+def _tree_of(run, options, output):
+    """Runs `run()` and returns the atlas as a DataTree in memory: read from
+    the file written at `output` (options["output"]), or, without one, from
+    the file's bytes that the run wrote in memory (no file on disk)."""
+    if output is not None:
+        options["output"] = os.fspath(output)
         result = run()
         return _loaded(result.get("output", options["output"]))
-    finally:
-        if tmp is not None:
-            shutil.rmtree(tmp, ignore_errors=True)
+    return _loaded(io.BytesIO(run()["image"]))
 
 
-def _loaded(path):
-    """The file at `path` as a DataTree in memory (no file left open)."""
-    tree = open(path)
+def _loaded(source):
+    """The file at the path `source`, or in the file object `source`, as a
+    DataTree in memory (no file left open)."""
+    import xarray as xr
+
+    tree = open(source) if isinstance(source, str) else xr.open_datatree(source, **_READING)
     try:
         tree.load()
     finally:
@@ -207,7 +203,7 @@ def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
     (name, start, stop, count), the parent's axes' parameters, within its
     plane. sweep: narrows the parent's sweeps ("up", "down", "fresh" or
     "both"). threads, output, progress: as for `atlas` (without output the
-    file is written to a temporary folder and deleted once loaded).
+    file is written in memory, nothing on disk).
     """
     parent = _file_of(parent, "parent")
     options = {"x": _axis("x", x), "y": _axis("y", y)}
@@ -217,7 +213,7 @@ def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
         options["threads"] = _whole("threads", threads)
     _run.flag("progress", progress)
     return _tree_of(lambda: _run.wait(lambda: _native.zoom(parent, options), progress, "cell", "zoom"),
-                    options, output, "zoom.h5")
+                    options, output)
 
 
 def _file_of(source, what):
@@ -352,6 +348,11 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, n=None,
     return _run.run(_native.curve, scene, _params(params, parameters), options)
 
 
+# How va.open reads a file with xarray: its h5netcdf engine, unnamed dimensions
+# named as netCDF-C names them (none in layout 2).
+_READING = {"engine": "h5netcdf", "phony_dims": "sort"}
+
+
 def open(path, **kwargs):  # noqa: A001 (va.open, as the issue names it)
     """Opens a vibroatlas file (atlas, sweep or curve) as an xarray.DataTree
     with xarray's own reader (engine h5netcdf): the groups /up, /down,
@@ -365,9 +366,9 @@ def open(path, **kwargs):  # noqa: A001 (va.open, as the issue names it)
         raise IsADirectoryError(f"{path}: is a folder, not a vibroatlas file")
     if not os.path.exists(path):
         raise FileNotFoundError(f"{path}: no such file")
-    kwargs.setdefault("engine", "h5netcdf")
-    if kwargs["engine"] == "h5netcdf":
-        kwargs.setdefault("phony_dims", "sort")  # as netCDF-C names unnamed dims (none in layout 2)
+    kwargs.setdefault("engine", _READING["engine"])
+    if kwargs["engine"] == _READING["engine"]:
+        kwargs.setdefault("phony_dims", _READING["phony_dims"])
     try:
         return xr.open_datatree(path, **kwargs)
     except OSError as e:
