@@ -1,6 +1,7 @@
 //! Command-line arguments as clap structures (raw, before validation).
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use grid::attractors::Sampling;
 use std::path::PathBuf;
 
 /// Maps the dynamics of vibro-impact systems: n-p-q labels of periodic impact
@@ -96,10 +97,10 @@ pub struct CurveArgs {
     pub to: Option<f64>,
     /// Steps from the start to --to (the curve takes at most 10 × STEPS + 1
     /// points each way).
-    #[arg(long, default_value_t = 20, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = engine::DEFAULT_STEPS, allow_negative_numbers = true)]
     pub steps: usize,
     /// Half-width of the search for the bifurcation in A around its prediction.
-    #[arg(long, default_value_t = 0.05, value_name = "W", allow_negative_numbers = true)]
+    #[arg(long, default_value_t = engine::DEFAULT_WINDOW, value_name = "W", allow_negative_numbers = true)]
     pub window: f64,
     /// Range of A the curve may take, A=LO:HI (default: the scene's range of
     /// A); B stays between its start and --to.
@@ -136,13 +137,13 @@ pub struct AttractorsArgs {
     #[command(flatten)]
     pub sim: SimArgs,
     /// Initial states sampled.
-    #[arg(long, default_value_t = 64, value_name = "K")]
+    #[arg(long, default_value_t = Sampling::default().samples, value_name = "K")]
     pub samples: usize,
     /// Seed of the (deterministic) sampling.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = Sampling::default().seed)]
     pub seed: u64,
     /// Half-widths X,V of the box of initial positions and velocities.
-    #[arg(long = "box", default_value = "2,2", value_name = "X,V")]
+    #[arg(long = "box", default_value_t = default_box(), value_name = "X,V")]
     pub sample_box: String,
     /// Worker threads (default: all cores).
     #[arg(long)]
@@ -281,7 +282,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub threads: Option<usize>,
     /// Largest number of points kept per raw section per cell.
-    #[arg(long, default_value_t = 16, value_name = "N")]
+    #[arg(long, default_value_t = grid::DEFAULT_SECTION_CAP, value_name = "N")]
     pub section_cap: usize,
     /// No progress bar or progress lines.
     #[arg(long)]
@@ -316,7 +317,7 @@ pub struct AtlasArgs {
     #[arg(long, value_enum, default_value_t = AttractorsWhere::All)]
     pub attractors_where: AttractorsWhere,
     /// Seed of the attractor sampling.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = Sampling::default().seed)]
     pub seed: u64,
     /// Continue an interrupted run from its journal.
     #[arg(long)]
@@ -659,6 +660,12 @@ pub enum ViewArg {
     Multiplier,
     /// The number of coexisting attractors (atlas --attractors).
     Attractors,
+}
+
+/// The default box of initial states, `X,V` (`--box`).
+fn default_box() -> String {
+    let s = Sampling::default();
+    format!("{},{}", s.x, s.v)
 }
 
 /// The library's value of an argument's value: its name read by the

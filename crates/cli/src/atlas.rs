@@ -17,7 +17,7 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     r.along = lib(a.along, |s| Along::parse(s).ok());
     r.shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(flags)?;
     r.attractors = a.attractors.map(|samples| {
-        let sampling = grid::attractors::Sampling { samples, seed: a.seed, x: 2.0, v: 2.0 };
+        let sampling = grid::attractors::Sampling { samples, seed: a.seed, ..Default::default() };
         (sampling, lib(a.attractors_where, AttractorCells::parse))
     });
     r.section_cap = a.run.section_cap;

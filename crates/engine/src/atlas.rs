@@ -64,7 +64,7 @@ pub struct AtlasRequest {
 impl AtlasRequest {
     /// A request for `sweeps` of the plane `x` by `y` (chains along x), every
     /// other option at its default: no shard, attractors or output, sections
-    /// of 16 points, one thread per core.
+    /// of [`grid::DEFAULT_SECTION_CAP`] points, one thread per core.
     pub fn new(sim: Sim, x: Axis, y: Axis, sweeps: Vec<SweepKind>) -> AtlasRequest {
         AtlasRequest {
             sim,
@@ -74,7 +74,7 @@ impl AtlasRequest {
             sweeps,
             shard: None,
             attractors: None,
-            section_cap: 16,
+            section_cap: grid::DEFAULT_SECTION_CAP,
             threads: crate::threads(None).unwrap_or(1),
             output: None,
             resume: false,

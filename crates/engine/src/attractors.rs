@@ -27,6 +27,14 @@ pub struct AttractorsRequest {
     pub threads: usize,
 }
 
+impl AttractorsRequest {
+    /// The attractors of the point of `sim`, sampled as
+    /// [`Sampling::default`], on one thread per core.
+    pub fn new(sim: Sim) -> AttractorsRequest {
+        AttractorsRequest { sim, sampling: Sampling::default(), threads: crate::threads(None).unwrap_or(1) }
+    }
+}
+
 /// The attractors found.
 #[derive(Debug, Clone)]
 pub struct Attractors {

@@ -40,6 +40,35 @@ pub struct CurveRequest {
     pub command: String,
 }
 
+/// Steps in B of a curve when the caller names none (`--steps`).
+pub const DEFAULT_STEPS: usize = 20;
+/// Half-width of the window in A searched for the bifurcation when the
+/// caller names none (`--window`).
+pub const DEFAULT_WINDOW: f64 = 0.05;
+
+impl CurveRequest {
+    /// The curve of `kind` in the free parameters `free` (A located, B
+    /// stepped) from `start`, both ways in the scene's range of B, every
+    /// other option at its default: [`DEFAULT_STEPS`] steps, a window of
+    /// [`DEFAULT_WINDOW`], A within the scene's range, the period found from
+    /// the start, no output.
+    pub fn new(sim: Sim, kind: Bifurcation, free: [String; 2], start: Vec<(String, f64)>) -> CurveRequest {
+        CurveRequest {
+            sim,
+            kind,
+            free,
+            start,
+            to: None,
+            steps: DEFAULT_STEPS,
+            window: DEFAULT_WINDOW,
+            bounds: None,
+            n: None,
+            output: None,
+            command: String::new(),
+        }
+    }
+}
+
 /// A followed curve.
 #[derive(Debug, Clone)]
 pub struct Traced {

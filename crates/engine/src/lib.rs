@@ -65,7 +65,7 @@ pub use attractors::{
 pub use cell::{cell, friction_names, Cell, CellReport};
 pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
-    CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced,
+    CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced, DEFAULT_STEPS, DEFAULT_WINDOW,
 };
 pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, Words};
 pub use merge::{merge, MergeRequest};

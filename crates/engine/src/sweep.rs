@@ -81,6 +81,24 @@ pub struct SweepRequest {
     pub command: String,
 }
 
+impl SweepRequest {
+    /// A sweep of `axis` from the scene's initial state, in the axis's
+    /// direction, every other option at its default: sections of
+    /// [`grid::DEFAULT_SECTION_CAP`] points, one thread per core, no output.
+    pub fn new(sim: Sim, axis: Axis) -> SweepRequest {
+        SweepRequest {
+            sim,
+            start: Start::Initial,
+            axis,
+            direction: None,
+            section_cap: grid::DEFAULT_SECTION_CAP,
+            threads: crate::threads(None).unwrap_or(1),
+            output: None,
+            command: String::new(),
+        }
+    }
+}
+
 /// A finished sweep.
 #[derive(Debug, Clone)]
 pub struct Swept {

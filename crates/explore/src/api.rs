@@ -431,7 +431,7 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
         sim.preset = Some(m.preset);
         sim.accuracy = m.accuracy.clone();
         sim.integrator = Some(m.integrator);
-        let sampling = grid::attractors::Sampling { samples, seed: 1, x: 2.0, v: 2.0 };
+        let sampling = grid::attractors::Sampling { samples, ..Default::default() };
         let r = engine::AttractorsRequest { sim, sampling, threads };
         let res = engine::attractors(&r, &work).map_err(failed)?;
         let picture = drawn(&state, "png", |path| engine::draw_basins(&res, &render::Page::screen(), path))?;

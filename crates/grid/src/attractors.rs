@@ -36,6 +36,13 @@ pub struct Sampling {
     pub v: f64,
 }
 
+impl Default for Sampling {
+    /// 64 states from seed 1 in the box |x| ≤ 2, |v| ≤ 2.
+    fn default() -> Sampling {
+        Sampling { samples: 64, seed: 1, x: 2.0, v: 2.0 }
+    }
+}
+
 /// One attractor and the samples that reached it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Attractor {

@@ -39,6 +39,9 @@ pub struct CellData {
 /// Largest `section_cap`: points kept per section per cell.
 pub const MAX_SECTION_CAP: usize = 100_000;
 
+/// Points kept per section per cell when the caller names no `section_cap`.
+pub const DEFAULT_SECTION_CAP: usize = 16;
+
 /// The labels of mass `mass` over `cells` with their cell counts, most
 /// frequent first (ties in the order of the labels' text): the order of
 /// every legend and label table.

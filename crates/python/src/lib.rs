@@ -378,16 +378,12 @@ fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     let mut o = Options::new(options);
     let sim = sim(scene, params, &mut o)?;
     let direction = named("direction", o.get("direction")?, Direction::parse, "up, down, both, down-up or up-down")?;
-    let r = SweepRequest {
-        sim,
-        start: Start::Initial,
-        axis: axis(o.need("axis")?),
-        direction,
-        section_cap: o.get("section_cap")?.unwrap_or(16),
-        threads: threads(&mut o)?,
-        output: o.get::<String>("output")?.map(Into::into),
-        command: "vibroatlas.sweep (Python)".into(),
-    };
+    let mut r = SweepRequest::new(sim, axis(o.need("axis")?));
+    r.direction = direction;
+    r.section_cap = o.get("section_cap")?.unwrap_or(r.section_cap);
+    r.threads = threads(&mut o)?;
+    r.output = o.get::<String>("output")?.map(Into::into);
+    r.command = "vibroatlas.sweep (Python)".into();
     o.finish()?;
     Ok(Job::start(move |shared| Ok(engine::sweep(&r, shared)?.to_json())))
 }
@@ -409,14 +405,14 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
         None => None,
     };
     // As on the command line, the seed and the cells chosen matter only with attractors.
-    let seed = o.get("seed")?.unwrap_or(1);
+    let seed = o.get("seed")?.unwrap_or(Sampling::default().seed);
     let where_ = o.get::<String>("attractors_where")?;
     if let Some(samples) = o.get::<usize>("attractors")? {
         let cells = named("attractors_where", where_, AttractorCells::parse, "all or hysteresis")?
             .unwrap_or(AttractorCells::All);
-        r.attractors = Some((Sampling { samples, seed, x: 2.0, v: 2.0 }, cells));
+        r.attractors = Some((Sampling { samples, seed, ..Sampling::default() }, cells));
     }
-    r.section_cap = o.get("section_cap")?.unwrap_or(16);
+    r.section_cap = o.get("section_cap")?.unwrap_or(r.section_cap);
     r.threads = threads(&mut o)?;
     let output: Option<String> = o.get("output")?;
     r.output = output.clone().map(Into::into);
@@ -436,12 +432,12 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
 fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
     let mut o = Options::new(options);
     let sim = sim(scene, params, &mut o)?;
-    let (x, v) = o.get::<(f64, f64)>("box")?.unwrap_or((2.0, 2.0));
-    let r = engine::AttractorsRequest {
-        sim,
-        sampling: Sampling { samples: o.get("samples")?.unwrap_or(64), seed: o.get("seed")?.unwrap_or(1), x, v },
-        threads: threads(&mut o)?,
-    };
+    let mut r = engine::AttractorsRequest::new(sim);
+    let d = r.sampling;
+    let (x, v) = o.get::<(f64, f64)>("box")?.unwrap_or((d.x, d.v));
+    r.sampling =
+        Sampling { samples: o.get("samples")?.unwrap_or(d.samples), seed: o.get("seed")?.unwrap_or(d.seed), x, v };
+    r.threads = threads(&mut o)?;
     o.finish()?;
     Ok(Job::start(move |shared| Ok(engine::attractors(&r, shared)?.to_json())))
 }
@@ -454,19 +450,14 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
     let kind = named("kind", o.get("kind")?, solver::Bifurcation::parse, "pd, sn, pf, ns or grazing")?
         .ok_or_else(|| PyValueError::new_err("kind: required"))?;
     let (a, b): (String, String) = o.need("free")?;
-    let r = CurveRequest {
-        sim,
-        kind,
-        free: [a, b],
-        start: o.need("start")?,
-        to: o.get("to")?,
-        steps: o.get("steps")?.unwrap_or(20),
-        window: o.get("window")?.unwrap_or(0.05),
-        bounds: o.get::<(f64, f64)>("bounds")?.map(|(lo, hi)| [lo, hi]),
-        n: o.get("n")?,
-        output: o.get::<String>("output")?.map(Into::into),
-        command: "vibroatlas.curve (Python)".into(),
-    };
+    let mut r = CurveRequest::new(sim, kind, [a, b], o.need("start")?);
+    r.to = o.get("to")?;
+    r.steps = o.get("steps")?.unwrap_or(r.steps);
+    r.window = o.get("window")?.unwrap_or(r.window);
+    r.bounds = o.get::<(f64, f64)>("bounds")?.map(|(lo, hi)| [lo, hi]);
+    r.n = o.get("n")?;
+    r.output = o.get::<String>("output")?.map(Into::into);
+    r.command = "vibroatlas.curve (Python)".into();
     o.finish()?;
     Ok(Job::start(move |shared| Ok(engine::curve(&r, shared)?.to_json())))
 }
