@@ -14,7 +14,7 @@
 
 use engine::{AtlasRequest, AttractorCells, CurveRequest, Direction, Opt, SceneSource, Sim, Start, SweepRequest};
 use grid::attractors::Sampling;
-use grid::{Along, Axis, Shard, SweepKind};
+use grid::{Along, Axis, SweepKind};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
@@ -224,46 +224,6 @@ impl Job {
     }
 }
 
-/// The options of one call, each taken once; any left over is refused.
-struct Options<'py> {
-    dict: Bound<'py, PyDict>,
-    taken: Vec<&'static str>,
-}
-
-impl<'py> Options<'py> {
-    fn new(dict: &Bound<'py, PyDict>) -> Options<'py> {
-        Options { dict: dict.clone(), taken: Vec::new() }
-    }
-
-    /// The option `key`, if given (and not None).
-    fn get<T: FromPyObjectOwned<'py>>(&mut self, key: &'static str) -> PyResult<Option<T>> {
-        self.taken.push(key);
-        match self.dict.get_item(key)? {
-            Some(v) if !v.is_none() => v.extract::<T>().map(Some).map_err(|e| {
-                let e: PyErr = e.into();
-                PyValueError::new_err(format!("{key}: {}", e.value(v.py())))
-            }),
-            _ => Ok(None),
-        }
-    }
-
-    /// The option `key`, which must be given.
-    fn need<T: FromPyObjectOwned<'py>>(&mut self, key: &'static str) -> PyResult<T> {
-        self.get(key)?.ok_or_else(|| PyValueError::new_err(format!("{key}: required")))
-    }
-
-    /// Refuses options that no one took.
-    fn finish(self) -> PyResult<()> {
-        for key in self.dict.keys() {
-            let key: String = key.extract()?;
-            if !self.taken.contains(&key.as_str()) {
-                return Err(PyValueError::new_err(format!("unknown option '{key}'")));
-            }
-        }
-        Ok(())
-    }
-}
-
 /// An enum option by its command-line name.
 fn named<T>(key: &str, value: Option<String>, parse: impl Fn(&str) -> Option<T>, names: &str) -> PyResult<Option<T>> {
     value
@@ -271,8 +231,16 @@ fn named<T>(key: &str, value: Option<String>, parse: impl Fn(&str) -> Option<T>,
         .transpose()
 }
 
-/// The simulation options common to every call.
-fn sim<'py>(scene: (String, String), params: Vec<(String, f64)>, o: &mut Options<'py>) -> PyResult<Sim> {
+/// The simulation options common to every call: the scene as
+/// `(kind, value)`, its parameters, and the preset, integrator and accuracy
+/// knobs (a dict of knob -> value, in order) when given.
+fn sim(
+    scene: (String, String),
+    params: Vec<(String, f64)>,
+    preset: Option<String>,
+    integrator: Option<String>,
+    accuracy: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Sim> {
     let (kind, value) = scene;
     let source = match kind.as_str() {
         "path" => SceneSource::File(value.into()),
@@ -284,15 +252,13 @@ fn sim<'py>(scene: (String, String), params: Vec<(String, f64)>, o: &mut Options
         }
         other => return Err(PyValueError::new_err(format!("scene: unknown kind '{other}'"))),
     };
-    let preset = named("preset", o.get("preset")?, solver::Preset::parse, "fast, standard or precise")?;
-    let integrator = named("integrator", o.get("integrator")?, solver::Method::parse, "exact or rk4")?;
+    let preset = named("preset", preset, solver::Preset::parse, "fast, standard or precise")?;
+    let integrator = named("integrator", integrator, solver::Method::parse, "exact or rk4")?;
     let mut knobs = Vec::new();
-    if let Some(d) = o.get::<Bound<'py, PyDict>>("accuracy")? {
-        for (k, v) in d.iter() {
-            let name: String = k.extract()?;
-            let knob = solver::Knob::named(&name).map_err(|e| Failure::of(&e.into()).into_py())?;
-            knobs.push((knob, v.extract()?));
-        }
+    for (k, v) in accuracy.iter().flat_map(|d| d.iter()) {
+        let name: String = k.extract()?;
+        let knob = solver::Knob::named(&name).map_err(|e| Failure::of(&e.into()).into_py())?;
+        knobs.push((knob, v.extract()?));
     }
     Ok(Sim { scene: source, set: params, preset, accuracy: knobs, integrator })
 }
@@ -302,10 +268,17 @@ fn axis(t: (String, f64, f64, usize)) -> Axis {
     Axis::new(t.0, t.1, t.2, t.3)
 }
 
-/// Worker threads: the option, or every core.
-fn threads(o: &mut Options<'_>) -> PyResult<usize> {
-    let n = o.get::<usize>("threads")?;
+/// Worker threads: those asked for, or every core.
+fn threads(n: Option<usize>) -> PyResult<usize> {
     engine::threads(n).map_err(|e| PyValueError::new_err(engine::in_words(&e, &Keywords)))
+}
+
+/// The sweeps named by `text` (`up`, `both`, …), or `default`.
+fn sweeps(text: Option<String>, default: Option<Vec<SweepKind>>) -> PyResult<Option<Vec<SweepKind>>> {
+    match text {
+        Some(text) => Ok(Some(SweepKind::parse_set(&text, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))?)),
+        None => Ok(default),
+    }
 }
 
 /// What a run that writes a file returns: the file and the seconds it took.
@@ -342,26 +315,29 @@ struct CellSections {
 /// --portrait` draws) and `sections` (what `cell --section-png` draws) when
 /// asked for.
 #[pyfunction]
-fn cell(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
-    let mut o = Options::new(options);
-    let sim = sim(scene, params, &mut o)?;
-    let start = match o.get::<Vec<f64>>("state")? {
-        Some(state) => Start::State(state),
-        None => Start::Initial,
-    };
-    let portrait = o.get::<bool>("portrait")?.unwrap_or(false);
-    let sections = o.get::<bool>("sections")?.unwrap_or(false);
-    let periods = o.get::<usize>("section_periods")?.unwrap_or(engine::DEFAULT_SECTION_PERIODS);
-    o.finish()?;
+#[pyo3(signature = (scene, params, *, preset=None, integrator=None, accuracy=None, portrait=false, sections=false,
+    section_periods=engine::DEFAULT_SECTION_PERIODS))]
+#[allow(clippy::too_many_arguments)] // the keywords of va.cell
+fn cell(
+    scene: (String, String),
+    params: Vec<(String, f64)>,
+    preset: Option<String>,
+    integrator: Option<String>,
+    accuracy: Option<Bound<'_, PyDict>>,
+    portrait: bool,
+    sections: bool,
+    section_periods: usize,
+) -> PyResult<Job> {
+    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
     Ok(Job::start(move |_| {
-        let c = engine::cell(&sim, &start)?;
+        let c = engine::cell(&sim, &Start::Initial)?;
         let mut value = c.to_json();
         if portrait {
             value["portrait"] = json_of(&engine::portrait(&c))?;
         }
         if sections {
-            let (panels, title) = engine::section_panels(&c, periods)?;
-            value["sections"] = json_of(&CellSections { title, periods, panels })?;
+            let (panels, title) = engine::section_panels(&c, section_periods)?;
+            value["sections"] = json_of(&CellSections { title, periods: section_periods, panels })?;
         }
         Ok(value)
     }))
@@ -374,53 +350,71 @@ fn json_of(v: &impl serde::Serialize) -> engine::Result<serde_json::Value> {
 
 /// A sweep along one parameter: the value of `sweep --json`.
 #[pyfunction]
-fn sweep(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
-    let mut o = Options::new(options);
-    let sim = sim(scene, params, &mut o)?;
-    let direction = named("direction", o.get("direction")?, Direction::parse, "up, down, both, down-up or up-down")?;
-    let mut r = SweepRequest::new(sim, axis(o.need("axis")?));
-    r.direction = direction;
-    r.section_cap = o.get("section_cap")?.unwrap_or(r.section_cap);
-    r.threads = threads(&mut o)?;
-    r.output = o.get::<String>("output")?.map(Into::into);
+#[pyo3(signature = (scene, params, *, axis, preset=None, integrator=None, accuracy=None, direction=None,
+    section_cap=None, threads=None, output=None))]
+#[allow(clippy::too_many_arguments)] // the keywords of va.sweep
+fn sweep(
+    scene: (String, String),
+    params: Vec<(String, f64)>,
+    axis: (String, f64, f64, usize),
+    preset: Option<String>,
+    integrator: Option<String>,
+    accuracy: Option<Bound<'_, PyDict>>,
+    direction: Option<String>,
+    section_cap: Option<usize>,
+    threads: Option<usize>,
+    output: Option<String>,
+) -> PyResult<Job> {
+    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let mut r = SweepRequest::new(sim, self::axis(axis));
+    r.direction = named("direction", direction, Direction::parse, "up, down, both, down-up or up-down")?;
+    r.section_cap = section_cap.unwrap_or(r.section_cap);
+    r.threads = self::threads(threads)?;
+    r.output = output.map(Into::into);
     r.command = "vibroatlas.sweep (Python)".into();
-    o.finish()?;
     Ok(Job::start(move |shared| Ok(engine::sweep(&r, shared)?.to_json())))
 }
 
 /// An atlas: `{"output": path, "seconds": s}` written to `output`, else
 /// `{"image": bytes, "seconds": s}`, its file written in memory.
 #[pyfunction]
-fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
-    let mut o = Options::new(options);
-    let sim = sim(scene, params, &mut o)?;
-    let sweeps = match o.get::<String>("sweep")? {
-        Some(text) => SweepKind::parse_set(&text, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))?,
-        None => vec![SweepKind::Fresh],
-    };
-    let mut r = AtlasRequest::new(sim, axis(o.need("x")?), axis(o.need("y")?), sweeps);
-    r.along = named("along", o.get("along")?, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(Along::X);
-    r.shard = match o.get::<String>("shard")? {
-        Some(s) => Some(Shard::parse(&s).map_err(|e| PyValueError::new_err(e.to_string()))?),
-        None => None,
-    };
+#[pyo3(signature = (scene, params, *, x, y, preset=None, integrator=None, accuracy=None, sweep=None, along=None,
+    attractors=None, attractors_where=None, seed=None, section_cap=None, threads=None, output=None, resume=false))]
+#[allow(clippy::too_many_arguments)] // the keywords of va.atlas
+fn atlas(
+    scene: (String, String),
+    params: Vec<(String, f64)>,
+    x: (String, f64, f64, usize),
+    y: (String, f64, f64, usize),
+    preset: Option<String>,
+    integrator: Option<String>,
+    accuracy: Option<Bound<'_, PyDict>>,
+    sweep: Option<String>,
+    along: Option<String>,
+    attractors: Option<usize>,
+    attractors_where: Option<String>,
+    seed: Option<u64>,
+    section_cap: Option<usize>,
+    threads: Option<usize>,
+    output: Option<String>,
+    resume: bool,
+) -> PyResult<Job> {
+    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let sweeps = sweeps(sweep, Some(vec![SweepKind::Fresh]))?.unwrap_or_default();
+    let mut r = AtlasRequest::new(sim, axis(x), axis(y), sweeps);
+    r.along = named("along", along, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(r.along);
     // As on the command line, the seed and the cells chosen matter only with attractors.
-    let seed = o.get("seed")?.unwrap_or(Sampling::default().seed);
-    let where_ = o.get::<String>("attractors_where")?;
-    if let Some(samples) = o.get::<usize>("attractors")? {
-        let cells = named("attractors_where", where_, AttractorCells::parse, "all or hysteresis")?
-            .unwrap_or(AttractorCells::All);
-        r.attractors = Some((Sampling { samples, seed, ..Sampling::default() }, cells));
+    let cells = named("attractors_where", attractors_where, AttractorCells::parse, "all or hysteresis")?;
+    if let Some(samples) = attractors {
+        let d = Sampling::default();
+        r.attractors =
+            Some((Sampling { samples, seed: seed.unwrap_or(d.seed), ..d }, cells.unwrap_or(AttractorCells::All)));
     }
-    r.section_cap = o.get("section_cap")?.unwrap_or(r.section_cap);
-    r.threads = threads(&mut o)?;
-    let output: Option<String> = o.get("output")?;
+    r.section_cap = section_cap.unwrap_or(r.section_cap);
+    r.threads = self::threads(threads)?;
     r.output = output.clone().map(Into::into);
-    r.resume = o.get("resume")?.unwrap_or(false);
-    // Accepted and ignored, as `--force` is: a special file is always refused.
-    let _: Option<bool> = o.get("force")?;
+    r.resume = resume;
     r.command = "vibroatlas.atlas (Python)".into();
-    o.finish()?;
     Ok(Job::start(move |shared| {
         let run = engine::atlas(&r, shared)?;
         written(output, &run, r.threads)
@@ -429,36 +423,59 @@ fn atlas(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
 
 /// The coexisting attractors of one point: the value of `attractors --json`.
 #[pyfunction]
-fn attractors(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
-    let mut o = Options::new(options);
-    let sim = sim(scene, params, &mut o)?;
+#[pyo3(signature = (scene, params, *, preset=None, integrator=None, accuracy=None, samples=None, seed=None,
+    r#box=None, threads=None))]
+#[allow(clippy::too_many_arguments)] // the keywords of va.attractors
+fn attractors(
+    scene: (String, String),
+    params: Vec<(String, f64)>,
+    preset: Option<String>,
+    integrator: Option<String>,
+    accuracy: Option<Bound<'_, PyDict>>,
+    samples: Option<usize>,
+    seed: Option<u64>,
+    r#box: Option<(f64, f64)>,
+    threads: Option<usize>,
+) -> PyResult<Job> {
+    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
     let mut r = engine::AttractorsRequest::new(sim);
     let d = r.sampling;
-    let (x, v) = o.get::<(f64, f64)>("box")?.unwrap_or((d.x, d.v));
-    r.sampling =
-        Sampling { samples: o.get("samples")?.unwrap_or(d.samples), seed: o.get("seed")?.unwrap_or(d.seed), x, v };
-    r.threads = threads(&mut o)?;
-    o.finish()?;
+    let (x, v) = r#box.unwrap_or((d.x, d.v));
+    r.sampling = Sampling { samples: samples.unwrap_or(d.samples), seed: seed.unwrap_or(d.seed), x, v };
+    r.threads = self::threads(threads)?;
     Ok(Job::start(move |shared| Ok(engine::attractors(&r, shared)?.to_json())))
 }
 
 /// A bifurcation curve: the value of `curve --json`.
 #[pyfunction]
-fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_, PyDict>) -> PyResult<Job> {
-    let mut o = Options::new(options);
-    let sim = sim(scene, params, &mut o)?;
-    let kind = named("kind", o.get("kind")?, solver::Bifurcation::parse, "pd, sn, pf, ns or grazing")?
+#[pyo3(signature = (scene, params, *, kind, free, start, preset=None, integrator=None, accuracy=None, to=None,
+    steps=None, window=None, n=None, output=None))]
+#[allow(clippy::too_many_arguments)] // the keywords of va.curve
+fn curve(
+    scene: (String, String),
+    params: Vec<(String, f64)>,
+    kind: String,
+    free: (String, String),
+    start: Vec<(String, f64)>,
+    preset: Option<String>,
+    integrator: Option<String>,
+    accuracy: Option<Bound<'_, PyDict>>,
+    to: Option<f64>,
+    steps: Option<usize>,
+    window: Option<f64>,
+    n: Option<usize>,
+    output: Option<String>,
+) -> PyResult<Job> {
+    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let kind = named("kind", Some(kind), solver::Bifurcation::parse, "pd, sn, pf, ns or grazing")?
         .ok_or_else(|| PyValueError::new_err("kind: required"))?;
-    let (a, b): (String, String) = o.need("free")?;
-    let mut r = CurveRequest::new(sim, kind, [a, b], o.need("start")?);
-    r.to = o.get("to")?;
-    r.steps = o.get("steps")?.unwrap_or(r.steps);
-    r.window = o.get("window")?.unwrap_or(r.window);
-    r.bounds = o.get::<(f64, f64)>("bounds")?.map(|(lo, hi)| [lo, hi]);
-    r.n = o.get("n")?;
-    r.output = o.get::<String>("output")?.map(Into::into);
+    let mut r = CurveRequest::new(sim, kind, [free.0, free.1], start);
+    r.to = to;
+    r.steps = steps.unwrap_or(r.steps);
+    r.window = window.unwrap_or(r.window);
+    r.n = n;
+    r.output = output.map(Into::into);
     r.command = "vibroatlas.curve (Python)".into();
-    o.finish()?;
     Ok(Job::start(move |shared| Ok(engine::curve(&r, shared)?.to_json())))
 }
 
@@ -466,18 +483,20 @@ fn curve(scene: (String, String), params: Vec<(String, f64)>, options: &Bound<'_
 /// [`atlas`], `{"output", "seconds"}` written to `output`, else `{"image",
 /// "seconds"}`.
 #[pyfunction]
-fn zoom(parent: String, options: &Bound<'_, PyDict>) -> PyResult<Job> {
-    let mut o = Options::new(options);
-    let mut r = engine::ZoomRequest::new(&parent, axis(o.need("x")?), axis(o.need("y")?));
-    r.sweeps = match o.get::<String>("sweep")? {
-        Some(text) => Some(SweepKind::parse_set(&text, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))?),
-        None => None,
-    };
-    r.threads = threads(&mut o)?;
-    let output: Option<String> = o.get("output")?;
+#[pyo3(signature = (parent, *, x, y, sweep=None, threads=None, output=None))]
+fn zoom(
+    parent: String,
+    x: (String, f64, f64, usize),
+    y: (String, f64, f64, usize),
+    sweep: Option<String>,
+    threads: Option<usize>,
+    output: Option<String>,
+) -> PyResult<Job> {
+    let mut r = engine::ZoomRequest::new(&parent, axis(x), axis(y));
+    r.sweeps = sweeps(sweep, None)?;
+    r.threads = self::threads(threads)?;
     r.output = output.clone().map(Into::into);
     r.command = "vibroatlas.zoom (Python)".into();
-    o.finish()?;
     Ok(Job::start(move |shared| {
         let run = engine::zoom(&r, shared)?;
         written(output, &run, r.threads)

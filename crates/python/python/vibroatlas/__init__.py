@@ -158,10 +158,10 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
         if value is not None:
             options[key] = _whole(key, value)
     for key, value in (("force", force), ("resume", resume)):
-        if value is not None:
-            if not isinstance(value, bool):
-                raise TypeError(f"{key}: expected True or False, got {value!r}")
-            options[key] = value
+        if value is not None and not isinstance(value, bool):
+            raise TypeError(f"{key}: expected True or False, got {value!r}")
+    if resume is not None:
+        options["resume"] = resume  # force is accepted and ignored, as `--force` is
     return _tree_of(lambda: _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
                                      unit="cell", desc="atlas"), options, output)
 
@@ -212,7 +212,7 @@ def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
     if threads is not None:
         options["threads"] = _whole("threads", threads)
     _run.flag("progress", progress)
-    return _tree_of(lambda: _run.wait(lambda: _native.zoom(parent, options), progress, "cell", "zoom"),
+    return _tree_of(lambda: _run.wait(lambda: _native.zoom(parent, **options), progress, "cell", "zoom"),
                     options, output)
 
 

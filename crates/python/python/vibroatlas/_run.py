@@ -182,7 +182,7 @@ def _job(start, scene, params, options, progress, unit, desc):
     to end (it removes its partial output) at most CANCEL_WAIT seconds, and
     re-raises KeyboardInterrupt. A job that cannot stop at once (one cell's
     simulation, a curve's steps) ends on its own thread and writes nothing."""
-    return wait(lambda: start(scene_arg(scene), params, options), progress, unit, desc)
+    return wait(lambda: start(scene_arg(scene), params, **options), progress, unit, desc)
 
 
 def wait(start, progress, unit, desc):
