@@ -231,16 +231,26 @@ fn named<T>(key: &str, value: Option<String>, parse: impl Fn(&str) -> Option<T>,
         .transpose()
 }
 
-/// The simulation options common to every call: the scene as
-/// `(kind, value)`, its parameters, and the preset, integrator and accuracy
-/// knobs (a dict of knob -> value, in order) when given.
-fn sim(
+/// The simulation options of every call but zoom, as the package passes
+/// them (a dict): the scene as `(kind, value)`, its parameters, and the
+/// preset, integrator and accuracy knobs (a dict of knob -> value, in
+/// order) when given.
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct SimArgs<'py> {
     scene: (String, String),
     params: Vec<(String, f64)>,
+    #[pyo3(default)]
     preset: Option<String>,
+    #[pyo3(default)]
     integrator: Option<String>,
-    accuracy: Option<&Bound<'_, PyDict>>,
-) -> PyResult<Sim> {
+    #[pyo3(default)]
+    accuracy: Option<Bound<'py, PyDict>>,
+}
+
+/// The engine's simulation options of `a`.
+fn sim(a: SimArgs<'_>) -> PyResult<Sim> {
+    let SimArgs { scene, params, preset, integrator, accuracy } = a;
     let (kind, value) = scene;
     let source = match kind.as_str() {
         "path" => SceneSource::File(value.into()),
@@ -315,20 +325,9 @@ struct CellSections {
 /// --portrait` draws) and `sections` (what `cell --section-png` draws) when
 /// asked for.
 #[pyfunction]
-#[pyo3(signature = (scene, params, *, preset=None, integrator=None, accuracy=None, portrait=false, sections=false,
-    section_periods=engine::DEFAULT_SECTION_PERIODS))]
-#[allow(clippy::too_many_arguments)] // the keywords of va.cell
-fn cell(
-    scene: (String, String),
-    params: Vec<(String, f64)>,
-    preset: Option<String>,
-    integrator: Option<String>,
-    accuracy: Option<Bound<'_, PyDict>>,
-    portrait: bool,
-    sections: bool,
-    section_periods: usize,
-) -> PyResult<Job> {
-    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+#[pyo3(signature = (sim, *, portrait=false, sections=false, section_periods=engine::DEFAULT_SECTION_PERIODS))]
+fn cell(sim: SimArgs<'_>, portrait: bool, sections: bool, section_periods: usize) -> PyResult<Job> {
+    let sim = self::sim(sim)?;
     Ok(Job::start(move |_| {
         let c = engine::cell(&sim, &Start::Initial)?;
         let mut value = c.to_json();
@@ -350,22 +349,16 @@ fn json_of(v: &impl serde::Serialize) -> engine::Result<serde_json::Value> {
 
 /// A sweep along one parameter: the value of `sweep --json`.
 #[pyfunction]
-#[pyo3(signature = (scene, params, *, axis, preset=None, integrator=None, accuracy=None, direction=None,
-    section_cap=None, threads=None, output=None))]
-#[allow(clippy::too_many_arguments)] // the keywords of va.sweep
+#[pyo3(signature = (sim, *, axis, direction=None, section_cap=None, threads=None, output=None))]
 fn sweep(
-    scene: (String, String),
-    params: Vec<(String, f64)>,
+    sim: SimArgs<'_>,
     axis: (String, f64, f64, usize),
-    preset: Option<String>,
-    integrator: Option<String>,
-    accuracy: Option<Bound<'_, PyDict>>,
     direction: Option<String>,
     section_cap: Option<usize>,
     threads: Option<usize>,
     output: Option<String>,
 ) -> PyResult<Job> {
-    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let sim = self::sim(sim)?;
     let mut r = SweepRequest::new(sim, self::axis(axis));
     r.direction = named("direction", direction, Direction::parse, "up, down, both, down-up or up-down")?;
     r.section_cap = section_cap.unwrap_or(r.section_cap);
@@ -378,17 +371,13 @@ fn sweep(
 /// An atlas: `{"output": path, "seconds": s}` written to `output`, else
 /// `{"image": bytes, "seconds": s}`, its file written in memory.
 #[pyfunction]
-#[pyo3(signature = (scene, params, *, x, y, preset=None, integrator=None, accuracy=None, sweep=None, along=None,
-    attractors=None, attractors_where=None, seed=None, section_cap=None, threads=None, output=None, resume=false))]
+#[pyo3(signature = (sim, *, x, y, sweep=None, along=None, attractors=None, attractors_where=None, seed=None,
+    section_cap=None, threads=None, output=None, resume=false))]
 #[allow(clippy::too_many_arguments)] // the keywords of va.atlas
 fn atlas(
-    scene: (String, String),
-    params: Vec<(String, f64)>,
+    sim: SimArgs<'_>,
     x: (String, f64, f64, usize),
     y: (String, f64, f64, usize),
-    preset: Option<String>,
-    integrator: Option<String>,
-    accuracy: Option<Bound<'_, PyDict>>,
     sweep: Option<String>,
     along: Option<String>,
     attractors: Option<usize>,
@@ -399,7 +388,7 @@ fn atlas(
     output: Option<String>,
     resume: bool,
 ) -> PyResult<Job> {
-    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let sim = self::sim(sim)?;
     let sweeps = sweeps(sweep, Some(vec![SweepKind::Fresh]))?.unwrap_or_default();
     let mut r = AtlasRequest::new(sim, axis(x), axis(y), sweeps);
     r.along = named("along", along, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(r.along);
@@ -423,21 +412,15 @@ fn atlas(
 
 /// The coexisting attractors of one point: the value of `attractors --json`.
 #[pyfunction]
-#[pyo3(signature = (scene, params, *, preset=None, integrator=None, accuracy=None, samples=None, seed=None,
-    r#box=None, threads=None))]
-#[allow(clippy::too_many_arguments)] // the keywords of va.attractors
+#[pyo3(signature = (sim, *, samples=None, seed=None, r#box=None, threads=None))]
 fn attractors(
-    scene: (String, String),
-    params: Vec<(String, f64)>,
-    preset: Option<String>,
-    integrator: Option<String>,
-    accuracy: Option<Bound<'_, PyDict>>,
+    sim: SimArgs<'_>,
     samples: Option<usize>,
     seed: Option<u64>,
     r#box: Option<(f64, f64)>,
     threads: Option<usize>,
 ) -> PyResult<Job> {
-    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let sim = self::sim(sim)?;
     let mut r = engine::AttractorsRequest::new(sim);
     let d = r.sampling;
     let (x, v) = r#box.unwrap_or((d.x, d.v));
@@ -448,25 +431,20 @@ fn attractors(
 
 /// A bifurcation curve: the value of `curve --json`.
 #[pyfunction]
-#[pyo3(signature = (scene, params, *, kind, free, start, preset=None, integrator=None, accuracy=None, to=None,
-    steps=None, window=None, n=None, output=None))]
+#[pyo3(signature = (sim, *, kind, free, start, to=None, steps=None, window=None, n=None, output=None))]
 #[allow(clippy::too_many_arguments)] // the keywords of va.curve
 fn curve(
-    scene: (String, String),
-    params: Vec<(String, f64)>,
+    sim: SimArgs<'_>,
     kind: String,
     free: (String, String),
     start: Vec<(String, f64)>,
-    preset: Option<String>,
-    integrator: Option<String>,
-    accuracy: Option<Bound<'_, PyDict>>,
     to: Option<f64>,
     steps: Option<usize>,
     window: Option<f64>,
     n: Option<usize>,
     output: Option<String>,
 ) -> PyResult<Job> {
-    let sim = sim(scene, params, preset, integrator, accuracy.as_ref())?;
+    let sim = self::sim(sim)?;
     let kind = named("kind", Some(kind), solver::Bifurcation::parse, "pd, sn, pf, ns or grazing")?
         .ok_or_else(|| PyValueError::new_err("kind: required"))?;
     let mut r = CurveRequest::new(sim, kind, [free.0, free.1], start);

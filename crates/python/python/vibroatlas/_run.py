@@ -148,6 +148,11 @@ def params_arg(params, extra):
     return out
 
 
+#: The simulation options (`common`) that the native functions take with the
+#: scene and its parameters, apart from their own keywords.
+SIM_KEYWORDS = ("preset", "integrator", "accuracy")
+
+
 def common(options, preset, integrator, accuracy):
     """Adds the simulation options every command takes (only those given)."""
     if preset is not None:
@@ -182,7 +187,9 @@ def _job(start, scene, params, options, progress, unit, desc):
     to end (it removes its partial output) at most CANCEL_WAIT seconds, and
     re-raises KeyboardInterrupt. A job that cannot stop at once (one cell's
     simulation, a curve's steps) ends on its own thread and writes nothing."""
-    return wait(lambda: start(scene_arg(scene), params, **options), progress, unit, desc)
+    sim = {"scene": scene_arg(scene), "params": params}
+    sim.update({key: options.pop(key) for key in SIM_KEYWORDS if key in options})
+    return wait(lambda: start(sim, **options), progress, unit, desc)
 
 
 def wait(start, progress, unit, desc):
