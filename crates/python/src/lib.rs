@@ -325,11 +325,19 @@ struct CellSections {
 /// --portrait` draws) and `sections` (what `cell --section-png` draws) when
 /// asked for.
 #[pyfunction]
-#[pyo3(signature = (sim, *, portrait=false, sections=false, section_periods=engine::DEFAULT_SECTION_PERIODS))]
-fn cell(sim: SimArgs<'_>, portrait: bool, sections: bool, section_periods: usize) -> PyResult<Job> {
+#[pyo3(signature = (sim, *, state=None, portrait=false, sections=false,
+    section_periods=engine::DEFAULT_SECTION_PERIODS))]
+fn cell(
+    sim: SimArgs<'_>,
+    state: Option<Vec<f64>>,
+    portrait: bool,
+    sections: bool,
+    section_periods: usize,
+) -> PyResult<Job> {
     let sim = self::sim(sim)?;
+    let start = state.map_or(Start::Initial, Start::State);
     Ok(Job::start(move |_| {
-        let c = engine::cell(&sim, &Start::Initial)?;
+        let c = engine::cell(&sim, &start)?;
         let mut value = c.to_json();
         if portrait {
             value["portrait"] = json_of(&engine::portrait(&c))?;
@@ -431,7 +439,8 @@ fn attractors(
 
 /// A bifurcation curve: the value of `curve --json`.
 #[pyfunction]
-#[pyo3(signature = (sim, *, kind, free, start, to=None, steps=None, window=None, n=None, output=None))]
+#[pyo3(signature = (sim, *, kind, free, start, to=None, steps=None, window=None, bounds=None, n=None,
+    output=None))]
 #[allow(clippy::too_many_arguments)] // the keywords of va.curve
 fn curve(
     sim: SimArgs<'_>,
@@ -441,6 +450,7 @@ fn curve(
     to: Option<f64>,
     steps: Option<usize>,
     window: Option<f64>,
+    bounds: Option<(f64, f64)>,
     n: Option<usize>,
     output: Option<String>,
 ) -> PyResult<Job> {
@@ -451,6 +461,7 @@ fn curve(
     r.to = to;
     r.steps = steps.unwrap_or(r.steps);
     r.window = window.unwrap_or(r.window);
+    r.bounds = bounds.map(|(lo, hi)| [lo, hi]);
     r.n = n;
     r.output = output.map(Into::into);
     r.command = "vibroatlas.curve (Python)".into();

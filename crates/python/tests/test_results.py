@@ -88,6 +88,31 @@ def test_attractors_equals_cli(kw, args):
     assert len(r["attractors"]) >= 1
 
 
+def test_cell_from_a_state_equals_cli():
+    """state= starts the cell where `cell --state` does; a state of the wrong
+    length is refused by the engine, naming it."""
+    state = [0.3, -0.1, 0.5, 0.0]
+    r = va.cell(MULTI, state=state, omega=0.33)
+    assert r == cli_json("cell", MULTI, *sets(omega=0.33), "--state", ",".join(map(str, state)))
+    assert r != va.cell(MULTI, omega=0.33)
+    with pytest.raises(ValueError, match="state"):
+        va.cell(MULTI, state=[0.1, 0.2], omega=0.33)
+    with pytest.raises(TypeError, match="state"):
+        va.cell(MULTI, state="0.1,0.2", omega=0.33)
+
+
+def test_curve_bounds_equal_cli():
+    """bounds=(lo, hi) keeps A where `curve --bounds A=LO:HI` does."""
+    args = ["--kind", "pf", "--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.1", "--steps", "8"]
+    ref = cli_json("curve", DRY, *args, "--bounds", "omega=6.84:6.86")
+    r = va.curve(DRY, kind="pf", start={"omega": 6.845, "fk": 0.01}, free=("omega", "fk"), to=0.1, steps=8,
+                 bounds=(6.84, 6.86))
+    assert r == ref
+    assert all(6.84 <= p["omega"] <= 6.86 for p in r["points"]), r["points"]
+    with pytest.raises(ValueError, match="bounds"):
+        va.curve(DRY, kind="pf", start={"omega": 6.845, "fk": 0.01}, free=("omega", "fk"), bounds=(1.0,))
+
+
 def test_curve_equals_cli(tmp_path):
     args = ["--kind", "pf", "--start", "omega=6.845,fk=0.01", "--free", "omega,fk", "--to", "0.1", "--steps", "8"]
     ref = cli_json("curve", DRY, *args)

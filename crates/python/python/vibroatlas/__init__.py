@@ -41,17 +41,19 @@ def __dir__():
     return sorted(__all__ + ["__version__"])
 
 
-def cell(scene, *, portrait=False, sections=False, section_periods=None, preset=None, integrator=None,
-         accuracy=None, progress=None, params=None, **parameters):
-    """Simulates one parameter point from the scene's initial state and
-    classifies its steady motion, like `vibroatlas cell SCENE --json`.
+def cell(scene, *, state=None, portrait=False, sections=False, section_periods=None, preset=None,
+         integrator=None, accuracy=None, progress=None, params=None, **parameters):
+    """Simulates one parameter point from the scene's initial state (or from
+    `state`) and classifies its steady motion, like `vibroatlas cell SCENE
+    --json`.
 
     scene: a path, a TOML text or a dict. preset: "fast", "standard" or
     "precise"; integrator: "exact" or "rk4"; accuracy: {knob: value} (the
     CLI's `--accuracy`). Extra keywords (and `params`, a dict, for names that
-    clash with these keywords) are scene parameters (`--set`). progress is
-    accepted for symmetry with the other functions and ignored (a cell is
-    short: no bar).
+    clash with these keywords) are scene parameters (`--set`). state: the
+    start [x1, x2, ..., v1, v2, ...] at the scene's forcing phase, instead of
+    the scene's initial state (`--state`). progress is accepted for symmetry
+    with the other functions and ignored (a cell is short: no bar).
 
     Returns the dict `cell --json` prints: class, n, reason, labels,
     symmetry, impacts, chatter, sticking, final_state, period_section,
@@ -70,6 +72,8 @@ def cell(scene, *, portrait=False, sections=False, section_periods=None, preset=
     with impacts (phase in radians, normal speed just before).
     """
     options = _common({}, preset, integrator, accuracy)
+    if state is not None:
+        options["state"] = _run.floats("state", state)
     _run.flag("progress", progress)
     _run.flag("portrait", portrait)
     _run.flag("sections", sections)
@@ -303,8 +307,8 @@ def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset
                     unit="sample", desc="attractors")
 
 
-def curve(scene, kind, start, free, to=None, *, steps=None, window=None, n=None, output=None, preset=None,
-          integrator=None, accuracy=None, progress=None, params=None, **parameters):
+def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=None, n=None, output=None,
+          preset=None, integrator=None, accuracy=None, progress=None, params=None, **parameters):
     """Follows a bifurcation in a plane of two parameters, like `vibroatlas
     curve SCENE --kind ... --json`.
 
@@ -313,7 +317,8 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, n=None,
     located near A's value; free: (A, B), A located and B stepped; to: the
     last value of B (None: the curve is followed both ways from the start,
     within the scene's range of B, until it ends); steps (20), window (0.05): the search half-width in A;
-    n: the orbit's period (default: the cell's); output: also write the curve
+    bounds: (lo, hi), the range of A the curve may take (default: the
+    scene's range of A; `--bounds A=LO:HI`); n: the orbit's period (default: the cell's); output: also write the curve
     file (for `vibroatlas render --curves`). progress: accepted and ignored
     (no bar).
 
@@ -340,6 +345,9 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, n=None,
         options["steps"] = _whole("steps", steps)
     if window is not None:
         options["window"] = _number("window", window)
+    if bounds is not None:
+        lo, hi = _run.floats("bounds", bounds, length=2)
+        options["bounds"] = (lo, hi)
     if n is not None:
         options["n"] = _whole("n", n)
     if output is not None:

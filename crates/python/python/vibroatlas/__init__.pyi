@@ -23,6 +23,7 @@ class SceneError(ValueError): ...
 def cell(
     scene: Scene,
     *,
+    state: Sequence[float] | None = ...,
     portrait: bool = ...,
     sections: bool = ...,
     section_periods: int | None = ...,
@@ -116,6 +117,7 @@ def curve(
     *,
     steps: int | None = ...,
     window: float | None = ...,
+    bounds: tuple[float, float] | None = ...,
     n: int | None = ...,
     output: Path | None = ...,
     preset: Preset | None = ...,

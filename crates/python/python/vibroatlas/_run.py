@@ -105,6 +105,16 @@ def flag(what, v):
         raise TypeError(f"{what}: expected True or False, got {v!r}")
 
 
+def floats(what, v, length=None):
+    """v, a sequence of numbers, as a list of floats (of `length` when given)."""
+    if isinstance(v, (str, bytes, dict)) or not hasattr(v, "__iter__"):
+        raise TypeError(f"{what}: expected a sequence of numbers, got {v!r}")
+    out = [number(f"{what}[{i}]", x) for i, x in enumerate(v)]
+    if length is not None and len(out) != length:
+        raise ValueError(f"{what}: expected {length} numbers, got {len(out)}")
+    return out
+
+
 def text(what, v):
     if not isinstance(v, str):
         raise TypeError(f"{what}: expected a str, got {v!r}")
@@ -126,7 +136,7 @@ def axis(what, v):
 #: one of them is a misspelt keyword, not a scene parameter.
 KEYWORDS = ("preset", "integrator", "accuracy", "progress", "params", "direction", "threads", "section_cap",
             "output", "sweep", "along", "attractors", "attractors_where", "seed", "force", "resume", "samples",
-            "box", "kind", "start", "free", "to", "steps", "window", "bounds", "n")
+            "box", "kind", "start", "free", "to", "steps", "window", "bounds", "n", "state")
 
 
 def params_arg(params, extra):
