@@ -3,7 +3,6 @@
 
 use solver::{Class, Label, Mask, Symmetry};
 use std::collections::HashMap;
-use std::hash::Hash;
 
 /// What is kept of a classified cell.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,7 +54,7 @@ pub fn label_counts<'a>(cells: impl IntoIterator<Item = &'a CellData>, mass: usi
 
 /// Counts most frequent first, ties in the order of `key` (the text a
 /// legend writes): the same order whatever order the counts came in.
-pub fn by_frequency<K: Eq + Hash, S: Ord>(counts: HashMap<K, u64>, key: impl Fn(&K) -> S) -> Vec<(K, u64)> {
+pub fn by_frequency<K, S: Ord>(counts: impl IntoIterator<Item = (K, u64)>, key: impl Fn(&K) -> S) -> Vec<(K, u64)> {
     let mut v: Vec<(K, u64)> = counts.into_iter().collect();
     v.sort_by_cached_key(|(k, n)| (std::cmp::Reverse(*n), key(k)));
     v

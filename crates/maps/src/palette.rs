@@ -64,14 +64,28 @@ pub fn colour(label: Label) -> [u8; 3] {
         Label::Quasiperiodic => [102, 102, 102],
         Label::Unresolved => [213, 40, 40],
         Label::Periodic { n: 1, p: Count::Impacts(0), q: Count::Impacts(0) } => NO_IMPACT,
-        Label::Periodic { n, p, q } => {
-            let text = label.to_string();
-            match TABLE.binary_search_by(|(l, _)| (*l).cmp(text.as_str())) {
+        Label::Periodic { .. } => {
+            // The text on the stack: a map colours every cell by this function.
+            let mut buf = [0u8; LONGEST_LABEL];
+            let text = text_of(label, &mut buf);
+            match TABLE.binary_search_by(|(l, _)| (*l).cmp(text)) {
                 Ok(i) => TABLE[i].1,
-                Err(_) => hashed(&text, n, impacts(p), impacts(q)),
+                Err(_) => hashed(text, Family::of(label)),
             }
         }
     }
+}
+
+/// Bytes of the longest label text, `4294967295-4294967295-4294967295`.
+const LONGEST_LABEL: usize = 32;
+
+/// The text of `label` (as it prints) written into `buf`.
+fn text_of(label: Label, buf: &mut [u8; LONGEST_LABEL]) -> &str {
+    use std::io::Write;
+    let mut rest = &mut buf[..];
+    write!(rest, "{label}").expect("a label's text fits LONGEST_LABEL bytes");
+    let len = LONGEST_LABEL - rest.len();
+    std::str::from_utf8(&buf[..len]).expect("a label's text is ASCII")
 }
 
 /// The family of a label (see the module doc), as legends group labels.
@@ -225,14 +239,15 @@ fn chattering(n: u32, p: Option<u32>, q: Option<u32>) -> bool {
     [p, q].into_iter().flatten().any(|c| c >= 6 * n)
 }
 
-/// The family rule of a periodic label outside the table: two numbers in
-/// [0, 1] from the hash of its text, placed in its family's range.
-fn hashed(label: &str, n: u32, p: Option<u32>, q: Option<u32>) -> [u8; 3] {
-    let h = fnv(label);
+/// The family rule of a periodic label outside the table (its text, its
+/// family): two numbers in [0, 1] from the hash of its text, placed in its
+/// family's range.
+fn hashed(text: &str, family: Family) -> [u8; 3] {
+    let h = fnv(text);
     let unit = |bits: u64| (bits & 0xffff) as f64 / 65535.0;
-    let kind = match (p, q) {
-        (None, _) | (_, None) => Rule::CompleteChattering,
-        _ if chattering(n, p, q) => Rule::Chattering,
+    let kind = match family {
+        Family::CompleteChattering => Rule::CompleteChattering,
+        Family::Chattering => Rule::Chattering,
         _ => Rule::Subharmonic,
     };
     kind.colour(unit(h), unit(h >> 16))
@@ -640,6 +655,17 @@ mod tests {
         assert_eq!(Family::Fundamental.colour(), colour("1-1-1"));
         assert_eq!(Family::CompleteChattering.colour(), colour("1-S-S"));
         assert_eq!(Family::Chattering.colour(), colour("1-6-6"));
+    }
+
+    /// The text a colour is looked up by is the label's as it prints, up to
+    /// the longest one.
+    #[test]
+    fn label_texts_fit() {
+        let max = Count::Impacts(u32::MAX);
+        for l in [Label::Periodic { n: u32::MAX, p: max, q: max }, label("1-S-3"), label("12-28-12")] {
+            let mut buf = [0u8; LONGEST_LABEL];
+            assert_eq!(text_of(l, &mut buf), l.to_string());
+        }
     }
 
     /// The user's report (issue 29): these looked the same.

@@ -283,12 +283,9 @@ fn threads(n: Option<usize>) -> PyResult<usize> {
     engine::threads(n).map_err(|e| PyValueError::new_err(engine::in_words(&e, &Keywords)))
 }
 
-/// The sweeps named by `text` (`up`, `both`, …), or `default`.
-fn sweeps(text: Option<String>, default: Option<Vec<SweepKind>>) -> PyResult<Option<Vec<SweepKind>>> {
-    match text {
-        Some(text) => Ok(Some(SweepKind::parse_set(&text, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))?)),
-        None => Ok(default),
-    }
+/// The sweeps named by `text` (`up`, `both`, …), if given.
+fn sweeps(text: Option<String>) -> PyResult<Option<Vec<SweepKind>>> {
+    text.map(|t| SweepKind::parse_set(&t, "sweep").map_err(|e| PyValueError::new_err(e.to_string()))).transpose()
 }
 
 /// What a run that writes a file returns: the file and the seconds it took.
@@ -397,7 +394,7 @@ fn atlas(
     resume: bool,
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
-    let sweeps = sweeps(sweep, Some(vec![SweepKind::Fresh]))?.unwrap_or_default();
+    let sweeps = sweeps(sweep)?.unwrap_or_else(|| vec![SweepKind::Fresh]);
     let mut r = AtlasRequest::new(sim, axis(x), axis(y), sweeps);
     r.along = named("along", along, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(r.along);
     // As on the command line, the seed and the cells chosen matter only with attractors.
@@ -482,7 +479,7 @@ fn zoom(
     output: Option<String>,
 ) -> PyResult<Job> {
     let mut r = engine::ZoomRequest::new(&parent, axis(x), axis(y));
-    r.sweeps = sweeps(sweep, None)?;
+    r.sweeps = sweeps(sweep)?;
     r.threads = self::threads(threads)?;
     r.output = output.clone().map(Into::into);
     r.command = "vibroatlas.zoom (Python)".into();

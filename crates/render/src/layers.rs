@@ -120,8 +120,7 @@ pub fn layer(atlas: &Atlas, show: Show, mass: usize, curves: &[Overlay]) -> Resu
 /// the most frequent labels told apart by colour, the rest in hatched
 /// family groups (the counts are ordered here, most frequent first).
 pub fn label_legend(counts: &[(solver::Label, u64)], rows: usize) -> Vec<Key> {
-    let mut counts = counts.to_vec();
-    counts.sort_by_cached_key(|(label, n)| (std::cmp::Reverse(*n), label.to_string()));
+    let counts = maps::by_frequency(counts.iter().copied(), solver::Label::to_string);
     crate::map::label_entries(&counts, rows).iter().map(key).collect()
 }
 

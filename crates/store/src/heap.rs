@@ -24,13 +24,6 @@ use std::path::Path;
 
 /// A collection's signature.
 const SIGNATURE: &[u8; 4] = b"GCOL";
-/// Whether the file of `ds` is held in memory by the core driver.
-fn in_memory(ds: &hdf5::Dataset) -> bool {
-    ds.file()
-        .and_then(|f| f.access_plist())
-        .is_ok_and(|p| matches!(p.driver(), hdf5::plist::file_access::FileDriver::Core(_)))
-}
-
 /// A collection's header: signature, version (1), 3 reserved bytes, its size.
 const HEADER: u64 = 16;
 /// An object's header: its index (2 bytes), reference count (2), 4 reserved
@@ -74,6 +67,13 @@ pub(crate) fn check(ds: &hdf5::Dataset) -> Result<(), String> {
         }
     }
     Ok(())
+}
+
+/// Whether the file of `ds` is held in memory by the core driver.
+fn in_memory(ds: &hdf5::Dataset) -> bool {
+    ds.file()
+        .and_then(|f| f.access_plist())
+        .is_ok_and(|p| matches!(p.driver(), hdf5::plist::file_access::FileDriver::Core(_)))
 }
 
 /// The objects (index: size in bytes) of the collection at `address`, walked

@@ -166,18 +166,17 @@ pub(crate) fn create_file(path: &std::path::Path) -> hdf5::Result<hdf5::File> {
 /// The bytes of the file `f` as it would be on disk (flushed first): the
 /// image of a file held in memory by the core driver.
 pub(crate) fn file_image(f: &hdf5::File) -> hdf5::Result<Vec<u8>> {
-    use hdf5_sys::h5f::{H5F_scope_t, H5Fflush, H5Fget_file_image};
+    use hdf5_sys::h5f::H5Fget_file_image;
+    f.flush()?;
     hdf5::sync::sync(|| {
-        let failed = |what: &str| hdf5::Error::from(format!("{what} failed").as_str());
-        if unsafe { H5Fflush(f.id(), H5F_scope_t::H5F_SCOPE_LOCAL) } < 0 {
-            return Err(failed("H5Fflush"));
-        }
-        let size = unsafe { H5Fget_file_image(f.id(), std::ptr::null_mut(), 0) };
-        let size = usize::try_from(size).map_err(|_| failed("H5Fget_file_image"))?;
+        let failed = || hdf5::Error::from("H5Fget_file_image failed");
+        // SAFETY: an open file; a null buffer asks for the size, then a buffer of that size.
+        let size =
+            usize::try_from(unsafe { H5Fget_file_image(f.id(), std::ptr::null_mut(), 0) }).map_err(|_| failed())?;
         let mut bytes = vec![0u8; size];
         let got = unsafe { H5Fget_file_image(f.id(), bytes.as_mut_ptr().cast(), size) };
         if usize::try_from(got).ok() != Some(size) {
-            return Err(failed("H5Fget_file_image"));
+            return Err(failed());
         }
         Ok(bytes)
     })

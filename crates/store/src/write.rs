@@ -214,32 +214,37 @@ fn write_chunks(
 /// what a reader of bytes (h5py, xarray through h5netcdf) opens as it opens
 /// the file that [`Draft`] would write. Errors name the file `(in memory)`.
 pub fn image(atlas: &Atlas, info: &RunInfo, threads: usize) -> Result<Vec<u8>, StoreError> {
-    static IMAGES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let here = Path::new("(in memory)");
-    let m = &atlas.meta;
     let z = Deflater { threads, ..Default::default() };
-    let chunks = Chunks::new(&m.plane, Field::most_cell_bytes(m));
-    let k = IMAGES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    // The core driver's name: no file of that name is created or read.
-    let name = std::env::temp_dir().join(format!("vibroatlas-image-{}-{k}.h5", std::process::id()));
-    // The oldest format that holds the file, not 1.10's as on disk: HDF5
-    // 1.10's image of a file of format 1.10 (or 1.8) carries a superblock
-    // whose checksum does not match ("incorrect metadata checksum" on open;
-    // Debian's 1.10.8, through this crate and through h5py alike).
+    let chunks = Chunks::new(&atlas.meta.plane, Field::most_cell_bytes(&atlas.meta));
     let written = || -> hdf5::Result<hdf5::File> {
-        let f = hdf5::File::with_options().with_fapl(|p| p.core_filebacked(false).libver_earliest()).create(&name)?;
-        let (f, datasets) = create_in(f, m, &chunks, &z)?;
+        let (f, datasets) = in_memory(atlas, info, &chunks, &z)?;
         let sweeps: Vec<&[(Field, hdf5::Dataset)]> = datasets.iter().map(Vec::as_slice).collect();
         write_chunks(&z, &chunks, atlas, &sweeps, |_, _| true)?;
-        drop(sweeps);
-        drop(datasets);
-        fill_file(&f, atlas, info, &z)?;
         Ok(f)
     };
     let f = written().map_err(|e| StoreError::hdf5(here, e))?;
     let crcs = crate::verify::datasets(&f, here, atlas, &z.expected)?;
     crate::verify::seal_in(&f, here, &crcs)?;
     crate::netcdf::file_image(&f).map_err(|e| StoreError::hdf5(here, e))
+}
+
+/// A new file held in memory by HDF5's core driver (nothing on disk) with
+/// everything vibroatlas writes for `atlas` and the run's `info` but the
+/// chunks of the per-cell datasets, which are created empty and returned.
+/// In the oldest format that holds the file, not 1.10's as on disk: HDF5
+/// 1.10's image of a file of format 1.10 (or 1.8) carries a superblock whose
+/// checksum does not match ("incorrect metadata checksum" on open; Debian's
+/// 1.10.8, through this crate and through h5py alike).
+fn in_memory(atlas: &Atlas, info: &RunInfo, chunks: &Chunks, z: &Deflater) -> hdf5::Result<Created> {
+    static FILES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = FILES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    // The core driver's name: no file of that name is created or read.
+    let name = std::env::temp_dir().join(format!("vibroatlas-memory-{}-{k}.h5", std::process::id()));
+    let f = hdf5::File::with_options().with_fapl(|p| p.core_filebacked(false).libver_earliest()).create(&name)?;
+    let (f, datasets) = create_in(f, &atlas.meta, chunks, z)?;
+    fill_file(&f, atlas, info, z)?;
+    Ok((f, datasets))
 }
 
 /// Checks a finished atlas file as [`Draft::finish`] checks the file it
@@ -251,21 +256,10 @@ pub fn image(atlas: &Atlas, info: &RunInfo, threads: usize) -> Result<Vec<u8>, S
 /// read (a damaged object header, chunk index or checksum) or reads other
 /// values is one [`StoreError::Dataset`] naming it.
 pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreError> {
-    static MEMORY_FILES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let atlas = &loaded.atlas;
-    let m = &atlas.meta;
     let z = Deflater { threads: 1, ..Default::default() };
-    let chunks = Chunks::new(&m.plane, Field::most_cell_bytes(m));
-    let k = MEMORY_FILES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let name = std::env::temp_dir().join(format!("vibroatlas-check-{}-{k}.h5", std::process::id()));
-    let expected = || -> hdf5::Result<hdf5::File> {
-        let f = hdf5::File::with_options().with_fapl(|p| p.core_filebacked(false).libver_v110()).create(&name)?;
-        let (f, datasets) = create_in(f, m, &chunks, &z)?;
-        drop(datasets);
-        fill_file(&f, atlas, &loaded.info, &z)?;
-        Ok(f)
-    };
-    let written = expected().map_err(|e| StoreError::hdf5(path, e))?;
+    let chunks = Chunks::new(&atlas.meta.plane, Field::most_cell_bytes(&atlas.meta));
+    let (written, _) = in_memory(atlas, &loaded.info, &chunks, &z).map_err(|e| StoreError::hdf5(path, e))?;
     let actual = crate::heap::open(path)?;
     crate::verify::attributes(&written, &actual, path)?;
     drop((written, actual));
@@ -449,21 +443,17 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::
     // Label tables: every label of the sweep, any mass, in a fixed order
     // (`None`: a cell not computed).
     let label_at = |mi: usize, i: usize| cells[i].as_ref().map(|c| c.labels[mi]);
-    let labels = label_table((0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))));
-    let table = table_texts(&labels);
-    let index: HashMap<Option<Label>, i16> = labels.iter().enumerate().map(|(i, l)| (*l, i as i16)).collect();
-    let label_dim = netcdf::labels(g, LABEL, &table, "label n-p-q, or C, Q, U")?;
-    z.expected.texts(&label_dim, &table);
-    netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
+    let labels = LabelTable::of((0..m.masses.len()).flat_map(|mi| (0..cells.len()).map(move |i| label_at(mi, i))));
+    let (label_dim, table) = labels.write(g, z)?;
     let colours =
-        Array2::from_shape_fn((labels.len(), 3), |(i, k)| labels[i].map_or(palette::BLANK, palette::colour)[k]);
+        Array2::from_shape_fn((table.len(), 3), |(i, k)| labels.labels[i].map_or(palette::BLANK, palette::colour)[k]);
     let d = g.new_dataset_builder().with_data(&colours).create(LABEL_COLOUR)?;
     z.expected.numbers(&d, colours.as_slice().expect("a new array is contiguous"));
     netcdf::dims(&d, &[&label_dim, &g.dataset(RGB)?])?;
     netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
     let codes: Vec<i16> = (0..table.len() as i16).collect();
     for (mi, mass) in m.masses.iter().enumerate() {
-        let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| index[&label_at(mi, iy * nx + ix)]);
+        let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| labels.code[&label_at(mi, iy * nx + ix)]);
         let d = z.dataset(g, &label_code(mass), &code)?;
         netcdf::dims(&d, &[&grid.y, &grid.x])?;
         netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
@@ -557,12 +547,8 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
     let labels =
-        label_table(a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter().map(|l| Some(*l))));
-    let table = table_texts(&labels);
-    let position: HashMap<Option<Label>, i16> = labels.iter().enumerate().map(|(i, l)| (*l, i as i16)).collect();
-    let label_dim = netcdf::labels(&g, LABEL, &table, "label n-p-q, or C, Q, U")?;
-    z.expected.texts(&label_dim, &table);
-    netcdf::attr_str(&label_dim, "comment", LABEL_COMMENT)?;
+        LabelTable::of(a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter().map(|l| Some(*l))));
+    labels.write(&g, z)?;
     let cell = |iy: usize, ix: usize| a.cells[iy * nx + ix].as_ref();
     let count = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0u8, |c| c.len().min(255) as u8));
     let d = z.dataset(&g, var::COUNT, &count)?;
@@ -576,7 +562,7 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     netcdf::describe(&d, "share of the sampled initial states that reach the attractor (basin fraction)", "1")?;
     netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
     for (mi, mass) in m.masses.iter().enumerate() {
-        let index = |l: &Label| position[&Some(*l)];
+        let index = |l: &Label| labels.code[&Some(*l)];
         let code = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
             cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.0[mi]))
         });
@@ -623,27 +609,44 @@ pub(crate) fn generic_long_name(name: &str) -> String {
     format!("parameter {name}")
 }
 
-/// The labels of a sweep in a fixed order: periodic labels by (n, p, q) (`S`
-/// after every number), then C, Q, U, then `None` (a cell not computed).
-fn label_table(labels: impl Iterator<Item = Option<Label>>) -> Vec<Option<Label>> {
-    let mut table: Vec<Option<Label>> = labels.collect::<HashSet<_>>().into_iter().collect();
-    let count = |c: Count| match c {
-        Count::Impacts(k) => k,
-        Count::Stuck => u32::MAX,
-    };
-    table.sort_by_key(|l| match *l {
-        Some(Label::Periodic { n, p, q }) => (0, [n, count(p), count(q)]),
-        Some(Label::Chaotic) => (1, [0; 3]),
-        Some(Label::Quasiperiodic) => (2, [0; 3]),
-        Some(Label::Unresolved) => (3, [0; 3]),
-        None => (4, [0; 3]),
-    });
-    table
+/// A label table of the file (its `label` coordinate): the labels in a fixed
+/// order — periodic ones by (n, p, q) (`S` after every number), then C, Q,
+/// U, then `None` (a cell not computed) — and the code of each, its index.
+struct LabelTable {
+    labels: Vec<Option<Label>>,
+    code: HashMap<Option<Label>, i16>,
 }
 
-/// A label table as the file writes it (`not-computed` for `None`).
-fn table_texts(labels: &[Option<Label>]) -> Vec<String> {
-    labels.iter().map(|l| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string())).collect()
+impl LabelTable {
+    /// The table of the labels `labels` (each once).
+    fn of(labels: impl Iterator<Item = Option<Label>>) -> LabelTable {
+        let mut labels: Vec<Option<Label>> = labels.collect::<HashSet<_>>().into_iter().collect();
+        let count = |c: Count| match c {
+            Count::Impacts(k) => k,
+            Count::Stuck => u32::MAX,
+        };
+        labels.sort_by_key(|l| match *l {
+            Some(Label::Periodic { n, p, q }) => (0, [n, count(p), count(q)]),
+            Some(Label::Chaotic) => (1, [0; 3]),
+            Some(Label::Quasiperiodic) => (2, [0; 3]),
+            Some(Label::Unresolved) => (3, [0; 3]),
+            None => (4, [0; 3]),
+        });
+        let code = labels.iter().enumerate().map(|(i, l)| (*l, i as i16)).collect();
+        LabelTable { labels, code }
+    }
+
+    /// Writes the table as the `label` coordinate of `g` (`not-computed` for
+    /// `None`), its texts recorded for the read-back; the coordinate and
+    /// its texts.
+    fn write(&self, g: &Group, z: &Deflater) -> hdf5::Result<(hdf5::Dataset, Vec<String>)> {
+        let texts: Vec<String> =
+            self.labels.iter().map(|l| l.map_or(NOT_COMPUTED_LABEL.to_string(), |l| l.to_string())).collect();
+        let dim = netcdf::labels(g, LABEL, &texts, "label n-p-q, or C, Q, U")?;
+        z.expected.texts(&dim, &texts);
+        netcdf::attr_str(&dim, "comment", LABEL_COMMENT)?;
+        Ok((dim, texts))
+    }
 }
 
 /// One ragged section (CSR): `values [point, column]` and `offsets [cell_edge]`,

@@ -182,11 +182,11 @@ def _tree_of(run, options, output):
 
 
 def _loaded(source):
-    """The file at the path `source`, or in the file object `source`, as a
-    DataTree in memory (no file left open)."""
+    """The file at the path `source`, or in the file object `source`, read
+    as va.open reads a file into a DataTree in memory (no file left open)."""
     import xarray as xr
 
-    tree = open(source) if isinstance(source, str) else xr.open_datatree(source, **_READING)
+    tree = xr.open_datatree(source, **_READING)
     try:
         tree.load()
     finally:
@@ -346,8 +346,7 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=
     if window is not None:
         options["window"] = _number("window", window)
     if bounds is not None:
-        lo, hi = _run.floats("bounds", bounds, length=2)
-        options["bounds"] = (lo, hi)
+        options["bounds"] = tuple(_run.floats("bounds", bounds, length=2))
     if n is not None:
         options["n"] = _whole("n", n)
     if output is not None:
