@@ -6,7 +6,8 @@
 
 use crate::util::{config, json_of, run, system};
 use solver::{
-    multipliers, solve, Accuracy, DMatrix, DVector, EventKind, Ignore, MapKind, Method, Observer, Simulator, System,
+    multipliers, solve, Accuracy, DMatrix, DVector, EventKind, Ignore, Limits, MapKind, Method, Observer, Simulator,
+    System,
 };
 
 /// The system of scene `text` at its defaults with `sets` applied.
@@ -256,7 +257,14 @@ fn the_forcing_work_balances_the_dissipation_over_a_period() {
         let n = cell.n.expect("periodic");
         let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
         let y0 = DVector::from_vec(cell.final_state.clone());
-        let orbit = solve(&mut sim, &y0, MapKind::Periods(n), None, 1e-14, 30, 0.5).expect("Newton converges");
+        let orbit = solve(
+            &mut sim,
+            &y0,
+            MapKind::Periods(n),
+            None,
+            Limits { tol: 1e-14, max_iter: 30, max_step: 0.5, stall: None },
+        )
+        .expect("Newton converges");
         // The events of the orbit (the quadrature's cuts) and the spring
         // energy `k g²/2` a contact still holds where its force vanished with
         // the gap closed (damping): it is lost with the contact.
@@ -394,7 +402,14 @@ fn the_jacobian_through_soft_contacts_matches_finite_differences() {
         assert!(cell.impacts.iter().sum::<u32>() > 0, "{file} {sets:?}: the orbit has contacts");
         let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
         let y0 = DVector::from_vec(cell.final_state.clone());
-        let orbit = solve(&mut sim, &y0, MapKind::Periods(n), None, 1e-13, 30, 0.5).expect("Newton converges");
+        let orbit = solve(
+            &mut sim,
+            &y0,
+            MapKind::Periods(n),
+            None,
+            Limits { tol: 1e-13, max_iter: 30, max_step: 0.5, stall: None },
+        )
+        .expect("Newton converges");
         let mut image = |y: &DVector<f64>| {
             sim.restart(y.as_slice()).unwrap();
             for _ in 0..n {

@@ -607,7 +607,8 @@ impl<'s> Executor<'s> {
         let tol = 1e-3 * self.acc.periodic_tol;
         let mut probe = self.sim.probe();
         self.budget.spend(&mut self.sim, &mut probe, |p| {
-            let sol = crate::newton::solve(p, y, MapKind::Periods(n), None, tol, 8, 0.1)?;
+            let limits = crate::newton::Limits { tol, max_iter: 8, max_step: 0.1, stall: None };
+            let sol = crate::newton::solve(p, y, MapKind::Periods(n), None, limits)?;
             let mu = multipliers(&sol.jacobian);
             (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0 - NEUTRAL)).then_some(sol.x)
         })

@@ -89,7 +89,7 @@ pub use lyapunov::{Exponent, Interval};
 pub use nalgebra::DMatrix;
 /// Column vector type of states passed to observers.
 pub use nalgebra::DVector;
-pub use newton::{solve, MapKind, Solution};
+pub use newton::{solve, Limits, MapKind, Solution};
 /// Complex numbers of Floquet multipliers.
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};

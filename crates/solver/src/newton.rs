@@ -103,20 +103,67 @@ pub enum Failure {
     Simulation,
 }
 
-/// Solves `map(x) = x` from `x0` to residual `tol` (relative to `1 + |x|`) in at
-/// most `max_iter` steps, keeping `pattern` when given (otherwise the pattern of
-/// the first evaluation). `None` when an evaluation fails, the pattern changes,
-/// a step is too large (more than `max_step` relative) or it does not converge.
+/// When Newton's method stops.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limits {
+    /// The residual `|F(x)|/(1 + |x|)` of a solution.
+    pub tol: f64,
+    /// Most steps.
+    pub max_iter: usize,
+    /// Largest step, relative to `1 + |x|`: a larger one fails.
+    pub max_step: f64,
+    /// Steps without a new least residual after which the iteration fails
+    /// while that least residual is above 1e-8 (`None`: it runs
+    /// to `max_iter`). Near a change of the impact pattern Newton's method
+    /// can wander at residuals of 1e-6 to 1e-3 for every step allowed,
+    /// without a fixed point of the kept pattern to reach.
+    pub stall: Option<usize>,
+}
+
+/// A least residual at or below this is rounding, not a stall: an orbit
+/// whose residual hovers a little above a tolerance near rounding level
+/// gets every step it is allowed to reach it.
+pub(crate) const STALL_FLOOR: f64 = 1e-8;
+
+/// The least residual of an iteration so far, and the steps since it fell.
+#[derive(Debug, Clone, Copy)]
+struct Progress {
+    least: f64,
+    since: usize,
+}
+
+impl Default for Progress {
+    fn default() -> Progress {
+        Progress { least: f64::INFINITY, since: 0 }
+    }
+}
+
+impl Progress {
+    /// Records the residual of a step; whether the iteration has stalled:
+    /// `limit` steps without a new least residual, that least above
+    /// [`STALL_FLOOR`] (never, without a limit).
+    fn stalled(&mut self, residual: f64, limit: Option<usize>) -> bool {
+        if residual < self.least {
+            (self.least, self.since) = (residual, 0);
+        } else {
+            self.since += 1;
+        }
+        limit.is_some_and(|k| self.since >= k && self.least > STALL_FLOOR)
+    }
+}
+
+/// Solves `map(x) = x` from `x0` within `limits`, keeping `pattern` when
+/// given (otherwise the pattern of the first evaluation). `None` when an
+/// evaluation fails, the pattern changes, a step is too large or it does not
+/// converge.
 pub fn solve(
     sim: &mut Simulator<'_>,
     x0: &DVector<f64>,
     map: MapKind,
     pattern: Option<&Pattern>,
-    tol: f64,
-    max_iter: usize,
-    max_step: f64,
+    limits: Limits,
 ) -> Option<Solution> {
-    try_solve(sim, x0, map, pattern, tol, max_iter, max_step).ok()
+    try_solve(sim, x0, map, pattern, limits).ok()
 }
 
 /// [`solve`], telling why it failed.
@@ -125,9 +172,7 @@ pub fn try_solve(
     x0: &DVector<f64>,
     map: MapKind,
     pattern: Option<&Pattern>,
-    tol: f64,
-    max_iter: usize,
-    max_step: f64,
+    limits: Limits,
 ) -> Result<Solution, Failure> {
     if sim.tangent().is_none() {
         sim.track_tangent();
@@ -135,22 +180,23 @@ pub fn try_solve(
     let dim = x0.len();
     let mut x = x0.clone();
     let mut keep: Option<Pattern> = pattern.cloned();
-    for iterations in 0..=max_iter {
+    let mut progress = Progress::default();
+    for iterations in 0..=limits.max_iter {
         let image = evaluate(sim, &x, map).map_err(|_| Failure::Simulation)?;
         if keep.get_or_insert_with(|| image.pattern.clone()) != &image.pattern {
             return Err(Failure::Pattern);
         }
         let r = &image.value - &x;
         let residual = scaled(&r, &x);
-        if residual <= tol {
+        if residual <= limits.tol {
             return Ok(Solution { x, jacobian: image.jacobian, pattern: image.pattern, residual, iterations });
         }
-        if iterations == max_iter {
+        if progress.stalled(residual, limits.stall) || iterations == limits.max_iter {
             break;
         }
         let jac = &image.jacobian - DMatrix::identity(dim, dim);
         let dx = jac.lu().solve(&(-&r)).ok_or(Failure::Diverged)?;
-        if !dx.iter().all(|v| v.is_finite()) || scaled(&dx, &x) > max_step {
+        if !dx.iter().all(|v| v.is_finite()) || scaled(&dx, &x) > limits.max_step {
             return Err(Failure::Diverged);
         }
         x += dx;
@@ -170,7 +216,44 @@ pub fn fixed_point(
     pattern: &Pattern,
     tol: f64,
 ) -> Option<Solution> {
-    let sol = solve(probe, x0, MapKind::Periods(n), Some(pattern), tol, 6, 0.1)?;
+    let sol =
+        solve(probe, x0, MapKind::Periods(n), Some(pattern), Limits { tol, max_iter: 6, max_step: 0.1, stall: None })?;
     let mu = crate::floquet::multipliers(&sol.jacobian);
     (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0)).then_some(sol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Progress;
+
+    /// The step at which an iteration with these residuals stalls, for a
+    /// limit of 8 steps.
+    fn stalls_at(residuals: &[f64]) -> Option<usize> {
+        let mut p = Progress::default();
+        residuals.iter().position(|&r| p.stalled(r, Some(8)))
+    }
+
+    /// Residuals of Newton's method recorded by `curves` on the reference
+    /// map: one that wanders without a fixed point of its impact pattern
+    /// (stopped at its ninth step without a new least residual, where 40
+    /// were spent), one that jumps away and converges (a new least only at
+    /// its sixth step), and one that hovers at rounding level above the
+    /// tolerance until it reaches it (never a stall: below the floor).
+    #[test]
+    fn a_wandering_iteration_stalls_and_converging_ones_do_not() {
+        let wander = [
+            6.2e-4, 2.0e-4, 1.4e-4, 4.0e-4, 1.5e-4, 2.9e-4, 1.3e-4, 3.1e-3, 8.3e-4, 2.5e-4, 1.3e-4, 6.0e-2, 1.5e-2,
+            4.3e-3, 1.2e-3, 3.4e-4, 1.4e-4, 5.6e-4,
+        ];
+        assert_eq!(stalls_at(&wander), Some(14));
+        let converges = [2.6e-5, 2.3e-3, 5.5e-4, 1.3e-4, 2.7e-5, 3.0e-6, 6.7e-8, 3.5e-11, 4.1e-16];
+        assert_eq!(stalls_at(&converges), None);
+        let rounding = [
+            1.8e-11, 1.3e-11, 3.5e-12, 1.2e-12, 1.7e-12, 1.0e-12, 7.8e-12, 2.2e-12, 1.0e-12, 2.3e-11, 6.0e-12, 1.8e-12,
+            1.0e-12, 2.2e-11, 5.8e-12, 1.7e-12,
+        ];
+        assert_eq!(stalls_at(&rounding), None);
+        let mut unlimited = Progress::default();
+        assert!(wander.iter().all(|&r| !unlimited.stalled(r, None)));
+    }
 }

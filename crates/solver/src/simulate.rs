@@ -250,6 +250,16 @@ impl<'s> Simulator<'s> {
         Ok(sim)
     }
 
+    /// Starts again at `y0` as [`Simulator::new`] would, keeping the modes
+    /// built so far: counters and budget as new, the tangent map not tracked.
+    pub fn reset(&mut self, y0: &[f64]) -> Result<(), Halt> {
+        (self.periods, self.events, self.step_work) = (0, 0, 0);
+        self.budget = (self.acc.max_events as u64).saturating_mul(EVENT_WORK);
+        self.applied.clear();
+        self.tangent = None;
+        self.restart(y0)
+    }
+
     /// A copy sharing nothing but the built modes, with zeroed counters (for
     /// Newton probes; their budget is set with [`Simulator::set_budget`]).
     pub(crate) fn probe(&self) -> Self {
