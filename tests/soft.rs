@@ -7,7 +7,7 @@
 use crate::util::{config, json_of, run, system};
 use solver::{
     multipliers, solve, Accuracy, DMatrix, DVector, EventKind, Ignore, Limits, MapKind, Method, Observer, Simulator,
-    System,
+    Solution, System,
 };
 
 /// The system of scene `text` at its defaults with `sets` applied.
@@ -236,6 +236,20 @@ fn stiff_limit(soft: [bool; 3]) {
     }
 }
 
+/// The periodic orbit that the cell of `sys` settles on from its initial
+/// state (default accuracy), solved by Newton's method to `tol`: the cell, its
+/// period, the simulator that solved it and the orbit.
+fn settled_orbit(sys: &System, tol: f64) -> (solver::CellResult, usize, Simulator<'_>, Solution) {
+    let acc = Accuracy::default();
+    let cell = solver::run_cell(sys, &acc, Method::Exact, &sys.model.initial_state());
+    let n = cell.n.expect("periodic");
+    let mut sim = Simulator::new(sys, acc, Method::Exact, &cell.final_state).unwrap();
+    let y0 = DVector::from_vec(cell.final_state.clone());
+    let limits = Limits { tol, max_iter: 30, max_step: 0.5, stall: None };
+    let orbit = solve(&mut sim, &y0, MapKind::Periods(n), None, limits).expect("Newton converges");
+    (cell, n, sim, orbit)
+}
+
 /// Issue 41: over a period of a periodic orbit with soft contacts the work
 /// of the forcing (harmonics and load) equals what is lost, to 1e-9
 /// relative: what the dampers dissipate (the links' and the pressed
@@ -253,18 +267,7 @@ fn the_forcing_work_balances_the_dissipation_over_a_period() {
     for (file, sets) in cases {
         let sys = system(file, &sets);
         let acc = Accuracy::default();
-        let cell = solver::run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
-        let n = cell.n.expect("periodic");
-        let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
-        let y0 = DVector::from_vec(cell.final_state.clone());
-        let orbit = solve(
-            &mut sim,
-            &y0,
-            MapKind::Periods(n),
-            None,
-            Limits { tol: 1e-14, max_iter: 30, max_step: 0.5, stall: None },
-        )
-        .expect("Newton converges");
+        let (_, n, _, orbit) = settled_orbit(&sys, 1e-14);
         // The events of the orbit (the quadrature's cuts) and the spring
         // energy `k g²/2` a contact still holds where its force vanished with
         // the gap closed (damping): it is lost with the contact.
@@ -396,20 +399,8 @@ fn the_jacobian_through_soft_contacts_matches_finite_differences() {
     ];
     for (file, sys) in cases {
         let sets = "";
-        let acc = Accuracy::default();
-        let cell = solver::run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
-        let n = cell.n.expect("periodic");
+        let (cell, n, mut sim, orbit) = settled_orbit(&sys, 1e-13);
         assert!(cell.impacts.iter().sum::<u32>() > 0, "{file} {sets:?}: the orbit has contacts");
-        let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
-        let y0 = DVector::from_vec(cell.final_state.clone());
-        let orbit = solve(
-            &mut sim,
-            &y0,
-            MapKind::Periods(n),
-            None,
-            Limits { tol: 1e-13, max_iter: 30, max_step: 0.5, stall: None },
-        )
-        .expect("Newton converges");
         let mut image = |y: &DVector<f64>| {
             sim.restart(y.as_slice()).unwrap();
             for _ in 0..n {
