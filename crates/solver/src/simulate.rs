@@ -189,6 +189,12 @@ impl Saltation {
     }
 }
 
+/// The budget of a new simulation, in thousandths of an event: `max_events`
+/// events.
+fn full_budget(acc: &Accuracy) -> u64 {
+    (acc.max_events as u64).saturating_mul(EVENT_WORK)
+}
+
 /// A running simulation of one cell.
 #[derive(Debug, Clone)]
 pub struct Simulator<'s> {
@@ -240,7 +246,7 @@ impl<'s> Simulator<'s> {
             periods: 0,
             events: 0,
             step_work: 0,
-            budget: (acc.max_events as u64).saturating_mul(EVENT_WORK),
+            budget: full_budget(&acc),
             zero_steps: 0,
             applied: Vec::new(),
             buffers: Buffers::default(),
@@ -254,7 +260,7 @@ impl<'s> Simulator<'s> {
     /// built so far: counters and budget as new, the tangent map not tracked.
     pub fn reset(&mut self, y0: &[f64]) -> Result<(), Halt> {
         (self.periods, self.events, self.step_work) = (0, 0, 0);
-        self.budget = (self.acc.max_events as u64).saturating_mul(EVENT_WORK);
+        self.budget = full_budget(&self.acc);
         self.applied.clear();
         self.tangent = None;
         self.restart(y0)
