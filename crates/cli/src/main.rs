@@ -27,6 +27,11 @@ mod summary;
 mod sweep;
 mod zoom;
 
+/// The allocator: mimalloc, faster than the system's on the small matrices
+/// and vectors the solver makes at every event (docs/performance.md).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use clap::{error::ErrorKind, CommandFactory, FromArgMatches};
 
 /// The command line's grammar: every option that takes a value also takes

@@ -12,6 +12,11 @@
 //! gave; a panic of the engine becomes a `RuntimeError`, never an abort of
 //! the interpreter.
 
+/// The allocator of the extension's own allocations: mimalloc, as the
+/// `vibroatlas` binary's, so that a run from Python costs what it costs there.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use engine::{AtlasRequest, AttractorCells, CurveRequest, Direction, Opt, SceneSource, Sim, Start, SweepRequest};
 use grid::attractors::Sampling;
 use grid::{Along, Axis, SweepKind};
