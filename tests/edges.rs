@@ -4,7 +4,7 @@
 //! program against a check of its own that does not go through the decision.
 
 use crate::util::{record, run, system};
-use solver::{run_cell, Accuracy, Class, Method, Preset, Symmetry};
+use solver::{run_cell, Accuracy, Class, Knob, Method, Preset, Symmetry, Unresolved};
 
 /// Issue 28, item 3: dry friction, fk = 0.01, on the up leg of a down-up
 /// sweep, ω = 6.85 (0.005 above the pitchfork at 6.845) starts from the AS
@@ -64,7 +64,7 @@ fn a_confirmed_long_period_is_a_label() {
     let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
     assert_eq!((cell.class, cell.n), (Class::Periodic, Some(60)), "{:?}", cell.reason);
     assert_eq!(cell.symmetry, None::<Symmetry>);
-    let wide = acc.with(solver::Knob::NMax, 64.0).unwrap();
+    let wide = acc.with(Knob::NMax, 64.0).unwrap();
     let oracle = run_cell(&sys, &wide, Method::Exact, &sys.model.initial_state());
     assert_eq!((oracle.class, oracle.n), (Class::Periodic, Some(60)));
     assert_eq!(cell.labels, oracle.labels);
@@ -190,4 +190,39 @@ fn long_and_locked_orbits_at_the_edges_are_labelled() {
             assert!(off(sim.state().as_slice()) > acc.periodic_tol(), "{at}: returns after {d} periods");
         }
     }
+}
+
+/// Issue 40, a wrong `U` in the reference: at `precise` (plain simulation,
+/// `periodic_tol` 1e-9) the record of multi-stop at ω = 2.7362, δ = 0.05 (a
+/// cell of the trade's 48 × 48 grid) repeats with period 1 after 2 251
+/// periods while its orbit's multiplier (0.9922) says the state is still
+/// 1.3e-7 from it, beyond 100 × `periodic_tol`: the cell was `U` ("contracts
+/// too slowly to have reached it") with 749 periods of its record left,
+/// enough to reach the orbit in about 120. The record now goes on and the
+/// cell is 1-1-1. Independent checks: `standard` (Newton's method finishes
+/// the convergence there) has the same orbit and multiplier; plain
+/// simulation from the final state returns there after one period; and a
+/// record that ends before the orbit is reached (`max_periods` 2 300) still
+/// says why, with the distance.
+#[test]
+fn an_orbit_found_too_far_is_reached_within_the_record() {
+    let sys = system("multi-stop.toml", &[("omega", 2.7361702127659573), ("delta", 0.05)]);
+    let y0 = sys.model.initial_state();
+    let acc = Accuracy::preset(Preset::Precise);
+    let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+    assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "{:?}", cell.reason);
+    let oracle = run_cell(&sys, &Accuracy::preset(Preset::Standard), Method::Exact, &y0);
+    assert_eq!((oracle.class, oracle.n, &oracle.labels), (Class::Periodic, Some(1), &cell.labels));
+    let (mu, mu_oracle) = (cell.multiplier.unwrap(), oracle.multiplier.unwrap());
+    assert!(mu < 0.999 && (mu - mu_oracle).abs() < 1e-8, "{mu} against {mu_oracle}");
+    let y1 = &cell.final_state;
+    let scale = 1.0 + y1.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let (_, sim) = record(&sys, &acc, Method::Exact, y1, 1);
+    let off = sim.state().iter().zip(y1).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max) / scale;
+    assert!(off <= acc.periodic_tol(), "{off:e}");
+    let short = acc.with(Knob::MaxPeriods, 2300.0).unwrap().with(Knob::Extensions, 0.0).unwrap();
+    let cut = run_cell(&sys, &short, Method::Exact, &y0);
+    assert_eq!(cut.class, Class::Unresolved);
+    let far = |d: f64| d.is_finite() && d > 100.0 * acc.periodic_tol();
+    assert!(matches!(cut.reason, Some(Unresolved::Unsettled { distance, .. }) if far(distance)), "{:?}", cut.reason);
 }

@@ -242,8 +242,8 @@ knobs! {
     /// other goes on. Saves most of the record of chaotic cells and costs one
     /// more Lyapunov measurement on slow transients; a chaotic transient that
     /// would settle on an orbit its record has not come near stays `C`. On by default since the trade measured its
-    /// label agreement with `precise` at RK4's, within a cell or two of
-    /// the 2 304 (99.61 % against 99.70 % on 2026-11-29; docs/performance.md).
+    /// label agreement with `precise` above RK4's (99.70 % against 99.65 %
+    /// on 2026-11-29; docs/performance.md).
     ChaosCheck chaos_check: usize, Whole, max 1e7, "beyond max_periods it never acts";
     /// Step of the RK4 integrator (0.01, the literature's value).
     Rk4Step rk4_step: f64, Positive, max 1.0, "RK4 would be unstable", floor 1e-5;

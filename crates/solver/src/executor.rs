@@ -39,7 +39,9 @@
 //!    orbit whose multiplier exceeds 1.01 is unstable: the record only passed
 //!    near it, and the cell is `unresolved` ([`Unresolved::Unstable`]); so
 //!    is one whose multiplier says that the state is still far from it where
-//!    rounding hid the contraction from the record, or that the map does not
+//!    rounding hid the contraction from the record (unless the periods that
+//!    close the distance are left in the record, which then goes on:
+//!    `periods_to_settle`), or that the map does not
 //!    contract at all ([`Executor::unsettled`]:
 //!    a conservative oscillation under fast forcing, a mass on a vanishing
 //!    spring). Without a period, a motion that drifts away from every stop
@@ -493,6 +495,9 @@ impl<'s> Executor<'s> {
     /// acceleration of slowly contracting patterns on the way.
     fn record(&mut self, limit: usize) -> Result<Option<usize>, Halt> {
         let acc = self.acc;
+        // Periods simulated before the record is tested again, while it
+        // closes in on an orbit found still too far (see `periods_to_settle`).
+        let mut wait_until = 0;
         while (self.sim.periods() as usize) < limit {
             let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
             if self.hist.len() == history_len(acc) {
@@ -500,7 +505,7 @@ impl<'s> Executor<'s> {
             }
             self.trail.push(&rec.end);
             self.hist.push_back(rec);
-            if (self.sim.periods() as usize) < acc.min_transient {
+            if (self.sim.periods() as usize) < acc.min_transient.max(wait_until) {
                 continue;
             }
             if let Some(n) = detect(&self.hist, acc) {
@@ -511,6 +516,16 @@ impl<'s> Executor<'s> {
                     let hidden = remaining(&self.hist, n, self.drift()).is_none();
                     if hidden || (self.acc.multipliers && !self.sys.has_rigid_mode()) {
                         self.unsettled = self.unsettled(n, hidden);
+                    }
+                    // Still too far from an orbit it contracts onto, with the
+                    // periods to reach it left in the record: the record goes on.
+                    let periods = self.sim.periods() as usize;
+                    if let Some(more) = self.unsettled.as_ref().and_then(|why| periods_to_settle(why, n, acc)) {
+                        if periods + more <= limit {
+                            (self.unsettled, self.measured) = (None, None);
+                            wait_until = periods + more;
+                            continue;
+                        }
                     }
                     return Ok(Some(n));
                 }
@@ -934,6 +949,24 @@ impl<'s> Executor<'s> {
             record_window(p, &cell.window_start, cell.section.len(), &cell.impacts, cap)
         })
     }
+}
+
+/// Periods of simulation after which the motion is near enough to an orbit
+/// of period n that [`Executor::unsettled`] found it still too far from
+/// ([`Unresolved::Unsettled`], finite distance `d`, multiplier modulus `μ`
+/// below 1 by more than [`NEUTRAL`]): the distance falls by μ every n
+/// periods, so `d μ^j` is half the limit, [`UNSETTLED`] × `periodic_tol`,
+/// after `j = ln(limit / 2d) / ln μ` of them. `None` for any other reason,
+/// and where the map does not contract.
+fn periods_to_settle(why: &Unresolved, n: usize, acc: &Accuracy) -> Option<usize> {
+    let Unresolved::Unsettled { multiplier, distance, .. } = *why else { return None };
+    if !(multiplier < 1.0 - NEUTRAL && distance.is_finite() && distance > 0.0) {
+        return None;
+    }
+    let goal = 0.5 * UNSETTLED * acc.periodic_tol;
+    let steps = ((goal / distance).ln() / multiplier.ln()).ceil().max(1.0);
+    // A contraction so slow that its periods overflow a count never fits a record.
+    (steps * n as f64 <= 1e15).then(|| steps as usize * n)
 }
 
 /// The extent of section points: the distance (relative, max norm) across
