@@ -5,6 +5,9 @@ use solver::{
     multipliers, solve, Accuracy, Complex64, DMatrix, DVector, Ignore, Limits, MapKind, Method, Simulator, System,
 };
 
+/// Newton's method for the orbits of these tests: to 1e-13, at most 20 steps.
+const NEWTON: Limits = Limits { tol: 1e-13, max_iter: 20, max_step: 0.5, stall: None };
+
 /// Converged stable state of a cell (plain simulation) and its period.
 fn settled(sys: &System) -> (Vec<f64>, usize) {
     let acc = Accuracy::default();
@@ -38,8 +41,7 @@ fn finite_differences(sys: &System, x: &DVector<f64>, n: usize) -> DMatrix<f64> 
 fn orbit(sys: &System, map: MapKind) -> solver::Solution {
     let (y, _) = settled(sys);
     let mut sim = Simulator::new(sys, Accuracy::default(), Method::Exact, &y).unwrap();
-    solve(&mut sim, &DVector::from_vec(y), map, None, Limits { tol: 1e-13, max_iter: 20, max_step: 0.5, stall: None })
-        .expect("Newton converges")
+    solve(&mut sim, &DVector::from_vec(y), map, None, NEWTON).expect("Newton converges")
 }
 
 /// Issue 6: without impacts the multipliers are `exp(λ_i T)` of the linear
@@ -158,14 +160,7 @@ fn newton_fixed_point_reproduces_simulated_impact_phases() {
     let mut start = DVector::from_vec(cell.final_state.clone());
     start.iter_mut().for_each(|v| *v *= 1.0 + 1e-3);
     let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, start.as_slice()).unwrap();
-    let sol = solve(
-        &mut sim,
-        &start,
-        MapKind::Periods(1),
-        None,
-        Limits { tol: 1e-13, max_iter: 20, max_step: 0.5, stall: None },
-    )
-    .unwrap();
+    let sol = solve(&mut sim, &start, MapKind::Periods(1), None, NEWTON).unwrap();
     let solved = phases(sol.x.as_slice());
     assert_eq!(simulated.len(), solved.len());
     assert!(simulated.len() >= 8);

@@ -514,19 +514,20 @@ impl<'s> Executor<'s> {
                     // Where rounding hid the contraction, the orbit's multiplier tells;
                     // so it does where it barely contracts (not a rigid mode's family).
                     let hidden = remaining(&self.hist, n, self.drift()).is_none();
-                    if hidden || (self.acc.multipliers && !self.sys.has_rigid_mode()) {
-                        self.unsettled = self.unsettled(n, hidden);
-                    }
+                    let asked = hidden || (self.acc.multipliers && !self.sys.has_rigid_mode());
+                    let why = if asked { self.unsettled(n, hidden) } else { None };
                     // Still too far from an orbit it contracts onto, with the
-                    // periods to reach it left in the record: the record goes on.
+                    // periods to reach it left in the record: the record goes
+                    // on, and the multiplier is measured again at its next test.
                     let periods = self.sim.periods() as usize;
-                    if let Some(more) = self.unsettled.as_ref().and_then(|why| periods_to_settle(why, n, acc)) {
-                        if periods + more <= limit {
-                            (self.unsettled, self.measured) = (None, None);
-                            wait_until = periods + more;
-                            continue;
-                        }
+                    let more =
+                        why.as_ref().and_then(|w| periods_to_settle(w, n, acc)).filter(|&m| periods + m <= limit);
+                    if let Some(more) = more {
+                        self.measured = None;
+                        wait_until = periods + more;
+                        continue;
                     }
+                    self.unsettled = why;
                     return Ok(Some(n));
                 }
                 if let Some(x) = self.polish(n) {
