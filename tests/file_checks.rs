@@ -110,6 +110,44 @@ print("ok")
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
+/// Reasons are stored with their numbers (issue 38): the entry of
+/// `reason_detail` of a sweep's first unresolved cell, read with h5py and
+/// Python's own JSON, is the `reason_detail` that `cell --from` gives when it
+/// simulates that cell again (from the same start, to the same numbers), its
+/// text that cell's `reason`; the details carry the documented CRC-32.
+#[test]
+fn reasons_are_stored_with_their_numbers() {
+    let d = scratch("file-checks-reason-detail");
+    let a = atlas(&d, "a.h5", &[]);
+    let f = a.to_str().unwrap();
+    const FIRST_U: &str = r#"
+import sys, json, struct, zlib, h5py, numpy as np
+with h5py.File(sys.argv[1], "r") as f:
+    for sweep in ["up", "down"]:
+        g = f[sweep]
+        c = 0
+        for b in g["reason_detail"][()]:
+            c = zlib.crc32(struct.pack("<Q", len(b)) + b, c)
+        assert c == g["reason_detail"].attrs["text_crc32"], sweep
+        code = g["reason_code"][()]
+        iy, ix = np.argwhere(code >= 0)[0]
+        k = code[iy, ix]
+        print(json.dumps({"sweep": sweep, "at": f"omega={f['omega'][ix]!r},delta={f['delta'][iy]!r}",
+                          "detail": json.loads(g["reason_detail"][k]), "text": g["reason"][k].decode()}))
+"#;
+    let found = python(FIRST_U, &[f]);
+    assert_eq!(found.lines().count(), 2, "{found}");
+    for line in found.lines() {
+        let stored: serde_json::Value = serde_json::from_str(line).unwrap();
+        let (sweep, at) = (stored["sweep"].as_str().unwrap(), stored["at"].as_str().unwrap());
+        let again = crate::util::cell_json(&["configs/multi-stop.toml", "--from", f, "--at", at, "--sweep", sweep]);
+        assert_eq!(again["class"], "unresolved", "{sweep} {at}");
+        assert_eq!(again["reason_detail"], stored["detail"], "{sweep} {at}");
+        assert_eq!(again["reason"], stored["text"], "{sweep} {at}");
+        assert!(stored["detail"]["kind"].is_string(), "{line}");
+    }
+}
+
 /// Item 2: `--resume` on this run's finished file with a damaged dataset
 /// (one the reader skips, or one it reads) is refused naming the dataset,
 /// neither taken as done nor computed again over it; whole, it is done.

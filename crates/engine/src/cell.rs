@@ -78,6 +78,10 @@ pub struct CellReport {
     pub events: usize,
     /// Why the cell is unresolved, when it is.
     pub reason: Option<String>,
+    /// The same reason with its numbers (the solver's
+    /// [`solver::Unresolved`]: `kind` and the variant's fields), when it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason_detail: Option<solver::Unresolved>,
     /// Per friction contact (`M1-M2`), whether it ended stuck; only for a
     /// scene with friction.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -113,6 +117,7 @@ impl Cell {
             periods_simulated: c.periods,
             events: c.events,
             reason: c.reason.as_ref().map(ToString::to_string),
+            reason_detail: c.reason.clone(),
             friction_stick: (!sys.model.friction.is_empty()).then(|| friction.collect()),
             origin: self.origin.as_ref().map(|o| o.source.clone()),
         }

@@ -605,9 +605,10 @@ impl Plan {
     }
 }
 
-/// The version of [`JournalKey`]'s encoding: a journal of another version is
-/// not resumed from (its fingerprint differs).
-const JOURNAL_KEY_VERSION: u32 = 1;
+/// The version of [`JournalKey`]'s encoding and of the journal's lines: a
+/// journal of another version is not resumed from (its fingerprint
+/// differs). 2: the cells' reasons are stored with their numbers.
+const JOURNAL_KEY_VERSION: u32 = 2;
 
 /// Every setting that decides a plan's lines, as its journal is keyed.
 #[derive(Serialize)]
@@ -667,7 +668,7 @@ mod tests {
         let v: serde_json::Value = serde_json::from_str(&base).unwrap();
         assert_eq!(
             (v["version"].as_u64(), v["x"]["count"].as_u64(), v["along"].as_str()),
-            (Some(1), Some(4), Some("x"))
+            (Some(u64::from(JOURNAL_KEY_VERSION)), Some(4), Some("x"))
         );
         type Edit<'a> = (&'a str, &'a dyn Fn(&mut Plan));
         let edits: [Edit; 8] = [

@@ -422,7 +422,7 @@ impl Sim {
             sweep: sweep.name(),
             cell: params.iter().cloned().collect(),
             labels: m.masses.iter().zip(&cell.labels).map(|(n, l)| (n.clone(), l.to_string())).collect(),
-            reason: cell.reason.clone(),
+            reason: cell.reason.as_ref().map(ToString::to_string),
         };
         let origin = Origin {
             cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),

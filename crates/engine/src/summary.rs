@@ -15,8 +15,8 @@ use std::collections::BTreeMap;
 /// -2.103e-3 to -4.000e-4`), each end as one of the cells wrote it.
 pub fn reasons(cells: &[Option<grid::CellData>]) -> Vec<(String, usize)> {
     let mut kinds: std::collections::BTreeMap<String, (usize, Vec<Range>)> = std::collections::BTreeMap::new();
-    for r in cells.iter().flatten().filter_map(|c| c.reason.as_deref()) {
-        let (template, numbers) = split_numbers(r);
+    for r in cells.iter().flatten().filter_map(|c| c.reason.as_ref()) {
+        let (template, numbers) = split_numbers(&r.to_string());
         let (n, ranges) = kinds.entry(template).or_insert_with(|| (0, numbers.iter().map(Range::of).collect()));
         *n += 1;
         for (range, number) in ranges.iter_mut().zip(&numbers) {
@@ -358,7 +358,7 @@ impl InspectReport {
 mod tests {
     use super::*;
 
-    fn unresolved(reason: &str) -> Option<grid::CellData> {
+    fn unresolved(reason: solver::Unresolved) -> Option<grid::CellData> {
         Some(grid::CellData {
             class: Class::Unresolved,
             labels: Vec::new(),
@@ -372,7 +372,7 @@ mod tests {
             events: 0,
             period_section: Vec::new(),
             impact_sections: Vec::new(),
-            reason: Some(reason.to_string()),
+            reason: Some(reason),
         })
     }
 
@@ -380,17 +380,24 @@ mod tests {
     /// the cells of its kind), not as templates.
     #[test]
     fn reasons_show_their_numbers() {
+        let contracting = |growth| unresolved(solver::Unresolved::Contracting { growth });
         let cells = vec![
-            unresolved("still contracts (λT = -1.5e-3) after 600 periods"),
+            contracting(-1.5e-3),
             None,
-            unresolved("still contracts (λT = -4.0e-2) after 600 periods"),
-            unresolved("still contracts (λT = -2.0e-3) after 600 periods"),
-            unresolved("event budget of 400000 events exhausted"),
+            contracting(-4e-2),
+            contracting(-2e-3),
+            unresolved(solver::Unresolved::Budget { max_events: 400_000 }),
         ];
+        let transient = "a transient longer than max_periods x (1 + extensions)";
         assert_eq!(
             reasons(&cells),
             vec![
-                ("still contracts (λT = -4.0e-2 to -1.5e-3) after 600 periods".to_string(), 3),
+                (
+                    format!(
+                        "no period within the record, and the motion still contracts (λT = -4.000e-2 to -1.500e-3): {transient}"
+                    ),
+                    3
+                ),
                 ("event budget of 400000 events exhausted".to_string(), 1),
             ]
         );

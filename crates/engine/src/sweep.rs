@@ -261,6 +261,10 @@ pub struct SweepPoint {
     pub max_multiplier: Option<f64>,
     /// Why the cell is unresolved, when it is.
     pub reason: Option<String>,
+    /// The same reason with its numbers (the solver's
+    /// [`solver::Unresolved`]: `kind` and the variant's fields), when it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason_detail: Option<solver::Unresolved>,
     /// The final state `[x…, v…]`.
     pub final_state: Vec<f64>,
     /// The period-section points kept.
@@ -316,7 +320,8 @@ fn point(atlas: &Atlas, ix: usize, c: &CellData) -> SweepPoint {
         symmetry: c.symmetry.map(|s| s.name()),
         lyapunov: c.lyapunov,
         max_multiplier: c.multiplier,
-        reason: c.reason.clone(),
+        reason: c.reason.as_ref().map(ToString::to_string),
+        reason_detail: c.reason.clone(),
         final_state: c.final_state.clone(),
         period_section: c.period_section.clone(),
     }

@@ -309,7 +309,8 @@ async fn at(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, 
                 Some(c) => json!({
                     "class": c.class.name(),
                     "labels": m.masses.iter().zip(&c.labels).map(|(n, l)| (n.clone(), json!(l.to_string()))).collect::<serde_json::Map<_, _>>(),
-                    "reason": c.reason,
+                    "reason": c.reason.as_ref().map(ToString::to_string),
+                    "reason_detail": c.reason,
                 }),
             };
             (map.sweep.name().to_string(), v)

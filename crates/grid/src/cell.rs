@@ -64,7 +64,7 @@ impl CellSetup {
             events: cell.events as u64,
             period_section: cell.section.into_iter().take(self.section_cap).collect(),
             impact_sections: impact,
-            reason: cell.reason.as_ref().map(ToString::to_string),
+            reason: cell.reason,
         })
     }
 }

@@ -1,7 +1,7 @@
 //! One cell of a plane as kept for storage: labels, flags as stop masks, the
 //! final state and capped raw sections.
 
-use solver::{Class, Label, Mask, Symmetry};
+use solver::{Class, Label, Mask, Symmetry, Unresolved};
 use std::collections::HashMap;
 
 /// What is kept of a classified cell.
@@ -31,8 +31,9 @@ pub struct CellData {
     pub period_section: Vec<Vec<f64>>,
     /// Per stop: `[phase, x…, v…]` before each impact of the window.
     pub impact_sections: Vec<Vec<Vec<f64>>>,
-    /// Why the cell is unresolved (the solver's reason, as text), if it is.
-    pub reason: Option<String>,
+    /// Why the cell is unresolved (the solver's reason, with its numbers),
+    /// if it is.
+    pub reason: Option<Unresolved>,
 }
 
 /// Largest `section_cap`: points kept per section per cell.

@@ -87,13 +87,15 @@ fn closed(plane: &[(f64, f64)]) -> bool {
 
 /// The rotation number of period-section points about their centroid, by
 /// the weighted Birkhoff average (see the module's documentation).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Rotation {
     /// Mean angle turned per forcing period, in turns, in (−½, ½] about the
     /// increments' mean direction.
+    #[serde(with = "crate::number")]
     pub turns: f64,
     /// How far the weighted averages over the first and the second half of
     /// the points differ, in turns: the average's own error.
+    #[serde(with = "crate::number")]
     pub error: f64,
     /// Points averaged over.
     pub points: usize,

@@ -1,10 +1,13 @@
 //! Errors of the solver. Running out of the event budget is not an error but an
 //! outcome (`unresolved`); these are conditions under which no answer exists.
 
+use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-/// Why a system cannot be simulated.
-#[derive(Debug, Clone, PartialEq, Error)]
+/// Why a system cannot be simulated. Serialised (serde) as one object whose
+/// `error` names the variant in snake case, with the variant's fields.
+#[derive(Debug, Clone, PartialEq, Error, Serialize, Deserialize)]
+#[serde(tag = "error", rename_all = "snake_case")]
 pub enum SolverError {
     /// A linear mode could not be decomposed accurately.
     #[error("ill-conditioned linear mode: {message}")]

@@ -72,6 +72,7 @@ use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
+use serde::{Deserialize, Serialize};
 
 /// Periods of tangent alignment before the Lyapunov exponent is averaged.
 const LYAPUNOV_WARMUP: usize = 10;
@@ -153,8 +154,14 @@ const ESCAPE_PERIODS: usize = 20;
 /// [`Executor::polish`]).
 const POLISHES: usize = 2;
 
-/// Why a cell is `unresolved`.
-#[derive(Debug, Clone, PartialEq)]
+/// Why a cell is `unresolved`, with its numbers.
+///
+/// Serialised (serde) as one object whose `kind` names the variant in
+/// snake case and whose other fields are the variant's, e.g.
+/// `{"kind": "unsettled", "periods": 2251, "multiplier": 0.992, "distance":
+/// 1.3e-7}`; a non-finite number is the text `inf`, `-inf` or `nan`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 #[non_exhaustive]
 pub enum Unresolved {
     /// The event budget (`max_events`) ran out.
@@ -170,6 +177,7 @@ pub enum Unresolved {
     /// extension: a transient longer than the record.
     Contracting {
         /// The largest Lyapunov exponent per forcing period, `λT`.
+        #[serde(with = "crate::number")]
         growth: f64,
     },
     /// No period; the exponent's confidence interval contains 0 after every
@@ -183,8 +191,11 @@ pub enum Unresolved {
         /// points not on one closed curve).
         rotation: Option<Rotation>,
     },
-    /// No period, and the run that measures the exponent halted (why inside).
-    NoExponent(Box<Unresolved>),
+    /// No period, and the run that measures the exponent halted.
+    NoExponent {
+        /// Why it halted.
+        halt: Box<Unresolved>,
+    },
     /// No period up to `n_max`, and the motion contracts onto an orbit of a
     /// longer period (see `n_max`), which no extension of the record would
     /// find and Newton's method did not confirm (a confirmed one is a label).
@@ -206,8 +217,10 @@ pub enum Unresolved {
         /// Periods of the record.
         periods: usize,
         /// The largest Floquet multiplier modulus of the period map.
+        #[serde(with = "crate::number")]
         multiplier: f64,
         /// The estimated distance to the orbit, relative (infinite when |μ| ≥ 1).
+        #[serde(with = "crate::number")]
         distance: f64,
     },
     /// The section repeated, but the orbit is unstable (its largest Floquet
@@ -217,6 +230,7 @@ pub enum Unresolved {
         /// Periods of the record.
         periods: usize,
         /// The largest Floquet multiplier modulus of the period map.
+        #[serde(with = "crate::number")]
         multiplier: f64,
     },
     /// No period, chaotic or quasi-periodic by its exponent, but not one
@@ -235,7 +249,15 @@ pub enum Unresolved {
         /// Periods without an event over which every gap grew.
         periods: usize,
         /// The largest growth of a position per forcing period at the end.
+        #[serde(with = "crate::number")]
         drift: f64,
+    },
+    /// A reason known by its text alone: one read from an atlas written
+    /// before reasons were stored with their numbers. The solver never
+    /// gives it.
+    Described {
+        /// The reason as that atlas wrote it.
+        text: String,
     },
 }
 
@@ -298,9 +320,10 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "the motion is unbounded: no event in the last {periods} periods, every gap growing, a position drifting by {drift:.3e} per forcing period"
             ),
-            Unresolved::NoExponent(why) => {
-                write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {why}")
+            Unresolved::NoExponent { halt } => {
+                write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {halt}")
             }
+            Unresolved::Described { text } => f.write_str(text),
         }
     }
 }
@@ -388,7 +411,7 @@ pub fn run_cell_with_sections(
         }
         Steady::Unmeasured => (Class::Chaotic, None, None, None),
         Steady::Failed(halt) => {
-            (Class::Unresolved, None, None, Some(Unresolved::NoExponent(Box::new(Unresolved::of(halt, acc)))))
+            (Class::Unresolved, None, None, Some(Unresolved::NoExponent { halt: Box::new(Unresolved::of(halt, acc)) }))
         }
         Steady::Aperiodic(class, l, reason) => match cell.unbounded() {
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
@@ -707,7 +730,7 @@ impl<'s> Executor<'s> {
             doublings += 1;
             let more = e.periods();
             if let Err(halt) = self.budget.spend(&mut self.sim, &mut tangent, |t| e.extend(t, more)) {
-                let why = Unresolved::NoExponent(Box::new(Unresolved::of(halt, self.acc)));
+                let why = Unresolved::NoExponent { halt: Box::new(Unresolved::of(halt, self.acc)) };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }
@@ -1218,7 +1241,7 @@ mod tests {
                 if cell.class == Class::Unresolved {
                     // The record ran out, or the exponent's run did.
                     let budget = Unresolved::Budget { max_events: max as usize };
-                    let exponent = Unresolved::NoExponent(Box::new(budget.clone()));
+                    let exponent = Unresolved::NoExponent { halt: Box::new(budget.clone()) };
                     assert!(cell.reason == Some(budget) || cell.reason == Some(exponent), "{:?}", cell.reason);
                 }
                 // Without a period, never chaotic without an exponent.

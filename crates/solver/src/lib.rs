@@ -66,6 +66,7 @@ mod label;
 mod lyapunov;
 mod mode;
 mod newton;
+mod number;
 pub mod orbit;
 mod period;
 pub mod reference;

@@ -46,12 +46,14 @@ pub struct Exponent {
 }
 
 /// A 95 % confidence interval of `λT`, the growth per forcing period.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Interval {
     /// The estimate, `λT`.
+    #[serde(with = "crate::number")]
     pub mean: f64,
     /// Half the interval's width: at least 1e-9, the estimate's resolution;
     /// infinite when fewer than ten periods are measured.
+    #[serde(with = "crate::number")]
     pub half_width: f64,
     /// Forcing periods measured.
     pub periods: usize,

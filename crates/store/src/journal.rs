@@ -41,7 +41,7 @@ struct JCell {
     period_section: Vec<Vec<f64>>,
     impact_sections: Vec<Vec<Vec<f64>>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    reason: Option<String>,
+    reason: Option<solver::Unresolved>,
 }
 
 #[derive(Serialize, Deserialize)]

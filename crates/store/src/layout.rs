@@ -53,6 +53,12 @@ pub const MASS: &str = "mass";
 pub const LABEL: &str = "label";
 /// Dimension and coordinate of a sweep's table of reasons (why cells are unresolved).
 pub const REASON: &str = "reason";
+/// Per entry of the [`REASON`] table, the reason with its numbers as JSON
+/// (the serialisation of `solver::Unresolved`: `kind` and the variant's
+/// fields). Only in a sweep with unresolved cells; files written before
+/// vibroatlas stored it (2026-11-29) have none, and their reasons read as
+/// their texts.
+pub const REASON_DETAIL: &str = "reason_detail";
 /// Per cell, the index of its reason in the [`REASON`] table (-1: none).
 pub const REASON_CODE: &str = "reason_code";
 /// Colours of the label table.

@@ -5,6 +5,7 @@ use crate::error::{OtherKind, StoreError};
 use crate::layout::*;
 use crate::write::RunInfo;
 use maps::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
+use solver::Unresolved;
 use std::path::Path;
 
 /// An atlas file's contents.
@@ -86,9 +87,10 @@ struct SweepSets {
     periods: hdf5::Dataset,
     events: hdf5::Dataset,
     labels: Vec<hdf5::Dataset>,
-    /// The table of reasons and the per-cell codes (files since the reasons
+    /// The table of reasons, the per-cell codes (files since the reasons
+    /// were stored) and the reasons with their numbers (files since those
     /// were stored).
-    reasons: Option<(hdf5::Dataset, hdf5::Dataset)>,
+    reasons: Option<Reasons>,
     period: Section,
     impacts: Vec<Section>,
 }
@@ -116,15 +118,40 @@ impl SweepSets {
     }
 }
 
-/// A sweep's table of reasons and its cells' codes into it, each code -1 or
-/// an index of the table.
-fn reasons(ck: &Checker, table: &hdf5::Dataset, codes: &hdf5::Dataset) -> Result<(Vec<String>, Vec<i32>), StoreError> {
-    let text = texts(ck, table)?;
-    let c = ck.raw::<i32>(codes)?;
+/// A sweep's stored reasons: the table of their texts, the per-cell codes
+/// into it, and the reasons with their numbers ([`REASON_DETAIL`]; absent
+/// from files written before it).
+struct Reasons {
+    table: hdf5::Dataset,
+    codes: hdf5::Dataset,
+    detail: Option<hdf5::Dataset>,
+}
+
+/// A sweep's reasons and its cells' codes into them, each code -1 or an
+/// index of the table: each reason with its numbers where the file holds
+/// them, else its text ([`Unresolved::Described`]).
+fn reasons(ck: &Checker, r: &Reasons) -> Result<(Vec<Unresolved>, Vec<i32>), StoreError> {
+    let text = texts(ck, &r.table)?;
+    let c = ck.raw::<i32>(&r.codes)?;
     if let Some(bad) = c.iter().find(|&&c| c < -1 || c as i64 >= text.len() as i64) {
-        return Err(ck.bad(&codes.name(), format!("code {bad} is not in the table of {} reasons", text.len())));
+        return Err(ck.bad(&r.codes.name(), format!("code {bad} is not in the table of {} reasons", text.len())));
     }
-    Ok((text, c))
+    let Some(detail) = &r.detail else {
+        return Ok((text.into_iter().map(|text| Unresolved::Described { text }).collect(), c));
+    };
+    let details = texts(ck, detail)?;
+    if details.len() != text.len() {
+        let why = format!("{} entries, but the table of reasons has {}", details.len(), text.len());
+        return Err(ck.bad(&detail.name(), why));
+    }
+    let decoded = details
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            serde_json::from_str(d).map_err(|e| ck.bad(&detail.name(), format!("entry {i} is not a reason: {e}")))
+        })
+        .collect::<Result<_, _>>()?;
+    Ok((decoded, c))
 }
 
 /// Whether `path` says it is a vibroatlas atlas (its root attributes
@@ -556,7 +583,8 @@ fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Re
                     ck.bad(&table.name(), format!("shape {:?}: not a table of at most {n} reasons", table.shape()))
                 );
             }
-            Some((table, plane(REASON_CODE)?))
+            let detail = if g.link_exists(REASON_DETAIL) { Some(ck.open(&g, REASON_DETAIL)?) } else { None };
+            Some(Reasons { table, codes: plane(REASON_CODE)?, detail })
         } else {
             None
         },
@@ -615,7 +643,7 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
     };
     let period = section(&s.period)?;
     let impacts = s.impacts.iter().map(section).collect::<Result<Vec<_>, _>>()?;
-    let reasons = s.reasons.as_ref().map(|(t, c)| reasons(ck, t, c)).transpose()?;
+    let reasons = s.reasons.as_ref().map(|r| reasons(ck, r)).transpose()?;
     let reason =
         |i: usize| reasons.as_ref().and_then(|(table, codes)| table.get(usize::try_from(codes[i]).ok()?).cloned());
     let mut cells = Vec::new();

@@ -503,23 +503,41 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::
 }
 
 /// Why the unresolved cells of a sweep are unresolved: the table of their
-/// distinct reasons (a string coordinate, sorted; empty when every cell is
-/// resolved) and per cell an index into it (-1: resolved, or not computed).
+/// distinct reasons (a string coordinate of their texts, sorted; empty when
+/// every cell is resolved), beside it each reason with its numbers
+/// ([`REASON_DETAIL`], JSON; where some reason has numbers), and per cell an
+/// index into it (-1: resolved, or not computed). Two reasons whose texts agree but whose numbers do not
+/// (the text rounds them) are two entries of the same text.
 fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<()> {
-    let table: Vec<String> = cells
-        .iter()
-        .flatten()
-        .filter_map(|c| c.reason.clone())
-        .collect::<std::collections::BTreeSet<_>>()
-        .into_iter()
-        .collect();
-    let index: HashMap<&str, i32> = table.iter().enumerate().map(|(i, t)| (t.as_str(), i as i32)).collect();
-    let reason_dim = netcdf::labels(g, REASON, &table, "why cells are unresolved")?;
-    z.expected.texts(&reason_dim, &table);
+    let encode = |r: &solver::Unresolved| {
+        serde_json::to_string(r).map_err(|e| hdf5::Error::from(format!("a reason as JSON: {e}").as_str()))
+    };
+    let mut table = std::collections::BTreeSet::new();
+    let mut numbers = false;
+    for r in cells.iter().flatten().filter_map(|c| c.reason.as_ref()) {
+        numbers |= !matches!(r, solver::Unresolved::Described { .. });
+        table.insert((r.to_string(), encode(r)?));
+    }
+    let (texts, details): (Vec<String>, Vec<String>) = table.into_iter().unzip();
+    let index: HashMap<&str, i32> = details.iter().enumerate().map(|(i, t)| (t.as_str(), i as i32)).collect();
+    let reason_dim = netcdf::labels(g, REASON, &texts, "why cells are unresolved")?;
+    z.expected.texts(&reason_dim, &texts);
+    // Only reasons with numbers have a detail to add: a sweep without one
+    // (every cell resolved, or reasons read from a file without details) is
+    // written as before.
+    if numbers {
+        let detail = netcdf::texts(g, REASON_DETAIL, &details)?;
+        netcdf::dims(&detail, &[&reason_dim])?;
+        attr_str(&detail, "long_name", "why cells are unresolved, with the numbers: JSON with kind and its fields")?;
+        z.expected.texts(&detail, &details);
+    }
     let (ny, nx) = (grid.y.size(), grid.x.size());
-    let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| {
-        cells[iy * nx + ix].as_ref().and_then(|c| c.reason.as_deref()).map_or(-1, |r| index[r])
-    });
+    let mut code = Array2::from_elem((ny, nx), -1);
+    for ((iy, ix), c) in code.indexed_iter_mut() {
+        if let Some(r) = cells[iy * nx + ix].as_ref().and_then(|c| c.reason.as_ref()) {
+            *c = index[encode(r)?.as_str()];
+        }
+    }
     let d = z.dataset(g, REASON_CODE, &code)?;
     netcdf::dims(&d, &[&grid.y, &grid.x])?;
     netcdf::describe(
@@ -745,7 +763,20 @@ mod tests {
             events: 2000 + i as u64,
             period_section: vec![vec![i as f64, 0.5]; i % 3],
             impact_sections: vec![vec![vec![0.25, i as f64, 1.0]; i % 2]],
-            reason: i.is_multiple_of(5).then(|| format!("reason {}", i % 3)),
+            reason: i.is_multiple_of(5).then(|| reason(i)),
+        }
+    }
+
+    /// A reason with numbers of cell `i`: distances that one text rounds
+    /// alike (1.0e-7 for every odd cell, two table entries of one text),
+    /// infinite ones, nested and failed reasons.
+    fn reason(i: usize) -> solver::Unresolved {
+        use solver::Unresolved;
+        let distance = if i.is_multiple_of(2) { f64::INFINITY } else { 1e-7 * (1.0 + (i % 7) as f64 * 1e-9) };
+        match i % 3 {
+            0 => Unresolved::Unsettled { periods: 2251, multiplier: 0.99, distance },
+            1 => Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: i }) },
+            _ => Unresolved::Failed(solver::SolverError::OutOfRange { message: format!("x = {i}e300") }),
         }
     }
 
@@ -792,7 +823,19 @@ mod tests {
                 let state = f.dataset("up/final_state").unwrap().read::<f64, ndarray::Ix3>().unwrap();
                 let npq = f.dataset("up/label_M1").unwrap().read::<u16, ndarray::Ix3>().unwrap();
                 let class = f.dataset("up/class").unwrap().read_2d::<u8>().unwrap();
-                // Reasons go through their table and codes, and read back per cell.
+                // Reasons go through their table and codes, and read back per cell
+                // with their numbers; the table's texts are theirs.
+                let reasons: Vec<String> = f
+                    .dataset("up/reason")
+                    .unwrap()
+                    .read_1d::<hdf5::types::VarLenUnicode>()
+                    .unwrap()
+                    .iter()
+                    .map(|t| t.to_string())
+                    .collect();
+                let codes = f.dataset("up/reason_code").unwrap().read_2d::<i32>().unwrap();
+                let unsettled = reasons.iter().filter(|t| t.contains("still about 1.0e-7 from it")).count();
+                assert!(unsettled >= 2, "{unsettled} entries of one text for distances that it rounds alike");
                 let back = crate::read(path).unwrap().atlas;
                 let back = &back.map(SweepKind::Up).unwrap().cells;
                 for iy in 0..p.y.count {
@@ -807,6 +850,9 @@ mod tests {
                             let want = [1 + (i % 3) as u16, i as u16, STUCK];
                             assert_eq!([npq[[iy, ix, 0]], npq[[iy, ix, 1]], npq[[iy, ix, 2]]], want, "{at}");
                             assert_eq!(back[i].as_ref().unwrap().reason, cell(i).reason, "{at}");
+                            if let Some(r) = &cell(i).reason {
+                                assert_eq!(reasons[codes[[iy, ix]] as usize], r.to_string(), "{at}");
+                            }
                         } else {
                             assert!(state[[iy, ix, 0]].is_nan(), "{at}");
                         }
@@ -819,6 +865,45 @@ mod tests {
 
     /// A draft dropped unfinished leaves neither its temporary file nor a
     /// change to the file it was to replace; finished, it replaces it.
+    /// Reasons known by their text alone (read from a file written before
+    /// the details) are written as before, without [`REASON_DETAIL`], and
+    /// read back as they were; one reason with numbers among them brings
+    /// the details of all, each read back as it was.
+    #[test]
+    fn reasons_without_numbers_are_written_as_before() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-reasons-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
+        let x = Axis::parse("omega=0.5:2:4", "x").unwrap();
+        let y = Axis::parse("delta=0.1:0.2:2", "y").unwrap();
+        let m = maps::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
+        let described = |text: &str| solver::Unresolved::Described { text: text.into() };
+        for numbers in [false, true] {
+            let mut atlas = Atlas::new(m.clone());
+            let cells = (0..4).map(|i| maps::CellData {
+                reason: match i {
+                    0 => Some(described("an older file's reason (λT = 1.0e-3)")),
+                    2 if numbers => Some(reason(2)),
+                    _ => None,
+                },
+                ..cell(i)
+            });
+            atlas.insert(maps::Line { sweep: SweepKind::Up, index: 0, cells: cells.collect() });
+            let path = dir.join("reasons.h5");
+            write(&path, &atlas, &info, 1).unwrap();
+            let f = hdf5::File::open(&path).unwrap();
+            assert_eq!(f.link_exists("up/reason_detail"), numbers);
+            assert_eq!(f.dataset("up/reason").unwrap().size(), if numbers { 2 } else { 1 });
+            let back = crate::read(&path).unwrap().atlas;
+            let reasons = |a: &Atlas| -> Vec<_> {
+                a.map(SweepKind::Up).unwrap().cells.iter().map(|c| c.as_ref().and_then(|c| c.reason.clone())).collect()
+            };
+            assert_eq!(reasons(&back), reasons(&atlas));
+            assert!(reasons(&back)[0].is_some());
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     #[test]
     fn an_unfinished_draft_leaves_the_target_as_it_was() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-draft-{}", std::process::id()));

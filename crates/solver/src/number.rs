@@ -1,0 +1,83 @@
+//! Numbers of results in serde's data model: a finite `f64` is a number, a
+//! non-finite one the text `inf`, `-inf` or `nan` (JSON has no such numbers,
+//! and a result such as an [`crate::Unresolved`] reason may hold an infinite
+//! distance or interval), so that every value survives a round trip through
+//! JSON bit for bit.
+
+use serde::{Deserialize, Deserializer, Serializer};
+
+/// Serialises `x` as a number when finite, else as its text.
+pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+    match *x {
+        x if x.is_finite() => s.serialize_f64(x),
+        x if x.is_nan() => s.serialize_str("nan"),
+        x if x > 0.0 => s.serialize_str("inf"),
+        _ => s.serialize_str("-inf"),
+    }
+}
+
+/// A number, or one of the texts `inf`, `-inf`, `nan`.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Written {
+    Number(f64),
+    Text(String),
+}
+
+/// Reads what [`serialize`] wrote.
+pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    match Written::deserialize(d)? {
+        Written::Number(x) => Ok(x),
+        Written::Text(t) => match t.as_str() {
+            "inf" => Ok(f64::INFINITY),
+            "-inf" => Ok(f64::NEG_INFINITY),
+            "nan" => Ok(f64::NAN),
+            _ => Err(serde::de::Error::custom(format!("'{t}' is not a number (nor inf, -inf or nan)"))),
+        },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{Interval, Rotation, SolverError, Unresolved};
+
+    fn round_trip(u: &Unresolved) -> Unresolved {
+        let text = serde_json::to_string(u).unwrap();
+        serde_json::from_str(&text).unwrap_or_else(|e| panic!("{text}: {e}"))
+    }
+
+    #[test]
+    fn every_reason_survives_json_bit_for_bit() {
+        let growth = Interval { mean: -1.234_567_890_123e-4, half_width: f64::INFINITY, periods: 9 };
+        let rotation = Rotation { turns: 0.123_456_789_012_345_67, error: f64::NAN, points: 400 };
+        let reasons = [
+            Unresolved::Budget { max_events: 400_000 },
+            Unresolved::Stalled,
+            Unresolved::Failed(SolverError::OutOfRange { message: "x = 1e300".into() }),
+            Unresolved::Contracting { growth: -0.1 },
+            Unresolved::Undecided { growth, rotation: Some(rotation) },
+            Unresolved::Undecided { growth, rotation: None },
+            Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: 7 }) },
+            Unresolved::LongPeriod { n: 140, n_max: 128 },
+            Unresolved::Unsettled { periods: 2251, multiplier: 0.992_227_769_430_1, distance: 1.3e-7 },
+            Unresolved::Unsettled { periods: 3, multiplier: 1.0, distance: f64::INFINITY },
+            Unresolved::Unstable { periods: 10, multiplier: f64::NEG_INFINITY },
+            Unresolved::Linear { periods: 50 },
+            Unresolved::Unbounded { periods: 20, drift: 5e-324 },
+            Unresolved::Described { text: "an older atlas's words, 1.5e-3".into() },
+        ];
+        for u in &reasons {
+            let back = round_trip(u);
+            // Debug shows NaN, which PartialEq does not equal to itself.
+            assert_eq!(format!("{back:?}"), format!("{u:?}"));
+            assert_eq!(back.to_string(), u.to_string());
+        }
+        let text = serde_json::to_string(&reasons[8]).unwrap();
+        assert_eq!(text, r#"{"kind":"unsettled","periods":2251,"multiplier":0.9922277694301,"distance":1.3e-7}"#);
+        let text = serde_json::to_string(&reasons[2]).unwrap();
+        assert_eq!(text, r#"{"kind":"failed","error":"out_of_range","message":"x = 1e300"}"#);
+        assert!(serde_json::to_string(&reasons[9]).unwrap().contains(r#""distance":"inf""#));
+        let bad = r#"{"kind":"unsettled","periods":1,"multiplier":"big","distance":1}"#;
+        assert!(serde_json::from_str::<Unresolved>(bad).unwrap_err().to_string().contains("'big' is not a number"));
+    }
+}
