@@ -55,7 +55,8 @@ def cell(scene, *, state=None, portrait=False, sections=False, section_periods=N
     the scene's initial state (`--state`). progress is accepted for symmetry
     with the other functions and ignored (a cell is short: no bar).
 
-    Returns the dict `cell --json` prints: class, n, reason, labels,
+    Returns the dict `cell --json` prints: class, n, reason (and
+    reason_detail, the reason with its numbers, for an unresolved cell), labels,
     symmetry, impacts, chatter, sticking, final_state, period_section,
     max_multiplier, lyapunov, scene, parameters, preset, integrator,
     periods_simulated, events (and friction_stick in scenes with friction).
