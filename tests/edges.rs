@@ -192,6 +192,35 @@ fn long_and_locked_orbits_at_the_edges_are_labelled() {
     }
 }
 
+/// Issue 40: a torus whose section points lie on no closed curve in their
+/// principal plane (the curve loops about its centroid in that projection)
+/// was `U` with its exponent about 0 and its rotation number converged
+/// (0.2043165, ± 5e-7 over 1 600 periods, 50 times better than over the
+/// last 400); the rotation number alone now tells it: `Q`. The referee's up
+/// (1.4387, 1.3335). Independent check, the issue's reference for a `Q`
+/// cell: 3 000 plain periods from the cell's final state never come back
+/// within `periodic_tol` of a state of theirs, at any lag up to 1 000
+/// periods.
+#[test]
+fn a_torus_told_by_its_rotation_number_is_quasiperiodic() {
+    let (delta, sweep) = referee_row(52, "up");
+    let cell = &sweep["points"][54];
+    let omega = cell["value"].as_f64().unwrap();
+    assert_eq!(cell["class"].as_str(), Some("quasiperiodic"), "(ω, δ) = ({omega:.4}, {delta:.4}): {cell}");
+    let sys = system("multi-stop.toml", &[("omega", omega), ("delta", delta)]);
+    let acc = Accuracy::preset(Preset::Standard);
+    let y0: Vec<f64> = serde_json::from_value(cell["final_state"].clone()).unwrap();
+    let mut sim = solver::Simulator::new(&sys, acc, Method::Exact, &y0).unwrap();
+    let states: Vec<Vec<f64>> =
+        (0..3000).map(|_| sim.run_period(&[], false, &mut solver::Ignore).unwrap().end.as_slice().to_vec()).collect();
+    let scale = 1.0 + y0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let off = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale;
+    let nearest = (1..=1000)
+        .map(|lag| (lag..states.len()).map(|k| off(&states[k], &states[k - lag])).fold(f64::INFINITY, f64::min))
+        .fold(f64::INFINITY, f64::min);
+    assert!(nearest > acc.periodic_tol(), "a return within {nearest:e}");
+}
+
 /// Issue 40, a wrong `U` in the reference: at `precise` (plain simulation,
 /// `periodic_tol` 1e-9) the record of multi-stop at ω = 2.7362, δ = 0.05 (a
 /// cell of the trade's 48 × 48 grid) repeats with period 1 after 2 251

@@ -26,8 +26,11 @@
 //!    onto (an orbit locked on a torus, or a long one not yet reached;
 //!    [`Executor::orbit_among`]); without one, a torus when its section
 //!    points lie on one closed curve with a converged rotation number
-//!    ([`Rotation`], the weighted Birkhoff average), a transient (extended
-//!    as above while extensions remain) when contracting.
+//!    ([`Rotation`], the weighted Birkhoff average), or when that number
+//!    alone has converged as only a torus's does (`turns_on_torus`: far
+//!    faster than over the last quarter of the points, and not locked at a
+//!    fraction), a transient (extended as above while extensions remain)
+//!    when contracting.
 //!    A record that still contracts but whose section has
 //!    settled on an orbit longer than `n_max` (up to 128 periods) is not
 //!    extended (no extension would find a period): Newton's method on that
@@ -60,7 +63,7 @@
 use crate::acceleration::Newton;
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
-use crate::circle::{torus_loops, Rotation};
+use crate::circle::{torus_loops, turns_on_torus, Rotation};
 use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
@@ -109,8 +112,10 @@ const LONGEST_ORBIT: usize = 1000;
 /// (see [`Rotation`]): the section points of a torus give it to this within a
 /// few hundred periods (1e-7 on smooth tori of the reference plane, 1e-5 on
 /// a stick-slip torus of dry friction); those of a chaotic motion, whose
-/// error falls like `K^(−1/2)`, to 1e-3 or worse (2e-4 at best on the
-/// reference plane's chaotic cells over 1 600 periods).
+/// error falls like `K^(−1/2)`, mostly to 1e-3 or worse (on the reference
+/// plane's 120 × 80 both-sweep atlas, of the chaotic records not locked at a
+/// fraction, 2 of 570 came within 1e-4, at 1e-5 and 2.5e-5 over 1 600
+/// periods: this alone does not tell a torus, see `turns_on_torus`).
 const ROTATION_TOL: f64 = 1e-4;
 
 /// Periods tried by Newton's method per look for an orbit near a record
@@ -287,13 +292,20 @@ impl std::fmt::Display for Unresolved {
                     "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, ",
                     growth.mean, growth.half_width, growth.periods
                 )?;
-                match rotation {
-                    Some(r) => write!(
+                // A converged rotation number locked at a fraction p/q.
+                let locked = rotation.and_then(|r| r.locked().filter(|_| r.error <= ROTATION_TOL));
+                match (rotation, locked) {
+                    (Some(r), Some((p, q))) => write!(
+                        f,
+                        "and its section points turn by {:.9} ± {:.1e} turns per period, locked at {p}/{q}: an orbit of period {q} (or a multiple) locked on a torus, but no stable orbit of such a period was found near them",
+                        r.turns, r.error
+                    ),
+                    (Some(r), None) => write!(
                         f,
                         "no stable orbit was found near its section points, and their rotation number ({:.9} ± {:.1e} turns per period) has not converged or they are not on one closed curve",
                         r.turns, r.error
                     ),
-                    None => write!(f, "no stable orbit was found near its section points, and they are not on one closed curve"),
+                    (None, _) => write!(f, "no stable orbit was found near its section points, and they are not on one closed curve"),
                 }
             }
             Unresolved::LongPeriod { n, n_max } => write!(
@@ -702,7 +714,8 @@ impl<'s> Executor<'s> {
     /// record; the other is quasi-periodic when its section points lie on a
     /// torus's closed curve, or every k-th of them on one of its k loops
     /// (k ≤ 8), with a converged rotation number ([`torus_loops`],
-    /// [`ROTATION_TOL`]), and unresolved otherwise.
+    /// [`ROTATION_TOL`]), or when their rotation number alone shows a torus
+    /// ([`turns_on_torus`]), and unresolved otherwise.
     fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
         let mut doublings = 0;
         loop {
@@ -721,10 +734,11 @@ impl<'s> Executor<'s> {
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             if last {
-                if torus_loops(&e.points, ROTATION_TOL).is_some() {
+                let rotation = Rotation::of(&e.points);
+                if torus_loops(&e.points, ROTATION_TOL).is_some() || turns_on_torus(&e.points, ROTATION_TOL) {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
-                let why = Unresolved::Undecided { growth, rotation: Rotation::of(&e.points) };
+                let why = Unresolved::Undecided { growth, rotation };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             doublings += 1;
