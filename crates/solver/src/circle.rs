@@ -278,10 +278,8 @@ mod tests {
     /// torus's.
     #[test]
     fn chaos_has_no_converged_rotation() {
-        let mut x = 0.123_f64;
-        let points: Vec<DVector<f64>> = (0..1000)
-            .map(|_| {
-                x = 4.0 * x * (1.0 - x);
+        let points: Vec<DVector<f64>> = logistic(1000)
+            .map(|x| {
                 let th = TAU * x;
                 DVector::from_vec(vec![th.cos(), th.sin()])
             })
@@ -289,6 +287,11 @@ mod tests {
         let r = Rotation::of(&points).unwrap();
         assert!(r.error > 1e-4, "{r:?}");
         assert_eq!(torus_loops(&points, 1e-4), None);
+    }
+
+    /// `k` iterates of the logistic map at 4 (chaotic) from 0.123.
+    fn logistic(k: usize) -> impl Iterator<Item = f64> {
+        std::iter::successors(Some(0.123_f64), |x| Some(4.0 * x * (1.0 - x))).skip(1).take(k)
     }
 
     /// The point at angle `θ` of the curve `e^{iθ} + 0.7 e^{−3iθ}` (two inner
@@ -320,23 +323,13 @@ mod tests {
         let locked = looped(2.0 / 7.0, 1600);
         assert_eq!(Rotation::of(&locked).unwrap().locked().map(|(p, q)| (p.rem_euclid(7), q)), Some((2, 7)));
         assert!(!turns_on_torus(&locked, 1e-4));
-        let mut x = 0.123_f64;
-        let chaos: Vec<DVector<f64>> = (0..1600)
-            .map(|_| {
-                x = 4.0 * x * (1.0 - x);
-                let th = TAU * x;
-                DVector::from_vec(vec![th.cos(), th.sin()])
-            })
-            .collect();
+        let chaos: Vec<DVector<f64>> = logistic(1600).map(|x| on_loops(TAU * x)).collect();
         assert!(!turns_on_torus(&chaos, 1e-4));
         // The torus with a little chaos in its angle: an average converged
         // within the tolerance, but only like K^(-1/2).
-        let mut x = 0.123_f64;
-        let noisy: Vec<DVector<f64>> = (0..1600)
-            .map(|j| {
-                x = 4.0 * x * (1.0 - x);
-                on_loops(0.4 + TAU * (0.381_966_011_250_105 * j as f64 + 1e-3 * (x - 0.5)))
-            })
+        let noisy: Vec<DVector<f64>> = logistic(1600)
+            .enumerate()
+            .map(|(j, x)| on_loops(0.4 + TAU * (0.381_966_011_250_105 * j as f64 + 1e-3 * (x - 0.5))))
             .collect();
         let r = Rotation::of(&noisy).unwrap();
         assert!(r.error < 1e-4, "{r:?}");

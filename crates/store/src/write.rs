@@ -747,6 +747,17 @@ mod tests {
         }
     }
 
+    /// The run of a test's files.
+    fn run_info() -> RunInfo {
+        RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None }
+    }
+
+    /// [`meta`] on the plane of axes `x` and `y`, lines along x.
+    fn meta_on(x: &str, y: &str) -> maps::Meta {
+        let (x, y) = (Axis::parse(x, "x").unwrap(), Axis::parse(y, "y").unwrap());
+        maps::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() }
+    }
+
     /// A cell whose every value tells where it is (cell `i`, sweep `s`).
     fn cell(i: usize) -> maps::CellData {
         let n = 1 + (i % 3) as u32;
@@ -788,7 +799,7 @@ mod tests {
     fn kept_lines_and_the_end_write_the_same_cells() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-keep-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
+        let info = run_info();
         for along in [Along::X, Along::Y] {
             let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
             let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
@@ -863,8 +874,6 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
-    /// A draft dropped unfinished leaves neither its temporary file nor a
-    /// change to the file it was to replace; finished, it replaces it.
     /// Reasons known by their text alone (read from a file written before
     /// the details) are written as before, without [`REASON_DETAIL`], and
     /// read back as they were; one reason with numbers among them brings
@@ -873,10 +882,8 @@ mod tests {
     fn reasons_without_numbers_are_written_as_before() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-reasons-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
-        let x = Axis::parse("omega=0.5:2:4", "x").unwrap();
-        let y = Axis::parse("delta=0.1:0.2:2", "y").unwrap();
-        let m = maps::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
+        let info = run_info();
+        let m = meta_on("omega=0.5:2:4", "delta=0.1:0.2:2");
         let described = |text: &str| solver::Unresolved::Described { text: text.into() };
         for numbers in [false, true] {
             let mut atlas = Atlas::new(m.clone());
@@ -904,6 +911,8 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
+    /// A draft dropped unfinished leaves neither its temporary file nor a
+    /// change to the file it was to replace; finished, it replaces it.
     #[test]
     fn an_unfinished_draft_leaves_the_target_as_it_was() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-draft-{}", std::process::id()));
@@ -917,7 +926,7 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&out).unwrap(), "the previous file");
 
         // Finished with no line computed: every cell reads as not computed.
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
+        let info = run_info();
         let atlas = Atlas::new(meta());
         let mut draft = Draft::create(&out, &meta(), 2).unwrap();
         draft.keep(&atlas, SweepKind::Down, 0).unwrap();
@@ -942,7 +951,7 @@ mod tests {
     fn a_file_removed_under_its_draft_says_so_plainly() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-removed-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
+        let info = run_info();
         let out = dir.join("o.h5");
         let draft = Draft::create(&out, &meta(), 1).unwrap();
         std::fs::remove_file(partial_path(&out)).unwrap();
@@ -964,10 +973,8 @@ mod tests {
     fn a_file_cut_short_under_its_draft_is_not_put_in_place() {
         let dir = std::env::temp_dir().join(format!("vibroatlas-cut-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };
-        let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
-        let y = Axis::parse("delta=0.1:1:40", "y").unwrap();
-        let m = maps::Meta { plane: Plane::new(x, y, Along::X).unwrap(), ..meta() };
+        let info = run_info();
+        let m = meta_on("omega=0.5:2:70", "delta=0.1:1:40");
         let p = m.plane.clone();
         let mut atlas = Atlas::new(m.clone());
         for l in 0..p.lines() {
