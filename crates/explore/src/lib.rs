@@ -9,7 +9,7 @@
 //! | `GET /` | the page (and its two assets, served from the binary) |
 //! | `GET /api/atlas` | grid, axes with symbols, sweeps, masses, views, label tables with colours |
 //! | `GET /api/map`, `/api/legend` | a view's colours per cell (bytes), its legend rows |
-//! | `GET /api/at` | one cell's stored labels, class and reason in every sweep (hover) |
+//! | `GET /api/at` | one cell's stored labels, class and reason (its text, and `reason_detail` with its numbers) in every sweep (hover) |
 //! | `GET /api/cell` | the object of `cell --from FILE --sweep S --at … --json` |
 //! | `GET /api/orbit` | the object of `orbit --from FILE --sweep S --at … --json` (Floquet multipliers) |
 //! | `GET /api/cell/portrait.png`, `/api/cell/sections.png` | the cell's pictures |
