@@ -7,8 +7,9 @@ use crate::run_safety::refused;
 use crate::util::{run, scratch};
 use std::path::{Path, PathBuf};
 
-/// The audit's atlas: both sweeps, with an unresolved cell in each (its
-/// reason in the sweep's `reason` table).
+/// The audit's atlas: both sweeps, with an unresolved cell (its reason in
+/// its sweep's `reason` table; in the down sweep since tori are told by
+/// their rotation number, issue 40).
 const PLANE: [&str; 7] =
     ["configs/multi-stop.toml", "--x", "omega=0.1:3:20", "--y", "delta=0.05:2:12", "--sweep", "both"];
 
@@ -53,8 +54,8 @@ fn texts_in_the_global_heap_carry_checksums_readers_verify() {
 
     let x = flipped(&a, &d.join("reason.h5"), b"no period within", 4);
     let x = x.to_str().unwrap();
-    refused(&["inspect", x], "up/reason: its texts do not match their checksum (attribute text_crc32)");
-    refused(&["cell", "configs/multi-stop.toml", "--from", x, "--at", "omega=1,delta=1"], "up/reason");
+    refused(&["inspect", x], "/reason: its texts do not match their checksum (attribute text_crc32)");
+    refused(&["cell", "configs/multi-stop.toml", "--from", x, "--at", "omega=1,delta=1"], "/reason:");
 
     let scene = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("configs/multi-stop.toml")).unwrap();
     let line = scene.lines().find(|l| l.len() > 12 && !l.starts_with('#')).unwrap();
@@ -87,8 +88,8 @@ with h5py.File(sys.argv[1], "r") as f:
         assert crc(texts) == o.attrs["attributes_crc32"], o.name
 import xarray as xr
 for engine in ["h5netcdf", "netcdf4"]:
-    ds = xr.open_dataset(sys.argv[1], group="up", engine=engine)
-    assert "no period within" in str(ds.reason.values[0]), engine
+    reasons = [str(r) for g in ["up", "down"] for r in xr.open_dataset(sys.argv[1], group=g, engine=engine).reason.values]
+    assert any("no period within" in r for r in reasons), engine
     root = xr.open_dataset(sys.argv[1], engine=engine)
     assert root.attrs["sweeps"] == "up,down", engine
 print("ok")
@@ -111,7 +112,8 @@ print("ok")
 }
 
 /// Reasons are stored with their numbers (issue 38): the entry of
-/// `reason_detail` of a sweep's first unresolved cell, read with h5py and
+/// `reason_detail` of each sweep's first unresolved cell (a sweep without
+/// one has neither reasons nor details), read with h5py and
 /// Python's own JSON, is the `reason_detail` that `cell --from` gives when it
 /// simulates that cell again (from the same start, to the same numbers), its
 /// text that cell's `reason`; the details carry the documented CRC-32.
@@ -125,6 +127,9 @@ import sys, json, struct, zlib, h5py, numpy as np
 with h5py.File(sys.argv[1], "r") as f:
     for sweep in ["up", "down"]:
         g = f[sweep]
+        if "reason_detail" not in g:
+            assert len(g["reason"]) == 0, sweep
+            continue
         c = 0
         for b in g["reason_detail"][()]:
             c = zlib.crc32(struct.pack("<Q", len(b)) + b, c)
@@ -136,7 +141,7 @@ with h5py.File(sys.argv[1], "r") as f:
                           "detail": json.loads(g["reason_detail"][k]), "text": g["reason"][k].decode()}))
 "#;
     let found = python(FIRST_U, &[f]);
-    assert_eq!(found.lines().count(), 2, "{found}");
+    assert!(found.lines().count() >= 1, "no sweep with an unresolved cell: {found}");
     for line in found.lines() {
         let stored: serde_json::Value = serde_json::from_str(line).unwrap();
         let (sweep, at) = (stored["sweep"].as_str().unwrap(), stored["at"].as_str().unwrap());
