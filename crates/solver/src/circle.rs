@@ -163,18 +163,16 @@ const QUARTER: usize = 100;
 /// Whether section points that lie on no closed curve in their principal
 /// plane (a curve that winds about or through its centroid in that
 /// projection, or of many loops) lie on a torus by their rotation number
-/// alone: at least 4 × [`QUARTER`] points, whose rotation number has
-/// converged within `tol`, [`TORUS_GAIN`] times better than that of their
-/// last quarter, and is not locked at a fraction ([`Rotation::locked`]).
-pub(crate) fn turns_on_torus(points: &[DVector<f64>], tol: f64) -> bool {
+/// alone (`all`, [`Rotation::of`] the points): at least 4 × [`QUARTER`]
+/// points, whose rotation number has converged within `tol`,
+/// [`TORUS_GAIN`] times better than that of their last quarter, and is not
+/// locked at a fraction ([`Rotation::locked`]).
+pub(crate) fn turns_on_torus(all: &Rotation, points: &[DVector<f64>], tol: f64) -> bool {
     let n = points.len();
-    if n < 4 * QUARTER {
-        return false;
-    }
-    let (Some(all), Some(quarter)) = (Rotation::of(points), Rotation::of(&points[n - n / 4..])) else {
-        return false;
-    };
-    all.error <= tol && all.error * TORUS_GAIN <= quarter.error && all.locked().is_none()
+    n >= 4 * QUARTER
+        && all.error <= tol
+        && all.locked().is_none()
+        && Rotation::of(&points[n - n / 4..]).is_some_and(|quarter| all.error * TORUS_GAIN <= quarter.error)
 }
 
 /// Most loops of a torus's section that [`torus_loops`] looks for.
@@ -289,6 +287,11 @@ mod tests {
         assert_eq!(torus_loops(&points, 1e-4), None);
     }
 
+    /// [`turns_on_torus`] of `points` with the tolerance of the executor.
+    fn on_torus(points: &[DVector<f64>]) -> bool {
+        Rotation::of(points).is_some_and(|all| turns_on_torus(&all, points, 1e-4))
+    }
+
     /// `k` iterates of the logistic map at 4 (chaotic) from 0.123.
     fn logistic(k: usize) -> impl Iterator<Item = f64> {
         std::iter::successors(Some(0.123_f64), |x| Some(4.0 * x * (1.0 - x))).skip(1).take(k)
@@ -318,13 +321,13 @@ mod tests {
         assert_eq!(torus_loops(&torus, 1e-4), None);
         let r = Rotation::of(&torus).unwrap();
         assert!(r.error < 1e-9 && r.locked().is_none(), "{r:?}");
-        assert!(turns_on_torus(&torus, 1e-4));
-        assert!(!turns_on_torus(&torus[..399], 1e-4));
+        assert!(on_torus(&torus));
+        assert!(!on_torus(&torus[..399]));
         let locked = looped(2.0 / 7.0, 1600);
         assert_eq!(Rotation::of(&locked).unwrap().locked().map(|(p, q)| (p.rem_euclid(7), q)), Some((2, 7)));
-        assert!(!turns_on_torus(&locked, 1e-4));
+        assert!(!on_torus(&locked));
         let chaos: Vec<DVector<f64>> = logistic(1600).map(|x| on_loops(TAU * x)).collect();
-        assert!(!turns_on_torus(&chaos, 1e-4));
+        assert!(!on_torus(&chaos));
         // The torus with a little chaos in its angle: an average converged
         // within the tolerance, but only like K^(-1/2).
         let noisy: Vec<DVector<f64>> = logistic(1600)
@@ -333,7 +336,7 @@ mod tests {
             .collect();
         let r = Rotation::of(&noisy).unwrap();
         assert!(r.error < 1e-4, "{r:?}");
-        assert!(!turns_on_torus(&noisy, 1e-4));
+        assert!(!on_torus(&noisy));
     }
 
     /// A rotation number is locked at the fraction of least denominator near

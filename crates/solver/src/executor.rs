@@ -735,7 +735,8 @@ impl<'s> Executor<'s> {
             }
             if last {
                 let rotation = Rotation::of(&e.points);
-                if torus_loops(&e.points, ROTATION_TOL).is_some() || turns_on_torus(&e.points, ROTATION_TOL) {
+                let alone = rotation.is_some_and(|r| turns_on_torus(&r, &e.points, ROTATION_TOL));
+                if alone || torus_loops(&e.points, ROTATION_TOL).is_some() {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
                 let why = Unresolved::Undecided { growth, rotation };

@@ -506,20 +506,28 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::
 /// distinct reasons (a string coordinate of their texts, sorted; empty when
 /// every cell is resolved), beside it each reason with its numbers
 /// ([`REASON_DETAIL`], JSON; where some reason has numbers), and per cell an
-/// index into it (-1: resolved, or not computed). Two reasons whose texts agree but whose numbers do not
-/// (the text rounds them) are two entries of the same text.
+/// index into it (-1: resolved, or not computed). Two reasons whose texts
+/// agree but whose numbers do not (the text rounds them) are two entries of
+/// the same text.
 fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<()> {
-    let encode = |r: &solver::Unresolved| {
-        serde_json::to_string(r).map_err(|e| hdf5::Error::from(format!("a reason as JSON: {e}").as_str()))
-    };
+    // Each cell's reason as JSON, once.
+    let encoded: Vec<Option<String>> = cells
+        .iter()
+        .map(|c| {
+            let reason = c.as_ref().and_then(|c| c.reason.as_ref());
+            reason.map(serde_json::to_string).transpose()
+        })
+        .collect::<Result<_, _>>()
+        .map_err(|e| hdf5::Error::from(format!("a reason as JSON: {e}").as_str()))?;
+    let reasons = cells.iter().zip(&encoded).filter_map(|(c, e)| Some((c.as_ref()?.reason.as_ref()?, e.as_deref()?)));
     let mut table = std::collections::BTreeSet::new();
     let mut numbers = false;
-    for r in cells.iter().flatten().filter_map(|c| c.reason.as_ref()) {
+    for (r, e) in reasons {
         numbers |= !matches!(r, solver::Unresolved::Described { .. });
-        table.insert((r.to_string(), encode(r)?));
+        table.insert((r.to_string(), e));
     }
-    let (texts, details): (Vec<String>, Vec<String>) = table.into_iter().unzip();
-    let index: HashMap<&str, i32> = details.iter().enumerate().map(|(i, t)| (t.as_str(), i as i32)).collect();
+    let index: HashMap<&str, i32> = table.iter().enumerate().map(|(i, (_, e))| (*e, i as i32)).collect();
+    let (texts, details): (Vec<String>, Vec<String>) = table.iter().map(|(t, e)| (t.clone(), e.to_string())).unzip();
     let reason_dim = netcdf::labels(g, REASON, &texts, "why cells are unresolved")?;
     z.expected.texts(&reason_dim, &texts);
     // Only reasons with numbers have a detail to add: a sweep without one
@@ -532,12 +540,7 @@ fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &D
         z.expected.texts(&detail, &details);
     }
     let (ny, nx) = (grid.y.size(), grid.x.size());
-    let mut code = Array2::from_elem((ny, nx), -1);
-    for ((iy, ix), c) in code.indexed_iter_mut() {
-        if let Some(r) = cells[iy * nx + ix].as_ref().and_then(|c| c.reason.as_ref()) {
-            *c = index[encode(r)?.as_str()];
-        }
-    }
+    let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| encoded[iy * nx + ix].as_deref().map_or(-1, |e| index[e]));
     let d = z.dataset(g, REASON_CODE, &code)?;
     netcdf::dims(&d, &[&grid.y, &grid.x])?;
     netcdf::describe(
@@ -747,6 +750,13 @@ mod tests {
         }
     }
 
+    /// A fresh scratch folder of a test (`vibroatlas-NAME-PID`).
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
     /// The run of a test's files.
     fn run_info() -> RunInfo {
         RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None }
@@ -797,8 +807,7 @@ mod tests {
     /// make a file that passes the whole-file check); along x and along y.
     #[test]
     fn kept_lines_and_the_end_write_the_same_cells() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-keep-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("keep");
         let info = run_info();
         for along in [Along::X, Along::Y] {
             let x = Axis::parse("omega=0.5:2:70", "x").unwrap();
@@ -880,8 +889,7 @@ mod tests {
     /// the details of all, each read back as it was.
     #[test]
     fn reasons_without_numbers_are_written_as_before() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-reasons-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("reasons");
         let info = run_info();
         let m = meta_on("omega=0.5:2:4", "delta=0.1:0.2:2");
         let described = |text: &str| solver::Unresolved::Described { text: text.into() };
@@ -915,8 +923,7 @@ mod tests {
     /// change to the file it was to replace; finished, it replaces it.
     #[test]
     fn an_unfinished_draft_leaves_the_target_as_it_was() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-draft-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("draft");
         let out = dir.join("a.h5");
         std::fs::write(&out, "the previous file").unwrap();
         let draft = Draft::create(&out, &meta(), 2).unwrap();
@@ -949,8 +956,7 @@ mod tests {
     /// system's words, naming the file, on one line (not the library's text).
     #[test]
     fn a_file_removed_under_its_draft_says_so_plainly() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-removed-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("removed");
         let info = run_info();
         let out = dir.join("o.h5");
         let draft = Draft::create(&out, &meta(), 1).unwrap();
@@ -971,8 +977,7 @@ mod tests {
     /// dataset that failed, and nothing is put under the final name.
     #[test]
     fn a_file_cut_short_under_its_draft_is_not_put_in_place() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-cut-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = scratch("cut");
         let info = run_info();
         let m = meta_on("omega=0.5:2:70", "delta=0.1:1:40");
         let p = m.plane.clone();
