@@ -21,7 +21,9 @@
 //! in seed order, so the result is the same on any number of threads; the
 //! threads trace seeds of later batches while a batch's slowest curve
 //! finishes (speculatively: a seed that the batches before it turn out to
-//! cross is dropped), so that no core waits for it.
+//! cross is dropped), so that no core waits for it; a seed that a curve
+//! already traced before it crosses is put off until its batch is the next
+//! to commit, where it is most likely skipped, not traced in vain.
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
@@ -170,11 +172,10 @@ pub fn find(
     let run = Run { all: &all, max: seeding.max, cell: [dx, dy], progress };
     let state = std::sync::Mutex::new(Schedule::new(total));
     let advanced = std::sync::Condvar::new();
-    let next = std::sync::atomic::AtomicUsize::new(0);
     let trace_one = |s: &Seed| trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y);
     pool.scope(|scope| {
         for _ in 0..seeding.threads.max(1) {
-            scope.spawn(|_| run.worker(&state, &advanced, &next, &trace_one));
+            scope.spawn(|_| run.worker(&state, &advanced, &trace_one));
         }
     });
     let state = state.into_inner().unwrap_or_else(|p| p.into_inner());
@@ -210,6 +211,12 @@ struct Schedule {
     committed: usize,
     /// Seeds decided (skipped or traced).
     decided: usize,
+    /// The next seed not yet taken.
+    next: usize,
+    /// Seeds of later batches put off because a curve traced before them
+    /// crosses them (their batch's commit will most likely skip them): taken
+    /// up once their batch is the next to commit.
+    deferred: Vec<usize>,
     /// `max` curves are kept: nothing more is traced.
     finished: bool,
 }
@@ -221,8 +228,20 @@ impl Schedule {
             states: (0..total).map(|_| SeedState::Pending).collect(),
             committed: 0,
             decided: 0,
+            next: 0,
+            deferred: Vec::new(),
             finished: false,
         }
+    }
+
+    /// Whether a curve committed, or traced from a seed before `i` of a
+    /// batch not yet committed, crosses `seed` (the `i`-th).
+    fn crossed(&self, i: usize, seed: &Seed) -> bool {
+        let traced = self.states[(self.committed * BATCH).min(i)..i].iter().filter_map(|s| match s {
+            SeedState::Traced(Some(c)) if c.points.len() >= MIN_POINTS => Some(c),
+            _ => None,
+        });
+        self.found.curves.iter().chain(traced).any(|c| crosses(c, seed))
     }
 }
 
@@ -235,42 +254,65 @@ struct Run<'a> {
 }
 
 impl Run<'_> {
-    /// Takes seeds in order, traces those no committed curve crosses, and
-    /// commits every batch whose seeds are all decided. A seed whose batch
-    /// follows the committed ones directly is decided on the committed
-    /// curves (skipped when one crosses it); one further ahead is traced
-    /// speculatively (its batch's commit drops it if a curve crosses it), at
-    /// most [`AHEAD`] batches ahead.
+    /// The next seed a worker traces, or `None` when none is left: a seed
+    /// put off whose batch is now the next to commit, else the next seed
+    /// in order, at most [`AHEAD`] batches ahead of the last committed
+    /// (waiting until the commits reach it). A seed of a later batch that a
+    /// curve traced before it crosses is put off (not traced now: its
+    /// batch's commit most likely skips it). A seed of the batch next to
+    /// commit that a committed curve crosses is skipped.
+    fn take(&self, state: &std::sync::Mutex<Schedule>, advanced: &std::sync::Condvar) -> Option<usize> {
+        let mut st = state.lock().unwrap_or_else(|p| p.into_inner());
+        loop {
+            if st.finished {
+                return None;
+            }
+            let current = st.committed;
+            let i = match st.deferred.iter().position(|&j| j / BATCH <= current) {
+                Some(k) => st.deferred.swap_remove(k),
+                None if st.next >= self.all.len() && st.deferred.is_empty() => return None,
+                None if st.next >= self.all.len() || st.next / BATCH > current + AHEAD => {
+                    st = advanced.wait(st).unwrap_or_else(|p| p.into_inner());
+                    continue;
+                }
+                None => {
+                    st.next += 1;
+                    let i = st.next - 1;
+                    if i / BATCH > current && st.crossed(i, &self.all[i]) {
+                        st.deferred.push(i);
+                        continue;
+                    }
+                    i
+                }
+            };
+            if i / BATCH == current && st.found.curves.iter().any(|c| crosses(c, &self.all[i])) {
+                st.states[i] = SeedState::Skipped;
+                st.decided += 1;
+                self.commit(&mut st);
+                advanced.notify_all();
+                continue;
+            }
+            return Some(i);
+        }
+    }
+
+    /// Takes seeds ([`Run::take`]), traces them, and commits every batch
+    /// whose seeds are all decided. A seed of a batch after the next to
+    /// commit is traced speculatively (its batch's commit drops it if a
+    /// curve committed before crosses it).
     fn worker(
         &self,
         state: &std::sync::Mutex<Schedule>,
         advanced: &std::sync::Condvar,
-        next: &std::sync::atomic::AtomicUsize,
         trace_one: &(dyn Fn(&Seed) -> Option<Curve> + Sync),
     ) {
         let lock = || state.lock().unwrap_or_else(|p| p.into_inner());
         loop {
-            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let Some(seed) = self.all.get(i) else { return };
-            let batch = i / BATCH;
-            {
-                let mut st = lock();
-                while !st.finished && batch > st.committed + AHEAD {
-                    st = advanced.wait(st).unwrap_or_else(|p| p.into_inner());
-                }
-                if st.finished {
-                    advanced.notify_all();
-                    return;
-                }
-                if batch == st.committed && st.found.curves.iter().any(|c| crosses(c, seed)) {
-                    st.states[i] = SeedState::Skipped;
-                    st.decided += 1;
-                    self.commit(&mut st);
-                    advanced.notify_all();
-                    continue;
-                }
-            }
-            let curve = trace_one(seed);
+            let Some(i) = self.take(state, advanced) else {
+                advanced.notify_all();
+                return;
+            };
+            let curve = trace_one(&self.all[i]);
             let mut st = lock();
             st.states[i] = SeedState::Traced(curve);
             st.decided += 1;
