@@ -47,10 +47,25 @@ pub const DEFAULT_SECTION_CAP: usize = 16;
 /// every legend and label table.
 pub fn label_counts<'a>(cells: impl IntoIterator<Item = &'a CellData>, mass: usize) -> Vec<(Label, u64)> {
     let mut counts: HashMap<Label, u64> = HashMap::new();
-    for c in cells {
-        *counts.entry(c.labels[mass]).or_default() += 1;
+    for (l, n) in runs(cells.into_iter().map(|c| c.labels[mass])) {
+        *counts.entry(l).or_default() += n;
     }
     by_frequency(counts, Label::to_string)
+}
+
+/// The runs of equal neighbours of `items`: each value and how many times it
+/// repeats where it stands. Neighbouring cells of a map mostly share a label,
+/// so counting or collecting labels run by run hashes far fewer of them.
+pub fn runs<T: PartialEq>(items: impl IntoIterator<Item = T>) -> impl Iterator<Item = (T, u64)> {
+    let mut items = items.into_iter().peekable();
+    std::iter::from_fn(move || {
+        let first = items.next()?;
+        let mut n = 1;
+        while items.next_if(|next| *next == first).is_some() {
+            n += 1;
+        }
+        Some((first, n))
+    })
 }
 
 /// Counts most frequent first, ties in the order of `key` (the text a
@@ -59,4 +74,22 @@ pub fn by_frequency<K, S: Ord>(counts: impl IntoIterator<Item = (K, u64)>, key: 
     let mut v: Vec<(K, u64)> = counts.into_iter().collect();
     v.sort_by_cached_key(|(k, n)| (std::cmp::Reverse(*n), key(k)));
     v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Runs are maximal: they put back the sequence, and no two neighbouring
+    /// runs hold the same value.
+    #[test]
+    fn runs_are_the_maximal_runs_of_equal_neighbours() {
+        let seq = [3, 3, 1, 1, 1, 3, 2, 2, 3];
+        let r: Vec<(i32, u64)> = runs(seq).collect();
+        assert_eq!(r, [(3, 2), (1, 3), (3, 1), (2, 2), (3, 1)]);
+        let back: Vec<i32> = r.iter().flat_map(|&(v, n)| std::iter::repeat_n(v, n as usize)).collect();
+        assert_eq!(back, seq);
+        assert_eq!(runs(std::iter::empty::<i32>()).count(), 0);
+        assert_eq!(runs([7]).collect::<Vec<_>>(), [(7, 1)]);
+    }
 }

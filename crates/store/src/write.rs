@@ -453,7 +453,8 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::
     netcdf::attr_str(&d, "long_name", "colour of each label in vibroatlas figures (RGB, 0-255)")?;
     let codes: Vec<i16> = (0..table.len() as i16).collect();
     for (mi, mass) in m.masses.iter().enumerate() {
-        let code = Array2::from_shape_fn((ny, nx), |(iy, ix)| labels.code[&label_at(mi, iy * nx + ix)]);
+        let code = Array2::from_shape_vec((ny, nx), labels.codes((0..cells.len()).map(|i| label_at(mi, i))))
+            .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
         let d = z.dataset(g, &label_code(mass), &code)?;
         netcdf::dims(&d, &[&grid.y, &grid.x])?;
         netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
@@ -641,7 +642,8 @@ struct LabelTable {
 impl LabelTable {
     /// The table of the labels `labels` (each once).
     fn of(labels: impl Iterator<Item = Option<Label>>) -> LabelTable {
-        let mut labels: Vec<Option<Label>> = labels.collect::<HashSet<_>>().into_iter().collect();
+        let labels: HashSet<Option<Label>> = maps::runs(labels).map(|(l, _)| l).collect();
+        let mut labels: Vec<Option<Label>> = labels.into_iter().collect();
         let count = |c: Count| match c {
             Count::Impacts(k) => k,
             Count::Stuck => u32::MAX,
@@ -655,6 +657,11 @@ impl LabelTable {
         });
         let code = labels.iter().enumerate().map(|(i, l)| (*l, i as i16)).collect();
         LabelTable { labels, code }
+    }
+
+    /// The code of each of `labels` (each in the table), in order.
+    fn codes(&self, labels: impl Iterator<Item = Option<Label>>) -> Vec<i16> {
+        maps::runs(labels).flat_map(|(l, n)| std::iter::repeat_n(self.code[&l], n as usize)).collect()
     }
 
     /// Writes the table as the `label` coordinate of `g` (`not-computed` for
@@ -682,10 +689,12 @@ fn write_section<'a>(
 ) -> hdf5::Result<()> {
     let cols = columns.size();
     let s = g.create_group(name)?;
-    let mut offsets = vec![0u64];
-    let mut values: Vec<f64> = Vec::new();
+    let cells: Vec<&[Vec<f64>]> = cells.map(Option::unwrap_or_default).collect();
+    let mut offsets = Vec::with_capacity(cells.len() + 1);
+    offsets.push(0u64);
+    let mut values: Vec<f64> = Vec::with_capacity(cells.iter().map(|rows| rows.len()).sum::<usize>() * cols);
     for rows in cells {
-        for r in rows.unwrap_or(&[]) {
+        for r in rows {
             values.extend_from_slice(r);
         }
         offsets.push((values.len() / cols) as u64);
