@@ -95,14 +95,14 @@ impl Expected {
         self.push(ds, hash_texts(stored.iter().map(String::as_str)), values.len(), read_texts);
     }
 
-    /// Reads every dataset noted back from `f`: each dataset's path and the
+    /// Reads every dataset noted back from `f`: each dataset and the
     /// [`values_crc32`] of what it read, or the first that reads back
     /// otherwise than written (`failed`: the error naming it).
     pub(crate) fn read_back(
         &self,
         f: &hdf5::File,
         failed: impl Fn(&str, String) -> StoreError,
-    ) -> Result<Vec<(String, u32)>, StoreError> {
+    ) -> Result<Vec<(Dataset, u32)>, StoreError> {
         let entries = self.entries.lock().unwrap_or_else(|p| p.into_inner());
         let mut crcs = Vec::with_capacity(entries.len());
         for e in entries.iter() {
@@ -114,7 +114,7 @@ impl Expected {
             if read.hash != e.hash {
                 return Err(failed(&e.path, "its values differ from those written".into()));
             }
-            crcs.push((e.path.clone(), read.crc));
+            crcs.push((ds, read.crc));
         }
         Ok(crcs)
     }
@@ -140,14 +140,25 @@ pub(crate) fn bytes_of<T: Copy>(values: &[T]) -> &[u8] {
 }
 
 /// A 64-bit hash of `bytes` (words multiplied and rotated in: not for
-/// adversaries, for a file that changed under its writer).
+/// adversaries, for a file that changed under its writer). Four lanes take
+/// every fourth word, so that their multiplications overlap; each step is
+/// one-to-one in the word, so a change of one word changes its lane, and the
+/// lanes are folded in one-to-one too.
 fn hash(bytes: &[u8]) -> u64 {
     const PRIME: u64 = 0x0000_0100_0000_01b3;
-    let mut h = 0xcbf2_9ce4_8422_2325 ^ bytes.len() as u64;
-    let mut words = bytes.chunks_exact(8);
+    let step = |h: u64, word: u64| (h ^ word).wrapping_mul(PRIME).rotate_left(29);
+    let word = |w: &[u8]| u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]]);
+    let mut lanes = [0xcbf2_9ce4_8422_2325 ^ bytes.len() as u64, 1, 2, 3];
+    let mut blocks = bytes.chunks_exact(32);
+    for b in blocks.by_ref() {
+        for (k, lane) in lanes.iter_mut().enumerate() {
+            *lane = step(*lane, word(&b[8 * k..]));
+        }
+    }
+    let mut h = lanes.into_iter().fold(0, step);
+    let mut words = blocks.remainder().chunks_exact(8);
     for w in words.by_ref() {
-        let word = u64::from_le_bytes([w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7]]);
-        h = (h ^ word).wrapping_mul(PRIME).rotate_left(29);
+        h = step(h, word(w));
     }
     for &b in words.remainder() {
         h = (h ^ u64::from(b)).wrapping_mul(PRIME);
@@ -192,12 +203,19 @@ mod tests {
     fn the_hash_sees_every_byte_and_the_length() {
         let a: Vec<u8> = (0..=255).collect();
         let h = hash(&a);
-        for i in [0, 7, 8, 100, 255] {
+        for i in [0, 7, 8, 31, 32, 100, 255] {
             let mut b = a.clone();
             b[i] ^= 1;
             assert_ne!(hash(&b), h, "byte {i}");
         }
         assert_ne!(hash(&a[..255]), h);
+        // Words swapped between lanes, and a block's words in another order.
+        let mut swapped = a.clone();
+        swapped[..16].rotate_left(8);
+        assert_ne!(hash(&swapped), h);
+        let mut moved = a.clone();
+        moved.rotate_left(32);
+        assert_ne!(hash(&moved), h);
         assert_ne!(hash_texts(["ab", "c"].into_iter()), hash_texts(["a", "bc"].into_iter()));
     }
 }

@@ -28,14 +28,14 @@ fn unverified(path: &Path, dataset: &str, message: String) -> StoreError {
 
 /// Reads the closed file `tmp` (to be renamed to `path`) back: the per-cell
 /// datasets of `atlas`'s sweeps against the atlas, every other dataset
-/// against `expected`. Returns each dataset's path and the
+/// against `expected`. Returns each dataset (open) and the
 /// [`values_crc32`] of what it read.
 pub(crate) fn file(
     tmp: &Path,
     path: &Path,
     atlas: &Atlas,
     expected: &Expected,
-) -> Result<Vec<(String, u32)>, StoreError> {
+) -> Result<Vec<(hdf5::Dataset, u32)>, StoreError> {
     let f = hdf5::File::open(tmp).map_err(|e| unverified(path, "/", crate::error::plain(&e)))?;
     datasets(&f, path, atlas, expected)
 }
@@ -46,7 +46,7 @@ pub(crate) fn datasets(
     path: &Path,
     atlas: &Atlas,
     expected: &Expected,
-) -> Result<Vec<(String, u32)>, StoreError> {
+) -> Result<Vec<(hdf5::Dataset, u32)>, StoreError> {
     let failed = |dataset: &str, message: String| unverified(path, dataset, message);
     let m = &atlas.meta;
     let mut crcs = Vec::new();
@@ -55,7 +55,7 @@ pub(crate) fn datasets(
             let name = format!("{}/{}", map.sweep.name(), field.name(m));
             let ds = f.dataset(&name).map_err(|e| failed(&name, crate::error::plain(&e)))?;
             match field.compare(m, &ds, &map.cells) {
-                Ok(Some(crc)) => crcs.push((ds.name(), crc)),
+                Ok(Some(crc)) => crcs.push((ds, crc)),
                 Ok(None) => return Err(failed(&name, "its values differ from those written".into())),
                 Err(e) => return Err(failed(&name, crate::error::plain(&e))),
             }
@@ -65,21 +65,22 @@ pub(crate) fn datasets(
     Ok(crcs)
 }
 
-/// Writes each dataset's `values_crc32` (see [`file`]) into the closed file
-/// `tmp`, read back and verified.
-pub(crate) fn seal_values(tmp: &Path, path: &Path, crcs: &[(String, u32)]) -> Result<(), StoreError> {
+/// Reads the closed file `tmp` back as [`file`] does and writes each
+/// dataset's `values_crc32` into it, in one opening: the values verified are
+/// the values sealed.
+pub(crate) fn file_sealed(tmp: &Path, path: &Path, atlas: &Atlas, expected: &Expected) -> Result<(), StoreError> {
     let f = hdf5::File::open_rw(tmp).map_err(|e| unverified(path, "/", crate::error::plain(&e)))?;
-    seal_in(&f, path, crcs)
+    let crcs = datasets(&f, path, atlas, expected)?;
+    seal_in(&f, path, &crcs)
 }
 
-/// [`seal_values`] into the open file `f`.
-pub(crate) fn seal_in(f: &hdf5::File, path: &Path, crcs: &[(String, u32)]) -> Result<(), StoreError> {
-    let failed = |dataset: &str, message: String| unverified(path, dataset, message);
+/// Writes each dataset's `values_crc32` (see [`file`]) into the open file
+/// `f` whose datasets they are.
+pub(crate) fn seal_in(f: &hdf5::File, path: &Path, crcs: &[(hdf5::Dataset, u32)]) -> Result<(), StoreError> {
     let run = run_of(f);
-    for (name, crc) in crcs {
-        let ds = f.dataset(name).map_err(|e| failed(name, crate::error::plain(&e)))?;
-        crate::netcdf::attr_num(&ds, crate::layout::attr::VALUES_CRC32, of_run(*crc, run))
-            .map_err(|e| failed(name, crate::error::plain(&e)))?;
+    for (ds, crc) in crcs {
+        crate::netcdf::attr_num(ds, crate::layout::attr::VALUES_CRC32, of_run(*crc, run))
+            .map_err(|e| unverified(path, &ds.name(), crate::error::plain(&e)))?;
     }
     Ok(())
 }
