@@ -171,7 +171,12 @@ impl Draft {
         // are closed first.
         self.sweeps.clear();
         drop(f);
-        crate::verify::file_sealed(&self.tmp, &self.path, atlas, &self.z.expected)?;
+        // The file's data goes to the disk while it is read back (from the
+        // page cache): the sync before the rename then finds little to write.
+        std::thread::scope(|s| {
+            s.spawn(|| std::fs::File::open(&self.tmp).and_then(|f| f.sync_data()));
+            crate::verify::file_sealed(&self.tmp, &self.path, atlas, &self.z.expected)
+        })?;
         crate::commit(&self.tmp, &self.path)?;
         self.committed = true;
         Ok(())
