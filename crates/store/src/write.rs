@@ -801,6 +801,20 @@ mod tests {
         }
     }
 
+    /// The up sweep of `m` with every line computed, each cell [`cell`].
+    fn every_cell(m: maps::Meta) -> Atlas {
+        let p = m.plane.clone();
+        let mut atlas = Atlas::new(m);
+        for l in 0..p.lines() {
+            let cells = (0..p.line_len()).map(|pos| {
+                let (iy, ix) = p.cell(l, pos);
+                cell(iy * p.x.count + ix)
+            });
+            atlas.insert(maps::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
+        }
+        atlas
+    }
+
     /// A reason with numbers of cell `i`: distances that one text rounds
     /// alike (1.0e-7 for every odd cell, two table entries of one text),
     /// infinite ones, nested and failed reasons.
@@ -905,14 +919,7 @@ mod tests {
         let dir = scratch("read-back");
         let m = meta_on("omega=0.5:2:9", "delta=0.1:1:7");
         let p = m.plane.clone();
-        let mut atlas = Atlas::new(m);
-        for l in 0..p.lines() {
-            let cells = (0..p.line_len()).map(|pos| {
-                let (iy, ix) = p.cell(l, pos);
-                cell(iy * p.x.count + ix)
-            });
-            atlas.insert(maps::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
-        }
+        let atlas = every_cell(m);
         let path = dir.join("a.h5");
         write(&path, &atlas, &run_info(), 2).unwrap();
         let none = crate::checksum::Expected::default();
@@ -1033,14 +1040,7 @@ mod tests {
         let info = run_info();
         let m = meta_on("omega=0.5:2:70", "delta=0.1:1:40");
         let p = m.plane.clone();
-        let mut atlas = Atlas::new(m.clone());
-        for l in 0..p.lines() {
-            let cells = (0..p.line_len()).map(|pos| {
-                let (iy, ix) = p.cell(l, pos);
-                cell(iy * p.x.count + ix)
-            });
-            atlas.insert(maps::Line { sweep: SweepKind::Up, index: l, cells: cells.collect() });
-        }
+        let atlas = every_cell(m.clone());
         let out = dir.join("cut.h5");
         let mut draft = Draft::create(&out, &m, 2).unwrap();
         for l in 0..p.lines() {
