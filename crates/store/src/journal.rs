@@ -75,15 +75,9 @@ pub struct Sealer {
 impl Sealer {
     /// The sealed text of `line`.
     pub fn seal(&self, line: &Line) -> Result<SealedLine, StoreError> {
-        let fmt = |e: serde_json::Error| StoreError::format(&self.path, e.to_string());
-        let inner = serde_json::to_string(&encode(line)).map_err(fmt)?;
-        let sealed = Sealed {
-            checksum: seal(&self.fingerprint, &inner),
-            line: serde_json::value::RawValue::from_string(inner).map_err(fmt)?,
-        };
-        let mut text = serde_json::to_vec(&sealed).map_err(fmt)?;
-        text.push(b'\n');
-        Ok(SealedLine(text))
+        let inner = serde_json::to_string(&encode(line))
+            .map_err(|e: serde_json::Error| StoreError::format(&self.path, e.to_string()))?;
+        Ok(SealedLine(sealed_text(&seal(&self.fingerprint, &inner), &inner)))
     }
 }
 
@@ -95,14 +89,31 @@ pub struct Journal {
     fingerprint: String,
 }
 
+/// The text of [`Sealed`] `{ checksum, line }` as serde_json writes it
+/// (`line` the JSON text of a line), and the newline: written directly, not
+/// through [`serde_json::value::RawValue`], which would parse the line's text
+/// again.
+fn sealed_text(checksum: &str, line: &str) -> Vec<u8> {
+    let mut text = Vec::with_capacity(line.len() + checksum.len() + 26);
+    text.extend_from_slice(b"{\"checksum\":\"");
+    text.extend_from_slice(checksum.as_bytes());
+    text.extend_from_slice(b"\",\"line\":");
+    text.extend_from_slice(line.as_bytes());
+    text.extend_from_slice(b"}\n");
+    text
+}
+
+/// The 64-bit FNV-1a hash `h` continued with `bytes`.
+fn fnv1a(h: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(h, |h, &b| (h ^ u64::from(b)).wrapping_mul(0x100000001b3))
+}
+
+/// The 64-bit FNV-1a hash's starting value.
+const FNV_OFFSET: u64 = 0xcbf29ce484222325;
+
 /// 64-bit FNV-1a hash of a text, as hex.
 pub fn fingerprint(text: &str) -> String {
-    let mut h: u64 = 0xcbf29ce484222325;
-    for b in text.bytes() {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x100000001b3);
-    }
-    format!("{h:016x}")
+    format!("{:016x}", fnv1a(FNV_OFFSET, text.as_bytes()))
 }
 
 fn encode(line: &Line) -> JLine {
@@ -183,7 +194,8 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
 
 /// Checksum of a line's JSON text within the run `fingerprint`.
 fn seal(fingerprint_: &str, text: &str) -> String {
-    fingerprint(&format!("{fingerprint_}\n{text}"))
+    let h = [fingerprint_.as_bytes(), b"\n", text.as_bytes()].into_iter().fold(FNV_OFFSET, fnv1a);
+    format!("{h:016x}")
 }
 
 impl Journal {
@@ -294,5 +306,29 @@ impl Journal {
     /// The journal's path.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A line sealed directly is the text serde_json writes for [`Sealed`],
+    /// and its checksum is the FNV-1a hash of the fingerprint, a newline and
+    /// the line's text, as journals have always held it.
+    #[test]
+    fn a_sealed_line_is_what_serde_writes_with_the_same_checksum() {
+        let line = r#"{"sweep":"up","index":3,"cells":[{"class":0,"final_state":[0.5,-1e-300]}]}"#;
+        let checksum = seal("0123456789abcdef", line);
+        assert_eq!(checksum, fingerprint(&format!("0123456789abcdef\n{line}")));
+        let sealed = Sealed {
+            checksum: checksum.clone(),
+            line: serde_json::value::RawValue::from_string(line.to_string()).unwrap(),
+        };
+        let mut want = serde_json::to_vec(&sealed).unwrap();
+        want.push(b'\n');
+        assert_eq!(String::from_utf8(sealed_text(&checksum, line)).unwrap(), String::from_utf8(want).unwrap());
+        // FNV-1a's published value of "a".
+        assert_eq!(fingerprint("a"), "af63dc4c8601ec8c");
     }
 }
