@@ -94,13 +94,7 @@ pub struct Journal {
 /// through [`serde_json::value::RawValue`], which would parse the line's text
 /// again.
 fn sealed_text(checksum: &str, line: &str) -> Vec<u8> {
-    let mut text = Vec::with_capacity(line.len() + checksum.len() + 26);
-    text.extend_from_slice(b"{\"checksum\":\"");
-    text.extend_from_slice(checksum.as_bytes());
-    text.extend_from_slice(b"\",\"line\":");
-    text.extend_from_slice(line.as_bytes());
-    text.extend_from_slice(b"}\n");
-    text
+    [b"{\"checksum\":\"".as_slice(), checksum.as_bytes(), b"\",\"line\":", line.as_bytes(), b"}\n"].concat()
 }
 
 /// The 64-bit FNV-1a hash `h` continued with `bytes`.
