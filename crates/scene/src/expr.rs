@@ -104,13 +104,18 @@ impl Compiled {
         }
     }
 
-    /// Evaluates with the given parameter values; a non-finite result is an error.
-    pub fn eval(&self, values: &[f64], field: &str) -> Result<f64, SceneError> {
+    /// Evaluates with the given parameter values; a non-finite result is an
+    /// error naming the field `field()` (only called for an error: scenes are
+    /// evaluated for every cell and every orbit solve).
+    pub fn eval(&self, values: &[f64], field: impl FnOnce() -> String) -> Result<f64, SceneError> {
         let v = match self {
             Compiled::Value(v) => *v,
             Compiled::Expr { source, expr, vars } => {
                 let args: Vec<f64> = vars.iter().map(|&i| values[i]).collect();
-                expr.eval(&args).map_err(|e| SceneError::field(field, format!("cannot evaluate '{source}': {e}")))?
+                match expr.eval(&args) {
+                    Ok(v) => v,
+                    Err(e) => return Err(SceneError::field(field(), format!("cannot evaluate '{source}': {e}"))),
+                }
             }
         };
         if v.is_finite() {
@@ -120,7 +125,7 @@ impl Compiled {
                 Compiled::Value(_) => String::new(),
                 Compiled::Expr { source, .. } => format!(" ('{source}')"),
             };
-            Err(SceneError::field(field, format!("not a finite number{what}, got {v}")))
+            Err(SceneError::field(field(), format!("not a finite number{what}, got {v}")))
         }
     }
 }
@@ -388,11 +393,12 @@ mod tests {
         let list = vec!["a".to_string(), "mu_m".to_string()];
         let names = Names::new(&list);
         let c = Compiled::new(&Num::Expr("mu_m/(1-mu_m) + a".into()), &names, "f").unwrap();
-        let v = c.eval(&[2.0, 0.5], "f").unwrap();
+        let v = c.eval(&[2.0, 0.5], || "f".into()).unwrap();
         assert!((v - 3.0).abs() < 1e-15);
         let e = Compiled::new(&Num::Expr("delt".into()), &names, "masses[0].x0").unwrap_err();
         assert_eq!(e.to_string(), "masses[0].x0: unknown parameter 'delt' in expression 'delt'");
-        let value = |t: &str| Compiled::new(&Num::Expr(t.into()), &names, "f").and_then(|c| c.eval(&[2.0, 0.5], "f"));
+        let value =
+            |t: &str| Compiled::new(&Num::Expr(t.into()), &names, "f").and_then(|c| c.eval(&[2.0, 0.5], || "f".into()));
         assert!((value("1e-3").unwrap() - 1e-3).abs() < 1e-18);
         assert!((value("2.5E2 * a").unwrap() - 500.0).abs() < 1e-12);
         assert!((value("-1.5e-2 + mu_m").unwrap() - 0.485).abs() < 1e-15);
@@ -406,7 +412,7 @@ mod tests {
         assert!(valid_parameter_name("PI").is_err() && valid_parameter_name("sin").is_err());
         assert!(valid_parameter_name("a b").is_err() && valid_parameter_name("mu_m").is_ok());
         let c = Compiled::new(&Num::Expr("1/(1-mu_m)".into()), &names, "m").unwrap();
-        assert!(c.eval(&[0.0, 1.0], "m").is_err());
+        assert!(c.eval(&[0.0, 1.0], || "m".into()).is_err());
     }
 
     /// Issue 30: an expression longer than the limit is refused with one line
@@ -418,7 +424,9 @@ mod tests {
         let at_limit = format!("a{}", "+1".repeat((MAX_EXPRESSION_CHARS - 1) / 2));
         assert!(at_limit.chars().count() <= MAX_EXPRESSION_CHARS);
         let c = Compiled::new(&Num::Expr(at_limit.clone()), &names, "f").unwrap();
-        assert!((c.eval(&[1.0], "f").unwrap() - (1.0 + ((MAX_EXPRESSION_CHARS - 1) / 2) as f64)).abs() < 1e-9);
+        assert!(
+            (c.eval(&[1.0], || "f".into()).unwrap() - (1.0 + ((MAX_EXPRESSION_CHARS - 1) / 2) as f64)).abs() < 1e-9
+        );
         let long = format!("{at_limit}+1+1");
         let e = Compiled::new(&Num::Expr(long.clone()), &names, "stops[0].position").unwrap_err().to_string();
         let chars = long.chars().count();

@@ -158,11 +158,11 @@ fn evaluation_order(params: &[(Compiled, Option<Range>)]) -> Vec<usize> {
     order
 }
 
-fn index_of(names: &[String], name: &str, field: &str, what: &str) -> Result<usize, SceneError> {
+fn index_of(names: &[String], name: &str, field: impl FnOnce() -> String, what: &str) -> Result<usize, SceneError> {
     names
         .iter()
         .position(|n| n == name)
-        .ok_or_else(|| SceneError::field(field, format!("unknown {what} '{name}' (known: {})", names.join(", "))))
+        .ok_or_else(|| SceneError::field(field(), format!("unknown {what} '{name}' (known: {})", names.join(", "))))
 }
 
 /// Smallest ratio of a mass to the heaviest of its scene. Below it the modes
@@ -313,7 +313,7 @@ type Links = Vec<(usize, Option<usize>, Compiled, Compiled)>;
 /// The compiled links of a scene file.
 fn compile_links(file: &SceneFile, index: &Names, mass_names: &[String]) -> Result<Links, SceneError> {
     let c = |n: &Num, f: String| Compiled::new(n, index, &f);
-    let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
+    let mass = |name: &str, field: String| index_of(mass_names, name, || field, "mass");
     file.links
         .iter()
         .enumerate()
@@ -380,7 +380,7 @@ fn check_combination(file: &SceneFile, laws: &[CompiledLaw]) -> Result<(), Scene
 /// pair stop between two).
 fn compile_stop(i: usize, s: &schema::StopSpec, index: &Names, mass_names: &[String]) -> Result<StopPlace, SceneError> {
     let c = |n: &Num, f: String| Compiled::new(n, index, &f);
-    let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
+    let mass = |name: &str, field: String| index_of(mass_names, name, || field, "mass");
     let f = |k: &str| format!("stops[{i}].{k}");
     let place = match (&s.mass, &s.masses) {
         (Some(m), None) => {
@@ -429,7 +429,7 @@ type Frictions = Vec<(usize, usize, Compiled, Compiled)>;
 /// The compiled friction contacts of a scene file.
 fn compile_friction(file: &SceneFile, index: &Names, mass_names: &[String]) -> Result<Frictions, SceneError> {
     let c = |n: &Num, f: String| Compiled::new(n, index, &f);
-    let mass = |name: &str, field: String| index_of(mass_names, name, &field, "mass");
+    let mass = |name: &str, field: String| index_of(mass_names, name, || field, "mass");
     file.friction
         .iter()
         .enumerate()
@@ -474,7 +474,7 @@ impl Scene {
         let mass_names: Vec<String> = file.masses.iter().map(|m| m.name.clone()).collect();
         unique(&mass_names, "masses")?;
         let masses = compile_masses(&file, &index)?;
-        let mass = |name: &str, field: String| index_of(&mass_names, name, &field, "mass");
+        let mass = |name: &str, field: String| index_of(&mass_names, name, || field, "mass");
         let links = compile_links(&file, &index, &mass_names)?;
         let stop_names: Vec<String> = file.stops.iter().map(|s| s.name.clone()).collect();
         unique(&stop_names, "stops")?;
@@ -491,7 +491,7 @@ impl Scene {
         for (name, spec) in &file.labels {
             let m = mass(name, format!("labels.{name}"))?;
             let stop = |s: &Option<String>, k: &str| {
-                s.as_deref().map(|s| index_of(&stop_names, s, &format!("labels.{name}.{k}"), "stop")).transpose()
+                s.as_deref().map(|s| index_of(&stop_names, s, || format!("labels.{name}.{k}"), "stop")).transpose()
             };
             labels.push((m, stop(&spec.p, "p")?, stop(&spec.q, "q")?));
         }
@@ -596,7 +596,7 @@ impl Scene {
 
     /// Checks that `name` is a parameter of the scene.
     pub fn check_parameter(&self, name: &str, field: &str) -> Result<(), SceneError> {
-        index_of(&self.names, name, field, "parameter").map(|_| ())
+        index_of(&self.names, name, || field.to_string(), "parameter").map(|_| ())
     }
 
     /// Evaluates every value for the default parameters with `overrides` applied
@@ -606,7 +606,7 @@ impl Scene {
         let mut values = vec![f64::NAN; n];
         let mut known = vec![false; n];
         for (name, v) in overrides {
-            let i = index_of(&self.names, name, &format!("parameters.{name}"), "parameter")?;
+            let i = index_of(&self.names, name, || format!("parameters.{name}"), "parameter")?;
             if !v.is_finite() {
                 return Err(SceneError::field(format!("parameters.{name}"), format!("not a finite number, got {v}")));
             }
@@ -616,7 +616,7 @@ impl Scene {
         // Resolve parameters defined by expressions in dependency order.
         for &i in &self.order {
             if !known[i] {
-                values[i] = self.params[i].0.eval(&values, &format!("parameters.{}", self.names[i]))?;
+                values[i] = self.params[i].0.eval(&values, || format!("parameters.{}", self.names[i]))?;
                 known[i] = true;
             }
         }
@@ -640,8 +640,8 @@ impl Scene {
     }
 
     fn build(&self, values: &[f64]) -> Result<Model, SceneError> {
-        let ev = |c: &Compiled, f: String| c.eval(values, &f);
-        let omega = ev(&self.omega, "forcing.omega".into())?;
+        let ev = |c: &Compiled, f: &dyn Fn() -> String| c.eval(values, f);
+        let omega = ev(&self.omega, &|| "forcing.omega".into())?;
         if omega.is_nan() || omega < OMEGA_MIN {
             return Err(SceneError::field(
                 "forcing.omega",
@@ -650,14 +650,14 @@ impl Scene {
                 ),
             ));
         }
-        let tau = ev(&self.tau, "forcing.phase".into())?;
+        let tau = ev(&self.tau, &|| "forcing.phase".into())?;
         let masses = self
             .masses
             .iter()
             .zip(&self.file.masses)
             .enumerate()
             .map(|(i, (m, spec))| {
-                let mass = ev(&m.mass, format!("masses[{i}].mass"))?;
+                let mass = ev(&m.mass, &|| format!("masses[{i}].mass"))?;
                 if mass <= 0.0 {
                     return Err(SceneError::field(format!("masses[{i}].mass"), format!("must be > 0, got {mass}")));
                 }
@@ -667,17 +667,21 @@ impl Scene {
                     .enumerate()
                     .map(|(j, (order, a, p))| {
                         let f = |k: &str| format!("masses[{i}].harmonics[{j}].{k}");
-                        Ok(Harmonic { order: *order, amplitude: ev(a, f("amplitude"))?, phase: ev(p, f("phase"))? })
+                        Ok(Harmonic {
+                            order: *order,
+                            amplitude: ev(a, &|| f("amplitude"))?,
+                            phase: ev(p, &|| f("phase"))?,
+                        })
                     })
                     .collect::<Result<Vec<_>, SceneError>>()?;
                 Ok(Mass {
                     name: spec.name.clone(),
                     mass,
-                    force: ev(&m.force, format!("masses[{i}].force"))?,
-                    load: ev(&m.load, format!("masses[{i}].load"))?,
+                    force: ev(&m.force, &|| format!("masses[{i}].force"))?,
+                    load: ev(&m.load, &|| format!("masses[{i}].load"))?,
                     harmonics,
-                    x0: ev(&m.x0, format!("masses[{i}].x0"))?,
-                    v0: ev(&m.v0, format!("masses[{i}].v0"))?,
+                    x0: ev(&m.x0, &|| format!("masses[{i}].x0"))?,
+                    v0: ev(&m.v0, &|| format!("masses[{i}].v0"))?,
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
@@ -687,11 +691,12 @@ impl Scene {
             .iter()
             .enumerate()
             .map(|(i, (a, b, k, c))| {
+                let (stiffness, damping) = (|| format!("links[{i}].stiffness"), || format!("links[{i}].damping"));
                 Ok(Link {
                     a: *a,
                     b: *b,
-                    stiffness: nonneg(ev(k, format!("links[{i}].stiffness"))?, format!("links[{i}].stiffness"))?,
-                    damping: nonneg(ev(c, format!("links[{i}].damping"))?, format!("links[{i}].damping"))?,
+                    stiffness: nonneg(ev(k, &stiffness)?, stiffness)?,
+                    damping: nonneg(ev(c, &damping)?, damping)?,
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
@@ -728,7 +733,7 @@ impl Scene {
     /// The stops at the parameter `values`: geometry and law (a restitution
     /// in [0, 1]; a soft stop's stiffness and damping not negative, not both zero).
     fn build_stops(&self, values: &[f64]) -> Result<Vec<Stop>, SceneError> {
-        let ev = |c: &Compiled, f: String| c.eval(values, &f);
+        let ev = |c: &Compiled, f: &dyn Fn() -> String| c.eval(values, f);
         self.stops
             .iter()
             .zip(&self.file.stops)
@@ -737,7 +742,7 @@ impl Scene {
                 let f = |k: &str| format!("stops[{i}].{k}");
                 let law = match law {
                     CompiledLaw::Rigid { restitution } => {
-                        let restitution = ev(restitution, f("restitution"))?;
+                        let restitution = ev(restitution, &|| f("restitution"))?;
                         if !(0.0..=1.0).contains(&restitution) {
                             return Err(SceneError::field(
                                 f("restitution"),
@@ -747,8 +752,8 @@ impl Scene {
                         StopLaw::Rigid { restitution }
                     }
                     CompiledLaw::Soft { stiffness, damping } => {
-                        let stiffness = nonneg(ev(stiffness, f("stiffness"))?, f("stiffness"))?;
-                        let damping = nonneg(ev(damping, f("damping"))?, f("damping"))?;
+                        let stiffness = nonneg(ev(stiffness, &|| f("stiffness"))?, || f("stiffness"))?;
+                        let damping = nonneg(ev(damping, &|| f("damping"))?, || f("damping"))?;
                         if stiffness == 0.0 && damping == 0.0 {
                             return Err(SceneError::field(
                                 f("stiffness"),
@@ -763,12 +768,12 @@ impl Scene {
                 };
                 let geometry = match place {
                     StopPlace::Frame { mass, side, position } => {
-                        StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, f("position"))? }
+                        StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, &|| f("position"))? }
                     }
                     StopPlace::Pair { first, second, gap } => StopGeometry::Pair {
                         first: *first,
                         second: *second,
-                        gap: nonneg(ev(gap, f("gap"))?, f("gap"))?,
+                        gap: nonneg(ev(gap, &|| f("gap"))?, || f("gap"))?,
                     },
                 };
                 Ok(Stop { name: spec.name.clone(), geometry, law })
@@ -777,13 +782,14 @@ impl Scene {
     }
     /// The friction contacts at the parameter `values`: static at least kinetic.
     fn build_friction(&self, values: &[f64]) -> Result<Vec<Friction>, SceneError> {
-        let ev = |c: &Compiled, f: String| c.eval(values, &f);
+        let ev = |c: &Compiled, f: &dyn Fn() -> String| c.eval(values, f);
         self.friction
             .iter()
             .enumerate()
             .map(|(i, (a, b, k, s))| {
-                let kinetic = nonneg(ev(k, format!("friction[{i}].kinetic"))?, format!("friction[{i}].kinetic"))?;
-                let static_limit = ev(s, format!("friction[{i}].static"))?;
+                let field = || format!("friction[{i}].kinetic");
+                let kinetic = nonneg(ev(k, &field)?, field)?;
+                let static_limit = ev(s, &|| format!("friction[{i}].static"))?;
                 if static_limit < kinetic {
                     return Err(SceneError::field(
                         format!("friction[{i}].static"),
@@ -797,11 +803,11 @@ impl Scene {
 }
 
 /// `v` when it is not negative (`f` names the field otherwise).
-fn nonneg(v: f64, f: String) -> Result<f64, SceneError> {
+fn nonneg(v: f64, f: impl FnOnce() -> String) -> Result<f64, SceneError> {
     if v >= 0.0 {
         Ok(v)
     } else {
-        Err(SceneError::field(f, format!("must be >= 0, got {v}")))
+        Err(SceneError::field(f(), format!("must be >= 0, got {v}")))
     }
 }
 
