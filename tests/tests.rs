@@ -6,6 +6,7 @@ mod atlas;
 mod bad_input;
 mod cli;
 mod closed_form;
+mod docs;
 mod drilldown;
 mod edges;
 mod extremes;

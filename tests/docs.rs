@@ -1,0 +1,176 @@
+//! Statements of the user pages that no other test reads, checked against
+//! the sources and against what the program prints for the page's own
+//! commands (an audit at the close of issue 44 found these pages had drifted:
+//! a scene excerpt, the crates' dependencies, and the routes of three sweeps).
+
+use crate::util::json_of;
+use std::collections::BTreeSet;
+use std::path::Path;
+
+fn read(path: &str) -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(path)).unwrap()
+}
+
+/// The arguments (without `vibroatlas`) of the command that `page` shows
+/// starting with `start`.
+fn command<'a>(page: &'a str, start: &str) -> Vec<&'a str> {
+    let line = page.lines().map(str::trim).find(|l| l.starts_with(start));
+    line.unwrap_or_else(|| panic!("the page shows no `{start}`")).split_whitespace().skip(1).collect()
+}
+
+/// One point of a sweep's JSON: its value, `mass`'s label, its symmetry
+/// (empty when none), λT (the largest Lyapunov exponent times the forcing
+/// period; NaN when none) and its reason (empty when none).
+struct Point {
+    value: f64,
+    label: String,
+    symmetry: String,
+    lambda_t: f64,
+    reason: String,
+}
+
+fn points(json: &serde_json::Value, mass: &str) -> Vec<Point> {
+    let text = |v: &serde_json::Value| v.as_str().unwrap_or("").to_string();
+    json["points"]
+        .as_array()
+        .expect("a sweep's points")
+        .iter()
+        .map(|p| {
+            let value = p["value"].as_f64().unwrap();
+            Point {
+                value,
+                label: text(&p["labels"][mass]),
+                symmetry: text(&p["symmetry"]),
+                lambda_t: p["lyapunov"].as_f64().map_or(f64::NAN, |l| l * std::f64::consts::TAU / value),
+                reason: text(&p["reason"]),
+            }
+        })
+        .collect()
+}
+
+/// The point at `value` (to rounding).
+fn at(points: &[Point], value: f64) -> &Point {
+    points.iter().find(|p| (p.value - value).abs() < 1e-9).unwrap_or_else(|| panic!("no point at {value}"))
+}
+
+/// The labels of the points in `[from, to]`, each once.
+fn labels_on(points: &[Point], from: f64, to: f64) -> BTreeSet<&str> {
+    points.iter().filter(|p| p.value >= from - 1e-9 && p.value <= to + 1e-9).map(|p| p.label.as_str()).collect()
+}
+
+fn says(page: &str, text: &str) {
+    let flat = page.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(flat.contains(text), "the page does not say: {text}");
+}
+
+/// docs/models.md, section 3: the impact damper's route at δ = 2, as the
+/// page's sweep prints it.
+#[test]
+fn the_impact_dampers_route_is_as_the_models_page_says() {
+    let page = read("docs/models.md");
+    let p = points(&json_of(&command(&page, "vibroatlas sweep configs/impact-damper.toml")), "M2");
+    says(&page, "chaos from 1.56 to 1.68 (λT ≈ 0.54 at ω = 1.6), a 19-19-19 window at 1.69");
+    says(&page, "[1.70, 1.79] (one cell of it, 1.78, weakly chaotic: λT ≈ 0.001), at 1.80 an unresolved cell");
+    says(&page, "largest |μ| 0.992");
+    says(&page, "1-1-1 from 1.81.");
+    assert_eq!(labels_on(&p, 1.3, 1.54), BTreeSet::from(["1-1-1"]));
+    assert_eq!(at(&p, 1.55).label, "Q");
+    assert_eq!(labels_on(&p, 1.56, 1.68), BTreeSet::from(["C"]));
+    assert!((at(&p, 1.6).lambda_t - 0.54).abs() < 0.005, "λT = {}", at(&p, 1.6).lambda_t);
+    assert_eq!(at(&p, 1.69).label, "19-19-19");
+    assert_eq!(labels_on(&p, 1.70, 1.77), BTreeSet::from(["Q"]));
+    assert_eq!((at(&p, 1.78).label.as_str(), at(&p, 1.79).label.as_str()), ("C", "Q"));
+    assert!(at(&p, 1.78).lambda_t < 0.002, "λT = {}", at(&p, 1.78).lambda_t);
+    let u = at(&p, 1.80);
+    assert_eq!(u.label, "U");
+    assert!(u.reason.contains("repeated after 1702 periods") && u.reason.contains("0.992"), "{}", u.reason);
+    assert_eq!(labels_on(&p, 1.81, 1.9), BTreeSet::from(["1-1-1"]));
+}
+
+/// docs/models.md, section 4: past the Neimark–Sacker point of the
+/// symmetric stops, as the page's sweep prints it.
+#[test]
+fn the_symmetric_stops_past_their_ns_point_are_as_the_models_page_says() {
+    let page = read("docs/models.md");
+    let p = points(&json_of(&command(&page, "vibroatlas sweep configs/symmetric-stops.toml")), "M2");
+    says(&page, "the sweep finds a quasi-periodic motion at 1.705, an unresolved cell at 1.71");
+    says(&page, "λT = 3.9e-4 ± 1.9e-3, neither above nor below 0), and from 1.715 the orbit 1-0-0");
+    assert_eq!(labels_on(&p, 1.69, 1.70), BTreeSet::from(["1-1-1"]));
+    assert_eq!(at(&p, 1.705).label, "Q");
+    let u = at(&p, 1.71);
+    assert_eq!(u.label, "U");
+    assert!(
+        u.reason.contains("λT = 3.944e-4 ± 1.9e-3") && u.reason.contains("neither above nor below 0"),
+        "{}",
+        u.reason
+    );
+    assert_eq!(labels_on(&p, 1.715, 1.8), BTreeSet::from(["1-0-0"]));
+}
+
+/// docs/models.md, section 2: the dry-friction sweep down from ω = 8, as
+/// the page's sweep prints it (its windows, and where 1-2-2 begins).
+#[test]
+fn the_dry_friction_route_down_is_as_the_models_page_says() {
+    let page = read("docs/models.md");
+    let p = points(&json_of(&command(&page, "vibroatlas sweep configs/dry-friction.toml --axis omega=8:1")), "M1");
+    says(&page, "windows of 2-4-2 and 1-2-1, 1-2-2 S from ω = 3.62 (AS from 3.24");
+    let between = labels_on(&p, 3.63, 5.5);
+    assert!(between.contains("2-4-2") && between.contains("1-2-1"), "{between:?}");
+    assert!(p.iter().all(|q| q.label != "1-1-2"), "1-1-2 on the way down");
+    assert_eq!(at(&p, 3.625).label, "C");
+    assert_eq!((at(&p, 3.62).label.as_str(), at(&p, 3.62).symmetry.as_str()), ("1-2-2", "S"));
+    assert_eq!((at(&p, 3.245).label.as_str(), at(&p, 3.245).symmetry.as_str()), ("1-2-2", "S"));
+    assert_eq!((at(&p, 3.24).label.as_str(), at(&p, 3.24).symmetry.as_str()), ("1-2-2", "AS"));
+}
+
+/// docs/scenes.md: every line of its excerpt of `configs/multi-stop.toml`
+/// (comments aside; the abbreviated description aside) is a line of the file.
+#[test]
+fn the_scenes_pages_excerpt_is_the_shipped_file() {
+    let page = read("docs/scenes.md");
+    let file = read("configs/multi-stop.toml");
+    let bare = |l: &str| l.split(" #").next().unwrap_or("").trim().to_string();
+    let lines: BTreeSet<String> = file.lines().map(bare).collect();
+    let start = page.find("```toml\n").expect("the excerpt") + "```toml\n".len();
+    let excerpt = &page[start..start + page[start..].find("```").unwrap()];
+    let mut checked = 0;
+    for line in excerpt.lines().map(bare).filter(|l| !l.is_empty() && !l.starts_with('#') && !l.contains('…')) {
+        assert!(lines.contains(&line), "not a line of configs/multi-stop.toml: {line}");
+        checked += 1;
+    }
+    assert!(checked > 10, "{checked} lines");
+}
+
+/// docs/architecture.md: "Exactly, from the `Cargo.toml` files", each
+/// crate's dependencies among the workspace's libraries.
+#[test]
+fn the_architecture_pages_dependencies_are_the_cargo_files() {
+    let page = read("docs/architecture.md");
+    let flat = page.split_whitespace().collect::<Vec<_>>().join(" ");
+    let from = flat.find("Exactly, from the `Cargo.toml` files:").expect("the sentence");
+    let sentence = &flat[from..from + flat[from..].find("No library crate").unwrap()];
+    let libraries = ["scene", "solver", "maps", "grid", "store", "render", "engine", "explore"];
+    let names = |text: &str| -> BTreeSet<String> {
+        text.split('`').skip(1).step_by(2).filter(|n| libraries.contains(n)).map(str::to_string).collect()
+    };
+    let mut seen = BTreeSet::new();
+    for clause in sentence.split(';') {
+        let clause = clause.trim().trim_start_matches("Exactly, from the `Cargo.toml` files:").trim();
+        let Some(rest) = clause.strip_prefix('`') else { continue };
+        let (krate, rest) = rest.split_once('`').unwrap();
+        let listed = names(rest.split('(').next().unwrap());
+        let manifest = read(&format!("crates/{krate}/Cargo.toml"));
+        let deps = &manifest[manifest.find("[dependencies]").unwrap()..];
+        let deps = &deps[..deps[1..].find("\n[").map_or(deps.len(), |i| i + 1)];
+        let actual: BTreeSet<String> = deps
+            .lines()
+            .filter_map(|l| l.split(['.', ' ', '=']).next())
+            .filter(|n| libraries.contains(n))
+            .map(str::to_string)
+            .collect();
+        assert_eq!(listed, actual, "docs/architecture.md on {krate}");
+        seen.insert(krate.to_string());
+    }
+    let all: BTreeSet<String> = libraries.iter().skip(1).map(|s| s.to_string()).chain(["python".to_string()]).collect();
+    assert_eq!(seen, all, "crates the sentence names");
+}
