@@ -58,6 +58,22 @@ fn labels_on(points: &[Point], from: f64, to: f64) -> BTreeSet<&str> {
     points.iter().filter(|p| p.value >= from - 1e-9 && p.value <= to + 1e-9).map(|p| p.label.as_str()).collect()
 }
 
+/// The points for `mass` of the sweep that docs/models.md shows starting
+/// with `start`, once the page is seen to say each of `claims`.
+fn models_sweep(start: &str, mass: &str, claims: &[&str]) -> Vec<Point> {
+    let page = read("docs/models.md");
+    for claim in claims {
+        says(&page, claim);
+    }
+    points(&json_of(&command(&page, start)), mass)
+}
+
+/// `p` is unresolved, for a reason that holds each of `texts`.
+fn unresolved(p: &Point, texts: &[&str]) {
+    assert_eq!(p.label, "U", "at {}", p.value);
+    assert!(texts.iter().all(|t| p.reason.contains(t)), "at {}: {}", p.value, p.reason);
+}
+
 fn says(page: &str, text: &str) {
     let flat = page.split_whitespace().collect::<Vec<_>>().join(" ");
     assert!(flat.contains(text), "the page does not say: {text}");
@@ -67,12 +83,16 @@ fn says(page: &str, text: &str) {
 /// page's sweep prints it.
 #[test]
 fn the_impact_dampers_route_is_as_the_models_page_says() {
-    let page = read("docs/models.md");
-    let p = points(&json_of(&command(&page, "vibroatlas sweep configs/impact-damper.toml")), "M2");
-    says(&page, "chaos from 1.56 to 1.68 (λT ≈ 0.54 at ω = 1.6), a 19-19-19 window at 1.69");
-    says(&page, "[1.70, 1.79] (one cell of it, 1.78, weakly chaotic: λT ≈ 0.001), at 1.80 an unresolved cell");
-    says(&page, "largest |μ| 0.992");
-    says(&page, "1-1-1 from 1.81.");
+    let p = models_sweep(
+        "vibroatlas sweep configs/impact-damper.toml",
+        "M2",
+        &[
+            "chaos from 1.56 to 1.68 (λT ≈ 0.54 at ω = 1.6), a 19-19-19 window at 1.69",
+            "[1.70, 1.79] (one cell of it, 1.78, weakly chaotic: λT ≈ 0.001), at 1.80 an unresolved cell",
+            "largest |μ| 0.992",
+            "1-1-1 from 1.81.",
+        ],
+    );
     assert_eq!(labels_on(&p, 1.3, 1.54), BTreeSet::from(["1-1-1"]));
     assert_eq!(at(&p, 1.55).label, "Q");
     assert_eq!(labels_on(&p, 1.56, 1.68), BTreeSet::from(["C"]));
@@ -81,9 +101,7 @@ fn the_impact_dampers_route_is_as_the_models_page_says() {
     assert_eq!(labels_on(&p, 1.70, 1.77), BTreeSet::from(["Q"]));
     assert_eq!((at(&p, 1.78).label.as_str(), at(&p, 1.79).label.as_str()), ("C", "Q"));
     assert!(at(&p, 1.78).lambda_t < 0.002, "λT = {}", at(&p, 1.78).lambda_t);
-    let u = at(&p, 1.80);
-    assert_eq!(u.label, "U");
-    assert!(u.reason.contains("repeated after 1702 periods") && u.reason.contains("0.992"), "{}", u.reason);
+    unresolved(at(&p, 1.80), &["repeated after 1702 periods", "0.992"]);
     assert_eq!(labels_on(&p, 1.81, 1.9), BTreeSet::from(["1-1-1"]));
 }
 
@@ -91,19 +109,17 @@ fn the_impact_dampers_route_is_as_the_models_page_says() {
 /// symmetric stops, as the page's sweep prints it.
 #[test]
 fn the_symmetric_stops_past_their_ns_point_are_as_the_models_page_says() {
-    let page = read("docs/models.md");
-    let p = points(&json_of(&command(&page, "vibroatlas sweep configs/symmetric-stops.toml")), "M2");
-    says(&page, "the sweep finds a quasi-periodic motion at 1.705, an unresolved cell at 1.71");
-    says(&page, "λT = 3.9e-4 ± 1.9e-3, neither above nor below 0), and from 1.715 the orbit 1-0-0");
+    let p = models_sweep(
+        "vibroatlas sweep configs/symmetric-stops.toml",
+        "M2",
+        &[
+            "the sweep finds a quasi-periodic motion at 1.705, an unresolved cell at 1.71",
+            "λT = 3.9e-4 ± 1.9e-3, neither above nor below 0), and from 1.715 the orbit 1-0-0",
+        ],
+    );
     assert_eq!(labels_on(&p, 1.69, 1.70), BTreeSet::from(["1-1-1"]));
     assert_eq!(at(&p, 1.705).label, "Q");
-    let u = at(&p, 1.71);
-    assert_eq!(u.label, "U");
-    assert!(
-        u.reason.contains("λT = 3.944e-4 ± 1.9e-3") && u.reason.contains("neither above nor below 0"),
-        "{}",
-        u.reason
-    );
+    unresolved(at(&p, 1.71), &["λT = 3.944e-4 ± 1.9e-3", "neither above nor below 0"]);
     assert_eq!(labels_on(&p, 1.715, 1.8), BTreeSet::from(["1-0-0"]));
 }
 
@@ -111,9 +127,11 @@ fn the_symmetric_stops_past_their_ns_point_are_as_the_models_page_says() {
 /// the page's sweep prints it (its windows, and where 1-2-2 begins).
 #[test]
 fn the_dry_friction_route_down_is_as_the_models_page_says() {
-    let page = read("docs/models.md");
-    let p = points(&json_of(&command(&page, "vibroatlas sweep configs/dry-friction.toml --axis omega=8:1")), "M1");
-    says(&page, "windows of 2-4-2 and 1-2-1, 1-2-2 S from ω = 3.62 (AS from 3.24");
+    let p = models_sweep(
+        "vibroatlas sweep configs/dry-friction.toml --axis omega=8:1",
+        "M1",
+        &["windows of 2-4-2 and 1-2-1, 1-2-2 S from ω = 3.62 (AS from 3.24"],
+    );
     let between = labels_on(&p, 3.63, 5.5);
     assert!(between.contains("2-4-2") && between.contains("1-2-1"), "{between:?}");
     assert!(p.iter().all(|q| q.label != "1-1-2"), "1-1-2 on the way down");
