@@ -691,12 +691,11 @@ impl Scene {
             .iter()
             .enumerate()
             .map(|(i, (a, b, k, c))| {
-                let (stiffness, damping) = (|| format!("links[{i}].stiffness"), || format!("links[{i}].damping"));
                 Ok(Link {
                     a: *a,
                     b: *b,
-                    stiffness: nonneg(ev(k, &stiffness)?, stiffness)?,
-                    damping: nonneg(ev(c, &damping)?, damping)?,
+                    stiffness: nonneg(k, values, &|| format!("links[{i}].stiffness"))?,
+                    damping: nonneg(c, values, &|| format!("links[{i}].damping"))?,
                 })
             })
             .collect::<Result<Vec<_>, SceneError>>()?;
@@ -752,8 +751,8 @@ impl Scene {
                         StopLaw::Rigid { restitution }
                     }
                     CompiledLaw::Soft { stiffness, damping } => {
-                        let stiffness = nonneg(ev(stiffness, &|| f("stiffness"))?, || f("stiffness"))?;
-                        let damping = nonneg(ev(damping, &|| f("damping"))?, || f("damping"))?;
+                        let stiffness = nonneg(stiffness, values, &|| f("stiffness"))?;
+                        let damping = nonneg(damping, values, &|| f("damping"))?;
                         if stiffness == 0.0 && damping == 0.0 {
                             return Err(SceneError::field(
                                 f("stiffness"),
@@ -770,11 +769,9 @@ impl Scene {
                     StopPlace::Frame { mass, side, position } => {
                         StopGeometry::Frame { mass: *mass, side: *side, position: ev(position, &|| f("position"))? }
                     }
-                    StopPlace::Pair { first, second, gap } => StopGeometry::Pair {
-                        first: *first,
-                        second: *second,
-                        gap: nonneg(ev(gap, &|| f("gap"))?, || f("gap"))?,
-                    },
+                    StopPlace::Pair { first, second, gap } => {
+                        StopGeometry::Pair { first: *first, second: *second, gap: nonneg(gap, values, &|| f("gap"))? }
+                    }
                 };
                 Ok(Stop { name: spec.name.clone(), geometry, law })
             })
@@ -782,14 +779,12 @@ impl Scene {
     }
     /// The friction contacts at the parameter `values`: static at least kinetic.
     fn build_friction(&self, values: &[f64]) -> Result<Vec<Friction>, SceneError> {
-        let ev = |c: &Compiled, f: &dyn Fn() -> String| c.eval(values, f);
         self.friction
             .iter()
             .enumerate()
             .map(|(i, (a, b, k, s))| {
-                let field = || format!("friction[{i}].kinetic");
-                let kinetic = nonneg(ev(k, &field)?, field)?;
-                let static_limit = ev(s, &|| format!("friction[{i}].static"))?;
+                let kinetic = nonneg(k, values, &|| format!("friction[{i}].kinetic"))?;
+                let static_limit = s.eval(values, || format!("friction[{i}].static"))?;
                 if static_limit < kinetic {
                     return Err(SceneError::field(
                         format!("friction[{i}].static"),
@@ -802,12 +797,14 @@ impl Scene {
     }
 }
 
-/// `v` when it is not negative (`f` names the field otherwise).
-fn nonneg(v: f64, f: impl FnOnce() -> String) -> Result<f64, SceneError> {
+/// The value of `c` at the parameter `values` when it is not negative
+/// (`field()` names the field of an error).
+fn nonneg(c: &Compiled, values: &[f64], field: &dyn Fn() -> String) -> Result<f64, SceneError> {
+    let v = c.eval(values, field)?;
     if v >= 0.0 {
         Ok(v)
     } else {
-        Err(SceneError::field(f(), format!("must be >= 0, got {v}")))
+        Err(SceneError::field(field(), format!("must be >= 0, got {v}")))
     }
 }
 
