@@ -68,6 +68,11 @@ fn models_sweep(start: &str, mass: &str, claims: &[&str]) -> Vec<Point> {
     points(&json_of(&command(&page, start)), mass)
 }
 
+/// Every point in `[from, to]` is labelled `label`.
+fn only(points: &[Point], from: f64, to: f64, label: &str) {
+    assert_eq!(labels_on(points, from, to), BTreeSet::from([label]), "on [{from}, {to}]");
+}
+
 /// `p` is unresolved, for a reason that holds each of `texts`.
 fn unresolved(p: &Point, texts: &[&str]) {
     assert_eq!(p.label, "U", "at {}", p.value);
@@ -98,16 +103,16 @@ fn the_impact_dampers_route_is_as_the_models_page_says() {
             "1-1-1 from 1.81.",
         ],
     );
-    assert_eq!(labels_on(&p, 1.3, 1.54), BTreeSet::from(["1-1-1"]));
+    only(&p, 1.3, 1.54, "1-1-1");
     assert_eq!(at(&p, 1.55).label, "Q");
-    assert_eq!(labels_on(&p, 1.56, 1.68), BTreeSet::from(["C"]));
+    only(&p, 1.56, 1.68, "C");
     assert!((at(&p, 1.6).lambda_t - 0.54).abs() < 0.005, "λT = {}", at(&p, 1.6).lambda_t);
     assert_eq!(at(&p, 1.69).label, "19-19-19");
-    assert_eq!(labels_on(&p, 1.70, 1.77), BTreeSet::from(["Q"]));
+    only(&p, 1.70, 1.77, "Q");
     assert_eq!((at(&p, 1.78).label.as_str(), at(&p, 1.79).label.as_str()), ("C", "Q"));
     assert!(at(&p, 1.78).lambda_t < 0.002, "λT = {}", at(&p, 1.78).lambda_t);
     unresolved(at(&p, 1.80), &["repeated after 1702 periods", "0.992"]);
-    assert_eq!(labels_on(&p, 1.81, 1.9), BTreeSet::from(["1-1-1"]));
+    only(&p, 1.81, 1.9, "1-1-1");
 }
 
 /// docs/models.md, section 4: past the Neimark–Sacker point of the
@@ -122,10 +127,10 @@ fn the_symmetric_stops_past_their_ns_point_are_as_the_models_page_says() {
             "λT = 3.9e-4 ± 1.9e-3, neither above nor below 0), and from 1.715 the orbit 1-0-0",
         ],
     );
-    assert_eq!(labels_on(&p, 1.69, 1.70), BTreeSet::from(["1-1-1"]));
+    only(&p, 1.69, 1.70, "1-1-1");
     assert_eq!(at(&p, 1.705).label, "Q");
     unresolved(at(&p, 1.71), &["λT = 3.944e-4 ± 1.9e-3", "neither above nor below 0"]);
-    assert_eq!(labels_on(&p, 1.715, 1.8), BTreeSet::from(["1-0-0"]));
+    only(&p, 1.715, 1.8, "1-0-0");
 }
 
 /// docs/models.md, section 2: the dry-friction sweep down from ω = 8, as
