@@ -308,10 +308,11 @@ try:
 
     code, said = error_of(url + "api/nothing")
     check("an unknown route is a 404 with a JSON reason", code == 404 and "route" in said, f"{code} {said}")
-    code, said = error_of(urllib.request.Request(url + "api/zoom", data=b"{not json", method="POST"))
+    as_json = {"Content-Type": "application/json"}
+    code, said = error_of(urllib.request.Request(url + "api/zoom", data=b"{not json", headers=as_json, method="POST"))
     check("a body that is not JSON is a 400 saying so", code == 400 and "JSON" in said, f"{code} {said}")
     body = json.dumps({"atlas": -1, "x": "omega=0.5:1:5", "y": "delta=0.3:0.6:4"}).encode()
-    code, said = error_of(urllib.request.Request(url + "api/zoom", data=body, method="POST"))
+    code, said = error_of(urllib.request.Request(url + "api/zoom", data=body, headers=as_json, method="POST"))
     check("a zoom of atlas -1 is refused", code == 400 and said.startswith("atlas:"), f"{code} {said}")
     with urllib.request.urlopen(urllib.request.Request(url + "api/jobs/0", method="DELETE")) as r:
         answer = json.loads(r.read())
@@ -333,6 +334,62 @@ try:
     finally:
         second.send_signal(signal.SIGINT)
         second.wait(timeout=60)
+
+    # A crafted atlas (issue 61): a mass and a stop named in markup. The page
+    # shows the names as text: no element is made of them, no handler runs,
+    # the title stays, and every policy violation would be reported.
+    mass_name, stop_name = "<img src=x onerror=document.title=this.alt alt=XSS>", "<b id=injected>A"
+    markup_scene = os.path.join(tmp, "markup.toml")
+    with open(markup_scene, "w") as f:
+        f.write(f"""name = "markup"
+[parameters]
+omega = {{ value = 2.5 }}
+sigma = {{ value = 0.0 }}
+[forcing]
+omega = "omega"
+phase = "PI/2"
+[[masses]]
+name = "{mass_name}"
+mass = 1
+force = 1
+x0 = "sigma - 0.5"
+[[links]]
+masses = ["{mass_name}"]
+stiffness = 1
+damping = 0.1
+[[stops]]
+name = "{stop_name}"
+mass = "{mass_name}"
+side = "above"
+position = "sigma"
+restitution = 0.8
+[labels."{mass_name}"]
+p = "{stop_name}"
+""")
+    markup_atlas = os.path.join(tmp, "markup.h5")
+    run("atlas", markup_scene, "--x", "omega=1.5:3:8", "--y", "sigma=-0.5:0:5", "--sweep", "up", "--quiet", "-o", markup_atlas)
+    third = subprocess.Popen([BIN, "explore", markup_atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True)
+    try:
+        driver.get(third.stdout.readline().split(" at ")[-1].strip())
+        wait.until(lambda d: d.find_element(By.ID, "map").get_attribute("data-plot"))
+        title = driver.title
+        dx, dy = offset(driver, 4, 2)
+        ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx, dy).perform()
+        wait.until(lambda d: d.find_element(By.ID, "hover").is_displayed())
+        ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx, dy).click().perform()
+        wait.until(lambda d: d.find_element(By.ID, "cell").get_attribute("data-state") in ("done", "failed"))
+        time.sleep(0.5)
+        shot(driver, "9-markup-names.png")
+        injected = driver.execute_script(
+            "return document.querySelectorAll('img[src=\"x\"], #injected, #cell b, #legend img').length")
+        check("names in markup make no element (mass, stop, legend, cell panel)", injected == 0, str(injected))
+        check("names in markup run no script (the title is unchanged)", driver.title == title == "vibroatlas explore",
+              driver.title)
+        shown = driver.find_element(By.ID, "cell").text + driver.find_element(By.ID, "mass").text
+        check("names in markup are shown as their text", mass_name in shown and stop_name in shown, shown[:400])
+    finally:
+        third.send_signal(signal.SIGINT)
+        third.wait(timeout=60)
 
     # The file replaced under the explorer: refused, never read as the map on screen.
     other = os.path.join(tmp, "other.h5")

@@ -1,6 +1,6 @@
-//! Ctrl-C (SIGINT) and SIGTERM for the commands that end cleanly on them
-//! (`explore`, `zoom`): the signal only sets a flag, which the command
-//! polls or its observer reports as a cancel.
+//! Ctrl-C (SIGINT), SIGTERM and SIGHUP (the terminal closed) for the
+//! commands that end cleanly on them (`explore`, `zoom`): the signal only
+//! sets a flag, which the command polls or its observer reports as a cancel.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -10,13 +10,14 @@ extern "C" fn on_signal(_: libc::c_int) {
     REQUESTED.store(true, Ordering::SeqCst);
 }
 
-/// Routes SIGINT and SIGTERM to the flag (instead of ending the process).
+/// Routes SIGINT, SIGTERM and SIGHUP to the flag (instead of ending the process).
 pub fn install() {
-    // SAFETY: sets the disposition of two signals to a handler that only
+    // SAFETY: sets the disposition of three signals to a handler that only
     // stores to an atomic.
     unsafe {
-        libc::signal(libc::SIGINT, on_signal as *const () as libc::sighandler_t);
-        libc::signal(libc::SIGTERM, on_signal as *const () as libc::sighandler_t);
+        for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+            libc::signal(signal, on_signal as *const () as libc::sighandler_t);
+        }
     }
 }
 

@@ -25,6 +25,16 @@ async function getJSON(url, options) {
 
 function say(text) { $('message').textContent = text || ''; }
 
+// An element with its text (never markup: every name and number reaches the
+// page as text, whatever a file or scene holds), its attributes and children.
+function el(tag, text, attrs, children) {
+  const e = document.createElement(tag);
+  if (text !== undefined && text !== null) e.textContent = text;
+  for (const [k, v] of Object.entries(attrs || {})) e.setAttribute(k, v);
+  if (children) e.append(...children);
+  return e;
+}
+
 // Parameter value of a (fractional) index of axis a, and back.
 function value(a, f) { return a.count > 1 ? a.start + (f * (a.stop - a.start)) / (a.count - 1) : a.start; }
 function index(a, v) { return a.count > 1 ? ((v - a.start) * (a.count - 1)) / (a.stop - a.start) : 0; }
@@ -55,7 +65,7 @@ function toAddress(push) {
 }
 
 function fill(select, names, chosen) {
-  select.innerHTML = '';
+  select.replaceChildren();
   for (const n of names) {
     const o = document.createElement('option');
     o.value = o.textContent = n;
@@ -164,7 +174,7 @@ function swatch(row) {
 
 function legend(key) {
   const box = $('legend');
-  box.innerHTML = '';
+  box.replaceChildren();
   if (key.scale) {
     const t = document.createElement('div');
     t.className = 'heading';
@@ -174,7 +184,9 @@ function legend(key) {
     bar.style.background = `linear-gradient(to right, ${key.scale.colours.map((v) => `rgb(${v})`).join(',')})`;
     const ends = document.createElement('div');
     ends.className = 'row';
-    ends.innerHTML = `<span>${short(key.scale.lo)}</span><span style="flex:1"></span><span>${short(key.scale.hi)}</span>`;
+    const gap = el('span');
+    gap.style.flex = '1';
+    ends.append(el('span', short(key.scale.lo)), gap, el('span', short(key.scale.hi)));
     box.append(t, bar, ends);
   }
   for (const row of key.legend) {
@@ -210,7 +222,8 @@ function ticks(lo, hi) {
   const span = hi - lo, raw = span / 6, mag = Math.pow(10, Math.floor(Math.log10(raw)));
   const step = [1, 2, 5, 10].map((m) => m * mag).find((s) => span / s <= 7);
   const out = [];
-  for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-12 * span; v += step) out.push(+v.toPrecision(12));
+  // A tick that sums to a rounding residue of zero (-2.8e-17) is zero.
+  for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-12 * span; v += step) out.push(Math.abs(v) < 1e-9 * step ? 0 : +v.toPrecision(12));
   return out;
 }
 
@@ -369,14 +382,14 @@ async function showCell(ix, iy, sweep) {
   const panel = $('cell');
   panel.hidden = false;
   panel.dataset.state = 'loading';
-  panel.innerHTML = '<p>computing the cell…</p>';
+  panel.replaceChildren(el('p', 'computing the cell…'));
   try {
     const at = await getJSON(`/api/at?atlas=${S.id}&ix=${ix}&iy=${iy}`);
-    const q = `atlas=${S.id}&sweep=${sweep}&` + Object.entries(at.parameters).map(([k, v]) => `${encodeURIComponent(k)}=${v}`).join('&');
+    const q = `atlas=${S.id}&sweep=${encodeURIComponent(sweep)}&` + Object.entries(at.parameters).map(([k, v]) => `${encodeURIComponent(k)}=${v}`).join('&');
     const c = await getJSON('/api/cell?' + q);
     panel.dataset.json = JSON.stringify(c);
     panel.dataset.query = q;
-    const others = S.info.sweeps.filter((s) => s !== sweep).map((s) => `<button data-sweep="${s}">${s}</button>`).join(' ');
+    const others = S.info.sweeps.filter((s) => s !== sweep).flatMap((s) => [el('button', s, { 'data-sweep': s }), ' ']);
     const rows = [
       ['class', c.class + (c.n ? `, n = ${c.n}` : '') + (c.symmetry ? `, ${c.symmetry}` : '')],
       ...Object.entries(c.labels).map(([m, l]) => [`label ${m}`, l]),
@@ -388,12 +401,15 @@ async function showCell(ix, iy, sweep) {
       ['work', `${c.periods_simulated} periods, ${c.events} events`],
     ];
     if (c.reason) rows.push(['reason', c.reason]);
-    panel.innerHTML = `<h3>${parameters(c.from.cell)} (${sweep} sweep)</h3>
-      <p>other sweeps: ${others || 'none'}</p>
-      <table>${rows.map(([a, b]) => `<tr><th>${a}</th><td class="v" data-key="${a}">${b}</td></tr>`).join('')}</table>
-      <div class="pictures"><a href="/api/cell/portrait.png?${q}" target="_blank"><img alt="phase portraits and time series" src="/api/cell/portrait.png?${q}"></a>
-      <a href="/api/cell/sections.png?${q}" target="_blank"><img alt="Poincaré sections" src="/api/cell/sections.png?${q}"></a></div>
-      <p><button id="attractors">coexisting attractors</button></p><div id="attractor-list"></div>`;
+    const picture = (what, alt) => el('a', null, { href: `/api/cell/${what}.png?${q}`, target: '_blank' }, [el('img', null, { alt, src: `/api/cell/${what}.png?${q}` })]);
+    panel.replaceChildren(
+      el('h3', `${parameters(c.from.cell)} (${sweep} sweep)`),
+      el('p', 'other sweeps: ', {}, others.length ? others : ['none']),
+      el('table', null, {}, rows.map(([a, b]) => el('tr', null, {}, [el('th', a), el('td', b, { class: 'v', 'data-key': a })]))),
+      el('div', null, { class: 'pictures' }, [picture('portrait', 'phase portraits and time series'), picture('sections', 'Poincaré sections')]),
+      el('p', null, {}, [el('button', 'coexisting attractors', { id: 'attractors' })]),
+      el('div', null, { id: 'attractor-list' }),
+    );
     panel.querySelectorAll('button[data-sweep]').forEach((b) => b.addEventListener('click', () => showCell(ix, iy, b.dataset.sweep)));
     $('attractors').addEventListener('click', () => attractors(q));
     panel.dataset.state = 'done';
@@ -407,7 +423,7 @@ async function showCell(ix, iy, sweep) {
 // The Floquet multipliers of a periodic cell's orbit (Newton's method), a row of the table.
 async function multipliers(q) {
   const row = document.createElement('tr');
-  row.innerHTML = '<th>Floquet multipliers</th><td>solving the orbit…</td>';
+  row.append(el('th', 'Floquet multipliers'), el('td', 'solving the orbit…'));
   $('cell').querySelector('table').appendChild(row);
   try {
     const o = await getJSON('/api/orbit?' + q);
@@ -421,7 +437,7 @@ async function attractors(q) {
   list.textContent = 'sampling 64 start states…';
   try {
     const a = await getJSON('/api/attractors?' + q);
-    list.innerHTML = '';
+    list.replaceChildren();
     a.attractors.forEach((at, i) => {
       const d = document.createElement('div');
       d.className = 'attractor';

@@ -3,7 +3,8 @@
 //! render, store); a bad request is a 4xx with `{"error": "…"}` naming what is
 //! wrong, never a crash of the server.
 
-use crate::state::{lock, Job, Opened, Phase, Request, State};
+use crate::guard;
+use crate::state::{Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
 use axum::body::Body;
 use axum::extract::{Path, Query, State as Shared};
 use axum::http::{header, StatusCode};
@@ -31,7 +32,7 @@ pub(crate) struct Refusal(StatusCode, String);
 
 impl IntoResponse for Refusal {
     fn into_response(self) -> Response {
-        (self.0, Json(json!({ "error": self.1 }))).into_response()
+        guard::error(self.0, &self.1)
     }
 }
 
@@ -53,8 +54,8 @@ fn failed(e: engine::Error) -> Refusal {
     Refusal(StatusCode::UNPROCESSABLE_ENTITY, message(&e))
 }
 
-/// The page's routes.
-pub(crate) fn router(state: St) -> Router {
+/// The page's routes, each behind [`guard::screen`] for a server on `port`.
+pub(crate) fn router(state: St, port: u16) -> Router {
     Router::new()
         .route("/", get(page))
         .route("/explore.js", get(|| asset(include_str!("../assets/explore.js"), "text/javascript; charset=utf-8")))
@@ -78,6 +79,8 @@ pub(crate) fn router(state: St) -> Router {
             Refusal(StatusCode::METHOD_NOT_ALLOWED, "this route does not take that method (see docs/explore.md)".into())
         })
         .with_state(state)
+        .layer(axum::extract::DefaultBodyLimit::max(guard::MAX_BODY))
+        .layer(axum::middleware::from_fn_with_state(guard::Allowed::on(port), guard::screen))
 }
 
 async fn page() -> Response {
@@ -88,11 +91,26 @@ async fn asset(text: &'static str, kind: &'static str) -> Response {
     ([(header::CONTENT_TYPE, kind), (header::CACHE_CONTROL, "no-cache")], text).into_response()
 }
 
-/// Runs blocking work (a simulation, a file) off the server's threads.
-async fn blocking<T: Send + 'static>(f: impl FnOnce() -> Result<T, Refusal> + Send + 'static) -> Result<T, Refusal> {
-    tokio::task::spawn_blocking(f)
+/// Runs blocking work (a simulation, a file) off the server's threads, on
+/// the runtime's bounded pool; with [`BUSY_LIMIT`] requests already there,
+/// a 503.
+async fn blocking<T: Send + 'static>(
+    state: &State,
+    f: impl FnOnce() -> Result<T, Refusal> + Send + 'static,
+) -> Result<T, Refusal> {
+    use std::sync::atomic::Ordering;
+    if state.busy.fetch_add(1, Ordering::Relaxed) >= BUSY_LIMIT {
+        state.busy.fetch_sub(1, Ordering::Relaxed);
+        return Err(Refusal(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!("the explorer is computing {BUSY_LIMIT} requests already; ask again once they are done"),
+        ));
+    }
+    let done = tokio::task::spawn_blocking(f)
         .await
-        .unwrap_or_else(|e| Err(Refusal(StatusCode::INTERNAL_SERVER_ERROR, format!("the work failed: {e}"))))
+        .unwrap_or_else(|e| Err(Refusal(StatusCode::INTERNAL_SERVER_ERROR, format!("the work failed: {e}"))));
+    state.busy.fetch_sub(1, Ordering::Relaxed);
+    done
 }
 
 /// The atlas of the `atlas` parameter (0, the file given, by default).
@@ -110,13 +128,18 @@ fn unchanged(o: &Opened) -> Result<(), Refusal> {
     if o.unchanged() {
         return Ok(());
     }
-    Err(Refusal(
+    Err(changed(o))
+}
+
+/// The 409 of a file that changed since it was read.
+fn changed(o: &Opened) -> Refusal {
+    Refusal(
         StatusCode::CONFLICT,
         format!(
             "{}: the file changed or was removed since the explorer read it; start explore again to see it",
             o.path.display()
         ),
-    ))
+    )
 }
 
 /// A whole number of the parameter `name` in `lo..=hi` (`default` when absent).
@@ -132,7 +155,7 @@ fn count(q: &HashMap<String, String>, name: &str, default: usize, lo: usize, hi:
 }
 
 /// A text as an error message shows it: at most 80 characters.
-fn short(t: &str) -> String {
+pub(crate) fn short(t: &str) -> String {
     match t.char_indices().nth(80) {
         Some((at, _)) => format!("{}…", &t[..at]),
         None => t.to_string(),
@@ -263,7 +286,7 @@ async fn atlas(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value
 async fn map(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
-    let layer = blocking(move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string()))).await?;
+    let layer = blocking(&state.clone(), move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string()))).await?;
     let mut bytes = layer.above;
     bytes.extend(layer.below);
     Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
@@ -273,7 +296,7 @@ async fn legend(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
     let (_, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
-    let layer = blocking(move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string()))).await?;
+    let layer = blocking(&state.clone(), move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string()))).await?;
     let rows: Vec<Value> =
         layer.legend.iter().map(|k| json!({"swatch": k.swatch, "colours": k.colours, "text": k.text})).collect();
     let scale =
@@ -353,7 +376,7 @@ fn run_cell(o: &Opened, q: &HashMap<String, String>) -> Result<engine::Cell, Ref
 
 async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let c = blocking(move || run_cell(&o, &q)).await?;
+    let c = blocking(&state, move || run_cell(&o, &q)).await?;
     Ok(Json(c.to_json()))
 }
 
@@ -361,7 +384,7 @@ async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>
 /// multipliers: the object of `orbit --from FILE --sweep S --at … --json`.
 async fn orbit(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let found = blocking(move || {
+    let found = blocking(&state, move || {
         unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
         let mut r = engine::OrbitRequest::new(sim);
@@ -395,7 +418,7 @@ fn png(bytes: Vec<u8>) -> Response {
 
 async fn portrait(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let bytes = blocking(move || {
+    let bytes = blocking(&state.clone(), move || {
         let c = run_cell(&o, &q)?;
         let p = engine::portrait(&c);
         drawn(&state, "png", |path| render::portrait(&p, &render::Page::screen(), path))
@@ -407,7 +430,7 @@ async fn portrait(Shared(state): Shared<St>, Query(q): Params) -> Result<Respons
 async fn sections(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let periods = count(&q, "periods", 1000, 1, MAX_PERIODS)?;
-    let bytes = blocking(move || {
+    let bytes = blocking(&state.clone(), move || {
         let c = run_cell(&o, &q)?;
         let (panels, title) = engine::section_panels(&c, periods).map_err(failed)?;
         drawn(&state, "png", |path| render::sections(&panels, &title, &render::Page::screen(), path))
@@ -421,7 +444,7 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
     let samples = count(&q, "samples", 64, 1, MAX_SAMPLES)?;
     let threads = state.threads;
     let (work, _guard) = Request::new(state.clone());
-    let found = blocking(move || {
+    let found = blocking(&state.clone(), move || {
         unchanged(&o)?;
         let (_, start) = stored_cell(&o, &q)?;
         let Start::Cell { at, .. } = start else { unreachable!("a stored cell") };
@@ -489,26 +512,49 @@ async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json
     r.parent_labels = Some(o.labels_crc32);
     let region = format!("{} {}", r.x, r.y);
     let worker = state.clone();
-    std::thread::spawn(move || run_zoom(&worker, &job, &r, (id, &o), region));
-    Ok(Json(json!({"job": job_id})))
+    let queued = job.clone();
+    let task = Box::new(move || run_zoom(&worker, &queued, &r, (id, &o), region));
+    match state.zooms.submit(task) {
+        Ok(()) => Ok(Json(json!({"job": job_id}))),
+        Err(why) => {
+            let (status, text) = match why {
+                NotQueued::Full => (
+                    StatusCode::SERVICE_UNAVAILABLE,
+                    format!("{ZOOM_QUEUE} zooms are waiting already; ask again once one is done, or cancel one"),
+                ),
+                NotQueued::Stopped => (StatusCode::SERVICE_UNAVAILABLE, "the explorer is stopping".to_string()),
+            };
+            job.end(Phase::Failed(text.clone()));
+            Err(Refusal(status, text))
+        }
+    }
 }
 
-/// Runs a zoom for job `job`; its child, once done, is an atlas of the state.
+/// Runs a zoom for job `job` on the zooms' thread; its child, once done, is
+/// an atlas of the state. A zoom that panics ends `failed`, naming the panic.
 fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: (usize, &Opened), region: String) {
-    // One zoom at a time: the others wait their turn (cancelled meanwhile, they never start).
-    let _turn = lock(&state.zoom_slot);
+    // Cancelled while it waited its turn, it never starts.
     if engine::Observer::cancelled(job) {
         job.end(Phase::Cancelled);
         return;
     }
-    match engine::zoom(r, job) {
-        Ok(done) => {
+    let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| engine::zoom(r, job)));
+    match ran {
+        Ok(Ok(done)) => {
             let path = r.output.clone().unwrap_or_default();
             let child = state.add(Opened::new(path, done.atlas, Some((parent.0, parent.1, region))));
             job.end(Phase::Done(child));
         }
-        Err(_) if engine::Observer::cancelled(job) => job.end(Phase::Cancelled),
-        Err(e) => job.end(Phase::Failed(message(&e))),
+        Ok(Err(_)) if engine::Observer::cancelled(job) => job.end(Phase::Cancelled),
+        Ok(Err(e)) => job.end(Phase::Failed(message(&e))),
+        Err(panic) => {
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".into());
+            job.end(Phase::Failed(format!("the zoom failed: {what}")));
+        }
     }
 }
 
@@ -553,7 +599,7 @@ async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response,
     let page = render::Page::of(size.as_deref(), None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
     let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
     let name = format!("atlas{id}-{}.{format}", q.get("view").map_or("map", String::as_str).replace(':', "-"));
-    let bytes = blocking(move || {
+    let bytes = blocking(&state.clone(), move || {
         drawn(&state, &format, |path| match show {
             Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, path),
             Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, &page, path),
@@ -578,7 +624,9 @@ fn overlays(state: &State, o: &Opened) -> Vec<render::Overlay> {
 
 async fn curves(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let list: Vec<Value> = blocking(move || Ok(overlays(&state, &o)))
+    // The curves are the explored file's: it must still be the file read.
+    unchanged(&state.atlas(0).unwrap_or_else(|| o.clone()))?;
+    let list: Vec<Value> = blocking(&state.clone(), move || Ok(overlays(&state, &o)))
         .await?
         .into_iter()
         .map(|c| {
@@ -600,9 +648,15 @@ async fn file(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Respo
         Some((_, region)) => format!("zoom {region}.h5").replace([' ', '='], "_").replace(':', "-"),
         None => o.path.file_name().map_or("atlas.h5".into(), |n| n.to_string_lossy().to_string()),
     };
-    let path = o.path.clone();
-    let bytes =
-        blocking(move || std::fs::read(&path).map_err(|e| not_found(format!("{}: {e}", path.display())))).await?;
+    let bytes = blocking(&state, move || {
+        let bytes = std::fs::read(&o.path).map_err(|e| not_found(format!("{}: {e}", o.path.display())))?;
+        // A file edited in place keeps its identity: its bytes tell.
+        if o.bytes_crc32 != Some(crc32fast::hash(&bytes)) {
+            return Err(changed(&o));
+        }
+        Ok(bytes)
+    })
+    .await?;
     let disposition = format!("attachment; filename=\"{name}\"");
     Ok(Response::builder()
         .header(header::CONTENT_TYPE, "application/x-hdf5")

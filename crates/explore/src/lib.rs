@@ -20,6 +20,7 @@
 #![deny(missing_docs)]
 
 mod api;
+mod guard;
 mod state;
 
 use state::State;
@@ -105,6 +106,9 @@ impl Drop for Server {
     }
 }
 
+/// Most threads computing the page's requests at once.
+const BLOCKING: usize = 8;
+
 /// Opens the atlas (checked whole, as `inspect --verify` checks it) and
 /// serves its page on 127.0.0.1.
 pub fn serve(r: &ExploreRequest) -> Result<Server, ExploreError> {
@@ -117,25 +121,54 @@ pub fn serve(r: &ExploreRequest) -> Result<Server, ExploreError> {
         .map_err(|source| ExploreError::Port { port: r.port, source })?;
     let port = listener.local_addr().map_err(ExploreError::Start)?.port();
     listener.set_nonblocking(true).map_err(ExploreError::Start)?;
-    let state = Arc::new(State::new(r.file.clone(), loaded.atlas, r.threads));
+    // Curves stored in the atlas are checked now, as the rest of the file.
+    let curves = match store::read_curves(&r.file) {
+        Err(store::StoreError::Kind { found: store::OtherKind::NoCurves, .. }) => Vec::new(),
+        read => read?,
+    };
+    let state = Arc::new(State::new(r.file.clone(), loaded.atlas, curves, r.threads).map_err(ExploreError::Start)?);
+    // A bounded pool: two threads serve, at most BLOCKING compute (cells,
+    // figures, files; more wait, up to state::BUSY_LIMIT).
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
+        .max_blocking_threads(BLOCKING)
         .enable_io()
+        .enable_time()
         .build()
         .map_err(ExploreError::Start)?;
     let (tx, rx) = tokio::sync::oneshot::channel::<()>();
-    let app = api::router(state.clone());
+    let app = api::router(state.clone(), port);
     let thread = std::thread::Builder::new()
         .name("explore".into())
         .spawn(move || {
             runtime.block_on(async move {
                 let Ok(listener) = tokio::net::TcpListener::from_std(listener) else { return };
-                let _ = axum::serve(listener, app)
-                    .with_graceful_shutdown(async move {
-                        let _ = rx.await;
-                    })
-                    .await;
+                let (stopping, stopped) = tokio::sync::watch::channel(false);
+                let serving = axum::serve(listener, app).with_graceful_shutdown({
+                    let mut stopped = stopped.clone();
+                    async move {
+                        let _ = stopped.changed().await;
+                    }
+                });
+                // Stopped, the server lets open requests finish for at most
+                // state::STOP_WAIT, then leaves them.
+                let give_up = {
+                    let mut stopped = stopped;
+                    async move {
+                        let _ = stopped.changed().await;
+                        tokio::time::sleep(state::STOP_WAIT).await;
+                    }
+                };
+                tokio::spawn(async move {
+                    let _ = rx.await;
+                    let _ = stopping.send(true);
+                });
+                tokio::select! {
+                    _ = serving => {}
+                    _ = give_up => {}
+                }
             });
+            runtime.shutdown_timeout(state::STOP_WAIT);
         })
         .map_err(ExploreError::Start)?;
     Ok(Server { url: format!("http://127.0.0.1:{port}/"), stop: Some(tx), thread: Some(thread), state })

@@ -5,8 +5,18 @@
 
 use grid::Atlas;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+/// Most zooms waiting for the zoom worker; one more is refused (503).
+pub(crate) const ZOOM_QUEUE: usize = 8;
+/// Most requests computing or waiting for a blocking thread (cells, figures,
+/// files); one more is refused (503).
+pub(crate) const BUSY_LIMIT: usize = 32;
+/// How long stopping waits for running work to end before it leaves it.
+pub(crate) const STOP_WAIT: Duration = Duration::from_millis(1200);
 
 /// An atlas the page can show.
 pub(crate) struct Opened {
@@ -22,6 +32,9 @@ pub(crate) struct Opened {
     pub labels_crc32: u32,
     /// The file as it was when read: a rewritten file is refused, not read.
     pub identity: Option<Identity>,
+    /// The CRC-32 of the file's bytes when read: a file edited in place
+    /// (its size, inode and time kept) is refused, not served.
+    pub bytes_crc32: Option<u32>,
 }
 
 /// What tells a file from the one that replaces it: device, inode, length,
@@ -51,7 +64,8 @@ impl Opened {
                 (Some((id, region)), boxes)
             }
         };
-        Opened { labels_crc32: store::labels_crc32(&atlas), path, atlas, parent, boxes, identity }
+        let bytes_crc32 = std::fs::read(&path).ok().map(|b| crc32fast::hash(&b));
+        Opened { labels_crc32: store::labels_crc32(&atlas), path, atlas, parent, boxes, identity, bytes_crc32 }
     }
 
     /// Whether its file is still the one read.
@@ -181,17 +195,65 @@ pub(crate) fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
+/// A zoom for the worker.
+type Task = Box<dyn FnOnce() + Send>;
+
+/// The one thread that runs zooms, one after the other (each on every
+/// worker thread of the engine), fed by a queue of [`ZOOM_QUEUE`].
+pub(crate) struct Worker {
+    queue: Mutex<Option<SyncSender<Task>>>,
+}
+
+/// Why a zoom was not queued.
+pub(crate) enum NotQueued {
+    /// The queue is full.
+    Full,
+    /// The server is stopping.
+    Stopped,
+}
+
+impl Worker {
+    /// The worker, started (an error when the OS gives no thread).
+    fn start() -> std::io::Result<Worker> {
+        let (tx, rx) = sync_channel::<Task>(ZOOM_QUEUE);
+        std::thread::Builder::new().name("explore-zoom".into()).spawn(move || {
+            for task in rx {
+                task();
+            }
+        })?;
+        Ok(Worker { queue: Mutex::new(Some(tx)) })
+    }
+
+    /// Queues a zoom.
+    pub fn submit(&self, task: Task) -> Result<(), NotQueued> {
+        let queue = lock(&self.queue);
+        let tx = queue.as_ref().ok_or(NotQueued::Stopped)?;
+        tx.try_send(task).map_err(|e| match e {
+            TrySendError::Full(_) => NotQueued::Full,
+            TrySendError::Disconnected(_) => NotQueued::Stopped,
+        })
+    }
+
+    /// Takes no more zooms; the thread ends once the queued ones have (each
+    /// cancelled, they end at once).
+    fn close(&self) {
+        lock(&self.queue).take();
+    }
+}
+
 /// Everything the server holds.
 pub(crate) struct State {
     atlases: Mutex<Vec<Arc<Opened>>>,
     jobs: Mutex<Vec<Arc<Job>>>,
-    /// Held by the zoom that computes: zooms run one after the other, each
-    /// on every worker thread.
-    pub zoom_slot: Mutex<()>,
+    /// The zooms' thread.
+    pub zooms: Worker,
+    /// Requests computing on, or waiting for, a blocking thread.
+    pub busy: AtomicUsize,
     /// Set when the server stops: long requests end at once.
     pub stopping: AtomicBool,
-    /// The bifurcation curves stored in the explored file, read once asked for.
-    curves: std::sync::OnceLock<Vec<store::Curve>>,
+    /// The bifurcation curves stored in the explored file (checked when it
+    /// was opened).
+    curves: Vec<store::Curve>,
     /// The folder of the zooms' files (removed when the server stops).
     pub dir: PathBuf,
     /// Worker threads of a zoom or an attractor search.
@@ -199,20 +261,22 @@ pub(crate) struct State {
 }
 
 impl State {
-    /// The state of an explorer of `atlas`, read from `path`.
-    pub fn new(path: PathBuf, atlas: Atlas, threads: usize) -> State {
+    /// The state of an explorer of `atlas` and its `curves`, read from
+    /// `path` (an error when the zooms' thread cannot be had).
+    pub fn new(path: PathBuf, atlas: Atlas, curves: Vec<store::Curve>, threads: usize) -> std::io::Result<State> {
         static SERVERS: AtomicU64 = AtomicU64::new(0);
         let n = SERVERS.fetch_add(1, Ordering::Relaxed);
         let dir = std::env::temp_dir().join(format!("vibroatlas-explore-{}-{n}", std::process::id()));
-        State {
+        Ok(State {
             atlases: Mutex::new(vec![Arc::new(Opened::new(path, atlas, None))]),
             jobs: Mutex::new(Vec::new()),
-            zoom_slot: Mutex::new(()),
+            zooms: Worker::start()?,
+            busy: AtomicUsize::new(0),
             stopping: AtomicBool::new(false),
-            curves: std::sync::OnceLock::new(),
+            curves,
             dir,
             threads,
-        }
+        })
     }
 
     /// Atlas `id`.
@@ -228,12 +292,9 @@ impl State {
     }
 
     /// The bifurcation curves stored in the explored file (none where it has
-    /// none), read on the first call.
+    /// none).
     pub fn curves(&self) -> &[store::Curve] {
-        self.curves.get_or_init(|| {
-            let root = lock(&self.atlases)[0].path.clone();
-            store::read_curves(&root).unwrap_or_default()
-        })
+        &self.curves
     }
 
     /// Starts a job; its id.
@@ -249,17 +310,18 @@ impl State {
         lock(&self.jobs).get(id).cloned()
     }
 
-    /// Cancels every running job and waits for them to end (each within a
-    /// cell per worker; at most a minute).
+    /// Cancels every job, takes no more, and waits for them to end (each
+    /// within a cell per worker) for at most [`STOP_WAIT`].
     pub fn cancel_all(&self) {
         self.stopping.store(true, Ordering::Relaxed);
+        self.zooms.close();
         let jobs: Vec<Arc<Job>> = lock(&self.jobs).clone();
         jobs.iter().for_each(|j| {
             j.cancel();
         });
-        let until = std::time::Instant::now() + std::time::Duration::from_secs(60);
-        while jobs.iter().any(|j| j.phase() == Phase::Running) && std::time::Instant::now() < until {
-            std::thread::sleep(std::time::Duration::from_millis(20));
+        let until = Instant::now() + STOP_WAIT;
+        while jobs.iter().any(|j| j.phase() == Phase::Running) && Instant::now() < until {
+            std::thread::sleep(Duration::from_millis(20));
         }
     }
 

@@ -1,0 +1,286 @@
+//! The explorer's HTTP API in process, without a browser: a served atlas
+//! whose mass and stop are named in markup, asked over a plain TCP socket as
+//! any client (a page of another site, a rebound host name, a script) would.
+//! Each answer's status, its JSON error and its security headers are checked.
+
+use engine::{AtlasRequest, SceneSource, Sim};
+use grid::{Axis, SweepKind};
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::sync::OnceLock;
+use std::time::{Duration, Instant};
+
+/// A mass and a stop named in markup that would run script if a page put it
+/// into `innerHTML`.
+const MARKUP_MASS: &str = "<img src=x onerror=document.title=this.alt alt=XSS>";
+const MARKUP_STOP: &str = "<b id=injected>A";
+
+fn scene() -> String {
+    format!(
+        r#"name = "markup"
+[parameters]
+omega = {{ value = 2.5 }}
+sigma = {{ value = 0.0 }}
+[forcing]
+omega = "omega"
+phase = "PI/2"
+[[masses]]
+name = "{MARKUP_MASS}"
+mass = 1
+force = 1
+x0 = "sigma - 0.5"
+[[links]]
+masses = ["{MARKUP_MASS}"]
+stiffness = 1
+damping = 0.1
+[[stops]]
+name = "{MARKUP_STOP}"
+mass = "{MARKUP_MASS}"
+side = "above"
+position = "sigma"
+restitution = 0.8
+[labels."{MARKUP_MASS}"]
+p = "{MARKUP_STOP}"
+"#
+    )
+}
+
+/// A 6 × 4 up-sweep atlas of the markup scene, written once.
+fn atlas_file() -> &'static PathBuf {
+    static FILE: OnceLock<PathBuf> = OnceLock::new();
+    FILE.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-explore-routes-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("markup.h5");
+        let sim = Sim::new(SceneSource::Text(scene()));
+        let x = Axis::parse("omega=1.5:3:6", "--x").unwrap();
+        let y = Axis::parse("sigma=-0.5:0:4", "--y").unwrap();
+        let mut r = AtlasRequest::new(sim, x, y, vec![SweepKind::Up]);
+        r.threads = 1;
+        r.output = Some(path.clone());
+        engine::atlas(&r, &engine::Quiet).unwrap();
+        path
+    })
+}
+
+fn serve() -> explore::Server {
+    let r = explore::ExploreRequest { file: atlas_file().clone(), port: 0, threads: 1 };
+    explore::serve(&r).unwrap()
+}
+
+fn port(server: &explore::Server) -> u16 {
+    server.url().trim_end_matches('/').rsplit(':').next().unwrap().parse().unwrap()
+}
+
+/// An answer: status, headers (names in lower case), body.
+struct Answer {
+    status: u16,
+    headers: Vec<(String, String)>,
+    body: Vec<u8>,
+}
+
+impl Answer {
+    fn header(&self, name: &str) -> Option<&str> {
+        self.headers.iter().find(|(k, _)| k == name).map(|(_, v)| v.as_str())
+    }
+
+    /// The `error` of a JSON error answer (the test fails on any other body).
+    fn error(&self) -> String {
+        assert_eq!(self.header("content-type"), Some("application/json"), "status {}", self.status);
+        let v: serde_json::Value = serde_json::from_slice(&self.body).unwrap();
+        v["error"].as_str().unwrap_or_else(|| panic!("no error in {v}")).to_string()
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::from_slice(&self.body).unwrap()
+    }
+}
+
+/// Sends one HTTP/1.1 request (`Connection: close`) with the `headers` given
+/// (a `Host` among them or none) and reads the whole answer.
+fn send(port: u16, method: &str, target: &str, headers: &[(&str, &str)], body: &[u8]) -> Answer {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    let mut head = format!("{method} {target} HTTP/1.1\r\nConnection: close\r\nContent-Length: {}\r\n", body.len());
+    for (k, v) in headers {
+        head.push_str(&format!("{k}: {v}\r\n"));
+    }
+    head.push_str("\r\n");
+    s.write_all(head.as_bytes()).unwrap();
+    s.write_all(body).unwrap();
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).unwrap();
+    let split = raw.windows(4).position(|w| w == b"\r\n\r\n").expect("an HTTP answer");
+    let head = String::from_utf8_lossy(&raw[..split]).to_string();
+    let mut lines = head.lines();
+    let status = lines.next().unwrap().split(' ').nth(1).unwrap().parse().unwrap();
+    let headers = lines
+        .filter_map(|l| l.split_once(':'))
+        .map(|(k, v)| (k.trim().to_ascii_lowercase(), v.trim().to_string()))
+        .collect::<Vec<_>>();
+    let mut body = raw[split + 4..].to_vec();
+    if headers.iter().any(|(k, v)| k == "transfer-encoding" && v == "chunked") {
+        body = unchunk(&body);
+    }
+    Answer { status, headers, body }
+}
+
+fn unchunk(mut b: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let end = b.windows(2).position(|w| w == b"\r\n").unwrap();
+        let n = usize::from_str_radix(std::str::from_utf8(&b[..end]).unwrap().trim(), 16).unwrap();
+        if n == 0 {
+            return out;
+        }
+        out.extend_from_slice(&b[end + 2..end + 2 + n]);
+        b = &b[end + 4 + n..];
+    }
+}
+
+fn get(port: u16, target: &str) -> Answer {
+    let host = format!("127.0.0.1:{port}");
+    send(port, "GET", target, &[("Host", &host)], b"")
+}
+
+fn post_zoom(port: u16, extra: &[(&str, &str)]) -> Answer {
+    let host = format!("127.0.0.1:{port}");
+    let mut headers = vec![("Host", host.as_str())];
+    headers.extend_from_slice(extra);
+    send(port, "POST", "/api/zoom", &headers, br#"{"atlas": 0, "x": "omega=1.5:3:11", "y": "sigma=-0.5:0:7"}"#)
+}
+
+#[test]
+fn every_answer_carries_a_strict_policy() {
+    let server = serve();
+    let p = port(&server);
+    for target in ["/", "/explore.js", "/api/atlas", "/api/no-such-route"] {
+        let a = get(p, target);
+        let csp = a.header("content-security-policy").unwrap_or_default();
+        assert!(csp.contains("script-src 'self'") && csp.contains("default-src 'none'"), "{target}: {csp}");
+        assert!(!csp.contains("unsafe-inline") && !csp.contains("unsafe-eval"), "{target}: {csp}");
+        assert_eq!(a.header("x-content-type-options"), Some("nosniff"), "{target}");
+    }
+    // The page itself has no inline script for the policy to block.
+    let page = String::from_utf8(get(p, "/").body).unwrap();
+    assert!(!page.contains("<script>") && !page.contains("onclick=") && !page.contains("style="), "{page}");
+}
+
+#[test]
+fn names_in_markup_come_back_as_json_strings() {
+    let server = serve();
+    let a = get(port(&server), "/api/atlas");
+    assert_eq!(a.status, 200);
+    let v = a.json();
+    assert_eq!(v["masses"][0], MARKUP_MASS);
+    let at = get(port(&server), "/api/at?ix=2&iy=1").json();
+    assert!(at["sweeps"]["up"]["labels"][MARKUP_MASS].is_string(), "{at}");
+    // The page puts every text from the server into the document as text:
+    // no assignment of markup is left in its script.
+    let script = String::from_utf8(get(port(&server), "/explore.js").body).unwrap();
+    for sink in ["innerHTML", "outerHTML", "insertAdjacentHTML", "document.write", "eval("] {
+        assert!(!script.contains(sink), "explore.js uses {sink}");
+    }
+}
+
+#[test]
+fn another_host_name_is_refused() {
+    let server = serve();
+    let p = port(&server);
+    for host in ["evil.example", "evil.example:80", &format!("127.0.0.1:{}", p + 1), "127.0.0.1"] {
+        for target in ["/api/files/0", "/api/atlas", "/"] {
+            let a = send(p, "GET", target, &[("Host", host)], b"");
+            assert_eq!(a.status, 403, "{host} {target}");
+            assert!(a.error().starts_with("Host: the explorer answers to"), "{}", a.error());
+        }
+    }
+    let none = send(p, "GET", "/api/atlas", &[], b"");
+    assert_eq!(none.status, 403);
+    assert_eq!(get(p, "/api/files/0").status, 200);
+    let local = format!("localhost:{p}");
+    assert_eq!(send(p, "GET", "/api/atlas", &[("Host", &local)], b"").status, 200);
+}
+
+#[test]
+fn a_zoom_from_another_site_or_not_json_is_refused() {
+    let server = serve();
+    let p = port(&server);
+    let plain = post_zoom(p, &[("Content-Type", "text/plain")]);
+    assert_eq!(plain.status, 415);
+    assert!(plain.error().starts_with("Content-Type:"), "{}", plain.error());
+    assert_eq!(post_zoom(p, &[]).status, 415);
+    let json = ("Content-Type", "application/json");
+    let foreign = post_zoom(p, &[json, ("Origin", "http://evil.example")]);
+    assert_eq!(foreign.status, 403);
+    assert!(foreign.error().starts_with("Origin:"), "{}", foreign.error());
+    let cross = post_zoom(p, &[json, ("Sec-Fetch-Site", "cross-site")]);
+    assert_eq!(cross.status, 403);
+    let host = format!("127.0.0.1:{p}");
+    let delete = send(p, "DELETE", "/api/jobs/0", &[("Host", &host), ("Origin", "http://evil.example")], b"");
+    assert_eq!(delete.status, 403);
+    // The page's own origin (and a script, which names none) may.
+    let origin = format!("http://127.0.0.1:{p}");
+    let own = post_zoom(p, &[json, ("Origin", &origin), ("Sec-Fetch-Site", "same-origin")]);
+    assert_eq!(own.status, 200, "{}", String::from_utf8_lossy(&own.body));
+    let job = own.json()["job"].as_u64().unwrap();
+    let cancel = send(p, "DELETE", &format!("/api/jobs/{job}"), &[("Host", &host), ("Origin", &origin)], b"");
+    assert_eq!(cancel.status, 200);
+}
+
+#[test]
+fn every_error_is_json() {
+    let server = serve();
+    let p = port(&server);
+    let host = format!("127.0.0.1:{p}");
+    let long = format!("/api/atlas?pad={}", "a".repeat(20_000));
+    let a = send(p, "GET", &long, &[("Host", &host)], b"");
+    assert_eq!(a.status, 414);
+    assert!(a.error().contains("at most 8192"), "{}", a.error());
+    let big = vec![b' '; 200_000];
+    let a = send(p, "POST", "/api/zoom", &[("Host", &host), ("Content-Type", "application/json")], &big);
+    assert_eq!(a.status, 413);
+    assert!(!a.error().is_empty());
+    for (method, target, status) in [
+        ("GET", "/api/nothing", 404),
+        ("PUT", "/api/atlas", 405),
+        ("GET", "/api/jobs/x", 404),
+        ("GET", "/api/at?ix=-1&iy=0", 400),
+        ("GET", "/api/files/99", 404),
+    ] {
+        let a = send(p, method, target, &[("Host", &host)], b"");
+        assert_eq!(a.status, status, "{method} {target}");
+        assert!(!a.error().is_empty(), "{method} {target}");
+    }
+}
+
+/// The threads of this process now.
+fn threads() -> usize {
+    std::fs::read_dir("/proc/self/task").map(|d| d.count()).unwrap_or(0)
+}
+
+#[test]
+fn queued_zooms_are_bounded_and_a_stop_is_quick() {
+    let before = threads();
+    let server = serve();
+    let p = port(&server);
+    let json = ("Content-Type", "application/json");
+    let mut refused = 0;
+    for _ in 0..40 {
+        let a = post_zoom(p, &[json]);
+        match a.status {
+            200 => {}
+            503 => {
+                assert!(a.error().contains("zooms are waiting already"), "{}", a.error());
+                refused += 1;
+            }
+            s => panic!("status {s}: {}", String::from_utf8_lossy(&a.body)),
+        }
+    }
+    assert!(refused >= 40 - 1 - 8 - 1, "{refused} of 40 refused");
+    let during = threads();
+    assert!(during <= before + 24, "{before} threads before, {during} with 40 zooms asked for");
+    let t = Instant::now();
+    server.stop();
+    assert!(t.elapsed() < Duration::from_secs(2), "stopped in {:?}", t.elapsed());
+}
