@@ -367,3 +367,58 @@ fn hysteresis_needs_up_and_down() {
     );
     assert!(!png.exists());
 }
+
+/// Issue 61: a named pipe given as the scene of `cell` or `sweep` blocked in
+/// `open()` for ever; it is refused in one line before it is opened, as a
+/// folder is. Each run is given 30 s before the test calls it a hang.
+#[test]
+fn a_scene_that_is_a_pipe_or_a_folder_is_refused() {
+    let d = crate::util::scratch("scene-pipe");
+    let fifo = d.join("scene.toml");
+    assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
+    let fifo = fifo.to_str().unwrap();
+    for args in [vec!["cell", fifo], vec!["sweep", fifo, "--axis", "omega=0.2:0.4:3"], vec!["orbit", fifo]] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
+            .args(&args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let until = std::time::Instant::now() + std::time::Duration::from_secs(30);
+        while child.try_wait().unwrap().is_none() {
+            if std::time::Instant::now() > until {
+                child.kill().unwrap();
+                panic!("{args:?} hangs on a named pipe");
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("not a regular file (a named pipe)"), "{err}");
+    }
+    expect_error(&["cell", d.to_str().unwrap()], "not a regular file (a folder)");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Issue 61, P1: a large forcing phase was rounded at every event (τ =
+/// 62831853073.36665 gave 9-9-0, τ = 1.44e17 1-S-0). τ is reduced mod 2π
+/// exactly when the scene is evaluated: the cell is the one of the reduced
+/// angle (its residue by Python's decimal with 100 digits of π), bit for bit
+/// in everything but the parameter given; 1-1-0 as an independent
+/// integrator found.
+#[test]
+fn a_large_phase_is_the_same_angle() {
+    let base = ["configs/single-stop.toml", "--set", "zeta=0.05", "--set", "omega=2.0", "--set"];
+    for (large, residue) in [("tau=62831853073.36665", "tau=1.5707886731299447"), ("tau=1.44e17", "tau=2.2036341134760633")] {
+        let mut a = crate::util::cell_json(&[&base[..], &[large]].concat());
+        let mut b = crate::util::cell_json(&[&base[..], &[residue]].concat());
+        assert_eq!(a["labels"]["M"], "1-1-0", "{large}");
+        for v in [&mut a, &mut b] {
+            v["parameters"]["tau"] = serde_json::Value::Null;
+        }
+        assert_eq!(a, b, "{large} against {residue}");
+    }
+    expect_error(&["cell", "configs/single-stop.toml", "--set", "tau=1e400"], "tau");
+}

@@ -71,9 +71,24 @@ impl std::error::Error for SceneLoadError {}
 pub const MAX_SCENE_BYTES: u64 = 16 << 20;
 
 /// The text of the file `path`, read up to [`MAX_SCENE_BYTES`]; a longer
-/// one is an error saying so.
+/// one is an error saying so. A named pipe or a socket is refused before it
+/// is opened (opening a pipe waits for a writer, for ever), and so is a folder.
 pub(crate) fn read_text(path: &std::path::Path) -> std::io::Result<String> {
     use std::io::Read;
+    use std::os::unix::fs::FileTypeExt;
+    let kind = std::fs::metadata(path)?.file_type();
+    let what = if kind.is_fifo() {
+        Some("a named pipe")
+    } else if kind.is_socket() {
+        Some("a socket")
+    } else if kind.is_dir() {
+        Some("a folder")
+    } else {
+        None
+    };
+    if let Some(what) = what {
+        return Err(std::io::Error::other(format!("not a regular file ({what})")));
+    }
     let mut text = String::new();
     std::fs::File::open(path)?.take(MAX_SCENE_BYTES + 1).read_to_string(&mut text)?;
     if text.len() as u64 > MAX_SCENE_BYTES {
