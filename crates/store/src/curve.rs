@@ -7,7 +7,9 @@
 //! its codimension-two points as `codim2_<A>`, `codim2_<B>` and `codim2_kind`
 //! along `codim2`. An atlas may hold its curves in a `curves` group laid out
 //! the same way (`vibroatlas curves ATLAS --into`); [`read_curves`] reads
-//! either.
+//! either. The holder's attribute `curves_crc32` covers every number and
+//! text of its curves, their number and their order: an edited point, a curve
+//! scaled, deleted or swapped is an error on read, never another curve.
 
 use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
@@ -75,7 +77,40 @@ fn write_all(g: &hdf5::Group, curves: &[Curve], command: &str) -> hdf5::Result<(
     for (k, c) in curves.iter().enumerate() {
         write_one(&g.create_group(&curve(k))?, c)?;
     }
+    netcdf::attr_num(g, CURVES_CRC32, values_crc32(curves))?;
     netcdf::seal(g)
+}
+
+/// The CRC-32 of `curves` as a reader gets them: their number, then per
+/// curve its kind, free parameters and end (each text its byte length, u64
+/// little-endian, then its bytes), its points and its codimension-two points
+/// (each list its length, then every number's IEEE bits little-endian, a
+/// kind's text before its two numbers).
+fn values_crc32(curves: &[Curve]) -> u32 {
+    let mut h = crc32fast::Hasher::new();
+    let count = |n: usize, h: &mut crc32fast::Hasher| h.update(&(n as u64).to_le_bytes());
+    let text = |t: &str, h: &mut crc32fast::Hasher| {
+        h.update(&(t.len() as u64).to_le_bytes());
+        h.update(t.as_bytes());
+    };
+    count(curves.len(), &mut h);
+    for c in curves {
+        for t in [&c.kind, &c.free[0], &c.free[1], &c.ended] {
+            text(t, &mut h);
+        }
+        count(c.points.len(), &mut h);
+        for (a, b) in &c.points {
+            h.update(&a.to_le_bytes());
+            h.update(&b.to_le_bytes());
+        }
+        count(c.codim2.len(), &mut h);
+        for (k, a, b) in &c.codim2 {
+            text(k, &mut h);
+            h.update(&a.to_le_bytes());
+            h.update(&b.to_le_bytes());
+        }
+    }
+    h.finalize()
 }
 
 /// The dataset `name` of `values`, deflated and checksummed (Fletcher-32)
@@ -141,7 +176,24 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     while let Ok(g) = holder.group(&curve(out.len())) {
         out.push(read_one(&ck, &g)?);
     }
-    Ok(out)
+    let holder_name = if holder.name() == "/" { "/".to_string() } else { holder.name() };
+    match crate::attrs::optional::<u32>(path, &holder, CURVES_CRC32)? {
+        Some(crc) if crc == values_crc32(&out) => Ok(out),
+        Some(_) => Err(StoreError::format(
+            path,
+            format!(
+                "the curves of {holder_name} are not those written (a point, a curve or their order changed since; \
+                 attribute {CURVES_CRC32})"
+            ),
+        )),
+        None => Err(StoreError::format(
+            path,
+            format!(
+                "the curves of {holder_name} carry no {CURVES_CRC32} (deleted, or written by a vibroatlas before \
+                 curves were checked): run curves or curve again"
+            ),
+        )),
+    }
 }
 
 /// One curve's group, its datasets checked before they are used: sizes
@@ -174,4 +226,67 @@ fn read_one(ck: &crate::checked::Checker, g: &hdf5::Group) -> Result<Curve, Stor
         codim2: kinds.into_iter().zip(ca.0).zip(cb.0).map(|((k, x), y)| (k, x, y)).collect(),
         ended: crate::attrs::text(ck.path, g, ENDED)?.unwrap_or_default(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn two() -> Vec<Curve> {
+        let c = |kind: &str, s: f64| Curve {
+            kind: kind.into(),
+            free: ["omega".into(), "delta".into()],
+            points: (0..5).map(|i| (1.0 + s * f64::from(i), 0.5 - 0.1 * f64::from(i))).collect(),
+            codim2: vec![("PD-SN".into(), 1.0 + s, 0.4)],
+            ended: "left the plane".into(),
+        };
+        vec![c("PD", 0.1), c("grazing", 0.2)]
+    }
+
+    /// A curve file changed after it was written, as h5py would change it
+    /// (the chunks' own checksums written anew), reads as an error naming
+    /// the checksum, never as other curves: a point edited, a curve scaled,
+    /// a codimension-two point moved, a curve deleted, two swapped, the
+    /// checksum deleted (issue 61, F1).
+    #[test]
+    fn changed_curves_are_refused() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-curves-crc-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.h5");
+        type Change = fn(&hdf5::File);
+        let changes: [(&str, Change); 6] = [
+            ("a point", |f| {
+                let d = f.dataset("curve_0/omega").unwrap();
+                let mut v: Vec<f64> = d.read_raw().unwrap();
+                v[2] += 1e-12;
+                d.write_raw(&v).unwrap();
+            }),
+            ("a curve scaled", |f| {
+                let d = f.dataset("curve_1/delta").unwrap();
+                let v: Vec<f64> = d.read_raw::<f64>().unwrap().iter().map(|x| x * 1.01).collect();
+                d.write_raw(&v).unwrap();
+            }),
+            ("a codimension-two point", |f| {
+                let d = f.dataset("curve_0/codim2_delta").unwrap();
+                d.write_raw(&[0.41]).unwrap();
+            }),
+            ("a curve deleted", |f| f.unlink("curve_1").unwrap()),
+            ("two curves swapped", |f| {
+                for (from, to) in [("curve_0", "swap"), ("curve_1", "curve_0"), ("swap", "curve_1")] {
+                    f.link_hard(from, to).unwrap();
+                    f.unlink(from).unwrap();
+                }
+            }),
+            ("the checksum deleted", |f| f.delete_attr(CURVES_CRC32).unwrap()),
+        ];
+        write_curves(&path, &two(), "test", "scene").unwrap();
+        assert_eq!(read_curves(&path).unwrap(), two());
+        for (what, change) in changes {
+            write_curves(&path, &two(), "test", "scene").unwrap();
+            change(&hdf5::File::open_rw(&path).unwrap());
+            let e = read_curves(&path).map(|_| ()).unwrap_err().to_string();
+            assert!(e.contains(CURVES_CRC32), "{what}: {e}");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

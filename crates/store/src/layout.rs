@@ -225,6 +225,10 @@ pub mod curves {
     pub const CODIM2: &str = "codim2";
     /// Dataset of the kinds of the codimension-two points.
     pub const CODIM2_KIND: &str = "codim2_kind";
+    /// Attribute of the file or group: the CRC-32 of every curve as read
+    /// (their number, and each one's kind, free parameters, end, points and
+    /// codimension-two points, in order; `curve::values_crc32`).
+    pub const CURVES_CRC32: &str = "curves_crc32";
 
     /// Group of the k-th curve.
     pub fn curve(k: usize) -> String {

@@ -258,7 +258,8 @@ fn in_memory(atlas: &Atlas, info: &RunInfo, chunks: &Chunks, z: &Deflater) -> hd
 /// filters and compared (the per-cell datasets with the cells, every other
 /// one with a hash of what the writer would write). A dataset that does not
 /// read (a damaged object header, chunk index or checksum) or reads other
-/// values is one [`StoreError::Dataset`] naming it.
+/// values is one [`StoreError::Dataset`] naming it. Curves stored in the
+/// file are read, their checksum compared.
 pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreError> {
     let atlas = &loaded.atlas;
     let z = Deflater { threads: 1, ..Default::default() };
@@ -266,11 +267,17 @@ pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreEr
     let (written, _) = in_memory(atlas, &loaded.info, &chunks, &z).map_err(|e| StoreError::hdf5(path, e))?;
     let actual = crate::heap::open(path)?;
     crate::verify::attributes(&written, &actual, path)?;
+    let curves = actual.link_exists(crate::layout::curves::GROUP);
     drop((written, actual));
     crate::verify::file(path, path, atlas, &z.expected).map(drop).map_err(|e| match e {
         StoreError::Unverified { path, dataset, message } => StoreError::Dataset { path, dataset, message },
         e => e,
-    })
+    })?;
+    // Curves stored in the atlas (`curves --into`) carry their own checksum.
+    if curves {
+        crate::curve::read_curves(path)?;
+    }
+    Ok(())
 }
 
 impl Drop for Draft {
