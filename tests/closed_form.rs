@@ -92,3 +92,90 @@ fn free_mass_flight_is_exact() {
         assert!((b.before[1] - x).abs() < 1e-11 * (1.0 + dt), "position off the line by {}", b.before[1] - x);
     }
 }
+
+/// The quantities of a cell's steady motion over its orbit's n periods.
+fn quantities(sys: &solver::System, acc: &Accuracy) -> (solver::CellResult, std::collections::BTreeMap<String, f64>) {
+    let cell = run_cell(sys, acc, Method::Exact, &sys.model.initial_state());
+    let n = cell.n.unwrap_or_else(|| panic!("{}: not periodic ({:?})", sys.model.name, cell.class));
+    let q = solver::quantity::measure(sys, acc, &cell.final_state, n).unwrap();
+    (cell, q.into_iter().collect())
+}
+
+/// Issue 60: the linear forced oscillator, its stops out of reach: M1's
+/// largest |x| is the closed-form amplitude A = 1/|1 − ω² + 2iζω| to 1e-10;
+/// its peak to peak 2A, its rms A/√2, its largest |v| Aω, its mean 0; the
+/// input power equals the damping's dissipation per period.
+#[test]
+fn quantities_of_the_linear_oscillator() {
+    for &(omega, zeta) in &[(0.5, 0.1), (1.3, 0.1), (2.5, 0.06), (0.9, 0.25)] {
+        let sys = system("multi-stop.toml", &[("omega", omega), ("zeta", zeta), ("delta", 8.0)]);
+        let (_, q) = quantities(&sys, &tight());
+        let a = free_amplitude(omega, zeta);
+        for (name, want) in [
+            ("max_abs_x_M1", a),
+            ("ptp_x_M1", 2.0 * a),
+            ("rms_x_M1", a / 2f64.sqrt()),
+            ("max_abs_v_M1", a * omega),
+            ("rms_v_M1", a * omega / 2f64.sqrt()),
+            ("mean_x_M1", 0.0),
+        ] {
+            assert!((q[name] - want).abs() < 1e-10, "omega {omega}: {name} {} against {want}", q[name]);
+        }
+        assert_eq!(q["impact_rate_A1"], 0.0);
+        assert!(q["energy_residual"].abs() < 1e-9, "omega {omega}: residual {}", q["energy_residual"]);
+        let period = 2.0 * std::f64::consts::PI / omega;
+        let balance = q["power_in"] * period - q["dissipated_damping"];
+        assert!(balance.abs() < 1e-10 * q["dissipated_damping"], "omega {omega}: {balance}");
+    }
+}
+
+/// Issue 60: the single-stop (1, n) orbits at ζ = 0: the impact speed is the
+/// closed form's V to 1e-10 and the impulse per period (1 + r) V / n; every
+/// joule put in is lost in the impacts.
+#[test]
+fn quantities_of_single_stop_orbits() {
+    for &(omega, sigma, r, n) in &[(2.0, 0.0, 0.8, 1), (2.5, -0.1, 0.8, 1), (2.0, 0.1, 0.5, 1), (3.5, 0.0, 0.5, 2)] {
+        let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", r)]);
+        let (cell, q) = quantities(&sys, &tight());
+        assert_eq!(cell.n, Some(n as usize));
+        let roots = single_stop_impact_speeds(omega, sigma, r, n);
+        let v = q["impact_speed_max_A"];
+        let best = roots.iter().map(|x| (x - v).abs()).fold(f64::INFINITY, f64::min);
+        assert!(best < 1e-10, "omega {omega}: V = {v}, roots {roots:?}");
+        assert_eq!(q["impact_speed_mean_A"].to_bits(), v.to_bits());
+        assert!((q["impulse_A"] - (1.0 + r) * v / n as f64).abs() < 1e-10, "{}", q["impulse_A"]);
+        assert!((q["impact_rate_A"] - 1.0 / n as f64).abs() < 1e-15);
+        assert!(q["energy_residual"].abs() < 1e-9, "residual {}", q["energy_residual"]);
+        assert_eq!(q["dissipated_damping"], 0.0);
+        let lost = 0.5 * (1.0 - r * r) * v * v / n as f64;
+        assert!((q["dissipated_impacts"] - lost).abs() < 1e-9 * lost, "{} against {lost}", q["dissipated_impacts"]);
+    }
+}
+
+/// Issue 60: the energy balances on a periodic cell of every shipped scene
+/// (their default parameters, and a few more cells): what the forcing puts
+/// in over the orbit, the damping, impacts, soft contacts and friction take
+/// out, to 1e-9 of the input.
+#[test]
+fn energy_balances_on_every_shipped_scene() {
+    let cases: [(&str, &[(&str, f64)]); 9] = [
+        ("multi-stop.toml", &[]),
+        ("multi-stop.toml", &[("omega", 1.0), ("delta", 1.2)]),
+        ("single-stop.toml", &[("zeta", 0.05)]),
+        ("impact-damper.toml", &[]),
+        ("symmetric-stops.toml", &[]),
+        ("dry-friction.toml", &[]),
+        ("soft-stop.toml", &[]),
+        ("gear-backlash.toml", &[]),
+        ("multi-stop.toml", &[("omega", 0.2), ("delta", 0.6)]),
+    ];
+    for (scene, sets) in cases {
+        let sys = system(scene, sets);
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+        let n = cell.n.unwrap_or_else(|| panic!("{scene} {sets:?}: {:?}, not periodic", cell.class));
+        let q: std::collections::BTreeMap<String, f64> =
+            solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, n).unwrap().into_iter().collect();
+        assert!(q["energy_residual"].abs() < 1e-9, "{scene} {sets:?}: residual {} ({q:?})", q["energy_residual"]);
+        assert!(q["power_in"] > 0.0, "{scene} {sets:?}: {q:?}");
+    }
+}

@@ -202,3 +202,29 @@ fn the_architecture_pages_dependencies_are_the_cargo_files() {
         libraries.iter().filter(|&&n| n != "scene").chain(&["python"]).map(|s| s.to_string()).collect();
     assert_eq!(seen, all, "crates the sentence names");
 }
+
+/// Issue 60: docs/models.md section 13 runs its command and quotes what it
+/// prints: every `"name": value` the section quotes is the value of
+/// `quantities` (bit for bit, as JSON prints it), and its attenuation in dB is
+/// 20 log₁₀ of M1's amplitude over the closed-form bare primary's at the
+/// scene's ω and ζ, to the digits shown.
+#[test]
+fn models_quantities_are_what_cell_prints() {
+    let page = read("docs/models.md");
+    let section = &page[page.find("## 13. Quantities of the steady motion").expect("section 13")..];
+    let json = json_of(&command(section, "vibroatlas cell configs/impact-damper.toml"));
+    let q = &json["quantities"];
+    let mut quoted = 0;
+    for piece in section.split("`\"").skip(1) {
+        let Some((name, rest)) = piece.split_once("\": ") else { continue };
+        let value: f64 = rest.split('`').next().unwrap().parse().unwrap();
+        assert_eq!(q[name].as_f64(), Some(value), "{name}");
+        quoted += 1;
+    }
+    assert!(quoted >= 4, "{quoted} values quoted");
+    let a = q["max_abs_x_M1"].as_f64().unwrap();
+    let bare = solver::reference::free_amplitude(1.5, 0.1);
+    assert!(section.contains(&format!("= {bare:.6}")), "the bare amplitude {bare:.6}");
+    let db = format!("{:.2}", 20.0 * (a / bare).log10()).replace('-', "−");
+    assert!(section.contains(&format!("= {db} dB")), "{db} dB");
+}

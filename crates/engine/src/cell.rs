@@ -19,6 +19,26 @@ pub struct Cell {
     pub origin: Option<Origin>,
     /// The classification.
     pub result: CellResult,
+    /// The quantities of its steady motion ([`solver::quantity`]), when its
+    /// motion could be followed over their window.
+    pub quantities: Option<solver::quantity::Quantities>,
+}
+
+/// Forcing periods over which the quantities of a cell without a period are
+/// taken: those that follow its record, from its final state.
+pub const QUANTITY_WINDOW: usize = 100;
+
+/// The quantities of the steady motion of a classified cell: over its
+/// orbit's `n` periods when periodic, else over the [`QUANTITY_WINDOW`]
+/// periods that follow its record, from its final state; none when the
+/// motion cannot be followed (a halted or unbounded one).
+pub fn quantities_of(system: &System, accuracy: &solver::Accuracy, result: &CellResult) -> Option<solver::quantity::Quantities> {
+    let y = &result.final_state;
+    if y.is_empty() || !y.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let periods = result.n.unwrap_or(QUANTITY_WINDOW);
+    solver::quantity::measure(system, accuracy, y, periods).ok()
 }
 
 /// Simulates and classifies one cell. From a stored cell, it starts from the
@@ -35,7 +55,8 @@ pub fn cell(sim: &Sim, start: &Start) -> Result<Cell> {
     };
     let cap = origin.as_ref().and_then(|o| o.section_cap).unwrap_or(0);
     let result = run_cell_with_sections(&system, &setup.accuracy, setup.method, &y0, cap).0;
-    Ok(Cell { setup, system, origin, result })
+    let quantities = quantities_of(&system, &setup.accuracy, &result);
+    Ok(Cell { setup, system, origin, result, quantities })
 }
 
 /// The JSON of a cell (the contract of `cell --json`): what was run and
@@ -89,6 +110,10 @@ pub struct CellReport {
     /// Where the simulation started, when not from the scene's initial state.
     #[serde(rename = "from", skip_serializing_if = "Option::is_none")]
     pub origin: Option<Source>,
+    /// The quantities of the steady motion by name ([`solver::quantity::TABLE`]:
+    /// `max_abs_x_M1`, `impact_speed_max_A1`, `power_in`, …), null when the
+    /// motion cannot be followed.
+    pub quantities: Option<BTreeMap<String, f64>>,
 }
 
 impl Cell {
@@ -120,6 +145,7 @@ impl Cell {
             reason_detail: c.reason.clone(),
             friction_stick: (!sys.model.friction.is_empty()).then(|| friction.collect()),
             origin: self.origin.as_ref().map(|o| o.source.clone()),
+            quantities: self.quantities.as_ref().map(|q| q.iter().cloned().collect()),
         }
     }
 

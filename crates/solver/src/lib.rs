@@ -69,6 +69,7 @@ mod newton;
 mod number;
 pub mod orbit;
 mod period;
+pub mod quantity;
 pub mod reference;
 mod section;
 mod simulate;
@@ -94,5 +95,5 @@ pub use newton::{solve, Limits, MapKind, Solution};
 /// Complex numbers of Floquet multipliers.
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};
-pub use simulate::{EventKind, Halt, Ignore, Observer, PeriodRecord, Simulator};
+pub use simulate::{EventKind, Halt, Ignore, Observer, PeriodRecord, Segment, Simulator};
 pub use system::{System, ADMISSIBLE_PENETRATION, FASTEST_FORCING, LARGEST_MAGNITUDE};

@@ -33,6 +33,55 @@ pub trait Observer {
     fn named_event(&mut self, _time: f64, _kind: EventKind, _y: &DVector<f64>) {}
     /// A requested sample time within a period was reached.
     fn sample(&mut self, _time: f64, _y: &DVector<f64>) {}
+    /// Whether the observer takes every flow segment ([`Observer::segment`]).
+    fn wants_segments(&self) -> bool {
+        false
+    }
+    /// A flow segment of the exact flow, just flown and before the event
+    /// that ends it is handled: its closed form evaluates the state anywhere
+    /// within it. Only when [`Observer::wants_segments`]; RK4's steps have
+    /// no closed form and give none.
+    fn segment(&mut self, _segment: &mut Segment<'_>) {}
+}
+
+/// One segment of the exact flow between two events (or an event and a
+/// period's end), in one mode: its start, its length and its closed form.
+pub struct Segment<'a> {
+    /// Completed forcing periods at its start.
+    pub periods: u64,
+    /// Time within the period at its start (the forcing phase there is
+    /// `ω clock + τ`).
+    pub clock: f64,
+    /// Its length (time units of the scene).
+    pub span: f64,
+    /// Held stops (bit k: stop k holds its mass).
+    pub held: u32,
+    /// Stuck friction contacts (bit i).
+    pub stuck: u32,
+    /// Pressed soft stops (bit k: its force pushes).
+    pub pressed: u32,
+    mode: &'a Mode,
+    work: &'a mut Workspace,
+    scratch: &'a mut DVector<f64>,
+    full: usize,
+}
+
+impl Segment<'_> {
+    /// The full state `[x; v]` at time `u` (0 to [`Segment::span`]) into its
+    /// start, from the closed form of the flow.
+    pub fn state(&mut self, u: f64, out: &mut DVector<f64>) {
+        self.work.state_at(self.mode, u, self.scratch);
+        if out.len() != self.full {
+            *out = DVector::zeros(self.full);
+        }
+        self.mode.lift_into(self.scratch, out);
+    }
+
+    /// The largest rate of the flow's terms (the fastest mode's |eigenvalue|,
+    /// forcing harmonics included), per unit time.
+    pub fn fastest(&self) -> f64 {
+        self.mode.spectral.fastest()
+    }
 }
 
 /// What an event was. Stops and friction contacts are indices into the
@@ -163,6 +212,8 @@ struct Buffers {
     hits: Vec<impact::Hit>,
     /// Augmented and full state at a sample taken inside an advance.
     sample: (DVector<f64>, DVector<f64>),
+    /// Augmented state of a segment's closed form ([`Segment::state`]).
+    segment: DVector<f64>,
 }
 
 /// What the saltation matrix of an event needs from before it, in full
@@ -496,6 +547,23 @@ impl<'s> Simulator<'s> {
                 Advance::Event { time, .. } => self.clock + time,
                 Advance::Stalled | Advance::Budget => self.clock,
             };
+            if obs.wants_segments() && self.method == Method::Exact && end > self.clock {
+                if b.segment.len() != b.start.len() {
+                    b.segment = DVector::zeros(b.start.len());
+                }
+                obs.segment(&mut Segment {
+                    periods: self.periods,
+                    clock: self.clock,
+                    span: end - self.clock,
+                    held: self.key.held,
+                    stuck: self.key.stuck,
+                    pressed: self.key.pressed,
+                    mode,
+                    work: &mut self.work,
+                    scratch: &mut b.segment,
+                    full: self.y.len(),
+                });
+            }
             let here = si + inside[si..].partition_point(|&t| t < end);
             let (s, y) = &mut b.sample;
             if here > si && (s.len(), y.len()) != (b.start.len(), self.y.len()) {

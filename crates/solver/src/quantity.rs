@@ -1,0 +1,615 @@
+//! Quantities of the steady motion (issue 60): what a designer measures of a
+//! cell, each declared once in [`TABLE`] and computed from the closed form of
+//! the exact flow, never from samples of a plotted trace.
+//!
+//! Over a window of `W` forcing periods of length `T` (a periodic cell's `n`
+//! periods of its orbit), with `x_i`, `v_i` a mass's position and velocity,
+//! `g_k = n_k·x + c_k` a stop's gap and `w_j = n_j·v` a friction contact's
+//! slip rate:
+//!
+//! - a position's extremes are its values at the window's ends, at events,
+//!   and where its velocity vanishes (a root of the flow's velocity, refined
+//!   to the last bits by regula falsi on the closed form); a velocity's and
+//!   a contact force's extremes are refined by golden-section search, whose
+//!   error in the value is quadratic in its error in time;
+//! - means and integrals (`mean_x`, `rms_x`, `rms_v`, power, dissipation)
+//!   are Gauss–Legendre quadratures (8 nodes) over pieces of each flow
+//!   segment no longer than an eighth of its fastest oscillation, exact to
+//!   rounding for the sums of exponentials and sinusoids the flow is made of;
+//! - energy: the forcing's harmonics put in `∫ F(t)·v dt`; the mechanical
+//!   energy `E = ½vᵀMv + ½xᵀKx − Lᵀx + Σ ½k g²` (pressed soft stops) changes
+//!   by `ΔE`; damping takes `∫ vᵀCv dt`, soft stops `∫ c ġ² dt` and the
+//!   spring energy they let go when a contact parts, friction `∫ f_k |w| dt`
+//!   while slipping, and every impact (or stick, which is a plastic impact)
+//!   the energy its jump removes. `energy_residual` is
+//!   `(input − ΔE − dissipated) / input`: zero to rounding where the
+//!   physics and its bookkeeping agree.
+//!
+//! Every quantity is per forcing period where it is a count or an integral.
+
+use crate::accuracy::Accuracy;
+use crate::flow::Method;
+use crate::simulate::{Halt, Observer, Segment, Simulator};
+use crate::system::System;
+use nalgebra::DVector;
+use scene::StopLaw;
+use std::f64::consts::TAU;
+
+/// What a quantity belongs to: one value per mass, per stop, per friction
+/// contact, or one per cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Owner {
+    /// Every mass, labelled or not.
+    Mass,
+    /// Every stop.
+    Stop,
+    /// Every rigid stop (restitution).
+    RigidStop,
+    /// Every soft stop (spring and dashpot).
+    SoftStop,
+    /// Every friction contact (`M1-M2`).
+    Contact,
+    /// The cell as a whole.
+    Cell,
+}
+
+/// The dimension of a quantity, in the scene's (dimensionless) units.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dimension {
+    /// A length.
+    Length,
+    /// A velocity (length per unit time).
+    Velocity,
+    /// A force.
+    Force,
+    /// An impulse per forcing period.
+    ImpulsePerPeriod,
+    /// A length per forcing period.
+    LengthPerPeriod,
+    /// A count per forcing period.
+    PerPeriod,
+    /// A share of time, 0 to 1.
+    Fraction,
+    /// A power (energy per unit time).
+    Power,
+    /// An energy per forcing period.
+    EnergyPerPeriod,
+    /// A pure number.
+    One,
+}
+
+impl Dimension {
+    /// The CF `units` of the dimension in the scene's units.
+    pub fn units(self) -> &'static str {
+        match self {
+            Dimension::Fraction | Dimension::One | Dimension::PerPeriod => "1",
+            _ => "scene units",
+        }
+    }
+}
+
+/// One quantity of the table.
+#[derive(Debug, Clone, Copy)]
+pub struct Spec {
+    /// Its name's stem: the name is `<stem>_<owner>` (`max_abs_x_M1`), or the
+    /// stem alone for a quantity of the cell.
+    pub stem: &'static str,
+    /// What it belongs to.
+    pub owner: Owner,
+    /// Its symbol (`max |x|`).
+    pub symbol: &'static str,
+    /// Its long name (the CF `long_name`, before the owner's name).
+    pub long_name: &'static str,
+    /// Its dimension.
+    pub dimension: Dimension,
+}
+
+macro_rules! table {
+    ($( $stem:literal, $owner:ident, $symbol:literal, $long:literal, $dim:ident; )*) => {
+        /// Every quantity of the steady motion, in the order files, JSON and
+        /// tables list them.
+        pub const TABLE: &[Spec] = &[$(
+            Spec { stem: $stem, owner: Owner::$owner, symbol: $symbol, long_name: $long, dimension: Dimension::$dim },
+        )*];
+    };
+}
+
+table! {
+    "max_abs_x", Mass, "max |x|", "largest |position| of", Length;
+    "ptp_x", Mass, "x peak-to-peak", "peak-to-peak position of", Length;
+    "mean_x", Mass, "mean x", "mean position of", Length;
+    "rms_x", Mass, "rms x", "root mean square of the position about its mean of", Length;
+    "max_abs_v", Mass, "max |v|", "largest |velocity| of", Velocity;
+    "rms_v", Mass, "rms v", "root mean square velocity of", Velocity;
+    "impact_rate", Stop, "impacts per period", "impacts (contacts begun) per forcing period at", PerPeriod;
+    "impact_speed_max", Stop, "max impact speed", "largest normal speed before an impact at", Velocity;
+    "impact_speed_mean", Stop, "mean impact speed", "mean normal speed before an impact at", Velocity;
+    "impulse", RigidStop, "impulse per period", "impulse per forcing period of", ImpulsePerPeriod;
+    "stick_fraction", RigidStop, "share held", "share of time holding its mass of", Fraction;
+    "contact_force_max", SoftStop, "max contact force", "largest contact force of", Force;
+    "contact_fraction", SoftStop, "share in contact", "share of time in contact of", Fraction;
+    "stick_fraction", Contact, "share stuck", "share of time stuck of friction contact", Fraction;
+    "slip", Contact, "slip per period", "slip distance per forcing period of friction contact", LengthPerPeriod;
+    "power_in", Cell, "P in", "mean input power of the forcing", Power;
+    "dissipated_impacts", Cell, "D impacts", "energy dissipated by impacts per forcing period", EnergyPerPeriod;
+    "dissipated_contacts", Cell, "D contacts", "energy dissipated by soft contacts per forcing period", EnergyPerPeriod;
+    "dissipated_damping", Cell, "D damping", "energy dissipated by damping per forcing period", EnergyPerPeriod;
+    "dissipated_friction", Cell, "D friction", "energy dissipated by friction per forcing period", EnergyPerPeriod;
+    "energy_residual", Cell, "energy residual", "input minus change and dissipation, relative to the input", One;
+}
+
+/// Names of a system's quantities with their specs, in [`TABLE`]'s order,
+/// each spec's owners in the scene's order: `max_abs_x_M1`, `max_abs_x_M2`,
+/// …, `power_in`, ….
+pub fn names(sys: &System) -> Vec<(String, &'static Spec)> {
+    let model = &sys.model;
+    let contacts: Vec<String> = model
+        .friction
+        .iter()
+        .map(|f| format!("{}-{}", model.masses[f.a].name, model.masses[f.b].name))
+        .collect();
+    let mut out = Vec::new();
+    for spec in TABLE {
+        let owners: Vec<&str> = match spec.owner {
+            Owner::Mass => model.masses.iter().map(|m| m.name.as_str()).collect(),
+            Owner::Stop => model.stops.iter().map(|s| s.name.as_str()).collect(),
+            Owner::RigidStop => model.stops.iter().filter(|s| !s.is_soft()).map(|s| s.name.as_str()).collect(),
+            Owner::SoftStop => model.stops.iter().filter(|s| s.is_soft()).map(|s| s.name.as_str()).collect(),
+            Owner::Contact => contacts.iter().map(String::as_str).collect(),
+            Owner::Cell => {
+                out.push((spec.stem.to_string(), spec));
+                continue;
+            }
+        };
+        out.extend(owners.into_iter().map(|o| (format!("{}_{o}", spec.stem), spec)));
+    }
+    out
+}
+
+/// The quantities of a window, by name in the order of [`names`].
+pub type Quantities = Vec<(String, f64)>;
+
+/// Measures the quantities of the motion that starts at full state `y0` (at
+/// a whole number of forcing periods) over the next `periods` periods, by the
+/// exact flow whatever the cell's integrator.
+pub fn measure(sys: &System, acc: &Accuracy, y0: &[f64], periods: usize) -> Result<Quantities, Halt> {
+    let mut sim = Simulator::new(sys, acc.clone(), Method::Exact, y0)?;
+    let mut meter = Meter::new(sys);
+    for _ in 0..periods.max(1) {
+        sim.run_period(&[], false, &mut meter)?;
+    }
+    Ok(meter.finish(periods.max(1)))
+}
+
+/// Gauss–Legendre nodes on [-1, 1] (8 points) and their weights.
+const GAUSS: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (-0.525_532_409_916_329_0, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329_0, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
+];
+
+/// Per stop, what its impacts and contacts add up to.
+#[derive(Debug, Clone, Default)]
+struct StopSums {
+    impacts: u64,
+    speed_max: f64,
+    speed_sum: f64,
+    impulse: f64,
+    held_time: f64,
+    pressed_time: f64,
+    force_max: f64,
+}
+
+/// The observer that adds the window up.
+struct Meter<'s> {
+    sys: &'s System,
+    /// Per mass: smallest and largest position, largest |velocity|.
+    x_min: Vec<f64>,
+    x_max: Vec<f64>,
+    v_abs_max: Vec<f64>,
+    /// Per mass: the reference position the sums are taken about (the first
+    /// state's), `∫(x − r)`, `∫(x − r)²`, `∫v²`.
+    x_ref: Option<Vec<f64>>,
+    int_x: Vec<f64>,
+    int_x2: Vec<f64>,
+    int_v2: Vec<f64>,
+    stops: Vec<StopSums>,
+    /// Per friction contact: time stuck, `∫|w|`.
+    stuck_time: Vec<f64>,
+    slip: Vec<f64>,
+    /// Energy: input, damping, soft contacts, friction, events.
+    input: f64,
+    damping: f64,
+    contacts: f64,
+    friction: f64,
+    events: f64,
+    /// Mechanical energy (total, soft springs' part) at the end of the last
+    /// segment, and at the window's start.
+    last: Option<(f64, f64)>,
+    first: Option<f64>,
+    time: f64,
+    y: DVector<f64>,
+    nodes: Vec<(f64, DVector<f64>)>,
+}
+
+impl<'s> Meter<'s> {
+    fn new(sys: &'s System) -> Meter<'s> {
+        let (m, s, f) = (sys.dof(), sys.stops.len(), sys.frictions.len());
+        Meter {
+            sys,
+            x_min: vec![f64::INFINITY; m],
+            x_max: vec![f64::NEG_INFINITY; m],
+            v_abs_max: vec![0.0; m],
+            x_ref: None,
+            int_x: vec![0.0; m],
+            int_x2: vec![0.0; m],
+            int_v2: vec![0.0; m],
+            stops: vec![StopSums::default(); s],
+            stuck_time: vec![0.0; f],
+            slip: vec![0.0; f],
+            input: 0.0,
+            damping: 0.0,
+            contacts: 0.0,
+            friction: 0.0,
+            events: 0.0,
+            last: None,
+            first: None,
+            time: 0.0,
+            y: DVector::zeros(2 * m),
+            nodes: Vec::new(),
+        }
+    }
+
+    /// The soft springs' energy `Σ ½ k g²` of the pressed stops at `y`.
+    fn spring_energy(&self, y: &DVector<f64>, pressed: u32) -> f64 {
+        (self.sys.stops.iter().enumerate())
+            .filter(|(k, _)| pressed & (1 << k) != 0)
+            .map(|(k, row)| match row.law {
+                StopLaw::Soft { stiffness, .. } => 0.5 * stiffness * self.sys.gap(k, y).powi(2),
+                _ => 0.0,
+            })
+            .sum()
+    }
+
+    /// The mechanical energy at `y`: kinetic, the links' springs, the loads'
+    /// potential and the pressed soft stops' springs.
+    fn energy(&self, y: &DVector<f64>, pressed: u32) -> (f64, f64) {
+        let sys = self.sys;
+        let m = sys.dof();
+        let (x, v) = (y.rows(0, m), y.rows(m, m));
+        let kinetic: f64 = (0..m).map(|i| 0.5 * sys.mass[i] * v[i] * v[i]).sum();
+        let springs = 0.5 * x.dot(&(&sys.stiffness * x));
+        let springs_soft = self.spring_energy(y, pressed);
+        (kinetic + springs - sys.load.dot(&x) + springs_soft, springs_soft)
+    }
+
+    /// The forcing `F(t)` (harmonics only; the loads are in the potential)
+    /// at the phase `φ = ω t + τ`, dotted with `v`.
+    fn forcing_power(&self, phase: f64, y: &DVector<f64>) -> f64 {
+        let m = self.sys.dof();
+        let v = y.rows(m, m);
+        (1..)
+            .zip(&self.sys.harmonics)
+            .map(|(k, [p, q]): (i32, _)| {
+                let (s, c) = (f64::from(k) * phase).sin_cos();
+                s * p.dot(&v) + c * q.dot(&v)
+            })
+            .sum()
+    }
+
+    /// The positions' and velocities' extremes at `y`.
+    fn extremes_at(&mut self, y: &DVector<f64>) {
+        let m = self.sys.dof();
+        for i in 0..m {
+            self.x_min[i] = self.x_min[i].min(y[i]);
+            self.x_max[i] = self.x_max[i].max(y[i]);
+            self.v_abs_max[i] = self.v_abs_max[i].max(y[m + i].abs());
+        }
+    }
+
+    /// Adds the integrands at `y` (phase `phase`, the segment's contact state)
+    /// with quadrature weight `w`.
+    fn integrate(&mut self, y: &DVector<f64>, phase: f64, seg: (u32, u32), w: f64) {
+        let sys = self.sys;
+        let m = sys.dof();
+        let x_ref = self.x_ref.as_ref().expect("set at the first segment");
+        for i in 0..m {
+            let d = y[i] - x_ref[i];
+            self.int_x[i] += w * d;
+            self.int_x2[i] += w * d * d;
+            self.int_v2[i] += w * y[m + i] * y[m + i];
+        }
+        let v = y.rows(m, m);
+        self.damping += w * v.dot(&(&sys.damping * v));
+        self.input += w * self.forcing_power(phase, y);
+        let (stuck, pressed) = seg;
+        for (k, row) in sys.stops.iter().enumerate().filter(|(k, _)| pressed & (1 << k) != 0) {
+            if let StopLaw::Soft { damping, .. } = row.law {
+                let rate = sys.gap_rate(k, y);
+                self.contacts += w * damping * rate * rate;
+            }
+        }
+        for (j, row) in sys.frictions.iter().enumerate().filter(|(j, _)| stuck & (1 << j) == 0) {
+            let rate = sys.slip_rate(j, y).abs();
+            self.slip[j] += w * rate;
+            self.friction += w * row.kinetic * rate;
+        }
+    }
+
+    /// Soft stop `k`'s contact force `−k g − c ġ` at `y`.
+    fn contact_force(&self, k: usize, y: &DVector<f64>) -> f64 {
+        match self.sys.stops[k].law {
+            StopLaw::Soft { stiffness, damping } => -stiffness * self.sys.gap(k, y) - damping * self.sys.gap_rate(k, y),
+            _ => 0.0,
+        }
+    }
+
+    fn finish(self, periods: usize) -> Quantities {
+        let sys = self.sys;
+        let (t, w) = (self.time, periods as f64);
+        let m = sys.dof();
+        let x_ref = self.x_ref.unwrap_or_else(|| vec![0.0; m]);
+        let mean_dev: Vec<f64> = self.int_x.iter().map(|s| s / t).collect();
+        let mut values = Vec::new();
+        for (name, spec) in names(sys) {
+            let owner = |list: &[String]| list.iter().position(|n| name == format!("{}_{n}", spec.stem));
+            let masses: Vec<String> = sys.model.masses.iter().map(|x| x.name.clone()).collect();
+            let stops: Vec<String> = sys.model.stops.iter().map(|x| x.name.clone()).collect();
+            let contacts: Vec<String> = sys
+                .model
+                .friction
+                .iter()
+                .map(|f| format!("{}-{}", sys.model.masses[f.a].name, sys.model.masses[f.b].name))
+                .collect();
+            let value = match spec.owner {
+                Owner::Mass => {
+                    let i = owner(&masses).expect("a mass of the system");
+                    match spec.stem {
+                        "max_abs_x" => self.x_max[i].abs().max(self.x_min[i].abs()),
+                        "ptp_x" => self.x_max[i] - self.x_min[i],
+                        "mean_x" => x_ref[i] + mean_dev[i],
+                        "rms_x" => (self.int_x2[i] / t - mean_dev[i] * mean_dev[i]).max(0.0).sqrt(),
+                        "max_abs_v" => self.v_abs_max[i],
+                        _ => (self.int_v2[i] / t).sqrt(),
+                    }
+                }
+                Owner::Stop | Owner::RigidStop | Owner::SoftStop => {
+                    let s = &self.stops[owner(&stops).expect("a stop of the system")];
+                    match spec.stem {
+                        "impact_rate" => s.impacts as f64 / w,
+                        "impact_speed_max" => s.speed_max,
+                        "impact_speed_mean" if s.impacts == 0 => 0.0,
+                        "impact_speed_mean" => s.speed_sum / s.impacts as f64,
+                        "impulse" => s.impulse / w,
+                        "stick_fraction" => s.held_time / t,
+                        "contact_force_max" => s.force_max,
+                        _ => s.pressed_time / t,
+                    }
+                }
+                Owner::Contact => {
+                    let j = owner(&contacts).expect("a contact of the system");
+                    match spec.stem {
+                        "stick_fraction" => self.stuck_time[j] / t,
+                        _ => self.slip[j] / w,
+                    }
+                }
+                Owner::Cell => {
+                    let change = self.last.map_or(0.0, |l| l.0) - self.first.unwrap_or(0.0);
+                    let dissipated = self.damping + self.contacts + self.friction + self.events;
+                    match spec.stem {
+                        "power_in" => self.input / t,
+                        "dissipated_impacts" => self.events / w,
+                        "dissipated_contacts" => self.contacts / w,
+                        "dissipated_damping" => self.damping / w,
+                        "dissipated_friction" => self.friction / w,
+                        _ => {
+                            let scale = self.input.abs().max(dissipated).max(f64::MIN_POSITIVE);
+                            (self.input - change - dissipated) / scale
+                        }
+                    }
+                }
+            };
+            values.push((name, value));
+        }
+        values
+    }
+}
+
+impl Observer for Meter<'_> {
+    fn impact(&mut self, _time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+        let sys = self.sys;
+        let speed = -sys.gap_rate(stop, before);
+        let s = &mut self.stops[stop];
+        s.impacts += 1;
+        s.speed_max = s.speed_max.max(speed);
+        s.speed_sum += speed;
+        if !sys.model.stops[stop].is_soft() {
+            let row = &sys.stops[stop];
+            s.impulse += (sys.gap_rate(stop, after) - sys.gap_rate(stop, before)).abs() / row.inv_effective_mass;
+        }
+    }
+
+    fn wants_segments(&self) -> bool {
+        true
+    }
+
+    fn segment(&mut self, seg: &mut Segment<'_>) {
+        let sys = self.sys;
+        let m = sys.dof();
+        let mut y = std::mem::take(&mut self.y);
+        seg.state(0.0, &mut y);
+        if self.x_ref.is_none() {
+            self.x_ref = Some(y.rows(0, m).iter().copied().collect());
+        }
+        // The energy an event removed: the last segment's end against this start.
+        let (e, soft) = self.energy(&y, seg.pressed);
+        match self.last {
+            None => self.first = Some(e),
+            Some((e_end, soft_end)) => {
+                let soft_jump = soft_end - soft;
+                self.contacts += soft_jump;
+                self.events += e_end - e - soft_jump;
+            }
+        }
+        self.extremes_at(&y);
+        // Pieces no longer than an eighth of the fastest oscillation (the
+        // forcing's highest harmonic included) and a sixteenth of the period.
+        let fastest = seg.fastest().max(sys.omega * sys.harmonics.len() as f64);
+        let longest = (TAU / fastest / 8.0).min(sys.period / 16.0);
+        let pieces = (seg.span / longest).ceil().max(1.0) as usize;
+        let h = seg.span / pieces as f64;
+        let mut left = (0.0, y.clone());
+        for p in 0..pieces {
+            let (a, b) = (p as f64 * h, if p + 1 == pieces { seg.span } else { (p + 1) as f64 * h });
+            let mut nodes = std::mem::take(&mut self.nodes);
+            nodes.clear();
+            nodes.push(left.clone());
+            for &(node, weight) in &GAUSS {
+                let u = a + 0.5 * (b - a) * (1.0 + node);
+                seg.state(u, &mut y);
+                let phase = sys.omega * (seg.clock + u) + sys.tau;
+                self.integrate(&y, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
+                self.extremes_at(&y);
+                nodes.push((u, y.clone()));
+            }
+            seg.state(b, &mut y);
+            self.extremes_at(&y);
+            nodes.push((b, y.clone()));
+            self.refine(seg, &nodes, &mut y);
+            left = nodes.pop().expect("the piece's end");
+            self.nodes = nodes;
+        }
+        for (k, s) in self.stops.iter_mut().enumerate() {
+            if seg.held & (1 << k) != 0 {
+                s.held_time += seg.span;
+            }
+            if seg.pressed & (1 << k) != 0 {
+                s.pressed_time += seg.span;
+            }
+        }
+        for (j, t) in self.stuck_time.iter_mut().enumerate() {
+            if seg.stuck & (1 << j) != 0 {
+                *t += seg.span;
+            }
+        }
+        self.time += seg.span;
+        seg.state(seg.span, &mut y);
+        self.last = Some(self.energy(&y, seg.pressed));
+        self.y = y;
+    }
+}
+
+impl Meter<'_> {
+    /// The extremes between the points of a piece (`nodes`, ascending in
+    /// time): a position's where its velocity changes sign (regula falsi on
+    /// the closed form), a velocity's and a pressed soft stop's force where
+    /// an inner point is the largest (golden-section search).
+    fn refine(&mut self, seg: &mut Segment<'_>, nodes: &[(f64, DVector<f64>)], y: &mut DVector<f64>) {
+        let m = self.sys.dof();
+        for i in 0..m {
+            for pair in nodes.windows(2) {
+                let ((ua, ya), (ub, yb)) = (&pair[0], &pair[1]);
+                let (va, vb) = (ya[m + i], yb[m + i]);
+                if va * vb < 0.0 {
+                    let x = root(seg, *ua, *ub, va, vb, m + i, y, i);
+                    self.x_min[i] = self.x_min[i].min(x);
+                    self.x_max[i] = self.x_max[i].max(x);
+                }
+            }
+            let v_abs = |y: &DVector<f64>| y[m + i].abs();
+            if let Some(peak) = inner_peak(nodes, v_abs) {
+                let best = golden(seg, peak, y, v_abs);
+                self.v_abs_max[i] = self.v_abs_max[i].max(best);
+            }
+        }
+        for k in 0..self.sys.stops.len() {
+            if seg.pressed & (1 << k) == 0 {
+                continue;
+            }
+            let force = |y: &DVector<f64>| self.contact_force(k, y);
+            let mut best = nodes.iter().map(|(_, y)| force(y)).fold(f64::NEG_INFINITY, f64::max);
+            if let Some(peak) = inner_peak(nodes, force) {
+                best = best.max(golden(seg, peak, y, force));
+            }
+            self.stops[k].force_max = self.stops[k].force_max.max(best);
+        }
+    }
+}
+
+/// The bracket `(left, right)` around an inner point of `nodes` where `f`
+/// is largest, if the largest is not at an end.
+fn inner_peak(nodes: &[(f64, DVector<f64>)], f: impl Fn(&DVector<f64>) -> f64) -> Option<(f64, f64)> {
+    let values: Vec<f64> = nodes.iter().map(|(_, y)| f(y)).collect();
+    let best = (0..values.len()).max_by(|&a, &b| values[a].total_cmp(&values[b]))?;
+    (best > 0 && best + 1 < nodes.len()).then(|| (nodes[best - 1].0, nodes[best + 1].0))
+}
+
+/// The largest value of `f` on `[a, b]` by golden-section search (the
+/// value's error quadratic in the time's, so rounding-level after 60 steps).
+fn golden(seg: &mut Segment<'_>, (a, b): (f64, f64), y: &mut DVector<f64>, f: impl Fn(&DVector<f64>) -> f64) -> f64 {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut a, mut b) = (a, b);
+    let mut at = |u: f64, y: &mut DVector<f64>| {
+        seg.state(u, y);
+        f(y)
+    };
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (at(c, y), at(d, y));
+    for _ in 0..80 {
+        if (b - a) <= 4.0 * f64::EPSILON * b.abs().max(1.0) {
+            break;
+        }
+        if fc > fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - r * (b - a);
+            fc = at(c, y);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + r * (b - a);
+            fd = at(d, y);
+        }
+    }
+    fc.max(fd)
+}
+
+/// Position `i` where velocity component `k` of the state vanishes between
+/// `ua` (value `va`) and `ub` (`vb`, of the other sign): regula falsi
+/// (Illinois) on the closed form, to the last bits of the time.
+#[allow(clippy::too_many_arguments)]
+fn root(seg: &mut Segment<'_>, ua: f64, ub: f64, va: f64, vb: f64, k: usize, y: &mut DVector<f64>, i: usize) -> f64 {
+    let (mut a, mut b, mut fa, mut fb) = (ua, ub, va, vb);
+    // Which end the last two steps kept: the Illinois step halves the other's value.
+    let mut kept = 0i8;
+    let mut u = 0.5 * (a + b);
+    for _ in 0..100 {
+        u = (a * fb - b * fa) / (fb - fa);
+        if !(u > a && u < b) {
+            u = 0.5 * (a + b);
+        }
+        seg.state(u, y);
+        let fu = y[k];
+        if fu == 0.0 || b - a <= 4.0 * f64::EPSILON * b.abs().max(1.0) {
+            break;
+        }
+        if (fu < 0.0) == (fa < 0.0) {
+            (a, fa) = (u, fu);
+            if kept == 1 {
+                fb *= 0.5;
+            }
+            kept = 1;
+        } else {
+            (b, fb) = (u, fu);
+            if kept == -1 {
+                fa *= 0.5;
+            }
+            kept = -1;
+        }
+    }
+    seg.state(u, y);
+    y[i]
+}
