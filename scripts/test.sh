@@ -7,8 +7,23 @@
 # builds the wheel (scripts/build-wheel.sh) and runs the Python tests on it,
 # and ends with one line "tests: N passed, M failed" summing every cargo test
 # result and the Python ones.
+#
+# scripts/test.sh --quick is the contributor's loop (a few minutes once built,
+# docs/performance.md): every cargo test of the workspace (unit, the solver's
+# and the explorer's in-process route tests, integration, doc tests), without
+# clippy, rustdoc, the reference readers, chromium, the gallery or the wheel;
+# it ends with the same closing line. CI runs the whole suite.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [ "${1:-}" = "--quick" ]; then
+    scripts/setup.sh
+    export HDF5_USE_FILE_LOCKING=FALSE
+    log=$(mktemp)
+    trap 'rm -f "$log"' EXIT
+    cargo test --workspace --exclude vibroatlas-python --release 2>&1 | tee "$log"
+    awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
+    exit 0
+fi
 scripts/setup.sh --tests
 # An unused dependency is a defect: cargo-machete (built once, into ~/.cargo/bin) finds them.
 command -v cargo-machete >/dev/null 2>&1 || cargo install cargo-machete --locked --quiet
