@@ -43,6 +43,7 @@ fn bench_regimes(c: &mut Criterion) {
         accuracy: acc,
         method: Method::Exact,
         section_cap: 16,
+        quantities: Vec::new(),
     };
     let points: Vec<Vec<(String, f64)>> =
         (0..64).map(|i| vec![("omega".to_string(), 0.25 + 0.15 * i as f64 / 63.0)]).collect();

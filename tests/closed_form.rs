@@ -98,7 +98,7 @@ fn quantities(sys: &solver::System, acc: &Accuracy) -> (solver::CellResult, std:
     let cell = run_cell(sys, acc, Method::Exact, &sys.model.initial_state());
     let n = cell.n.unwrap_or_else(|| panic!("{}: not periodic ({:?})", sys.model.name, cell.class));
     let q = solver::quantity::measure(sys, acc, &cell.final_state, n).unwrap();
-    (cell, q.into_iter().collect())
+    (cell, solver::quantity::named(sys, &q).into_iter().collect())
 }
 
 /// Issue 60: the linear forced oscillator, its stops out of reach: M1's
@@ -174,7 +174,9 @@ fn energy_balances_on_every_shipped_scene() {
         let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
         let n = cell.n.unwrap_or_else(|| panic!("{scene} {sets:?}: {:?}, not periodic", cell.class));
         let q: std::collections::BTreeMap<String, f64> =
-            solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, n).unwrap().into_iter().collect();
+            solver::quantity::named(&sys, &solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, n).unwrap())
+                .into_iter()
+                .collect();
         assert!(q["energy_residual"].abs() < 1e-9, "{scene} {sets:?}: residual {} ({q:?})", q["energy_residual"]);
         assert!(q["power_in"] > 0.0, "{scene} {sets:?}: {q:?}");
     }

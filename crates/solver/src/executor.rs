@@ -398,19 +398,38 @@ pub fn run_cell_with_sections(
     y0: &[f64],
     section_cap: usize,
 ) -> (CellResult, ImpactSections) {
+    let (result, sections, _) = run_cell_measured(sys, acc, method, y0, section_cap, false);
+    (result, sections)
+}
+
+/// [`run_cell_with_sections`] that, with `measure`, also measures the
+/// quantities of the steady motion ([`crate::quantity`]) over the cell's
+/// window (its orbit's n periods, else the last `n_max` periods of its
+/// record), re-simulated from the window's start with the modes the record
+/// built; the work counters are those of the cell without them. `None` where
+/// the cell has no window (its record halted) or the window's motion cannot
+/// be followed.
+pub fn run_cell_measured(
+    sys: &System,
+    acc: &Accuracy,
+    method: Method,
+    y0: &[f64],
+    section_cap: usize,
+    measure: bool,
+) -> (CellResult, ImpactSections, Option<crate::quantity::Quantities>) {
     let no_sections = || vec![Vec::new(); sys.stops.len()];
     if let Err(e) = sys.check_range(y0) {
-        return (unresolved(sys, Unresolved::Failed(e), 0, 0, y0.to_vec()), no_sections());
+        return (unresolved(sys, Unresolved::Failed(e), 0, 0, y0.to_vec()), no_sections(), None);
     }
     let mut cell = match Executor::start(sys, acc, method, y0) {
         Ok(cell) => cell,
-        Err(why) => return (unresolved(sys, why, 0, 0, y0.to_vec()), no_sections()),
+        Err(why) => return (unresolved(sys, why, 0, 0, y0.to_vec()), no_sections(), None),
     };
     let steady = match cell.steady() {
         Ok(steady) => steady,
         Err(why) => {
             let (periods, events) = (cell.budget.periods(&cell.sim), cell.budget.events(&cell.sim));
-            return (unresolved(sys, why, periods, events, cell.sim.state().as_slice().to_vec()), no_sections());
+            return (unresolved(sys, why, periods, events, cell.sim.state().as_slice().to_vec()), no_sections(), None);
         }
     };
     let (class, n, lyapunov, reason) = match steady {
@@ -451,13 +470,14 @@ pub fn run_cell_with_sections(
         _ => (class, n, reason, multiplier),
     };
     let mut result = cell.window(class, n, y0);
-    let sections = if section_cap == 0 { no_sections() } else { cell.sections(&result, section_cap) };
+    let (sections, quantities) = cell.window_pass(&result, section_cap, measure);
+    let sections = sections.unwrap_or_else(no_sections);
     result.lyapunov = lyapunov;
     result.multiplier = multiplier;
     result.reason = reason;
     result.periods = cell.budget.periods(&cell.sim);
     result.events = cell.budget.events(&cell.sim);
-    (result, sections)
+    (result, sections, quantities)
 }
 
 /// How a record ended.
@@ -982,11 +1002,51 @@ impl<'s> Executor<'s> {
 
     /// Phase 5: the impact sections of the classified window of `cell`, at most
     /// `cap` points per stop, simulated again on a probe.
-    fn sections(&mut self, cell: &CellResult, cap: usize) -> ImpactSections {
+    /// The window simulated again from its start: its impact sections (at
+    /// most `cap` points per stop; none without a cap) as work of the cell, and
+    /// with `measure` the quantities of the steady motion over the whole
+    /// window (see [`run_cell_measured`]) on the same simulation, its periods
+    /// past the sections counting no work. The quantities take the exact
+    /// flow: a cell integrated by RK4 is measured on a simulation of its own.
+    fn window_pass(
+        &mut self,
+        cell: &CellResult,
+        cap: usize,
+        measure: bool,
+    ) -> (Option<ImpactSections>, Option<crate::quantity::Quantities>) {
+        let periods = cell.section.len();
+        // A window without a period is measured over its first periods only.
+        let measured = if cell.n.is_some() { periods } else { periods.min(crate::quantity::APERIODIC_WINDOW) };
+        let exact = self.sim.method() == Method::Exact;
+        let mut meter = (measure && exact && periods > 0).then(|| crate::quantity::Meter::new(self.sys, measured));
         let mut probe = self.sim.probe();
-        self.budget.spend(&mut self.sim, &mut probe, |p| {
-            record_window(p, &cell.window_start, cell.section.len(), &cell.impacts, cap)
-        })
+        let (sections, ran) = match cap {
+            0 => (None, Some(0)),
+            _ => {
+                let (start, impacts) = (&cell.window_start, &cell.impacts);
+                let (rows, ran) = self.budget.spend(&mut self.sim, &mut probe, |p| match meter.as_mut() {
+                    Some(meter) => record_window(p, start, periods, impacts, cap, meter),
+                    None => record_window(p, start, periods, impacts, cap, &mut crate::simulate::Ignore),
+                });
+                (Some(rows), ran)
+            }
+        };
+        if !measure || periods == 0 {
+            return (sections, None);
+        }
+        let Some(mut meter) = meter else {
+            return (sections, crate::quantity::measure(self.sys, self.acc, &cell.window_start, measured).ok());
+        };
+        // The rest of the measured window, uncounted.
+        let quantities = ran.and_then(|ran| {
+            probe.set_budget(u64::MAX);
+            if ran == 0 && probe.restart(&cell.window_start).is_err() {
+                return None;
+            }
+            (ran..measured).try_for_each(|_| probe.run_period(&[], false, &mut meter).map(drop)).ok()?;
+            Some(meter.finish(measured))
+        });
+        (sections, quantities)
     }
 }
 
@@ -1231,7 +1291,7 @@ mod tests {
         assert_eq!(cell.record(600).unwrap(), Some(1));
         let result = cell.window(Class::Periodic, Some(1), &sys.model.initial_state());
         let before = cell.budget.periods(&cell.sim);
-        let sections = cell.sections(&result, 3);
+        let sections = cell.window_pass(&result, 3, false).0.unwrap();
         assert_eq!(cell.budget.periods(&cell.sim), before + 1, "one period simulated again");
         for (k, rows) in sections.iter().enumerate() {
             assert_eq!(rows.len(), (result.impacts[k] as usize).min(3), "stop {k}");

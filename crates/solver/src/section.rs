@@ -42,23 +42,61 @@ impl Observer for ImpactRecorder {
 /// again by `sim`, at most `cap` points per stop; empty when there is no window
 /// or it cannot be simulated. The simulation stops once every stop has all the
 /// points it will get.
-pub fn record_window(
+/// The simulation is observed by `also` too; with the sections, the periods
+/// it ran (`None` where the window could not be simulated to that point).
+pub(crate) fn record_window(
     sim: &mut Simulator<'_>,
     start: &[f64],
     periods: usize,
     impacts: &[u32],
     cap: usize,
-) -> Vec<Vec<Vec<f64>>> {
+    also: &mut dyn Observer,
+) -> (Vec<Vec<Vec<f64>>>, Option<usize>) {
     let sys = sim.system();
     let mut rec = ImpactRecorder::new(sys.stops.len(), sys.period, cap);
     if periods == 0 || sim.restart(start).is_err() {
-        return rec.rows;
+        return (rec.rows, None);
     }
     let complete = |rec: &ImpactRecorder| rec.rows.iter().zip(impacts).all(|(r, &n)| r.len() >= cap.min(n as usize));
-    for _ in 0..periods {
-        if complete(&rec) || sim.run_period(&[], false, &mut rec).is_err() {
-            break;
+    let mut ran = 0;
+    while ran < periods && !complete(&rec) {
+        if sim.run_period(&[], false, &mut Both(&mut rec, also)).is_err() {
+            return (rec.rows, None);
+        }
+        ran += 1;
+    }
+    (rec.rows, Some(ran))
+}
+
+/// Two observers of one simulation.
+struct Both<'a>(&'a mut dyn Observer, &'a mut dyn Observer);
+
+impl Observer for Both<'_> {
+    fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+        self.0.impact(time, stop, before, after);
+        self.1.impact(time, stop, before, after);
+    }
+    fn event(&mut self, time: f64, y: &DVector<f64>) {
+        self.0.event(time, y);
+        self.1.event(time, y);
+    }
+    fn named_event(&mut self, time: f64, kind: crate::simulate::EventKind, y: &DVector<f64>) {
+        self.0.named_event(time, kind, y);
+        self.1.named_event(time, kind, y);
+    }
+    fn sample(&mut self, time: f64, y: &DVector<f64>) {
+        self.0.sample(time, y);
+        self.1.sample(time, y);
+    }
+    fn wants_segments(&self) -> bool {
+        self.0.wants_segments() || self.1.wants_segments()
+    }
+    fn segment(&mut self, segment: &mut crate::simulate::Segment<'_>) {
+        if self.0.wants_segments() {
+            self.0.segment(segment);
+        }
+        if self.1.wants_segments() {
+            self.1.segment(segment);
         }
     }
-    rec.rows
 }

@@ -319,6 +319,11 @@ impl<'s> Simulator<'s> {
 
     /// A copy sharing nothing but the built modes, with zeroed counters (for
     /// Newton probes; their budget is set with [`Simulator::set_budget`]).
+    /// The integrator.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
     pub(crate) fn probe(&self) -> Self {
         let mut p = self.clone();
         p.periods = 0;
