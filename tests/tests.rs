@@ -19,6 +19,7 @@ mod palette;
 mod print;
 mod progress;
 mod properties;
+mod quantities;
 mod run_safety;
 mod soft;
 mod stability;

@@ -322,6 +322,10 @@ pub struct AtlasArgs {
     /// Continue an interrupted run from its journal.
     #[arg(long)]
     pub resume: bool,
+    /// The quantities of the steady motion stored per cell: all, none, or
+    /// names separated by commas (max_abs_x_M1,power_in; docs/models.md).
+    #[arg(long, default_value = "all", value_name = "all|none|NAME,…")]
+    pub quantities: String,
     /// Accepted and ignored, for scripts that pass it: an output that exists
     /// and is not a regular file (a device, a pipe) is always refused.
     #[arg(long)]
@@ -400,8 +404,9 @@ pub struct SweepArgs {
     #[arg(long, value_name = "N")]
     pub points: Option<usize>,
     /// State component of the diagram's period-section panel, e.g. x_M1 or v_M2
-    /// (default: the position of the first labelled mass).
-    #[arg(long, value_name = "COMPONENT")]
+    /// (default: the position of the first labelled mass), or a quantity of
+    /// the steady motion (max_abs_x_M1: the amplitude–frequency response).
+    #[arg(long, value_name = "COMPONENT|QUANTITY")]
     pub variable: Option<String>,
     /// What the diagram's impact panels show: speed or phase.
     #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
@@ -451,6 +456,14 @@ pub struct InspectArgs {
     /// naming it.
     #[arg(long)]
     pub verify: bool,
+    /// Where a stored quantity of the steady motion (max_abs_x_M1, power_in)
+    /// is smallest and largest over each sweep's plane, and the cells'
+    /// parameters there.
+    #[arg(long, value_name = "NAME")]
+    pub quantity: Option<String>,
+    /// With --quantity: only this sweep (fresh, up or down).
+    #[arg(long, value_name = "SWEEP")]
+    pub sweep: Option<String>,
 }
 
 /// The printed size of figures: without `--size`, each figure's screen size.
@@ -484,16 +497,18 @@ pub struct RenderArgs {
     #[arg(value_enum)]
     pub sweep: Option<RenderSweep>,
     /// labels (default), lyapunov (largest exponent of cells without a period),
-    /// multiplier (largest |Floquet multiplier| of periodic cells), or
-    /// attractors (the number of coexisting attractors, atlas --attractors).
-    #[arg(long, value_enum, default_value_t = ViewArg::Labels)]
-    pub view: ViewArg,
+    /// multiplier (largest |Floquet multiplier| of periodic cells), attractors
+    /// (the number of coexisting attractors, atlas --attractors), or a
+    /// quantity of the steady motion the file stores (max_abs_x_M1, power_in).
+    #[arg(long, default_value = "labels", value_name = "labels|lyapunov|multiplier|attractors|QUANTITY")]
+    pub view: String,
     /// Draw one row of the atlas as a bifurcation diagram: the row nearest to
     /// NAME=VALUE of the y axis (a sweep file is drawn as a diagram anyway).
     #[arg(long, value_name = "NAME=VALUE")]
     pub row: Option<String>,
-    /// State component of a diagram's period-section panel, e.g. x_M1 or v_M2.
-    #[arg(long, value_name = "COMPONENT")]
+    /// State component of a diagram's period-section panel, e.g. x_M1 or v_M2,
+    /// or a stored quantity of the steady motion (max_abs_x_M1).
+    #[arg(long, value_name = "COMPONENT|QUANTITY")]
     pub variable: Option<String>,
     /// What a diagram's impact panels show: speed or phase.
     #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
@@ -649,7 +664,7 @@ pub enum AttractorsWhere {
     Hysteresis,
 }
 
-/// What `render --view` draws.
+/// What `render --view` draws, besides a quantity of the steady motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ViewArg {
     /// The labels.

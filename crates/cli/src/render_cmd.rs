@@ -37,16 +37,24 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         _ => {}
     }
-    if a.view == ViewArg::Attractors {
+    let fixed = <ViewArg as clap::ValueEnum>::from_str(&a.view, false).ok();
+    if fixed == Some(ViewArg::Attractors) {
         return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
     }
-    let quantity = match a.view {
-        ViewArg::Labels | ViewArg::Attractors => None,
-        ViewArg::Lyapunov => Some(Quantity::Lyapunov),
-        ViewArg::Multiplier => Some(Quantity::Multiplier),
+    let quantity = match fixed {
+        Some(ViewArg::Labels | ViewArg::Attractors) => None,
+        Some(ViewArg::Lyapunov) => Some(Quantity::Lyapunov),
+        Some(ViewArg::Multiplier) => Some(Quantity::Multiplier),
+        None => Some(Quantity::named(m, &a.view).ok_or_else(|| {
+            let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
+            let quantities = match stored.is_empty() {
+                true => "the file stores no quantities".to_string(),
+                false => format!("a quantity the file stores ({})", stored.join(", ")),
+            };
+            anyhow!("--view: '{}' is not labels, lyapunov, multiplier, attractors or {quantities}", a.view)
+        })?),
     };
-    let view_name = |v: ViewArg| if v == ViewArg::Lyapunov { "lyapunov" } else { "multiplier" };
     // A sweep file (one row), or one row of an atlas: a bifurcation diagram.
     let row = match &a.row {
         Some(text) => Some(nearest_row(&l.atlas, text)?),
@@ -55,7 +63,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     if let Some(row) = row {
         if quantity.is_some() {
-            bail!("--row: draws a bifurcation diagram; leave out --view {}", view_name(a.view));
+            bail!("--row: draws a bifurcation diagram; leave out --view {}", a.view);
         }
         if let (Some(_), View::Sweep(s)) = (a.sweep, view) {
             l.atlas.maps.retain(|map| map.sweep == s);
@@ -86,7 +94,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (Some(q), View::Sweep(sweep)) => {
             write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, &page, tmp))?
         }
-        (Some(_), View::Hysteresis) => bail!("--view {}: needs --sweep fresh, up or down", view_name(a.view)),
+        (Some(_), View::Hysteresis) => bail!("--view {}: needs --sweep fresh, up or down", a.view),
     }
     wrote(&a.output, &page)
 }

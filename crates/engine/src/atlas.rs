@@ -59,6 +59,9 @@ pub struct AtlasRequest {
     pub resume: bool,
     /// What made the run (the file's `command` attribute).
     pub command: String,
+    /// The quantities of the steady motion stored: `None` every one of the
+    /// scene ([`solver::quantity::names`]), else those named (none when empty).
+    pub quantities: Option<Vec<String>>,
 }
 
 impl AtlasRequest {
@@ -79,6 +82,7 @@ impl AtlasRequest {
             output: None,
             resume: false,
             command: String::new(),
+            quantities: None,
         }
     }
 }
@@ -97,6 +101,9 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.resume = r.resume;
     plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
     plan.command = r.command.clone();
+    if let Some(names) = &r.quantities {
+        plan.keep_quantities(names)?;
+    }
     if let Some((sampling, cells)) = r.attractors {
         if sampling.samples == 0 || sampling.samples > 100_000 {
             let why = format!("expected 1 to 100000 samples per cell, got {}", sampling.samples);

@@ -5,7 +5,7 @@ use crate::error::Result;
 use crate::sim::{labels_of, parameters_of, Origin, Setup, Sim, Source, Start};
 use serde::Serialize;
 use serde_json::Value;
-use solver::{run_cell_with_sections, CellResult, Mask, System};
+use solver::{run_cell_measured, CellResult, Mask, System};
 use std::collections::BTreeMap;
 
 /// A classified cell with what it was computed from.
@@ -24,23 +24,6 @@ pub struct Cell {
     pub quantities: Option<solver::quantity::Quantities>,
 }
 
-/// Forcing periods over which the quantities of a cell without a period are
-/// taken: those that follow its record, from its final state.
-pub const QUANTITY_WINDOW: usize = 100;
-
-/// The quantities of the steady motion of a classified cell: over its
-/// orbit's `n` periods when periodic, else over the [`QUANTITY_WINDOW`]
-/// periods that follow its record, from its final state; none when the
-/// motion cannot be followed (a halted or unbounded one).
-pub fn quantities_of(system: &System, accuracy: &solver::Accuracy, result: &CellResult) -> Option<solver::quantity::Quantities> {
-    let y = &result.final_state;
-    if y.is_empty() || !y.iter().all(|v| v.is_finite()) {
-        return None;
-    }
-    let periods = result.n.unwrap_or(QUANTITY_WINDOW);
-    solver::quantity::measure(system, accuracy, y, periods).ok()
-}
-
 /// Simulates and classifies one cell. From a stored cell, it starts from the
 /// state that cell started from and with the stored run's section cap, so
 /// that the same simulation runs again (its result equals the stored one bit
@@ -54,8 +37,7 @@ pub fn cell(sim: &Sim, start: &Start) -> Result<Cell> {
         None => system.model.initial_state(),
     };
     let cap = origin.as_ref().and_then(|o| o.section_cap).unwrap_or(0);
-    let result = run_cell_with_sections(&system, &setup.accuracy, setup.method, &y0, cap).0;
-    let quantities = quantities_of(&system, &setup.accuracy, &result);
+    let (result, _, quantities) = run_cell_measured(&system, &setup.accuracy, setup.method, &y0, cap, true);
     Ok(Cell { setup, system, origin, result, quantities })
 }
 
@@ -145,7 +127,7 @@ impl Cell {
             reason_detail: c.reason.clone(),
             friction_stick: (!sys.model.friction.is_empty()).then(|| friction.collect()),
             origin: self.origin.as_ref().map(|o| o.source.clone()),
-            quantities: self.quantities.as_ref().map(|q| q.iter().cloned().collect()),
+            quantities: self.quantities.as_ref().map(|q| solver::quantity::named(sys, q).into_iter().collect()),
         }
     }
 

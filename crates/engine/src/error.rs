@@ -83,6 +83,10 @@ pub enum Opt {
     TraceSamples,
     /// Forcing periods of a cell's Poincaré sections.
     SectionPeriods,
+    /// The quantities of the steady motion an atlas stores.
+    Quantities,
+    /// One stored quantity of the steady motion (`inspect --quantity`).
+    Quantity,
 }
 
 impl Opt {
@@ -124,6 +128,8 @@ impl Opt {
             Opt::Scene => "scene",
             Opt::TraceSamples => "trace_samples",
             Opt::SectionPeriods => "section_periods",
+            Opt::Quantities => "quantities",
+            Opt::Quantity => "quantity",
         }
     }
 

@@ -79,8 +79,8 @@ pub use plan::{threads, Executed, Plan};
 pub use sim::{check_period, labels_of, parameters_of, Origin, SceneLoadError, SceneSource, Setup, Sim, Source, Start};
 pub use study::{sheet_panel, study, StudyPlan};
 pub use summary::{
-    reasons, AxisReport, ClassCounts, HysteresisCounts, InspectReport, ParentReport, ReasonCount, Summary,
-    SummaryReport, SweepCounts, SweepSummary, CLASSES,
+    reasons, AxisReport, ClassCounts, Extreme, HysteresisCounts, InspectReport, ParentReport, QuantityExtremes,
+    QuantityReport, ReasonCount, Summary, SummaryReport, SweepCounts, SweepSummary, CLASSES,
 };
 pub use sweep::{sweep, Differing, Direction, Legs, SweepPoint, SweepReport, SweepRequest, Swept};
 pub use trace::{

@@ -189,6 +189,7 @@ impl Plan {
             shard: self.shard.map(|s| (s.k, s.n)),
             parent: self.parent.as_ref().map(|p| (p.path.as_str(), p.labels_crc32, p.region.as_str())),
             entries: self.entries.0.iter().map(|((s, line), state)| (s.name(), *line, state.as_slice())).collect(),
+            quantities: m.quantities.iter().map(|q| q.name.as_str()).collect(),
         };
         // Strings, numbers and sequences only: the encoding cannot fail.
         serde_json::to_string(&key).unwrap_or_default()
@@ -431,6 +432,30 @@ pub struct Executed {
 }
 
 impl Plan {
+    /// The plan without the quantities of the steady motion (`--quantities
+    /// none`): its cells measure none and its file stores none.
+    pub fn without_quantities(&mut self) {
+        self.setup.quantities.clear();
+        self.meta.quantities.clear();
+    }
+
+    /// Keeps only the quantities `names` (in the table's order); an unknown
+    /// name is an error naming `quantities` and the names there are. No
+    /// names: none (as [`Plan::without_quantities`]).
+    pub fn keep_quantities(&mut self, names: &[String]) -> Result<()> {
+        if let Some(unknown) = names.iter().find(|n| !self.meta.quantities.iter().any(|q| &q.name == *n)) {
+            let known: Vec<&str> = self.meta.quantities.iter().map(|q| q.name.as_str()).collect();
+            let why = format!("'{unknown}' is not a quantity of this scene (all, none, or of: {})", known.join(", "));
+            return Err(RequestError::option(Opt::Quantities).text(why).into());
+        }
+        let keep: Vec<usize> = (0..self.meta.quantities.len())
+            .filter(|&k| names.contains(&self.meta.quantities[k].name))
+            .collect();
+        self.meta.quantities = keep.iter().map(|&k| self.meta.quantities[k].clone()).collect();
+        self.setup.quantities = keep;
+        Ok(())
+    }
+
     /// A plan for `sweeps` of `plane` with the validated simulation set-up `s`:
     /// no output, shard or resume; callers set what differs.
     pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
@@ -442,8 +467,10 @@ impl Plan {
                     .into());
             }
         }
-        let setup = s.cell_setup(section_cap)?;
+        let mut setup = s.cell_setup(section_cap)?;
         let model = setup.scene.evaluate(&setup.base)?;
+        let quantities = grid::Quantity::of(&solver::System::new(model.clone())?);
+        setup.quantities = (0..quantities.len()).collect();
         let meta = Meta {
             scene_name: model.name.clone(),
             scene_toml: setup.scene.source().to_string(),
@@ -465,6 +492,7 @@ impl Plan {
             dim: 2 * model.masses.len(),
             section_cap,
             notation: grid::Notation::of_scene(&setup.scene),
+            quantities,
         };
         Ok(Plan {
             setup,
@@ -627,6 +655,9 @@ struct JournalKey<'a> {
     shard: Option<(usize, usize)>,
     parent: Option<(&'a str, u32, &'a str)>,
     entries: Vec<(&'static str, usize, &'a [f64])>,
+    /// The quantities measured (none: the key of a run before them).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    quantities: Vec<&'a str>,
 }
 
 /// An axis as a journal is keyed: its values and the lattice they snap to.

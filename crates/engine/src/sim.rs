@@ -247,6 +247,7 @@ impl Setup {
             accuracy: self.accuracy,
             method: self.method,
             section_cap,
+            quantities: Vec::new(),
         })
     }
 

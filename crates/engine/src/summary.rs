@@ -373,6 +373,7 @@ mod tests {
             period_section: Vec::new(),
             impact_sections: Vec::new(),
             reason: Some(reason),
+            quantities: Vec::new(),
         })
     }
 
@@ -401,5 +402,93 @@ mod tests {
                 ("event budget of 400000 events exhausted".to_string(), 1),
             ]
         );
+    }
+}
+
+/// Where a quantity of the steady motion is smallest and largest over the
+/// plane of each sweep (`inspect --quantity NAME`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct QuantityReport {
+    /// The quantity's name (`max_abs_x_M1`).
+    pub name: String,
+    /// Its long name.
+    pub long_name: String,
+    /// Its units.
+    pub units: String,
+    /// Per sweep, by name.
+    pub sweeps: BTreeMap<String, QuantityExtremes>,
+}
+
+/// A quantity's extremes over one sweep's plane.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct QuantityExtremes {
+    /// Cells where the quantity was measured.
+    pub cells: usize,
+    /// The smallest value and the first cell (row by row) that has it.
+    pub min: Option<Extreme>,
+    /// The largest value and the first cell (row by row) that has it.
+    pub max: Option<Extreme>,
+}
+
+/// A value at a cell: the value and the cell's parameters.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Extreme {
+    /// The value.
+    pub value: f64,
+    /// The cell's parameters (the plane's two).
+    pub at: BTreeMap<String, f64>,
+}
+
+impl QuantityReport {
+    /// The extremes of quantity `name` of `atlas` over `sweep` (every sweep
+    /// of the file when `None`); an error naming `quantity` (or `sweep`) when
+    /// the file has no such quantity (or sweep).
+    pub fn of(atlas: &Atlas, name: &str, sweep: Option<grid::SweepKind>) -> crate::Result<QuantityReport> {
+        use crate::error::{Opt, RequestError};
+        let m = &atlas.meta;
+        let Some(k) = m.quantities.iter().position(|q| q.name == name) else {
+            let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
+            let why = match stored.is_empty() {
+                true => format!("'{name}': the file stores no quantities"),
+                false => format!("'{name}' is not a quantity the file stores ({})", stored.join(", ")),
+            };
+            return Err(RequestError::option(Opt::Quantity).text(why).into());
+        };
+        if let Some(s) = sweep.filter(|s| !m.sweeps.contains(s)) {
+            let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+            let why = format!("the file has {}, not {}", have.join(", "), s.name());
+            return Err(RequestError::option(Opt::Sweep).text(why).into());
+        }
+        let mut sweeps = BTreeMap::new();
+        for map in atlas.maps.iter().filter(|map| sweep.is_none_or(|s| s == map.sweep)) {
+            let values = map.cells.iter().enumerate().filter_map(|(i, c)| {
+                let v = c.as_ref()?.quantities.get(k).copied().filter(|v| v.is_finite())?;
+                Some((i, v))
+            });
+            // The cell index and value of the smallest and the largest so far.
+            type Best = Option<(usize, f64)>;
+            let (mut cells, mut min, mut max): (usize, Best, Best) = (0, None, None);
+            for (i, v) in values {
+                cells += 1;
+                if min.is_none_or(|(_, m)| v < m) {
+                    min = Some((i, v));
+                }
+                if max.is_none_or(|(_, m)| v > m) {
+                    max = Some((i, v));
+                }
+            }
+            let nx = m.plane.x.count;
+            let extreme = |e: Option<(usize, f64)>| {
+                e.map(|(i, value)| Extreme { value, at: m.plane.params(i / nx, i % nx).into_iter().collect() })
+            };
+            sweeps.insert(map.sweep.name().to_string(), QuantityExtremes { cells, min: extreme(min), max: extreme(max) });
+        }
+        let q = &m.quantities[k];
+        Ok(QuantityReport { name: q.name.clone(), long_name: q.long_name.clone(), units: q.units.clone(), sweeps })
+    }
+
+    /// The report as JSON (the object of `inspect --quantity NAME --json`).
+    pub fn to_json(&self) -> serde_json::Value {
+        crate::report::to_value(self)
     }
 }

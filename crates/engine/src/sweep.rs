@@ -269,6 +269,9 @@ pub struct SweepPoint {
     pub final_state: Vec<f64>,
     /// The period-section points kept.
     pub period_section: Vec<Vec<f64>>,
+    /// The quantities of the steady motion by name (as `cell --json`'s), null
+    /// where the motion could not be followed or the sweep measures none.
+    pub quantities: Option<BTreeMap<String, f64>>,
 }
 
 /// A value where the legs differ, with each leg's labels.
@@ -324,7 +327,15 @@ fn point(atlas: &Atlas, ix: usize, c: &CellData) -> SweepPoint {
         reason_detail: c.reason.clone(),
         final_state: c.final_state.clone(),
         period_section: c.period_section.clone(),
+        quantities: quantities(&atlas.meta, c),
     }
+}
+
+/// A cell's quantities by name; none when it has none or any is NaN (its
+/// motion could not be followed).
+pub(crate) fn quantities(m: &grid::Meta, c: &CellData) -> Option<BTreeMap<String, f64>> {
+    let all = !c.quantities.is_empty() && c.quantities.iter().all(|v| !v.is_nan());
+    all.then(|| m.quantities.iter().zip(&c.quantities).map(|(q, &v)| (q.name.clone(), v)).collect())
 }
 
 /// The points of one sweep in the order they were computed.

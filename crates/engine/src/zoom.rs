@@ -95,6 +95,10 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     setup.method = m.integrator;
     let plane = Plane { x, y, along: m.plane.along };
     let mut plan = Plan::new(&setup, m.section_cap, plane, sweeps, r.threads)?;
+    // A zoom measures what its parent measured.
+    if m.quantities.is_empty() {
+        plan.without_quantities();
+    }
     plan.entries = entries(parent, &plan.meta.plane, &plan.meta.sweeps);
     plan.parent =
         Some(store::Parent { path: r.parent.display().to_string(), labels_crc32, region: format!("{} {}", r.x, r.y) });

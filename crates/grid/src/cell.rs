@@ -4,7 +4,7 @@
 use crate::error::GridError;
 use maps::CellData;
 use scene::Scene;
-use solver::{run_cell_with_sections, Accuracy, Method, System};
+use solver::{run_cell_measured, Accuracy, Method, System};
 
 /// The state a cell starts from: `start` (a previous cell's final state, or a
 /// stored one) when it is admissible for this system's stops, else the
@@ -30,6 +30,10 @@ pub struct CellSetup {
     /// Largest number of points kept per section per cell (at most
     /// [`maps::MAX_SECTION_CAP`]).
     pub section_cap: usize,
+    /// The quantities of its steady motion each cell measures and keeps:
+    /// indices into [`solver::quantity::names`] of the cell's system, in
+    /// order (empty: none).
+    pub quantities: Vec<usize>,
 }
 
 fn describe(params: &[(String, f64)]) -> String {
@@ -50,7 +54,12 @@ impl CellSetup {
     pub fn run(&self, params: &[(String, f64)], start: Option<&[f64]>) -> Result<CellData, GridError> {
         let sys = self.system(params)?;
         let y0 = start_state(&sys, start);
-        let (cell, impact) = run_cell_with_sections(&sys, &self.accuracy, self.method, &y0, self.section_cap);
+        let measure = !self.quantities.is_empty();
+        let (cell, impact, all) = run_cell_measured(&sys, &self.accuracy, self.method, &y0, self.section_cap, measure);
+        let quantities = match all {
+            Some(all) => self.quantities.iter().map(|&k| all[k]).collect(),
+            None => vec![f64::NAN; self.quantities.len()],
+        };
         Ok(CellData {
             class: cell.class,
             labels: cell.labels.iter().map(|l| l.label).collect(),
@@ -65,6 +74,7 @@ impl CellSetup {
             period_section: cell.section.into_iter().take(self.section_cap).collect(),
             impact_sections: impact,
             reason: cell.reason,
+            quantities,
         })
     }
 }

@@ -23,6 +23,7 @@
 //!     accuracy: solver::Accuracy::default(),
 //!     method: solver::Method::Exact,
 //!     section_cap: 0,
+//!     quantities: Vec::new(),
 //! };
 //! let x = Axis::new("omega", 0.3, 0.36, 3);
 //! let y = Axis::new("delta", 0.6, 0.6, 1);
@@ -47,7 +48,7 @@ pub use cell::{start_state, CellSetup};
 pub use error::GridError;
 pub use maps::{
     hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, CellAttractors, CellData, Entries, FieldError,
-    Lattice, Line, Map, Meta, Notation, Plane, Shard, SweepKind, DEFAULT_SECTION_CAP, MAX_COUNT, MAX_SECTION_CAP,
+    Lattice, Line, Map, Meta, Notation, Plane, Quantity, Shard, SweepKind, DEFAULT_SECTION_CAP, MAX_COUNT, MAX_SECTION_CAP,
     MAX_SHARDS,
 };
 pub use run::{line, run, validate};

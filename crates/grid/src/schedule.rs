@@ -40,7 +40,7 @@ fn line_costs(plane: &Plane, setup: &CellSetup) -> Vec<f64> {
     } else {
         (0..PROBE_CELLS).map(|k| k * (len - 1) / (PROBE_CELLS - 1)).collect()
     };
-    let quick = CellSetup { section_cap: 0, ..setup.clone() };
+    let quick = CellSetup { section_cap: 0, quantities: Vec::new(), ..setup.clone() };
     (0..plane.lines())
         .into_par_iter()
         .map(|line| {

@@ -44,6 +44,9 @@ pub struct Meta {
     /// How the scene's parameters are written (symbols, long names), for
     /// [`Meta::symbol`] and [`Meta::long_name`]; empty: by their names.
     pub notation: Vec<crate::Notation>,
+    /// The quantities measured in every cell (empty: none, `--quantities none`
+    /// or a file written before them).
+    pub quantities: Vec<crate::Quantity>,
 }
 
 /// The cells of one sweep.

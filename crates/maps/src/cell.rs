@@ -34,6 +34,39 @@ pub struct CellData {
     /// Why the cell is unresolved (the solver's reason, with its numbers),
     /// if it is.
     pub reason: Option<Unresolved>,
+    /// The quantities of its steady motion, one per [`crate::Meta::quantities`]
+    /// (NaN where its motion could not be followed); empty when the atlas
+    /// measures none.
+    pub quantities: Vec<f64>,
+}
+
+/// One quantity an atlas measures in every cell ([`solver::quantity::TABLE`]
+/// for an owner of the scene): its name in the file and JSON
+/// (`max_abs_x_M1`), symbol, long name and units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Quantity {
+    /// Its name: `<stem>_<owner>` or a cell quantity's stem.
+    pub name: String,
+    /// Its symbol (`max |x|`).
+    pub symbol: String,
+    /// Its long name, with its owner (`largest |position| of M1`).
+    pub long_name: String,
+    /// Its CF units.
+    pub units: String,
+}
+
+impl Quantity {
+    /// The quantities a system measures, in [`solver::quantity::names`]' order.
+    pub fn of(sys: &solver::System) -> Vec<Quantity> {
+        solver::quantity::names(sys)
+            .into_iter()
+            .map(|(name, spec)| {
+                let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
+                let long_name = if owner.is_empty() { spec.long_name.to_string() } else { format!("{} {owner}", spec.long_name) };
+                Quantity { symbol: spec.symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
+            })
+            .collect()
+    }
 }
 
 /// Largest `section_cap`: points kept per section per cell.

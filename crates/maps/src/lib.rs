@@ -31,7 +31,7 @@ mod sweep;
 
 pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
 pub use axis::{Axis, Lattice, MAX_COUNT};
-pub use cell::{by_frequency, label_counts, runs, CellData, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
+pub use cell::{by_frequency, label_counts, runs, CellData, Quantity, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
 pub use error::FieldError;
 pub use notation::{stop_events, Notation};
 pub use plane::{Along, Entries, Line, Plane};

@@ -100,6 +100,7 @@ mod tests {
             dim: 4,
             section_cap: 16,
             notation,
+            quantities: Vec::new(),
         };
         assert_eq!(meta.symbol("omega"), "ω");
         assert_eq!(meta.symbol("fk"), "f_k");

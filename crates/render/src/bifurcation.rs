@@ -51,24 +51,33 @@ pub struct Diagram {
     /// For a hysteresis loop (`sweep --direction down-up|up-down`), the
     /// sweep run first: the other started from its end state.
     pub first: Option<SweepKind>,
+    /// A quantity of the steady motion ([`maps::Meta::quantities`]) the first
+    /// panel shows instead of the period section, one point per cell: an
+    /// amplitude–frequency response with its jumps.
+    pub quantity: Option<usize>,
 }
 
 impl Diagram {
-    /// The diagram of row `row` of `atlas`, its period-section panel showing
-    /// the state component named `variable` (`x_M1`, `v_M2`: see
-    /// [`component_name`]; default: the position of the first labelled mass);
+    /// The diagram of row `row` of `atlas`, its first panel showing the
+    /// period section's state component named `variable` (`x_M1`, `v_M2`: see
+    /// [`component_name`]; default: the position of the first labelled mass)
+    /// or, for the name of a stored quantity (`max_abs_x_M1`), that quantity;
     /// an error, whose [`RenderError::what`] lists the names, for another name.
     pub fn of(atlas: &Atlas, row: usize, variable: Option<&str>, impact: Impact) -> Result<Diagram, RenderError> {
         let m = &atlas.meta;
+        let first = m.masses.first().and_then(|first| m.state_masses.iter().position(|n| n == first)).unwrap_or(0);
+        let quantity = variable.and_then(|v| m.quantities.iter().position(|q| q.name == v));
         let component = match variable {
+            Some(_) if quantity.is_some() => first,
             Some(v) => {
-                let names: Vec<String> = (0..m.dim).map(|k| component_name(atlas, k)).collect();
+                let mut names: Vec<String> = (0..m.dim).map(|k| component_name(atlas, k)).collect();
+                names.extend(m.quantities.iter().map(|q| q.name.clone()));
                 let unknown = || RenderError::new(format!("expected one of {}, got '{v}'", names.join(", ")));
                 names.iter().position(|n| n == v).ok_or_else(unknown)?
             }
-            None => m.masses.first().and_then(|first| m.state_masses.iter().position(|n| n == first)).unwrap_or(0),
+            None => first,
         };
-        Ok(Diagram { row, component, impact, first: None })
+        Ok(Diagram { row, component, impact, first: None, quantity })
     }
 }
 
@@ -127,7 +136,9 @@ fn series(atlas: &Atlas, d: &Diagram, omega: &[f64]) -> Series {
                     for (ix, &w) in omega.iter().enumerate() {
                         let Some(c) = &map.cells[d.row * x.count + ix] else { continue };
                         let v = x.value(ix);
-                        if pi == 0 {
+                        if let (0, Some(k)) = (pi, d.quantity) {
+                            pts.extend(c.quantities.get(k).copied().filter(|q| q.is_finite()).map(|q| (v, q)));
+                        } else if pi == 0 {
                             pts.extend(c.period_section.iter().map(|s| (v, s[d.component])));
                         } else {
                             let n = &m.stop_normals[pi - 1];
@@ -233,7 +244,9 @@ fn draw<DB: crate::Backend>(
     for (i, (&pi, area)) in shown.iter().zip(layout::panels(&body, n, cols).iter()).enumerate() {
         let series = &all[pi];
         let y_range = y_range(pi);
-        let desc = if pi == 0 {
+        let desc = if let (0, Some(k)) = (pi, d.quantity) {
+            m.quantities[k].name.clone()
+        } else if pi == 0 {
             format!("{} at t = kT", component_name(atlas, d.component))
         } else {
             match d.impact {
@@ -300,6 +313,7 @@ mod tests {
             dim: 4,
             section_cap: 16,
             notation: Vec::new(),
+            quantities: Vec::new(),
         }
     }
 

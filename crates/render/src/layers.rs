@@ -106,10 +106,10 @@ pub fn layer(atlas: &Atlas, show: Show, mass: usize, curves: &[Overlay]) -> Resu
         Show::Scalar(sweep, quantity) => {
             let s = Scaled::of(atlas, sweep, quantity)?;
             (0..n).map(|i| Paint::Fill(s.colour(i))).for_each(&mut put);
-            let (lo, hi) = (s.centre - s.reach, s.centre + s.reach);
+            let (lo, hi) = (s.lo, s.hi);
             let stops = (0..=10).map(|k| rgb(s.colour_of(lo + (hi - lo) * k as f64 / 10.0))).collect();
             let legend = vec![Entry::new(Swatch::Fill(NONE), quantity.none())];
-            (legend, Some((format!("{}: {}", quantity.unit(), quantity.title()), lo, hi, stops)))
+            (legend, Some((format!("{}: {}", quantity.unit(&atlas.meta), quantity.title(&atlas.meta)), lo, hi, stops)))
         }
     };
     Ok(Layer { nx, ny, above, below, legend: legend.iter().map(key).collect(), scale })

@@ -11,7 +11,7 @@ use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use maps::{Atlas, CellData, SweepKind};
+use maps::{Atlas, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -23,20 +23,29 @@ pub enum Quantity {
     Lyapunov,
     /// Largest Floquet multiplier modulus.
     Multiplier,
+    /// Quantity `k` of the steady motion ([`maps::Meta::quantities`]).
+    Named(usize),
 }
 
 impl Quantity {
+    /// The quantity of the steady motion named `name` in `m`, if it has one.
+    pub fn named(m: &Meta, name: &str) -> Option<Quantity> {
+        m.quantities.iter().position(|q| q.name == name).map(Quantity::Named)
+    }
+
     fn of(self, c: &CellData) -> Option<f64> {
         match self {
             Quantity::Lyapunov => c.lyapunov,
             Quantity::Multiplier => c.multiplier,
+            Quantity::Named(k) => c.quantities.get(k).copied().filter(|v| v.is_finite()),
         }
     }
 
-    pub(crate) fn title(self) -> &'static str {
+    pub(crate) fn title(self, m: &Meta) -> String {
         match self {
-            Quantity::Lyapunov => "largest Lyapunov exponent (cells without a period)",
-            Quantity::Multiplier => "largest |Floquet multiplier| (periodic cells)",
+            Quantity::Lyapunov => "largest Lyapunov exponent (cells without a period)".into(),
+            Quantity::Multiplier => "largest |Floquet multiplier| (periodic cells)".into(),
+            Quantity::Named(k) => m.quantities[k].long_name.clone(),
         }
     }
 
@@ -45,22 +54,27 @@ impl Quantity {
         match self {
             Quantity::Lyapunov => "periodic",
             Quantity::Multiplier => "no period",
+            Quantity::Named(_) => "none",
         }
     }
 
     /// Colour-bar label.
-    pub(crate) fn unit(self) -> &'static str {
+    pub(crate) fn unit(self, m: &Meta) -> String {
         match self {
-            Quantity::Lyapunov => "λ (per unit time)",
-            Quantity::Multiplier => "max |μ|",
+            Quantity::Lyapunov => "λ (per unit time)".into(),
+            Quantity::Multiplier => "max |μ|".into(),
+            Quantity::Named(k) => m.quantities[k].name.clone(),
         }
     }
 
-    /// The neutral value the diverging scale is centred on.
-    fn centre(self) -> f64 {
+    /// The neutral value a diverging scale is centred on; none for a
+    /// quantity of the steady motion, drawn on a sequential scale from its
+    /// smallest value to its largest.
+    fn centre(self) -> Option<f64> {
         match self {
-            Quantity::Lyapunov => 0.0,
-            Quantity::Multiplier => 1.0,
+            Quantity::Lyapunov => Some(0.0),
+            Quantity::Multiplier => Some(1.0),
+            Quantity::Named(_) => None,
         }
     }
 }
@@ -77,15 +91,28 @@ fn diverging(t: f64) -> RGBColor {
     RGBColor(c[0], c[1], c[2])
 }
 
-/// The numbers of one sweep's cells on the map's diverging scale.
+/// A sequential scale (viridis, perceptually uniform and legible in grey):
+/// `t` in [0, 1].
+fn sequential(t: f64) -> RGBColor {
+    const STOPS: [[f64; 3]; 5] =
+        [[68.0, 1.0, 84.0], [59.0, 82.0, 139.0], [33.0, 145.0, 140.0], [94.0, 201.0, 98.0], [253.0, 231.0, 37.0]];
+    let t = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let k = (t.floor() as usize).min(STOPS.len() - 2);
+    let f = t - k as f64;
+    let c = [0, 1, 2].map(|i| (STOPS[k][i] + f * (STOPS[k + 1][i] - STOPS[k][i])).round() as u8);
+    RGBColor(c[0], c[1], c[2])
+}
+
+/// The numbers of one sweep's cells on the map's scale.
 pub(crate) struct Scaled {
     /// Per cell, its number (`None`: the cell has none, or was not computed).
     pub values: Vec<Option<f64>>,
-    /// The neutral value, white.
-    pub centre: f64,
-    /// How far from the centre the most distant value lies (1 when none
-    /// does): the full colour.
-    pub reach: f64,
+    /// The ends of the colour bar.
+    pub lo: f64,
+    /// See `lo`.
+    pub hi: f64,
+    /// Whether the scale diverges from white at the middle of `lo..hi`.
+    diverging: bool,
 }
 
 impl Scaled {
@@ -93,9 +120,23 @@ impl Scaled {
     pub fn of(atlas: &Atlas, sweep: SweepKind, quantity: Quantity) -> Result<Scaled, RenderError> {
         let cells = sweep_cells(atlas, sweep)?;
         let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.of(c))).collect();
-        let centre = quantity.centre();
-        let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
-        Ok(Scaled { values, centre, reach: if reach > 0.0 { reach } else { 1.0 } })
+        Ok(match quantity.centre() {
+            Some(centre) => {
+                let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
+                let reach = if reach > 0.0 { reach } else { 1.0 };
+                Scaled { values, lo: centre - reach, hi: centre + reach, diverging: true }
+            }
+            None => {
+                let lo = values.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+                let hi = values.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
+                let (lo, hi) = match (lo.is_finite(), hi > lo) {
+                    (true, true) => (lo, hi),
+                    (true, false) => (lo - 0.5, lo + 0.5),
+                    (false, _) => (0.0, 1.0),
+                };
+                Scaled { values, lo, hi, diverging: false }
+            }
+        })
     }
 
     /// The colour of cell `i`.
@@ -105,7 +146,12 @@ impl Scaled {
 
     /// The colour of the value `v`.
     pub fn colour_of(&self, v: f64) -> RGBColor {
-        diverging((v - self.centre) / self.reach)
+        let t = (v - self.lo) / (self.hi - self.lo);
+        if self.diverging {
+            diverging(2.0 * t - 1.0)
+        } else {
+            sequential(t)
+        }
     }
 }
 
@@ -131,9 +177,9 @@ fn draw<DB: crate::Backend>(
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let scaled = Scaled::of(atlas, sweep, quantity)?;
-    let (lo, hi) = (scaled.centre - scaled.reach, scaled.centre + scaled.reach);
+    let (lo, hi) = (scaled.lo, scaled.hi);
     root.fill(&WHITE).map_err(err)?;
-    let title = format!("{} sweep: {}", sweep.name(), quantity.title());
+    let title = format!("{} sweep: {}", sweep.name(), quantity.title(m));
     let body = layout::header(root, canvas, &title, layout::TITLE)?;
     let body = layout::footer(&body, canvas, &crate::map::settings_text(m))?;
     let (w, h) = body.dim_in_pixel();
@@ -158,7 +204,7 @@ fn draw<DB: crate::Backend>(
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_desc(quantity.unit())
+        .y_desc(quantity.unit(m))
         .y_label_formatter(&|v| crate::tick(*v))
         .label_style(canvas.font(1.0))
         .axis_desc_style(canvas.font(1.0))

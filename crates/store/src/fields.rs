@@ -118,6 +118,8 @@ pub(crate) enum Field {
     Periods,
     /// Events handled (u64).
     Events,
+    /// Quantity `k` of the steady motion ([`Meta::quantities`]; f64, NaN: none).
+    Quantity(usize),
 }
 
 impl Field {
@@ -135,6 +137,7 @@ impl Field {
                 Field::Periods,
                 Field::Events,
             ])
+            .chain((0..m.quantities.len()).map(Field::Quantity))
             .collect()
     }
 
@@ -155,6 +158,7 @@ impl Field {
             Field::FinalState => var::FINAL_STATE.into(),
             Field::Periods => var::PERIODS.into(),
             Field::Events => var::EVENTS.into(),
+            Field::Quantity(k) => m.quantities[k].name.clone(),
         }
     }
 
@@ -268,6 +272,15 @@ impl Field {
                 gridded(&d, "events handled")?;
                 d
             }
+            Field::Quantity(k) => {
+                let q = &m.quantities[k];
+                let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
+                netcdf::dims(&d, &[s.y, s.x])?;
+                netcdf::describe(&d, &q.long_name, &q.units)?;
+                netcdf::attr_str(&d, "symbol", &q.symbol)?;
+                netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+                d
+            }
         };
         Ok(d)
     }
@@ -292,6 +305,7 @@ impl Field {
             Field::FinalState => to.values(m.dim, |e, k| e.map_or(f64::NAN, |e| e.final_state[k])),
             Field::Periods => to.values(1, |e, _| e.map_or(0, |e| e.periods)),
             Field::Events => to.values(1, |e, _| e.map_or(0, |e| e.events)),
+            Field::Quantity(k) => to.values(1, |e, _| e.and_then(|e| e.quantities.get(k).copied()).unwrap_or(f64::NAN)),
         }
     }
 
@@ -436,6 +450,7 @@ mod tests {
             period_section: Vec::new(),
             impact_sections: Vec::new(),
             reason: None,
+            quantities: Vec::new(),
         };
         // Every cell but (2, 3) computed; its periods are its index iy*nx + ix.
         let cells: Vec<Option<CellData>> = (0..nx * ny).map(|i| (i != 2 * nx + 3).then(|| cell(i))).collect();

@@ -42,6 +42,9 @@ struct JCell {
     impact_sections: Vec<Vec<Vec<f64>>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     reason: Option<solver::Unresolved>,
+    /// The quantities (null: NaN, which JSON cannot hold).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    quantities: Vec<Option<f64>>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -131,6 +134,7 @@ fn encode(line: &Line) -> JLine {
                 period_section: c.period_section.clone(),
                 impact_sections: c.impact_sections.clone(),
                 reason: c.reason.clone(),
+                quantities: c.quantities.iter().map(|&v| (!v.is_nan()).then_some(v)).collect(),
             })
             .collect(),
     }
@@ -165,6 +169,9 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
             {
                 return bad("impact sections of the wrong shape");
             }
+            if c.quantities.len() != meta.quantities.len() {
+                return bad("wrong number of quantities");
+            }
             let Some(class) = crate::layout::class_of(c.class) else { return bad("unknown class code") };
             Ok(CellData {
                 class,
@@ -180,6 +187,7 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
                 period_section: c.period_section,
                 impact_sections: c.impact_sections,
                 reason: c.reason,
+                quantities: c.quantities.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
             })
         })
         .collect::<Result<Vec<_>, String>>()?;

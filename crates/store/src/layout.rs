@@ -298,6 +298,9 @@ pub mod attr {
     pub const OVERRIDES: &str = "overrides";
     /// `masses`.
     pub const MASSES: &str = "masses";
+    /// `quantities`: the names of the quantities of the steady motion each
+    /// sweep stores, one `[y, x]` variable each (absent: none).
+    pub const QUANTITIES: &str = "quantities";
     /// `layout_version`.
     pub const LAYOUT_VERSION: &str = "layout_version";
     /// `integrator`.
@@ -389,6 +392,7 @@ pub mod attr {
         "parent_labels_crc32",
         "preset",
         "q_stops",
+        "quantities",
         "scene",
         "scene_name",
         "shard",

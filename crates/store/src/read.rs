@@ -87,6 +87,8 @@ struct SweepSets {
     periods: hdf5::Dataset,
     events: hdf5::Dataset,
     labels: Vec<hdf5::Dataset>,
+    /// The quantities of [`Meta::quantities`], in order.
+    quantities: Vec<hdf5::Dataset>,
     /// The table of reasons, the per-cell codes (files since the reasons
     /// were stored) and the reasons with their numbers (files since those
     /// were stored).
@@ -101,7 +103,8 @@ impl SweepSets {
     fn bytes(&self, n: usize, dim: usize, masses: usize) -> u64 {
         let n = n as u64;
         let dim = dim as u64;
-        let read = n * (1 + 1 + 4 + 8 + 8 + 8 + 8 + 6 * masses as u64) + n * dim * 8;
+        let read = n * (1 + 1 + 4 + 8 + 8 + 8 + 8 + 6 * masses as u64 + 16 * self.quantities.len() as u64)
+            + n * dim * 8;
         let cells = n
             * (std::mem::size_of::<Option<CellData>>() as u64
                 + masses as u64 * std::mem::size_of::<solver::Label>() as u64
@@ -502,6 +505,7 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             dim / 2
         )));
     }
+    let quantities = quantities(path, f, &sweeps)?;
     Ok(Meta {
         scene_name: attr(path, f, attr::SCENE_NAME)?,
         scene_toml: scene_toml.clone(),
@@ -531,7 +535,28 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             })?
         },
         notation,
+        quantities,
     })
+}
+
+/// The quantities each sweep stores (none for a file before them), their
+/// symbol, long name and units read from the first sweep's variables.
+fn quantities(path: &Path, f: &hdf5::File, sweeps: &[SweepKind]) -> Result<Vec<maps::Quantity>, StoreError> {
+    let names = list(&attr_opt(path, f, attr::QUANTITIES)?.unwrap_or_default());
+    let first = f.group(sweeps[0].name()).map_err(|e| StoreError::hdf5(path, e))?;
+    names
+        .into_iter()
+        .map(|name| {
+            let d = first.dataset(&name).map_err(|_| {
+                StoreError::format(
+                    path,
+                    format!("attribute {} of /: names {name}, which {} lacks", attr::QUANTITIES, sweeps[0].name()),
+                )
+            })?;
+            let text = |key: &str| crate::attrs::required_text(path, &d, key);
+            Ok(maps::Quantity { symbol: text("symbol")?, long_name: text("long_name")?, units: text("units")?, name })
+        })
+        .collect()
 }
 
 /// The datasets of one sweep, opened and checked against the grid.
@@ -576,6 +601,7 @@ fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Re
             .iter()
             .map(|m| ck.shaped(&g, &label(m), &[rows, columns, Dim(3, "counts", "n, p, q are")]))
             .collect::<Result<_, _>>()?,
+        quantities: meta.quantities.iter().map(|q| plane(&q.name)).collect::<Result<_, _>>()?,
         reasons: if g.link_exists(REASON_CODE) {
             let table = ck.open(&g, REASON)?;
             if table.ndim() != 1 || table.size() > n {
@@ -614,6 +640,7 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
     let finite = |v: f64| v.is_finite().then_some(v);
     let (periods, events) = (ck.raw::<u64>(&s.periods)?, ck.raw::<u64>(&s.events)?);
     let labels = s.labels.iter().map(|d| ck.raw::<u16>(d)).collect::<Result<Vec<_>, _>>()?;
+    let quantities = s.quantities.iter().map(|d| ck.raw::<f64>(d)).collect::<Result<Vec<_>, _>>()?;
     let section = |sec: &Section| -> Result<(Vec<f64>, Vec<usize>, usize), StoreError> {
         let offsets = ck.raw::<u64>(&sec.offsets)?;
         let at = sec.offsets.name();
@@ -663,6 +690,7 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
             period_section: rows(&period, i),
             impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
             reason: reason(i),
+            quantities: quantities.iter().map(|q| q[i]).collect(),
         })
     }));
     Ok(cells)
@@ -832,6 +860,7 @@ mod tests {
             dim: 4,
             section_cap: 16,
             notation: maps::Notation::of_scene(&scene),
+            quantities: Vec::new(),
         })
     }
 

@@ -324,6 +324,9 @@ fn create_in(f: hdf5::File, m: &maps::Meta, chunks: &Chunks, z: &Deflater) -> hd
     attr_str(&f, attr::OVERRIDES, &pairs(&m.overrides))?;
     attr_str(&f, attr::MASSES, &m.masses.join(","))?;
     attr_str(&f, attr::STATE_MASSES, &m.state_masses.join(","))?;
+    if !m.quantities.is_empty() {
+        attr_str(&f, attr::QUANTITIES, &m.quantities.iter().map(|q| q.name.as_str()).collect::<Vec<_>>().join(","))?;
+    }
     attr_str(&f, attr::P_STOPS, &m.label_stops.iter().map(|s| s[0].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, attr::Q_STOPS, &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, attr::STOPS, &m.stops.join(","))?;
@@ -767,6 +770,14 @@ mod tests {
             dim: 2,
             section_cap: 4,
             notation: Vec::new(),
+            quantities: ["max_abs_x_M1", "power_in"]
+                .map(|name| maps::Quantity {
+                    name: name.into(),
+                    symbol: "q".into(),
+                    long_name: format!("the test's {name}"),
+                    units: "1".into(),
+                })
+                .into(),
         }
     }
 
@@ -805,6 +816,8 @@ mod tests {
             period_section: vec![vec![i as f64, 0.5]; i % 3],
             impact_sections: vec![vec![vec![0.25, i as f64, 1.0]; i % 2]],
             reason: i.is_multiple_of(5).then(|| reason(i)),
+            // A quantity a motion could not give (NaN) in every seventh cell.
+            quantities: vec![if i.is_multiple_of(7) { f64::NAN } else { i as f64 * 0.25 }, -(i as f64)],
         }
     }
 

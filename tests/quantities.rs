@@ -1,0 +1,157 @@
+//! Quantities of the steady motion in atlases (issue 60): every cell's
+//! quantities stored as CF variables that the reference readers open, equal
+//! bit for bit to those `cell --from FILE --json` computes again for the
+//! stored cell; `--quantities` chooses them; `render --view NAME` draws one;
+//! `inspect --quantity NAME` finds where it is smallest and largest; the
+//! existing datasets are those of an atlas without quantities.
+
+use crate::util::{json_of, ok, run, scratch};
+use std::process::Command;
+
+/// Runs a Python snippet with Debian's python3 (h5py, xarray, h5netcdf and
+/// netCDF4, installed by scripts/setup.sh); its stdout.
+fn python(script: &str, args: &[&str]) -> String {
+    let out = Command::new("/usr/bin/python3").arg("-c").arg(script).args(args).output().expect("/usr/bin/python3");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "python3 failed: {err}");
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// An 8 × 5 both-sweep atlas of the impact damper with every quantity.
+fn damper(d: &std::path::Path, extra: &[&str]) -> String {
+    let f = d.join(format!("damper{}.h5", extra.join("-").replace(',', "-"))).to_str().unwrap().to_string();
+    let mut args = vec!["atlas", "configs/impact-damper.toml", "--x", "omega=1.3:2.1:8", "--y", "delta=1:3:5"];
+    args.extend_from_slice(&["--sweep", "both", "--quiet", "-o", &f]);
+    args.extend_from_slice(extra);
+    ok(&args);
+    f
+}
+
+/// Each quantity is a `[delta, omega]` variable of each sweep with its units,
+/// long name and symbol, read alike by h5py and xarray's two engines; the
+/// cells' values are what `cell --from` computes for the stored cell.
+#[test]
+fn atlases_store_every_quantity_as_the_cell_computes_it() {
+    let d = scratch("quantities-atlas");
+    let f = damper(&d, &[]);
+    let listed = python(
+        r#"
+import sys, h5py, xarray as xr, numpy as np
+path = sys.argv[1]
+with h5py.File(path, "r") as f:
+    names = f.attrs["quantities"].split(",")
+    for g in ["up", "down"]:
+        for n in names:
+            v = f[g][n]
+            assert v.shape == (5, 8), (g, n, v.shape)
+            assert v.attrs["units"] == "1" and v.attrs["long_name"] and v.attrs["symbol"], (n, dict(v.attrs))
+for engine in ["h5netcdf", "netcdf4"]:
+    with xr.open_dataset(path, engine=engine, group="up") as ds:
+        for n in names:
+            assert ds[n].dims == ("delta", "omega"), (engine, n, ds[n].dims)
+        r = ds["energy_residual"].values
+        assert np.all(np.abs(r) < 1e-9), r
+        print(engine, repr(float(ds["max_abs_x_M1"].sel(omega=1.3, delta=2.0).item())))
+print(",".join(names))
+"#,
+        &[&f],
+    );
+    let names: Vec<&str> = listed.lines().last().unwrap().split(',').collect();
+    assert!(names.contains(&"max_abs_x_M1") && names.contains(&"impulse_left") && names.contains(&"power_in"));
+    assert!(!names.iter().any(|n| n.contains("contact_force")), "the damper has no soft stop: {names:?}");
+    let cell = json_of(&["cell", "--from", &f, "--sweep", "up", "--at", "omega=1.3,delta=2", "--json"]);
+    let q = cell["quantities"].as_object().unwrap();
+    assert_eq!(q.keys().collect::<std::collections::BTreeSet<_>>().len(), names.len());
+    let stored: f64 = listed.lines().next().unwrap().split(' ').nth(1).unwrap().parse().unwrap();
+    assert_eq!(q["max_abs_x_M1"].as_f64().unwrap().to_bits(), stored.to_bits(), "{stored} against {q:?}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// `--quantities none` stores none, a list stores those, an unknown name is
+/// one line naming the option; every other dataset is the same in all three
+/// files, bit for bit.
+#[test]
+fn quantities_are_chosen_and_the_rest_is_unchanged() {
+    let d = scratch("quantities-choice");
+    let all = damper(&d, &[]);
+    let none = damper(&d, &["--quantities", "none"]);
+    let two = damper(&d, &["--quantities", "max_abs_x_M1,power_in"]);
+    let out = python(
+        r#"
+import sys, h5py, numpy as np
+def sets(path):
+    out = {}
+    with h5py.File(path, "r") as f:
+        f.visititems(lambda n, o: out.__setitem__(n, o[()]) if isinstance(o, h5py.Dataset) else None)
+        return out, f.attrs.get("quantities", "")
+(a, qa), (b, qb), (c, qc) = sets(sys.argv[1]), sets(sys.argv[2]), sets(sys.argv[3])
+assert qb == "" and qc == "max_abs_x_M1,power_in", (qb, qc)
+names = qa.split(",")
+for k in b:
+    assert np.array_equal(a[k], b[k], equal_nan=a[k].dtype.kind == "f"), k
+only = {k for k in a if k.split("/")[-1] in names}
+assert {k for k in a} - only == set(b), set(a) ^ set(b)
+for k in c:
+    assert np.array_equal(a[k], c[k], equal_nan=a[k].dtype.kind == "f"), k
+print(len(only), len(b))
+"#,
+        &[&all, &none, &two],
+    );
+    assert!(out.trim().split(' ').all(|n| n.parse::<usize>().unwrap() > 0), "{out}");
+    let bad = run(&["atlas", "configs/impact-damper.toml", "--x", "omega=1.3:2.1:4", "--y", "delta=1:3:2"]
+        .into_iter()
+        .chain(["--quantities", "max_abs_x_M3", "-o", d.join("bad.h5").to_str().unwrap()])
+        .collect::<Vec<_>>());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert_eq!(bad.status.code(), Some(2), "{err}");
+    assert!(err.starts_with("error: --quantities: 'max_abs_x_M3' is not a quantity of this scene"), "{err}");
+    assert!(!d.join("bad.h5").exists());
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// `inspect --quantity NAME --json` gives each sweep's smallest and largest
+/// value and where, as numpy finds them in the file; `render --view NAME`
+/// draws the quantity; unknown names are one line each.
+#[test]
+fn inspect_and_render_a_quantity() {
+    let d = scratch("quantities-inspect");
+    let f = damper(&d, &[]);
+    let r = json_of(&["inspect", &f, "--quantity", "impact_speed_max_left", "--json"]);
+    let want = python(
+        r#"
+import sys, xarray as xr, numpy as np
+for g in ["down", "up"]:
+    with xr.open_dataset(sys.argv[1], engine="h5netcdf", group=g) as ds:
+        v = ds["impact_speed_max_left"]
+        lo, hi = v.argmin(...), v.argmax(...)
+        print(g, repr(float(v.min())), repr(float(ds.omega[lo["omega"]])), repr(float(ds.delta[lo["delta"]])),
+              repr(float(v.max())), repr(float(ds.omega[hi["omega"]])), repr(float(ds.delta[hi["delta"]])))
+"#,
+        &[&f],
+    );
+    for line in want.lines() {
+        let w: Vec<&str> = line.split(' ').collect();
+        let s = &r["sweeps"][w[0]];
+        let num = |t: &str| t.parse::<f64>().unwrap();
+        assert_eq!(s["cells"], 40);
+        assert_eq!(s["min"]["value"].as_f64(), Some(num(w[1])), "{line}");
+        assert_eq!(s["min"]["at"]["omega"].as_f64(), Some(num(w[2])), "{line}");
+        assert_eq!(s["min"]["at"]["delta"].as_f64(), Some(num(w[3])), "{line}");
+        assert_eq!(s["max"]["value"].as_f64(), Some(num(w[4])), "{line}");
+        assert_eq!(s["max"]["at"]["omega"].as_f64(), Some(num(w[5])), "{line}");
+        assert_eq!(s["max"]["at"]["delta"].as_f64(), Some(num(w[6])), "{line}");
+    }
+    let png = d.join("m1.png");
+    ok(&["render", &f, "--view", "max_abs_x_M1", "--sweep", "up", "-o", png.to_str().unwrap()]);
+    assert!(std::fs::metadata(&png).unwrap().len() > 10_000);
+    for (args, says) in [
+        (vec!["inspect", &f, "--quantity", "nope"], "error: --quantity: 'nope' is not a quantity the file stores"),
+        (vec!["render", &f, "--view", "nope", "-o", png.to_str().unwrap()], "error: --view: 'nope' is not labels"),
+    ] {
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.starts_with(says) && err.trim().lines().count() == 1, "{err}");
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}
