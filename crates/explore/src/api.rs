@@ -196,33 +196,41 @@ fn sweep(o: &Opened, q: &HashMap<String, String>) -> Result<SweepKind, Refusal> 
 }
 
 /// The views of an atlas: its sweeps, hysteresis with up and down, and the
-/// numbers of each sweep.
+/// numbers of each sweep: `multiplier`, `lyapunov` and every stored quantity
+/// of the steady motion, each as `NAME:SWEEP`.
 fn views(o: &Opened) -> Vec<String> {
-    let sweeps = &o.atlas.meta.sweeps;
-    let mut v: Vec<String> = sweeps.iter().map(|s| s.name().to_string()).collect();
-    if sweeps.contains(&SweepKind::Up) && sweeps.contains(&SweepKind::Down) {
+    let m = &o.atlas.meta;
+    let mut v: Vec<String> = m.sweeps.iter().map(|s| s.name().to_string()).collect();
+    if m.sweeps.contains(&SweepKind::Up) && m.sweeps.contains(&SweepKind::Down) {
         v.push("hysteresis".into());
     }
-    for q in ["multiplier", "lyapunov"] {
-        v.extend(sweeps.iter().map(|s| format!("{q}:{}", s.name())));
+    let numbers = ["multiplier", "lyapunov"].into_iter().chain(m.quantities.iter().map(|q| q.name.as_str()));
+    for q in numbers {
+        v.extend(m.sweeps.iter().map(|s| format!("{q}:{}", s.name())));
     }
     v
 }
 
-/// The view of the `view` parameter: a sweep, `hysteresis`, or
-/// `multiplier:SWEEP` / `lyapunov:SWEEP`.
+/// The view of the `view` parameter: a sweep, `hysteresis`, or `NAME:SWEEP`
+/// of a number per cell (`multiplier`, `lyapunov`, a stored quantity).
 fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
-    let name = q.get("view").cloned().unwrap_or_else(|| o.atlas.meta.sweeps[0].name().to_string());
-    if !views(o).contains(&name) {
-        return Err(bad(format!("view: '{name}' is not a view of the atlas ({})", views(o).join(", "))));
+    let m = &o.atlas.meta;
+    let name = q.get("view").cloned().unwrap_or_else(|| m.sweeps[0].name().to_string());
+    let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(&name), views(o).join(", ")));
+    if let Some((number, s)) = name.rsplit_once(':') {
+        let sweep = SweepKind::parse(s).filter(|k| m.sweeps.contains(k)).ok_or_else(refused)?;
+        let quantity = match number {
+            "multiplier" => Quantity::Multiplier,
+            "lyapunov" => Quantity::Lyapunov,
+            other => Quantity::named(m, other).ok_or_else(refused)?,
+        };
+        return Ok(Show::Scalar(sweep, quantity));
     }
-    Ok(match name.split_once(':') {
-        Some((quantity, s)) => {
-            let quantity = if quantity == "multiplier" { Quantity::Multiplier } else { Quantity::Lyapunov };
-            Show::Scalar(SweepKind::parse(s).unwrap_or(SweepKind::Fresh), quantity)
-        }
-        None => Show::Map(View::parse(&name).unwrap_or(View::Hysteresis)),
-    })
+    match View::parse(&name) {
+        Some(View::Sweep(s)) if m.sweeps.contains(&s) => Ok(Show::Map(View::Sweep(s))),
+        Some(View::Hysteresis) if views(o).iter().any(|v| v == "hysteresis") => Ok(Show::Map(View::Hysteresis)),
+        _ => Err(refused()),
+    }
 }
 
 fn axis_json(a: &Axis, o: &Opened) -> Value {

@@ -138,10 +138,11 @@ def test_hysteresis_default_figure(tree):
     plt.close(axes[0].figure)
 
 
-@pytest.mark.parametrize("quantity", ["multiplier", "lyapunov"])
+@pytest.mark.parametrize("quantity", ["multiplier", "lyapunov", "max_abs_x_M1", "impact_speed_max_A1"])
 def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
-    """va.plot.scalar draws each cell in the colour `render --view` gives it:
-    the oracle is the explorer's /api/map, render's own per-cell colours."""
+    """va.plot.scalar (and va.plot.quantity, for a quantity of the steady
+    motion) draws each cell in the colour `render --view` gives it: the
+    oracle is the explorer's /api/map, render's own per-cell colours."""
     import json
     import urllib.request
 
@@ -150,7 +151,10 @@ def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     tree = open_tree(path)
     ds = tree["up"].ds
     fig, ax = plt.subplots(figsize=(8, 5))
-    va.plot.scalar(tree["up"], quantity, ax=ax)
+    if quantity in ("multiplier", "lyapunov"):
+        va.plot.scalar(tree["up"], quantity, ax=ax)
+    else:
+        va.plot.quantity(tree["up"], quantity, ax=ax)
     img = pixels(fig)
     ex = va.explore(path)
     try:
@@ -170,6 +174,8 @@ def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     plt.close(fig)
     with pytest.raises(ValueError, match="quantity"):
         va.plot.scalar(tree["up"], "period")
+    with pytest.raises(ValueError, match="not a quantity of this group"):
+        va.plot.quantity(tree["up"], "period")
 
 
 def test_axis_labels_draw_subscripts():

@@ -293,6 +293,55 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     return ax
 
 
+# render's sequential scale of a quantity of the steady motion (viridis, five stops).
+_SEQUENTIAL = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], float)
+
+
+def _sequential(t):
+    """RGB (0-255) of t in [0, 1] on the sequential scale, rounded as render rounds."""
+    t = np.clip(t, 0.0, 1.0) * (len(_SEQUENTIAL) - 1)
+    k = np.minimum(np.floor(t).astype(int), len(_SEQUENTIAL) - 2)
+    f = (t - k)[..., None]
+    return np.round(_SEQUENTIAL[k] + f * (_SEQUENTIAL[k + 1] - _SEQUENTIAL[k])).astype(int)
+
+
+def quantity(ds, name, ax=None, *, colorbar=True, title=None):
+    """Draws a quantity of the steady motion of a sweep group (`max_abs_x_M1`,
+    `impact_speed_max_A1`, `power_in`: docs/models.md, section 13), as
+    `vibroatlas render --view NAME` does, and returns the Axes: a sequential
+    scale (viridis) from the smallest value to the largest, cells without a
+    value grey, each cell in exactly the colour render gives it."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import ListedColormap, Normalize
+
+    node = _node_name(ds)
+    ds = _dataset(ds)
+    if name not in ds:
+        stored = [n for n in ds.data_vars if "symbol" in ds[n].attrs and ds[n].dims == ds["class"].dims]
+        raise ValueError(f"{name}: not a quantity of this group ({', '.join(stored) or 'it stores none'})")
+    v = np.asarray(ds[name].values, float)
+    ydim, xdim = ds[name].dims
+    finite = np.isfinite(v)
+    lo, hi = (float(v[finite].min()), float(v[finite].max())) if finite.any() else (0.0, 1.0)
+    if hi <= lo:
+        lo, hi = lo - 0.5, lo + 0.5
+    rgb = np.where(finite[..., None], _sequential((np.where(finite, v, lo) - lo) / (hi - lo)), np.array(_NONE))
+    flat = rgb.reshape(-1, 3)
+    present, codes = np.unique(flat, axis=0, return_inverse=True)
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
+    _mesh(ax, ds[xdim].values, ds[ydim].values, codes.reshape(v.shape), present / 255.0)
+    ax.set_xlabel(axis_label(ds[xdim]))
+    ax.set_ylabel(axis_label(ds[ydim]))
+    sweep = f"{node} sweep: " if node else ""
+    ax.set_title(title if title is not None else sweep + ds[name].attrs.get("long_name", name))
+    if colorbar:
+        cmap = ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
+        bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
+        bar.set_label(name)
+    return ax
+
+
 # Colours of the sweeps in diagrams (render's): down vermillion rings, up
 # blue dots drawn inside them, fresh cells black dots; sizes in points.
 _SWEEP_COLOUR = {"down": (213, 94, 0), "up": (0, 114, 178), "fresh": (0, 0, 0)}

@@ -41,6 +41,14 @@ def scalar(
     colorbar: bool = ...,
     title: str | None = ...,
 ) -> Axes: ...
+def quantity(
+    ds: Group,
+    name: str,
+    ax: Axes | None = ...,
+    *,
+    colorbar: bool = ...,
+    title: str | None = ...,
+) -> Axes: ...
 def row(
     tree: xarray.DataTree | str,
     at: float | None = ...,
