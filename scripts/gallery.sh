@@ -169,7 +169,7 @@ vibroatlas render $out/soft.h5 -o $img/soft-stop.png --sweep up
 vibroatlas atlas configs/impact-damper.toml --x omega=1.3:2.1:80 --y delta=1:3:60 --sweep both --quiet -o $out/damper.h5 >/dev/null
 vibroatlas render $out/damper.h5 -o $img/quantity-damper.png --sweep up --view max_abs_x_M1
 vibroatlas render $out/gear.h5 -o $img/quantity-gear.png --sweep down --view impact_speed_max_B
-vibroatlas sweep configs/multi-stop.toml --axis omega=0.25:0.45:161 --direction both --variable max_abs_x_M1 --quiet --png $img/response.png >/dev/null
+vibroatlas sweep configs/soft-stop.toml --axis omega=0.6:1.8:241 --direction both --variable max_abs_x_M --quiet --png $img/response.png >/dev/null
 
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
 [ "$check" -eq 0 ] || compare_with_kept

@@ -210,7 +210,20 @@ try:
                 label = f[sweep]["label"][f[sweep][f"label_code_{mass}"][iy, ix]].decode()
                 check(f"hover shows {sweep} {mass} {label}", f"{mass} {label}" in text, text)
         omega, delta = f["omega"][ix], f["delta"][iy]
+        amplitude = float(f["down"]["max_abs_x_M1"][iy, ix])
     shot(driver, "2-hover.png")
+
+    # A quantity of the steady motion as a view: its value in the hover (issue 60).
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='max_abs_x_M1:down']").click()
+    wait.until(lambda d: "view=max_abs_x_M1" in d.current_url)
+    ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx + 40, dy).perform()
+    ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx, dy).perform()
+    wait.until(lambda d: "max_abs_x_M1 =" in d.find_element(By.ID, "hover").text)
+    shown = [line for line in driver.find_element(By.ID, "hover").text.splitlines() if "max_abs_x_M1 =" in line]
+    check("hover shows the viewed quantity of the stored cell",
+          any(abs(float(line.split("=")[1]) - amplitude) <= 1e-5 * abs(amplitude) for line in shown), f"{shown} {amplitude}")
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='down']").click()
+    wait.until(lambda d: "view=down" in d.current_url)
 
     # Click: the cell panel holds the object of `cell --from … --json`.
     ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), dx, dy).click().perform()

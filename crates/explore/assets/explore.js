@@ -345,11 +345,19 @@ function parameters(values) {
 
 function describe(at) {
   const lines = [parameters(at.parameters)];
+  // The quantity of the view, when it shows one (NAME:SWEEP).
+  const viewed = S.view.includes(':') ? S.view.split(':')[0] : null;
   for (const sweep of S.info.sweeps) {
     const c = at.sweeps[sweep];
     if (!c) { lines.push(`${sweep}: not computed`); continue; }
     const labels = Object.entries(c.labels).map(([m, l]) => `${m} ${l}`).join(', ');
-    lines.push(`${sweep}: ${labels} (${c.class})`);
+    const number = c.max_multiplier !== null ? `max |μ| ${short(c.max_multiplier)}`
+      : c.lyapunov !== null ? `λ ${short(c.lyapunov)}` : '';
+    lines.push(`${sweep}: ${labels} (${c.class}${number ? '; ' + number : ''})`);
+    if (viewed && viewed in c.quantities) {
+      const v = c.quantities[viewed];
+      lines.push(`  ${viewed} = ${v === null ? 'none' : short(v)}`);
+    }
     if (c.reason) lines.push(`  ${c.reason}`);
   }
   return lines.join('\n');

@@ -342,6 +342,9 @@ async fn at(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, 
                     "labels": m.masses.iter().zip(&c.labels).map(|(n, l)| (n.clone(), json!(l.to_string()))).collect::<serde_json::Map<_, _>>(),
                     "reason": c.reason.as_ref().map(ToString::to_string),
                     "reason_detail": c.reason,
+                    "max_multiplier": c.multiplier,
+                    "lyapunov": c.lyapunov,
+                    "quantities": m.quantities.iter().zip(&c.quantities).map(|(q, &v)| (q.name.clone(), json!(v.is_finite().then_some(v)))).collect::<serde_json::Map<_, _>>(),
                 }),
             };
             (map.sweep.name().to_string(), v)

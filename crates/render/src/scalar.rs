@@ -111,8 +111,9 @@ pub(crate) struct Scaled {
     pub lo: f64,
     /// See `lo`.
     pub hi: f64,
-    /// Whether the scale diverges from white at the middle of `lo..hi`.
-    diverging: bool,
+    /// A diverging scale's neutral value (white) and how far from it the full
+    /// colour lies; none for a sequential scale.
+    diverging: Option<(f64, f64)>,
 }
 
 impl Scaled {
@@ -124,7 +125,7 @@ impl Scaled {
             Some(centre) => {
                 let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
                 let reach = if reach > 0.0 { reach } else { 1.0 };
-                Scaled { values, lo: centre - reach, hi: centre + reach, diverging: true }
+                Scaled { values, lo: centre - reach, hi: centre + reach, diverging: Some((centre, reach)) }
             }
             None => {
                 let lo = values.iter().flatten().copied().fold(f64::INFINITY, f64::min);
@@ -134,7 +135,7 @@ impl Scaled {
                     (true, false) => (lo - 0.5, lo + 0.5),
                     (false, _) => (0.0, 1.0),
                 };
-                Scaled { values, lo, hi, diverging: false }
+                Scaled { values, lo, hi, diverging: None }
             }
         })
     }
@@ -146,11 +147,9 @@ impl Scaled {
 
     /// The colour of the value `v`.
     pub fn colour_of(&self, v: f64) -> RGBColor {
-        let t = (v - self.lo) / (self.hi - self.lo);
-        if self.diverging {
-            diverging(2.0 * t - 1.0)
-        } else {
-            sequential(t)
+        match self.diverging {
+            Some((centre, reach)) => diverging((v - centre) / reach),
+            None => sequential((v - self.lo) / (self.hi - self.lo)),
         }
     }
 }
