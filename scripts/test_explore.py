@@ -352,33 +352,7 @@ try:
     # shows the names as text: no element is made of them, no handler runs,
     # the title stays, and every policy violation would be reported.
     mass_name, stop_name = "<img src=x onerror=document.title=this.alt alt=XSS>", "<b id=injected>A"
-    markup_scene = os.path.join(tmp, "markup.toml")
-    with open(markup_scene, "w") as f:
-        f.write(f"""name = "markup"
-[parameters]
-omega = {{ value = 2.5 }}
-sigma = {{ value = 0.0 }}
-[forcing]
-omega = "omega"
-phase = "PI/2"
-[[masses]]
-name = "{mass_name}"
-mass = 1
-force = 1
-x0 = "sigma - 0.5"
-[[links]]
-masses = ["{mass_name}"]
-stiffness = 1
-damping = 0.1
-[[stops]]
-name = "{stop_name}"
-mass = "{mass_name}"
-side = "above"
-position = "sigma"
-restitution = 0.8
-[labels."{mass_name}"]
-p = "{stop_name}"
-""")
+    markup_scene = "tests/data/markup-names.toml"
     markup_atlas = os.path.join(tmp, "markup.h5")
     run("atlas", markup_scene, "--x", "omega=1.5:3:8", "--y", "sigma=-0.5:0:5", "--sweep", "up", "--quiet", "-o", markup_atlas)
     third = subprocess.Popen([BIN, "explore", markup_atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True)

@@ -16,34 +16,12 @@ use std::time::{Duration, Instant};
 const MARKUP_MASS: &str = "<img src=x onerror=document.title=this.alt alt=XSS>";
 const MARKUP_STOP: &str = "<b id=injected>A";
 
+/// The scene of tests/data/markup-names.toml, whose names are those above.
 fn scene() -> String {
-    format!(
-        r#"name = "markup"
-[parameters]
-omega = {{ value = 2.5 }}
-sigma = {{ value = 0.0 }}
-[forcing]
-omega = "omega"
-phase = "PI/2"
-[[masses]]
-name = "{MARKUP_MASS}"
-mass = 1
-force = 1
-x0 = "sigma - 0.5"
-[[links]]
-masses = ["{MARKUP_MASS}"]
-stiffness = 1
-damping = 0.1
-[[stops]]
-name = "{MARKUP_STOP}"
-mass = "{MARKUP_MASS}"
-side = "above"
-position = "sigma"
-restitution = 0.8
-[labels."{MARKUP_MASS}"]
-p = "{MARKUP_STOP}"
-"#
-    )
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../tests/data/markup-names.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    assert!(text.contains(MARKUP_MASS) && text.contains(MARKUP_STOP));
+    text
 }
 
 /// A 6 × 4 up-sweep atlas of the markup scene, written once.

@@ -317,13 +317,13 @@ impl<'s> Simulator<'s> {
         self.restart(y0)
     }
 
-    /// A copy sharing nothing but the built modes, with zeroed counters (for
-    /// Newton probes; their budget is set with [`Simulator::set_budget`]).
     /// The integrator.
     pub fn method(&self) -> Method {
         self.method
     }
 
+    /// A copy sharing nothing but the built modes, with zeroed counters (for
+    /// Newton probes; their budget is set with [`Simulator::set_budget`]).
     pub(crate) fn probe(&self) -> Self {
         let mut p = self.clone();
         p.periods = 0;

@@ -251,6 +251,23 @@ def _diverging(t):
     return np.round(255.0 + w * (end - 255.0)).astype(int)
 
 
+def _paint(ds, name, rgb, ax, title):
+    """Draws variable `name`'s cells of `ds` in the colours `rgb` (0-255, one
+    per cell) on `ax` (a new figure's when None), with the axes' labels and
+    `title`; the Axes."""
+    import matplotlib.pyplot as plt
+
+    ydim, xdim = ds[name].dims
+    present, codes = np.unique(rgb.reshape(-1, 3), axis=0, return_inverse=True)
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
+    _mesh(ax, ds[xdim].values, ds[ydim].values, codes.reshape(rgb.shape[:2]), present / 255.0)
+    ax.set_xlabel(axis_label(ds[xdim]))
+    ax.set_ylabel(axis_label(ds[ydim]))
+    ax.set_title(title)
+    return ax
+
+
 def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     """Draws one number per cell of a sweep group, as `vibroatlas render
     --view multiplier|lyapunov` does, and returns the Axes: `multiplier`,
@@ -270,21 +287,13 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     if quantity not in ds:
         raise ValueError(f"{quantity}: this group has no such variable")
     v = np.asarray(ds[quantity].values, float)
-    ydim, xdim = ds[quantity].dims
     centre = _CENTRE[quantity]
     finite = np.isfinite(v)
     reach = float(np.max(np.abs(v[finite] - centre))) if finite.any() else 0.0
     reach = reach if reach > 0 else 1.0
     rgb = np.where(finite[..., None], _diverging((np.where(finite, v, centre) - centre) / reach), np.array(_NONE))
-    flat = rgb.reshape(-1, 3)
-    present, codes = np.unique(flat, axis=0, return_inverse=True)
-    if ax is None:
-        _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
-    _mesh(ax, ds[xdim].values, ds[ydim].values, codes.reshape(v.shape), present / 255.0)
-    ax.set_xlabel(axis_label(ds[xdim]))
-    ax.set_ylabel(axis_label(ds[ydim]))
     sweep = f"{node} sweep: " if node else ""
-    ax.set_title(title if title is not None else sweep + _TITLE[quantity])
+    ax = _paint(ds, quantity, rgb, ax, title if title is not None else sweep + _TITLE[quantity])
     if colorbar:
         cmap = LinearSegmentedColormap.from_list(
             "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
@@ -320,21 +329,13 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
         stored = [n for n in ds.data_vars if "symbol" in ds[n].attrs and ds[n].dims == ds["class"].dims]
         raise ValueError(f"{name}: not a quantity of this group ({', '.join(stored) or 'it stores none'})")
     v = np.asarray(ds[name].values, float)
-    ydim, xdim = ds[name].dims
     finite = np.isfinite(v)
     lo, hi = (float(v[finite].min()), float(v[finite].max())) if finite.any() else (0.0, 1.0)
     if hi <= lo:
         lo, hi = lo - 0.5, lo + 0.5
     rgb = np.where(finite[..., None], _sequential((np.where(finite, v, lo) - lo) / (hi - lo)), np.array(_NONE))
-    flat = rgb.reshape(-1, 3)
-    present, codes = np.unique(flat, axis=0, return_inverse=True)
-    if ax is None:
-        _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
-    _mesh(ax, ds[xdim].values, ds[ydim].values, codes.reshape(v.shape), present / 255.0)
-    ax.set_xlabel(axis_label(ds[xdim]))
-    ax.set_ylabel(axis_label(ds[ydim]))
     sweep = f"{node} sweep: " if node else ""
-    ax.set_title(title if title is not None else sweep + ds[name].attrs.get("long_name", name))
+    ax = _paint(ds, name, rgb, ax, title if title is not None else sweep + ds[name].attrs.get("long_name", name))
     if colorbar:
         cmap = ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
