@@ -228,3 +228,38 @@ fn models_quantities_are_what_cell_prints() {
     let db = format!("{:.2}", 20.0 * (a / bare).log10()).replace('-', "−");
     assert!(section.contains(&format!("= {db} dB")), "{db} dB");
 }
+
+/// Issue 65: docs/python.md's dict scene drops the stop between the masses
+/// and gives each mass its one stop as p (it gave a mass the same stop as p
+/// and q, counting every impact twice). The same scene as TOML, through the
+/// CLI, prints the labels the page quotes.
+#[test]
+fn pythons_dict_scene_counts_each_impact_once() {
+    let page = read("docs/python.md");
+    let line = page.lines().find(|l| l.starts_with("scene[\"labels\"] =")).expect("the page relabels the scene");
+    assert!(line.contains(r#"{"M1": {"p": "A1"}, "M2": {"p": "A2"}}"#), "{line}");
+    let quoted = page.lines().find(|l| l.starts_with("va.cell(scene, omega=0.5)[\"labels\"]")).unwrap();
+    let text = read("configs/multi-stop.toml");
+    let (head, labels) = text.split_at(text.find("[[stops]]\nname = \"A12\"").expect("the A12 stop"));
+    assert!(labels.contains("[labels.M1]"), "the labels follow A12");
+    let scene = format!("{head}[labels.M1]\np = \"A1\"\n\n[labels.M2]\np = \"A2\"\n");
+    let d = crate::util::scratch("python-dict-scene");
+    let path = d.join("two-stops.toml");
+    std::fs::write(&path, scene).unwrap();
+    let cell = json_of(&["cell", path.to_str().unwrap(), "--set", "omega=0.5", "--json"]);
+    let (m1, m2) = (cell["labels"]["M1"].as_str().unwrap(), cell["labels"]["M2"].as_str().unwrap());
+    assert!(quoted.ends_with(&format!("# {{'M1': '{m1}', 'M2': '{m2}'}}")), "{quoted} against {m1}, {m2}");
+    assert_eq!(cell["impacts"]["A1"].as_u64(), m1.split('-').nth(1).unwrap().parse().ok());
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Issue 65: docs/scenes.md said figures draw a symbol's `_k` as plain text;
+/// they draw it as a subscript, and the page now says so.
+#[test]
+fn scenes_page_says_subscripts_are_drawn() {
+    let page = read("docs/scenes.md").split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(!page.contains("figures draw plain text"));
+    assert!(page.contains("figures and the explorer draw what follows `_` as a subscript"));
+    let runs = render::subscript_runs("μ_k");
+    assert_eq!(runs, vec![("μ", false), ("k", true)]);
+}

@@ -590,3 +590,16 @@ fn rk4_is_refused_a_step_longer_than_a_contact() {
     ]);
     assert_eq!(json["class"], "periodic");
 }
+
+/// Issue 65: `cell` of a scene whose stops are all soft heads its column
+/// "contacts" (contacts begun), a scene of rigid stops "impacts".
+#[test]
+fn cell_says_contacts_for_soft_stops() {
+    for (scene, word) in [("configs/gear-backlash.toml", "contacts"), ("configs/multi-stop.toml", "impacts")] {
+        let out = crate::util::run(&["cell", scene]);
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        let header = text.lines().find(|l| l.starts_with("stop ")).unwrap();
+        assert_eq!(header.split_whitespace().nth(1), Some(word), "{scene}: {header}");
+    }
+}

@@ -85,10 +85,13 @@ fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     for l in &c.labels {
         let _ = writeln!(o, "label     {:<6} {}", l.mass, l);
     }
-    let _ = writeln!(o, "stop      impacts  chatter  sticking");
+    // Soft stops count contacts begun, rigid ones impacts.
+    let events =
+        if sys.model.stops.iter().all(|s| s.is_soft()) && !sys.model.stops.is_empty() { "contacts" } else { "impacts" };
+    let _ = writeln!(o, "stop      {events}  chatter  sticking");
     for (k, st) in sys.model.stops.iter().enumerate() {
-        let _ =
-            writeln!(o, "  {:<8}{:>7}  {:<8} {}", st.name, c.impacts[k], c.chatter.contains(k), c.sticking.contains(k));
+        let (count, chatter, sticking) = (c.impacts[k], c.chatter.contains(k), c.sticking.contains(k));
+        let _ = writeln!(o, "  {:<8}{count:>w$}  {chatter:<8} {sticking}", st.name, w = events.len());
     }
     for (i, name) in friction_names(sys).iter().enumerate() {
         let _ = writeln!(
