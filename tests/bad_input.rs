@@ -411,7 +411,9 @@ fn a_scene_that_is_a_pipe_or_a_folder_is_refused() {
 #[test]
 fn a_large_phase_is_the_same_angle() {
     let base = ["configs/single-stop.toml", "--set", "zeta=0.05", "--set", "omega=2.0", "--set"];
-    for (large, residue) in [("tau=62831853073.36665", "tau=1.5707886731299447"), ("tau=1.44e17", "tau=2.2036341134760633")] {
+    for (large, residue) in
+        [("tau=62831853073.36665", "tau=1.5707886731299447"), ("tau=1.44e17", "tau=2.2036341134760633")]
+    {
         let mut a = crate::util::cell_json(&[&base[..], &[large]].concat());
         let mut b = crate::util::cell_json(&[&base[..], &[residue]].concat());
         assert_eq!(a["labels"]["M"], "1-1-0", "{large}");

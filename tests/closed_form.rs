@@ -173,10 +173,12 @@ fn energy_balances_on_every_shipped_scene() {
         let sys = system(scene, sets);
         let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
         let n = cell.n.unwrap_or_else(|| panic!("{scene} {sets:?}: {:?}, not periodic", cell.class));
-        let q: std::collections::BTreeMap<String, f64> =
-            solver::quantity::named(&sys, &solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, n).unwrap())
-                .into_iter()
-                .collect();
+        let q: std::collections::BTreeMap<String, f64> = solver::quantity::named(
+            &sys,
+            &solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, n).unwrap(),
+        )
+        .into_iter()
+        .collect();
         assert!(q["energy_residual"].abs() < 1e-9, "{scene} {sets:?}: residual {} ({q:?})", q["energy_residual"]);
         assert!(q["power_in"] > 0.0, "{scene} {sets:?}: {q:?}");
     }

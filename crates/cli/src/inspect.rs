@@ -58,14 +58,9 @@ fn quantity(atlas: &grid::Atlas, name: &str, sweep: Option<&str>, json: bool) ->
     let at = |e: &engine::Extreme| format!("{x}={}, {y}={}", e.at[x], e.at[y]);
     for (s, e) in &r.sweeps {
         match (&e.min, &e.max) {
-            (Some(lo), Some(hi)) => outln!(
-                "{s:<9} min {} at {}; max {} at {} ({} cells)",
-                lo.value,
-                at(lo),
-                hi.value,
-                at(hi),
-                e.cells
-            ),
+            (Some(lo), Some(hi)) => {
+                outln!("{s:<9} min {} at {}; max {} at {} ({} cells)", lo.value, at(lo), hi.value, at(hi), e.cells)
+            }
             _ => outln!("{s:<9} not measured in any cell"),
         }
     }

@@ -448,9 +448,8 @@ impl Plan {
             let why = format!("'{unknown}' is not a quantity of this scene (all, none, or of: {})", known.join(", "));
             return Err(RequestError::option(Opt::Quantities).text(why).into());
         }
-        let keep: Vec<usize> = (0..self.meta.quantities.len())
-            .filter(|&k| names.contains(&self.meta.quantities[k].name))
-            .collect();
+        let keep: Vec<usize> =
+            (0..self.meta.quantities.len()).filter(|&k| names.contains(&self.meta.quantities[k].name)).collect();
         self.meta.quantities = keep.iter().map(|&k| self.meta.quantities[k].clone()).collect();
         self.setup.quantities = keep;
         Ok(())

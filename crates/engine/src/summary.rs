@@ -481,7 +481,8 @@ impl QuantityReport {
             let extreme = |e: Option<(usize, f64)>| {
                 e.map(|(i, value)| Extreme { value, at: m.plane.params(i / nx, i % nx).into_iter().collect() })
             };
-            sweeps.insert(map.sweep.name().to_string(), QuantityExtremes { cells, min: extreme(min), max: extreme(max) });
+            sweeps
+                .insert(map.sweep.name().to_string(), QuantityExtremes { cells, min: extreme(min), max: extreme(max) });
         }
         let q = &m.quantities[k];
         Ok(QuantityReport { name: q.name.clone(), long_name: q.long_name.clone(), units: q.units.clone(), sweeps })

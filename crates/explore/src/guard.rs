@@ -143,4 +143,3 @@ async fn as_json(answer: Response) -> Response {
     let message = if text.trim().is_empty() { reason } else { format!("{reason}: {}", text.trim()) };
     error(status, &message)
 }
-

@@ -122,7 +122,11 @@ pub fn find_all(
 ) -> Result<Vec<Vec<Attractor>>, GridError> {
     let systems = points.iter().map(|p| setup.system(p)).collect::<Result<Vec<_>, _>>()?;
     // Every period-section point is kept, so that orbits can be compared.
-    let setup = CellSetup { section_cap: setup.section_cap.max(setup.accuracy.n_max()), quantities: Vec::new(), ..setup.clone() };
+    let setup = CellSetup {
+        section_cap: setup.section_cap.max(setup.accuracy.n_max()),
+        quantities: Vec::new(),
+        ..setup.clone()
+    };
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

@@ -48,8 +48,8 @@ pub use cell::{start_state, CellSetup};
 pub use error::GridError;
 pub use maps::{
     hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, CellAttractors, CellData, Entries, FieldError,
-    Lattice, Line, Map, Meta, Notation, Plane, Quantity, Shard, SweepKind, DEFAULT_SECTION_CAP, MAX_COUNT, MAX_SECTION_CAP,
-    MAX_SHARDS,
+    Lattice, Line, Map, Meta, Notation, Plane, Quantity, Shard, SweepKind, DEFAULT_SECTION_CAP, MAX_COUNT,
+    MAX_SECTION_CAP, MAX_SHARDS,
 };
 pub use run::{line, run, validate};
 pub use study::{Study, MAX_VALUES};

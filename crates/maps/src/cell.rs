@@ -62,7 +62,8 @@ impl Quantity {
             .into_iter()
             .map(|(name, spec)| {
                 let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
-                let long_name = if owner.is_empty() { spec.long_name.to_string() } else { format!("{} {owner}", spec.long_name) };
+                let long_name =
+                    if owner.is_empty() { spec.long_name.to_string() } else { format!("{} {owner}", spec.long_name) };
                 Quantity { symbol: spec.symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
             })
             .collect()

@@ -147,11 +147,8 @@ pub const APERIODIC_WINDOW: usize = 16;
 /// …, `power_in`, ….
 pub fn names(sys: &System) -> Vec<(String, &'static Spec)> {
     let model = &sys.model;
-    let contacts: Vec<String> = model
-        .friction
-        .iter()
-        .map(|f| format!("{}-{}", model.masses[f.a].name, model.masses[f.b].name))
-        .collect();
+    let contacts: Vec<String> =
+        model.friction.iter().map(|f| format!("{}-{}", model.masses[f.a].name, model.masses[f.b].name)).collect();
     let mut out = Vec::new();
     for spec in TABLE {
         let owners: Vec<&str> = match spec.owner {
@@ -590,7 +587,8 @@ impl Meter<'_> {
                 // points (twice that, for a velocity not monotone there): one
                 // that cannot pass the extremes known is not refined.
                 let (xa, xb, reach) = (ya[i], yb[i], 2.0 * va.abs().max(vb.abs()) * (ub - ua));
-                let passes = if va > 0.0 { xa.max(xb) + reach >= self.x_max[i] } else { xa.min(xb) - reach <= self.x_min[i] };
+                let passes =
+                    if va > 0.0 { xa.max(xb) + reach >= self.x_max[i] } else { xa.min(xb) - reach <= self.x_min[i] };
                 if passes {
                     let x = root(seg, *ua, *ub, va, vb, m + i, y, i);
                     self.x_min[i] = self.x_min[i].min(x);
@@ -744,4 +742,3 @@ fn root(seg: &mut Segment<'_>, ua: f64, ub: f64, va: f64, vb: f64, k: usize, y: 
     seg.state(u, y);
     y[i]
 }
-

@@ -103,8 +103,8 @@ impl SweepSets {
     fn bytes(&self, n: usize, dim: usize, masses: usize) -> u64 {
         let n = n as u64;
         let dim = dim as u64;
-        let read = n * (1 + 1 + 4 + 8 + 8 + 8 + 8 + 6 * masses as u64 + 16 * self.quantities.len() as u64)
-            + n * dim * 8;
+        let read =
+            n * (1 + 1 + 4 + 8 + 8 + 8 + 8 + 6 * masses as u64 + 16 * self.quantities.len() as u64) + n * dim * 8;
         let cells = n
             * (std::mem::size_of::<Option<CellData>>() as u64
                 + masses as u64 * std::mem::size_of::<solver::Label>() as u64
