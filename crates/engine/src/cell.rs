@@ -139,6 +139,5 @@ impl Cell {
 
 /// Names of the friction contacts, `M1-M2` from their masses.
 pub fn friction_names(sys: &System) -> Vec<String> {
-    let m = &sys.model.masses;
-    sys.model.friction.iter().map(|f| format!("{}-{}", m[f.a].name, m[f.b].name)).collect()
+    (0..sys.model.friction.len()).map(|i| sys.friction_name(i)).collect()
 }

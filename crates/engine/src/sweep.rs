@@ -333,7 +333,7 @@ fn point(atlas: &Atlas, ix: usize, c: &CellData) -> SweepPoint {
 
 /// A cell's quantities by name; none when it has none or any is NaN (its
 /// motion could not be followed).
-pub(crate) fn quantities(m: &grid::Meta, c: &CellData) -> Option<BTreeMap<String, f64>> {
+fn quantities(m: &grid::Meta, c: &CellData) -> Option<BTreeMap<String, f64>> {
     let all = !c.quantities.is_empty() && c.quantities.iter().all(|v| !v.is_nan());
     all.then(|| m.quantities.iter().zip(&c.quantities).map(|(q, &v)| (q.name.clone(), v)).collect())
 }

@@ -295,8 +295,7 @@ async fn map(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Re
     let (_, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let layer =
-        blocking(&state.clone(), move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string())))
-            .await?;
+        blocking(&state, move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string()))).await?;
     let mut bytes = layer.above;
     bytes.extend(layer.below);
     Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
@@ -307,8 +306,7 @@ async fn legend(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
     let layer =
-        blocking(&state.clone(), move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string())))
-            .await?;
+        blocking(&state, move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string()))).await?;
     let rows: Vec<Value> =
         layer.legend.iter().map(|k| json!({"swatch": k.swatch, "colours": k.colours, "text": k.text})).collect();
     let scale =

@@ -1024,10 +1024,14 @@ impl<'s> Executor<'s> {
             0 => (None, Some(0)),
             _ => {
                 let (start, impacts) = (&cell.window_start, &cell.impacts);
-                let (rows, ran) = self.budget.spend(&mut self.sim, &mut probe, |p| match meter.as_mut() {
-                    Some(meter) => record_window(p, start, periods, impacts, cap, meter),
-                    None => record_window(p, start, periods, impacts, cap, &mut crate::simulate::Ignore),
-                });
+                let mut ignore = crate::simulate::Ignore;
+                let also: &mut dyn crate::simulate::Observer = match meter.as_mut() {
+                    Some(meter) => meter,
+                    None => &mut ignore,
+                };
+                let (rows, ran) = self
+                    .budget
+                    .spend(&mut self.sim, &mut probe, |p| record_window(p, start, periods, impacts, cap, also));
                 (Some(rows), ran)
             }
         };

@@ -101,40 +101,76 @@ pub struct Spec {
     pub long_name: &'static str,
     /// Its dimension.
     pub dimension: Dimension,
+    /// What the window's sums make of it ([`Meter::value`]).
+    measure: Measure,
+}
+
+/// How a quantity is made of a window's sums: one variant per entry of
+/// [`TABLE`], so that an entry without its computation does not compile.
+#[derive(Debug, Clone, Copy)]
+enum Measure {
+    MaxAbsX,
+    PtpX,
+    MeanX,
+    RmsX,
+    MaxAbsV,
+    RmsV,
+    ImpactRate,
+    ImpactSpeedMax,
+    ImpactSpeedMean,
+    Impulse,
+    HeldFraction,
+    ContactForceMax,
+    ContactFraction,
+    StuckFraction,
+    Slip,
+    PowerIn,
+    DissipatedImpacts,
+    DissipatedContacts,
+    DissipatedDamping,
+    DissipatedFriction,
+    EnergyResidual,
 }
 
 macro_rules! table {
-    ($( $stem:literal, $owner:ident, $symbol:literal, $long:literal, $dim:ident; )*) => {
+    ($( $measure:ident: $stem:literal, $owner:ident, $symbol:literal, $long:literal, $dim:ident; )*) => {
         /// Every quantity of the steady motion, in the order files, JSON and
         /// tables list them.
         pub const TABLE: &[Spec] = &[$(
-            Spec { stem: $stem, owner: Owner::$owner, symbol: $symbol, long_name: $long, dimension: Dimension::$dim },
+            Spec {
+                stem: $stem,
+                owner: Owner::$owner,
+                symbol: $symbol,
+                long_name: $long,
+                dimension: Dimension::$dim,
+                measure: Measure::$measure,
+            },
         )*];
     };
 }
 
 table! {
-    "max_abs_x", Mass, "max |x|", "largest |position| of", Length;
-    "ptp_x", Mass, "x peak-to-peak", "peak-to-peak position of", Length;
-    "mean_x", Mass, "mean x", "mean position of", Length;
-    "rms_x", Mass, "rms x", "root mean square of the position about its mean of", Length;
-    "max_abs_v", Mass, "max |v|", "largest |velocity| of", Velocity;
-    "rms_v", Mass, "rms v", "root mean square velocity of", Velocity;
-    "impact_rate", Stop, "impacts per period", "impacts (contacts begun) per forcing period at", PerPeriod;
-    "impact_speed_max", Stop, "max impact speed", "largest normal speed before an impact at", Velocity;
-    "impact_speed_mean", Stop, "mean impact speed", "mean normal speed before an impact at", Velocity;
-    "impulse", RigidStop, "impulse per period", "impulse per forcing period of", ImpulsePerPeriod;
-    "stick_fraction", RigidStop, "share held", "share of time holding its mass of", Fraction;
-    "contact_force_max", SoftStop, "max contact force", "largest contact force of", Force;
-    "contact_fraction", SoftStop, "share in contact", "share of time in contact of", Fraction;
-    "stick_fraction", Contact, "share stuck", "share of time stuck of friction contact", Fraction;
-    "slip", Contact, "slip per period", "slip distance per forcing period of friction contact", LengthPerPeriod;
-    "power_in", Cell, "P in", "mean input power of the forcing", Power;
-    "dissipated_impacts", Cell, "D impacts", "energy dissipated by impacts per forcing period", EnergyPerPeriod;
-    "dissipated_contacts", Cell, "D contacts", "energy dissipated by soft contacts per forcing period", EnergyPerPeriod;
-    "dissipated_damping", Cell, "D damping", "energy dissipated by damping per forcing period", EnergyPerPeriod;
-    "dissipated_friction", Cell, "D friction", "energy dissipated by friction per forcing period", EnergyPerPeriod;
-    "energy_residual", Cell, "energy residual", "input minus change and dissipation, relative to the input", One;
+    MaxAbsX: "max_abs_x", Mass, "max |x|", "largest |position| of", Length;
+    PtpX: "ptp_x", Mass, "x peak-to-peak", "peak-to-peak position of", Length;
+    MeanX: "mean_x", Mass, "mean x", "mean position of", Length;
+    RmsX: "rms_x", Mass, "rms x", "root mean square of the position about its mean of", Length;
+    MaxAbsV: "max_abs_v", Mass, "max |v|", "largest |velocity| of", Velocity;
+    RmsV: "rms_v", Mass, "rms v", "root mean square velocity of", Velocity;
+    ImpactRate: "impact_rate", Stop, "impacts per period", "impacts (contacts begun) per forcing period at", PerPeriod;
+    ImpactSpeedMax: "impact_speed_max", Stop, "max impact speed", "largest normal speed before an impact at", Velocity;
+    ImpactSpeedMean: "impact_speed_mean", Stop, "mean impact speed", "mean normal speed before an impact at", Velocity;
+    Impulse: "impulse", RigidStop, "impulse per period", "impulse per forcing period of", ImpulsePerPeriod;
+    HeldFraction: "stick_fraction", RigidStop, "share held", "share of time holding its mass of", Fraction;
+    ContactForceMax: "contact_force_max", SoftStop, "max contact force", "largest contact force of", Force;
+    ContactFraction: "contact_fraction", SoftStop, "share in contact", "share of time in contact of", Fraction;
+    StuckFraction: "stick_fraction", Contact, "share stuck", "share of time stuck of friction contact", Fraction;
+    Slip: "slip", Contact, "slip per period", "slip distance per forcing period of friction contact", LengthPerPeriod;
+    PowerIn: "power_in", Cell, "P in", "mean input power of the forcing", Power;
+    DissipatedImpacts: "dissipated_impacts", Cell, "D impacts", "energy dissipated by impacts per forcing period", EnergyPerPeriod;
+    DissipatedContacts: "dissipated_contacts", Cell, "D contacts", "energy dissipated by soft contacts per forcing period", EnergyPerPeriod;
+    DissipatedDamping: "dissipated_damping", Cell, "D damping", "energy dissipated by damping per forcing period", EnergyPerPeriod;
+    DissipatedFriction: "dissipated_friction", Cell, "D friction", "energy dissipated by friction per forcing period", EnergyPerPeriod;
+    EnergyResidual: "energy_residual", Cell, "energy residual", "input minus change and dissipation, relative to the input", One;
 }
 
 /// Forcing periods of a window without a period over which its quantities
@@ -147,8 +183,7 @@ pub const APERIODIC_WINDOW: usize = 16;
 /// …, `power_in`, ….
 pub fn names(sys: &System) -> Vec<(String, &'static Spec)> {
     let model = &sys.model;
-    let contacts: Vec<String> =
-        model.friction.iter().map(|f| format!("{}-{}", model.masses[f.a].name, model.masses[f.b].name)).collect();
+    let contacts: Vec<String> = (0..model.friction.len()).map(|i| sys.friction_name(i)).collect();
     let mut out = Vec::new();
     for spec in TABLE {
         let owners: Vec<&str> = match spec.owner {
@@ -409,63 +444,59 @@ impl<'s> Meter<'s> {
     /// order, each spec's owners in the scene's order.
     pub(crate) fn finish(self, periods: usize) -> Quantities {
         let sys = self.sys;
-        let (t, w) = (self.time, periods as f64);
-        let m = sys.dof();
-        let x_ref = self.x_ref.clone().unwrap_or_else(|| vec![0.0; m]);
-        let change = self.last.map_or(0.0, |l| l.0) - self.first.unwrap_or(0.0);
-        let dissipated = self.damping + self.contacts + self.friction + self.events;
-        let mut values = Vec::with_capacity(TABLE.len() * m.max(sys.stops.len()));
+        let stops = |soft: Option<bool>| {
+            (0..sys.stops.len()).filter(move |&k| soft.is_none_or(|soft| sys.model.stops[k].is_soft() == soft))
+        };
+        let mut values = Vec::with_capacity(TABLE.len() * sys.dof().max(sys.stops.len()));
         for spec in TABLE {
-            match spec.owner {
-                Owner::Mass => values.extend((0..m).map(|i| {
-                    let mean = self.int_x[i] / t;
-                    match spec.stem {
-                        "max_abs_x" => self.x_max[i].abs().max(self.x_min[i].abs()),
-                        "ptp_x" => self.x_max[i] - self.x_min[i],
-                        "mean_x" => x_ref[i] + mean,
-                        "rms_x" => (self.int_x2[i] / t - mean * mean).max(0.0).sqrt(),
-                        "max_abs_v" => self.v_abs_max[i],
-                        _ => (self.int_v2[i] / t).sqrt(),
-                    }
-                })),
-                Owner::Stop | Owner::RigidStop | Owner::SoftStop => {
-                    let of_law = |k: &usize| match spec.owner {
-                        Owner::RigidStop => !sys.model.stops[*k].is_soft(),
-                        Owner::SoftStop => sys.model.stops[*k].is_soft(),
-                        _ => true,
-                    };
-                    values.extend((0..sys.stops.len()).filter(of_law).map(|k| {
-                        let s = &self.stops[k];
-                        match spec.stem {
-                            "impact_rate" => s.impacts as f64 / w,
-                            "impact_speed_max" => s.speed_max,
-                            "impact_speed_mean" if s.impacts == 0 => 0.0,
-                            "impact_speed_mean" => s.speed_sum / s.impacts as f64,
-                            "impulse" => s.impulse / w,
-                            "stick_fraction" => s.held_time / t,
-                            "contact_force_max" => s.force_max,
-                            _ => s.pressed_time / t,
-                        }
-                    }))
-                }
-                Owner::Contact => values.extend((0..sys.frictions.len()).map(|j| match spec.stem {
-                    "stick_fraction" => self.stuck_time[j] / t,
-                    _ => self.slip[j] / w,
-                })),
-                Owner::Cell => values.push(match spec.stem {
-                    "power_in" => self.input / t,
-                    "dissipated_impacts" => self.events / w,
-                    "dissipated_contacts" => self.contacts / w,
-                    "dissipated_damping" => self.damping / w,
-                    "dissipated_friction" => self.friction / w,
-                    _ => {
-                        let scale = self.input.abs().max(dissipated).max(f64::MIN_POSITIVE);
-                        (self.input - change - dissipated) / scale
-                    }
-                }),
-            }
+            let owners: Box<dyn Iterator<Item = usize>> = match spec.owner {
+                Owner::Mass => Box::new(0..sys.dof()),
+                Owner::Stop => Box::new(stops(None)),
+                Owner::RigidStop => Box::new(stops(Some(false))),
+                Owner::SoftStop => Box::new(stops(Some(true))),
+                Owner::Contact => Box::new(0..sys.frictions.len()),
+                Owner::Cell => Box::new(0..1),
+            };
+            values.extend(owners.map(|k| self.value(spec.measure, k, periods as f64)));
         }
         values
+    }
+
+    /// Quantity `measure` of owner `k` (a mass, stop or friction contact;
+    /// 0 for the cell) over a window of `periods` forcing periods.
+    fn value(&self, measure: Measure, k: usize, periods: f64) -> f64 {
+        let t = self.time;
+        let mean = |k: usize| self.int_x[k] / t;
+        let s = self.stops.get(k);
+        let stop = |f: fn(&StopSums) -> f64| s.map_or(0.0, f);
+        match measure {
+            Measure::MaxAbsX => self.x_max[k].abs().max(self.x_min[k].abs()),
+            Measure::PtpX => self.x_max[k] - self.x_min[k],
+            Measure::MeanX => self.x_ref.as_ref().map_or(0.0, |r| r[k]) + mean(k),
+            Measure::RmsX => (self.int_x2[k] / t - mean(k) * mean(k)).max(0.0).sqrt(),
+            Measure::MaxAbsV => self.v_abs_max[k],
+            Measure::RmsV => (self.int_v2[k] / t).sqrt(),
+            Measure::ImpactRate => stop(|s| s.impacts as f64) / periods,
+            Measure::ImpactSpeedMax => stop(|s| s.speed_max),
+            Measure::ImpactSpeedMean => stop(|s| if s.impacts == 0 { 0.0 } else { s.speed_sum / s.impacts as f64 }),
+            Measure::Impulse => stop(|s| s.impulse) / periods,
+            Measure::HeldFraction => stop(|s| s.held_time) / t,
+            Measure::ContactForceMax => stop(|s| s.force_max),
+            Measure::ContactFraction => stop(|s| s.pressed_time) / t,
+            Measure::StuckFraction => self.stuck_time[k] / t,
+            Measure::Slip => self.slip[k] / periods,
+            Measure::PowerIn => self.input / t,
+            Measure::DissipatedImpacts => self.events / periods,
+            Measure::DissipatedContacts => self.contacts / periods,
+            Measure::DissipatedDamping => self.damping / periods,
+            Measure::DissipatedFriction => self.friction / periods,
+            Measure::EnergyResidual => {
+                let change = self.last.map_or(0.0, |l| l.0) - self.first.unwrap_or(0.0);
+                let dissipated = self.damping + self.contacts + self.friction + self.events;
+                let scale = self.input.abs().max(dissipated).max(f64::MIN_POSITIVE);
+                (self.input - change - dissipated) / scale
+            }
+        }
     }
 }
 
@@ -525,30 +556,27 @@ impl Observer for Meter<'_> {
         // The piece's points, its start, the nodes and its end (buffers kept).
         let mut nodes = std::mem::take(&mut self.nodes);
         nodes.resize_with(count + 2, || (0.0, DVector::zeros(2 * m)));
-        nodes[0] = (0.0, y.clone());
+        nodes[0].0 = 0.0;
+        nodes[0].1.copy_from(&y);
         for p in 0..pieces {
             let (a, b) = (p as f64 * h, if p + 1 == pieces { seg.span } else { (p + 1) as f64 * h });
             for (k, &(node, weight)) in rule.points.iter().enumerate() {
                 let u = a + 0.5 * (b - a) * (1.0 + node);
-                let point = &mut nodes[k + 1];
-                point.0 = u;
-                seg.state(u, &mut point.1);
+                let (at, state) = &mut nodes[k + 1];
+                *at = u;
+                seg.state(u, state);
                 let phase = sys.omega * (seg.clock + u) + sys.tau;
-                let y_node = std::mem::take(&mut nodes[k + 1].1);
-                self.integrate(&y_node, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
-                self.extremes_at(&y_node);
-                nodes[k + 1].1 = y_node;
+                self.integrate(state, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
+                self.extremes_at(state);
             }
-            nodes[count + 1].0 = b;
-            seg.state(b, &mut nodes[count + 1].1);
-            let end = std::mem::take(&mut nodes[count + 1].1);
-            self.extremes_at(&end);
-            nodes[count + 1].1 = end;
+            let (at, end) = &mut nodes[count + 1];
+            *at = b;
+            seg.state(b, end);
+            self.extremes_at(end);
             self.refine(seg, &nodes[..count + 2], &mut y);
             // The next piece starts where this one ends.
             nodes.swap(0, count + 1);
         }
-        self.nodes = nodes;
         for (k, s) in self.stops.iter_mut().enumerate() {
             if seg.held & (1 << k) != 0 {
                 s.held_time += seg.span;
@@ -563,8 +591,9 @@ impl Observer for Meter<'_> {
             }
         }
         self.time += seg.span;
-        seg.state(seg.span, &mut y);
-        self.last = Some(self.energy(&y, seg.pressed));
+        // The segment's end: the last piece's (now first of the points).
+        self.last = Some(self.energy(&nodes[0].1, seg.pressed));
+        self.nodes = nodes;
         self.y = y;
     }
 }
@@ -596,7 +625,7 @@ impl Meter<'_> {
                 }
             }
             let v_abs = |y: &DVector<f64>| y[m + i].abs();
-            if let Some(bracket) = inner_peak(nodes, v_abs, self.v_abs_max[i]) {
+            if let (_, Some(bracket)) = inner_peak(nodes, v_abs, self.v_abs_max[i]) {
                 let best = peak(seg, bracket, y, v_abs);
                 self.v_abs_max[i] = self.v_abs_max[i].max(best);
             }
@@ -606,8 +635,8 @@ impl Meter<'_> {
                 continue;
             }
             let force = |y: &DVector<f64>| self.contact_force(k, y);
-            let mut best = nodes.iter().map(|(_, y)| force(y)).fold(f64::NEG_INFINITY, f64::max);
-            if let Some(bracket) = inner_peak(nodes, force, self.stops[k].force_max) {
+            let (mut best, bracket) = inner_peak(nodes, force, self.stops[k].force_max);
+            if let Some(bracket) = bracket {
                 best = best.max(peak(seg, bracket, y, force));
             }
             self.stops[k].force_max = self.stops[k].force_max.max(best);
@@ -620,11 +649,16 @@ fn quadratic(a: &nalgebra::DMatrix<f64>, z: &[f64]) -> f64 {
     (0..z.len()).map(|i| z[i] * (0..z.len()).map(|j| a[(i, j)] * z[j]).sum::<f64>()).sum()
 }
 
-/// The bracket `(left, right)` around an inner point of `nodes` where `f`
-/// is largest, if the largest is not at an end and may pass `known` (the
-/// peak of a smooth function between points no farther apart than a sixth
-/// of its oscillation exceeds the largest of them by less than a quarter).
-fn inner_peak(nodes: &[(f64, DVector<f64>)], f: impl Fn(&DVector<f64>) -> f64, known: f64) -> Option<(f64, f64)> {
+/// The largest value of `f` at the points of `nodes`, and the bracket
+/// `(left, right)` around it if it is at an inner point and may pass `known`
+/// (the peak of a smooth function between points no farther apart than a
+/// sixth of its oscillation exceeds the largest of them by less than a
+/// quarter).
+fn inner_peak(
+    nodes: &[(f64, DVector<f64>)],
+    f: impl Fn(&DVector<f64>) -> f64,
+    known: f64,
+) -> (f64, Option<(f64, f64)>) {
     let (mut best, mut value) = (0, f64::NEG_INFINITY);
     for (k, (_, y)) in nodes.iter().enumerate() {
         let v = f(y);
@@ -633,7 +667,7 @@ fn inner_peak(nodes: &[(f64, DVector<f64>)], f: impl Fn(&DVector<f64>) -> f64, k
         }
     }
     let inner = best > 0 && best + 1 < nodes.len();
-    (inner && 1.25 * value >= known).then(|| (nodes[best - 1].0, nodes[best + 1].0))
+    (value, (inner && 1.25 * value >= known).then(|| (nodes[best - 1].0, nodes[best + 1].0)))
 }
 
 /// The largest value of `f` on `[a, b]` by Brent's method (parabolic steps,

@@ -117,10 +117,7 @@ impl EventKind {
     /// `kind stop-or-contact`, e.g. `impact A1`, `breakaway M1-M2`.
     pub fn describe(self, sys: &System) -> String {
         let stop = |k: usize| sys.model.stops.get(k).map_or(k.to_string(), |s| s.name.clone());
-        let contact = |i: usize| {
-            let m = &sys.model.masses;
-            sys.model.friction.get(i).map_or(i.to_string(), |f| format!("{}-{}", m[f.a].name, m[f.b].name))
-        };
+        let contact = |i: usize| if i < sys.model.friction.len() { sys.friction_name(i) } else { i.to_string() };
         match self {
             EventKind::Impact(k) => format!("impact {}", stop(k)),
             EventKind::Stick(k) => format!("stick {}", stop(k)),

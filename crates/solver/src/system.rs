@@ -329,6 +329,12 @@ impl System {
         (self.omega * t + self.tau).rem_euclid(std::f64::consts::TAU)
     }
 
+    /// The name of friction contact `i`: its masses', `M1-M2`.
+    pub fn friction_name(&self, i: usize) -> String {
+        let (m, f) = (&self.model.masses, &self.model.friction[i]);
+        format!("{}-{}", m[f.a].name, m[f.b].name)
+    }
+
     /// Relative velocity `x_a' - x_b'` of friction contact `i` at full state `y`.
     pub fn slip_rate(&self, i: usize, y: &DVector<f64>) -> f64 {
         self.frictions[i].normal.dot(&y.rows(self.dof(), self.dof()))
