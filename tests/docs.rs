@@ -98,7 +98,8 @@ fn the_impact_dampers_route_is_as_the_models_page_says() {
         "M2",
         &[
             "chaos from 1.56 to 1.68 (λT ≈ 0.54 at ω = 1.6), a 19-19-19 window at 1.69",
-            "[1.70, 1.79] (one cell of it, 1.78, weakly chaotic: λT ≈ 0.001), at 1.80 an unresolved cell",
+            "[1.70, 1.79] (at 1.78 the exponent over its first periods, λT ≈ 0.001, once read as weak chaos;",
+            "shear, and the section points lie on one closed curve), at 1.80 an unresolved cell",
             "largest |μ| 0.992",
             "1-1-1 from 1.81.",
         ],
@@ -108,9 +109,8 @@ fn the_impact_dampers_route_is_as_the_models_page_says() {
     only(&p, 1.56, 1.68, "C");
     assert!((at(&p, 1.6).lambda_t - 0.54).abs() < 0.005, "λT = {}", at(&p, 1.6).lambda_t);
     assert_eq!(at(&p, 1.69).label, "19-19-19");
-    only(&p, 1.70, 1.77, "Q");
-    assert_eq!((at(&p, 1.78).label.as_str(), at(&p, 1.79).label.as_str()), ("C", "Q"));
-    assert!(at(&p, 1.78).lambda_t < 0.002, "λT = {}", at(&p, 1.78).lambda_t);
+    only(&p, 1.70, 1.79, "Q");
+    assert!(at(&p, 1.78).lambda_t.abs() < 2e-4, "λT = {}", at(&p, 1.78).lambda_t);
     unresolved(at(&p, 1.80), &["repeated after 1702 periods", "0.992"]);
     only(&p, 1.81, 1.9, "1-1-1");
 }
@@ -124,12 +124,19 @@ fn the_symmetric_stops_past_their_ns_point_are_as_the_models_page_says() {
         "M2",
         &[
             "the sweep finds a quasi-periodic motion at 1.705, an unresolved cell at 1.71",
-            "λT = 3.9e-4 ± 1.9e-3, neither above nor below 0), and from 1.715 the orbit 1-0-0",
+            "λT = 5.5e-5 ± 5.7e-4 over 6 400 periods, neither above nor below 0, and the rotation number of its section points not converged: −0.19666 ± 4.0e-4 turns per period), and from 1.715 the orbit 1-0-0",
         ],
     );
     only(&p, 1.69, 1.70, "1-1-1");
     assert_eq!(at(&p, 1.705).label, "Q");
-    unresolved(at(&p, 1.71), &["λT = 3.944e-4 ± 1.9e-3", "neither above nor below 0"]);
+    unresolved(
+        at(&p, 1.71),
+        &[
+            "λT = 5.535e-5 ± 5.7e-4, 95 % over 6400 periods",
+            "neither above nor below 0",
+            "(-0.196655282 ± 4.0e-4 turns per period over 6400 points) has not converged",
+        ],
+    );
     only(&p, 1.715, 1.8, "1-0-0");
 }
 

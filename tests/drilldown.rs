@@ -243,7 +243,7 @@ fn a_stored_unresolved_cell_keeps_its_reason() {
     let d = scratch("reason");
     let f = d.join("u.h5");
     let file = f.to_str().unwrap();
-    let args = ["atlas", "configs/multi-stop.toml", "--x", "omega=1.55:1.85:7", "--y", "delta=0.05:0.2:4"];
+    let args = ["atlas", "configs/multi-stop.toml", "--x", "omega=1.55:1.85:7", "--y", "delta=0.06:0.1:4"];
     assert!(run(&[&args[..], &["--sweep", "up", "--quiet", "-o", file]].concat()).status.success());
     let atlas = store::read(&f).unwrap().atlas;
     let p = &atlas.meta.plane;

@@ -135,7 +135,8 @@ impl Rotation {
     /// of larger `q`). An orbit of period q (or a multiple) locked on a
     /// torus turns by p/q per period; a torus by an irrational number.
     pub(crate) fn locked(&self) -> Option<(i64, usize)> {
-        let reach = 10.0 * self.error;
+        // Ten times its error, and the rounding of an average that repeats exactly.
+        let reach = 10.0 * self.error + 1e-12;
         let most = if self.error > 0.0 { (0.1 / self.error.sqrt()).min(1000.0) as usize } else { 1000 };
         (1..=most).find_map(|q| {
             let p = (self.turns * q as f64).round();
@@ -168,11 +169,20 @@ const QUARTER: usize = 100;
 /// [`TORUS_GAIN`] times better than that of their last quarter, and is not
 /// locked at a fraction ([`Rotation::locked`]).
 pub(crate) fn turns_on_torus(all: &Rotation, points: &[DVector<f64>], tol: f64) -> bool {
+    all.error <= tol && all.locked().is_none() && gain(all, points).is_some_and(|g| g >= TORUS_GAIN)
+}
+
+/// How many times smaller the error of the rotation number of all the points
+/// (`all`, [`Rotation::of`] them) is than that of their last quarter: a
+/// torus's gains at least [`TORUS_GAIN`], chaos's about 2. `None` for fewer
+/// than 4 × [`QUARTER`] points or a quarter without a rotation number; infinite
+/// when all the points' error is 0.
+pub(crate) fn gain(all: &Rotation, points: &[DVector<f64>]) -> Option<f64> {
     let n = points.len();
-    n >= 4 * QUARTER
-        && all.error <= tol
-        && all.locked().is_none()
-        && Rotation::of(&points[n - n / 4..]).is_some_and(|quarter| all.error * TORUS_GAIN <= quarter.error)
+    if n < 4 * QUARTER {
+        return None;
+    }
+    Rotation::of(&points[n - n / 4..]).map(|quarter| quarter.error / all.error)
 }
 
 /// Most loops of a torus's section that [`torus_loops`] looks for.
@@ -181,13 +191,16 @@ const MOST_LOOPS: usize = 8;
 /// The loops of the closed curve that the points of a quasi-periodic motion
 /// lie on: the fewest k ≤ 8 such that every k-th point, from the first, lies
 /// on one closed curve ([`closed`]) and their rotation number has
-/// converged within `tol` turns ([`Rotation`]). A torus about an orbit of
+/// converged within `tol` turns ([`Rotation`]) and is not locked at a
+/// fraction ([`Rotation::locked`]: an orbit locked on the curve, or chaos in
+/// bands strung along it, whose points may look like a closed curve). A torus about an orbit of
 /// period k crosses the period section in k closed curves, visited in turn.
 /// `None` when no k does.
 pub(crate) fn torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
     (1..=MOST_LOOPS).find(|&k| {
-        principal_plane(points.iter().step_by(k))
-            .is_some_and(|plane| closed(&plane) && Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol))
+        principal_plane(points.iter().step_by(k)).is_some_and(|plane| {
+            closed(&plane) && Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol && r.locked().is_none())
+        })
     })
 }
 
@@ -269,6 +282,9 @@ mod tests {
         assert!(!on_one_curve(&points));
         assert_eq!(torus_loops(&points, 1e-4), Some(3));
         assert_eq!(torus_loops(&circle_map(0.381, 0.2, 1200), 1e-4), Some(1));
+        // Locked at 13/30: an orbit on the curve (or bands along it), no torus.
+        assert!(on_one_curve(&circle_map(13.0 / 30.0, 0.0, 1200)));
+        assert_eq!(torus_loops(&circle_map(13.0 / 30.0, 0.0, 1200), 1e-4), None);
     }
 
     /// Chaos has no converged rotation: points of the logistic map at 4 (in a

@@ -63,14 +63,14 @@
 use crate::acceleration::Newton;
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
-use crate::circle::{torus_loops, turns_on_torus, Rotation};
+use crate::circle::{gain, torus_loops, turns_on_torus, Rotation};
 use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
-use crate::lyapunov::{Exponent, Interval};
+use crate::lyapunov::{polynomial_growth, Exponent, Interval};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
-use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, Drift, History, Trail};
+use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
 use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
@@ -94,6 +94,25 @@ const CHAOTIC_EXPONENT: f64 = 0.05;
 /// while its interval contains 0, beside one more for every two of
 /// `extensions` (standard: 4, to `lyapunov_periods` × 16 periods; fast: 2).
 const EXPONENT_DOUBLINGS: usize = 2;
+
+/// Times more the exponent's measurement is doubled where it is still
+/// undecided after the doublings of [`EXPONENT_DOUBLINGS`] (standard: to
+/// `lyapunov_periods` × 64 periods): on the impact damper's plane most such
+/// records are reaching a torus slowly, their section points already on a
+/// closed curve and their rotation number converging only in the later
+/// points; a record ten times longer shows the torus.
+const UNDECIDED_DOUBLINGS: usize = 2;
+
+/// How much nearer a stable fixed point the last quarter of a record's
+/// section points must be than the first quarter for
+/// [`Executor::focus_of`] to take them as spiralling onto it.
+const SPIRAL: f64 = 0.9;
+
+/// Fewest section points of the last part of a record that
+/// [`Executor::decide`] tests for a torus on their own (a motion that reaches
+/// its torus slowly, near where the torus is born, turns on it only in the
+/// later points).
+const SETTLED_POINTS: usize = 400;
 
 /// Largest distance, as a fraction of the extent of the section points,
 /// between the last n points of a record without a period and the n before
@@ -159,6 +178,14 @@ const ESCAPE_PERIODS: usize = 20;
 /// [`Executor::polish`]).
 const POLISHES: usize = 2;
 
+/// Whether section points lie on a torus: on its closed curve, or every
+/// k-th of them on one of its k loops (k ≤ 8), with a converged rotation
+/// number ([`torus_loops`], [`ROTATION_TOL`]), or by their rotation number
+/// alone ([`turns_on_torus`]; `rotation` is [`Rotation::of`] the points).
+fn on_torus(rotation: Option<&Rotation>, points: &[DVector<f64>]) -> bool {
+    rotation.is_some_and(|r| turns_on_torus(r, points, ROTATION_TOL)) || torus_loops(points, ROTATION_TOL).is_some()
+}
+
 /// Why a cell is `unresolved`, with its numbers.
 ///
 /// Serialised (serde) as one object whose `kind` names the variant in
@@ -195,6 +222,26 @@ pub enum Unresolved {
         /// where it can be measured, and its error (not converged, or the
         /// points not on one closed curve).
         rotation: Option<Rotation>,
+        /// How many times better the rotation number of all the points
+        /// converged than that of their last quarter (a torus's: 10 and more).
+        #[serde(default, with = "crate::number::optional")]
+        gain: Option<f64>,
+    },
+    /// No period; the exponent's interval is above 0, but the tangent's
+    /// growth is not shown to be exponential (see `Exponent::diverges`):
+    /// over the last half of the measurement it grew by no more than a
+    /// polynomial growth (a sheared torus's) could, and the section points
+    /// do not lie on a torus: neither chaos nor a torus is shown.
+    Polynomial {
+        /// The estimate of `λT` over the whole measurement and its interval.
+        growth: Interval,
+        /// The same over its last half.
+        late: Interval,
+        /// The rotation number of the section points, where it can be measured.
+        rotation: Option<Rotation>,
+        /// As for [`Unresolved::Undecided`].
+        #[serde(default, with = "crate::number::optional")]
+        gain: Option<f64>,
     },
     /// No period, and the run that measures the exponent halted.
     NoExponent {
@@ -242,10 +289,19 @@ pub enum Unresolved {
     /// event over the record: one linear flow, which is never chaotic (a
     /// positive exponent is the transient growth of a record shorter than
     /// the system's slowest motion), and whose torus (an undamped
-    /// oscillation beside the forcing) attracts nothing (issue 42).
+    /// oscillation beside the forcing) attracts nothing (issue 42). Where a
+    /// free mass drifts towards a stop, the record was extended to meet it
+    /// while extensions remained; `closing` and `meets` say how far it was.
     Linear {
         /// Periods of the record without an event.
         periods: usize,
+        /// The fastest closing of a stop's gap per forcing period at the
+        /// record's end (a free mass drifting towards it), if any.
+        #[serde(default, with = "crate::number::optional")]
+        closing: Option<f64>,
+        /// Forcing periods until that gap closes at that rate.
+        #[serde(default, with = "crate::number::optional")]
+        meets: Option<f64>,
     },
     /// No period, and the motion leaves every stop behind without bound: no
     /// event over the last periods of the record, a rigid mode (a mass held
@@ -286,27 +342,29 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
             ),
-            Unresolved::Undecided { growth, rotation } => {
+            Unresolved::Undecided { growth, rotation, gain } => {
                 write!(
                     f,
-                    "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, ",
+                    "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, no stable orbit was found near its section points, ",
                     growth.mean, growth.half_width, growth.periods
                 )?;
-                // A converged rotation number locked at a fraction p/q.
-                let locked = rotation.and_then(|r| r.locked().filter(|_| r.error <= ROTATION_TOL));
-                match (rotation, locked) {
-                    (Some(r), Some((p, q))) => write!(
-                        f,
-                        "and its section points turn by {:.9} ± {:.1e} turns per period, locked at {p}/{q}: an orbit of period {q} (or a multiple) locked on a torus, but no stable orbit of such a period was found near them",
-                        r.turns, r.error
-                    ),
-                    (Some(r), None) => write!(
-                        f,
-                        "no stable orbit was found near its section points, and their rotation number ({:.9} ± {:.1e} turns per period) has not converged or they are not on one closed curve",
-                        r.turns, r.error
-                    ),
-                    (None, _) => write!(f, "no stable orbit was found near its section points, and they are not on one closed curve"),
-                }
+                not_a_torus(f, rotation.as_ref(), *gain)
+            }
+            Unresolved::Polynomial { growth, late, rotation, gain } => {
+                let (k, half) = (growth.periods, late.periods);
+                write!(
+                    f,
+                    "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {k} periods) is above 0, but its growth is not shown to be exponential: at least {:.2} over the {k} periods and {:.2} over the last {half} (λT = {:.3e} ± {:.1e}), no more than a sheared torus's polynomial growth may give ({:.2} and {:.2}); ",
+                    growth.mean,
+                    growth.half_width,
+                    growth.low() * k as f64,
+                    late.low() * half as f64,
+                    late.mean,
+                    late.half_width,
+                    polynomial_growth(LYAPUNOV_WARMUP, 0, k),
+                    polynomial_growth(LYAPUNOV_WARMUP, k - half, k),
+                )?;
+                not_a_torus(f, rotation.as_ref(), *gain)
             }
             Unresolved::LongPeriod { n, n_max } => write!(
                 f,
@@ -324,7 +382,11 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "the section repeated after {periods} periods, but its orbit contracts too slowly to have reached it (largest |multiplier| {multiplier:.12}; still about {distance:.1e} from it, relative)"
             ),
-            Unresolved::Linear { periods } => write!(
+            Unresolved::Linear { periods, closing: Some(closing), meets: Some(meets) } => write!(
+                f,
+                "no period, and no impact or other event in the last {periods} periods recorded: a free mass drifts towards a stop, its gap closing by {closing:.1e} per period, and would meet it in about {meets:.0} more periods, beyond the record's budget (max_periods x (1 + extensions))"
+            ),
+            Unresolved::Linear { periods, .. } => write!(
                 f,
                 "no period, but no impact or other event in the {periods} periods recorded: one linear flow, never chaotic, and its torus (an undamped oscillation beside the forcing) attracts nothing"
             ),
@@ -336,6 +398,35 @@ impl std::fmt::Display for Unresolved {
                 write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {halt}")
             }
             Unresolved::Described { text } => f.write_str(text),
+        }
+    }
+}
+
+/// Which test of a torus section points without a period failed, with its
+/// numbers (see [`on_torus`]), ending a reason.
+fn not_a_torus(f: &mut std::fmt::Formatter<'_>, rotation: Option<&Rotation>, gain: Option<f64>) -> std::fmt::Result {
+    let Some(r) = rotation else {
+        return write!(
+            f,
+            "and its section points have no rotation number (too few, or on a line): not on one closed curve"
+        );
+    };
+    let turns = format!("{:.9} ± {:.1e} turns per period over {} points", r.turns, r.error, r.points);
+    match r.locked() {
+        _ if r.error > ROTATION_TOL => write!(
+            f,
+            "and the rotation number of its section points ({turns}) has not converged within {ROTATION_TOL:.0e} (a torus's does in a few hundred periods)"
+        ),
+        Some((p, q)) => write!(
+            f,
+            "and its section points turn by {turns}, locked at {p}/{q}: an orbit of period {q} (or a multiple) locked on a torus, but no stable orbit of such a period was found near them"
+        ),
+        None => {
+            write!(f, "and the rotation number of its section points converged ({turns}), but they lie on no closed curve of up to 8 loops, and it converged ")?;
+            match gain {
+                Some(g) => write!(f, "only {g:.1} times better than over their last quarter (a torus's, at least 10 times)"),
+                None => write!(f, "over too few points (fewer than 400) to tell a torus's convergence by it"),
+            }
         }
     }
 }
@@ -448,11 +539,19 @@ pub fn run_cell_measured(
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
             // One linear flow is never chaotic (a positive exponent is the
             // transient growth of a record shorter than its slowest motion),
-            // and its torus, undamped, attracts nothing.
-            None if matches!(class, Class::Chaotic | Class::Quasiperiodic)
+            // and its torus, undamped, attracts nothing: said so, rather than
+            // undecided between the two.
+            None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
+                || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
                 && cell.hist.iter().all(|r| r.events == 0) =>
             {
-                (Class::Unresolved, None, Some(l), Some(Unresolved::Linear { periods: cell.hist.len() }))
+                let (closing, meets) = cell.drifting().unzip();
+                (
+                    Class::Unresolved,
+                    None,
+                    Some(l),
+                    Some(Unresolved::Linear { periods: cell.hist.len(), closing, meets }),
+                )
             }
             None => (class, None, Some(l), reason),
         },
@@ -536,15 +635,6 @@ impl<'s> Executor<'s> {
         })
     }
 
-    /// How a repeated rounding drift of the section reads ([`Drift`]).
-    fn drift(&self) -> Drift {
-        if self.sys.has_soft_stops() {
-            Drift::Converged
-        } else {
-            Drift::Contracting
-        }
-    }
-
     /// Phase 1: simulates periods until the section repeats (the period n,
     /// returned) or `limit` periods in all are simulated (`None`), with Newton
     /// acceleration of slowly contracting patterns on the way.
@@ -565,10 +655,10 @@ impl<'s> Executor<'s> {
             }
             if let Some(n) = detect(&self.hist, acc) {
                 // Accepted once converged, so that its symmetry and final state are the orbit's.
-                if converged(&self.hist, n, acc, self.drift()) {
+                if converged(&self.hist, n, acc) {
                     // Where rounding hid the contraction, the orbit's multiplier tells;
                     // so it does where it barely contracts (not a rigid mode's family).
-                    let hidden = remaining(&self.hist, n, self.drift()).is_none();
+                    let hidden = remaining(&self.hist, n).is_none();
                     let asked = hidden || (self.acc.multipliers && !self.sys.has_rigid_mode());
                     let why = if asked { self.unsettled(n, hidden) } else { None };
                     // Still too far from an orbit it contracts onto, with the
@@ -614,7 +704,7 @@ impl<'s> Executor<'s> {
     /// [`POLISHES`] tries a cell (in every preset: the orbit and its period are
     /// already found, only its convergence is finished).
     fn polish(&mut self, n: usize) -> Option<DVector<f64>> {
-        let (to_go, rho) = remaining(&self.hist, n, self.drift())?;
+        let (to_go, rho) = remaining(&self.hist, n)?;
         let dim = self.sim.state().len() as f64;
         let brute = (self.acc.periodic_tol / to_go).ln() / rho.ln() * n as f64;
         if self.polishes == 0 || brute <= 3.0 * (dim + 1.0) * n as f64 {
@@ -723,44 +813,74 @@ impl<'s> Executor<'s> {
 
     /// The class of a record without a period from its exponent (measured on
     /// `tangent`), and the reason when it is undecided: chaotic when the
-    /// interval of `λT` is above 0. An interval about 0 is measured twice as
-    /// long, `2 + extensions / 2` times (the budget of a record without a
-    /// decision): it may be a torus, an orbit not yet reached (locked on a
-    /// torus or not), or chaos too weak to tell. A record that contracts (the
-    /// interval below 0), or is still about 0 after the last doubling, is
-    /// searched for a stable orbit of period up to [`LONGEST_ORBIT`] that its
-    /// section points contract onto ([`Executor::orbit_among`]: periodic).
-    /// Without one, the contracting record is a transient longer than the
-    /// record; the other is quasi-periodic when its section points lie on a
-    /// torus's closed curve, or every k-th of them on one of its k loops
-    /// (k ≤ 8), with a converged rotation number ([`torus_loops`],
-    /// [`ROTATION_TOL`]), or when their rotation number alone shows a torus
-    /// ([`turns_on_torus`]), and unresolved otherwise.
+    /// interval of `λT` is above 0 and the tangent is shown to grow
+    /// exponentially, not like a sheared torus's ([`Exponent::diverges`]).
+    /// Otherwise the exponent is measured twice as long, `2 + extensions / 2`
+    /// times (the budget of a record without a decision): it may be a torus,
+    /// an orbit not yet reached (locked on a torus or not), or chaos too weak
+    /// to tell. A record that contracts (the interval below 0), or is still
+    /// undecided after the last doubling, is searched for a stable orbit of
+    /// period up to [`LONGEST_ORBIT`] that its section points contract onto
+    /// ([`Executor::orbit_among`]: periodic). Without one, the contracting
+    /// record is a transient longer than the record, unless its points lie
+    /// on a torus (then measured on); the other is
+    /// quasi-periodic when its section points lie on a torus
+    /// ([`on_torus`]), whatever the sign of its finite-time exponent, and
+    /// unresolved otherwise, with the test that failed.
     fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
         let mut doublings = 0;
+        let mut limit = EXPONENT_DOUBLINGS + self.acc.extensions / 2;
         loop {
             let growth = e.interval();
-            if growth.low() > 0.0 {
+            if growth.low() > 0.0 && e.diverges() {
                 return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
             }
-            let last = doublings == EXPONENT_DOUBLINGS + self.acc.extensions / 2;
+            let last = doublings == limit;
             if growth.high() < 0.0 || last {
                 if let Some(n) = self.orbit_among(&e.points) {
                     return Steady::Periodic(n);
                 }
             }
-            if growth.high() < 0.0 {
+            // Contracting, but on a torus's closed curve: not a transient onto
+            // an orbit (a finite-time exponent about a torus may be below 0
+            // for a while); measured on as an undecided one.
+            if growth.high() < 0.0 && !on_torus(Rotation::of(&e.points).as_ref(), &e.points) {
                 let why = Unresolved::Contracting { growth: growth.mean };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             if last {
                 let rotation = Rotation::of(&e.points);
-                let alone = rotation.is_some_and(|r| turns_on_torus(&r, &e.points, ROTATION_TOL));
-                if alone || torus_loops(&e.points, ROTATION_TOL).is_some() {
+                // Locked at p/q (over all the points, the fraction's q
+                // clearest): no torus, whose rotation number is irrational.
+                let locked = rotation.is_some_and(|r| r.error <= ROTATION_TOL && r.locked().is_some());
+                // The motion may have reached its torus only after the first
+                // points: the last half, or the last quarter, on one.
+                let n = e.points.len();
+                let settled = |part: usize| {
+                    let points = &e.points[n - n / part..];
+                    points.len() >= SETTLED_POINTS && on_torus(Rotation::of(points).as_ref(), points)
+                };
+                if !locked && (on_torus(rotation.as_ref(), &e.points) || settled(2) || settled(4)) {
+                    if let Some(n) = self.focus_of(&e.points) {
+                        return Steady::Periodic(n);
+                    }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
-                let why = Unresolved::Undecided { growth, rotation };
-                return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
+                // Locked without an orbit near, and expanding on average: chaos in q bands.
+                if locked && growth.mean > 0.0 {
+                    return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
+                }
+                let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
+                let why = if growth.low() > 0.0 {
+                    Unresolved::Polynomial { growth, late: e.late(), rotation, gain }
+                } else {
+                    Unresolved::Undecided { growth, rotation, gain }
+                };
+                if doublings > EXPONENT_DOUBLINGS + self.acc.extensions / 2 {
+                    return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
+                }
+                // Still undecided: a torus still being reached, most often.
+                limit += UNDECIDED_DOUBLINGS;
             }
             doublings += 1;
             let more = e.periods();
@@ -796,6 +916,27 @@ impl<'s> Executor<'s> {
             }
         }
         None
+    }
+
+    /// A stable orbit that section points on a closed curve spiral onto: a
+    /// focus whose multipliers are complex and near the unit circle, whose
+    /// slow spiral turns like a torus's points (a converged rotation number,
+    /// `arg μ / 2π`) but shrinks. Newton's method on the k-period map (k
+    /// the curve's loops, [`torus_loops`], else 1) from the centroid of
+    /// every k-th point up to the last, a stable fixed point there whose
+    /// distance to the points fell by [`SPIRAL`] from the first quarter of
+    /// them to the last: settled on ([`Executor::settle_on`]), its period.
+    /// `None` for a torus, whose points keep their distance.
+    fn focus_of(&mut self, points: &[DVector<f64>]) -> Option<usize> {
+        let k = torus_loops(points, ROTATION_TOL).unwrap_or(1);
+        let loop_points: Vec<&DVector<f64>> = points.iter().rev().step_by(k).collect();
+        let count = loop_points.len();
+        let centre = loop_points.iter().fold(DVector::zeros(points[0].len()), |a, p| a + *p) / count as f64;
+        let x = self.stable_fixed_point(&centre, k)?;
+        let mean = |part: &[&DVector<f64>]| part.iter().map(|p| distance(p, &x)).sum::<f64>() / part.len() as f64;
+        // Newest first: the last quarter, then the first.
+        let (late, early) = (mean(&loop_points[..count / 4]), mean(&loop_points[count - count / 4..]));
+        (late < SPIRAL * early).then(|| self.settle_on(&x, k)).flatten()
     }
 
     /// Phases 1 and 2: records until a period is found or the exponent ends
@@ -839,7 +980,8 @@ impl<'s> Executor<'s> {
                     return Ok(Steady::LongPeriod(n, e.per_time()));
                 }
             }
-            let transient = contracting || above && !chaotic;
+            // A free mass drifting towards a stop without an event: follow it there.
+            let transient = contracting || above && !chaotic || self.drifting().is_some();
             if transient && extensions < acc.extensions {
                 extensions += 1;
                 self.newton.renew();
@@ -941,6 +1083,26 @@ impl<'s> Executor<'s> {
         let (a, b) = (&recs[recs.len() - 2].end, &recs[recs.len() - 1].end);
         let drift = (0..m).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max);
         Some(Unresolved::Unbounded { periods: recs.len(), drift })
+    }
+
+    /// A free mass drifting towards a stop: the record has had no event, the
+    /// masses have a rigid mode, and a stop's gap closed over the last
+    /// period. Its rate (the gap's decrease per forcing period, the fastest
+    /// time to close) and the periods it needs to close at that rate.
+    /// `None` otherwise.
+    fn drifting(&self) -> Option<(f64, f64)> {
+        let (sys, hist) = (self.sys, &self.hist);
+        let len = hist.len();
+        if len < 2 || !sys.has_rigid_mode() || hist.iter().any(|r| r.events > 0) {
+            return None;
+        }
+        let (a, b) = (&hist[len - 2].end, &hist[len - 1].end);
+        (0..sys.stops.len())
+            .filter_map(|k| {
+                let closing = sys.gap(k, a) - sys.gap(k, b);
+                (closing > 0.0).then(|| (closing, sys.gap(k, b).max(0.0) / closing))
+            })
+            .min_by(|x, y| x.1.total_cmp(&y.1))
     }
 
     /// Phase 3: the largest Floquet multiplier modulus of the n-period map at
@@ -1215,6 +1377,93 @@ mod tests {
         assert_eq!(torus_loops(&e.points, ROTATION_TOL), Some(1));
     }
 
+    /// Issue 62: a sheared torus is not chaos. The gear pair unforced and
+    /// undamped is one degree of freedom on one energy level (its section
+    /// points on one closed curve); a soft stop forced without damping at
+    /// β = 1 the same with a forcing. Neighbouring motions turn at different
+    /// rates and the tangent grows like t: the exponent of the record lay
+    /// above 0 beyond its interval, and both cells were `C` (λ 0.0038 and
+    /// 1.8e-4); their growth is no more than a polynomial's, and the points
+    /// turn on a torus.
+    #[test]
+    fn a_sheared_torus_is_no_chaos() {
+        let acc = Accuracy::default();
+        let gear = system("gear-backlash.toml", &[("fm", 0.0), ("f1", 0.0), ("zeta", 0.0)]);
+        let soft = system("soft-stop.toml", &[("zeta", 0.0), ("zeta_c", 0.0), ("beta", 1.0)]);
+        for sys in [gear, soft] {
+            let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+            assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+            let mut sim = crate::Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+            let e = Exponent::measure(&mut sim, LYAPUNOV_WARMUP, 1600).unwrap();
+            assert!(!e.diverges(), "{:?} {:?}", e.interval(), e.late());
+            assert!(on_torus(Rotation::of(&e.points).as_ref(), &e.points));
+        }
+    }
+
+    /// Issue 62: the impact damper's free mass drifting at 1e-5 inside its
+    /// cavity (δ = 2, the primary's steady amplitude 0.78) has no event in
+    /// its whole budget; the reason gives the closing of the gap per period,
+    /// v₂₀ T exactly (the primary's motion is periodic by then), and the
+    /// periods to close it at that rate.
+    #[test]
+    fn a_drifting_free_mass_is_followed_and_said_to_be_drifting() {
+        let sys = system("impact-damper.toml", &[("v20", 1e-5)]);
+        let acc = Accuracy::default();
+        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+        let Some(Unresolved::Linear { closing: Some(closing), meets: Some(meets), .. }) = cell.reason else {
+            panic!("{:?}", cell.reason)
+        };
+        let period = 2.0 * std::f64::consts::PI / 1.5;
+        assert!((closing / (1e-5 * period) - 1.0).abs() < 1e-8, "{closing}");
+        // The record ran through every extension: 600 x (1 + 4) periods and more.
+        assert!(cell.periods >= 3000, "{}", cell.periods);
+        let gap = (0..2).map(|k| sys.gap(k, &DVector::from_column_slice(&cell.final_state))).fold(f64::MAX, f64::min);
+        assert!((meets * closing - gap).abs() < 100.0 * closing, "{meets} x {closing} against {gap}");
+    }
+
+    /// Issue 62: points on a closed curve whose rotation number is locked at
+    /// a fraction are no torus. On the damper (ω = 1.71519, δ = 1.84746,
+    /// from the state its up sweep reached) the section points lie on 30
+    /// short bands strung along a closed curve, visited in turn (13/30), and
+    /// the exponent stays above 0 (λT ≈ 0.01 over 10 000 periods): chaos in
+    /// bands, at the standard record and at one ten times longer, never `Q`
+    /// (the longer record was `Q` while a locked number passed the test of a
+    /// closed curve).
+    #[test]
+    fn chaos_in_bands_along_a_curve_is_no_torus() {
+        let sys = system("impact-damper.toml", &[("omega", 1.7151898734177216), ("delta", 1.847457627118644)]);
+        let y0 = [-0.169473633196541, 0.6638195955031558, -0.5134598148731837, -3.2778244430060326];
+        for periods in [600.0, 6000.0] {
+            let acc = Accuracy::default().with(crate::Knob::MaxPeriods, periods).unwrap();
+            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+            assert_eq!(cell.class, Class::Chaotic, "{periods}: {:?}", cell.reason);
+        }
+    }
+
+    /// Issue 62: a motion spiralling slowly onto a stable focus (largest
+    /// |μ| 0.99913 of the damper's 1-1-1 orbit at ω = 1.87722, δ = 1.47458,
+    /// from the state its up sweep reached) turns like a torus's points; it
+    /// is the orbit: simulated plainly for 30 000 periods (|μ|^30000 ≈ 5e-12)
+    /// the motion ends on the orbit's section point, repeating every period.
+    #[test]
+    fn a_slow_spiral_onto_an_orbit_is_the_orbit() {
+        let sys = system("impact-damper.toml", &[("omega", 1.8772151898734177), ("delta", 1.4745762711864407)]);
+        let y0 = [0.039672060711056514, 0.21200913564995583, -0.3066451494508098, -1.7274120646127187];
+        let acc = Accuracy::default();
+        let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        assert_eq!(cell.labels[0].to_string(), "1-1-1", "{:?}", cell.reason);
+        assert!((cell.multiplier.unwrap() - 0.99913).abs() < 1e-4, "{:?}", cell.multiplier);
+        let mut sim = crate::Simulator::new(&sys, acc, Method::Exact, &y0).unwrap();
+        let mut last = DVector::from_column_slice(&y0);
+        for _ in 0..30_000 {
+            last = sim.run_period(&[], false, &mut Ignore).unwrap().end;
+        }
+        let next = sim.run_period(&[], false, &mut Ignore).unwrap().end;
+        assert!(distance(&next, &last) < 1e-9, "{}", distance(&next, &last));
+        let orbit = DVector::from_column_slice(&cell.final_state);
+        assert!(distance(&last, &orbit) < 1e-7, "{}", distance(&last, &orbit));
+    }
+
     /// Phase 3 against finite differences: the spectral radius of the
     /// period map's Jacobian by central differences of simulated periods.
     #[test]
@@ -1339,8 +1588,42 @@ mod tests {
             .starts_with("no period within the record, and the motion still contracts (λT = -5.000e-1)"));
         let growth = Interval { mean: 5.2e-3, half_width: 9.0e-3, periods: 1600 };
         let rotation = Some(Rotation { turns: 0.25, error: 3e-4, points: 1600 });
-        let why = Unresolved::Undecided { growth, rotation }.to_string();
+        let why = Unresolved::Undecided { growth, rotation, gain: Some(0.5) }.to_string();
         assert!(why.contains("(λT = 5.200e-3 ± 9.0e-3, 95 % over 1600 periods)"), "{why}");
-        assert!(why.contains("rotation number (0.250000000 ± 3.0e-4 turns per period)"), "{why}");
+        // Each reason names the test of a torus that failed, with its numbers.
+        assert!(
+            why.ends_with("rotation number of its section points (0.250000000 ± 3.0e-4 turns per period over 1600 points) has not converged within 1e-4 (a torus's does in a few hundred periods)"),
+            "{why}"
+        );
+        let turns = |turns: f64, gain| Unresolved::Undecided {
+            growth,
+            rotation: Some(Rotation { turns, error: 2e-6, points: 1600 }),
+            gain,
+        };
+        let why = turns(0.381_966_011, Some(2.5)).to_string();
+        assert!(why.contains("lie on no closed curve of up to 8 loops"), "{why}");
+        assert!(
+            why.ends_with("only 2.5 times better than over their last quarter (a torus's, at least 10 times)"),
+            "{why}"
+        );
+        let why = turns(0.25, Some(2.5)).to_string();
+        assert!(why.contains("locked at 1/4: an orbit of period 4"), "{why}");
+        let why = Unresolved::Undecided { growth, rotation: None, gain: None }.to_string();
+        assert!(why.ends_with("have no rotation number (too few, or on a line): not on one closed curve"), "{why}");
+        // A positive exponent not shown to be chaos: its growth against a polynomial's.
+        let late = Interval { mean: 1e-3, half_width: 5e-4, periods: 800 };
+        let why = Unresolved::Polynomial { growth, late, rotation: None, gain: None }.to_string();
+        assert!(why.contains("is above 0, but its growth is not shown to be exponential"), "{why}");
+        // At least 0.40 = 800 × 5e-4 over the last half, against 2 ln(1610/810) = 1.37.
+        assert!(why.contains("-6.08 over the 1600 periods and 0.40 over the last 800"), "{why}");
+        assert!(why.contains("may give (10.16 and 1.37)"), "{why}");
+        // A free mass drifting towards a stop says how far it had to go.
+        let why = Unresolved::Linear { periods: 32, closing: Some(3e-5), meets: Some(2.5e4) }.to_string();
+        assert!(
+            why.contains("its gap closing by 3.0e-5 per period, and would meet it in about 25000 more periods"),
+            "{why}"
+        );
+        let why = Unresolved::Linear { periods: 32, closing: None, meets: None }.to_string();
+        assert!(why.contains("one linear flow, never chaotic"), "{why}");
     }
 }

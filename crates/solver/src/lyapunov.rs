@@ -20,6 +20,14 @@ const BLOCKS: usize = 10;
 /// standard errors.
 const T_975_9: f64 = 2.262;
 
+/// Highest degree of the polynomial growth a regular motion's tangent may
+/// show: on a sheared torus (an undamped oscillation whose frequency depends
+/// on its amplitude, the free mass of a lossless impact pair) neighbouring
+/// motions turn at different rates and separate like `t`; a degree more is
+/// kept in hand. [`Exponent::diverges`] asks more of chaos than such growth
+/// can give.
+const POLYNOMIAL_DEGREE: f64 = 2.0;
+
 /// Smallest half-width of the interval of `λT`: the resolution of the
 /// estimate. A neutral motion whose tangent map is a rotation (an undamped
 /// oscillator away from its stops) grows by exactly 0 each period, up to
@@ -41,6 +49,9 @@ pub struct Exponent {
     v: DVector<f64>,
     /// The forcing period `T`.
     period: f64,
+    /// Periods of alignment before the measured ones (counted in the time
+    /// since the tangent was started, see [`Exponent::diverges`]).
+    warmup: usize,
     /// Period-section points visited, one per measured period.
     pub points: Vec<DVector<f64>>,
 }
@@ -82,6 +93,7 @@ impl Exponent {
             growth: Vec::with_capacity(periods),
             v: DVector::from_element(dim, 1.0 / (dim as f64).sqrt()),
             period: sim.period(),
+            warmup,
             points: Vec::with_capacity(periods),
         };
         for _ in 0..warmup {
@@ -130,18 +142,56 @@ impl Exponent {
     /// blocks of the measured periods (the first `K mod 10` periods count in
     /// the estimate, not in the blocks).
     pub fn interval(&self) -> Interval {
-        let k = self.growth.len();
-        let mean = self.growth.iter().sum::<f64>() / k as f64;
-        let len = k / BLOCKS;
-        if len == 0 {
-            return Interval { mean, half_width: f64::INFINITY, periods: k };
-        }
-        let blocks: Vec<f64> =
-            self.growth[k % BLOCKS..].chunks(len).map(|b| b.iter().sum::<f64>() / len as f64).collect();
-        let centre = blocks.iter().sum::<f64>() / BLOCKS as f64;
-        let var = blocks.iter().map(|b| (b - centre).powi(2)).sum::<f64>() / (BLOCKS - 1) as f64;
-        Interval { mean, half_width: (T_975_9 * (var / BLOCKS as f64).sqrt()).max(RESOLUTION), periods: k }
+        interval_of(&self.growth)
     }
+
+    /// Whether the tangent is shown to grow exponentially, beyond what a
+    /// polynomial growth `t^d` (`d` ≤ 2, see [`POLYNOMIAL_DEGREE`]) could give:
+    /// over all the measured periods, or over their last half, its growth
+    /// (the lower end of its 95 % interval, times the periods) exceeds
+    /// `d ln(t₁/t₀)`, with `t₀` and `t₁` the periods since the tangent was
+    /// started at the stretch's ends. A positive finite-time exponent alone
+    /// is no proof of chaos: on a sheared torus the tangent grows like `t`,
+    /// its exponent over `K` periods is `ln K / K`, positive beyond any
+    /// interval and falling; over the last half of any record such growth
+    /// gains `ln 2` at most, chaos `λT K / 2`.
+    pub fn diverges(&self) -> bool {
+        let k = self.growth.len();
+        let shown = |from: usize| {
+            let stretch = interval_of(&self.growth[from..]);
+            stretch.low() * (k - from) as f64 > polynomial_growth(self.warmup, from, k)
+        };
+        k >= 2 * BLOCKS && (shown(0) || shown(k / 2))
+    }
+
+    /// The exponent over the last half of the measured periods (`λT` and its
+    /// interval): near the whole's in chaos, falling like `1/K` on a torus.
+    pub fn late(&self) -> Interval {
+        interval_of(&self.growth[self.growth.len() / 2..])
+    }
+}
+
+/// The most a polynomial growth `t^d` (`d` = [`POLYNOMIAL_DEGREE`]) gains,
+/// in ln, over measured periods `from` to `to` after `warmup` periods of
+/// alignment: `d ln((warmup + to)/(warmup + from))`.
+pub(crate) fn polynomial_growth(warmup: usize, from: usize, to: usize) -> f64 {
+    POLYNOMIAL_DEGREE * ((warmup + to) as f64 / (warmup + from).max(1) as f64).ln()
+}
+
+/// The 95 % confidence interval of the mean of `growth` from the means of ten
+/// equal blocks (the first `K mod 10` values count in the estimate, not in
+/// the blocks); unbounded for fewer than ten values.
+fn interval_of(growth: &[f64]) -> Interval {
+    let k = growth.len();
+    let mean = growth.iter().sum::<f64>() / k as f64;
+    let len = k / BLOCKS;
+    if len == 0 {
+        return Interval { mean, half_width: f64::INFINITY, periods: k };
+    }
+    let blocks: Vec<f64> = growth[k % BLOCKS..].chunks(len).map(|b| b.iter().sum::<f64>() / len as f64).collect();
+    let centre = blocks.iter().sum::<f64>() / BLOCKS as f64;
+    let var = blocks.iter().map(|b| (b - centre).powi(2)).sum::<f64>() / (BLOCKS - 1) as f64;
+    Interval { mean, half_width: (T_975_9 * (var / BLOCKS as f64).sqrt()).max(RESOLUTION), periods: k }
 }
 
 #[cfg(test)]
@@ -149,7 +199,7 @@ mod tests {
     use super::*;
 
     fn estimate(growth: Vec<f64>) -> Exponent {
-        Exponent { points: Vec::new(), v: DVector::zeros(2), period: 2.0, growth }
+        Exponent { points: Vec::new(), v: DVector::zeros(2), period: 2.0, warmup: 10, growth }
     }
 
     /// A reproducible noise, uniform in [-1, 1) (SplitMix64 of `k`).
@@ -171,6 +221,29 @@ mod tests {
         assert!(long.low() > 0.0 && long.low() < 0.02 && long.high() > 0.02, "{long:?}");
         assert!((4.0..16.0).contains(&(short.half_width / long.half_width)), "{short:?} {long:?}");
         assert_eq!(long.periods, 6400);
+    }
+
+    /// Issue 62: a sheared torus's tangent grows like `t` (each period's
+    /// growth `ln((W + k + 1)/(W + k))`): over 100 periods its exponent lies
+    /// above 0 beyond its interval (such cells were `C`), but its growth is
+    /// never shown to be exponential, however long it is measured; chaos (mean 0.01, spread 0.3 per period) is,
+    /// once measured long enough (not over 100 periods, where 1 is within
+    /// what `t²` gains); a quadratic growth is not either.
+    #[test]
+    fn polynomial_growth_is_not_divergence() {
+        let power =
+            |d: f64, k: usize| estimate((0..k).map(|i| d * ((11.0 + i as f64) / (10.0 + i as f64)).ln()).collect());
+        for d in [1.0, 2.0] {
+            assert!(power(d, 100).interval().low() > 0.0, "t^{d}: {:?}", power(d, 100).interval());
+            for k in [100, 400, 1600, 6400] {
+                assert!(!power(d, k).diverges(), "t^{d} over {k}: {:?}", power(d, k).interval());
+            }
+        }
+        let chaos = |k: usize| estimate((0..k).map(|i| 0.01 + 0.3 * noise(i)).collect());
+        assert!(!chaos(100).diverges());
+        assert!(chaos(6400).diverges(), "{:?} {:?}", chaos(6400).interval(), chaos(6400).late());
+        // Strong chaos is shown at once.
+        assert!(estimate((0..100).map(|i| 0.5 + 0.3 * noise(i)).collect()).diverges());
     }
 
     /// A torus: the growths telescope (`ln|v_k| - ln|v_{k-1}|` of a bounded

@@ -26,14 +26,39 @@ enum Written {
 
 /// Reads what [`serialize`] wrote.
 pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    match Written::deserialize(d)? {
+    read(Written::deserialize(d)?)
+}
+
+/// The number a [`Written`] value stands for.
+fn read<E: serde::de::Error>(w: Written) -> Result<f64, E> {
+    match w {
         Written::Number(x) => Ok(x),
         Written::Text(t) => match t.as_str() {
             "inf" => Ok(f64::INFINITY),
             "-inf" => Ok(f64::NEG_INFINITY),
             "nan" => Ok(f64::NAN),
-            _ => Err(serde::de::Error::custom(format!("'{t}' is not a number (nor inf, -inf or nan)"))),
+            _ => Err(E::custom(format!("'{t}' is not a number (nor inf, -inf or nan)"))),
         },
+    }
+}
+
+/// The same for an optional number: `None` is `null` (and a missing field,
+/// with `#[serde(default)]`).
+pub mod optional {
+    use super::{read, Written};
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    /// Serialises `x` as [`super::serialize`] does, `None` as `null`.
+    pub fn serialize<S: Serializer>(x: &Option<f64>, s: S) -> Result<S::Ok, S::Error> {
+        match x {
+            Some(x) => super::serialize(x, s),
+            None => s.serialize_none(),
+        }
+    }
+
+    /// Reads what [`serialize`] wrote.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+        Option::<Written>::deserialize(d)?.map(read).transpose()
     }
 }
 
@@ -55,14 +80,16 @@ mod tests {
             Unresolved::Stalled,
             Unresolved::Failed(SolverError::OutOfRange { message: "x = 1e300".into() }),
             Unresolved::Contracting { growth: -0.1 },
-            Unresolved::Undecided { growth, rotation: Some(rotation) },
-            Unresolved::Undecided { growth, rotation: None },
+            Unresolved::Undecided { growth, rotation: Some(rotation), gain: Some(f64::INFINITY) },
+            Unresolved::Undecided { growth, rotation: None, gain: None },
+            Unresolved::Polynomial { growth, late: growth, rotation: Some(rotation), gain: Some(3.5) },
             Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: 7 }) },
             Unresolved::LongPeriod { n: 140, n_max: 128 },
             Unresolved::Unsettled { periods: 2251, multiplier: 0.992_227_769_430_1, distance: 1.3e-7 },
             Unresolved::Unsettled { periods: 3, multiplier: 1.0, distance: f64::INFINITY },
             Unresolved::Unstable { periods: 10, multiplier: f64::NEG_INFINITY },
-            Unresolved::Linear { periods: 50 },
+            Unresolved::Linear { periods: 50, closing: None, meets: None },
+            Unresolved::Linear { periods: 50, closing: Some(3e-5), meets: Some(f64::INFINITY) },
             Unresolved::Unbounded { periods: 20, drift: 5e-324 },
             Unresolved::Described { text: "an older atlas's words, 1.5e-3".into() },
         ];
@@ -72,11 +99,14 @@ mod tests {
             assert_eq!(format!("{back:?}"), format!("{u:?}"));
             assert_eq!(back.to_string(), u.to_string());
         }
-        let text = serde_json::to_string(&reasons[8]).unwrap();
+        let text = serde_json::to_string(&reasons[9]).unwrap();
         assert_eq!(text, r#"{"kind":"unsettled","periods":2251,"multiplier":0.9922277694301,"distance":1.3e-7}"#);
         let text = serde_json::to_string(&reasons[2]).unwrap();
         assert_eq!(text, r#"{"kind":"failed","error":"out_of_range","message":"x = 1e300"}"#);
-        assert!(serde_json::to_string(&reasons[9]).unwrap().contains(r#""distance":"inf""#));
+        assert!(serde_json::to_string(&reasons[10]).unwrap().contains(r#""distance":"inf""#));
+        // A reason written before `gain` was stored reads back without it.
+        let old = r#"{"kind":"undecided","growth":{"mean":0.001,"half_width":0.002,"periods":1600},"rotation":null}"#;
+        assert!(matches!(serde_json::from_str::<Unresolved>(old).unwrap(), Unresolved::Undecided { gain: None, .. }));
         let bad = r#"{"kind":"unsettled","periods":1,"multiplier":"big","distance":1}"#;
         assert!(serde_json::from_str::<Unresolved>(bad).unwrap_err().to_string().contains("'big' is not a number"));
     }

@@ -72,8 +72,8 @@ pub(crate) fn detect(h: &History, acc: &Accuracy) -> Option<usize> {
 /// contraction: converged. A slowly converging orbit (ρ near 1) passes the
 /// repeat test of [`detect`] while still far from its fixed point; its
 /// symmetry must not be decided there (issue 28).
-pub(crate) fn converged(h: &History, n: usize, acc: &Accuracy, drift: Drift) -> bool {
-    remaining(h, n, drift).is_none_or(|(to_go, _)| to_go <= acc.periodic_tol)
+pub(crate) fn converged(h: &History, n: usize, acc: &Accuracy) -> bool {
+    remaining(h, n).is_none_or(|(to_go, _)| to_go <= acc.periodic_tol)
 }
 
 /// A relative step between section points n periods apart at or below this
@@ -83,29 +83,18 @@ const ROUNDING_STEP: f64 = 1e-13;
 /// Two successive steps at rounding level whose ratio is within this of 1
 /// are one drift of rounding repeated, not a contraction: a motion can repeat
 /// an ulp step exactly, period after period (the gear pair's teeth, free
-/// within the backlash, do), and the ratio of two equal steps, just below 1,
-/// would read as a contraction never done: strongly contracting orbits
-/// ended unresolved. Applied to scenes with soft stops ([`Drift`]): rigid
-/// scenes meet the same drift (on 5 % of the reference plane's cells, where
-/// it costs periods and moves final states but no label of that plane, and
-/// a few labels of the `mu_k` study), and their stored results stay as they
-/// are until issue 40's measurements decide.
+/// within the backlash, do; so do 5 % of the cells of the multi-stop
+/// reference plane), and the ratio of two equal steps, just below 1, would
+/// read as a contraction never done, `to_go` about 1: the record went on for
+/// nothing, or strongly contracting orbits ended unresolved. The same rule
+/// for every scene (issue 62).
 const EQUAL_STEPS: f64 = 1e-6;
-
-/// Whether a repeated rounding drift ([`EQUAL_STEPS`]) counts as converged.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Drift {
-    /// It is no contraction: converged (scenes with soft stops).
-    Converged,
-    /// Its ratio counts as a contraction (rigid scenes, as recorded).
-    Contracting,
-}
 
 /// The largest estimated distance to the fixed point over the last period's
 /// points and its contraction ρ (see [`converged`]); `None` when no step
 /// contracts (a rounding drift repeated, [`EQUAL_STEPS`], is none) or the
 /// record is shorter than 3n periods.
-pub(crate) fn remaining(h: &History, n: usize, drift: Drift) -> Option<(f64, f64)> {
+pub(crate) fn remaining(h: &History, n: usize) -> Option<(f64, f64)> {
     let len = h.len();
     if len < 3 * n {
         return None;
@@ -114,7 +103,7 @@ pub(crate) fn remaining(h: &History, n: usize, drift: Drift) -> Option<(f64, f64
         .filter_map(|i| {
             let (e1, e0) = (distance(&h[i].end, &h[i - n].end), distance(&h[i - n].end, &h[i - 2 * n].end));
             let rho = e1 / e0;
-            let rounding = drift == Drift::Converged && e1 <= ROUNDING_STEP && rho > 1.0 - EQUAL_STEPS;
+            let rounding = e1 <= ROUNDING_STEP && rho > 1.0 - EQUAL_STEPS;
             (rho < 1.0 && !rounding).then(|| (e1 / (1.0 - rho), rho))
         })
         .max_by(|a, b| a.0.total_cmp(&b.0))
@@ -280,20 +269,20 @@ mod tests {
         // Steps of 0.5 tol (relative to 1.5): repeats, 50 tol still to go.
         let slow = series(0.99, 50.0 * tol * 1.5 / 0.99f64.powi(7));
         assert_eq!(detect(&slow, &acc), Some(1));
-        assert!(!converged(&slow, 1, &acc, Drift::Contracting));
-        let (to_go, rho) = remaining(&slow, 1, Drift::Contracting).unwrap();
+        assert!(!converged(&slow, 1, &acc));
+        let (to_go, rho) = remaining(&slow, 1).unwrap();
         assert!((rho - 0.99).abs() < 1e-6 && (to_go / tol - 50.0 / 0.99).abs() < 1.0, "{to_go:e} {rho}");
         let fast = series(0.1, 1e-3);
         assert_eq!(detect(&fast, &acc), Some(1));
-        assert!(converged(&fast, 1, &acc, Drift::Contracting));
+        assert!(converged(&fast, 1, &acc));
         let noise = history(&(0..8).map(|k| (0.5 + [0.0, 3e-16, 1e-16][k % 3], 1)).collect::<Vec<_>>());
-        assert!(converged(&noise, 1, &acc, Drift::Contracting));
+        assert!(converged(&noise, 1, &acc));
     }
 
-    /// Issue 41: a section point that drifts by the same few ulps every
-    /// period (a rigid mode's rounding repeated exactly) is converged where
-    /// the drift counts as such (soft stops), and reads as a contraction that
-    /// never ends (ρ = 1 - 1e-15, `to_go` about 1) where it does not.
+    /// Issues 41 and 62: a section point that drifts by the same few ulps
+    /// every period (a rigid mode's rounding repeated exactly) is converged,
+    /// in every scene: the ratio of its steps (ρ = 1 - 1e-15) is no
+    /// contraction.
     #[test]
     fn a_repeated_rounding_drift_is_no_contraction() {
         let acc = Accuracy::default();
@@ -302,11 +291,8 @@ mod tests {
         // larger than the last, so that their ratio is just below 1.
         let drift = history(&(0..8).map(|k| (0.5 + k as f64 * 3.0 * ulp, 1)).collect::<Vec<_>>());
         assert_eq!(detect(&drift, &acc), Some(1));
-        let (to_go, rho) = remaining(&drift, 1, Drift::Contracting).expect("a ratio just below 1");
-        assert!(rho > 1.0 - 1e-12 && to_go > acc.periodic_tol, "{to_go:e} {rho}");
-        assert!(!converged(&drift, 1, &acc, Drift::Contracting));
-        assert!(remaining(&drift, 1, Drift::Converged).is_none());
-        assert!(converged(&drift, 1, &acc, Drift::Converged));
+        assert!(remaining(&drift, 1).is_none());
+        assert!(converged(&drift, 1, &acc));
     }
 
     #[test]
