@@ -197,10 +197,18 @@ const MOST_LOOPS: usize = 8;
 /// period k crosses the period section in k closed curves, visited in turn.
 /// `None` when no k does.
 pub(crate) fn torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
-    (1..=MOST_LOOPS).find(|&k| {
-        principal_plane(points.iter().step_by(k)).is_some_and(|plane| {
-            closed(&plane) && Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol && r.locked().is_none())
-        })
+    (1..=MOST_LOOPS).find(|&k| on_loops(points, k, tol))
+}
+
+/// Whether every k-th point, from the first, lies on one closed curve
+/// ([`closed`]) with a rotation number converged within `tol` turns and not
+/// locked at a fraction: the k loops of a torus. Where the points' rotation
+/// number is locked at p/q, k = q tells islands about an orbit of period q
+/// (each circled on its own closed curve: a torus of q loops) from chaos in
+/// q bands (each a cloud).
+pub(crate) fn on_loops(points: &[DVector<f64>], k: usize, tol: f64) -> bool {
+    principal_plane(points.iter().step_by(k)).is_some_and(|plane| {
+        closed(&plane) && Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol && r.locked().is_none())
     })
 }
 

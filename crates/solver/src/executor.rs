@@ -63,7 +63,7 @@
 use crate::acceleration::Newton;
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
-use crate::circle::{gain, torus_loops, turns_on_torus, Rotation};
+use crate::circle::{gain, on_loops, torus_loops, turns_on_torus, Rotation};
 use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
@@ -107,6 +107,10 @@ const UNDECIDED_DOUBLINGS: usize = 2;
 /// section points must be than the first quarter for
 /// [`Executor::focus_of`] to take them as spiralling onto it.
 const SPIRAL: f64 = 0.9;
+
+/// Fewest section points per island for [`Executor::decide`] to test a
+/// record whose rotation number is locked at p/q for a torus of q loops.
+const ISLAND_POINTS: usize = 16;
 
 /// Fewest section points of the last part of a record that
 /// [`Executor::decide`] tests for a torus on their own (a motion that reaches
@@ -851,8 +855,10 @@ impl<'s> Executor<'s> {
             if last {
                 let rotation = Rotation::of(&e.points);
                 // Locked at p/q (over all the points, the fraction's q
-                // clearest): no torus, whose rotation number is irrational.
-                let locked = rotation.is_some_and(|r| r.error <= ROTATION_TOL && r.locked().is_some());
+                // clearest): no torus of one loop, whose rotation number is
+                // irrational; a torus of q loops (islands about an orbit of
+                // period q) where every q-th point lies on one.
+                let locked = rotation.filter(|r| r.error <= ROTATION_TOL).and_then(|r| r.locked()).map(|(_, q)| q);
                 // The motion may have reached its torus only after the first
                 // points: the last half, or the last quarter, on one.
                 let n = e.points.len();
@@ -860,14 +866,20 @@ impl<'s> Executor<'s> {
                     let points = &e.points[n - n / part..];
                     points.len() >= SETTLED_POINTS && on_torus(Rotation::of(points).as_ref(), points)
                 };
-                if !locked && (on_torus(rotation.as_ref(), &e.points) || settled(2) || settled(4)) {
-                    if let Some(n) = self.focus_of(&e.points) {
+                let torus = match locked {
+                    None => on_torus(rotation.as_ref(), &e.points) || settled(2) || settled(4),
+                    Some(q) => n / q >= ISLAND_POINTS && on_loops(&e.points, q, ROTATION_TOL),
+                };
+                if torus {
+                    let loops = locked.or_else(|| torus_loops(&e.points, ROTATION_TOL)).unwrap_or(1);
+                    if let Some(n) = self.focus_of(&e.points, loops) {
                         return Steady::Periodic(n);
                     }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
-                // Locked without an orbit near, and expanding on average: chaos in q bands.
-                if locked && growth.mean > 0.0 {
+                // Locked without an orbit near, not on islands, and expanding
+                // on average: chaos in q bands.
+                if locked.is_some() && growth.mean > 0.0 {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
                 let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
@@ -922,13 +934,12 @@ impl<'s> Executor<'s> {
     /// focus whose multipliers are complex and near the unit circle, whose
     /// slow spiral turns like a torus's points (a converged rotation number,
     /// `arg μ / 2π`) but shrinks. Newton's method on the k-period map (k
-    /// the curve's loops, [`torus_loops`], else 1) from the centroid of
+    /// the curve's loops) from the centroid of
     /// every k-th point up to the last, a stable fixed point there whose
     /// distance to the points fell by [`SPIRAL`] from the first quarter of
     /// them to the last: settled on ([`Executor::settle_on`]), its period.
     /// `None` for a torus, whose points keep their distance.
-    fn focus_of(&mut self, points: &[DVector<f64>]) -> Option<usize> {
-        let k = torus_loops(points, ROTATION_TOL).unwrap_or(1);
+    fn focus_of(&mut self, points: &[DVector<f64>], k: usize) -> Option<usize> {
         let loop_points: Vec<&DVector<f64>> = points.iter().rev().step_by(k).collect();
         let count = loop_points.len();
         let centre = loop_points.iter().fold(DVector::zeros(points[0].len()), |a, p| a + *p) / count as f64;
@@ -1438,6 +1449,26 @@ mod tests {
             let cell = run_cell(&sys, &acc, Method::Exact, &y0);
             assert_eq!(cell.class, Class::Chaotic, "{periods}: {:?}", cell.reason);
         }
+    }
+
+    /// Issue 62: islands are a torus. The single stop without losses (r = 1,
+    /// undamped) at ω = 1.5 circles an orbit of period q on q islands: the
+    /// rotation number of its section points is locked at p/q, but every
+    /// q-th point lies on a closed curve of its own, with an irrational
+    /// rotation: `Q` (a locked number with an exponent above 0 and no
+    /// islands is chaos in q bands).
+    #[test]
+    fn islands_about_a_locked_orbit_are_a_torus() {
+        let sys = system("single-stop.toml", &[("r", 1.0), ("omega", 1.5)]);
+        let acc = Accuracy::default();
+        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        let mut sim = crate::Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+        let e = Exponent::measure(&mut sim, LYAPUNOV_WARMUP, 1600).unwrap();
+        let (_, q) = Rotation::of(&e.points).and_then(|r| r.locked()).expect("locked");
+        assert!(q > 1 && on_loops(&e.points, q, ROTATION_TOL), "q = {q}");
+        // Three islands: the loops that the test of up to 8 finds too.
+        assert_eq!(torus_loops(&e.points, ROTATION_TOL), Some(q));
     }
 
     /// Issue 62: a motion spiralling slowly onto a stable focus (largest

@@ -146,7 +146,7 @@ impl Exponent {
     }
 
     /// Whether the tangent is shown to grow exponentially, beyond what a
-    /// polynomial growth `t^d` (`d` ≤ 2, see [`POLYNOMIAL_DEGREE`]) could give:
+    /// polynomial growth `t^d` (`d` ≤ 2, a sheared torus's and a degree in hand) could give:
     /// over all the measured periods, or over their last half, its growth
     /// (the lower end of its 95 % interval, times the periods) exceeds
     /// `d ln(t₁/t₀)`, with `t₀` and `t₁` the periods since the tangent was
