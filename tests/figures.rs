@@ -301,3 +301,25 @@ fn legends_draw_subscripts() {
     assert_eq!(names, ["x", "M1", "x", "M2"], "{names:?}");
     assert!(size(&texts[event - 3]) < size(&texts[event - 4]), "the subscript drawn smaller");
 }
+
+/// Issue 65: `cell` names every file it writes in a `wrote` line, as every
+/// other command does (the trace, the portrait, the sections); with `--json`
+/// its standard output stays one JSON object.
+#[test]
+fn cell_names_every_file_it_writes() {
+    let d = scratch("cell-wrote");
+    let (trace, portrait, sections) = (d.join("t.csv"), d.join("p.svg"), d.join("s.png"));
+    let files = [trace.to_str().unwrap(), portrait.to_str().unwrap(), sections.to_str().unwrap()];
+    let args = ["cell", "configs/multi-stop.toml", "--set", "omega=0.33", "--section-periods", "50"];
+    let writes = ["--trace", files[0], "--portrait", files[1], "--section-png", files[2]];
+    let out = run(&[&args[..], &writes[..], &["--size", "single"]].concat());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(text.contains(&format!("wrote {}\n", files[0])), "{text}");
+    assert!(text.contains(&format!("wrote {} (86 mm wide)", files[1])), "{text}");
+    assert!(text.contains(&format!("wrote {} (86 mm wide)", files[2])), "{text}");
+    assert!(files.iter().all(|f| Path::new(f).exists()));
+    let out = run(&[&args[..], &writes[..], &["--json"]].concat());
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON object");
+    assert_eq!(json["labels"]["M1"], "1-4-4");
+}

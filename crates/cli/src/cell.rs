@@ -37,6 +37,13 @@ pub fn run(a: CellArgs) -> Result<()> {
         outln!("{}", serde_json::to_string(&c.to_json())?);
     } else {
         outp!("{}", to_text(sys, s, cell));
+        // Every file written, named as every other command names its files.
+        if let Some(path) = &a.trace {
+            outln!("wrote {}", path.display());
+        }
+        for path in [&a.portrait, &a.section_png].into_iter().flatten() {
+            crate::render_cmd::wrote(path, &page)?;
+        }
     }
     Ok(())
 }
