@@ -267,3 +267,28 @@ fn a_stored_unresolved_cell_keeps_its_reason() {
         summary["sweeps"][0]["reasons"].as_array().unwrap().iter().map(|r| r["cells"].as_u64().unwrap()).sum();
     assert_eq!(counted, unresolved);
 }
+
+/// Issue 65: `--at` between grid values takes the nearest stored cell and
+/// says which on standard error (the cell `from` reports); at a grid value
+/// it says nothing. Standard output stays the result (one JSON object).
+#[test]
+fn at_says_which_cell_it_took() {
+    let d = scratch("at-note");
+    let f = d.join("a.h5");
+    let file = f.to_str().unwrap();
+    let args = ["atlas", "configs/multi-stop.toml", "--x", "omega=0.3:0.5:5", "--y", "delta=0.4:0.8:3"];
+    assert!(run(&[&args[..], &["--sweep", "up", "--quiet", "-o", file]].concat()).status.success());
+    let off = run(&["cell", "--from", file, "--at", "omega=0.33,delta=0.61", "--json"]);
+    assert!(off.status.success(), "{}", String::from_utf8_lossy(&off.stderr));
+    let taken: serde_json::Value = serde_json::from_slice(&off.stdout).unwrap();
+    let cell = &taken["from"]["cell"];
+    let (omega, delta) = (cell["omega"].as_f64().unwrap(), cell["delta"].as_f64().unwrap());
+    // The grid's values, 0.35 and 0.6 to rounding.
+    assert!((omega - 0.35).abs() < 1e-12 && (delta - 0.6).abs() < 1e-12, "{cell}");
+    let said = String::from_utf8_lossy(&off.stderr);
+    let expected =
+        format!("note: --at: the stored cell nearest to omega=0.33,delta=0.61 is omega={omega},delta={delta}\n");
+    assert!(said.contains(&expected), "{said}");
+    let on = run(&["cell", "--from", file, "--at", &format!("omega={omega},delta={delta}"), "--json"]);
+    assert!(on.status.success() && !String::from_utf8_lossy(&on.stderr).contains("note:"));
+}

@@ -16,7 +16,10 @@ pub fn run(a: CellArgs) -> Result<()> {
     crate::figure::format("--portrait", a.portrait.as_ref())?;
     crate::figure::format("--section-png", a.section_png.as_ref())?;
     let c = engine::cell(&sim_from(&a.sim, &a.start)?, &start(&a.start)?)?;
-    crate::common::warn(c.origin.as_ref().and_then(|o| o.warning.as_ref()));
+    crate::common::tell(
+        c.origin.as_ref().and_then(|o| o.warning.as_ref()),
+        c.origin.as_ref().and_then(|o| o.note.as_ref()),
+    );
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
         let w = engine::trace(sys, s, cell, a.trace_samples)?;

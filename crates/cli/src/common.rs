@@ -57,6 +57,15 @@ pub fn warn(warning: Option<&String>) {
     }
 }
 
+/// Says on standard error what a start from a stored cell took: its
+/// warning, and which cell `--at` took where it is off the values given.
+pub fn tell(warning: Option<&String>, note: Option<&String>) {
+    warn(warning);
+    if let Some(n) = note {
+        crate::out::errln!("note: --at: {n}");
+    }
+}
+
 /// The command line as one string (for the file's `command` attribute).
 pub fn command_line() -> String {
     std::env::args().collect::<Vec<_>>().join(" ")

@@ -18,7 +18,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     let mut r = engine::ContinuationRequest::new(sim_from(&a.sim, &a.start)?, axis.clone());
     (r.start, r.n, r.arclength) = (start(&a.start)?, a.n, a.arclength);
     let c = engine::continuation(&r, &engine::Quiet)?;
-    crate::common::warn(c.warning.as_ref());
+    crate::common::tell(c.warning.as_ref(), c.note.as_ref());
     let (sys, branch) = (&c.system, &c.branch);
     if let Some(path) = &a.png {
         let title = format!("{}: orbit continued in {}", sys.model.name, c.symbol);

@@ -13,7 +13,7 @@ pub fn run(a: OrbitArgs) -> Result<()> {
     let mut r = engine::OrbitRequest::new(sim_from(&a.sim, &a.start)?);
     (r.start, r.n) = (start(&a.start)?, a.n);
     let found = engine::orbit(&r, &engine::Quiet)?;
-    crate::common::warn(found.warning.as_ref());
+    crate::common::tell(found.warning.as_ref(), found.note.as_ref());
     if a.json {
         outln!("{}", serde_json::to_string(&found.to_json())?);
     } else {

@@ -27,7 +27,10 @@ pub fn run(a: SweepArgs) -> Result<()> {
         command: command_line(),
     };
     let swept = engine::sweep(&r, &Shown::new("sweep", a.run.quiet || a.json))?;
-    crate::common::warn(swept.origin.as_ref().and_then(|o| o.warning.as_ref()));
+    crate::common::tell(
+        swept.origin.as_ref().and_then(|o| o.warning.as_ref()),
+        swept.origin.as_ref().and_then(|o| o.note.as_ref()),
+    );
     let atlas = &swept.atlas;
     if let Some(png) = &a.png {
         let mut d = crate::render_cmd::diagram(atlas, 0, a.variable.as_deref(), a.impact)?;

@@ -23,6 +23,9 @@ pub struct Found {
     pub orbit: Orbit,
     /// A warning about the start (the scene differs from a stored one).
     pub warning: Option<String>,
+    /// Which stored cell `--at` took, where it is off the values given
+    /// ([`crate::Origin::note`]).
+    pub note: Option<String>,
 }
 
 /// What [`orbit`] solves: the orbit a cell settles on.
@@ -54,11 +57,11 @@ pub fn orbit(r: &OrbitRequest, observer: &dyn Observer) -> Result<Found> {
         return Err(Error::Cancelled);
     }
     let model = s.scene.evaluate(&s.overrides)?;
-    let warning = origin.as_ref().and_then(|o| o.warning.clone());
+    let (warning, note) = origin.as_ref().map_or((None, None), |o| (o.warning.clone(), o.note.clone()));
     let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
     let system = System::new(model)?;
     let orbit = orbit_of_cell(&system, &s.accuracy, &y0, n).map_err(|e| no_orbit(None, e))?;
-    Ok(Found { system, orbit, warning })
+    Ok(Found { system, orbit, warning, note })
 }
 
 /// No orbit found (`at`: where, or empty): a motion that is not periodic
@@ -183,6 +186,9 @@ pub struct Continued {
     pub branch: Branch,
     /// A warning about the start (the scene differs from a stored one).
     pub warning: Option<String>,
+    /// Which stored cell `--at` took, where it is off the values given
+    /// ([`crate::Origin::note`]).
+    pub note: Option<String>,
 }
 
 /// What [`continuation`] follows: the orbit of a cell along one parameter.
@@ -230,7 +236,7 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
         s.system_with(&[(&axis.name, v)]).ok()
     };
     let system = s.system_with(&[(&axis.name, values[0])])?;
-    let warning = origin.as_ref().and_then(|o| o.warning.clone());
+    let (warning, note) = origin.as_ref().map_or((None, None), |o| (o.warning.clone(), o.note.clone()));
     let y0 = origin.map_or_else(|| system.model.initial_state(), |o| o.state);
     let start = orbit_of_cell(&system, &s.accuracy, &y0, n)
         .map_err(|e| no_orbit(Some(format!("at {} = {}: ", axis.name, values[0])), e))?;
@@ -242,7 +248,7 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
     if observer.cancelled() {
         return Err(Error::Cancelled);
     }
-    Ok(Continued { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning })
+    Ok(Continued { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning, note })
 }
 
 impl Continued {

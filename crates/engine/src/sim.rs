@@ -322,6 +322,10 @@ pub struct Origin {
     pub section_cap: Option<usize>,
     /// A warning for the user (the scene differs from the stored one).
     pub warning: Option<String>,
+    /// Which stored cell `--at` took, where it is not at the values given
+    /// (the nearest on the file's grid), e.g. `the stored cell nearest to
+    /// omega=1 is omega=1.0101010101010102,delta=0.5`.
+    pub note: Option<String>,
 }
 
 /// Where a simulation started, as results report it (their `from`).
@@ -440,12 +444,16 @@ impl Sim {
             labels: m.masses.iter().zip(&cell.labels).map(|(n, l)| (n.clone(), l.to_string())).collect(),
             reason: cell.reason.as_ref().map(ToString::to_string),
         };
+        let named = |v: &[(String, f64)]| v.iter().map(|(n, x)| format!("{n}={x}")).collect::<Vec<_>>().join(",");
+        let elsewhere = at.iter().any(|(n, x)| params.iter().any(|(p, y)| p == n && x != y));
+        let note = elsewhere.then(|| format!("the stored cell nearest to {} is {}", named(at), named(&params)));
         let origin = Origin {
             cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
             state: cell.final_state.clone(),
             source,
             section_cap: Some(m.section_cap),
             warning,
+            note,
         };
         Ok((s, Some(origin)))
     }
@@ -473,7 +481,7 @@ fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
         }
     }
     let source = Source::Given { state: state.to_vec() };
-    Ok(Origin { cell_start: None, state: state.to_vec(), source, section_cap: None, warning: None })
+    Ok(Origin { cell_start: None, state: state.to_vec(), source, section_cap: None, warning: None, note: None })
 }
 
 /// Labels by mass, `{"M1": "1-4-4", …}` (the contract of `cell`, `orbit`
