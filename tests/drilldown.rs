@@ -240,11 +240,8 @@ fn atlas_attractors_are_stored_per_cell_and_deterministic() {
 /// one, resolved cells have none, and `inspect --json` counts them.
 #[test]
 fn a_stored_unresolved_cell_keeps_its_reason() {
-    let d = scratch("reason");
-    let f = d.join("u.h5");
+    let f = up_atlas("reason", "omega=1.55:1.85:7", "delta=0.06:0.1:4");
     let file = f.to_str().unwrap();
-    let args = ["atlas", "configs/multi-stop.toml", "--x", "omega=1.55:1.85:7", "--y", "delta=0.06:0.1:4"];
-    assert!(run(&[&args[..], &["--sweep", "up", "--quiet", "-o", file]].concat()).status.success());
     let atlas = store::read(&f).unwrap().atlas;
     let p = &atlas.meta.plane;
     let cells = &atlas.map(grid::SweepKind::Up).unwrap().cells;
@@ -273,11 +270,8 @@ fn a_stored_unresolved_cell_keeps_its_reason() {
 /// it says nothing. Standard output stays the result (one JSON object).
 #[test]
 fn at_says_which_cell_it_took() {
-    let d = scratch("at-note");
-    let f = d.join("a.h5");
+    let f = up_atlas("at-note", "omega=0.3:0.5:5", "delta=0.4:0.8:3");
     let file = f.to_str().unwrap();
-    let args = ["atlas", "configs/multi-stop.toml", "--x", "omega=0.3:0.5:5", "--y", "delta=0.4:0.8:3"];
-    assert!(run(&[&args[..], &["--sweep", "up", "--quiet", "-o", file]].concat()).status.success());
     let off = run(&["cell", "--from", file, "--at", "omega=0.33,delta=0.61", "--json"]);
     assert!(off.status.success(), "{}", String::from_utf8_lossy(&off.stderr));
     let taken: serde_json::Value = serde_json::from_slice(&off.stdout).unwrap();
@@ -291,4 +285,13 @@ fn at_says_which_cell_it_took() {
     assert!(said.contains(&expected), "{said}");
     let on = run(&["cell", "--from", file, "--at", &format!("omega={omega},delta={delta}"), "--json"]);
     assert!(on.status.success() && !String::from_utf8_lossy(&on.stderr).contains("note:"));
+}
+
+/// The up sweep of the multi-stop scene over `x` by `y`, written to a fresh
+/// folder named for `test`.
+fn up_atlas(test: &str, x: &str, y: &str) -> std::path::PathBuf {
+    let f = scratch(test).join("a.h5");
+    let args = ["atlas", "configs/multi-stop.toml", "--x", x, "--y", y, "--sweep", "up", "--quiet", "-o"];
+    assert!(run(&[&args[..], &[f.to_str().unwrap()]].concat()).status.success());
+    f
 }
