@@ -50,17 +50,13 @@ pub fn start(f: &FromArgs) -> Result<Start> {
     Ok(Start::State(state))
 }
 
-/// Prints a warning about where a simulation started, if any.
-pub fn warn(warning: Option<&String>) {
+/// Says on standard error what a start from a stored cell took: its
+/// warning (the scene differs from the stored one), and which cell `--at`
+/// took where it is off the values given.
+pub fn tell(warning: Option<&String>, note: Option<&String>) {
     if let Some(w) = warning {
         crate::out::errln!("warning: {w}");
     }
-}
-
-/// Says on standard error what a start from a stored cell took: its
-/// warning, and which cell `--at` took where it is off the values given.
-pub fn tell(warning: Option<&String>, note: Option<&String>) {
-    warn(warning);
     if let Some(n) = note {
         crate::out::errln!("note: --at: {n}");
     }

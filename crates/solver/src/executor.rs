@@ -182,12 +182,14 @@ const ESCAPE_PERIODS: usize = 20;
 /// [`Executor::polish`]).
 const POLISHES: usize = 2;
 
-/// Whether section points lie on a torus: on its closed curve, or every
-/// k-th of them on one of its k loops (k ≤ 8), with a converged rotation
-/// number ([`torus_loops`], [`ROTATION_TOL`]), or by their rotation number
-/// alone ([`turns_on_torus`]; `rotation` is [`Rotation::of`] the points).
-fn on_torus(rotation: Option<&Rotation>, points: &[DVector<f64>]) -> bool {
-    rotation.is_some_and(|r| turns_on_torus(r, points, ROTATION_TOL)) || torus_loops(points, ROTATION_TOL).is_some()
+/// The loops of the torus that section points lie on, `None` for none: k
+/// where every k-th of them lies on one of its k loops (k ≤ 8; 1, its
+/// closed curve) with a converged rotation number ([`torus_loops`],
+/// [`ROTATION_TOL`]), else 1 where their rotation number alone tells a torus
+/// ([`turns_on_torus`]; `rotation` is [`Rotation::of`] the points).
+fn on_torus(rotation: Option<&Rotation>, points: &[DVector<f64>]) -> Option<usize> {
+    torus_loops(points, ROTATION_TOL)
+        .or_else(|| rotation.is_some_and(|r| turns_on_torus(r, points, ROTATION_TOL)).then_some(1))
 }
 
 /// Why a cell is `unresolved`, with its numbers.
@@ -820,7 +822,8 @@ impl<'s> Executor<'s> {
     /// interval of `λT` is above 0 and the tangent is shown to grow
     /// exponentially, not like a sheared torus's ([`Exponent::diverges`]).
     /// Otherwise the exponent is measured twice as long, `2 + extensions / 2`
-    /// times (the budget of a record without a decision): it may be a torus,
+    /// times (the budget of a record without a decision), and
+    /// [`UNDECIDED_DOUBLINGS`] more while still undecided: it may be a torus,
     /// an orbit not yet reached (locked on a torus or not), or chaos too weak
     /// to tell. A record that contracts (the interval below 0), or is still
     /// undecided after the last doubling, is searched for a stable orbit of
@@ -833,7 +836,8 @@ impl<'s> Executor<'s> {
     /// unresolved otherwise, with the test that failed.
     fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
         let mut doublings = 0;
-        let mut limit = EXPONENT_DOUBLINGS + self.acc.extensions / 2;
+        let first = EXPONENT_DOUBLINGS + self.acc.extensions / 2;
+        let mut limit = first;
         loop {
             let growth = e.interval();
             if growth.low() > 0.0 && e.diverges() {
@@ -848,7 +852,7 @@ impl<'s> Executor<'s> {
             // Contracting, but on a torus's closed curve: not a transient onto
             // an orbit (a finite-time exponent about a torus may be below 0
             // for a while); measured on as an undecided one.
-            if growth.high() < 0.0 && !on_torus(Rotation::of(&e.points).as_ref(), &e.points) {
+            if growth.high() < 0.0 && on_torus(Rotation::of(&e.points).as_ref(), &e.points).is_none() {
                 let why = Unresolved::Contracting { growth: growth.mean };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
@@ -864,15 +868,14 @@ impl<'s> Executor<'s> {
                 let n = e.points.len();
                 let settled = |part: usize| {
                     let points = &e.points[n - n / part..];
-                    points.len() >= SETTLED_POINTS && on_torus(Rotation::of(points).as_ref(), points)
+                    points.len() >= SETTLED_POINTS && on_torus(Rotation::of(points).as_ref(), points).is_some()
                 };
-                let torus = match locked {
-                    None => on_torus(rotation.as_ref(), &e.points) || settled(2) || settled(4),
-                    Some(q) => n / q >= ISLAND_POINTS && on_loops(&e.points, q, ROTATION_TOL),
+                let loops = match locked {
+                    None => on_torus(rotation.as_ref(), &e.points).or_else(|| (settled(2) || settled(4)).then_some(1)),
+                    Some(q) => (n / q >= ISLAND_POINTS && on_loops(&e.points, q, ROTATION_TOL)).then_some(q),
                 };
-                if torus {
-                    let loops = locked.or_else(|| torus_loops(&e.points, ROTATION_TOL)).unwrap_or(1);
-                    if let Some(n) = self.focus_of(&e.points, loops) {
+                if let Some(k) = loops {
+                    if let Some(n) = self.focus_of(&e.points, k) {
                         return Steady::Periodic(n);
                     }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
@@ -882,17 +885,18 @@ impl<'s> Executor<'s> {
                 if locked.is_some() && growth.mean > 0.0 {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
-                let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
-                let why = if growth.low() > 0.0 {
-                    Unresolved::Polynomial { growth, late: e.late(), rotation, gain }
+                if limit == first {
+                    // Still undecided: a torus still being reached, most often.
+                    limit += UNDECIDED_DOUBLINGS;
                 } else {
-                    Unresolved::Undecided { growth, rotation, gain }
-                };
-                if doublings > EXPONENT_DOUBLINGS + self.acc.extensions / 2 {
+                    let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
+                    let why = if growth.low() > 0.0 {
+                        Unresolved::Polynomial { growth, late: e.late(), rotation, gain }
+                    } else {
+                        Unresolved::Undecided { growth, rotation, gain }
+                    };
                     return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
                 }
-                // Still undecided: a torus still being reached, most often.
-                limit += UNDECIDED_DOUBLINGS;
             }
             doublings += 1;
             let more = e.periods();
@@ -1407,7 +1411,7 @@ mod tests {
             let mut sim = crate::Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
             let e = Exponent::measure(&mut sim, LYAPUNOV_WARMUP, 1600).unwrap();
             assert!(!e.diverges(), "{:?} {:?}", e.interval(), e.late());
-            assert!(on_torus(Rotation::of(&e.points).as_ref(), &e.points));
+            assert!(on_torus(Rotation::of(&e.points).as_ref(), &e.points).is_some());
         }
     }
 
