@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Re-runs the aperiodic cells of an atlas with a record ten times longer, and
 tallies what they become: the check behind the per-scene classification
 figures of docs/performance.md.
@@ -19,6 +19,7 @@ import argparse
 import collections
 import json
 import random
+import shutil
 import subprocess
 import sys
 
@@ -42,7 +43,16 @@ def main():
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     wanted = set(args.classes.split(","))
-    f = h5py.File(args.atlas, "r")
+    if not wanted <= set(KINDS.values()):
+        sys.exit(f"error: --class: expected some of C, Q, U, got '{args.classes}'")
+    if args.times < 1 or args.limit < 0:
+        sys.exit("error: --times must be >= 1 and --limit >= 0")
+    if shutil.which(args.binary) is None:
+        sys.exit(f"error: --binary: '{args.binary}' is not a program here (give target/release/vibroatlas)")
+    try:
+        f = h5py.File(args.atlas, "r")
+    except OSError as e:
+        sys.exit(f"error: {args.atlas}: not an atlas that h5py can open ({e})")
     knobs = dict(kv.split("=", 1) for kv in text(f.attrs["knobs"]).split(","))
     max_periods = int(knobs["max_periods"]) * args.times
     xn, yn = text(f.attrs["x"]), text(f.attrs["y"])
@@ -68,7 +78,9 @@ def main():
                 run = subprocess.run(
                     [args.binary, "cell", "--from", args.atlas, "--at", at, "--sweep", sweep,
                      "--accuracy", f"max_periods={max_periods}", "--json"],
-                    capture_output=True, text=True, check=True)
+                    capture_output=True, text=True)
+                if run.returncode != 0:
+                    sys.exit(f"error: {sweep} cell {at}: {run.stderr.strip()}")
                 cell = json.loads(run.stdout)
                 new = {"periodic": "P"}.get(cell["class"], KINDS.get(cell["class"], "?"))
                 became[new] += 1
