@@ -4,6 +4,7 @@
 mod agreement;
 mod atlas;
 mod bad_input;
+mod basins;
 mod cli;
 mod closed_form;
 mod docs;

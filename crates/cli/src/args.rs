@@ -41,6 +41,8 @@ pub enum Command {
     Continue(ContinueArgs),
     /// Find the coexisting attractors of one parameter point from sampled initial states.
     Attractors(AttractorsArgs),
+    /// Map the basins of attraction of one parameter point over a grid of initial states.
+    Basins(BasinsArgs),
     /// Follow a bifurcation (PD, SN, PF, NS, grazing) in a plane of two parameters.
     Curve(CurveArgs),
     /// Find the bifurcation curves of a stored map: seeded where neighbouring labels differ.
@@ -157,6 +159,41 @@ pub struct AttractorsArgs {
     pub png: Option<PathBuf>,
     #[command(flatten)]
     pub figure: FigureArgs,
+}
+
+#[derive(Debug, Args)]
+pub struct BasinsArgs {
+    #[command(flatten)]
+    pub sim: SimArgs,
+    /// The state outside the two axes (and, with --from, the point's parameters).
+    #[command(flatten)]
+    pub start: FromArgs,
+    /// Horizontal axis: a state component and its starts, e.g. x_M2=-2:2:200.
+    #[arg(long, value_name = "COMPONENT=START:STOP:COUNT", allow_hyphen_values = true)]
+    pub x: String,
+    /// Vertical axis: a state component and its starts, e.g. v_M2=-3:3:200.
+    #[arg(long, value_name = "COMPONENT=START:STOP:COUNT", allow_hyphen_values = true)]
+    pub y: String,
+    /// The forcing phase omega t + tau at the start, in radians (default: the scene's tau).
+    #[arg(long, value_name = "RADIANS", allow_negative_numbers = true)]
+    pub phase: Option<f64>,
+    /// The basin file written (netCDF-4/HDF5).
+    #[arg(short = 'o', long = "output", value_name = "FILE.h5")]
+    pub output: PathBuf,
+    /// Also draw the basins (.png, .svg or .pdf).
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
+    #[command(flatten)]
+    pub figure: FigureArgs,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub json: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress bar or progress lines.
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// Options shared by every command that simulates a scene.

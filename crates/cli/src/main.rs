@@ -6,6 +6,7 @@
 mod args;
 mod atlas;
 mod attractors;
+mod basins;
 mod bench;
 mod cell;
 mod common;
@@ -109,6 +110,7 @@ fn main() {
             | args::Command::Study(_)
             | args::Command::Merge(_)
             | args::Command::Render(_)
+            | args::Command::Basins(_)
     ) {
         out::reports_only();
     }
@@ -126,6 +128,7 @@ fn main() {
         args::Command::Orbit(a) => orbit::run(a),
         args::Command::Continue(a) => continue_cmd::run(a),
         args::Command::Attractors(a) => attractors::run(a),
+        args::Command::Basins(a) => basins::run(a),
         args::Command::Curve(a) => curve::run(a),
         args::Command::Curves(a) => curve::run_curves(a),
     };

@@ -14,6 +14,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
     crate::figure::format("-o", Some(&a.output))?;
     let page = crate::figure::page(&a.figure)?;
     store::check_output(&a.output, &[&a.file])?;
+    if store::is_basins(&a.file) {
+        let map = store::read_basins(&a.file)?;
+        write_atomically(&a.output, |tmp| render::basin_map(&map, &page, tmp))?;
+        return wrote(&a.output, &page);
+    }
     let mut l = store::read(&a.file)?;
     let m = &l.atlas.meta;
     let mass = match &a.mass {

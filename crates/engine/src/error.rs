@@ -87,6 +87,8 @@ pub enum Opt {
     Quantities,
     /// One stored quantity of the steady motion (`inspect --quantity`).
     Quantity,
+    /// The forcing phase at the start (`basins --phase`).
+    Phase,
 }
 
 impl Opt {
@@ -130,6 +132,7 @@ impl Opt {
             Opt::SectionPeriods => "section_periods",
             Opt::Quantities => "quantities",
             Opt::Quantity => "quantity",
+            Opt::Phase => "phase",
         }
     }
 

@@ -41,6 +41,7 @@
 
 mod atlas;
 mod attractors;
+mod basins;
 pub mod bench;
 mod cell;
 mod curve;
@@ -61,6 +62,10 @@ mod zoom;
 pub use atlas::{atlas, AtlasRequest, AttractorCells};
 pub use attractors::{
     attractors, AttractorReport, Attractors, AttractorsReport, AttractorsRequest, SampleBox, MAX_SAMPLES,
+};
+pub use basins::{
+    basins, components, report as basins_report, BasinAttractorReport, BasinsReport, BasinsRequest, BoundaryReport,
+    MAX_STARTS,
 };
 pub use cell::{cell, friction_names, Cell, CellReport};
 pub use curve::{

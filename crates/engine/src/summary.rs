@@ -198,6 +198,13 @@ pub struct AxisReport {
     pub count: usize,
 }
 
+impl AxisReport {
+    /// The report of an axis.
+    pub fn of(a: &grid::Axis) -> AxisReport {
+        AxisReport { name: a.name.clone(), start: a.start, stop: a.stop, count: a.count }
+    }
+}
+
 /// One sweep in numbers.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SweepCounts {
@@ -249,7 +256,7 @@ impl SummaryReport {
     pub fn of(atlas: &Atlas) -> SummaryReport {
         let m = &atlas.meta;
         let p = &m.plane;
-        let axis = |a: &grid::Axis| AxisReport { name: a.name.clone(), start: a.start, stop: a.stop, count: a.count };
+        let axis = AxisReport::of;
         let summary = Summary::of(atlas);
         let sweeps = summary
             .sweeps

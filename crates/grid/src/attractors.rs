@@ -91,7 +91,7 @@ fn same_orbit(a: &[Vec<f64>], b: &[Vec<f64>]) -> bool {
 }
 
 /// Whether two cells reached the same attractor (see the module doc).
-fn same(a: &CellData, b: &CellData) -> bool {
+pub(crate) fn same(a: &CellData, b: &CellData) -> bool {
     a.class == b.class
         && a.labels == b.labels
         && a.symmetry == b.symmetry

@@ -53,14 +53,19 @@ impl CellSetup {
     /// admissible for this cell's stops, else from the scene's initial state.
     pub fn run(&self, params: &[(String, f64)], start: Option<&[f64]>) -> Result<CellData, GridError> {
         let sys = self.system(params)?;
-        let y0 = start_state(&sys, start);
+        Ok(self.run_system(&sys, &start_state(&sys, start)))
+    }
+
+    /// Runs the cell of system `sys` (built by [`CellSetup::system`], perhaps
+    /// changed since) from the admissible state `y0`.
+    pub fn run_system(&self, sys: &System, y0: &[f64]) -> CellData {
         let measure = !self.quantities.is_empty();
-        let (cell, impact, all) = run_cell_measured(&sys, &self.accuracy, self.method, &y0, self.section_cap, measure);
+        let (cell, impact, all) = run_cell_measured(sys, &self.accuracy, self.method, y0, self.section_cap, measure);
         let quantities = match all {
             Some(all) => self.quantities.iter().map(|&k| all[k]).collect(),
             None => vec![f64::NAN; self.quantities.len()],
         };
-        Ok(CellData {
+        CellData {
             class: cell.class,
             labels: cell.labels.iter().map(|l| l.label).collect(),
             chatter: cell.chatter,
@@ -75,6 +80,6 @@ impl CellSetup {
             impact_sections: impact,
             reason: cell.reason,
             quantities,
-        })
+        }
     }
 }

@@ -7,8 +7,9 @@
 //! [`run()`] computes the lines of a [`maps::Plane`] into [`maps::Line`]s
 //! ([`line()`] one of them, [`validate`] checks every cell's parameters first);
 //! [`Study`] runs planes over a third parameter; every error a [`GridError`].
-//! Four modules whose functions share names: [`attractors`] (coexisting
-//! attractors of a point), [`curves`] (bifurcation curves seeded from a
+//! Modules whose functions share names: [`attractors`] (coexisting
+//! attractors of a point), [`basins`] (the attractor each start of a grid
+//! of initial states reaches), [`curves`] (bifurcation curves seeded from a
 //! map), [`schedule`] (line costs, their order and shards). The data types
 //! live in the `maps` crate and are re-exported here for the callers that
 //! run planes.
@@ -36,6 +37,7 @@
 #![deny(clippy::float_cmp)]
 
 pub mod attractors;
+pub mod basins;
 mod cell;
 pub mod curves;
 mod error;
@@ -47,9 +49,9 @@ mod sweep;
 pub use cell::{start_state, CellSetup};
 pub use error::GridError;
 pub use maps::{
-    hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, CellAttractors, CellData, Entries, FieldError,
-    Lattice, Line, Map, Meta, Notation, Plane, Quantity, Shard, SweepKind, DEFAULT_SECTION_CAP, MAX_COUNT,
-    MAX_SECTION_CAP, MAX_SHARDS,
+    hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, BasinAttractor, BasinMap, CellAttractors,
+    CellData, Entries, FieldError, Lattice, Line, Map, Meta, Notation, Plane, Quantity, Shard, SweepKind,
+    DEFAULT_SECTION_CAP, MAX_COUNT, MAX_SECTION_CAP, MAX_SHARDS,
 };
 pub use run::{line, run, validate};
 pub use study::{Study, MAX_VALUES};

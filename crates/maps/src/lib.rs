@@ -20,6 +20,7 @@
 
 mod atlas;
 mod axis;
+pub mod basins;
 mod cell;
 mod error;
 pub mod hysteresis;
@@ -31,6 +32,7 @@ mod sweep;
 
 pub use atlas::{Atlas, AttractorMap, CellAttractors, Map, Meta};
 pub use axis::{Axis, Lattice, MAX_COUNT};
+pub use basins::{BasinAttractor, BasinMap};
 pub use cell::{by_frequency, label_counts, runs, CellData, Quantity, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
 pub use error::FieldError;
 pub use notation::{stop_events, Notation};

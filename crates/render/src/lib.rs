@@ -20,7 +20,7 @@ mod scalar;
 mod section;
 mod trade;
 
-pub use basins::basins;
+pub use basins::{basin_map, basins};
 pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use layers::{curve_style, label_legend, layer, Key, Layer, Show};

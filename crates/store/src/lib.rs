@@ -21,6 +21,7 @@
 #![deny(missing_docs)]
 
 mod attrs;
+mod basins;
 mod checked;
 mod checksum;
 mod chunked;
@@ -37,6 +38,7 @@ mod read;
 mod verify;
 mod write;
 
+pub use basins::{is_basins, read_basins, write_basins};
 pub use checked::MAX_EXPANSION;
 pub use curve::{add_curves, read_curves, write_curves, Curve};
 pub use error::{Hdf5Error, JournalProblem, OtherKind, Setting, StoreError};

@@ -1,0 +1,78 @@
+//! `vibroatlas basins`: the basins of attraction of one parameter point over
+//! a grid of initial states (see `grid::basins`), written to a basin file,
+//! summarised on standard output, drawn with `--png`.
+
+use crate::args::BasinsArgs;
+use crate::common::{command_line, sim_from, start};
+use crate::out::outln;
+use crate::progress::Shown;
+use anyhow::Result;
+use engine::BasinsRequest;
+use grid::Axis;
+use store::write_atomically;
+
+/// Runs the command.
+pub fn run(a: BasinsArgs) -> Result<()> {
+    let page = crate::figure::page(&a.figure)?;
+    crate::figure::format("--png", a.png.as_ref())?;
+    let r = BasinsRequest {
+        sim: sim_from(&a.sim, &a.start)?,
+        start: start(&a.start)?,
+        x: Axis::parse(&a.x, "--x")?,
+        y: Axis::parse(&a.y, "--y")?,
+        phase: a.phase,
+        threads: engine::threads(a.threads)?,
+        output: Some(a.output.clone()),
+        command: command_line(),
+    };
+    let map = engine::basins(&r, &Shown::new("basins", a.quiet))?;
+    if let Some(png) = &a.png {
+        write_atomically(png, |tmp| render::basin_map(&map, &page, tmp))?;
+    }
+    let report = engine::basins_report(&map);
+    if a.json {
+        outln!("{}", serde_json::to_string(&report)?);
+        return Ok(());
+    }
+    let (x, y) = (&report.x, &report.y);
+    outln!(
+        "{} starts ({} {}..{} x {} {}..{}, phase {:.4}): {} attractors, {} starts penetrate a stop",
+        report.starts,
+        x.name,
+        x.start,
+        x.stop,
+        y.name,
+        y.start,
+        y.stop,
+        report.phase,
+        report.attractors.len(),
+        report.starts as u64 - report.admissible
+    );
+    for at in &report.attractors {
+        let labels: Vec<String> = at.labels.iter().map(|(m, l)| format!("{m} {l}")).collect();
+        let sym = at.symmetry.as_deref().map_or(String::new(), |s| format!(" {s}"));
+        let stability = match (at.max_multiplier, at.lyapunov, &at.reason) {
+            (Some(mu), _, _) => format!("max |multiplier| {mu:.6}"),
+            (_, Some(l), _) => format!("lyapunov {l:.6}"),
+            (_, _, Some(why)) => why.clone(),
+            _ => String::new(),
+        };
+        outln!("{:>3} {:>6.2} %  {}{sym}  {}  ({stability})", at.id, 100.0 * at.fraction, labels.join(", "), at.class);
+    }
+    let b = &report.boundary;
+    let alpha = b.uncertainty_exponent.map_or("none".to_string(), |u| format!("{u:.3}"));
+    outln!(
+        "basin entropy {:.4}, boundary basin entropy {:.4} (boxes of {} x {}; fractal by ln 2: {}); uncertainty exponent {alpha}",
+        b.basin_entropy,
+        b.boundary_basin_entropy,
+        b.entropy_box,
+        b.entropy_box,
+        if b.fractal { "yes" } else { "no" }
+    );
+    outln!("mean periods per start {:.1}", report.mean_periods);
+    outln!("wrote {}", a.output.display());
+    if let Some(png) = &a.png {
+        crate::render_cmd::wrote(png, &page)?;
+    }
+    Ok(())
+}

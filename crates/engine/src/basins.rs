@@ -1,0 +1,251 @@
+//! The basins of attraction of one parameter point over a plane of initial
+//! states ([`basins`]): two state components (`x_M2`, `v_M2`) over a grid,
+//! the others at a given state, at a given forcing phase; every start
+//! simulated exactly and grouped by the attractor it reaches (see
+//! `grid::basins`), into a [`BasinMap`] that the store writes and the
+//! renderer draws.
+
+use crate::error::{Opt, RequestError, Result};
+use crate::observer::{Begin, Observed, Observer};
+use crate::sim::{Sim, Start};
+use crate::summary::AxisReport;
+use grid::basins::StateGrid;
+use grid::{Axis, BasinAttractor, BasinMap};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Most starts one run may take (2048 × 2048).
+pub const MAX_STARTS: usize = 1 << 22;
+
+/// The basins to compute.
+#[derive(Debug, Clone)]
+pub struct BasinsRequest {
+    /// The simulation options (the point is the scene's values with `set`).
+    pub sim: Sim,
+    /// The state outside the two axes: the scene's initial state, a given
+    /// state, or a stored cell's (whose parameters the point then takes).
+    pub start: Start,
+    /// The horizontal axis: a state component (`x_M2`) and its values.
+    pub x: Axis,
+    /// The vertical axis.
+    pub y: Axis,
+    /// The forcing phase `ω t + τ` at the start (radians); the scene's τ when `None`.
+    pub phase: Option<f64>,
+    /// Worker threads.
+    pub threads: usize,
+    /// The basin file written (checked before any work), if any.
+    pub output: Option<std::path::PathBuf>,
+    /// The command line, stored in the file.
+    pub command: String,
+}
+
+/// The names of a system's state components: `x_<mass>` for each mass,
+/// then `v_<mass>`.
+pub fn components(sys: &solver::System) -> Vec<String> {
+    let names = sys.model.masses.iter().map(|m| &m.name);
+    names.clone().map(|n| format!("x_{n}")).chain(names.map(|n| format!("v_{n}"))).collect()
+}
+
+/// Computes the basins of `r`, reporting each start done to `observer`
+/// (which may stop the run).
+pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
+    let (s, origin) = r.sim.setup_from(&r.start)?;
+    if let Some(out) = &r.output {
+        let mut inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
+        if let Start::Cell { file, .. } = &r.start {
+            inputs.push(file);
+        }
+        store::check_output(out, &inputs)?;
+    }
+    let cs = s.cell_setup(0)?;
+    let sys = cs.system(&[])?;
+    let names = components(&sys);
+    let index = |axis: &Axis, opt: Opt| -> Result<usize> {
+        names.iter().position(|n| *n == axis.name).ok_or_else(|| {
+            let what = format!("no state component '{}' (the scene's are {})", axis.name, names.join(", "));
+            RequestError::option(opt).text(what).into()
+        })
+    };
+    let (xi, yi) = (index(&r.x, Opt::X)?, index(&r.y, Opt::Y)?);
+    if xi == yi {
+        return Err(RequestError::option(Opt::Y).text(format!("the same component as --x ({})", r.x.name)).into());
+    }
+    let starts = r.x.count.saturating_mul(r.y.count);
+    if starts > MAX_STARTS {
+        let what = format!("{starts} starts ({} x {}), at most {MAX_STARTS}", r.x.count, r.y.count);
+        return Err(RequestError::option(Opt::Y).text(what).into());
+    }
+    let phase = r.phase.unwrap_or(sys.tau);
+    if !phase.is_finite() {
+        return Err(RequestError::option(Opt::Phase).text(format!("not a finite number, got {phase}")).into());
+    }
+    let grid = StateGrid {
+        x: r.x.clone(),
+        y: r.y.clone(),
+        x_index: xi,
+        y_index: yi,
+        start: origin.map_or_else(|| sys.model.initial_state(), |o| o.state),
+        phase,
+    };
+    observer.begin(&Begin { total: starts as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
+    let reached = grid::basins::basins(&cs, &[], &grid, r.threads, &Observed(observer));
+    observer.finish();
+    let reached = reached?;
+    let m = &sys.model;
+    let attractors = reached
+        .attractors
+        .into_iter()
+        .map(|a| {
+            let c = a.cell;
+            BasinAttractor {
+                class: c.class.name().to_string(),
+                labels: c.labels,
+                symmetry: c.symmetry.map(|x| x.name().to_string()),
+                reason: c.reason.map(|x| x.to_string()),
+                multiplier: c.multiplier,
+                lyapunov: c.lyapunov,
+                count: a.count as u64,
+                start: a.start,
+                section: c.period_section,
+            }
+        })
+        .collect();
+    let map = BasinMap {
+        scene: m.name.clone(),
+        parameters: m.parameters.clone(),
+        masses: m.labels.iter().map(|l| m.masses[l.mass].name.clone()).collect(),
+        components: names,
+        start: grid.start,
+        phase,
+        x: grid.x,
+        y: grid.y,
+        ids: reached.ids,
+        periods: reached.periods,
+        attractors,
+    };
+    if let Some(out) = &r.output {
+        store::write_basins(out, &map, &r.command)?;
+    }
+    Ok(map)
+}
+
+/// The JSON of a basin map (the contract of `basins --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BasinsReport {
+    /// The scene's name.
+    pub scene: String,
+    /// Every parameter of the point's model.
+    pub parameters: BTreeMap<String, f64>,
+    /// The forcing phase at the start (radians).
+    pub phase: f64,
+    /// The horizontal axis.
+    pub x: AxisReport,
+    /// The vertical axis.
+    pub y: AxisReport,
+    /// The state outside the two axes.
+    pub start: Vec<f64>,
+    /// Starts on the grid.
+    pub starts: usize,
+    /// Of those, the starts that do not penetrate a stop.
+    pub admissible: u64,
+    /// The attractors, the largest basin first (their ids are their places).
+    pub attractors: Vec<BasinAttractorReport>,
+    /// Forcing periods simulated per admissible start: their mean.
+    pub mean_periods: f64,
+    /// The measures of the boundary between basins.
+    pub boundary: BoundaryReport,
+}
+
+/// One attractor of a basin map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BasinAttractorReport {
+    /// Its id, the value of `basin` in the file.
+    pub id: usize,
+    /// The kind of motion.
+    pub class: String,
+    /// Per labelled mass, its label.
+    pub labels: BTreeMap<String, String>,
+    /// The symmetry of a periodic orbit of a symmetric scene.
+    pub symmetry: Option<String>,
+    /// Why it is unresolved, where it is.
+    pub reason: Option<String>,
+    /// The share of the admissible starts that reach it.
+    pub fraction: f64,
+    /// The starts that reach it.
+    pub count: u64,
+    /// The largest Floquet multiplier modulus, when periodic.
+    pub max_multiplier: Option<f64>,
+    /// The largest Lyapunov exponent, when not periodic.
+    pub lyapunov: Option<f64>,
+    /// The first start that reaches it.
+    pub start: Vec<f64>,
+    /// Its period-section points.
+    pub section: Vec<Vec<f64>>,
+}
+
+/// Basin entropy and uncertainty exponent (see `maps::basins`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundaryReport {
+    /// Starts per side of the entropy's boxes.
+    pub entropy_box: usize,
+    /// Basin entropy `S_b` (nats).
+    pub basin_entropy: f64,
+    /// Boundary basin entropy `S_bb` (nats).
+    pub boundary_basin_entropy: f64,
+    /// Whether `S_bb > ln 2` proves the boundary fractal.
+    pub fractal: bool,
+    /// The distances, in grid steps, of the uncertainty exponent's fit.
+    pub steps: Vec<usize>,
+    /// The share of starts uncertain at each distance.
+    pub uncertain: Vec<f64>,
+    /// The uncertainty exponent α (1 for a smooth boundary; `None` without
+    /// a boundary or on a grid under 32 starts a side).
+    pub uncertainty_exponent: Option<f64>,
+}
+
+/// The report of a basin map ([`BasinsReport`]).
+pub fn report(map: &BasinMap) -> BasinsReport {
+    let (e, u) = (map.entropy(), map.uncertainty());
+    let axis = AxisReport::of;
+    let admissible = map.admissible();
+    let simulated: u64 = map.periods.iter().sum();
+    let attractors = map
+        .attractors
+        .iter()
+        .enumerate()
+        .map(|(id, a)| BasinAttractorReport {
+            id,
+            class: a.class.clone(),
+            labels: map.masses.iter().cloned().zip(a.labels.iter().map(|l| l.to_string())).collect(),
+            symmetry: a.symmetry.clone(),
+            reason: a.reason.clone(),
+            fraction: map.fraction(id),
+            count: a.count,
+            max_multiplier: a.multiplier,
+            lyapunov: a.lyapunov,
+            start: a.start.clone(),
+            section: a.section.clone(),
+        })
+        .collect();
+    BasinsReport {
+        scene: map.scene.clone(),
+        parameters: map.parameters.iter().cloned().collect(),
+        phase: map.phase,
+        x: axis(&map.x),
+        y: axis(&map.y),
+        start: map.start.clone(),
+        starts: map.ids.len(),
+        admissible,
+        attractors,
+        mean_periods: simulated as f64 / admissible.max(1) as f64,
+        boundary: BoundaryReport {
+            entropy_box: e.side,
+            basin_entropy: e.basin,
+            boundary_basin_entropy: e.boundary,
+            fractal: e.fractal(),
+            steps: u.steps,
+            uncertain: u.fractions,
+            uncertainty_exponent: (!u.exponent.is_nan()).then_some(u.exponent),
+        },
+    }
+}

@@ -1,0 +1,171 @@
+//! Issue 66: `vibroatlas basins`, the basins of attraction of one parameter
+//! point over a grid of initial states: the same file on one thread and two,
+//! read by h5py and xarray; starts checked by `cell` (the exact flow and the
+//! independent RK4 integrator); the symmetric damper's basins at phase 0 and
+//! π mirror each other; an edited file is refused; bad options are one line.
+
+use crate::run_safety::refused;
+use crate::util::{cell_json, run, scratch};
+
+/// The impact damper at ω = 1.3, δ = 1: the asymmetric 1-1-2 and 1-2-1
+/// coexist.
+const POINT: [&str; 5] = ["configs/impact-damper.toml", "--set", "omega=1.3", "--set", "delta=1"];
+const GRID: [&str; 4] = ["--x", "x_M2=-1:1:40", "--y", "v_M2=-3:3:40"];
+
+fn basins(out: &std::path::Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec!["basins"];
+    args.extend(POINT);
+    args.extend(GRID);
+    args.extend(extra);
+    args.extend(["--quiet", "--json", "-o", out.to_str().unwrap()]);
+    let o = run(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+fn python(script: &str, args: &[&str]) -> String {
+    let o = std::process::Command::new("/usr/bin/python3")
+        .arg("-c")
+        .arg(script)
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("/usr/bin/python3 (scripts/setup.sh installs python3-h5py and python3-xarray)");
+    let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{text}");
+    text
+}
+
+#[test]
+fn basins_are_the_same_on_any_threads_and_read_back_in_h5py_and_xarray() {
+    let d = scratch("basins-threads");
+    let (one, two) = (d.join("one.h5"), d.join("two.h5"));
+    let j = basins(&one, &["--threads", "1"]);
+    basins(&two, &["--threads", "2"]);
+    // Dataset by dataset, bit for bit (exit 1 on any difference).
+    let cmp = std::process::Command::new("/usr/bin/python3")
+        .args(["scripts/compare_atlases.py", one.to_str().unwrap(), two.to_str().unwrap()])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    assert!(cmp.status.success(), "{}{}", String::from_utf8_lossy(&cmp.stdout), String::from_utf8_lossy(&cmp.stderr));
+    let labels: Vec<&str> =
+        j["attractors"].as_array().unwrap().iter().map(|a| a["labels"]["M2"].as_str().unwrap()).collect();
+    let mut sorted = labels.clone();
+    sorted.sort();
+    assert_eq!(sorted, ["1-1-2", "1-2-1"], "{j}");
+    assert_eq!(j["starts"], 1600);
+    // Both xarray engines: named dimensions, the ids' histogram is the
+    // counts, the fractions sum to one, labels decode as text.
+    let check = r#"
+import sys, numpy as np, xarray as xr
+for engine in ("h5netcdf", "netcdf4"):
+    ds = xr.open_dataset(sys.argv[1], engine=engine)
+    assert ds["basin"].dims == ("v_M2", "x_M2"), ds["basin"].dims
+    ids = ds["basin"].values
+    counts = np.bincount(ids.ravel(), minlength=ds.sizes["attractor"])
+    assert (counts == ds["count"].values).all(), (counts, ds["count"].values)
+    assert abs(float(ds["fraction"].sum()) - 1) < 1e-12
+    assert float(ds["x_M2"][0]) == -1.0 and float(ds["v_M2"][-1]) == 3.0
+    print(engine, [str(x) for x in ds["labels_M2"].values], ds.attrs["fractal"], ds.attrs["uncertainty_exponent"])
+"#;
+    let out = python(check, &[one.to_str().unwrap()]);
+    assert!(out.contains("h5netcdf") && out.contains("netcdf4"), "{out}");
+}
+
+#[test]
+fn starts_away_from_a_boundary_reach_their_attractor_in_cell_and_in_rk4() {
+    let d = scratch("basins-cells");
+    let out = d.join("b.h5");
+    let j = basins(&out, &[]);
+    let ids = python(
+        "import sys, h5py; f = h5py.File(sys.argv[1]); print(' '.join(map(str, f['basin'][:].ravel())))",
+        &[out.to_str().unwrap()],
+    );
+    let ids: Vec<i64> = ids.split_whitespace().map(|t| t.parse().unwrap()).collect();
+    let n = 40;
+    let value = |i: usize, lo: f64, hi: f64| lo + (hi - lo) * i as f64 / (n - 1) as f64;
+    // Starts whose 3 x 3 neighbourhood reaches one attractor.
+    let inner: Vec<usize> = (0..n * n)
+        .filter(|&i| {
+            let (ix, iy) = (i % n, i / n);
+            (1..n - 1).contains(&ix)
+                && (1..n - 1).contains(&iy)
+                && (0..9).all(|k| ids[(iy + k / 3 - 1) * n + ix + k % 3 - 1] == ids[i])
+        })
+        .collect();
+    assert!(inner.len() >= 4, "{} starts inside a basin", inner.len());
+    for &i in inner.iter().step_by(inner.len() / 4).take(4) {
+        let state = format!("0,{},0,{}", value(i % n, -1.0, 1.0), value(i / n, -3.0, 3.0));
+        let want = &j["attractors"][ids[i] as usize]["labels"]["M2"];
+        let mut args = POINT.to_vec();
+        args.extend(["--state", &state]);
+        let exact = cell_json(&args);
+        assert_eq!(&exact["labels"]["M2"], want, "exact flow from {state}");
+        args.extend(["--integrator", "rk4"]);
+        let rk4 = cell_json(&args);
+        assert_eq!(&rk4["labels"]["M2"], want, "RK4 from {state}");
+    }
+}
+
+#[test]
+fn the_symmetric_dampers_basins_at_phase_zero_and_pi_mirror_each_other() {
+    // (x, v) at phase 0 reaches the mirror image of what (−x, −v) reaches at
+    // phase π: 1-1-2 and 1-2-1 swap. Starts on a fractal boundary may go
+    // either way on a rounding (the grid's −x is not bit for bit the negated
+    // x, nor sin(φ + π) −sin φ): at most 3 % of them differ.
+    let d = scratch("basins-mirror");
+    let (a, b) = (d.join("zero.h5"), d.join("pi.h5"));
+    basins(&a, &[]);
+    basins(&b, &["--phase", "3.141592653589793"]);
+    let check = r#"
+import sys, h5py, numpy as np
+a, b = h5py.File(sys.argv[1]), h5py.File(sys.argv[2])
+text = lambda f: [x.decode() if isinstance(x, bytes) else x for x in f["labels_M2"][:]]
+mirror = lambda l: "-".join([l.split("-")[0], l.split("-")[2], l.split("-")[1]])
+la, lb = text(a), text(b)
+A = np.array([mirror(la[i]) for i in a["basin"][:].ravel()])
+B = np.array([lb[i] for i in b["basin"][:][::-1, ::-1].ravel()])
+print((A == B).mean())
+"#;
+    let share: f64 = python(check, &[a.to_str().unwrap(), b.to_str().unwrap()]).trim().parse().unwrap();
+    assert!(share >= 0.97, "{share} of the starts mirror");
+}
+
+#[test]
+fn a_basin_file_renders_and_an_edited_one_is_refused() {
+    let d = scratch("basins-edit");
+    let out = d.join("b.h5");
+    basins(&out, &[]);
+    let png = d.join("b.png");
+    let o = run(&["render", out.to_str().unwrap(), "-o", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("wrote"));
+    // One id changed, as h5py would change it: an error naming the checksum.
+    python(
+        "import sys, h5py\nf = h5py.File(sys.argv[1], 'r+')\nb = f['basin'][:]\nb[0, 0] = 1 - b[0, 0]\nf['basin'][:] = b",
+        &[out.to_str().unwrap()],
+    );
+    let o = run(&["render", out.to_str().unwrap(), "-o", d.join("c.png").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("basins_crc32") && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn bad_basin_options_are_one_line_naming_the_option() {
+    let d = scratch("basins-bad");
+    let o = d.join("b.h5");
+    let o = o.to_str().unwrap();
+    let with = |x: &'static str, y: &'static str, extra: &'static [&'static str]| {
+        let mut a = vec!["basins", "configs/impact-damper.toml", "--x", x, "--y", y, "-o", o];
+        a.extend(extra);
+        a
+    };
+    refused(&with("x_M9=-1:1:4", "v_M2=-1:1:4", &[]), "--x: no state component 'x_M9'");
+    refused(&with("x_M2=-1:1:4", "x_M2=-1:1:4", &[]), "--y: the same component as --x");
+    refused(&with("x_M2=-1:1:4000", "v_M2=-1:1:4000", &[]), "--y: 16000000 starts");
+    refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--phase", "nan"]), "--phase");
+    refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--state", "0,0"]), "--state");
+    assert!(!d.join("b.h5").exists());
+}
