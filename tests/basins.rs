@@ -169,3 +169,78 @@ fn bad_basin_options_are_one_line_naming_the_option() {
     refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--state", "0,0"]), "--state");
     assert!(!d.join("b.h5").exists());
 }
+
+/// `basins … --json` of a shipped scene on a grid, with the options given.
+fn report(args: &[&str], out: &std::path::Path) -> serde_json::Value {
+    let mut all = vec!["basins"];
+    all.extend(args);
+    all.extend(["--quiet", "--json", "-o", out.to_str().unwrap()]);
+    let o = run(&all);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+/// The single stop at ω = 2.5, σ = 1, ζ = 0.05: the non-impacting 1-0-0 and
+/// the impacting 2-1-0 coexist, their basins bounded by smooth curves.
+const SINGLE: [&str; 7] = ["configs/single-stop.toml", "--set", "omega=2.5", "--set", "sigma=1", "--set", "zeta=0.05"];
+
+#[test]
+fn a_smooth_boundary_has_exponent_one_and_a_riddled_one_near_zero() {
+    let d = scratch("basins-boundary");
+    let mut smooth = SINGLE.to_vec();
+    smooth.extend(["--x", "x_M=-3:1:96", "--y", "v_M=-3:3:96"]);
+    let j = report(&smooth, &d.join("smooth.h5"));
+    let b = &j["boundary"];
+    let alpha = b["uncertainty_exponent"].as_f64().unwrap();
+    assert!((alpha - 1.0).abs() < 0.1 && b["fractal"] == false, "{b}");
+    // The damper at ω = 1.3, δ = 0.5: chaos, 1-1-3 and 1-3-1 intermingled
+    // start by start (S_bb near ln 3, the uncertain share flat in ε).
+    let riddled = [
+        "configs/impact-damper.toml",
+        "--set",
+        "omega=1.3",
+        "--set",
+        "delta=0.5",
+        "--x",
+        "x_M2=-0.5:0.5:48",
+        "--y",
+        "v_M2=-3:3:48",
+    ];
+    let j = report(&riddled, &d.join("riddled.h5"));
+    let b = &j["boundary"];
+    let alpha = b["uncertainty_exponent"].as_f64().unwrap();
+    assert!(alpha < 0.3 && b["fractal"] == true, "{b}");
+    assert_eq!(j["attractors"].as_array().unwrap().len(), 3, "{j}");
+}
+
+#[test]
+fn basin_fractions_agree_with_the_sampled_attractors() {
+    // A one-mass scene: `attractors --box 2,3` draws (x, v) uniformly in
+    // [−2, 2] × [−3, 3] and draws again where x passes the stop at σ = 1,
+    // so it samples the grid's square [−2, 1] × [−3, 3] uniformly.
+    let d = scratch("basins-agree");
+    let mut grid = SINGLE.to_vec();
+    grid.extend(["--x", "x_M=-2:1:90", "--y", "v_M=-3:3:180"]);
+    let basins = report(&grid, &d.join("b.h5"));
+    let mut sampled = vec!["attractors"];
+    sampled.extend(SINGLE);
+    sampled.extend(["--samples", "600", "--box", "2,3", "--json"]);
+    let o = run(&sampled);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let sampled: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let share = |j: &serde_json::Value, label: &str| {
+        j["attractors"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|a| a["labels"]["M"] == label)
+            .map(|a| a["fraction"].as_f64().unwrap())
+            .sum::<f64>()
+    };
+    for label in ["1-0-0", "2-1-0"] {
+        let (p, q) = (share(&basins, label), share(&sampled, label));
+        // Three standard errors of 600 samples.
+        let sigma = (p * (1.0 - p) / 600.0).sqrt();
+        assert!((p - q).abs() < 3.0 * sigma, "{label}: grid {p}, sampled {q} (sigma {sigma})");
+    }
+}

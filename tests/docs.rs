@@ -270,3 +270,35 @@ fn scenes_page_says_subscripts_are_drawn() {
     let runs = render::subscript_runs("μ_k");
     assert_eq!(runs, vec![("μ", false), ("k", true)]);
 }
+
+/// Issue 66: docs/basins.md prints what its `basins` commands print, line
+/// for line (the files they write go to a scratch folder), and its Python
+/// block reads the file the first one writes.
+#[test]
+fn the_basins_page_prints_what_basins_prints() {
+    let page = read("docs/basins.md");
+    let d = crate::util::scratch("docs-basins");
+    std::fs::create_dir_all(d.join("out")).unwrap();
+    std::fs::create_dir_all(d.join("img")).unwrap();
+    let here = |t: &str| {
+        t.replace("out/", &format!("{}/out/", d.display())).replace("docs/img/", &format!("{}/img/", d.display()))
+    };
+    let mut shown = 0;
+    for block in page.split("```sh\n").skip(1) {
+        let (commands, rest) = block.split_once("```").unwrap();
+        let Some(cmd) = commands.lines().find(|l| l.starts_with("vibroatlas basins")) else { continue };
+        let text = rest.split_once("```text\n").unwrap().1.split_once("```").unwrap().0;
+        let cmd = here(cmd);
+        let args: Vec<&str> = cmd.split_whitespace().skip(1).collect();
+        let out = crate::util::run(&args);
+        assert!(out.status.success(), "{cmd}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(String::from_utf8_lossy(&out.stdout), here(text), "{cmd}");
+        shown += 1;
+    }
+    assert_eq!(shown, 2, "the page shows two basins commands");
+    let python = page.split("```python\n").nth(1).unwrap().split_once("```").unwrap().0;
+    let out = std::process::Command::new("/usr/bin/python3").args(["-c", python]).current_dir(&d).output().unwrap();
+    let printed = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{printed}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(printed.contains("['1-0-0', '2-1-0'] [0.6582 0.3418]"), "{printed}");
+}

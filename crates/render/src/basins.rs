@@ -137,7 +137,7 @@ fn draw_map<DB: crate::Backend>(
     }
     rows.push(Entry::new(Swatch::Ring(BLACK, 1.8), "period-section points"));
     let title = format!(
-        "{}: basins of attraction, {} × {} starts at phase {:.3}",
+        "{}: basins of attraction, {} × {} starts at phase {:.3} rad",
         map.scene, map.x.count, map.y.count, map.phase
     );
     let [plot_area, key] = frame(root, canvas, &title, &rows)?;
