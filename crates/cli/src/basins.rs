@@ -31,7 +31,7 @@ pub fn run(a: BasinsArgs) -> Result<()> {
     }
     let report = engine::basins_report(&map);
     if a.json {
-        outln!("{}", serde_json::to_string(&report)?);
+        outln!("{}", serde_json::to_string(&report.to_json())?);
         return Ok(());
     }
     let (x, y) = (&report.x, &report.y);

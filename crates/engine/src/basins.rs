@@ -203,6 +203,13 @@ pub struct BoundaryReport {
     pub uncertainty_exponent: Option<f64>,
 }
 
+impl BasinsReport {
+    /// The JSON object of the report (the contract of `basins --json`).
+    pub fn to_json(&self) -> serde_json::Value {
+        crate::report::to_value(self)
+    }
+}
+
 /// The report of a basin map ([`BasinsReport`]).
 pub fn report(map: &BasinMap) -> BasinsReport {
     let (e, u) = (map.entropy(), map.uncertainty());

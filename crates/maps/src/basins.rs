@@ -79,6 +79,20 @@ impl BasinMap {
         self.attractors[k].count as f64 / self.admissible().max(1) as f64
     }
 
+    /// The colour of each attractor: its first label's
+    /// ([`crate::palette::colour`]), darkened by a third for each earlier
+    /// attractor of the same label (the mirror image of an asymmetric orbit,
+    /// say), so that two attractors are never one colour.
+    pub fn colours(&self) -> Vec<[u8; 3]> {
+        let first = |k: usize| self.attractors[k].labels.first().copied().unwrap_or(Label::Unresolved);
+        (0..self.attractors.len())
+            .map(|k| {
+                let twins = (0..k).filter(|&j| first(j) == first(k)).count() as i32;
+                crate::palette::colour(first(k)).map(|c| (f64::from(c) * 0.65f64.powi(twins)).round() as u8)
+            })
+            .collect()
+    }
+
     /// The basin entropy of the map on boxes of [`ENTROPY_BOX`] starts.
     pub fn entropy(&self) -> Entropy {
         entropy(&self.ids, self.x.count, ENTROPY_BOX)

@@ -439,6 +439,32 @@ fn attractors(
     Ok(Job::start(move |shared| Ok(engine::attractors(&r, shared)?.to_json())))
 }
 
+/// The basins of one point over a grid of two state components, written
+/// to `output`: the value of `basins --json`.
+#[pyfunction]
+#[pyo3(signature = (sim, *, x, y, output, state=None, phase=None, threads=None))]
+fn basins(
+    sim: SimArgs<'_>,
+    x: (String, f64, f64, usize),
+    y: (String, f64, f64, usize),
+    output: String,
+    state: Option<Vec<f64>>,
+    phase: Option<f64>,
+    threads: Option<usize>,
+) -> PyResult<Job> {
+    let r = engine::BasinsRequest {
+        sim: self::sim(sim)?,
+        start: state.map_or(Start::Initial, Start::State),
+        x: axis(x),
+        y: axis(y),
+        phase,
+        threads: self::threads(threads)?,
+        output: Some(output.into()),
+        command: "vibroatlas.basins (Python)".into(),
+    };
+    Ok(Job::start(move |shared| Ok(engine::basins_report(&engine::basins(&r, shared)?).to_json())))
+}
+
 /// A bifurcation curve: the value of `curve --json`.
 #[pyfunction]
 #[pyo3(signature = (sim, *, kind, free, start, to=None, steps=None, window=None, bounds=None, n=None,
@@ -581,6 +607,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(atlas, m)?)?;
     m.add_function(wrap_pyfunction!(attractors, m)?)?;
+    m.add_function(wrap_pyfunction!(basins, m)?)?;
     m.add_function(wrap_pyfunction!(curve, m)?)?;
     m.add_function(wrap_pyfunction!(zoom, m)?)?;
     m.add_function(wrap_pyfunction!(legend, m)?)?;

@@ -91,9 +91,8 @@ fn frame<DB: crate::Backend>(
 /// The colour of a start that penetrates a stop.
 const INADMISSIBLE_GREY: RGBColor = RGBColor(225, 225, 225);
 
-/// Draws the basin map `map`: every start in the colour of its attractor's
-/// first label (an attractor whose label an earlier one has, its mirror
-/// image say, a darker shade of it), the attractors' period-section points
+/// Draws the basin map `map`: every start in its attractor's colour
+/// ([`BasinMap::colours`]), the attractors' period-section points
 /// over them (white dots ringed in black), and a legend of the attractors
 /// with their basin fractions (format by the extension of `path`).
 pub fn basin_map(map: &BasinMap, page: &Page, path: &Path) -> Result<(), RenderError> {
@@ -101,26 +100,12 @@ pub fn basin_map(map: &BasinMap, page: &Page, path: &Path) -> Result<(), RenderE
     save!(path, canvas, |root| draw_map(&root, &canvas, map))
 }
 
-/// The fill of each attractor: its first label's colour, darkened by a
-/// third for each earlier attractor of the same label.
-fn fills(map: &BasinMap) -> Vec<RGBColor> {
-    let first = |k: usize| map.attractors[k].labels.first().copied().unwrap_or(Label::Unresolved);
-    (0..map.attractors.len())
-        .map(|k| {
-            let twins = (0..k).filter(|&j| first(j) == first(k)).count() as i32;
-            let RGBColor(r, g, b) = rgb(first(k));
-            let shade = |c: u8| (f64::from(c) * 0.65f64.powi(twins)).round() as u8;
-            RGBColor(shade(r), shade(g), shade(b))
-        })
-        .collect()
-}
-
 fn draw_map<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     map: &BasinMap,
 ) -> Result<(), RenderError> {
-    let fills = fills(map);
+    let fills: Vec<RGBColor> = map.colours().into_iter().map(|[r, g, b]| RGBColor(r, g, b)).collect();
     let mut rows: Vec<Entry> = map
         .attractors
         .iter()

@@ -15,6 +15,7 @@
 //! (forcing periods simulated), per attractor `attractor_class`,
 //! `attractor_symmetry`, `attractor_reason` (empty where none), `labels_<mass>`,
 //! `fraction`, `count`, `multiplier` and `lyapunov` (NaN where none),
+//! `attractor_colour [attractor, rgb]` (the figures' colour, u8),
 //! `attractor_start [attractor, component]` and `section [attractor, point,
 //! component]` (NaN after an attractor's last point); `start [component]`
 //! (the state outside the two axes) and `parameter_value [parameter]`.
@@ -129,6 +130,9 @@ fn write_all(f: &hdf5::File, map: &BasinMap, command: &str) -> hdf5::Result<()> 
         let labels: Vec<String> = a.iter().map(|a| a.labels[m].to_string()).collect();
         texts(f, &labels_of(mass), &labels, &at, &format!("label of {mass}"))?;
     }
+    let rgb = netcdf::dimension(f, "rgb", 3)?;
+    let colours = map.colours().concat();
+    dataset(f, "attractor_colour", colours, &[&at, &rgb], "colour of its basin in the figures (RGB, 0 to 255)")?;
     let fractions: Vec<f64> = (0..n).map(|k| map.fraction(k)).collect();
     dataset(f, "fraction", fractions, &[&at], "share of the admissible starts that reach it")?;
     dataset(f, "count", a.iter().map(|a| a.count).collect(), &[&at], "starts that reach it")?;

@@ -32,8 +32,8 @@ try:
 except Exception:  # not installed (run from the sources)
     __version__ = "unknown"
 
-__all__ = ["cell", "sweep", "atlas", "zoom", "explore", "Explorer", "attractors", "curve", "open", "labels",
-           "label_table", "plot", "SceneError"]
+__all__ = ["cell", "sweep", "atlas", "zoom", "explore", "Explorer", "attractors", "basins", "curve", "open",
+           "labels", "label_table", "plot", "SceneError"]
 
 
 def __dir__():
@@ -306,6 +306,46 @@ def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset
         options["threads"] = _whole("threads", threads)
     return _run.run(_native.attractors, scene, _params(params, parameters), options, progress,
                     unit="sample", desc="attractors")
+
+
+def basins(scene, x, y, *, state=None, phase=None, threads=None, output=None, preset=None, integrator=None,
+           accuracy=None, progress=True, params=None, **parameters):
+    """Maps the basins of attraction of one parameter point over a grid of
+    two state components, like `vibroatlas basins SCENE --x ... --y ... -o
+    FILE`, and returns the file as an xarray.Dataset loaded into memory.
+
+    x, y: (component, start, stop, count), the component `x_<mass>` or
+    `v_<mass>` (("x_M2", -1, 1, 200)); state: the state outside the two axes
+    (x of every mass, then v; default: the scene's initial state); phase:
+    the forcing phase omega t + tau at the start, in radians (default: the
+    scene's tau); threads: worker threads (any count gives the same file);
+    output: also keep the file at that path (else it is written to a
+    temporary folder and removed once read).
+
+    The Dataset holds `basin` (y, x): the attractor each start reaches (-1:
+    the start penetrates a stop), `periods` (y, x), per attractor its class,
+    `labels_<mass>`, `fraction`, `count`, stability and period-section
+    points, and the boundary measures as attributes (`basin_entropy`,
+    `boundary_basin_entropy`, `uncertainty_exponent`, `fractal`);
+    docs/basins.md gives every variable.
+    """
+    import tempfile
+    import xarray as xr
+
+    options = _common({"x": _axis("x", x), "y": _axis("y", y)}, preset, integrator, accuracy)
+    if state is not None:
+        options["state"] = _run.floats("state", state)
+    if phase is not None:
+        options["phase"] = _number("phase", phase)
+    if threads is not None:
+        options["threads"] = _whole("threads", threads)
+    with tempfile.TemporaryDirectory(prefix="vibroatlas-basins-") as scratch:
+        path = os.fspath(output) if output is not None else os.path.join(scratch, "basins.h5")
+        options["output"] = path
+        _run.run(_native.basins, scene, _params(params, parameters), options, progress, unit="start",
+                 desc="basins")
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            return ds.load()
 
 
 def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=None, n=None, output=None,

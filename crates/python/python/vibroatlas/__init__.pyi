@@ -108,6 +108,22 @@ def attractors(
     params: Mapping[str, float] | None = ...,
     **parameters: float,
 ) -> dict[str, Any]: ...
+def basins(
+    scene: Scene,
+    x: tuple[str, float, float, int],
+    y: tuple[str, float, float, int],
+    *,
+    state: Sequence[float] | None = ...,
+    phase: float | None = ...,
+    threads: int | None = ...,
+    output: Path | None = ...,
+    preset: Preset | None = ...,
+    integrator: Integrator | None = ...,
+    accuracy: Mapping[str, float] | None = ...,
+    progress: bool = ...,
+    params: Mapping[str, float] | None = ...,
+    **parameters: float,
+) -> xarray.Dataset: ...
 def curve(
     scene: Scene,
     kind: Literal["pd", "sn", "pf", "ns", "grazing"],

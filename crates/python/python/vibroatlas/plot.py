@@ -15,7 +15,7 @@ import numpy as np
 
 from . import _dataset, _first_mass, label_table
 
-__all__ = ["map", "hysteresis", "scalar", "row", "portrait", "sections", "colours"]
+__all__ = ["map", "hysteresis", "scalar", "row", "portrait", "sections", "colours", "basins"]
 
 # The continuous views' diverging scale, as `vibroatlas render --view
 # multiplier|lyapunov` paints it: blue below the neutral value, white at it,
@@ -163,6 +163,50 @@ def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12, view=
         ax.legend(handles=_legend_handles(counts, max_legend), loc="upper left",
                   bbox_to_anchor=(1.01, 1.0), borderaxespad=0, fontsize="small", frameon=False,
                   title=f"{mass} n-p-q (cells)", title_fontsize="small")
+    return ax
+
+
+def basins(ds, ax=None, *, legend=True, title=None):
+    """Draws a basin map (va.basins, or a `vibroatlas basins` file opened
+    with xarray) as `vibroatlas render` draws it and returns the Axes: every
+    start in its attractor's colour (`attractor_colour`; light grey where it
+    penetrates a stop), the attractors' period-section points as white dots
+    ringed in black, and a legend of the attractors with their basin
+    fractions."""
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    ids = np.asarray(ds["basin"].values).astype(np.int64)
+    ydim, xdim = ds["basin"].dims
+    rgb = np.asarray(ds["attractor_colour"].values).astype(float) / 255
+    grey = (225 / 255,) * 3
+    codes = np.where(ids >= 0, ids, len(rgb))
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 5.5), layout="constrained")
+    _mesh(ax, ds[xdim].values, ds[ydim].values, codes, np.vstack([rgb, [grey]]))
+    ax.set_xlabel(_subscripts(f"{xdim} at the start"))
+    ax.set_ylabel(_subscripts(f"{ydim} at the start"))
+    names = [str(c) for c in ds["component"].values]
+    points = np.asarray(ds["section"].values).reshape(-1, len(names))
+    ax.plot(points[:, names.index(xdim)], points[:, names.index(ydim)], "o", markersize=4,
+            markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.6, linestyle="none")
+    phase = float(ds.attrs["phase"])
+    ax.set_title(title if title is not None else f"{ds.attrs['scene']}: basins at phase {phase:.3f} rad")
+    if legend:
+        masses = [m for m in str(ds.attrs.get("masses", "")).split(",") if m]
+        handles = []
+        for k in range(len(rgb)):
+            named = ", ".join(f"{m} {ds[f'labels_{m}'].values[k]}" for m in masses) or str(
+                ds["attractor_class"].values[k])
+            text = f"{named} ({100 * float(ds['fraction'].values[k]):.1f} %)"
+            handles.append(Patch(facecolor=rgb[k], edgecolor="0.5", linewidth=0.4, label=text))
+        if (ids < 0).any():
+            handles.append(Patch(facecolor=grey, edgecolor="0.5", linewidth=0.4, label="penetrates a stop"))
+        handles.append(Line2D([], [], marker="o", markerfacecolor="white", markeredgecolor="black",
+                              linestyle="none", label="period-section points"))
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0,
+                  fontsize="small", frameon=False)
     return ax
 
 

@@ -24,6 +24,13 @@ def map(
     max_legend: int = ...,
     view: Literal["labels", "multiplier", "lyapunov"] = ...,
 ) -> Axes: ...
+def basins(
+    ds: xarray.Dataset,
+    ax: Axes | None = ...,
+    *,
+    legend: bool = ...,
+    title: str | None = ...,
+) -> Axes: ...
 def hysteresis_mask(tree: xarray.DataTree | str, masses: Sequence[str] | None = ...) -> xarray.DataArray: ...
 def hysteresis(
     tree: xarray.DataTree | str,
