@@ -234,6 +234,35 @@ try:
     wait.until(lambda d: all(i.get_attribute("naturalWidth") not in (None, "0") for i in d.find_elements(By.CSS_SELECTOR, "#cell img")))
     driver.execute_script("document.getElementById('cell').scrollIntoView()")
     shot(driver, "3-cell.png")
+
+    # Basins of the cell (issue 66): a proposed grid with its estimate, made
+    # smaller here, computed, listed and drawn beside the motion; the same
+    # attractors and measures as `basins --from … --at … --json`.
+    driver.find_element(By.ID, "basins").click()
+    wait.until(lambda d: d.find_element(By.ID, "basin-box").get_attribute("data-state") in ("planned", "failed"))
+    estimate = driver.find_element(By.ID, "basin-estimate").text
+    check("basins propose a grid with an estimated time", "10000 starts, about" in estimate, estimate)
+    axes = [driver.find_element(By.ID, f"basin-{k}").get_attribute("value").rsplit(":", 1)[0] + ":24" for k in "xy"]
+    for k, text in zip("xy", axes):
+        field = driver.find_element(By.ID, f"basin-{k}")
+        field.clear()
+        field.send_keys(text)
+    check("the estimate follows the grid typed",
+          "576 starts" in driver.find_element(By.ID, "basin-estimate").text,
+          driver.find_element(By.ID, "basin-estimate").text)
+    driver.find_element(By.ID, "basin-run").click()
+    wait.until(lambda d: d.find_element(By.ID, "basin-box").get_attribute("data-state") in ("done", "failed"))
+    page_basins = json.loads(driver.find_element(By.ID, "basin-box").get_attribute("data-json"))
+    cli_basins = json.loads(run("basins", "--from", atlas, "--sweep", "down", "--at", f"omega={omega!r},delta={delta!r}",
+                                "--x", axes[0], "--y", axes[1], "--quiet", "--json", "-o",
+                                os.path.join(tmp, "basins.h5")).stdout)
+    for key in ("attractors", "boundary", "starts", "phase", "start"):
+        check(f"the page's basins are basins --json's ({key})", page_basins[key] == cli_basins[key],
+              f"{page_basins[key]} != {cli_basins[key]}")
+    wait.until(lambda d: d.find_element(By.CSS_SELECTOR, "#cell .pictures .basins img").get_attribute("naturalWidth")
+               not in (None, "0"))
+    driver.execute_script("document.getElementById('cell').scrollIntoView()")
+    shot(driver, "3b-basins.png")
     driver.execute_script("window.scrollTo(0, 0)")
 
     # Drag a box, zoom it, and compare with `vibroatlas zoom` on the same box.

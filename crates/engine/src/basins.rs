@@ -129,6 +129,26 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
     Ok(map)
 }
 
+/// A grid of starts to propose for the basins of a cell's point: the
+/// position and velocity of its first labelled mass (of its first mass when
+/// none is labelled), each over `±h` with `count` values, `h` twice the
+/// largest value the cell's motion takes (its final state and section
+/// points), at least 1, rounded up to two significant digits.
+pub fn proposed_axes(cell: &crate::Cell, count: usize) -> (Axis, Axis) {
+    let sys = &cell.system;
+    let mass = sys.model.labels.first().map_or(0, |l| l.mass);
+    let names = components(sys);
+    let r = &cell.result;
+    let axis = |k: usize| {
+        let reach = std::iter::once(&r.final_state).chain(&r.section).map(|s| s[k].abs()).fold(0.0, f64::max);
+        let h = (2.0 * reach).max(1.0);
+        let digits = 10f64.powi(h.log10().floor() as i32 - 1);
+        let h = (h / digits).ceil() * digits;
+        Axis::new(names[k].clone(), -h, h, count)
+    };
+    (axis(mass), axis(sys.dof() + mass))
+}
+
 /// The JSON of a basin map (the contract of `basins --json`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BasinsReport {

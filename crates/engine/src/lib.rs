@@ -64,8 +64,8 @@ pub use attractors::{
     attractors, AttractorReport, Attractors, AttractorsReport, AttractorsRequest, SampleBox, MAX_SAMPLES,
 };
 pub use basins::{
-    basins, components, report as basins_report, BasinAttractorReport, BasinsReport, BasinsRequest, BoundaryReport,
-    MAX_STARTS,
+    basins, components, proposed_axes, report as basins_report, BasinAttractorReport, BasinsReport, BasinsRequest,
+    BoundaryReport, MAX_STARTS,
 };
 pub use cell::{cell, friction_names, Cell, CellReport};
 pub use curve::{

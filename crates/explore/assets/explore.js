@@ -415,11 +415,13 @@ async function showCell(ix, iy, sweep) {
       el('p', 'other sweeps: ', {}, others.length ? others : ['none']),
       el('table', null, {}, rows.map(([a, b]) => el('tr', null, {}, [el('th', a), el('td', b, { class: 'v', 'data-key': a })]))),
       el('div', null, { class: 'pictures' }, [picture('portrait', 'phase portraits and time series'), picture('sections', 'Poincaré sections')]),
-      el('p', null, {}, [el('button', 'coexisting attractors', { id: 'attractors' })]),
+      el('p', null, {}, [el('button', 'coexisting attractors', { id: 'attractors' }), ' ', el('button', 'basins', { id: 'basins' })]),
       el('div', null, { id: 'attractor-list' }),
+      el('div', null, { id: 'basin-box' }),
     );
     panel.querySelectorAll('button[data-sweep]').forEach((b) => b.addEventListener('click', () => showCell(ix, iy, b.dataset.sweep)));
     $('attractors').addEventListener('click', () => attractors(q));
+    $('basins').addEventListener('click', () => planBasins(q));
     panel.dataset.state = 'done';
     if (c.class === 'periodic') multipliers(q);
   } catch (err) {
@@ -458,6 +460,73 @@ async function attractors(q) {
     img.src = 'data:image/png;base64,' + a.basins_png;
     list.appendChild(img);
   } catch (err) { list.textContent = err.message; }
+}
+
+// Seconds as people read them.
+function seconds(t) { return t < 90 ? `${t.toPrecision(2)} s` : `${(t / 60).toPrecision(2)} min`; }
+
+// The starts of an axis COMPONENT=START:STOP:COUNT as typed (0 when it is not one).
+function starts(text) {
+  const m = /=[^:]+:[^:]+:\s*(\d+)\s*$/.exec(text);
+  return m ? +m[1] : 0;
+}
+
+// The basins of the cell: a proposed grid (the server times the cell: each
+// start costs about as much), editable, with its estimate; then the map.
+async function planBasins(q) {
+  const box = $('basin-box');
+  box.dataset.state = 'planning';
+  box.textContent = 'timing the cell for an estimate…';
+  try {
+    const p = await getJSON('/api/basins/plan?' + q);
+    const x = el('input', null, { id: 'basin-x', size: 30, 'aria-label': 'horizontal axis of starts' });
+    const y = el('input', null, { id: 'basin-y', size: 30, 'aria-label': 'vertical axis of starts' });
+    x.value = p.x;
+    y.value = p.y;
+    const estimate = el('span', null, { id: 'basin-estimate' });
+    const run = el('button', 'compute basins', { id: 'basin-run' });
+    const update = () => {
+      const n = starts(x.value) * starts(y.value);
+      run.disabled = !(n > 0 && n <= p.max_starts);
+      estimate.textContent = n > p.max_starts ? `${n} starts: at most ${p.max_starts} here (vibroatlas basins computes more)`
+        : n > 0 ? `${n} starts, about ${seconds((n * p.seconds_per_start) / p.threads)} on ${p.threads} threads` : 'COMPONENT=START:STOP:COUNT';
+    };
+    x.addEventListener('input', update);
+    y.addEventListener('input', update);
+    update();
+    run.addEventListener('click', () => basins(q, x.value, y.value));
+    box.replaceChildren(
+      el('p', `components ${p.components.join(', ')}: two over a grid of starts, the others at the cell's final state`),
+      el('p', null, {}, [el('label', 'x ', {}, [x]), ' ', el('label', 'y ', {}, [y])]),
+      el('p', null, {}, [run, ' ', estimate]),
+      el('div', null, { id: 'basin-list' }),
+    );
+    box.dataset.state = 'planned';
+  } catch (err) { box.dataset.state = 'failed'; box.textContent = err.message; }
+}
+
+async function basins(q, x, y) {
+  const list = $('basin-list'), box = $('basin-box');
+  box.dataset.state = 'running';
+  list.textContent = 'computing the basins…';
+  try {
+    const b = await getJSON(`/api/basins?${q}&basin_x=${encodeURIComponent(x)}&basin_y=${encodeURIComponent(y)}`);
+    box.dataset.json = JSON.stringify(b);
+    const rows = b.attractors.map((at, i) => {
+      const labels = Object.entries(at.labels).map(([m, l]) => `${m} ${l}`).join(', ');
+      return el('div', null, { class: 'attractor' }, [swatch({ swatch: 'fill', colours: [b.colours[i]] }),
+        `${(100 * at.fraction).toFixed(1)} %  ${labels}${at.symmetry ? ' ' + at.symmetry : ''} (${at.class})`]);
+    });
+    const e = b.boundary;
+    const alpha = e.uncertainty_exponent === null ? 'none' : e.uncertainty_exponent.toFixed(3);
+    rows.push(el('p', `basin entropy ${e.basin_entropy.toFixed(4)}, boundary ${e.boundary_basin_entropy.toFixed(4)} (fractal by ln 2: ${e.fractal ? 'yes' : 'no'}); uncertainty exponent ${alpha}; ${b.starts} starts in ${seconds(b.seconds)}`));
+    list.replaceChildren(...rows);
+    const pictures = $('cell').querySelector('.pictures');
+    pictures.querySelector('.basins')?.remove();
+    const src = 'data:image/png;base64,' + b.png;
+    pictures.appendChild(el('div', null, { class: 'basins' }, [el('img', null, { alt: 'basins of attraction', src })]));
+    box.dataset.state = 'done';
+  } catch (err) { box.dataset.state = 'failed'; list.textContent = err.message; }
 }
 
 // The zoom dialog for a box dragged between two canvas points.

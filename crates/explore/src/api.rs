@@ -25,6 +25,10 @@ type St = Arc<State>;
 const MAX_PERIODS: usize = 100_000;
 /// Most start states of an attractor search on the page.
 const MAX_SAMPLES: usize = 4096;
+/// Most starts of a basin map the page computes (500 × 500).
+const MAX_BASIN_STARTS: usize = 250_000;
+/// Starts per side the page proposes for a basin map.
+const BASIN_SIDE: usize = 100;
 type Params = Query<HashMap<String, String>>;
 
 /// A refused or failed request: its status and message.
@@ -69,6 +73,8 @@ pub(crate) fn router(state: St, port: u16) -> Router {
         .route("/api/cell/portrait.png", get(portrait))
         .route("/api/cell/sections.png", get(sections))
         .route("/api/attractors", get(attractors))
+        .route("/api/basins/plan", get(basins_plan))
+        .route("/api/basins", get(basins))
         .route("/api/zoom", axum::routing::post(zoom))
         .route("/api/jobs/{id}", get(job).delete(cancel))
         .route("/api/figure", get(figure))
@@ -476,6 +482,115 @@ async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<
         let colours: Vec<Value> = res.found.iter().map(|a| json!(grid::palette::colour(a.cell.labels[0]))).collect();
         out["colours"] = Value::from(colours);
         out["basins_png"] = Value::from(BASE64_STANDARD.encode(&picture));
+        Ok(out)
+    })
+    .await?;
+    Ok(Json(found))
+}
+
+/// The time from a run's start to its end, as its observer hears them
+/// (the computation alone, not the loading of its scene and file).
+#[derive(Default)]
+struct Stopwatch(std::sync::Mutex<(Option<std::time::Instant>, f64)>);
+
+impl engine::Observer for Stopwatch {
+    fn begin(&self, _work: &engine::Begin<'_>) {
+        if let Ok(mut t) = self.0.lock() {
+            t.0 = Some(std::time::Instant::now());
+        }
+    }
+    fn finish(&self) {
+        if let Ok(mut t) = self.0.lock() {
+            t.1 = t.0.map_or(0.0, |t0| t0.elapsed().as_secs_f64());
+        }
+    }
+}
+
+/// Starts per side of the sample a basin map's estimate is timed on.
+const PROBE_SIDE: usize = 8;
+
+/// A basin map to propose for the cell: its two axes (`engine::proposed_axes`,
+/// 100 × 100 starts) and the estimate of its time on the server's threads,
+/// from the cost per start of an 8 × 8 grid over the same axes on one thread.
+async fn basins_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let threads = state.threads;
+    let plan = blocking(&state, move || {
+        let c = run_cell(&o, &q)?;
+        let (x, y) = engine::proposed_axes(&c, BASIN_SIDE);
+        let (sim, start) = stored_cell(&o, &q)?;
+        let probe = |a: &Axis| Axis::new(a.name.clone(), a.start, a.stop, PROBE_SIDE);
+        let r = engine::BasinsRequest {
+            sim,
+            start,
+            x: probe(&x),
+            y: probe(&y),
+            phase: None,
+            threads: 1,
+            output: None,
+            command: String::new(),
+        };
+        let watch = Stopwatch::default();
+        engine::basins(&r, &watch).map_err(failed)?;
+        let per_start = watch.0.lock().map_or(0.0, |t| t.1) / (PROBE_SIDE * PROBE_SIDE) as f64;
+        let starts = x.count * y.count;
+        let text = |a: &Axis| format!("{}={}:{}:{}", a.name, a.start, a.stop, a.count);
+        Ok(json!({
+            "x": text(&x),
+            "y": text(&y),
+            "components": engine::components(&c.system),
+            "starts": starts,
+            "max_starts": MAX_BASIN_STARTS,
+            "threads": threads,
+            "seconds_per_start": per_start,
+            "seconds": per_start * starts as f64 / threads.max(1) as f64,
+        }))
+    })
+    .await?;
+    Ok(Json(plan))
+}
+
+/// The basins of the cell's point over the grid `basin_x`, `basin_y`
+/// (`COMPONENT=START:STOP:COUNT`), the rest of the state the stored cell's
+/// final state, at the forcing phase `phase` (default the scene's τ): the
+/// object of `basins --from FILE --at … --json`, with `colours`, `png`
+/// (base64) and `seconds`; it stops when its client goes away.
+async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let axis = |name: &str| -> Result<Axis, Refusal> {
+        let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (COMPONENT=START:STOP:COUNT)")))?;
+        Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
+    };
+    let (x, y) = (axis("basin_x")?, axis("basin_y")?);
+    if x.count.saturating_mul(y.count) > MAX_BASIN_STARTS {
+        return Err(bad(format!(
+            "basin_y: {} x {} starts, the page computes at most {MAX_BASIN_STARTS}",
+            x.count, y.count
+        )));
+    }
+    let phase = match q.get("phase") {
+        None => None,
+        Some(t) => Some(
+            t.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(format!("phase: '{}' is not a number", short(t))))?,
+        ),
+    };
+    let threads = state.threads;
+    let (work, _guard) = Request::new(state.clone());
+    let found = blocking(&state.clone(), move || {
+        unchanged(&o)?;
+        let (sim, start) = stored_cell(&o, &q)?;
+        let r = engine::BasinsRequest { sim, start, x, y, phase, threads, output: None, command: String::new() };
+        let t0 = std::time::Instant::now();
+        let map = engine::basins(&r, &work).map_err(failed)?;
+        let seconds = t0.elapsed().as_secs_f64();
+        let picture = drawn(&state, "png", |path| render::basin_map(&map, &render::Page::screen(), path))?;
+        let mut out = engine::basins_report(&map).to_json();
+        out["colours"] = json!(map.colours());
+        out["png"] = Value::from(BASE64_STANDARD.encode(&picture));
+        out["seconds"] = json!(seconds);
         Ok(out)
     })
     .await?;

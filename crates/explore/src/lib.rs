@@ -14,6 +14,7 @@
 //! | `GET /api/orbit` | the object of `orbit --from FILE --sweep S --at … --json` (Floquet multipliers) |
 //! | `GET /api/cell/portrait.png`, `/api/cell/sections.png` | the cell's pictures |
 //! | `GET /api/attractors` | the coexisting attractors of the cell's parameters |
+//! | `GET /api/basins/plan`, `/api/basins` | a basin map proposed for the cell (axes, estimated time); the basins over a grid of its states |
 //! | `POST /api/zoom`, `GET`/`DELETE /api/jobs/ID` | a zoom in the background, its progress, its cancel |
 //! | `GET /api/figure` | a view drawn by `render` (PNG, SVG, PDF; print sizes) |
 //! | `GET /api/curves`, `/api/files/ID` | stored bifurcation curves; an atlas's file |

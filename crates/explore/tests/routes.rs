@@ -262,3 +262,39 @@ fn queued_zooms_are_bounded_and_a_stop_is_quick() {
     server.stop();
     assert!(t.elapsed() < Duration::from_secs(2), "stopped in {:?}", t.elapsed());
 }
+
+/// Issue 66: the cell's basins through the API: a proposed grid over the
+/// components named in markup (JSON strings, as every name), the map over a
+/// small grid of them, and bad grids refused with a JSON reason.
+#[test]
+fn basins_of_a_cell_over_components_named_in_markup() {
+    let server = serve();
+    let p = port(&server);
+    let cell = "sweep=up&omega=2.1&sigma=-0.5";
+    let plan = get(p, &format!("/api/basins/plan?{cell}"));
+    assert_eq!(plan.status, 200, "{}", plan.error());
+    let plan = plan.json();
+    let x = format!("x_{MARKUP_MASS}");
+    assert_eq!(plan["components"][0], x);
+    assert!(plan["x"].as_str().unwrap().starts_with(&format!("{x}=-")), "{plan}");
+    assert!(plan["seconds"].as_f64().unwrap() >= 0.0 && plan["starts"] == 10_000, "{plan}");
+    let encode = |t: &str| t.bytes().map(|b| format!("%{b:02X}")).collect::<String>();
+    let grid =
+        format!("basin_x={}&basin_y={}", encode(&format!("{x}=-1:1:6")), encode(&format!("v_{MARKUP_MASS}=-1:1:5")));
+    let b = get(p, &format!("/api/basins?{cell}&{grid}"));
+    assert_eq!(b.status, 200, "{}", b.error());
+    let b = b.json();
+    assert_eq!((b["starts"].as_u64(), b["x"]["name"].as_str()), (Some(30), Some(x.as_str())));
+    let shares: f64 = b["attractors"].as_array().unwrap().iter().map(|a| a["fraction"].as_f64().unwrap()).sum();
+    assert!((shares - 1.0).abs() < 1e-12 && b["png"].as_str().is_some_and(|s| s.len() > 100), "{b}");
+    for (query, says) in [
+        (format!("{cell}&basin_y=v=0:1:4"), "basin_x: missing"),
+        (format!("{cell}&basin_x={}&basin_y=v=0:1:4", encode("x_Q=0:1:4")), "no state component 'x_Q'"),
+        (format!("{cell}&basin_x={}&basin_y={}", encode("a=0:1:1000"), encode("b=0:1:1000")), "at most 250000"),
+        (format!("{cell}&{grid}&phase=nan"), "phase"),
+    ] {
+        let a = get(p, &format!("/api/basins?{query}"));
+        assert!(a.status == 400 || a.status == 422, "{query}: {}", a.status);
+        assert!(a.error().contains(says), "{query}: {}", a.error());
+    }
+}

@@ -77,7 +77,8 @@ impl Axis {
     /// Parses `NAME=START:STOP:COUNT`; `flag` names the option in errors.
     pub fn parse(text: &str, flag: &str) -> Result<Axis, FieldError> {
         let bad = |m: &str| FieldError::field(flag, format!("{m} (expected NAME=START:STOP:COUNT, got '{text}')"));
-        let (name, range) = text.split_once('=').ok_or_else(|| bad("missing '='"))?;
+        // The last '=': a state component is named after its mass, whose name may hold one.
+        let (name, range) = text.rsplit_once('=').ok_or_else(|| bad("missing '='"))?;
         let parts: Vec<&str> = range.split(':').collect();
         let [a, b, c] = parts.as_slice() else { return Err(bad("need three fields")) };
         let num = |s: &str, what: &str| -> Result<f64, FieldError> {
