@@ -244,3 +244,77 @@ fn basin_fractions_agree_with_the_sampled_attractors() {
         assert!((p - q).abs() < 3.0 * sigma, "{label}: grid {p}, sampled {q} (sigma {sigma})");
     }
 }
+
+/// `atlas --attractors K` of the impact damper over a small window, one
+/// run or two shards merged.
+fn damper_attractors(out: &std::path::Path, shard: Option<&str>) {
+    let mut args = vec![
+        "atlas",
+        "configs/impact-damper.toml",
+        "--x",
+        "omega=1.6:2.2:12",
+        "--y",
+        "delta=0.3:0.9:6",
+        "--sweep",
+        "up",
+        "--attractors",
+        "12",
+        "--quiet",
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    if let Some(s) = shard {
+        args.extend(["--shard", s]);
+    }
+    let o = run(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn attractor_families_are_followed_across_the_plane_and_merge_from_shards() {
+    let d = scratch("basins-families");
+    let whole = d.join("whole.h5");
+    damper_attractors(&whole, None);
+    // Every sampled cell's family fractions add up to one; a family's label
+    // is its every member's; family 0 has the largest summed fraction.
+    let check = r#"
+import sys, numpy as np, xarray as xr
+a = xr.open_dataset(sys.argv[1], engine="h5netcdf", group="attractors")
+ff = a["family_fraction"].values
+sampled = a["count"].values > 0
+assert np.allclose(np.nansum(ff, axis=0)[sampled], 1.0), np.nansum(ff, axis=0)
+fid, codes = a["family_id"].values, a["label_code_M2"].values
+fam_codes = a["family_label_code_M2"].values
+for f in range(ff.shape[0]):
+    members = codes[fid == f]
+    assert members.size > 0 and (members == fam_codes[f]).all(), (f, members, fam_codes[f])
+totals = np.nansum(ff, axis=(1, 2))
+assert (np.diff(totals) <= 1e-12).all(), totals
+print(ff.shape[0], str(a["label"].values[fam_codes[0]]), round(float(totals[0]), 3))
+"#;
+    let out = python(check, &[whole.to_str().unwrap()]);
+    assert!(out.contains("1-1-1"), "{out}");
+    // Two shards merged: the same families as the whole run, bit for bit.
+    let (p1, p2, merged) = (d.join("p1.h5"), d.join("p2.h5"), d.join("merged.h5"));
+    damper_attractors(&p1, Some("1/2"));
+    damper_attractors(&p2, Some("2/2"));
+    let o = run(&["merge", p1.to_str().unwrap(), p2.to_str().unwrap(), "-o", merged.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let same = r#"
+import sys, h5py, numpy as np
+a, b = h5py.File(sys.argv[1]), h5py.File(sys.argv[2])
+for name in ("family_id", "family_fraction", "family_label_code_M2", "section", "fraction"):
+    x, y = a["attractors/" + name][()], b["attractors/" + name][()]
+    assert x.shape == y.shape and np.array_equal(x, y, equal_nan=True), name
+print("same")
+"#;
+    assert!(python(same, &[whole.to_str().unwrap(), merged.to_str().unwrap()]).contains("same"));
+    // The family's map: a cell where family 0 takes at least 3/4 of the
+    // starts is drawn in the darkest band.
+    let png = d.join("family.png");
+    let o = run(&["render", whole.to_str().unwrap(), "--view", "basin:0", "-o", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = run(&["render", whole.to_str().unwrap(), "--view", "basin:9999", "-o", png.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("families (0 to"), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -301,4 +301,18 @@ fn the_basins_page_prints_what_basins_prints() {
     let printed = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{printed}{}", String::from_utf8_lossy(&out.stderr));
     assert!(printed.contains("['1-0-0', '2-1-0'] [0.6582 0.3418]"), "{printed}");
+    // The atlas of attractor families, its map, and what xarray reads of it.
+    let section = &page[page.find("## Attractors across the plane").expect("the families' section")..];
+    for start in ["vibroatlas atlas configs/impact-damper.toml", "vibroatlas render out/damper-attractors.h5"] {
+        let cmd = here(section.lines().find(|l| l.starts_with(start)).unwrap());
+        let out = crate::util::run(&cmd.split_whitespace().skip(1).collect::<Vec<_>>());
+        assert!(out.status.success(), "{cmd}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let block = section.split("```python\n").nth(1).unwrap();
+    let (python, rest) = block.split_once("```").unwrap();
+    let shown = rest.split_once("```text\n").unwrap().1.split_once("```").unwrap().0;
+    let out = std::process::Command::new("/usr/bin/python3").args(["-c", python]).current_dir(&d).output().unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout), shown, "{}", String::from_utf8_lossy(&out.stderr));
+    let (some, most) = shown.trim().split_once(' ').unwrap();
+    says(section, &format!("{some} of the 1 152 cells hold it, and in {most} it attracts more than half"));
 }

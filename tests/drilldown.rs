@@ -220,7 +220,7 @@ fn atlas_attractors_are_stored_per_cell_and_deterministic() {
     assert_eq!(a.samples, 12);
     for cell in &a.cells {
         let found = cell.as_ref().expect("every cell sampled");
-        let total: f64 = found.iter().map(|f| f.1).sum();
+        let total: f64 = found.iter().map(|f| f.fraction).sum();
         assert!((total - 1.0).abs() < 1e-12 && !found.is_empty());
     }
     assert!(a.cells.iter().flatten().any(|c| c.len() >= 2), "two coexisting motions somewhere in this window");

@@ -535,9 +535,11 @@ pub struct RenderArgs {
     pub sweep: Option<RenderSweep>,
     /// labels (default), lyapunov (largest exponent of cells without a period),
     /// multiplier (largest |Floquet multiplier| of periodic cells), attractors
-    /// (the number of coexisting attractors, atlas --attractors), or a
-    /// quantity of the steady motion the file stores (max_abs_x_M1, power_in).
-    #[arg(long, default_value = "labels", value_name = "labels|lyapunov|multiplier|attractors|QUANTITY")]
+    /// (the number of coexisting attractors, atlas --attractors), basin:ID
+    /// (the basin fraction of attractor family ID, followed from cell to cell;
+    /// 0 the largest), or a quantity of the steady motion the file stores
+    /// (max_abs_x_M1, power_in).
+    #[arg(long, default_value = "labels", value_name = "labels|lyapunov|multiplier|attractors|basin:ID|QUANTITY")]
     pub view: String,
     /// Draw one row of the atlas as a bifurcation diagram: the row nearest to
     /// NAME=VALUE of the y axis (a sweep file is drawn as a diagram anyway).

@@ -42,6 +42,11 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
         _ => {}
     }
+    if let Some(id) = a.view.strip_prefix("basin:") {
+        let family = id.parse::<u32>().map_err(|_| anyhow!("--view: basin:ID takes a family's number, got '{id}'"))?;
+        return Ok(write_atomically(&a.output, |tmp| render::family_map(&l.atlas, family, &page, tmp))?)
+            .and_then(|()| wrote(&a.output, &page));
+    }
     let fixed = <ViewArg as clap::ValueEnum>::from_str(&a.view, false).ok();
     if fixed == Some(ViewArg::Attractors) {
         return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, &page, tmp))?)
@@ -57,7 +62,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
                 true => "the file stores no quantities".to_string(),
                 false => format!("a quantity the file stores ({})", stored.join(", ")),
             };
-            anyhow!("--view: '{}' is not labels, lyapunov, multiplier, attractors or {quantities}", a.view)
+            anyhow!("--view: '{}' is not labels, lyapunov, multiplier, attractors, basin:ID or {quantities}", a.view)
         })?),
     };
     // A sweep file (one row), or one row of an atlas: a bifurcation diagram.

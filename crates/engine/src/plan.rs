@@ -571,9 +571,10 @@ impl Plan {
             let masses = self.meta.masses.len();
             cells[i] = Some(
                 list.iter()
-                    .map(|a| {
-                        let labels = a.cell.labels[..masses].to_vec();
-                        (labels, a.count as f64 / sampling.samples as f64)
+                    .map(|a| grid::CellAttractor {
+                        labels: a.cell.labels[..masses].to_vec(),
+                        fraction: a.count as f64 / sampling.samples as f64,
+                        section: a.cell.period_section.iter().take(grid::FAMILY_POINTS).cloned().collect(),
                     })
                     .collect(),
             );

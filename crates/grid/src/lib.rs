@@ -49,9 +49,9 @@ mod sweep;
 pub use cell::{start_state, CellSetup};
 pub use error::GridError;
 pub use maps::{
-    hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, BasinAttractor, BasinMap, CellAttractors,
-    CellData, Entries, FieldError, Lattice, Line, Map, Meta, Notation, Plane, Quantity, Shard, SweepKind,
-    DEFAULT_SECTION_CAP, MAX_COUNT, MAX_SECTION_CAP, MAX_SHARDS,
+    families, hysteresis, palette, stop_events, Along, Atlas, AttractorMap, Axis, BasinAttractor, BasinMap,
+    CellAttractor, CellAttractors, CellData, Entries, Families, FieldError, Lattice, Line, Map, Meta, Notation, Plane,
+    Quantity, Shard, SweepKind, DEFAULT_SECTION_CAP, FAMILY_POINTS, MAX_COUNT, MAX_SECTION_CAP, MAX_SHARDS,
 };
 pub use run::{line, run, validate};
 pub use study::{Study, MAX_VALUES};

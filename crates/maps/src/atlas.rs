@@ -58,10 +58,25 @@ pub struct Map {
     pub cells: Vec<Option<CellData>>,
 }
 
-/// The coexisting attractors found in one cell: per attractor, the label of
-/// each labelled mass and the share of the samples that reached it (largest
-/// first; found by `grid::attractors`).
-pub type CellAttractors = Vec<(Vec<solver::Label>, f64)>;
+/// One attractor found in a cell (by `grid::attractors`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellAttractor {
+    /// The label of each labelled mass.
+    pub labels: Vec<solver::Label>,
+    /// The share of the cell's samples that reached it (its basin fraction).
+    pub fraction: f64,
+    /// Its first period-section points (at most [`FAMILY_POINTS`], states
+    /// `[x…, v…]`), which tell it from another attractor of its labels in
+    /// the neighbouring cells ([`crate::families`]); none in a file written
+    /// before them.
+    pub section: Vec<Vec<f64>>,
+}
+
+/// Period-section points kept per attractor of an atlas's cells.
+pub const FAMILY_POINTS: usize = 8;
+
+/// The coexisting attractors found in one cell, the largest basin first.
+pub type CellAttractors = Vec<CellAttractor>;
 
 /// Coexisting attractors sampled over a plane (`atlas --attractors K`).
 #[derive(Debug, Clone, PartialEq)]

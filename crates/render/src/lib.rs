@@ -24,7 +24,7 @@ pub use basins::{basin_map, basins};
 pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use layers::{curve_style, label_legend, layer, Key, Layer, Show};
-pub use map::{attractor_map, map, sheet, Overlay, View};
+pub use map::{attractor_map, family_map, map, sheet, Overlay, View};
 pub use output::Format;
 pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};

@@ -761,6 +761,83 @@ fn draw_attractors<DB: crate::Backend>(
     placed.draw(&key, canvas)
 }
 
+/// Colours of a family's basin fraction in bands of a quarter (light to
+/// dark, the blues of [`COEXISTING`] from white): absent, then up to 25,
+/// 50, 75 and 100 %.
+const FRACTION_BANDS: [RGBColor; 5] = [
+    RGBColor(255, 255, 255),
+    RGBColor(198, 219, 239),
+    RGBColor(107, 174, 214),
+    RGBColor(33, 113, 181),
+    RGBColor(8, 48, 107),
+];
+
+/// Draws the basin fraction of attractor family `family` of `atlas`
+/// (`maps::families`) in each sampled cell, in bands of a quarter; cells
+/// not sampled grey (format by the extension of `path`).
+pub fn family_map(atlas: &Atlas, family: u32, page: &Page, path: &Path) -> Result<(), RenderError> {
+    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::Missing::Attractors))?;
+    let f = maps::families(a, atlas.meta.plane.x.count);
+    let Some(labels) = f.labels.get(family as usize) else {
+        return Err(RenderError::new(format!(
+            "basin:{family}: the file's attractors form {} families (0 to {})",
+            f.labels.len(),
+            f.labels.len().saturating_sub(1)
+        )));
+    };
+    let named: Vec<String> = atlas.meta.masses.iter().zip(labels).map(|(m, l)| format!("{m} {l}")).collect();
+    let fractions = f.fraction_map(a, family);
+    let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
+    save!(path, canvas, |root| draw_family(&root, &canvas, atlas, a.samples, &named.join(", "), family, &fractions))
+}
+
+/// The band of a basin fraction (0: absent; 1 to 4: up to 25, 50, 75, 100 %).
+fn band(fraction: f64) -> usize {
+    if fraction <= 0.0 {
+        0
+    } else {
+        ((fraction * 4.0).ceil() as usize).clamp(1, 4)
+    }
+}
+
+fn draw_family<DB: crate::Backend>(
+    root: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    atlas: &Atlas,
+    samples: usize,
+    named: &str,
+    family: u32,
+    fractions: &[f64],
+) -> Result<(), RenderError> {
+    let m = &atlas.meta;
+    root.fill(&WHITE).map_err(err)?;
+    let title = format!("basin fraction of attractor family {family} ({named}), {samples} initial states per cell");
+    let body = layout::header(root, canvas, &title, layout::TITLE)?;
+    let body = layout::footer(&body, canvas, &settings_text(m))?;
+    let mut counts = [0u64; 6];
+    for &f in fractions {
+        counts[if f.is_nan() { 5 } else { band(f) }] += 1;
+    }
+    let texts = ["absent", "up to 25 %", "25 to 50 %", "50 to 75 %", "75 to 100 %"];
+    let mut rows = vec![Entry::new(Swatch::Heading, "cells")];
+    rows.extend(
+        (0..5)
+            .filter(|&b| counts[b] > 0)
+            .map(|b| Entry::new(Swatch::Fill(FRACTION_BANDS[b]), format!("{}  ({})", texts[b], counts[b]))),
+    );
+    if counts[5] > 0 {
+        rows.push(Entry::new(Swatch::Fill(BLANK), format!("not sampled  ({})", counts[5])));
+    }
+    let placed = place(&body, canvas, LEGEND_BELOW_ROWS, |_| rows.clone());
+    let (plot, key) = placed.split(&body, canvas);
+    let paint = |i: usize| {
+        let f = fractions[i];
+        Some(Paint::Fill(if f.is_nan() { BLANK } else { FRACTION_BANDS[band(f)] }))
+    };
+    draw_cells(&plot, canvas, m, "basin fraction", paint, &[])?;
+    placed.draw(&key, canvas)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

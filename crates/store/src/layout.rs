@@ -75,10 +75,20 @@ pub const CELL_EDGE: &str = "cell_edge";
 pub const ENTRY: &str = "entry";
 /// Group of the coexisting attractors of an atlas (`atlas --attractors K`):
 /// `count [y, x]`, `fraction [y, x, attractor]`, `label_code_<mass> [y, x,
-/// attractor]` into its own `label` table; attributes `samples`, `seed`.
+/// attractor]` into its own `label` table, `section [y, x, attractor, point,
+/// component]`, and their families: `family_id [y, x, attractor]`,
+/// `family_fraction [family, y, x]`, `family_label_code_<mass> [family]`;
+/// attributes `samples`, `seed`.
 pub const ATTRACTORS: &str = "attractors";
 /// Dimension of the attractor slots of a cell.
 pub const ATTRACTOR: &str = "attractor";
+/// Dimension of the attractor families of a plane.
+pub const FAMILY_DIM: &str = "family";
+
+/// Dataset of the label codes of a mass on each attractor family.
+pub fn family_label_code(mass: &str) -> String {
+    format!("family_label_code_{mass}")
+}
 /// Label text of a cell a shard did not compute.
 pub const NOT_COMPUTED_LABEL: &str = "not-computed";
 /// What the label coordinate holds.
@@ -436,6 +446,13 @@ pub mod var {
     pub const COUNT: &str = "count";
     /// `fraction`.
     pub const FRACTION: &str = "fraction";
+    /// `section` of the attractors group: each attractor's first
+    /// period-section points `[y, x, attractor, point, component]`.
+    pub const SECTION: &str = "section";
+    /// `family_id` of the attractors group: each attractor's family `[y, x, attractor]`.
+    pub const FAMILY: &str = "family_id";
+    /// `family_fraction`: each family's basin fraction `[family, y, x]`.
+    pub const FAMILY_FRACTION: &str = "family_fraction";
     /// `lines_done`.
     pub const LINES_DONE: &str = "lines_done";
     /// `entry_state` of a zoom's continuation sweep: per line, the state its

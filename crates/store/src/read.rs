@@ -740,6 +740,35 @@ fn read_attractors(
         .map(|t| t.parse::<solver::Label>().map_err(|e| ck.bad(&table_set.name(), e)))
         .collect::<Result<Vec<_>, _>>()?;
     let label = |c: i16| usize::try_from(c).ok().and_then(|c| labels.get(c).copied());
+    // Each attractor's first section points (files before them have none).
+    let (section, points, dim) = match g.link_exists(var::SECTION) {
+        false => (Vec::new(), 0, 0),
+        true => {
+            let d = ck.open(g, var::SECTION)?;
+            let (points, dim) = match d.shape().as_slice() {
+                [_, _, _, p, c] => (*p, *c),
+                shape => {
+                    return Err(ck.bad(
+                        &d.name(),
+                        format!("shape {shape:?}, expected [rows, columns, slots, points, components]"),
+                    ))
+                }
+            };
+            let d = ck.shaped(
+                g,
+                var::SECTION,
+                &[rows, columns, slot, Dim(points, "points", "section has"), Dim(dim, "components", "section has")],
+            )?;
+            (ck.raw::<f64>(&d)?, points, dim)
+        }
+    };
+    let section_of = |i: usize, k: usize| -> Vec<Vec<f64>> {
+        if section.is_empty() {
+            return Vec::new();
+        }
+        let at = &section[(i * slots + k) * points * dim..][..points * dim];
+        at.chunks(dim).take_while(|p| !p.iter().all(|v| v.is_nan())).map(<[f64]>::to_vec).collect()
+    };
     let mut cells = Vec::with_capacity(n);
     for i in 0..n {
         let mut found = Vec::with_capacity(count[i] as usize);
@@ -748,7 +777,11 @@ fn read_attractors(
                 codes.iter().map(|c| label(c[i * slots + k])).collect::<Option<Vec<_>>>().ok_or_else(|| {
                     ck.bad(&table_set.name(), format!("attractor {k} of cell {i} has a mass without a label"))
                 })?;
-            found.push((of_masses, fraction[i * slots + k]));
+            found.push(maps::CellAttractor {
+                labels: of_masses,
+                fraction: fraction[i * slots + k],
+                section: section_of(i, k),
+            });
         }
         cells.push((count[i] > 0).then_some(found));
     }
@@ -762,7 +795,7 @@ fn read_attractors(
     };
     for (i, found) in cells.iter().enumerate() {
         let Some(found) = found else { continue };
-        let counts: Option<Vec<usize>> = found.iter().map(|(_, f)| whole(*f)).collect();
+        let counts: Option<Vec<usize>> = found.iter().map(|a| whole(a.fraction)).collect();
         if counts.is_none_or(|c| c.iter().sum::<usize>() > samples) {
             return Err(ck.bad(
                 &fraction_set.name(),

@@ -582,8 +582,7 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     let grid = Grid::new(&g, m, z)?;
     let slots = a.cells.iter().flatten().map(Vec::len).max().unwrap_or(0).max(1);
     let slot = netcdf::dimension(&g, ATTRACTOR, slots)?;
-    let labels =
-        LabelTable::of(a.cells.iter().flatten().flatten().flat_map(|(labels, _)| labels.iter().map(|l| Some(*l))));
+    let labels = LabelTable::of(a.cells.iter().flatten().flatten().flat_map(|at| at.labels.iter().map(|l| Some(*l))));
     labels.write(&g, z)?;
     let cell = |iy: usize, ix: usize| a.cells[iy * nx + ix].as_ref();
     let count = Array2::from_shape_fn((ny, nx), |(iy, ix)| cell(iy, ix).map_or(0u8, |c| c.len().min(255) as u8));
@@ -591,7 +590,7 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     netcdf::dims(&d, &[&grid.y, &grid.x])?;
     netcdf::describe(&d, "number of coexisting attractors found (0: cell not sampled)", "1")?;
     let fraction = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
-        cell(iy, ix).and_then(|c| c.get(k)).map_or(f64::NAN, |e| e.1)
+        cell(iy, ix).and_then(|c| c.get(k)).map_or(f64::NAN, |e| e.fraction)
     });
     let d = z.dataset(&g, var::FRACTION, &fraction)?;
     netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
@@ -600,7 +599,7 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
     for (mi, mass) in m.masses.iter().enumerate() {
         let index = |l: &Label| labels.code[&Some(*l)];
         let code = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
-            cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.0[mi]))
+            cell(iy, ix).and_then(|c| c.get(k)).map_or(-1, |e| index(&e.labels[mi]))
         });
         let d = z.dataset(&g, &label_code(mass), &code)?;
         netcdf::dims(&d, &[&grid.y, &grid.x, &slot])?;
@@ -609,6 +608,57 @@ fn write_attractors(f: &hdf5::File, m: &maps::Meta, a: &maps::AttractorMap, z: &
             &format!("label of {mass} on each attractor: index into the label coordinate (-1: none)"),
             "1",
         )?;
+    }
+    // Each attractor's first period-section points, which match it to the
+    // attractors of the neighbouring cells (maps::families).
+    let points = a.cells.iter().flatten().flatten().map(|at| at.section.len()).max().unwrap_or(0).max(1);
+    let point = netcdf::dimension(&g, POINT, points)?;
+    let component = netcdf::dimension(&g, COMPONENT, m.dim.max(1))?;
+    let section = ndarray::Array5::from_shape_fn((ny, nx, slots, points, m.dim.max(1)), |(iy, ix, k, p, c)| {
+        cell(iy, ix).and_then(|cell| cell.get(k)).and_then(|at| at.section.get(p)).map_or(f64::NAN, |s| s[c])
+    });
+    let d = z.dataset(&g, var::SECTION, &section)?;
+    netcdf::dims(&d, &[&grid.y, &grid.x, &slot, &point, &component])?;
+    netcdf::describe(&d, "the attractor's first period-section points, [x..., v...] (NaN after its last)", "1")?;
+    netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+    write_families(&g, m, a, z, &grid, &slot, &labels)
+}
+
+/// The families of the attractors (`maps::families`): per attractor slot its
+/// family, per family the labels of its attractors and its basin fraction
+/// over the plane.
+fn write_families(
+    g: &Group,
+    m: &maps::Meta,
+    a: &maps::AttractorMap,
+    z: &Deflater,
+    grid: &Grid,
+    slot: &hdf5::Dataset,
+    labels: &LabelTable,
+) -> hdf5::Result<()> {
+    let (nx, ny) = (m.plane.x.count, m.plane.y.count);
+    let f = maps::families(a, nx);
+    let slots = slot.size();
+    let id = Array3::from_shape_fn((ny, nx, slots), |(iy, ix, k)| {
+        f.ids[iy * nx + ix].as_ref().and_then(|c| c.get(k)).map_or(-1, |&v| v as i32)
+    });
+    let d = z.dataset(g, var::FAMILY, &id)?;
+    netcdf::dims(&d, &[&grid.y, &grid.x, slot])?;
+    netcdf::describe(&d, "the family of the attractor, followed from cell to cell (-1: none)", "1")?;
+    let families = f.labels.len().max(1);
+    let family = netcdf::dimension(g, FAMILY_DIM, families)?;
+    let maps: Vec<Vec<f64>> = (0..f.labels.len() as u32).map(|k| f.fraction_map(a, k)).collect();
+    let fraction =
+        Array3::from_shape_fn((families, ny, nx), |(k, iy, ix)| maps.get(k).map_or(f64::NAN, |map| map[iy * nx + ix]));
+    let d = z.dataset(g, var::FAMILY_FRACTION, &fraction)?;
+    netcdf::dims(&d, &[&family, &grid.y, &grid.x])?;
+    netcdf::describe(&d, "basin fraction of the family in each cell (0: absent, NaN: cell not sampled)", "1")?;
+    netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+    for (mi, mass) in m.masses.iter().enumerate() {
+        let code = Array1::from_shape_fn(families, |k| f.labels.get(k).map_or(-1, |l| labels.code[&Some(l[mi])]));
+        let d = z.dataset(g, &family_label_code(mass), &code)?;
+        netcdf::dims(&d, &[&family])?;
+        netcdf::describe(&d, &format!("label of {mass} on the family: index into the label coordinate"), "1")?;
     }
     Ok(())
 }
