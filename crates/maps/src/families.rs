@@ -106,9 +106,9 @@ pub fn families(map: &AttractorMap, nx: usize) -> Families {
     let n = parent.len();
     let mut total = vec![0.0; n];
     let mut cells = vec![0usize; n];
-    for i in 0..map.cells.len() {
+    for (i, &first) in offset[..map.cells.len()].iter().enumerate() {
         for (k, a) in found(i).iter().enumerate() {
-            let r = root(&mut parent, offset[i] + k);
+            let r = root(&mut parent, first + k);
             total[r] += a.fraction;
             cells[r] += 1;
         }
