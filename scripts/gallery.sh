@@ -150,7 +150,7 @@ vibroatlas render $out/attractors.h5 -o $img/attractors.png --view attractors
 
 # Basins of attraction over a plane of initial states (docs/basins.md): smooth and intermingled.
 vibroatlas basins configs/single-stop.toml --set omega=2.5 --set sigma=1 --set zeta=0.05 --x x_M=-3:1:200 --y v_M=-3:3:200 --quiet -o $out/basins-single.h5 --png $img/basins-single.png >/dev/null
-vibroatlas basins configs/impact-damper.toml --set omega=1.3 --set delta=0.5 --x x_M2=-0.5:0.5:100 --y v_M2=-3:3:100 --quiet -o $out/basins-damper.h5 --png $img/basins-damper.png >/dev/null
+vibroatlas basins configs/impact-damper.toml --set omega=1.3 --set delta=0.5 --preset precise --x x_M2=-0.5:0.5:100 --y v_M2=-3:3:100 --quiet -o $out/basins-damper.h5 --png $img/basins-damper.png >/dev/null
 vibroatlas atlas configs/impact-damper.toml --x omega=1.2:2.4:48 --y delta=0.3:1.5:24 --sweep up --attractors 16 --quiet -o $out/damper-attractors.h5 >/dev/null
 vibroatlas render $out/damper-attractors.h5 --view basin:0 -o $img/basin-family.png >/dev/null
 

@@ -295,7 +295,7 @@ fn the_basins_page_prints_what_basins_prints() {
         assert_eq!(String::from_utf8_lossy(&out.stdout), here(text), "{cmd}");
         shown += 1;
     }
-    assert_eq!(shown, 2, "the page shows two basins commands");
+    assert_eq!(shown, 3, "the page shows three basins commands");
     let python = page.split("```python\n").nth(1).unwrap().split_once("```").unwrap().0;
     let out = std::process::Command::new("/usr/bin/python3").args(["-c", python]).current_dir(&d).output().unwrap();
     let printed = String::from_utf8_lossy(&out.stdout);

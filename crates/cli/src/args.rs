@@ -177,6 +177,10 @@ pub struct BasinsArgs {
     /// The forcing phase omega t + tau at the start, in radians (default: the scene's tau).
     #[arg(long, value_name = "RADIANS", allow_negative_numbers = true)]
     pub phase: Option<f64>,
+    /// Stop a start once it comes within 1e-6 of a stable periodic attractor
+    /// already found, rather than running its full record (docs/basins.md).
+    #[arg(long)]
+    pub early_stop: bool,
     /// The basin file written (netCDF-4/HDF5).
     #[arg(short = 'o', long = "output", value_name = "FILE.h5")]
     pub output: PathBuf,

@@ -21,6 +21,7 @@ pub fn run(a: BasinsArgs) -> Result<()> {
         x: Axis::parse(&a.x, "--x")?,
         y: Axis::parse(&a.y, "--y")?,
         phase: a.phase,
+        early: a.early_stop,
         threads: engine::threads(a.threads)?,
         output: Some(a.output.clone()),
         command: command_line(),

@@ -33,6 +33,9 @@ pub struct BasinsRequest {
     pub phase: Option<f64>,
     /// Worker threads.
     pub threads: usize,
+    /// Stop a start once it reaches a stable periodic attractor already
+    /// found (`basins --early-stop`; see `grid::basins`).
+    pub early: bool,
     /// The basin file written (checked before any work), if any.
     pub output: Option<std::path::PathBuf>,
     /// The command line, stored in the file.
@@ -86,6 +89,7 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
         y_index: yi,
         start: origin.map_or_else(|| sys.model.initial_state(), |o| o.state),
         phase,
+        early: r.early,
     };
     observer.begin(&Begin { total: starts as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
     let reached = grid::basins::basins(&cs, &[], &grid, r.threads, &Observed(observer));
@@ -117,6 +121,7 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
         components: names,
         start: grid.start,
         phase,
+        early: r.early,
         x: grid.x,
         y: grid.y,
         ids: reached.ids,
@@ -158,6 +163,9 @@ pub struct BasinsReport {
     pub parameters: BTreeMap<String, f64>,
     /// The forcing phase at the start (radians).
     pub phase: f64,
+    /// Whether starts stopped once they reached a stable periodic attractor
+    /// already found (`--early-stop`).
+    pub early_stop: bool,
     /// The horizontal axis.
     pub x: AxisReport,
     /// The vertical axis.
@@ -258,6 +266,7 @@ pub fn report(map: &BasinMap) -> BasinsReport {
         scene: map.scene.clone(),
         parameters: map.parameters.iter().cloned().collect(),
         phase: map.phase,
+        early_stop: map.early,
         x: axis(&map.x),
         y: axis(&map.y),
         start: map.start.clone(),

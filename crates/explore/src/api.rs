@@ -527,6 +527,7 @@ async fn basins_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json
             y: probe(&y),
             phase: None,
             threads: 1,
+            early: false,
             output: None,
             command: String::new(),
         };
@@ -582,7 +583,17 @@ async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
     let found = blocking(&state.clone(), move || {
         unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
-        let r = engine::BasinsRequest { sim, start, x, y, phase, threads, output: None, command: String::new() };
+        let r = engine::BasinsRequest {
+            sim,
+            start,
+            x,
+            y,
+            phase,
+            threads,
+            early: false,
+            output: None,
+            command: String::new(),
+        };
         let t0 = std::time::Instant::now();
         let map = engine::basins(&r, &work).map_err(failed)?;
         let seconds = t0.elapsed().as_secs_f64();

@@ -55,6 +55,9 @@ pub struct BasinMap {
     pub start: Vec<f64>,
     /// The forcing phase `ω t + τ` at the start (radians).
     pub phase: f64,
+    /// Whether starts were stopped once they reached a stable periodic
+    /// attractor already found (their `periods` are then those followed).
+    pub early: bool,
     /// The horizontal axis: a state component's values.
     pub x: Axis,
     /// The vertical axis: a state component's values.

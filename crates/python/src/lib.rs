@@ -442,7 +442,8 @@ fn attractors(
 /// The basins of one point over a grid of two state components, written
 /// to `output`: the value of `basins --json`.
 #[pyfunction]
-#[pyo3(signature = (sim, *, x, y, output, state=None, phase=None, threads=None))]
+#[pyo3(signature = (sim, *, x, y, output, state=None, phase=None, threads=None, early_stop=false))]
+#[allow(clippy::too_many_arguments)] // the keywords of va.basins
 fn basins(
     sim: SimArgs<'_>,
     x: (String, f64, f64, usize),
@@ -451,6 +452,7 @@ fn basins(
     state: Option<Vec<f64>>,
     phase: Option<f64>,
     threads: Option<usize>,
+    early_stop: bool,
 ) -> PyResult<Job> {
     let r = engine::BasinsRequest {
         sim: self::sim(sim)?,
@@ -459,6 +461,7 @@ fn basins(
         y: axis(y),
         phase,
         threads: self::threads(threads)?,
+        early: early_stop,
         output: Some(output.into()),
         command: "vibroatlas.basins (Python)".into(),
     };

@@ -69,6 +69,7 @@ mod newton;
 mod number;
 pub mod orbit;
 mod period;
+pub mod proximity;
 pub mod quantity;
 pub mod reference;
 mod section;

@@ -44,6 +44,8 @@ const PARAMETER: &str = "parameter";
 const X_AXIS: &str = "x";
 const Y_AXIS: &str = "y";
 const MASSES: &str = "masses";
+/// Root attribute: `yes` where starts stopped early (`basins --early-stop`).
+const EARLY: &str = "early_stop";
 
 fn labels_of(mass: &str) -> String {
     format!("labels_{mass}")
@@ -104,6 +106,7 @@ fn write_all(f: &hdf5::File, map: &BasinMap, command: &str) -> hdf5::Result<()> 
     netcdf::attr_str(f, Y_AXIS, &map.y.name)?;
     netcdf::attr_str(f, MASSES, &map.masses.join(","))?;
     netcdf::attr_num(f, "phase", map.phase)?;
+    netcdf::attr_str(f, EARLY, if map.early { "yes" } else { "no" })?;
     let (e, u) = (map.entropy(), map.uncertainty());
     netcdf::attr_num(f, "basin_entropy", e.basin)?;
     netcdf::attr_num(f, "boundary_basin_entropy", e.boundary)?;
@@ -186,6 +189,7 @@ fn values_crc32(map: &BasinMap) -> u32 {
     }
     numbers(&map.start, &mut h);
     numbers(&[map.phase], &mut h);
+    h.update(&[u8::from(map.early)]);
     for axis in [&map.x, &map.y] {
         text(&axis.name, &mut h);
         numbers(&axis.values(), &mut h);
@@ -313,6 +317,7 @@ pub fn read_basins(path: &Path) -> Result<BasinMap, StoreError> {
         components,
         start,
         phase: crate::attrs::required::<f64>(path, &f, "phase")?,
+        early: crate::attrs::required_text(path, &f, EARLY)? == "yes",
         x,
         y,
         ids,

@@ -308,8 +308,8 @@ def attractors(scene, *, samples=None, seed=None, box=None, threads=None, preset
                     unit="sample", desc="attractors")
 
 
-def basins(scene, x, y, *, state=None, phase=None, threads=None, output=None, preset=None, integrator=None,
-           accuracy=None, progress=True, params=None, **parameters):
+def basins(scene, x, y, *, state=None, phase=None, early_stop=None, threads=None, output=None, preset=None,
+           integrator=None, accuracy=None, progress=True, params=None, **parameters):
     """Maps the basins of attraction of one parameter point over a grid of
     two state components, like `vibroatlas basins SCENE --x ... --y ... -o
     FILE`, and returns the file as an xarray.Dataset loaded into memory.
@@ -318,7 +318,9 @@ def basins(scene, x, y, *, state=None, phase=None, threads=None, output=None, pr
     `v_<mass>` (("x_M2", -1, 1, 200)); state: the state outside the two axes
     (x of every mass, then v; default: the scene's initial state); phase:
     the forcing phase omega t + tau at the start, in radians (default: the
-    scene's tau); threads: worker threads (any count gives the same file);
+    scene's tau); early_stop: stop a start once it reaches a stable periodic
+    attractor already found (`--early-stop`); threads: worker threads (any
+    count gives the same file);
     output: also keep the file at that path (else it is written to a
     temporary folder and removed once read).
 
@@ -339,6 +341,9 @@ def basins(scene, x, y, *, state=None, phase=None, threads=None, output=None, pr
         options["phase"] = _number("phase", phase)
     if threads is not None:
         options["threads"] = _whole("threads", threads)
+    _run.flag("early_stop", early_stop)
+    if early_stop is not None:
+        options["early_stop"] = early_stop
     with tempfile.TemporaryDirectory(prefix="vibroatlas-basins-") as scratch:
         path = os.fspath(output) if output is not None else os.path.join(scratch, "basins.h5")
         options["output"] = path

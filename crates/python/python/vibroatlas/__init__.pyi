@@ -115,6 +115,7 @@ def basins(
     *,
     state: Sequence[float] | None = ...,
     phase: float | None = ...,
+    early_stop: bool | None = ...,
     threads: int | None = ...,
     output: Path | None = ...,
     preset: Preset | None = ...,
