@@ -264,32 +264,42 @@ print(e.attrs["early_stop"])
 #[test]
 fn basin_fractions_agree_with_the_sampled_attractors() {
     // A one-mass scene: `attractors --box 2,3` draws (x, v) uniformly in
-    // [−2, 2] × [−3, 3] and draws again where x passes the stop at σ = 1,
-    // so it samples the grid's square [−2, 1] × [−3, 3] uniformly.
+    // [−2, 2] × [−3, 3] and draws again where x passes the stop at σ, so
+    // it samples the grid's admissible starts of [−2, 1] × [−3, 3]
+    // uniformly. Four cells where two motions coexist.
     let d = scratch("basins-agree");
-    let mut grid = SINGLE.to_vec();
-    grid.extend(["--x", "x_M=-2:1:90", "--y", "v_M=-3:3:180"]);
-    let basins = report(&grid, &d.join("b.h5"));
-    let mut sampled = vec!["attractors"];
-    sampled.extend(SINGLE);
-    sampled.extend(["--samples", "600", "--box", "2,3", "--json"]);
-    let o = run(&sampled);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let sampled: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let share = |j: &serde_json::Value, label: &str| {
-        j["attractors"]
+    for (omega, sigma) in [("2.5", "1"), ("1.6", "1"), ("2.5", "0.5"), ("3", "0.5")] {
+        let (o, s) = (format!("omega={omega}"), format!("sigma={sigma}"));
+        let point = ["configs/single-stop.toml", "--set", &o, "--set", &s, "--set", "zeta=0.05"];
+        let mut grid = point.to_vec();
+        grid.extend(["--x", "x_M=-2:1:90", "--y", "v_M=-3:3:180"]);
+        let basins = report(&grid, &d.join("b.h5"));
+        let mut sampled = vec!["attractors"];
+        sampled.extend(point);
+        sampled.extend(["--samples", "600", "--box", "2,3", "--json"]);
+        let o = run(&sampled);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let sampled: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let share = |j: &serde_json::Value, label: &str| {
+            let all = j["attractors"].as_array().unwrap();
+            all.iter().filter(|a| a["labels"]["M"] == label).map(|a| a["fraction"].as_f64().unwrap()).sum::<f64>()
+        };
+        let labels: Vec<String> = basins["attractors"]
             .as_array()
             .unwrap()
             .iter()
-            .filter(|a| a["labels"]["M"] == label)
-            .map(|a| a["fraction"].as_f64().unwrap())
-            .sum::<f64>()
-    };
-    for label in ["1-0-0", "2-1-0"] {
-        let (p, q) = (share(&basins, label), share(&sampled, label));
-        // Three standard errors of 600 samples.
-        let sigma = (p * (1.0 - p) / 600.0).sqrt();
-        assert!((p - q).abs() < 3.0 * sigma, "{label}: grid {p}, sampled {q} (sigma {sigma})");
+            .map(|a| a["labels"]["M"].as_str().unwrap().to_string())
+            .collect();
+        assert_eq!(labels.len(), 2, "{omega}, {sigma}: {labels:?}");
+        for label in &labels {
+            let (p, q) = (share(&basins, label), share(&sampled, label));
+            // Three standard errors of 600 samples.
+            let sigma_p = (p * (1.0 - p) / 600.0).sqrt();
+            assert!(
+                (p - q).abs() < 3.0 * sigma_p,
+                "{omega}, {sigma}, {label}: grid {p}, sampled {q} (sigma {sigma_p})"
+            );
+        }
     }
 }
 
