@@ -47,7 +47,10 @@ pub fn reaches(
     // The orbit the last points were near, and how many in a row.
     let mut streak: Option<(usize, usize)> = None;
     for period in 1..=budget {
-        if sim.run_period(&[], false, &mut Ignore).is_err() {
+        // With the half-period state where a cell's record takes it (a
+        // symmetric scene), which splits the flow there: the same
+        // trajectory, bit for bit, as the cell's own run from `y0`.
+        if sim.run_period(&[], sys.model.symmetric, &mut Ignore).is_err() {
             return Proximity::Not;
         }
         if (period as usize) < acc.min_transient() {
