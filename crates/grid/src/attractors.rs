@@ -121,16 +121,8 @@ pub fn find_all(
     progress: &dyn Progress,
 ) -> Result<Vec<Vec<Attractor>>, GridError> {
     let systems = points.iter().map(|p| setup.system(p)).collect::<Result<Vec<_>, _>>()?;
-    // Every period-section point is kept, so that orbits can be compared.
-    let setup = CellSetup {
-        section_cap: setup.section_cap.max(setup.accuracy.n_max()),
-        quantities: Vec::new(),
-        ..setup.clone()
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let setup = setup.comparing();
+    let pool = crate::pool(threads)?;
     let k = sampling.samples.max(1);
     // Points in batches, each grouped once its samples are done: the cells
     // of at most BATCH samples are held at a time, however large the plane.

@@ -161,15 +161,8 @@ pub fn basins(
             return Err(GridError::field(name, format!("a state of {dims} components has no component {index}")));
         }
     }
-    let setup = CellSetup {
-        section_cap: setup.section_cap.max(setup.accuracy.n_max()),
-        quantities: Vec::new(),
-        ..setup.clone()
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let setup = setup.comparing();
+    let pool = crate::pool(threads)?;
     let n = grid.starts();
     let (mut ids, mut periods) = (Vec::with_capacity(n), Vec::with_capacity(n));
     let mut found: Vec<Attractor> = Vec::new();

@@ -49,6 +49,13 @@ impl CellSetup {
         Ok(System::new(model)?)
     }
 
+    /// The set-up of cells whose attractors are compared with each other
+    /// (`attractors`, `basins`): every period-section point kept (up to
+    /// the longest period searched), no quantities measured.
+    pub(crate) fn comparing(&self) -> CellSetup {
+        CellSetup { section_cap: self.section_cap.max(self.accuracy.n_max()), quantities: Vec::new(), ..self.clone() }
+    }
+
     /// Runs one cell from `start` (a previous cell's final state) when it is
     /// admissible for this cell's stops, else from the scene's initial state.
     pub fn run(&self, params: &[(String, f64)], start: Option<&[f64]>) -> Result<CellData, GridError> {

@@ -162,10 +162,7 @@ pub fn find(
         bounds,
         max_points: 4 * (x.count + y.count),
     };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(seeding.threads)
-        .build()
-        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let pool = crate::pool(seeding.threads)?;
     let all = seeds(atlas, &seeding.sweeps);
     let total = all.len();
     progress(Tally { done: 0, total, traced: 0, kept: 0 });

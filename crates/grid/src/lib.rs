@@ -54,5 +54,10 @@ pub use maps::{
     Quantity, Shard, SweepKind, DEFAULT_SECTION_CAP, FAMILY_POINTS, MAX_COUNT, MAX_SECTION_CAP, MAX_SHARDS,
 };
 pub use run::{line, run, validate};
+
+/// A pool of `threads` workers (the grid's only threads).
+fn pool(threads: usize) -> Result<rayon::ThreadPool, GridError> {
+    rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| GridError::field("threads", e.to_string()))
+}
 pub use study::{Study, MAX_VALUES};
 pub use sweep::{chain, chain_from, Progress, Silent};

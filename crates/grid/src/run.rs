@@ -21,10 +21,7 @@ pub fn validate(plane: &Plane, setup: &CellSetup, threads: usize) -> Result<(), 
             other => GridError::field(field, other.to_string()),
         })?;
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let pool = crate::pool(threads)?;
     // The first failing cell in row order, whatever the thread count.
     let failed = pool.install(|| {
         (0..plane.y.count)
@@ -85,10 +82,7 @@ pub fn run(
     progress: &dyn Progress,
     sink: &(dyn Fn(Line) + Sync),
 ) -> Result<(), GridError> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let pool = crate::pool(threads)?;
     let next = AtomicUsize::new(0);
     let failed: Mutex<Option<GridError>> = Mutex::new(None);
     pool.broadcast(|_| loop {

@@ -26,10 +26,7 @@ pub const PROBE_CELLS: usize = 5;
 /// [`PROBE_CELLS`] fresh cells spread along it; a cell that fails counts as
 /// one period). Deterministic, parallel over lines on `threads` threads.
 pub fn probe(plane: &Plane, setup: &CellSetup, threads: usize) -> Result<Vec<f64>, GridError> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| GridError::field("threads", e.to_string()))?;
+    let pool = crate::pool(threads)?;
     Ok(pool.install(|| line_costs(plane, setup)))
 }
 
