@@ -141,6 +141,12 @@ fn a_basin_file_renders_and_an_edited_one_is_refused() {
     let o = run(&["render", out.to_str().unwrap(), "-o", png.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("wrote"));
+    // Commands that read an atlas say what the file is.
+    for cmd in
+        [vec!["inspect", out.to_str().unwrap()], vec!["cell", "--from", out.to_str().unwrap(), "--at", "omega=1"]]
+    {
+        refused(&cmd, "not an atlas (a basin file");
+    }
     // One id changed, as h5py would change it: an error naming the checksum.
     python(
         "import sys, h5py\nf = h5py.File(sys.argv[1], 'r+')\nb = f['basin'][:]\nb[0, 0] = 1 - b[0, 0]\nf['basin'][:] = b",

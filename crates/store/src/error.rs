@@ -124,6 +124,9 @@ pub enum OtherKind {
     /// A curve file where an atlas was asked for.
     #[error("not an atlas (a curve file)")]
     CurvesNotAtlas,
+    /// A basin file where an atlas was asked for.
+    #[error("not an atlas (a basin file of vibroatlas basins: render draws it, xarray opens it)")]
+    BasinsNotAtlas,
     /// Neither a curve file nor an atlas with curves, where curves were asked for.
     #[error("not a vibroatlas curve file nor an atlas with curves")]
     NoCurves,

@@ -218,10 +218,15 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     if attr_opt(path, &f, attr::SOFTWARE)?.as_deref() != Some(SOFTWARE) {
         return Err(fmt("not a vibroatlas file".into()));
     }
+    // Curve and basin files say what they hold; an atlas does not.
+    if let Some(content) = attr_opt(path, &f, curves::CONTENT_ATTR)? {
+        let found = match content.as_str() {
+            crate::basins::CONTENT => OtherKind::BasinsNotAtlas,
+            _ => OtherKind::CurvesNotAtlas,
+        };
+        return Err(StoreError::Kind { path: path.display().to_string(), found });
+    }
     if f.attr(attr::X).is_err() {
-        if f.attr(curves::CONTENT_ATTR).is_ok() {
-            return Err(StoreError::Kind { path: path.display().to_string(), found: OtherKind::CurvesNotAtlas });
-        }
         return Err(fmt("not an atlas".into()));
     }
     // A file another program wrote from an atlas (xarray's to_netcdf keeps
