@@ -293,6 +293,9 @@ fn the_basins_page_prints_what_basins_prints() {
         let out = crate::util::run(&args);
         assert!(out.status.success(), "{cmd}: {}", String::from_utf8_lossy(&out.stderr));
         assert_eq!(String::from_utf8_lossy(&out.stdout), here(text), "{cmd}");
+        // A map with chaotic starts under the chaos check says they may be transients.
+        let warned = String::from_utf8_lossy(&out.stderr).contains("warning: some starts end chaotic");
+        assert_eq!(warned, text.contains(" C  chaotic") && !cmd.contains("precise"), "{cmd}");
         shown += 1;
     }
     assert_eq!(shown, 3, "the page shows three basins commands");

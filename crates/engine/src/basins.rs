@@ -128,6 +128,14 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
         periods: reached.periods,
         attractors,
     };
+    let checked = cs.accuracy.chaos_check();
+    if checked > 0 && map.attractors.iter().any(|a| a.class == solver::Class::Chaotic.name()) {
+        observer.warn(&format!(
+            "some starts end chaotic: the chaos check ends a clearly chaotic record at {checked} periods, and a chaotic \
+             transient may still settle on a periodic attractor later; --accuracy chaos_check=0 or --preset precise \
+             follows every record in full (docs/basins.md)"
+        ));
+    }
     if let Some(out) = &r.output {
         store::write_basins(out, &map, &r.command)?;
     }
