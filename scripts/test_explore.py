@@ -276,6 +276,14 @@ try:
     wait.until(lambda d: d.find_element(By.ID, "zoom-dialog").is_displayed())
     xbox, ybox = (driver.find_element(By.ID, i).get_attribute("value") for i in ("zoom-x", "zoom-y"))
     check("the dragged box is offered for a zoom", xbox.startswith("omega=") and ybox.startswith("delta="), f"{xbox} {ybox}")
+    # At most 3 times finer than the parent per axis (the box spans 9 x 7 of its cells), with an estimate.
+    counts = [int(v.rsplit(":", 1)[1]) for v in (xbox, ybox)]
+    check("the zoom proposes at most 3 times the parent's cells per axis", 2 <= counts[0] <= 3 * 9 + 1
+          and 2 <= counts[1] <= 3 * 7 + 1, str(counts))
+    wait.until(lambda d: d.find_element(By.ID, "zoom-estimate").get_attribute("data-state") in ("done", "failed"))
+    estimate = driver.find_element(By.ID, "zoom-estimate").text
+    check("the zoom's estimate is shown before it runs",
+          f"{counts[0] * counts[1]} cells × 2 sweeps, about" in estimate, estimate)
     shot(driver, "4-box.png")
     # A coarser count than the screen's, to keep the test short.
     xbox, ybox = xbox.rsplit(":", 1)[0] + ":18", ybox.rsplit(":", 1)[0] + ":9"
@@ -283,8 +291,12 @@ try:
         e = driver.find_element(By.ID, i)
         e.clear()
         e.send_keys(v)
+    estimate = driver.find_element(By.ID, "zoom-estimate").text
+    check("the estimate follows the counts typed", "162 cells × 2 sweeps" in estimate, estimate)
+    started = time.time()
     driver.find_element(By.ID, "zoom-run").click()
     wait.until(lambda d: d.find_element(By.ID, "progress").get_attribute("data-state") in ("done", "failed", "cancelled"))
+    print(f"zoom of 18 x 9 cells: estimated '{estimate}', took {time.time() - started:.2f} s in the page")
     check("the zoom finishes", driver.find_element(By.ID, "progress").get_attribute("data-state") == "done",
           driver.find_element(By.ID, "message").text)
     child = os.path.join(tmp, "child.h5")

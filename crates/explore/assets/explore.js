@@ -465,8 +465,8 @@ async function attractors(q) {
 // Seconds as people read them.
 function seconds(t) { return t < 90 ? `${t.toPrecision(2)} s` : `${(t / 60).toPrecision(2)} min`; }
 
-// The starts of an axis COMPONENT=START:STOP:COUNT as typed (0 when it is not one).
-function starts(text) {
+// The COUNT of an axis NAME=START:STOP:COUNT as typed (0 when it is not one).
+function axisCount(text) {
   const m = /=[^:]+:[^:]+:\s*(\d+)\s*$/.exec(text);
   return m ? +m[1] : 0;
 }
@@ -486,7 +486,7 @@ async function planBasins(q) {
     const estimate = el('span', null, { id: 'basin-estimate' });
     const run = el('button', 'compute basins', { id: 'basin-run' });
     const update = () => {
-      const n = starts(x.value) * starts(y.value);
+      const n = axisCount(x.value) * axisCount(y.value);
       run.disabled = !(n > 0 && n <= p.max_starts);
       estimate.textContent = n > p.max_starts ? `${n} starts: at most ${p.max_starts} here (vibroatlas basins computes more)`
         : n > 0 ? `${n} starts, about ${seconds((n * p.seconds_per_start) / p.threads)} on ${p.threads} threads` : 'COMPONENT=START:STOP:COUNT';
@@ -537,14 +537,37 @@ function offerZoom(d) {
   const clampX = (f) => Math.min(Math.max(f, 0), x.count - 1), clampY = (f) => Math.min(Math.max(f, 0), y.count - 1);
   const [x0, x1, y0, y1] = [clampX(ax), clampX(bx), clampY(ay), clampY(by)];
   if (x1 <= x0 || y1 <= y0) return;
-  // As many cells as the screen shows of the box.
-  const nx = Math.max(2, Math.round(Math.abs(d.cx - d.x))), ny = Math.max(2, Math.round(Math.abs(d.cy - d.y)));
+  // At most 3 times finer than this map per axis, and no more cells than the screen shows of the box.
+  const finer = (span, pixels) => Math.max(2, Math.min(Math.round(pixels), Math.round(3 * span) + 1));
+  const nx = finer(x1 - x0, Math.abs(d.cx - d.x)), ny = finer(y1 - y0, Math.abs(d.cy - d.y));
   $('zoom-x').value = `${x.name}=${short(value(x, x0))}:${short(value(x, x1))}:${nx}`;
   $('zoom-y').value = `${y.name}=${short(value(y, y0))}:${short(value(y, y1))}:${ny}`;
   $('zoom-dialog').hidden = false;
+  $('zoom-dialog').scrollIntoView({ block: 'nearest' });
   $('progress').value = 0;
   $('progress').dataset.state = 'idle';
   $('progress-text').textContent = '';
+  estimateZoom();
+}
+
+// The zoom's estimated time: the server times a 3 × 3 zoom of the box; the
+// estimate follows the counts typed.
+async function estimateZoom() {
+  const out = $('zoom-estimate');
+  out.dataset.state = 'timing';
+  out.textContent = 'timing a 3 × 3 zoom of the box for an estimate…';
+  try {
+    const q = `atlas=${S.id}&x=${encodeURIComponent($('zoom-x').value)}&y=${encodeURIComponent($('zoom-y').value)}`;
+    const p = await getJSON('/api/zoom/plan?' + q);
+    const update = () => {
+      const n = axisCount($('zoom-x').value) * axisCount($('zoom-y').value);
+      out.textContent = n > 0 ? `${n} cells × ${p.sweeps} sweep${p.sweeps > 1 ? 's' : ''}, about ${seconds(p.overhead_seconds + (n * p.sweeps * p.seconds_per_cell) / p.threads)} on ${p.threads} threads` : 'NAME=START:STOP:COUNT';
+    };
+    $('zoom-x').oninput = update;
+    $('zoom-y').oninput = update;
+    update();
+    out.dataset.state = 'done';
+  } catch (err) { out.dataset.state = 'failed'; out.textContent = err.message; }
 }
 
 // Runs the zoom of box (x, y) of atlas `atlas` with its progress shown;

@@ -76,6 +76,7 @@ pub(crate) fn router(state: St, port: u16) -> Router {
         .route("/api/basins/plan", get(basins_plan))
         .route("/api/basins", get(basins))
         .route("/api/zoom", axum::routing::post(zoom))
+        .route("/api/zoom/plan", get(zoom_plan))
         .route("/api/jobs/{id}", get(job).delete(cancel))
         .route("/api/figure", get(figure))
         .route("/api/curves", get(curves))
@@ -606,6 +607,55 @@ async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
     })
     .await?;
     Ok(Json(found))
+}
+
+/// Cells per side of the box a zoom's estimate is timed on.
+const ZOOM_PROBE_SIDE: usize = 3;
+
+/// The estimate of a zoom of the box `x`, `y` (`NAME=START:STOP:COUNT`) of
+/// atlas `atlas` with its sweeps (`sweep`, default the parent's), from a zoom
+/// of 3 × 3 cells over the same box on one thread: its cost per cell (the
+/// computation alone) times the box's cells over the server's threads, plus
+/// what the probe spent besides computing (reading the parent, the file).
+async fn zoom_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+    let (_, o) = opened(&state, &q)?;
+    let axis = |name: &str| -> Result<Axis, Refusal> {
+        let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (NAME=START:STOP:COUNT)")))?;
+        Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
+    };
+    let (x, y) = (axis("x")?, axis("y")?);
+    engine::check_zoom_size(&x, &y).map_err(|e| bad(message(&e)))?;
+    let sweeps = match q.get("sweep") {
+        None => None,
+        Some(t) => Some(SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))?),
+    };
+    let threads = state.threads;
+    let plan = blocking(&state, move || {
+        unchanged(&o)?;
+        let probe = |a: &Axis| Axis::new(a.name.clone(), a.start, a.stop, ZOOM_PROBE_SIDE);
+        let mut r = engine::ZoomRequest::new(&o.path, probe(&x), probe(&y));
+        r.sweeps = sweeps.clone();
+        r.threads = 1;
+        let watch = Stopwatch::default();
+        let t0 = std::time::Instant::now();
+        engine::zoom(&r, &watch).map_err(failed)?;
+        let (all, computing) = (t0.elapsed().as_secs_f64(), watch.0.lock().map_or(0.0, |t| t.1));
+        let sweeps = sweeps.map_or(o.atlas.meta.sweeps.len(), |s| s.len());
+        let probed = (ZOOM_PROBE_SIDE * ZOOM_PROBE_SIDE * sweeps) as f64;
+        let per_cell = computing / probed;
+        let cells = x.count * y.count;
+        let overhead = (all - computing).max(0.0);
+        Ok(json!({
+            "cells": cells,
+            "sweeps": sweeps,
+            "threads": threads,
+            "seconds_per_cell": per_cell,
+            "overhead_seconds": overhead,
+            "seconds": overhead + per_cell * (cells * sweeps) as f64 / threads.max(1) as f64,
+        }))
+    })
+    .await?;
+    Ok(Json(plan))
 }
 
 async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json<Value>, Refusal> {
