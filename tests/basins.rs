@@ -173,7 +173,16 @@ fn bad_basin_options_are_one_line_naming_the_option() {
     refused(&with("x_M2=-1:1:4000", "v_M2=-1:1:4000", &[]), "--y: 16000000 starts");
     refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--phase", "nan"]), "--phase");
     refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--state", "0,0"]), "--state");
+    refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--phase", "1e300"]), "--phase: expected a phase in radians within");
+    // A figure that cannot be written is refused before the work, leaving no file.
+    refused(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--png", "no/such/folder/b.png"]), "its folder does not exist");
     assert!(!d.join("b.h5").exists());
+    // Atlas options on a basin file's picture are refused, naming the option.
+    let made = run(&with("x_M2=-1:1:4", "v_M2=-1:1:4", &["--quiet"]));
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let png = d.join("b.png");
+    refused(&["render", o, "--view", "basin:0", "-o", png.to_str().unwrap()], "--view: ");
+    refused(&["render", o, "--mass", "M2", "-o", png.to_str().unwrap()], "--mass: ");
 }
 
 /// `basins … --json` of a shipped scene on a grid, with the options given.

@@ -15,6 +15,10 @@ use store::write_atomically;
 pub fn run(a: BasinsArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     crate::figure::format("--png", a.png.as_ref())?;
+    // The figure's path checked before the work, as the file's.
+    if let Some(png) = &a.png {
+        store::check_output(png, &[a.output.as_path()])?;
+    }
     let r = BasinsRequest {
         sim: sim_from(&a.sim, &a.start)?,
         start: start(&a.start)?,
@@ -26,7 +30,11 @@ pub fn run(a: BasinsArgs) -> Result<()> {
         output: Some(a.output.clone()),
         command: command_line(),
     };
-    let map = engine::basins(&r, &Shown::new("basins", a.quiet))?;
+    let (map, origin) = engine::basins(&r, &Shown::new("basins", a.quiet))?;
+    crate::common::tell(
+        origin.as_ref().and_then(|o| o.warning.as_ref()),
+        origin.as_ref().and_then(|o| o.note.as_ref()),
+    );
     if let Some(png) = &a.png {
         write_atomically(png, |tmp| render::basin_map(&map, &page, tmp))?;
     }

@@ -15,6 +15,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     store::check_output(&a.output, &[&a.file])?;
     if store::is_basins(&a.file) {
+        let given = [
+            ("--view", a.view != "labels"),
+            ("--mass", a.mass.is_some()),
+            ("--sweep", a.sweep.is_some()),
+            ("--row", a.row.is_some()),
+        ];
+        if let Some((flag, _)) = given.iter().find(|(_, g)| *g) {
+            bail!("{flag}: {} is a basin file, drawn as its map; {flag} applies to an atlas", a.file.display());
+        }
         let map = store::read_basins(&a.file)?;
         write_atomically(&a.output, |tmp| render::basin_map(&map, &page, tmp))?;
         return wrote(&a.output, &page);

@@ -7,7 +7,7 @@
 
 use crate::error::{Opt, RequestError, Result};
 use crate::observer::{Begin, Observed, Observer};
-use crate::sim::{Sim, Start};
+use crate::sim::{Origin, Sim, Start};
 use crate::summary::AxisReport;
 use grid::basins::StateGrid;
 use grid::{Axis, BasinAttractor, BasinMap};
@@ -16,6 +16,10 @@ use std::collections::BTreeMap;
 
 /// Most starts one run may take (2048 × 2048).
 pub const MAX_STARTS: usize = 1 << 22;
+
+/// The largest forcing phase accepted at the start, in radians (a phase is
+/// defined modulo 2π; beyond this it has lost digits to its size).
+const MAX_PHASE: f64 = 1000.0;
 
 /// The basins to compute.
 #[derive(Debug, Clone)]
@@ -50,8 +54,10 @@ pub fn components(sys: &solver::System) -> Vec<String> {
 }
 
 /// Computes the basins of `r`, reporting each start done to `observer`
-/// (which may stop the run).
-pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
+/// (which may stop the run); with the stored cell or state it started
+/// from, when not the scene's initial state (its `note` says which cell
+/// `--at` took).
+pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<(BasinMap, Option<Origin>)> {
     let (s, origin) = r.sim.setup_from(&r.start)?;
     if let Some(out) = &r.output {
         let mut inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
@@ -79,15 +85,16 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
         return Err(RequestError::option(Opt::Y).text(what).into());
     }
     let phase = r.phase.unwrap_or(sys.tau);
-    if !phase.is_finite() {
-        return Err(RequestError::option(Opt::Phase).text(format!("not a finite number, got {phase}")).into());
+    if !(phase.is_finite() && phase.abs() <= MAX_PHASE) {
+        let what = format!("expected a phase in radians within ±{MAX_PHASE}, got {phase:e}");
+        return Err(RequestError::option(Opt::Phase).text(what).into());
     }
     let grid = StateGrid {
         x: r.x.clone(),
         y: r.y.clone(),
         x_index: xi,
         y_index: yi,
-        start: origin.map_or_else(|| sys.model.initial_state(), |o| o.state),
+        start: origin.as_ref().map_or_else(|| sys.model.initial_state(), |o| o.state.clone()),
         phase,
         early: r.early,
     };
@@ -119,7 +126,8 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
         parameters: m.parameters.clone(),
         masses: m.labels.iter().map(|l| m.masses[l.mass].name.clone()).collect(),
         components: names,
-        start: grid.start,
+        // The two axes' components take the grid's values: none of their own.
+        start: grid.start.iter().enumerate().map(|(k, &v)| if k == xi || k == yi { f64::NAN } else { v }).collect(),
         phase,
         early: r.early,
         x: grid.x,
@@ -139,7 +147,7 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<BasinMap> {
     if let Some(out) = &r.output {
         store::write_basins(out, &map, &r.command)?;
     }
-    Ok(map)
+    Ok((map, origin))
 }
 
 /// A grid of starts to propose for the basins of a cell's point: the

@@ -596,7 +596,7 @@ async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
             command: String::new(),
         };
         let t0 = std::time::Instant::now();
-        let map = engine::basins(&r, &work).map_err(failed)?;
+        let (map, _) = engine::basins(&r, &work).map_err(failed)?;
         let seconds = t0.elapsed().as_secs_f64();
         let picture = drawn(&state, "png", |path| render::basin_map(&map, &render::Page::screen(), path))?;
         let mut out = engine::basins_report(&map).to_json();

@@ -465,7 +465,7 @@ fn basins(
         output: Some(output.into()),
         command: "vibroatlas.basins (Python)".into(),
     };
-    Ok(Job::start(move |shared| Ok(engine::basins_report(&engine::basins(&r, shared)?).to_json())))
+    Ok(Job::start(move |shared| Ok(engine::basins_report(&engine::basins(&r, shared)?.0).to_json())))
 }
 
 /// A bifurcation curve: the value of `curve --json`.

@@ -92,7 +92,7 @@ fn frame<DB: crate::Backend>(
 const INADMISSIBLE_GREY: RGBColor = RGBColor(225, 225, 225);
 
 /// Draws the basin map `map`: every start in its attractor's colour
-/// ([`BasinMap::colours`]), the attractors' period-section points
+/// ([`BasinMap::colours`]), the periodic attractors' period-section points
 /// over them (white dots ringed in black), and a legend of the attractors
 /// with their basin fractions (format by the extension of `path`).
 pub fn basin_map(map: &BasinMap, page: &Page, path: &Path) -> Result<(), RenderError> {
@@ -120,7 +120,9 @@ fn draw_map<DB: crate::Backend>(
     if map.ids.contains(&INADMISSIBLE) {
         rows.push(Entry::new(Swatch::Fill(INADMISSIBLE_GREY), "penetrates a stop"));
     }
-    rows.push(Entry::new(Swatch::Ring(BLACK, 1.8), "period-section points"));
+    if map.attractors.iter().any(|at| at.class == solver::Class::Periodic.name()) {
+        rows.push(Entry::new(Swatch::Ring(BLACK, 1.8), "periodic orbits' section points"));
+    }
     let title = format!(
         "{}: basins of attraction, {} × {} starts at phase {:.3} rad",
         map.scene, map.x.count, map.y.count, map.phase
@@ -148,8 +150,9 @@ fn draw_map<DB: crate::Backend>(
     }
     let (xi, yi) = (component(map, &map.x.name), component(map, &map.y.name));
     let (r, edge) = (canvas.pt(1.8), BLACK.stroke_width(canvas.pt(0.6)));
-    let inside = |(x, y): (f64, f64)| a.x.0 <= x && x <= a.x.1 && a.y.0 <= y && y <= a.y.1;
-    for at in &map.attractors {
+    let within = |v: f64, (lo, hi): (f64, f64)| lo.min(hi) <= v && v <= lo.max(hi);
+    let inside = |(x, y): (f64, f64)| within(x, a.x) && within(y, a.y);
+    for at in map.attractors.iter().filter(|at| at.class == solver::Class::Periodic.name()) {
         for p in at.section.iter().map(|s| (s[xi], s[yi])).filter(|&p| inside(p)) {
             plot.draw(&Circle::new(p, r, WHITE.filled())).map_err(err)?;
             plot.draw(&Circle::new(p, r, edge)).map_err(err)?;

@@ -762,8 +762,8 @@ fn draw_attractors<DB: crate::Backend>(
 }
 
 /// Colours of a family's basin fraction in bands of a quarter (light to
-/// dark, the blues of [`COEXISTING`] from white): absent, then up to 25,
-/// 50, 75 and 100 %.
+/// dark, the blues of [`COEXISTING`] from white): absent, then the
+/// intervals (0, 25 %], (25, 50 %], (50, 75 %] and (75, 100 %].
 const FRACTION_BANDS: [RGBColor; 5] = [
     RGBColor(255, 255, 255),
     RGBColor(198, 219, 239),
@@ -818,7 +818,7 @@ fn draw_family<DB: crate::Backend>(
     for &f in fractions {
         counts[if f.is_nan() { 5 } else { band(f) }] += 1;
     }
-    let texts = ["absent", "up to 25 %", "25 to 50 %", "50 to 75 %", "75 to 100 %"];
+    let texts = ["absent", "(0, 25 %]", "(25, 50 %]", "(50, 75 %]", "(75, 100 %]"];
     let mut rows = vec![Entry::new(Swatch::Heading, "cells")];
     rows.extend(
         (0..5)

@@ -18,7 +18,7 @@
 //! `attractor_colour [attractor, rgb]` (the figures' colour, u8),
 //! `attractor_start [attractor, component]` and `section [attractor, point,
 //! component]` (NaN after an attractor's last point); `start [component]`
-//! (the state outside the two axes) and `parameter_value [parameter]`.
+//! (the state outside the two axes, NaN for theirs) and `parameter_value [parameter]`.
 
 use crate::error::{Hdf5Error, StoreError};
 use crate::layout::attr;
