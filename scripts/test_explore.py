@@ -232,6 +232,15 @@ try:
     cli = json.loads(run("cell", "--from", atlas, "--sweep", "down", "--at", f"omega={omega!r},delta={delta!r}", "--json").stdout)
     check("the cell panel is cell --from … --json, key for key", panel == cli, f"{panel} != {cli}")
     wait.until(lambda d: all(i.get_attribute("naturalWidth") not in (None, "0") for i in d.find_elements(By.CSS_SELECTOR, "#cell img")))
+    # The clicked cell is outlined: black on its left edge, its centre its label's colour.
+    edge = driver.execute_script(
+        "const [a] = window.vibroatlas.cellCentre(arguments[0] - 1, arguments[1]);"
+        "const [b, y] = window.vibroatlas.cellCentre(arguments[0], arguments[1]);"
+        "return Array.from(document.getElementById('map').getContext('2d')"
+        ".getImageData(Math.round((a + b) / 2), Math.round(y), 1, 1).data.slice(0, 3));", ix, iy)
+    check("the clicked cell is outlined", edge == [0, 0, 0], str(edge))
+    check("the outlined cell keeps its colour", pixel(driver, ix, iy) == list(colours(atlas, "down", "M2")[iy, ix]),
+          str(pixel(driver, ix, iy)))
     driver.execute_script("document.getElementById('cell').scrollIntoView()")
     shot(driver, "3-cell.png")
 

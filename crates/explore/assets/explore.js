@@ -287,6 +287,17 @@ function draw() {
       ctx.stroke();
     }
   }
+  // The clicked cell, outlined: black, with a white line inside for dark labels.
+  if (S.selected && S.selected.atlas === S.id) {
+    const { ix, iy } = S.selected;
+    const [ax, ay] = toCanvas(ix - 0.5, iy + 0.5), [bx, by] = toCanvas(ix + 0.5, iy - 0.5);
+    ctx.lineWidth = 2;
+    ctx.strokeStyle = '#000';
+    ctx.strokeRect(ax, ay, bx - ax, by - ay);
+    ctx.lineWidth = 1;
+    ctx.strokeStyle = '#fff';
+    ctx.strokeRect(ax + 1.5, ay + 1.5, bx - ax - 3, by - ay - 3);
+  }
   if (S.drag && S.drag.mode === 'box') {
     const d = S.drag;
     ctx.strokeStyle = '#000';
@@ -387,6 +398,8 @@ function sweepOfView() {
 }
 
 async function showCell(ix, iy, sweep) {
+  S.selected = { atlas: S.id, ix, iy };
+  draw();
   const panel = $('cell');
   panel.hidden = false;
   panel.dataset.state = 'loading';

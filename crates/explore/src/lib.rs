@@ -15,6 +15,7 @@
 //! | `GET /api/cell/portrait.png`, `/api/cell/sections.png` | the cell's pictures |
 //! | `GET /api/attractors` | the coexisting attractors of the cell's parameters |
 //! | `GET /api/basins/plan`, `/api/basins` | a basin map proposed for the cell (axes, estimated time); the basins over a grid of its states |
+//! | `GET /api/zoom/plan` | a zoom's estimated time, timed on a 3 × 3 zoom of the box |
 //! | `POST /api/zoom`, `GET`/`DELETE /api/jobs/ID` | a zoom in the background, its progress, its cancel |
 //! | `GET /api/figure` | a view drawn by `render` (PNG, SVG, PDF; print sizes) |
 //! | `GET /api/curves`, `/api/files/ID` | stored bifurcation curves; an atlas's file |
