@@ -293,6 +293,15 @@ try:
     estimate = driver.find_element(By.ID, "zoom-estimate").text
     check("the zoom's estimate is shown before it runs",
           f"{counts[0] * counts[1]} cells × 2 sweeps, about" in estimate, estimate)
+    # The dragged box stays drawn, dashed, once the button is released: the
+    # pixel on its left edge at its middle is black.
+    left = driver.execute_script(
+        "const o = window.vibroatlas.state.offered; if (!o) return null;"
+        "const [x, y] = window.vibroatlas.cellCentre(o.x0, (o.y0 + o.y1) / 2);"
+        "const c = document.getElementById('map').getContext('2d');"
+        "for (let dy = -4; dy <= 4; dy++) { const p = c.getImageData(Math.round(x), Math.round(y) + dy, 1, 1).data;"
+        " if (p[0] + p[1] + p[2] === 0) return true; } return false;")
+    check("the dragged box stays drawn after the release", left is True, str(left))
     shot(driver, "4-box.png")
     # A coarser count than the screen's, to keep the test short.
     xbox, ybox = xbox.rsplit(":", 1)[0] + ":18", ybox.rsplit(":", 1)[0] + ":9"

@@ -298,6 +298,15 @@ function draw() {
     ctx.strokeStyle = '#fff';
     ctx.strokeRect(ax + 1.5, ay + 1.5, bx - ax - 3, by - ay - 3);
   }
+  // The box offered for a zoom, kept drawn until it is computed or the dialog closed.
+  if (S.offered && S.offered.atlas === S.id && !S.drag) {
+    const o = S.offered, [ax, ay] = toCanvas(o.x0, o.y1), [bx, by] = toCanvas(o.x1, o.y0);
+    ctx.strokeStyle = '#000';
+    ctx.lineWidth = 1.5;
+    ctx.setLineDash([5, 3]);
+    ctx.strokeRect(ax, ay, bx - ax, by - ay);
+    ctx.setLineDash([]);
+  }
   if (S.drag && S.drag.mode === 'box') {
     const d = S.drag;
     ctx.strokeStyle = '#000';
@@ -550,6 +559,8 @@ function offerZoom(d) {
   const clampX = (f) => Math.min(Math.max(f, 0), x.count - 1), clampY = (f) => Math.min(Math.max(f, 0), y.count - 1);
   const [x0, x1, y0, y1] = [clampX(ax), clampX(bx), clampY(ay), clampY(by)];
   if (x1 <= x0 || y1 <= y0) return;
+  S.offered = { atlas: S.id, x0, x1, y0, y1 };
+  draw();
   // At most 3 times finer than this map per axis, and no more cells than the screen shows of the box.
   const finer = (span, pixels) => Math.max(2, Math.min(Math.round(pixels), Math.round(3 * span) + 1));
   const nx = finer(x1 - x0, Math.abs(d.cx - d.x)), ny = finer(y1 - y0, Math.abs(d.cy - d.y));
@@ -614,6 +625,7 @@ async function runZoom() {
   const progress = $('progress');
   try {
     const child = await zoomJob(S.id, $('zoom-x').value, $('zoom-y').value);
+    S.offered = null;
     await load({ atlas: child, view: S.view, mass: S.mass }, true);
     progress.dataset.state = 'done';
   } catch (err) {
@@ -671,7 +683,7 @@ $('fig-size').addEventListener('change', links);
 $('back').addEventListener('click', () => history.back());
 $('forward').addEventListener('click', () => history.forward());
 $('zoom-run').addEventListener('click', runZoom);
-$('zoom-close').addEventListener('click', () => { $('zoom-dialog').hidden = true; });
+$('zoom-close').addEventListener('click', () => { $('zoom-dialog').hidden = true; S.offered = null; draw(); });
 $('zoom-cancel').addEventListener('click', () => { if (S.job !== null) fetch(`/api/jobs/${S.job}`, { method: 'DELETE' }); });
 window.addEventListener('popstate', () => load(fromAddress(), false).catch((e) => say(e.message)));
 
