@@ -136,8 +136,7 @@ impl Early {
 
     /// Follows the start `y0` toward the known orbits.
     fn reaches(&self, sys: &solver::System, setup: &CellSetup, y0: &[f64]) -> Proximity {
-        let orbits: Vec<&[Vec<f64>]> = self.orbits.iter().map(Vec::as_slice).collect();
-        solver::proximity::reaches(sys, &setup.accuracy, setup.method, y0, &orbits, self.tol, self.budget)
+        solver::proximity::reaches(sys, &setup.accuracy, setup.method, y0, &self.orbits, self.tol, self.budget)
     }
 }
 

@@ -127,7 +127,9 @@ pub fn families(map: &AttractorMap, nx: usize) -> Families {
                     .enumerate()
                     .map(|(k, a)| {
                         let f = id[root(&mut parent, offset[i] + k)];
-                        labels[f as usize] = a.labels.clone();
+                        if labels[f as usize].is_empty() {
+                            labels[f as usize] = a.labels.clone();
+                        }
                         f
                     })
                     .collect()

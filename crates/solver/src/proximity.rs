@@ -35,7 +35,7 @@ pub fn reaches(
     acc: &Accuracy,
     method: Method,
     y0: &[f64],
-    orbits: &[&[Vec<f64>]],
+    orbits: &[Vec<Vec<f64>>],
     tol: f64,
     budget: u64,
 ) -> Proximity {
@@ -93,10 +93,10 @@ mod tests {
             }
         }
         let far = vec![vec![50.0, 50.0]];
-        let found = reaches(&sys, &acc, Method::Exact, &[0.3, 0.0], &[&far, &on], 1e-6, 600);
+        let found = reaches(&sys, &acc, Method::Exact, &[0.3, 0.0], &[far.clone(), on], 1e-6, 600);
         let Proximity::Reached { orbit, periods } = found else { panic!("{found:?}") };
         assert_eq!(orbit, 1);
         assert!(periods >= acc.min_transient() as u64 && periods < 600, "{periods}");
-        assert_eq!(reaches(&sys, &acc, Method::Exact, &[0.3, 0.0], &[&far], 1e-6, 600), Proximity::Not);
+        assert_eq!(reaches(&sys, &acc, Method::Exact, &[0.3, 0.0], &[far], 1e-6, 600), Proximity::Not);
     }
 }

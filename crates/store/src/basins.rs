@@ -26,7 +26,6 @@ use crate::netcdf;
 use hdf5::H5Type;
 use maps::basins::{BasinAttractor, BasinMap, INADMISSIBLE};
 use maps::Axis;
-use ndarray::ArrayD;
 use std::path::Path;
 
 /// What the attribute `content` of a basin file says.
@@ -60,8 +59,7 @@ pub fn write_basins(path: &Path, map: &BasinMap, command: &str) -> Result<(), St
     })
 }
 
-/// A dataset of `values` shaped `shape` (deflated and Fletcher-32
-/// checksummed, as the atlas's maps), its dimensions attached.
+/// [`netcdf::deflated`] along the dimensions `dims`, with its long name.
 fn dataset<T: H5Type + Copy>(
     g: &hdf5::Group,
     name: &str,
@@ -70,14 +68,7 @@ fn dataset<T: H5Type + Copy>(
     long_name: &str,
 ) -> hdf5::Result<hdf5::Dataset> {
     let shape: Vec<usize> = dims.iter().map(|d| d.size()).collect();
-    let n = values.len();
-    let array = ArrayD::from_shape_vec(shape.clone(), values).map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
-    let b = g.new_dataset_builder().with_data(&array);
-    let ds = match n {
-        // HDF5 cannot chunk an empty dataset.
-        0 => b.create(name)?,
-        _ => b.chunk(shape.iter().map(|&s| s.max(1)).collect::<Vec<_>>()).deflate(1).fletcher32().create(name)?,
-    };
+    let ds = netcdf::deflated(g, name, values, &shape)?;
     netcdf::dims(&ds, dims)?;
     netcdf::describe(&ds, long_name, "1")?;
     Ok(ds)

@@ -15,7 +15,6 @@ use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
 use crate::layout::curves::*;
 use crate::netcdf;
-use ndarray::Array1;
 use std::path::Path;
 
 /// A bifurcation curve in the plane of two parameters.
@@ -113,20 +112,6 @@ fn values_crc32(curves: &[Curve]) -> u32 {
     h.finalize()
 }
 
-/// The dataset `name` of `values`, deflated and checksummed (Fletcher-32)
-/// like the atlas's maps, so that a damaged byte, or a chunk zeroed with its
-/// checksum, is an error on read rather than another curve.
-fn numbers(g: &hdf5::Group, name: &str, values: Vec<f64>) -> hdf5::Result<hdf5::Dataset> {
-    let n = values.len();
-    let values = Array1::from(values);
-    let b = g.new_dataset_builder().with_data(&values);
-    match n {
-        // HDF5 cannot chunk an empty dataset.
-        0 => b.create(name),
-        _ => b.chunk(n).deflate(1).fletcher32().create(name),
-    }
-}
-
 fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
     netcdf::attr_str(g, KIND, &curve.kind)?;
     netcdf::attr_str(g, ENDED, &curve.ended)?;
@@ -135,14 +120,14 @@ fn write_one(g: &hdf5::Group, curve: &Curve) -> hdf5::Result<()> {
     let point = netcdf::dimension(g, POINT, curve.points.len())?;
     for (k, name) in curve.free.iter().enumerate() {
         let v: Vec<f64> = curve.points.iter().map(|p| if k == 0 { p.0 } else { p.1 }).collect();
-        let d = numbers(g, name, v)?;
+        let d = netcdf::deflated(g, name, v, &[curve.points.len()])?;
         netcdf::dims(&d, &[&point])?;
         netcdf::describe(&d, &format!("parameter {name} along the {} curve", curve.kind), "1")?;
     }
     let codim = netcdf::dimension(g, CODIM2, curve.codim2.len())?;
     for (k, name) in curve.free.iter().enumerate() {
         let v: Vec<f64> = curve.codim2.iter().map(|p| if k == 0 { p.1 } else { p.2 }).collect();
-        let d = numbers(g, &codim2(name), v)?;
+        let d = netcdf::deflated(g, &codim2(name), v, &[curve.codim2.len()])?;
         netcdf::dims(&d, &[&codim])?;
         netcdf::describe(&d, &format!("parameter {name} at the codimension-two points"), "1")?;
     }

@@ -146,6 +146,22 @@ pub fn seal(loc: &Location) -> hdf5::Result<()> {
     attr_num(loc, name, crc)
 }
 
+/// The dataset `name` of `values` shaped `shape`, one chunk deflated and
+/// checksummed (Fletcher-32), so that a damaged byte, or a chunk zeroed with
+/// its checksum, is an error on read rather than other values (the small
+/// files: curves, basins).
+pub fn deflated<T: H5Type + Copy>(g: &Group, name: &str, values: Vec<T>, shape: &[usize]) -> hdf5::Result<Dataset> {
+    let n = values.len();
+    let array = ndarray::ArrayD::from_shape_vec(shape.to_vec(), values)
+        .map_err(|e| hdf5::Error::from(e.to_string().as_str()))?;
+    let b = g.new_dataset_builder().with_data(&array);
+    match n {
+        // HDF5 cannot chunk an empty dataset.
+        0 => b.create(name),
+        _ => b.chunk(shape.iter().map(|&s| s.max(1)).collect::<Vec<_>>()).deflate(1).fletcher32().create(name),
+    }
+}
+
 /// A dimension of length `len` without a coordinate variable (netCDF-4 writes
 /// such a dimension as an empty dataset with this NAME).
 pub fn dimension(g: &Group, name: &str, len: usize) -> hdf5::Result<Dataset> {
