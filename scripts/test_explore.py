@@ -169,6 +169,12 @@ try:
     shot(driver, "1-curves.png")
     driver.find_element(By.ID, "curves").click()
     time.sleep(0.3)
+    if rings:
+        rx, ry = rings[0]
+        gone = driver.execute_script(
+            "return Array.from(document.getElementById('map').getContext('2d')"
+            ".getImageData(Math.round(arguments[0]), Math.round(arguments[1]), 1, 1).data.slice(0, 3));", rx, ry)
+        check("unticked, the curves are no longer drawn", gone != [255, 255, 255], str(gone))
 
     # The hysteresis view: a cell where up and down differ is split along its
     # rising diagonal, the up label's colour above, the down label's below.
@@ -185,7 +191,29 @@ try:
         below = pixel(driver, ix + 0.3, iy - 0.3)
         check(f"hysteresis cell ({iy}, {ix}): up above, down below the diagonal",
               above == list(up[iy, ix]) and below == list(down[iy, ix]), f"{above} {below}")
+    # Cells where the sweeps agree: their label's colour faded three fifths
+    # toward white (issue 65), not white.
+    with h5py.File(atlas, "r") as f:
+        agree = np.argwhere(f["hysteresis"][:] == 0)
+    same = [(int(iy), int(ix)) for iy, ix in agree if list(up[iy, ix]) == list(down[iy, ix])]
+    check("the test atlas has agreeing cells", len(same) > 10, str(len(same)))
+    for iy, ix in same[:: max(1, len(same) // 6)]:
+        got, want = pixel(driver, ix, iy), [(2 * int(c) + 767) // 5 for c in up[iy, ix]]
+        check(f"agreeing cell ({iy}, {ix}) is its label's colour faded", got == want, f"{got} != {want}")
+    legend = driver.find_element(By.ID, "legend").text
+    check("the legend names the faded cells", "agree: label faded (" in legend, legend[-200:])
     shot(driver, "1-hysteresis.png")
+    # Cells under 6 pixels (a view of 4 times the plane): a split cell shows
+    # its up colour on both sides of the diagonal, and the page says so.
+    check("no note while the cells are large", not driver.find_element(By.ID, "split-note").is_displayed())
+    driver.execute_script("const S = window.vibroatlas.state; S.saved = S.box;"
+                          "S.box = {x0: -0.5, x1: 4 * S.info.x.count - 0.5, y0: -0.5, y1: 4 * S.info.y.count - 0.5};"
+                          "window.vibroatlas.draw();")
+    iy, ix = next((int(a), int(b)) for a, b in differ if 0 < a < 19 and 0 < b < 39)  # off the frame
+    sides = [pixel(driver, ix + dx, iy + dy) for dx, dy in ((0, 0), (-0.3, 0.3), (0.3, -0.3))]
+    check("small split cells show their up colour", all(p == list(up[iy, ix]) for p in sides), str(sides))
+    check("the page says to zoom in for the down colour", driver.find_element(By.ID, "split-note").is_displayed())
+    driver.execute_script("const S = window.vibroatlas.state; S.box = S.saved; window.vibroatlas.draw();")
     driver.find_element(By.CSS_SELECTOR, "#view option[value='multiplier:up']").click()
     wait.until(lambda d: "view=multiplier" in d.current_url)
     time.sleep(0.5)
@@ -315,6 +343,11 @@ try:
     driver.find_element(By.ID, "zoom-run").click()
     wait.until(lambda d: d.find_element(By.ID, "progress").get_attribute("data-state") in ("done", "failed", "cancelled"))
     print(f"zoom of 18 x 9 cells: estimated '{estimate}', took {time.time() - started:.2f} s in the page")
+    guess = float(driver.find_element(By.ID, "zoom-estimate").get_attribute("data-seconds"))
+    took = float(driver.find_element(By.ID, "progress").get_attribute("data-seconds"))
+    print(f"the zoom's own time: {took:.3f} s, estimated {guess:.3f} s")
+    check("the estimate is within a factor of 2 of the zoom's time", 0.5 <= guess / took <= 2,
+          f"estimated {guess:.3f} s, the zoom took {took:.3f} s")
     check("the zoom finishes", driver.find_element(By.ID, "progress").get_attribute("data-state") == "done",
           driver.find_element(By.ID, "message").text)
     child = os.path.join(tmp, "child.h5")
@@ -339,6 +372,32 @@ try:
     wait.until(lambda d: "atlas=2" in d.current_url)
     time.sleep(0.5)
     same_pixels(driver, child, "up", "M1", [(0, 0), (8, 17), (4, 9)], "a link's zoom computed again")
+
+    # A slice at another value of a parameter that is not an axis (issue 65):
+    # the dialog's "at" field, the same cells as `zoom --set`, and the box
+    # with its value in the page's title and address.
+    driver.get(url + "?atlas=0&view=up&mass=M1")
+    wait.until(lambda d: d.execute_script("return window.vibroatlas.state.info !== null"))
+    time.sleep(0.5)
+    a, b = offset(driver, 10, 5), offset(driver, 16, 9)
+    ActionChains(driver).move_to_element_with_offset(driver.find_element(By.ID, "map"), *a).click_and_hold(
+        ).move_by_offset(b[0] - a[0], b[1] - a[1]).release().perform()
+    wait.until(lambda d: d.find_element(By.ID, "zoom-dialog").is_displayed())
+    for i, v in (("zoom-x", "omega=0.65:1:8"), ("zoom-y", "delta=0.3:0.5:5"), ("zoom-set", "zeta=0.05")):
+        e = driver.find_element(By.ID, i)
+        e.clear()
+        e.send_keys(v)
+    driver.find_element(By.ID, "zoom-run").click()
+    wait.until(lambda d: "zeta%3D0.05" in d.current_url or "zeta=0.05" in d.current_url)
+    time.sleep(0.5)
+    sliced = os.path.join(tmp, "slice.h5")
+    run("zoom", atlas, "--x", "omega=0.65:1:8", "--y", "delta=0.3:0.5:5", "--set", "zeta=0.05", "-o", sliced, "--quiet")
+    same_pixels(driver, sliced, "up", "M1", [(0, 0), (4, 7), (2, 3), (1, 6)], "the slice at zeta = 0.05")
+    title = driver.find_element(By.ID, "title").text
+    check("the slice's title names its value", "at zeta=0.05" in title, title)
+    with h5py.File(sliced, "r") as f:
+        check("the CLI's slice records its value", f.attrs["parent_box"] == "omega=0.65:1:8 delta=0.3:0.5:5 at zeta=0.05",
+              str(f.attrs["parent_box"]))
 
     # The figure of the view, through render, at a print size.
     with urllib.request.urlopen(url + "api/figure?atlas=0&view=hysteresis&mass=M1&format=pdf&size=single") as r:

@@ -236,3 +236,77 @@ fn a_zoom_of_a_zoom_reproduces_its_parent() {
     same_cells(&c, &again, 0, 0, "the zoom's own box");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `zoom --set` (issue 65): the box as a slice at another value of a
+/// parameter that is not an axis. Oracles: its fresh cells are those of an
+/// atlas of the scene with that value (`atlas --set`), bit for bit, and not
+/// the parent's; its continuation cells re-run from their entries with
+/// `cell --from` the child file (which so records the value); the file's
+/// parent region names it; an axis, an unknown name or a non-number is
+/// refused in one line.
+#[test]
+fn a_zoom_at_another_parameter_value_is_that_slice() {
+    let dir = folder("slice");
+    let pfile = dir.join("p.h5");
+    let (x, y) = (Axis::parse("omega=0.2:2.0:19", "x").unwrap(), Axis::parse("delta=0.1:1.0:10", "y").unwrap());
+    let p = parent("multi-stop.toml", x, y, Along::X, vec![SweepKind::Fresh, SweepKind::Up], &pfile);
+    let (bx, by) = ("omega=0.5:1.5:11", "delta=0.3:0.7:5");
+    let cfile = dir.join("c.h5");
+    let mut r = ZoomRequest::new(&pfile, Axis::parse(bx, "x").unwrap(), Axis::parse(by, "y").unwrap());
+    r.set = vec![("zeta".to_string(), 0.03)];
+    r.threads = 2;
+    r.output = Some(cfile.clone());
+    let c = zoom(&r, &Quiet).unwrap().atlas;
+    // Every fresh cell is the scene's at zeta = 0.03 and the cell's values,
+    // from its initial state.
+    let fresh = c.map(SweepKind::Fresh).unwrap();
+    for iy in 0..5 {
+        for ix in 0..11 {
+            let mut sim = Sim::new(SceneSource::File(config("multi-stop.toml")));
+            sim.set = vec![
+                ("zeta".to_string(), 0.03),
+                ("omega".to_string(), c.meta.plane.x.value(ix)),
+                ("delta".to_string(), c.meta.plane.y.value(iy)),
+            ];
+            let alone = engine::cell(&sim, &Start::Initial).unwrap().result;
+            let stored = fresh.cells[iy * 11 + ix].as_ref().unwrap();
+            assert_eq!(alone.final_state, stored.final_state, "fresh cell ({iy}, {ix})");
+            assert_eq!(alone.labels.iter().map(|l| l.label).collect::<Vec<_>>(), stored.labels, "({iy}, {ix})");
+        }
+    }
+    let pfresh = p.map(SweepKind::Fresh).unwrap();
+    let differ = (0..5)
+        .flat_map(|iy| (0..11).map(move |ix| (iy, ix)))
+        .filter(|&(iy, ix)| fresh.cells[iy * 11 + ix] != pfresh.cells[(iy + 2) * 19 + ix + 3])
+        .count();
+    assert_eq!(differ, 55, "every cell moved with zeta (the parent's are at zeta = 0.1)");
+    // The up sweep's first cells, again from the child file.
+    for iy in 0..5 {
+        let at = vec![("omega".to_string(), c.meta.plane.x.value(0)), ("delta".to_string(), c.meta.plane.y.value(iy))];
+        let from = Start::Cell { file: cfile.clone(), at, sweep: Some(SweepKind::Up) };
+        let again = engine::cell(&Sim::new(SceneSource::File(config("multi-stop.toml"))), &from).unwrap();
+        let stored = c.map(SweepKind::Up).unwrap().cells[iy * 11].as_ref().unwrap();
+        assert_eq!(again.result.final_state, stored.final_state, "up cell ({iy}, 0)");
+    }
+    let loaded = store::read(&cfile).unwrap();
+    assert_eq!(loaded.info.parent.unwrap().region, "omega=0.5:1.5:11 delta=0.3:0.7:5 at zeta=0.03");
+    assert!(loaded.atlas.meta.overrides.contains(&("zeta".to_string(), 0.03)), "{:?}", loaded.atlas.meta.overrides);
+    // Bad values: one line each, exit 2, no file.
+    let out = dir.join("bad.h5");
+    let cases = [
+        ("omega=1", "--set omega: omega is an axis of the parent's plane"),
+        ("nope=1", "nope"),
+        ("zeta=abc", "--set zeta: 'abc' is not a number"),
+        ("zeta", "--set zeta: expected NAME=VALUE"),
+    ];
+    for (set, said) in cases {
+        let p = pfile.to_str().unwrap();
+        let r = run(&["zoom", p, "--x", bx, "--y", by, "--set", set, "-o", out.to_str().unwrap(), "--quiet"]);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert_eq!(r.status.code(), Some(2), "{set}: {err}");
+        assert!(err.contains(said), "{set}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(!out.exists(), "{set} left a file");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -408,6 +408,10 @@ pub struct ZoomArgs {
     /// The sweeps computed, among the parent's (default: all of them).
     #[arg(long, value_enum)]
     pub sweep: Option<AtlasSweep>,
+    /// Compute the box at another value of a scene parameter that is not an
+    /// axis, e.g. `--set zeta=0.07` (repeatable): a slice beside the parent's plane.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
     /// Output HDF5 file (an atlas that records its parent).
     #[arg(short = 'o', long = "output", value_name = "CHILD.h5")]
     pub output: std::path::PathBuf,

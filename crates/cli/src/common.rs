@@ -70,11 +70,5 @@ pub fn command_line() -> String {
 /// Parses `NAME=VALUE` with a finite value; `option` names the flag in
 /// errors (`--set`).
 pub fn parse_assignment(text: &str, option: &str) -> Result<(String, f64)> {
-    let (name, value) = text.split_once('=').ok_or_else(|| anyhow!("{option} {text}: expected NAME=VALUE"))?;
-    let name = name.trim().to_string();
-    let v: f64 = value.trim().parse().map_err(|_| anyhow!("{option} {name}: '{}' is not a number", value.trim()))?;
-    if !v.is_finite() {
-        anyhow::bail!("{option} {name}: not a finite number, got {v}");
-    }
-    Ok((name, v))
+    engine::parse_assignment(text, option).map_err(|e| anyhow!(e))
 }

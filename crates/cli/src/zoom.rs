@@ -1,7 +1,7 @@
 //! `vibroatlas zoom`: a box of a stored atlas, computed again.
 
 use crate::args::{lib, ZoomArgs};
-use crate::common::command_line;
+use crate::common::{command_line, parse_assignment};
 use crate::out::outln;
 use crate::progress::Shown;
 use crate::summary::print_summary;
@@ -13,6 +13,7 @@ use grid::{Axis, SweepKind};
 pub fn run(a: ZoomArgs) -> Result<()> {
     let mut r = ZoomRequest::new(&a.parent, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?);
     r.sweeps = a.sweep.map(|s| lib(s, |s| SweepKind::parse_set(s, "sweep").ok()));
+    r.set = a.set.iter().map(|t| parse_assignment(t, "--set")).collect::<Result<_>>()?;
     r.threads = engine::threads(a.threads)?;
     r.output = Some(a.output.clone());
     r.command = command_line();

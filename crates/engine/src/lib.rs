@@ -92,4 +92,4 @@ pub use trace::{
     check_trace_samples, halt_text, sections, trace, window, window_periods, Row, Sections, Window,
     DEFAULT_SECTION_PERIODS, MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
 };
-pub use zoom::{check_size as check_zoom_size, zoom, ZoomRequest, MAX_ZOOM_CELLS};
+pub use zoom::{check_size as check_zoom_size, parse_assignment, zoom, ZoomRequest, MAX_ZOOM_CELLS};

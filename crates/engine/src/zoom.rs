@@ -7,6 +7,11 @@
 //! line nearest to the chain's. The box's values coincide with the parent's
 //! where they are the same to rounding ([`grid::Lattice`]), so that a box
 //! aligned with the parent's grid reproduces its cells bit for bit.
+//!
+//! A zoom may also be a slice at another value of a parameter that is not
+//! an axis ([`ZoomRequest::set`]): the box is computed with that value, its
+//! chains still entering from the parent's states, and the file's parent
+//! region records it (`omega=… delta=… at zeta=0.07`).
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
@@ -30,6 +35,10 @@ pub struct ZoomRequest {
     pub y: Axis,
     /// The sweeps to compute, among the parent's (all of them when `None`).
     pub sweeps: Option<Vec<SweepKind>>,
+    /// Scene parameters (not the axes) set to other values than the
+    /// parent's, `(name, value)`: the box is then a slice of the parameter
+    /// space beside the parent's plane.
+    pub set: Vec<(String, f64)>,
     /// Worker threads.
     pub threads: usize,
     /// The file to write, if any.
@@ -43,6 +52,16 @@ pub struct ZoomRequest {
 }
 
 impl ZoomRequest {
+    /// The box as its file's parent region records it: the two axes, then
+    /// the parameters set, `omega=0.6:1.2:61 delta=0.05:2:196 at zeta=0.07,fm=0.1`.
+    pub fn region(&self) -> String {
+        let set: Vec<String> = self.set.iter().map(|(name, value)| format!("{name}={value}")).collect();
+        match set.is_empty() {
+            true => format!("{} {}", self.x, self.y),
+            false => format!("{} {} at {}", self.x, self.y, set.join(",")),
+        }
+    }
+
     /// A request for the box `x` by `y` of `parent`, every sweep of it, on
     /// one thread per core, written nowhere.
     pub fn new(parent: impl Into<PathBuf>, x: Axis, y: Axis) -> ZoomRequest {
@@ -51,6 +70,7 @@ impl ZoomRequest {
             x,
             y,
             sweeps: None,
+            set: Vec::new(),
             threads: crate::threads(None).unwrap_or(1),
             output: None,
             command: String::new(),
@@ -93,6 +113,11 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     };
     let mut setup = crate::stored_setup(m, &r.parent)?;
     setup.method = m.integrator;
+    for (name, value) in &r.set {
+        check_set(name, *value, &m.plane)?;
+        setup.overrides.retain(|(k, _)| k != name);
+        setup.overrides.push((name.clone(), *value));
+    }
     let plane = Plane { x, y, along: m.plane.along };
     let mut plan = Plan::new(&setup, m.section_cap, plane, sweeps, r.threads)?;
     // A zoom measures what its parent measured.
@@ -100,14 +125,39 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
         plan.without_quantities();
     }
     plan.entries = entries(parent, &plan.meta.plane, &plan.meta.sweeps);
-    plan.parent =
-        Some(store::Parent { path: r.parent.display().to_string(), labels_crc32, region: format!("{} {}", r.x, r.y) });
+    plan.parent = Some(store::Parent { path: r.parent.display().to_string(), labels_crc32, region: r.region() });
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.inputs = vec![r.parent.clone()];
     plan.command = r.command.clone();
     plan.check()
         .map_err(|e| crate::error::with_fields(e, &[("x", Opt::X), ("y", Opt::Y), ("threads", Opt::Threads)]))?;
     plan.execute(observer)
+}
+
+/// Parses `NAME=VALUE` with a finite value; `field` names the option or
+/// field in the message (`--set`).
+pub fn parse_assignment(text: &str, field: &str) -> std::result::Result<(String, f64), String> {
+    let (name, value) = text.split_once('=').ok_or_else(|| format!("{field} {text}: expected NAME=VALUE"))?;
+    let name = name.trim().to_string();
+    let v: f64 = value.trim().parse().map_err(|_| format!("{field} {name}: '{}' is not a number", value.trim()))?;
+    if !v.is_finite() {
+        return Err(format!("{field} {name}: not a finite number, got {v}"));
+    }
+    Ok((name, v))
+}
+
+/// Refuses setting a parameter that is an axis of the parent's plane (the
+/// box gives its values) or to a value that is not finite; a name the
+/// scene does not have is refused when the scene is evaluated.
+fn check_set(name: &str, value: f64, plane: &Plane) -> Result<()> {
+    if name == plane.x.name || name == plane.y.name {
+        let why = format!("{name} is an axis of the parent's plane; the box's --x and --y give its values");
+        return Err(RequestError::keyed(Opt::Set, name).text(why).into());
+    }
+    if !value.is_finite() {
+        return Err(RequestError::keyed(Opt::Set, name).text(format!("not a finite number, got {value}")).into());
+    }
+    Ok(())
 }
 
 /// Refuses a box of more than [`MAX_ZOOM_CELLS`] cells (before any file is read,

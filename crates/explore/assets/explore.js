@@ -12,6 +12,7 @@ const M = { left: 72, right: 14, top: 14, bottom: 52 };
 const S = {
   id: 0, info: null, view: null, mass: null,
   image: null, k: 1,           // the cells painted at k x k pixels each
+  coarse: null,                // the hysteresis view at a pixel per cell (up colours), for small cells
   box: null,                   // the visible region in cell indices: cell i spans [i - 0.5, i + 0.5]
   curves: [], hovered: null, drag: null, job: null,
 };
@@ -84,10 +85,12 @@ async function resolve(at) {
   let atlas = 0;
   $('zoom-dialog').hidden = false;
   for (const box of at.zoom.split(' | ')) {
-    const [x, y] = box.trim().split(' ');
+    // `X Y`, or `X Y at NAME=VALUE,…` for a slice at another parameter value.
+    const [x, y, , set = ''] = box.trim().split(' ');
     $('zoom-x').value = x;
     $('zoom-y').value = y;
-    atlas = await zoomJob(atlas, x, y);
+    $('zoom-set').value = set;
+    atlas = await zoomJob(atlas, x, y, set);
   }
   return atlas;
 }
@@ -127,34 +130,40 @@ async function layer() {
     fetch('/api/map?' + query()).then((r) => (r.ok ? r.arrayBuffer() : r.json().then((e) => Promise.reject(new Error(e.error))))),
     getJSON('/api/legend?' + query() + curves),
   ]);
-  if ($('curves').checked) S.curves = (await getJSON(`/api/curves?atlas=${S.id}`)).curves;
+  S.curves = $('curves').checked ? (await getJSON(`/api/curves?atlas=${S.id}`)).curves : [];
   const { x, y } = S.info, nx = x.count, ny = y.count;
   const split = S.view === 'hysteresis' && nx * ny * 9 <= 12e6;
-  const k = split ? 3 : 1;
   const rgb = new Uint8Array(bytes);
-  const image = new ImageData(nx * k, ny * k);
-  const px = new Uint32Array(image.data.buffer);
-  const n = nx * ny;
-  for (let iy = 0; iy < ny; iy++) {
-    const row = ny - 1 - iy;
-    for (let ix = 0; ix < nx; ix++) {
-      const c = 3 * (iy * nx + ix), d = c + 3 * n;
-      const above = 0xff000000 | (rgb[c + 2] << 16) | (rgb[c + 1] << 8) | rgb[c];
-      const below = 0xff000000 | (rgb[d + 2] << 16) | (rgb[d + 1] << 8) | rgb[d];
-      for (let sy = 0; sy < k; sy++) {
-        for (let sx = 0; sx < k; sx++) {
-          // The upper-left triangle (the rising diagonal included) is the first colour.
-          px[(row * k + sy) * nx * k + ix * k + sx] = sx + sy <= k - 1 ? above : below;
+  // Each cell in k × k pixels: the upper-left triangle (the rising diagonal
+  // included) in the first colour, the rest in the second (k = 1: the first).
+  const paint = (k) => {
+    const image = new ImageData(nx * k, ny * k);
+    const px = new Uint32Array(image.data.buffer);
+    const n = nx * ny;
+    for (let iy = 0; iy < ny; iy++) {
+      const row = ny - 1 - iy;
+      for (let ix = 0; ix < nx; ix++) {
+        const c = 3 * (iy * nx + ix), d = c + 3 * n;
+        const above = 0xff000000 | (rgb[c + 2] << 16) | (rgb[c + 1] << 8) | rgb[c];
+        const below = 0xff000000 | (rgb[d + 2] << 16) | (rgb[d + 1] << 8) | rgb[d];
+        for (let sy = 0; sy < k; sy++) {
+          for (let sx = 0; sx < k; sx++) {
+            px[(row * k + sy) * nx * k + ix * k + sx] = sx + sy <= k - 1 ? above : below;
+          }
         }
       }
     }
-  }
-  const off = document.createElement('canvas');
-  off.width = nx * k;
-  off.height = ny * k;
-  off.getContext('2d').putImageData(image, 0, 0);
-  S.image = off;
-  S.k = k;
+    const off = document.createElement('canvas');
+    off.width = nx * k;
+    off.height = ny * k;
+    off.getContext('2d').putImageData(image, 0, 0);
+    return off;
+  };
+  S.image = paint(split ? 3 : 1);
+  S.k = split ? 3 : 1;
+  // Split cells below SPLIT_MIN_PX on screen would read as a woven
+  // staircase: there each cell shows its up colour, and the page says so.
+  S.coarse = split ? paint(1) : null;
   legend(key);
   draw();
   links();
@@ -227,12 +236,19 @@ function ticks(lo, hi) {
   return out;
 }
 
+// Smallest cell, in screen pixels, drawn split along its diagonal.
+const SPLIT_MIN_PX = 6;
+
 function draw() {
-  const b = S.box, { w, h } = plotSize(), k = S.k, ny = S.info.y.count;
+  const b = S.box, { w, h } = plotSize(), ny = S.info.y.count;
+  const cellPx = Math.min(w / (b.x1 - b.x0), h / (b.y1 - b.y0));
+  const coarse = S.coarse !== null && cellPx < SPLIT_MIN_PX;
+  const [image, k] = coarse ? [S.coarse, 1] : [S.image, S.k];
+  $('split-note').hidden = !coarse;
   ctx.fillStyle = '#fff';
   ctx.fillRect(0, 0, canvas.width, canvas.height);
   ctx.imageSmoothingEnabled = false;
-  ctx.drawImage(S.image, (b.x0 + 0.5) * k, (ny - 0.5 - b.y1) * k, (b.x1 - b.x0) * k, (b.y1 - b.y0) * k, M.left, M.top, w, h);
+  ctx.drawImage(image, (b.x0 + 0.5) * k, (ny - 0.5 - b.y1) * k, (b.x1 - b.x0) * k, (b.y1 - b.y0) * k, M.left, M.top, w, h);
   ctx.strokeStyle = '#333';
   ctx.strokeRect(M.left, M.top, w, h);
   // Axes in parameter values, with their symbols.
@@ -581,24 +597,29 @@ async function estimateZoom() {
   out.dataset.state = 'timing';
   out.textContent = 'timing a 3 × 3 zoom of the box for an estimate…';
   try {
-    const q = `atlas=${S.id}&x=${encodeURIComponent($('zoom-x').value)}&y=${encodeURIComponent($('zoom-y').value)}`;
-    const p = await getJSON('/api/zoom/plan?' + q);
+    const q = ['x', 'y', 'set'].map((k) => `&${k}=${encodeURIComponent($('zoom-' + k).value)}`).join('');
+    const p = await getJSON(`/api/zoom/plan?atlas=${S.id}${q}`);
     const update = () => {
       const n = axisCount($('zoom-x').value) * axisCount($('zoom-y').value);
-      out.textContent = n > 0 ? `${n} cells × ${p.sweeps} sweep${p.sweeps > 1 ? 's' : ''}, about ${seconds(p.overhead_seconds + (n * p.sweeps * p.seconds_per_cell) / p.threads)} on ${p.threads} threads` : 'NAME=START:STOP:COUNT';
+      const t = p.overhead_seconds + (n * p.sweeps * p.seconds_per_cell) / p.threads;
+      out.dataset.seconds = t;
+      out.textContent = n > 0 ? `${n} cells × ${p.sweeps} sweep${p.sweeps > 1 ? 's' : ''}, about ${seconds(t)} on ${p.threads} threads` : 'NAME=START:STOP:COUNT';
     };
     $('zoom-x').oninput = update;
     $('zoom-y').oninput = update;
+    // Another parameter value costs what it costs: timed again.
+    $('zoom-set').onchange = estimateZoom;
     update();
     out.dataset.state = 'done';
   } catch (err) { out.dataset.state = 'failed'; out.textContent = err.message; }
 }
 
-// Runs the zoom of box (x, y) of atlas `atlas` with its progress shown;
-// the child's id once done (an error when it failed or was cancelled).
-async function zoomJob(atlas, x, y) {
+// Runs the zoom of box (x, y) of atlas `atlas` (at the parameters `set`,
+// NAME=VALUE,…, when not empty) with its progress shown; the child's id once
+// done (an error when it failed or was cancelled).
+async function zoomJob(atlas, x, y, set) {
   const progress = $('progress');
-  const body = JSON.stringify({ atlas, x, y });
+  const body = JSON.stringify(set.trim() ? { atlas, x, y, set: set.trim() } : { atlas, x, y });
   const { job } = await getJSON('/api/zoom', { method: 'POST', headers: { 'Content-Type': 'application/json' }, body });
   S.job = job;
   progress.dataset.state = 'running';
@@ -609,7 +630,8 @@ async function zoomJob(atlas, x, y) {
       progress.value = j.progress;
       $('progress-text').textContent = `${(100 * j.progress).toFixed(0)} %`;
       if (j.state === 'running') { await new Promise((r) => setTimeout(r, 250)); continue; }
-      $('progress-text').textContent = j.state;
+      $('progress-text').textContent = `${j.state} in ${seconds(j.seconds)}`;
+      progress.dataset.seconds = j.seconds;
       if (j.state === 'done') return j.child;
       progress.dataset.state = j.state;
       throw new Error(j.state === 'failed' ? j.error : 'the zoom was cancelled');
@@ -624,7 +646,7 @@ async function runZoom() {
   say('');
   const progress = $('progress');
   try {
-    const child = await zoomJob(S.id, $('zoom-x').value, $('zoom-y').value);
+    const child = await zoomJob(S.id, $('zoom-x').value, $('zoom-y').value, $('zoom-set').value);
     S.offered = null;
     await load({ atlas: child, view: S.view, mass: S.mass }, true);
     progress.dataset.state = 'done';
@@ -688,6 +710,6 @@ $('zoom-cancel').addEventListener('click', () => { if (S.job !== null) fetch(`/a
 window.addEventListener('popstate', () => load(fromAddress(), false).catch((e) => say(e.message)));
 
 // For scripts and tests: the canvas pixel at the centre of cell (ix, iy).
-window.vibroatlas = { cellCentre: (ix, iy) => toCanvas(ix, iy), state: S };
+window.vibroatlas = { cellCentre: (ix, iy) => toCanvas(ix, iy), state: S, draw };
 
 load(fromAddress(), false).catch((e) => say(e.message));

@@ -394,9 +394,21 @@ fn run_cell(o: &Opened, q: &HashMap<String, String>) -> Result<engine::Cell, Ref
     engine::cell(&sim, &start).map_err(failed)
 }
 
+/// The cell clicked, as `cell --from FILE --sweep S --at … --json`; it is
+/// the page's selected cell from then on ([`crate::Server::selected`]).
 async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
-    let c = blocking(&state, move || run_cell(&o, &q)).await?;
+    let shared = state.clone();
+    let c = blocking(&state, move || {
+        unchanged(&o)?;
+        let (sim, start) = stored_cell(&o, &q)?;
+        let c = engine::cell(&sim, &start).map_err(failed)?;
+        if let Start::Cell { file, at, sweep: Some(sweep) } = start {
+            shared.select(crate::Selected { file, sweep: sweep.name().to_string(), at });
+        }
+        Ok(c)
+    })
+    .await?;
     Ok(Json(c.to_json()))
 }
 
@@ -609,6 +621,13 @@ async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
     Ok(Json(found))
 }
 
+/// The parameters a zoom sets beside its box (`set`: `NAME=VALUE,NAME=VALUE`;
+/// none when absent or empty).
+fn set_of(text: Option<&str>) -> Result<Vec<(String, f64)>, Refusal> {
+    let parts = text.into_iter().flat_map(|t| t.split(',')).filter(|t| !t.trim().is_empty());
+    parts.map(|t| engine::parse_assignment(t, "set").map_err(|e| bad(short(&e)))).collect()
+}
+
 /// Cells per side of the box a zoom's estimate is timed on.
 const ZOOM_PROBE_SIDE: usize = 3;
 
@@ -629,12 +648,14 @@ async fn zoom_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<V
         None => None,
         Some(t) => Some(SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))?),
     };
+    let set = set_of(q.get("set").map(String::as_str))?;
     let threads = state.threads;
     let plan = blocking(&state, move || {
         unchanged(&o)?;
         let probe = |a: &Axis| Axis::new(a.name.clone(), a.start, a.stop, ZOOM_PROBE_SIDE);
         let mut r = engine::ZoomRequest::new(&o.path, probe(&x), probe(&y));
         r.sweeps = sweeps.clone();
+        r.set = set;
         r.threads = 1;
         let watch = Stopwatch::default();
         let t0 = std::time::Instant::now();
@@ -663,8 +684,8 @@ async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json
     let Some(fields) = body.as_object() else {
         return Err(bad(r#"the body: expected an object {"atlas": ID, "x": "NAME=A:B:N", "y": "NAME=C:D:M"}"#));
     };
-    if let Some(k) = fields.keys().find(|k| !["atlas", "x", "y", "sweep"].contains(&k.as_str())) {
-        return Err(bad(format!("{}: not a field of a zoom (atlas, x, y, sweep)", short(k))));
+    if let Some(k) = fields.keys().find(|k| !["atlas", "x", "y", "sweep", "set"].contains(&k.as_str())) {
+        return Err(bad(format!("{}: not a field of a zoom (atlas, x, y, sweep, set)", short(k))));
     }
     let id = match fields.get("atlas") {
         None => 0,
@@ -691,15 +712,23 @@ async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json
             Some(SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))?)
         }
     };
+    let set = match fields.get("set") {
+        None => Vec::new(),
+        Some(v) => set_of(Some(v.as_str().ok_or_else(|| bad("set: expected a text NAME=VALUE,NAME=VALUE"))?))?,
+    };
     std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
     let (job_id, job) = state.start_job();
     let mut r = engine::ZoomRequest::new(&o.path, x, y);
     r.sweeps = sweeps;
+    r.set = set;
     r.threads = state.threads;
     r.output = Some(state.dir.join(format!("zoom-{job_id}.h5")));
     r.command = format!("vibroatlas explore: zoom {} --x {} --y {}", o.path.display(), r.x, r.y);
+    for (name, value) in &r.set {
+        r.command.push_str(&format!(" --set {name}={value}"));
+    }
     r.parent_labels = Some(o.labels_crc32);
-    let region = format!("{} {}", r.x, r.y);
+    let region = r.region();
     let worker = state.clone();
     let queued = job.clone();
     let task = Box::new(move || run_zoom(&worker, &queued, &r, (id, &o), region));
@@ -727,6 +756,7 @@ fn run_zoom(state: &State, job: &Job, r: &engine::ZoomRequest, parent: (usize, &
         job.end(Phase::Cancelled);
         return;
     }
+    job.start_clock();
     let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| engine::zoom(r, job)));
     match ran {
         Ok(Ok(done)) => {
@@ -762,6 +792,7 @@ async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<V
     Ok(Json(json!({
         "state": phase.name(),
         "progress": job.progress(),
+        "seconds": job.seconds(),
         "child": child,
         "url": child.map(|c| format!("/?atlas={c}")),
         "error": error,

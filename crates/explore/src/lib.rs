@@ -25,6 +25,7 @@ mod api;
 mod guard;
 mod state;
 
+pub use state::Selected;
 use state::State;
 use std::net::{Ipv4Addr, SocketAddr, TcpListener};
 use std::path::PathBuf;
@@ -82,6 +83,12 @@ impl Server {
     /// The page's address, `http://127.0.0.1:PORT/`.
     pub fn url(&self) -> &str {
         &self.url
+    }
+
+    /// The cell last clicked in the page, if any (what `cell --from` runs
+    /// again).
+    pub fn selected(&self) -> Option<Selected> {
+        self.state.selected()
     }
 
     /// Stops serving: running zooms are cancelled (they leave no file) and

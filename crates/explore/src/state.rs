@@ -18,6 +18,19 @@ pub(crate) const BUSY_LIMIT: usize = 32;
 /// How long stopping waits for running work to end before it leaves it.
 pub(crate) const STOP_WAIT: Duration = Duration::from_millis(1200);
 
+/// The cell last clicked in the page (the last `/api/cell` answered): what
+/// `cell --from FILE --sweep SWEEP --at NAME=VALUE,…` runs again.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Selected {
+    /// The atlas file the cell is stored in (a zoom's child is a temporary
+    /// file of the explorer, removed when it stops).
+    pub file: PathBuf,
+    /// The sweep clicked (`up`, `down`, `fresh`).
+    pub sweep: String,
+    /// The plane's parameter values as the page gave them.
+    pub at: Vec<(String, f64)>,
+}
+
 /// An atlas the page can show.
 pub(crate) struct Opened {
     /// Its file.
@@ -105,6 +118,9 @@ pub(crate) struct Job {
     done: AtomicU64,
     cancel: AtomicBool,
     phase: Mutex<Phase>,
+    /// When it started computing (not while it waited its turn), and its
+    /// seconds once ended.
+    clock: Mutex<(Option<Instant>, Option<f64>)>,
 }
 
 impl Job {
@@ -114,6 +130,21 @@ impl Job {
             done: AtomicU64::new(0),
             cancel: AtomicBool::new(false),
             phase: Mutex::new(Phase::Running),
+            clock: Mutex::new((None, None)),
+        }
+    }
+
+    /// Marks the start of its computation.
+    pub fn start_clock(&self) {
+        lock(&self.clock).0 = Some(Instant::now());
+    }
+
+    /// Seconds it has computed (all of them once ended; 0 before it starts).
+    pub fn seconds(&self) -> f64 {
+        match *lock(&self.clock) {
+            (_, Some(s)) => s,
+            (Some(t0), None) => t0.elapsed().as_secs_f64(),
+            (None, None) => 0.0,
         }
     }
 
@@ -139,8 +170,10 @@ impl Job {
         self.phase() == Phase::Running
     }
 
-    /// Sets where it ended.
+    /// Sets where it ended (and stops its clock).
     pub fn end(&self, phase: Phase) {
+        let mut clock = lock(&self.clock);
+        clock.1 = Some(clock.0.map_or(0.0, |t0| t0.elapsed().as_secs_f64()));
         *lock(&self.phase) = phase;
     }
 }
@@ -258,6 +291,8 @@ pub(crate) struct State {
     pub dir: PathBuf,
     /// Worker threads of a zoom or an attractor search.
     pub threads: usize,
+    /// The cell last clicked.
+    selected: Mutex<Option<Selected>>,
 }
 
 impl State {
@@ -276,7 +311,18 @@ impl State {
             curves,
             dir,
             threads,
+            selected: Mutex::new(None),
         })
+    }
+
+    /// Records the cell clicked.
+    pub fn select(&self, cell: Selected) {
+        *lock(&self.selected) = Some(cell);
+    }
+
+    /// The cell last clicked, if any.
+    pub fn selected(&self) -> Option<Selected> {
+        lock(&self.selected).clone()
     }
 
     /// Atlas `id`.

@@ -57,6 +57,14 @@ const NO_IMPACT: [u8; 3] = [184, 184, 184];
 /// figures' background, apart from every label's colour.
 pub const BLANK: [u8; 3] = [255, 255, 255];
 
+/// A colour faded toward white, three fifths of the way (each channel
+/// `(2 c + 3 · 255) / 5`, rounded): the hysteresis view's cells where the
+/// up and down sweeps agree, drawn in their label's hue but receding, so
+/// that the cells where they differ stand out.
+pub fn faded(c: [u8; 3]) -> [u8; 3] {
+    c.map(|v| ((2 * u32::from(v) + 3 * 255 + 2) / 5) as u8)
+}
+
 /// RGB colour of a label (`1-4-4`, `2-S-3`, `C`, `Q`, `U`).
 pub fn colour(label: Label) -> [u8; 3] {
     match label {

@@ -259,6 +259,7 @@ fn sim(a: SimArgs<'_>) -> PyResult<Sim> {
     let (kind, value) = scene;
     let source = match kind.as_str() {
         "path" => SceneSource::File(value.into()),
+        "stored" => SceneSource::Stored(value.into()),
         "toml" => SceneSource::Text(value),
         "json" => {
             let table: toml::Table = serde_json::from_str(&value)
@@ -325,19 +326,33 @@ struct CellSections {
 
 /// One cell: the value of `cell --json`, with `portrait` (what `cell
 /// --portrait` draws) and `sections` (what `cell --section-png` draws) when
-/// asked for.
+/// asked for. `stored`: `(file, at, sweep)`, the cell of a stored atlas run
+/// again from the state it started from (`cell --from FILE --at … --sweep S`).
 #[pyfunction]
-#[pyo3(signature = (sim, *, state=None, portrait=false, sections=false,
+#[pyo3(signature = (sim, *, state=None, stored=None, portrait=false, sections=false,
     section_periods=engine::DEFAULT_SECTION_PERIODS))]
 fn cell(
     sim: SimArgs<'_>,
     state: Option<Vec<f64>>,
+    stored: Option<(String, Vec<(String, f64)>, Option<String>)>,
     portrait: bool,
     sections: bool,
     section_periods: usize,
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
-    let start = state.map_or(Start::Initial, Start::State);
+    let start = match (state, stored) {
+        (Some(state), _) => Start::State(state),
+        (None, None) => Start::Initial,
+        (None, Some((file, at, sweep))) => {
+            let sweep = sweep
+                .map(|s| {
+                    SweepKind::parse(&s)
+                        .ok_or_else(|| PyValueError::new_err(format!("sweep: expected fresh, up or down, got '{s}'")))
+                })
+                .transpose()?;
+            Start::Cell { file: file.into(), at, sweep }
+        }
+    };
     Ok(Job::start(move |_| {
         let c = engine::cell(&sim, &start)?;
         let mut value = c.to_json();
@@ -503,17 +518,19 @@ fn curve(
 /// [`atlas`], `{"output", "seconds"}` written to `output`, else `{"image",
 /// "seconds"}`.
 #[pyfunction]
-#[pyo3(signature = (parent, *, x, y, sweep=None, threads=None, output=None))]
+#[pyo3(signature = (parent, *, x, y, sweep=None, set=Vec::new(), threads=None, output=None))]
 fn zoom(
     parent: String,
     x: (String, f64, f64, usize),
     y: (String, f64, f64, usize),
     sweep: Option<String>,
+    set: Vec<(String, f64)>,
     threads: Option<usize>,
     output: Option<String>,
 ) -> PyResult<Job> {
     let mut r = engine::ZoomRequest::new(&parent, axis(x), axis(y));
     r.sweeps = sweeps(sweep)?;
+    r.set = set;
     r.threads = self::threads(threads)?;
     r.output = output.clone().map(Into::into);
     r.command = "vibroatlas.zoom (Python)".into();
@@ -554,6 +571,15 @@ impl Explorer {
         self.url.clone()
     }
 
+    /// The cell last clicked in the page, `(file, sweep, [(name, value)])`,
+    /// or `None` before a click (or once stopped).
+    #[getter]
+    fn selected(&self) -> Option<(String, String, Vec<(String, f64)>)> {
+        let server = self.server.lock().unwrap_or_else(|p| p.into_inner());
+        let s = server.as_ref()?.selected()?;
+        Some((s.file.display().to_string(), s.sweep, s.at))
+    }
+
     /// Whether it still serves.
     #[getter]
     fn running(&self) -> bool {
@@ -587,6 +613,13 @@ fn legend(counts: Vec<(String, u64)>, rows: usize) -> Vec<LegendRow> {
         .collect()
 }
 
+/// `colours` (RGB 0-255) faded toward white as the hysteresis view draws
+/// the cells where the sweeps agree (`maps::palette::faded`).
+#[pyfunction]
+fn faded(colours: Vec<[u8; 3]>) -> Vec<[u8; 3]> {
+    colours.into_iter().map(maps::palette::faded).collect()
+}
+
 /// The pieces of `text` in order, each with whether the figures draw it as
 /// a subscript (`x_M1`: `x`, then `M1` lowered).
 #[pyfunction]
@@ -613,6 +646,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(basins, m)?)?;
     m.add_function(wrap_pyfunction!(curve, m)?)?;
     m.add_function(wrap_pyfunction!(zoom, m)?)?;
+    m.add_function(wrap_pyfunction!(faded, m)?)?;
     m.add_function(wrap_pyfunction!(legend, m)?)?;
     m.add_function(wrap_pyfunction!(subscript_runs, m)?)?;
     m.add_function(wrap_pyfunction!(stop_events, m)?)?;

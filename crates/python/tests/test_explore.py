@@ -3,6 +3,7 @@ file `vibroatlas zoom` writes, and an aligned box is the parent's cells bit
 for bit; the explorer serves the API from a thread of this process and
 stops."""
 import json
+import time
 import urllib.error
 import urllib.request
 
@@ -80,6 +81,50 @@ def test_explore_serves_the_api_and_stops(parent):
     assert "stopped" in repr(ex)
     with pytest.raises(urllib.error.URLError):
         urllib.request.urlopen(ex.url + "api/atlas", timeout=5)
+
+
+def test_explorer_selected_is_the_clicked_cell_as_va_cell_returns_it(parent, tmp_path):
+    """The hand-off to Python (issue 65): the cell the page last asked for
+    (a click) is `Explorer.selected`, equal to `va.cell(from_file=…, at=…,
+    sweep=…)`, to `cell --from … --json` and to the page's own answer; a
+    zoom's child cell too, and a slice at another zeta (`set`)."""
+    with va.explore(parent) as ex:
+        assert ex.selected is None
+        info = get(ex.url + "api/atlas")
+        omega, delta = info["x"]["values"][11], info["y"]["values"][4]
+        page = get(ex.url + f"api/cell?sweep=down&omega={omega!r}&delta={delta!r}")
+        chosen = ex.selected
+        mine = va.cell(from_file=parent, at={"omega": omega, "delta": delta}, sweep="down")
+        want = json.loads(cli("cell", "--from", parent, "--sweep", "down", "--at",
+                              f"omega={omega!r},delta={delta!r}", "--json").stdout)
+        assert chosen == mine == want == page
+        # A refused request does not move the selection.
+        with pytest.raises(urllib.error.HTTPError):
+            urllib.request.urlopen(ex.url + "api/cell?sweep=down&omega=1", timeout=60)
+        assert ex.selected == chosen
+        # A cell of a zoom at another zeta: the child's file and values.
+        body = json.dumps({"atlas": 0, "x": "omega=0.5:1:6", "y": "delta=0.3:0.6:4", "set": "zeta=0.05"}).encode()
+        req = urllib.request.Request(ex.url + "api/zoom", data=body, headers={"Content-Type": "application/json"})
+        with urllib.request.urlopen(req, timeout=60) as r:
+            job = json.loads(r.read())["job"]
+        for _ in range(600):
+            state = get(ex.url + f"api/jobs/{job}")
+            if state["state"] != "running":
+                break
+            time.sleep(0.1)
+        assert state["state"] == "done", state
+        child = get(ex.url + f"api/atlas?atlas={state['child']}")
+        assert child["parent"]["box"] == "omega=0.5:1:6 delta=0.3:0.6:4 at zeta=0.05"
+        om, de = child["x"]["values"][2], child["y"]["values"][1]
+        page = get(ex.url + f"api/cell?atlas={state['child']}&sweep=up&omega={om!r}&delta={de!r}")
+        chosen = ex.selected
+        assert chosen == page
+        assert chosen["parameters"]["zeta"] == 0.05, chosen["parameters"]
+    assert ex.selected is None
+    with pytest.raises(ValueError, match="at, sweep: given without from_file"):
+        va.cell(MULTI, sweep="down")
+    with pytest.raises(TypeError, match="at: expected"):
+        va.cell(from_file=parent)
 
 
 def test_explore_refuses_what_is_not_an_atlas(tmp_path):

@@ -629,12 +629,26 @@ impl Hysteresis<'_> {
     }
 
     /// Cell `i` of the third panel: split between its up and down labels
-    /// where they differ, blank elsewhere.
+    /// where they differ; where both sweeps computed it and they agree, the
+    /// same split in their colours faded ([`palette::faded`]: one colour
+    /// where the labels are the same); blank where a sweep did not compute it.
     pub fn paint(&self, i: usize) -> Paint {
+        let m = self.mass;
         match (self.hyst[i], &self.up[i], &self.down[i]) {
-            (1, Some(a), Some(b)) => Paint::Split(rgb(a.labels[self.mass]), rgb(b.labels[self.mass])),
+            (1, Some(a), Some(b)) => Paint::Split(rgb(a.labels[m]), rgb(b.labels[m])),
+            (_, Some(a), Some(b)) => match (a.labels[m], b.labels[m]) {
+                (a, b) if a == b => Paint::Fill(faded(a)),
+                (a, b) => Paint::Split(faded(a), faded(b)),
+            },
             _ => Paint::Fill(BLANK),
         }
+    }
+
+    /// Cells both sweeps computed without a hysteresis between them (drawn
+    /// faded).
+    fn agreeing(&self) -> u64 {
+        let both = |i: &usize| self.up[*i].is_some() && self.down[*i].is_some();
+        (0..self.hyst.len()).filter(|&i| self.hyst[i] == 0).filter(both).count() as u64
     }
 
     /// The legend in `room` rows: the curves, the labels of both sweeps,
@@ -646,7 +660,7 @@ impl Hysteresis<'_> {
         };
         let curve_rows = curve_entries(curves);
         let pairs = &self.pairs;
-        let room = room.saturating_sub(2 + curve_rows.len());
+        let room = room.saturating_sub(3 + curve_rows.len());
         let pair_room = if pairs.len() <= room / 2 { pairs.len() } else { (2 * room / 5).max(2) };
         let mut pair_rows: Vec<Entry> = pairs.iter().take(pair_room.saturating_sub(1)).map(pair_entry).collect();
         match &pairs[pair_rows.len()..] {
@@ -663,6 +677,8 @@ impl Hysteresis<'_> {
         rows.extend(label_entries(&self.counts, room.saturating_sub(pair_rows.len())));
         rows.push(Entry::new(Swatch::Heading, "up / down (cells)"));
         rows.extend(pair_rows);
+        let agree = RGBColor(150, 150, 150);
+        rows.push(Entry::new(Swatch::Fill(faded_rgb(agree)), format!("agree: label faded ({})", self.agreeing())));
         rows
     }
 }
@@ -714,6 +730,16 @@ fn draw_sheet<DB: crate::Backend>(
         draw_cells(area, canvas, &atlas.meta, title, label_paint(cells, mass), &[])?;
     }
     placed.draw(&key, canvas)
+}
+
+/// The colour of `label` faded toward white ([`palette::faded`]).
+fn faded(label: Label) -> RGBColor {
+    faded_rgb(rgb(label))
+}
+
+fn faded_rgb(c: RGBColor) -> RGBColor {
+    let [r, g, b] = palette::faded([c.0, c.1, c.2]);
+    RGBColor(r, g, b)
 }
 
 /// Colours of 1, 2, 3 and 4 or more coexisting attractors (light to dark).

@@ -41,8 +41,9 @@ def __dir__():
     return sorted(__all__ + ["__version__"])
 
 
-def cell(scene, *, state=None, portrait=False, sections=False, section_periods=None, preset=None,
-         integrator=None, accuracy=None, progress=None, params=None, **parameters):
+def cell(scene=None, *, state=None, from_file=None, at=None, sweep=None, portrait=False, sections=False,
+         section_periods=None, preset=None, integrator=None, accuracy=None, progress=None, params=None,
+         **parameters):
     """Simulates one parameter point from the scene's initial state (or from
     `state`) and classifies its steady motion, like `vibroatlas cell SCENE
     --json`.
@@ -54,6 +55,13 @@ def cell(scene, *, state=None, portrait=False, sections=False, section_periods=N
     start [x1, x2, ..., v1, v2, ...] at the scene's forcing phase, instead of
     the scene's initial state (`--state`). progress is accepted for symmetry
     with the other functions and ignored (a cell is short: no bar).
+
+    from_file, at, sweep: a cell of a stored atlas (or sweep file), run
+    again from the state it started from, like `cell --from FILE --at
+    omega=…,delta=… --sweep down`: at is {parameter: value} (the nearest
+    stored cell is taken), sweep the file's sweep (default its first); the
+    file's scene, preset, knobs and integrator are used unless given.
+    `Explorer.selected` is the cell clicked in the page, as this returns it.
 
     Returns the dict `cell --json` prints: class, n, reason (and
     reason_detail, the reason with its numbers, for an unresolved cell), labels,
@@ -75,6 +83,19 @@ def cell(scene, *, state=None, portrait=False, sections=False, section_periods=N
     options = _common({}, preset, integrator, accuracy)
     if state is not None:
         options["state"] = _run.floats("state", state)
+    if from_file is not None:
+        if state is not None:
+            raise ValueError("state: give either state or from_file, not both")
+        if at is None or not hasattr(at, "items"):
+            raise TypeError(f"at: expected {{parameter: value}} with from_file, got {at!r}")
+        values = [(_text("at", k), _number(f"at {k}", v)) for k, v in at.items()]
+        options["stored"] = (os.fspath(from_file), values, None if sweep is None else _text("sweep", sweep))
+        if scene is None:
+            scene = _run.Stored(from_file)
+    elif at is not None or sweep is not None:
+        raise ValueError("at, sweep: given without from_file")
+    if scene is None:
+        raise TypeError("cell: missing the scene (a path, a TOML text or a dict), or from_file")
     _run.flag("progress", progress)
     _run.flag("portrait", portrait)
     _run.flag("sections", sections)
@@ -195,7 +216,7 @@ def _loaded(source):
     return tree
 
 
-def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
+def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True, params=None, **parameters):
     """Computes a box of a stored atlas again, like `vibroatlas zoom PARENT
     --x ... --y ... -o FILE`, and returns it as an xarray.DataTree like
     `atlas`: with the parent's scene, parameter values, preset, accuracy and
@@ -208,12 +229,18 @@ def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True):
     (name, start, stop, count), the parent's axes' parameters, within its
     plane. sweep: narrows the parent's sweeps ("up", "down", "fresh" or
     "both"). threads, output, progress: as for `atlas` (without output the
-    file is written in memory, nothing on disk).
+    file is written in memory, nothing on disk). params / keyword
+    parameters: scene parameters that are not axes, set to other values
+    than the parent's (`zoom --set`): the box is then a slice beside the
+    parent's plane (`va.zoom(p, x, y, zeta=0.07)`).
     """
     parent = _file_of(parent, "parent")
     options = {"x": _axis("x", x), "y": _axis("y", y)}
     if sweep is not None:
         options["sweep"] = _text("sweep", sweep)
+    given = _params(params, parameters)
+    if given:
+        options["set"] = given
     if threads is not None:
         options["threads"] = _whole("threads", threads)
     _run.flag("progress", progress)
@@ -251,6 +278,17 @@ class Explorer:
     def stop(self):
         """Stops serving (running zooms are cancelled; their files removed)."""
         self._native.stop()
+
+    @property
+    def selected(self):
+        """The cell last clicked in the page, as `va.cell` returns it (run
+        again: `va.cell(from_file=FILE, at={...}, sweep=S)`), or None before
+        a click."""
+        chosen = self._native.selected
+        if chosen is None:
+            return None
+        file, sweep, at = chosen
+        return cell(from_file=file, at=dict(at), sweep=sweep)
 
     def __enter__(self):
         return self

@@ -21,9 +21,12 @@ Sweep = Literal["fresh", "up", "down", "both"]
 class SceneError(ValueError): ...
 
 def cell(
-    scene: Scene,
+    scene: Scene | None = ...,
     *,
     state: Sequence[float] | None = ...,
+    from_file: Path | None = ...,
+    at: Mapping[str, float] | None = ...,
+    sweep: Literal["fresh", "up", "down"] | None = ...,
     portrait: bool = ...,
     sections: bool = ...,
     section_periods: int | None = ...,
@@ -80,6 +83,8 @@ def zoom(
     threads: int | None = ...,
     output: Path | None = ...,
     progress: bool = ...,
+    params: Mapping[str, float] | None = ...,
+    **parameters: float,
 ) -> xarray.DataTree: ...
 
 class Explorer:
@@ -88,6 +93,8 @@ class Explorer:
     def __init__(self, path: str, port: int = ..., threads: int | None = ..., height: int = ...) -> None: ...
     @property
     def url(self) -> str: ...
+    @property
+    def selected(self) -> dict[str, Any] | None: ...
     def stop(self) -> None: ...
     def __enter__(self) -> Explorer: ...
     def __exit__(self, *exc: object) -> None: ...

@@ -25,10 +25,19 @@ SLICE = 0.1
 CANCEL_WAIT = 1.0
 
 
+class Stored:
+    """The scene stored in an atlas or sweep file (`cell --from FILE` without a scene)."""
+
+    def __init__(self, path):
+        self.path = os.fspath(path)
+
+
 def scene_arg(scene):
     """The native scene argument: ("path", p) for a path (str or os.PathLike),
     ("toml", text) for a str holding a TOML text (one with a newline), ("json",
     text) for a dict (a parsed scene table)."""
+    if isinstance(scene, Stored):
+        return ("stored", scene.path)
     if isinstance(scene, dict):
         try:
             table = _table(scene, "")

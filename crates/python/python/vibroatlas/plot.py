@@ -235,8 +235,10 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     """The three panels of `vibroatlas render --sweep hysteresis`: the mass's
     labels in the up sweep | in the down sweep | the cells where two motions
     coexist (the file's hysteresis mask), each cut along its rising diagonal,
-    the up label's colour above it and the down label's below; other cells
-    white. tree: a DataTree with /up and /down (va.atlas(..., sweep="both"),
+    the up label's colour above it and the down label's below; the cells
+    both sweeps computed without a hysteresis in the same split with their
+    colours faded toward white (one faded colour where the labels agree);
+    the rest white. tree: a DataTree with /up and /down (va.atlas(..., sweep="both"),
     va.open), or a path. Returns the three Axes (a list); fig: the Figure to
     draw into (default: a new one)."""
     import matplotlib.pyplot as plt
@@ -263,14 +265,22 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     _mesh(axes[0], xs, ys, cu, ru)
     _mesh(axes[1], xs, ys, cd, rd)
     ex, ey = edges(xs), edges(ys)
-    iy, ix = np.nonzero(mask)
-    x0, x1, y0, y1 = ex[ix], ex[ix + 1], ey[iy], ey[iy + 1]
-    upper = np.stack([np.stack([x0, y0], -1), np.stack([x0, y1], -1), np.stack([x1, y1], -1)], 1)
-    lower = np.stack([np.stack([x0, y0], -1), np.stack([x1, y0], -1), np.stack([x1, y1], -1)], 1)
-    faces = np.concatenate([ru[cu[iy, ix]], rd[cd[iy, ix]]]) if len(iy) else np.zeros((0, 3))
-    axes[2].add_collection(PolyCollection(np.concatenate([upper, lower]) if len(iy) else [],
-                                          facecolors=faces, edgecolors="none", linewidths=0,
-                                          antialiased=False, rasterized=True))
+    from . import _native
+
+    def fade(rgb):
+        return np.asarray(_native.faded(np.round(rgb * 255).astype(int).tolist()), float).reshape(-1, 3) / 255
+
+    agree = ~mask & (cu >= 0) & (cd >= 0)
+    for cells, (up_rgb, down_rgb) in ((agree, (fade(ru), fade(rd))), (mask, (ru, rd))):
+        iy, ix = np.nonzero(cells)
+        if not len(iy):
+            continue
+        x0, x1, y0, y1 = ex[ix], ex[ix + 1], ey[iy], ey[iy + 1]
+        upper = np.stack([np.stack([x0, y0], -1), np.stack([x0, y1], -1), np.stack([x1, y1], -1)], 1)
+        lower = np.stack([np.stack([x0, y0], -1), np.stack([x1, y0], -1), np.stack([x1, y1], -1)], 1)
+        faces = np.concatenate([up_rgb[cu[iy, ix]], down_rgb[cd[iy, ix]]])
+        axes[2].add_collection(PolyCollection(np.concatenate([upper, lower]), facecolors=faces, edgecolors="none",
+                                              linewidths=0, antialiased=False, rasterized=True))
     axes[2].set_xlim(ex[0], ex[-1])
     axes[2].set_ylim(ey[0], ey[-1])
     names = [f"{mass}, up sweep", f"{mass}, down sweep", f"coexisting motions: {int(mask.sum())} cells"]
