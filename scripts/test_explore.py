@@ -239,6 +239,28 @@ try:
                 check(f"hover shows {sweep} {mass} {label}", f"{mass} {label}" in text, text)
         omega, delta = f["omega"][ix], f["delta"][iy]
         amplitude = float(f["down"]["max_abs_x_M1"][iy, ix])
+    # Its numbers (issue 65): per sweep the largest |multiplier| or λ and a
+    # table of every stored quantity, equal to `cell --from … --json` to the
+    # six digits shown.
+    close = lambda shown, want: abs(float(shown) - want) <= 1e-5 * abs(want) + 1e-12
+    table = driver.execute_script(
+        "const t = document.querySelector('#hover table.quantities'); if (!t) return null;"
+        "return Array.from(t.rows).map((r) => Array.from(r.cells).map((c) => c.textContent));")
+    check("hover shows a table of the stored quantities", table is not None and len(table) > 20, str(table)[:200])
+    heads = table[0][1:]
+    for sweep in ["up", "down"]:
+        again = json.loads(run("cell", "--from", atlas, "--sweep", sweep, "--at", f"omega={omega!r},delta={delta!r}",
+                               "--json").stdout)
+        line = next(l for l in text.splitlines() if l.startswith(f"{sweep}:"))
+        number, want = (("max |μ| ", again["max_multiplier"]) if again["max_multiplier"] is not None
+                        else ("λ ", again["lyapunov"]))
+        shown = line.split(number)[1].rstrip(")")
+        check(f"hover's {number.strip()} of {sweep} is cell --from's", close(shown, want), f"{line} vs {want}")
+        column = heads.index(sweep) + 1
+        rows = {r[0]: r[column] for r in table[1:]}
+        bad = [(k, rows.get(k), v) for k, v in again["quantities"].items()
+               if v is not None and not (k in rows and close(rows[k], v))]
+        check(f"hover's {len(again['quantities'])} quantities of {sweep} are cell --from's", not bad, str(bad[:3]))
     shot(driver, "2-hover.png")
 
     # A quantity of the steady motion as a view: its value in the hover (issue 60).

@@ -379,10 +379,14 @@ function parameters(values) {
   return `${x.symbol} = ${short(values[x.name])}, ${y.symbol} = ${short(values[y.name])}`;
 }
 
+// The hover's text: the cell's parameters, then per sweep its labels, class
+// and largest |multiplier| or λ (and the viewed quantity), then a table of
+// every stored quantity, a column per sweep.
 function describe(at) {
   const lines = [parameters(at.parameters)];
   // The quantity of the view, when it shows one (NAME:SWEEP).
   const viewed = S.view.includes(':') ? S.view.split(':')[0] : null;
+  const names = [];
   for (const sweep of S.info.sweeps) {
     const c = at.sweeps[sweep];
     if (!c) { lines.push(`${sweep}: not computed`); continue; }
@@ -395,8 +399,18 @@ function describe(at) {
       lines.push(`  ${viewed} = ${v === null ? 'none' : short(v)}`);
     }
     if (c.reason) lines.push(`  ${c.reason}`);
+    for (const n of Object.keys(c.quantities)) if (!names.includes(n)) names.push(n);
   }
-  return lines.join('\n');
+  const text = el('div', lines.join('\n'));
+  if (!names.length) return [text];
+  const sweeps = S.info.sweeps.filter((s) => at.sweeps[s]);
+  const cell = (t, tag = 'td') => el(tag, t);
+  const head = el('tr', null, {}, [cell('', 'th'), ...sweeps.map((s) => cell(s, 'th'))]);
+  const rows = names.map((n) => el('tr', null, { 'data-quantity': n }, [cell(n, 'th'), ...sweeps.map((s) => {
+    const v = at.sweeps[s].quantities[n];
+    return cell(v === null || v === undefined ? '—' : short(v));
+  })]));
+  return [text, el('table', null, { class: 'quantities' }, [head, ...rows])];
 }
 
 async function hover(e) {
@@ -411,8 +425,10 @@ async function hover(e) {
   try {
     const at = await getJSON(`/api/at?atlas=${S.id}&ix=${c.ix}&iy=${c.iy}`);
     if (S.hovered !== key) return;
-    tip.textContent = describe(at);
+    tip.replaceChildren(...describe(at));
     tip.hidden = false;
+    // Within the plot's height: the table of quantities is tall.
+    tip.style.top = `${Math.max(0, Math.min(e.offsetY + 14, canvas.clientHeight - tip.offsetHeight))}px`;
   } catch (err) { say(err.message); }
 }
 

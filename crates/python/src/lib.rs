@@ -614,10 +614,10 @@ fn legend(counts: Vec<(String, u64)>, rows: usize) -> Vec<LegendRow> {
 }
 
 /// `colours` (RGB 0-255) faded toward white as the hysteresis view draws
-/// the cells where the sweeps agree (`maps::palette::faded`).
+/// the cells where the sweeps agree (`render::faded`).
 #[pyfunction]
-fn faded(colours: Vec<[u8; 3]>) -> Vec<[u8; 3]> {
-    colours.into_iter().map(maps::palette::faded).collect()
+fn faded(colours: Vec<(u8, u8, u8)>) -> Vec<(u8, u8, u8)> {
+    colours.into_iter().map(|(r, g, b)| render::faded([r, g, b])).map(|[r, g, b]| (r, g, b)).collect()
 }
 
 /// The pieces of `text` in order, each with whether the figures draw it as

@@ -94,6 +94,7 @@ def test_explorer_selected_is_the_clicked_cell_as_va_cell_returns_it(parent, tmp
         omega, delta = info["x"]["values"][11], info["y"]["values"][4]
         page = get(ex.url + f"api/cell?sweep=down&omega={omega!r}&delta={delta!r}")
         chosen = ex.selected
+        assert ex.clicked == {"from_file": str(parent), "at": {"omega": omega, "delta": delta}, "sweep": "down"}
         mine = va.cell(from_file=parent, at={"omega": omega, "delta": delta}, sweep="down")
         want = json.loads(cli("cell", "--from", parent, "--sweep", "down", "--at",
                               f"omega={omega!r},delta={delta!r}", "--json").stdout)

@@ -25,6 +25,8 @@ pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use layers::{curve_style, label_legend, layer, Key, Layer, Show};
 pub use map::{attractor_map, family_map, map, sheet, Overlay, View};
+/// A colour faded as the hysteresis view draws the cells where the sweeps agree.
+pub use maps::palette::faded;
 pub use output::Format;
 pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};

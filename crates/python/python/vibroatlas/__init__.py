@@ -280,15 +280,23 @@ class Explorer:
         self._native.stop()
 
     @property
-    def selected(self):
-        """The cell last clicked in the page, as `va.cell` returns it (run
-        again: `va.cell(from_file=FILE, at={...}, sweep=S)`), or None before
-        a click."""
+    def clicked(self):
+        """Where the cell last clicked in the page is stored, as va.cell's
+        keywords: {"from_file": FILE, "at": {name: value}, "sweep": S} (a
+        zoom's child is a file of the explorer, removed when it stops), or
+        None before a click."""
         chosen = self._native.selected
         if chosen is None:
             return None
         file, sweep, at = chosen
-        return cell(from_file=file, at=dict(at), sweep=sweep)
+        return {"from_file": file, "at": dict(at), "sweep": sweep}
+
+    @property
+    def selected(self):
+        """The cell last clicked in the page, as `va.cell` returns it
+        (`va.cell(**explorer.clicked)`), or None before a click."""
+        clicked = self.clicked
+        return None if clicked is None else cell(**clicked)
 
     def __enter__(self):
         return self

@@ -268,7 +268,8 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     from . import _native
 
     def fade(rgb):
-        return np.asarray(_native.faded(np.round(rgb * 255).astype(int).tolist()), float).reshape(-1, 3) / 255
+        colours = [tuple(c) for c in np.round(rgb * 255).astype(int).tolist()]
+        return np.asarray(_native.faded(colours), float).reshape(-1, 3) / 255
 
     agree = ~mask & (cu >= 0) & (cd >= 0)
     for cells, (up_rgb, down_rgb) in ((agree, (fade(ru), fade(rd))), (mask, (ru, rd))):
