@@ -103,6 +103,11 @@ fn pdf_figures_keep_their_text_in_an_embedded_font() {
         for want in ["M1, down sweep", "up / down differ", "ω", "δ", "up / down (cells)", "1-1-1 / 1-0-0"] {
             assert!(h.contains(want), "{tag} hysteresis view: '{want}' missing from {h}");
         }
+        // The agreeing cells, drawn faded, counted in the legend (every cell
+        // of this atlas is computed by both sweeps).
+        let agree = store::read(&atlas).unwrap().atlas.hysteresis().unwrap().iter().filter(|&&v| v == 0).count();
+        let want = format!("agree: label faded ({agree})");
+        assert!(h.contains(&want), "{tag} hysteresis view: '{want}' missing from {h}");
         for want in ["bifurcation diagram in ω", "up sweep", "down sweep", "M1", "at t = kT", "impact phase", "7"] {
             assert!(b.contains(want), "{tag} diagram: '{want}' missing from {b}");
         }

@@ -694,6 +694,18 @@ mod tests {
         }
     }
 
+    /// Faded three fifths toward white, rounded: white stays white, black
+    /// becomes 153, and each channel is (2 c + 765) / 5 to the nearest.
+    #[test]
+    fn faded_goes_three_fifths_toward_white() {
+        assert_eq!(faded([255, 255, 255]), [255, 255, 255]);
+        assert_eq!(faded([0, 0, 0]), [153, 153, 153]);
+        for c in 0..=255u8 {
+            let exact = (2.0 * f64::from(c) + 765.0) / 5.0;
+            assert!((f64::from(faded([c, 0, 0])[0]) - exact).abs() <= 0.5, "{c}");
+        }
+    }
+
     /// `delta_e` against Sharma, Wu and Dalal's test data and against the
     /// `palette` crate's CIEDE2000 on every pair of the table's colours.
     #[test]
