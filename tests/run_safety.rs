@@ -375,3 +375,29 @@ fn a_file_size_limit_is_an_error_and_the_run_resumes() {
     assert_eq!(store::read(&out).unwrap().atlas, store::read(&full).unwrap().atlas);
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// A zoom has no resume, so a zoom that fails (here past the file size limit)
+/// leaves nothing behind: no journal, no partial file, no lock (issue 61).
+#[test]
+fn a_failed_zoom_leaves_nothing_behind() {
+    let d = scratch("zoom-fails");
+    let parent = d.join("p.h5");
+    assert!(run(&strs(&atlas(parent.to_str().unwrap(), &[]))).status.success());
+    let limited = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 16; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_vibroatlas"))
+        .args(["zoom", parent.to_str().unwrap(), "--x", "omega=0.3:1.5:60", "--y", "delta=0.2:0.8:30", "--quiet"])
+        .arg("-o")
+        .arg(d.join("c.h5"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&limited.stderr);
+    assert_eq!(limited.status.code(), Some(2), "{err}");
+    assert!(err.contains("File too large"), "{err}");
+    let mut left: Vec<String> =
+        std::fs::read_dir(&d).unwrap().map(|e| e.unwrap().file_name().into_string().unwrap()).collect();
+    left.sort();
+    assert_eq!(left, ["p.h5"], "{err}");
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -40,6 +40,10 @@ pub struct Plan {
     pub entries: grid::Entries,
     /// The atlas a zoom refines (stored in the file).
     pub parent: Option<store::Parent>,
+    /// Whether an interrupted run may be resumed from its journal (an
+    /// atlas); a run that cannot (a zoom) removes its journal whenever it
+    /// fails, leaving nothing behind.
+    pub resumable: bool,
 }
 
 /// Worker threads: the option, or every core.
@@ -127,9 +131,10 @@ impl Plan {
         }
         let ran = self.run(observer, start);
         // A cancelled run is abandoned: its draft took its partial file, its
-        // journal goes too (a killed one keeps it, to resume).
+        // journal goes too (a killed one keeps it, to resume), as does any
+        // failed run's that cannot be resumed.
         if let (Err(e), Some(out)) = (&ran, &self.output) {
-            if matches!(e, Error::Cancelled) {
+            if matches!(e, Error::Cancelled) || !self.resumable {
                 let _ = std::fs::remove_file(journal_path(out));
             }
         }
@@ -506,6 +511,7 @@ impl Plan {
             attractors: None,
             entries: grid::Entries::default(),
             parent: None,
+            resumable: true,
         })
     }
 

@@ -128,6 +128,8 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.parent = Some(store::Parent { path: r.parent.display().to_string(), labels_crc32, region: r.region() });
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.inputs = vec![r.parent.clone()];
+    // A zoom has no resume: a failed one leaves no journal.
+    plan.resumable = false;
     plan.command = r.command.clone();
     plan.check()
         .map_err(|e| crate::error::with_fields(e, &[("x", Opt::X), ("y", Opt::Y), ("threads", Opt::Threads)]))?;
