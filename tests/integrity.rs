@@ -65,6 +65,7 @@ pub(crate) fn python(script: &str, args: &[&str]) -> String {
         .arg(script)
         .args(args)
         .env("CHECKED_TEXTS", store::layout::attr::CHECKED_TEXTS.join(","))
+        .env("CHECKED_NUMBERS", store::layout::attr::CHECKED_NUMBERS.join(","))
         .env("HDF5_USE_FILE_LOCKING", "FALSE")
         .output()
         .unwrap();
@@ -81,19 +82,31 @@ pub(crate) fn python(script: &str, args: &[&str]) -> String {
 /// - `inplace|NAME|EXPR` writes new values into the dataset as h5py does
 ///   (its chunks' Fletcher-32 written anew, its attributes kept);
 /// - `attr|OBJ@NAME|EXPR` rewrites an attribute and writes its object's
-///   checksum of text attributes again, as docs/file-format.md says to
-///   compute it (a file whose texts are whole but wrong); `rawattr|…` leaves
-///   the checksum as it was (a file changed since it was written);
-/// - `del|OBJ|` deletes a dataset or group (`del|@NAME|` a root attribute); `swap|A,B|` swaps two objects'
-///   paths.
+///   checksums of numeric and text attributes again, as docs/file-format.md
+///   says to compute them (a file whose attributes are whole but wrong);
+///   `rawattr|…` leaves the checksums as they were (a file changed since it
+///   was written);
+/// - `del|OBJ|` deletes a dataset or group (`del|OBJ@NAME|` an attribute, `del|@NAME|` a root one);
+///   `swap|A,B|` swaps two objects' paths.
 pub(crate) const REWRITE: &str = r#"
 import os, sys, shutil, struct, zlib, h5py, numpy as np
 
 COVERED = set(os.environ["CHECKED_TEXTS"].split(","))
 
+NUMBERS = set(os.environ["CHECKED_NUMBERS"].split(","))
+
 def seal(o):
     if "attributes_crc32" not in o.attrs:
         return
+    # numbers_crc32 as docs/file-format.md says: each covered numeric
+    # attribute by name, its name, then its values as f64 bits.
+    if "numbers_crc32" in o.attrs:
+        crc = 0
+        for n in sorted((k for k in o.attrs.keys() if k in NUMBERS), key=lambda k: k.encode()):
+            v = np.atleast_1d(np.asarray(o.attrs[n], dtype="<f8"))
+            crc = zlib.crc32(struct.pack("<Q", len(n.encode())) + n.encode(), crc)
+            crc = zlib.crc32(struct.pack("<Q", v.size) + v.tobytes(), crc)
+        o.attrs["numbers_crc32"] = "%08x" % crc
     crc = 0
     for n in sorted(o.attrs.keys(), key=lambda k: k.encode()):
         if n not in COVERED:
@@ -114,8 +127,9 @@ with h5py.File(dst, "r+") as f:
     for spec in sys.argv[3:]:
         kind, name, expr = spec.split("|", 2)
         if kind == "del":
-            if name.startswith("@"):
-                del f.attrs[name[1:]]
+            if "@" in name:
+                obj, key = name.rsplit("@", 1)
+                del (f[obj] if obj else f).attrs[key]
             else:
                 del f[name]
             continue
@@ -722,9 +736,18 @@ fn numbers_a_reader_builds_on_are_checked() {
     let o = originals();
     let d = scratch("numbers");
     for (name, spec, what) in [
-        ("start", "rawattr|axes/omega@start|0.2", "axes/omega: its values are not those of its attributes start, stop"),
-        ("cap", "rawattr|@section_cap|np.int64(0)", "attribute section_cap: 0, but sweep up keeps"),
-        ("normals", "rawattr|@stop_normals|f.attrs['stop_normals'] * 2", "attribute stop_normals: not the normals"),
+        // Changed with their checksums forged: what the reader checks them against.
+        ("start", "attr|axes/omega@start|0.2", "axes/omega: its values are not those of its attributes start, stop"),
+        ("cap", "attr|@section_cap|np.int64(0)", "attribute section_cap: 0, but sweep up keeps"),
+        ("normals", "attr|@stop_normals|f.attrs['stop_normals'] * 2", "attribute stop_normals: not the normals"),
+        // Changed as h5py changes them: their checksum (issue 61, F3).
+        (
+            "start-raw",
+            "rawattr|axes/omega@start|0.2",
+            "the numeric attributes of /axes/omega do not match their checksum",
+        ),
+        ("cap-raw", "rawattr|@section_cap|np.uint64(1000)", "the numeric attributes of / do not match their checksum"),
+        ("numbers", "del|@numbers_crc32|", "the text attributes of / do not match their checksum"),
         // The attractors group deleted (R7: merged without attractors), or its seed changed (R4).
         ("attractors", "del|attractors|", "says attractors 4 samples per cell, seed 1, the file holds none"),
         ("seed", "rawattr|attractors@seed|np.uint64(7)", "the file holds 4 samples per cell, seed 7"),
@@ -744,6 +767,23 @@ fn numbers_a_reader_builds_on_are_checked() {
     ok(&args);
     let f = mutated(&damper, &d.join("samples.h5"), &["rawattr|attractors@samples|np.uint64(9)"]);
     refused(&["inspect", f.to_str().unwrap()], "are not counts of its 9 samples");
+    // A zoom's lattice (issue 61, F3): a level changed, added or deleted is
+    // refused by every reader, a zoom of the file included.
+    let (child, grandchild) = (d.join("child.h5"), d.join("grandchild.h5"));
+    let (c, g) = (child.to_str().unwrap(), grandchild.to_str().unwrap());
+    ok(&["zoom", o.atlas.to_str().unwrap(), "--x", "omega=0.13:0.53:7", "--y", "delta=0.4:0.8:3", "--quiet", "-o", c]);
+    let lattice = "the numeric attributes of /axes/omega do not match their checksum";
+    for (name, spec) in [
+        ("count", "rawattr|axes/omega@lattice_count|np.array([5], dtype=np.uint64)"),
+        ("levels", "rawattr|axes/omega@lattice_start|np.array([0.13, 0.13])"),
+        ("gone", "del|axes/omega@lattice_stop|"),
+    ] {
+        let f = mutated(&child, &d.join(format!("lattice-{name}.h5")), &[spec]);
+        let f = f.to_str().unwrap();
+        refused(&["inspect", "--verify", f], lattice);
+        refused(&["zoom", f, "--x", "omega=0.2:0.4:3", "--y", "delta=0.4:0.8:3", "--quiet", "-o", g], lattice);
+        assert!(!grandchild.exists());
+    }
 }
 
 /// Issue 42, R5 and R7: what no reader of vibroatlas uses to draw its cells

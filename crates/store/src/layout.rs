@@ -395,6 +395,7 @@ pub mod attr {
         "knobs",
         "long_name",
         "masses",
+        "numbers_crc32",
         "overrides",
         "p_stops",
         "parent",
@@ -418,6 +419,20 @@ pub mod attr {
         "x",
         "y",
     ];
+    /// `numbers_crc32` of an object: the CRC-32 of its numeric attributes
+    /// named in [`CHECKED_NUMBERS`], in the byte order of their names, each
+    /// its name's byte length (u64, little-endian), the name, then its
+    /// values as f64 (their count, u64 little-endian, then each value's
+    /// bits, little-endian), written as 8 hexadecimal digits. A text
+    /// attribute, so that [`ATTRIBUTES_CRC32`] covers it in turn: deleting it
+    /// fails that check. Files written before it have none and read as
+    /// before.
+    pub const NUMBERS_CRC32: &str = "numbers_crc32";
+    /// The numeric attributes [`NUMBERS_CRC32`] covers, those a reader takes
+    /// content from: the state's dimension, the section cap, the stops'
+    /// normals, an axis's ends and its lattice.
+    pub const CHECKED_NUMBERS: &[&str] =
+        &["dim", "lattice_count", "lattice_start", "lattice_stop", "section_cap", "start", "stop", "stop_normals"];
 }
 
 /// Dataset names inside a sweep group (and the sections and attractors groups).

@@ -134,15 +134,45 @@ pub fn attributes_crc32(attributes: &[(String, Vec<u8>)]) -> u32 {
     texts_crc32(attributes.iter().flat_map(|(n, v)| [n.as_bytes(), v.as_slice()]))
 }
 
-/// Writes (again) the checksum of the text attributes of `loc` (attribute
-/// [`ATTRIBUTES_CRC32`](crate::layout::attr::ATTRIBUTES_CRC32)), once they
-/// are all written.
+/// The CRC-32 of the numeric attributes of `loc` that
+/// [`NUMBERS_CRC32`](crate::layout::attr::NUMBERS_CRC32) covers, as its 8
+/// hexadecimal digits; `None` where `loc` has none of them.
+pub fn numbers_crc32(loc: &Location) -> hdf5::Result<Option<String>> {
+    let mut names = loc.attr_names()?;
+    names.retain(|n| crate::layout::attr::CHECKED_NUMBERS.contains(&n.as_str()));
+    if names.is_empty() {
+        return Ok(None);
+    }
+    names.sort();
+    let mut crc = crc32fast::Hasher::new();
+    for name in names {
+        let values = loc.attr(&name)?.read_raw::<f64>()?;
+        crc.update(&(name.len() as u64).to_le_bytes());
+        crc.update(name.as_bytes());
+        crc.update(&(values.len() as u64).to_le_bytes());
+        values.iter().for_each(|v| crc.update(&v.to_bits().to_le_bytes()));
+    }
+    Ok(Some(format!("{:08x}", crc.finalize())))
+}
+
+/// Writes (again) the checksums of the attributes of `loc`, once they are
+/// all written: of its numeric ones ([`numbers_crc32`], a text attribute,
+/// where it has any), then of its text ones (attribute
+/// [`ATTRIBUTES_CRC32`](crate::layout::attr::ATTRIBUTES_CRC32)).
 pub fn seal(loc: &Location) -> hdf5::Result<()> {
+    let replace = |name: &str| -> hdf5::Result<()> {
+        if loc.attr_names()?.iter().any(|n| n == name) {
+            loc.delete_attr(name)?;
+        }
+        Ok(())
+    };
+    if let Some(numbers) = numbers_crc32(loc)? {
+        replace(crate::layout::attr::NUMBERS_CRC32)?;
+        attr_str(loc, crate::layout::attr::NUMBERS_CRC32, &numbers)?;
+    }
     let name = crate::layout::attr::ATTRIBUTES_CRC32;
     let crc = attributes_crc32(&text_attributes(loc)?);
-    if loc.attr_names()?.iter().any(|n| n == name) {
-        loc.delete_attr(name)?;
-    }
+    replace(name)?;
     attr_num(loc, name, crc)
 }
 

@@ -369,6 +369,7 @@ fn entries(ck: &Checker, f: &hdf5::File, meta: &Meta, zoom: bool) -> Result<maps
 /// The axis `name` of the `/axes` group: 1 to `MAX_COUNT` values, finite ends.
 fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, StoreError> {
     let d = ck.open(axes, name)?;
+    crate::attrs::verify(ck.path, &d)?;
     let at = format!("{AXES}/{name}");
     let count = d.size();
     if count == 0 || count > maps::MAX_COUNT {

@@ -346,6 +346,8 @@ fn create_in(f: hdf5::File, m: &maps::Meta, chunks: &Chunks, z: &Deflater) -> hd
             attr_array(&d, attr::LATTICE_STOP, &l.levels.iter().map(|l| l.1).collect::<Vec<_>>())?;
             attr_array(&d, attr::LATTICE_COUNT, &l.levels.iter().map(|l| l.2 as u64).collect::<Vec<_>>())?;
         }
+        // Its ends and lattice under a checksum: they decide the values a zoom takes.
+        netcdf::seal(&d)?;
     }
     // Root coordinates, for the root's gridded datasets (hysteresis).
     Grid::new(&f, m, z)?;
