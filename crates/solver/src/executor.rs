@@ -919,11 +919,17 @@ impl<'s> Executor<'s> {
     fn orbit_among(&mut self, points: &[DVector<f64>]) -> Option<usize> {
         let len = points.len();
         let last = points.last()?;
-        let extent = extent(points.iter());
-        // How far the last n points are from the n before them, at most.
-        let away = |n: usize| (len - n..len).map(|k| distance(&points[k], &points[k - n])).fold(0.0, f64::max);
+        let within = ORBIT_RETURN * extent(points.iter());
+        // How far the last n points are from the n before them, at most;
+        // `None` as soon as one is not within reach (the lags are many).
+        let away = |n: usize| {
+            (len - n..len).try_fold(0.0, |most: f64, k| {
+                let d = distance(&points[k], &points[k - n]);
+                (d < within || d.is_nan()).then_some(most.max(d))
+            })
+        };
         let mut returns: Vec<(f64, usize)> =
-            (1..=LONGEST_ORBIT.min(len / 2)).map(|n| (away(n), n)).filter(|r| r.0 < ORBIT_RETURN * extent).collect();
+            (1..=LONGEST_ORBIT.min(len / 2)).filter_map(|n| away(n).map(|a| (a, n))).collect();
         returns.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (n, ()) in candidates(returns.into_iter().map(|(_, n)| (n, ()))) {
             let x = self.stable_fixed_point(last, n).filter(|x| distance(last, x) <= LONG_REACH);
