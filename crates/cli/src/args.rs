@@ -212,12 +212,8 @@ pub struct SimArgs {
     /// Accuracy preset (default: standard).
     #[arg(long, value_enum)]
     pub preset: Option<PresetArg>,
-    /// Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable).
-    /// Knobs: event_tol, contact_tol, stick_velocity, chatter_velocity,
-    /// min_transient, max_periods, periodic_tol, n_max, chatter_impacts,
-    /// max_events, newton, lyapunov_periods, chaos_check, extensions, multipliers, rk4_step,
-    /// rk4_min_step.
-    #[arg(long = "accuracy", value_name = "KNOB=VALUE")]
+    // Its help names every knob of the `knobs!` table, in order.
+    #[arg(long = "accuracy", value_name = "KNOB=VALUE", help = accuracy_help())]
     pub accuracy: Vec<String>,
     /// Integrator: exact (closed-form flow, default) or rk4 (fixed step, the literature's method).
     #[arg(long, value_enum)]
@@ -619,6 +615,12 @@ pub struct BenchArgs {
     /// Folder for trade.png (the Pareto front of agreement against cells/s).
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub output: Option<std::path::PathBuf>,
+}
+
+/// The help of `--accuracy`: every knob of [`solver::Knob::ALL`], in order.
+fn accuracy_help() -> String {
+    let knobs: Vec<&str> = solver::Knob::ALL.iter().map(|k| k.name()).collect();
+    format!("Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable). Knobs: {}", knobs.join(", "))
 }
 
 /// Accuracy presets (`solver::Preset`).
