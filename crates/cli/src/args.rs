@@ -766,4 +766,18 @@ mod tests {
         assert_eq!(lib(Direction::DownUp, engine::Direction::parse), engine::Direction::DownUp);
         assert_eq!(lib(KindArg::Pd, solver::Bifurcation::parse), solver::Bifurcation::PeriodDoubling);
     }
+
+    /// Every command that simulates names every knob of the table in its
+    /// `--accuracy` help, and no other.
+    #[test]
+    fn the_accuracy_help_names_every_knob() {
+        use clap::CommandFactory;
+        let mut cli = Cli::command();
+        for name in ["cell", "sweep", "atlas", "basins"] {
+            let help = cli.find_subcommand_mut(name).unwrap().render_long_help().to_string();
+            let listed = help.split("Knobs: ").nth(1).unwrap().lines().next().unwrap().replace(' ', "");
+            let want: Vec<&str> = solver::Knob::ALL.iter().map(|k| k.name()).collect();
+            assert_eq!(listed.split(',').collect::<Vec<_>>(), want, "{name}");
+        }
+    }
 }
