@@ -603,3 +603,26 @@ fn cell_says_contacts_for_soft_stops() {
         assert_eq!(header.split_whitespace().nth(1), Some(word), "{scene}: {header}");
     }
 }
+
+/// Issue 60: a soft stop's quantities are named in the words of contacts in
+/// the file (`long_name`, `symbol`), a rigid stop's in those of impacts.
+#[test]
+fn soft_stop_quantities_say_contacts() {
+    let sys = |scene: &str| {
+        engine::Sim::new(engine::SceneSource::File(crate::util::config(scene))).setup().unwrap().system().unwrap()
+    };
+    let gear = grid::Quantity::of(&sys("gear-backlash.toml"));
+    let rigid = grid::Quantity::of(&sys("single-stop.toml"));
+    let named = |qs: &[grid::Quantity], name: &str| qs.iter().find(|q| q.name == name).unwrap().clone();
+    let b = named(&gear, "impact_rate_B");
+    assert_eq!(
+        (b.symbol.as_str(), b.long_name.as_str()),
+        ("contacts per period", "contacts begun per forcing period at B")
+    );
+    let v = named(&gear, "impact_speed_max_D");
+    assert_eq!(v.long_name, "largest normal speed at the start of a contact at D");
+    let a = named(&rigid, "impact_rate_A");
+    assert_eq!((a.symbol.as_str(), a.long_name.as_str()), ("impacts per period", "impacts per forcing period at A"));
+    let v = named(&rigid, "impact_speed_mean_A");
+    assert_eq!(v.long_name, "mean normal speed before an impact at A");
+}

@@ -56,15 +56,18 @@ pub struct Quantity {
 }
 
 impl Quantity {
-    /// The quantities a system measures, in [`solver::quantity::names`]' order.
+    /// The quantities a system measures, in [`solver::quantity::names`]'
+    /// order, a soft stop's in the words of contacts
+    /// ([`solver::quantity::Spec::words`]).
     pub fn of(sys: &solver::System) -> Vec<Quantity> {
+        let soft = |owner: &str| sys.model.stops.iter().any(|s| s.name == owner && s.is_soft());
         solver::quantity::names(sys)
             .into_iter()
             .map(|(name, spec)| {
                 let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
-                let long_name =
-                    if owner.is_empty() { spec.long_name.to_string() } else { format!("{} {owner}", spec.long_name) };
-                Quantity { symbol: spec.symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
+                let (symbol, long) = spec.words(soft(owner));
+                let long_name = if owner.is_empty() { long.to_string() } else { format!("{long} {owner}") };
+                Quantity { symbol: symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
             })
             .collect()
     }

@@ -105,6 +105,24 @@ pub struct Spec {
     measure: Measure,
 }
 
+impl Spec {
+    /// Its symbol and long name for an owner that is a soft stop where they
+    /// differ from a rigid one's: a soft stop's events are contacts begun,
+    /// and their speed is the speed at which a contact starts.
+    pub fn words(&self, soft: bool) -> (&'static str, &'static str) {
+        match (self.measure, soft) {
+            (Measure::ImpactRate, true) => ("contacts per period", "contacts begun per forcing period at"),
+            (Measure::ImpactSpeedMax, true) => {
+                ("max contact speed", "largest normal speed at the start of a contact at")
+            }
+            (Measure::ImpactSpeedMean, true) => {
+                ("mean contact speed", "mean normal speed at the start of a contact at")
+            }
+            _ => (self.symbol, self.long_name),
+        }
+    }
+}
+
 /// How a quantity is made of a window's sums: one variant per entry of
 /// [`TABLE`], so that an entry without its computation does not compile.
 #[derive(Debug, Clone, Copy)]
@@ -156,7 +174,7 @@ table! {
     RmsX: "rms_x", Mass, "rms x", "root mean square of the position about its mean of", Length;
     MaxAbsV: "max_abs_v", Mass, "max |v|", "largest |velocity| of", Velocity;
     RmsV: "rms_v", Mass, "rms v", "root mean square velocity of", Velocity;
-    ImpactRate: "impact_rate", Stop, "impacts per period", "impacts (contacts begun) per forcing period at", PerPeriod;
+    ImpactRate: "impact_rate", Stop, "impacts per period", "impacts per forcing period at", PerPeriod;
     ImpactSpeedMax: "impact_speed_max", Stop, "max impact speed", "largest normal speed before an impact at", Velocity;
     ImpactSpeedMean: "impact_speed_mean", Stop, "mean impact speed", "mean normal speed before an impact at", Velocity;
     Impulse: "impulse", RigidStop, "impulse per period", "impulse per forcing period of", ImpulsePerPeriod;
