@@ -310,3 +310,31 @@ fn a_zoom_at_another_parameter_value_is_that_slice() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A zoom whose chains all start from the scene's initial state (the box
+/// at the parent's first values, up) is an ordinary readable child: its
+/// `entry_state` is all NaN, not missing (the sixth audit: every reader
+/// refused such a child). The same name set twice is refused.
+#[test]
+fn a_zoom_from_the_initial_state_reads_back() {
+    let dir = folder("initial");
+    let pfile = dir.join("p.h5");
+    let (x, y) = (Axis::parse("omega=0.2:2.0:10", "x").unwrap(), Axis::parse("delta=0.1:1.0:4", "y").unwrap());
+    parent("multi-stop.toml", x, y, Along::X, vec![SweepKind::Up, SweepKind::Down], &pfile);
+    let cfile = dir.join("c.h5");
+    let c = cfile.to_str().unwrap();
+    let p = pfile.to_str().unwrap();
+    let ok = run(&["zoom", p, "--x", "omega=0.2:0.6:5", "--y", "delta=0.1:1.0:4", "--sweep", "up", "-o", c, "--quiet"]);
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let verified = run(&["inspect", "--verify", c]);
+    assert!(verified.status.success(), "{}", String::from_utf8_lossy(&verified.stderr));
+    let loaded = store::read(&cfile).unwrap();
+    assert!(loaded.atlas.entries.0.is_empty(), "every chain from the initial state");
+    let d = dir.join("d.h5");
+    let args = ["--x", "omega=0.5:1:5", "--y", "delta=0.1:1:4", "--set", "zeta=0.05", "--set", "zeta=0.07", "-o"];
+    let twice = run(&[&["zoom", p][..], &args, &[d.to_str().unwrap()]].concat());
+    let err = String::from_utf8_lossy(&twice.stderr);
+    assert_eq!(twice.status.code(), Some(2), "{err}");
+    assert!(err.contains("--set zeta: given twice"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

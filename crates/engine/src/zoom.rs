@@ -113,8 +113,11 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     };
     let mut setup = crate::stored_setup(m, &r.parent)?;
     setup.method = m.integrator;
-    for (name, value) in &r.set {
+    for (k, (name, value)) in r.set.iter().enumerate() {
         check_set(name, *value, &m.plane)?;
+        if r.set[..k].iter().any(|(n, _)| n == name) {
+            return Err(RequestError::keyed(Opt::Set, name).text("given twice").into());
+        }
         setup.overrides.retain(|(k, _)| k != name);
         setup.overrides.push((name.clone(), *value));
     }

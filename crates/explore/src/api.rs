@@ -622,9 +622,9 @@ async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Valu
 }
 
 /// The parameters a zoom sets beside its box (`set`: `NAME=VALUE,NAME=VALUE`;
-/// none when absent or empty).
+/// none when absent or blank; an empty item is refused, as the CLI refuses it).
 fn set_of(text: Option<&str>) -> Result<Vec<(String, f64)>, Refusal> {
-    let parts = text.into_iter().flat_map(|t| t.split(',')).filter(|t| !t.trim().is_empty());
+    let parts = text.filter(|t| !t.trim().is_empty()).into_iter().flat_map(|t| t.split(','));
     parts.map(|t| engine::parse_assignment(t, "set").map_err(|e| bad(short(&e)))).collect()
 }
 

@@ -298,3 +298,21 @@ fn basins_of_a_cell_over_components_named_in_markup() {
         assert!(a.error().contains(says), "{query}: {}", a.error());
     }
 }
+
+/// A zoom's `set` (a slice at another parameter value, issue 65) refuses an
+/// empty item and a name given twice, as `zoom --set` does, in one JSON reason.
+#[test]
+fn a_zooms_set_is_refused_as_the_cli_refuses_it() {
+    let server = serve();
+    let p = port(&server);
+    let plan = |set: &str| get(p, &format!("/api/zoom/plan?atlas=0&x=omega=1.5:3:3&y=sigma=-0.5:0:3&set={set}"));
+    let a = plan(",,");
+    assert_eq!(a.status, 400);
+    assert!(a.json()["error"].as_str().unwrap().starts_with("set : expected NAME=VALUE"), "{}", a.json());
+    let a = plan("zeta=0.01,zeta=0.02");
+    assert!(a.status >= 400, "{}", a.status);
+    assert!(a.json()["error"].as_str().unwrap().contains("zeta: given twice"), "{}", a.json());
+    // This scene has omega and sigma only: an unknown name is named.
+    let a = plan("zeta=0.02");
+    assert!(a.json()["error"].as_str().unwrap().contains("unknown parameter 'zeta'"), "{}", a.json());
+}

@@ -408,7 +408,7 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
         attr_str(f, attr::PARENT_BOX, &parent.region)?;
     }
     for map in &atlas.maps {
-        fill_sweep(&f.group(map.sweep.name())?, atlas, map, z)?;
+        fill_sweep(&f.group(map.sweep.name())?, atlas, map, info.parent.is_some(), z)?;
     }
     if let Some(h) = atlas.hysteresis() {
         let d = z.dataset(
@@ -449,7 +449,10 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
 
 /// A sweep's results but its per-cell datasets, into its group `g` of
 /// [`create_sweep`]: its label table and codes, lines done and sections.
-fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::Result<()> {
+/// A zoom's (`zoom`) continuation sweep has its `entry_state` always, all
+/// NaN where every chain starts from the scene's initial state (its readers
+/// require it).
+fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflater) -> hdf5::Result<()> {
     let m = &atlas.meta;
     let p = &m.plane;
     let (nx, ny) = (p.x.count, p.y.count);
@@ -483,7 +486,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, z: &Deflater) -> hdf5::
     let d = z.dataset(g, var::LINES_DONE, &Array1::from(done))?;
     netcdf::dims(&d, &[&lines])?;
     netcdf::attr_str(&d, "long_name", "1 where the line (row, or column with along = y) is computed")?;
-    if map.sweep != maps::SweepKind::Fresh && !atlas.entries.0.is_empty() {
+    if map.sweep != maps::SweepKind::Fresh && (zoom || !atlas.entries.0.is_empty()) {
         let entry = Array2::from_shape_fn((p.lines(), m.dim), |(l, k)| {
             atlas.entries.get(map.sweep, l).map_or(f64::NAN, |s| s[k])
         });
