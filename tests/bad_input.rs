@@ -370,14 +370,29 @@ fn hysteresis_needs_up_and_down() {
 
 /// Issue 61: a named pipe given as the scene of `cell` or `sweep` blocked in
 /// `open()` for ever; it is refused in one line before it is opened, as a
-/// folder is. Each run is given 30 s before the test calls it a hang.
+/// folder is. So is a pipe given as the file `render` reads, or as a
+/// picture or trace to write (the sixth audit: those blocked too, leaving
+/// a `.partial` file). Each run is given 30 s before the test calls it a hang.
 #[test]
 fn a_scene_that_is_a_pipe_or_a_folder_is_refused() {
     let d = crate::util::scratch("scene-pipe");
     let fifo = d.join("scene.toml");
     assert!(std::process::Command::new("mkfifo").arg(&fifo).status().unwrap().success());
     let fifo = fifo.to_str().unwrap();
-    for args in [vec!["cell", fifo], vec!["sweep", fifo, "--axis", "omega=0.2:0.4:3"], vec!["orbit", fifo]] {
+    let single = "configs/single-stop.toml";
+    let png = d.join("out.png");
+    let png = png.to_str().unwrap();
+    let cases = [
+        (vec!["cell", fifo], "not a regular file (a named pipe)"),
+        (vec!["sweep", fifo, "--axis", "omega=0.2:0.4:3"], "not a regular file (a named pipe)"),
+        (vec!["orbit", fifo], "not a regular file (a named pipe)"),
+        (vec!["render", fifo, "-o", png], "not a file (an atlas is one HDF5 file)"),
+        (vec!["cell", single, "--trace", fifo], "--trace: "),
+        (vec!["cell", single, "--portrait", fifo], "--portrait: "),
+        (vec!["cell", single, "--section-png", fifo], "--section-png: "),
+        (vec!["sweep", single, "--axis", "omega=1:2:3", "--png", fifo], "--png: "),
+    ];
+    for (args, said) in cases {
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_vibroatlas"))
             .args(&args)
             .stdout(std::process::Stdio::piped())
@@ -396,8 +411,10 @@ fn a_scene_that_is_a_pipe_or_a_folder_is_refused() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
-        assert!(err.contains("not a regular file (a named pipe)"), "{err}");
+        assert!(err.contains(said), "{args:?}: {err}");
     }
+    // The pipe is the only thing in the folder: no partial file was left.
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 1);
     expect_error(&["cell", d.to_str().unwrap()], "not a regular file (a folder)");
     std::fs::remove_dir_all(&d).unwrap();
 }

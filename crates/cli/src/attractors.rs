@@ -18,7 +18,7 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         .split_once(',')
         .and_then(|(x, v)| Some((x.trim().parse::<f64>().ok()?, v.trim().parse::<f64>().ok()?)))
         .ok_or_else(|| anyhow!("--box: expected X,V (two numbers >= 0), got '{}'", a.sample_box))?;
-    crate::figure::format("--png", a.png.as_ref())?;
+    crate::figure::check("--png", a.png.as_ref())?;
     let r = AttractorsRequest {
         sim: sim(&a.sim)?,
         sampling: Sampling { samples: a.samples, seed: a.seed, x, v },

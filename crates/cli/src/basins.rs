@@ -14,7 +14,7 @@ use store::write_atomically;
 /// Runs the command.
 pub fn run(a: BasinsArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
-    crate::figure::format("--png", a.png.as_ref())?;
+    crate::figure::check("--png", a.png.as_ref())?;
     // The figure's path checked before the work, as the file's.
     if let Some(png) = &a.png {
         store::check_output(png, &[a.output.as_path()])?;

@@ -13,8 +13,9 @@ use store::write_atomically;
 pub fn run(a: CellArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     engine::check_trace_samples(a.trace_samples)?;
-    crate::figure::format("--portrait", a.portrait.as_ref())?;
-    crate::figure::format("--section-png", a.section_png.as_ref())?;
+    crate::figure::check("--portrait", a.portrait.as_ref())?;
+    crate::figure::check("--section-png", a.section_png.as_ref())?;
+    crate::figure::output("--trace", a.trace.as_ref())?;
     let c = engine::cell(&sim_from(&a.sim, &a.start)?, &start(&a.start)?)?;
     crate::common::tell(
         c.origin.as_ref().and_then(|o| o.warning.as_ref()),

@@ -14,7 +14,7 @@ use store::write_atomically;
 pub fn run(a: ContinueArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
-    crate::figure::format("--png", a.png.as_ref())?;
+    crate::figure::check("--png", a.png.as_ref())?;
     let mut r = engine::ContinuationRequest::new(sim_from(&a.sim, &a.start)?, axis.clone());
     (r.start, r.n, r.arclength) = (start(&a.start)?, a.n, a.arclength);
     let c = engine::continuation(&r, &engine::Quiet)?;

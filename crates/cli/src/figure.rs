@@ -20,11 +20,25 @@ pub fn page(f: &FigureArgs) -> Result<Page> {
 }
 
 /// Checks, before any work, that the picture asked for with `flag` (if any)
-/// has a format (`.png`, `.svg`, `.pdf`), so that a wrong name is refused up
-/// front, naming the flag and the user's file.
-pub fn format(flag: &str, path: Option<&PathBuf>) -> Result<()> {
+/// has a format (`.png`, `.svg`, `.pdf`) and may be written there (a file
+/// name in a folder that exists, not a directory, a pipe or a device: a pipe
+/// would block the run), so that a wrong name is refused up front, naming
+/// the flag and the user's file.
+pub fn check(flag: &str, path: Option<&PathBuf>) -> Result<()> {
     match path {
-        Some(p) => Format::of(p).map(|_| ()).map_err(|e| anyhow!("{flag}: {e}")),
+        Some(p) => {
+            Format::of(p).map_err(|e| anyhow!("{flag}: {e}"))?;
+            output(flag, Some(p))
+        }
+        None => Ok(()),
+    }
+}
+
+/// Checks that an output file asked for with `flag` (if any) may be written
+/// at its path, as [`check`] does for a picture (a trace's CSV).
+pub fn output(flag: &str, path: Option<&PathBuf>) -> Result<()> {
+    match path {
+        Some(p) => store::check_output(p, &[]).map_err(|e| anyhow!("{flag}: {e}")),
         None => Ok(()),
     }
 }

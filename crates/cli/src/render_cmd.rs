@@ -11,7 +11,7 @@ use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
-    crate::figure::format("-o", Some(&a.output))?;
+    crate::figure::check("-o", Some(&a.output))?;
     let page = crate::figure::page(&a.figure)?;
     store::check_output(&a.output, &[&a.file])?;
     if store::is_basins(&a.file) {

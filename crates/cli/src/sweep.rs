@@ -15,7 +15,7 @@ use store::write_atomically;
 pub fn run(a: SweepArgs) -> Result<()> {
     let axis = Axis::parse(&a.axis, "--axis")?;
     let page = crate::figure::page(&a.figure)?;
-    crate::figure::format("--png", a.png.as_ref())?;
+    crate::figure::check("--png", a.png.as_ref())?;
     let r = SweepRequest {
         sim: sim_from(&a.sim, &a.start)?,
         start: start(&a.start)?,

@@ -205,6 +205,10 @@ fn values_crc32(map: &BasinMap) -> u32 {
 
 /// Whether `path` is a basin file (its root's `content` says so).
 pub fn is_basins(path: &Path) -> bool {
+    // Only a regular file is opened: a pipe would block the open.
+    if !path.is_file() {
+        return false;
+    }
     let Ok(f) = crate::heap::open(path) else { return false };
     crate::attrs::text(path, &f, crate::layout::curves::CONTENT_ATTR).ok().flatten().as_deref() == Some(CONTENT)
 }
