@@ -109,6 +109,14 @@ impl Axis {
         if !(start.is_finite() && stop.is_finite()) {
             return Err(FieldError::field(field, format!("start and stop must be finite, got {start} and {stop}")));
         }
+        // The values are start + i (stop - start) / (count - 1): a span
+        // beyond the largest number would make them NaN and infinite.
+        if !(stop - start).is_finite() {
+            return Err(FieldError::field(
+                field,
+                format!("the span from {start} to {stop} is beyond the largest number; give a narrower range"),
+            ));
+        }
         if *count == 0 || *count > MAX_COUNT {
             return Err(FieldError::field(field, format!("the count must be 1 to {MAX_COUNT}, got {count}")));
         }
@@ -200,6 +208,15 @@ impl std::fmt::Display for Axis {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An axis whose span overflows is refused (the sixth audit: its values
+    /// were NaN and infinite, and a basin map over it hung).
+    #[test]
+    fn a_span_beyond_the_largest_number_is_refused() {
+        let e = Axis::new("x_M", -1e308, 1e308, 5).checked("--x").unwrap_err();
+        assert!(e.to_string().contains("beyond the largest number"), "{e}");
+        assert!(Axis::new("x_M", -1e307, 1e307, 5).checked("--x").is_ok());
+    }
 
     #[test]
     fn parses_and_spaces_values() {
