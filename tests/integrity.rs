@@ -100,9 +100,12 @@ def seal(o):
         return
     # numbers_crc32 as docs/file-format.md says: each covered numeric
     # attribute by name, its name, then its values as f64 bits.
-    if "numbers_crc32" in o.attrs:
+    # (A covered attribute made a text is left to the reader's type check.)
+    names = sorted((k for k in o.attrs.keys() if k in NUMBERS), key=lambda k: k.encode())
+    numeric = all(np.asarray(o.attrs[n]).dtype.kind in "iuf" for n in names)
+    if "numbers_crc32" in o.attrs and numeric:
         crc = 0
-        for n in sorted((k for k in o.attrs.keys() if k in NUMBERS), key=lambda k: k.encode()):
+        for n in names:
             v = np.atleast_1d(np.asarray(o.attrs[n], dtype="<f8"))
             crc = zlib.crc32(struct.pack("<Q", len(n.encode())) + n.encode(), crc)
             crc = zlib.crc32(struct.pack("<Q", v.size) + v.tobytes(), crc)
