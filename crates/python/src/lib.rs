@@ -324,6 +324,9 @@ struct CellSections {
     panels: Vec<render::Panel>,
 }
 
+/// Parameter values by name, `[(name, value)]` (`--set`, `--at`).
+type Assignments = Vec<(String, f64)>;
+
 /// One cell: the value of `cell --json`, with `portrait` (what `cell
 /// --portrait` draws) and `sections` (what `cell --section-png` draws) when
 /// asked for. `stored`: `(file, at, sweep)`, the cell of a stored atlas run
@@ -334,7 +337,7 @@ struct CellSections {
 fn cell(
     sim: SimArgs<'_>,
     state: Option<Vec<f64>>,
-    stored: Option<(String, Vec<(String, f64)>, Option<String>)>,
+    stored: Option<(String, Assignments, Option<String>)>,
     portrait: bool,
     sections: bool,
     section_periods: usize,
@@ -574,7 +577,7 @@ impl Explorer {
     /// The cell last clicked in the page, `(file, sweep, [(name, value)])`,
     /// or `None` before a click (or once stopped).
     #[getter]
-    fn selected(&self) -> Option<(String, String, Vec<(String, f64)>)> {
+    fn selected(&self) -> Option<(String, String, Assignments)> {
         let server = self.server.lock().unwrap_or_else(|p| p.into_inner());
         let s = server.as_ref()?.selected()?;
         Some((s.file.display().to_string(), s.sweep, s.at))
