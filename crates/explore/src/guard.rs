@@ -6,7 +6,9 @@
 //! [`screen`]:
 //!
 //! - its `Host` must be `127.0.0.1:PORT` or `localhost:PORT` (else 403): a
-//!   rebound name arrives with its own host name;
+//!   rebound name arrives with its own host name; an address that names its
+//!   own host must name one of these, and `Host`, `Origin` and
+//!   `Sec-Fetch-Site` come once each (else 400);
 //! - a request that changes something (`POST`, `DELETE`) must come from the
 //!   page's own origin when the browser names one (`Origin`, `Sec-Fetch-Site`),
 //!   and a `POST` must carry `Content-Type: application/json`, which a
@@ -19,7 +21,7 @@
 //!   extractor's rejection, the body limit).
 
 use axum::extract::{Request, State};
-use axum::http::{header, HeaderMap, HeaderValue, Method, StatusCode};
+use axum::http::{header, HeaderMap, HeaderValue, Method, StatusCode, Uri};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use std::sync::Arc;
@@ -50,14 +52,34 @@ impl Allowed {
         Arc::new(Allowed { hosts, origins })
     }
 
-    /// Why a request is refused, or `None`: its host, origin and type.
-    fn refuse(&self, method: &Method, headers: &HeaderMap, uri_len: usize) -> Option<(StatusCode, String)> {
+    /// Why a request is refused, or `None`: its host (the `Host` header,
+    /// and the address's own host where it names one), origin and type.
+    fn refuse(&self, method: &Method, headers: &HeaderMap, uri: &Uri) -> Option<(StatusCode, String)> {
         let text = |name: header::HeaderName| headers.get(name).map(|v| v.to_str().unwrap_or("(not text)"));
+        let uri_len = uri.path_and_query().map_or(0, |p| p.as_str().len());
         if uri_len > MAX_URI {
             return Some((
                 StatusCode::URI_TOO_LONG,
                 format!("the request's address is {uri_len} bytes long; at most {MAX_URI} are served"),
             ));
+        }
+        // One of each header the checks read: with two, a check could read
+        // one and another part of the stack the other.
+        for name in [header::HOST, header::ORIGIN, header::HeaderName::from_static("sec-fetch-site")] {
+            let n = headers.get_all(&name).iter().count();
+            if n > 1 {
+                return Some((StatusCode::BAD_REQUEST, format!("{name}: given {n} times; one is expected")));
+            }
+        }
+        if let Some(a) = uri.authority().map(|a| a.as_str()) {
+            if !self.hosts.iter().any(|h| h.eq_ignore_ascii_case(a)) {
+                let why = format!(
+                    "the address names the host '{}'; the explorer answers to {} only",
+                    crate::api::short(a),
+                    self.hosts[0]
+                );
+                return Some((StatusCode::FORBIDDEN, why));
+            }
         }
         match text(header::HOST) {
             Some(h) if self.hosts.iter().any(|a| a.eq_ignore_ascii_case(h)) => {}
@@ -112,8 +134,7 @@ pub(crate) fn error(status: StatusCode, message: &str) -> Response {
 /// any error answer that is not JSON into `{"error": …}` (its text, or the
 /// status's reason), and adds the security headers.
 pub(crate) async fn screen(State(allowed): State<Arc<Allowed>>, request: Request, next: Next) -> Response {
-    let uri_len = request.uri().path_and_query().map_or(0, |p| p.as_str().len());
-    let mut answer = match allowed.refuse(request.method(), request.headers(), uri_len) {
+    let mut answer = match allowed.refuse(request.method(), request.headers(), request.uri()) {
         Some((status, message)) => error(status, &message),
         None => as_json(next.run(request).await).await,
     };

@@ -316,3 +316,25 @@ fn a_zooms_set_is_refused_as_the_cli_refuses_it() {
     let a = plan("zeta=0.02");
     assert!(a.json()["error"].as_str().unwrap().contains("unknown parameter 'zeta'"), "{}", a.json());
 }
+
+/// The sixth audit: two Host (or Origin) headers, the explorer's first, and
+/// an address naming another host were served; each is refused now, with a
+/// JSON reason.
+#[test]
+fn doubled_headers_and_foreign_addresses_are_refused() {
+    let server = serve();
+    let p = port(&server);
+    let host = format!("127.0.0.1:{p}");
+    let a = send(p, "GET", "/api/atlas", &[("Host", &host), ("Host", "evil.example")], b"");
+    assert_eq!(a.status, 400);
+    assert!(a.json()["error"].as_str().unwrap().starts_with("host: given 2 times"), "{}", a.json());
+    let origin = format!("http://{host}");
+    let a =
+        post_zoom(p, &[("Content-Type", "application/json"), ("Origin", &origin), ("Origin", "http://evil.example")]);
+    assert_eq!(a.status, 400);
+    let a = send(p, "GET", "http://evil.example/api/atlas", &[("Host", &host)], b"");
+    assert_eq!(a.status, 403);
+    assert!(a.json()["error"].as_str().unwrap().contains("names the host 'evil.example'"), "{}", a.json());
+    let own = format!("http://{host}/api/atlas");
+    assert_eq!(send(p, "GET", &own, &[("Host", &host)], b"").status, 200);
+}
