@@ -389,9 +389,14 @@ fn stored_cell(o: &Opened, q: &HashMap<String, String>) -> Result<(Sim, Start), 
 }
 
 fn run_cell(o: &Opened, q: &HashMap<String, String>) -> Result<engine::Cell, Refusal> {
+    run_stored(o, q).map(|(c, _)| c)
+}
+
+/// [`run_cell`], with the start it ran from.
+fn run_stored(o: &Opened, q: &HashMap<String, String>) -> Result<(engine::Cell, Start), Refusal> {
     unchanged(o)?;
     let (sim, start) = stored_cell(o, q)?;
-    engine::cell(&sim, &start).map_err(failed)
+    Ok((engine::cell(&sim, &start).map_err(failed)?, start))
 }
 
 /// The cell clicked, as `cell --from FILE --sweep S --at … --json`; it is
@@ -400,9 +405,7 @@ async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>
     let (_, o) = opened(&state, &q)?;
     let shared = state.clone();
     let c = blocking(&state, move || {
-        unchanged(&o)?;
-        let (sim, start) = stored_cell(&o, &q)?;
-        let c = engine::cell(&sim, &start).map_err(failed)?;
+        let (c, start) = run_stored(&o, &q)?;
         if let Start::Cell { file, at, sweep: Some(sweep) } = start {
             shared.select(crate::Selected { file, sweep: sweep.name().to_string(), at });
         }
