@@ -129,6 +129,21 @@ fn quantities_of_the_linear_oscillator() {
     }
 }
 
+/// Issue 60: a quantity the scene defines, the damper's `attenuation`
+/// (`[quantities]` of configs/impact-damper.toml, M1's amplitude against the
+/// bare primary's, in dB): with the free mass at rest and its walls out of
+/// reach, M1 is the bare primary, so 0 dB to the accuracy of its amplitude
+/// (`precise`: 1e-9 of it).
+#[test]
+fn a_defined_quantity_of_the_bare_primary() {
+    for &(omega, zeta) in &[(0.5, 0.1), (1.5, 0.1), (2.1, 0.1), (0.9, 0.25)] {
+        let sys = system("impact-damper.toml", &[("omega", omega), ("zeta", zeta), ("delta", 100.0), ("v20", 0.0)]);
+        let (_, q) = quantities(&sys, &Accuracy::preset(Preset::Precise));
+        assert!((q["max_abs_x_M1"] - free_amplitude(omega, zeta)).abs() < 1e-9, "omega {omega}: {q:?}");
+        assert!(q["attenuation"].abs() < 1e-8, "omega {omega}: attenuation {} dB", q["attenuation"]);
+    }
+}
+
 /// Issue 60: the single-stop (1, n) orbits at ζ = 0: the impact speed is the
 /// closed form's V to 1e-10 and the impulse per period (1 + r) V / n; every
 /// joule put in is lost in the impacts.

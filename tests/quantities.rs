@@ -44,7 +44,8 @@ with h5py.File(path, "r") as f:
         for n in names:
             v = f[g][n]
             assert v.shape == (5, 8), (g, n, v.shape)
-            assert v.attrs["units"] == "1" and v.attrs["long_name"] and v.attrs["symbol"], (n, dict(v.attrs))
+            units = "dB" if n == "attenuation" else "1"
+            assert v.attrs["units"] == units and v.attrs["long_name"] and v.attrs["symbol"], (n, dict(v.attrs))
 for engine in ["h5netcdf", "netcdf4"]:
     with xr.open_dataset(path, engine=engine, group="up") as ds:
         for n in names:
@@ -152,6 +153,89 @@ for g in ["down", "up"]:
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.starts_with(says) && err.trim().lines().count() == 1, "{err}");
+    }
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// A quantity the scene defines (`[quantities]`; the damper's `attenuation`,
+/// M1's amplitude against the bare primary's in dB) is stored with its
+/// units and symbol, each cell's value the expression of that cell's stored
+/// `max_abs_x_M1` and ω as numpy computes it; `render --sweep hysteresis`
+/// draws up less down, each cell in the colour of its difference on the
+/// diverging scale; a name that is neither a parameter nor a quantity is one
+/// line naming the field.
+#[test]
+fn a_quantity_the_scene_defines_is_its_expression_of_the_others() {
+    let d = scratch("quantities-defined");
+    let f = damper(&d, &[]);
+    let svg = d.join("difference.svg");
+    ok(&["render", &f, "--view", "attenuation", "--sweep", "hysteresis", "-o", svg.to_str().unwrap()]);
+    let differing = python(
+        r##"
+import sys, re, h5py, numpy as np
+from collections import Counter
+with h5py.File(sys.argv[1], "r") as f:
+    att = {}
+    for g in ["up", "down"]:
+        a = f[g]["attenuation"]
+        assert a.attrs["units"] == "dB" and a.attrs["symbol"] == "att M1", dict(a.attrs)
+        w = f[g]["omega"][()][None, :]
+        want = 20 * np.log10(f[g]["max_abs_x_M1"][()] * np.sqrt((1 - w**2) ** 2 + (2 * 0.1 * w) ** 2))
+        assert np.allclose(a[()], want, rtol=0, atol=1e-12, equal_nan=True), (g, a[()] - want)
+        att[g] = a[()]
+diff = (att["up"] - att["down"]).ravel()
+reach = np.nanmax(np.abs(diff))
+def colour(t):
+    end, w = ((33, 102, 172), -t) if t < 0 else ((178, 24, 43), t)
+    return "".join("%02X" % int(np.floor(255 + w * (e - 255) + 0.5)) for e in end)
+want = Counter(colour(v / reach) for v in diff if np.isfinite(v))
+fills = Counter(re.findall(r'<rect [^>]*fill="#([0-9A-F]{6})"', open(sys.argv[2]).read()))
+missing = {c: n for c, n in want.items() if fills[c] < n}
+assert not missing, missing
+print(int(np.sum(np.abs(diff) > 1e-6)))
+"##,
+        &[&f, svg.to_str().unwrap()],
+    );
+    assert!(differing.trim().parse::<usize>().unwrap() >= 5, "cells where up and down differ: {differing}");
+    let out = run(&["render", &f, "--view", "multiplier", "--sweep", "hysteresis", "-o", svg.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error: --view multiplier: needs --sweep fresh, up or down") && err.trim().lines().count() == 1
+    );
+    let scene = std::fs::read_to_string("configs/impact-damper.toml").unwrap();
+    for (from, to, says) in [
+        (
+            "max_abs_x_M1*sqrt",
+            "max_abs_x_M3*sqrt",
+            "quantities.attenuation.value: unknown parameter or quantity 'max_abs_x_M3'",
+        ),
+        ("attenuation = {", "power_in = {", "quantities.power_in: 'power_in' is a built-in quantity"),
+        ("attenuation = {", "omega = {", "quantities.omega: 'omega' is a parameter of the scene"),
+        ("units = \"dB\"", "units = \"dB\", unit = 1", "unknown field `unit`"),
+    ] {
+        let bad = d.join("bad.toml");
+        assert!(scene.contains(from), "{from}");
+        std::fs::write(&bad, scene.replace(from, to)).unwrap();
+        for args in [
+            vec!["cell", bad.to_str().unwrap()],
+            vec![
+                "atlas",
+                bad.to_str().unwrap(),
+                "--x",
+                "omega=1:2:2",
+                "--y",
+                "delta=1:2:2",
+                "-o",
+                d.join("bad.h5").to_str().unwrap(),
+            ],
+        ] {
+            let out = run(&args);
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{err}");
+            assert!(err.contains(says) && err.trim().lines().count() == 1, "{args:?}: {err}");
+        }
+        assert!(!d.join("bad.h5").exists());
     }
     std::fs::remove_dir_all(&d).unwrap();
 }

@@ -113,7 +113,15 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (Some(q), View::Sweep(sweep)) => {
             write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, &page, tmp))?
         }
-        (Some(_), View::Hysteresis) => bail!("--view {}: needs --sweep fresh, up or down", a.view),
+        (Some(q @ render::Quantity::Named(_)), View::Hysteresis) => {
+            write_atomically(&a.output, |tmp| render::difference_map(&l.atlas, q, &page, tmp))?
+        }
+        (Some(_), View::Hysteresis) => {
+            bail!(
+                "--view {}: needs --sweep fresh, up or down (hysteresis draws a quantity of the motion's up less down)",
+                a.view
+            )
+        }
     }
     wrote(&a.output, &page)
 }

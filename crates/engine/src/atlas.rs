@@ -60,7 +60,7 @@ pub struct AtlasRequest {
     /// What made the run (the file's `command` attribute).
     pub command: String,
     /// The quantities of the steady motion stored: `None` every one of the
-    /// scene ([`solver::quantity::names`]), else those named (none when empty).
+    /// scene ([`solver::quantity::all_names`]), else those named (none when empty).
     pub quantities: Option<Vec<String>>,
 }
 

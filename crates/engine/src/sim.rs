@@ -99,6 +99,20 @@ pub(crate) fn read_text(path: &std::path::Path) -> std::io::Result<String> {
     Ok(text)
 }
 
+/// Whether every name the quantities of `scene` read (`[quantities]`) is a
+/// parameter or a built-in quantity, checked when the scene is loaded: the
+/// built-in quantities follow from its masses, stops and contacts alone, the
+/// same for every parameter value.
+fn check_quantities(scene: &Scene) -> Result<(), scene::SceneError> {
+    let Ok(model) = scene.evaluate(&[]) else { return Ok(()) };
+    match solver::System::new(model) {
+        Err(solver::SolverError::Unsupported { field, message }) if field.starts_with("quantities.") => {
+            Err(scene::SceneError::field(field, message))
+        }
+        _ => Ok(()),
+    }
+}
+
 impl SceneSource {
     /// The scene it holds.
     pub fn load(&self) -> Result<Scene, SceneLoadError> {
@@ -113,7 +127,9 @@ impl SceneSource {
                 format!("{}: its stored scene", path.display()),
             ),
         };
-        Scene::parse(&text).map_err(|cause| SceneLoadError::Invalid { origin, cause })
+        let scene = Scene::parse(&text).map_err(|cause| SceneLoadError::Invalid { origin: origin.clone(), cause })?;
+        check_quantities(&scene).map_err(|cause| SceneLoadError::Invalid { origin, cause })?;
+        Ok(scene)
     }
 
     /// The file, if the scene is one (never to be overwritten by an output).

@@ -31,7 +31,7 @@ pub struct CellSetup {
     /// [`maps::MAX_SECTION_CAP`]).
     pub section_cap: usize,
     /// The quantities of its steady motion each cell measures and keeps:
-    /// indices into [`solver::quantity::names`] of the cell's system, in
+    /// indices into [`solver::quantity::all_names`] of the cell's system, in
     /// order (empty: none).
     pub quantities: Vec<usize>,
 }

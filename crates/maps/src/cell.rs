@@ -56,20 +56,24 @@ pub struct Quantity {
 }
 
 impl Quantity {
-    /// The quantities a system measures, in [`solver::quantity::names`]'
-    /// order, a soft stop's in the words of contacts
-    /// ([`solver::quantity::Spec::words`]).
+    /// The quantities a system measures, in [`solver::quantity::all_names`]'
+    /// order: the built-in ones, a soft stop's in the words of contacts
+    /// ([`solver::quantity::Spec::words`]), then those its scene defines.
     pub fn of(sys: &solver::System) -> Vec<Quantity> {
         let soft = |owner: &str| sys.model.stops.iter().any(|s| s.name == owner && s.is_soft());
-        solver::quantity::names(sys)
-            .into_iter()
-            .map(|(name, spec)| {
-                let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
-                let (symbol, long) = spec.words(soft(owner));
-                let long_name = if owner.is_empty() { long.to_string() } else { format!("{long} {owner}") };
-                Quantity { symbol: symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
-            })
-            .collect()
+        let built_in = solver::quantity::names(sys).into_iter().map(|(name, spec)| {
+            let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
+            let (symbol, long) = spec.words(soft(owner));
+            let long_name = if owner.is_empty() { long.to_string() } else { format!("{long} {owner}") };
+            Quantity { symbol: symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
+        });
+        let defined = sys.model.quantities.iter().map(|d| Quantity {
+            name: d.name.clone(),
+            symbol: d.symbol.clone(),
+            long_name: d.long_name.clone(),
+            units: d.units.clone(),
+        });
+        built_in.chain(defined).collect()
     }
 }
 

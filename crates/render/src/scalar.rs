@@ -63,7 +63,10 @@ impl Quantity {
         match self {
             Quantity::Lyapunov => "λ (per unit time)".into(),
             Quantity::Multiplier => "max |μ|".into(),
-            Quantity::Named(k) => m.quantities[k].name.clone(),
+            Quantity::Named(k) => match &m.quantities[k] {
+                q if q.units == "1" => q.name.clone(),
+                q => format!("{} ({})", q.name, q.units),
+            },
         }
     }
 
@@ -140,6 +143,18 @@ impl Scaled {
         })
     }
 
+    /// Quantity `quantity` of the up sweep's cells less that of the down
+    /// sweep's, on a diverging scale centred at 0 (`None` where either has
+    /// none): where the two legs' motions differ, by how much.
+    pub fn difference(atlas: &Atlas, quantity: Quantity) -> Result<Scaled, RenderError> {
+        let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
+        let value = |c: &Option<CellData>| c.as_ref().and_then(|c| quantity.of(c));
+        let values: Vec<Option<f64>> = up.iter().zip(down.iter()).map(|(u, d)| Some(value(u)? - value(d)?)).collect();
+        let reach = values.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
+        let reach = if reach > 0.0 { reach } else { 1.0 };
+        Ok(Scaled { values, lo: -reach, hi: reach, diverging: Some((0.0, reach)) })
+    }
+
     /// The colour of cell `i`.
     pub fn colour(&self, i: usize) -> RGBColor {
         self.values[i].map_or(NONE, |v| self.colour_of(v))
@@ -163,29 +178,55 @@ pub fn scalar_map(
     page: &Page,
     path: &Path,
 ) -> Result<(), RenderError> {
+    let m = &atlas.meta;
+    let scaled = Scaled::of(atlas, sweep, quantity)?;
+    let text = Texts {
+        title: format!("{} sweep: {}", sweep.name(), quantity.title(m)),
+        unit: quantity.unit(m),
+        none: quantity.none().into(),
+    };
     let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, atlas, sweep, quantity))
+    save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
+}
+
+/// Draws quantity `quantity` of the up sweep less that of the down sweep
+/// ([`Scaled::difference`]): where hysteresis changes it, and by how much.
+pub fn difference_map(atlas: &Atlas, quantity: Quantity, page: &Page, path: &Path) -> Result<(), RenderError> {
+    let m = &atlas.meta;
+    let scaled = Scaled::difference(atlas, quantity)?;
+    let text = Texts {
+        title: format!("up sweep less down sweep: {}", quantity.title(m)),
+        unit: format!("Δ {}", quantity.unit(m)),
+        none: "none".into(),
+    };
+    let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
+    save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
+}
+
+/// The words of a continuous map: its title, its colour bar's label, and
+/// what grey stands for.
+struct Texts {
+    title: String,
+    unit: String,
+    none: String,
 }
 
 fn draw<DB: crate::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
-    atlas: &Atlas,
-    sweep: SweepKind,
-    quantity: Quantity,
+    m: &Meta,
+    scaled: &Scaled,
+    text: &Texts,
 ) -> Result<(), RenderError> {
-    let m = &atlas.meta;
-    let scaled = Scaled::of(atlas, sweep, quantity)?;
     let (lo, hi) = (scaled.lo, scaled.hi);
     root.fill(&WHITE).map_err(err)?;
-    let title = format!("{} sweep: {}", sweep.name(), quantity.title(m));
-    let body = layout::header(root, canvas, &title, layout::TITLE)?;
+    let body = layout::header(root, canvas, &text.title, layout::TITLE)?;
     let body = layout::footer(&body, canvas, &crate::map::settings_text(m))?;
     let (w, h) = body.dim_in_pixel();
     let (left, right) = body.split_horizontally(w.saturating_sub(canvas.emu(8.0)));
     // What grey stands for, under the colour bar.
     let (right, key) = right.split_vertically(h.saturating_sub(legend::height(canvas, 1)));
-    legend::draw(&key, canvas, &[Entry::new(Swatch::Fill(NONE), quantity.none())])?;
+    legend::draw(&key, canvas, &[Entry::new(Swatch::Fill(NONE), &text.none)])?;
     let grid = CellGrid::of(m);
     let chart = grid.chart(&left, canvas, m, "")?;
     let plot = chart.plotting_area();
@@ -203,7 +244,7 @@ fn draw<DB: crate::Backend>(
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_desc(quantity.unit(m))
+        .y_desc(&text.unit)
         .y_label_formatter(&|v| crate::tick(*v))
         .label_style(canvas.font(1.0))
         .axis_desc_style(canvas.font(1.0))

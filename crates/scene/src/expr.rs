@@ -21,12 +21,21 @@ pub const MAX_EXPRESSION_CHARS: usize = 1000;
 #[derive(Debug)]
 pub struct Names<'a> {
     index: HashMap<&'a str, usize>,
+    /// Whether an identifier that is no parameter is let through, for the
+    /// caller to resolve (the quantities an expression of `[quantities]`
+    /// names).
+    open: bool,
 }
 
 impl<'a> Names<'a> {
     /// The index of every name of `names`.
     pub fn new(names: &'a [String]) -> Names<'a> {
-        Names { index: names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect() }
+        Names { index: names.iter().enumerate().map(|(i, n)| (n.as_str(), i)).collect(), open: false }
+    }
+
+    /// [`Names::new`] that lets any other identifier through as well.
+    pub fn open(names: &'a [String]) -> Names<'a> {
+        Names { open: true, ..Names::new(names) }
     }
 
     /// The index of parameter `name`.
@@ -34,8 +43,8 @@ impl<'a> Names<'a> {
         self.index.get(name).copied()
     }
 
-    fn contains(&self, name: &str) -> bool {
-        self.index.contains_key(name)
+    fn admits(&self, name: &str) -> bool {
+        self.open || self.index.contains_key(name)
     }
 }
 
@@ -62,13 +71,6 @@ impl Compiled {
         match num {
             Num::Value(v) => Ok(Compiled::Value(*v)),
             Num::Expr(source) => {
-                let chars = source.chars().count();
-                if chars > MAX_EXPRESSION_CHARS {
-                    return Err(SceneError::field(
-                        field,
-                        format!("expression of {chars} characters, at most {MAX_EXPRESSION_CHARS} are supported"),
-                    ));
-                }
                 let bad = |why: String| SceneError::field(field, format!("{why} in expression '{source}'"));
                 // A plain number, scientific notation included ("1e-3").
                 if let Ok(v) = source.trim().parse::<f64>() {
@@ -77,11 +79,7 @@ impl Compiled {
                     }
                     return Err(bad(format!("not a finite number, got {v}")));
                 }
-                let text = check(source, names).map_err(bad)?;
-                let expr = exmex::parse::<f64>(&text).map_err(|e| {
-                    let first = e.to_string().lines().next().unwrap_or_default().to_string();
-                    bad(format!("cannot parse ({first})"))
-                })?;
+                let expr = parse(source, names, field)?;
                 let vars = expr
                     .var_names()
                     .iter()
@@ -130,6 +128,24 @@ impl Compiled {
     }
 }
 
+/// Parses expression `source` of field `field`, its identifiers checked
+/// against `names`; one longer than [`MAX_EXPRESSION_CHARS`] is refused.
+pub(crate) fn parse(source: &str, names: &Names<'_>, field: &str) -> Result<FlatEx<f64>, SceneError> {
+    let chars = source.chars().count();
+    if chars > MAX_EXPRESSION_CHARS {
+        return Err(SceneError::field(
+            field,
+            format!("expression of {chars} characters, at most {MAX_EXPRESSION_CHARS} are supported"),
+        ));
+    }
+    let bad = |why: String| SceneError::field(field, format!("{why} in expression '{source}'"));
+    let text = check(source, names).map_err(bad)?;
+    exmex::parse::<f64>(&text).map_err(|e| {
+        let first = e.to_string().lines().next().unwrap_or_default().to_string();
+        bad(format!("cannot parse ({first})"))
+    })
+}
+
 /// Functions an expression may call (exmex's float operators).
 pub const FUNCTIONS: [&str; 26] = [
     "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh", "acosh", "atanh", "floor", "ceil",
@@ -154,7 +170,8 @@ pub fn valid_parameter_name(name: &str) -> Result<(), String> {
 }
 
 /// Checks the tokens of an expression and returns the text exmex parses: every
-/// number written out without an exponent (exmex reads `1e-3` as `1 e - 3`).
+/// number written out without an exponent (exmex reads `1e-3` as `1 e - 3`),
+/// every variable in braces.
 /// Errors say what is wrong: an unknown function or parameter, a missing
 /// operand, an unbalanced parenthesis, a stray character.
 fn check(source: &str, names: &Names<'_>) -> Result<String, String> {
@@ -185,7 +202,14 @@ fn check(source: &str, names: &Names<'_>) -> Result<String, String> {
             if operand {
                 return Err(format!("expected an operator before '{name}'"));
             }
-            out.push_str(&name);
+            if call || CONSTANTS.contains(&name.as_str()) {
+                out.push_str(&name);
+            } else {
+                // A variable in braces, as exmex reads any name: bare, a name
+                // that begins like one of its operators (`max_x`, `min_gap`)
+                // is split into the operator and the rest.
+                out.push_str(&format!("{{{name}}}"));
+            }
             operand = !call;
             last_op = None;
         } else if "+-*/^".contains(c) {
@@ -280,7 +304,7 @@ fn name_at(chars: &[char], mut i: usize, names: &Names<'_>) -> Result<(String, b
     if call && !FUNCTIONS.contains(&name.as_str()) {
         return Err(format!("unknown function '{name}' (known: {})", FUNCTIONS.join(", ")));
     }
-    if !call && !CONSTANTS.contains(&name.as_str()) && !names.contains(&name) {
+    if !call && !CONSTANTS.contains(&name.as_str()) && !names.admits(&name) {
         return Err(if FUNCTIONS.contains(&name.as_str()) {
             format!("function '{name}' needs an argument in parentheses")
         } else {
@@ -377,6 +401,15 @@ impl std::fmt::Display for Range {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_name_that_begins_like_an_operator_is_a_variable() {
+        // exmex reads a bare `max_gap` as its operator `max` and `_gap`.
+        let names = ["max_gap".to_string(), "min".to_string(), "e2".to_string()];
+        let c = Compiled::new(&Num::Expr("2*max_gap + min - e2 + e".into()), &Names::new(&names), "f").unwrap();
+        let v = c.eval(&[3.0, 0.5, 1.0], String::new).unwrap();
+        assert!((v - (6.0 + 0.5 - 1.0 + std::f64::consts::E)).abs() < 1e-15, "{v}");
+    }
 
     #[test]
     fn ranges_parse_and_bound() {

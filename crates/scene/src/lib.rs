@@ -31,12 +31,14 @@
 #![deny(missing_docs)]
 #![deny(clippy::float_cmp)]
 
+mod derived;
 mod error;
 mod expr;
 mod model;
 mod schema;
 mod symbol;
 
+pub use derived::{Derived, Operand, TAKEN_NAMES};
 pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
 pub use model::{Friction, Harmonic, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
@@ -134,6 +136,8 @@ pub struct Scene {
     stops: Vec<(StopPlace, CompiledLaw)>,
     friction: Vec<(usize, usize, Compiled, Compiled)>,
     labels: Vec<(usize, Option<usize>, Option<usize>)>,
+    /// The quantities it defines (`[quantities]`).
+    quantities: std::sync::Arc<[Derived]>,
     /// Parameters in an order that evaluates each after those it depends on
     /// (topological, smallest index first); those on or after a circular
     /// definition are left out.
@@ -519,8 +523,14 @@ impl Scene {
         }
         labels.sort_by_key(|l| l.0);
 
+        let quantities = file
+            .quantities
+            .iter()
+            .map(|(name, spec)| Derived::compile(name, spec, &names))
+            .collect::<Result<_, SceneError>>()?;
         let order = evaluation_order(&params);
         let scene = Scene {
+            quantities,
             source: text.to_string(),
             omega: c(&file.forcing.omega, "forcing.omega".into())?,
             tau: c(&file.forcing.phase, "forcing.phase".into())?,
@@ -734,6 +744,7 @@ impl Scene {
             friction,
             labels: self.labels.iter().map(|&(mass, p, q)| LabelStops { mass, p, q }).collect(),
             parameters: self.names.iter().cloned().zip(values.iter().copied()).collect(),
+            quantities: self.quantities.clone(),
         };
         if model.symmetric {
             check_mirror(&model.stops)?;

@@ -187,6 +187,8 @@ pub struct Model {
     pub labels: Vec<LabelStops>,
     /// Parameter values used, in scene order.
     pub parameters: Vec<(String, f64)>,
+    /// The quantities the scene defines, computed after the built-in ones.
+    pub quantities: std::sync::Arc<[crate::Derived]>,
 }
 
 impl Model {

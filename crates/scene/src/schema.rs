@@ -84,6 +84,23 @@ pub struct SceneFile {
     /// Which stops are the p-stop and the q-stop of each mass in its n-p-q label.
     #[serde(default)]
     pub labels: BTreeMap<String, LabelSpec>,
+    /// Quantities of the steady motion the scene defines, by name.
+    #[serde(default)]
+    pub quantities: BTreeMap<String, QuantitySpec>,
+}
+
+/// `[quantities]`: `attenuation = { value = "20*log10(…)", units = "dB" }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuantitySpec {
+    /// An expression over the scene's parameters and the built-in quantities.
+    pub value: String,
+    /// CF units (by default `1`).
+    pub units: Option<String>,
+    /// Symbol in figures (by default the name).
+    pub symbol: Option<String>,
+    /// Long name (by default the expression).
+    pub long_name: Option<String>,
 }
 
 /// `[forcing]`: frequency and phase of `sin(omega t + phase)`.

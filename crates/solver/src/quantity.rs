@@ -29,11 +29,12 @@
 //! Every quantity is per forcing period where it is a count or an integral.
 
 use crate::accuracy::Accuracy;
+use crate::error::SolverError;
 use crate::flow::Method;
 use crate::simulate::{Halt, Observer, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
-use scene::StopLaw;
+use scene::{Operand, StopLaw};
 use std::f64::consts::TAU;
 
 /// What a quantity belongs to: one value per mass, per stop, per friction
@@ -220,13 +221,87 @@ pub fn names(sys: &System) -> Vec<(String, &'static Spec)> {
     out
 }
 
-/// The quantities of a window, in the order of [`names`] ([`named`] names
-/// them).
+/// Every quantity a system measures: the built-in ones ([`names`]), then
+/// those its scene defines (`[quantities]`, [`scene::Derived`]), in the
+/// order of [`Quantities`].
+pub fn all_names(sys: &System) -> Vec<String> {
+    let built_in = names(sys).into_iter().map(|(n, _)| n);
+    built_in.chain(sys.model.quantities.iter().map(|d| d.name.clone())).collect()
+}
+
+/// The quantities of a window, in the order of [`all_names`] ([`named`]
+/// names them).
 pub type Quantities = Vec<f64>;
 
 /// `values` of `sys`'s quantities by name.
 pub fn named(sys: &System, values: &[f64]) -> Vec<(String, f64)> {
-    names(sys).into_iter().map(|(n, _)| n).zip(values.iter().copied()).collect()
+    all_names(sys).into_iter().zip(values.iter().copied()).collect()
+}
+
+/// Per quantity the scene defines, where the value of each of its operands
+/// is found in `[parameters…, built-in quantities…]`; an operand that is
+/// neither, or a quantity named like a built-in one, is refused naming its
+/// field.
+pub(crate) fn resolve(sys: &System) -> Result<Vec<Vec<usize>>, SolverError> {
+    if sys.model.quantities.is_empty() {
+        return Ok(Vec::new());
+    }
+    let built_in: Vec<String> = names(sys).into_iter().map(|(n, _)| n).collect();
+    let params = sys.model.parameters.len();
+    sys.model
+        .quantities
+        .iter()
+        .map(|d| {
+            let refuse = |field: String, message: String| SolverError::Unsupported { field, message };
+            if built_in.contains(&d.name) {
+                return Err(refuse(
+                    format!("quantities.{}", d.name),
+                    format!(
+                        "'{}' is a built-in quantity of this scene; a quantity it defines needs a name of its own",
+                        d.name
+                    ),
+                ));
+            }
+            d.operands()
+                .iter()
+                .map(|o| match o {
+                    Operand::Parameter(k) => Ok(*k),
+                    Operand::Quantity(name) => {
+                        built_in.iter().position(|b| b == name).map(|k| params + k).ok_or_else(|| {
+                            refuse(
+                                format!("quantities.{}.value", d.name),
+                                format!(
+                                    "unknown parameter or quantity '{name}' in expression '{}' (its quantities: {})",
+                                    d.source,
+                                    built_in.join(", ")
+                                ),
+                            )
+                        })
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// `built_in` (the values of [`names`]) followed by the quantities the
+/// scene defines, computed from them and the parameters.
+fn with_derived(sys: &System, mut built_in: Quantities) -> Quantities {
+    if sys.model.quantities.is_empty() {
+        return built_in;
+    }
+    let operand = |k: usize, built_in: &[f64]| {
+        sys.model.parameters.get(k).map_or_else(|| built_in[k - sys.model.parameters.len()], |p| p.1)
+    };
+    let derived: Vec<f64> = sys
+        .model
+        .quantities
+        .iter()
+        .zip(&sys.derived)
+        .map(|(d, at)| d.eval(&at.iter().map(|&k| operand(k, &built_in)).collect::<Vec<f64>>()))
+        .collect();
+    built_in.extend(derived);
+    built_in
 }
 
 /// Measures the quantities of the motion that starts at full state `y0` (at
@@ -458,8 +533,9 @@ impl<'s> Meter<'s> {
         }
     }
 
-    /// The values of the window, in the order of [`names`]: the table's
-    /// order, each spec's owners in the scene's order.
+    /// The values of the window, in the order of [`all_names`]: the table's
+    /// order, each spec's owners in the scene's order, then the quantities
+    /// the scene defines.
     pub(crate) fn finish(self, periods: usize) -> Quantities {
         let sys = self.sys;
         let stops = |soft: Option<bool>| {
@@ -477,7 +553,7 @@ impl<'s> Meter<'s> {
             };
             values.extend(owners.map(|k| self.value(spec.measure, k, periods as f64)));
         }
-        values
+        with_derived(sys, values)
     }
 
     /// Quantity `measure` of owner `k` (a mass, stop or friction contact;

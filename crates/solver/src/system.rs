@@ -89,6 +89,9 @@ pub struct System {
     pub period: f64,
     /// Whether the stiffness matrix is singular (see [`System::has_rigid_mode`]).
     rigid: bool,
+    /// Per quantity the scene defines, where its operands' values are found
+    /// ([`crate::quantity`]).
+    pub(crate) derived: Vec<Vec<usize>>,
 }
 
 /// The amplitudes `[P_k, Q_k]` of `sin kφ`, `cos kφ` per mass for k = 1 … H
@@ -170,7 +173,7 @@ impl System {
             let largest = eig.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             eig.iter().any(|v| v.abs() <= 1e-12 * largest.max(f64::MIN_POSITIVE))
         };
-        Ok(System {
+        let mut system = System {
             mass,
             damping,
             stiffness,
@@ -183,7 +186,10 @@ impl System {
             period,
             rigid,
             model,
-        })
+            derived: Vec::new(),
+        };
+        system.derived = crate::quantity::resolve(&system)?;
+        Ok(system)
     }
 
     /// Whether every number of the system and of the state `y0` a cell starts
