@@ -272,6 +272,22 @@ try:
     shown = [line for line in driver.find_element(By.ID, "hover").text.splitlines() if "max_abs_x_M1 =" in line]
     check("hover shows the viewed quantity of the stored cell",
           any(abs(float(line.split("=")[1]) - amplitude) <= 1e-5 * abs(amplitude) for line in shown), f"{shown} {amplitude}")
+    # A quantity's up less down (issue 60): each cell in the colour of its
+    # difference on the diverging scale (white where the sweeps agree).
+    driver.find_element(By.CSS_SELECTOR, "#view option[value='max_abs_x_M1:hysteresis']").click()
+    wait.until(lambda d: "view=max_abs_x_M1%3Ahysteresis" in d.current_url or "view=max_abs_x_M1:hysteresis" in d.current_url)
+    time.sleep(0.5)
+    with h5py.File(atlas, "r") as f:
+        diff = f["up"]["max_abs_x_M1"][:] - f["down"]["max_abs_x_M1"][:]
+    reach = np.nanmax(np.abs(diff))
+    def diverging(t):
+        end, w = ((33, 102, 172), -t) if t < 0 else ((178, 24, 43), t)
+        return [int(np.floor(255 + w * (e - 255) + 0.5)) for e in end]
+    picked = [(int(iy), int(ix)) for iy, ix in np.argwhere(np.isfinite(diff)) if 0 < iy < 19 and 0 < ix < 39]
+    picked = sorted(picked, key=lambda c: -abs(diff[c[0], c[1]]))[:4] + picked[:: max(1, len(picked) // 4)]
+    wrong = [(iy, ix, pixel(driver, ix, iy), diverging(diff[iy, ix] / reach)) for iy, ix in picked
+             if pixel(driver, ix, iy) != diverging(diff[iy, ix] / reach)]
+    check("a quantity's up less down, each cell its difference's colour", not wrong and reach > 0, str(wrong[:3]))
     driver.find_element(By.CSS_SELECTOR, "#view option[value='down']").click()
     wait.until(lambda d: "view=down" in d.current_url)
 

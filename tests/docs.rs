@@ -236,6 +236,34 @@ fn models_quantities_are_what_cell_prints() {
     assert!(section.contains(&format!("= {db} dB")), "{db} dB");
 }
 
+/// Issue 60: docs/scenes.md's `[quantities]` section: its TOML is the
+/// damper scene's table, and its commands print the lines it quotes.
+#[test]
+fn the_scenes_quantities_section_is_what_the_program_prints() {
+    let page = read("docs/scenes.md");
+    let section = &page[page.find("## `[quantities]`").expect("the section")..page.find("## Limits").unwrap()];
+    let scene = read("configs/impact-damper.toml");
+    let table = section.lines().find(|l| l.starts_with("attenuation = {")).expect("the table");
+    assert!(scene.lines().any(|l| l == table), "{table}");
+    let d = crate::util::scratch("scenes-quantities");
+    let file = d.join("damper.h5");
+    let mut atlas = command(section, "vibroatlas atlas configs/impact-damper.toml");
+    let at = atlas.iter().position(|a| *a == "damper.h5").unwrap();
+    atlas[at] = file.to_str().unwrap();
+    atlas.push("--quiet");
+    crate::util::ok(&atlas);
+    let shown = command(section, "vibroatlas inspect damper.h5");
+    assert_eq!(shown, ["inspect", "damper.h5", "--quantity", "attenuation"]);
+    let out = crate::util::run(&["inspect", file.to_str().unwrap(), "--quantity", "attenuation"]);
+    assert!(out.status.success());
+    let out = String::from_utf8(out.stdout).unwrap();
+    for line in out.lines() {
+        assert!(section.lines().any(|l| l == line), "the page does not say: {line}");
+    }
+    assert_eq!(out.lines().count(), 3, "{out}");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// Issue 65: docs/python.md's dict scene drops the stop between the masses
 /// and gives each mass its one stop as p (it gave a mass the same stop as p
 /// and q, counting every impact twice). The same scene as TOML, through the

@@ -197,6 +197,25 @@ print(int(np.sum(np.abs(diff) > 1e-6)))
         &[&f, svg.to_str().unwrap()],
     );
     assert!(differing.trim().parse::<usize>().unwrap() >= 5, "cells where up and down differ: {differing}");
+    // The names a scene's quantity may not take are those a sweep group
+    // holds besides the quantities, the axes and the labels (a zoom's, with
+    // its entry states and sections).
+    let zoom = d.join("zoom.h5");
+    ok(&["zoom", &f, "--x", "omega=1.4:1.8:3", "--y", "delta=1.5:2.5:3", "--quiet", "-o", zoom.to_str().unwrap()]);
+    let held = python(
+        "import sys, h5py\nwith h5py.File(sys.argv[1], 'r') as f:\n    print(' '.join(f['up'].keys()))\n    print(f.attrs['quantities'])",
+        &[zoom.to_str().unwrap()],
+    );
+    let (keys, quantities) = held.split_once('\n').unwrap();
+    let quantities: Vec<&str> = quantities.trim().split(',').collect();
+    for key in keys.split(' ') {
+        let free = ["omega", "delta"].contains(&key) || quantities.contains(&key) || key.starts_with("label_");
+        assert!(
+            free || scene::TAKEN_NAMES.contains(&key),
+            "{key} is held by a sweep group but not in scene::TAKEN_NAMES"
+        );
+    }
+    assert!(keys.contains("entry_state") && keys.contains("sections"), "{keys}");
     let out = run(&["render", &f, "--view", "multiplier", "--sweep", "hysteresis", "-o", svg.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");

@@ -204,26 +204,42 @@ fn sweep(o: &Opened, q: &HashMap<String, String>) -> Result<SweepKind, Refusal> 
 
 /// The views of an atlas: its sweeps, hysteresis with up and down, and the
 /// numbers of each sweep: `multiplier`, `lyapunov` and every stored quantity
-/// of the steady motion, each as `NAME:SWEEP`.
+/// of the steady motion, each as `NAME:SWEEP`; with up and down, every
+/// stored quantity's up less down, `NAME:hysteresis`.
 fn views(o: &Opened) -> Vec<String> {
     let m = &o.atlas.meta;
     let mut v: Vec<String> = m.sweeps.iter().map(|s| s.name().to_string()).collect();
-    if m.sweeps.contains(&SweepKind::Up) && m.sweeps.contains(&SweepKind::Down) {
+    if both(m) {
         v.push("hysteresis".into());
     }
     let numbers = ["multiplier", "lyapunov"].into_iter().chain(m.quantities.iter().map(|q| q.name.as_str()));
     for q in numbers {
         v.extend(m.sweeps.iter().map(|s| format!("{q}:{}", s.name())));
     }
+    if both(m) {
+        v.extend(m.quantities.iter().map(|q| format!("{}:hysteresis", q.name)));
+    }
     v
 }
 
-/// The view of the `view` parameter: a sweep, `hysteresis`, or `NAME:SWEEP`
-/// of a number per cell (`multiplier`, `lyapunov`, a stored quantity).
+/// Whether the atlas has an up and a down sweep.
+fn both(m: &grid::Meta) -> bool {
+    m.sweeps.contains(&SweepKind::Up) && m.sweeps.contains(&SweepKind::Down)
+}
+
+/// The view of the `view` parameter: a sweep, `hysteresis`, `NAME:SWEEP`
+/// of a number per cell (`multiplier`, `lyapunov`, a stored quantity), or
+/// `NAME:hysteresis` of a stored quantity.
 fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
     let m = &o.atlas.meta;
     let name = q.get("view").cloned().unwrap_or_else(|| m.sweeps[0].name().to_string());
     let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(&name), views(o).join(", ")));
+    if let Some((number, "hysteresis")) = name.rsplit_once(':') {
+        return match Quantity::named(m, number) {
+            Some(quantity) if both(m) => Ok(Show::Difference(quantity)),
+            _ => Err(refused()),
+        };
+    }
     if let Some((number, s)) = name.rsplit_once(':') {
         let sweep = SweepKind::parse(s).filter(|k| m.sweeps.contains(k)).ok_or_else(refused)?;
         let quantity = match number {
@@ -826,6 +842,7 @@ async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response,
         drawn(&state, &format, |path| match show {
             Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, path),
             Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, &page, path),
+            Show::Difference(quantity) => render::difference_map(&o.atlas, quantity, &page, path),
         })
     })
     .await?;

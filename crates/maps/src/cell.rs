@@ -56,6 +56,15 @@ pub struct Quantity {
 }
 
 impl Quantity {
+    /// `text` (its name or long name) with its units in parentheses, unless
+    /// it is a pure number (`1`): `attenuation (dB)`.
+    pub fn with_units(&self, text: &str) -> String {
+        match self.units.as_str() {
+            "1" => text.to_string(),
+            units => format!("{text} ({units})"),
+        }
+    }
+
     /// The quantities a system measures, in [`solver::quantity::all_names`]'
     /// order: the built-in ones, a soft stop's in the words of contacts
     /// ([`solver::quantity::Spec::words`]), then those its scene defines.

@@ -245,7 +245,7 @@ fn draw<DB: crate::Backend>(
         let series = &all[pi];
         let y_range = y_range(pi);
         let desc = if let (0, Some(k)) = (pi, d.quantity) {
-            m.quantities[k].long_name.clone()
+            m.quantities[k].with_units(&m.quantities[k].long_name)
         } else if pi == 0 {
             format!("{} at t = kT", component_name(atlas, d.component))
         } else {

@@ -22,7 +22,13 @@ pub enum Show {
     Map(View),
     /// One number of a sweep's cells, on its diverging scale.
     Scalar(SweepKind, Quantity),
+    /// A quantity of the motion, the up sweep's less the down sweep's
+    /// ([`crate::difference_map`]).
+    Difference(Quantity),
 }
+
+/// A colour bar: its title, its ends, and colours evenly along it.
+pub type Scale = (String, f64, f64, Vec<[u8; 3]>);
 
 /// One legend row: its swatch, as the figures draw it, and its text.
 #[derive(Debug, Clone, PartialEq)]
@@ -53,7 +59,7 @@ pub struct Layer {
     pub legend: Vec<Key>,
     /// The colour bar of a scalar layer: its title, value range and the
     /// colours of 11 evenly spaced values from low to high.
-    pub scale: Option<(String, f64, f64, Vec<[u8; 3]>)>,
+    pub scale: Option<Scale>,
 }
 
 fn rgb(c: RGBColor) -> [u8; 3] {
@@ -105,14 +111,24 @@ pub fn layer(atlas: &Atlas, show: Show, mass: usize, curves: &[Overlay]) -> Resu
         }
         Show::Scalar(sweep, quantity) => {
             let s = Scaled::of(atlas, sweep, quantity)?;
-            (0..n).map(|i| Paint::Fill(s.colour(i))).for_each(&mut put);
-            let (lo, hi) = (s.lo, s.hi);
-            let stops = (0..=10).map(|k| rgb(s.colour_of(lo + (hi - lo) * k as f64 / 10.0))).collect();
-            let legend = vec![Entry::new(Swatch::Fill(NONE), quantity.none())];
-            (legend, Some((format!("{}: {}", quantity.unit(&atlas.meta), quantity.title(&atlas.meta)), lo, hi, stops)))
+            let title = format!("{}: {}", quantity.unit(m), quantity.title(m));
+            scalar_layer(&s, &mut put, quantity.none(), title)
+        }
+        Show::Difference(quantity) => {
+            let s = Scaled::difference(atlas, quantity)?;
+            scalar_layer(&s, &mut put, "none", format!("Δ {}: up less down: {}", quantity.unit(m), quantity.title(m)))
         }
     };
     Ok(Layer { nx, ny, above, below, legend: legend.iter().map(key).collect(), scale })
+}
+
+/// Paints every cell of `s` with `put`; the legend (grey: `none`) and the
+/// colour bar (`title`, its ends and eleven colours along it).
+fn scalar_layer(s: &Scaled, put: &mut impl FnMut(Paint), none: &str, title: String) -> (Vec<Entry>, Option<Scale>) {
+    (0..s.values.len()).map(|i| Paint::Fill(s.colour(i))).for_each(put);
+    let (lo, hi) = (s.lo, s.hi);
+    let stops = (0..=10).map(|k| rgb(s.colour_of(lo + (hi - lo) * k as f64 / 10.0))).collect();
+    (vec![Entry::new(Swatch::Fill(NONE), none)], Some((title, lo, hi, stops)))
 }
 
 /// The legend rows the figures draw for `(label, cells)` counts in at most

@@ -63,10 +63,7 @@ impl Quantity {
         match self {
             Quantity::Lyapunov => "λ (per unit time)".into(),
             Quantity::Multiplier => "max |μ|".into(),
-            Quantity::Named(k) => match &m.quantities[k] {
-                q if q.units == "1" => q.name.clone(),
-                q => format!("{} ({})", q.name, q.units),
-            },
+            Quantity::Named(k) => m.quantities[k].with_units(&m.quantities[k].name),
         }
     }
 

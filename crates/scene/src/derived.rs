@@ -53,16 +53,13 @@ impl PartialEq for Derived {
 
 /// Names a quantity of a scene may not take: the variables an atlas file's
 /// sweep group holds besides the quantities (a quantity is stored as a
-/// variable of that group under its name). `store`'s tests hold this list to
-/// the names it writes.
-pub const TAKEN_NAMES: [&str; 25] = [
-    "attractors",
-    "cell_edge",
+/// variable of that group under its name), and every name beginning with
+/// `label_`. The tests hold this list to the names the store writes.
+pub const TAKEN_NAMES: [&str; 22] = [
     "class",
     "component",
-    "entry",
+    "entry_state",
     "events",
-    "family",
     "final_state",
     "flags",
     "impact_column",

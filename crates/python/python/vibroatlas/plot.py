@@ -394,7 +394,8 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     if colorbar:
         cmap = ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
-        bar.set_label(name)
+        units = ds[name].attrs.get("units", "1")
+        bar.set_label(name if units == "1" else f"{name} ({units})")
     return ax
 
 
