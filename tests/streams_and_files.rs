@@ -114,6 +114,23 @@ fn a_full_standard_error_never_panics() {
     assert_eq!(wait_for(child, 30, "atlas --bogus 2>/dev/full").status.code(), Some(2));
 }
 
+/// Help and version that cannot be written (a full standard output) are an
+/// error, exit 2 with its line, like any output that is lost (they exited 0).
+#[test]
+fn help_to_a_full_standard_output_is_an_error() {
+    for args in [vec!["--help"], vec!["cell", "--help"], vec!["--version"]] {
+        let child = command(&args).stdout(full()).stderr(Stdio::piped()).spawn().unwrap();
+        let out = wait_for(child, 30, "--help >/dev/full");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim(), "error: standard output: No space left on device (os error 28)", "{args:?}");
+        let child = command(&args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+        let out = wait_for(child, 30, "--help");
+        assert_eq!(out.status.code(), Some(0), "{args:?}");
+        assert!(String::from_utf8_lossy(&out.stdout).contains("vibroatlas"), "{args:?}");
+    }
+}
+
 /// Item 2: a command whose result is a file (`atlas`, `study`, `merge`)
 /// prints only a report of it: a full or closed standard output loses
 /// nothing, so it exits 0 and the file is complete (README, exit codes). A

@@ -95,8 +95,19 @@ fn main() {
     ignore_file_size_signal();
     let cli = match grammar().try_get_matches().and_then(|m| args::Cli::from_arg_matches(&m)) {
         Ok(cli) => cli,
-        // Help and version go to standard output as clap prints them.
-        Err(e) if !e.use_stderr() => e.exit(),
+        // Help and version go to standard output as clap renders them; one
+        // that cannot be written (a full disk) is an error like any output.
+        Err(e) if !e.use_stderr() => {
+            use std::io::Write;
+            match e.print().and_then(|()| std::io::stdout().flush()) {
+                Ok(()) => std::process::exit(0),
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+                Err(e) => {
+                    out::error(&format!("standard output: {e}"));
+                    std::process::exit(2);
+                }
+            }
+        }
         Err(e) => {
             out::error(&format!("{} (see vibroatlas --help)", parse_error(&e)));
             std::process::exit(2);

@@ -5,8 +5,7 @@
 
 use crate::guard;
 use crate::state::{Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
-use axum::body::Body;
-use axum::extract::{Path, Query, State as Shared};
+use axum::extract::{Path, State as Shared};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
@@ -29,7 +28,28 @@ const MAX_SAMPLES: usize = 4096;
 const MAX_BASIN_STARTS: usize = 250_000;
 /// Starts per side the page proposes for a basin map.
 const BASIN_SIDE: usize = 100;
-type Params = Query<HashMap<String, String>>;
+
+/// A request's query, each key once: a key given twice is refused rather
+/// than read as one of its values, and a query that does not decode is one
+/// JSON refusal like every other.
+pub(crate) struct Params(HashMap<String, String>);
+
+impl<S: Send + Sync> axum::extract::FromRequestParts<S> for Params {
+    type Rejection = Refusal;
+
+    async fn from_request_parts(parts: &mut axum::http::request::Parts, _: &S) -> Result<Params, Refusal> {
+        let pairs: Vec<(String, String)> = serde_urlencoded::from_str(parts.uri.query().unwrap_or(""))
+            .map_err(|e| bad(format!("query: cannot decode it ({e})")))?;
+        let mut q = HashMap::with_capacity(pairs.len());
+        for (key, value) in pairs {
+            if q.contains_key(&key) {
+                return Err(bad(format!("{}: given twice", short(&key))));
+            }
+            q.insert(key, value);
+        }
+        Ok(Params(q))
+    }
+}
 
 /// A refused or failed request: its status and message.
 pub(crate) struct Refusal(StatusCode, String);
@@ -272,7 +292,7 @@ fn axis_json(a: &Axis, o: &Opened) -> Value {
     })
 }
 
-async fn atlas(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn atlas(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (id, o) = opened(&state, &q)?;
     let m = &o.atlas.meta;
     let labels: serde_json::Map<String, Value> = m
@@ -314,7 +334,7 @@ async fn atlas(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value
     })))
 }
 
-async fn map(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+async fn map(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let layer =
@@ -324,7 +344,7 @@ async fn map(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Re
     Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
 }
 
-async fn legend(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn legend(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
@@ -350,7 +370,7 @@ fn cell_index(o: &Opened, q: &HashMap<String, String>) -> Result<(usize, usize),
     Ok((index("iy", p.y.count)?, index("ix", p.x.count)?))
 }
 
-async fn at(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn at(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let (iy, ix) = cell_index(&o, &q)?;
     let m = &o.atlas.meta;
@@ -417,7 +437,7 @@ fn run_stored(o: &Opened, q: &HashMap<String, String>) -> Result<(engine::Cell, 
 
 /// The cell clicked, as `cell --from FILE --sweep S --at … --json`; it is
 /// the page's selected cell from then on ([`crate::Server::selected`]).
-async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn cell(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let shared = state.clone();
     let c = blocking(&state, move || {
@@ -433,13 +453,18 @@ async fn cell(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>
 
 /// The cell's periodic orbit solved by Newton's method with its Floquet
 /// multipliers: the object of `orbit --from FILE --sweep S --at … --json`.
-async fn orbit(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn orbit(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let found = blocking(&state, move || {
         unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
         let mut r = engine::OrbitRequest::new(sim);
         r.start = start;
+        // The period to solve for (the engine checks its range).
+        r.n = q
+            .get("n")
+            .map(|t| t.parse::<usize>().map_err(|_| bad(format!("n: expected a whole number, got '{}'", short(t)))))
+            .transpose()?;
         engine::orbit(&r, &engine::Quiet).map_err(failed)
     })
     .await?;
@@ -467,7 +492,7 @@ fn png(bytes: Vec<u8>) -> Response {
     ([(header::CONTENT_TYPE, "image/png")], bytes).into_response()
 }
 
-async fn portrait(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+async fn portrait(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let bytes = blocking(&state.clone(), move || {
         let c = run_cell(&o, &q)?;
@@ -478,7 +503,7 @@ async fn portrait(Shared(state): Shared<St>, Query(q): Params) -> Result<Respons
     Ok(png(bytes))
 }
 
-async fn sections(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+async fn sections(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let periods = count(&q, "periods", 1000, 1, MAX_PERIODS)?;
     let bytes = blocking(&state.clone(), move || {
@@ -490,7 +515,7 @@ async fn sections(Shared(state): Shared<St>, Query(q): Params) -> Result<Respons
     Ok(png(bytes))
 }
 
-async fn attractors(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn attractors(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let samples = count(&q, "samples", 64, 1, MAX_SAMPLES)?;
     let threads = state.threads;
@@ -544,7 +569,7 @@ const PROBE_SIDE: usize = 8;
 /// A basin map to propose for the cell: its two axes (`engine::proposed_axes`,
 /// 100 × 100 starts) and the estimate of its time on the server's threads,
 /// from the cost per start of an 8 × 8 grid over the same axes on one thread.
-async fn basins_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn basins_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let threads = state.threads;
     let plan = blocking(&state, move || {
@@ -588,7 +613,7 @@ async fn basins_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json
 /// final state, at the forcing phase `phase` (default the scene's τ): the
 /// object of `basins --from FILE --at … --json`, with `colours`, `png`
 /// (base64) and `seconds`; it stops when its client goes away.
-async fn basins(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn basins(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let axis = |name: &str| -> Result<Axis, Refusal> {
         let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (COMPONENT=START:STOP:COUNT)")))?;
@@ -655,7 +680,7 @@ const ZOOM_PROBE_SIDE: usize = 3;
 /// of 3 × 3 cells over the same box on one thread: its cost per cell (the
 /// computation alone) times the box's cells over the server's threads, plus
 /// what the probe spent besides computing (reading the parent, the file).
-async fn zoom_plan(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn zoom_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     let axis = |name: &str| -> Result<Axis, Refusal> {
         let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (NAME=START:STOP:COUNT)")))?;
@@ -824,7 +849,7 @@ async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Jso
     Ok(Json(json!({"cancelled": was_running, "state": job.phase().name()})))
 }
 
-async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response, Refusal> {
+async fn figure(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (id, o) = opened(&state, &q)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let format = q.get("format").map_or("png", String::as_str).to_string();
@@ -846,8 +871,8 @@ async fn figure(Shared(state): Shared<St>, Query(q): Params) -> Result<Response,
         })
     })
     .await?;
-    let disposition = format!("attachment; filename=\"{name}\"");
-    Ok(([(header::CONTENT_TYPE, kind.to_string()), (header::CONTENT_DISPOSITION, disposition)], bytes).into_response())
+    Ok(([(header::CONTENT_TYPE, kind.to_string()), (header::CONTENT_DISPOSITION, attachment(&name))], bytes)
+        .into_response())
 }
 
 /// The bifurcation curves stored in the explored file, over atlas `o`'s plane.
@@ -862,7 +887,7 @@ fn overlays(state: &State, o: &Opened) -> Vec<render::Overlay> {
         .collect()
 }
 
-async fn curves(Shared(state): Shared<St>, Query(q): Params) -> Result<Json<Value>, Refusal> {
+async fn curves(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
     // The curves are the explored file's: it must still be the file read.
     unchanged(&state.atlas(0).unwrap_or_else(|| o.clone()))?;
@@ -897,10 +922,22 @@ async fn file(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Respo
         Ok(bytes)
     })
     .await?;
-    let disposition = format!("attachment; filename=\"{name}\"");
-    Ok(Response::builder()
-        .header(header::CONTENT_TYPE, "application/x-hdf5")
-        .header(header::CONTENT_DISPOSITION, disposition)
-        .body(Body::from(bytes))
-        .unwrap_or_default())
+    Ok((
+        [(header::CONTENT_TYPE, "application/x-hdf5".to_string()), (header::CONTENT_DISPOSITION, attachment(&name))],
+        bytes,
+    )
+        .into_response())
+}
+
+/// The `Content-Disposition` of a download named `name` (a file's name, any
+/// characters): the name in plain ASCII (every other character `_`), and
+/// whole in RFC 6266's `filename*`, percent-encoded UTF-8.
+fn attachment(name: &str) -> String {
+    let safe = |c: char| c.is_ascii_alphanumeric() || "._-+".contains(c);
+    let plain: String = name.chars().map(|c| if safe(c) { c } else { '_' }).collect();
+    let encoded: String = name
+        .bytes()
+        .map(|b| if safe(char::from(b)) { char::from(b).to_string() } else { format!("%{b:02X}") })
+        .collect();
+    format!("attachment; filename=\"{plain}\"; filename*=UTF-8''{encoded}")
 }

@@ -338,3 +338,54 @@ fn doubled_headers_and_foreign_addresses_are_refused() {
     let own = format!("http://{host}/api/atlas");
     assert_eq!(send(p, "GET", &own, &[("Host", &host)], b"").status, 200);
 }
+
+/// The sixth audit's leftovers: a query key given twice was read as one of
+/// its values, `/api/orbit` ignored `n`, and a download's name went into its
+/// `Content-Disposition` as it was (a file named with a newline gave an
+/// empty 200). Now: one JSON refusal; the period asked for, as `orbit --n`;
+/// the name in ASCII and whole in `filename*`, and the file's bytes.
+#[test]
+fn a_repeated_key_n_and_an_odd_file_name() {
+    let server = serve();
+    let p = port(&server);
+    for target in ["/api/atlas?atlas=0&atlas=0", "/api/map?view=up&view=up", "/api/orbit?omega=2&omega=2&sigma=0"] {
+        let a = get(p, target);
+        assert_eq!(a.status, 400, "{target}");
+        assert!(a.error().ends_with(": given twice"), "{target}: {}", a.error());
+    }
+    let a = get(p, "/api/map?view=%ZZ");
+    assert_eq!(a.status, 400);
+    // A periodic cell of the plane.
+    let (at, own) = ["1.5", "1.8", "2.1", "2.4", "2.7", "3"]
+        .iter()
+        .flat_map(|w| ["-0.5", "0"].map(|s| format!("omega={w}&sigma={s}&sweep=up")))
+        .map(|at| {
+            let a = get(p, &format!("/api/orbit?{at}"));
+            (at, a)
+        })
+        .find(|(_, a)| a.status == 200)
+        .expect("a periodic cell");
+    let n = own.json()["n"].as_u64().unwrap();
+    let doubled = get(p, &format!("/api/orbit?{at}&n={}", 2 * n));
+    assert_eq!(doubled.status, 200);
+    assert_eq!(doubled.json()["n"].as_u64(), Some(2 * n), "{}", doubled.json());
+    for (bad, status) in [("n=x", 400), ("n=0", 422), ("n=1001", 422)] {
+        let a = get(p, &format!("/api/orbit?{at}&{bad}"));
+        assert_eq!(a.status, status, "{bad}: {}", a.error());
+        assert!(a.error().starts_with("n: "), "{bad}: {}", a.error());
+    }
+    drop(server);
+
+    let odd = atlas_file().with_file_name("a \"b\";c\u{e9}\n.h5");
+    std::fs::copy(atlas_file(), &odd).unwrap();
+    let r = explore::ExploreRequest { file: odd.clone(), port: 0, threads: 1 };
+    let server = explore::serve(&r).unwrap();
+    let a = get(port(&server), "/api/files/0");
+    assert_eq!(a.status, 200);
+    assert_eq!(a.body, std::fs::read(&odd).unwrap());
+    assert_eq!(
+        a.header("content-disposition"),
+        Some("attachment; filename=\"a__b__c__.h5\"; filename*=UTF-8''a%20%22b%22%3Bc%C3%A9%0A.h5")
+    );
+    std::fs::remove_file(&odd).unwrap();
+}
