@@ -201,7 +201,9 @@ fn down_sweep_shows_the_fundamental_sequence() {
 /// impact damper's exponents at ω = 0.7 and 0.8 changed in their last bit
 /// (the mean growth per period divided by T, instead of the sum by K T).
 /// Recorded again when every cell and sweep point gained `quantities`
-/// (issue 60): every other key and value of every line is unchanged.
+/// (issue 60): every other key and value of every line is unchanged; and
+/// when the impact damper's scene defined `attenuation` (issue 60): its two
+/// lines gained that one quantity, nothing else changed.
 #[test]
 fn outputs_match_the_recorded_snapshot() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));

@@ -428,7 +428,8 @@ fn the_jacobian_through_soft_contacts_matches_finite_differences() {
 /// Issue 41: in permanent drive-side contact the gear pair is the linear
 /// system `x'' + 2ζx' + k(x - b) = fm + f1 cos ωt`: its label is `1-0-S`
 /// (no contact begun, never separating) and its section point the closed
-/// form `x = b + fm/k + Re(f1/(k - ω² + 2iζω))`, `v = Re(iω f1/(k - ω² + 2iζω))`.
+/// form `x = b + fm/k + Re(f1/(k - ω² + 2iζω))`, `v = Re(iω f1/(k - ω² + 2iζω))`;
+/// its peak mesh force the closed form's too.
 #[test]
 fn the_gear_pair_in_permanent_contact_is_1_0_s_on_the_closed_form() {
     for omega in [1.6, 2.0, 2.7] {
@@ -440,6 +441,19 @@ fn the_gear_pair_in_permanent_contact_is_1_0_s_on_the_closed_form() {
         let point = &json["period_section"][0];
         let (gx, gv) = (point[0].as_f64().unwrap(), point[1].as_f64().unwrap());
         assert!((gx - x).abs() < 1e-9 && (gv - v).abs() < 1e-9, "ω = {omega}: ({gx}, {gv}) against ({x}, {v})");
+        // Issue 60: the peak mesh force is the spring's at the largest
+        // compression, k (fm/k + |f1/(k - ω² + 2iζω)|) = fm + f1/|z| (k = 1),
+        // the contact never begun again nor left.
+        let q = &json["quantities"];
+        let peak = 0.1 + 0.1 / z.norm();
+        let force = q["contact_force_max_D"].as_f64().unwrap();
+        assert!((force - peak).abs() < 1e-9, "ω = {omega}: peak mesh force {force} against {peak}");
+        assert_eq!(
+            (q["contact_fraction_D"].as_f64(), q["impact_rate_D"].as_f64()),
+            (Some(1.0), Some(0.0)),
+            "ω = {omega}"
+        );
+        assert_eq!(q["contact_force_max_B"].as_f64(), Some(0.0), "ω = {omega}");
     }
 }
 

@@ -7,6 +7,7 @@ mod bad_input;
 mod basins;
 mod cli;
 mod closed_form;
+mod dense;
 mod docs;
 mod drilldown;
 mod edges;
