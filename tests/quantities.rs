@@ -216,6 +216,30 @@ print(int(np.sum(np.abs(diff) > 1e-6)))
         );
     }
     assert!(keys.contains("entry_state") && keys.contains("sections"), "{keys}");
+    // Contour lines: black polylines over the map and across the colour
+    // bar, none without --contours; refused on a map of labels.
+    let lines = |args: &[&str]| {
+        let mut all = vec!["render", &f, "--view", "attenuation", "--sweep", "up", "-o", svg.to_str().unwrap()];
+        all.extend_from_slice(args);
+        ok(&all);
+        let text = std::fs::read_to_string(&svg).unwrap();
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        doc.descendants().filter(|n| n.has_tag_name("polyline") && n.attribute("stroke") == Some("#000000")).count()
+    };
+    let (plain, contoured) = (lines(&[]), lines(&["--contours", "4"]));
+    assert!(contoured >= plain + 10, "{plain} black lines without contours, {contoured} with");
+    for (args, says) in [
+        (vec!["--contours", "0"], "error: invalid value '0' for '--contours <N>'"),
+        (vec!["--view", "labels", "--contours", "3"], "error: --contours: draws the levels of a continuous map"),
+        (vec!["--view", "attenuation", "--row", "delta=2", "--contours", "3"], "error: --contours: draws the levels"),
+    ] {
+        let mut all = vec!["render", &f, "-o", svg.to_str().unwrap()];
+        all.extend_from_slice(&args);
+        let out = run(&all);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.starts_with(says) && err.trim().lines().count() == 1, "{args:?}: {err}");
+    }
     let out = run(&["render", &f, "--view", "multiplier", "--sweep", "hysteresis", "-o", svg.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");

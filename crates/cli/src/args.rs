@@ -559,6 +559,10 @@ pub struct RenderArgs {
     /// Bifurcation curves (files of `curve -o`) drawn over the label map (repeatable).
     #[arg(long, value_name = "CURVE.h5")]
     pub curves: Vec<PathBuf>,
+    /// Contour lines of a continuous view (a quantity, lyapunov, multiplier)
+    /// at up to N round levels, marked on its colour bar.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=50))]
+    pub contours: Option<u16>,
     #[command(flatten)]
     pub figure: FigureArgs,
 }

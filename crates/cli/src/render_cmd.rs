@@ -16,6 +16,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     store::check_output(&a.output, &[&a.file])?;
     if store::is_basins(&a.file) {
         let given = [
+            ("--contours", a.contours.is_some()),
             ("--view", a.view != "labels"),
             ("--mass", a.mass.is_some()),
             ("--sweep", a.sweep.is_some()),
@@ -27,6 +28,12 @@ pub fn run(a: RenderArgs) -> Result<()> {
         let map = store::read_basins(&a.file)?;
         write_atomically(&a.output, |tmp| render::basin_map(&map, &page, tmp))?;
         return wrote(&a.output, &page);
+    }
+    let discrete = ["labels", "attractors"].contains(&a.view.as_str()) || a.view.starts_with("basin:");
+    if a.contours.is_some() && (discrete || a.row.is_some()) {
+        let what =
+            if a.row.is_some() { "a bifurcation diagram (--row)".to_string() } else { format!("--view {}", a.view) };
+        bail!("--contours: draws the levels of a continuous map (--view lyapunov, multiplier or a quantity), not of {what}");
     }
     let mut l = store::read(&a.file)?;
     let m = &l.atlas.meta;
@@ -108,13 +115,14 @@ pub fn run(a: RenderArgs) -> Result<()> {
             })?);
         }
     }
+    let contours = usize::from(a.contours.unwrap_or(0));
     match (quantity, view) {
         (None, _) => write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, &curves, &page, tmp))?,
         (Some(q), View::Sweep(sweep)) => {
-            write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, &page, tmp))?
+            write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, contours, &page, tmp))?
         }
         (Some(q @ render::Quantity::Named(_)), View::Hysteresis) => {
-            write_atomically(&a.output, |tmp| render::difference_map(&l.atlas, q, &page, tmp))?
+            write_atomically(&a.output, |tmp| render::difference_map(&l.atlas, q, contours, &page, tmp))?
         }
         (Some(_), View::Hysteresis) => {
             bail!(

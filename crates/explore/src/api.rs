@@ -866,8 +866,8 @@ async fn figure(Shared(state): Shared<St>, Params(q): Params) -> Result<Response
     let bytes = blocking(&state.clone(), move || {
         drawn(&state, &format, |path| match show {
             Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, path),
-            Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, &page, path),
-            Show::Difference(quantity) => render::difference_map(&o.atlas, quantity, &page, path),
+            Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, 0, &page, path),
+            Show::Difference(quantity) => render::difference_map(&o.atlas, quantity, 0, &page, path),
         })
     })
     .await?;

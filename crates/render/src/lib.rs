@@ -7,6 +7,7 @@
 mod basins;
 mod bifurcation;
 mod branch;
+mod contour;
 mod font;
 mod layers;
 mod layout;

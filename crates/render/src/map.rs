@@ -95,6 +95,12 @@ impl<'a> CellGrid<'a> {
         (self.x.value(i % self.x.count), self.y.value(i / self.x.count))
     }
 
+    /// The point at fractional cell indices `(fx, fy)`: cell centres at
+    /// whole ones, linear between them.
+    pub(crate) fn at(&self, fx: f64, fy: f64) -> (f64, f64) {
+        (self.x.value(0) + fx * self.dx, self.y.value(0) + fy * self.dy)
+    }
+
     /// Corners of cell `i`.
     pub(crate) fn rect(&self, i: usize) -> [(f64, f64); 2] {
         let (cx, cy) = self.centre(i);

@@ -167,11 +167,13 @@ impl Scaled {
 }
 
 /// Draws `quantity` over the plane of one sweep of `atlas` at the size of
-/// `page` (format by the extension of `path`).
+/// `page` (format by the extension of `path`), with contour lines at up to
+/// `contours` round levels ([`crate::contour`]; 0: none).
 pub fn scalar_map(
     atlas: &Atlas,
     sweep: SweepKind,
     quantity: Quantity,
+    contours: usize,
     page: &Page,
     path: &Path,
 ) -> Result<(), RenderError> {
@@ -181,6 +183,7 @@ pub fn scalar_map(
         title: format!("{} sweep: {}", sweep.name(), quantity.title(m)),
         unit: quantity.unit(m),
         none: quantity.none().into(),
+        contours,
     };
     let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
@@ -188,24 +191,32 @@ pub fn scalar_map(
 
 /// Draws quantity `quantity` of the up sweep less that of the down sweep
 /// ([`Scaled::difference`]): where hysteresis changes it, and by how much.
-pub fn difference_map(atlas: &Atlas, quantity: Quantity, page: &Page, path: &Path) -> Result<(), RenderError> {
+pub fn difference_map(
+    atlas: &Atlas,
+    quantity: Quantity,
+    contours: usize,
+    page: &Page,
+    path: &Path,
+) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let scaled = Scaled::difference(atlas, quantity)?;
     let text = Texts {
         title: format!("up sweep less down sweep: {}", quantity.title(m)),
         unit: format!("Δ {}", quantity.unit(m)),
         none: "none".into(),
+        contours,
     };
     let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
 }
 
 /// The words of a continuous map: its title, its colour bar's label, and
-/// what grey stands for.
+/// what grey stands for; and how many contour levels it draws at most.
 struct Texts {
     title: String,
     unit: String,
     none: String,
+    contours: usize,
 }
 
 fn draw<DB: crate::Backend>(
@@ -229,6 +240,13 @@ fn draw<DB: crate::Backend>(
     let plot = chart.plotting_area();
     for i in 0..scaled.values.len() {
         plot.draw(&Rectangle::new(grid.rect(i), scaled.colour(i).filled())).map_err(err)?;
+    }
+    let levels = crate::contour::levels(lo, hi, text.contours);
+    let line = BLACK.stroke_width(canvas.pt(0.6));
+    for &level in &levels {
+        for [a, b] in crate::contour::segments(&scaled.values, m.plane.x.count, m.plane.y.count, level) {
+            plot.draw(&PathElement::new(vec![grid.at(a.0, a.1), grid.at(b.0, b.1)], line)).map_err(err)?;
+        }
     }
     let mut bar = ChartBuilder::on(&right)
         .margin_top(canvas.em(1.0))
@@ -255,5 +273,7 @@ fn draw<DB: crate::Backend>(
         Rectangle::new([(0.0, a), (1.0, b)], scaled.colour_of(0.5 * (a + b)).filled())
     }))
     .map_err(err)?;
+    // The levels on the colour bar.
+    bar.draw_series(levels.iter().map(|&l| PathElement::new(vec![(0.0, l), (1.0, l)], line))).map_err(err)?;
     Ok(())
 }
