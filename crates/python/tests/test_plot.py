@@ -140,10 +140,12 @@ def test_hysteresis_default_figure(tree):
     plt.close(axes[0].figure)
 
 
-@pytest.mark.parametrize("quantity", ["multiplier", "lyapunov", "max_abs_x_M1", "impact_speed_max_A1"])
+@pytest.mark.parametrize("quantity", ["multiplier", "lyapunov", "max_abs_x_M1", "impact_speed_max_A1",
+                                      "max_abs_x_M1:hysteresis"])
 def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     """va.plot.scalar (and va.plot.quantity, for a quantity of the steady
-    motion) draws each cell in the colour `render --view` gives it: the
+    motion, and va.plot.difference, its up less down) draws each cell in the
+    colour `render --view` gives it: the
     oracle is the explorer's /api/map, render's own per-cell colours."""
     import json
     import urllib.request
@@ -153,8 +155,11 @@ def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     tree = open_tree(path)
     ds = tree["up"].ds
     fig, ax = plt.subplots(figsize=(8, 5))
+    view = quantity if quantity.endswith(":hysteresis") else f"{quantity}:up"
     if quantity in ("multiplier", "lyapunov"):
         va.plot.scalar(tree["up"], quantity, ax=ax)
+    elif view.endswith(":hysteresis"):
+        va.plot.difference(tree, quantity.split(":")[0], ax=ax)
     else:
         va.plot.quantity(tree["up"], quantity, ax=ax)
     img = pixels(fig)
@@ -162,7 +167,7 @@ def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     try:
         info = json.load(urllib.request.urlopen(ex.url + "api/atlas"))
         nx, ny = info["x"]["count"], info["y"]["count"]
-        with urllib.request.urlopen(ex.url + f"api/map?view={quantity}:up") as r:
+        with urllib.request.urlopen(ex.url + f"api/map?view={view}") as r:
             want = np.frombuffer(r.read(), np.uint8)[: 3 * nx * ny].reshape(ny, nx, 3)
     finally:
         ex.stop()

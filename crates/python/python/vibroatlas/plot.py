@@ -15,7 +15,7 @@ import numpy as np
 
 from . import _dataset, _first_mass, label_table
 
-__all__ = ["map", "hysteresis", "scalar", "row", "portrait", "sections", "colours", "basins"]
+__all__ = ["map", "hysteresis", "scalar", "quantity", "difference", "row", "portrait", "sections", "colours", "basins"]
 
 # The continuous views' diverging scale, as `vibroatlas render --view
 # multiplier|lyapunov` paints it: blue below the neutral value, white at it,
@@ -231,6 +231,19 @@ def hysteresis_mask(tree, masses=None):
     return (both & differ).transpose(*dims)
 
 
+def _both(tree, what):
+    """The DataTree of `tree` (a DataTree, or a path opened), which must hold
+    the up and down sweeps that `what` compares."""
+    if not hasattr(tree, "children"):
+        from . import open as _open
+
+        tree = _open(tree)
+    if not {"up", "down"} <= set(tree.children):
+        raise ValueError(f"{what} needs the up and down sweeps (atlas sweep='both'); "
+                         f"this tree has {', '.join(tree.children) or 'no group'}")
+    return tree
+
+
 def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     """The three panels of `vibroatlas render --sweep hysteresis`: the mass's
     labels in the up sweep | in the down sweep | the cells where two motions
@@ -244,13 +257,7 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
 
-    if not hasattr(tree, "children"):
-        from . import open as _open
-
-        tree = _open(tree)
-    if not {"up", "down"} <= set(tree.children):
-        raise ValueError(f"hysteresis needs the up and down sweeps (atlas sweep='both'); "
-                         f"this tree has {', '.join(tree.children) or 'no group'}")
+    tree = _both(tree, "hysteresis")
     up, down = _dataset(tree["up"]), _dataset(tree["down"])
     mass = mass or _first_mass(up)
     mask = np.asarray(hysteresis_mask(tree).values, bool)
@@ -396,6 +403,37 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
         units = ds[name].attrs.get("units", "1")
         bar.set_label(name if units == "1" else f"{name} ({units})")
+    return ax
+
+
+def difference(tree, name, ax=None, *, colorbar=True, title=None):
+    """Draws a quantity of the steady motion, the up sweep's value less the
+    down sweep's, as `vibroatlas render --view NAME --sweep hysteresis` does,
+    and returns the Axes: a diverging scale centred at 0 (white: the two
+    legs agree), full colour at the largest difference, cells without a
+    value in either sweep grey, each cell in render's colour. tree: a
+    DataTree with /up and /down, or a path."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LinearSegmentedColormap, Normalize
+
+    tree = _both(tree, "difference")
+    up, down = _dataset(tree["up"]), _dataset(tree["down"])
+    if name not in up:
+        stored = [n for n in up.data_vars if "symbol" in up[n].attrs and up[n].dims == up["class"].dims]
+        raise ValueError(f"{name}: not a quantity of this atlas ({', '.join(stored) or 'it stores none'})")
+    d = np.asarray(up[name].values, float) - np.asarray(down[name].values, float)
+    finite = np.isfinite(d)
+    reach = float(np.max(np.abs(d[finite]))) if finite.any() else 0.0
+    reach = reach if reach > 0 else 1.0
+    rgb = np.where(finite[..., None], _diverging(np.where(finite, d, 0.0) / reach), np.array(_NONE))
+    long_name = up[name].attrs.get("long_name", name)
+    ax = _paint(up, name, rgb, ax, title if title is not None else f"up sweep less down sweep: {long_name}")
+    if colorbar:
+        cmap = LinearSegmentedColormap.from_list(
+            "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
+        bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(-reach, reach), cmap), ax=ax)
+        units = up[name].attrs.get("units", "1")
+        bar.set_label(f"Δ {name}" if units == "1" else f"Δ {name} ({units})")
     return ax
 
 

@@ -56,6 +56,14 @@ def quantity(
     colorbar: bool = ...,
     title: str | None = ...,
 ) -> Axes: ...
+def difference(
+    tree: xarray.DataTree | str,
+    name: str,
+    ax: Axes | None = ...,
+    *,
+    colorbar: bool = ...,
+    title: str | None = ...,
+) -> Axes: ...
 def row(
     tree: xarray.DataTree | str,
     at: float | None = ...,
