@@ -205,25 +205,15 @@ fn quantities_agree_with_an_independent_integration() {
             let named: std::collections::BTreeMap<String, f64> =
                 solver::quantity::named(&sys, &q).into_iter().collect();
             let got = integrate(&sys, &cell.window_start, n);
+            let agree = |name: String, got: f64| {
+                let want = named[&name];
+                assert!((got - want).abs() < 1e-8 * want.max(1.0), "{file} ω {omega}: {name} {want} against {got}");
+            };
             for (j, mass) in sys.model.masses.iter().enumerate() {
-                let want = named[&format!("max_abs_x_{}", mass.name)];
-                let diff = (got.max_abs_x[j] - want).abs();
-                assert!(
-                    diff < 1e-8 * want.max(1.0),
-                    "{file} ω {omega}: max_abs_x_{} {want} against {}",
-                    mass.name,
-                    got.max_abs_x[j]
-                );
+                agree(format!("max_abs_x_{}", mass.name), got.max_abs_x[j]);
             }
             for (k, stop) in sys.model.stops.iter().enumerate() {
-                let want = named[&format!("impact_speed_max_{}", stop.name)];
-                let diff = (got.speed_max[k] - want).abs();
-                assert!(
-                    diff < 1e-8 * want.max(1.0),
-                    "{file} ω {omega}: impact_speed_max_{} {want} against {}",
-                    stop.name,
-                    got.speed_max[k]
-                );
+                agree(format!("impact_speed_max_{}", stop.name), got.speed_max[k]);
             }
             here += 1;
             checked.push(format!(
