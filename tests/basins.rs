@@ -186,15 +186,25 @@ fn a_basin_file_renders_and_an_edited_one_is_refused() {
     {
         refused(&cmd, "not an atlas (a basin file");
     }
+    // inspect --verify reads every value back under the checksums.
+    let o = run(&["inspect", out.to_str().unwrap(), "--verify", "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!((report["content"].as_str(), report["verified"].as_bool()), (Some("basins"), Some(true)), "{report}");
     // One id changed, as h5py would change it: an error naming the checksum.
     python(
         "import sys, h5py\nf = h5py.File(sys.argv[1], 'r+')\nb = f['basin'][:]\nb[0, 0] = 1 - b[0, 0]\nf['basin'][:] = b",
         &[out.to_str().unwrap()],
     );
-    let o = run(&["render", out.to_str().unwrap(), "-o", d.join("c.png").to_str().unwrap()]);
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("basins_crc32") && !err.contains("panicked"), "{err}");
+    for cmd in [
+        vec!["render", out.to_str().unwrap(), "-o", d.join("c.png").to_str().unwrap()],
+        vec!["inspect", out.to_str().unwrap(), "--verify"],
+    ] {
+        let o = run(&cmd);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{cmd:?}: {err}");
+        assert!(err.contains("basins_crc32") && !err.contains("panicked"), "{err}");
+    }
 }
 
 #[test]

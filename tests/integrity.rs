@@ -495,7 +495,16 @@ print("ok")
         assert_eq!(python(DAMAGE, &[c.to_str().unwrap(), bad.to_str().unwrap(), how]).trim(), "ok");
         let text = store::read_curves(&bad).unwrap_err().to_string();
         assert!(text.contains("curve_0/omega"), "{how}: {text}");
+        // And `inspect --verify` says so (it verifies the intact file).
+        let out = run(&["inspect", bad.to_str().unwrap(), "--verify"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{how}: {err}");
+        assert!(err.contains("curve_0/omega") && err.trim().lines().count() == 1, "{how}: {err}");
     }
+    let out = run(&["inspect", c.to_str().unwrap(), "--verify"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("verified  every value reads back") && text.contains("bifurcation curve"), "{text}");
 }
 
 /// A section's values are stored without compression: a chunk of them
