@@ -149,6 +149,22 @@ fn opened(state: &State, q: &HashMap<String, String>) -> Result<(usize, Arc<Open
     state.atlas(id).map(|a| (id, a)).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))
 }
 
+/// Refuses a parameter the route does not take, one that a misspelling
+/// (`veiw=up`) would otherwise leave unread: the route's `keys`, and with
+/// `plane` the parameters of that atlas's axes (a cell's `omega=…&delta=…`).
+fn only(q: &HashMap<String, String>, keys: &[&str], plane: Option<&Opened>) -> Result<(), Refusal> {
+    let axes = plane.map(|o| [o.atlas.meta.plane.x.name.as_str(), o.atlas.meta.plane.y.name.as_str()]);
+    let known = |k: &str| keys.contains(&k) || axes.is_some_and(|a| a.contains(&k));
+    match q.keys().filter(|k| !known(k)).min() {
+        None => Ok(()),
+        Some(k) => {
+            let mut takes: Vec<&str> = keys.to_vec();
+            takes.extend(axes.iter().flatten());
+            Err(bad(format!("{}: not a parameter of this request (it takes {})", short(k), takes.join(", "))))
+        }
+    }
+}
+
 /// Refuses an atlas whose file was replaced or removed since it was read:
 /// its cells on the page would no longer be the file's.
 fn unchanged(o: &Opened) -> Result<(), Refusal> {
@@ -294,6 +310,7 @@ fn axis_json(a: &Axis, o: &Opened) -> Value {
 
 async fn atlas(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (id, o) = opened(&state, &q)?;
+    only(&q, &["atlas"], None)?;
     let m = &o.atlas.meta;
     let labels: serde_json::Map<String, Value> = m
         .sweeps
@@ -336,6 +353,7 @@ async fn atlas(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Valu
 
 async fn map(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "view", "mass"], None)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let layer =
         blocking(&state, move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string()))).await?;
@@ -346,6 +364,7 @@ async fn map(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, R
 
 async fn legend(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "view", "mass", "curves"], None)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
     let layer =
@@ -372,6 +391,7 @@ fn cell_index(o: &Opened, q: &HashMap<String, String>) -> Result<(usize, usize),
 
 async fn at(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "ix", "iy"], None)?;
     let (iy, ix) = cell_index(&o, &q)?;
     let m = &o.atlas.meta;
     let i = iy * m.plane.x.count + ix;
@@ -439,6 +459,7 @@ fn run_stored(o: &Opened, q: &HashMap<String, String>) -> Result<(engine::Cell, 
 /// the page's selected cell from then on ([`crate::Server::selected`]).
 async fn cell(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep"], Some(&o))?;
     let shared = state.clone();
     let c = blocking(&state, move || {
         let (c, start) = run_stored(&o, &q)?;
@@ -455,6 +476,7 @@ async fn cell(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value
 /// multipliers: the object of `orbit --from FILE --sweep S --at … --json`.
 async fn orbit(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep", "n"], Some(&o))?;
     let found = blocking(&state, move || {
         unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
@@ -494,6 +516,7 @@ fn png(bytes: Vec<u8>) -> Response {
 
 async fn portrait(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep"], Some(&o))?;
     let bytes = blocking(&state.clone(), move || {
         let c = run_cell(&o, &q)?;
         let p = engine::portrait(&c);
@@ -505,6 +528,7 @@ async fn portrait(Shared(state): Shared<St>, Params(q): Params) -> Result<Respon
 
 async fn sections(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep", "periods"], Some(&o))?;
     let periods = count(&q, "periods", 1000, 1, MAX_PERIODS)?;
     let bytes = blocking(&state.clone(), move || {
         let c = run_cell(&o, &q)?;
@@ -517,6 +541,7 @@ async fn sections(Shared(state): Shared<St>, Params(q): Params) -> Result<Respon
 
 async fn attractors(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep", "samples"], Some(&o))?;
     let samples = count(&q, "samples", 64, 1, MAX_SAMPLES)?;
     let threads = state.threads;
     let (work, _guard) = Request::new(state.clone());
@@ -571,6 +596,7 @@ const PROBE_SIDE: usize = 8;
 /// from the cost per start of an 8 × 8 grid over the same axes on one thread.
 async fn basins_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep"], Some(&o))?;
     let threads = state.threads;
     let plan = blocking(&state, move || {
         let c = run_cell(&o, &q)?;
@@ -615,6 +641,7 @@ async fn basins_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Jso
 /// (base64) and `seconds`; it stops when its client goes away.
 async fn basins(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "sweep", "basin_x", "basin_y", "phase"], Some(&o))?;
     let axis = |name: &str| -> Result<Axis, Refusal> {
         let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (COMPONENT=START:STOP:COUNT)")))?;
         Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
@@ -682,6 +709,7 @@ const ZOOM_PROBE_SIDE: usize = 3;
 /// what the probe spent besides computing (reading the parent, the file).
 async fn zoom_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "x", "y", "sweep", "set"], None)?;
     let axis = |name: &str| -> Result<Axis, Refusal> {
         let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (NAME=START:STOP:COUNT)")))?;
         Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
@@ -851,6 +879,7 @@ async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Jso
 
 async fn figure(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (id, o) = opened(&state, &q)?;
+    only(&q, &["atlas", "view", "mass", "format", "size", "curves"], None)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
     let format = q.get("format").map_or("png", String::as_str).to_string();
     let kind = match format.as_str() {
@@ -889,6 +918,7 @@ fn overlays(state: &State, o: &Opened) -> Vec<render::Overlay> {
 
 async fn curves(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
     let (_, o) = opened(&state, &q)?;
+    only(&q, &["atlas"], None)?;
     // The curves are the explored file's: it must still be the file read.
     unchanged(&state.atlas(0).unwrap_or_else(|| o.clone()))?;
     let list: Vec<Value> = blocking(&state.clone(), move || Ok(overlays(&state, &o)))

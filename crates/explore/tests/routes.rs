@@ -355,6 +355,20 @@ fn a_repeated_key_n_and_an_odd_file_name() {
     }
     let a = get(p, "/api/map?view=%ZZ");
     assert_eq!(a.status, 400);
+    // A parameter the request does not take (misspelt) is refused, naming
+    // it and what the request takes.
+    for (target, says) in [
+        ("/api/map?veiw=up", "veiw: not a parameter of this request (it takes atlas, view, mass)"),
+        (
+            "/api/orbit?omega=2&sigma=0&delta=1",
+            "delta: not a parameter of this request (it takes atlas, sweep, n, omega, sigma)",
+        ),
+        ("/api/at?ix=0&iy=0&x=1", "x: not a parameter of this request (it takes atlas, ix, iy)"),
+    ] {
+        let a = get(p, target);
+        assert_eq!(a.status, 400, "{target}");
+        assert_eq!(a.error(), says, "{target}");
+    }
     // A periodic cell of the plane.
     let (at, own) = ["1.5", "1.8", "2.1", "2.4", "2.7", "3"]
         .iter()
