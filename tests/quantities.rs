@@ -282,3 +282,56 @@ print(int(np.sum(np.abs(diff) > 1e-6)))
     }
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// `[scales]`: with the soft-stop scene's units given as 2 mm, 10 ms and
+/// 40 N, every quantity of `cell --json` is the dimensionless scene's value
+/// times its dimension's factor (lengths 0.002, speeds 0.2, forces 40,
+/// power 8, energy per period 0.08; counts, shares and the residual as
+/// they were), and the file's `units` say so, as xarray reads them; a
+/// scale that is not above 0 is one line naming the field.
+#[test]
+fn physical_scales_convert_every_quantity_and_name_its_units() {
+    let d = scratch("quantities-scales");
+    let text = std::fs::read_to_string("configs/soft-stop.toml").unwrap();
+    let scales = "\n[scales]\nlength = { value = 0.002, units = \"m\" }\ntime = { value = 0.01, units = \"s\" }\nforce = { value = 40.0, units = \"N\" }\n";
+    let scaled = d.join("scaled.toml");
+    std::fs::write(&scaled, format!("{text}{scales}")).unwrap();
+    let plain = json_of(&["cell", "configs/soft-stop.toml", "--json"]);
+    let physical = json_of(&["cell", scaled.to_str().unwrap(), "--json"]);
+    let (l, t, f) = (0.002, 0.01, 40.0);
+    let factor = |name: &str| -> (f64, &str) {
+        match name.rsplit_once('_').map_or(name, |(stem, _)| stem) {
+            "max_abs_x" | "ptp_x" | "mean_x" | "rms_x" => (l, "m"),
+            "max_abs_v" | "rms_v" | "impact_speed_max" | "impact_speed_mean" => (l / t, "m/s"),
+            "contact_force_max" => (f, "N"),
+            "power" => (f * l / t, "N m/s"),
+            "dissipated" => (f * l, "N m"),
+            _ => (1.0, "1"),
+        }
+    };
+    let (p, q) = (plain["quantities"].as_object().unwrap(), physical["quantities"].as_object().unwrap());
+    assert_eq!(p.len(), q.len());
+    for (name, v) in p {
+        let (v, got) = (v.as_f64().unwrap(), q[name].as_f64().unwrap());
+        let want = v * factor(name).0;
+        assert!((got - want).abs() <= 1e-15 * want.abs(), "{name}: {got} against {want}");
+    }
+    let file = d.join("scaled.h5");
+    let s = scaled.to_str().unwrap();
+    ok(&["atlas", s, "--x", "omega=0.5:1.5:4", "--y", "clearance=0.5:1.5:3", "--quiet", "-o", file.to_str().unwrap()]);
+    let units = python(
+        "import sys, xarray as xr\nwith xr.open_dataset(sys.argv[1], group='fresh', engine='h5netcdf') as ds:\n    for n in sys.argv[2].split(','):\n        print(n, ds[n].attrs['units'])",
+        &[file.to_str().unwrap(), &p.keys().cloned().collect::<Vec<_>>().join(",")],
+    );
+    for line in units.lines() {
+        let (name, unit) = line.split_once(' ').unwrap();
+        assert_eq!(unit, factor(name).1, "{name}");
+    }
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, format!("{text}{}", scales.replace("0.002", "0"))).unwrap();
+    let out = run(&["cell", bad.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("scales.length.value: must be a finite number above 0, got 0"), "{err}");
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -74,7 +74,7 @@ impl Quantity {
             let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
             let (symbol, long) = spec.words(soft(owner));
             let long_name = if owner.is_empty() { long.to_string() } else { format!("{long} {owner}") };
-            Quantity { symbol: symbol.to_string(), long_name, units: spec.dimension.units().to_string(), name }
+            Quantity { symbol: symbol.to_string(), long_name, units: spec.dimension.units(&sys.model.scales), name }
         });
         let defined = sys.model.quantities.iter().map(|d| Quantity {
             name: d.name.clone(),

@@ -35,6 +35,7 @@ mod derived;
 mod error;
 mod expr;
 mod model;
+mod scales;
 mod schema;
 mod symbol;
 
@@ -42,6 +43,7 @@ pub use derived::{Derived, Operand, TAKEN_NAMES};
 pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
 pub use model::{Friction, Harmonic, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
+pub use scales::{Scale, Scales};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 
 use expr::{Compiled, Names, Range};
@@ -138,6 +140,8 @@ pub struct Scene {
     labels: Vec<(usize, Option<usize>, Option<usize>)>,
     /// The quantities it defines (`[quantities]`).
     quantities: std::sync::Arc<[Derived]>,
+    /// Its physical scales (`[scales]`).
+    scales: std::sync::Arc<Scales>,
     /// Parameters in an order that evaluates each after those it depends on
     /// (topological, smallest index first); those on or after a circular
     /// definition are left out.
@@ -528,9 +532,11 @@ impl Scene {
             .iter()
             .map(|(name, spec)| Derived::compile(name, spec, &names))
             .collect::<Result<_, SceneError>>()?;
+        let scales = std::sync::Arc::new(Scales::of(&file.scales)?);
         let order = evaluation_order(&params);
         let scene = Scene {
             quantities,
+            scales,
             source: text.to_string(),
             omega: c(&file.forcing.omega, "forcing.omega".into())?,
             tau: c(&file.forcing.phase, "forcing.phase".into())?,
@@ -745,6 +751,7 @@ impl Scene {
             labels: self.labels.iter().map(|&(mass, p, q)| LabelStops { mass, p, q }).collect(),
             parameters: self.names.iter().cloned().zip(values.iter().copied()).collect(),
             quantities: self.quantities.clone(),
+            scales: self.scales.clone(),
         };
         if model.symmetric {
             check_mirror(&model.stops)?;

@@ -189,6 +189,8 @@ pub struct Model {
     pub parameters: Vec<(String, f64)>,
     /// The quantities the scene defines, computed after the built-in ones.
     pub quantities: std::sync::Arc<[crate::Derived]>,
+    /// The scene's physical scales.
+    pub scales: std::sync::Arc<crate::Scales>,
 }
 
 impl Model {

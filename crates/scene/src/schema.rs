@@ -87,6 +87,32 @@ pub struct SceneFile {
     /// Quantities of the steady motion the scene defines, by name.
     #[serde(default)]
     pub quantities: BTreeMap<String, QuantitySpec>,
+    /// Physical scales of the scene's dimensionless units.
+    #[serde(default)]
+    pub scales: ScalesSpec,
+}
+
+/// `[scales]`: what one of the scene's units of length, time and force is
+/// physically (`length = { value = 0.002, units = "m" }`).
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScalesSpec {
+    /// The unit of length.
+    pub length: Option<ScaleSpec>,
+    /// The unit of time.
+    pub time: Option<ScaleSpec>,
+    /// The unit of force.
+    pub force: Option<ScaleSpec>,
+}
+
+/// One scale: its value in `units`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScaleSpec {
+    /// How many `units` one scene unit is (finite, above 0).
+    pub value: f64,
+    /// The physical units (CF / UDUNITS: `m`, `s`, `N`).
+    pub units: String,
 }
 
 /// `[quantities]`: `attenuation = { value = "20*log10(…)", units = "dB" }`.

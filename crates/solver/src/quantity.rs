@@ -34,7 +34,7 @@ use crate::flow::Method;
 use crate::simulate::{Halt, Observer, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
-use scene::{Operand, StopLaw};
+use scene::{Operand, Scales, StopLaw};
 use std::f64::consts::TAU;
 
 /// What a quantity belongs to: one value per mass, per stop, per friction
@@ -81,10 +81,29 @@ pub enum Dimension {
 }
 
 impl Dimension {
-    /// The CF `units` of the dimension: `1`, as every quantity of a scene is
-    /// in its dimensionless units (docs/models.md gives each scene's scales).
-    pub fn units(self) -> &'static str {
-        "1"
+    /// What one scene unit of the dimension is physically, by the scene's
+    /// `scales`: the factor and the CF units (`m/s`); `None` for a pure
+    /// number or a count, or where a scale it needs is not given (the
+    /// quantity stays in the scene's dimensionless units, `1`).
+    pub fn scale(self, scales: &Scales) -> Option<(f64, String)> {
+        let (l, t, f) = (scales.length.as_ref(), scales.time.as_ref(), scales.force.as_ref());
+        match self {
+            Dimension::Length | Dimension::LengthPerPeriod => l.map(|l| (l.value, l.units.clone())),
+            Dimension::Velocity => Some((l?.value / t?.value, format!("{}/{}", l?.units, t?.units))),
+            Dimension::Force => f.map(|f| (f.value, f.units.clone())),
+            Dimension::ImpulsePerPeriod => Some((f?.value * t?.value, format!("{} {}", f?.units, t?.units))),
+            Dimension::Power => {
+                Some((f?.value * l?.value / t?.value, format!("{} {}/{}", f?.units, l?.units, t?.units)))
+            }
+            Dimension::EnergyPerPeriod => Some((f?.value * l?.value, format!("{} {}", f?.units, l?.units))),
+            Dimension::PerPeriod | Dimension::Fraction | Dimension::One => None,
+        }
+    }
+
+    /// The CF `units` of the dimension by the scene's `scales`: its
+    /// physical units ([`Dimension::scale`]), else `1`.
+    pub fn units(self, scales: &Scales) -> String {
+        self.scale(scales).map_or_else(|| "1".to_string(), |(_, u)| u)
     }
 }
 
@@ -553,7 +572,17 @@ impl<'s> Meter<'s> {
             };
             values.extend(owners.map(|k| self.value(spec.measure, k, periods as f64)));
         }
-        with_derived(sys, values)
+        let mut all = with_derived(sys, values);
+        // In physical units where the scene gives its scales; the quantities
+        // it defines read the built-in ones in its own units.
+        if !sys.model.scales.is_empty() {
+            for (value, (_, spec)) in all.iter_mut().zip(names(sys)) {
+                if let Some((factor, _)) = spec.dimension.scale(&sys.model.scales) {
+                    *value *= factor;
+                }
+            }
+        }
+        all
     }
 
     /// Quantity `measure` of owner `k` (a mass, stop or friction contact;
