@@ -533,7 +533,8 @@ pub struct RenderArgs {
     /// Labelled mass to draw (default: the first).
     #[arg(long)]
     pub mass: Option<String>,
-    /// fresh, up, down, or hysteresis (up labels with hysteresis cells marked).
+    /// fresh, up, down, or hysteresis (the labels of up and down where they
+    /// differ; with --view of a quantity, its up sweep less its down sweep).
     #[arg(long)]
     #[arg(value_enum)]
     pub sweep: Option<RenderSweep>,
@@ -560,7 +561,7 @@ pub struct RenderArgs {
     #[arg(long, value_name = "CURVE.h5")]
     pub curves: Vec<PathBuf>,
     /// Contour lines of a continuous view (a quantity, lyapunov, multiplier)
-    /// at up to N round levels, marked on its colour bar.
+    /// at up to N round levels (1 to 50), marked on its colour bar.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u16).range(1..=50))]
     pub contours: Option<u16>,
     #[command(flatten)]

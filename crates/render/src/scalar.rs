@@ -168,7 +168,8 @@ impl Scaled {
 
 /// Draws `quantity` over the plane of one sweep of `atlas` at the size of
 /// `page` (format by the extension of `path`), with contour lines at up to
-/// `contours` round levels ([`crate::contour`]; 0: none).
+/// `contours` round levels (steps of 1, 2 or 5 times a power of ten, marked
+/// on the colour bar; 0: none).
 pub fn scalar_map(
     atlas: &Atlas,
     sweep: SweepKind,
@@ -183,14 +184,17 @@ pub fn scalar_map(
         title: format!("{} sweep: {}", sweep.name(), quantity.title(m)),
         unit: quantity.unit(m),
         none: quantity.none().into(),
-        contours,
+        levels: crate::contour::levels(scaled.lo, scaled.hi, contours),
     };
     let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
 }
 
-/// Draws quantity `quantity` of the up sweep less that of the down sweep
-/// ([`Scaled::difference`]): where hysteresis changes it, and by how much.
+/// Draws quantity `quantity` of the up sweep less that of the down sweep, on
+/// a diverging scale centred at 0 (grey where either sweep has no value):
+/// where hysteresis changes it, and by how much; contour lines as
+/// [`scalar_map`]'s, but for the level 0 (where the legs agree, the
+/// difference is 0 or rounding).
 pub fn difference_map(
     atlas: &Atlas,
     quantity: Quantity,
@@ -204,19 +208,19 @@ pub fn difference_map(
         title: format!("up sweep less down sweep: {}", quantity.title(m)),
         unit: format!("Δ {}", quantity.unit(m)),
         none: "none".into(),
-        contours,
+        levels: crate::contour::levels(scaled.lo, scaled.hi, contours).into_iter().filter(|&l| l != 0.0).collect(),
     };
     let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
 }
 
 /// The words of a continuous map: its title, its colour bar's label, and
-/// what grey stands for; and how many contour levels it draws at most.
+/// what grey stands for; and the levels of its contour lines.
 struct Texts {
     title: String,
     unit: String,
     none: String,
-    contours: usize,
+    levels: Vec<f64>,
 }
 
 fn draw<DB: crate::Backend>(
@@ -241,9 +245,9 @@ fn draw<DB: crate::Backend>(
     for i in 0..scaled.values.len() {
         plot.draw(&Rectangle::new(grid.rect(i), scaled.colour(i).filled())).map_err(err)?;
     }
-    let levels = crate::contour::levels(lo, hi, text.contours);
+    let levels = &text.levels;
     let line = BLACK.stroke_width(canvas.pt(0.6));
-    for &level in &levels {
+    for &level in levels {
         for [a, b] in crate::contour::segments(&scaled.values, m.plane.x.count, m.plane.y.count, level) {
             plot.draw(&PathElement::new(vec![grid.at(a.0, a.1), grid.at(b.0, b.1)], line)).map_err(err)?;
         }

@@ -53,9 +53,12 @@ impl PartialEq for Derived {
 
 /// Names a quantity of a scene may not take: the variables an atlas file's
 /// sweep group holds besides the quantities (a quantity is stored as a
-/// variable of that group under its name), and every name beginning with
-/// `label_`. The tests hold this list to the names the store writes.
-pub const TAKEN_NAMES: [&str; 22] = [
+/// variable of that group under its name), every name beginning with
+/// `label_`, and the views `render --view` names besides the quantities
+/// (`labels`, `attractors`; `lyapunov` and `multiplier` are variables too).
+/// The tests hold this list to the names the store writes.
+pub const TAKEN_NAMES: [&str; 24] = [
+    "attractors",
     "class",
     "component",
     "entry_state",
@@ -65,6 +68,7 @@ pub const TAKEN_NAMES: [&str; 22] = [
     "impact_column",
     "label",
     "label_colour",
+    "labels",
     "line",
     "lines_done",
     "lyapunov",
@@ -101,18 +105,29 @@ impl Derived {
         if let Some(s) = &spec.symbol {
             symbol::check_symbol(s, &format!("{field}.symbol"))?;
         }
-        for (text, key) in [(&spec.long_name, "long_name"), (&spec.units, "units")] {
-            if let Some(t) = text {
-                symbol::check_long_name(t, &format!("{field}.{key}"))?;
-            }
+        if let Some(t) = &spec.long_name {
+            symbol::check_long_name(t, &format!("{field}.long_name"))?;
+        }
+        if let Some(u) = &spec.units {
+            symbol::check_units(u, &format!("{field}.units"))?;
         }
         let index = Names::open(params);
         let expr = expr::parse(&spec.value, &index, &format!("{field}.value"))?;
-        let operands = expr
+        let operands: Vec<Operand> = expr
             .var_names()
             .iter()
             .map(|v| index.get(v).map_or_else(|| Operand::Quantity(v.clone()), Operand::Parameter))
             .collect();
+        // An expression of nothing is a constant: one without a value would
+        // leave every cell without one.
+        if operands.is_empty() {
+            if let Some(v) = expr.eval(&[]).ok().filter(|v| !v.is_finite()) {
+                return Err(SceneError::field(
+                    format!("{field}.value"),
+                    format!("'{}' is a constant without a finite value ({v})", spec.value),
+                ));
+            }
+        }
         Ok(Derived {
             name: name.to_string(),
             symbol: spec.symbol.clone().unwrap_or_else(|| name.to_string()),
@@ -180,5 +195,8 @@ mod tests {
         assert!(refused("2x", "1").contains("quantities.2x:"));
         assert!(refused("g", "sin(").contains("quantities.g.value:"), "{}", refused("g", "sin("));
         assert!(refused("g", "foo(omega)").contains("unknown function 'foo'"));
+        assert!(refused("labels", "1").contains("reserved"));
+        assert!(refused("g", "1/0").contains("quantities.g.value: '1/0' is a constant without a finite value (inf)"));
+        assert!(Derived::compile("g", &spec("ln(omega)"), &params).is_ok(), "a value per cell, NaN where none");
     }
 }

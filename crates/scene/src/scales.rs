@@ -16,6 +16,13 @@ use crate::error::SceneError;
 use crate::schema::{ScaleSpec, ScalesSpec};
 use crate::symbol;
 
+/// Smallest and largest scale: a product of three (a power, force times
+/// length over time) stays within double precision, and so does a quantity
+/// of the scene times it.
+pub const MIN_SCALE: f64 = 1e-100;
+/// See [`MIN_SCALE`].
+pub const MAX_SCALE: f64 = 1e100;
+
 /// One scale: a scene unit is `value` `units`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scale {
@@ -41,13 +48,13 @@ impl Scales {
     pub(crate) fn of(spec: &ScalesSpec) -> Result<Scales, SceneError> {
         let one = |s: &Option<ScaleSpec>, name: &str| -> Result<Option<Scale>, SceneError> {
             let Some(s) = s else { return Ok(None) };
-            if !(s.value.is_finite() && s.value > 0.0) {
+            if !(MIN_SCALE..=MAX_SCALE).contains(&s.value) {
                 return Err(SceneError::field(
                     format!("scales.{name}.value"),
-                    format!("must be a finite number above 0, got {}", s.value),
+                    format!("must be a number from {MIN_SCALE:e} to {MAX_SCALE:e}, got {}", s.value),
                 ));
             }
-            symbol::check_symbol(&s.units, &format!("scales.{name}.units"))?;
+            symbol::check_units(&s.units, &format!("scales.{name}.units"))?;
             Ok(Some(Scale { value: s.value, units: s.units.trim().to_string() }))
         };
         Ok(Scales {

@@ -101,6 +101,26 @@ pub(crate) fn long_name_of_doc(doc: &str) -> Option<&str> {
     Some(doc.lines().next()?.trim()).filter(|l| !l.is_empty())
 }
 
+/// Checks declared `units` (field `…units`): not empty, at most
+/// [`SYMBOL_MAX_CHARS`] characters (`m/s`, `N m`, `dB`), no control
+/// characters.
+pub(crate) fn check_units(units: &str, field: &str) -> Result<(), SceneError> {
+    if units.trim().is_empty() {
+        return Err(SceneError::field(field, "must not be empty (e.g. units = \"m\"; a pure number is \"1\")"));
+    }
+    let n = units.chars().count();
+    if n > SYMBOL_MAX_CHARS {
+        return Err(SceneError::field(
+            field,
+            format!("at most {SYMBOL_MAX_CHARS} characters (CF units: m, m/s, N s, dB), got {n}"),
+        ));
+    }
+    if let Some(c) = units.chars().find(|c| c.is_control()) {
+        return Err(SceneError::field(field, format!("must not hold control characters, got {c:?}")));
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
