@@ -62,23 +62,27 @@ pub fn symbol_of(name: &str) -> String {
     name.to_string()
 }
 
-/// Checks a declared `symbol` (field `parameters.NAME.symbol`): not empty, at
-/// most [`SYMBOL_MAX_CHARS`] characters, no control characters.
-pub(crate) fn check_symbol(symbol: &str, field: &str) -> Result<(), SceneError> {
-    if symbol.trim().is_empty() {
-        return Err(SceneError::field(field, "must not be empty (e.g. symbol = \"ω\")"));
+/// Checks a short text of field `field` (a symbol, units): not empty (else
+/// the message `empty`), at most [`SYMBOL_MAX_CHARS`] characters (else the
+/// message names `kind`), no control characters.
+fn check_short(text: &str, field: &str, empty: &str, kind: &str) -> Result<(), SceneError> {
+    if text.trim().is_empty() {
+        return Err(SceneError::field(field, format!("must not be empty ({empty})")));
     }
-    let n = symbol.chars().count();
+    let n = text.chars().count();
     if n > SYMBOL_MAX_CHARS {
-        return Err(SceneError::field(
-            field,
-            format!("at most {SYMBOL_MAX_CHARS} characters (a short symbol; a description goes in long_name), got {n}"),
-        ));
+        return Err(SceneError::field(field, format!("at most {SYMBOL_MAX_CHARS} characters ({kind}), got {n}")));
     }
-    if let Some(c) = symbol.chars().find(|c| c.is_control()) {
+    if let Some(c) = text.chars().find(|c| c.is_control()) {
         return Err(SceneError::field(field, format!("must not hold control characters, got {c:?}")));
     }
     Ok(())
+}
+
+/// Checks a declared `symbol` (field `parameters.NAME.symbol`): not empty, at
+/// most [`SYMBOL_MAX_CHARS`] characters, no control characters.
+pub(crate) fn check_symbol(symbol: &str, field: &str) -> Result<(), SceneError> {
+    check_short(symbol, field, "e.g. symbol = \"ω\"", "a short symbol; a description goes in long_name")
 }
 
 /// Checks a declared `long_name` (field `parameters.NAME.long_name`): one line
@@ -105,20 +109,7 @@ pub(crate) fn long_name_of_doc(doc: &str) -> Option<&str> {
 /// [`SYMBOL_MAX_CHARS`] characters (`m/s`, `N m`, `dB`), no control
 /// characters.
 pub(crate) fn check_units(units: &str, field: &str) -> Result<(), SceneError> {
-    if units.trim().is_empty() {
-        return Err(SceneError::field(field, "must not be empty (e.g. units = \"m\"; a pure number is \"1\")"));
-    }
-    let n = units.chars().count();
-    if n > SYMBOL_MAX_CHARS {
-        return Err(SceneError::field(
-            field,
-            format!("at most {SYMBOL_MAX_CHARS} characters (CF units: m, m/s, N s, dB), got {n}"),
-        ));
-    }
-    if let Some(c) = units.chars().find(|c| c.is_control()) {
-        return Err(SceneError::field(field, format!("must not hold control characters, got {c:?}")));
-    }
-    Ok(())
+    check_short(units, field, "e.g. units = \"m\"; a pure number is \"1\"", "CF units: m, m/s, N s, dB")
 }
 
 #[cfg(test)]
