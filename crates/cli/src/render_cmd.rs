@@ -5,7 +5,6 @@
 
 use crate::args::{lib, ImpactArg, RenderArgs, ViewArg};
 use anyhow::{anyhow, bail, Result};
-use grid::SweepKind;
 use render::{Quantity, View};
 use store::write_atomically;
 
@@ -52,7 +51,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             bail!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name());
         }
         // Hysteresis is up against down: a file without both has none to draw.
-        (_, View::Hysteresis) if !(m.sweeps.contains(&SweepKind::Up) && m.sweeps.contains(&SweepKind::Down)) => {
+        (_, View::Hysteresis) if !m.has_up_and_down() => {
             let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
             bail!("--sweep hysteresis: needs up and down sweeps; the file has {}", have.join(", "));
         }

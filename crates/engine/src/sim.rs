@@ -99,16 +99,16 @@ pub(crate) fn read_text(path: &std::path::Path) -> std::io::Result<String> {
     Ok(text)
 }
 
-/// Whether every name the quantities of `scene` read (`[quantities]`) is a
-/// parameter or a built-in quantity, checked when the scene is loaded: the
-/// built-in quantities follow from its masses, stops and contacts alone, the
-/// same for every parameter value.
-fn check_quantities(scene: &Scene) -> Result<(), scene::SceneError> {
+/// What the solver does not support in the structure of `scene` (such as a
+/// quantity of `[quantities]` that reads a name that is neither a parameter
+/// nor a built-in quantity), checked when the scene is loaded: the built-in
+/// quantities follow from its masses, stops and contacts alone, the same
+/// for every parameter value. Numbers that depend on the parameters are
+/// each cell's to check.
+fn check_structure(scene: &Scene) -> Result<(), scene::SceneError> {
     let Ok(model) = scene.evaluate(&[]) else { return Ok(()) };
     match solver::System::new(model) {
-        Err(solver::SolverError::Unsupported { field, message }) if field.starts_with("quantities.") => {
-            Err(scene::SceneError::field(field, message))
-        }
+        Err(solver::SolverError::Unsupported { field, message }) => Err(scene::SceneError::field(field, message)),
         _ => Ok(()),
     }
 }
@@ -128,7 +128,7 @@ impl SceneSource {
             ),
         };
         let scene = Scene::parse(&text).map_err(|cause| SceneLoadError::Invalid { origin: origin.clone(), cause })?;
-        check_quantities(&scene).map_err(|cause| SceneLoadError::Invalid { origin, cause })?;
+        check_structure(&scene).map_err(|cause| SceneLoadError::Invalid { origin, cause })?;
         Ok(scene)
     }
 

@@ -245,22 +245,17 @@ fn sweep(o: &Opened, q: &HashMap<String, String>) -> Result<SweepKind, Refusal> 
 fn views(o: &Opened) -> Vec<String> {
     let m = &o.atlas.meta;
     let mut v: Vec<String> = m.sweeps.iter().map(|s| s.name().to_string()).collect();
-    if both(m) {
+    if m.has_up_and_down() {
         v.push("hysteresis".into());
     }
     let numbers = ["multiplier", "lyapunov"].into_iter().chain(m.quantities.iter().map(|q| q.name.as_str()));
     for q in numbers {
         v.extend(m.sweeps.iter().map(|s| format!("{q}:{}", s.name())));
     }
-    if both(m) {
+    if m.has_up_and_down() {
         v.extend(m.quantities.iter().map(|q| format!("{}:hysteresis", q.name)));
     }
     v
-}
-
-/// Whether the atlas has an up and a down sweep.
-fn both(m: &grid::Meta) -> bool {
-    m.sweeps.contains(&SweepKind::Up) && m.sweeps.contains(&SweepKind::Down)
 }
 
 /// The view of the `view` parameter: a sweep, `hysteresis`, `NAME:SWEEP`
@@ -272,7 +267,7 @@ fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
     let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(&name), views(o).join(", ")));
     if let Some((number, "hysteresis")) = name.rsplit_once(':') {
         return match Quantity::named(m, number) {
-            Some(quantity) if both(m) => Ok(Show::Difference(quantity)),
+            Some(quantity) if m.has_up_and_down() => Ok(Show::Difference(quantity)),
             _ => Err(refused()),
         };
     }

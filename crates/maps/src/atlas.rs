@@ -103,6 +103,13 @@ pub struct Atlas {
     pub entries: Entries,
 }
 
+impl Meta {
+    /// Whether the atlas has an up and a down sweep (what hysteresis compares).
+    pub fn has_up_and_down(&self) -> bool {
+        self.sweeps.contains(&SweepKind::Up) && self.sweeps.contains(&SweepKind::Down)
+    }
+}
+
 impl Atlas {
     /// An atlas with no cell computed yet.
     pub fn new(meta: Meta) -> Atlas {

@@ -13,10 +13,12 @@ pub(crate) fn segments(values: &[Option<f64>], nx: usize, ny: usize, level: f64)
         for ix in 0..nx.saturating_sub(1) {
             // Corners counter-clockwise from the lower left.
             let at = [(ix, iy), (ix + 1, iy), (ix + 1, iy + 1), (ix, iy + 1)];
-            let Some(v) = at.iter().map(|&(x, y)| values[y * nx + x]).collect::<Option<Vec<f64>>>() else {
+            let corner = |k: usize| values[at[k].1 * nx + at[k].0];
+            let (Some(a), Some(b), Some(c), Some(d)) = (corner(0), corner(1), corner(2), corner(3)) else {
                 continue;
             };
-            let above: Vec<bool> = v.iter().map(|&c| c >= level).collect();
+            let v = [a, b, c, d];
+            let above = v.map(|c| c >= level);
             // Where the level crosses edge k (from corner k to corner k + 1).
             let cross = |k: usize| {
                 let (a, b) = (k, (k + 1) % 4);
@@ -24,10 +26,11 @@ pub(crate) fn segments(values: &[Option<f64>], nx: usize, ny: usize, level: f64)
                 let (pa, pb) = (at[a], at[b]);
                 (pa.0 as f64 + t * (pb.0 as f64 - pa.0 as f64), pa.1 as f64 + t * (pb.1 as f64 - pa.1 as f64))
             };
-            let edges: Vec<usize> = (0..4).filter(|&k| above[k] != above[(k + 1) % 4]).collect();
-            match edges.len() {
-                2 => out.push([cross(edges[0]), cross(edges[1])]),
-                4 => {
+            let mut edges = (0..4).filter(|&k| above[k] != above[(k + 1) % 4]);
+            let edges: [Option<usize>; 4] = std::array::from_fn(|_| edges.next());
+            match edges {
+                [Some(e0), Some(e1), None, _] => out.push([cross(e0), cross(e1)]),
+                [Some(_), Some(_), Some(_), Some(_)] => {
                     // A saddle: the centre's side decides which corners join.
                     let centre_above = v.iter().sum::<f64>() / 4.0 >= level;
                     let (first, second) = if centre_above == above[0] { ((0, 3), (1, 2)) } else { ((0, 1), (2, 3)) };

@@ -186,8 +186,7 @@ pub fn scalar_map(
         none: quantity.none().into(),
         levels: crate::contour::levels(scaled.lo, scaled.hi, contours),
     };
-    let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
+    save_map(m, &scaled, &text, page, path)
 }
 
 /// Draws quantity `quantity` of the up sweep less that of the down sweep, on
@@ -210,8 +209,14 @@ pub fn difference_map(
         none: "none".into(),
         levels: crate::contour::levels(scaled.lo, scaled.hi, contours).into_iter().filter(|&l| l != 0.0).collect(),
     };
+    save_map(m, &scaled, &text, page, path)
+}
+
+/// Draws the continuous map of `scaled` with `text` at the size of `page`
+/// to `path` (format by its extension).
+fn save_map(m: &Meta, scaled: &Scaled, text: &Texts, page: &Page, path: &Path) -> Result<(), RenderError> {
     let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, m, &scaled, &text))
+    save!(path, canvas, |root| draw(&root, &canvas, m, scaled, text))
 }
 
 /// The words of a continuous map: its title, its colour bar's label, and

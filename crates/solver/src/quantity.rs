@@ -561,6 +561,10 @@ impl<'s> Meter<'s> {
             (0..sys.stops.len()).filter(move |&k| soft.is_none_or(|soft| sys.model.stops[k].is_soft() == soft))
         };
         let mut values = Vec::with_capacity(TABLE.len() * sys.dof().max(sys.stops.len()));
+        // Where the scene gives its scales, each spec's values and the factor
+        // to physical units they take once the quantities the scene defines
+        // have read them in its own units.
+        let mut factors = Vec::new();
         for spec in TABLE {
             let owners: Box<dyn Iterator<Item = usize>> = match spec.owner {
                 Owner::Mass => Box::new(0..sys.dof()),
@@ -570,17 +574,15 @@ impl<'s> Meter<'s> {
                 Owner::Contact => Box::new(0..sys.frictions.len()),
                 Owner::Cell => Box::new(0..1),
             };
+            let first = values.len();
             values.extend(owners.map(|k| self.value(spec.measure, k, periods as f64)));
+            if let Some((factor, _)) = spec.dimension.scale(&sys.model.scales) {
+                factors.push((first..values.len(), factor));
+            }
         }
         let mut all = with_derived(sys, values);
-        // In physical units where the scene gives its scales; the quantities
-        // it defines read the built-in ones in its own units.
-        if !sys.model.scales.is_empty() {
-            for (value, (_, spec)) in all.iter_mut().zip(names(sys)) {
-                if let Some((factor, _)) = spec.dimension.scale(&sys.model.scales) {
-                    *value *= factor;
-                }
-            }
+        for (range, factor) in factors {
+            all[range].iter_mut().for_each(|v| *v *= factor);
         }
         all
     }
