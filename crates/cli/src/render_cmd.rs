@@ -69,9 +69,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let quantity = match fixed {
         Some(ViewArg::Labels | ViewArg::Attractors) => None,
-        Some(ViewArg::Lyapunov) => Some(Quantity::Lyapunov),
-        Some(ViewArg::Multiplier) => Some(Quantity::Multiplier),
-        None => Some(Quantity::named(m, &a.view).ok_or_else(|| {
+        Some(ViewArg::Lyapunov | ViewArg::Multiplier) | None => Some(Quantity::named(m, &a.view).ok_or_else(|| {
             let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
             let quantities = match stored.is_empty() {
                 true => "the file stores no quantities".to_string(),
@@ -120,7 +118,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
         (Some(q), View::Sweep(sweep)) => {
             write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, contours, &page, tmp))?
         }
-        (Some(q @ render::Quantity::Named(_)), View::Hysteresis) => {
+        (Some(q), View::Hysteresis) if q.of_motion() => {
             write_atomically(&a.output, |tmp| render::difference_map(&l.atlas, q, contours, &page, tmp))?
         }
         (Some(_), View::Hysteresis) => {

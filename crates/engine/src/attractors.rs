@@ -6,6 +6,7 @@
 use crate::error::Result;
 use crate::error::{Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
+use crate::record::CellRecord;
 use crate::sim::{parameters_of, Sim};
 use grid::attractors::{find, Attractor, Sampling};
 use serde::Serialize;
@@ -72,8 +73,7 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
 impl Attractors {
     /// The names of the labelled masses.
     pub fn masses(&self) -> Vec<String> {
-        let m = &self.system.model;
-        m.labels.iter().map(|l| m.masses[l.mass].name.clone()).collect()
+        self.system.model.labelled_masses()
     }
 
     /// An attractor's labels, one per labelled mass.
@@ -106,17 +106,12 @@ impl Attractors {
             .found
             .iter()
             .map(|at| {
-                let c = &at.cell;
                 AttractorReport {
-                    class: c.class.name(),
-                    labels: masses.iter().cloned().zip(self.labels(at)).collect(),
-                    symmetry: c.symmetry.map(|x| x.name()),
+                    record: CellRecord::of(&masses, &[], &at.cell),
                     fraction: self.fraction(at),
                     count: at.count,
-                    state: c.final_state.clone(),
+                    state: at.cell.final_state.clone(),
                     start: at.start.clone(),
-                    max_multiplier: c.multiplier,
-                    lyapunov: c.lyapunov,
                 }
             })
             .collect();
@@ -166,22 +161,17 @@ pub struct SampleBox {
 /// One attractor found.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct AttractorReport {
-    /// The kind of motion.
-    pub class: &'static str,
-    /// Per labelled mass, its label.
-    pub labels: BTreeMap<String, String>,
-    /// The symmetry of a periodic orbit of a symmetric scene.
-    pub symmetry: Option<&'static str>,
+    /// Its classification, labels, stability, reason, final state and
+    /// section points ([`CellRecord`]; no quantities are measured).
+    #[serde(flatten)]
+    pub record: CellRecord,
     /// The share of the samples that reached it.
     pub fraction: f64,
     /// The samples that reached it.
     pub count: usize,
-    /// Its final state, from the first sample that reached it.
+    /// Its final state, from the first sample that reached it (the record's
+    /// `final_state`, under the name `attractors --json` first gave it).
     pub state: Vec<f64>,
     /// That sample's start state.
     pub start: Vec<f64>,
-    /// The largest Floquet multiplier modulus, when periodic.
-    pub max_multiplier: Option<f64>,
-    /// The largest Lyapunov exponent, when not periodic.
-    pub lyapunov: Option<f64>,
 }

@@ -124,7 +124,7 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<(BasinMap, O
     let map = BasinMap {
         scene: m.name.clone(),
         parameters: m.parameters.clone(),
-        masses: m.labels.iter().map(|l| m.masses[l.mass].name.clone()).collect(),
+        masses: m.labelled_masses(),
         components: names,
         // The two axes' components take the grid's values: none of their own.
         start: grid.start.iter().enumerate().map(|(k, &v)| if k == xi || k == yi { f64::NAN } else { v }).collect(),

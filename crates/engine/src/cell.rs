@@ -2,7 +2,9 @@
 //! JSON object of `cell --json` ([`CellReport`]).
 
 use crate::error::Result;
-use crate::sim::{labels_of, parameters_of, Origin, Setup, Sim, Source, Start};
+use crate::record::CellRecord;
+use crate::sim::{parameters_of, Origin, Setup, Sim, Source, Start};
+use grid::{CellData, Quantity};
 use serde::Serialize;
 use serde_json::Value;
 use solver::{run_cell_measured, CellResult, Mask, System};
@@ -53,38 +55,22 @@ pub struct CellReport {
     pub preset: &'static str,
     /// The integrator.
     pub integrator: &'static str,
-    /// The kind of motion ([`solver::Class::name`]).
-    pub class: &'static str,
+    /// Its classification, labels, stability, reason, final state,
+    /// section points and quantities ([`CellRecord`]).
+    #[serde(flatten)]
+    pub record: CellRecord,
     /// The period in forcing periods, when periodic.
     pub n: Option<usize>,
-    /// Per labelled mass, its label (`1-4-4`).
-    pub labels: BTreeMap<String, String>,
     /// Per stop, its impacts per period.
     pub impacts: BTreeMap<String, u32>,
     /// Per stop, whether it chattered.
     pub chatter: BTreeMap<String, bool>,
     /// Per stop, whether it held its mass.
     pub sticking: BTreeMap<String, bool>,
-    /// The symmetry of a periodic orbit of a symmetric scene.
-    pub symmetry: Option<&'static str>,
-    /// The largest Lyapunov exponent (per unit time) of a cell without a period.
-    pub lyapunov: Option<f64>,
-    /// The largest Floquet multiplier modulus of a periodic cell.
-    pub max_multiplier: Option<f64>,
-    /// The final state `[x…, v…]`.
-    pub final_state: Vec<f64>,
-    /// The period-section points kept.
-    pub period_section: Vec<Vec<f64>>,
     /// Forcing periods simulated.
     pub periods_simulated: u64,
     /// Events handled.
     pub events: usize,
-    /// Why the cell is unresolved, when it is.
-    pub reason: Option<String>,
-    /// The same reason with its numbers (the solver's
-    /// [`solver::Unresolved`]: `kind` and the variant's fields), when it is.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reason_detail: Option<solver::Unresolved>,
     /// Per friction contact (`M1-M2`), whether it ended stuck; only for a
     /// scene with friction.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -92,10 +78,6 @@ pub struct CellReport {
     /// Where the simulation started, when not from the scene's initial state.
     #[serde(rename = "from", skip_serializing_if = "Option::is_none")]
     pub origin: Option<Source>,
-    /// The quantities of the steady motion by name ([`solver::quantity::TABLE`]:
-    /// `max_abs_x_M1`, `impact_speed_max_A1`, `power_in`, …), null when the
-    /// motion cannot be followed.
-    pub quantities: Option<BTreeMap<String, f64>>,
 }
 
 impl Cell {
@@ -105,29 +87,22 @@ impl Cell {
         let by_stop =
             |mask: Mask| sys.model.stops.iter().enumerate().map(move |(k, s)| (s.name.clone(), mask.contains(k)));
         let friction = friction_names(sys).into_iter().enumerate().map(|(i, n)| (n, c.friction_stick.contains(i)));
+        let quantities = self.quantities.clone().unwrap_or_else(|| vec![f64::NAN; solver::quantity::all_names(sys).len()]);
+        let kept = CellData::from_result(c.clone(), Vec::new(), quantities, usize::MAX);
         CellReport {
+            record: CellRecord::of(&sys.model.labelled_masses(), &Quantity::of(sys), &kept),
             scene: sys.model.name.clone(),
             parameters: parameters_of(sys),
             preset: s.preset.name(),
             integrator: s.method.name(),
-            class: c.class.name(),
             n: c.n,
-            labels: labels_of(&c.labels),
             impacts: sys.model.stops.iter().zip(&c.impacts).map(|(s, &v)| (s.name.clone(), v)).collect(),
             chatter: by_stop(c.chatter).collect(),
             sticking: by_stop(c.sticking).collect(),
-            symmetry: c.symmetry.map(|x| x.name()),
-            lyapunov: c.lyapunov,
-            max_multiplier: c.multiplier,
-            final_state: c.final_state.clone(),
-            period_section: c.section.clone(),
             periods_simulated: c.periods,
             events: c.events,
-            reason: c.reason.as_ref().map(ToString::to_string),
-            reason_detail: c.reason.clone(),
             friction_stick: (!sys.model.friction.is_empty()).then(|| friction.collect()),
             origin: self.origin.as_ref().map(|o| o.source.clone()),
-            quantities: self.quantities.as_ref().map(|q| solver::quantity::named(sys, q).into_iter().collect()),
         }
     }
 

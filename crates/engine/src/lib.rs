@@ -51,6 +51,7 @@ mod observer;
 mod orbit;
 mod pictures;
 mod plan;
+mod record;
 mod report;
 mod sim;
 mod study;
@@ -68,6 +69,7 @@ pub use basins::{
     BoundaryReport, MAX_STARTS,
 };
 pub use cell::{cell, friction_names, Cell, CellReport};
+pub use record::CellRecord;
 pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
     CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced, DEFAULT_STEPS, DEFAULT_WINDOW,

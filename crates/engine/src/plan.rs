@@ -484,7 +484,7 @@ impl Plan {
             integrator: s.method,
             plane,
             sweeps,
-            masses: model.labels.iter().map(|l| model.masses[l.mass].name.clone()).collect(),
+            masses: model.labelled_masses(),
             state_masses: model.masses.iter().map(|m| m.name.clone()).collect(),
             label_stops: model
                 .labels

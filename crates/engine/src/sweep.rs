@@ -7,6 +7,7 @@ use crate::error::Result;
 use crate::error::{grid_error, with_fields, Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::plan::Plan;
+use crate::record::CellRecord;
 use crate::sim::{Origin, Sim, Source, Start};
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
 use serde::Serialize;
@@ -247,31 +248,12 @@ pub struct SweepReport {
 pub struct SweepPoint {
     /// The parameter's value.
     pub value: f64,
-    /// The kind of motion.
-    pub class: &'static str,
     /// The period of the first labelled mass, when periodic.
     pub n: Option<u32>,
-    /// Per labelled mass, its label.
-    pub labels: BTreeMap<String, String>,
-    /// The symmetry of a periodic orbit of a symmetric scene.
-    pub symmetry: Option<&'static str>,
-    /// The largest Lyapunov exponent of a cell without a period.
-    pub lyapunov: Option<f64>,
-    /// The largest Floquet multiplier modulus of a periodic cell.
-    pub max_multiplier: Option<f64>,
-    /// Why the cell is unresolved, when it is.
-    pub reason: Option<String>,
-    /// The same reason with its numbers (the solver's
-    /// [`solver::Unresolved`]: `kind` and the variant's fields), when it is.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub reason_detail: Option<solver::Unresolved>,
-    /// The final state `[x…, v…]`.
-    pub final_state: Vec<f64>,
-    /// The period-section points kept.
-    pub period_section: Vec<Vec<f64>>,
-    /// The quantities of the steady motion by name (as `cell --json`'s), null
-    /// where the motion could not be followed or the sweep measures none.
-    pub quantities: Option<BTreeMap<String, f64>>,
+    /// Its classification, labels, stability, reason, final state, section
+    /// points and quantities ([`CellRecord`]).
+    #[serde(flatten)]
+    pub record: CellRecord,
 }
 
 /// A value where the legs differ, with each leg's labels.
@@ -317,25 +299,9 @@ fn labels(atlas: &Atlas, c: &CellData) -> BTreeMap<String, String> {
 fn point(atlas: &Atlas, ix: usize, c: &CellData) -> SweepPoint {
     SweepPoint {
         value: atlas.meta.plane.x.value(ix),
-        class: c.class.name(),
         n: c.labels.first().and_then(|l| l.npq()).map(|(n, _, _)| n),
-        labels: labels(atlas, c),
-        symmetry: c.symmetry.map(|s| s.name()),
-        lyapunov: c.lyapunov,
-        max_multiplier: c.multiplier,
-        reason: c.reason.as_ref().map(ToString::to_string),
-        reason_detail: c.reason.clone(),
-        final_state: c.final_state.clone(),
-        period_section: c.period_section.clone(),
-        quantities: quantities(&atlas.meta, c),
+        record: CellRecord::in_atlas(&atlas.meta, c),
     }
-}
-
-/// A cell's quantities by name; none when it has none or any is NaN (its
-/// motion could not be followed).
-fn quantities(m: &grid::Meta, c: &CellData) -> Option<BTreeMap<String, f64>> {
-    let all = !c.quantities.is_empty() && c.quantities.iter().all(|v| !v.is_nan());
-    all.then(|| m.quantities.iter().zip(&c.quantities).map(|(q, &v)| (q.name.clone(), v)).collect())
 }
 
 /// The points of one sweep in the order they were computed.

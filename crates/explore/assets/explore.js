@@ -394,12 +394,14 @@ function describe(at) {
     const number = c.max_multiplier !== null ? `max |μ| ${short(c.max_multiplier)}`
       : c.lyapunov !== null ? `λ ${short(c.lyapunov)}` : '';
     lines.push(`${sweep}: ${labels} (${c.class}${number ? '; ' + number : ''})`);
-    if (viewed && viewed in c.quantities) {
-      const v = c.quantities[viewed];
+    // null where the cell's motion could not be followed or none is stored.
+    const quantities = c.quantities || {};
+    if (viewed && viewed in quantities) {
+      const v = quantities[viewed];
       lines.push(`  ${viewed} = ${v === null ? 'none' : short(v)}`);
     }
     if (c.reason) lines.push(`  ${c.reason}`);
-    for (const n of Object.keys(c.quantities)) if (!names.includes(n)) names.push(n);
+    for (const n of Object.keys(quantities)) if (!names.includes(n)) names.push(n);
   }
   const text = el('div', lines.join('\n'));
   if (!names.length) return [text];
@@ -407,7 +409,7 @@ function describe(at) {
   const cell = (t, tag = 'td') => el(tag, t);
   const head = el('tr', null, {}, [cell('', 'th'), ...sweeps.map((s) => cell(s, 'th'))]);
   const rows = names.map((n) => el('tr', null, { 'data-quantity': n }, [cell(n, 'th'), ...sweeps.map((s) => {
-    const v = at.sweeps[s].quantities[n];
+    const v = (at.sweeps[s].quantities || {})[n];
     return cell(v === null || v === undefined ? '—' : short(v));
   })]));
   return [text, el('table', null, { class: 'quantities' }, [head, ...rows])];

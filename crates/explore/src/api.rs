@@ -11,7 +11,7 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::get;
 use axum::{Json, Router};
 use base64::prelude::{Engine as _, BASE64_STANDARD};
-use engine::{SceneSource, Sim, Start};
+use engine::{CellRecord, SceneSource, Sim, Start};
 use grid::{Axis, SweepKind};
 use render::{Quantity, Show, View};
 use serde_json::{json, Value};
@@ -248,12 +248,11 @@ fn views(o: &Opened) -> Vec<String> {
     if m.has_up_and_down() {
         v.push("hysteresis".into());
     }
-    let numbers = ["multiplier", "lyapunov"].into_iter().chain(m.quantities.iter().map(|q| q.name.as_str()));
-    for q in numbers {
-        v.extend(m.sweeps.iter().map(|s| format!("{q}:{}", s.name())));
+    for q in Quantity::all(m) {
+        v.extend(m.sweeps.iter().map(|s| format!("{}:{}", q.name(m), s.name())));
     }
     if m.has_up_and_down() {
-        v.extend(m.quantities.iter().map(|q| format!("{}:hysteresis", q.name)));
+        v.extend(Quantity::all(m).filter(|q| q.of_motion()).map(|q| format!("{}:hysteresis", q.name(m))));
     }
     v
 }
@@ -267,17 +266,13 @@ fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
     let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(&name), views(o).join(", ")));
     if let Some((number, "hysteresis")) = name.rsplit_once(':') {
         return match Quantity::named(m, number) {
-            Some(quantity) if m.has_up_and_down() => Ok(Show::Difference(quantity)),
+            Some(quantity) if quantity.of_motion() && m.has_up_and_down() => Ok(Show::Difference(quantity)),
             _ => Err(refused()),
         };
     }
     if let Some((number, s)) = name.rsplit_once(':') {
         let sweep = SweepKind::parse(s).filter(|k| m.sweeps.contains(k)).ok_or_else(refused)?;
-        let quantity = match number {
-            "multiplier" => Quantity::Multiplier,
-            "lyapunov" => Quantity::Lyapunov,
-            other => Quantity::named(m, other).ok_or_else(refused)?,
-        };
+        let quantity = Quantity::named(m, number).ok_or_else(refused)?;
         return Ok(Show::Scalar(sweep, quantity));
     }
     match View::parse(&name) {
@@ -397,15 +392,7 @@ async fn at(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>,
         .map(|map| {
             let v = match &map.cells[i] {
                 None => json!(null),
-                Some(c) => json!({
-                    "class": c.class.name(),
-                    "labels": m.masses.iter().zip(&c.labels).map(|(n, l)| (n.clone(), json!(l.to_string()))).collect::<serde_json::Map<_, _>>(),
-                    "reason": c.reason.as_ref().map(ToString::to_string),
-                    "reason_detail": c.reason,
-                    "max_multiplier": c.multiplier,
-                    "lyapunov": c.lyapunov,
-                    "quantities": m.quantities.iter().zip(&c.quantities).map(|(q, &v)| (q.name.clone(), json!(v.is_finite().then_some(v)))).collect::<serde_json::Map<_, _>>(),
-                }),
+                Some(c) => serde_json::to_value(CellRecord::in_atlas(m, c)).unwrap_or(Value::Null),
             };
             (map.sweep.name().to_string(), v)
         })

@@ -162,6 +162,28 @@ fn names_in_markup_come_back_as_json_strings() {
     }
 }
 
+/// The page's cell is one record: every key `/api/at` gives of a stored
+/// cell (class, labels, stability, reason, final state, section points,
+/// quantities) is the value the cell run again from its stored start gives
+/// in `/api/cell`, the JSON of `cell --json`.
+#[test]
+fn a_stored_cell_is_the_record_its_run_gives() {
+    let server = serve();
+    let p = port(&server);
+    for (ix, iy) in [(0, 0), (2, 1), (5, 3)] {
+        let at = get(p, &format!("/api/at?ix={ix}&iy={iy}")).json();
+        let (omega, sigma) = (&at["parameters"]["omega"], &at["parameters"]["sigma"]);
+        let cell = get(p, &format!("/api/cell?sweep=up&omega={omega}&sigma={sigma}")).json();
+        let stored = at["sweeps"]["up"].as_object().unwrap();
+        for key in ["class", "labels", "symmetry", "lyapunov", "max_multiplier", "reason", "final_state", "quantities"] {
+            assert!(stored.contains_key(key), "{key} missing from {at}");
+        }
+        for (key, value) in stored {
+            assert_eq!(&cell[key], value, "{key} of ({ix}, {iy})");
+        }
+    }
+}
+
 #[test]
 fn another_host_name_is_refused() {
     let server = serve();

@@ -72,21 +72,6 @@ impl CellSetup {
             Some(all) => self.quantities.iter().map(|&k| all[k]).collect(),
             None => vec![f64::NAN; self.quantities.len()],
         };
-        CellData {
-            class: cell.class,
-            labels: cell.labels.iter().map(|l| l.label).collect(),
-            chatter: cell.chatter,
-            sticking: cell.sticking,
-            symmetry: cell.symmetry,
-            lyapunov: cell.lyapunov,
-            multiplier: cell.multiplier,
-            final_state: cell.final_state,
-            periods: cell.periods,
-            events: cell.events as u64,
-            period_section: cell.section.into_iter().take(self.section_cap).collect(),
-            impact_sections: impact,
-            reason: cell.reason,
-            quantities,
-        }
+        CellData::from_result(cell, impact, quantities, self.section_cap)
     }
 }

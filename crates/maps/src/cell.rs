@@ -1,7 +1,7 @@
 //! One cell of a plane as kept for storage: labels, flags as stop masks, the
 //! final state and capped raw sections.
 
-use solver::{Class, Label, Mask, Symmetry, Unresolved};
+use solver::{CellResult, Class, ImpactSections, Label, Mask, Symmetry, Unresolved};
 use std::collections::HashMap;
 
 /// What is kept of a classified cell.
@@ -38,6 +38,30 @@ pub struct CellData {
     /// (NaN where its motion could not be followed); empty when the atlas
     /// measures none.
     pub quantities: Vec<f64>,
+}
+
+impl CellData {
+    /// What is kept of the classification `cell`: at most `section_cap` of
+    /// its period-section points, its `impact_sections` and the values of
+    /// the `quantities` its run measures.
+    pub fn from_result(cell: CellResult, impact_sections: ImpactSections, quantities: Vec<f64>, section_cap: usize) -> CellData {
+        CellData {
+            class: cell.class,
+            labels: cell.labels.iter().map(|l| l.label).collect(),
+            chatter: cell.chatter,
+            sticking: cell.sticking,
+            symmetry: cell.symmetry,
+            lyapunov: cell.lyapunov,
+            multiplier: cell.multiplier,
+            final_state: cell.final_state,
+            periods: cell.periods,
+            events: cell.events as u64,
+            period_section: cell.section.into_iter().take(section_cap).collect(),
+            impact_sections,
+            reason: cell.reason,
+            quantities,
+        }
+    }
 }
 
 /// One quantity an atlas measures in every cell ([`solver::quantity::TABLE`]

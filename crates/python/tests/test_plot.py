@@ -144,7 +144,8 @@ def test_hysteresis_default_figure(tree):
                                       "max_abs_x_M1:hysteresis"])
 def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     """va.plot.scalar (and va.plot.quantity, for a quantity of the steady
-    motion, and va.plot.difference, its up less down) draws each cell in the
+    motion or a number of the classification, here lyapunov, and
+    va.plot.difference, its up less down) draws each cell in the
     colour `render --view` gives it: the
     oracle is the explorer's /api/map, render's own per-cell colours."""
     import json
@@ -156,7 +157,7 @@ def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     ds = tree["up"].ds
     fig, ax = plt.subplots(figsize=(8, 5))
     view = quantity if quantity.endswith(":hysteresis") else f"{quantity}:up"
-    if quantity in ("multiplier", "lyapunov"):
+    if quantity == "multiplier":
         va.plot.scalar(tree["up"], quantity, ax=ax)
     elif view.endswith(":hysteresis"):
         va.plot.difference(tree, quantity.split(":")[0], ax=ax)

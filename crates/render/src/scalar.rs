@@ -28,9 +28,31 @@ pub enum Quantity {
 }
 
 impl Quantity {
-    /// The quantity of the steady motion named `name` in `m`, if it has one.
+    /// The number per cell named `name` in an atlas of `m`: `lyapunov`,
+    /// `multiplier` or a stored quantity of the steady motion.
     pub fn named(m: &Meta, name: &str) -> Option<Quantity> {
-        m.quantities.iter().position(|q| q.name == name).map(Quantity::Named)
+        Quantity::all(m).find(|q| q.name(m) == name)
+    }
+
+    /// Every number per cell of an atlas of `m`: the two of its
+    /// classification, then its stored quantities in the file's order.
+    pub fn all(m: &Meta) -> impl Iterator<Item = Quantity> {
+        [Quantity::Multiplier, Quantity::Lyapunov].into_iter().chain((0..m.quantities.len()).map(Quantity::Named))
+    }
+
+    /// Its name, as `--view` and the explorer's views give it.
+    pub fn name(self, m: &Meta) -> &str {
+        match self {
+            Quantity::Lyapunov => "lyapunov",
+            Quantity::Multiplier => "multiplier",
+            Quantity::Named(k) => &m.quantities[k].name,
+        }
+    }
+
+    /// Whether it is a quantity of the steady motion (which has an up less
+    /// down map), not a number of the classification.
+    pub fn of_motion(self) -> bool {
+        matches!(self, Quantity::Named(_))
     }
 
     fn of(self, c: &CellData) -> Option<f64> {

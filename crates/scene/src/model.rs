@@ -209,6 +209,11 @@ impl Model {
         2.0 * std::f64::consts::PI / self.omega
     }
 
+    /// The names of the labelled masses, in the order of their labels.
+    pub fn labelled_masses(&self) -> Vec<String> {
+        self.labels.iter().map(|l| self.masses[l.mass].name.clone()).collect()
+    }
+
     /// Initial state `[x_1..x_m, v_1..v_m]`.
     pub fn initial_state(&self) -> Vec<f64> {
         let mut s: Vec<f64> = self.masses.iter().map(|m| m.x0).collect();

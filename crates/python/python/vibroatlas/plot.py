@@ -381,10 +381,14 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     `impact_speed_max_A1`, `power_in`: docs/models.md, section 13), as
     `vibroatlas render --view NAME` does, and returns the Axes: a sequential
     scale (viridis) from the smallest value to the largest, cells without a
-    value grey, each cell in exactly the colour render gives it."""
+    value grey, each cell in exactly the colour render gives it. As with
+    `--view`, `multiplier` and `lyapunov`, the numbers of the classification,
+    are drawn as `scalar` draws them."""
     import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap, Normalize
 
+    if name in _CENTRE:
+        return scalar(ds, name, ax, colorbar=colorbar, title=title)
     node = _node_name(ds)
     ds = _dataset(ds)
     if name not in ds:
