@@ -75,6 +75,7 @@ use crate::section::record_window;
 use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
+use num_complex::Complex64 as C64;
 use serde::{Deserialize, Serialize};
 
 /// Periods of tangent alignment before the Lyapunov exponent is averaged.
@@ -173,6 +174,11 @@ const UNSTABLE: f64 = 1e-2;
 /// side) does not contract measurably: a conservative oscillation (see
 /// [`Executor::unsettled`]).
 const NEUTRAL: f64 = 1e-9;
+
+/// How far from 1 a rigid mode's multiplier may lie over a flow without
+/// events (exactly 1 there; a Jordan block's pair is split by about the
+/// square root of the rounding, 1e-8), see [`without_drift`].
+const DRIFT: f64 = 1e-6;
 
 /// Fewest periods without an event over which growing gaps show a motion
 /// that escapes (see [`Executor::unbounded`]).
@@ -563,7 +569,7 @@ pub fn run_cell_measured(
         },
     };
     let multiplier = match n {
-        Some(n) if acc.multipliers => cell.measured.or_else(|| cell.multiplier(n)),
+        Some(n) if acc.multipliers => cell.measured.or_else(|| cell.multiplier(n).map(|(all, _)| all)),
         _ => None,
     };
     // An unstable orbit is not where the motion stays: the record only passed near it.
@@ -1044,13 +1050,17 @@ impl<'s> Executor<'s> {
     /// repeats within the tolerance while still far from its orbit. The
     /// multiplier is the cell's own (kept in `measured`); it is measured
     /// here only where it is measured anyway (`multipliers`), or where the
-    /// record had no event (one linear flow). `None` for a settled orbit.
+    /// record had no event (one linear flow). Over n periods without an
+    /// event, a rigid mode's multipliers (1: the free mass's drift, a family
+    /// of orbits rather than a direction to contract along) are left out of
+    /// the test, not out of the multiplier the cell reports. `None` for a
+    /// settled orbit.
     fn unsettled(&mut self, n: usize, hidden: bool) -> Option<Unresolved> {
         if !self.acc.multipliers && self.hist.iter().any(|r| r.events > 0) {
             return None;
         }
-        let multiplier = self.multiplier(n)?;
-        self.measured = Some(multiplier);
+        let (measured, multiplier) = self.multiplier(n)?;
+        self.measured = Some(measured);
         if !hidden {
             // The record saw a contraction: only a neutral map belies it.
             let neutral = (multiplier - 1.0).abs() <= NEUTRAL;
@@ -1127,15 +1137,23 @@ impl<'s> Executor<'s> {
     }
 
     /// Phase 3: the largest Floquet multiplier modulus of the n-period map at
-    /// the main simulator's state, on a probe tracking its tangent.
-    fn multiplier(&mut self, n: usize) -> Option<f64> {
+    /// the main simulator's state, on a probe tracking its tangent; and the
+    /// same without a rigid mode's over an event-free orbit ([`without_drift`]).
+    fn multiplier(&mut self, n: usize) -> Option<(f64, f64)> {
         let mut tangent = self.sim.probe();
         tangent.track_tangent();
         let x = self.sim.state().clone();
+        // Over n periods without an event, a rigid mode's drift is a family
+        // of orbits, not a direction the orbit must contract along.
+        let len = self.hist.len();
+        let drift = match self.hist.range(len.saturating_sub(n)..).all(|r| r.events == 0) {
+            true => 2 * self.sys.rigid_modes(),
+            false => 0,
+        };
         self.budget.spend(&mut self.sim, &mut tangent, |t| {
             let image = evaluate(t, &x, MapKind::Periods(n)).ok()?;
             let mu = multipliers(&image.jacobian);
-            (!mu.is_empty()).then(|| spectral_radius(&mu))
+            (!mu.is_empty()).then(|| (spectral_radius(&mu), spectral_radius(&without_drift(mu, drift))))
         })
     }
 
@@ -1308,6 +1326,23 @@ fn unresolved(sys: &System, why: Unresolved, periods: u64, events: usize, y: Vec
     }
 }
 
+/// `mu` without the (at most) `drift` multipliers nearest 1 that lie within
+/// [`DRIFT`] of it: a rigid mode's, exactly 1 over a flow without events (a
+/// Jordan block of position and velocity, which rounding splits by about
+/// the square root of the rounding).
+fn without_drift(mut mu: Vec<C64>, drift: usize) -> Vec<C64> {
+    for _ in 0..drift {
+        let nearest = (0..mu.len()).min_by(|&a, &b| (mu[a] - 1.0).norm().total_cmp(&(mu[b] - 1.0).norm()));
+        match nearest {
+            Some(k) if (mu[k] - 1.0).norm() <= DRIFT => {
+                mu.swap_remove(k);
+            }
+            _ => break,
+        }
+    }
+    mu
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1350,7 +1385,7 @@ mod tests {
         let acc = Accuracy::default();
         let mut cell = executor(&sys, &acc);
         assert_eq!(cell.record(600).unwrap(), Some(1));
-        let mu = cell.multiplier(1).unwrap();
+        let (mu, _) = cell.multiplier(1).unwrap();
         let (_, e) = cell.exponent().unwrap();
         assert_eq!(e.points.len(), acc.lyapunov_periods);
         let growth = e.interval();
@@ -1442,6 +1477,26 @@ mod tests {
         assert!((meets * closing - gap).abs() < 100.0 * closing, "{meets} x {closing} against {gap}");
     }
 
+    /// Issue 62: the damper's free mass at rest with its walls out of reach
+    /// (δ = 100, v₂₀ = 0) is a family of orbits: the primary settles on its
+    /// linear forced response and the free mass stays put, `1-0-0` at every
+    /// frequency. Its rigid mode gives the period map two multipliers 1,
+    /// which the test of a settled orbit took for a map that does not
+    /// contract: a sweep over ω (each cell from the one before) had 14 of
+    /// 97 cells `U` ("the motion does not contract |μ| 1.000000000").
+    #[test]
+    fn a_resting_free_mass_is_no_unsettled_orbit() {
+        let acc = Accuracy::default();
+        let mut y0 = system("impact-damper.toml", &[("delta", 100.0), ("v20", 0.0)]).model.initial_state();
+        for k in 0..=30 {
+            let omega = 1.5 + 0.05 * k as f64;
+            let sys = system("impact-damper.toml", &[("delta", 100.0), ("v20", 0.0), ("omega", omega)]);
+            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+            assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "ω {omega}: {:?}", cell.reason);
+            y0 = cell.final_state;
+        }
+    }
+
     /// Issue 62: points on a closed curve whose rotation number is locked at
     /// a fraction are no torus. On the damper (ω = 1.71519, δ = 1.84746,
     /// from the state its up sweep reached) the section points lie on 30
@@ -1525,7 +1580,7 @@ mod tests {
             (map(&(&x + &e))[i] - map(&(&x - &e))[i]) / (2.0 * h)
         });
         let fd = spectral_radius(&multipliers(&jac));
-        let mu = cell.multiplier(1).unwrap();
+        let (mu, _) = cell.multiplier(1).unwrap();
         assert!((mu - fd).abs() < 1e-6, "{mu} against finite differences {fd}");
     }
 

@@ -87,8 +87,8 @@ pub struct System {
     pub tau: f64,
     /// Forcing period `2π/ω`.
     pub period: f64,
-    /// Whether the stiffness matrix is singular (see [`System::has_rigid_mode`]).
-    rigid: bool,
+    /// The dimension of the stiffness matrix's null space (see [`System::rigid_modes`]).
+    rigid: usize,
     /// Per quantity the scene defines, where its operands' values are found
     /// ([`crate::quantity`]).
     pub(crate) derived: Vec<Vec<usize>>,
@@ -171,7 +171,7 @@ impl System {
         let rigid = {
             let eig = stiffness.clone().symmetric_eigenvalues();
             let largest = eig.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-            eig.iter().any(|v| v.abs() <= 1e-12 * largest.max(f64::MIN_POSITIVE))
+            eig.iter().filter(|v| v.abs() <= 1e-12 * largest.max(f64::MIN_POSITIVE)).count()
         };
         let mut system = System {
             mass,
@@ -260,6 +260,14 @@ impl System {
     /// singular (a mass, or a group of masses, held by no spring), so that
     /// a motion without contacts may drift without bound.
     pub fn has_rigid_mode(&self) -> bool {
+        self.rigid > 0
+    }
+
+    /// The number of rigid modes: the dimension of the stiffness matrix's
+    /// null space. Over a flow without contacts each gives its period map a
+    /// multiplier 1 for the drift of its position, and a second one for its
+    /// velocity where no damper holds it.
+    pub fn rigid_modes(&self) -> usize {
         self.rigid
     }
 
