@@ -172,12 +172,14 @@ vibroatlas render $out/soft.h5 -o $img/soft-stop.png --sweep up
 
 # Quantities of the steady motion: the impact damper's primary amplitude (and
 # its attenuation, a quantity the scene defines, up and up less down), the
-# gear's back-side impact speed (down sweep), and a response curve with its jump.
+# gear's back-side impact speed (down sweep, and up less down), and a response
+# curve with its jump.
 vibroatlas atlas configs/impact-damper.toml --x omega=1.3:2.1:80 --y delta=1:3:60 --sweep both --quiet -o $out/damper.h5 >/dev/null
 vibroatlas render $out/damper.h5 -o $img/quantity-damper.png --sweep up --view max_abs_x_M1
 vibroatlas render $out/damper.h5 -o $img/quantity-attenuation.png --sweep up --view attenuation --contours 4
 vibroatlas render $out/damper.h5 -o $img/quantity-attenuation-updown.png --sweep hysteresis --view attenuation
 vibroatlas render $out/gear.h5 -o $img/quantity-gear.png --sweep down --view impact_speed_max_B
+vibroatlas render $out/gear.h5 -o $img/quantity-gear-updown.png --sweep hysteresis --view impact_speed_max_B
 vibroatlas sweep configs/soft-stop.toml --axis omega=0.6:1.8:241 --direction both --variable max_abs_x_M --quiet --png $img/response.png >/dev/null
 
 echo "gallery: $(ls $img/*.png | wc -l) images in $img ($(du -ch $img/*.png | tail -1 | cut -f1)), $((SECONDS - start)) s" >&2
