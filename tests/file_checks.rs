@@ -164,6 +164,44 @@ with h5py.File(sys.argv[1], "r") as f:
     }
 }
 
+/// Issue 61: a deleted `reason_detail` does not read as a file from before
+/// the details. The root's `reason_details` names the sweeps written with
+/// them (h5py reads it); deleting one sweep's details is refused naming the
+/// dataset, by `inspect` and `inspect --verify`, and deleting the attribute
+/// too fails the root's `attributes_crc32`.
+#[test]
+fn a_deleted_reason_detail_is_refused() {
+    let d = scratch("file-checks-reason-detail-deleted");
+    let a = atlas(&d, "a.h5", &[]);
+    const DELETE: &str = r#"
+import sys, shutil, h5py
+src, dst, attr = sys.argv[1], sys.argv[2], sys.argv[3] == "attr"
+shutil.copy(src, dst)
+with h5py.File(dst, "r+") as f:
+    sweeps = f.attrs["reason_details"].split(",")
+    assert sweeps and all(s in ("up", "down") and "reason_detail" in f[s] for s in sweeps), sweeps
+    del f[sweeps[0] + "/reason_detail"]
+    if attr:
+        del f.attrs["reason_details"]
+    print(sweeps[0])
+"#;
+    let cut = d.join("cut.h5");
+    let sweep = python(DELETE, &[a.to_str().unwrap(), cut.to_str().unwrap(), "dataset"]);
+    let sweep = sweep.trim();
+    for args in [vec!["inspect"], vec!["inspect", "--verify"]] {
+        let mut args = args.clone();
+        args.push(cut.to_str().unwrap());
+        let out = run(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} read a file without {sweep}/reason_detail");
+        assert!(err.contains(&format!("{sweep}/reason_detail")) && err.contains("reason_details"), "{err}");
+    }
+    python(DELETE, &[a.to_str().unwrap(), cut.to_str().unwrap(), "attr"]);
+    let out = run(&["inspect", cut.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("attributes_crc32"), "{err}");
+}
+
 /// Item 2: `--resume` on this run's finished file with a damaged dataset
 /// (one the reader skips, or one it reads) is refused naming the dataset,
 /// neither taken as done nor computed again over it; whole, it is done.

@@ -311,6 +311,12 @@ pub mod attr {
     /// `quantities`: the names of the quantities of the steady motion each
     /// sweep stores, one `[y, x]` variable each (absent: none).
     pub const QUANTITIES: &str = "quantities";
+    /// `reason_details`: the sweeps whose unresolved cells' reasons are
+    /// stored with their numbers ([`super::REASON_DETAIL`]), comma-separated
+    /// (absent: none, or a file before it). Covered by the root's
+    /// `attributes_crc32`, it tells a detail deleted from a file from a
+    /// file written before the details.
+    pub const REASON_DETAILS: &str = "reason_details";
     /// `layout_version`.
     pub const LAYOUT_VERSION: &str = "layout_version";
     /// `integrator`.
@@ -404,6 +410,7 @@ pub mod attr {
         "preset",
         "q_stops",
         "quantities",
+        "reason_details",
         "scene",
         "scene_name",
         "shard",

@@ -568,6 +568,8 @@ fn quantities(path: &Path, f: &hdf5::File, sweeps: &[SweepKind]) -> Result<Vec<m
 /// The datasets of one sweep, opened and checked against the grid.
 fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Result<SweepSets, StoreError> {
     let h = |e: hdf5::Error| StoreError::hdf5(ck.path, e);
+    // The sweeps whose reasons were written with their numbers.
+    let detailed = list(&attr_opt(ck.path, f, attr::REASON_DETAILS)?.unwrap_or_default());
     let (nx, ny, dim) = (meta.plane.x.count, meta.plane.y.count, meta.dim);
     let n = nx * ny;
     let (rows, columns) = (Dim(ny, "rows", "the grid has"), Dim(nx, "columns", "the grid has"));
@@ -615,7 +617,19 @@ fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Re
                     ck.bad(&table.name(), format!("shape {:?}: not a table of at most {n} reasons", table.shape()))
                 );
             }
-            let detail = if g.link_exists(REASON_DETAIL) { Some(ck.open(&g, REASON_DETAIL)?) } else { None };
+            let detail = match (g.link_exists(REASON_DETAIL), detailed.iter().any(|s| s == sweep.name())) {
+                (true, _) => Some(ck.open(&g, REASON_DETAIL)?),
+                (false, false) => None,
+                (false, true) => {
+                    return Err(ck.bad(
+                        &format!("{}/{REASON_DETAIL}", sweep.name()),
+                        format!(
+                            "missing, which the attribute {} of / names: the file was changed since vibroatlas wrote it",
+                            attr::REASON_DETAILS
+                        ),
+                    ))
+                }
+            };
             Some(Reasons { table, codes: plane(REASON_CODE)?, detail })
         } else {
             None

@@ -407,8 +407,14 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
         attr_str(f, attr::PARENT_LABELS_CRC32, &format!("{:08x}", parent.labels_crc32))?;
         attr_str(f, attr::PARENT_BOX, &parent.region)?;
     }
+    let mut detailed = Vec::new();
     for map in &atlas.maps {
-        fill_sweep(&f.group(map.sweep.name())?, atlas, map, info.parent.is_some(), z)?;
+        if fill_sweep(&f.group(map.sweep.name())?, atlas, map, info.parent.is_some(), z)? {
+            detailed.push(map.sweep.name());
+        }
+    }
+    if !detailed.is_empty() {
+        attr_str(f, attr::REASON_DETAILS, &detailed.join(","))?;
     }
     if let Some(h) = atlas.hysteresis() {
         let d = z.dataset(
@@ -451,8 +457,9 @@ fn fill_file(f: &hdf5::File, atlas: &Atlas, info: &RunInfo, z: &Deflater) -> hdf
 /// [`create_sweep`]: its label table and codes, lines done and sections.
 /// A zoom's (`zoom`) continuation sweep has its `entry_state` always, all
 /// NaN where every chain starts from the scene's initial state (its readers
-/// require it).
-fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflater) -> hdf5::Result<()> {
+/// require it). Returns whether its reasons were written with their
+/// numbers ([`write_reasons`]).
+fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflater) -> hdf5::Result<bool> {
     let m = &atlas.meta;
     let p = &m.plane;
     let (nx, ny) = (p.x.count, p.y.count);
@@ -480,7 +487,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflate
         netcdf::attr_array(&d, "flag_values", &codes)?;
         netcdf::attr_str(&d, "flag_meanings", &table.join(" "))?;
     }
-    write_reasons(g, cells, &grid, z)?;
+    let detailed = write_reasons(g, cells, &grid, z)?;
     let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
     let lines = netcdf::dimension(g, LINE, done.len())?;
     let d = z.dataset(g, var::LINES_DONE, &Array1::from(done))?;
@@ -519,7 +526,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflate
             &format!("time within the forcing period (t mod T) and state just before each impact at {stop}"),
         )?;
     }
-    Ok(())
+    Ok(detailed)
 }
 
 /// Why the unresolved cells of a sweep are unresolved: the table of their
@@ -528,8 +535,8 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflate
 /// ([`REASON_DETAIL`], JSON; where some reason has numbers), and per cell an
 /// index into it (-1: resolved, or not computed). Two reasons whose texts
 /// agree but whose numbers do not (the text rounds them) are two entries of
-/// the same text.
-fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<()> {
+/// the same text. Returns whether the details were written.
+fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &Deflater) -> hdf5::Result<bool> {
     // Each cell's reason as JSON, once.
     let encoded: Vec<Option<String>> = cells
         .iter()
@@ -568,7 +575,7 @@ fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &D
         "why the cell is unresolved: index into the reason coordinate (-1: resolved, or not computed)",
         "1",
     )?;
-    Ok(())
+    Ok(numbers)
 }
 
 /// The root's `attractor_sampling` of an atlas with attractors.
