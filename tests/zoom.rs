@@ -141,7 +141,12 @@ fn a_zooms_stored_cells_run_again_from_their_entry() {
             entered += usize::from(ix != 7 && c.entries.get(sweep, iy).is_some());
         }
     }
-    assert_eq!(entered, 10, "every chain of both sweeps entered from the parent");
+    // Every chain of both sweeps enters from the parent but the down chain
+    // at δ = 0.55, whose parent's state at the box's edge (a row of another
+    // δ) penetrates one of its stops: it starts, and re-runs, from the
+    // scene's initial state, and the file records no entry for it.
+    assert_eq!(entered, 9, "the chains that entered from the parent");
+    assert!(c.entries.get(SweepKind::Down, 1).is_none());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -336,5 +341,49 @@ fn a_zoom_from_the_initial_state_reads_back() {
     let err = String::from_utf8_lossy(&twice.stderr);
     assert_eq!(twice.status.code(), Some(2), "{err}");
     assert!(err.contains("--set zeta: given twice"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Issue 61: a zoom records the state each chain started from. With the
+/// single stop moved to σ = −1 (`--set sigma=-1`), every state the
+/// parent's chains had at the box's edge (at σ = 0) penetrates the stop, so
+/// each chain starts from the scene's initial state; the child's entries are
+/// none (they recorded the penetrating states), its first cells are those
+/// of the box alone from the initial state, and a chain of the parent at its
+/// own σ still enters with the parent's state.
+#[test]
+fn a_zoom_records_no_entry_its_stop_refuses() {
+    let dir = folder("penetrating");
+    let pfile = dir.join("p.h5");
+    let (x, y) = (Axis::parse("omega=1:3:20", "x").unwrap(), Axis::parse("zeta=0:0.1:6", "y").unwrap());
+    let p = parent("single-stop.toml", x, y, Along::X, vec![SweepKind::Up, SweepKind::Down], &pfile);
+    let (bx, by) = ("omega=1.5:2.5:8", "zeta=0.02:0.08:4");
+    let zoomed = |set: Vec<(String, f64)>, out: &Path| {
+        let mut r = ZoomRequest::new(&pfile, Axis::parse(bx, "x").unwrap(), Axis::parse(by, "y").unwrap());
+        (r.set, r.threads, r.output) = (set, 2, Some(out.to_path_buf()));
+        zoom(&r, &Quiet).unwrap().atlas
+    };
+    let moved = zoomed(vec![("sigma".to_string(), -1.0)], &dir.join("moved.h5"));
+    assert!(moved.entries.0.is_empty(), "{:?}", moved.entries);
+    assert!(store::read(&dir.join("moved.h5")).unwrap().atlas.entries.0.is_empty());
+    for (sweep, ix) in [(SweepKind::Up, 0), (SweepKind::Down, 7)] {
+        for iy in 0..4 {
+            let mut sim = Sim::new(SceneSource::File(config("single-stop.toml")));
+            let (omega, zeta) = (moved.meta.plane.x.value(ix), moved.meta.plane.y.value(iy));
+            sim.set = vec![("sigma".into(), -1.0), ("omega".into(), omega), ("zeta".into(), zeta)];
+            let alone = engine::cell(&sim, &Start::Initial).unwrap().result;
+            let stored = moved.map(sweep).unwrap().cells[iy * 8 + ix].as_ref().unwrap();
+            assert_eq!(alone.final_state, stored.final_state, "{} cell ({iy}, {ix})", sweep.name());
+        }
+    }
+    // At the parent's own σ the chains enter with the parent's states.
+    let same = zoomed(Vec::new(), &dir.join("same.h5"));
+    assert_eq!(same.entries.0.len(), 8, "{:?}", same.entries);
+    for ((sweep, line), state) in &same.entries.0 {
+        let ix = if *sweep == SweepKind::Up { 0 } else { 7 };
+        let iy = p.meta.plane.y.nearest(same.meta.plane.y.value(*line)).unwrap();
+        let jx = p.meta.plane.x.nearest(same.meta.plane.x.value(ix)).unwrap();
+        assert_eq!(Some(state.as_slice()), p.start_of(*sweep, iy, jx), "{} line {line}", sweep.name());
+    }
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -127,7 +127,7 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     if m.quantities.is_empty() {
         plan.without_quantities();
     }
-    plan.entries = entries(parent, &plan.meta.plane, &plan.meta.sweeps);
+    plan.entries = admitted(entries(parent, &plan.meta.plane, &plan.meta.sweeps), &plan);
     plan.parent = Some(store::Parent { path: r.parent.display().to_string(), labels_crc32, region: r.region() });
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.inputs = vec![r.parent.clone()];
@@ -199,6 +199,25 @@ fn box_axis(given: &Axis, parent: &Axis, opt: Opt) -> Result<Axis> {
         return Err(RequestError::option(opt).text(why).into());
     }
     Ok(Axis { lattice: Lattice::of(parent), ..axis })
+}
+
+/// The entries of `entries` that the first cell of their chain admits: one
+/// that penetrates a stop of that cell's system (the parent's chain at
+/// another value of a `--set` parameter, or of the row the box's line lies
+/// nearest) is dropped, so that the chain starts from the scene's initial
+/// state, as its run would, and the file records the state it started from.
+/// A cell whose system cannot be built keeps its entry: its run says why.
+fn admitted(entries: Entries, plan: &Plan) -> Entries {
+    let p = &plan.meta.plane;
+    let first = |sweep: SweepKind, line: usize| match sweep {
+        SweepKind::Up => p.cell(line, 0),
+        _ => p.cell(line, p.line_len() - 1),
+    };
+    let admits = |(sweep, line): (SweepKind, usize), state: &[f64]| {
+        let (iy, ix) = first(sweep, line);
+        plan.setup.system(&p.params(iy, ix)).map_or(true, |sys| sys.admits(state))
+    };
+    Entries(entries.0.into_iter().filter(|(key, state)| admits(*key, state)).collect())
 }
 
 /// The states the box's chains enter with: for each chain sweep and line of
