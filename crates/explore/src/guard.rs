@@ -18,7 +18,10 @@
 //!   script and style only, no inline script, no frames), `nosniff` and
 //!   `no-referrer`;
 //! - every error is JSON, `{"error": "…"}`, whoever made it (a route, an
-//!   extractor's rejection, the body limit).
+//!   extractor's rejection, the body limit; a head the HTTP layer would
+//!   refuse is answered before it, [`crate::head`]);
+//! - every answer closes its connection, so that each request's head is
+//!   checked.
 
 use axum::extract::{Request, State};
 use axum::http::{header, HeaderMap, HeaderValue, Method, StatusCode, Uri};
@@ -141,6 +144,9 @@ pub(crate) async fn screen(State(allowed): State<Arc<Allowed>>, request: Request
     let h = answer.headers_mut();
     h.insert(header::CONTENT_SECURITY_POLICY, HeaderValue::from_static(CONTENT_SECURITY_POLICY));
     h.insert(header::X_CONTENT_TYPE_OPTIONS, HeaderValue::from_static("nosniff"));
+    // One request per connection: the next one's head is read and checked
+    // before the HTTP layer sees it (crate::head).
+    h.insert(header::CONNECTION, HeaderValue::from_static("close"));
     h.insert(header::REFERRER_POLICY, HeaderValue::from_static("no-referrer"));
     h.insert(header::X_FRAME_OPTIONS, HeaderValue::from_static("DENY"));
     h.insert("cross-origin-resource-policy", HeaderValue::from_static("same-origin"));

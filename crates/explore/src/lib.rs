@@ -23,6 +23,7 @@
 
 mod api;
 mod guard;
+mod head;
 mod state;
 
 pub use state::Selected;
@@ -152,6 +153,7 @@ pub fn serve(r: &ExploreRequest) -> Result<Server, ExploreError> {
         .spawn(move || {
             runtime.block_on(async move {
                 let Ok(listener) = tokio::net::TcpListener::from_std(listener) else { return };
+                let Ok(listener) = head::screened(listener) else { return };
                 let (stopping, stopped) = tokio::sync::watch::channel(false);
                 let serving = axum::serve(listener, app).with_graceful_shutdown({
                     let mut stopped = stopped.clone();

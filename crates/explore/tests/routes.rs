@@ -78,15 +78,19 @@ impl Answer {
 /// Sends one HTTP/1.1 request (`Connection: close`) with the `headers` given
 /// (a `Host` among them or none) and reads the whole answer.
 fn send(port: u16, method: &str, target: &str, headers: &[(&str, &str)], body: &[u8]) -> Answer {
-    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
     let mut head = format!("{method} {target} HTTP/1.1\r\nConnection: close\r\nContent-Length: {}\r\n", body.len());
     for (k, v) in headers {
         head.push_str(&format!("{k}: {v}\r\n"));
     }
     head.push_str("\r\n");
-    s.write_all(head.as_bytes()).unwrap();
-    s.write_all(body).unwrap();
+    send_bytes(port, &[head.as_bytes(), body].concat())
+}
+
+/// Sends `bytes` as they are and reads the whole answer.
+fn send_bytes(port: u16, bytes: &[u8]) -> Answer {
+    let mut s = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+    s.write_all(bytes).unwrap();
     let mut raw = Vec::new();
     s.read_to_end(&mut raw).unwrap();
     let split = raw.windows(4).position(|w| w == b"\r\n\r\n").expect("an HTTP answer");
@@ -182,6 +186,33 @@ fn a_stored_cell_is_the_record_its_run_gives() {
             assert_eq!(&cell[key], value, "{key} of ({ix}, {iy})");
         }
     }
+}
+
+/// Requests the HTTP layer would refuse on its own, with an empty body, are
+/// answered as every error is: JSON naming the fault, with the policy.
+#[test]
+fn malformed_requests_get_json_errors() {
+    let server = serve();
+    let p = port(&server);
+    let host = format!("Host: 127.0.0.1:{p}\r\n");
+    let long = format!("GET /api/atlas?pad={} HTTP/1.1\r\n{host}\r\n", "a".repeat(70_000));
+    let many: String = (0..100).map(|i| format!("X-{i}: 1\r\n")).collect();
+    let cases: Vec<(String, u16, &str)> = vec![
+        (format!("GET /api/atlas HTTP/1.1\r\n{host}X-A: b\rc\r\n\r\n"), 400, "not HTTP/1.1"),
+        (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: 123456789012345678901234\r\n\r\n"), 400, "Content-Length"),
+        (format!("GET /api/atlas HTTP/1.1\r\n{host}{many}\r\n"), 431, "headers"),
+        (long, 431, "KiB"),
+        ("NOT HTTP AT ALL\r\n\r\n".to_string(), 400, "not HTTP/1.1"),
+    ];
+    for (request, status, said) in cases {
+        let a = send_bytes(p, request.as_bytes());
+        assert_eq!(a.status, status, "{}", &request[..40.min(request.len())]);
+        assert!(a.error().contains(said), "{}", a.error());
+        assert!(a.header("content-security-policy").is_some_and(|c| c.contains("default-src 'none'")));
+    }
+    // The server still answers, and closes each connection after one answer.
+    let a = get(p, "/api/atlas");
+    assert_eq!((a.status, a.header("connection")), (200, Some("close")));
 }
 
 #[test]
