@@ -5,7 +5,7 @@
 
 use crate::args::{lib, ImpactArg, RenderArgs, ViewArg};
 use anyhow::{anyhow, bail, Result};
-use render::{Quantity, View};
+use render::View;
 use store::write_atomically;
 
 /// Runs the command.
@@ -69,7 +69,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let quantity = match fixed {
         Some(ViewArg::Labels | ViewArg::Attractors) => None,
-        Some(ViewArg::Lyapunov | ViewArg::Multiplier) | None => Some(Quantity::named(m, &a.view).ok_or_else(|| {
+        Some(ViewArg::Lyapunov | ViewArg::Multiplier) | None => Some(grid::Number::named(m, &a.view).ok_or_else(|| {
             let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
             let quantities = match stored.is_empty() {
                 true => "the file stores no quantities".to_string(),

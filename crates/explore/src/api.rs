@@ -12,8 +12,8 @@ use axum::routing::get;
 use axum::{Json, Router};
 use base64::prelude::{Engine as _, BASE64_STANDARD};
 use engine::{CellRecord, SceneSource, Sim, Start};
-use grid::{Axis, SweepKind};
-use render::{Quantity, Show, View};
+use grid::{Axis, Number, SweepKind};
+use render::{Show, View};
 use serde_json::{json, Value};
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -248,11 +248,11 @@ fn views(o: &Opened) -> Vec<String> {
     if m.has_up_and_down() {
         v.push("hysteresis".into());
     }
-    for q in Quantity::all(m) {
+    for q in Number::all(m) {
         v.extend(m.sweeps.iter().map(|s| format!("{}:{}", q.name(m), s.name())));
     }
     if m.has_up_and_down() {
-        v.extend(Quantity::all(m).filter(|q| q.of_motion()).map(|q| format!("{}:hysteresis", q.name(m))));
+        v.extend(Number::all(m).filter(|q| q.of_motion()).map(|q| format!("{}:hysteresis", q.name(m))));
     }
     v
 }
@@ -265,14 +265,14 @@ fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
     let name = q.get("view").cloned().unwrap_or_else(|| m.sweeps[0].name().to_string());
     let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(&name), views(o).join(", ")));
     if let Some((number, "hysteresis")) = name.rsplit_once(':') {
-        return match Quantity::named(m, number) {
+        return match Number::named(m, number) {
             Some(quantity) if quantity.of_motion() && m.has_up_and_down() => Ok(Show::Difference(quantity)),
             _ => Err(refused()),
         };
     }
     if let Some((number, s)) = name.rsplit_once(':') {
         let sweep = SweepKind::parse(s).filter(|k| m.sweeps.contains(k)).ok_or_else(refused)?;
-        let quantity = Quantity::named(m, number).ok_or_else(refused)?;
+        let quantity = Number::named(m, number).ok_or_else(refused)?;
         return Ok(Show::Scalar(sweep, quantity));
     }
     match View::parse(&name) {

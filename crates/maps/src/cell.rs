@@ -64,6 +64,67 @@ impl CellData {
     }
 }
 
+/// A number per cell of an atlas: the two its classification gives, and
+/// each quantity of the steady motion it measures ([`crate::Meta::quantities`]).
+/// Its name is its dataset's in the file and its view's (`render --view`,
+/// the explorer's `NAME:SWEEP`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Number {
+    /// Largest Lyapunov exponent per unit time (cells without a period).
+    Lyapunov,
+    /// Largest Floquet multiplier modulus (periodic cells).
+    Multiplier,
+    /// Quantity `k` of the steady motion.
+    Quantity(usize),
+}
+
+impl Number {
+    /// [`Number::Lyapunov`]'s name.
+    pub const LYAPUNOV: &'static str = "lyapunov";
+    /// [`Number::Multiplier`]'s name.
+    pub const MULTIPLIER: &'static str = "multiplier";
+
+    /// Every number per cell of an atlas of `m`: the two of its
+    /// classification, then its quantities in the file's order.
+    pub fn all(m: &crate::Meta) -> impl Iterator<Item = Number> {
+        [Number::Multiplier, Number::Lyapunov].into_iter().chain((0..m.quantities.len()).map(Number::Quantity))
+    }
+
+    /// The number named `name` in an atlas of `m`, if it has one.
+    pub fn named(m: &crate::Meta, name: &str) -> Option<Number> {
+        Number::all(m).find(|q| q.name(m) == name)
+    }
+
+    /// Its name.
+    pub fn name(self, m: &crate::Meta) -> &str {
+        match self {
+            Number::Lyapunov => Number::LYAPUNOV,
+            Number::Multiplier => Number::MULTIPLIER,
+            Number::Quantity(k) => &m.quantities[k].name,
+        }
+    }
+
+    /// Whether it is a quantity of the steady motion (which has an up less
+    /// down map), not a number of the classification.
+    pub fn of_motion(self) -> bool {
+        matches!(self, Number::Quantity(_))
+    }
+
+    /// Its value in `c` as the file stores it: NaN where the cell has none.
+    pub fn stored(self, c: &CellData) -> f64 {
+        match self {
+            Number::Lyapunov => c.lyapunov.unwrap_or(f64::NAN),
+            Number::Multiplier => c.multiplier.unwrap_or(f64::NAN),
+            Number::Quantity(k) => c.quantities.get(k).copied().unwrap_or(f64::NAN),
+        }
+    }
+
+    /// Its value in `c`, where the cell has a finite one.
+    pub fn value(self, c: &CellData) -> Option<f64> {
+        Some(self.stored(c)).filter(|v| v.is_finite())
+    }
+}
+
 /// One quantity an atlas measures in every cell ([`solver::quantity::TABLE`]
 /// for an owner of the scene): its name in the file and JSON
 /// (`max_abs_x_M1`), symbol, long name and units.

@@ -34,7 +34,7 @@ mod sweep;
 pub use atlas::{Atlas, AttractorMap, CellAttractor, CellAttractors, Map, Meta, FAMILY_POINTS};
 pub use axis::{Axis, Lattice, MAX_COUNT};
 pub use basins::{BasinAttractor, BasinMap};
-pub use cell::{by_frequency, label_counts, runs, CellData, Quantity, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
+pub use cell::{by_frequency, label_counts, runs, CellData, Number, Quantity, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
 pub use error::FieldError;
 pub use families::{families, Families};
 pub use notation::{stop_events, Notation};

@@ -5,7 +5,8 @@
 
 use crate::legend::{Entry, Swatch};
 use crate::map::{count, label_paint, sweep_rows, Hysteresis, Overlay, Paint, View};
-use crate::scalar::{Quantity, Scaled, NONE};
+use crate::scalar::{Drawn, Scaled, NONE};
+use maps::Number;
 use crate::RenderError;
 use maps::{Atlas, SweepKind};
 use plotters::style::RGBColor;
@@ -21,10 +22,10 @@ pub enum Show {
     /// where up and down differ, split between their two labels).
     Map(View),
     /// One number of a sweep's cells, on its diverging scale.
-    Scalar(SweepKind, Quantity),
+    Scalar(SweepKind, Number),
     /// A quantity of the motion, the up sweep's less the down sweep's
     /// ([`crate::difference_map`]).
-    Difference(Quantity),
+    Difference(Number),
 }
 
 /// A colour bar: its title, its ends, and colours evenly along it.

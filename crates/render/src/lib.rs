@@ -32,7 +32,7 @@ pub use output::Format;
 pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};
 pub use rich::runs as subscript_runs;
-pub use scalar::{difference_map, scalar_map, Quantity};
+pub use scalar::{difference_map, scalar_map};
 pub use section::{sections, Panel};
 pub use trade::trade;
 

@@ -11,92 +11,55 @@ use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
 use crate::page::{Canvas, Page};
 use crate::{err, RenderError};
-use maps::{Atlas, CellData, Meta, SweepKind};
+use maps::{Atlas, CellData, Meta, Number, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
 
-/// Which number a continuous map shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Quantity {
-    /// Largest Lyapunov exponent per unit time.
-    Lyapunov,
-    /// Largest Floquet multiplier modulus.
-    Multiplier,
-    /// Quantity `k` of the steady motion ([`maps::Meta::quantities`]).
-    Named(usize),
-}
-
-impl Quantity {
-    /// The number per cell named `name` in an atlas of `m`: `lyapunov`,
-    /// `multiplier` or a stored quantity of the steady motion.
-    pub fn named(m: &Meta, name: &str) -> Option<Quantity> {
-        Quantity::all(m).find(|q| q.name(m) == name)
-    }
-
-    /// Every number per cell of an atlas of `m`: the two of its
-    /// classification, then its stored quantities in the file's order.
-    pub fn all(m: &Meta) -> impl Iterator<Item = Quantity> {
-        [Quantity::Multiplier, Quantity::Lyapunov].into_iter().chain((0..m.quantities.len()).map(Quantity::Named))
-    }
-
-    /// Its name, as `--view` and the explorer's views give it.
-    pub fn name(self, m: &Meta) -> &str {
-        match self {
-            Quantity::Lyapunov => "lyapunov",
-            Quantity::Multiplier => "multiplier",
-            Quantity::Named(k) => &m.quantities[k].name,
-        }
-    }
-
-    /// Whether it is a quantity of the steady motion (which has an up less
-    /// down map), not a number of the classification.
-    pub fn of_motion(self) -> bool {
-        matches!(self, Quantity::Named(_))
-    }
-
-    fn of(self, c: &CellData) -> Option<f64> {
-        match self {
-            Quantity::Lyapunov => c.lyapunov,
-            Quantity::Multiplier => c.multiplier,
-            Quantity::Named(k) => c.quantities.get(k).copied().filter(|v| v.is_finite()),
-        }
-    }
-
-    pub(crate) fn title(self, m: &Meta) -> String {
-        match self {
-            Quantity::Lyapunov => "largest Lyapunov exponent (cells without a period)".into(),
-            Quantity::Multiplier => "largest |Floquet multiplier| (periodic cells)".into(),
-            Quantity::Named(k) => m.quantities[k].long_name.clone(),
-        }
-    }
-
+/// How a continuous map draws each number per cell ([`Number`]).
+pub(crate) trait Drawn {
+    /// The figure's title.
+    fn title(self, m: &Meta) -> String;
     /// What a cell without the number is (legend text).
-    pub(crate) fn none(self) -> &'static str {
-        match self {
-            Quantity::Lyapunov => "periodic",
-            Quantity::Multiplier => "no period",
-            Quantity::Named(_) => "none",
-        }
-    }
-
+    fn none(self) -> &'static str;
     /// Colour-bar label.
-    pub(crate) fn unit(self, m: &Meta) -> String {
-        match self {
-            Quantity::Lyapunov => "λ (per unit time)".into(),
-            Quantity::Multiplier => "max |μ|".into(),
-            Quantity::Named(k) => m.quantities[k].with_units(&m.quantities[k].name),
-        }
-    }
-
+    fn unit(self, m: &Meta) -> String;
     /// The neutral value a diverging scale is centred on; none for a
     /// quantity of the steady motion, drawn on a sequential scale from its
     /// smallest value to its largest.
+    fn centre(self) -> Option<f64>;
+}
+
+impl Drawn for Number {
+    fn title(self, m: &Meta) -> String {
+        match self {
+            Number::Lyapunov => "largest Lyapunov exponent (cells without a period)".into(),
+            Number::Multiplier => "largest |Floquet multiplier| (periodic cells)".into(),
+            Number::Quantity(k) => m.quantities[k].long_name.clone(),
+        }
+    }
+
+    fn none(self) -> &'static str {
+        match self {
+            Number::Lyapunov => "periodic",
+            Number::Multiplier => "no period",
+            Number::Quantity(_) => "none",
+        }
+    }
+
+    fn unit(self, m: &Meta) -> String {
+        match self {
+            Number::Lyapunov => "λ (per unit time)".into(),
+            Number::Multiplier => "max |μ|".into(),
+            Number::Quantity(k) => m.quantities[k].with_units(&m.quantities[k].name),
+        }
+    }
+
     fn centre(self) -> Option<f64> {
         match self {
-            Quantity::Lyapunov => Some(0.0),
-            Quantity::Multiplier => Some(1.0),
-            Quantity::Named(_) => None,
+            Number::Lyapunov => Some(0.0),
+            Number::Multiplier => Some(1.0),
+            Number::Quantity(_) => None,
         }
     }
 }
@@ -140,9 +103,9 @@ pub(crate) struct Scaled {
 
 impl Scaled {
     /// The numbers `quantity` of the cells of `sweep`.
-    pub fn of(atlas: &Atlas, sweep: SweepKind, quantity: Quantity) -> Result<Scaled, RenderError> {
+    pub fn of(atlas: &Atlas, sweep: SweepKind, quantity: Number) -> Result<Scaled, RenderError> {
         let cells = sweep_cells(atlas, sweep)?;
-        let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.of(c))).collect();
+        let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.value(c))).collect();
         Ok(match quantity.centre() {
             Some(centre) => {
                 let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
@@ -165,9 +128,9 @@ impl Scaled {
     /// Quantity `quantity` of the up sweep's cells less that of the down
     /// sweep's, on a diverging scale centred at 0 (`None` where either has
     /// none): where the two legs' motions differ, by how much.
-    pub fn difference(atlas: &Atlas, quantity: Quantity) -> Result<Scaled, RenderError> {
+    pub fn difference(atlas: &Atlas, quantity: Number) -> Result<Scaled, RenderError> {
         let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
-        let value = |c: &Option<CellData>| c.as_ref().and_then(|c| quantity.of(c));
+        let value = |c: &Option<CellData>| c.as_ref().and_then(|c| quantity.value(c));
         let values: Vec<Option<f64>> = up.iter().zip(down.iter()).map(|(u, d)| Some(value(u)? - value(d)?)).collect();
         let reach = values.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
         let reach = if reach > 0.0 { reach } else { 1.0 };
@@ -195,7 +158,7 @@ impl Scaled {
 pub fn scalar_map(
     atlas: &Atlas,
     sweep: SweepKind,
-    quantity: Quantity,
+    quantity: Number,
     contours: usize,
     page: &Page,
     path: &Path,
@@ -218,7 +181,7 @@ pub fn scalar_map(
 /// difference is 0 or rounding).
 pub fn difference_map(
     atlas: &Atlas,
-    quantity: Quantity,
+    quantity: Number,
     contours: usize,
     page: &Page,
     path: &Path,

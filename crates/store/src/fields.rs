@@ -8,7 +8,7 @@ use crate::chunked::{deflate, Deflater, CHUNK_BYTES};
 use crate::layout::*;
 use crate::netcdf;
 use hdf5::{Dataset, Group, H5Type};
-use maps::{Along, CellData, Meta, Plane};
+use maps::{Along, CellData, Meta, Number, Plane};
 
 /// Chunks a run of about this many per plane: the file's part left for the
 /// end of a run is about one chunk per dataset (fewer chunks, more of it;
@@ -108,18 +108,16 @@ pub(crate) enum Field {
     Flags,
     /// Symmetry code (u8).
     Symmetry,
-    /// Largest Lyapunov exponent per unit time (f64, NaN: none).
-    Lyapunov,
-    /// Largest Floquet multiplier modulus (f64, NaN: none).
-    Multiplier,
+    /// A number per cell: the largest Lyapunov exponent per unit time, the
+    /// largest Floquet multiplier modulus, or a quantity of the steady
+    /// motion ([`Meta::quantities`]) (f64, NaN: none).
+    Number(Number),
     /// State at the end of the record (f64, `dim` per cell).
     FinalState,
     /// Forcing periods simulated (u64).
     Periods,
     /// Events handled (u64).
     Events,
-    /// Quantity `k` of the steady motion ([`Meta::quantities`]; f64, NaN: none).
-    Quantity(usize),
 }
 
 impl Field {
@@ -131,13 +129,13 @@ impl Field {
                 Field::Class,
                 Field::Flags,
                 Field::Symmetry,
-                Field::Lyapunov,
-                Field::Multiplier,
+                Field::Number(Number::Lyapunov),
+                Field::Number(Number::Multiplier),
                 Field::FinalState,
                 Field::Periods,
                 Field::Events,
             ])
-            .chain((0..m.quantities.len()).map(Field::Quantity))
+            .chain((0..m.quantities.len()).map(|k| Field::Number(Number::Quantity(k))))
             .collect()
     }
 
@@ -153,12 +151,10 @@ impl Field {
             Field::Class => var::CLASS.into(),
             Field::Flags => var::FLAGS.into(),
             Field::Symmetry => var::SYMMETRY.into(),
-            Field::Lyapunov => var::LYAPUNOV.into(),
-            Field::Multiplier => var::MULTIPLIER.into(),
+            Field::Number(n) => n.name(m).into(),
             Field::FinalState => var::FINAL_STATE.into(),
             Field::Periods => var::PERIODS.into(),
             Field::Events => var::EVENTS.into(),
-            Field::Quantity(k) => m.quantities[k].name.clone(),
         }
     }
 
@@ -239,7 +235,7 @@ impl Field {
                 netcdf::attr_str(&d, "flag_meanings", "none symmetric asymmetric")?;
                 d
             }
-            Field::Lyapunov => {
+            Field::Number(Number::Lyapunov) => {
                 let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
                 gridded(&d, "largest Lyapunov exponent per unit time (cells without a period)")?;
                 netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
@@ -247,7 +243,7 @@ impl Field {
                 netcdf::attr_str(&d, "meaning", meaning)?;
                 d
             }
-            Field::Multiplier => {
+            Field::Number(Number::Multiplier) => {
                 let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
                 gridded(&d, "largest Floquet multiplier modulus (periodic cells)")?;
                 netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
@@ -272,7 +268,7 @@ impl Field {
                 gridded(&d, "events handled")?;
                 d
             }
-            Field::Quantity(k) => {
+            Field::Number(Number::Quantity(k)) => {
                 let q = &m.quantities[k];
                 let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
                 netcdf::dims(&d, &[s.y, s.x])?;
@@ -300,12 +296,10 @@ impl Field {
                 }
             }
             Field::Symmetry => to.values(1, |e, _| e.map_or(0, |e| symmetry_code(e.symmetry))),
-            Field::Lyapunov => to.values(1, |e, _| e.and_then(|e| e.lyapunov).unwrap_or(f64::NAN)),
-            Field::Multiplier => to.values(1, |e, _| e.and_then(|e| e.multiplier).unwrap_or(f64::NAN)),
+            Field::Number(n) => to.values(1, |e, _| e.map_or(f64::NAN, |e| n.stored(e))),
             Field::FinalState => to.values(m.dim, |e, k| e.map_or(f64::NAN, |e| e.final_state[k])),
             Field::Periods => to.values(1, |e, _| e.map_or(0, |e| e.periods)),
             Field::Events => to.values(1, |e, _| e.map_or(0, |e| e.events)),
-            Field::Quantity(k) => to.values(1, |e, _| e.and_then(|e| e.quantities.get(k).copied()).unwrap_or(f64::NAN)),
         }
     }
 

@@ -450,10 +450,10 @@ pub mod var {
     pub const FLAGS: &str = "flags";
     /// `symmetry`.
     pub const SYMMETRY: &str = "symmetry";
-    /// `lyapunov`.
-    pub const LYAPUNOV: &str = "lyapunov";
-    /// `multiplier`.
-    pub const MULTIPLIER: &str = "multiplier";
+    /// `lyapunov` ([`maps::Number::Lyapunov`]'s name).
+    pub const LYAPUNOV: &str = maps::Number::LYAPUNOV;
+    /// `multiplier` ([`maps::Number::Multiplier`]'s name).
+    pub const MULTIPLIER: &str = maps::Number::MULTIPLIER;
     /// `final_state`.
     pub const FINAL_STATE: &str = "final_state";
     /// `periods`.
