@@ -1,12 +1,15 @@
-//! The head of every request, read and checked before the HTTP layer sees
-//! it, so that a request the HTTP layer would refuse on its own (a head that
-//! does not parse, a bare carriage return, a `Content-Length` that is not one
-//! number, a head over [`MAX_HEAD`], one that never ends) is answered like
-//! every other error: JSON, `{"error": "…"}`, with the page's security
-//! headers. Each connection carries one request (every answer says
-//! `Connection: close`, [`crate::guard`]), so every head passes here.
+//! Every request, read whole and checked before the HTTP layer sees it, so
+//! that one the HTTP layer would refuse on its own (a head that does not
+//! parse, a bare carriage return, a `Content-Length` that is not one number,
+//! a `Transfer-Encoding`, a head over [`MAX_HEAD`], a body over
+//! [`MAX_BODY`], one that never ends) is answered like every other error:
+//! JSON, `{"error": "…"}`, with the page's security headers. Each
+//! connection carries one request (every answer says `Connection: close`,
+//! [`crate::guard`]): the server is handed that request, and nothing the
+//! client sends after it, not even its end of the stream (a client that
+//! half-closes still gets its answer).
 
-use crate::guard::CONTENT_SECURITY_POLICY;
+use crate::guard::{CONTENT_SECURITY_POLICY, MAX_BODY};
 use std::io;
 use std::net::SocketAddr;
 use std::pin::Pin;
@@ -22,8 +25,8 @@ pub(crate) const MAX_HEAD: usize = 64 * 1024;
 /// The most headers a request may have.
 const MAX_HEADERS: usize = 64;
 
-/// How long a client may take to send its request's head.
-const HEAD_WAIT: Duration = Duration::from_secs(10);
+/// How long a client may take to send its request, head and body.
+const REQUEST_WAIT: Duration = Duration::from_secs(10);
 
 /// Connections whose head was read and passed, waiting for the server.
 const WAITING: usize = 64;
@@ -76,86 +79,106 @@ impl axum::serve::Listener for Screened {
     }
 }
 
-/// Reads the head of `stream`'s request: the connection with what was read
-/// put back in front, or `None` where it was answered with an error (or
-/// closed before its head ended).
+/// Reads `stream`'s request: the connection with the request put back in
+/// front, or `None` where it was answered with an error (or closed before
+/// its request ended).
 async fn screen(mut stream: TcpStream) -> Option<Prefixed> {
     let mut read = Vec::with_capacity(1024);
-    let mut chunk = [0u8; 4096];
-    let ended = tokio::time::timeout(HEAD_WAIT, async {
+    let read_all = tokio::time::timeout(REQUEST_WAIT, async {
+        let mut chunk = [0u8; 4096];
+        let mut whole = None;
         loop {
-            if ends(&read) {
-                return Ok(true);
+            if whole.is_none() {
+                whole = match head(&read) {
+                    Head::Partial => None,
+                    Head::Refused(status, message) => return Ok(Err((status, message))),
+                    Head::Whole(n) => Some(n),
+                };
             }
-            if read.len() > MAX_HEAD {
-                return Ok(false);
+            if whole.is_some_and(|n| read.len() >= n) {
+                return Ok(Ok(whole.unwrap_or(0)));
             }
             match stream.read(&mut chunk).await {
-                Ok(0) => return Err(()),
+                Ok(0) | Err(_) => return Err(()),
                 Ok(n) => read.extend_from_slice(&chunk[..n]),
-                Err(_) => return Err(()),
             }
         }
     })
     .await;
-    let refusal = match ended {
-        Err(_) => Some((408, format!("the request's head did not arrive within {} s", HEAD_WAIT.as_secs()))),
+    let refusal = match read_all {
+        Err(_) => (408, format!("the request did not arrive whole within {} s", REQUEST_WAIT.as_secs())),
         Ok(Err(())) => return None,
-        Ok(Ok(false)) => Some((431, format!("the request's head is over {} KiB", MAX_HEAD / 1024))),
-        Ok(Ok(true)) => refuse(&read),
-    };
-    match refusal {
-        None => Some(Prefixed { read, at: 0, stream }),
-        Some((status, message)) => {
-            let _ = stream.write_all(&answer(status, &message)).await;
-            let _ = stream.shutdown().await;
-            // What the client still sends is read and dropped for a moment:
-            // closed with it unread, the connection would be reset, and
-            // the client might lose the answer.
-            let mut rest = [0u8; 4096];
-            let _ = tokio::time::timeout(Duration::from_secs(1), async {
-                while matches!(stream.read(&mut rest).await, Ok(n) if n > 0) {}
-            })
-            .await;
-            None
+        Ok(Ok(Err(refused))) => refused,
+        Ok(Ok(Ok(n))) => {
+            // What follows the request (a second one) is not read.
+            read.truncate(n);
+            return Some(Prefixed { read, at: 0, stream });
         }
-    }
+    };
+    let (status, message) = refusal;
+    let _ = stream.write_all(&answer(status, &message)).await;
+    let _ = stream.shutdown().await;
+    // What the client still sends is read and dropped for a moment: closed
+    // with it unread, the connection would be reset, and the client might
+    // lose the answer.
+    let mut rest = [0u8; 4096];
+    let _ = tokio::time::timeout(Duration::from_secs(1), async {
+        while matches!(stream.read(&mut rest).await, Ok(n) if n > 0) {}
+    })
+    .await;
+    None
 }
 
-/// Whether `read` holds a whole head (its blank line).
-fn ends(read: &[u8]) -> bool {
-    read.windows(4).any(|w| w == b"\r\n\r\n")
+/// What the bytes read so far hold.
+#[derive(Debug, PartialEq)]
+enum Head {
+    /// Not yet a whole head.
+    Partial,
+    /// A refused request: its status and why.
+    Refused(u16, String),
+    /// A sound head: the request's length in bytes, head and body.
+    Whole(usize),
 }
 
-/// Why the head at the start of `read` is refused (status and message), or
-/// `None`.
-fn refuse(read: &[u8]) -> Option<(u16, String)> {
+/// What the start of `read` is: a head not yet whole, a refused one, or a
+/// sound one and the length of its request.
+fn head(read: &[u8]) -> Head {
     let mut headers = [httparse::EMPTY_HEADER; MAX_HEADERS];
     let mut request = httparse::Request::new(&mut headers);
-    match request.parse(read) {
+    let too_long = || Head::Refused(431, format!("the request's head is over {} KiB", MAX_HEAD / 1024));
+    let n = match request.parse(read) {
         Err(httparse::Error::TooManyHeaders) => {
-            return Some((431, format!("the request has more than {MAX_HEADERS} headers")));
+            return Head::Refused(431, format!("the request has more than {MAX_HEADERS} headers"));
         }
-        Err(e) => return Some((400, format!("the request's head is not HTTP/1.1 ({e})"))),
-        Ok(httparse::Status::Partial) => return Some((400, "the request's head is not HTTP/1.1".into())),
-        Ok(httparse::Status::Complete(_)) => {}
-    }
+        Err(e) => return Head::Refused(400, format!("the request's head is not HTTP/1.1 ({e})")),
+        Ok(httparse::Status::Partial) if read.len() > MAX_HEAD => return too_long(),
+        Ok(httparse::Status::Partial) => return Head::Partial,
+        Ok(httparse::Status::Complete(n)) if n > MAX_HEAD => return too_long(),
+        Ok(httparse::Status::Complete(n)) => n,
+    };
     let named = |name: &'static str| request.headers.iter().filter(move |h| h.name.eq_ignore_ascii_case(name));
+    if named("transfer-encoding").next().is_some() {
+        return Head::Refused(400, "Transfer-Encoding: not taken; send the body with its Content-Length".into());
+    }
     let mut length = None;
     for h in named("content-length") {
         let text = String::from_utf8_lossy(h.value);
-        let Ok(n) = text.trim().parse::<u64>() else {
-            return Some((400, format!("Content-Length: '{}' is not a number of bytes", short(&text))));
+        let digits = text.trim();
+        let number = (!digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())).then(|| digits.parse::<u64>());
+        let Some(Ok(bytes)) = number else {
+            return Head::Refused(400, format!("Content-Length: '{}' is not a number of bytes", short(&text)));
         };
-        if length.is_some_and(|m| m != n) {
-            return Some((400, "Content-Length: given twice, with two values".into()));
+        if length.is_some_and(|m| m != bytes) {
+            return Head::Refused(400, "Content-Length: given twice, with two values".into());
         }
-        length = Some(n);
+        length = Some(bytes);
     }
-    if length.is_some() && named("transfer-encoding").next().is_some() {
-        return Some((400, "Content-Length and Transfer-Encoding: give one of them".into()));
+    match length.unwrap_or(0) {
+        bytes if bytes > MAX_BODY as u64 => {
+            Head::Refused(413, format!("Content-Length: {bytes} bytes; a body is at most {} KiB", MAX_BODY / 1024))
+        }
+        bytes => Head::Whole(n + bytes as usize),
     }
-    None
 }
 
 /// At most 40 characters of `text`.
@@ -180,8 +203,9 @@ fn answer(status: u16, message: &str) -> Vec<u8> {
     .into_bytes()
 }
 
-/// A connection whose first bytes were read to check its head: they are
-/// read again first, then the connection itself.
+/// A connection whose request was read to check it: the request is read
+/// again, and then nothing: the connection carries one request, and its
+/// client's end of the stream (a half-close) must not end the answer.
 pub(crate) struct Prefixed {
     read: Vec<u8>,
     at: usize,
@@ -197,7 +221,10 @@ impl AsyncRead for Prefixed {
             this.at += n;
             return Poll::Ready(Ok(()));
         }
-        Pin::new(&mut this.stream).poll_read(cx, buf)
+        // Never more: the server answers and closes (a read that never
+        // ends, as no other request is to come).
+        let _ = cx;
+        Poll::Pending
     }
 }
 
@@ -219,26 +246,37 @@ impl AsyncWrite for Prefixed {
 mod tests {
     use super::*;
 
-    /// Heads the HTTP layer would refuse without a JSON body are refused
-    /// here with their reason; a sound one passes.
+    /// Requests the HTTP layer would refuse without a JSON body are
+    /// refused here with their reason; a sound one is measured whole.
     #[test]
-    fn malformed_heads_are_refused_with_their_reason() {
-        let ok = b"GET /api/atlas HTTP/1.1\r\nHost: 127.0.0.1:1\r\nContent-Length: 0\r\n\r\n";
-        assert_eq!(refuse(ok), None);
-        let cases: [(&[u8], u16, &str); 5] = [
+    fn malformed_requests_are_refused_with_their_reason() {
+        let ok = b"POST /api/zoom HTTP/1.1\r\nHost: 127.0.0.1:1\r\nContent-Length: 2\r\n\r\n{}";
+        assert_eq!(head(ok), Head::Whole(ok.len()));
+        assert_eq!(head(&ok[..ok.len() - 5]), Head::Partial);
+        let lf = b"GET / HTTP/1.1\nHost: 127.0.0.1:1\n\n";
+        assert_eq!(head(lf), Head::Whole(lf.len()));
+        let cases: [(&[u8], u16, &str); 9] = [
             (b"GET /\rX HTTP/1.1\r\n\r\n", 400, "not HTTP/1.1"),
             (b"GET / HTTP/1.1\r\nHost: a\rb\r\n\r\n", 400, "not HTTP/1.1"),
+            (b"GET /api/atlas\r\n", 400, "not HTTP/1.1"),
             (b"POST / HTTP/1.1\r\nContent-Length: 99999999999999999999999\r\n\r\n", 400, "Content-Length"),
+            (b"POST / HTTP/1.1\r\nContent-Length: +5\r\n\r\n", 400, "not a number"),
             (b"POST / HTTP/1.1\r\nContent-Length: 1\r\nContent-Length: 2\r\n\r\n", 400, "given twice"),
-            (b"POST / HTTP/1.1\r\nContent-Length: 1\r\nTransfer-Encoding: chunked\r\n\r\n", 400, "give one"),
+            (b"POST / HTTP/1.1\r\nTransfer-Encoding: identity\r\n\r\n", 400, "Transfer-Encoding"),
+            (b"POST / HTTP/1.1\r\nContent-Length: 18446744073709551615\r\n\r\n", 413, "at most"),
+            (b"POST / HTTP/1.1\r\nContent-Length: 65537\r\n\r\n", 413, "at most"),
         ];
-        for (head, status, said) in cases {
-            let (s, message) = refuse(head).unwrap_or_else(|| panic!("{}", String::from_utf8_lossy(head)));
+        for (request, status, said) in cases {
+            let Head::Refused(s, message) = head(request) else { panic!("{}", String::from_utf8_lossy(request)) };
             assert_eq!(s, status, "{message}");
             assert!(message.contains(said), "{message}");
         }
         let many: String = (0..=MAX_HEADERS).map(|i| format!("X-{i}: 1\r\n")).collect();
-        let head = format!("GET / HTTP/1.1\r\n{many}\r\n");
-        assert_eq!(refuse(head.as_bytes()).map(|r| r.0), Some(431));
+        let request = format!("GET / HTTP/1.1\r\n{many}\r\n");
+        assert!(matches!(head(request.as_bytes()), Head::Refused(431, _)));
+        // A head over the limit is refused however it arrives, whole or not.
+        let long = format!("GET / HTTP/1.1\r\nX-A: {}\r\n\r\n", "a".repeat(MAX_HEAD));
+        assert!(matches!(head(long.as_bytes()), Head::Refused(431, _)));
+        assert!(matches!(head(&long.as_bytes()[..MAX_HEAD + 1]), Head::Refused(431, _)));
     }
 }

@@ -200,6 +200,9 @@ fn malformed_requests_get_json_errors() {
     let cases: Vec<(String, u16, &str)> = vec![
         (format!("GET /api/atlas HTTP/1.1\r\n{host}X-A: b\rc\r\n\r\n"), 400, "not HTTP/1.1"),
         (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: 123456789012345678901234\r\n\r\n"), 400, "Content-Length"),
+        (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: +5\r\n\r\nabcde"), 400, "Content-Length"),
+        (format!("GET /api/atlas HTTP/1.1\r\n{host}Transfer-Encoding: identity\r\n\r\n"), 400, "Transfer-Encoding"),
+        (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: 18446744073709551615\r\n\r\n"), 413, "at most"),
         (format!("GET /api/atlas HTTP/1.1\r\n{host}{many}\r\n"), 431, "headers"),
         (long, 431, "KiB"),
         ("NOT HTTP AT ALL\r\n\r\n".to_string(), 400, "not HTTP/1.1"),
@@ -213,6 +216,19 @@ fn malformed_requests_get_json_errors() {
     // The server still answers, and closes each connection after one answer.
     let a = get(p, "/api/atlas");
     assert_eq!((a.status, a.header("connection")), (200, Some("close")));
+    // A client that half-closes once its request is sent (`nc -N`) gets its
+    // answer, each of ten times; so does one ending its lines with a bare LF.
+    for _ in 0..10 {
+        let mut s = TcpStream::connect(("127.0.0.1", p)).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        s.write_all(format!("GET /api/atlas HTTP/1.1\r\n{host}\r\n").as_bytes()).unwrap();
+        s.shutdown(std::net::Shutdown::Write).unwrap();
+        let mut raw = Vec::new();
+        s.read_to_end(&mut raw).unwrap();
+        assert!(raw.starts_with(b"HTTP/1.1 200"), "{}", String::from_utf8_lossy(&raw));
+    }
+    let lf = send_bytes(p, format!("GET /api/atlas HTTP/1.1\nHost: 127.0.0.1:{p}\n\n").as_bytes());
+    assert_eq!(lf.status, 200);
 }
 
 #[test]

@@ -43,7 +43,7 @@ impl Checker<'_> {
     /// Dataset `name` of `g`, its uncompressed size bounded by its bytes in
     /// the file ([`MAX_EXPANSION`]).
     pub(crate) fn open(&self, g: &hdf5::Group, name: &str) -> Result<hdf5::Dataset, StoreError> {
-        let ds = g.dataset(name).map_err(|e| StoreError::hdf5(self.path, e))?;
+        let ds = g.dataset(name).map_err(|e| self.bad(&format!("{}/{name}", g.name()), crate::error::plain(&e)))?;
         let elem = ds.dtype().map_err(|e| StoreError::hdf5(self.path, e))?.size() as u64;
         let bytes = (ds.size() as u64).saturating_mul(elem);
         let stored = ds.storage_size();
