@@ -29,12 +29,45 @@ pub fn multipliers(m: &DMatrix<f64>) -> Vec<C64> {
         let shift = f * scale;
         let shifted = m + DMatrix::identity(n, n) * shift;
         nalgebra::Schur::try_new(shifted, f64::EPSILON, 1000 * n.max(1))
-            .map(|schur| schur.complex_eigenvalues().iter().map(|l| l - shift).collect::<Vec<C64>>())
+            .map(|schur| block_eigenvalues(&schur.unpack().1).into_iter().map(|l| l - shift).collect::<Vec<C64>>())
     }) else {
         return Vec::new();
     };
     mu.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(b.im.total_cmp(&a.im)));
     mu
+}
+
+/// The eigenvalues of the quasi-triangular Schur form `t`: its 1 × 1
+/// blocks, and each 2 × 2 block's pair, `(a + d)/2 ± √D` with
+/// `D = bc + ((a − d)/2)²`. A pair is complex where `D < 0` and real where
+/// `D ≥ 0`: a defective eigenvalue (a Jordan block, such as a rigid mode's
+/// multipliers 1) can leave a 2 × 2 block whose `D` rounds above 0, where
+/// nalgebra's `complex_eigenvalues` (which takes every block as complex)
+/// gives a NaN imaginary part. Elsewhere the same numbers as it, bit for bit.
+fn block_eigenvalues(t: &DMatrix<f64>) -> Vec<C64> {
+    let n = t.nrows();
+    let mut out = Vec::with_capacity(n);
+    let mut m = 0;
+    while m < n {
+        if m + 1 == n || t[(m + 1, m)] == 0.0 {
+            out.push(C64::new(t[(m, m)], 0.0));
+            m += 1;
+            continue;
+        }
+        let (a, b, c, d) = (t[(m, m)], t[(m, m + 1)], t[(m + 1, m)], t[(m + 1, m + 1)]);
+        let val = (a - d) * 0.5;
+        let discr = c * b + val * val;
+        let half = C64::new((d + a) * 0.5, 0.0);
+        if discr >= 0.0 {
+            let root = discr.sqrt();
+            out.extend([half + root, half - root]);
+        } else {
+            let root = C64::new(0.0, (-discr).sqrt());
+            out.extend([half + root, half - root]);
+        }
+        m += 2;
+    }
+    out
 }
 
 /// Largest modulus of `mu` (0 when empty).
@@ -102,6 +135,46 @@ pub fn kind(mu: C64, half: bool) -> Bifurcation {
 
 #[cfg(test)]
 mod tests {
+
+    /// A Jordan block at 1 (a free mass's position and velocity over a
+    /// period without events) beside a complex pair: every multiplier is
+    /// finite, the two at 1 within the square root of the rounding, and the
+    /// spectral radius 1 (nalgebra's `complex_eigenvalues` gave NaN for the
+    /// pair at 1 of the damper's resting free mass at ω = 1.35, and the
+    /// radius of the pair alone, 0.628).
+    #[test]
+    fn a_jordan_block_has_finite_multipliers() {
+        let jac = DMatrix::from_row_slice(
+            4,
+            4,
+            &[
+                -0.11401319028343625,
+                2.15501395319308e-16,
+                -0.6289387777645101,
+                9.669301306143277e-16,
+                1.1875659104115477e-16,
+                1.0,
+                9.921973608076105e-17,
+                4.654211338651545,
+                0.6289387777645116,
+                -2.2837295036015564e-16,
+                0.011774565269465829,
+                -4.481585556997624e-16,
+                2.8803099718043126e-19,
+                -1.788460119153784e-18,
+                1.218484440894464e-17,
+                0.9999999999999999,
+            ],
+        );
+        let mu = multipliers(&jac);
+        assert_eq!(mu.len(), 4);
+        assert!(mu.iter().all(|l| l.re.is_finite() && l.im.is_finite()), "{mu:?}");
+        assert!((spectral_radius(&mu) - 1.0).abs() < 1e-7, "{mu:?}");
+        assert_eq!(mu.iter().filter(|l| (*l - 1.0).norm() < 1e-7).count(), 2, "{mu:?}");
+        // The pair of the primary: 0.6278706319 in modulus, as `orbit` gives it.
+        assert!(mu.iter().filter(|l| (l.norm() - 0.6278706319).abs() < 1e-9).count() == 2, "{mu:?}");
+    }
+
     use super::*;
 
     #[test]
