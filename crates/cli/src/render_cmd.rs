@@ -69,14 +69,19 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     let quantity = match fixed {
         Some(ViewArg::Labels | ViewArg::Attractors) => None,
-        Some(ViewArg::Lyapunov | ViewArg::Multiplier) | None => Some(grid::Number::named(m, &a.view).ok_or_else(|| {
-            let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
-            let quantities = match stored.is_empty() {
-                true => "the file stores no quantities".to_string(),
-                false => format!("a quantity the file stores ({})", stored.join(", ")),
-            };
-            anyhow!("--view: '{}' is not labels, lyapunov, multiplier, attractors, basin:ID or {quantities}", a.view)
-        })?),
+        Some(ViewArg::Lyapunov | ViewArg::Multiplier) | None => {
+            Some(grid::Number::named(m, &a.view).ok_or_else(|| {
+                let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
+                let quantities = match stored.is_empty() {
+                    true => "the file stores no quantities".to_string(),
+                    false => format!("a quantity the file stores ({})", stored.join(", ")),
+                };
+                anyhow!(
+                    "--view: '{}' is not labels, lyapunov, multiplier, attractors, basin:ID or {quantities}",
+                    a.view
+                )
+            })?)
+        }
     };
     // A sweep file (one row), or one row of an atlas: a bifurcation diagram.
     let row = match &a.row {

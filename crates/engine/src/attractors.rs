@@ -105,14 +105,12 @@ impl Attractors {
         let attractors = self
             .found
             .iter()
-            .map(|at| {
-                AttractorReport {
-                    record: CellRecord::of(&masses, &[], &at.cell),
-                    fraction: self.fraction(at),
-                    count: at.count,
-                    state: at.cell.final_state.clone(),
-                    start: at.start.clone(),
-                }
+            .map(|at| AttractorReport {
+                record: CellRecord::of(&masses, &[], &at.cell),
+                fraction: self.fraction(at),
+                count: at.count,
+                state: at.cell.final_state.clone(),
+                start: at.start.clone(),
             })
             .collect();
         AttractorsReport {

@@ -69,7 +69,6 @@ pub use basins::{
     BoundaryReport, MAX_STARTS,
 };
 pub use cell::{cell, friction_names, Cell, CellReport};
-pub use record::CellRecord;
 pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
     CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced, DEFAULT_STEPS, DEFAULT_WINDOW,
@@ -83,6 +82,7 @@ pub use orbit::{
 };
 pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};
+pub use record::CellRecord;
 pub use sim::{check_period, labels_of, parameters_of, Origin, SceneLoadError, SceneSource, Setup, Sim, Source, Start};
 pub use study::{sheet_panel, study, StudyPlan};
 pub use summary::{

@@ -179,7 +179,8 @@ fn a_stored_cell_is_the_record_its_run_gives() {
         let (omega, sigma) = (&at["parameters"]["omega"], &at["parameters"]["sigma"]);
         let cell = get(p, &format!("/api/cell?sweep=up&omega={omega}&sigma={sigma}")).json();
         let stored = at["sweeps"]["up"].as_object().unwrap();
-        for key in ["class", "labels", "symmetry", "lyapunov", "max_multiplier", "reason", "final_state", "quantities"] {
+        for key in ["class", "labels", "symmetry", "lyapunov", "max_multiplier", "reason", "final_state", "quantities"]
+        {
             assert!(stored.contains_key(key), "{key} missing from {at}");
         }
         for (key, value) in stored {
@@ -199,7 +200,11 @@ fn malformed_requests_get_json_errors() {
     let many: String = (0..100).map(|i| format!("X-{i}: 1\r\n")).collect();
     let cases: Vec<(String, u16, &str)> = vec![
         (format!("GET /api/atlas HTTP/1.1\r\n{host}X-A: b\rc\r\n\r\n"), 400, "not HTTP/1.1"),
-        (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: 123456789012345678901234\r\n\r\n"), 400, "Content-Length"),
+        (
+            format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: 123456789012345678901234\r\n\r\n"),
+            400,
+            "Content-Length",
+        ),
         (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: +5\r\n\r\nabcde"), 400, "Content-Length"),
         (format!("GET /api/atlas HTTP/1.1\r\n{host}Transfer-Encoding: identity\r\n\r\n"), 400, "Transfer-Encoding"),
         (format!("POST /api/zoom HTTP/1.1\r\n{host}Content-Length: 18446744073709551615\r\n\r\n"), 413, "at most"),

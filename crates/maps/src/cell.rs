@@ -44,7 +44,12 @@ impl CellData {
     /// What is kept of the classification `cell`: at most `section_cap` of
     /// its period-section points, its `impact_sections` and the values of
     /// the `quantities` its run measures.
-    pub fn from_result(cell: CellResult, impact_sections: ImpactSections, quantities: Vec<f64>, section_cap: usize) -> CellData {
+    pub fn from_result(
+        cell: CellResult,
+        impact_sections: ImpactSections,
+        quantities: Vec<f64>,
+        section_cap: usize,
+    ) -> CellData {
         CellData {
             class: cell.class,
             labels: cell.labels.iter().map(|l| l.label).collect(),

@@ -6,8 +6,8 @@
 use crate::legend::{Entry, Swatch};
 use crate::map::{count, label_paint, sweep_rows, Hysteresis, Overlay, Paint, View};
 use crate::scalar::{Drawn, Scaled, NONE};
-use maps::Number;
 use crate::RenderError;
+use maps::Number;
 use maps::{Atlas, SweepKind};
 use plotters::style::RGBColor;
 

@@ -131,7 +131,10 @@ pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path
             // A file written before `reason_details` has its details
             // without it (the root's attributes_crc32, checked when the
             // file was read, says it never had one).
-            if root && attr == crate::layout::attr::REASON_DETAILS && !have.attr_names().is_ok_and(|n| n.contains(&attr)) {
+            if root
+                && attr == crate::layout::attr::REASON_DETAILS
+                && !have.attr_names().is_ok_and(|n| n.contains(&attr))
+            {
                 continue;
             }
             let w =
