@@ -87,11 +87,11 @@ impl Cell {
         let by_stop =
             |mask: Mask| sys.model.stops.iter().enumerate().map(move |(k, s)| (s.name.clone(), mask.contains(k)));
         let friction = friction_names(sys).into_iter().enumerate().map(|(i, n)| (n, c.friction_stick.contains(i)));
-        let quantities =
-            self.quantities.clone().unwrap_or_else(|| vec![f64::NAN; solver::quantity::all_names(sys).len()]);
+        let names = Quantity::of(sys);
+        let quantities = self.quantities.clone().unwrap_or_else(|| vec![f64::NAN; names.len()]);
         let kept = CellData::from_result(c.clone(), Vec::new(), quantities, usize::MAX);
         CellReport {
-            record: CellRecord::of(&sys.model.labelled_masses(), &Quantity::of(sys), &kept),
+            record: CellRecord::of(&sys.model.labelled_masses(), &names, &kept),
             scene: sys.model.name.clone(),
             parameters: parameters_of(sys),
             preset: s.preset.name(),

@@ -49,7 +49,7 @@ impl CellRecord {
         let measured = c.quantities.iter().any(|v| !v.is_nan());
         CellRecord {
             class: c.class.name(),
-            labels: masses.iter().cloned().zip(c.labels.iter().map(ToString::to_string)).collect(),
+            labels: labels(masses, c),
             symmetry: c.symmetry.map(|s| s.name()),
             lyapunov: c.lyapunov,
             max_multiplier: c.multiplier,
@@ -65,4 +65,9 @@ impl CellRecord {
     pub fn in_atlas(m: &Meta, c: &CellData) -> CellRecord {
         CellRecord::of(&m.masses, &m.quantities, c)
     }
+}
+
+/// The labels of `c` by mass, its labelled masses named `masses`.
+pub(crate) fn labels(masses: &[String], c: &CellData) -> BTreeMap<String, String> {
+    masses.iter().cloned().zip(c.labels.iter().map(ToString::to_string)).collect()
 }

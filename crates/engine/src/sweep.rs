@@ -7,7 +7,7 @@ use crate::error::Result;
 use crate::error::{grid_error, with_fields, Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::plan::Plan;
-use crate::record::CellRecord;
+use crate::record::{labels, CellRecord};
 use crate::sim::{Origin, Sim, Source, Start};
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
 use serde::Serialize;
@@ -290,11 +290,6 @@ impl Swept {
     }
 }
 
-/// The labels of a cell by mass.
-fn labels(atlas: &Atlas, c: &CellData) -> BTreeMap<String, String> {
-    atlas.meta.masses.iter().zip(&c.labels).map(|(name, l)| (name.clone(), l.to_string())).collect()
-}
-
 /// One point of a sweep.
 fn point(atlas: &Atlas, ix: usize, c: &CellData) -> SweepPoint {
     SweepPoint {
@@ -326,7 +321,11 @@ fn hysteresis(atlas: &Atlas) -> Vec<Differing> {
         .filter(|(_, &v)| v == 1)
         .filter_map(|(ix, _)| {
             let (u, d) = (up.cells[ix].as_ref()?, down.cells[ix].as_ref()?);
-            Some(Differing { value: atlas.meta.plane.x.value(ix), up: labels(atlas, u), down: labels(atlas, d) })
+            Some(Differing {
+                value: atlas.meta.plane.x.value(ix),
+                up: labels(&atlas.meta.masses, u),
+                down: labels(&atlas.meta.masses, d),
+            })
         })
         .collect()
 }

@@ -95,8 +95,8 @@ async fn screen(mut stream: TcpStream) -> Option<Prefixed> {
                     Head::Whole(n) => Some(n),
                 };
             }
-            if whole.is_some_and(|n| read.len() >= n) {
-                return Ok(Ok(whole.unwrap_or(0)));
+            if let Some(n) = whole.filter(|&n| read.len() >= n) {
+                return Ok(Ok(n));
             }
             match stream.read(&mut chunk).await {
                 Ok(0) | Err(_) => return Err(()),
@@ -213,7 +213,7 @@ pub(crate) struct Prefixed {
 }
 
 impl AsyncRead for Prefixed {
-    fn poll_read(mut self: Pin<&mut Self>, cx: &mut Context<'_>, buf: &mut ReadBuf<'_>) -> Poll<io::Result<()>> {
+    fn poll_read(mut self: Pin<&mut Self>, _cx: &mut Context<'_>, buf: &mut ReadBuf<'_>) -> Poll<io::Result<()>> {
         let this = &mut *self;
         if this.at < this.read.len() {
             let n = buf.remaining().min(this.read.len() - this.at);
@@ -223,7 +223,6 @@ impl AsyncRead for Prefixed {
         }
         // Never more: the server answers and closes (a read that never
         // ends, as no other request is to come).
-        let _ = cx;
         Poll::Pending
     }
 }

@@ -620,13 +620,15 @@ fn open_sweep(ck: &Checker, f: &hdf5::File, meta: &Meta, sweep: SweepKind) -> Re
             let detail = match (g.link_exists(REASON_DETAIL), detailed.iter().any(|s| s == sweep.name())) {
                 (true, _) => Some(ck.open(&g, REASON_DETAIL)?),
                 (false, false) => None,
-                (false, true) => return Err(ck.bad(
-                    &format!("{}/{REASON_DETAIL}", sweep.name()),
-                    format!(
+                (false, true) => {
+                    return Err(ck.bad(
+                        &format!("{}/{REASON_DETAIL}", sweep.name()),
+                        format!(
                         "missing, which the attribute {} of / names: the file was changed since vibroatlas wrote it",
                         attr::REASON_DETAILS
                     ),
-                )),
+                    ))
+                }
             };
             Some(Reasons { table, codes: plane(REASON_CODE)?, detail })
         } else {
