@@ -8,11 +8,13 @@
 # and ends with one line "tests: N passed, M failed" summing every cargo test
 # result and the Python ones.
 #
-# scripts/test.sh --quick is the contributor's loop (a few minutes once built,
-# docs/performance.md): every cargo test of the workspace (unit, the solver's
-# and the explorer's in-process route tests, integration, doc tests), without
-# clippy, rustdoc, the reference readers, chromium, the gallery or the wheel;
-# it ends with the same closing line. CI runs the whole suite.
+# scripts/test.sh --quick is the contributor's loop (about two minutes once
+# built, docs/performance.md): the workspace's unit tests, the solver's physics
+# (crates/solver/tests), the explorer's in-process route tests and the
+# integration tests, leaving out those marked slow (#[ignore = "slow: …"]),
+# the doc tests, clippy, rustdoc, the reference readers, chromium, the
+# gallery and the wheel; it ends with the same closing line. CI runs the
+# whole suite, the slow tests included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ "${1:-}" = "--quick" ]; then
@@ -20,7 +22,7 @@ if [ "${1:-}" = "--quick" ]; then
     export HDF5_USE_FILE_LOCKING=FALSE
     log=$(mktemp)
     trap 'rm -f "$log"' EXIT
-    cargo test --workspace --exclude vibroatlas-python --release 2>&1 | tee "$log"
+    cargo test --workspace --exclude vibroatlas-python --release --tests 2>&1 | tee "$log"
     awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
     exit 0
 fi
@@ -38,7 +40,7 @@ trap 'rm -rf "$tmp"' EXIT
 export HDF5_USE_FILE_LOCKING=FALSE
 # The Python extension (crates/python) links into a Python process only: its
 # tests are the pytest suite that scripts/test-python.sh runs below.
-cargo test --workspace --exclude vibroatlas-python --release 2>&1 | tee "$tmp/test.log"
+cargo test --workspace --exclude vibroatlas-python --release -- --include-ignored 2>&1 | tee "$tmp/test.log"
 # Lints and docs are part of the tests: no warning passes.
 cargo clippy --workspace --all-targets --release --quiet -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet

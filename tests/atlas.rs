@@ -82,6 +82,7 @@ fn shards_merge_into_the_single_run() {
 /// Issue 3: a run killed mid-way and resumed equals an uninterrupted one, and
 /// the kill leaves nothing under the final name.
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn killed_run_resumes_to_the_same_file() {
     let d = scratch("resume");
     let args = |out: &Path| -> Vec<String> {

@@ -249,6 +249,7 @@ fn report(args: &[&str], out: &std::path::Path) -> serde_json::Value {
 const SINGLE: [&str; 7] = ["configs/single-stop.toml", "--set", "omega=2.5", "--set", "sigma=1", "--set", "zeta=0.05"];
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn a_smooth_boundary_has_exponent_one_and_a_riddled_one_near_zero() {
     let d = scratch("basins-boundary");
     let mut smooth = SINGLE.to_vec();
@@ -340,6 +341,7 @@ print(int((label(w) != label(e)).sum()), float(e["periods"][:].mean()), float(w[
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn basin_fractions_agree_with_the_sampled_attractors() {
     // A one-mass scene: `attractors --box 2,3` draws (x, v) uniformly in
     // [−2, 2] × [−3, 3] and draws again where x passes the stop at σ, so

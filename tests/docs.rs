@@ -143,6 +143,7 @@ fn the_symmetric_stops_past_their_ns_point_are_as_the_models_page_says() {
 /// docs/models.md, section 2: the dry-friction sweep down from ω = 8, as
 /// the page's sweep prints it (its windows, and where 1-2-2 begins).
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn the_dry_friction_route_down_is_as_the_models_page_says() {
     let p = models_sweep(
         "vibroatlas sweep configs/dry-friction.toml --axis omega=8:1",
@@ -303,6 +304,7 @@ fn scenes_page_says_subscripts_are_drawn() {
 /// for line (the files they write go to a scratch folder), and its Python
 /// block reads the file the first one writes.
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn the_basins_page_prints_what_basins_prints() {
     let page = read("docs/basins.md");
     let d = crate::util::scratch("docs-basins");

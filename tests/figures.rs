@@ -241,6 +241,7 @@ fn curves_are_stored_and_drawn_over_maps() {
 /// differ, follows them row by row, and writes a file `render --curves` draws;
 /// the same atlas gives the same curves.
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn curves_are_found_on_a_map() {
     let d = scratch("curves-map");
     let a = d.join("a.h5");

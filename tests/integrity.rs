@@ -633,6 +633,7 @@ fn dataset_mutations() -> Vec<String> {
 /// and `cell --from` (and the binary for a few): errors, never a panic or an
 /// abort. Bounded: about 30 s.
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn fuzzed_files_never_panic_or_abort() {
     let d = scratch("integrity-fuzz");
     let started = std::time::Instant::now();

@@ -81,6 +81,7 @@ fn json(out: &Output) -> serde_json::Value {
 /// count against the event budget, so the cell ends `U`, both labels, with
 /// the budget's reason, well before the deadline.
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn rk4_steps_count_against_the_event_budget() {
     let base = ["cell", "configs/multi-stop.toml", "--set", "delta=1e-4", "--set", "omega=1.0"];
     for extra in [&["--accuracy", "max_events=3e5"][..], &[][..]] {

@@ -85,26 +85,31 @@ fn top_labels_stay_apart(config: &str, x: &str, y: &str) {
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn multi_stop_top_labels_stay_apart() {
     top_labels_stay_apart("multi-stop.toml", "omega=0.1:3.05:120", "delta=0.05:2:80");
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn single_stop_top_labels_stay_apart() {
     top_labels_stay_apart("single-stop.toml", "omega=0.5:5:100", "sigma=-1.5:0.5:64");
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn impact_damper_top_labels_stay_apart() {
     top_labels_stay_apart("impact-damper.toml", "omega=0.8:2.4:100", "delta=0.5:3:64");
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn symmetric_stops_top_labels_stay_apart() {
     top_labels_stay_apart("symmetric-stops.toml", "omega=0.5:3:100", "delta=0.05:1:64");
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn dry_friction_top_labels_stay_apart() {
     top_labels_stay_apart("dry-friction.toml", "omega=1:9:64", "fk=0.005:0.1:40");
 }

@@ -191,6 +191,7 @@ fn bad_print_options_are_refused_naming_the_option() {
 /// plane's hysteresis panel is drawn in blocks of cells (its title says how
 /// many), at the screen size cell by cell.
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn tiny_split_cells_print_in_blocks_that_say_so() {
     let d = std::env::temp_dir().join(format!("vibroatlas-print-blocks-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();

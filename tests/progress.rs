@@ -69,6 +69,7 @@ fn atlas_line(line: &str) -> (u64, u64, u64, Option<u64>) {
 }
 
 #[test]
+#[ignore = "slow: the full suite runs it"]
 fn atlas_and_curves_print_well_formed_progress_lines_off_a_terminal() {
     let d = scratch("progress");
     let (quiet, chatty) = (d.join("quiet.h5"), d.join("chatty.h5"));

@@ -1,62 +1,13 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests: the binary's runs, and (from the
+//! solver's physics tests, one copy for both) the shipped scenes' systems and
+//! a recording observer.
 
-use solver::{Accuracy, DVector, Method, Observer, Simulator, System};
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-/// Path of a shipped config.
-pub fn config(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("configs").join(name)
-}
-
-/// The evaluated system of a shipped scene with parameter overrides.
-pub fn system(name: &str, sets: &[(&str, f64)]) -> System {
-    let text = std::fs::read_to_string(config(name)).unwrap();
-    let scene = scene::Scene::parse(&text).unwrap();
-    let overrides: Vec<(String, f64)> = sets.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    System::new(scene.evaluate(&overrides).unwrap()).unwrap()
-}
-
-/// One recorded impact.
-#[derive(Debug, Clone)]
-pub struct Impact {
-    pub time: f64,
-    pub stop: usize,
-    pub before: DVector<f64>,
-    pub after: DVector<f64>,
-}
-
-/// Observer keeping every impact and every event state.
-#[derive(Debug, Default)]
-pub struct Recorder {
-    pub impacts: Vec<Impact>,
-    pub events: Vec<(f64, DVector<f64>)>,
-}
-
-impl Observer for Recorder {
-    fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
-        self.impacts.push(Impact { time, stop, before: before.clone(), after: after.clone() });
-    }
-    fn event(&mut self, time: f64, y: &DVector<f64>) {
-        self.events.push((time, y.clone()));
-    }
-}
-
-/// Simulates `periods` periods from `y0` and records what happened.
-pub fn record<'s>(
-    sys: &'s System,
-    acc: &Accuracy,
-    method: Method,
-    y0: &[f64],
-    periods: usize,
-) -> (Recorder, Simulator<'s>) {
-    let mut sim = Simulator::new(sys, *acc, method, y0).unwrap();
-    let mut rec = Recorder::default();
-    for _ in 0..periods {
-        sim.run_period(&[], false, &mut rec).unwrap();
-    }
-    (rec, sim)
-}
+#[path = "../crates/solver/tests/physics/common.rs"]
+mod common;
+pub use common::{config, record, system};
 
 /// Runs the real binary.
 pub fn run(args: &[&str]) -> Output {

@@ -2,7 +2,7 @@
 //! finite, stops are never penetrated by more than the contact tolerance, and
 //! energy never increases at an impact.
 
-use crate::util::system;
+use crate::common::system;
 use proptest::prelude::*;
 use solver::{Accuracy, Method};
 
@@ -18,7 +18,7 @@ proptest! {
             Ok(s) => s,
             Err(h) => return Err(TestCaseError::fail(format!("{h:?}"))),
         };
-        let mut rec = crate::util::Recorder::default();
+        let mut rec = crate::common::Recorder::default();
         for _ in 0..6 {
             if sim.run_period(&[], false, &mut rec).is_err() {
                 break; // an exhausted budget is an outcome, not a failure

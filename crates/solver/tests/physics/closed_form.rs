@@ -1,6 +1,6 @@
 //! Closed-form checks of the exact solver (issue 2).
 
-use crate::util::{record, system};
+use crate::common::{record, system};
 use solver::reference::{free_amplitude, single_stop_impact_speeds};
 use solver::{run_cell, Accuracy, Class, Method, Preset};
 

@@ -1,6 +1,6 @@
 //! Agreement of the exact flow with the RK4 integrator (issue 2).
 
-use crate::util::{record, system};
+use crate::common::{record, system};
 use solver::{Accuracy, Method};
 
 /// Issue 2: impact times of exact flow and RK4 (h = 1e-3) agree to 1e-6 over

@@ -10,7 +10,7 @@
 //! solver's `max_abs_x_*` and `impact_speed_max_*` to 1e-8, on 24 cells of
 //! five scenes.
 
-use crate::util::system;
+use crate::common::system;
 use scene::StopLaw;
 use solver::DVector;
 use solver::{run_cell_measured, Accuracy, Class, Method, System};
