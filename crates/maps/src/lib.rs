@@ -22,6 +22,7 @@ mod atlas;
 mod axis;
 pub mod basins;
 mod cell;
+pub mod code;
 mod error;
 mod families;
 pub mod hysteresis;

@@ -15,6 +15,7 @@
 use crate::error::{JournalProblem, StoreError};
 use maps::{CellData, Line, Meta, SweepKind};
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -24,34 +25,13 @@ struct Header {
     fingerprint: String,
 }
 
+/// A finished line as the journal holds it: its cells in their one serde
+/// form ([`maps::code`]), borrowed when written.
 #[derive(Serialize, Deserialize)]
-struct JCell {
-    class: u8,
-    labels: Vec<[u16; 3]>,
-    chatter: u32,
-    sticking: u32,
-    symmetry: u8,
-    #[serde(default)]
-    lyapunov: Option<f64>,
-    #[serde(default)]
-    multiplier: Option<f64>,
-    final_state: Vec<f64>,
-    periods: u64,
-    events: u64,
-    period_section: Vec<Vec<f64>>,
-    impact_sections: Vec<Vec<Vec<f64>>>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    reason: Option<solver::Unresolved>,
-    /// The quantities (null: NaN, which JSON cannot hold).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    quantities: Vec<Option<f64>>,
-}
-
-#[derive(Serialize, Deserialize)]
-struct JLine {
-    sweep: String,
+struct JLine<'a> {
+    sweep: Cow<'a, str>,
     index: usize,
-    cells: Vec<JCell>,
+    cells: Cow<'a, [CellData]>,
 }
 
 /// A journal line as written: the line and the checksum of its JSON text with
@@ -113,31 +93,8 @@ pub fn fingerprint(text: &str) -> String {
     format!("{:016x}", fnv1a(FNV_OFFSET, text.as_bytes()))
 }
 
-fn encode(line: &Line) -> JLine {
-    JLine {
-        sweep: line.sweep.name().to_string(),
-        index: line.index,
-        cells: line
-            .cells
-            .iter()
-            .map(|c| JCell {
-                class: crate::layout::class_code(c.class),
-                labels: c.labels.iter().map(|&l| crate::layout::npq_code(l)).collect(),
-                chatter: c.chatter.bits(),
-                sticking: c.sticking.bits(),
-                symmetry: crate::layout::symmetry_code(c.symmetry),
-                lyapunov: c.lyapunov,
-                multiplier: c.multiplier,
-                final_state: c.final_state.clone(),
-                periods: c.periods,
-                events: c.events,
-                period_section: c.period_section.clone(),
-                impact_sections: c.impact_sections.clone(),
-                reason: c.reason.clone(),
-                quantities: c.quantities.iter().map(|&v| (!v.is_nan()).then_some(v)).collect(),
-            })
-            .collect(),
-    }
+fn encode(line: &Line) -> JLine<'_> {
+    JLine { sweep: Cow::Borrowed(line.sweep.name()), index: line.index, cells: Cow::Borrowed(&line.cells) }
 }
 
 /// Checks a decoded line against the shape of the atlas it belongs to.
@@ -152,46 +109,24 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
     if j.cells.len() != p.line_len() {
         return Err(format!("{} cells, the grid's lines have {}", j.cells.len(), p.line_len()));
     }
-    let cells = j
-        .cells
-        .into_iter()
-        .enumerate()
-        .map(|(i, c)| {
-            let bad = |what: &str| Err(format!("cell {i}: {what}"));
-            if c.labels.len() != meta.masses.len() {
-                return bad("wrong number of labels");
-            }
-            if c.final_state.len() != meta.dim || c.period_section.iter().any(|r| r.len() != meta.dim) {
-                return bad("state of the wrong dimension");
-            }
-            if c.impact_sections.len() != meta.stops.len()
-                || c.impact_sections.iter().flatten().any(|r| r.len() != meta.dim + 1)
-            {
-                return bad("impact sections of the wrong shape");
-            }
-            if c.quantities.len() != meta.quantities.len() {
-                return bad("wrong number of quantities");
-            }
-            let Some(class) = crate::layout::class_of(c.class) else { return bad("unknown class code") };
-            Ok(CellData {
-                class,
-                labels: c.labels.iter().map(|&l| crate::layout::label_of(class, l)).collect(),
-                chatter: solver::Mask::from_bits(c.chatter),
-                sticking: solver::Mask::from_bits(c.sticking),
-                symmetry: crate::layout::symmetry_of(c.symmetry),
-                lyapunov: c.lyapunov,
-                multiplier: c.multiplier,
-                final_state: c.final_state,
-                periods: c.periods,
-                events: c.events,
-                period_section: c.period_section,
-                impact_sections: c.impact_sections,
-                reason: c.reason,
-                quantities: c.quantities.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
-            })
-        })
-        .collect::<Result<Vec<_>, String>>()?;
-    Ok(Line { sweep, index: j.index, cells })
+    for (i, c) in j.cells.iter().enumerate() {
+        let bad = |what: &str| Err(format!("cell {i}: {what}"));
+        if c.labels.len() != meta.masses.len() {
+            return bad("wrong number of labels");
+        }
+        if c.final_state.len() != meta.dim || c.period_section.iter().any(|r| r.len() != meta.dim) {
+            return bad("state of the wrong dimension");
+        }
+        if c.impact_sections.len() != meta.stops.len()
+            || c.impact_sections.iter().flatten().any(|r| r.len() != meta.dim + 1)
+        {
+            return bad("impact sections of the wrong shape");
+        }
+        if c.quantities.len() != meta.quantities.len() {
+            return bad("wrong number of quantities");
+        }
+    }
+    Ok(Line { sweep, index: j.index, cells: j.cells.into_owned() })
 }
 
 /// Checksum of a line's JSON text within the run `fingerprint`.

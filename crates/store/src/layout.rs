@@ -113,8 +113,8 @@ pub const SECTIONS: &str = "sections";
 pub const PERIOD_SECTION: &str = "period";
 /// Class code of a cell not computed (shards).
 pub const NOT_COMPUTED: u8 = 255;
-/// Code of an `S` count in labels.
-pub const STUCK: u16 = u16::MAX;
+/// The codes of a cell's class, labels and symmetry (the journal's too).
+pub use maps::code::{class_code, class_of, label_of, npq_code, symmetry_code, symmetry_of, STUCK};
 /// Description of the class codes, stored as an attribute.
 pub const CLASS_CODES: &str = "0 periodic, 1 chaotic, 2 unresolved, 3 quasiperiodic, 255 not computed";
 /// Description of the symmetry codes.
@@ -145,25 +145,6 @@ pub fn sticking_shift(stops: usize) -> u32 {
     }
 }
 
-/// The stored `(n, p, q)` of a label: `n = 0` when not periodic, [`STUCK`]
-/// for an `S` count, impact counts capped below it.
-pub fn npq_code(label: solver::Label) -> [u16; 3] {
-    let code = |c: solver::Count| match c {
-        solver::Count::Impacts(v) => v.min(STUCK as u32 - 1) as u16,
-        solver::Count::Stuck => STUCK,
-    };
-    match label.npq() {
-        Some((n, p, q)) => [n.min(u16::MAX as u32) as u16, code(p), code(q)],
-        None => [0, 0, 0],
-    }
-}
-
-/// The label of a stored `(n, p, q)` in a cell of class `class`.
-pub fn label_of(class: solver::Class, npq: [u16; 3]) -> solver::Label {
-    let count = |v: u16| if v == STUCK { solver::Count::Stuck } else { solver::Count::Impacts(v as u32) };
-    solver::Label::new(class, Some((npq[0] as u32, count(npq[1]), count(npq[2]))))
-}
-
 /// The flags word of a cell: bit k when stop k chatters, bit
 /// `k + sticking_shift` when it sticks.
 pub fn flags_code(chatter: solver::Mask, sticking: solver::Mask, stops: usize) -> u32 {
@@ -174,45 +155,6 @@ pub fn flags_code(chatter: solver::Mask, sticking: solver::Mask, stops: usize) -
 pub fn flags_of(word: u32, stops: usize) -> (solver::Mask, solver::Mask) {
     let shift = sticking_shift(stops);
     (solver::Mask::from_bits(word & ((1 << shift) - 1)), solver::Mask::from_bits(word >> shift))
-}
-
-/// Class code of a solver class.
-pub fn class_code(c: solver::Class) -> u8 {
-    match c {
-        solver::Class::Periodic => 0,
-        solver::Class::Chaotic => 1,
-        solver::Class::Unresolved => 2,
-        solver::Class::Quasiperiodic => 3,
-    }
-}
-
-/// Solver class of a code (`None` for not computed).
-pub fn class_of(code: u8) -> Option<solver::Class> {
-    match code {
-        0 => Some(solver::Class::Periodic),
-        1 => Some(solver::Class::Chaotic),
-        2 => Some(solver::Class::Unresolved),
-        3 => Some(solver::Class::Quasiperiodic),
-        _ => None,
-    }
-}
-
-/// Symmetry code.
-pub fn symmetry_code(s: Option<solver::Symmetry>) -> u8 {
-    match s {
-        None => 0,
-        Some(solver::Symmetry::Symmetric) => 1,
-        Some(solver::Symmetry::Asymmetric) => 2,
-    }
-}
-
-/// Symmetry of a code.
-pub fn symmetry_of(code: u8) -> Option<solver::Symmetry> {
-    match code {
-        1 => Some(solver::Symmetry::Symmetric),
-        2 => Some(solver::Symmetry::Asymmetric),
-        _ => None,
-    }
 }
 
 /// Names of curve files and of an atlas's `curves` group (`crate::curve`).

@@ -62,4 +62,3 @@ pub fn record<'s>(
     }
     (rec, sim)
 }
-
