@@ -111,42 +111,54 @@ print(len(only), len(b))
 }
 
 /// `inspect --quantity NAME --json` gives each sweep's smallest and largest
-/// value and where, as numpy finds them in the file; `render --view NAME`
+/// value and where, and the number's symbol, long name and units, as xarray
+/// finds them in the file, for a quantity and for the multiplier; `render --view NAME`
 /// draws the quantity; unknown names are one line each.
 #[test]
 fn inspect_and_render_a_quantity() {
     let d = scratch("quantities-inspect");
     let f = damper(&d, &[]);
-    let r = json_of(&["inspect", &f, "--quantity", "impact_speed_max_left", "--json"]);
-    let want = python(
-        r#"
+    // A quantity of the steady motion and a number of the classification
+    // (NaN where a cell is not periodic): their extremes, cell counts and
+    // attributes as xarray reads them.
+    for name in ["impact_speed_max_left", "multiplier"] {
+        let r = json_of(&["inspect", &f, "--quantity", name, "--json"]);
+        let want = python(
+            r#"
 import sys, xarray as xr, numpy as np
 for g in ["down", "up"]:
     with xr.open_dataset(sys.argv[1], engine="h5netcdf", group=g) as ds:
-        v = ds["impact_speed_max_left"]
+        v = ds[sys.argv[2]]
         lo, hi = v.argmin(...), v.argmax(...)
         print(g, repr(float(v.min())), repr(float(ds.omega[lo["omega"]])), repr(float(ds.delta[lo["delta"]])),
-              repr(float(v.max())), repr(float(ds.omega[hi["omega"]])), repr(float(ds.delta[hi["delta"]])))
+              repr(float(v.max())), repr(float(ds.omega[hi["omega"]])), repr(float(ds.delta[hi["delta"]])),
+              int(np.isfinite(v.values).sum()), "|".join(v.attrs[a] for a in ["symbol", "long_name", "units"]))
 "#,
-        &[&f],
-    );
-    for line in want.lines() {
-        let w: Vec<&str> = line.split(' ').collect();
-        let s = &r["sweeps"][w[0]];
-        let num = |t: &str| t.parse::<f64>().unwrap();
-        assert_eq!(s["cells"], 40);
-        assert_eq!(s["min"]["value"].as_f64(), Some(num(w[1])), "{line}");
-        assert_eq!(s["min"]["at"]["omega"].as_f64(), Some(num(w[2])), "{line}");
-        assert_eq!(s["min"]["at"]["delta"].as_f64(), Some(num(w[3])), "{line}");
-        assert_eq!(s["max"]["value"].as_f64(), Some(num(w[4])), "{line}");
-        assert_eq!(s["max"]["at"]["omega"].as_f64(), Some(num(w[5])), "{line}");
-        assert_eq!(s["max"]["at"]["delta"].as_f64(), Some(num(w[6])), "{line}");
+            &[&f, name],
+        );
+        for line in want.lines() {
+            let w: Vec<&str> = line.splitn(9, ' ').collect();
+            let s = &r["sweeps"][w[0]];
+            let num = |t: &str| t.parse::<f64>().unwrap();
+            assert_eq!(s["cells"].as_u64(), Some(w[7].parse().unwrap()), "{line}");
+            assert_eq!(s["min"]["value"].as_f64(), Some(num(w[1])), "{line}");
+            assert_eq!(s["min"]["at"]["omega"].as_f64(), Some(num(w[2])), "{line}");
+            assert_eq!(s["min"]["at"]["delta"].as_f64(), Some(num(w[3])), "{line}");
+            assert_eq!(s["max"]["value"].as_f64(), Some(num(w[4])), "{line}");
+            assert_eq!(s["max"]["at"]["omega"].as_f64(), Some(num(w[5])), "{line}");
+            assert_eq!(s["max"]["at"]["delta"].as_f64(), Some(num(w[6])), "{line}");
+            let attrs = [&r["symbol"], &r["long_name"], &r["units"]].map(|v| v.as_str().unwrap().to_string());
+            assert_eq!(attrs.join("|"), w[8], "{line}");
+        }
     }
     let png = d.join("m1.png");
     ok(&["render", &f, "--view", "max_abs_x_M1", "--sweep", "up", "-o", png.to_str().unwrap()]);
     assert!(std::fs::metadata(&png).unwrap().len() > 10_000);
     for (args, says) in [
-        (vec!["inspect", &f, "--quantity", "nope"], "error: --quantity: 'nope' is not a quantity the file stores"),
+        (
+            vec!["inspect", &f, "--quantity", "nope"],
+            "error: --quantity: 'nope' is not a number the file stores per cell",
+        ),
         (vec!["render", &f, "--view", "nope", "-o", png.to_str().unwrap()], "error: --view: 'nope' is not labels"),
     ] {
         let out = run(&args);

@@ -497,9 +497,9 @@ pub struct InspectArgs {
     /// naming it.
     #[arg(long)]
     pub verify: bool,
-    /// Where a stored quantity of the steady motion (max_abs_x_M1, power_in)
-    /// is smallest and largest over each sweep's plane, and the cells'
-    /// parameters there.
+    /// Where a number stored per cell (a quantity of the steady motion:
+    /// max_abs_x_M1, power_in; or multiplier, lyapunov) is smallest and
+    /// largest over each sweep's plane, and the cells' parameters there.
     #[arg(long, value_name = "NAME")]
     pub quantity: Option<String>,
     /// With --quantity: only this sweep (fresh, up or down).

@@ -412,12 +412,15 @@ mod tests {
     }
 }
 
-/// Where a quantity of the steady motion is smallest and largest over the
-/// plane of each sweep (`inspect --quantity NAME`).
+/// Where a number per cell (a quantity of the steady motion, the largest
+/// multiplier or the Lyapunov exponent: [`grid::Number`]) is smallest and
+/// largest over the plane of each sweep (`inspect --quantity NAME`).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct QuantityReport {
-    /// The quantity's name (`max_abs_x_M1`).
+    /// The number's name (`max_abs_x_M1`, `multiplier`).
     pub name: String,
+    /// Its symbol (`max |x|`).
+    pub symbol: String,
     /// Its long name.
     pub long_name: String,
     /// Its units.
@@ -453,12 +456,9 @@ impl QuantityReport {
     pub fn of(atlas: &Atlas, name: &str, sweep: Option<grid::SweepKind>) -> crate::Result<QuantityReport> {
         use crate::error::{Opt, RequestError};
         let m = &atlas.meta;
-        let Some(k) = m.quantities.iter().position(|q| q.name == name) else {
-            let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
-            let why = match stored.is_empty() {
-                true => format!("'{name}': the file stores no quantities"),
-                false => format!("'{name}' is not a quantity the file stores ({})", stored.join(", ")),
-            };
+        let Some(number) = grid::Number::named(m, name) else {
+            let stored: Vec<&str> = grid::Number::all(m).map(|n| n.name(m)).collect();
+            let why = format!("'{name}' is not a number the file stores per cell ({})", stored.join(", "));
             return Err(RequestError::option(Opt::Quantity).text(why).into());
         };
         if let Some(s) = sweep.filter(|s| !m.sweeps.contains(s)) {
@@ -468,10 +468,7 @@ impl QuantityReport {
         }
         let mut sweeps = BTreeMap::new();
         for map in atlas.maps.iter().filter(|map| sweep.is_none_or(|s| s == map.sweep)) {
-            let values = map.cells.iter().enumerate().filter_map(|(i, c)| {
-                let v = c.as_ref()?.quantities.get(k).copied().filter(|v| v.is_finite())?;
-                Some((i, v))
-            });
+            let values = map.cells.iter().enumerate().filter_map(|(i, c)| Some((i, number.value(c.as_ref()?)?)));
             // The cell index and value of the smallest and the largest so far.
             type Best = Option<(usize, f64)>;
             let (mut cells, mut min, mut max): (usize, Best, Best) = (0, None, None);
@@ -491,8 +488,13 @@ impl QuantityReport {
             sweeps
                 .insert(map.sweep.name().to_string(), QuantityExtremes { cells, min: extreme(min), max: extreme(max) });
         }
-        let q = &m.quantities[k];
-        Ok(QuantityReport { name: q.name.clone(), long_name: q.long_name.clone(), units: q.units.clone(), sweeps })
+        Ok(QuantityReport {
+            name: name.to_string(),
+            symbol: number.symbol(m).to_string(),
+            long_name: number.long_name(m).to_string(),
+            units: number.units(m).to_string(),
+            sweeps,
+        })
     }
 
     /// The report as JSON (the object of `inspect --quantity NAME --json`).

@@ -109,6 +109,33 @@ impl Number {
         }
     }
 
+    /// Its symbol (`max |μ|`, `λ`, a quantity's `max |x|`).
+    pub fn symbol(self, m: &crate::Meta) -> &str {
+        match self {
+            Number::Lyapunov => "λ",
+            Number::Multiplier => "max |μ|",
+            Number::Quantity(k) => &m.quantities[k].symbol,
+        }
+    }
+
+    /// Its long name: the file's `long_name` and a figure's title.
+    pub fn long_name(self, m: &crate::Meta) -> &str {
+        match self {
+            Number::Lyapunov => "largest Lyapunov exponent per unit time (cells without a period)",
+            Number::Multiplier => "largest Floquet multiplier modulus (periodic cells)",
+            Number::Quantity(k) => &m.quantities[k].long_name,
+        }
+    }
+
+    /// Its CF units (the classification's numbers are pure numbers of the
+    /// scene's time).
+    pub fn units(self, m: &crate::Meta) -> &str {
+        match self {
+            Number::Lyapunov | Number::Multiplier => "1",
+            Number::Quantity(k) => &m.quantities[k].units,
+        }
+    }
+
     /// Whether it is a quantity of the steady motion (which has an up less
     /// down map), not a number of the classification.
     pub fn of_motion(self) -> bool {

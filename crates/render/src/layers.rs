@@ -112,12 +112,17 @@ pub fn layer(atlas: &Atlas, show: Show, mass: usize, curves: &[Overlay]) -> Resu
         }
         Show::Scalar(sweep, quantity) => {
             let s = Scaled::of(atlas, sweep, quantity)?;
-            let title = format!("{}: {}", quantity.unit(m), quantity.title(m));
+            let title = format!("{}: {}", quantity.unit(m), quantity.long_name(m));
             scalar_layer(&s, &mut put, quantity.none(), title)
         }
         Show::Difference(quantity) => {
             let s = Scaled::difference(atlas, quantity)?;
-            scalar_layer(&s, &mut put, "none", format!("Δ {}: up less down: {}", quantity.unit(m), quantity.title(m)))
+            scalar_layer(
+                &s,
+                &mut put,
+                "none",
+                format!("Δ {}: up less down: {}", quantity.unit(m), quantity.long_name(m)),
+            )
         }
     };
     Ok(Layer { nx, ny, above, below, legend: legend.iter().map(key).collect(), scale })

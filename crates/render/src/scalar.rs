@@ -18,8 +18,6 @@ use std::path::Path;
 
 /// How a continuous map draws each number per cell ([`Number`]).
 pub(crate) trait Drawn {
-    /// The figure's title.
-    fn title(self, m: &Meta) -> String;
     /// What a cell without the number is (legend text).
     fn none(self) -> &'static str;
     /// Colour-bar label.
@@ -31,14 +29,6 @@ pub(crate) trait Drawn {
 }
 
 impl Drawn for Number {
-    fn title(self, m: &Meta) -> String {
-        match self {
-            Number::Lyapunov => "largest Lyapunov exponent (cells without a period)".into(),
-            Number::Multiplier => "largest |Floquet multiplier| (periodic cells)".into(),
-            Number::Quantity(k) => m.quantities[k].long_name.clone(),
-        }
-    }
-
     fn none(self) -> &'static str {
         match self {
             Number::Lyapunov => "periodic",
@@ -49,9 +39,8 @@ impl Drawn for Number {
 
     fn unit(self, m: &Meta) -> String {
         match self {
-            Number::Lyapunov => "λ (per unit time)".into(),
-            Number::Multiplier => "max |μ|".into(),
             Number::Quantity(k) => m.quantities[k].with_units(&m.quantities[k].name),
+            number => number.symbol(m).to_string(),
         }
     }
 
@@ -166,7 +155,7 @@ pub fn scalar_map(
     let m = &atlas.meta;
     let scaled = Scaled::of(atlas, sweep, quantity)?;
     let text = Texts {
-        title: format!("{} sweep: {}", sweep.name(), quantity.title(m)),
+        title: format!("{} sweep: {}", sweep.name(), quantity.long_name(m)),
         unit: quantity.unit(m),
         none: quantity.none().into(),
         levels: crate::contour::levels(scaled.lo, scaled.hi, contours),
@@ -189,7 +178,7 @@ pub fn difference_map(
     let m = &atlas.meta;
     let scaled = Scaled::difference(atlas, quantity)?;
     let text = Texts {
-        title: format!("up sweep less down sweep: {}", quantity.title(m)),
+        title: format!("up sweep less down sweep: {}", quantity.long_name(m)),
         unit: format!("Δ {}", quantity.unit(m)),
         none: "none".into(),
         levels: crate::contour::levels(scaled.lo, scaled.hi, contours).into_iter().filter(|&l| l != 0.0).collect(),

@@ -235,21 +235,6 @@ impl Field {
                 netcdf::attr_str(&d, "flag_meanings", "none symmetric asymmetric")?;
                 d
             }
-            Field::Number(Number::Lyapunov) => {
-                let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
-                gridded(&d, "largest Lyapunov exponent per unit time (cells without a period)")?;
-                netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-                let meaning = "largest Lyapunov exponent per unit time of cells without a period (NaN: none)";
-                netcdf::attr_str(&d, "meaning", meaning)?;
-                d
-            }
-            Field::Number(Number::Multiplier) => {
-                let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
-                gridded(&d, "largest Floquet multiplier modulus (periodic cells)")?;
-                netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
-                netcdf::attr_str(&d, "meaning", "largest Floquet multiplier modulus of periodic cells (NaN: none)")?;
-                d
-            }
             Field::FinalState => {
                 let shape = [ny, nx, m.dim];
                 let d = Deflater::chunked_empty::<f64>(g, &name, &shape, &[h, w, m.dim])?;
@@ -268,13 +253,16 @@ impl Field {
                 gridded(&d, "events handled")?;
                 d
             }
-            Field::Number(Number::Quantity(k)) => {
-                let q = &m.quantities[k];
+            Field::Number(n) => {
                 let d = Deflater::chunked_empty::<f64>(g, &name, &plane, &chunk)?;
                 netcdf::dims(&d, &[s.y, s.x])?;
-                netcdf::describe(&d, &q.long_name, &q.units)?;
-                netcdf::attr_str(&d, "symbol", &q.symbol)?;
+                netcdf::describe(&d, n.long_name(m), n.units(m))?;
+                netcdf::attr_str(&d, "symbol", n.symbol(m))?;
                 netcdf::attr_num(&d, "_FillValue", f64::NAN)?;
+                if !n.of_motion() {
+                    let meaning = format!("{}; NaN: none", n.long_name(m));
+                    netcdf::attr_str(&d, "meaning", &meaning)?;
+                }
                 d
             }
         };

@@ -22,8 +22,6 @@ __all__ = ["map", "hysteresis", "scalar", "quantity", "difference", "row", "port
 # red above; cells without the number grey.
 _LOW, _HIGH, _NONE = (33, 102, 172), (178, 24, 43), (190, 190, 190)
 _CENTRE = {"multiplier": 1.0, "lyapunov": 0.0}
-_TITLE = {"multiplier": "largest |Floquet multiplier| (periodic cells)",
-          "lyapunov": "largest Lyapunov exponent (cells without a period)"}
 
 
 def _node_name(ds):
@@ -355,12 +353,13 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     reach = reach if reach > 0 else 1.0
     rgb = np.where(finite[..., None], _diverging((np.where(finite, v, centre) - centre) / reach), np.array(_NONE))
     sweep = f"{node} sweep: " if node else ""
-    ax = _paint(ds, quantity, rgb, ax, title if title is not None else sweep + _TITLE[quantity])
+    attrs = ds[quantity].attrs
+    ax = _paint(ds, quantity, rgb, ax, title if title is not None else sweep + attrs.get("long_name", quantity))
     if colorbar:
         cmap = LinearSegmentedColormap.from_list(
             "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(centre - reach, centre + reach), cmap), ax=ax)
-        bar.set_label("max |μ|" if quantity == "multiplier" else "λ (per unit time)")
+        bar.set_label(attrs.get("symbol", quantity))
     return ax
 
 
