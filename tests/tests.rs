@@ -29,6 +29,8 @@ mod friction;
 mod integrity;
 /// Every budget bounds every integrator; scene sizes are bounded.
 mod limits;
+/// No module of a crate imports one that imports it back.
+mod modules;
 /// Colours that stay apart (CIEDE2000) among each scene's frequent labels.
 mod palette;
 /// Printed figures: embedded fonts, page sizes, no text under 6 pt.

@@ -15,11 +15,12 @@
 //! # Ok::<(), engine::Error>(())
 //! ```
 
+use crate::error::SceneLoadError;
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::observer::Quiet;
 use crate::plan::Plan;
-use crate::sim::{SceneLoadError, SceneSource, Setup};
+use crate::sim::{SceneSource, Setup};
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
 use serde::Serialize;

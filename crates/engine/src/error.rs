@@ -5,9 +5,49 @@
 //! Python as keyword arguments (`section_cap`); the error's own `Display`
 //! uses the request's field names ([`Fields`]).
 
-use crate::sim::SceneLoadError;
 use std::fmt;
 use std::path::PathBuf;
+
+/// What errors in a scene given as text name it.
+pub(crate) const TEXT: &str = "scene text";
+
+/// A scene that could not be read or parsed; its text names the file (or
+/// `scene` for a text) and the field.
+#[derive(Debug)]
+pub enum SceneLoadError {
+    /// The atlas holding the scene cannot be read.
+    Stored(store::StoreError),
+    /// The file cannot be read.
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        cause: std::io::Error,
+    },
+    /// The text is not a valid scene.
+    Invalid {
+        /// The file, or `scene text`.
+        origin: String,
+        /// What is wrong.
+        cause: scene::SceneError,
+    },
+}
+
+impl std::fmt::Display for SceneLoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SceneLoadError::Stored(cause) => write!(f, "{cause}"),
+            SceneLoadError::Read { path, cause } => write!(f, "cannot read scene file {}: {cause}", path.display()),
+            // A text has no file to name: its syntax errors say where in the text.
+            SceneLoadError::Invalid { origin, cause: scene::SceneError::Syntax { message } } if origin == TEXT => {
+                write!(f, "{TEXT}: {message}")
+            }
+            SceneLoadError::Invalid { origin, cause } => write!(f, "{origin}: {cause}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneLoadError {}
 
 /// An option of a run's request, as errors name it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -73,7 +73,7 @@ pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
     CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced, DEFAULT_STEPS, DEFAULT_WINDOW,
 };
-pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, Words};
+pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{
@@ -83,7 +83,7 @@ pub use orbit::{
 pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};
 pub use record::CellRecord;
-pub use sim::{check_period, labels_of, parameters_of, Origin, SceneLoadError, SceneSource, Setup, Sim, Source, Start};
+pub use sim::{check_period, labels_of, parameters_of, Origin, SceneSource, Setup, Sim, Source, Start};
 pub use study::{sheet_panel, study, StudyPlan};
 pub use summary::{
     reasons, AxisReport, ClassCounts, Extreme, HysteresisCounts, InspectReport, ParentReport, QuantityExtremes,

@@ -5,7 +5,7 @@
 //! a stored file, whose settings it then takes ([`Origin`]).
 
 use crate::error::Result;
-use crate::error::{Opt, RequestError};
+use crate::error::{Opt, RequestError, SceneLoadError, TEXT};
 use scene::Scene;
 use serde::Serialize;
 use solver::{Accuracy, Knob, Method, Preset};
@@ -23,47 +23,6 @@ pub enum SceneSource {
     /// without a scene file).
     Stored(PathBuf),
 }
-
-/// What errors in a scene given as text name it.
-const TEXT: &str = "scene text";
-
-/// A scene that could not be read or parsed; its text names the file (or
-/// `scene` for a text) and the field.
-#[derive(Debug)]
-pub enum SceneLoadError {
-    /// The atlas holding the scene cannot be read.
-    Stored(store::StoreError),
-    /// The file cannot be read.
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// Why.
-        cause: std::io::Error,
-    },
-    /// The text is not a valid scene.
-    Invalid {
-        /// The file, or `scene text`.
-        origin: String,
-        /// What is wrong.
-        cause: scene::SceneError,
-    },
-}
-
-impl std::fmt::Display for SceneLoadError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SceneLoadError::Stored(cause) => write!(f, "{cause}"),
-            SceneLoadError::Read { path, cause } => write!(f, "cannot read scene file {}: {cause}", path.display()),
-            // A text has no file to name: its syntax errors say where in the text.
-            SceneLoadError::Invalid { origin, cause: scene::SceneError::Syntax { message } } if origin == TEXT => {
-                write!(f, "{TEXT}: {message}")
-            }
-            SceneLoadError::Invalid { origin, cause } => write!(f, "{origin}: {cause}"),
-        }
-    }
-}
-
-impl std::error::Error for SceneLoadError {}
 
 /// Largest scene or study file read, in bytes: a scene is a page of TOML,
 /// and a bound keeps a device (`/dev/zero`) or a wrong file from filling the

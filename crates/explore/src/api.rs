@@ -3,7 +3,7 @@
 //! render, store); a bad request is a 4xx with `{"error": "…"}` naming what is
 //! wrong, never a crash of the server.
 
-use crate::guard;
+use crate::guard::{self, short};
 use crate::state::{Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
 use axum::extract::{Path, State as Shared};
 use axum::http::{header, StatusCode};
@@ -194,14 +194,6 @@ fn count(q: &HashMap<String, String>, name: &str, default: usize, lo: usize, hi:
             .ok()
             .filter(|n| (lo..=hi).contains(n))
             .ok_or_else(|| bad(format!("{name}: expected a whole number from {lo} to {hi}, got '{}'", short(t)))),
-    }
-}
-
-/// A text as an error message shows it: at most 80 characters.
-pub(crate) fn short(t: &str) -> String {
-    match t.char_indices().nth(80) {
-        Some((at, _)) => format!("{}…", &t[..at]),
-        None => t.to_string(),
     }
 }
 

@@ -78,7 +78,7 @@ impl Allowed {
             if !self.hosts.iter().any(|h| h.eq_ignore_ascii_case(a)) {
                 let why = format!(
                     "the address names the host '{}'; the explorer answers to {} only",
-                    crate::api::short(a),
+                    short(a),
                     self.hosts[0]
                 );
                 return Some((StatusCode::FORBIDDEN, why));
@@ -87,7 +87,7 @@ impl Allowed {
         match text(header::HOST) {
             Some(h) if self.hosts.iter().any(|a| a.eq_ignore_ascii_case(h)) => {}
             h => {
-                let got = h.map_or("none".to_string(), |h| format!("'{}'", crate::api::short(h)));
+                let got = h.map_or("none".to_string(), |h| format!("'{}'", short(h)));
                 return Some((
                     StatusCode::FORBIDDEN,
                     format!("Host: the explorer answers to {} or {} only, got {got}", self.hosts[0], self.hosts[1]),
@@ -101,7 +101,7 @@ impl Allowed {
             if !self.origins.iter().any(|a| a.eq_ignore_ascii_case(o)) {
                 return Some((
                     StatusCode::FORBIDDEN,
-                    format!("Origin: only the explorer's own page may change things, not '{}'", crate::api::short(o)),
+                    format!("Origin: only the explorer's own page may change things, not '{}'", short(o)),
                 ));
             }
         }
@@ -169,4 +169,12 @@ async fn as_json(answer: Response) -> Response {
     let reason = status.canonical_reason().unwrap_or("error").to_lowercase();
     let message = if text.trim().is_empty() { reason } else { format!("{reason}: {}", text.trim()) };
     error(status, &message)
+}
+
+/// A text as an error message shows it: at most 80 characters.
+pub(crate) fn short(t: &str) -> String {
+    match t.char_indices().nth(80) {
+        Some((at, _)) => format!("{}…", &t[..at]),
+        None => t.to_string(),
+    }
 }

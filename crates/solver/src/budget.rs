@@ -16,10 +16,7 @@
 //! of an event ([`EVENT_WORK`]); the exact integrator's steps are free, and its
 //! budget is exactly `max_events` events, as before.
 
-use crate::simulate::Simulator;
-
-/// One event of the budget, in the units work is counted in (thousandths of an event).
-pub(crate) const EVENT_WORK: u64 = 1000;
+use crate::simulate::{Simulator, EVENT_WORK};
 
 /// The event limit of a cell and the work its probes have done so far.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

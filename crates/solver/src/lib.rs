@@ -75,6 +75,7 @@ pub mod reference;
 mod section;
 mod simulate;
 mod soft;
+mod spectral;
 mod stick;
 mod system;
 #[cfg(test)]

@@ -35,7 +35,7 @@
 //! the contact is decided again when the stop releases.
 
 use crate::error::SolverError;
-use crate::flow::spectral::{nonzero_entries, Spectral};
+use crate::spectral::{nonzero_entries, Spectral};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use num_complex::Complex64 as C64;

@@ -10,7 +10,6 @@
 //! event [`settle`] chooses the next mode.
 
 use crate::accuracy::Accuracy;
-use crate::budget::EVENT_WORK;
 use crate::chatter::ChatterTracker;
 use crate::error::SolverError;
 use crate::flow::exact::Workspace;
@@ -21,6 +20,10 @@ use crate::soft;
 use crate::stick::{candidates, settle, touching, ModeCache};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector};
+
+/// One event of a cell's work budget ([`crate::budget`]), in the units work
+/// is counted in (thousandths of an event).
+pub(crate) const EVENT_WORK: u64 = 1000;
 
 /// Receives what happens during a simulation; section recorders and traces are
 /// observers, so nothing is stored unless asked.

@@ -22,10 +22,10 @@
 //! bit for bit reproducible; a change that reorders one changes the last bits
 //! of every atlas (the snapshot test, `tests/data/snapshot.*`, will say so).
 
-use super::spectral::{bound, differentiate_into, evaluate, Modal, Term};
 use super::{classify_start, start_tolerances, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::Mode;
+use crate::spectral::{bound, differentiate_into, evaluate, Modal, Term};
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
 

@@ -3,7 +3,7 @@
 //!
 //! The integrator is a closed set of two, the variants of [`Method`] (exported
 //! as `solver::Method`; this module is private): [`Method::Exact`], the
-//! closed-form flow of [`spectral`] with guaranteed event location
+//! closed-form flow of [`crate::spectral`] with guaranteed event location
 //! ([`exact`]), and [`Method::Rk4`], the fixed-step Runge–Kutta method of the
 //! literature with step-back refinement ([`rk4`]), kept to compare accuracy
 //! and speed against. There is no integrator trait and nothing to plug in from
@@ -23,7 +23,6 @@
 
 pub mod exact;
 pub mod rk4;
-pub mod spectral;
 
 use crate::accuracy::Accuracy;
 use crate::mode::{Guard, Mode};

@@ -30,7 +30,7 @@ const MAX_STEPS: usize = 50_000_000;
 
 /// Cost of a full step (of `rk4_step`, or the shorter last step to the
 /// horizon) against the event budget, in thousandths of an event
-/// ([`crate::budget::EVENT_WORK`]).
+/// ([`crate::simulate::EVENT_WORK`]).
 pub const FULL_STEP_WORK: u64 = 1;
 
 /// Cost of a step of the event refinement (shorter than `rk4_step`), in
