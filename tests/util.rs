@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 
 #[path = "../crates/solver/tests/physics/common.rs"]
+#[allow(dead_code, reason = "shared with the solver's physics tests, which read the impacts' states")]
 mod common;
 pub use common::{config, record, system};
 

@@ -179,7 +179,7 @@ mod tests {
             assert!(text.contains("\"quantities\":[1.5,null]"), "{text}");
             let back: CellData = serde_json::from_str(&text).unwrap();
             assert_eq!(back.labels, cell.labels);
-            assert_eq!(back.quantities[0], 1.5);
+            assert_eq!(back.quantities[0].to_bits(), 1.5f64.to_bits());
             assert!(back.quantities[1].is_nan());
             assert_eq!(CellData { quantities: vec![], ..back }, CellData { quantities: vec![], ..cell });
         }
