@@ -9,11 +9,11 @@
 //! that where they agree both show and where they differ (hysteresis) each can
 //! be told apart; marks are sized in points, so they stay visible in print.
 
+use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
 use crate::page::{Canvas, Page};
-use crate::{err, RenderError};
 use maps::{Atlas, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -194,7 +194,7 @@ fn directions(atlas: &Atlas, first: Option<SweepKind>) -> String {
     }
 }
 
-fn draw<DB: crate::Backend>(
+fn draw<DB: crate::page::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -206,7 +206,7 @@ fn draw<DB: crate::Backend>(
     let (x, y) = (&m.plane.x, &m.plane.y);
     let sym = |name: &str| m.symbol(name);
     let fixed =
-        if y.count > 1 { format!(", {} = {}", sym(&y.name), crate::tick(y.value(d.row))) } else { String::new() };
+        if y.count > 1 { format!(", {} = {}", sym(&y.name), crate::axis::tick(y.value(d.row))) } else { String::new() };
     root.fill(&WHITE).map_err(err)?;
     let title =
         format!("{}: bifurcation diagram in {}{fixed} ({})", m.scene_name, sym(&x.name), directions(atlas, d.first));
@@ -239,7 +239,7 @@ fn draw<DB: crate::Backend>(
     // Panels stacked in a column share its horizontal axis: only the lowest names it.
     let (n, least) = (shown.len(), (24.0, 8.0));
     let cols = layout::grid_columns(&body, canvas, n, least);
-    let y_range = |pi: usize| crate::range(all[pi].iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+    let y_range = |pi: usize| crate::axis::range(all[pi].iter().flat_map(|s| s.1.iter().map(|p| p.1)));
     let y_chars = shown.iter().map(|&pi| layout::tick_chars(y_range(pi))).max();
     for (i, (&pi, area)) in shown.iter().zip(layout::panels(&body, n, cols).iter()).enumerate() {
         let series = &all[pi];

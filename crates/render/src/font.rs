@@ -1,7 +1,7 @@
 //! The font of every picture: DejaVu Sans from Debian's `fonts-dejavu-core`
 //! (installed by `scripts/setup.sh`), registered once with plotters.
 
-use crate::RenderError;
+use crate::error::RenderError;
 use std::sync::OnceLock;
 
 const CANDIDATES: [&str; 3] = [

@@ -3,10 +3,10 @@
 //! it, and the legend rows the figures draw beside it. The same functions
 //! choose both, so the page and `render` never disagree on a colour.
 
+use crate::error::RenderError;
 use crate::legend::{Entry, Swatch};
 use crate::map::{count, label_paint, sweep_rows, Hysteresis, Overlay, Paint, View};
 use crate::scalar::{Drawn, Scaled, NONE};
-use crate::RenderError;
 use maps::Number;
 use maps::{Atlas, SweepKind};
 use plotters::style::RGBColor;

@@ -3,9 +3,9 @@
 //! width of the figure, a grid of panels, and a chart whose label areas and
 //! number of ticks follow the size of its text.
 
+use crate::error::{err, RenderError};
 use crate::page::Canvas;
 use crate::rich::{self, Direction};
-use crate::{err, RenderError};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -26,7 +26,7 @@ const LINE: f64 = 1.3;
 /// clause (the text between `; `) is kept on one line where it fits on one,
 /// else broken at spaces but not at an equation's `=` (a word longer than
 /// the width stays whole).
-pub(crate) fn wrap<DB: crate::Backend>(
+pub(crate) fn wrap<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     text: &str,
     font: &FontDesc,
@@ -66,7 +66,7 @@ pub(crate) fn wrap<DB: crate::Backend>(
 
 /// Draws `text` at the top of `area`, centred and wrapped, at `scale` times
 /// the body size; returns the area below it.
-pub(crate) fn header<DB: crate::Backend>(
+pub(crate) fn header<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -78,7 +78,7 @@ pub(crate) fn header<DB: crate::Backend>(
 
 /// Draws `text` at the top of `area`, centred and wrapped to its width less
 /// one em, at `scale` times the body size; returns the height it took (px).
-fn centred_lines<DB: crate::Backend>(
+fn centred_lines<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -98,7 +98,7 @@ fn centred_lines<DB: crate::Backend>(
 
 /// Draws `text` at the bottom of `area`, left-aligned and wrapped, at the
 /// footnote size; returns the area above it.
-pub(crate) fn footer<DB: crate::Backend>(
+pub(crate) fn footer<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -118,7 +118,7 @@ pub(crate) fn footer<DB: crate::Backend>(
 }
 
 /// `area` split into `n` panels in rows of `cols`, left to right, top to bottom.
-pub(crate) fn panels<DB: crate::Backend>(
+pub(crate) fn panels<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     n: usize,
     cols: usize,
@@ -131,7 +131,7 @@ pub(crate) fn panels<DB: crate::Backend>(
 /// `area` split into `n` panels in as many columns as give the panels the
 /// most room for their least size `least` (width, height in text heights):
 /// side by side on a wide page, one above the other on a tall one.
-pub(crate) fn grid<DB: crate::Backend>(
+pub(crate) fn grid<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     n: usize,
@@ -141,7 +141,7 @@ pub(crate) fn grid<DB: crate::Backend>(
 }
 
 /// The columns [`grid`] lays `n` panels out in.
-pub(crate) fn grid_columns<DB: crate::Backend>(
+pub(crate) fn grid_columns<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     n: usize,
@@ -186,12 +186,12 @@ pub(crate) fn tick_chars(range: (f64, f64)) -> usize {
     let decimals = if step > 0.0 { (-step.log10().floor()).max(0.0) as usize + 1 } else { 1 };
     let whole = range.0.abs().max(range.1.abs()).max(1.0).log10().floor() as usize + 1;
     let text = whole + decimals + usize::from(range.0 < 0.0) + 1;
-    text.min(crate::tick(range.0).chars().count().max(crate::tick(range.1).chars().count()))
+    text.min(crate::axis::tick(range.0).chars().count().max(crate::axis::tick(range.1).chars().count()))
 }
 
 /// `scale`, or less (down to the least text size) where `text` at `scale`
 /// times the body size is longer than `width` pixels.
-fn fitted_scale<DB: crate::Backend>(
+fn fitted_scale<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -208,7 +208,7 @@ fn fitted_scale<DB: crate::Backend>(
 
 /// A chart on `area` with the axes `a`: label areas and tick counts sized to
 /// the canvas's text, no grid, ticks without `-0`.
-pub(crate) fn chart<'b, DB: crate::Backend>(
+pub(crate) fn chart<'b, DB: crate::page::Backend>(
     area: &'b DrawingArea<DB, Shift>,
     canvas: &Canvas,
     a: &Axes,
@@ -245,8 +245,8 @@ pub(crate) fn chart<'b, DB: crate::Backend>(
         .axis_style(spine)
         .x_labels(x_ticks.clamp(2, 10))
         .y_labels(y_ticks.clamp(3, 10))
-        .x_label_formatter(&|v| if a.x_labels { crate::tick(*v) } else { String::new() })
-        .y_label_formatter(&|v| crate::tick(*v))
+        .x_label_formatter(&|v| if a.x_labels { crate::axis::tick(*v) } else { String::new() })
+        .y_label_formatter(&|v| crate::axis::tick(*v))
         .label_style(canvas.font(1.0))
         .set_all_tick_mark_size(canvas.em(0.35))
         .draw()

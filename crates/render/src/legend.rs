@@ -5,9 +5,9 @@
 //! of labels (so it can never be taken for a listed label), a line with its
 //! dash, a ring or a dot of the size drawn in the data.
 
+use crate::error::{err, RenderError};
 use crate::page::Canvas;
 use crate::rich::{self, Direction};
-use crate::{err, RenderError};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -55,7 +55,11 @@ const SWATCH: f64 = 1.1;
 const LINE_SWATCH: f64 = 3.2;
 
 /// Width (px) of the widest row of `entries`, swatch included.
-pub(crate) fn width<DB: crate::Backend>(area: &DrawingArea<DB, Shift>, canvas: &Canvas, entries: &[Entry]) -> u32 {
+pub(crate) fn width<DB: crate::page::Backend>(
+    area: &DrawingArea<DB, Shift>,
+    canvas: &Canvas,
+    entries: &[Entry],
+) -> u32 {
     let font = canvas.font(1.0);
     entries
         .iter()
@@ -78,7 +82,7 @@ fn swatch_width(s: Swatch) -> f64 {
 }
 
 /// Widths (px) of the columns of `entries` laid out `rows` to a column.
-pub(crate) fn columns<DB: crate::Backend>(
+pub(crate) fn columns<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     entries: &[Entry],
@@ -119,7 +123,7 @@ pub(crate) fn height(canvas: &Canvas, rows: usize) -> u32 {
 /// Draws `entries` down `area` in columns of as many rows as its height
 /// holds, each column as wide as its widest row; rows beyond its width are
 /// left out (callers size their entries with [`rows`] and [`columns`]).
-pub(crate) fn draw<DB: crate::Backend>(
+pub(crate) fn draw<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     entries: &[Entry],
@@ -142,7 +146,7 @@ pub(crate) fn draw<DB: crate::Backend>(
 }
 
 /// Draws one row, its swatch's left edge at `x`, in row `r` of its column.
-fn draw_row<DB: crate::Backend>(
+fn draw_row<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     e: &Entry,
@@ -157,7 +161,7 @@ fn draw_row<DB: crate::Backend>(
 }
 
 /// Draws a swatch whose left edge is `x`, centred on `y`.
-fn swatch<DB: crate::Backend>(
+fn swatch<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     s: Swatch,
@@ -210,7 +214,7 @@ fn swatch<DB: crate::Backend>(
 
 /// Draws a polyline (in the area's coordinates) with a white halo, width
 /// (pt) and dash (pt).
-pub(crate) fn line<DB: crate::Backend, CT: plotters::coord::CoordTranslate>(
+pub(crate) fn line<DB: crate::page::Backend, CT: plotters::coord::CoordTranslate>(
     area: &DrawingArea<DB, CT>,
     canvas: &Canvas,
     points: &[CT::From],

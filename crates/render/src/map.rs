@@ -10,11 +10,11 @@
 //! the down label's below, with a legend of the most frequent (up, down)
 //! pairs; the other cells white.
 
+use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
 use crate::page::{Canvas, Page};
-use crate::{err, RenderError};
 use maps::palette::{self, colour, delta_e, Family};
 use maps::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
@@ -109,7 +109,7 @@ impl<'a> CellGrid<'a> {
 
     /// A chart over the whole plane (half a cell of margin), axes named after
     /// the parameters' symbols.
-    pub(crate) fn chart<'b, DB: crate::Backend>(
+    pub(crate) fn chart<'b, DB: crate::page::Backend>(
         &self,
         area: &'b DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -193,7 +193,7 @@ pub(crate) enum Paint {
 const MIN_SPLIT_MM: f64 = 0.5;
 
 /// Draws cells as `paint` gives them (None: not drawn), and `curves` over them.
-fn draw_cells<DB: crate::Backend>(
+fn draw_cells<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -209,7 +209,7 @@ fn draw_cells<DB: crate::Backend>(
 /// k × k cells are drawn, each as the paint most of its cells have (an
 /// area-faithful picture of the zones; a tie goes to a split); `title` says
 /// the block's side. On screen sizes every cell is drawn (a viewer zooms).
-fn draw_split_cells<DB: crate::Backend>(
+fn draw_split_cells<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -231,7 +231,7 @@ fn draw_split_cells<DB: crate::Backend>(
 
 /// Draws the plane's cells in blocks of `k` × `k` cells, each painted as
 /// most of its cells are (the cells themselves for blocks of one).
-fn draw_blocks<DB: crate::Backend>(
+fn draw_blocks<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -438,7 +438,7 @@ struct Placed {
     size: u32,
 }
 
-fn place<DB: crate::Backend>(
+fn place<DB: crate::page::Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     below_rows: usize,
@@ -467,7 +467,7 @@ fn place<DB: crate::Backend>(
 
 impl Placed {
     /// `area` split into the panels' area and the legend's.
-    fn split<DB: crate::Backend>(
+    fn split<DB: crate::page::Backend>(
         &self,
         area: &DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -481,7 +481,11 @@ impl Placed {
     }
 
     /// Draws the legend into its area.
-    fn draw<DB: crate::Backend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
+    fn draw<DB: crate::page::Backend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        canvas: &Canvas,
+    ) -> Result<(), RenderError> {
         legend::draw(area, canvas, &self.rows)
     }
 }
@@ -509,7 +513,7 @@ pub fn map(
     save!(path, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
 }
 
-fn draw_map<DB: crate::Backend>(
+fn draw_map<DB: crate::page::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -538,7 +542,7 @@ fn draw_map<DB: crate::Backend>(
 
 /// The three panels of the hysteresis view and their legend: labels of both
 /// sweeps, then the (up, down) pairs of the differing cells.
-fn draw_hysteresis<DB: crate::Backend>(
+fn draw_hysteresis<DB: crate::page::Backend>(
     body: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -712,7 +716,7 @@ pub fn sheet(
     save!(path, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
 }
 
-fn draw_sheet<DB: crate::Backend>(
+fn draw_sheet<DB: crate::page::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     panels: &[(String, Atlas)],
@@ -756,12 +760,12 @@ const COEXISTING: [RGBColor; 4] =
 /// `atlas` (`atlas --attractors`), cells not sampled white (format by the
 /// extension of `path`).
 pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::Missing::Attractors))?;
+    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::error::Missing::Attractors))?;
     let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
     save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }
 
-fn draw_attractors<DB: crate::Backend>(
+fn draw_attractors<DB: crate::page::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -808,7 +812,7 @@ const FRACTION_BANDS: [RGBColor; 5] = [
 /// (`maps::families`) in each sampled cell, in bands of a quarter; cells
 /// not sampled grey (format by the extension of `path`).
 pub fn family_map(atlas: &Atlas, family: u32, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::Missing::Attractors))?;
+    let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::error::Missing::Attractors))?;
     let f = maps::families(a, atlas.meta.plane.x.count);
     let Some(labels) = f.labels.get(family as usize) else {
         return Err(RenderError::new(format!(
@@ -832,7 +836,7 @@ fn band(fraction: f64) -> usize {
     }
 }
 
-fn draw_family<DB: crate::Backend>(
+fn draw_family<DB: crate::page::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

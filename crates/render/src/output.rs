@@ -4,7 +4,7 @@
 //! which it embeds: every text stays text). Every figure is drawn by one generic function on a
 //! plotters drawing area, whatever the format ([`save!`]).
 
-use crate::RenderError;
+use crate::error::RenderError;
 use std::path::Path;
 
 /// An output format.
@@ -112,7 +112,7 @@ macro_rules! save {
                 {
                     let $root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
                     $draw?;
-                    $root.present().map_err(crate::err)?;
+                    $root.present().map_err(crate::error::err)?;
                 }
                 crate::output::png($path, size, &rgb, $canvas.dpi)
             }
@@ -121,13 +121,14 @@ macro_rules! save {
                 {
                     let $root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
                     $draw?;
-                    $root.present().map_err(crate::err)?;
+                    $root.present().map_err(crate::error::err)?;
                 }
                 if format == crate::output::Format::Pdf {
                     crate::output::pdf(&svg, $path, $canvas.dpi)
                 } else {
                     let svg = $canvas.mm.map_or(svg.clone(), |mm| crate::output::svg_in_mm(&svg, mm));
-                    std::fs::write($path, svg).map_err(|e| crate::RenderError::because($path.display().to_string(), e))
+                    std::fs::write($path, svg)
+                        .map_err(|e| crate::error::RenderError::because($path.display().to_string(), e))
                 }
             }
         }

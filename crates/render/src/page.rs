@@ -11,9 +11,13 @@
 //! measured in body text heights, so the layout keeps its proportions to the
 //! text at any size.
 
+use crate::error::RenderError;
 use crate::output::Format;
-use crate::RenderError;
 use plotters::style::{FontDesc, IntoFont};
+
+/// A plotters backend whose errors can be kept as a [`RenderError`]'s source.
+pub(crate) trait Backend: plotters::prelude::DrawingBackend<ErrorType: 'static> {}
+impl<B: plotters::prelude::DrawingBackend<ErrorType: 'static>> Backend for B {}
 
 /// Width of one journal column (mm).
 pub const SINGLE_MM: f64 = 86.0;

@@ -5,12 +5,12 @@
 //! Cells without the number are mid grey (apart from the white of neutral values); a labelled colour bar gives the
 //! scale.
 
+use crate::error::{err, RenderError};
 use crate::layout;
 use crate::legend::{self, Entry, Swatch};
 use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
 use crate::page::{Canvas, Page};
-use crate::{err, RenderError};
 use maps::{Atlas, CellData, Meta, Number, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -202,7 +202,7 @@ struct Texts {
     levels: Vec<f64>,
 }
 
-fn draw<DB: crate::Backend>(
+fn draw<DB: crate::page::Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     m: &Meta,
@@ -243,7 +243,7 @@ fn draw<DB: crate::Backend>(
         .disable_mesh()
         .disable_x_axis()
         .y_desc(&text.unit)
-        .y_label_formatter(&|v| crate::tick(*v))
+        .y_label_formatter(&|v| crate::axis::tick(*v))
         .label_style(canvas.font(1.0))
         .axis_desc_style(canvas.font(1.0))
         .axis_style(BLACK.stroke_width(canvas.pt(0.6)))
