@@ -3,12 +3,13 @@
 //! colour of the label of the attractor it reaches, with a legend of the
 //! attractors and their basin fractions.
 
+use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::map::rgb;
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use maps::basins::INADMISSIBLE;
 use maps::BasinMap;
 use plotters::coord::Shift;
@@ -31,7 +32,7 @@ pub fn basins(
     save!(path, canvas, |root| draw(&root, &canvas, groups, colours, title, axes))
 }
 
-fn draw<DB: crate::page::Backend>(
+fn draw<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     groups: &[(String, Vec<(f64, f64)>)],
@@ -47,8 +48,8 @@ fn draw<DB: crate::page::Backend>(
     let [plot_area, key] = frame(root, canvas, title, &rows)?;
     let a = Axes {
         caption: None,
-        x: crate::axis::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.0))),
-        y: crate::axis::range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.1))),
+        x: range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.0))),
+        y: range(groups.iter().flat_map(|g| g.1.iter().map(|p| p.1))),
         x_desc: &axes.0,
         y_desc: &axes.1,
         x_labels: true,
@@ -70,7 +71,7 @@ fn draw<DB: crate::page::Backend>(
 
 /// The page of a picture with a legend: the title, then the plot's area and
 /// the legend's (beside the plot on a wide page, below it on a narrow one).
-fn frame<DB: crate::page::Backend>(
+fn frame<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     title: &str,
@@ -100,11 +101,7 @@ pub fn basin_map(map: &BasinMap, page: &Page, path: &Path) -> Result<(), RenderE
     save!(path, canvas, |root| draw_map(&root, &canvas, map))
 }
 
-fn draw_map<DB: crate::page::Backend>(
-    root: &DrawingArea<DB, Shift>,
-    canvas: &Canvas,
-    map: &BasinMap,
-) -> Result<(), RenderError> {
+fn draw_map<DB: Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, map: &BasinMap) -> Result<(), RenderError> {
     let fills: Vec<RGBColor> = map.colours().into_iter().map(|[r, g, b]| RGBColor(r, g, b)).collect();
     let mut rows: Vec<Entry> = map
         .attractors

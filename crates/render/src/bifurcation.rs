@@ -9,11 +9,12 @@
 //! that where they agree both show and where they differ (hysteresis) each can
 //! be told apart; marks are sized in points, so they stay visible in print.
 
+use crate::axis::{range, tick};
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use maps::{Atlas, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -194,7 +195,7 @@ fn directions(atlas: &Atlas, first: Option<SweepKind>) -> String {
     }
 }
 
-fn draw<DB: crate::page::Backend>(
+fn draw<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -205,8 +206,7 @@ fn draw<DB: crate::page::Backend>(
     let m = &atlas.meta;
     let (x, y) = (&m.plane.x, &m.plane.y);
     let sym = |name: &str| m.symbol(name);
-    let fixed =
-        if y.count > 1 { format!(", {} = {}", sym(&y.name), crate::axis::tick(y.value(d.row))) } else { String::new() };
+    let fixed = if y.count > 1 { format!(", {} = {}", sym(&y.name), tick(y.value(d.row))) } else { String::new() };
     root.fill(&WHITE).map_err(err)?;
     let title =
         format!("{}: bifurcation diagram in {}{fixed} ({})", m.scene_name, sym(&x.name), directions(atlas, d.first));
@@ -239,7 +239,7 @@ fn draw<DB: crate::page::Backend>(
     // Panels stacked in a column share its horizontal axis: only the lowest names it.
     let (n, least) = (shown.len(), (24.0, 8.0));
     let cols = layout::grid_columns(&body, canvas, n, least);
-    let y_range = |pi: usize| crate::axis::range(all[pi].iter().flat_map(|s| s.1.iter().map(|p| p.1)));
+    let y_range = |pi: usize| range(all[pi].iter().flat_map(|s| s.1.iter().map(|p| p.1)));
     let y_chars = shown.iter().map(|&pi| layout::tick_chars(y_range(pi))).max();
     for (i, (&pi, area)) in shown.iter().zip(layout::panels(&body, n, cols).iter()).enumerate() {
         let series = &all[pi];

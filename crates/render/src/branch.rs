@@ -2,11 +2,12 @@
 //! and the largest Floquet multiplier modulus against the parameter, stable
 //! parts dark and unstable parts light, bifurcations marked and named.
 
+use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -26,7 +27,7 @@ pub fn branch(
     save!(path, canvas, |root| draw(&root, &canvas, points, marks, title, axis, mass))
 }
 
-fn draw<DB: crate::page::Backend>(
+fn draw<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     points: &[(f64, f64, f64, bool)],
@@ -52,11 +53,7 @@ fn draw<DB: crate::page::Backend>(
     legend::draw(&key.margin(0, 0, spare as i32, 0), canvas, &rows)?;
     for (pi, area) in body.split_evenly((2, 1)).iter().enumerate() {
         let ys: Vec<f64> = points.iter().map(|p| if pi == 0 { p.1 } else { p.2 }).collect();
-        let y = if pi == 1 {
-            crate::axis::range(ys.iter().copied().chain([0.9, 1.1]))
-        } else {
-            crate::axis::range(ys.iter().copied())
-        };
+        let y = if pi == 1 { range(ys.iter().copied().chain([0.9, 1.1])) } else { range(ys.iter().copied()) };
         let desc = if pi == 0 { format!("x_{mass} at the section") } else { "largest |multiplier|".to_string() };
         let chart = layout::chart(
             area,

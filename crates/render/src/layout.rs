@@ -3,8 +3,9 @@
 //! width of the figure, a grid of panels, and a chart whose label areas and
 //! number of ticks follow the size of its text.
 
+use crate::axis::tick;
 use crate::error::{err, RenderError};
-use crate::page::Canvas;
+use crate::page::{Backend, Canvas};
 use crate::rich::{self, Direction};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
@@ -26,12 +27,7 @@ const LINE: f64 = 1.3;
 /// clause (the text between `; `) is kept on one line where it fits on one,
 /// else broken at spaces but not at an equation's `=` (a word longer than
 /// the width stays whole).
-pub(crate) fn wrap<DB: crate::page::Backend>(
-    area: &DrawingArea<DB, Shift>,
-    text: &str,
-    font: &FontDesc,
-    width: u32,
-) -> Vec<String> {
+pub(crate) fn wrap<DB: Backend>(area: &DrawingArea<DB, Shift>, text: &str, font: &FontDesc, width: u32) -> Vec<String> {
     let fits = |s: &str| area.estimate_text_size(s, &TextStyle::from(font.clone())).map_or(true, |(w, _)| w <= width);
     // What may not be broken: a clause that fits a line, else its words (an
     // equation, `f_k = 0.05`, `p = impacts`, one word).
@@ -66,7 +62,7 @@ pub(crate) fn wrap<DB: crate::page::Backend>(
 
 /// Draws `text` at the top of `area`, centred and wrapped, at `scale` times
 /// the body size; returns the area below it.
-pub(crate) fn header<DB: crate::page::Backend>(
+pub(crate) fn header<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -78,7 +74,7 @@ pub(crate) fn header<DB: crate::page::Backend>(
 
 /// Draws `text` at the top of `area`, centred and wrapped to its width less
 /// one em, at `scale` times the body size; returns the height it took (px).
-fn centred_lines<DB: crate::page::Backend>(
+fn centred_lines<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -98,7 +94,7 @@ fn centred_lines<DB: crate::page::Backend>(
 
 /// Draws `text` at the bottom of `area`, left-aligned and wrapped, at the
 /// footnote size; returns the area above it.
-pub(crate) fn footer<DB: crate::page::Backend>(
+pub(crate) fn footer<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -118,11 +114,7 @@ pub(crate) fn footer<DB: crate::page::Backend>(
 }
 
 /// `area` split into `n` panels in rows of `cols`, left to right, top to bottom.
-pub(crate) fn panels<DB: crate::page::Backend>(
-    area: &DrawingArea<DB, Shift>,
-    n: usize,
-    cols: usize,
-) -> Vec<DrawingArea<DB, Shift>> {
+pub(crate) fn panels<DB: Backend>(area: &DrawingArea<DB, Shift>, n: usize, cols: usize) -> Vec<DrawingArea<DB, Shift>> {
     let cols = cols.clamp(1, n.max(1));
     let rows = n.div_ceil(cols).max(1);
     area.split_evenly((rows, cols)).into_iter().take(n).collect()
@@ -131,7 +123,7 @@ pub(crate) fn panels<DB: crate::page::Backend>(
 /// `area` split into `n` panels in as many columns as give the panels the
 /// most room for their least size `least` (width, height in text heights):
 /// side by side on a wide page, one above the other on a tall one.
-pub(crate) fn grid<DB: crate::page::Backend>(
+pub(crate) fn grid<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     n: usize,
@@ -141,7 +133,7 @@ pub(crate) fn grid<DB: crate::page::Backend>(
 }
 
 /// The columns [`grid`] lays `n` panels out in.
-pub(crate) fn grid_columns<DB: crate::page::Backend>(
+pub(crate) fn grid_columns<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     n: usize,
@@ -186,12 +178,12 @@ pub(crate) fn tick_chars(range: (f64, f64)) -> usize {
     let decimals = if step > 0.0 { (-step.log10().floor()).max(0.0) as usize + 1 } else { 1 };
     let whole = range.0.abs().max(range.1.abs()).max(1.0).log10().floor() as usize + 1;
     let text = whole + decimals + usize::from(range.0 < 0.0) + 1;
-    text.min(crate::axis::tick(range.0).chars().count().max(crate::axis::tick(range.1).chars().count()))
+    text.min(tick(range.0).chars().count().max(tick(range.1).chars().count()))
 }
 
 /// `scale`, or less (down to the least text size) where `text` at `scale`
 /// times the body size is longer than `width` pixels.
-fn fitted_scale<DB: crate::page::Backend>(
+fn fitted_scale<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,
@@ -208,7 +200,7 @@ fn fitted_scale<DB: crate::page::Backend>(
 
 /// A chart on `area` with the axes `a`: label areas and tick counts sized to
 /// the canvas's text, no grid, ticks without `-0`.
-pub(crate) fn chart<'b, DB: crate::page::Backend>(
+pub(crate) fn chart<'b, DB: Backend>(
     area: &'b DrawingArea<DB, Shift>,
     canvas: &Canvas,
     a: &Axes,
@@ -245,8 +237,8 @@ pub(crate) fn chart<'b, DB: crate::page::Backend>(
         .axis_style(spine)
         .x_labels(x_ticks.clamp(2, 10))
         .y_labels(y_ticks.clamp(3, 10))
-        .x_label_formatter(&|v| if a.x_labels { crate::axis::tick(*v) } else { String::new() })
-        .y_label_formatter(&|v| crate::axis::tick(*v))
+        .x_label_formatter(&|v| if a.x_labels { tick(*v) } else { String::new() })
+        .y_label_formatter(&|v| tick(*v))
         .label_style(canvas.font(1.0))
         .set_all_tick_mark_size(canvas.em(0.35))
         .draw()

@@ -6,7 +6,7 @@
 //! dash, a ring or a dot of the size drawn in the data.
 
 use crate::error::{err, RenderError};
-use crate::page::Canvas;
+use crate::page::{Backend, Canvas};
 use crate::rich::{self, Direction};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -55,11 +55,7 @@ const SWATCH: f64 = 1.1;
 const LINE_SWATCH: f64 = 3.2;
 
 /// Width (px) of the widest row of `entries`, swatch included.
-pub(crate) fn width<DB: crate::page::Backend>(
-    area: &DrawingArea<DB, Shift>,
-    canvas: &Canvas,
-    entries: &[Entry],
-) -> u32 {
+pub(crate) fn width<DB: Backend>(area: &DrawingArea<DB, Shift>, canvas: &Canvas, entries: &[Entry]) -> u32 {
     let font = canvas.font(1.0);
     entries
         .iter()
@@ -82,7 +78,7 @@ fn swatch_width(s: Swatch) -> f64 {
 }
 
 /// Widths (px) of the columns of `entries` laid out `rows` to a column.
-pub(crate) fn columns<DB: crate::page::Backend>(
+pub(crate) fn columns<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     entries: &[Entry],
@@ -123,7 +119,7 @@ pub(crate) fn height(canvas: &Canvas, rows: usize) -> u32 {
 /// Draws `entries` down `area` in columns of as many rows as its height
 /// holds, each column as wide as its widest row; rows beyond its width are
 /// left out (callers size their entries with [`rows`] and [`columns`]).
-pub(crate) fn draw<DB: crate::page::Backend>(
+pub(crate) fn draw<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     entries: &[Entry],
@@ -146,7 +142,7 @@ pub(crate) fn draw<DB: crate::page::Backend>(
 }
 
 /// Draws one row, its swatch's left edge at `x`, in row `r` of its column.
-fn draw_row<DB: crate::page::Backend>(
+fn draw_row<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     e: &Entry,
@@ -161,7 +157,7 @@ fn draw_row<DB: crate::page::Backend>(
 }
 
 /// Draws a swatch whose left edge is `x`, centred on `y`.
-fn swatch<DB: crate::page::Backend>(
+fn swatch<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     s: Swatch,
@@ -214,7 +210,7 @@ fn swatch<DB: crate::page::Backend>(
 
 /// Draws a polyline (in the area's coordinates) with a white halo, width
 /// (pt) and dash (pt).
-pub(crate) fn line<DB: crate::page::Backend, CT: plotters::coord::CoordTranslate>(
+pub(crate) fn line<DB: Backend, CT: plotters::coord::CoordTranslate>(
     area: &DrawingArea<DB, CT>,
     canvas: &Canvas,
     points: &[CT::From],

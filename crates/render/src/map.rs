@@ -14,7 +14,7 @@ use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use maps::palette::{self, colour, delta_e, Family};
 use maps::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
@@ -109,7 +109,7 @@ impl<'a> CellGrid<'a> {
 
     /// A chart over the whole plane (half a cell of margin), axes named after
     /// the parameters' symbols.
-    pub(crate) fn chart<'b, DB: crate::page::Backend>(
+    pub(crate) fn chart<'b, DB: Backend>(
         &self,
         area: &'b DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -193,7 +193,7 @@ pub(crate) enum Paint {
 const MIN_SPLIT_MM: f64 = 0.5;
 
 /// Draws cells as `paint` gives them (None: not drawn), and `curves` over them.
-fn draw_cells<DB: crate::page::Backend>(
+fn draw_cells<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -209,7 +209,7 @@ fn draw_cells<DB: crate::page::Backend>(
 /// k × k cells are drawn, each as the paint most of its cells have (an
 /// area-faithful picture of the zones; a tie goes to a split); `title` says
 /// the block's side. On screen sizes every cell is drawn (a viewer zooms).
-fn draw_split_cells<DB: crate::page::Backend>(
+fn draw_split_cells<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -231,7 +231,7 @@ fn draw_split_cells<DB: crate::page::Backend>(
 
 /// Draws the plane's cells in blocks of `k` × `k` cells, each painted as
 /// most of its cells are (the cells themselves for blocks of one).
-fn draw_blocks<DB: crate::page::Backend>(
+fn draw_blocks<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     meta: &Meta,
@@ -438,7 +438,7 @@ struct Placed {
     size: u32,
 }
 
-fn place<DB: crate::page::Backend>(
+fn place<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     below_rows: usize,
@@ -467,7 +467,7 @@ fn place<DB: crate::page::Backend>(
 
 impl Placed {
     /// `area` split into the panels' area and the legend's.
-    fn split<DB: crate::page::Backend>(
+    fn split<DB: Backend>(
         &self,
         area: &DrawingArea<DB, Shift>,
         canvas: &Canvas,
@@ -481,11 +481,7 @@ impl Placed {
     }
 
     /// Draws the legend into its area.
-    fn draw<DB: crate::page::Backend>(
-        &self,
-        area: &DrawingArea<DB, Shift>,
-        canvas: &Canvas,
-    ) -> Result<(), RenderError> {
+    fn draw<DB: Backend>(&self, area: &DrawingArea<DB, Shift>, canvas: &Canvas) -> Result<(), RenderError> {
         legend::draw(area, canvas, &self.rows)
     }
 }
@@ -513,7 +509,7 @@ pub fn map(
     save!(path, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
 }
 
-fn draw_map<DB: crate::page::Backend>(
+fn draw_map<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -542,7 +538,7 @@ fn draw_map<DB: crate::page::Backend>(
 
 /// The three panels of the hysteresis view and their legend: labels of both
 /// sweeps, then the (up, down) pairs of the differing cells.
-fn draw_hysteresis<DB: crate::page::Backend>(
+fn draw_hysteresis<DB: Backend>(
     body: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -716,7 +712,7 @@ pub fn sheet(
     save!(path, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
 }
 
-fn draw_sheet<DB: crate::page::Backend>(
+fn draw_sheet<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     panels: &[(String, Atlas)],
@@ -765,7 +761,7 @@ pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), Rend
     save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }
 
-fn draw_attractors<DB: crate::page::Backend>(
+fn draw_attractors<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,
@@ -836,7 +832,7 @@ fn band(fraction: f64) -> usize {
     }
 }
 
-fn draw_family<DB: crate::page::Backend>(
+fn draw_family<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     atlas: &Atlas,

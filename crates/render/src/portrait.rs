@@ -3,11 +3,12 @@
 //! drawn as vertical lines and the impacts marked; below, the positions of all
 //! masses against time with every event marked.
 
+use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -43,11 +44,7 @@ pub fn portrait(p: &Portrait, page: &Page, path: &Path) -> Result<(), RenderErro
     save!(path, canvas, |root| draw(&root, &canvas, p))
 }
 
-fn draw<DB: crate::page::Backend>(
-    root: &DrawingArea<DB, Shift>,
-    canvas: &Canvas,
-    p: &Portrait,
-) -> Result<(), RenderError> {
+fn draw<DB: Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &Portrait) -> Result<(), RenderError> {
     root.fill(&WHITE).map_err(err)?;
     let body = layout::header(root, canvas, &p.title, layout::TITLE)?;
     let (top, bottom) = body.split_vertically(body.dim_in_pixel().1 * 4 / 7);
@@ -56,8 +53,8 @@ fn draw<DB: crate::page::Backend>(
     let dot = canvas.pt(1.3);
     for (k, area) in panels.iter().enumerate() {
         let stops: Vec<&(usize, f64, String)> = p.stops.iter().filter(|s| s.0 == k).collect();
-        let (x0, x1) = crate::axis::range(p.x[k].iter().copied().chain(stops.iter().map(|s| s.1)));
-        let (v0, v1) = crate::axis::range(p.v[k].iter().copied());
+        let (x0, x1) = range(p.x[k].iter().copied().chain(stops.iter().map(|s| s.1)));
+        let (v0, v1) = range(p.v[k].iter().copied());
         let caption = format!("{}: phase portrait", p.masses[k]);
         let (xd, vd) = (format!("x_{}", p.masses[k]), format!("v_{}", p.masses[k]));
         let axes = Axes {
@@ -86,8 +83,8 @@ fn draw<DB: crate::page::Backend>(
     let (plot_area, key) = bottom.split_horizontally(bottom.dim_in_pixel().0.saturating_sub(canvas.emu(7.0)));
     let axes = Axes {
         caption: Some("positions against time (events marked)"),
-        x: crate::axis::range(p.t.iter().copied()),
-        y: crate::axis::range(p.x.iter().flatten().copied()),
+        x: range(p.t.iter().copied()),
+        y: range(p.x.iter().flatten().copied()),
         x_desc: "t",
         y_desc: "x",
         x_labels: true,

@@ -6,7 +6,7 @@
 //! other text is drawn as written.
 
 use crate::error::{err, RenderError};
-use crate::page::Canvas;
+use crate::page::{Backend, Canvas};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -60,7 +60,7 @@ pub(crate) enum Direction {
 
 /// Draws `text` with its subscripts at `at` (pixels of `area`), anchored by
 /// `pos` along and across its direction, at `scale` times the body size.
-pub(crate) fn draw<DB: crate::page::Backend>(
+pub(crate) fn draw<DB: Backend>(
     area: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     text: &str,

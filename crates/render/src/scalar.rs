@@ -5,12 +5,13 @@
 //! Cells without the number are mid grey (apart from the white of neutral values); a labelled colour bar gives the
 //! scale.
 
+use crate::axis::tick;
 use crate::error::{err, RenderError};
 use crate::layout;
 use crate::legend::{self, Entry, Swatch};
 use crate::map::{sweep_cells, CellGrid};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use maps::{Atlas, CellData, Meta, Number, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -202,7 +203,7 @@ struct Texts {
     levels: Vec<f64>,
 }
 
-fn draw<DB: crate::page::Backend>(
+fn draw<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     m: &Meta,
@@ -243,7 +244,7 @@ fn draw<DB: crate::page::Backend>(
         .disable_mesh()
         .disable_x_axis()
         .y_desc(&text.unit)
-        .y_label_formatter(&|v| crate::axis::tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .label_style(canvas.font(1.0))
         .axis_desc_style(canvas.font(1.0))
         .axis_style(BLACK.stroke_width(canvas.pt(0.6)))

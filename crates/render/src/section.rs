@@ -4,10 +4,11 @@
 //! few points are drawn larger, and their panel is padded around them
 //! ([`crate::range`]) rather than scaled to their round-off.
 
+use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -34,7 +35,7 @@ pub fn sections(panels: &[Panel], title: &str, page: &Page, path: &Path) -> Resu
     save!(path, canvas, |root| draw(&root, &canvas, panels, title))
 }
 
-fn draw<DB: crate::page::Backend>(
+fn draw<DB: Backend>(
     root: &DrawingArea<DB, Shift>,
     canvas: &Canvas,
     panels: &[Panel],
@@ -45,8 +46,8 @@ fn draw<DB: crate::page::Backend>(
     for (panel, area) in panels.iter().zip(layout::grid(&body, canvas, panels.len(), (16.0, 14.0)).iter()) {
         let axes = Axes {
             caption: None,
-            x: crate::axis::range(panel.points.iter().map(|p| p.0)),
-            y: crate::axis::range(panel.points.iter().map(|p| p.1)),
+            x: range(panel.points.iter().map(|p| p.0)),
+            y: range(panel.points.iter().map(|p| p.1)),
             x_desc: &panel.x,
             y_desc: &panel.y,
             x_labels: true,

@@ -5,7 +5,7 @@
 
 use crate::error::{err, RenderError};
 use crate::output::save;
-use crate::page::{Canvas, Page};
+use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::Path;
@@ -16,10 +16,7 @@ pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderErr
     save!(path, canvas, |root| draw(&root, points))
 }
 
-fn draw<DB: crate::page::Backend>(
-    root: &DrawingArea<DB, Shift>,
-    points: &[(String, f64, f64)],
-) -> Result<(), RenderError> {
+fn draw<DB: Backend>(root: &DrawingArea<DB, Shift>, points: &[(String, f64, f64)]) -> Result<(), RenderError> {
     let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| (a.min(p.1), b.max(p.1)));
     let (lo, hi) = if lo.is_finite() && hi > 0.0 { (lo / 2.0, hi * 2.0) } else { (1.0, 10.0) };
     // Agreement axis from a little below the worst setting to just above 1, so
