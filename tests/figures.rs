@@ -280,6 +280,51 @@ fn curves_are_found_on_a_map() {
     assert!(!err.status.success() && String::from_utf8_lossy(&err.stderr).contains("--into"));
 }
 
+/// Issue 64: `curves` over a stored map places every grazing it traces on
+/// a closed-form grazing line to 1e-9, at the root of the orbit's grazing
+/// margin (a bisection on where Newton's method stops converging fell
+/// 1e-8–1e-5 short). The lines:
+/// - single stop (ζ = 0.05): the non-impacting orbit's amplitude
+///   σ = 1/|1 − ω² + 2iζω|;
+/// - gear pair (fm = 0.1, k = 1, ζ = 0.05): the mesh keeps contact while
+///   its amplitude is below the mean deflection, f1 = fm |k − ω² + 2iζω| / k.
+///
+/// A curve's point is on the line where it lies within 1e-5 of it; at
+/// least 5 such points are asked of each map.
+#[test]
+#[ignore = "slow: the full suite runs it"]
+fn curves_place_grazings_on_closed_forms() {
+    let single = |w: f64| 1.0 / (1.0 - w * w).hypot(0.1 * w);
+    grazings_on_line("single-stop.toml", ["omega=0.5:3:25", "sigma=-1:1.5:20"], &["--set", "zeta=0.05"], single);
+    let gear = |w: f64| 0.1 * (1.0 - w * w).hypot(0.1 * w);
+    grazings_on_line("gear-backlash.toml", ["omega=0.3:2:24", "f1=0.05:0.35:16"], &[], gear);
+}
+
+/// The grazing curves `curves` finds over an up sweep of `scene` on the
+/// plane `axes`: at least 5 of their points lie within 1e-5 of `line` (the
+/// second parameter as a function of ω), and those within 1e-9.
+fn grazings_on_line(scene: &str, [x, y]: [&str; 2], extra: &[&str], line: impl Fn(f64) -> f64) {
+    let d = scratch(&format!("curves-closed-form-{scene}"));
+    let (a, c) = (d.join("atlas.h5"), d.join("curves.h5"));
+    let path = format!("configs/{scene}");
+    let mut args = vec!["atlas", &path, "--x", x, "--y", y, "--sweep", "up", "--quiet", "-o", a.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    ok(&args);
+    ok(&["curves", a.to_str().unwrap(), "--kinds", "grazing", "--max", "4", "-o", c.to_str().unwrap()]);
+    let offs: Vec<f64> = store::read_curves(&c)
+        .unwrap()
+        .iter()
+        .flat_map(|curve| curve.points.iter().map(|&(w, b)| (b - line(w)).abs()))
+        .filter(|off| *off < 1e-5)
+        .collect();
+    let worst = offs.iter().copied().fold(0.0, f64::max);
+    assert!(
+        offs.len() >= 5 && worst < 1e-9,
+        "{scene}: {} points on the line, the farthest {worst:.2e} off it",
+        offs.len()
+    );
+}
+
 /// Issue 43: a legend writes a state variable as the axes do, `x` with the
 /// subscript `M1` drawn smaller (the portrait's time series named its lines
 /// `x_M1`, underscore and all).

@@ -8,15 +8,19 @@
 //! located by the Illinois variant of regula falsi on ψ to `PARAM_TOL`, and
 //! named by where the crossing multiplier sits on the unit circle
 //! ([`crate::floquet::kind`]). Where Newton fails even at the smallest step,
-//! the edge of the solvable branch is located by bisection to `PARAM_TOL`: when
-//! the impact pattern changes there it is a grazing, and the branch goes on
-//! with the new pattern when Newton converges past it; otherwise the branch
-//! folds (SN: a multiplier tends to +1), where natural continuation stops.
+//! the edge of the solvable branch is located by bisection to `PARAM_TOL`.
+//! When the impact pattern changes past it, it is a grazing, placed at the
+//! root of the orbit's grazing margin ([`crate::grazing::margin`], smooth
+//! through the grazing, where Newton's method is not), and the branch goes
+//! on with the new pattern when Newton converges past it; otherwise the
+//! branch folds (SN: a multiplier tends to +1), where natural continuation
+//! stops, or is lost.
 
 use crate::accuracy::Accuracy;
 use crate::floquet::{kind, spectral_radius, Bifurcation};
+use crate::grazing;
 use crate::newton::{Failure, MapKind};
-use crate::orbit::{solve_orbit, Orbit};
+use crate::orbit::{solve_orbit, solve_orbit_watched, Orbit};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
@@ -188,20 +192,150 @@ fn locate_boundary(family: &Family, acc: &Accuracy, good: &BranchPoint, mut v_ba
     (good, why)
 }
 
-/// Follows `start` (the orbit at `values[0]`) over `values`.
-pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> Branch {
-    follow_with(family, acc, values, start, true)
+/// Most secant steps of [`locate_grazing`].
+const GRAZING_STEPS: usize = 8;
+
+/// How far short of the secant's root a step solves the orbit, as a share
+/// of the way there.
+const GRAZING_SHORT: f64 = 0.999;
+
+/// A root within this of the last orbit solved (relative) stands: the
+/// margin's curvature moves it by about the square of this.
+const GRAZING_CLOSE: f64 = 1e-7;
+
+/// Most halvings of one secant step of [`locate_grazing`] whose orbit
+/// Newton's method does not reach (each such try costs a failed solve).
+const GRAZING_HALVINGS: usize = 4;
+
+/// Farthest a grazing may lie from the last orbit solved before it (in the
+/// parameter): the margin's curvature then moves the root by about the
+/// square of this, far below `PARAM_TOL`.
+const GRAZING_REACH: f64 = 1e-4;
+
+/// Places the grazing of the branch's last orbit between its value and
+/// `v_bad`, where Newton's method keeping its impact pattern fails: at the
+/// root of its margin ([`grazing::margin`], smooth and linear in the
+/// parameter near the grazing), by secant steps from the orbit's side, each
+/// solving the orbit there from the line through the last two (a step that
+/// fails is halved towards the last solved orbit, at most
+/// [`GRAZING_HALVINGS`] times, after which the root stands). The root is taken once
+/// two successive secant roots agree to `PARAM_TOL / 100` (the margin's
+/// curvature then moves it by less). The grazed stops and the orbit's side
+/// come from the map evaluated past the last orbit ([`grazing::crossing`]).
+/// The grazing's value; `None` (where no pattern change, margin or
+/// converging step is found) leaves the grazing to [`locate_boundary`]. The
+/// branch's point stays the bisection's last orbit (`points`' last), short
+/// of the root: from there Newton's method reaches nearby orbits from a
+/// prediction, as curves need (see `curve::line`).
+fn locate_grazing(family: &Family, acc: &Accuracy, points: &[BranchPoint], v_bad: f64) -> Option<f64> {
+    let last = points.last()?;
+    let crossing = (0..4).find_map(|k| {
+        let v = last.value + (v_bad - last.value) * f64::powi(2.0, k);
+        let sys = family(v)?;
+        grazing::crossing(&sys, acc, &last.orbit).ok()?
+    })?;
+    let (stops, side) = (crossing.stops, crossing.side?);
+    let margin = |p: &BranchPoint| grazing::margin(&family(p.value)?, acc, &p.orbit, &stops, side);
+    // The orbit at v from x0, keeping `like`'s pattern, its margin measured as it is described.
+    let solve = |v: f64, x0: &DVector<f64>, like: &Orbit| -> Option<(BranchPoint, f64)> {
+        let sys = family(v)?;
+        let mut watch = grazing::Margins::new(&sys, &stops, side);
+        let pattern = Some(&like.solution.pattern);
+        let orbit = solve_orbit_watched(&sys, acc, x0, like.map, like.n, pattern, &mut watch).ok()?;
+        let m = watch.of(&orbit)?;
+        Some((BranchPoint { value: v, orbit }, m))
+    };
+    // The point before: the branch's, where it is the same orbit; else one solved behind.
+    let (before, m_before) = match points.len() {
+        n if n >= 2 && points[n - 2].orbit.solution.pattern == last.orbit.solution.pattern => {
+            (points[n - 2].clone(), margin(&points[n - 2])?)
+        }
+        _ => solve(last.value - (v_bad - last.value), &last.orbit.solution.x, &last.orbit)?,
+    };
+    let (mut p0, mut p1) = (before, last.clone());
+    let (mut m0, mut m1) = (m_before, margin(&p1)?);
+    let mut bad = v_bad;
+    let mut root: Option<f64> = None;
+    for _ in 0..GRAZING_STEPS {
+        let slope = (m1 - m0) / (p1.value - p0.value);
+        let r = p1.value - m1 / slope;
+        // The margin must fall towards the failure, its root between.
+        if !(r.is_finite() && (r - p1.value) * (bad - p1.value) >= 0.0) {
+            return None;
+        }
+        let tol = 1e-2 * PARAM_TOL * (1.0 + r.abs());
+        let close = GRAZING_CLOSE * (1.0 + r.abs());
+        if m1 <= 0.0 || root.is_some_and(|q| (q - r).abs() <= tol) || (r - p1.value).abs() <= close {
+            return within(p1.value, r, v_bad);
+        }
+        root = Some(r);
+        // Just short of the root: an orbit there still clears the stop by
+        // more than the prediction's error, so Newton's method reaches it.
+        let short = p1.value + GRAZING_SHORT * (r - p1.value);
+        let mut v = if (r - bad) * (p1.value - bad) > 0.0 { short } else { 0.5 * (p1.value + bad) };
+        for halving in 0..=GRAZING_HALVINGS {
+            let w = (v - p1.value) / (p1.value - p0.value);
+            let x0 = &p1.orbit.solution.x + (&p1.orbit.solution.x - &p0.orbit.solution.x) * w;
+            match solve(v, &x0, &p1.orbit) {
+                Some((p, m)) => {
+                    (p0, m0, p1, m1) = (p1, m1, p, m);
+                    break;
+                }
+                None if halving == GRAZING_HALVINGS => return within(p1.value, r, v_bad),
+                None => {
+                    bad = v;
+                    v = 0.5 * (p1.value + v);
+                    if (v - p1.value).abs() <= tol {
+                        return within(p1.value, r, v_bad);
+                    }
+                }
+            }
+        }
+    }
+    root.and_then(|r| within(p1.value, r, v_bad))
 }
 
-/// [`follow`] up to the first change of the impact pattern (a grazing, its
-/// orbit there the branch's last point): the bifurcations of `start`'s own
-/// orbit only.
-pub fn follow_own(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> Branch {
-    follow_with(family, acc, values, start, false)
+/// The root `r` where it lies between `last` (the value of the last orbit
+/// solved) and `bad` (where Newton's method failed) and within
+/// [`GRAZING_REACH`] of `last`, else `None`: a root beyond the failure, or
+/// one the orbit was not solved near (it folds first), is no grazing of this
+/// orbit.
+fn within(last: f64, r: f64, bad: f64) -> Option<f64> {
+    ((r - last) * (bad - r) >= 0.0 && (r - last).abs() <= GRAZING_REACH).then_some(r)
+}
+
+/// How precisely a followed branch places its grazings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Grazings {
+    /// At the root of the orbit's grazing margin, to [`PARAM_TOL`].
+    Exact,
+    /// At the edge where Newton's method stops reaching the orbit (short of
+    /// the grazing by up to about 1e-4): enough where only the branch's
+    /// end matters (a segment its orbit is carried along).
+    Edge,
+}
+
+/// Follows `start` (the orbit at `values[0]`) over `values`.
+pub fn follow(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit) -> Branch {
+    follow_with(family, acc, values, start, true, Grazings::Exact)
+}
+
+/// [`follow`] up to the first change of the impact pattern (a grazing placed
+/// as `grazings` says, its last orbit the branch's last point): the
+/// bifurcations of `start`'s own orbit only.
+pub fn follow_own(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit, grazings: Grazings) -> Branch {
+    follow_with(family, acc, values, start, false, grazings)
 }
 
 /// [`follow`], going on past a grazing with the new pattern when `past`.
-fn follow_with(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit, past: bool) -> Branch {
+fn follow_with(
+    family: &Family,
+    acc: &Accuracy,
+    values: &[f64],
+    start: Orbit,
+    past: bool,
+    grazings: Grazings,
+) -> Branch {
     let mut branch = Branch { points: vec![BranchPoint { value: values[0], orbit: start }], ..Branch::default() };
     for &target in &values[1..] {
         let mut depth = 0;
@@ -231,7 +365,27 @@ fn follow_with(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit, pa
                     // branch Newton fails at a fold, where a multiplier tends to +1.
                     let one = C64::new(1.0, 0.0);
                     let fold = edge.orbit.map_multipliers.iter().any(|m| (m - one).norm() < FOLD_DISTANCE);
-                    if why != Failure::Pattern {
+                    // A grazing: placed at the root of its margin, from the
+                    // edge where Newton's method stops reaching the orbit.
+                    // Exactly placed, the margin decides what Newton's
+                    // failure does not: near a grazing Newton may diverge
+                    // before it sees the pattern change, and near a fold the
+                    // iterates may change the pattern of an orbit that folds
+                    // before it grazes (no root within reach: a fold).
+                    let mut at = edge.value;
+                    let mut grazes = why == Failure::Pattern;
+                    if grazings == Grazings::Exact && (grazes || !fold) {
+                        // The last two points serve (their orbits, not the whole branch's, cloned).
+                        let mut points = branch.points[branch.points.len().saturating_sub(2)..].to_vec();
+                        if edge.value.to_bits() != last.value.to_bits() {
+                            points.push(edge.clone());
+                        }
+                        match locate_grazing(family, acc, &points, v) {
+                            Some(root) => (at, grazes) = (root, true),
+                            None => grazes &= !fold,
+                        }
+                    }
+                    if !grazes {
                         let value = edge.value;
                         if fold {
                             branch.bifurcations.push(Located::at_leading(Bifurcation::SaddleNode, value, &edge.orbit));
@@ -244,21 +398,26 @@ fn follow_with(family: &Family, acc: &Accuracy, values: &[f64], start: Orbit, pa
                         });
                         return branch;
                     }
-                    branch.bifurcations.push(Located::at_leading(Bifurcation::Grazing, edge.value, &edge.orbit));
+                    branch.bifurcations.push(Located::at_leading(Bifurcation::Grazing, at, &edge.orbit));
+                    let new = edge.value.to_bits() != last.value.to_bits();
                     if !past {
-                        branch.ended = Some(format!("the impact pattern changes at {:.9} (grazing)", edge.value));
-                        branch.points.push(edge);
+                        branch.ended = Some(format!("the impact pattern changes at {at:.9} (grazing)"));
+                        if new {
+                            branch.points.push(edge);
+                        }
                         return branch;
                     }
                     // Go on past the grazing with the new event sequence.
                     match solve_at(family, acc, &edge.orbit, v, &edge.orbit.solution.x, true) {
                         Some(o) => {
-                            branch.points.push(edge);
+                            if new {
+                                branch.points.push(edge);
+                            }
                             branch.points.push(BranchPoint { value: v, orbit: o });
                             depth = 0;
                         }
                         None => {
-                            branch.ended = Some(format!("no orbit past the grazing at {:.9}", edge.value));
+                            branch.ended = Some(format!("no orbit past the grazing at {at:.9}"));
                             return branch;
                         }
                     }

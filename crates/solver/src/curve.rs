@@ -46,9 +46,14 @@
 //! consecutive points, one more of the orbit's other multipliers (all but the
 //! critical one, or pair) leaves or enters the unit circle: named after where
 //! it crosses (`SN` at +1, `PD` at -1, `NS` off the real axis), placed by
-//! linear interpolation of `|μ| - 1` between the two points. Bifurcations of
-//! other orbits met on a line (past a change of the impact pattern) are not
-//! the curve's.
+//! linear interpolation of `|μ| - 1` between the two points. On a
+//! Neimark–Sacker curve, the strong resonances `1:3` and `1:4` are recorded
+//! where the critical pair `e^{±iθ}` of the period map passes θ = 2π/3 and
+//! π/2 (placed by linear interpolation of θ); the resonances 1:1 and 1:2 are
+//! where such a curve meets a fold (`NS-SN`) or a flip (`NS-PD`) as its pair
+//! reaches +1 or −1, and a fold meeting a flip (`SN-PD`) is the fold–flip
+//! point. Bifurcations of other orbits met on a line (past a change of the
+//! impact pattern) are not the curve's.
 
 mod line;
 mod meet;
@@ -131,7 +136,9 @@ pub struct CurvePoint {
     pub orbit: Orbit,
     /// Where `orbit` is, `(a, b)`: the point itself, but for a fold the
     /// point of its corrector's continuation before it (at the fold Newton's
-    /// method is singular).
+    /// method is singular), and for a grazing the last point where Newton's
+    /// method reached the orbit keeping its impact pattern (next to the
+    /// grazing it does not reach it from a prediction).
     pub orbit_at: [f64; 2],
     /// Other bifurcations of the orbit located on the same line (before its
     /// impact pattern changes): kind and position `(a, b)`.
@@ -636,9 +643,31 @@ impl Tracing {
         let n = curve.points.len();
         self.record_coincidences(curve, n - 1);
         let (p, q) = (&curve.points[n - 2], &curve.points[n - 1]);
-        if let Some(c) = self.crossing(p, q) {
+        let found: Vec<Codim2> = self.crossing(p, q).into_iter().chain(self.resonances(p, q)).collect();
+        for c in found {
             self.record(curve, c);
         }
+    }
+
+    /// The strong resonances 1:3 and 1:4 passed between two consecutive
+    /// points `p` and `q` of a Neimark–Sacker curve: where the angle θ of
+    /// the critical pair of multipliers of the period map passes 2π/3 or
+    /// π/2 (linear in θ between them).
+    fn resonances(&self, p: &CurvePoint, q: &CurvePoint) -> Vec<Codim2> {
+        if self.kind != Bifurcation::NeimarkSacker {
+            return Vec::new();
+        }
+        let (Some(tp), Some(tq)) = (rotation(&p.located), rotation(&q.located)) else { return Vec::new() };
+        [(3.0, "1:3"), (4.0, "1:4")]
+            .into_iter()
+            .filter_map(|(order, name)| {
+                let target = std::f64::consts::TAU / order;
+                ((tp - target) * (tq - target) < 0.0).then(|| {
+                    let t = (target - tp) / (tq - tp);
+                    Codim2 { kind: name.to_string(), a: p.a + t * (q.a - p.a), b: p.b + t * (q.b - p.b) }
+                })
+            })
+            .collect()
     }
 
     /// Other bifurcations located on the line of point `i`, within
@@ -680,6 +709,18 @@ impl Tracing {
             b: p.b + t * (q.b - p.b),
         })
     }
+}
+
+/// The angle θ in (0, π) of the critical pair `e^{±iθ}` of the period map
+/// at a located Neimark–Sacker bifurcation: of its multiplier in the upper
+/// half plane nearest the unit circle (the solved map's critical one, or
+/// its square on a half map). `None` without such a multiplier.
+fn rotation(l: &Located) -> Option<f64> {
+    l.multipliers
+        .iter()
+        .filter(|z| z.im > 0.0)
+        .min_by(|x, y| (x.norm() - 1.0).abs().total_cmp(&(y.norm() - 1.0).abs()))
+        .map(|z| z.arg())
 }
 
 /// The multipliers of the n-period map at a located bifurcation but the

@@ -7,7 +7,7 @@ use crate::floquet::multipliers;
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Mask, MassLabel, Symmetry};
 use crate::newton::{try_solve, Failure, Limits, MapKind, Pattern, Solution};
-use crate::simulate::{Observer, Simulator};
+use crate::simulate::{EventKind, Ignore, Observer, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
@@ -73,12 +73,19 @@ impl Observer for Impacts {
 /// Completes a Newton solution into an [`Orbit`] (multipliers, labels, impacts).
 pub fn describe(sys: &System, acc: &Accuracy, solution: Solution, map: MapKind, n: usize) -> Orbit {
     let sim = Simulator::new(sys, *acc, Method::Exact, solution.x.as_slice()).ok();
-    describe_in(sys, sim, solution, map, n)
+    describe_in(sys, sim, solution, map, n, &mut Ignore)
 }
 
 /// [`describe`], its impacts simulated by `sim` (started at the solution;
 /// `None`: it could not be).
-fn describe_in(sys: &System, mut sim: Option<Simulator<'_>>, solution: Solution, map: MapKind, n: usize) -> Orbit {
+fn describe_in(
+    sys: &System,
+    mut sim: Option<Simulator<'_>>,
+    solution: Solution,
+    map: MapKind,
+    n: usize,
+    watch: &mut dyn Observer,
+) -> Orbit {
     let map_multipliers = multipliers(&solution.jacobian);
     let mut full: Vec<C64> = match map {
         MapKind::Half => map_multipliers.iter().map(|m| m * m).collect(),
@@ -90,7 +97,7 @@ fn describe_in(sys: &System, mut sim: Option<Simulator<'_>>, solution: Solution,
     let (mut impacts, mut held) = (vec![0u32; sys.stops.len()], 0u32);
     if let Some(sim) = sim.as_mut() {
         for _ in 0..n {
-            if let Ok(rec) = sim.run_period(&[], false, &mut obs) {
+            if let Ok(rec) = sim.run_period(&[], false, &mut Tee(&mut obs, watch)) {
                 impacts.iter_mut().zip(&rec.impacts).for_each(|(a, b)| *a += b);
                 held |= rec.held;
             }
@@ -121,11 +128,64 @@ pub fn solve_orbit(
     n: usize,
     pattern: Option<&Pattern>,
 ) -> Result<Orbit, Failure> {
+    solve_orbit_watched(sys, acc, x0, map, n, pattern, &mut Ignore)
+}
+
+/// [`solve_orbit`], `watch` told of the orbit's n periods from its fixed
+/// point as they are simulated to describe it (a grazing's margin is
+/// measured so, [`crate::grazing`], without a simulation of its own).
+pub(crate) fn solve_orbit_watched(
+    sys: &System,
+    acc: &Accuracy,
+    x0: &DVector<f64>,
+    map: MapKind,
+    n: usize,
+    pattern: Option<&Pattern>,
+    watch: &mut dyn Observer,
+) -> Result<Orbit, Failure> {
     let mut sim = Simulator::new(sys, *acc, Method::Exact, x0.as_slice()).map_err(|_| Failure::Simulation)?;
     let solution = try_solve(&mut sim, x0, map, pattern, ORBIT_LIMITS)?;
     // The solver's simulator, started again, has the modes built.
     let sim = sim.reset(solution.x.as_slice()).is_ok().then_some(sim);
-    Ok(describe_in(sys, sim, solution, map, n))
+    Ok(describe_in(sys, sim, solution, map, n, watch))
+}
+
+/// Tells two observers of one simulation.
+struct Tee<'a>(&'a mut dyn Observer, &'a mut dyn Observer);
+
+impl Observer for Tee<'_> {
+    fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+        self.0.impact(time, stop, before, after);
+        self.1.impact(time, stop, before, after);
+    }
+
+    fn event(&mut self, time: f64, y: &DVector<f64>) {
+        self.0.event(time, y);
+        self.1.event(time, y);
+    }
+
+    fn named_event(&mut self, time: f64, kind: EventKind, y: &DVector<f64>) {
+        self.0.named_event(time, kind, y);
+        self.1.named_event(time, kind, y);
+    }
+
+    fn sample(&mut self, time: f64, y: &DVector<f64>) {
+        self.0.sample(time, y);
+        self.1.sample(time, y);
+    }
+
+    fn wants_segments(&self) -> bool {
+        self.0.wants_segments() || self.1.wants_segments()
+    }
+
+    fn segment(&mut self, segment: &mut Segment<'_>) {
+        if self.0.wants_segments() {
+            self.0.segment(segment);
+        }
+        if self.1.wants_segments() {
+            self.1.segment(segment);
+        }
+    }
 }
 
 /// The map to solve for a period-`n` orbit of `sys` near `x0`: the half map for a

@@ -13,13 +13,11 @@
 
 use super::meet::{fold_test, FOLD_MARGIN};
 use super::{CurvePoint, Missed, Plane2, Start, Tracing, LINE_POINTS};
-use crate::continuation::{follow_own, Branch, Located};
+use crate::continuation::{follow_own, Branch, Grazings, Located};
 use crate::floquet::Bifurcation;
-use crate::newton::evaluate;
+use crate::grazing::{crossing, grazed, Crossing};
 use crate::orbit::{orbit_of_cell, solve_orbit, Orbit};
-use crate::simulate::Simulator;
 use crate::system::System;
-use crate::Method;
 
 /// Points of the continuation along a step's corrector path (a line or an
 /// arc: the curve is near its middle; a first point's line has
@@ -114,7 +112,7 @@ impl Tracing {
         let run = |from: f64| -> Option<Branch> {
             let sys = family(from)?;
             let orbit = self.orbit_at(&sys, start)?;
-            Some(follow_own(&family, &self.acc, &values(from, -from, LINE_POINTS), orbit))
+            Some(follow_own(&family, &self.acc, &values(from, -from, LINE_POINTS), orbit, Grazings::Exact))
         };
         let first = run(1.0);
         let holds = |k: Bifurcation| first.as_ref().is_some_and(|b| b.bifurcations.iter().any(|x| x.kind == k));
@@ -176,6 +174,10 @@ impl Tracing {
             // At a fold Newton's method is singular: its orbit is the branch's
             // last point before it.
             Bifurcation::SaddleNode => self.before_fold(branch, best.value),
+            // Next to a grazing Newton's method reaches the orbit from a
+            // prediction only a little short of it: its orbit is the branch's
+            // last, where the search for the grazing started.
+            Bifurcation::Grazing => self.before(branch, best.value, 0.0),
             _ => (self.orbit_near(&family, branch, best.value), best.value),
         };
         let [a, b] = path.at(best.value, self.scale);
@@ -194,11 +196,18 @@ impl Tracing {
     /// The orbit of the last point of `branch` before its fold at `value`
     /// (the fold's own point left out), and where it is.
     fn before_fold(&self, branch: &Branch, value: f64) -> (Orbit, f64) {
+        self.before(branch, value, FOLD_INSIDE)
+    }
+
+    /// The orbit of the point of `branch` nearest `value` at least `inside`
+    /// from it, among those of the branch's own orbit (its first point's
+    /// period, map and impact pattern), and where it is.
+    fn before(&self, branch: &Branch, value: f64, inside: f64) -> (Orbit, f64) {
         let start = &branch.points[0].orbit;
         let near = branch
             .points
             .iter()
-            .filter(|p| same_orbit(&p.orbit, start) && (p.value - value).abs() >= FOLD_INSIDE)
+            .filter(|p| same_orbit(&p.orbit, start) && (p.value - value).abs() >= inside)
             .min_by(|p, q| (p.value - value).abs().total_cmp(&(q.value - value).abs()))
             .unwrap_or(&branch.points[0]);
         (near.orbit.clone(), near.value)
@@ -235,18 +244,17 @@ impl Tracing {
         towards: f64,
         orbit: &Orbit,
     ) -> Vec<usize> {
-        let x = &orbit.solution.x;
         for k in 0..7 {
             let Some(sys) = family(value + towards * 10f64.powi(k - 9)) else { return Vec::new() };
-            let Ok(mut sim) = Simulator::new(&sys, self.acc, Method::Exact, x.as_slice()) else { return Vec::new() };
-            sim.track_tangent();
-            let Ok(image) = evaluate(&mut sim, x, orbit.map) else { return Vec::new() };
-            let old = &orbit.solution.pattern;
-            if image.pattern != *old {
-                let stops = sys.stops.len();
-                return (0..stops)
-                    .filter(|&k| image.pattern.iter().zip(old).any(|(p, q)| p.get(k) != q.get(k)))
-                    .collect();
+            match crossing(&sys, &self.acc, orbit) {
+                Ok(Some(Crossing { stops, side })) => {
+                    return match (side, family(value)) {
+                        (Some(side), Some(here)) => grazed(&here, &self.acc, orbit, stops, side),
+                        _ => stops,
+                    }
+                }
+                Ok(None) => {}
+                Err(_) => return Vec::new(),
             }
         }
         Vec::new()
@@ -289,7 +297,7 @@ impl Tracing {
             let [a, b] = path.at(s, self.scale);
             plane(a, b)
         };
-        let branch = follow_own(&family, &self.acc, &values(from, to, STEP_POINTS), orbit);
+        let branch = follow_own(&family, &self.acc, &values(from, to, STEP_POINTS), orbit, Grazings::Exact);
         let own = &branch.bifurcations;
         let others = || own.iter().filter(|o| o.kind != self.kind).map(|o| self.position(path, o)).collect();
         let [a, b] = path.anchor();
@@ -337,7 +345,7 @@ impl Tracing {
             plane(a, b)
         };
         let ts: Vec<f64> = (0..CARRY_POINTS).map(|i| i as f64 / (CARRY_POINTS - 1) as f64).collect();
-        let branch = follow_own(&family, &self.acc, &ts, last.orbit.clone());
+        let branch = follow_own(&family, &self.acc, &ts, last.orbit.clone(), Grazings::Edge);
         let lost = |why: String, others: Vec<(Bifurcation, f64, f64)>| {
             Err(Missed { why: format!("its orbit ({}) cannot be continued: {why}", labels(&last.orbit)), others })
         };
@@ -345,7 +353,7 @@ impl Tracing {
             let [a, b] = at(x.value);
             match x.kind {
                 Bifurcation::Grazing => {
-                    let orbit = self.orbit_near(&family, &branch, x.value);
+                    let (orbit, _) = self.before(&branch, x.value, 0.0);
                     let stops = self.grazing_stops(&family, x.value, 1.0, &orbit);
                     let own = self.kind == Bifurcation::Grazing
                         && (stops.is_empty() || last.grazes.is_empty() || stops == last.grazes);

@@ -5,6 +5,7 @@
 //! would take another orbit's grazing is refused.
 
 use super::*;
+use crate::orbit::solve_orbit;
 use std::sync::OnceLock;
 
 /// The multi-stop scene at `(ω, δ)`, `None` where the scene refuses them.
@@ -182,4 +183,49 @@ fn grazing_sn_meeting_is_the_same_with_two_step_settings_and_is_where_the_grazin
     assert!(before.others.iter().any(|o| o.0 == Bifurcation::Grazing), "{before}");
     let past = at(1e-5).expect("the orbit folds first past the meeting");
     assert!((past.a - (m1.a + slope * 1e-5)).abs() < 1e-8, "the fold at δ = {} is at ω = {}", past.b, past.a);
+}
+
+/// The impact damper at `(ω, δ)`.
+fn damper(omega: f64, delta: f64) -> Option<System> {
+    static SCENE: OnceLock<scene::Scene> = OnceLock::new();
+    let scene = SCENE.get_or_init(|| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/impact-damper.toml");
+        scene::Scene::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
+    });
+    let model = scene.evaluate(&[("omega".to_string(), omega), ("delta".to_string(), delta)]).ok()?;
+    System::new(model).ok()
+}
+
+/// Issue 64: the strong resonance 1:3 on the Neimark–Sacker curve of the
+/// impact damper's symmetric 1-1-1 orbit, followed in (ω, δ) from δ = 2 up
+/// to δ = 5, is where the orbit solved there anew (Newton from the curve's
+/// point before it) has its pair of multipliers of the period map at
+/// e^{±2πi/3}: its angle within 1e-4 of 2π/3, its modulus within 1e-4 of 1
+/// (the point is interpolated between two points of the curve; measured
+/// 1.9e-5 and 5.2e-5, at ω = 1.57225, δ = 4.66947).
+#[test]
+fn a_resonance_on_a_neimark_sacker_curve_is_where_its_multipliers_are_cube_roots_of_one() {
+    let t = Tracing {
+        kind: Bifurcation::NeimarkSacker,
+        acc: Accuracy::default(),
+        n: None,
+        scale: [0.02, 0.15],
+        bounds: [[0.0, f64::INFINITY], [2.0, 5.0]],
+        max_points: 200,
+    };
+    let first = t.locate(&damper, 1.7948, 2.0, Start::Fresh).expect("the NS at δ = 2");
+    let curve = t.follow(&damper, first, 5.0);
+    let r = curve.codim2.iter().find(|c| c.kind == "1:3").unwrap_or_else(|| panic!("no 1:3: {:?}", curve.codim2));
+    let before = curve.points.iter().rfind(|p| p.b <= r.b).expect("a point before it");
+    let o = &before.orbit;
+    let sys = damper(r.a, r.b).unwrap();
+    let at = solve_orbit(&sys, &t.acc, &o.solution.x, o.map, o.n, Some(&o.solution.pattern)).expect("its orbit");
+    let pair = at
+        .multipliers
+        .iter()
+        .filter(|z| z.im > 0.0)
+        .min_by(|x, y| (x.norm() - 1.0).abs().total_cmp(&(y.norm() - 1.0).abs()))
+        .expect("a complex pair");
+    let third = std::f64::consts::TAU / 3.0;
+    assert!((pair.arg() - third).abs() < 1e-4 && (pair.norm() - 1.0).abs() < 1e-4, "μ = {pair} at {r:?}");
 }
