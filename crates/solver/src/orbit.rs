@@ -7,7 +7,7 @@ use crate::floquet::multipliers;
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Mask, MassLabel, Symmetry};
 use crate::newton::{try_solve, Failure, Limits, MapKind, Pattern, Solution};
-use crate::simulate::{EventKind, Ignore, Observer, Segment, Simulator};
+use crate::simulate::{Both, Ignore, Observer, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
@@ -97,7 +97,7 @@ fn describe_in(
     let (mut impacts, mut held) = (vec![0u32; sys.stops.len()], 0u32);
     if let Some(sim) = sim.as_mut() {
         for _ in 0..n {
-            if let Ok(rec) = sim.run_period(&[], false, &mut Tee(&mut obs, watch)) {
+            if let Ok(rec) = sim.run_period(&[], false, &mut Both(&mut obs, watch)) {
                 impacts.iter_mut().zip(&rec.impacts).for_each(|(a, b)| *a += b);
                 held |= rec.held;
             }
@@ -148,44 +148,6 @@ pub(crate) fn solve_orbit_watched(
     // The solver's simulator, started again, has the modes built.
     let sim = sim.reset(solution.x.as_slice()).is_ok().then_some(sim);
     Ok(describe_in(sys, sim, solution, map, n, watch))
-}
-
-/// Tells two observers of one simulation.
-struct Tee<'a>(&'a mut dyn Observer, &'a mut dyn Observer);
-
-impl Observer for Tee<'_> {
-    fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
-        self.0.impact(time, stop, before, after);
-        self.1.impact(time, stop, before, after);
-    }
-
-    fn event(&mut self, time: f64, y: &DVector<f64>) {
-        self.0.event(time, y);
-        self.1.event(time, y);
-    }
-
-    fn named_event(&mut self, time: f64, kind: EventKind, y: &DVector<f64>) {
-        self.0.named_event(time, kind, y);
-        self.1.named_event(time, kind, y);
-    }
-
-    fn sample(&mut self, time: f64, y: &DVector<f64>) {
-        self.0.sample(time, y);
-        self.1.sample(time, y);
-    }
-
-    fn wants_segments(&self) -> bool {
-        self.0.wants_segments() || self.1.wants_segments()
-    }
-
-    fn segment(&mut self, segment: &mut Segment<'_>) {
-        if self.0.wants_segments() {
-            self.0.segment(segment);
-        }
-        if self.1.wants_segments() {
-            self.1.segment(segment);
-        }
-    }
 }
 
 /// The map to solve for a period-`n` orbit of `sys` near `x0`: the half map for a

@@ -7,7 +7,7 @@
 //! ([`record_window`], called by [`crate::run_cell_with_sections`]),
 //! so nothing is stored unless asked.
 
-use crate::simulate::{Observer, Simulator};
+use crate::simulate::{Both, Observer, Simulator};
 use nalgebra::DVector;
 
 /// Records up to `cap` impacts per stop: `[phase, x…, v…]` just before impact.
@@ -66,37 +66,4 @@ pub(crate) fn record_window(
         ran += 1;
     }
     (rec.rows, Some(ran))
-}
-
-/// Two observers of one simulation.
-struct Both<'a>(&'a mut dyn Observer, &'a mut dyn Observer);
-
-impl Observer for Both<'_> {
-    fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
-        self.0.impact(time, stop, before, after);
-        self.1.impact(time, stop, before, after);
-    }
-    fn event(&mut self, time: f64, y: &DVector<f64>) {
-        self.0.event(time, y);
-        self.1.event(time, y);
-    }
-    fn named_event(&mut self, time: f64, kind: crate::simulate::EventKind, y: &DVector<f64>) {
-        self.0.named_event(time, kind, y);
-        self.1.named_event(time, kind, y);
-    }
-    fn sample(&mut self, time: f64, y: &DVector<f64>) {
-        self.0.sample(time, y);
-        self.1.sample(time, y);
-    }
-    fn wants_segments(&self) -> bool {
-        self.0.wants_segments() || self.1.wants_segments()
-    }
-    fn segment(&mut self, segment: &mut crate::simulate::Segment<'_>) {
-        if self.0.wants_segments() {
-            self.0.segment(segment);
-        }
-        if self.1.wants_segments() {
-            self.1.segment(segment);
-        }
-    }
 }

@@ -142,6 +142,44 @@ impl EventKind {
 pub struct Ignore;
 impl Observer for Ignore {}
 
+/// Two observers of one simulation, each told everything in turn.
+pub(crate) struct Both<'a>(pub &'a mut dyn Observer, pub &'a mut dyn Observer);
+
+impl Observer for Both<'_> {
+    fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+        self.0.impact(time, stop, before, after);
+        self.1.impact(time, stop, before, after);
+    }
+
+    fn event(&mut self, time: f64, y: &DVector<f64>) {
+        self.0.event(time, y);
+        self.1.event(time, y);
+    }
+
+    fn named_event(&mut self, time: f64, kind: EventKind, y: &DVector<f64>) {
+        self.0.named_event(time, kind, y);
+        self.1.named_event(time, kind, y);
+    }
+
+    fn sample(&mut self, time: f64, y: &DVector<f64>) {
+        self.0.sample(time, y);
+        self.1.sample(time, y);
+    }
+
+    fn wants_segments(&self) -> bool {
+        self.0.wants_segments() || self.1.wants_segments()
+    }
+
+    fn segment(&mut self, segment: &mut Segment<'_>) {
+        if self.0.wants_segments() {
+            self.0.segment(segment);
+        }
+        if self.1.wants_segments() {
+            self.1.segment(segment);
+        }
+    }
+}
+
 /// What happened during one forcing period.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodRecord {

@@ -8,15 +8,21 @@ use super::*;
 use crate::orbit::solve_orbit;
 use std::sync::OnceLock;
 
-/// The multi-stop scene at `(ω, δ)`, `None` where the scene refuses them.
-fn plane(omega: f64, delta: f64) -> Option<System> {
-    static SCENE: OnceLock<scene::Scene> = OnceLock::new();
-    let scene = SCENE.get_or_init(|| {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/multi-stop.toml");
+/// The shipped scene `file` (kept in `cell`) at `(ω, δ)`, `None` where the
+/// scene refuses them.
+fn scene_at(cell: &'static OnceLock<scene::Scene>, file: &str, omega: f64, delta: f64) -> Option<System> {
+    let scene = cell.get_or_init(|| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs").join(file);
         scene::Scene::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
     });
     let model = scene.evaluate(&[("omega".to_string(), omega), ("delta".to_string(), delta)]).ok()?;
     System::new(model).ok()
+}
+
+/// The multi-stop scene at `(ω, δ)`.
+fn plane(omega: f64, delta: f64) -> Option<System> {
+    static SCENE: OnceLock<scene::Scene> = OnceLock::new();
+    scene_at(&SCENE, "multi-stop.toml", omega, delta)
 }
 
 /// The tracing of `curve --kind grazing --start omega=0.3146,delta=0.7
@@ -188,12 +194,7 @@ fn grazing_sn_meeting_is_the_same_with_two_step_settings_and_is_where_the_grazin
 /// The impact damper at `(ω, δ)`.
 fn damper(omega: f64, delta: f64) -> Option<System> {
     static SCENE: OnceLock<scene::Scene> = OnceLock::new();
-    let scene = SCENE.get_or_init(|| {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/impact-damper.toml");
-        scene::Scene::parse(&std::fs::read_to_string(path).unwrap()).unwrap()
-    });
-    let model = scene.evaluate(&[("omega".to_string(), omega), ("delta".to_string(), delta)]).ok()?;
-    System::new(model).ok()
+    scene_at(&SCENE, "impact-damper.toml", omega, delta)
 }
 
 /// Issue 64: the strong resonance 1:3 on the Neimark–Sacker curve of the
