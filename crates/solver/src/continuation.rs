@@ -10,7 +10,7 @@
 //! ([`crate::floquet::kind`]). Where Newton fails even at the smallest step,
 //! the edge of the solvable branch is located by bisection to `PARAM_TOL`.
 //! When the impact pattern changes past it, it is a grazing, placed at the
-//! root of the orbit's grazing margin ([`crate::grazing::margin`], smooth
+//! root of the orbit's grazing margin (the solver's `grazing` module, smooth
 //! through the grazing, where Newton's method is not), and the branch goes
 //! on with the new pattern when Newton converges past it; otherwise the
 //! branch folds (SN: a multiplier tends to +1), where natural continuation
