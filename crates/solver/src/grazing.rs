@@ -185,9 +185,7 @@ impl<'s> Margins<'s> {
 /// contact's force per stiffness.
 fn switching(sys: &System, k: usize, pressed: u32, y: &DVector<f64>) -> f64 {
     match sys.stops[k].law {
-        StopLaw::Soft { stiffness, damping } if pressed & (1 << k) != 0 => {
-            -sys.gap(k, y) - damping / stiffness * sys.gap_rate(k, y)
-        }
+        StopLaw::Soft { stiffness, .. } if pressed & (1 << k) != 0 => sys.contact_force(k, y) / stiffness,
         _ => sys.gap(k, y),
     }
 }
@@ -255,18 +253,7 @@ impl Observer for Margins<'_> {
     }
 
     fn named_event(&mut self, _time: f64, kind: EventKind, _y: &DVector<f64>) {
-        let stop = match kind {
-            EventKind::Impact(k)
-            | EventKind::Stick(k)
-            | EventKind::Release(k)
-            | EventKind::Grazing(k)
-            | EventKind::Contact(k)
-            | EventKind::Separation(k)
-            | EventKind::Reopen(k)
-            | EventKind::Return(k) => Some(k),
-            EventKind::FrictionStick(_) | EventKind::SlipReversal(_) | EventKind::Breakaway(_) => None,
-        };
-        let Some(i) = stop.and_then(|k| self.stops.iter().position(|&s| s == k)) else { return };
+        let Some(i) = kind.stop().and_then(|k| self.stops.iter().position(|&s| s == k)) else { return };
         if let Some(v) = self.pending[i].take() {
             if self.side == Side::Excursion {
                 self.least = self.least.min(v);

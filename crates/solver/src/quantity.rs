@@ -545,14 +545,6 @@ impl<'s> Meter<'s> {
         }
     }
 
-    /// Soft stop `k`'s contact force `−k g − c ġ` at `y`.
-    fn contact_force(&self, k: usize, y: &DVector<f64>) -> f64 {
-        match self.sys.stops[k].law {
-            StopLaw::Soft { stiffness, damping } => -stiffness * self.sys.gap(k, y) - damping * self.sys.gap_rate(k, y),
-            _ => 0.0,
-        }
-    }
-
     /// The values of the window, in the order of [`all_names`]: the table's
     /// order, each spec's owners in the scene's order, then the quantities
     /// the scene defines.
@@ -760,7 +752,7 @@ impl Meter<'_> {
             if seg.pressed & (1 << k) == 0 {
                 continue;
             }
-            let force = |y: &DVector<f64>| self.contact_force(k, y);
+            let force = |y: &DVector<f64>| self.sys.contact_force(k, y);
             let (mut best, bracket) = inner_peak(nodes, force, self.stops[k].force_max);
             if let Some(bracket) = bracket {
                 best = best.max(peak(seg, bracket, y, force));

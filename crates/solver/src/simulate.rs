@@ -117,6 +117,21 @@ pub enum EventKind {
 }
 
 impl EventKind {
+    /// The stop the event is at; `None` for an event of a friction contact.
+    pub fn stop(self) -> Option<usize> {
+        match self {
+            EventKind::Impact(k)
+            | EventKind::Stick(k)
+            | EventKind::Release(k)
+            | EventKind::Grazing(k)
+            | EventKind::Contact(k)
+            | EventKind::Separation(k)
+            | EventKind::Reopen(k)
+            | EventKind::Return(k) => Some(k),
+            EventKind::FrictionStick(_) | EventKind::SlipReversal(_) | EventKind::Breakaway(_) => None,
+        }
+    }
+
     /// `kind stop-or-contact`, e.g. `impact A1`, `breakaway M1-M2`.
     pub fn describe(self, sys: &System) -> String {
         let stop = |k: usize| sys.model.stops.get(k).map_or(k.to_string(), |s| s.name.clone());

@@ -42,12 +42,14 @@ pub fn snap(sys: &System, stop: usize, y: &mut DVector<f64>) {
 pub fn contacts(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> (u32, u32) {
     let (mut pressed, mut parting) = (0, 0);
     for (k, stop) in sys.stops.iter().enumerate() {
-        let StopLaw::Soft { stiffness, damping } = stop.law else { continue };
+        if !matches!(stop.law, StopLaw::Soft { .. }) {
+            continue;
+        }
         let (g, rate) = (sys.gap(k, y), sys.gap_rate(k, y));
         if g > acc.contact_tol {
             continue;
         }
-        let force = -stiffness * g - damping * rate;
+        let force = sys.contact_force(k, y);
         if force > 0.0 && (g < -acc.contact_tol || rate < 0.0) {
             pressed |= 1 << k;
         } else if g < -acc.contact_tol {

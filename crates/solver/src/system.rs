@@ -333,6 +333,15 @@ impl System {
         })
     }
 
+    /// A soft stop's contact force `−k g − c ġ` at full state `y` (force;
+    /// positive while it pushes its mass out); 0 at a rigid stop.
+    pub fn contact_force(&self, stop: usize, y: &DVector<f64>) -> f64 {
+        match self.stops[stop].law {
+            StopLaw::Soft { stiffness, damping } => -stiffness * self.gap(stop, y) - damping * self.gap_rate(stop, y),
+            StopLaw::Rigid { .. } => 0.0,
+        }
+    }
+
     /// Rate of change of a stop's gap at full state `y` (negative when closing).
     pub fn gap_rate(&self, stop: usize, y: &DVector<f64>) -> f64 {
         self.stops[stop].normal.dot(&y.rows(self.dof(), self.dof()))
