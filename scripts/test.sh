@@ -26,10 +26,15 @@ if [ "${1:-}" = "--quick" ]; then
     awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
     exit 0
 fi
+# Each step's wall time, so that a slow CI can be read step by step.
+t0=$SECONDS
+took() { echo "test.sh: $1 took $((SECONDS - t0)) s"; t0=$SECONDS; }
 scripts/setup.sh --tests
+took "setup"
 # An unused dependency is a defect: cargo-machete (built once, into ~/.cargo/bin) finds them.
 command -v cargo-machete >/dev/null 2>&1 || cargo install cargo-machete --locked --quiet
 cargo machete
+took "cargo machete"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 # Tests open HDF5 files in their own process while other tests spawn the
@@ -41,9 +46,12 @@ export HDF5_USE_FILE_LOCKING=FALSE
 # The Python extension (crates/python) links into a Python process only: its
 # tests are the pytest suite that scripts/test-python.sh runs below.
 cargo test --workspace --exclude vibroatlas-python --release -- --include-ignored 2>&1 | tee "$tmp/test.log"
-# Lints and docs are part of the tests: no warning passes.
-cargo clippy --workspace --all-targets --release --quiet -- -D warnings
+took "cargo test"
+# Lints and docs are part of the tests: no warning passes. Both in the dev profile, so that
+# they check the dependencies once between them (clippy in release would check them again).
+cargo clippy --workspace --all-targets --quiet -- -D warnings
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+took "clippy and rustdoc"
 target/release/vibroatlas atlas configs/multi-stop.toml --x omega=0.2:2.5:12 --y delta=0.1:1.5:5 \
     --sweep both --quiet -o "$tmp/check.h5"
 /usr/bin/python3 scripts/check_atlas.py "$tmp/check.h5"
@@ -58,24 +66,31 @@ target/release/vibroatlas sweep configs/multi-stop.toml --axis omega=0.2:0.5:7 -
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/netcdf.h5" --expect up:M1:omega=0.33,delta=0.6:1-4-4
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/sweep.h5" --expect up:M1:omega=0.35:1-4-4
 /usr/bin/python3 scripts/check_netcdf.py "$tmp/zoom.h5"
+took "the reference readers"
 # The explorer in a real browser (chromium through chromedriver); its
 # screenshots are kept in target/explore-screenshots.
 /usr/bin/python3 scripts/test_explore.py target/release/vibroatlas target/explore-screenshots 2>&1 | tee "$tmp/explore.log"
+took "the explorer in chromium"
 # Every command of README.md, as printed.
 scripts/check_readme.sh
+took "check_readme"
 # Every figure of docs/gallery.md drawn again by the commands the page prints and compared
 # with docs/img pixel for pixel (about five minutes on two cores; legends print cell counts,
 # so a change that moves a label moves a pixel).
 scripts/gallery.sh --check
+took "the gallery"
 # The Python package as a user installs it (README's "Python" section): from source (the
 # install, the README's and docs/python.md's examples, mypy on them),
 scripts/test-python.sh --examples-only 2>&1 | tee "$tmp/python.log"
+took "the Python package from source"
 # and as the wheel a user without Rust and libhdf5 installs: the same, and the whole pytest
 # suite (every function against the CLI), with cargo off the PATH. The two builds differ
 # only in how HDF5 is linked.
 scripts/build-wheel.sh --out "$tmp/dist"
+took "the wheel's build"
 VIBROATLAS_VENV=target/wheel-venv scripts/test-python.sh --wheel "$(ls "$tmp"/dist/vibroatlas-*.whl)" 2>&1 \
     | tee "$tmp/wheel.log"
+took "the wheel's tests"
 awk '/^test result:/ { p += $4; f += $6 } /^python tests:/ { p += $3; f += $5 }
     /^explore tests:/ { p += $3; f += $5 }
     END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log" "$tmp/wheel.log" \
