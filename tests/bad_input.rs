@@ -121,6 +121,30 @@ fn no_command_names_the_commands() {
     expect_error(&[], "a command is needed: cell, sweep, atlas");
 }
 
+/// A mistyped name of a value, a flag or a command gets one line that lists
+/// the names and says which was meant; the library's names read in each place
+/// (a bifurcation's kind in either case, the knobs of `--accuracy`).
+#[test]
+fn a_mistyped_name_says_which_was_meant() {
+    let cell = |flag: &'static str, value: &'static str| vec!["cell", "configs/multi-stop.toml", flag, value];
+    expect_error(&cell("--preset", "precize"), "[possible values: fast, standard, precise] (did you mean 'precise'?)");
+    expect_error(&cell("--integrator", "rk5"), "(did you mean 'rk4'?)");
+    expect_error(&cell("--accuracy", "event_tl=1e-9"), "unknown accuracy knob (did you mean 'event_tol'?)");
+    expect_error(&cell("--presett", "fast"), "(did you mean '--preset'?)");
+    expect_error(&["atlsa", "configs/multi-stop.toml"], "(did you mean 'atlas'?)");
+    let sweep = ["sweep", "configs/multi-stop.toml", "--axis", "omega=0.2:0.4:5", "--direction", "downup"];
+    expect_error(&sweep, "[possible values: up, down, both, down-up, up-down] (did you mean 'down-up'?)");
+    let far = run(&["cell", "configs/multi-stop.toml", "--preset", "zebra"]);
+    assert!(!String::from_utf8_lossy(&far.stderr).contains("did you mean"));
+    let curve = ["curve", "configs/multi-stop.toml", "--kind", "Pd", "--start", "omega=1", "--free", "omega,delta"];
+    let out = run(&curve);
+    assert!(
+        !String::from_utf8_lossy(&out.stderr).contains("invalid value"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// What an error echoes stays readable: a number written out in 309 digits
 /// is shown in exponent form, a 100 000-character name cut with its length.
 #[test]

@@ -3,6 +3,7 @@
 //! chattering, and named trace events.
 
 use crate::util::{cell_json, json_of, run, scratch};
+use scene::Named;
 
 #[test]
 fn a_stored_cell_opens_again_bit_for_bit() {

@@ -3,6 +3,7 @@
 //! run.
 
 use crate::util::{ok, run, scratch};
+use scene::Named;
 use std::path::Path;
 
 /// RGB rows of a PNG.

@@ -7,6 +7,7 @@
 use crate::util::{config, run};
 use engine::{atlas, zoom, AtlasRequest, Quiet, SceneSource, Sim, Start, ZoomRequest};
 use grid::{Along, Atlas, Axis, SweepKind};
+use scene::Named;
 use std::path::{Path, PathBuf};
 
 /// A fresh folder for one test.

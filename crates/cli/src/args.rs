@@ -1,7 +1,11 @@
 //! Command-line arguments as clap structures (raw, before validation).
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::{Args, Parser, Subcommand};
 use grid::attractors::Sampling;
+use scene::Named;
+use std::ffi::OsStr;
+use std::marker::PhantomData;
 use std::path::PathBuf;
 
 /// Maps the dynamics of vibro-impact systems: n-p-q labels of periodic impact
@@ -54,15 +58,15 @@ pub struct CurvesArgs {
     /// Atlas file.
     pub file: PathBuf,
     /// Kinds of bifurcation looked for, comma-separated.
-    #[arg(long, value_enum, value_delimiter = ',', default_value = "pd,sn,pf,ns,grazing")]
-    pub kinds: Vec<KindArg>,
+    #[arg(long, value_parser = named::<solver::Bifurcation>(), value_delimiter = ',', default_value = "pd,sn,pf,ns,grazing")]
+    pub kinds: Vec<solver::Bifurcation>,
     /// Most curves found.
     #[arg(long, default_value_t = 8, value_name = "K", allow_negative_numbers = true)]
     pub max: usize,
     /// The sweep whose label boundaries seed the curves (default: every sweep
     /// of the file, so that both ends of hysteresis zones are seeds).
-    #[arg(long, value_enum)]
-    pub sweep: Option<SweepName>,
+    #[arg(long, value_parser = named::<grid::SweepKind>())]
+    pub sweep: Option<grid::SweepKind>,
     /// Output curve file (for render --curves).
     #[arg(short = 'o', long = "output", value_name = "CURVES.h5")]
     pub output: Option<PathBuf>,
@@ -83,8 +87,8 @@ pub struct CurveArgs {
     #[command(flatten)]
     pub sim: SimArgs,
     /// The bifurcation followed.
-    #[arg(long, value_enum)]
-    pub kind: KindArg,
+    #[arg(long, value_parser = named::<solver::Bifurcation>())]
+    pub kind: solver::Bifurcation,
     /// Where to start: NAME=VALUE,NAME=VALUE of the two free parameters (the
     /// bifurcation is located near the first value).
     #[arg(long, value_name = "A=VALUE,B=VALUE")]
@@ -117,21 +121,6 @@ pub struct CurveArgs {
     /// Write the curve to a self-describing HDF5 file (for `render --curves`).
     #[arg(short = 'o', long = "output", value_name = "FILE.h5")]
     pub output: Option<PathBuf>,
-}
-
-/// Kinds of bifurcation `curve` follows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum KindArg {
-    /// Period doubling.
-    Pd,
-    /// Saddle-node (fold).
-    Sn,
-    /// Symmetry-breaking pitchfork.
-    Pf,
-    /// Neimark–Sacker.
-    Ns,
-    /// Grazing.
-    Grazing,
 }
 
 #[derive(Debug, Args)]
@@ -210,14 +199,14 @@ pub struct SimArgs {
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Accuracy preset (default: standard).
-    #[arg(long, value_enum)]
-    pub preset: Option<PresetArg>,
+    #[arg(long, value_parser = named::<solver::Preset>())]
+    pub preset: Option<solver::Preset>,
     // Its help names every knob of the `knobs!` table, in order.
     #[arg(long = "accuracy", value_name = "KNOB=VALUE", help = accuracy_help())]
     pub accuracy: Vec<String>,
     /// Integrator: exact (closed-form flow, default) or rk4 (fixed step, the literature's method).
-    #[arg(long, value_enum)]
-    pub integrator: Option<IntegratorArg>,
+    #[arg(long, value_parser = named::<solver::Method>())]
+    pub integrator: Option<solver::Method>,
 }
 
 /// Where a simulation starts: a cell of a stored atlas or sweep file, or a
@@ -233,8 +222,8 @@ pub struct FromArgs {
     pub at: Option<String>,
     /// The sweep of --from the cell is taken from: fresh, up or down (default:
     /// the file's first).
-    #[arg(long = "sweep", value_enum, value_name = "SWEEP", requires = "from")]
-    pub from_sweep: Option<SweepName>,
+    #[arg(long = "sweep", value_parser = named::<grid::SweepKind>(), value_name = "SWEEP", requires = "from")]
+    pub from_sweep: Option<grid::SweepKind>,
     /// Start from this state `x1,x2,…,v1,v2,…` at the scene's forcing phase
     /// (t = 0; change the phase with --set on the scene's phase parameter).
     #[arg(long, value_name = "X…,V…", conflicts_with = "from", allow_hyphen_values = true)]
@@ -337,11 +326,11 @@ pub struct AtlasArgs {
     #[arg(long, value_name = "NAME=START:STOP:COUNT")]
     pub y: String,
     /// fresh (independent cells), up, down (continuation), or both (up and down).
-    #[arg(long, value_enum, default_value_t = AtlasSweep::Fresh)]
-    pub sweep: AtlasSweep,
+    #[arg(long, value_parser = named::<grid::Sweeps>(), default_value_t = grid::Sweeps::Fresh)]
+    pub sweep: grid::Sweeps,
     /// Axis the continuation chains follow: x (rows) or y (columns).
-    #[arg(long, value_enum, default_value_t = AlongArg::X)]
-    pub along: AlongArg,
+    #[arg(long, value_parser = named::<grid::Along>(), default_value_t = grid::Along::X)]
+    pub along: grid::Along,
     /// Compute only shard K of N (whole lines); merge the parts with `vibroatlas merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
@@ -351,8 +340,8 @@ pub struct AtlasArgs {
     pub attractors: Option<usize>,
     /// Cells whose attractors are sampled: all, or hysteresis (where up and
     /// down differ; needs --sweep both).
-    #[arg(long, value_enum, default_value_t = AttractorsWhere::All)]
-    pub attractors_where: AttractorsWhere,
+    #[arg(long, value_parser = named::<engine::AttractorCells>(), default_value_t = engine::AttractorCells::All)]
+    pub attractors_where: engine::AttractorCells,
     /// Seed of the attractor sampling.
     #[arg(long, default_value_t = Sampling::default().seed)]
     pub seed: u64,
@@ -402,8 +391,8 @@ pub struct ZoomArgs {
     #[arg(long, value_name = "NAME=START:STOP:COUNT")]
     pub y: String,
     /// The sweeps computed, among the parent's (default: all of them).
-    #[arg(long, value_enum)]
-    pub sweep: Option<AtlasSweep>,
+    #[arg(long, value_parser = named::<grid::Sweeps>())]
+    pub sweep: Option<grid::Sweeps>,
     /// Compute the box at another value of a scene parameter that is not an
     /// axis, e.g. `--set zeta=0.07` (repeatable): a slice beside the parent's plane.
     #[arg(long = "set", value_name = "NAME=VALUE")]
@@ -432,8 +421,8 @@ pub struct SweepArgs {
     /// from the scene's initial state); or a hysteresis loop, down-up or
     /// up-down: the second leg starts from the first leg's end state.
     #[arg(long)]
-    #[arg(value_enum)]
-    pub direction: Option<Direction>,
+    #[arg(value_parser = named::<engine::Direction>())]
+    pub direction: Option<engine::Direction>,
     /// Output HDF5 file (same layout as an atlas with one row).
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: Option<std::path::PathBuf>,
@@ -450,8 +439,8 @@ pub struct SweepArgs {
     #[arg(long, value_name = "COMPONENT|QUANTITY")]
     pub variable: Option<String>,
     /// What the diagram's impact panels show: speed or phase.
-    #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
-    pub impact: ImpactArg,
+    #[arg(long, value_parser = named::<render::Impact>(), default_value_t = render::Impact::Speed)]
+    pub impact: render::Impact,
     /// Accepted and ignored, for scripts that pass it: an output that exists
     /// and is not a regular file (a device, a pipe) is always refused.
     #[arg(long)]
@@ -536,8 +525,8 @@ pub struct RenderArgs {
     /// fresh, up, down, or hysteresis (the labels of up and down where they
     /// differ; with --view of a quantity, its up sweep less its down sweep).
     #[arg(long)]
-    #[arg(value_enum)]
-    pub sweep: Option<RenderSweep>,
+    #[arg(value_parser = named::<render::View>())]
+    pub sweep: Option<render::View>,
     /// labels (default), lyapunov (largest exponent of cells without a period),
     /// multiplier (largest |Floquet multiplier| of periodic cells), attractors
     /// (the number of coexisting attractors, atlas --attractors), basin:ID
@@ -555,8 +544,8 @@ pub struct RenderArgs {
     #[arg(long, value_name = "COMPONENT|QUANTITY")]
     pub variable: Option<String>,
     /// What a diagram's impact panels show: speed or phase.
-    #[arg(long, value_enum, default_value_t = ImpactArg::Speed)]
-    pub impact: ImpactArg,
+    #[arg(long, value_parser = named::<render::Impact>(), default_value_t = render::Impact::Speed)]
+    pub impact: render::Impact,
     /// Bifurcation curves (files of `curve -o`) drawn over the label map (repeatable).
     #[arg(long, value_name = "CURVE.h5")]
     pub curves: Vec<PathBuf>,
@@ -568,15 +557,6 @@ pub struct RenderArgs {
     pub figure: FigureArgs,
 }
 
-/// What the impact panels of a bifurcation diagram show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ImpactArg {
-    /// Normal impact speed.
-    Speed,
-    /// Forcing phase of the impact.
-    Phase,
-}
-
 #[derive(Debug, Args)]
 pub struct StudyArgs {
     /// Study file (TOML): scene, parameter, values, axes, sweep.
@@ -585,8 +565,8 @@ pub struct StudyArgs {
     #[arg(short = 'o', long = "output", value_name = "DIR")]
     pub output: std::path::PathBuf,
     /// Accuracy preset.
-    #[arg(long, value_enum, default_value_t = PresetArg::Standard)]
-    pub preset: PresetArg,
+    #[arg(long, value_parser = named::<solver::Preset>(), default_value_t = solver::Preset::Standard)]
+    pub preset: solver::Preset,
     #[command(flatten)]
     pub run: RunArgs,
     #[command(flatten)]
@@ -628,96 +608,6 @@ fn accuracy_help() -> String {
     format!("Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable). Knobs: {}", knobs.join(", "))
 }
 
-/// Accuracy presets (`solver::Preset`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum PresetArg {
-    /// Coarser tolerances, shorter records.
-    Fast,
-    /// The default.
-    Standard,
-    /// The reference: tight tolerances, plain simulation.
-    Precise,
-}
-
-/// Integrators (`solver::Method`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum IntegratorArg {
-    /// Closed-form flow between events.
-    Exact,
-    /// Fixed-step RK4 with step-back refinement.
-    Rk4,
-}
-
-/// One sweep of a stored file.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum SweepName {
-    /// Independent cells.
-    Fresh,
-    /// Continuation upwards.
-    Up,
-    /// Continuation downwards.
-    Down,
-}
-
-/// The sweeps of an atlas.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum AtlasSweep {
-    /// Every cell from the scene's initial state.
-    Fresh,
-    /// Continuation chains upwards.
-    Up,
-    /// Continuation chains downwards.
-    Down,
-    /// Up and down.
-    Both,
-}
-
-/// The axis continuation chains follow.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum AlongArg {
-    /// Rows.
-    X,
-    /// Columns.
-    Y,
-}
-
-/// Directions of a sweep.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Direction {
-    /// Upwards.
-    Up,
-    /// Downwards.
-    Down,
-    /// Up and down, each from the scene's initial state.
-    Both,
-    /// Down, then up from where the down leg ended.
-    DownUp,
-    /// Up, then down from where the up leg ended.
-    UpDown,
-}
-
-/// What `render --sweep` draws.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum RenderSweep {
-    /// The fresh cells.
-    Fresh,
-    /// The up sweep.
-    Up,
-    /// The down sweep.
-    Down,
-    /// Up | down | where they differ.
-    Hysteresis,
-}
-
-/// Which cells `atlas --attractors` samples.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum AttractorsWhere {
-    /// Every cell.
-    All,
-    /// Cells where the up and down sweeps differ.
-    Hysteresis,
-}
-
 /// What `render --view` draws, besides a quantity of the steady motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum ViewArg {
@@ -737,46 +627,115 @@ fn default_box() -> String {
     format!("{},{}", s.x, s.v)
 }
 
-/// The library's value of an argument's value: its name read by the
-/// library's own parser (`solver::Preset::parse`, `grid::SweepKind::parse`,
-/// …), the one grammar of the names that Python and the files use too (every
-/// value of every argument reads back: tested).
-pub fn lib<T>(value: impl ValueEnum, parse: impl Fn(&str) -> Option<T>) -> T {
-    let name = value.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
-    parse(&name).unwrap_or_else(|| unreachable!("'{name}' is not a library name"))
+/// The clap value parser of a library enum, read through its [`Named`] table
+/// (the one spelling the files, Python and the explorer use too): `--help`
+/// lists every name with its help line, and a name that is none of them gets
+/// clap's own error, which lists the names and suggests the closest.
+#[derive(Clone)]
+pub struct NamedParser<T>(PhantomData<T>);
+
+/// [`NamedParser`] of `T`, for `#[arg(value_parser = named::<T>())]`.
+pub fn named<T: Named + Send + Sync>() -> NamedParser<T> {
+    NamedParser(PhantomData)
+}
+
+impl<T: Named + Send + Sync> NamedParser<T> {
+    fn values() -> impl Iterator<Item = PossibleValue> {
+        T::ALL.iter().map(|v| PossibleValue::new(v.name()).help(v.help()))
+    }
+}
+
+impl<T: Named + Clone + Send + Sync> TypedValueParser for NamedParser<T> {
+    type Value = T;
+
+    fn parse_ref(&self, cmd: &clap::Command, arg: Option<&clap::Arg>, value: &OsStr) -> Result<T, clap::Error> {
+        if let Some(v) = value.to_str().and_then(T::parse) {
+            return Ok(v);
+        }
+        // A name outside the table: clap's own message, by its own parser of the names.
+        let exact = PossibleValuesParser::new(Self::values()).parse_ref(cmd, arg, value)?;
+        T::parse(&exact).ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidValue).with_cmd(cmd))
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
+        Some(Box::new(Self::values()))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use clap::CommandFactory;
 
-    fn all<V: ValueEnum, T>(parse: impl Fn(&str) -> Option<T>) {
-        for v in V::value_variants() {
-            lib(v.clone(), &parse);
+    /// Every name of `T` reads back as its value through the parser.
+    fn reads_back<T: Named + Clone + Send + Sync + PartialEq + std::fmt::Debug>() {
+        let cmd = Cli::command();
+        for &v in T::ALL {
+            assert_eq!(named::<T>().parse_ref(&cmd, None, OsStr::new(v.name())).unwrap(), v);
         }
     }
 
     #[test]
-    fn every_value_reads_back_in_its_library() {
-        all::<PresetArg, _>(solver::Preset::parse);
-        all::<IntegratorArg, _>(solver::Method::parse);
-        all::<SweepName, _>(grid::SweepKind::parse);
-        all::<AtlasSweep, _>(|s| grid::SweepKind::parse_set(s, "sweep").ok());
-        all::<AlongArg, _>(|s| grid::Along::parse(s).ok());
-        all::<AttractorsWhere, _>(engine::AttractorCells::parse);
-        all::<Direction, _>(engine::Direction::parse);
-        all::<KindArg, _>(solver::Bifurcation::parse);
-        all::<ImpactArg, _>(render::Impact::parse);
-        all::<RenderSweep, _>(render::View::parse);
-        assert_eq!(lib(Direction::DownUp, engine::Direction::parse), engine::Direction::DownUp);
-        assert_eq!(lib(KindArg::Pd, solver::Bifurcation::parse), solver::Bifurcation::PeriodDoubling);
+    fn every_value_of_every_named_argument_reads_back() {
+        reads_back::<solver::Preset>();
+        reads_back::<solver::Method>();
+        reads_back::<solver::Bifurcation>();
+        reads_back::<grid::SweepKind>();
+        reads_back::<grid::Sweeps>();
+        reads_back::<grid::Along>();
+        reads_back::<engine::AttractorCells>();
+        reads_back::<engine::Direction>();
+        reads_back::<render::Impact>();
+        reads_back::<render::View>();
+    }
+
+    /// A mistyped name is refused by clap's error naming the flag, the
+    /// values and the closest; a bifurcation's kind reads in either case.
+    #[test]
+    fn a_mistyped_name_is_refused_with_the_closest_and_the_values() {
+        let e = Cli::try_parse_from(["vibroatlas", "cell", "s.toml", "--preset", "precize"]).unwrap_err();
+        assert_eq!(e.kind(), clap::error::ErrorKind::InvalidValue);
+        let text = e.to_string();
+        assert!(text.contains("'precize'") && text.contains("--preset"), "{text}");
+        assert!(text.contains("[possible values: fast, standard, precise]"), "{text}");
+        assert!(text.contains("a similar value exists: 'precise'"), "{text}");
+        let sweep =
+            Cli::try_parse_from(["vibroatlas", "sweep", "s.toml", "--axis", "omega=1:2:3", "--direction", "downup"]);
+        assert!(sweep.unwrap_err().to_string().contains("'down-up'"));
+        let Command::Curve(c) = Cli::try_parse_from([
+            "vibroatlas",
+            "curve",
+            "s.toml",
+            "--kind",
+            "pd",
+            "--start",
+            "a=1,b=2",
+            "--free",
+            "a,b",
+        ])
+        .unwrap()
+        .command
+        else {
+            panic!("not curve")
+        };
+        assert_eq!(c.kind, solver::Bifurcation::PeriodDoubling);
+    }
+
+    /// `--help` lists each value with the help line of its library doc.
+    #[test]
+    fn the_help_lists_each_value_with_its_library_help() {
+        let mut cli = Cli::command();
+        let help = cli.find_subcommand_mut("cell").unwrap().render_long_help().to_string();
+        for &p in <solver::Preset as Named>::ALL {
+            let line = help.lines().find(|l| l.trim_start().starts_with(&format!("- {}:", p.name())));
+            assert!(line.is_some_and(|l| l.ends_with(p.help())), "{help}");
+        }
     }
 
     /// Every command that simulates names every knob of the table in its
     /// `--accuracy` help, and no other.
     #[test]
     fn the_accuracy_help_names_every_knob() {
-        use clap::CommandFactory;
         let mut cli = Cli::command();
         for name in ["cell", "sweep", "atlas", "basins"] {
             let help = cli.find_subcommand_mut(name).unwrap().render_long_help().to_string();

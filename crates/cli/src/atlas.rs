@@ -1,24 +1,24 @@
 //! `vibroatlas atlas`: map a parameter plane.
 
-use crate::args::{lib, AtlasArgs};
+use crate::args::AtlasArgs;
 use crate::common::{command_line, sim};
 use crate::out::outln;
 use crate::progress::Shown;
 use crate::summary::print_summary;
 use anyhow::Result;
-use engine::{AtlasRequest, AttractorCells};
-use grid::{Along, Axis, Shard, SweepKind};
+use engine::AtlasRequest;
+use grid::{Axis, Shard};
 
 /// Runs the command.
 pub fn run(a: AtlasArgs) -> Result<()> {
-    let sweeps = lib(a.sweep, |s| SweepKind::parse_set(s, "sweep").ok());
+    let sweeps = a.sweep.kinds();
     let flags = |e| engine::grid_error(e, &[("shard", engine::Opt::Shard)]);
     let mut r = AtlasRequest::new(sim(&a.sim)?, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, sweeps);
-    r.along = lib(a.along, |s| Along::parse(s).ok());
+    r.along = a.along;
     r.shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(flags)?;
     r.attractors = a.attractors.map(|samples| {
         let sampling = grid::attractors::Sampling { samples, seed: a.seed, ..Default::default() };
-        (sampling, lib(a.attractors_where, AttractorCells::parse))
+        (sampling, a.attractors_where)
     });
     r.section_cap = a.run.section_cap;
     r.threads = engine::threads(a.run.threads)?;

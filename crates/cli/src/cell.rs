@@ -5,6 +5,7 @@ use crate::common::{sim_from, start};
 use crate::out::{errln, outln, outp};
 use anyhow::Result;
 use engine::{friction_names, Setup};
+use scene::Named;
 use solver::{CellResult, System};
 use std::fmt::Write as _;
 use store::write_atomically;

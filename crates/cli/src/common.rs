@@ -1,6 +1,6 @@
 //! The command line's simulation options as the engine's requests.
 
-use crate::args::{lib, FromArgs, SimArgs};
+use crate::args::{FromArgs, SimArgs};
 use anyhow::{anyhow, Result};
 use engine::{Sim, Start};
 
@@ -20,9 +20,9 @@ pub fn sim_from(a: &SimArgs, f: &FromArgs) -> Result<Sim> {
     Ok(Sim {
         scene,
         set: a.set.iter().map(|s| parse_assignment(s, "--set")).collect::<Result<Vec<_>>>()?,
-        preset: a.preset.map(|p| lib(p, solver::Preset::parse)),
+        preset: a.preset,
         accuracy: a.accuracy.iter().map(|s| knob(s)).collect::<Result<Vec<_>>>()?,
-        integrator: a.integrator.map(|m| lib(m, solver::Method::parse)),
+        integrator: a.integrator,
     })
 }
 
@@ -39,7 +39,7 @@ pub fn start(f: &FromArgs) -> Result<Start> {
             Some(at) => at.split(',').map(|t| parse_assignment(t, "--at")).collect::<Result<Vec<_>>>()?,
             None => Vec::new(),
         };
-        return Ok(Start::Cell { file: file.clone(), at, sweep: f.from_sweep.map(|s| lib(s, grid::SweepKind::parse)) });
+        return Ok(Start::Cell { file: file.clone(), at, sweep: f.from_sweep });
     }
     let Some(text) = &f.state else { return Ok(Start::Initial) };
     let state: Vec<f64> = text

@@ -6,6 +6,7 @@ use crate::common::{sim_from, start};
 use crate::out::{outln, outp};
 use anyhow::Result;
 use grid::Axis;
+use scene::Named;
 use solver::continuation::Branch;
 use std::fmt::Write as _;
 use store::write_atomically;

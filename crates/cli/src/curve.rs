@@ -2,13 +2,13 @@
 //! [`solver::curve`]) and `vibroatlas curves` (curves seeded from a stored
 //! map, [`grid::curves`]): parsing, and the JSON, text and files they write.
 
-use crate::args::{lib, CurveArgs, CurvesArgs};
+use crate::args::{CurveArgs, CurvesArgs};
 use crate::common::parse_assignment;
 use crate::common::{command_line, sim};
 use crate::out::outln;
 use anyhow::{anyhow, bail, Result};
 use engine::CurveRequest;
-use solver::Bifurcation;
+use scene::Named;
 
 /// Runs `curve`.
 pub fn run(a: CurveArgs) -> Result<()> {
@@ -20,7 +20,7 @@ pub fn run(a: CurveArgs) -> Result<()> {
     };
     let r = CurveRequest {
         sim: sim(&a.sim)?,
-        kind: lib(a.kind, Bifurcation::parse),
+        kind: a.kind,
         free: [pa.to_string(), pb.to_string()],
         start: a.start.split(',').map(|t| parse_assignment(t, "--start")).collect::<Result<Vec<_>>>()?,
         to: a.to,
@@ -67,8 +67,8 @@ fn parse_range(text: &str, name: &str) -> Result<[f64; 2]> {
 pub fn run_curves(a: CurvesArgs) -> Result<()> {
     let r = engine::CurvesRequest {
         file: a.file.clone(),
-        kinds: a.kinds.iter().map(|&k| lib(k, Bifurcation::parse)).collect(),
-        sweep: a.sweep.map(|s| lib(s, grid::SweepKind::parse)),
+        kinds: a.kinds.clone(),
+        sweep: a.sweep,
         max: a.max,
         output: a.output.clone(),
         into: a.into,

@@ -4,6 +4,7 @@ use crate::args::InspectArgs;
 use crate::out::outln;
 use crate::summary::print_summary;
 use anyhow::Result;
+use scene::Named;
 
 /// Runs the command.
 pub fn run(a: InspectArgs) -> Result<()> {

@@ -33,7 +33,8 @@ mod zoom;
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use clap::{error::ErrorKind, CommandFactory, FromArgMatches};
+use clap::error::{ContextKind, ContextValue, ErrorKind};
+use clap::{CommandFactory, FromArgMatches};
 
 /// The command line's grammar: every option that takes a value also takes
 /// one that starts with '-' (`--seed -1`, `--shard -1/2`, `--box -1,-1`), so
@@ -84,10 +85,18 @@ fn parse_error(e: &clap::Error) -> String {
         .collect();
     let message = lines.join(" ");
     let message = message.trim_start_matches("error: ");
-    if message.is_empty() {
-        "invalid arguments".into()
-    } else {
-        message.into()
+    // clap's tip of the name meant (a value, a flag, a command) kept in the one line.
+    let meant = [ContextKind::SuggestedValue, ContextKind::SuggestedArg, ContextKind::SuggestedSubcommand]
+        .into_iter()
+        .find_map(|k| match e.get(k) {
+            Some(ContextValue::String(s)) => Some(s.clone()),
+            Some(ContextValue::Strings(s)) => s.first().cloned(),
+            _ => None,
+        });
+    match (message.is_empty(), meant) {
+        (true, _) => "invalid arguments".into(),
+        (false, Some(m)) => format!("{message} (did you mean '{m}'?)"),
+        (false, None) => message.into(),
     }
 }
 

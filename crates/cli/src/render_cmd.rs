@@ -3,9 +3,10 @@
 //! map of the Lyapunov exponent or the Floquet multiplier, or a bifurcation
 //! diagram of a sweep file or of one row of an atlas (`--row`).
 
-use crate::args::{lib, ImpactArg, RenderArgs, ViewArg};
+use crate::args::{RenderArgs, ViewArg};
 use anyhow::{anyhow, bail, Result};
 use render::View;
+use scene::Named;
 use store::write_atomically;
 
 /// Runs the command.
@@ -44,7 +45,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .ok_or_else(|| anyhow!("--mass: no labelled mass '{name}' (the file has {})", m.masses.join(", ")))?,
         None => 0,
     };
-    let view = a.sweep.map_or(View::Sweep(m.sweeps[0]), |s| lib(s, View::parse));
+    let view = a.sweep.unwrap_or(View::Sweep(m.sweeps[0]));
     match (a.sweep, view) {
         (Some(_), View::Sweep(kind)) if !m.sweeps.contains(&kind) => {
             let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
@@ -138,9 +139,13 @@ pub fn run(a: RenderArgs) -> Result<()> {
 
 /// The bifurcation diagram of row `row` (`sweep --png`, `render` of a sweep
 /// file or of one row of an atlas): `--variable`, `--impact`.
-pub fn diagram(atlas: &grid::Atlas, row: usize, variable: Option<&str>, impact: ImpactArg) -> Result<render::Diagram> {
-    render::Diagram::of(atlas, row, variable, lib(impact, render::Impact::parse))
-        .map_err(|e| anyhow!("--variable: {}", e.what()))
+pub fn diagram(
+    atlas: &grid::Atlas,
+    row: usize,
+    variable: Option<&str>,
+    impact: render::Impact,
+) -> Result<render::Diagram> {
+    render::Diagram::of(atlas, row, variable, impact).map_err(|e| anyhow!("--variable: {}", e.what()))
 }
 
 /// Says what was written: the file and its printed size (or its pixels).

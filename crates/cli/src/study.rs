@@ -18,13 +18,7 @@ use store::write_atomically;
 pub fn run(a: StudyArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let threads = engine::threads(a.run.threads)?;
-    let plan = engine::study(
-        &a.study,
-        crate::args::lib(a.preset, solver::Preset::parse),
-        a.run.section_cap,
-        threads,
-        &command_line(),
-    )?;
+    let plan = engine::study(&a.study, a.preset, a.run.section_cap, threads, &command_line())?;
     if a.output.exists() && !a.output.is_dir() {
         bail!("{}: exists and is not a folder; give a folder for the study's files", a.output.display());
     }

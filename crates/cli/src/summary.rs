@@ -2,6 +2,7 @@
 
 use crate::out::outln;
 use grid::Atlas;
+use scene::Named;
 
 /// Prints grid, per-sweep class and label counts, hysteresis, and speed.
 pub fn print_summary(atlas: &Atlas, secs: f64, threads: usize) -> anyhow::Result<()> {

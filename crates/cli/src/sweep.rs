@@ -2,13 +2,14 @@
 //! one row (the other axis is a plain parameter held at its value), so the file,
 //! the renderer and the hysteresis logic are those of the atlas.
 
-use crate::args::{lib, SweepArgs};
+use crate::args::SweepArgs;
 use crate::common::{command_line, sim_from, start};
 use crate::out::outln;
 use crate::progress::Shown;
 use anyhow::Result;
 use engine::{Legs, SweepRequest};
 use grid::{Atlas, Axis, SweepKind};
+use scene::Named;
 use store::write_atomically;
 
 /// Runs the command.
@@ -20,7 +21,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         sim: sim_from(&a.sim, &a.start)?,
         start: start(&a.start)?,
         axis,
-        direction: a.direction.map(|d| lib(d, engine::Direction::parse)),
+        direction: a.direction,
         section_cap: a.points.unwrap_or(a.run.section_cap),
         threads: engine::threads(a.run.threads)?,
         output: a.output.clone(),

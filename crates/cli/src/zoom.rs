@@ -1,18 +1,18 @@
 //! `vibroatlas zoom`: a box of a stored atlas, computed again.
 
-use crate::args::{lib, ZoomArgs};
+use crate::args::ZoomArgs;
 use crate::common::{command_line, parse_assignment};
 use crate::out::outln;
 use crate::progress::Shown;
 use crate::summary::print_summary;
 use anyhow::Result;
 use engine::ZoomRequest;
-use grid::{Axis, SweepKind};
+use grid::Axis;
 
 /// Runs the command.
 pub fn run(a: ZoomArgs) -> Result<()> {
     let mut r = ZoomRequest::new(&a.parent, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?);
-    r.sweeps = a.sweep.map(|s| lib(s, |s| SweepKind::parse_set(s, "sweep").ok()));
+    r.sweeps = a.sweep.map(grid::Sweeps::kinds);
     r.set = a.set.iter().map(|t| parse_assignment(t, "--set")).collect::<Result<_>>()?;
     r.threads = engine::threads(a.threads)?;
     r.output = Some(a.output.clone());

@@ -11,23 +11,14 @@ use grid::attractors::Sampling;
 use grid::{Along, Axis, Plane, Shard, SweepKind};
 use std::path::PathBuf;
 
-/// Which cells get their coexisting attractors.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AttractorCells {
-    /// Every cell.
-    All,
-    /// The cells where the up and down sweeps differ.
-    Hysteresis,
-}
-
-impl AttractorCells {
-    /// `all` or `hysteresis`.
-    pub fn parse(name: &str) -> Option<AttractorCells> {
-        match name {
-            "all" => Some(AttractorCells::All),
-            "hysteresis" => Some(AttractorCells::Hysteresis),
-            _ => None,
-        }
+scene::named_enum! {
+    /// Which cells get their coexisting attractors.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum AttractorCells {
+        /// Every cell.
+        All = "all",
+        /// The cells where the up and down sweeps differ.
+        Hysteresis = "hysteresis",
     }
 }
 

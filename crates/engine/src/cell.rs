@@ -5,6 +5,7 @@ use crate::error::Result;
 use crate::record::CellRecord;
 use crate::sim::{parameters_of, Origin, Setup, Sim, Source, Start};
 use grid::{CellData, Quantity};
+use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
 use solver::{run_cell_measured, CellResult, Mask, System};

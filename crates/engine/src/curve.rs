@@ -5,6 +5,7 @@
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::sim::{check_period, labels_of, unknown, Setup, Sim};
+use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
 use solver::curve::{Curve, CurvePoint, Tracing};

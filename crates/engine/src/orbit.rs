@@ -7,6 +7,7 @@ use crate::error::{Opt, RequestError};
 use crate::observer::Observer;
 use crate::sim::{check_period, labels_of, unknown, Sim, Start};
 use grid::Axis;
+use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
 use solver::continuation::Branch;

@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::observer::{Begin, Observed, Observer};
 use crate::sim::Setup;
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
+use scene::Named;
 use serde::Serialize;
 use std::path::PathBuf;
 use std::time::Instant;

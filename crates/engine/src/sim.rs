@@ -6,6 +6,7 @@
 
 use crate::error::Result;
 use crate::error::{Opt, RequestError, SceneLoadError, TEXT};
+use scene::Named;
 use scene::Scene;
 use serde::Serialize;
 use solver::{Accuracy, Knob, Method, Preset};

@@ -40,7 +40,11 @@ pub fn study(
     let study = Study::parse(&text).map_err(|e| Error::file(file, "", Some(e.into())))?;
     let scene = file.parent().unwrap_or(Path::new(".")).join(&study.scene);
     let sweeps = SweepKind::parse_set(&study.sweep, "sweep")?;
-    let plane = Plane::new(Axis::parse(&study.x, "x")?, Axis::parse(&study.y, "y")?, Along::parse(&study.along)?)?;
+    let plane = Plane::new(
+        Axis::parse(&study.x, "x")?,
+        Axis::parse(&study.y, "y")?,
+        grid::read::<Along>(&study.along, "along")?,
+    )?;
     if [&plane.x.name, &plane.y.name].contains(&&study.parameter) {
         let why =
             format!("parameter '{}' is also an axis of the study's plane; vary another parameter", study.parameter);

@@ -4,6 +4,7 @@
 
 use grid::hysteresis::zones;
 use grid::Atlas;
+use scene::Named;
 use serde::Serialize;
 use solver::Class;
 use std::collections::BTreeMap;

@@ -10,43 +10,26 @@ use crate::plan::Plan;
 use crate::record::{labels, CellRecord};
 use crate::sim::{Origin, Sim, Source, Start};
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
+use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-/// The directions of a sweep.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
-    /// Upwards.
-    Up,
-    /// Downwards.
-    Down,
-    /// Up and down, each from the same start.
-    Both,
-    /// Down, then up from where the down leg ended.
-    DownUp,
-    /// Up, then down from where the up leg ended.
-    UpDown,
-}
-
-impl Direction {
-    /// The name on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            Direction::Up => "up",
-            Direction::Down => "down",
-            Direction::Both => "both",
-            Direction::DownUp => "down-up",
-            Direction::UpDown => "up-down",
-        }
-    }
-
-    /// The direction of a name ([`Direction::name`]).
-    pub fn parse(name: &str) -> Option<Direction> {
-        [Direction::Up, Direction::Down, Direction::Both, Direction::DownUp, Direction::UpDown]
-            .into_iter()
-            .find(|d| d.name() == name)
+scene::named_enum! {
+    /// The directions of a sweep.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Direction {
+        /// Upwards.
+        Up = "up",
+        /// Downwards.
+        Down = "down",
+        /// Up and down, each from the scene's initial state.
+        Both = "both",
+        /// Down, then up from where the down leg ended.
+        DownUp = "down-up",
+        /// Up, then down from where the up leg ended.
+        UpDown = "up-down",
     }
 }
 

@@ -18,6 +18,7 @@ use crate::error::{Opt, RequestError};
 use crate::observer::Observer;
 use crate::plan::{Executed, Plan};
 use grid::{Along, Atlas, Axis, Entries, Lattice, Plane, SweepKind};
+use scene::Named;
 use std::path::PathBuf;
 
 /// Largest number of cells of a zoom's box (per sweep): a box is looked at,

@@ -14,6 +14,7 @@ use base64::prelude::{Engine as _, BASE64_STANDARD};
 use engine::{CellRecord, SceneSource, Sim, Start};
 use grid::{Axis, Number, SweepKind};
 use render::{Show, View};
+use scene::Named;
 use serde_json::{json, Value};
 use std::collections::HashMap;
 use std::sync::Arc;

@@ -36,9 +36,9 @@ pub use atlas::{Atlas, AttractorMap, CellAttractor, CellAttractors, Map, Meta, F
 pub use axis::{Axis, Lattice, MAX_COUNT};
 pub use basins::{BasinAttractor, BasinMap};
 pub use cell::{by_frequency, label_counts, runs, CellData, Number, Quantity, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
-pub use error::FieldError;
+pub use error::{read, FieldError};
 pub use families::{families, Families};
 pub use notation::{stop_events, Notation};
 pub use plane::{Along, Entries, Line, Plane};
 pub use shard::{Shard, MAX_SHARDS};
-pub use sweep::SweepKind;
+pub use sweep::{SweepKind, Sweeps};

@@ -9,31 +9,14 @@ use crate::error::FieldError;
 use crate::sweep::SweepKind;
 use std::collections::BTreeMap;
 
-/// Which axis the continuation chains follow.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Along {
-    /// Chains are rows: x varies.
-    X,
-    /// Chains are columns: y varies.
-    Y,
-}
-
-impl Along {
-    /// `x` or `y`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Along::X => "x",
-            Along::Y => "y",
-        }
-    }
-
-    /// Parses `x` or `y`.
-    pub fn parse(text: &str) -> Result<Along, FieldError> {
-        match text {
-            "x" => Ok(Along::X),
-            "y" => Ok(Along::Y),
-            _ => Err(FieldError::field("along", format!("expected x or y, got '{text}'"))),
-        }
+scene::named_enum! {
+    /// Which axis the continuation chains follow.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Along {
+        /// Chains are rows: x varies.
+        X = "x",
+        /// Chains are columns: y varies.
+        Y = "y",
     }
 }
 

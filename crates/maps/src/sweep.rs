@@ -6,44 +6,49 @@
 
 use crate::error::FieldError;
 
-/// Direction of a sweep, or a fresh (independent cells) map.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum SweepKind {
-    /// Every cell from the scene's initial state.
-    Fresh,
-    /// Continuation in increasing parameter order.
-    Up,
-    /// Continuation in decreasing parameter order.
-    Down,
+scene::named_enum! {
+    /// Direction of a sweep, or a fresh (independent cells) map.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+    pub enum SweepKind {
+        /// Every cell from the scene's initial state.
+        Fresh = "fresh",
+        /// Continuation in increasing parameter order.
+        Up = "up",
+        /// Continuation in decreasing parameter order.
+        Down = "down",
+    }
+}
+
+scene::named_enum! {
+    /// The sweeps a map computes (an atlas's `--sweep`).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Sweeps {
+        /// Every cell from the scene's initial state.
+        Fresh = "fresh",
+        /// Continuation chains upwards.
+        Up = "up",
+        /// Continuation chains downwards.
+        Down = "down",
+        /// Up and down.
+        Both = "both",
+    }
+}
+
+impl Sweeps {
+    /// The sweeps, in the order they are computed.
+    pub fn kinds(self) -> Vec<SweepKind> {
+        match self {
+            Sweeps::Fresh => vec![SweepKind::Fresh],
+            Sweeps::Up => vec![SweepKind::Up],
+            Sweeps::Down => vec![SweepKind::Down],
+            Sweeps::Both => vec![SweepKind::Up, SweepKind::Down],
+        }
+    }
 }
 
 impl SweepKind {
-    /// `fresh`, `up` or `down`.
-    pub fn name(self) -> &'static str {
-        match self {
-            SweepKind::Fresh => "fresh",
-            SweepKind::Up => "up",
-            SweepKind::Down => "down",
-        }
-    }
-
-    /// Parses a name.
-    pub fn parse(name: &str) -> Option<SweepKind> {
-        match name {
-            "fresh" => Some(SweepKind::Fresh),
-            "up" => Some(SweepKind::Up),
-            "down" => Some(SweepKind::Down),
-            _ => None,
-        }
-    }
-
     /// The sweeps of a `--sweep` value: `fresh`, `up`, `down` or `both` (up and down).
     pub fn parse_set(text: &str, flag: &str) -> Result<Vec<SweepKind>, FieldError> {
-        match text {
-            "both" => Ok(vec![SweepKind::Up, SweepKind::Down]),
-            other => SweepKind::parse(other)
-                .map(|k| vec![k])
-                .ok_or_else(|| FieldError::field(flag, format!("expected fresh, up, down or both, got '{text}'"))),
-        }
+        Ok(crate::read::<Sweeps>(text, flag)?.kinds())
     }
 }

@@ -17,12 +17,13 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use engine::{AtlasRequest, AttractorCells, CurveRequest, Direction, Opt, SceneSource, Sim, Start, SweepRequest};
+use engine::{AtlasRequest, AttractorCells, CurveRequest, Opt, SceneSource, Sim, Start, SweepRequest};
 use grid::attractors::Sampling;
-use grid::{Along, Axis, SweepKind};
+use grid::{Axis, SweepKind};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+use scene::Named;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::Duration;
@@ -229,11 +230,10 @@ impl Job {
     }
 }
 
-/// An enum option by its command-line name.
-fn named<T>(key: &str, value: Option<String>, parse: impl Fn(&str) -> Option<T>, names: &str) -> PyResult<Option<T>> {
-    value
-        .map(|v| parse(&v).ok_or_else(|| PyValueError::new_err(format!("{key}: expected {names}, got '{v}'"))))
-        .transpose()
+/// An enum option by its name ([`Named`], the command line's spelling), or a
+/// `ValueError` naming the keyword, the names and the one meant where one is close.
+fn named<T: Named>(key: &str, value: Option<String>) -> PyResult<Option<T>> {
+    value.map(|v| T::parse(&v).ok_or_else(|| PyValueError::new_err(format!("{key}: {}", T::expected(&v))))).transpose()
 }
 
 /// The simulation options of every call but zoom, as the package passes
@@ -268,8 +268,8 @@ fn sim(a: SimArgs<'_>) -> PyResult<Sim> {
         }
         other => return Err(PyValueError::new_err(format!("scene: unknown kind '{other}'"))),
     };
-    let preset = named("preset", preset, solver::Preset::parse, "fast, standard or precise")?;
-    let integrator = named("integrator", integrator, solver::Method::parse, "exact or rk4")?;
+    let preset = named("preset", preset)?;
+    let integrator = named("integrator", integrator)?;
     let mut knobs = Vec::new();
     for (k, v) in accuracy.iter().flat_map(|d| d.iter()) {
         let name: String = k.extract()?;
@@ -347,12 +347,7 @@ fn cell(
         (Some(state), _) => Start::State(state),
         (None, None) => Start::Initial,
         (None, Some((file, at, sweep))) => {
-            let sweep = sweep
-                .map(|s| {
-                    SweepKind::parse(&s)
-                        .ok_or_else(|| PyValueError::new_err(format!("sweep: expected fresh, up or down, got '{s}'")))
-                })
-                .transpose()?;
+            let sweep = named("sweep", sweep)?;
             Start::Cell { file: file.into(), at, sweep }
         }
     };
@@ -388,7 +383,7 @@ fn sweep(
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
     let mut r = SweepRequest::new(sim, self::axis(axis));
-    r.direction = named("direction", direction, Direction::parse, "up, down, both, down-up or up-down")?;
+    r.direction = named("direction", direction)?;
     r.section_cap = section_cap.unwrap_or(r.section_cap);
     r.threads = self::threads(threads)?;
     r.output = output.map(Into::into);
@@ -419,9 +414,9 @@ fn atlas(
     let sim = self::sim(sim)?;
     let sweeps = sweeps(sweep)?.unwrap_or_else(|| vec![SweepKind::Fresh]);
     let mut r = AtlasRequest::new(sim, axis(x), axis(y), sweeps);
-    r.along = named("along", along, |s| Along::parse(s).ok(), "x or y")?.unwrap_or(r.along);
+    r.along = named("along", along)?.unwrap_or(r.along);
     // As on the command line, the seed and the cells chosen matter only with attractors.
-    let cells = named("attractors_where", attractors_where, AttractorCells::parse, "all or hysteresis")?;
+    let cells = named("attractors_where", attractors_where)?;
     if let Some(samples) = attractors {
         let d = Sampling::default();
         r.attractors =
@@ -504,8 +499,8 @@ fn curve(
     output: Option<String>,
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
-    let kind = named("kind", Some(kind), solver::Bifurcation::parse, "pd, sn, pf, ns or grazing")?
-        .ok_or_else(|| PyValueError::new_err("kind: required"))?;
+    let kind =
+        named::<solver::Bifurcation>("kind", Some(kind))?.ok_or_else(|| PyValueError::new_err("kind: required"))?;
     let mut r = CurveRequest::new(sim, kind, [free.0, free.1], start);
     r.to = to;
     r.steps = steps.unwrap_or(r.steps);

@@ -68,6 +68,19 @@ def test_bad_option_value(call):
     one_line(e)
 
 
+def test_a_mistyped_name_says_which_was_meant():
+    """A named option reads through the library's table of names, as the CLI's does."""
+    with pytest.raises(ValueError) as e:
+        va.cell(MULTI, preset="precize")
+    assert one_line(e) == "preset: expected fast, standard or precise, got 'precize' (did you mean 'precise'?)"
+    with pytest.raises(ValueError) as e:
+        va.sweep(MULTI, axis=("omega", 0.2, 0.4, 11), direction="downup", progress=False)
+    assert one_line(e).endswith("got 'downup' (did you mean 'down-up'?)")
+    with pytest.raises(ValueError) as e:
+        va.cell(MULTI, preset="zebra")
+    assert "did you mean" not in one_line(e)
+
+
 def test_bad_option_value_message():
     with pytest.raises(ValueError) as e:
         va.atlas(MULTI, x=("omega", 0.1, 1.0, 0), y=("delta", 0.1, 1.0, 3), progress=False)

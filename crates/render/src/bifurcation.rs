@@ -18,25 +18,17 @@ use crate::page::{Backend, Canvas, Page};
 use maps::{Atlas, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use scene::Named;
 use std::path::Path;
 
-/// What the impact panels plot for each impact.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Impact {
-    /// The normal impact speed `|ġ|` just before the impact.
-    Speed,
-    /// The forcing phase `ωt mod 2π` of the impact.
-    Phase,
-}
-
-impl Impact {
-    /// `speed` or `phase`.
-    pub fn parse(name: &str) -> Option<Impact> {
-        match name {
-            "speed" => Some(Impact::Speed),
-            "phase" => Some(Impact::Phase),
-            _ => None,
-        }
+scene::named_enum! {
+    /// What the impact panels plot for each impact.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Impact {
+        /// The normal impact speed `|ġ|` just before the impact.
+        Speed = "speed",
+        /// The forcing phase `ωt mod 2π` of the impact.
+        Phase = "phase",
     }
 }
 

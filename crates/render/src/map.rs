@@ -19,6 +19,7 @@ use maps::palette::{self, colour, delta_e, Family};
 use maps::{Atlas, Axis, CellData, Meta, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use scene::Named;
 use solver::Label;
 use std::collections::HashMap;
 use std::path::Path;
@@ -32,13 +33,31 @@ pub enum View {
     Hysteresis,
 }
 
-impl View {
-    /// `hysteresis`, or the name of a sweep (`fresh`, `up`, `down`).
-    pub fn parse(name: &str) -> Option<View> {
-        match name {
-            "hysteresis" => Some(View::Hysteresis),
-            sweep => SweepKind::parse(sweep).map(View::Sweep),
+/// `hysteresis`, or the name of a sweep (`fresh`, `up`, `down`).
+impl Named for View {
+    const ALL: &'static [View] =
+        &[View::Sweep(SweepKind::Fresh), View::Sweep(SweepKind::Up), View::Sweep(SweepKind::Down), View::Hysteresis];
+
+    fn name(self) -> &'static str {
+        match self {
+            View::Sweep(sweep) => sweep.name(),
+            View::Hysteresis => "hysteresis",
         }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            View::Sweep(SweepKind::Fresh) => "The fresh cells.",
+            View::Sweep(SweepKind::Up) => "The up sweep.",
+            View::Sweep(SweepKind::Down) => "The down sweep.",
+            View::Hysteresis => "Up | down | where they differ.",
+        }
+    }
+}
+
+impl std::fmt::Display for View {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
     }
 }
 

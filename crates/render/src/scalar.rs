@@ -15,6 +15,7 @@ use crate::page::{Backend, Canvas, Page};
 use maps::{Atlas, CellData, Meta, Number, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use scene::Named;
 use std::path::Path;
 
 /// How a continuous map draws each number per cell ([`Number`]).

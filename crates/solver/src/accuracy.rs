@@ -5,36 +5,18 @@
 //! `standard` default and what it trades.
 
 use crate::error::SolverError;
+use scene::Named;
 
-/// Named accuracy presets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Preset {
-    /// Looser tolerances and shorter records: the quick look.
-    Fast,
-    /// The default: labels agree with `precise` on nearly every cell.
-    Standard,
-    /// Tight tolerances and long records: the reference.
-    Precise,
-}
-
-impl Preset {
-    /// Parses `fast`, `standard` or `precise`.
-    pub fn parse(name: &str) -> Option<Preset> {
-        match name {
-            "fast" => Some(Preset::Fast),
-            "standard" => Some(Preset::Standard),
-            "precise" => Some(Preset::Precise),
-            _ => None,
-        }
-    }
-
-    /// The preset's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Preset::Fast => "fast",
-            Preset::Standard => "standard",
-            Preset::Precise => "precise",
-        }
+scene::named_enum! {
+    /// Named accuracy presets.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Preset {
+        /// Looser tolerances and shorter records: the quick look.
+        Fast = "fast",
+        /// The default: labels agree with `precise` on nearly every cell.
+        Standard = "standard",
+        /// Tight tolerances and long records: the reference.
+        Precise = "precise",
     }
 }
 
@@ -100,27 +82,34 @@ macro_rules! knobs {
             $($(#[doc = $doc])* $variant,)*
         }
 
-        impl Knob {
-            /// Every knob, in the order files list them.
-            pub const ALL: &'static [Knob] = &[$(Knob::$variant),*];
+        /// Every knob in the order files list them, named as its field (`event_tol`, …).
+        impl Named for Knob {
+            const ALL: &'static [Knob] = &[$(Knob::$variant),*];
 
-            /// The knob's name (`event_tol`, …).
-            pub fn name(self) -> &'static str {
+            fn name(self) -> &'static str {
                 match self {
                     $(Knob::$variant => stringify!($field),)*
                 }
             }
 
-            /// The knob of a name ([`Knob::name`]).
-            pub fn parse(name: &str) -> Option<Knob> {
-                Knob::ALL.iter().copied().find(|k| k.name() == name)
+            fn help(self) -> &'static str {
+                match self {
+                    $(Knob::$variant => concat!($($doc),*).trim_ascii(),)*
+                }
             }
+        }
 
-            /// The knob of a name, or an error naming it as unknown.
+        impl Knob {
+            /// The knob of a name, or an error naming it as unknown (and the
+            /// knob meant, where one is close).
             pub fn named(name: &str) -> Result<Knob, SolverError> {
-                Knob::parse(name).ok_or_else(|| SolverError::Accuracy {
-                    field: name.to_string(),
-                    message: "unknown accuracy knob".to_string(),
+                Knob::parse(name).ok_or_else(|| {
+                    let names: Vec<&str> = Knob::ALL.iter().map(|k| k.name()).collect();
+                    let hint = scene::closest(name, &names).map(|n| format!(" (did you mean '{n}'?)"));
+                    SolverError::Accuracy {
+                        field: name.to_string(),
+                        message: format!("unknown accuracy knob{}", hint.unwrap_or_default()),
+                    }
                 })
             }
 

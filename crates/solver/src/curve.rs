@@ -70,6 +70,7 @@ use crate::orbit::Orbit;
 use crate::system::System;
 use line::Path;
 use num_complex::Complex64 as C64;
+use scene::Named;
 
 /// Points of the continuation across a corrector line: an even number, so
 /// that the line's middle (the prediction) is not a grid point (a bifurcation

@@ -11,6 +11,7 @@
 
 use nalgebra::DMatrix;
 use num_complex::Complex64 as C64;
+use scene::Named;
 
 /// Eigenvalues of `m`, largest modulus first (ties: larger real part, then
 /// larger imaginary part); empty when `m` is not finite or the QR iteration
@@ -91,9 +92,8 @@ pub enum Bifurcation {
     Grazing,
 }
 
-impl Bifurcation {
-    /// Every kind.
-    pub const ALL: [Bifurcation; 5] = [
+impl Named for Bifurcation {
+    const ALL: &'static [Bifurcation] = &[
         Bifurcation::PeriodDoubling,
         Bifurcation::SaddleNode,
         Bifurcation::Pitchfork,
@@ -101,13 +101,8 @@ impl Bifurcation {
         Bifurcation::Grazing,
     ];
 
-    /// The kind of a short name ([`Bifurcation::name`]), in either case (`pd`, `PD`).
-    pub fn parse(name: &str) -> Option<Bifurcation> {
-        Bifurcation::ALL.into_iter().find(|b| b.name().eq_ignore_ascii_case(name))
-    }
-
-    /// Short name: `PD`, `SN`, `PF`, `NS`, `grazing`.
-    pub fn name(self) -> &'static str {
+    /// Short name, as files and JSON store it: `PD`, `SN`, `PF`, `NS`, `grazing`.
+    fn name(self) -> &'static str {
         match self {
             Bifurcation::PeriodDoubling => "PD",
             Bifurcation::SaddleNode => "SN",
@@ -115,6 +110,21 @@ impl Bifurcation {
             Bifurcation::NeimarkSacker => "NS",
             Bifurcation::Grazing => "grazing",
         }
+    }
+
+    fn help(self) -> &'static str {
+        match self {
+            Bifurcation::PeriodDoubling => "Period doubling.",
+            Bifurcation::SaddleNode => "Saddle-node (fold).",
+            Bifurcation::Pitchfork => "Symmetry-breaking pitchfork.",
+            Bifurcation::NeimarkSacker => "Neimark–Sacker (torus).",
+            Bifurcation::Grazing => "Grazing.",
+        }
+    }
+
+    /// The kind of a short name in either case (`pd`, `PD`).
+    fn parse(name: &str) -> Option<Bifurcation> {
+        Bifurcation::ALL.iter().copied().find(|b| b.name().eq_ignore_ascii_case(name))
     }
 }
 
@@ -179,7 +189,7 @@ mod tests {
 
     #[test]
     fn kinds_read_back_from_their_names_in_either_case() {
-        for b in Bifurcation::ALL {
+        for &b in Bifurcation::ALL {
             assert_eq!(Bifurcation::parse(b.name()), Some(b));
             assert_eq!(Bifurcation::parse(&b.name().to_lowercase()), Some(b));
         }

@@ -14,6 +14,7 @@
 
 use crate::error::{JournalProblem, StoreError};
 use maps::{CellData, Line, Meta, SweepKind};
+use scene::Named;
 use serde::{Deserialize, Serialize};
 use std::borrow::Cow;
 use std::fs::{File, OpenOptions};

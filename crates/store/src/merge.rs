@@ -4,6 +4,7 @@
 use crate::error::{Setting, StoreError};
 use crate::read::read;
 use maps::{Atlas, Meta, Shard};
+use scene::Named;
 use std::path::{Path, PathBuf};
 
 /// Why two atlases cannot be merged: the first field of [`Meta`] that differs.

@@ -5,6 +5,7 @@ use crate::error::{OtherKind, StoreError};
 use crate::layout::*;
 use crate::write::RunInfo;
 use maps::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
+use scene::Named;
 use solver::Unresolved;
 use std::path::Path;
 
@@ -465,7 +466,7 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         return Err(fmt(format!("attribute {}: {dim}; the state dimension is even, 2 to {MAX_DIM}", attr::DIM)));
     }
     let dim = dim as usize;
-    let along = Along::parse(&attr(path, f, attr::ALONG)?).map_err(|e| fmt(e.to_string()))?;
+    let along = maps::read::<Along>(&attr(path, f, attr::ALONG)?, "along").map_err(|e| fmt(e.to_string()))?;
     let sweeps = list(&attr(path, f, attr::SWEEPS)?)
         .iter()
         .map(|s| {

@@ -15,6 +15,7 @@ use crate::checksum::{of_run, run_of, stored_bytes, Expected};
 use crate::error::StoreError;
 use crate::fields::Field;
 use maps::Atlas;
+use scene::Named;
 use std::path::Path;
 
 /// A dataset of the file about to be put at `path` that did not read back.

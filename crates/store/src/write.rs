@@ -11,6 +11,7 @@ use crate::netcdf::{self, attr_array, attr_num, attr_str};
 use hdf5::Group;
 use maps::{palette, Atlas};
 use ndarray::{Array1, Array2, Array3};
+use scene::Named;
 use solver::{Count, Label};
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};

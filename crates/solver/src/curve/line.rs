@@ -18,6 +18,7 @@ use crate::floquet::Bifurcation;
 use crate::grazing::{crossing, grazed, Crossing};
 use crate::orbit::{orbit_of_cell, solve_orbit, Orbit};
 use crate::system::System;
+use scene::Named;
 
 /// Points of the continuation along a step's corrector path (a line or an
 /// arc: the curve is near its middle; a first point's line has

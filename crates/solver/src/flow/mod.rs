@@ -48,33 +48,18 @@ pub enum Advance {
     Budget,
 }
 
-/// Which integrator a simulation uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Method {
-    /// Closed-form flow, conservative advancement and refinement to `event_tol`.
-    Exact,
-    /// Classic RK4 with step `rk4_step`, step-back refinement to `rk4_min_step`.
-    Rk4,
+scene::named_enum! {
+    /// Which integrator a simulation uses.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Method {
+        /// Closed-form flow, conservative advancement and refinement to `event_tol`.
+        Exact = "exact",
+        /// Classic RK4 with step `rk4_step`, step-back refinement to `rk4_min_step`.
+        Rk4 = "rk4",
+    }
 }
 
 impl Method {
-    /// Parses `exact` or `rk4`.
-    pub fn parse(name: &str) -> Option<Method> {
-        match name {
-            "exact" => Some(Method::Exact),
-            "rk4" => Some(Method::Rk4),
-            _ => None,
-        }
-    }
-
-    /// The method's name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::Exact => "exact",
-            Method::Rk4 => "rk4",
-        }
-    }
-
     /// Advances `s0` in `mode` for at most `horizon`, stopping at the first
     /// event; the augmented state where it stops is written to `out` (resized to
     /// the mode's dimension). `allowance`: what is left of the cell's event
