@@ -31,6 +31,8 @@ mod integrity;
 mod limits;
 /// No module of a crate imports one that imports it back.
 mod modules;
+/// The names a user types: the Python stubs offer the library's names.
+mod names;
 /// Colours that stay apart (CIEDE2000) among each scene's frequent labels.
 mod palette;
 /// Printed figures: embedded fonts, page sizes, no text under 6 pt.
