@@ -17,7 +17,7 @@ use crate::flow::{Advance, Method};
 use crate::impact;
 use crate::mode::{Guard, GuardKind, Key, Mode};
 use crate::soft;
-use crate::stick::{candidates, settle, touching, ModeCache};
+use crate::stick::{candidates, settle, touching, ModeCache, RECURRING};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector};
 
@@ -465,7 +465,7 @@ impl<'s> Simulator<'s> {
         let phase = self.phase();
         let (pressed, parting) = soft::contacts(self.sys, &self.acc, &self.y);
         let soft = Key { pressed, parting, ..Key::FREE };
-        self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0, soft)?;
+        self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0, soft, false)?;
         self.snap()
     }
 
@@ -816,7 +816,8 @@ impl<'s> Simulator<'s> {
         let sys = self.sys;
         let cand = (candidates(sys, &self.acc, &self.y) | self.key.held) & !released;
         let phase = self.phase();
-        let key = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand, broke, self.key)?;
+        let recurring = self.zero_steps >= RECURRING;
+        let key = settle(sys, &self.acc, &mut self.cache, &self.y, phase, cand, broke, self.key, recurring)?;
         for k in 0..sys.stops.len() {
             if key.held & !self.key.held & (1 << k) != 0 {
                 self.chatter.reset(k);

@@ -179,7 +179,8 @@ fn at_contact(
     let d =
         [evaluate(f, coef(0)), evaluate(f, coef(1)), evaluate(f, coef(2)), evaluate(f, coef(3)), evaluate(f, coef(4))];
     let scale = [magnitude, bound(fb, modl(1)), bound(fb, modl(2)), bound(fb, modl(3)), bound(fb, modl(4))];
-    match classify_start(&d, &start_tolerances(acc, is_gap, &scale, &d)) {
+    let tol = start_tolerances(acc, is_gap, &scale, &d);
+    match classify_start(&d, &tol) {
         Start::Clear => false,
         Start::Approaching => true,
         Start::Departing { order, rate } => {
@@ -194,16 +195,73 @@ fn at_contact(
                 }
             } else {
                 let g_next = bound(fb, modl(order + 1));
-                if g_next > 0.0 {
-                    (order + 1) as f64 * rate / g_next
+                let first = if g_next > 0.0 { (order + 1) as f64 * rate / g_next } else { horizon };
+                // A departure so slow that holds of half `first` would take more
+                // than CREEP_STEPS steps to carry the guard out of its zero band
+                // (they would exhaust the step budget: a stall) is held by the
+                // bound of more orders, when the next derivatives speed it up.
+                let factorial = (1..=order).product::<usize>() as f64;
+                let per_hold = rate * (0.5 * first).powi(order as i32) / factorial;
+                if per_hold * CREEP_STEPS < tol[0] {
+                    first.max(departure(order, rate, &d, &tol, &scale))
                 } else {
-                    horizon
+                    first
                 }
             };
             *masked = u + 0.5 * escape.max(acc.event_tol);
             false
         }
     }
+}
+
+/// Holds of a departing guard, at most, that may carry it out of its zero band
+/// before the bound of more orders is used ([`departure`]).
+const CREEP_STEPS: f64 = 1000.0;
+
+/// How long a guard departing from zero at derivative `order` (value
+/// `rate > 0`; those below it zero) provably stays positive, by the lower
+/// bounds of more than one order: for `k` in `order + 2 ..= 4`, the Taylor
+/// polynomial up to `k − 1` with each derivative beyond `order` lowered by its
+/// tolerance, less the bound `bounds[k]` of the k-th derivative over the rest
+/// of the horizon, `rate s^o/o! + Σ_{o<j<k} (d_j − tol_j) s^j/j! − bounds[k] s^k/k!`.
+/// Where every lowered derivative is non-negative the polynomial has one
+/// positive root (one change of sign, Descartes' rule) and is positive before
+/// it: the latest such root, 0 when no `k` qualifies. The root of `k = order + 1`
+/// is the caller's.
+fn departure(order: usize, rate: f64, d: &[f64; 5], tol: &[f64; 5], bounds: &[f64; 5]) -> f64 {
+    let mut best = 0.0f64;
+    let mut factorial = (1..=order).product::<usize>() as f64;
+    let mut coef = vec![rate / factorial];
+    for k in order + 1..5 {
+        factorial *= k as f64;
+        if k > order + 1 {
+            let g = bounds[k] / factorial;
+            if g > 0.0 {
+                // q(s) = Σ coef[i] s^i − g s^(k−order): positive at 0, one root.
+                let q = |s: f64| coef.iter().rev().fold(0.0, |acc, c| acc * s + c) - g * s.powi((k - order) as i32);
+                let mut hi = (coef[0] / g).powf(1.0 / (k - order) as f64);
+                let mut lo = 0.0;
+                while q(hi) > 0.0 && hi.is_finite() {
+                    (lo, hi) = (hi, 2.0 * hi);
+                }
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if q(mid) > 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                best = best.max(lo);
+            }
+        }
+        let lowered = d[k] - tol[k];
+        if lowered < 0.0 {
+            break;
+        }
+        coef.push(lowered / factorial);
+    }
+    best
 }
 
 /// First positive root of `g + g' h - G₂ h²/2` (`g > 0`), infinite when none.
@@ -332,6 +390,28 @@ mod tests {
     use crate::mode::{Key, Mode};
     use crate::testing::{forced_oscillator, system};
     use proptest::prelude::*;
+
+    /// A departure at order 1 that its acceleration speeds up is held positive
+    /// until the root of `r + a s/2 − G s²/6` (the closed form), not only until
+    /// `2r/G₂`; the bound is positive before that root and not after; a
+    /// departure that its acceleration turns back gets no longer hold (0).
+    #[test]
+    fn a_departure_sped_up_is_held_until_the_root_of_its_next_bound() {
+        let (r, a, g3): (f64, f64, f64) = (2e-9, 1e-4, 5.0);
+        let d = [0.0, r, a, 0.0, 0.0];
+        let tol = [1e-12, 1e-9, 1e-15, 0.0, 0.0];
+        let bounds = [1.0, 1.0, 1.0, g3, 0.0];
+        let lowered = a - tol[2];
+        let (b, c) = (lowered / 2.0, g3 / 6.0);
+        let closed = (b + (b * b + 4.0 * c * r).sqrt()) / (2.0 * c);
+        let s = departure(1, r, &d, &tol, &bounds);
+        assert!((s - closed).abs() <= 1e-12 * closed, "{s} against {closed}");
+        assert!(s > 1e4 * 2.0 * r / 5.0, "{s}: no longer than the first order's hold");
+        let q = |s: f64| r + b * s - c * s * s;
+        assert!(q(s) >= 0.0 && q(s * (1.0 + 1e-9)) < 0.0);
+        let turned = [0.0, r, -a, 0.0, 0.0];
+        assert_eq!(departure(1, r, &turned, &tol, &bounds), 0.0);
+    }
 
     /// The free mode of the single-stop oscillator with its stop at `sigma`.
     fn free_mode(omega: f64, zeta: f64, sigma: f64) -> Mode {

@@ -358,3 +358,37 @@ fn a_linear_motion_is_neither_chaotic_nor_a_subharmonic() {
     let c = run(&far(&[("omega", 1.5)]));
     assert_eq!(c.labels[0].label.to_string(), "1-0-0", "{c:?}");
 }
+
+/// A free mass that a chatter sequence has brought to its wall with a
+/// relative speed far below `precise`'s stick velocity, the wall's gap then
+/// opening at 1.6e-11 and accelerating open (issue 62): the event search
+/// follows the slow departure in a few steps (it crept 1.6e-9 at a time and
+/// stalled after 6.7e-5 time units, the cell `unresolved`), the motion goes
+/// on into its next chatter sequences, and the cell gets a label. The state is where the damper's up sweep at δ = 1.4746 left its
+/// cell at ω = 1.7152; 38 cells of the row after it were `unresolved`.
+#[test]
+fn a_slow_departure_from_a_wall_is_followed_at_precise() {
+    let sys = system("impact-damper.toml", &[("omega", 1.7253164556962026), ("delta", 1.4745762711864407)]);
+    let acc = Accuracy::preset(solver::Preset::Precise);
+    let y0 = [0.18190877740962674, 1.6564850485960674, -0.9095901530331945, -0.909590153049442];
+    let (rec, _) = crate::common::record(&sys, &acc, Method::Exact, &y0, 3);
+    assert!(rec.impacts.len() > 20, "a chatter sequence: {} impacts", rec.impacts.len());
+    let result = run_cell(&sys, &acc, Method::Exact, &y0);
+    assert!(!matches!(result.class, Class::Unresolved), "{:?}", result.class);
+}
+
+/// A dry-friction contact whose slip rate the flow stops at its zero while
+/// the choice of the next state, by its own evaluation of the same rate, sees
+/// it just above the zero band and keeps the slip (issue 62): the event
+/// recurred at one instant until the simulation stalled, the cell
+/// `unresolved`. Once it recurs, the slip is judged with twice the band, the
+/// contact reverses and the cell gets a label. The state is where the up sweep
+/// of `precise` at fk = 0.01466 entered its cell at ω = 4.1380.
+#[test]
+fn a_slip_stopped_at_the_edge_of_its_zero_band_does_not_stall() {
+    let sys = system("dry-friction.toml", &[("omega", 4.137974683544304), ("fk", 0.014661016949152544)]);
+    let acc = Accuracy::preset(solver::Preset::Precise);
+    let y0 = [-0.019256000807433504, 0.001571646054406953, 0.02624410855756873, -0.029936213408697662];
+    let result = run_cell(&sys, &acc, Method::Exact, &y0);
+    assert!(!matches!(result.class, Class::Unresolved), "{:?}", result.class);
+}
