@@ -18,19 +18,19 @@ impl Words for Flags {
 /// An error as its one line: each error of its chain (anyhow's `{:#}`) in
 /// the command line's words.
 pub fn message(e: &anyhow::Error) -> String {
-    let parts: Vec<String> = e.chain().map(one).collect();
+    let parts: Vec<String> = e.chain().map(error_text).collect();
     parts.join(": ")
 }
 
 /// One error of a chain.
-fn one(e: &(dyn std::error::Error + 'static)) -> String {
+fn error_text(e: &(dyn std::error::Error + 'static)) -> String {
     use store::{OtherKind, Setting, StoreError};
     // The engine's error says what its library's error says (its sources
     // follow in the chain): look at that one.
     match e.downcast_ref::<engine::Error>() {
-        Some(engine::Error::Request(r)) => return one(r),
-        Some(engine::Error::Store(s)) => return one(s),
-        Some(engine::Error::Render(r)) => return one(r),
+        Some(engine::Error::Request(r)) => return error_text(r),
+        Some(engine::Error::Store(s)) => return error_text(s),
+        Some(engine::Error::Render(r)) => return error_text(r),
         _ => {}
     }
     if let Some(r) = e.downcast_ref::<engine::RequestError>() {

@@ -1,6 +1,6 @@
 //! One bifurcation followed in a plane of two parameters ([`curve`], see
 //! [`solver::curve`]), the file it writes and the JSON object of
-//! `curve --json` ([`Traced::to_json`]).
+//! `curve --json` ([`FollowedCurve::to_json`]).
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
@@ -72,7 +72,7 @@ impl CurveRequest {
 
 /// A followed curve.
 #[derive(Debug, Clone)]
-pub struct Traced {
+pub struct FollowedCurve {
     /// The free parameters.
     pub free: [String; 2],
     /// The curve.
@@ -85,7 +85,7 @@ pub struct Traced {
 
 /// Follows a curve (and writes its file when asked, unless `observer` asked
 /// to stop meanwhile: a curve's steps cannot be interrupted, its file can).
-pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced> {
+pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<FollowedCurve> {
     let s = r.sim.setup()?;
     check_period(r.n)?;
     let [pa, pb] = &r.free;
@@ -158,7 +158,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Traced>
         store::write_curves(out, std::slice::from_ref(&stored), &r.command, s.scene.source())?;
     }
     let sides = curve.points.iter().map(|p| sides_of(&tracing, &plane, p)).collect();
-    Ok(Traced { free: r.free.clone(), curve, ended, sides })
+    Ok(FollowedCurve { free: r.free.clone(), curve, ended, sides })
 }
 
 /// Follows the curve through `first` to B = `ends[1]`, and from there back
@@ -232,7 +232,7 @@ pub struct Side {
     pub symmetry: Option<&'static str>,
 }
 
-impl Traced {
+impl FollowedCurve {
     /// The curve as its report ([`CurveReport`]).
     pub fn report(&self) -> CurveReport {
         let [pa, pb] = &self.free;
@@ -316,7 +316,7 @@ pub struct CurvesRequest {
 
 /// The curves found from an atlas.
 #[derive(Debug, Clone)]
-pub struct CurvesFound {
+pub struct MapCurves {
     /// The curves, as stored.
     pub curves: Vec<store::Curve>,
     /// Seeds tried.
@@ -327,7 +327,7 @@ pub struct CurvesFound {
 
 /// Finds the curves of a stored atlas's maps and writes them where asked;
 /// `report` hears how many seeds are done (from the worker threads).
-pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) -> Result<CurvesFound> {
+pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) -> Result<MapCurves> {
     let clock = std::time::Instant::now();
     if r.output.is_none() && !r.into {
         let refusal = RequestError::option(Opt::Output).text("give the curve file to write, or ").opt(Opt::Into);
@@ -368,7 +368,7 @@ pub fn curves(r: &CurvesRequest, report: &(dyn Fn(grid::curves::Tally) + Sync)) 
     if r.into {
         store::add_curves(&r.file, &curves, &r.command)?;
     }
-    Ok(CurvesFound { curves, seeds: found.seeds, secs: clock.elapsed().as_secs_f64() })
+    Ok(MapCurves { curves, seeds: found.seeds, secs: clock.elapsed().as_secs_f64() })
 }
 
 /// The JSON of the curves seeded from an atlas (the contract of `curves --json`).
@@ -395,7 +395,7 @@ pub struct CurveSummary {
     pub ended: String,
 }
 
-impl CurvesFound {
+impl MapCurves {
     /// The curves as their report ([`CurvesReport`]).
     pub fn report(&self) -> CurvesReport {
         let curves = self

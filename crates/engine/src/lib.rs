@@ -5,11 +5,11 @@
 //! | call | request | result |
 //! |---|---|---|
 //! | [`cell()`] | [`Sim`] and a [`Start`] | [`Cell`] (`to_json`: `cell --json`) |
-//! | [`sweep()`] | [`SweepRequest`] | [`Swept`] (`to_json`: `sweep --json`) |
+//! | [`sweep()`] | [`SweepRequest`] | [`Sweep`] (`to_json`: `sweep --json`) |
 //! | [`atlas()`] | [`AtlasRequest`] | [`Executed`] (the atlas, the file written) |
 //! | [`zoom()`] | [`ZoomRequest`] | [`Executed`] (a box of a stored atlas, computed again) |
 //! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
-//! | [`curve()`] | [`CurveRequest`] | [`Traced`] (`to_json`: `curve --json`) |
+//! | [`curve()`] | [`CurveRequest`] | [`FollowedCurve`] (`to_json`: `curve --json`) |
 //! | [`merge()`] | [`MergeRequest`] | [`store::Merged`] (the atlas written) |
 //! | [`bench::bench()`] | [`bench::BenchRequest`] | [`bench::Bench`] (`to_json`: `bench --json`) |
 //!
@@ -71,14 +71,14 @@ pub use basins::{
 pub use cell::{cell, friction_names, Cell, CellReport};
 pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
-    CurvesFound, CurvesReport, CurvesRequest, Side, Sides, Traced, DEFAULT_STEPS, DEFAULT_WINDOW,
+    CurvesReport, CurvesRequest, FollowedCurve, MapCurves, Side, Sides, DEFAULT_STEPS, DEFAULT_WINDOW,
 };
 pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words};
 pub use merge::{merge, MergeRequest};
 pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{
-    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, ContinuationRequest, Continued, Critical, Found,
-    Multiplier, OrbitImpact, OrbitReport, OrbitRequest,
+    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, CellOrbit, ContinuationRequest, Critical,
+    FollowedOrbit, Multiplier, OrbitImpact, OrbitReport, OrbitRequest,
 };
 pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};
@@ -89,7 +89,7 @@ pub use summary::{
     reasons, AxisReport, ClassCounts, Extreme, HysteresisCounts, InspectReport, ParentReport, QuantityExtremes,
     QuantityReport, ReasonCount, Summary, SummaryReport, SweepCounts, SweepSummary, CLASSES,
 };
-pub use sweep::{sweep, Differing, Direction, Legs, SweepPoint, SweepReport, SweepRequest, Swept};
+pub use sweep::{sweep, Differing, Direction, Legs, Sweep, SweepPoint, SweepReport, SweepRequest};
 pub use trace::{
     check_trace_samples, halt_text, sections, trace, window, window_periods, Row, Sections, Window,
     DEFAULT_SECTION_PERIODS, MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,

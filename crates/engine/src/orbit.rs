@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 /// The orbit a cell settles on: simulated from its start, then solved by
 /// Newton's method on the `n`-period map (the cell's own period when `None`).
 #[derive(Debug, Clone)]
-pub struct Found {
+pub struct CellOrbit {
     /// The system.
     pub system: System,
     /// The orbit.
@@ -50,7 +50,7 @@ impl OrbitRequest {
 /// Finds the periodic orbit of a cell. `observer` may stop it before it
 /// starts (one cell's simulation and one Newton solve run to their end, as
 /// a cell of an atlas does).
-pub fn orbit(r: &OrbitRequest, observer: &dyn Observer) -> Result<Found> {
+pub fn orbit(r: &OrbitRequest, observer: &dyn Observer) -> Result<CellOrbit> {
     let (s, origin) = r.sim.setup_from(&r.start)?;
     let n = r.n;
     check_period(n)?;
@@ -62,7 +62,7 @@ pub fn orbit(r: &OrbitRequest, observer: &dyn Observer) -> Result<Found> {
     let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
     let system = System::new(model)?;
     let orbit = orbit_of_cell(&system, &s.accuracy, &y0, n).map_err(|e| no_orbit(None, e))?;
-    Ok(Found { system, orbit, warning, note })
+    Ok(CellOrbit { system, orbit, warning, note })
 }
 
 /// No orbit found (`at`: where, or empty): a motion that is not periodic
@@ -137,7 +137,7 @@ pub struct OrbitImpact {
     pub velocity_after: f64,
 }
 
-impl Found {
+impl CellOrbit {
     /// The orbit as its report ([`OrbitReport`]).
     pub fn report(&self) -> OrbitReport {
         let (sys, o) = (&self.system, &self.orbit);
@@ -176,7 +176,7 @@ impl Found {
 
 /// An orbit followed along one parameter.
 #[derive(Debug, Clone)]
-pub struct Continued {
+pub struct FollowedOrbit {
     /// The system at the first value.
     pub system: System,
     /// The parameter.
@@ -218,7 +218,7 @@ impl ContinuationRequest {
 /// Follows the orbit of a cell along the request's axis (natural
 /// continuation, or pseudo-arclength), locating its bifurcations. `observer`
 /// may stop it between any two solves ([`Error::Cancelled`]).
-pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<Continued> {
+pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<FollowedOrbit> {
     let (axis, n) = (&r.axis, r.n);
     let (s, origin) = r.sim.setup_from(&r.start)?;
     s.scene.check_parameter(&axis.name, "").map_err(|e| unknown(RequestError::option(Opt::Axis), e))?;
@@ -249,10 +249,10 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
     if observer.cancelled() {
         return Err(Error::Cancelled);
     }
-    Ok(Continued { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning, note })
+    Ok(FollowedOrbit { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning, note })
 }
 
-impl Continued {
+impl FollowedOrbit {
     /// Each point of the branch as a figure draws it: the parameter, the
     /// first coordinate of the fixed point, the largest |Floquet multiplier|,
     /// and whether the orbit is stable.

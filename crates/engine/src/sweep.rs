@@ -1,7 +1,7 @@
 //! Continuation along one parameter ([`sweep`]): a plane of one row (the
 //! other axis a plain parameter held at its value), so that the file, the
 //! renderer and the hysteresis logic are those of the atlas; and the JSON
-//! object of `sweep --json` ([`Swept::to_json`]).
+//! object of `sweep --json` ([`Sweep::to_json`]).
 
 use crate::error::Result;
 use crate::error::{grid_error, with_fields, Opt, RequestError};
@@ -85,7 +85,7 @@ impl SweepRequest {
 
 /// A finished sweep.
 #[derive(Debug, Clone)]
-pub struct Swept {
+pub struct Sweep {
     /// The cells, as a plane of one row.
     pub atlas: Atlas,
     /// How the legs were run.
@@ -99,7 +99,7 @@ pub struct Swept {
 }
 
 /// Runs a sweep (and writes its file when asked).
-pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
+pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Sweep> {
     let (mut s, origin) = r.sim.setup_from(&r.start)?;
     let axis = &r.axis;
     // From a stored cell, the swept parameter is the axis, not the cell's value.
@@ -137,7 +137,7 @@ pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Swept> {
         Legs::Separate if sweeps.contains(&given) => given,
         Legs::Separate => sweeps[0],
     };
-    Ok(Swept { atlas, legs, first, direction: r.direction, origin })
+    Ok(Sweep { atlas, legs, first, direction: r.direction, origin })
 }
 
 /// Runs the legs of a sweep that do not start from the scene's initial state:
@@ -250,7 +250,7 @@ pub struct Differing {
     pub down: BTreeMap<String, String>,
 }
 
-impl Swept {
+impl Sweep {
     /// The sweep as its report ([`SweepReport`]).
     pub fn report(&self) -> SweepReport {
         let atlas = &self.atlas;

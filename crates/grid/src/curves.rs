@@ -70,7 +70,7 @@ struct Seed {
 
 /// Curves found, and the seeds traced.
 #[derive(Debug, Clone)]
-pub struct Found {
+pub struct Search {
     /// The curves kept, in seed order.
     pub curves: Vec<Curve>,
     /// Seeds traced (not skipped as lying on a curve already found).
@@ -144,7 +144,7 @@ pub fn find(
     atlas: &Atlas,
     seeding: &Seeding,
     progress: &(dyn Fn(Tally) + Sync),
-) -> Result<Found, GridError> {
+) -> Result<Search, GridError> {
     let p = &atlas.meta.plane;
     let (x, y) = (&p.x, &p.y);
     if x.count < 2 {
@@ -202,7 +202,7 @@ enum SeedState {
 /// seed order), so the result does not depend on how many threads traced
 /// them or in which order they finished.
 struct Schedule {
-    found: Found,
+    found: Search,
     states: Vec<SeedState>,
     /// Batches committed.
     committed: usize,
@@ -221,7 +221,7 @@ struct Schedule {
 impl Schedule {
     fn new(total: usize) -> Schedule {
         Schedule {
-            found: Found { curves: Vec::new(), seeds: 0 },
+            found: Search { curves: Vec::new(), seeds: 0 },
             states: (0..total).map(|_| SeedState::Pending).collect(),
             committed: 0,
             decided: 0,

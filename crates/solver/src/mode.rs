@@ -336,7 +336,7 @@ impl Layout {
     fn cos(self, k: usize) -> usize {
         self.sin(k) + 1
     }
-    fn one(self) -> usize {
+    fn constant(self) -> usize {
         self.dim() - 1
     }
 }
@@ -444,7 +444,7 @@ fn augmented(
         aug[(lay.sin(k), lay.cos(k))] = rate;
         aug[(lay.cos(k), lay.sin(k))] = -rate;
     }
-    aug.view_mut((r, lay.one()), (r, 1)).copy_from(&(&mr_inv * &fr));
+    aug.view_mut((r, lay.constant()), (r, 1)).copy_from(&(&mr_inv * &fr));
     Ok(aug)
 }
 
@@ -462,7 +462,7 @@ fn gap_row(sys: &System, k: usize, red: &Reduction, lay: Layout) -> Option<DVect
     if lay.hf > 0 {
         row.rows_mut(lay.frozen(), lay.hf).copy_from(&(red.spread.transpose() * &stop.normal));
     }
-    row[lay.one()] = stop.normal.dot(&red.offset) + stop.offset;
+    row[lay.constant()] = stop.normal.dot(&red.offset) + stop.offset;
     Some(row)
 }
 
@@ -523,12 +523,12 @@ fn constraint_forces(
     for (k, cosine, amplitudes) in sys.forcing_columns() {
         res.view_mut((0, lay.sin(k) + usize::from(cosine)), (m, 1)).add_assign(&(-amplitudes));
     }
-    res.view_mut((0, lay.one()), (m, 1)).add_assign(&(stiffness * &red.offset));
+    res.view_mut((0, lay.constant()), (m, 1)).add_assign(&(stiffness * &red.offset));
     if !sys.frictions.is_empty() {
-        res.view_mut((0, lay.one()), (m, 1)).add_assign(&(-kinetic));
+        res.view_mut((0, lay.constant()), (m, 1)).add_assign(&(-kinetic));
     }
     if let Some(extra) = &forces.extra {
-        res.view_mut((0, lay.one()), (m, 1)).add_assign(&(-extra));
+        res.view_mut((0, lay.constant()), (m, 1)).add_assign(&(-extra));
     }
     &red.ggt_inv * &c.g * res
 }
@@ -545,7 +545,7 @@ fn constraint_guards(sys: &System, c: &Constraints, lambda: &DMatrix<f64>, lay: 
         let force = lambda.row(c.held.len() + i).transpose();
         for sign in [-1.0, 1.0] {
             let mut row = &force * sign;
-            row[lay.one()] += sys.frictions[j].static_limit;
+            row[lay.constant()] += sys.frictions[j].static_limit;
             guards.push(Guard::new(GuardKind::Grip, j, row));
         }
     }
@@ -576,7 +576,7 @@ fn maps(red: &Reduction, frozen: &DMatrix<f64>, m: usize, lay: Layout) -> (DMatr
     lift.view_mut((0, 0), (m, r)).copy_from(&red.basis);
     lift.view_mut((m, r), (m, r)).copy_from(&red.basis);
     lift.view_mut((0, lay.frozen()), (m, hf)).copy_from(&red.spread);
-    lift.view_mut((0, lay.one()), (m, 1)).copy_from(&red.offset);
+    lift.view_mut((0, lay.constant()), (m, 1)).copy_from(&red.offset);
     (project, lift)
 }
 
@@ -640,7 +640,7 @@ impl Mode {
             // `1.0 * φ` is φ exactly: the first harmonic is `phase.sin_cos()`.
             (s[lay.sin(k)], s[lay.cos(k)]) = (k as f64 * phase).sin_cos();
         }
-        s[lay.one()] = 1.0;
+        s[lay.constant()] = 1.0;
         if !self.key.constrained() {
             // Free of constraints the reduced coordinates are the full state.
             s.rows_mut(0, 2 * m).copy_from(&y.rows(0, 2 * m));
