@@ -477,3 +477,36 @@ fn a_repeated_key_n_and_an_odd_file_name() {
     );
     std::fs::remove_file(&odd).unwrap();
 }
+
+/// Every route of the API refuses a bad parameter with a JSON reason that
+/// names it (issue 63): an unknown key, a view, a sweep, an index, a count or a
+/// format the route does not take, each with status 400 (or 422 for a value
+/// the request's own checks refuse), and the server answers on afterwards.
+#[test]
+fn every_route_names_the_parameter_it_refuses() {
+    let server = serve();
+    let p = port(&server);
+    let cell = "sweep=up&omega=2.1&sigma=-0.5";
+    let cases: Vec<(String, &str)> = vec![
+        ("/api/atlas?bogus=1".into(), "bogus: not a parameter"),
+        ("/api/map?view=sideways".into(), "view:"),
+        ("/api/legend?view=sideways".into(), "view:"),
+        ("/api/at?ix=x&iy=0".into(), "ix"),
+        ("/api/cell?sweep=sideways&omega=2.1&sigma=-0.5".into(), "sweep"),
+        ("/api/cell?sweep=up&omega=2.1".into(), "sigma"),
+        (format!("/api/orbit?{cell}&n=0"), "n"),
+        ("/api/cell/portrait.png?sweep=down&omega=2.1&sigma=-0.5".into(), "sweep"),
+        (format!("/api/cell/sections.png?{cell}&periods=x"), "periods"),
+        (format!("/api/attractors?{cell}&samples=0"), "samples"),
+        ("/api/basins/plan?sweep=fresh&omega=2.1&sigma=-0.5".into(), "sweep"),
+        ("/api/zoom/plan?x=omega&y=sigma=-0.5:0:4".into(), "x"),
+        ("/api/figure?format=bmp".into(), "format"),
+        ("/api/curves?bogus=1".into(), "bogus: not a parameter"),
+    ];
+    for (target, says) in cases {
+        let a = get(p, &target);
+        assert!(a.status == 400 || a.status == 422, "{target}: {} {}", a.status, a.error());
+        assert!(a.error().contains(says), "{target}: '{}' does not name {says}", a.error());
+    }
+    assert_eq!(get(p, "/api/atlas").status, 200);
+}
