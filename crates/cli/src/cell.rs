@@ -6,6 +6,7 @@ use crate::out::{errln, outln, outp};
 use anyhow::Result;
 use engine::{friction_names, Setup};
 use scene::Named;
+use solver::contact::Contact;
 use solver::{CellResult, System};
 use std::fmt::Write as _;
 use store::write_atomically;
@@ -98,8 +99,11 @@ fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
         let _ = writeln!(o, "label     {:<6} {}", l.mass, l);
     }
     // Soft stops count contacts begun, rigid ones impacts.
-    let events =
-        if sys.model.stops.iter().all(|s| s.is_soft()) && !sys.model.stops.is_empty() { "contacts" } else { "impacts" };
+    let mut laws = sys.model.stops.iter().map(|s| s.law.events());
+    let events = match laws.next() {
+        Some(first) if laws.all(|e| e == first) => first,
+        _ => "impacts",
+    };
     let _ = writeln!(o, "stop      {events}  chatter  sticking");
     for (k, st) in sys.model.stops.iter().enumerate() {
         let (count, chatter, sticking) = (c.impacts[k], c.chatter.contains(k), c.sticking.contains(k));

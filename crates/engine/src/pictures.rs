@@ -4,6 +4,7 @@
 
 use crate::cell::Cell;
 use crate::error::Result;
+use solver::contact::Contact;
 
 /// The portrait of the cell's classified window: per mass its (x, v) path,
 /// its frame stops, and the events (400 samples per forcing period).
@@ -48,9 +49,9 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
     for (stop, points) in sys.model.stops.iter().zip(sec.impacts) {
         if points.is_empty() {
             silent.push(stop.name.clone());
-            soft_silent &= stop.is_soft();
+            soft_silent &= !stop.law.impacts();
         } else {
-            let speed = if stop.is_soft() { "contact speed" } else { "impact speed" };
+            let speed = if stop.law.impacts() { "impact speed" } else { "contact speed" };
             panels.push(render::Panel { x: format!("phase at {} (rad)", stop.name), y: speed.into(), points });
         }
     }

@@ -9,6 +9,7 @@ use crate::error::{Opt, RequestError, SceneLoadError, TEXT};
 use scene::Named;
 use scene::Scene;
 use serde::Serialize;
+use solver::contact::{Contact, Spring};
 use solver::{Accuracy, Knob, Method, Preset};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -159,7 +160,7 @@ fn check_rk4_resolves_contacts(scene: &Scene, set: &[(String, f64)], accuracy: &
     // A point the scene refuses is reported where the run evaluates it.
     let Ok(model) = scene.evaluate(set) else { return Ok(()) };
     for (k, stop) in model.stops.iter().enumerate() {
-        let scene::StopLaw::Soft { stiffness, damping } = stop.law else { continue };
+        let Some(Spring { stiffness, damping }) = stop.law.spring() else { continue };
         let (normal, _) = stop.geometry.gap_function(model.masses.len());
         let inverse: f64 = normal.iter().zip(&model.masses).map(|(n, m)| n * n / m.mass).sum();
         let rate = (stiffness * inverse).sqrt().max(damping * inverse);
@@ -448,7 +449,7 @@ fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
         return Err(RequestError::option(Opt::State).text(what).into());
     }
     let x: Vec<f64> = state[..dim / 2].to_vec();
-    for (k, stop) in model.stops.iter().enumerate().filter(|(_, s)| !s.is_soft()) {
+    for (k, stop) in model.stops.iter().enumerate().filter(|(_, s)| !s.law.yields()) {
         let g = model.gap(k, &x);
         if g < -solver::ADMISSIBLE_PENETRATION {
             return Err(RequestError::option(Opt::State)

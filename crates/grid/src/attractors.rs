@@ -21,6 +21,7 @@ use crate::error::GridError;
 use crate::sweep::Progress;
 use maps::CellData;
 use rayon::prelude::*;
+use solver::contact::Contact;
 use solver::Class;
 
 /// How the initial states are drawn.
@@ -78,7 +79,8 @@ pub fn sample(sys: &solver::System, s: &Sampling, i: usize) -> Vec<f64> {
                 half * (2.0 * unit(draw) - 1.0)
             })
             .collect();
-        if (0..sys.stops.len()).all(|k| sys.is_soft(k) || sys.model.gap(k, &y[..m]) >= 0.0) || draw > 64_000 {
+        if (0..sys.stops.len()).all(|k| sys.stops[k].law.yields() || sys.model.gap(k, &y[..m]) >= 0.0) || draw > 64_000
+        {
             return y;
         }
     }

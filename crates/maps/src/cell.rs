@@ -1,6 +1,7 @@
 //! One cell of a plane as kept for storage: labels, flags as stop masks, the
 //! final state and capped raw sections.
 
+use solver::contact::Contact;
 use solver::{CellResult, Class, ImpactSections, Label, Mask, Symmetry, Unresolved};
 use std::collections::HashMap;
 
@@ -186,7 +187,7 @@ impl Quantity {
     /// order: the built-in ones, a soft stop's in the words of contacts
     /// ([`solver::quantity::Spec::words`]), then those its scene defines.
     pub fn of(sys: &solver::System) -> Vec<Quantity> {
-        let soft = |owner: &str| sys.model.stops.iter().any(|s| s.name == owner && s.is_soft());
+        let soft = |owner: &str| sys.model.stops.iter().any(|s| s.name == owner && s.law.spring().is_some());
         let built_in = solver::quantity::names(sys).into_iter().map(|(name, spec)| {
             let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
             let (symbol, long) = spec.words(soft(owner));

@@ -577,7 +577,10 @@ impl Scene {
     /// at a soft stop (a contact begins where its gap closes), `"impacts"` at
     /// a rigid one.
     pub fn stop_events(&self) -> Vec<&'static str> {
-        let word = |law: &CompiledLaw| if matches!(law, CompiledLaw::Soft { .. }) { "contacts" } else { "impacts" };
+        let word = |law: &CompiledLaw| match law {
+            CompiledLaw::Soft { .. } => "contacts",
+            CompiledLaw::Rigid { .. } => "impacts",
+        };
         self.stops.iter().map(|(_, law)| word(law)).collect()
     }
 
@@ -760,7 +763,12 @@ impl Scene {
             check_odd_forcing(&model.masses)?;
         }
         let x0: Vec<f64> = model.masses.iter().map(|m| m.x0).collect();
-        for (i, s) in model.stops.iter().enumerate().filter(|(_, s)| !s.is_soft()) {
+        // A rigid stop admits no initial penetration; a soft one's spring takes it up.
+        let rigid = |s: &&Stop| match s.law {
+            StopLaw::Rigid { .. } => true,
+            StopLaw::Soft { .. } => false,
+        };
+        for (i, s) in model.stops.iter().enumerate().filter(|(_, s)| rigid(s)) {
             let g = model.gap(i, &x0);
             if g < -INITIAL_PENETRATION {
                 return Err(SceneError::field(

@@ -133,13 +133,6 @@ pub struct Stop {
     pub law: StopLaw,
 }
 
-impl Stop {
-    /// Whether the stop is soft (a spring–dashpot contact).
-    pub fn is_soft(&self) -> bool {
-        matches!(self.law, StopLaw::Soft { .. })
-    }
-}
-
 /// Coulomb friction between masses `a` and `b`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Friction {

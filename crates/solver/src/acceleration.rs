@@ -9,6 +9,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
+use crate::contact::Contact;
 use crate::newton::{fixed_point, Pattern, Solution};
 use crate::period::{distance, History};
 use crate::simulate::{Observer, Simulator};
@@ -131,7 +132,7 @@ fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVecto
             // A soft stop pressed all along keeps its distance from the clearance.
             for (k, g) in self.1.iter_mut().enumerate() {
                 let gap = self.0.gap(k, y);
-                *g = g.min(if self.0.is_soft(k) { gap.abs() } else { gap });
+                *g = g.min(if self.0.stops[k].law.yields() { gap.abs() } else { gap });
             }
         }
     }

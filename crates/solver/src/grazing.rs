@@ -23,6 +23,7 @@
 //!   contact or a flight that begins and ends with an event of the stop.
 
 use crate::accuracy::Accuracy;
+use crate::contact::Contact;
 use crate::extremum::peak;
 use crate::flow::Method;
 use crate::newton::evaluate;
@@ -30,7 +31,6 @@ use crate::orbit::Orbit;
 use crate::simulate::{EventKind, Halt, Observer, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
-use scene::StopLaw;
 use std::f64::consts::TAU;
 
 /// Samples of the switching function per turn of the flow's fastest term,
@@ -184,15 +184,15 @@ impl<'s> Margins<'s> {
 /// k: its contact pushes), in units of length: the gap, or a pushing soft
 /// contact's force per stiffness.
 fn switching(sys: &System, k: usize, pressed: u32, y: &DVector<f64>) -> f64 {
-    match sys.stops[k].law {
-        StopLaw::Soft { stiffness, .. } if pressed & (1 << k) != 0 => sys.contact_force(k, y) / stiffness,
+    match sys.stops[k].law.spring() {
+        Some(spring) if pressed & (1 << k) != 0 => sys.contact_force(k, y) / spring.stiffness,
         _ => sys.gap(k, y),
     }
 }
 
 impl Observer for Margins<'_> {
     fn wants_segments(&self) -> bool {
-        self.side == Side::Approach || self.stops.iter().any(|&k| self.sys.is_soft(k))
+        self.side == Side::Approach || self.stops.iter().any(|&k| !self.sys.stops[k].law.impacts())
     }
 
     fn segment(&mut self, seg: &mut Segment<'_>) {

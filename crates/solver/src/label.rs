@@ -5,6 +5,7 @@
 //! A label is kept as these types from the solver to the store, which encodes
 //! it; its `Display` is the one place that writes it as text.
 
+use crate::contact::Contact;
 use crate::system::System;
 
 /// Kind of steady motion.
@@ -218,7 +219,7 @@ pub fn label_masses(sys: &System, n: Option<usize>, class: Class, impacts: &[u32
         .iter()
         .map(|l| {
             let count = |s: Option<usize>| match s {
-                Some(k) if held.contains(k) && !(sys.is_soft(k) && impacts[k] > 0) => Count::Stuck,
+                Some(k) if held.contains(k) && (sys.stops[k].law.impacts() || impacts[k] == 0) => Count::Stuck,
                 Some(k) => Count::Impacts(impacts[k]),
                 None => Count::Impacts(0),
             };

@@ -55,6 +55,7 @@ pub mod arclength;
 mod budget;
 mod chatter;
 mod circle;
+pub mod contact;
 pub mod continuation;
 pub mod curve;
 mod error;

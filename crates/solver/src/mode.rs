@@ -34,6 +34,7 @@
 //! indeterminate and taken as zero, the stop's reaction carries the load, and
 //! the contact is decided again when the stop releases.
 
+use crate::contact::{Contact, Spring};
 use crate::error::SolverError;
 use crate::spectral::{nonzero_entries, Spectral};
 use crate::system::System;
@@ -363,7 +364,7 @@ impl<'s> Forces<'s> {
         };
         let pressed = sys.stops.iter().enumerate().filter(|(k, _)| key.pressed & (1 << k) != 0);
         for stop in pressed.map(|(_, stop)| stop) {
-            let scene::StopLaw::Soft { stiffness, damping } = stop.law else { continue };
+            let Some(Spring { stiffness, damping }) = stop.law.spring() else { continue };
             let outer = &stop.normal * stop.normal.transpose();
             *forces.stiffness.to_mut() += &outer * stiffness;
             *forces.damping.to_mut() += &outer * damping;
@@ -473,7 +474,7 @@ fn gap_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard
     (0..sys.stops.len())
         .filter(|k| closed & (1 << k) == 0)
         .filter_map(|k| {
-            let kind = if sys.is_soft(k) { GuardKind::Touch } else { GuardKind::Gap };
+            let kind = if sys.stops[k].law.impacts() { GuardKind::Gap } else { GuardKind::Touch };
             gap_row(sys, k, red, lay).map(|row| Guard::new(kind, k, row))
         })
         .collect()
@@ -484,7 +485,7 @@ fn gap_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard
 fn soft_guards(sys: &System, key: Key, red: &Reduction, lay: Layout) -> Vec<Guard> {
     let mut guards = Vec::new();
     for (k, stop) in sys.stops.iter().enumerate().filter(|(k, _)| (key.pressed | key.parting) & (1 << k) != 0) {
-        let scene::StopLaw::Soft { stiffness, damping } = stop.law else { continue };
+        let Some(Spring { stiffness, damping }) = stop.law.spring() else { continue };
         let Some(gap) = gap_row(sys, k, red, lay) else { continue };
         // g' = n·v: the gap's position part, moved to the velocities.
         let mut force = &gap * -stiffness;

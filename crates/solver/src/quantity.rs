@@ -29,13 +29,14 @@
 //! Every quantity is per forcing period where it is a count or an integral.
 
 use crate::accuracy::Accuracy;
+use crate::contact::{Contact, Spring};
 use crate::error::SolverError;
 use crate::extremum::peak;
 use crate::flow::Method;
 use crate::simulate::{Halt, Observer, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
-use scene::{Operand, Scales, StopLaw};
+use scene::{Operand, Scales};
 use std::f64::consts::TAU;
 
 /// What a quantity belongs to: one value per mass, per stop, per friction
@@ -228,8 +229,10 @@ pub fn names(sys: &System) -> Vec<(String, &'static Spec)> {
         let owners: Vec<&str> = match spec.owner {
             Owner::Mass => model.masses.iter().map(|m| m.name.as_str()).collect(),
             Owner::Stop => model.stops.iter().map(|s| s.name.as_str()).collect(),
-            Owner::RigidStop => model.stops.iter().filter(|s| !s.is_soft()).map(|s| s.name.as_str()).collect(),
-            Owner::SoftStop => model.stops.iter().filter(|s| s.is_soft()).map(|s| s.name.as_str()).collect(),
+            Owner::RigidStop => model.stops.iter().filter(|s| s.law.impacts()).map(|s| s.name.as_str()).collect(),
+            Owner::SoftStop => {
+                model.stops.iter().filter(|s| s.law.spring().is_some()).map(|s| s.name.as_str()).collect()
+            }
             Owner::Contact => contacts.iter().map(String::as_str).collect(),
             Owner::Cell => {
                 out.push((spec.stem.to_string(), spec));
@@ -473,10 +476,7 @@ impl<'s> Meter<'s> {
     fn spring_energy(&self, y: &DVector<f64>, pressed: u32) -> f64 {
         (self.sys.stops.iter().enumerate())
             .filter(|(k, _)| pressed & (1 << k) != 0)
-            .map(|(k, row)| match row.law {
-                StopLaw::Soft { stiffness, .. } => 0.5 * stiffness * self.sys.gap(k, y).powi(2),
-                _ => 0.0,
-            })
+            .map(|(k, row)| row.law.spring().map_or(0.0, |spring| spring.energy(self.sys.gap(k, y))))
             .sum()
     }
 
@@ -533,7 +533,7 @@ impl<'s> Meter<'s> {
         self.input += w * self.forcing_power(phase, y);
         let (stuck, pressed) = seg;
         for (k, row) in sys.stops.iter().enumerate().filter(|(k, _)| pressed & (1 << k) != 0) {
-            if let StopLaw::Soft { damping, .. } = row.law {
+            if let Some(Spring { damping, .. }) = row.law.spring() {
                 let rate = sys.gap_rate(k, y);
                 self.contacts += w * damping * rate * rate;
             }
@@ -551,7 +551,7 @@ impl<'s> Meter<'s> {
     pub(crate) fn finish(self, periods: usize) -> Quantities {
         let sys = self.sys;
         let stops = |soft: Option<bool>| {
-            (0..sys.stops.len()).filter(move |&k| soft.is_none_or(|soft| sys.model.stops[k].is_soft() == soft))
+            (0..sys.stops.len()).filter(move |&k| soft.is_none_or(|soft| sys.stops[k].law.spring().is_some() == soft))
         };
         let mut values = Vec::with_capacity(TABLE.len() * sys.dof().max(sys.stops.len()));
         // Where the scene gives its scales, each spec's values and the factor
@@ -629,7 +629,7 @@ impl Observer for Meter<'_> {
         s.impacts += 1;
         s.speed_max = s.speed_max.max(speed);
         s.speed_sum += speed;
-        if !sys.model.stops[stop].is_soft() {
+        if sys.stops[stop].law.impacts() {
             let row = &sys.stops[stop];
             s.impulse += (sys.gap_rate(stop, after) - sys.gap_rate(stop, before)).abs() / row.inv_effective_mass;
         }

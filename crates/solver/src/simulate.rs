@@ -11,6 +11,7 @@
 
 use crate::accuracy::Accuracy;
 use crate::chatter::ChatterTracker;
+use crate::contact::Contact;
 use crate::error::SolverError;
 use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
@@ -762,10 +763,10 @@ impl<'s> Simulator<'s> {
                 let t = self.time();
                 let b = &mut self.buffers;
                 b.contacts.clear();
-                b.contacts.extend(
-                    (0..sys.stops.len())
-                        .filter(|&k| k == stop || (!sys.is_soft(k) && touching(sys, &self.acc, k, &self.y))),
-                );
+                b.contacts
+                    .extend((0..sys.stops.len()).filter(|&k| {
+                        k == stop || (sys.stops[k].law.impacts() && touching(sys, &self.acc, k, &self.y))
+                    }));
                 b.before.clone_from(&self.y);
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.

@@ -11,13 +11,13 @@
 //! there, and the jump of the damping force where a contact begins.
 
 use crate::accuracy::Accuracy;
+use crate::contact::Contact;
 use crate::error::SolverError;
 use crate::flow::{classify_start, derivatives, start_tolerances, time_resolution, Start};
 use crate::mode::{GuardKind, Key, Target};
 use crate::stick::ModeCache;
 use crate::system::System;
 use nalgebra::DVector;
-use scene::StopLaw;
 
 /// Moves the positions of `y` along soft stop `stop`'s normal onto its
 /// clearance (`g = 0`) when its gap is within rounding of it (an event located
@@ -42,7 +42,7 @@ pub fn snap(sys: &System, stop: usize, y: &mut DVector<f64>) {
 pub fn contacts(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> (u32, u32) {
     let (mut pressed, mut parting) = (0, 0);
     for (k, stop) in sys.stops.iter().enumerate() {
-        if !matches!(stop.law, StopLaw::Soft { .. }) {
+        if stop.law.spring().is_none() {
             continue;
         }
         let (g, rate) = (sys.gap(k, y), sys.gap_rate(k, y));

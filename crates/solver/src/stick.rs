@@ -15,6 +15,7 @@
 //! its relative acceleration points under kinetic friction.
 
 use crate::accuracy::Accuracy;
+use crate::contact::Contact;
 use crate::error::SolverError;
 use crate::flow::{classify_start, derivatives, guard_start, start_tolerances, time_resolution, Start};
 use crate::mode::{Guard, GuardKind, Key, Mode};
@@ -51,7 +52,9 @@ pub fn touching(sys: &System, acc: &Accuracy, k: usize, y: &DVector<f64>) -> boo
 /// at full state `y` (soft stops never hold: [`crate::soft`]).
 pub fn candidates(sys: &System, acc: &Accuracy, y: &DVector<f64>) -> u32 {
     (0..sys.stops.len())
-        .filter(|&k| !sys.is_soft(k) && touching(sys, acc, k, y) && sys.gap_rate(k, y).abs() <= acc.stick_velocity)
+        .filter(|&k| {
+            sys.stops[k].law.impacts() && touching(sys, acc, k, y) && sys.gap_rate(k, y).abs() <= acc.stick_velocity
+        })
         .fold(0, |m, k| m | (1 << k))
 }
 

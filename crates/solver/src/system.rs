@@ -9,6 +9,7 @@
 //! `n·x = x_a - x_b` with `n = e_a - e_b`: a force `F` on a and `-F` on b, with
 //! `F = -f_k sgn(x_a' - x_b')` while slipping and `|F| <= f_s` while stuck.
 
+use crate::contact::Contact;
 use crate::error::SolverError;
 use nalgebra::{DMatrix, DVector};
 use scene::{Model, StopLaw};
@@ -214,9 +215,9 @@ impl System {
         }
         for (s, row) in model.stops.iter().zip(&self.stops) {
             numbers.push((format!("position of stop {}", s.name), row.offset));
-            if let StopLaw::Soft { stiffness, damping } = s.law {
-                numbers.push((format!("stiffness of stop {}", s.name), stiffness));
-                numbers.push((format!("damping of stop {}", s.name), damping));
+            if let Some(spring) = s.law.spring() {
+                numbers.push((format!("stiffness of stop {}", s.name), spring.stiffness));
+                numbers.push((format!("damping of stop {}", s.name), spring.damping));
             }
         }
         for (i, f) in model.friction.iter().enumerate() {
@@ -288,31 +289,24 @@ impl System {
     pub fn admits(&self, y: &[f64]) -> bool {
         let m = self.dof();
         y.len() == 2 * m
-            && (0..self.stops.len()).all(|k| self.is_soft(k) || self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
+            && (0..self.stops.len())
+                .all(|k| self.stops[k].law.yields() || self.model.gap(k, &y[..m]) >= -ADMISSIBLE_PENETRATION)
     }
 
-    /// Whether the scene has soft stops.
+    /// Whether the scene has stops that act by a spring (soft stops).
     pub fn has_soft_stops(&self) -> bool {
-        (0..self.stops.len()).any(|k| self.is_soft(k))
+        self.stops.iter().any(|s| s.law.spring().is_some())
     }
 
-    /// Whether the scene has rigid stops.
+    /// Whether the scene has stops that act by impacts (rigid stops).
     pub fn has_rigid_stops(&self) -> bool {
-        (0..self.stops.len()).any(|k| !self.is_soft(k))
+        self.stops.iter().any(|s| s.law.impacts())
     }
 
-    /// Whether stop `k` is soft.
-    pub fn is_soft(&self, k: usize) -> bool {
-        matches!(self.stops[k].law, StopLaw::Soft { .. })
-    }
-
-    /// The coefficient of restitution of rigid stop `k` (0 for a soft stop,
-    /// which has no impacts).
+    /// The coefficient of restitution of stop `k`'s impacts (0 for a stop
+    /// without impacts).
     pub fn restitution(&self, k: usize) -> f64 {
-        match self.stops[k].law {
-            StopLaw::Rigid { restitution } => restitution,
-            StopLaw::Soft { .. } => 0.0,
-        }
+        self.stops[k].law.restitution().unwrap_or(0.0)
     }
 
     /// Highest multiple of ω in the forcing (H >= 1).
@@ -336,10 +330,7 @@ impl System {
     /// A soft stop's contact force `−k g − c ġ` at full state `y` (force;
     /// positive while it pushes its mass out); 0 at a rigid stop.
     pub fn contact_force(&self, stop: usize, y: &DVector<f64>) -> f64 {
-        match self.stops[stop].law {
-            StopLaw::Soft { stiffness, damping } => -stiffness * self.gap(stop, y) - damping * self.gap_rate(stop, y),
-            StopLaw::Rigid { .. } => 0.0,
-        }
+        self.stops[stop].law.spring().map_or(0.0, |spring| spring.force(self.gap(stop, y), self.gap_rate(stop, y)))
     }
 
     /// Rate of change of a stop's gap at full state `y` (negative when closing).
