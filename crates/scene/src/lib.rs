@@ -44,7 +44,7 @@ pub use derived::{Derived, Operand, TAKEN_NAMES};
 pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
 pub use model::{Friction, Harmonic, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
-pub use named::{closest, Named};
+pub use named::Named;
 pub use scales::{Scale, Scales};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 

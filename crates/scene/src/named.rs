@@ -30,19 +30,24 @@ pub trait Named: Copy + Sized + 'static {
         }
     }
 
+    /// ` (did you mean 'fast'?)` for a name close to one of them (a
+    /// Jaro–Winkler similarity of at least 0.8, case ignored), else nothing.
+    fn meant(got: &str) -> String {
+        let names: Vec<&str> = Self::ALL.iter().map(|v| v.name()).collect();
+        closest(got, &names).map(|n| format!(" (did you mean '{n}'?)")).unwrap_or_default()
+    }
+
     /// What a name that is none of them is told: `expected fast, standard or
     /// precise, got 'fst' (did you mean 'fast'?)`.
     fn expected(got: &str) -> String {
-        let names: Vec<&str> = Self::ALL.iter().map(|v| v.name()).collect();
-        let hint = closest(got, &names).map(|n| format!(" (did you mean '{n}'?)")).unwrap_or_default();
-        format!("expected {}, got '{got}'{hint}", Self::names())
+        format!("expected {}, got '{got}'{}", Self::names(), Self::meant(got))
     }
 }
 
 /// The name of `names` closest to `got`, if one is close enough to be the
 /// one meant: a Jaro–Winkler similarity of at least 0.8 (clap's threshold for
 /// its own suggestions), case ignored.
-pub fn closest<'a>(got: &str, names: &[&'a str]) -> Option<&'a str> {
+fn closest<'a>(got: &str, names: &[&'a str]) -> Option<&'a str> {
     let got = got.to_lowercase();
     names
         .iter()

@@ -103,13 +103,9 @@ macro_rules! knobs {
             /// The knob of a name, or an error naming it as unknown (and the
             /// knob meant, where one is close).
             pub fn named(name: &str) -> Result<Knob, SolverError> {
-                Knob::parse(name).ok_or_else(|| {
-                    let names: Vec<&str> = Knob::ALL.iter().map(|k| k.name()).collect();
-                    let hint = scene::closest(name, &names).map(|n| format!(" (did you mean '{n}'?)"));
-                    SolverError::Accuracy {
-                        field: name.to_string(),
-                        message: format!("unknown accuracy knob{}", hint.unwrap_or_default()),
-                    }
+                Knob::parse(name).ok_or_else(|| SolverError::Accuracy {
+                    field: name.to_string(),
+                    message: format!("unknown accuracy knob{}", Knob::meant(name)),
                 })
             }
 

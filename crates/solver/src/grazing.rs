@@ -203,13 +203,13 @@ impl Observer for Margins<'_> {
         let count = ((seg.span * fastest / TAU * SAMPLES_PER_TURN).ceil() as usize).clamp(8, MOST_SAMPLES);
         let mut y = std::mem::take(&mut self.y);
         let mut samples = std::mem::take(&mut self.samples);
+        let pressed = seg.pressed;
         for i in 0..self.stops.len() {
             let k = self.stops[i];
             if seg.held & (1 << k) != 0 {
                 self.began[i] = false;
                 continue;
             }
-            let pressed = seg.pressed;
             let f = |y: &DVector<f64>| switching(sys, k, pressed, y);
             samples.clear();
             for j in 0..=count {

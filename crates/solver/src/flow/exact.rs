@@ -196,17 +196,7 @@ fn at_contact(
             } else {
                 let g_next = bound(fb, modl(order + 1));
                 let first = if g_next > 0.0 { (order + 1) as f64 * rate / g_next } else { horizon };
-                // A departure so slow that holds of half `first` would take more
-                // than CREEP_STEPS steps to carry the guard out of its zero band
-                // (they would exhaust the step budget: a stall) is held by the
-                // bound of more orders, when the next derivatives speed it up.
-                let factorial = (1..=order).product::<usize>() as f64;
-                let per_hold = rate * (0.5 * first).powi(order as i32) / factorial;
-                if per_hold * CREEP_STEPS < tol[0] {
-                    first.max(departure(order, rate, &d, &tol, &scale))
-                } else {
-                    first
-                }
+                hold(order, rate, first, &d, &tol, &scale)
             };
             *masked = u + 0.5 * escape.max(acc.event_tol);
             false
@@ -215,8 +205,24 @@ fn at_contact(
 }
 
 /// Holds of a departing guard, at most, that may carry it out of its zero band
-/// before the bound of more orders is used ([`departure`]).
+/// before the bound of more orders is used ([`hold`]).
 const CREEP_STEPS: f64 = 1000.0;
+
+/// How long a guard departing from zero at derivative `order` (value
+/// `rate > 0`) is held: `first`, the root of the first order's bound (the
+/// caller's), unless holds of half of it would take more than
+/// [`CREEP_STEPS`] steps to carry the guard out of its zero band `tol[0]`
+/// (they would exhaust the step budget: a stall); then the longer of it and
+/// [`departure`]'s.
+fn hold(order: usize, rate: f64, first: f64, d: &[f64; 5], tol: &[f64; 5], bounds: &[f64; 5]) -> f64 {
+    let factorial = (1..=order).product::<usize>() as f64;
+    let per_hold = rate * (0.5 * first).powi(order as i32) / factorial;
+    if per_hold * CREEP_STEPS < tol[0] {
+        first.max(departure(order, rate, d, tol, bounds))
+    } else {
+        first
+    }
+}
 
 /// How long a guard departing from zero at derivative `order` (value
 /// `rate > 0`; those below it zero) provably stays positive, by the lower
@@ -231,14 +237,17 @@ const CREEP_STEPS: f64 = 1000.0;
 fn departure(order: usize, rate: f64, d: &[f64; 5], tol: &[f64; 5], bounds: &[f64; 5]) -> f64 {
     let mut best = 0.0f64;
     let mut factorial = (1..=order).product::<usize>() as f64;
-    let mut coef = vec![rate / factorial];
+    // The polynomial's coefficients over s^order: rate/order!, then the lowered derivatives'.
+    let mut coef = [0.0; 5];
+    coef[0] = rate / factorial;
     for k in order + 1..5 {
         factorial *= k as f64;
         if k > order + 1 {
             let g = bounds[k] / factorial;
             if g > 0.0 {
                 // q(s) = Σ coef[i] s^i − g s^(k−order): positive at 0, one root.
-                let q = |s: f64| coef.iter().rev().fold(0.0, |acc, c| acc * s + c) - g * s.powi((k - order) as i32);
+                let kept = &coef[..k - order];
+                let q = |s: f64| kept.iter().rev().fold(0.0, |acc, c| acc * s + c) - g * s.powi((k - order) as i32);
                 let mut hi = (coef[0] / g).powf(1.0 / (k - order) as f64);
                 let mut lo = 0.0;
                 while q(hi) > 0.0 && hi.is_finite() {
@@ -259,7 +268,7 @@ fn departure(order: usize, rate: f64, d: &[f64; 5], tol: &[f64; 5], bounds: &[f6
         if lowered < 0.0 {
             break;
         }
-        coef.push(lowered / factorial);
+        coef[k - order] = lowered / factorial;
     }
     best
 }
