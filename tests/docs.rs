@@ -349,3 +349,16 @@ fn the_basins_page_prints_what_basins_prints() {
     let (some, most) = shown.trim().split_once(' ').unwrap();
     says(section, &format!("{some} of the 1 152 cells hold it, and in {most} it attracts more than half"));
 }
+
+/// docs/file-format.md, section 1: the text attributes `attributes_crc32`
+/// covers are those the writer's checksum covers, every one named.
+#[test]
+fn the_file_formats_checked_texts_are_the_writers() {
+    let page = flat(&read("docs/file-format.md"));
+    let from =
+        page.find("The names it covers:").expect("the page lists the covered names") + "The names it covers:".len();
+    let list = &page[from..from + page[from..].find(". A text attribute").unwrap()];
+    let named: BTreeSet<&str> = list.split('`').skip(1).step_by(2).collect();
+    let covered: BTreeSet<&str> = store::layout::attr::CHECKED_TEXTS.iter().copied().collect();
+    assert_eq!(named, covered, "the names docs/file-format.md lists");
+}

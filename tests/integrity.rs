@@ -613,6 +613,8 @@ fn dataset_mutations() -> Vec<String> {
         ("@sweeps", "'up,down,fresh'"),
         ("@section_cap", "np.uint64(2**64 - 1)"),
         ("@stop_normals", "np.zeros(3)"),
+        ("@stop_laws", "'rigid,rigid'"),
+        ("@stop_laws", "'rigid,springy,rigid'"),
         ("axes/omega@start", "np.nan"),
         ("attractors@samples", "np.uint64(2**64 - 1)"),
     ] {
@@ -740,8 +742,8 @@ for k, spec in enumerate(sys.argv[3:]):
 
 /// Issue 42, R4: numbers a reader builds on, changed with h5py (whose
 /// Fletcher-32 stays valid): an axis's end (the grid moved: `cell --from`
-/// picked another cell), the section cap, the stops' normals, the number of
-/// attractor samples. Each is checked against what fixes it (the axis's
+/// picked another cell), the section cap, the stops' normals and contact
+/// laws, the number of attractor samples. Each is checked against what fixes it (the axis's
 /// stored values, the sections kept, the stored scene, the basin
 /// fractions) and refused by every command.
 #[test]
@@ -753,6 +755,8 @@ fn numbers_a_reader_builds_on_are_checked() {
         ("start", "attr|axes/omega@start|0.2", "axes/omega: its values are not those of its attributes start, stop"),
         ("cap", "attr|@section_cap|np.int64(0)", "attribute section_cap: 0, but sweep up keeps"),
         ("normals", "attr|@stop_normals|f.attrs['stop_normals'] * 2", "attribute stop_normals: not the normals"),
+        ("laws", "attr|@stop_laws|'soft,rigid,rigid'", "attribute stop_laws: not the laws of the stored scene's stops"),
+        ("law", "attr|@stop_laws|'rigid,springy,rigid'", "attribute stop_laws: expected rigid or soft, got 'springy'"),
         // Changed as h5py changes them: their checksum (issue 61, F3).
         (
             "start-raw",
@@ -770,6 +774,9 @@ fn numbers_a_reader_builds_on_are_checked() {
         let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
         every_command_refuses(&f, what);
     }
+    // A file written before the stops' laws were stored reads them from its scene.
+    let before = mutated(&o.atlas, &d.join("before-laws.h5"), &["del|@stop_laws|", "attr|@dim|f.attrs['dim']"]);
+    ok(&["inspect", before.to_str().unwrap()]);
     // Basin fractions are counts of the samples (here 1/8, 3/8, …; a cell
     // whose samples all reach one attractor, fraction 1, fits any number).
     let damper = d.join("damper.h5");

@@ -494,6 +494,7 @@ impl Plan {
                 .collect(),
             stops: model.stops.iter().map(|st| st.name.clone()).collect(),
             stop_normals: setup.scene.stop_normals(),
+            stop_laws: setup.scene.stop_laws(),
             dim: 2 * model.masses.len(),
             section_cap,
             notation: grid::Notation::of_scene(&setup.scene),

@@ -49,10 +49,9 @@ mod sweep;
 pub use cell::{start_state, CellSetup};
 pub use error::GridError;
 pub use maps::{
-    families, hysteresis, palette, read, stop_events, Along, Atlas, AttractorMap, Axis, BasinAttractor, BasinMap,
-    CellAttractor, CellAttractors, CellData, Entries, Families, FieldError, Lattice, Line, Map, Meta, Notation, Number,
-    Plane, Quantity, Shard, SweepKind, Sweeps, DEFAULT_SECTION_CAP, FAMILY_POINTS, MAX_COUNT, MAX_SECTION_CAP,
-    MAX_SHARDS,
+    families, hysteresis, palette, read, Along, Atlas, AttractorMap, Axis, BasinAttractor, BasinMap, CellAttractor,
+    CellAttractors, CellData, Entries, Families, FieldError, Lattice, Line, Map, Meta, Notation, Number, Plane,
+    Quantity, Shard, SweepKind, Sweeps, DEFAULT_SECTION_CAP, FAMILY_POINTS, MAX_COUNT, MAX_SECTION_CAP, MAX_SHARDS,
 };
 pub use run::{line, run, validate};
 

@@ -37,6 +37,9 @@ pub struct Meta {
     /// Per stop, the normal `n` of its gap `g = n·x + c` over the positions of
     /// `state_masses` (the closing speed of an impact is `-n·v`).
     pub stop_normals: Vec<Vec<f64>>,
+    /// Per stop, which contact law it obeys (its events are impacts or
+    /// contacts: [`Meta::stop_events`]).
+    pub stop_laws: Vec<scene::LawKind>,
     /// State dimension `2 × masses of the scene`.
     pub dim: usize,
     /// Largest number of points kept per section per cell.

@@ -38,7 +38,7 @@ pub use basins::{BasinAttractor, BasinMap};
 pub use cell::{by_frequency, label_counts, runs, CellData, Number, Quantity, DEFAULT_SECTION_CAP, MAX_SECTION_CAP};
 pub use error::{read, FieldError};
 pub use families::{families, Families};
-pub use notation::{stop_events, Notation};
+pub use notation::Notation;
 pub use plane::{Along, Entries, Line, Plane};
 pub use shard::{Shard, MAX_SHARDS};
 pub use sweep::{SweepKind, Sweeps};

@@ -48,22 +48,9 @@ impl Meta {
     }
 
     /// What the events at each stop of [`Meta::stops`] are called in figures:
-    /// `contacts` at a soft stop, `impacts` at a rigid one
-    /// ([`scene::Scene::stop_events`] of the stored scene, parsed once per
-    /// call; `impacts` everywhere when it does not parse into these stops).
+    /// `contacts` at a soft stop, `impacts` at a rigid one.
     pub fn stop_events(&self) -> Vec<&'static str> {
-        stop_events(&self.scene_toml, self.stops.len())
-    }
-}
-
-/// What the events at each of `stops` stops of the scene `scene_toml` are
-/// called in figures: `contacts` at a soft stop, `impacts` at a rigid one
-/// ([`scene::Scene::stop_events`]; `impacts` everywhere when the text does
-/// not parse into that many stops).
-pub fn stop_events(scene_toml: &str, stops: usize) -> Vec<&'static str> {
-    match scene::Scene::parse(scene_toml).map(|s| s.stop_events()) {
-        Ok(events) if events.len() == stops => events,
-        _ => vec!["impacts"; stops],
+        self.stop_laws.iter().map(|&law| solver::contact::events(law)).collect()
     }
 }
 
@@ -97,6 +84,7 @@ mod tests {
             label_stops: Vec::new(),
             stops: Vec::new(),
             stop_normals: Vec::new(),
+            stop_laws: Vec::new(),
             dim: 4,
             section_cap: 16,
             notation,

@@ -625,11 +625,14 @@ fn subscript_runs(text: &str) -> Vec<(String, bool)> {
     render::subscript_runs(text).into_iter().map(|(t, sub)| (t.to_string(), sub)).collect()
 }
 
-/// What the figures call the events at each of `stops` stops of the scene
-/// text `scene`: `contacts` (soft stops) or `impacts`.
+/// What the figures call the events at each stop of a file: `contacts`
+/// (soft stops) or `impacts`, from its `stop_laws` attribute `laws` (in files
+/// written before it, from its stored scene `scene`).
 #[pyfunction]
-fn stop_events(scene: &str, stops: usize) -> Vec<&'static str> {
-    grid::stop_events(scene, stops)
+#[pyo3(signature = (laws, scene))]
+fn stop_events(laws: Option<&str>, scene: &str) -> PyResult<Vec<&'static str>> {
+    let laws = store::stop_laws(laws, scene).map_err(PyValueError::new_err)?;
+    Ok(laws.into_iter().map(solver::contact::events).collect())
 }
 
 /// The module.

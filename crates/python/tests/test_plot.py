@@ -10,7 +10,7 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 import vibroatlas as va  # noqa: E402
 
-from conftest import MULTI, open_tree, cli, axis  # noqa: E402
+from conftest import CONFIGS, MULTI, open_tree, cli, axis  # noqa: E402
 
 X = ("omega", 0.1, 3.05, 24)
 Y = ("delta", 0.05, 2.0, 16)
@@ -242,6 +242,25 @@ def test_row_diagram_draws_the_files_sections(tmp_path):
     ring = [c for c in axes[0].collections if c.get_label() == "down sweep"][0]
     assert len(ring.get_facecolors()) == 0 or ring.get_facecolors()[0][3] == 0, "down sweep drawn as rings"
     assert "x$_{\\mathrm{M1}}$" in axes[0].get_ylabel()
+    plt.close(axes[0].figure)
+
+
+def test_row_diagram_says_contacts_at_a_soft_stop(tmp_path):
+    """A soft stop's panel is of contact speeds, as the file's `stop_laws`
+    says; a file written before that attribute says so from its scene."""
+    import h5py
+
+    path = tmp_path / "soft.h5"
+    va.sweep(CONFIGS / "soft-stop.toml", axis=("omega", 0.8, 1.2, 5), output=path, progress=False)
+    with h5py.File(path) as f:
+        assert f.attrs["stop_laws"] == "soft"
+    axes = va.plot.row(path)
+    assert [a.get_ylabel() for a in axes[1:]] == ["contact speed at A"]
+    plt.close(axes[0].figure)
+    with h5py.File(path, "r+") as f:
+        del f.attrs["stop_laws"]
+    axes = va.plot.row(path)
+    assert [a.get_ylabel() for a in axes[1:]] == ["contact speed at A"]
     plt.close(axes[0].figure)
 
 

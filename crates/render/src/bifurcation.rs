@@ -302,6 +302,7 @@ mod tests {
             label_stops: Vec::new(),
             stops: vec!["A1".into(), "A2".into(), "A12".into()],
             stop_normals: Vec::new(),
+            stop_laws: vec![scene::LawKind::Rigid; 3],
             dim: 4,
             section_cap: 16,
             notation: Vec::new(),

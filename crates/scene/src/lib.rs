@@ -43,7 +43,7 @@ mod symbol;
 pub use derived::{Derived, Operand, TAKEN_NAMES};
 pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
-pub use model::{Friction, Harmonic, LabelStops, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
+pub use model::{Friction, Harmonic, LabelStops, LawKind, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
 pub use named::Named;
 pub use scales::{Scale, Scales};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
@@ -573,15 +573,14 @@ impl Scene {
             .collect()
     }
 
-    /// What the events at each stop are called, in stop order: `"contacts"`
-    /// at a soft stop (a contact begins where its gap closes), `"impacts"` at
-    /// a rigid one.
-    pub fn stop_events(&self) -> Vec<&'static str> {
-        let word = |law: &CompiledLaw| match law {
-            CompiledLaw::Soft { .. } => "contacts",
-            CompiledLaw::Rigid { .. } => "impacts",
+    /// Which contact law each stop obeys, in stop order: structural, the
+    /// same for every parameter value.
+    pub fn stop_laws(&self) -> Vec<LawKind> {
+        let kind = |law: &CompiledLaw| match law {
+            CompiledLaw::Rigid { .. } => LawKind::Rigid,
+            CompiledLaw::Soft { .. } => LawKind::Soft,
         };
-        self.stops.iter().map(|(_, law)| word(law)).collect()
+        self.stops.iter().map(|(_, law)| kind(law)).collect()
     }
 
     /// The scene's name.

@@ -122,6 +122,28 @@ pub enum StopLaw {
     },
 }
 
+crate::named_enum! {
+    /// Which contact law a stop obeys, without its coefficients: the same for
+    /// every parameter value, and recorded per stop in every file.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+    pub enum LawKind {
+        /// Impacts with a coefficient of restitution.
+        Rigid = "rigid",
+        /// A spring and a dashpot while the gap is closed.
+        Soft = "soft",
+    }
+}
+
+impl StopLaw {
+    /// Which law this is.
+    pub fn kind(&self) -> LawKind {
+        match self {
+            StopLaw::Rigid { .. } => LawKind::Rigid,
+            StopLaw::Soft { .. } => LawKind::Soft,
+        }
+    }
+}
+
 /// A stop: where it is and how it acts.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stop {

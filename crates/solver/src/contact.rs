@@ -11,7 +11,7 @@
 //!   (`g < 0`) the force `−k g − c ġ` pushes it open (never pulls): a contact
 //!   that begins and ends, pressing into the stop.
 
-use scene::StopLaw;
+use scene::{LawKind, StopLaw};
 
 /// A soft stop's spring and dashpot, acting while its gap is closed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,6 +32,15 @@ impl Spring {
     /// The elastic energy `k g² / 2` stored at gap `g` (closed).
     pub fn energy(self, gap: f64) -> f64 {
         0.5 * self.stiffness * gap.powi(2)
+    }
+}
+
+/// What the events of a stop obeying `law` are called in tables and figures:
+/// `impacts`, or `contacts` begun.
+pub fn events(law: LawKind) -> &'static str {
+    match law {
+        LawKind::Rigid => "impacts",
+        LawKind::Soft => "contacts",
     }
 }
 
@@ -86,10 +95,7 @@ impl Contact for StopLaw {
     }
 
     fn events(&self) -> &'static str {
-        match self {
-            StopLaw::Rigid { .. } => "impacts",
-            StopLaw::Soft { .. } => "contacts",
-        }
+        events(self.kind())
     }
 }
 

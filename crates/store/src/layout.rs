@@ -210,6 +210,10 @@ pub mod attr {
     /// masses row by row (files written before it existed: derived from the
     /// stored scene when read).
     pub const STOP_NORMALS: &str = "stop_normals";
+    /// The contact law of each stop, comma-separated names in stop order
+    /// (`rigid`, `soft`; files written before it existed: derived from the
+    /// stored scene when read).
+    pub const STOP_LAWS: &str = "stop_laws";
     /// `state_masses`.
     pub const STATE_MASSES: &str = "state_masses";
     /// `start`.
@@ -359,6 +363,7 @@ pub mod attr {
         "software",
         "source",
         "state_masses",
+        "stop_laws",
         "stops",
         "sweeps",
         "symbol",

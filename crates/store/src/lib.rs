@@ -48,5 +48,5 @@ pub use lock::{
     partial_path, write_atomically, OutputLock,
 };
 pub use merge::{merge, Merged};
-pub use read::{available_memory, is_atlas, read, stored_scene, Loaded, MAX_DIM};
+pub use read::{available_memory, is_atlas, read, stop_laws, stored_scene, Loaded, MAX_DIM};
 pub use write::{check_finished, image, labels_crc32, pairs, write, Draft, Parent, RunInfo, GIT_COMMIT};

@@ -512,6 +512,10 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             dim / 2
         )));
     }
+    let stop_laws = stop_laws(attr_opt(path, f, attr::STOP_LAWS)?.as_deref(), &scene_toml).map_err(fmt)?;
+    if stop_laws.len() != stops.len() {
+        return Err(fmt(format!("attribute {}: {} laws for {} stops", attr::STOP_LAWS, stop_laws.len(), stops.len())));
+    }
     let quantities = quantities(path, f, &sweeps)?;
     Ok(Meta {
         scene_name: attr(path, f, attr::SCENE_NAME)?,
@@ -533,6 +537,7 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         state_masses,
         stops,
         stop_normals,
+        stop_laws,
         dim,
         section_cap: {
             // Read as signed, so that a negative value is refused rather than converted to 0.
@@ -860,6 +865,32 @@ fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) ->
     Ok(scene.stop_normals())
 }
 
+/// Which contact law each stop of a file obeys: its `stop_laws` attribute
+/// (`stored`, comma-separated names), which must be the laws of the stored
+/// scene `scene_toml`; in files written before it was stored, those of the
+/// scene. The error names the attribute and what is wrong with it.
+pub fn stop_laws(stored: Option<&str>, scene_toml: &str) -> Result<Vec<scene::LawKind>, String> {
+    let scene = scene::Scene::parse(scene_toml);
+    let Some(text) = stored else {
+        return scene.map(|s| s.stop_laws()).map_err(|e| format!("the stored scene: {e}"));
+    };
+    let laws = list(text)
+        .iter()
+        .map(|name| {
+            scene::LawKind::parse(name)
+                .ok_or_else(|| format!("attribute {}: {}", attr::STOP_LAWS, scene::LawKind::expected(name)))
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    // The stored scene (checksummed with the root's texts) fixes them.
+    match scene {
+        Ok(scene) if scene.stop_laws() != laws => Err(format!(
+            "attribute {}: not the laws of the stored scene's stops: the file is damaged or was changed",
+            attr::STOP_LAWS
+        )),
+        _ => Ok(laws),
+    }
+}
+
 /// How the parameters are written: as the stored scene says (in files
 /// written before scenes declared symbols, by their names:
 /// [`scene::symbol_of`]), and each axis as its root coordinate's `symbol` and
@@ -911,6 +942,7 @@ mod tests {
             label_stops: vec![["right".into(), "left".into()]],
             stops: vec!["right".into(), "left".into()],
             stop_normals: scene.stop_normals(),
+            stop_laws: scene.stop_laws(),
             dim: 4,
             section_cap: 16,
             notation: maps::Notation::of_scene(&scene),
@@ -988,5 +1020,22 @@ mod tests {
         assert_eq!(back.meta.long_name("fk"), None);
         assert_eq!(back.meta.long_name("omega"), Some("forcing frequency"), "the doc");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// Each stop's law comes from the file's `stop_laws`, held to the stored
+    /// scene's; a file written before it has its scene's.
+    #[test]
+    fn stop_laws_are_the_stored_scenes() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+        let soft = std::fs::read_to_string(root.join("soft-stop.toml")).unwrap();
+        let rigid = std::fs::read_to_string(root.join("single-stop.toml")).unwrap();
+        assert_eq!(stop_laws(None, &soft), Ok(vec![scene::LawKind::Soft]));
+        assert_eq!(stop_laws(Some("soft"), &soft), Ok(vec![scene::LawKind::Soft]));
+        assert_eq!(stop_laws(None, &rigid), Ok(vec![scene::LawKind::Rigid]));
+        let changed = stop_laws(Some("rigid"), &soft).unwrap_err();
+        assert!(changed.starts_with("attribute stop_laws: not the laws of the stored scene's stops"), "{changed}");
+        let unknown = stop_laws(Some("sotf"), &soft).unwrap_err();
+        assert_eq!(unknown, "attribute stop_laws: expected rigid or soft, got 'sotf' (did you mean 'soft'?)");
+        assert!(stop_laws(None, "not a scene").unwrap_err().starts_with("the stored scene: "));
     }
 }

@@ -332,6 +332,7 @@ fn create_in(f: hdf5::File, m: &maps::Meta, chunks: &Chunks, z: &Deflater) -> hd
     attr_str(&f, attr::Q_STOPS, &m.label_stops.iter().map(|s| s[1].as_str()).collect::<Vec<_>>().join(","))?;
     attr_str(&f, attr::STOPS, &m.stops.join(","))?;
     attr_array(&f, attr::STOP_NORMALS, &m.stop_normals.concat())?;
+    attr_str(&f, attr::STOP_LAWS, &m.stop_laws.iter().map(|l| l.name()).collect::<Vec<_>>().join(","))?;
     attr_num(&f, attr::DIM, m.dim as u64)?;
     attr_num(&f, attr::SECTION_CAP, m.section_cap as u64)?;
 
@@ -830,6 +831,7 @@ mod tests {
             label_stops: vec![["A".into(), "A".into()]],
             stops: vec!["A".into()],
             stop_normals: vec![vec![1.0]],
+            stop_laws: vec![scene::LawKind::Rigid],
             dim: 2,
             section_cap: 4,
             notation: Vec::new(),

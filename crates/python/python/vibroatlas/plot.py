@@ -461,12 +461,13 @@ def _sections(tree, sweep, name):
     return lambda cell: values[offsets[cell]:offsets[cell + 1]]
 
 
-def _stop_events(attrs, count):
+def _stop_events(attrs):
     """`impact` or `contact` per stop, as render's labels say (a soft stop is
-    in contact for a while)."""
+    in contact for a while), from the file's `stop_laws`."""
     from . import _native
 
-    return [e[:-1] for e in _native.stop_events(str(attrs.get("scene", "")), count)]
+    laws = attrs.get("stop_laws")
+    return [e[:-1] for e in _native.stop_events(None if laws is None else str(laws), str(attrs.get("scene", "")))]
 
 
 def row(tree, at=None, variable=None, fig=None):
@@ -525,7 +526,7 @@ def row(tree, at=None, variable=None, fig=None):
         raise ValueError(f"variable {variable!r}: expected one of {', '.join(components)}")
     k = components.index(variable)
     stops = _names(attrs["stops"])
-    events = _stop_events(attrs, len(stops))
+    events = _stop_events(attrs)
     normals = np.asarray(attrs["stop_normals"], float).reshape(len(stops), dof)
     x = np.asarray(xs.values, float)
 
