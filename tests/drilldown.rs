@@ -135,6 +135,24 @@ fn coexisting_attractors_are_found_with_their_basins() {
     assert_eq!(one["samples"], 48);
 }
 
+/// Issue 63: the attractors of a stored cell (`attractors --from … --at …`,
+/// the explorer's route) are those of its parameters with its file's
+/// settings, the set-up the engine does for every stored cell; a start state
+/// is refused, naming the option.
+#[test]
+fn a_stored_cells_attractors_are_those_of_its_parameters() {
+    let f = up_atlas("attractors-stored", "omega=0.3:0.33:3", "delta=0.7:0.8:2");
+    let f = f.to_str().unwrap();
+    let samples = ["--samples", "12", "--threads", "1", "--json"];
+    let of_cell = json_of(&[&["attractors", "--from", f, "--at", "omega=0.3149,delta=0.71"][..], &samples].concat());
+    let scene = ["attractors", "configs/multi-stop.toml", "--set", "omega=0.315", "--set", "delta=0.7"];
+    assert_eq!(of_cell, json_of(&[&scene[..], &samples].concat()), "the nearest cell's parameters");
+    let state = run(&["attractors", "configs/multi-stop.toml", "--state", "0,0,0,0", "--samples", "4"]);
+    let said = String::from_utf8_lossy(&state.stderr);
+    assert_eq!(state.status.code(), Some(2), "{said}");
+    assert!(said.contains("--state: the attractors sample their own start states"), "{said}");
+}
+
 #[test]
 fn chattering_is_many_impacts_within_one_forcing_period() {
     // One impact per period at each stop over 19 periods is not chattering.

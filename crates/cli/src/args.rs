@@ -127,6 +127,10 @@ pub struct CurveArgs {
 pub struct AttractorsArgs {
     #[command(flatten)]
     pub sim: SimArgs,
+    /// The point: with --from, a stored cell's parameters and its run's
+    /// settings (the attractors sample their own start states: --state is refused).
+    #[command(flatten)]
+    pub start: FromArgs,
     /// Initial states sampled.
     #[arg(long, default_value_t = Sampling::default().samples, value_name = "K")]
     pub samples: usize,

@@ -3,7 +3,7 @@
 //! (see `grid::attractors` for the sampling and the grouping).
 
 use crate::args::AttractorsArgs;
-use crate::common::sim;
+use crate::common::{sim_from, start};
 use crate::out::outln;
 use anyhow::{anyhow, Result};
 use engine::AttractorsRequest;
@@ -20,7 +20,8 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         .ok_or_else(|| anyhow!("--box: expected X,V (two numbers >= 0), got '{}'", a.sample_box))?;
     crate::figure::check("--png", a.png.as_ref())?;
     let r = AttractorsRequest {
-        sim: sim(&a.sim)?,
+        sim: sim_from(&a.sim, &a.start)?,
+        point: start(&a.start)?,
         sampling: Sampling { samples: a.samples, seed: a.seed, x, v },
         threads: engine::threads(a.threads)?,
     };

@@ -7,7 +7,7 @@ use crate::error::Result;
 use crate::error::{Opt, RequestError};
 use crate::observer::{Begin, Observed, Observer};
 use crate::record::CellRecord;
-use crate::sim::{parameters_of, Sim};
+use crate::sim::{parameters_of, Sim, Start};
 use grid::attractors::{find, Attractor, Sampling};
 use serde::Serialize;
 use serde_json::Value;
@@ -22,6 +22,11 @@ pub const MAX_SAMPLES: usize = 1_000_000;
 pub struct AttractorsRequest {
     /// The simulation options (the point is the scene's values with `set`).
     pub sim: Sim,
+    /// Where the point is: the scene's values ([`Start::Initial`]), or the
+    /// parameters of a stored cell with its file's settings
+    /// ([`Start::Cell`]); a start state is refused, the attractors sample
+    /// their own.
+    pub point: Start,
     /// Start states sampled, how, and where (the box).
     pub sampling: Sampling,
     /// Worker threads.
@@ -32,7 +37,12 @@ impl AttractorsRequest {
     /// The attractors of the point of `sim`, sampled as
     /// [`Sampling::default`], on one thread per core.
     pub fn new(sim: Sim) -> AttractorsRequest {
-        AttractorsRequest { sim, sampling: Sampling::default(), threads: crate::threads(None).unwrap_or(1) }
+        AttractorsRequest {
+            sim,
+            point: Start::Initial,
+            sampling: Sampling::default(),
+            threads: crate::threads(None).unwrap_or(1),
+        }
     }
 }
 
@@ -50,7 +60,11 @@ pub struct Attractors {
 /// Finds the coexisting attractors of a point, reporting each sample done to
 /// `observer` (which may stop the search).
 pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attractors> {
-    let s = r.sim.setup()?;
+    if let Start::State(_) = r.point {
+        let what = "the attractors sample their own start states: give a stored cell or the scene's point";
+        return Err(RequestError::option(Opt::State).text(what).into());
+    }
+    let (s, _) = r.sim.setup_from(&r.point)?;
     let k = r.sampling.samples;
     if k == 0 || k > MAX_SAMPLES {
         return Err(RequestError::option(Opt::Samples).text(format!("expected 1 to {MAX_SAMPLES}, got {k}")).into());

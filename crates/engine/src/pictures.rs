@@ -70,11 +70,11 @@ pub fn section_panels(c: &Cell, periods: usize) -> Result<(Vec<render::Panel>, S
 
 /// Draws the sampled start states of the attractors `res` found, coloured
 /// by the attractor each reaches, with its basin fraction (`attractors
-/// --png`; format by the extension of `path`).
-pub fn draw_basins(
+/// --png`; to a file in the format of its extension, or to bytes).
+pub fn draw_basins<'o>(
     res: &crate::Attractors,
     page: &render::Page,
-    path: &std::path::Path,
+    out: impl Into<render::Out<'o>>,
 ) -> Result<(), render::RenderError> {
     let (sys, found) = (&res.system, &res.found);
     let samples = res.sampling.samples;
@@ -91,5 +91,5 @@ pub fn draw_basins(
     let colours: Vec<solver::Label> = found.iter().map(|at| at.cell.labels[0]).collect();
     let title = format!("{}: basins of attraction at t = 0 ({samples} samples)", sys.model.name);
     let axes = (format!("x_{} at t = 0", sys.model.masses[mass].name), format!("v_{}", sys.model.masses[mass].name));
-    render::basins(&groups, &colours, &title, &axes, page, path)
+    render::basins(&groups, &colours, &title, &axes, page, out)
 }

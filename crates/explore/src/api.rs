@@ -468,21 +468,15 @@ async fn orbit(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Valu
     Ok(Json(found.to_json()))
 }
 
-/// A picture drawn to a temporary file of the state's folder, as bytes.
+/// A picture drawn in memory in `format`, as bytes.
 fn drawn(
-    state: &State,
-    ext: &str,
-    draw: impl FnOnce(&std::path::Path) -> Result<(), render::RenderError>,
+    format: render::Format,
+    draw: impl FnOnce(render::Out<'_>) -> Result<(), render::RenderError>,
 ) -> Result<Vec<u8>, Refusal> {
-    static N: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = N.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
-    let path = state.dir.join(format!("figure-{n}.{ext}"));
-    let done = draw(&path).map_err(|e| Refusal(StatusCode::UNPROCESSABLE_ENTITY, format!("{e:#}")));
-    let bytes =
-        done.and_then(|_| std::fs::read(&path).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string())));
-    let _ = std::fs::remove_file(&path);
-    bytes
+    let mut bytes = Vec::new();
+    draw(render::Out::Bytes(format, &mut bytes))
+        .map_err(|e| Refusal(StatusCode::UNPROCESSABLE_ENTITY, format!("{e:#}")))?;
+    Ok(bytes)
 }
 
 fn png(bytes: Vec<u8>) -> Response {
@@ -492,10 +486,10 @@ fn png(bytes: Vec<u8>) -> Response {
 async fn portrait(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
     let (_, o) = opened(&state, &q)?;
     only(&q, &["atlas", "sweep"], Some(&o))?;
-    let bytes = blocking(&state.clone(), move || {
+    let bytes = blocking(&state, move || {
         let c = run_cell(&o, &q)?;
         let p = engine::portrait(&c);
-        drawn(&state, "png", |path| render::portrait(&p, &render::Page::screen(), path))
+        drawn(render::Format::Png, |out| render::portrait(&p, &render::Page::screen(), out))
     })
     .await?;
     Ok(png(bytes))
@@ -505,10 +499,10 @@ async fn sections(Shared(state): Shared<St>, Params(q): Params) -> Result<Respon
     let (_, o) = opened(&state, &q)?;
     only(&q, &["atlas", "sweep", "periods"], Some(&o))?;
     let periods = count(&q, "periods", 1000, 1, MAX_PERIODS)?;
-    let bytes = blocking(&state.clone(), move || {
+    let bytes = blocking(&state, move || {
         let c = run_cell(&o, &q)?;
         let (panels, title) = engine::section_panels(&c, periods).map_err(failed)?;
-        drawn(&state, "png", |path| render::sections(&panels, &title, &render::Page::screen(), path))
+        drawn(render::Format::Png, |out| render::sections(&panels, &title, &render::Page::screen(), out))
     })
     .await?;
     Ok(png(bytes))
@@ -520,21 +514,13 @@ async fn attractors(Shared(state): Shared<St>, Params(q): Params) -> Result<Json
     let samples = count(&q, "samples", 64, 1, MAX_SAMPLES)?;
     let threads = state.threads;
     let (work, _guard) = Request::new(state.clone());
-    let found = blocking(&state.clone(), move || {
+    let found = blocking(&state, move || {
         unchanged(&o)?;
-        let (_, start) = stored_cell(&o, &q)?;
-        let Start::Cell { at, .. } = start else { unreachable!("a stored cell") };
-        let m = &o.atlas.meta;
-        let (iy, ix) = o.atlas.nearest(&at).map_err(bad)?;
-        let mut sim = Sim::new(SceneSource::Stored(o.path.clone()));
-        sim.set = m.overrides.iter().cloned().chain(m.plane.params(iy, ix)).collect();
-        sim.preset = Some(m.preset);
-        sim.accuracy = m.accuracy.clone();
-        sim.integrator = Some(m.integrator);
+        let (sim, point) = stored_cell(&o, &q)?;
         let sampling = grid::attractors::Sampling { samples, ..Default::default() };
-        let r = engine::AttractorsRequest { sim, sampling, threads };
+        let r = engine::AttractorsRequest { sim, point, sampling, threads };
         let res = engine::attractors(&r, &work).map_err(failed)?;
-        let picture = drawn(&state, "png", |path| engine::draw_basins(&res, &render::Page::screen(), path))?;
+        let picture = drawn(render::Format::Png, |out| engine::draw_basins(&res, &render::Page::screen(), out))?;
         let mut out = res.to_json();
         let colours: Vec<Value> = res.found.iter().map(|a| json!(grid::palette::colour(a.cell.labels[0]))).collect();
         out["colours"] = Value::from(colours);
@@ -639,7 +625,7 @@ async fn basins(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Val
     };
     let threads = state.threads;
     let (work, _guard) = Request::new(state.clone());
-    let found = blocking(&state.clone(), move || {
+    let found = blocking(&state, move || {
         unchanged(&o)?;
         let (sim, start) = stored_cell(&o, &q)?;
         let r = engine::BasinsRequest {
@@ -656,7 +642,7 @@ async fn basins(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Val
         let t0 = std::time::Instant::now();
         let (map, _) = engine::basins(&r, &work).map_err(failed)?;
         let seconds = t0.elapsed().as_secs_f64();
-        let picture = drawn(&state, "png", |path| render::basin_map(&map, &render::Page::screen(), path))?;
+        let picture = drawn(render::Format::Png, |out| render::basin_map(&map, &render::Page::screen(), out))?;
         let mut out = engine::basins_report(&map).to_json();
         out["colours"] = json!(map.colours());
         out["png"] = Value::from(BASE64_STANDARD.encode(&picture));
@@ -856,26 +842,25 @@ async fn figure(Shared(state): Shared<St>, Params(q): Params) -> Result<Response
     let (id, o) = opened(&state, &q)?;
     only(&q, &["atlas", "view", "mass", "format", "size", "curves"], None)?;
     let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
-    let format = q.get("format").map_or("png", String::as_str).to_string();
-    let kind = match format.as_str() {
-        "png" => "image/png",
-        "svg" => "image/svg+xml",
-        "pdf" => "application/pdf",
-        other => return Err(bad(format!("format: expected png, svg or pdf, got '{other}'"))),
-    };
+    let format = q.get("format").map_or("png", String::as_str);
+    let format =
+        render::Format::parse(format).ok_or_else(|| bad(format!("format: {}", render::Format::expected(format))))?;
     let size = q.get("size").filter(|s| *s != "screen").cloned();
     let page = render::Page::of(size.as_deref(), None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
     let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
-    let name = format!("atlas{id}-{}.{format}", q.get("view").map_or("map", String::as_str).replace(':', "-"));
-    let bytes = blocking(&state.clone(), move || {
-        drawn(&state, &format, |path| match show {
-            Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, path),
-            Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, 0, &page, path),
-            Show::Difference(quantity) => render::difference_map(&o.atlas, quantity, 0, &page, path),
+    let name = format!("atlas{id}-{}.{}", q.get("view").map_or("map", String::as_str).replace(':', "-"), format.name());
+    let bytes = blocking(&state, move || {
+        drawn(format, |out| match show {
+            Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, out),
+            Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, 0, &page, out),
+            Show::Difference(quantity) => render::difference_map(&o.atlas, quantity, 0, &page, out),
         })
     })
     .await?;
-    Ok(([(header::CONTENT_TYPE, kind.to_string()), (header::CONTENT_DISPOSITION, attachment(&name))], bytes)
+    Ok((
+        [(header::CONTENT_TYPE, format.media_type().to_string()), (header::CONTENT_DISPOSITION, attachment(&name))],
+        bytes,
+    )
         .into_response())
 }
 

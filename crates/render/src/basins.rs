@@ -8,28 +8,27 @@ use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
 use crate::map::rgb;
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use maps::basins::INADMISSIBLE;
 use maps::BasinMap;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use solver::Label;
-use std::path::Path;
 
 /// Draws `groups` (legend text, points) in the colours of the labels
-/// `colours` (one per group), axes named `axes` (format by the extension of
-/// `path`).
-pub fn basins(
+/// `colours` (one per group), axes named `axes` (to `out`: [`Out`]).
+pub fn basins<'o>(
     groups: &[(String, Vec<(f64, f64)>)],
     colours: &[Label],
     title: &str,
     axes: &(String, String),
     page: &Page,
-    path: &Path,
+    out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
-    let canvas = Canvas::of(page, path, (1000, 700), |w| if w < 120.0 { 1.1 * w } else { 0.6 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, groups, colours, title, axes))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1000, 700), |w| if w < 120.0 { 1.1 * w } else { 0.6 * w })?;
+    save!(out, canvas, |root| draw(&root, &canvas, groups, colours, title, axes))
 }
 
 fn draw<DB: Backend>(
@@ -95,10 +94,11 @@ const INADMISSIBLE_GREY: RGBColor = RGBColor(225, 225, 225);
 /// Draws the basin map `map`: every start in its attractor's colour
 /// ([`BasinMap::colours`]), the periodic attractors' period-section points
 /// over them (white dots ringed in black), and a legend of the attractors
-/// with their basin fractions (format by the extension of `path`).
-pub fn basin_map(map: &BasinMap, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let canvas = Canvas::of(page, path, (1000, 700), |w| if w < 120.0 { 1.1 * w } else { 0.6 * w })?;
-    save!(path, canvas, |root| draw_map(&root, &canvas, map))
+/// with their basin fractions (to `out`: [`Out`]).
+pub fn basin_map<'o>(map: &BasinMap, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1000, 700), |w| if w < 120.0 { 1.1 * w } else { 0.6 * w })?;
+    save!(out, canvas, |root| draw_map(&root, &canvas, map))
 }
 
 fn draw_map<DB: Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, map: &BasinMap) -> Result<(), RenderError> {

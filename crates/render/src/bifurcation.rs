@@ -13,13 +13,12 @@ use crate::axis::{range, tick};
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use maps::{Atlas, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use scene::Named;
-use std::path::Path;
 
 scene::named_enum! {
     /// What the impact panels plot for each impact.
@@ -154,8 +153,13 @@ fn series(atlas: &Atlas, d: &Diagram, omega: &[f64]) -> Series {
         .collect()
 }
 
-/// Draws the diagram at the size of `page` (format by the extension of `path`).
-pub fn bifurcation(atlas: &Atlas, diagram: &Diagram, page: &Page, path: &Path) -> Result<(), RenderError> {
+/// Draws the diagram at the size of `page` (to `out`: [`Out`]).
+pub fn bifurcation<'o>(
+    atlas: &Atlas,
+    diagram: &Diagram,
+    page: &Page,
+    out: impl Into<Out<'o>>,
+) -> Result<(), RenderError> {
     let m = &atlas.meta;
     if diagram.row >= m.plane.y.count {
         return Err(RenderError::new(format!("row {} is outside the file's {} rows", diagram.row, m.plane.y.count)));
@@ -170,8 +174,9 @@ pub fn bifurcation(atlas: &Atlas, diagram: &Diagram, page: &Page, path: &Path) -
         (0..all.len()).filter(|&pi| pi == 0 || all[pi].iter().any(|(_, pts)| !pts.is_empty())).collect();
     let k = shown.len() as f64;
     let height = |w: f64| 24.0 + k * if w < 120.0 { 0.5 * w } else { 0.26 * w };
-    let canvas = Canvas::of(page, path, (1100, 250 * shown.len() as u32 + 110), height)?;
-    save!(path, canvas, |root| draw(&root, &canvas, atlas, diagram, &all, &shown))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1100, 250 * shown.len() as u32 + 110), height)?;
+    save!(out, canvas, |root| draw(&root, &canvas, atlas, diagram, &all, &shown))
 }
 
 /// The sweeps of a diagram, for its title.

@@ -6,25 +6,25 @@ use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// Draws `points` `(value, x, max |μ|, stable)` with `marks` `(value, kind)`
 /// at the size of `page`.
-pub fn branch(
+pub fn branch<'o>(
     points: &[(f64, f64, f64, bool)],
     marks: &[(f64, String)],
     title: &str,
     axis: &str,
     mass: &str,
     page: &Page,
-    path: &Path,
+    out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
-    let canvas = Canvas::of(page, path, (1000, 760), |w| if w < 120.0 { 1.3 * w } else { 0.75 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, points, marks, title, axis, mass))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1000, 760), |w| if w < 120.0 { 1.3 * w } else { 0.75 * w })?;
+    save!(out, canvas, |root| draw(&root, &canvas, points, marks, title, axis, mass))
 }
 
 fn draw<DB: Backend>(

@@ -1,6 +1,7 @@
 //! Pictures of atlases: coloured label maps, bifurcation diagrams, and contact
-//! sheets of studies, as PNG, SVG or PDF files (plotters; PDF through svg2pdf),
-//! the format chosen by the file's extension, on screen or at a printed size
+//! sheets of studies, as PNG, SVG or PDF (plotters; PDF through svg2pdf), to a
+//! file in the format of its extension or to bytes in memory ([`Out`]), on
+//! screen or at a printed size
 //! ([`Page`]: every text at least 6 pt on the page).
 #![deny(missing_docs)]
 
@@ -31,7 +32,7 @@ pub use layers::{curve_style, label_legend, layer, Key, Layer, Show};
 pub use map::{attractor_map, family_map, map, sheet, Overlay, View};
 /// A colour faded as the hysteresis view draws the cells where the sweeps agree.
 pub use maps::palette::faded;
-pub use output::Format;
+pub use output::{Format, Out};
 pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};
 pub use rich::runs as subscript_runs;

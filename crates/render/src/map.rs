@@ -13,7 +13,7 @@
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use maps::palette::{self, colour, delta_e, Family};
 use maps::{Atlas, Axis, CellData, Meta, SweepKind};
@@ -22,7 +22,6 @@ use plotters::prelude::*;
 use scene::Named;
 use solver::Label;
 use std::collections::HashMap;
-use std::path::Path;
 
 /// What a map shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -506,15 +505,14 @@ impl Placed {
 }
 
 /// Draws the map of mass `mass` (index into `atlas.meta.masses`) at the size
-/// of `page`; the format follows the extension of `path` (`.png`, `.svg`,
-/// `.pdf`). `curves` are drawn over every panel.
-pub fn map(
+/// of `page`, to `out` ([`Out`]: a file in the format of its extension, or bytes). `curves` are drawn over every panel.
+pub fn map<'o>(
     atlas: &Atlas,
     view: View,
     mass: usize,
     curves: &[Overlay],
     page: &Page,
-    path: &Path,
+    out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
     let panels = if view == View::Hysteresis { 3 } else { 1 };
     let narrow = |w: f64| w < 120.0;
@@ -524,8 +522,9 @@ pub fn map(
         (View::Hysteresis, true) => 2.45 * w,
         (View::Hysteresis, false) => 0.85 * w,
     };
-    let canvas = Canvas::of(page, path, (760 * panels + 380, 800), height)?;
-    save!(path, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (760 * panels + 380, 800), height)?;
+    save!(out, canvas, |root| draw_map(&root, &canvas, atlas, view, mass, curves))
 }
 
 fn draw_map<DB: Backend>(
@@ -711,24 +710,25 @@ impl Hysteresis<'_> {
 /// Draws a contact sheet: the maps of one mass and sweep for several atlases
 /// (a study), side by side with one legend; a label has the same colour in
 /// every panel.
-pub fn sheet(
+pub fn sheet<'o>(
     panels: &[(String, Atlas)],
     sweep: SweepKind,
     mass: usize,
     page: &Page,
-    path: &Path,
+    out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
     let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols);
     let screen = (560 * cols as u32 + 340, 440 * rows as u32 + 40);
-    let canvas = Canvas::of(page, path, screen, |w| {
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, screen, |w| {
         if w < 120.0 {
             w * 0.75 * rows as f64 + 60.0
         } else {
             w * 0.4 * rows as f64 + 30.0
         }
     })?;
-    save!(path, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
+    save!(out, canvas, |root| draw_sheet(&root, &canvas, panels, sweep, mass))
 }
 
 fn draw_sheet<DB: Backend>(
@@ -772,12 +772,12 @@ const COEXISTING: [RGBColor; 4] =
     [RGBColor(198, 219, 239), RGBColor(107, 174, 214), RGBColor(33, 113, 181), RGBColor(8, 48, 107)];
 
 /// Draws the number of coexisting attractors found in each sampled cell of
-/// `atlas` (`atlas --attractors`), cells not sampled white (format by the
-/// extension of `path`).
-pub fn attractor_map(atlas: &Atlas, page: &Page, path: &Path) -> Result<(), RenderError> {
+/// `atlas` (`atlas --attractors`), cells not sampled white (to `out`: [`Out`]).
+pub fn attractor_map<'o>(atlas: &Atlas, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
     let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::error::Missing::Attractors))?;
-    let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
-    save!(path, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
+    save!(out, canvas, |root| draw_attractors(&root, &canvas, atlas, a))
 }
 
 fn draw_attractors<DB: Backend>(
@@ -825,8 +825,8 @@ const FRACTION_BANDS: [RGBColor; 5] = [
 
 /// Draws the basin fraction of attractor family `family` of `atlas`
 /// (`maps::families`) in each sampled cell, in bands of a quarter; cells
-/// not sampled grey (format by the extension of `path`).
-pub fn family_map(atlas: &Atlas, family: u32, page: &Page, path: &Path) -> Result<(), RenderError> {
+/// not sampled grey (to `out`: [`Out`]).
+pub fn family_map<'o>(atlas: &Atlas, family: u32, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
     let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::error::Missing::Attractors))?;
     let f = maps::families(a, atlas.meta.plane.x.count);
     let Some(labels) = f.labels.get(family as usize) else {
@@ -838,8 +838,9 @@ pub fn family_map(atlas: &Atlas, family: u32, page: &Page, path: &Path) -> Resul
     };
     let named: Vec<String> = atlas.meta.masses.iter().zip(labels).map(|(m, l)| format!("{m} {l}")).collect();
     let fractions = f.fraction_map(a, family);
-    let canvas = Canvas::of(page, path, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
-    save!(path, canvas, |root| draw_family(&root, &canvas, atlas, a.samples, &named.join(", "), family, &fractions))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1140, 800), |w| if w < 120.0 { 1.15 * w } else { 0.65 * w })?;
+    save!(out, canvas, |root| draw_family(&root, &canvas, atlas, a.samples, &named.join(", "), family, &fractions))
 }
 
 /// The band of a basin fraction (0: absent; 1 to 4: up to 25, 50, 75, 100 %).

@@ -5,57 +5,117 @@
 //! plotters drawing area, whatever the format ([`save!`]).
 
 use crate::error::RenderError;
-use std::path::Path;
+use scene::Named;
+use std::path::{Path, PathBuf};
 
-/// An output format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Format {
-    /// Portable Network Graphics (bitmap).
-    Png,
-    /// Scalable Vector Graphics.
-    Svg,
-    /// Portable Document Format (vector).
-    Pdf,
+scene::named_enum! {
+    /// An output format.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum Format {
+        /// Portable Network Graphics (bitmap).
+        Png = "png",
+        /// Scalable Vector Graphics.
+        Svg = "svg",
+        /// Portable Document Format (vector).
+        Pdf = "pdf",
+    }
 }
 
 impl Format {
     /// The format of `path` from its extension, or an error naming it.
     pub fn of(path: &Path) -> Result<Format, RenderError> {
         let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase());
-        match ext.as_deref() {
-            Some("png") => Ok(Format::Png),
-            Some("svg") => Ok(Format::Svg),
-            Some("pdf") => Ok(Format::Pdf),
-            other => Err(RenderError::new(format!(
+        ext.as_deref().and_then(Format::parse).ok_or_else(|| {
+            RenderError::new(format!(
                 "{}: unknown picture format{}; use .png, .svg or .pdf",
                 path.display(),
-                other.map(|e| format!(" '.{e}'")).unwrap_or_default()
-            ))),
+                ext.map(|e| format!(" '.{e}'")).unwrap_or_default()
+            ))
+        })
+    }
+
+    /// Its media type (`image/png`).
+    pub fn media_type(self) -> &'static str {
+        match self {
+            Format::Png => "image/png",
+            Format::Svg => "image/svg+xml",
+            Format::Pdf => "application/pdf",
         }
     }
 }
 
-/// Converts an SVG text to a PDF file at `path`, the font included, at `dpi`
-/// SVG units per inch.
-pub(crate) fn pdf(svg: &str, path: &Path, dpi: f64) -> Result<(), RenderError> {
-    let fail = |e: Box<dyn std::error::Error + Send + Sync>| RenderError::because(path.display().to_string(), e);
+/// Where a figure goes: a file, in the format its extension names, or bytes
+/// in memory (a picture served by the explorer), in the format given.
+#[derive(Debug)]
+pub enum Out<'a> {
+    /// A file at this path.
+    File(&'a Path),
+    /// Bytes put into this buffer (what it held before is replaced).
+    Bytes(Format, &'a mut Vec<u8>),
+}
+
+impl<'a> From<&'a Path> for Out<'a> {
+    fn from(path: &'a Path) -> Out<'a> {
+        Out::File(path)
+    }
+}
+
+impl<'a> From<&'a PathBuf> for Out<'a> {
+    fn from(path: &'a PathBuf) -> Out<'a> {
+        Out::File(path)
+    }
+}
+
+impl Out<'_> {
+    /// The format the figure is drawn in.
+    pub(crate) fn format(&self) -> Result<Format, RenderError> {
+        match self {
+            Out::File(path) => Format::of(path),
+            Out::Bytes(format, _) => Ok(*format),
+        }
+    }
+
+    /// What errors name: the file, or the format drawn in memory.
+    pub(crate) fn name(&self) -> String {
+        match self {
+            Out::File(path) => path.display().to_string(),
+            Out::Bytes(format, _) => format!("the {} picture", format.name()),
+        }
+    }
+
+    /// Puts the encoded figure where it goes.
+    pub(crate) fn put(self, bytes: Vec<u8>) -> Result<(), RenderError> {
+        match self {
+            Out::File(path) => {
+                std::fs::write(path, bytes).map_err(|e| RenderError::because(path.display().to_string(), e))
+            }
+            Out::Bytes(_, buffer) => {
+                *buffer = bytes;
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Converts an SVG text to PDF bytes, the font included, at `dpi` SVG units
+/// per inch; errors name `name`.
+pub(crate) fn pdf(svg: &str, name: &str, dpi: f64) -> Result<Vec<u8>, RenderError> {
+    let fail = |e: Box<dyn std::error::Error + Send + Sync>| RenderError::because(name.to_string(), e);
     let mut options = svg2pdf::usvg::Options::default();
     let font = crate::font::path()?;
     let db = options.fontdb_mut();
-    db.load_font_file(&font).map_err(|e| RenderError::because(format!("{}: {}", path.display(), font.display()), e))?;
+    db.load_font_file(&font).map_err(|e| RenderError::because(format!("{name}: {}", font.display()), e))?;
     // The figures name the generic family; it must resolve to the loaded font,
     // or usvg drops every text.
     let family = db.faces().next().and_then(|f| f.families.first()).map(|f| f.0.clone());
-    let family = family.ok_or_else(|| {
-        RenderError::new(format!("{}: {}: no font family in the file", path.display(), font.display()))
-    })?;
+    let family =
+        family.ok_or_else(|| RenderError::new(format!("{name}: {}: no font family in the file", font.display())))?;
     db.set_sans_serif_family(family.clone());
     options.font_family = family;
     let tree = svg2pdf::usvg::Tree::from_str(svg, &options).map_err(|e| fail(Box::new(e)))?;
-    let bytes = svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), svg2pdf::PageOptions { dpi: dpi as f32 })
+    svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), svg2pdf::PageOptions { dpi: dpi as f32 })
         // svg2pdf's error is not a std::error::Error: its text is kept.
-        .map_err(|e| RenderError::new(format!("{}: {e}", path.display())))?;
-    std::fs::write(path, bytes).map_err(|e| fail(Box::new(e)))
+        .map_err(|e| RenderError::new(format!("{name}: {e}")))
 }
 
 /// An SVG text whose size is stated in millimetres (its user units stay
@@ -83,30 +143,34 @@ pub(crate) fn svg_in_mm(svg: &str, (w, h): (f64, f64)) -> String {
     }
 }
 
-/// Writes RGB pixels as a PNG file at `path` that states its resolution
-/// (`dpi`, a pHYs chunk), so that documents place it at its printed size.
-pub(crate) fn png(path: &Path, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Result<(), RenderError> {
-    let fail = |e: Box<dyn std::error::Error + Send + Sync>| RenderError::because(path.display().to_string(), e);
-    let file = std::fs::File::create(path).map_err(|e| fail(Box::new(e)))?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+/// Encodes RGB pixels as PNG bytes that state their resolution (`dpi`, a
+/// pHYs chunk), so that documents place the picture at its printed size;
+/// errors name `name`.
+pub(crate) fn png(name: &str, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Result<Vec<u8>, RenderError> {
+    let fail = |e: Box<dyn std::error::Error + Send + Sync>| RenderError::because(name.to_string(), e);
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, w, h);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     let per_metre = (dpi / 0.0254).round() as u32;
     encoder.set_pixel_dims(Some(png::PixelDimensions { xppu: per_metre, yppu: per_metre, unit: png::Unit::Meter }));
     let mut writer = encoder.write_header().map_err(|e| fail(Box::new(e)))?;
     writer.write_image_data(rgb).map_err(|e| fail(Box::new(e)))?;
-    writer.finish().map_err(|e| fail(Box::new(e)))
+    writer.finish().map_err(|e| fail(Box::new(e)))?;
+    Ok(bytes)
 }
 
-/// Draws a figure into `$path` in the format of its extension on `$canvas`
-/// (a [`crate::page::Canvas`]), `$draw` a call of a generic drawing function
-/// with the drawing area bound to `$root`.
+/// Draws a figure to `$out` (an [`Out`], or what converts into one: a path)
+/// on `$canvas` (a [`crate::page::Canvas`]), `$draw` a call of a generic
+/// drawing function with the drawing area bound to `$root`.
 macro_rules! save {
-    ($path:expr, $canvas:expr, |$root:ident| $draw:expr) => {{
+    ($out:expr, $canvas:expr, |$root:ident| $draw:expr) => {{
         use plotters::prelude::{BitMapBackend, IntoDrawingArea, SVGBackend};
         crate::font::ensure()?;
+        let out: crate::output::Out<'_> = $out;
+        let name = out.name();
         let size = $canvas.size();
-        match crate::output::Format::of($path)? {
+        let bytes = match out.format()? {
             crate::output::Format::Png => {
                 let mut rgb = vec![0u8; 3 * size.0 as usize * size.1 as usize];
                 {
@@ -114,7 +178,7 @@ macro_rules! save {
                     $draw?;
                     $root.present().map_err(crate::error::err)?;
                 }
-                crate::output::png($path, size, &rgb, $canvas.dpi)
+                crate::output::png(&name, size, &rgb, $canvas.dpi)?
             }
             format => {
                 let mut svg = String::new();
@@ -124,15 +188,51 @@ macro_rules! save {
                     $root.present().map_err(crate::error::err)?;
                 }
                 if format == crate::output::Format::Pdf {
-                    crate::output::pdf(&svg, $path, $canvas.dpi)
+                    crate::output::pdf(&svg, &name, $canvas.dpi)?
                 } else {
-                    let svg = $canvas.mm.map_or(svg.clone(), |mm| crate::output::svg_in_mm(&svg, mm));
-                    std::fs::write($path, svg)
-                        .map_err(|e| crate::error::RenderError::because($path.display().to_string(), e))
+                    $canvas.mm.map_or(svg.clone(), |mm| crate::output::svg_in_mm(&svg, mm)).into_bytes()
                 }
             }
-        }
+        };
+        out.put(bytes)
     }};
 }
 
 pub(crate) use save;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A figure drawn to bytes is the file drawn to a path, byte for byte, in
+    /// every format; the format of a path is its extension's.
+    #[test]
+    fn bytes_are_the_file() {
+        let dir = std::env::temp_dir().join(format!("vibroatlas-render-out-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let points = [("fast".to_string(), 2000.0, 0.98), ("precise".to_string(), 300.0, 1.0)];
+        for &format in Format::ALL {
+            let path = dir.join(format!("trade.{}", format.name().to_uppercase()));
+            assert_eq!(Format::of(&path).unwrap(), format);
+            crate::trade(&points, &path).unwrap();
+            let mut bytes = vec![1, 2, 3];
+            crate::trade(&points, Out::Bytes(format, &mut bytes)).unwrap();
+            let file = std::fs::read(&path).unwrap();
+            if format == Format::Pdf {
+                // svg2pdf lists a page's resources in hash order, which
+                // differs from run to run: the same lines, in some order.
+                let lines = |b: &[u8]| {
+                    let mut l: Vec<Vec<u8>> = b.split(|&c| c == b'\n').map(<[u8]>::to_vec).collect();
+                    l.sort();
+                    l
+                };
+                assert!(lines(&bytes) == lines(&file) && bytes.len() == file.len(), "{format}");
+            } else {
+                assert!(bytes == file, "{format}");
+            }
+        }
+        let unknown = Format::of(Path::new("figure.gif")).unwrap_err().to_string();
+        assert_eq!(unknown, "render: figure.gif: unknown picture format '.gif'; use .png, .svg or .pdf");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -214,14 +214,14 @@ impl Canvas {
         (self.width, self.height)
     }
 
-    /// The canvas of a figure in the format of `path` (see [`Page::canvas`]).
+    /// The canvas of a figure in the format of `out` (see [`Page::canvas`]).
     pub fn of(
         page: &Page,
-        path: &std::path::Path,
+        out: &crate::output::Out<'_>,
         screen: (u32, u32),
         height_mm: impl Fn(f64) -> f64,
     ) -> Result<Canvas, RenderError> {
-        Ok(page.canvas(Format::of(path)?, screen, height_mm))
+        Ok(page.canvas(out.format()?, screen, height_mm))
     }
 
     /// Text `scale` times the body size, never below [`MIN_TEXT_PT`].

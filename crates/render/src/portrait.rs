@@ -7,11 +7,10 @@ use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
 use crate::legend::{self, Entry, Swatch};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// What a portrait shows (all per row of the window). Serialised as an
 /// object of these fields (an event as `[row, what]`, a stop as
@@ -38,10 +37,11 @@ pub struct Portrait {
 const CURVES: [RGBColor; 4] =
     [RGBColor(0, 114, 178), RGBColor(213, 94, 0), RGBColor(0, 158, 115), RGBColor(204, 121, 167)];
 
-/// Draws the portrait (format by the extension of `path`).
-pub fn portrait(p: &Portrait, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let canvas = Canvas::of(page, path, (1200, 900), |w| if w < 120.0 { 1.5 * w } else { 0.75 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, p))
+/// Draws the portrait (to `out`: [`Out`]).
+pub fn portrait<'o>(p: &Portrait, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (1200, 900), |w| if w < 120.0 { 1.5 * w } else { 0.75 * w })?;
+    save!(out, canvas, |root| draw(&root, &canvas, p))
 }
 
 fn draw<DB: Backend>(root: &DrawingArea<DB, Shift>, canvas: &Canvas, p: &Portrait) -> Result<(), RenderError> {

@@ -10,13 +10,12 @@ use crate::error::{err, RenderError};
 use crate::layout;
 use crate::legend::{self, Entry, Swatch};
 use crate::map::{sweep_cells, CellGrid};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use maps::{Atlas, CellData, Meta, Number, SweepKind};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use scene::Named;
-use std::path::Path;
 
 /// How a continuous map draws each number per cell ([`Number`]).
 pub(crate) trait Drawn {
@@ -143,16 +142,16 @@ impl Scaled {
 }
 
 /// Draws `quantity` over the plane of one sweep of `atlas` at the size of
-/// `page` (format by the extension of `path`), with contour lines at up to
+/// `page` (to `out`: [`Out`]), with contour lines at up to
 /// `contours` round levels (steps of 1, 2 or 5 times a power of ten, marked
 /// on the colour bar; 0: none).
-pub fn scalar_map(
+pub fn scalar_map<'o>(
     atlas: &Atlas,
     sweep: SweepKind,
     quantity: Number,
     contours: usize,
     page: &Page,
-    path: &Path,
+    out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let scaled = Scaled::of(atlas, sweep, quantity)?;
@@ -162,7 +161,7 @@ pub fn scalar_map(
         none: quantity.none().into(),
         levels: crate::contour::levels(scaled.lo, scaled.hi, contours),
     };
-    save_map(m, &scaled, &text, page, path)
+    save_map(m, &scaled, &text, page, out.into())
 }
 
 /// Draws quantity `quantity` of the up sweep less that of the down sweep, on
@@ -170,12 +169,12 @@ pub fn scalar_map(
 /// where hysteresis changes it, and by how much; contour lines as
 /// [`scalar_map`]'s, but for the level 0 (where the legs agree, the
 /// difference is 0 or rounding).
-pub fn difference_map(
+pub fn difference_map<'o>(
     atlas: &Atlas,
     quantity: Number,
     contours: usize,
     page: &Page,
-    path: &Path,
+    out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
     let m = &atlas.meta;
     let scaled = Scaled::difference(atlas, quantity)?;
@@ -185,14 +184,14 @@ pub fn difference_map(
         none: "none".into(),
         levels: crate::contour::levels(scaled.lo, scaled.hi, contours).into_iter().filter(|&l| l != 0.0).collect(),
     };
-    save_map(m, &scaled, &text, page, path)
+    save_map(m, &scaled, &text, page, out.into())
 }
 
 /// Draws the continuous map of `scaled` with `text` at the size of `page`
-/// to `path` (format by its extension).
-fn save_map(m: &Meta, scaled: &Scaled, text: &Texts, page: &Page, path: &Path) -> Result<(), RenderError> {
-    let canvas = Canvas::of(page, path, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
-    save!(path, canvas, |root| draw(&root, &canvas, m, scaled, text))
+/// to `out`.
+fn save_map(m: &Meta, scaled: &Scaled, text: &Texts, page: &Page, out: Out<'_>) -> Result<(), RenderError> {
+    let canvas = Canvas::of(page, &out, (1060, 800), |w| if w < 120.0 { 0.95 * w } else { 0.65 * w })?;
+    save!(out, canvas, |root| draw(&root, &canvas, m, scaled, text))
 }
 
 /// The words of a continuous map: its title, its colour bar's label, and

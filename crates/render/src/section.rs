@@ -7,11 +7,10 @@
 use crate::axis::range;
 use crate::error::{err, RenderError};
 use crate::layout::{self, Axes};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// One scatter panel (serialised as an object of its fields, a point as
 /// `[x, y]`).
@@ -26,13 +25,14 @@ pub struct Panel {
 }
 
 /// Draws the panels side by side (two per row) at the size of `page`
-/// (format by the extension of `path`); the title is wrapped to the width.
-pub fn sections(panels: &[Panel], title: &str, page: &Page, path: &Path) -> Result<(), RenderError> {
+/// (to `out`: [`Out`]); the title is wrapped to the width.
+pub fn sections<'o>(panels: &[Panel], title: &str, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
     let cols = panels.len().clamp(1, 2);
     let rows = panels.len().div_ceil(cols).max(1);
     let height = |w: f64| 18.0 + rows as f64 * w / cols as f64 * 0.85;
-    let canvas = Canvas::of(page, path, (520 * cols as u32, 460 * rows as u32 + 60), height)?;
-    save!(path, canvas, |root| draw(&root, &canvas, panels, title))
+    let out = out.into();
+    let canvas = Canvas::of(page, &out, (520 * cols as u32, 460 * rows as u32 + 60), height)?;
+    save!(out, canvas, |root| draw(&root, &canvas, panels, title))
 }
 
 fn draw<DB: Backend>(

@@ -4,16 +4,16 @@
 //! legend beside the chart names each setting's colour.
 
 use crate::error::{err, RenderError};
-use crate::output::save;
+use crate::output::{save, Out};
 use crate::page::{Backend, Canvas, Page};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// Draws `(setting, cells/s, label agreement)` points (a screen-sized figure).
-pub fn trade(points: &[(String, f64, f64)], path: &Path) -> Result<(), RenderError> {
-    let canvas = Canvas::of(&Page::screen(), path, (1000, 600), |w| w)?;
-    save!(path, canvas, |root| draw(&root, points))
+pub fn trade<'o>(points: &[(String, f64, f64)], out: impl Into<Out<'o>>) -> Result<(), RenderError> {
+    let out = out.into();
+    let canvas = Canvas::of(&Page::screen(), &out, (1000, 600), |w| w)?;
+    save!(out, canvas, |root| draw(&root, points))
 }
 
 fn draw<DB: Backend>(root: &DrawingArea<DB, Shift>, points: &[(String, f64, f64)]) -> Result<(), RenderError> {
