@@ -6,7 +6,7 @@
 //! `cargo bench --bench atlas`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use grid::{Along, Axis, CellSetup, Line, Plane, Silent, SweepKind};
+use grid::{Along, Axis, CellSetup, Line, Plane, Quiet, SweepKind};
 use solver::{Accuracy, Method};
 use std::hint::black_box;
 use std::time::Duration;
@@ -48,7 +48,7 @@ fn bench_atlas(c: &mut Criterion) {
                     let sink = |l: Line| {
                         black_box(l);
                     };
-                    grid::run(&plane, cs, &jobs, &grid::Entries::default(), t, &Silent, &sink).unwrap()
+                    grid::run(&plane, cs, &jobs, &grid::Entries::default(), t, &Quiet, &sink).unwrap()
                 })
             });
         }

@@ -4,7 +4,7 @@
 //! Run with `cargo bench --bench regimes`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use grid::{chain, CellSetup, Silent};
+use grid::{chain, CellSetup, Quiet};
 use solver::reference::REGIMES_MULTI_STOP;
 use solver::{run_cell, Accuracy, Method, System};
 use std::hint::black_box;
@@ -49,7 +49,7 @@ fn bench_regimes(c: &mut Criterion) {
         (0..64).map(|i| vec![("omega".to_string(), 0.25 + 0.15 * i as f64 / 63.0)]).collect();
     let mut g = c.benchmark_group("chain");
     g.sample_size(10).measurement_time(Duration::from_secs(4));
-    g.bench_function("64-cells-omega-0.25-0.4", |b| b.iter(|| black_box(chain(&setup, &points, &Silent).unwrap())));
+    g.bench_function("64-cells-omega-0.25-0.4", |b| b.iter(|| black_box(chain(&setup, &points, &Quiet).unwrap())));
     g.finish();
 }
 

@@ -2,7 +2,7 @@
 //! the published sequence of motions, and frictionless scenes left untouched.
 
 use crate::util::{config, record, run, system};
-use solver::{Accuracy, DVector, Method, Observer, Simulator, System};
+use solver::{Accuracy, DVector, EventObserver, Method, Simulator, System};
 
 /// Non-friction force on each mass, `P sin(ωt+τ) - K x - C v`.
 fn free_forces(sys: &System, t: f64, y: &DVector<f64>) -> DVector<f64> {
@@ -28,7 +28,7 @@ fn relative(y: &DVector<f64>) -> (f64, f64) {
 #[derive(Default)]
 struct Points(Vec<(f64, DVector<f64>, DVector<f64>)>, Vec<(f64, DVector<f64>)>);
 
-impl Observer for Points {
+impl EventObserver for Points {
     fn impact(&mut self, t: f64, _stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
         self.0.push((t, before.clone(), after.clone()));
     }

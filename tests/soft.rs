@@ -6,8 +6,8 @@
 
 use crate::util::{config, json_of, run, system};
 use solver::{
-    multipliers, solve, Accuracy, DMatrix, DVector, EventKind, Ignore, Limits, MapKind, Method, Observer, Simulator,
-    Solution, System,
+    multipliers, solve, Accuracy, DMatrix, DVector, EventKind, EventObserver, Ignore, Limits, MapKind, Method,
+    Simulator, Solution, System,
 };
 
 /// The system of scene `text` at its defaults with `sets` applied.
@@ -69,7 +69,7 @@ fn a_load_and_three_harmonics_follow_the_closed_form_steady_state() {
         DVector::from_vec(vec![x, v])
     };
     struct Samples(Vec<(f64, DVector<f64>)>);
-    impl Observer for Samples {
+    impl EventObserver for Samples {
         fn sample(&mut self, t: f64, y: &DVector<f64>) {
             self.0.push((t, y.clone()));
         }
@@ -118,7 +118,7 @@ fn wall(stiffness: f64, damping: f64) -> String {
 fn a_soft_contact_rebounds_with_the_closed_form_restitution() {
     #[derive(Default)]
     struct Events(Vec<EventKind>);
-    impl Observer for Events {
+    impl EventObserver for Events {
         fn named_event(&mut self, _t: f64, kind: EventKind, _y: &DVector<f64>) {
             self.0.push(kind);
         }
@@ -193,7 +193,7 @@ fn a_stiff_soft_stop_reproduces_the_rigid_impacts() {
 
 fn stiff_limit(soft: [bool; 3]) {
     struct Phases(Vec<(usize, f64)>, f64);
-    impl Observer for Phases {
+    impl EventObserver for Phases {
         fn impact(&mut self, t: f64, stop: usize, _b: &DVector<f64>, _a: &DVector<f64>) {
             self.0.push((stop, t.rem_euclid(self.1)));
         }
@@ -272,7 +272,7 @@ fn the_forcing_work_balances_the_dissipation_over_a_period() {
         // energy `k g²/2` a contact still holds where its force vanished with
         // the gap closed (damping): it is lost with the contact.
         struct Events<'a>(&'a System, Vec<f64>, f64);
-        impl Observer for Events<'_> {
+        impl EventObserver for Events<'_> {
             fn named_event(&mut self, t: f64, kind: EventKind, y: &DVector<f64>) {
                 self.1.push(t);
                 if let EventKind::Separation(k) = kind {
@@ -308,7 +308,7 @@ fn the_forcing_work_balances_the_dissipation_over_a_period() {
             dissipation: f64,
             next: usize,
         }
-        impl Observer for Power<'_> {
+        impl EventObserver for Power<'_> {
             fn sample(&mut self, t: f64, y: &DVector<f64>) {
                 let Some(&(node, weight)) = self.at.get(self.next) else { return };
                 if (t - node).abs() > 1e-9 * (1.0 + node) {

@@ -4,10 +4,10 @@
 
 use crate::error::Result;
 use crate::error::{with_fields, Opt, RequestError};
-use crate::observer::Observer;
 use crate::plan::{Executed, Plan};
 use crate::sim::Sim;
 use grid::attractors::Sampling;
+use grid::Observer;
 use grid::{Along, Axis, Plane, Shard, SweepKind};
 use std::path::PathBuf;
 

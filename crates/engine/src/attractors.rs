@@ -5,10 +5,10 @@
 
 use crate::error::Result;
 use crate::error::{Opt, RequestError};
-use crate::observer::{Begin, Observed, Observer};
 use crate::record::CellRecord;
 use crate::sim::{parameters_of, Sim, Start};
 use grid::attractors::{find, Attractor, Sampling};
+use grid::{Begin, Observer};
 use serde::Serialize;
 use serde_json::Value;
 use solver::System;
@@ -77,7 +77,7 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
     }
     let cs = s.cell_setup(0)?;
     observer.begin(&Begin { total: k as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
-    let found = find(&cs, &[], &r.sampling, r.threads, &Observed(observer));
+    let found = find(&cs, &[], &r.sampling, r.threads, observer);
     observer.finish();
     let found = found?;
     let system = cs.system(&[])?;

@@ -6,11 +6,11 @@
 //! renderer draws.
 
 use crate::error::{Opt, RequestError, Result};
-use crate::observer::{Begin, Observed, Observer};
 use crate::sim::{Origin, Sim, Start};
 use crate::summary::AxisReport;
 use grid::basins::StateGrid;
 use grid::{Axis, BasinAttractor, BasinMap};
+use grid::{Begin, Observer};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -99,7 +99,7 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<(BasinMap, O
         early: r.early,
     };
     observer.begin(&Begin { total: starts as u64, done: 0, lines: &[], prior: None, line_len: 1, threads: r.threads });
-    let reached = grid::basins::basins(&cs, &[], &grid, r.threads, &Observed(observer));
+    let reached = grid::basins::basins(&cs, &[], &grid, r.threads, observer);
     observer.finish();
     let reached = reached?;
     let m = &sys.model;

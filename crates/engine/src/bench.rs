@@ -18,9 +18,9 @@
 use crate::error::SceneLoadError;
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::observer::Quiet;
 use crate::plan::Plan;
 use crate::sim::{SceneSource, Setup};
+use grid::Quiet;
 use grid::{Along, Atlas, Axis, Plane, SweepKind};
 use scene::Scene;
 use serde::Serialize;

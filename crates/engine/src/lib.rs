@@ -47,7 +47,6 @@ mod cell;
 mod curve;
 mod error;
 mod merge;
-mod observer;
 mod orbit;
 mod pictures;
 mod plan;
@@ -74,8 +73,8 @@ pub use curve::{
     CurvesReport, CurvesRequest, FollowedCurve, MapCurves, Side, Sides, DEFAULT_STEPS, DEFAULT_WINDOW,
 };
 pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words};
+pub use grid::{Begin, Observer, Quiet};
 pub use merge::{merge, MergeRequest};
-pub use observer::{Begin, Observer, Quiet};
 pub use orbit::{
     continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, CellOrbit, ContinuationRequest, Critical,
     FollowedOrbit, Multiplier, OrbitImpact, OrbitReport, OrbitRequest,

@@ -5,7 +5,7 @@
 
 use crate::error::Result;
 use crate::error::{Opt, RequestError};
-use crate::observer::Observer;
+use grid::Observer;
 use std::path::PathBuf;
 use store::RunInfo;
 

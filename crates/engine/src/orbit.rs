@@ -4,9 +4,9 @@
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::observer::Observer;
 use crate::sim::{check_period, labels_of, unknown, Sim, Start};
 use grid::Axis;
+use grid::Observer;
 use scene::Named;
 use serde::Serialize;
 use serde_json::Value;

@@ -4,9 +4,9 @@
 
 use crate::error::{chain_text, Opt, RequestError};
 use crate::error::{Error, Result};
-use crate::observer::{Begin, Observed, Observer};
 use crate::sim::Setup;
 use grid::{Atlas, CellSetup, Line, Meta, Plane, Shard, SweepKind};
+use grid::{Begin, Observer};
 use scene::Named;
 use serde::Serialize;
 use std::path::PathBuf;
@@ -299,8 +299,7 @@ impl Plan {
             // A closed channel means the writer failed; its error is reported below.
             let _ = tx.send((line, sealed));
         };
-        let ran =
-            grid::run(&self.meta.plane, &self.setup, jobs, &self.entries, self.threads, &Observed(observer), &sink);
+        let ran = grid::run(&self.meta.plane, &self.setup, jobs, &self.entries, self.threads, observer, &sink);
         drop(tx);
         observer.finish();
         let kept = writer.join().map_err(|_| Error::Internal("the writer thread panicked".into()))??;
@@ -571,7 +570,7 @@ impl Plan {
         let total = (points.len() * sampling.samples) as u64;
         let work = Begin { total, done: 0, lines: &[], prior: None, line_len: 1, threads: self.threads };
         observer.begin(&work);
-        let found = grid::attractors::find_all(&self.setup, &points, sampling, self.threads, &Observed(observer));
+        let found = grid::attractors::find_all(&self.setup, &points, sampling, self.threads, observer);
         observer.finish();
         let found = found?;
         let mut cells = vec![None; p.cells()];

@@ -5,11 +5,11 @@
 
 use crate::error::Result;
 use crate::error::{grid_error, with_fields, Opt, RequestError};
-use crate::observer::{Begin, Observed, Observer};
 use crate::plan::Plan;
 use crate::record::{labels, CellRecord};
 use crate::sim::{Origin, Sim, Source, Start};
 use grid::{Along, Atlas, Axis, CellData, Line, Plane, SweepKind};
+use grid::{Begin, Observer};
 use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
@@ -152,11 +152,10 @@ fn legs_from(plan: &Plan, legs: Legs, start: Option<&[f64]>, observer: &dyn Obse
     let descending: Vec<Vec<(String, f64)>> = ascending.iter().rev().cloned().collect();
     let total = (p.x.count * plan.meta.sweeps.len()) as u64;
     observer.begin(&Begin { total, done: 0, lines: &[], prior: None, line_len: p.x.count, threads: 1 });
-    let progress = Observed(observer);
     let leg = |sweep: SweepKind, from: Option<&[f64]>| -> Result<Line> {
         let mut cells = match sweep {
-            SweepKind::Down => grid::chain_from(&plan.setup, &descending, from, &progress)?,
-            _ => grid::chain_from(&plan.setup, &ascending, from, &progress)?,
+            SweepKind::Down => grid::chain_from(&plan.setup, &descending, from, observer)?,
+            _ => grid::chain_from(&plan.setup, &ascending, from, observer)?,
         };
         if sweep == SweepKind::Down {
             cells.reverse();

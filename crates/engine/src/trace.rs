@@ -39,7 +39,7 @@ pub fn sections(sys: &System, s: &Setup, c: &CellResult, periods: usize) -> Resu
         return Err(RequestError::option(Opt::SectionPeriods).text(why).into());
     }
     struct Points<'a>(&'a System, Vec<Vec<(f64, f64)>>);
-    impl solver::Observer for Points<'_> {
+    impl solver::EventObserver for Points<'_> {
         fn impact(&mut self, t: f64, stop: usize, before: &solver::DVector<f64>, _: &solver::DVector<f64>) {
             self.1[stop].push((self.0.phase_at(t), -self.0.gap_rate(stop, before)));
         }
@@ -108,7 +108,7 @@ impl Window {
 /// it kept), with its reason (the cell's `reason` when it is unresolved for it).
 pub fn window(sys: &System, s: &Setup, c: &CellResult, periods: usize, samples: usize) -> Window {
     struct Rows<'a>(Vec<Row>, &'a System);
-    impl solver::Observer for Rows<'_> {
+    impl solver::EventObserver for Rows<'_> {
         fn named_event(&mut self, t: f64, kind: solver::EventKind, y: &solver::DVector<f64>) {
             self.0.push((t, y.as_slice().to_vec(), Some(kind.describe(self.1))));
         }

@@ -15,8 +15,8 @@
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::observer::Observer;
 use crate::plan::{Executed, Plan};
+use grid::Observer;
 use grid::{Along, Atlas, Axis, Entries, Lattice, Plane, SweepKind};
 use scene::Named;
 use std::path::PathBuf;

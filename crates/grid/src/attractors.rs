@@ -18,7 +18,7 @@
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
-use crate::sweep::Progress;
+use crate::observer::Observer;
 use maps::CellData;
 use rayon::prelude::*;
 use solver::contact::Contact;
@@ -107,7 +107,7 @@ pub fn find(
     params: &[(String, f64)],
     sampling: &Sampling,
     threads: usize,
-    progress: &dyn Progress,
+    progress: &dyn Observer,
 ) -> Result<Vec<Attractor>, GridError> {
     Ok(find_all(setup, &[params.to_vec()], sampling, threads, progress)?.remove(0))
 }
@@ -120,7 +120,7 @@ pub fn find_all(
     points: &[Vec<(String, f64)>],
     sampling: &Sampling,
     threads: usize,
-    progress: &dyn Progress,
+    progress: &dyn Observer,
 ) -> Result<Vec<Vec<Attractor>>, GridError> {
     let systems = points.iter().map(|p| setup.system(p)).collect::<Result<Vec<_>, _>>()?;
     let setup = setup.comparing();

@@ -12,7 +12,7 @@
 use crate::attractors::{same, Attractor};
 use crate::cell::CellSetup;
 use crate::error::GridError;
-use crate::sweep::Progress;
+use crate::observer::Observer;
 use maps::basins::INADMISSIBLE;
 use maps::Axis;
 use rayon::prelude::*;
@@ -148,7 +148,7 @@ pub fn basins(
     params: &[(String, f64)],
     grid: &StateGrid,
     threads: usize,
-    progress: &dyn Progress,
+    progress: &dyn Observer,
 ) -> Result<Reached, GridError> {
     let mut sys = setup.system(params)?;
     // The same system with its time origin moved so that the forcing's

@@ -20,7 +20,7 @@ pub enum GridError {
     /// The solver refuses the scene.
     #[error(transparent)]
     Solver(#[from] solver::SolverError),
-    /// The caller asked the work to stop ([`crate::Progress::cancelled`]).
+    /// The caller asked the work to stop ([`crate::Observer::cancelled`]).
     #[error("cancelled")]
     Cancelled,
 }

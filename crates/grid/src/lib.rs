@@ -15,7 +15,7 @@
 //! run planes.
 //!
 //! ```
-//! use grid::{Along, Axis, CellSetup, Plane, Silent, SweepKind};
+//! use grid::{Along, Axis, CellSetup, Plane, Quiet, SweepKind};
 //!
 //! let scene = scene::Scene::parse(&std::fs::read_to_string("../../configs/multi-stop.toml").unwrap()).unwrap();
 //! let setup = CellSetup {
@@ -30,7 +30,7 @@
 //! let y = Axis::new("delta", 0.6, 0.6, 1);
 //! let plane = Plane::new(x, y, Along::X).unwrap();
 //! // The up sweep of the one line: each cell from the previous one's end state.
-//! let line = grid::line(&plane, &setup, SweepKind::Up, 0, None, &Silent).unwrap();
+//! let line = grid::line(&plane, &setup, SweepKind::Up, 0, None, &Quiet).unwrap();
 //! assert_eq!(line.cells[1].labels[0].to_string(), "1-4-4"); // M1 at omega = 0.33
 //! ```
 #![deny(missing_docs)]
@@ -41,6 +41,7 @@ pub mod basins;
 mod cell;
 pub mod curves;
 mod error;
+mod observer;
 mod run;
 pub mod schedule;
 mod study;
@@ -59,5 +60,6 @@ pub use run::{line, run, validate};
 fn pool(threads: usize) -> Result<rayon::ThreadPool, GridError> {
     rayon::ThreadPoolBuilder::new().num_threads(threads).build().map_err(|e| GridError::field("threads", e.to_string()))
 }
+pub use observer::{Begin, Observer, Quiet};
 pub use study::{Study, MAX_VALUES};
-pub use sweep::{chain, chain_from, Progress, Silent};
+pub use sweep::{chain, chain_from};

@@ -5,7 +5,8 @@
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
-use crate::sweep::{chain_from, Progress};
+use crate::observer::Observer;
+use crate::sweep::chain_from;
 use maps::{Entries, Line, Plane, SweepKind};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -39,7 +40,7 @@ pub fn line(
     sweep: SweepKind,
     index: usize,
     entry: Option<&[f64]>,
-    progress: &dyn Progress,
+    progress: &dyn Observer,
 ) -> Result<Line, GridError> {
     let len = plane.line_len();
     let point = |pos: usize| {
@@ -79,7 +80,7 @@ pub fn run(
     jobs: &[(SweepKind, usize)],
     entries: &Entries,
     threads: usize,
-    progress: &dyn Progress,
+    progress: &dyn Observer,
     sink: &(dyn Fn(Line) + Sync),
 ) -> Result<(), GridError> {
     let pool = crate::pool(threads)?;

@@ -5,32 +5,15 @@
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
+use crate::observer::Observer;
 use maps::CellData;
-
-/// Receives progress in cells (a progress bar), and may ask the work to stop.
-pub trait Progress: Sync {
-    /// `cells` more cells are done.
-    fn advance(&self, cells: u64);
-    /// Whether the work should stop: asked before every cell, so that a run
-    /// ends within one cell's time ([`GridError::Cancelled`]). Never, by default.
-    fn cancelled(&self) -> bool {
-        false
-    }
-}
-
-/// A progress sink that shows nothing.
-#[derive(Debug, Default, Clone, Copy)]
-pub struct Silent;
-impl Progress for Silent {
-    fn advance(&self, _cells: u64) {}
-}
 
 /// Runs cells in the given order, each from the previous cell's final state
 /// (the first from the scene's initial state).
 pub fn chain(
     setup: &CellSetup,
     points: &[Vec<(String, f64)>],
-    progress: &dyn Progress,
+    progress: &dyn Observer,
 ) -> Result<Vec<CellData>, GridError> {
     chain_from(setup, points, None, progress)
 }
@@ -41,7 +24,7 @@ pub fn chain_from(
     setup: &CellSetup,
     points: &[Vec<(String, f64)>],
     first: Option<&[f64]>,
-    progress: &dyn Progress,
+    progress: &dyn Observer,
 ) -> Result<Vec<CellData>, GridError> {
     let mut out: Vec<CellData> = Vec::with_capacity(points.len());
     for p in points {

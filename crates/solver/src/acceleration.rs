@@ -12,7 +12,7 @@ use crate::budget::Budget;
 use crate::contact::Contact;
 use crate::newton::{fixed_point, Pattern, Solution};
 use crate::period::{distance, History};
-use crate::simulate::{Observer, Simulator};
+use crate::simulate::{EventObserver, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 
@@ -127,7 +127,7 @@ fn heading_to(h: &History, n: usize, y: &DVector<f64>, sol: &Solution, to_go: f6
 /// simulated.
 fn within_margin(probe: &mut Simulator<'_>, sol: &Solution, n: usize, y: &DVector<f64>) -> Option<bool> {
     struct Gaps<'a>(&'a System, Vec<f64>);
-    impl Observer for Gaps<'_> {
+    impl EventObserver for Gaps<'_> {
         fn sample(&mut self, _t: f64, y: &DVector<f64>) {
             // A soft stop pressed all along keeps its distance from the clearance.
             for (k, g) in self.1.iter_mut().enumerate() {

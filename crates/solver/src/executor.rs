@@ -1226,7 +1226,7 @@ impl<'s> Executor<'s> {
             _ => {
                 let (start, impacts) = (&cell.window_start, &cell.impacts);
                 let mut ignore = crate::simulate::Ignore;
-                let also: &mut dyn crate::simulate::Observer = match meter.as_mut() {
+                let also: &mut dyn crate::simulate::EventObserver = match meter.as_mut() {
                     Some(meter) => meter,
                     None => &mut ignore,
                 };

@@ -28,7 +28,7 @@ use crate::extremum::peak;
 use crate::flow::Method;
 use crate::newton::evaluate;
 use crate::orbit::Orbit;
-use crate::simulate::{EventKind, Halt, Observer, Segment, Simulator};
+use crate::simulate::{EventKind, EventObserver, Halt, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 use std::f64::consts::TAU;
@@ -190,7 +190,7 @@ fn switching(sys: &System, k: usize, pressed: u32, y: &DVector<f64>) -> f64 {
     }
 }
 
-impl Observer for Margins<'_> {
+impl EventObserver for Margins<'_> {
     fn wants_segments(&self) -> bool {
         self.side == Side::Approach || self.stops.iter().any(|&k| !self.sys.stops[k].law.impacts())
     }

@@ -29,7 +29,7 @@
 //!   mass, [`Mask`]s of stops that chattered or stuck, [`Symmetry`],
 //!   stability, and an [`Unresolved`] reason where it has no class.
 //! - Motions: a [`Simulator`] runs period by period ([`PeriodRecord`]) and
-//!   tells an [`Observer`] what happens ([`EventKind`]), or [`Halt`]s.
+//!   tells an [`EventObserver`] what happens ([`EventKind`]), or [`Halt`]s.
 //! - Stability: [`orbit_of_cell`] and [`solve`] find periodic orbits,
 //!   [`multipliers`] their Floquet multipliers, [`Exponent`] the largest
 //!   Lyapunov exponent of any motion, with its confidence [`Interval`].
@@ -100,5 +100,5 @@ pub use newton::{solve, Limits, MapKind, Solution};
 /// Complex numbers of Floquet multipliers.
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};
-pub use simulate::{EventKind, Halt, Ignore, Observer, PeriodRecord, Segment, Simulator};
+pub use simulate::{EventKind, EventObserver, Halt, Ignore, PeriodRecord, Segment, Simulator};
 pub use system::{System, ADMISSIBLE_PENETRATION, FASTEST_FORCING, LARGEST_MAGNITUDE};

@@ -7,7 +7,7 @@ use crate::floquet::multipliers;
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Mask, MassLabel, Symmetry};
 use crate::newton::{try_solve, Failure, Limits, MapKind, Pattern, Solution};
-use crate::simulate::{Both, Ignore, Observer, Simulator};
+use crate::simulate::{Both, EventObserver, Ignore, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
@@ -64,7 +64,7 @@ struct Impacts {
     list: Vec<(f64, usize, DVector<f64>, DVector<f64>)>,
 }
 
-impl Observer for Impacts {
+impl EventObserver for Impacts {
     fn impact(&mut self, t: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
         self.list.push((t, stop, before.clone(), after.clone()));
     }
@@ -84,7 +84,7 @@ fn describe_in(
     solution: Solution,
     map: MapKind,
     n: usize,
-    watch: &mut dyn Observer,
+    watch: &mut dyn EventObserver,
 ) -> Orbit {
     let map_multipliers = multipliers(&solution.jacobian);
     let mut full: Vec<C64> = match map {
@@ -141,7 +141,7 @@ pub(crate) fn solve_orbit_watched(
     map: MapKind,
     n: usize,
     pattern: Option<&Pattern>,
-    watch: &mut dyn Observer,
+    watch: &mut dyn EventObserver,
 ) -> Result<Orbit, Failure> {
     let mut sim = Simulator::new(sys, *acc, Method::Exact, x0.as_slice()).map_err(|_| Failure::Simulation)?;
     let solution = try_solve(&mut sim, x0, map, pattern, ORBIT_LIMITS)?;

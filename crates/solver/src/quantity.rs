@@ -33,7 +33,7 @@ use crate::contact::{Contact, Spring};
 use crate::error::SolverError;
 use crate::extremum::peak;
 use crate::flow::Method;
-use crate::simulate::{Halt, Observer, Segment, Simulator};
+use crate::simulate::{EventObserver, Halt, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
 use scene::{Operand, Scales};
@@ -618,7 +618,7 @@ impl<'s> Meter<'s> {
     }
 }
 
-impl Observer for Meter<'_> {
+impl EventObserver for Meter<'_> {
     fn impact(&mut self, _time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
         if self.time >= self.limit {
             return;

@@ -7,7 +7,7 @@
 //! ([`record_window`], called by [`crate::run_cell_with_sections`]),
 //! so nothing is stored unless asked.
 
-use crate::simulate::{Both, Observer, Simulator};
+use crate::simulate::{Both, EventObserver, Simulator};
 use nalgebra::DVector;
 
 /// Records up to `cap` impacts per stop: `[phase, x…, v…]` just before impact.
@@ -26,7 +26,7 @@ impl ImpactRecorder {
     }
 }
 
-impl Observer for ImpactRecorder {
+impl EventObserver for ImpactRecorder {
     fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, _after: &DVector<f64>) {
         if self.rows[stop].len() < self.cap {
             let mut row = Vec::with_capacity(before.len() + 1);
@@ -50,7 +50,7 @@ pub(crate) fn record_window(
     periods: usize,
     impacts: &[u32],
     cap: usize,
-    also: &mut dyn Observer,
+    also: &mut dyn EventObserver,
 ) -> (Vec<Vec<Vec<f64>>>, Option<usize>) {
     let sys = sim.system();
     let mut rec = ImpactRecorder::new(sys.stops.len(), sys.period, cap);

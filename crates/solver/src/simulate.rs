@@ -28,22 +28,22 @@ pub(crate) const EVENT_WORK: u64 = 1000;
 
 /// Receives what happens during a simulation; section recorders and traces are
 /// observers, so nothing is stored unless asked.
-pub trait Observer {
+pub trait EventObserver {
     /// An impact at `stop` at absolute time `time`, states before and after.
     fn impact(&mut self, _time: f64, _stop: usize, _before: &DVector<f64>, _after: &DVector<f64>) {}
     /// Any event (impact, stick, release) after it was handled.
     fn event(&mut self, _time: f64, _y: &DVector<f64>) {}
-    /// The same event with what it was (after [`Observer::event`]).
+    /// The same event with what it was (after [`EventObserver::event`]).
     fn named_event(&mut self, _time: f64, _kind: EventKind, _y: &DVector<f64>) {}
     /// A requested sample time within a period was reached.
     fn sample(&mut self, _time: f64, _y: &DVector<f64>) {}
-    /// Whether the observer takes every flow segment ([`Observer::segment`]).
+    /// Whether the observer takes every flow segment ([`EventObserver::segment`]).
     fn wants_segments(&self) -> bool {
         false
     }
     /// A flow segment of the exact flow, just flown and before the event
     /// that ends it is handled: its closed form evaluates the state anywhere
-    /// within it. Only when [`Observer::wants_segments`]; RK4's steps have
+    /// within it. Only when [`EventObserver::wants_segments`]; RK4's steps have
     /// no closed form and give none.
     fn segment(&mut self, _segment: &mut Segment<'_>) {}
 }
@@ -156,12 +156,12 @@ impl EventKind {
 /// An observer that keeps nothing.
 #[derive(Debug, Default, Clone, Copy)]
 pub struct Ignore;
-impl Observer for Ignore {}
+impl EventObserver for Ignore {}
 
 /// Two observers of one simulation, each told everything in turn.
-pub(crate) struct Both<'a>(pub &'a mut dyn Observer, pub &'a mut dyn Observer);
+pub(crate) struct Both<'a>(pub &'a mut dyn EventObserver, pub &'a mut dyn EventObserver);
 
-impl Observer for Both<'_> {
+impl EventObserver for Both<'_> {
     fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
         self.0.impact(time, stop, before, after);
         self.1.impact(time, stop, before, after);
@@ -494,7 +494,12 @@ impl<'s> Simulator<'s> {
     /// Simulates one forcing period. `samples` are extra times within the period
     /// (ascending, in `(0, T)`) at which the observer gets the state; with `half`
     /// the record keeps the state at `T/2`.
-    pub fn run_period(&mut self, samples: &[f64], half: bool, obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
+    pub fn run_period(
+        &mut self,
+        samples: &[f64],
+        half: bool,
+        obs: &mut dyn EventObserver,
+    ) -> Result<PeriodRecord, Halt> {
         let period = self.sys.period;
         let mut rec = self.new_record();
         let mut targets = std::mem::take(&mut self.buffers.targets);
@@ -521,7 +526,11 @@ impl<'s> Simulator<'s> {
     /// at the time of an event gets the state after it. With RK4, whose
     /// segments have no closed form, the steps stop at the samples as in
     /// [`Simulator::run_period`].
-    pub(crate) fn run_period_sampled(&mut self, samples: &[f64], obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
+    pub(crate) fn run_period_sampled(
+        &mut self,
+        samples: &[f64],
+        obs: &mut dyn EventObserver,
+    ) -> Result<PeriodRecord, Halt> {
         debug_assert!(samples.windows(2).all(|w| w[0] < w[1]), "samples must be strictly ascending");
         if self.method != Method::Exact {
             return self.run_period(samples, false, obs);
@@ -550,7 +559,7 @@ impl<'s> Simulator<'s> {
     /// Closes the period just simulated: the clock restarts, the record gets
     /// the end state, the observer its sample at the period's end.
     /// A state that is no longer finite (an overflow) halts the simulation.
-    fn end_period(&mut self, mut rec: PeriodRecord, obs: &mut dyn Observer) -> Result<PeriodRecord, Halt> {
+    fn end_period(&mut self, mut rec: PeriodRecord, obs: &mut dyn EventObserver) -> Result<PeriodRecord, Halt> {
         if let Some(v) = self.y.iter().find(|v| !v.is_finite()) {
             return Err(Halt::Error(SolverError::OutOfRange {
                 message: format!("the state became {v} after {} periods (an overflow)", self.periods),
@@ -576,7 +585,7 @@ impl<'s> Simulator<'s> {
         inside: &[f64],
         half: bool,
         rec: &mut PeriodRecord,
-        obs: &mut dyn Observer,
+        obs: &mut dyn EventObserver,
     ) -> Result<(), Halt> {
         let sys = self.sys;
         let period = sys.period;
@@ -724,7 +733,7 @@ impl<'s> Simulator<'s> {
         kind: GuardKind,
         stop: usize,
         rec: &mut PeriodRecord,
-        obs: &mut dyn Observer,
+        obs: &mut dyn EventObserver,
     ) -> Result<(), Halt> {
         let (sys, bit) = (self.sys, 1 << stop);
         let phase = self.phase();
@@ -751,7 +760,7 @@ impl<'s> Simulator<'s> {
         kind: GuardKind,
         stop: usize,
         rec: &mut PeriodRecord,
-        obs: &mut dyn Observer,
+        obs: &mut dyn EventObserver,
     ) -> Result<(), Halt> {
         let sys = self.sys;
         self.applied.clear();
@@ -874,7 +883,7 @@ mod tests {
     /// Every event, named.
     #[derive(Default)]
     struct Names(Vec<EventKind>, Vec<(usize, DVector<f64>, DVector<f64>)>);
-    impl Observer for Names {
+    impl EventObserver for Names {
         fn impact(&mut self, _t: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
             self.1.push((stop, before.clone(), after.clone()));
         }
@@ -886,7 +895,7 @@ mod tests {
     /// Every sample, with its time.
     #[derive(Default)]
     struct Samples(Vec<(f64, DVector<f64>)>);
-    impl Observer for Samples {
+    impl EventObserver for Samples {
         fn sample(&mut self, t: f64, y: &DVector<f64>) {
             self.0.push((t, y.clone()));
         }

@@ -3,7 +3,7 @@
 //! tests (`tests/util.rs`) include this file too, so that both test targets
 //! share one copy.
 
-use solver::{Accuracy, DVector, Method, Observer, Simulator, System};
+use solver::{Accuracy, DVector, EventObserver, Method, Simulator, System};
 use std::path::{Path, PathBuf};
 
 /// Path of a shipped scene, `configs/<name>` at the workspace's root (found
@@ -31,14 +31,14 @@ pub struct Impact {
     pub after: DVector<f64>,
 }
 
-/// Observer keeping every impact and every event state.
+/// EventObserver keeping every impact and every event state.
 #[derive(Debug, Default)]
 pub struct Recorder {
     pub impacts: Vec<Impact>,
     pub events: Vec<(f64, DVector<f64>)>,
 }
 
-impl Observer for Recorder {
+impl EventObserver for Recorder {
     fn impact(&mut self, time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
         self.impacts.push(Impact { time, stop, before: before.clone(), after: after.clone() });
     }

@@ -52,7 +52,7 @@ fn free_single_stop(zeta: f64, omega: f64, x0: f64, t: f64) -> f64 {
 #[derive(Default)]
 struct FirstImpact(Option<f64>);
 
-impl solver::Observer for FirstImpact {
+impl solver::EventObserver for FirstImpact {
     fn impact(&mut self, time: f64, _: usize, _: &solver::DVector<f64>, _: &solver::DVector<f64>) {
         self.0.get_or_insert(time);
     }
@@ -113,7 +113,7 @@ fn oscillator((m, c, k, p): (f64, f64, f64, f64), omega: f64, (x0, v0): (f64, f6
 #[derive(Default)]
 struct FirstEvent(Option<f64>);
 
-impl solver::Observer for FirstEvent {
+impl solver::EventObserver for FirstEvent {
     fn event(&mut self, time: f64, _: &solver::DVector<f64>) {
         self.0.get_or_insert(time);
     }

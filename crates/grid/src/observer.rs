@@ -1,5 +1,7 @@
 //! What a run tells its caller while it computes, and how the caller stops
-//! it: an [`Observer`] (the CLI's progress bar, Python's tqdm loop, nothing).
+//! it: an [`Observer`] (the CLI's progress bar, Python's tqdm loop, the
+//! explorer's job, nothing), the one trait every run of the grid and the
+//! engine reports to.
 
 /// The work of a plane run, told once before the first cell.
 #[derive(Debug, Clone, Copy)]
@@ -11,7 +13,7 @@ pub struct Begin<'a> {
     /// The line of each job, in the order the workers take them.
     pub lines: &'a [usize],
     /// Each job's probed cost in forcing periods, when probed
-    /// (`grid::schedule::probe`).
+    /// ([`crate::schedule::probe`]).
     pub prior: Option<&'a [f64]>,
     /// Cells per line.
     pub line_len: usize,
@@ -42,15 +44,3 @@ pub trait Observer: Sync {
 #[derive(Debug, Default, Clone, Copy)]
 pub struct Quiet;
 impl Observer for Quiet {}
-
-/// An observer as the grid's progress sink.
-pub(crate) struct Observed<'a>(pub &'a dyn Observer);
-
-impl grid::Progress for Observed<'_> {
-    fn advance(&self, cells: u64) {
-        self.0.advance(cells);
-    }
-    fn cancelled(&self) -> bool {
-        self.0.cancelled()
-    }
-}
