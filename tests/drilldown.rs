@@ -144,7 +144,11 @@ fn a_stored_cells_attractors_are_those_of_its_parameters() {
     let f = up_atlas("attractors-stored", "omega=0.3:0.33:3", "delta=0.7:0.8:2");
     let f = f.to_str().unwrap();
     let samples = ["--samples", "12", "--threads", "1", "--json"];
-    let of_cell = json_of(&[&["attractors", "--from", f, "--at", "omega=0.3149,delta=0.71"][..], &samples].concat());
+    let at = ["attractors", "--from", f, "--at", "omega=0.3149,delta=0.71"];
+    let of_cell = json_of(&[&at[..], &samples].concat());
+    let said = run(&[&at[..], &["--samples", "4"]].concat());
+    let note = String::from_utf8_lossy(&said.stderr);
+    assert!(note.contains("note: --at: the stored cell nearest to omega=0.3149,delta=0.71 is omega="), "{note}");
     let scene = ["attractors", "configs/multi-stop.toml", "--set", "omega=0.315", "--set", "delta=0.7"];
     assert_eq!(of_cell, json_of(&[&scene[..], &samples].concat()), "the nearest cell's parameters");
     let state = run(&["attractors", "configs/multi-stop.toml", "--state", "0,0,0,0", "--samples", "4"]);

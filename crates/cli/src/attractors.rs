@@ -26,6 +26,7 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         threads: engine::threads(a.threads)?,
     };
     let res = engine::attractors(&r, &engine::Quiet)?;
+    crate::common::tell(res.warning.as_ref(), res.note.as_ref());
     let found = &res.found;
     let label = |a: &grid::attractors::Attractor| res.labels(a);
     if let Some(png) = &a.png {

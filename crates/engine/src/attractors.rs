@@ -55,6 +55,11 @@ pub struct Attractors {
     pub sampling: Sampling,
     /// The attractors, the most frequent first.
     pub found: Vec<Attractor>,
+    /// A warning about the point (the scene differs from a stored one).
+    pub warning: Option<String>,
+    /// Which stored cell `--at` took, where it is off the values given
+    /// ([`crate::Origin::note`]).
+    pub note: Option<String>,
 }
 
 /// Finds the coexisting attractors of a point, reporting each sample done to
@@ -64,7 +69,7 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
         let what = "the attractors sample their own start states: give a stored cell or the scene's point";
         return Err(RequestError::option(Opt::State).text(what).into());
     }
-    let (s, _) = r.sim.setup_from(&r.point)?;
+    let (s, origin) = r.sim.setup_from(&r.point)?;
     let k = r.sampling.samples;
     if k == 0 || k > MAX_SAMPLES {
         return Err(RequestError::option(Opt::Samples).text(format!("expected 1 to {MAX_SAMPLES}, got {k}")).into());
@@ -81,7 +86,8 @@ pub fn attractors(r: &AttractorsRequest, observer: &dyn Observer) -> Result<Attr
     observer.finish();
     let found = found?;
     let system = cs.system(&[])?;
-    Ok(Attractors { system, sampling: r.sampling, found })
+    let (warning, note) = origin.map_or((None, None), |o| (o.warning, o.note));
+    Ok(Attractors { system, sampling: r.sampling, found, warning, note })
 }
 
 impl Attractors {
