@@ -429,3 +429,27 @@ fn a_journal_deleted_during_the_run_gives_a_warning_and_exit_0() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     complete(&f);
 }
+
+/// A study that fails before its first atlas is written (here past the
+/// file size limit) removes the folder it created, and says so in one line
+/// (issue 63: the study's run is the engine's, `StudyPlan::run`).
+#[test]
+fn a_study_that_writes_nothing_removes_the_folder_it_made() {
+    let d = scratch("study-unwritten");
+    let s = study_file(&d, "one.toml", "[0.25]", 40, 30);
+    let out = d.join("made/here");
+    let limited = Command::new("sh")
+        .arg("-c")
+        .arg("ulimit -f 16; exec \"$0\" \"$@\"")
+        .arg(env!("CARGO_BIN_EXE_vibroatlas"))
+        .args(["study", &s, "-o", out.to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&limited.stderr);
+    assert_eq!(limited.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    let removed = format!("; nothing was written: {}, which the study had created, is removed", d.join("made").display());
+    assert!(err.contains("File too large") && err.trim_end().ends_with(&removed), "{err}");
+    assert!(!d.join("made").exists(), "the folder is removed");
+    std::fs::remove_dir_all(&d).unwrap();
+}

@@ -31,6 +31,10 @@ fn error_text(e: &(dyn std::error::Error + 'static)) -> String {
         Some(engine::Error::Request(r)) => return error_text(r),
         Some(engine::Error::Store(s)) => return error_text(s),
         Some(engine::Error::Render(r)) => return error_text(r),
+        Some(engine::Error::Unwritten { cause, folder }) => {
+            let cause: Vec<String> = engine::causes(cause.as_ref()).map(error_text).collect();
+            return engine::unwritten_text(&cause.join(": "), folder);
+        }
         _ => {}
     }
     if let Some(r) = e.downcast_ref::<engine::RequestError>() {

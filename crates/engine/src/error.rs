@@ -383,6 +383,26 @@ pub enum Error {
         /// Why it stopped, with the time and state.
         why: String,
     },
+    /// A folder that cannot be made.
+    #[error("cannot create {}", path.display())]
+    Uncreatable {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        cause: std::io::Error,
+    },
+    /// A study that failed before its first atlas was written, and the
+    /// folder it had created for its files, removed (its message is the
+    /// cause's, then what was removed: a front end words the cause's chain
+    /// as its own, [`crate::causes`]).
+    #[error("{}", unwritten_text(&chain_text(cause.as_ref()), folder))]
+    Unwritten {
+        /// Why the study failed.
+        cause: Box<Error>,
+        /// The folder removed.
+        folder: PathBuf,
+    },
     /// The observer asked the run to stop ([`crate::Observer::cancelled`]).
     #[error("cancelled")]
     Cancelled,
@@ -446,6 +466,12 @@ pub fn in_words(e: &Error, w: &dyn Words) -> String {
         _ => c.downcast_ref::<RequestError>().map_or_else(|| c.to_string(), |r| r.in_words(w)),
     };
     causes(e).map(one).collect::<Vec<_>>().join(": ")
+}
+
+/// The text of an [`Error::Unwritten`] whose cause reads `cause` (its chain,
+/// in a front end's words).
+pub fn unwritten_text(cause: &str, folder: &std::path::Path) -> String {
+    format!("{cause}; nothing was written: {}, which the study had created, is removed", folder.display())
 }
 
 /// The text of an error and its causes, joined by `: `: for a message that

@@ -11,6 +11,7 @@
 //! | [`attractors()`] | [`AttractorsRequest`] | [`Attractors`] (`to_json`: `attractors --json`) |
 //! | [`curve()`] | [`CurveRequest`] | [`FollowedCurve`] (`to_json`: `curve --json`) |
 //! | [`merge()`] | [`MergeRequest`] | [`store::Merged`] (the atlas written) |
+//! | [`study()`], then [`StudyPlan::run`] | the study file | one atlas and map per value, and their contact sheet |
 //! | [`bench::bench()`] | [`bench::BenchRequest`] | [`bench::Bench`] (`to_json`: `bench --json`) |
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
@@ -72,7 +73,9 @@ pub use curve::{
     curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
     CurvesReport, CurvesRequest, FollowedCurve, MapCurves, Side, Sides, DEFAULT_STEPS, DEFAULT_WINDOW,
 };
-pub use error::{causes, grid_error, in_words, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words};
+pub use error::{
+    causes, grid_error, in_words, unwritten_text, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words,
+};
 pub use grid::{Begin, Observer, Quiet};
 pub use merge::{merge, MergeRequest};
 pub use orbit::{
@@ -83,7 +86,7 @@ pub use pictures::{draw_basins, portrait, section_panels};
 pub use plan::{threads, Executed, Plan};
 pub use record::CellRecord;
 pub use sim::{check_period, labels_of, parameters_of, Origin, SceneSource, Setup, Sim, Source, Start};
-pub use study::{sheet_panel, study, StudyPlan};
+pub use study::{sheet_panel, study, StudyAtlas, StudyPlan};
 pub use summary::{
     reasons, AxisReport, ClassCounts, Extreme, HysteresisCounts, InspectReport, ParentReport, QuantityExtremes,
     QuantityReport, ReasonCount, Summary, SummaryReport, SweepCounts, SweepSummary, CLASSES,

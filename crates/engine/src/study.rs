@@ -2,15 +2,17 @@
 //! whole checked before any atlas is computed, as `atlas` checks its own: at
 //! most [`grid::MAX_VALUES`] values, every value's scene and plane
 //! ([`Plan::check`]), and the memory of one atlas at a time beside the
-//! contact sheet's panels ([`Plan::check_memory_beside`]). A finished atlas
-//! is kept only as its panel ([`sheet_panel`]: the drawn sweep's labels, no
-//! states or sections).
+//! contact sheet's panels ([`Plan::check_memory_beside`]); then run into a
+//! folder ([`StudyPlan::run`]): each atlas, its map, and the contact sheet
+//! of them all. A finished atlas is kept only as its panel ([`sheet_panel`]:
+//! the drawn sweep's labels, no states or sections).
 
 use crate::error::{Error, Result};
 use crate::plan::Plan;
 use crate::sim::{SceneSource, Sim};
 
-use grid::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Study, SweepKind};
+use grid::{Along, Atlas, Axis, CellData, Map, Meta, Observer, Plane, Study, SweepKind};
+use render::View;
 use std::path::{Path, PathBuf};
 
 /// A study, checked: one plan per value.
@@ -18,6 +20,8 @@ use std::path::{Path, PathBuf};
 pub struct StudyPlan {
     /// The study file's contents.
     pub study: Study,
+    /// The study file.
+    pub file: PathBuf,
     /// The scene file (beside the study file).
     pub scene: PathBuf,
     /// The sweeps of every atlas (the first is drawn).
@@ -69,7 +73,85 @@ pub fn study(
         let held = plans.len() as u64 * panel_bytes(&plan.meta);
         plan.check_memory_beside(held, &format!(" (and the contact sheet's {} maps)", plans.len()))?;
     }
-    Ok(StudyPlan { study, scene, sweeps, plans })
+    Ok(StudyPlan { study, file: file.to_path_buf(), scene, sweeps, plans })
+}
+
+/// One atlas of a study, written (as [`StudyPlan::run`] tells it).
+#[derive(Debug)]
+pub struct StudyAtlas<'a> {
+    /// Its name in the folder ([`Study::stem`], `mu_k=0.1`): its file is
+    /// `STEM.h5`, its map `STEM.png`.
+    pub stem: &'a str,
+    /// Cells computed, every sweep's.
+    pub cells: usize,
+    /// Seconds its run took.
+    pub secs: f64,
+    /// Its map.
+    pub map: &'a Path,
+}
+
+impl StudyPlan {
+    /// Runs the study into the folder `output` (made where missing): per
+    /// value its atlas `STEM.h5` and the map of its first sweep `STEM.png`,
+    /// drawn on `page`, then `contact-sheet.png` of every map, whose path it
+    /// returns. Each atlas reports to the observer that `observer` makes for
+    /// its stem, and is told to `written` once its map is drawn. A folder the
+    /// study created is removed when the study fails before its first atlas
+    /// is written ([`Error::Unwritten`]).
+    pub fn run(
+        self,
+        output: &Path,
+        page: &render::Page,
+        observer: &dyn Fn(&str) -> Box<dyn Observer>,
+        written: &mut dyn FnMut(&StudyAtlas<'_>),
+    ) -> Result<PathBuf> {
+        if output.exists() && !output.is_dir() {
+            return Err(Error::file(output, "exists and is not a folder; give a folder for the study's files", None));
+        }
+        let created =
+            store::create_folder(output).map_err(|cause| Error::Uncreatable { path: output.to_path_buf(), cause })?;
+        let mut any = false;
+        let done = self.run_into(output, page, observer, &mut |atlas| {
+            any = true;
+            written(atlas);
+        });
+        match (done, created) {
+            (Err(cause), Some(folder)) if !any => match std::fs::remove_dir_all(&folder) {
+                Ok(()) => Err(Error::Unwritten { cause: Box::new(cause), folder }),
+                Err(_) => Err(cause),
+            },
+            (done, _) => done,
+        }
+    }
+
+    /// [`StudyPlan::run`] in the folder `output`, there.
+    fn run_into(
+        self,
+        output: &Path,
+        page: &render::Page,
+        observer: &dyn Fn(&str) -> Box<dyn Observer>,
+        written: &mut dyn FnMut(&StudyAtlas<'_>),
+    ) -> Result<PathBuf> {
+        let StudyPlan { study, file, scene, sweeps, mut plans } = self;
+        for (v, plan) in &mut plans {
+            let out = output.join(format!("{}.h5", study.stem(*v)));
+            store::check_output(&out, &[&scene, &file])?;
+            plan.output = Some(store::canonical_output(&out)?);
+        }
+        let mut panels = Vec::new();
+        for (v, plan) in plans {
+            let stem = study.stem(v);
+            let run = plan.execute(observer(&stem).as_ref())?;
+            let map = output.join(format!("{stem}.png"));
+            store::write_atomically(&map, |tmp| render::map(&run.atlas, View::Sweep(sweeps[0]), 0, &[], page, tmp))?;
+            let cells = plan.meta.plane.cells() * sweeps.len();
+            written(&StudyAtlas { stem: &stem, cells, secs: run.secs, map: &map });
+            panels.push((format!("{} = {v}", study.parameter), sheet_panel(run.atlas, sweeps[0])));
+        }
+        let sheet = output.join("contact-sheet.png");
+        store::write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, page, tmp))?;
+        Ok(sheet)
+    }
 }
 
 /// What the contact sheet needs of a finished atlas: the map of the sweep it
