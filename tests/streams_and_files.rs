@@ -448,7 +448,8 @@ fn a_study_that_writes_nothing_removes_the_folder_it_made() {
     let err = String::from_utf8_lossy(&limited.stderr);
     assert_eq!(limited.status.code(), Some(2), "{err}");
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    let removed = format!("; nothing was written: {}, which the study had created, is removed", d.join("made").display());
+    let removed =
+        format!("; nothing was written: {}, which the study had created, is removed", d.join("made").display());
     assert!(err.contains("File too large") && err.trim_end().ends_with(&removed), "{err}");
     assert!(!d.join("made").exists(), "the folder is removed");
     std::fs::remove_dir_all(&d).unwrap();

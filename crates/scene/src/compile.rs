@@ -1,0 +1,422 @@
+//! Reading a scene file once ([`Scene::parse`]): its TOML parsed, every name
+//! resolved and checked (HDF5's rules for the names that become groups,
+//! uniqueness, the reserved names), every expression compiled, the
+//! parameters put in an order that evaluates each after those it depends on,
+//! and the sizes bounded ([`crate::MAX_MASSES`], [`crate::MAX_STOPS`],
+//! [`crate::MAX_FRICTION`]).
+
+use crate::expr::{self, Compiled, Names, Range};
+use crate::schema::{self, Num, ParamSpec, SceneFile};
+use crate::symbol;
+use crate::{
+    CompiledLaw, CompiledMass, Derived, Scales, Scene, SceneError, StopPlace, MAX_FRICTION, MAX_HARMONIC, MAX_MASSES,
+    MAX_NAME_CHARS, MAX_STOPS,
+};
+
+impl Scene {
+    /// Parses a scene from TOML text, resolving names and compiling expressions.
+    pub fn parse(text: &str) -> Result<Scene, SceneError> {
+        let file: SceneFile = toml::from_str(text)
+            .map_err(|e| SceneError::Syntax { message: e.to_string().trim().replace('\n', " ") })?;
+        at_most("masses", "masses", file.masses.len(), MAX_MASSES)?;
+        at_most("stops", "stops", file.stops.len(), MAX_STOPS)?;
+        at_most("friction", "friction contacts", file.friction.len(), MAX_FRICTION)?;
+        let names: Vec<String> = file.parameters.keys().cloned().collect();
+        let index = Names::new(&names);
+        for n in &names {
+            expr::valid_parameter_name(n).map_err(|why| SceneError::field(format!("parameters.{n}"), why))?;
+        }
+        let params = compile_params(&file, &index)?;
+        let c = |n: &Num, f: String| Compiled::new(n, &index, &f);
+
+        if file.masses.is_empty() {
+            return Err(SceneError::field("masses", "a scene needs at least one mass"));
+        }
+        let mass_names: Vec<String> = file.masses.iter().map(|m| m.name.clone()).collect();
+        unique(&mass_names, "masses")?;
+        let masses = compile_masses(&file, &index)?;
+        let mass = |name: &str, field: String| index_of(&mass_names, name, || field, "mass");
+        let links = compile_links(&file, &index, &mass_names)?;
+        let stop_names: Vec<String> = file.stops.iter().map(|s| s.name.clone()).collect();
+        unique(&stop_names, "stops")?;
+        let stops = file
+            .stops
+            .iter()
+            .enumerate()
+            .map(|(i, st)| Ok((compile_stop(i, st, &index, &mass_names)?, compile_law(i, st, &index)?)))
+            .collect::<Result<Vec<_>, SceneError>>()?;
+        check_combination(&file, &stops.iter().map(|(_, l)| l.clone()).collect::<Vec<_>>())?;
+        let friction = compile_friction(&file, &index, &mass_names)?;
+
+        let mut labels = Vec::new();
+        for (name, spec) in &file.labels {
+            let m = mass(name, format!("labels.{name}"))?;
+            let stop = |s: &Option<String>, k: &str| {
+                s.as_deref().map(|s| index_of(&stop_names, s, || format!("labels.{name}.{k}"), "stop")).transpose()
+            };
+            labels.push((m, stop(&spec.p, "p")?, stop(&spec.q, "q")?));
+        }
+        labels.sort_by_key(|l| l.0);
+
+        let quantities = file
+            .quantities
+            .iter()
+            .map(|(name, spec)| Derived::compile(name, spec, &names))
+            .collect::<Result<_, SceneError>>()?;
+        let scales = std::sync::Arc::new(Scales::of(&file.scales)?);
+        let order = evaluation_order(&params);
+        let scene = Scene {
+            quantities,
+            scales,
+            source: text.to_string(),
+            omega: c(&file.forcing.omega, "forcing.omega".into())?,
+            tau: c(&file.forcing.phase, "forcing.phase".into())?,
+            names,
+            params,
+            masses,
+            links,
+            stops,
+            friction,
+            labels,
+            file,
+            order,
+        };
+        // Evaluate the defaults once so that a broken scene fails at load time.
+        scene.evaluate(&[])?;
+        Ok(scene)
+    }
+}
+
+/// Refuses a scene with more than `max` entries in `field`, with one line.
+fn at_most(field: &str, what: &str, count: usize, max: usize) -> Result<(), SceneError> {
+    if count > max {
+        return Err(SceneError::field(field, format!("at most {max} {what} are supported, got {count}")));
+    }
+    Ok(())
+}
+
+/// The order in which parameters are evaluated: each after the parameters
+/// its expression depends on, the smallest index first among those ready
+/// (Kahn's algorithm, linear in the parameters and their dependencies).
+/// Parameters on a circular definition, or depending on one, are left out.
+fn evaluation_order(params: &[(Compiled, Option<Range>)]) -> Vec<usize> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let n = params.len();
+    let mut waiting: Vec<usize> = params.iter().map(|(c, _)| c.dependencies().len()).collect();
+    let mut dependents: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for (i, (c, _)) in params.iter().enumerate() {
+        for &d in c.dependencies() {
+            dependents[d].push(i);
+        }
+    }
+    let mut ready: BinaryHeap<Reverse<usize>> = (0..n).filter(|&i| waiting[i] == 0).map(Reverse).collect();
+    let mut order = Vec::with_capacity(n);
+    while let Some(Reverse(i)) = ready.pop() {
+        order.push(i);
+        for &j in &dependents[i] {
+            waiting[j] -= 1;
+            if waiting[j] == 0 {
+                ready.push(Reverse(j));
+            }
+        }
+    }
+    order
+}
+
+pub(crate) fn index_of(
+    names: &[String],
+    name: &str,
+    field: impl FnOnce() -> String,
+    what: &str,
+) -> Result<usize, SceneError> {
+    names
+        .iter()
+        .position(|n| n == name)
+        .ok_or_else(|| SceneError::field(field(), format!("unknown {what} '{name}' (known: {})", names.join(", "))))
+}
+
+/// Why `name` cannot name a mass or stop, if it cannot: names become HDF5
+/// group and dataset names (`/up/impact_sections/A1`, `label_code_M1`), so
+/// they follow HDF5's and netCDF's rules for a path component.
+fn name_problem(name: &str) -> Option<String> {
+    if name.is_empty() {
+        return Some("must not be empty".into());
+    }
+    if name == "." || name == ".." {
+        return Some(format!("'{name}' is not a valid name (HDF5 group names cannot be '.' or '..')"));
+    }
+    if name.contains('/') {
+        return Some(format!("'{name}' must not contain '/' (it separates HDF5 groups)"));
+    }
+    if name.contains(',') {
+        return Some(format!("'{name}' must not contain ',' (it separates the names of a list in the file)"));
+    }
+    if name.chars().any(char::is_control) {
+        return Some(format!("{name:?} must not contain control characters"));
+    }
+    if name.trim() != name {
+        return Some(format!("'{name}' must not begin or end with spaces"));
+    }
+    let chars = name.chars().count();
+    if chars > MAX_NAME_CHARS {
+        return Some(format!("at most {MAX_NAME_CHARS} characters, got {chars}"));
+    }
+    None
+}
+
+/// Why `name` cannot name a mass (`masses`) or a stop (`stops`) of a file's
+/// layout, if it cannot: a sweep holds `label_<mass>`, `label_code_<mass>`
+/// and `label_colour`, and `sections/<stop>` beside `sections/period`.
+fn reserved(name: &str, field: &str) -> Option<String> {
+    let clash = match field {
+        "masses" => name == "colour" || name.starts_with("code_"),
+        _ => name == "period",
+    };
+    clash.then(|| {
+        let what = if field == "masses" { "'colour' or begin with 'code_'" } else { "'period'" };
+        format!("'{name}' is reserved: a file names its own datasets with it (a name must not be {what})")
+    })
+}
+
+fn unique(names: &[String], field: &str) -> Result<(), SceneError> {
+    for (i, n) in names.iter().enumerate() {
+        if let Some(problem) = name_problem(n).or_else(|| reserved(n, field)) {
+            return Err(SceneError::field(format!("{field}[{i}].name"), problem));
+        }
+        if names[..i].contains(n) {
+            return Err(SceneError::field(format!("{field}[{i}].name"), format!("duplicate name '{n}'")));
+        }
+    }
+    Ok(())
+}
+
+/// The compiled parameters of a scene file, with their ranges.
+fn compile_params(file: &SceneFile, index: &Names) -> Result<Vec<(Compiled, Option<Range>)>, SceneError> {
+    file.parameters
+        .iter()
+        .map(|(name, spec)| {
+            let field = format!("parameters.{name}");
+            let (num, range) = match spec {
+                ParamSpec::Plain(n) => (n, None),
+                ParamSpec::Ranged(r) => {
+                    if let Some(t) = &r.symbol {
+                        symbol::check_symbol(t, &format!("{field}.symbol"))?;
+                    }
+                    if let Some(t) = &r.long_name {
+                        symbol::check_long_name(t, &format!("{field}.long_name"))?;
+                    }
+                    (&r.value, r.range.as_deref().map(|t| Range::parse(t, &field)).transpose()?)
+                }
+            };
+            Ok((Compiled::new(num, index, &field)?, range))
+        })
+        .collect()
+}
+
+/// The order of a harmonic: a whole number from 1 to [`MAX_HARMONIC`],
+/// written as a number.
+fn harmonic_order(order: &Num, field: &str) -> Result<u32, SceneError> {
+    let range =
+        format!("a whole number from 1 to {MAX_HARMONIC} (the multiple of omega; the forcing period stays 2 pi/omega)");
+    match *order {
+        Num::Value(v) if v.fract() == 0.0 && (1.0..=f64::from(MAX_HARMONIC)).contains(&v) => Ok(v as u32),
+        Num::Value(v) => Err(SceneError::field(field, format!("must be {range}, got {v}"))),
+        Num::Expr(ref e) => Err(SceneError::field(field, format!("must be {range} written as a number, got '{e}'"))),
+    }
+}
+
+/// The compiled values of each mass.
+fn compile_masses(file: &SceneFile, index: &Names) -> Result<Vec<CompiledMass>, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    file.masses
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let harmonics = m
+                .harmonics
+                .iter()
+                .enumerate()
+                .map(|(j, h)| {
+                    let f = |k: &str| format!("masses[{i}].harmonics[{j}].{k}");
+                    Ok((
+                        harmonic_order(&h.order, &f("order"))?,
+                        c(&h.amplitude, f("amplitude"))?,
+                        c(&h.phase, f("phase"))?,
+                    ))
+                })
+                .collect::<Result<Vec<_>, SceneError>>()?;
+            Ok(CompiledMass {
+                mass: c(&m.mass, format!("masses[{i}].mass"))?,
+                force: c(&m.force, format!("masses[{i}].force"))?,
+                load: c(&m.load, format!("masses[{i}].load"))?,
+                x0: c(&m.x0, format!("masses[{i}].x0"))?,
+                v0: c(&m.v0, format!("masses[{i}].v0"))?,
+                harmonics,
+            })
+        })
+        .collect()
+}
+
+/// The links: masses (one: to the frame; two), stiffness and damping.
+type Links = Vec<(usize, Option<usize>, Compiled, Compiled)>;
+
+/// The compiled links of a scene file.
+fn compile_links(file: &SceneFile, index: &Names, mass_names: &[String]) -> Result<Links, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let mass = |name: &str, field: String| index_of(mass_names, name, || field, "mass");
+    file.links
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let f = format!("links[{i}].masses");
+            let (a, b) = match l.masses.as_slice() {
+                [a] => (mass(a, f)?, None),
+                [a, b] => {
+                    let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
+                    if a == b {
+                        return Err(SceneError::field(f, "a link cannot tie a mass to itself"));
+                    }
+                    (a, Some(b))
+                }
+                _ => return Err(SceneError::field(f, "give one mass (to the frame) or two")),
+            };
+            Ok((a, b, c(&l.stiffness, format!("links[{i}].stiffness"))?, c(&l.damping, format!("links[{i}].damping"))?))
+        })
+        .collect()
+}
+
+/// The law of stop `i` of a scene file: `restitution` (rigid) or `stiffness`
+/// and `damping` (soft), never both.
+fn compile_law(i: usize, s: &schema::StopSpec, index: &Names) -> Result<CompiledLaw, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let f = |k: &str| format!("stops[{i}].{k}");
+    let zero = Num::Value(0.0);
+    match (&s.restitution, &s.stiffness, &s.damping) {
+        (Some(r), None, None) => Ok(CompiledLaw::Rigid { restitution: c(r, f("restitution"))? }),
+        (None, None, None) => Err(SceneError::field(
+            format!("stops[{i}]"),
+            format!("stop {} needs `restitution` (a rigid stop) or `stiffness` and `damping` (a soft stop)", s.name),
+        )),
+        (None, k, d) => Ok(CompiledLaw::Soft {
+            stiffness: c(k.as_ref().unwrap_or(&zero), f("stiffness"))?,
+            damping: c(d.as_ref().unwrap_or(&zero), f("damping"))?,
+        }),
+        (Some(_), _, _) => Err(SceneError::field(
+            f("restitution"),
+            format!(
+                "stop {} has both `restitution` (a rigid stop) and `stiffness`/`damping` (a soft stop); give one law",
+                s.name
+            ),
+        )),
+    }
+}
+
+/// Refuses the combination of stop laws and friction the solver does not
+/// simulate: soft stops in a scene with friction contacts (one line naming
+/// the first soft stop).
+fn check_combination(file: &SceneFile, laws: &[CompiledLaw]) -> Result<(), SceneError> {
+    let Some(soft) = laws.iter().position(|l| matches!(l, CompiledLaw::Soft { .. })) else { return Ok(()) };
+    let name = &file.stops[soft].name;
+    if !file.friction.is_empty() {
+        return Err(SceneError::field(
+            format!("stops[{soft}]"),
+            format!("soft stop {name} in a scene with friction contacts: soft stops and friction are not supported together"),
+        ));
+    }
+    Ok(())
+}
+
+/// Stop `i` of a scene file: where it is (a frame stop on one mass, or a
+/// pair stop between two).
+fn compile_stop(i: usize, s: &schema::StopSpec, index: &Names, mass_names: &[String]) -> Result<StopPlace, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let mass = |name: &str, field: String| index_of(mass_names, name, || field, "mass");
+    let f = |k: &str| format!("stops[{i}].{k}");
+    let place = match (&s.mass, &s.masses) {
+        (Some(m), None) => {
+            if s.gap.is_some() {
+                return Err(SceneError::field(f("gap"), "a frame stop has a position, not a gap"));
+            }
+            StopPlace::Frame {
+                mass: mass(m, f("mass"))?,
+                side: s.side.ok_or_else(|| SceneError::field(f("side"), "missing: \"below\" or \"above\""))?,
+                position: c(
+                    s.position.as_ref().ok_or_else(|| SceneError::field(f("position"), "missing"))?,
+                    f("position"),
+                )?,
+            }
+        }
+        (None, Some(ms)) => {
+            if s.side.is_some() || s.position.is_some() {
+                return Err(SceneError::field(f("masses"), "a pair stop has a gap, not a side or position"));
+            }
+            let [a, b] = ms.as_slice() else {
+                return Err(SceneError::field(f("masses"), "a pair stop names exactly two masses"));
+            };
+            let (first, second) = (mass(a, f("masses"))?, mass(b, f("masses"))?);
+            if first == second {
+                return Err(SceneError::field(f("masses"), "a stop cannot be between a mass and itself"));
+            }
+            StopPlace::Pair {
+                first,
+                second,
+                gap: c(s.gap.as_ref().ok_or_else(|| SceneError::field(f("gap"), "missing"))?, f("gap"))?,
+            }
+        }
+        _ => {
+            return Err(SceneError::field(
+                format!("stops[{i}]"),
+                "give either `mass` (a frame stop) or `masses` (a pair stop)",
+            ))
+        }
+    };
+    Ok(place)
+}
+
+/// The friction contacts: two masses, kinetic and static coefficients.
+type Frictions = Vec<(usize, usize, Compiled, Compiled)>;
+
+/// The compiled friction contacts of a scene file.
+fn compile_friction(file: &SceneFile, index: &Names, mass_names: &[String]) -> Result<Frictions, SceneError> {
+    let c = |n: &Num, f: String| Compiled::new(n, index, &f);
+    let mass = |name: &str, field: String| index_of(mass_names, name, || field, "mass");
+    file.friction
+        .iter()
+        .enumerate()
+        .map(|(i, fr)| {
+            let f = format!("friction[{i}].masses");
+            let [a, b] = fr.masses.as_slice() else {
+                return Err(SceneError::field(f, "friction acts between exactly two masses"));
+            };
+            let (a, b) = (mass(a, f.clone())?, mass(b, f.clone())?);
+            if a == b {
+                return Err(SceneError::field(f, "friction cannot act between a mass and itself"));
+            }
+            Ok((
+                a,
+                b,
+                c(&fr.kinetic, format!("friction[{i}].kinetic"))?,
+                c(&fr.static_limit, format!("friction[{i}].static"))?,
+            ))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::name_problem;
+    use crate::MAX_NAME_CHARS;
+
+    #[test]
+    fn names_follow_hdf5_group_rules() {
+        for good in ["A1", "M", "left stop", "δ-stop", "a.b", "..x"] {
+            assert_eq!(name_problem(good), None, "{good}");
+        }
+        let long = "x".repeat(MAX_NAME_CHARS + 1);
+        for bad in ["", ".", "..", "a/b", "/", "a\nb", "tab\t", " A1", "A1 ", "M,1", long.as_str()] {
+            assert!(name_problem(bad).is_some(), "{bad:?}");
+        }
+        assert_eq!(name_problem(&"é".repeat(MAX_NAME_CHARS)), None);
+    }
+}
