@@ -16,7 +16,7 @@
 //!
 //! Long runs report to an [`Observer`] (a progress bar), which may also stop
 //! them ([`Observer::cancelled`]: the run ends with [`Error::Cancelled`] and
-//! writes no file). Every call fails with an [`Error`], whose causes are its
+//! writes no file); a run on another thread is followed through a [`Job`]. Every call fails with an [`Error`], whose causes are its
 //! sources, printed as one line; a refused request is an [`Error::Request`]
 //! ([`RequestError`]) naming the option at fault in the request's terms
 //! ([`Opt`]: `set mu_k: …`), which each front end spells in its own words
@@ -47,6 +47,7 @@ pub mod bench;
 mod cell;
 mod curve;
 mod error;
+mod job;
 mod merge;
 mod orbit;
 mod pictures;
@@ -77,6 +78,7 @@ pub use error::{
     causes, grid_error, in_words, unwritten_text, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words,
 };
 pub use grid::{Begin, Observer, Quiet};
+pub use job::Job;
 pub use merge::{merge, MergeRequest};
 pub use orbit::{
     continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, CellOrbit, ContinuationRequest, Critical,

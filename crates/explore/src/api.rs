@@ -4,7 +4,7 @@
 //! wrong, never a crash of the server.
 
 use crate::guard::{self, short};
-use crate::state::{Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
+use crate::state::{phase, share, stop, Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
 use axum::extract::{Path, State as Shared};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
@@ -816,7 +816,7 @@ fn job_id(state: &State, id: &str) -> Result<Arc<Job>, Refusal> {
 
 async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
     let job = job_id(&state, &id)?;
-    let phase = job.phase();
+    let phase = phase(&job);
     let (child, error) = match &phase {
         Phase::Done(c) => (Some(*c), None),
         Phase::Failed(e) => (None, Some(e.clone())),
@@ -824,7 +824,7 @@ async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<V
     };
     Ok(Json(json!({
         "state": phase.name(),
-        "progress": job.progress(),
+        "progress": share(&job),
         "seconds": job.seconds(),
         "child": child,
         "url": child.map(|c| format!("/?atlas={c}")),
@@ -834,8 +834,8 @@ async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<V
 
 async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
     let job = job_id(&state, &id)?;
-    let was_running = job.cancel();
-    Ok(Json(json!({"cancelled": was_running, "state": job.phase().name()})))
+    let was_running = stop(&job);
+    Ok(Json(json!({"cancelled": was_running, "state": phase(&job).name()})))
 }
 
 async fn figure(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {

@@ -112,83 +112,28 @@ impl Phase {
     }
 }
 
-/// A zoom running in the background.
-pub(crate) struct Job {
-    total: AtomicU64,
-    done: AtomicU64,
-    cancel: AtomicBool,
-    phase: Mutex<Phase>,
-    /// When it started computing (not while it waited its turn), and its
-    /// seconds once ended.
-    clock: Mutex<(Option<Instant>, Option<f64>)>,
+/// A zoom running in the background: its outcome is where it ended.
+pub(crate) type Job = engine::Job<Phase>;
+
+/// Where zoom `job` is: [`Phase::Running`] until it ends.
+pub(crate) fn phase(job: &Job) -> Phase {
+    job.outcome().unwrap_or(Phase::Running)
 }
 
-impl Job {
-    fn new() -> Job {
-        Job {
-            total: AtomicU64::new(0),
-            done: AtomicU64::new(0),
-            cancel: AtomicBool::new(false),
-            phase: Mutex::new(Phase::Running),
-            clock: Mutex::new((None, None)),
-        }
-    }
-
-    /// Marks the start of its computation.
-    pub fn start_clock(&self) {
-        lock(&self.clock).0 = Some(Instant::now());
-    }
-
-    /// Seconds it has computed (all of them once ended; 0 before it starts).
-    pub fn seconds(&self) -> f64 {
-        match *lock(&self.clock) {
-            (_, Some(s)) => s,
-            (Some(t0), None) => t0.elapsed().as_secs_f64(),
-            (None, None) => 0.0,
-        }
-    }
-
-    /// The share of its cells done, 0 to 1.
-    pub fn progress(&self) -> f64 {
-        let total = self.total.load(Ordering::Relaxed);
-        match self.phase() {
-            Phase::Done(_) => 1.0,
-            _ if total == 0 => 0.0,
-            _ => (self.done.load(Ordering::Relaxed) as f64 / total as f64).min(1.0),
-        }
-    }
-
-    /// Its phase.
-    pub fn phase(&self) -> Phase {
-        lock(&self.phase).clone()
-    }
-
-    /// Asks it to stop (it ends within a cell per worker, leaving nothing);
-    /// whether it was running.
-    pub fn cancel(&self) -> bool {
-        self.cancel.store(true, Ordering::Relaxed);
-        self.phase() == Phase::Running
-    }
-
-    /// Sets where it ended (and stops its clock).
-    pub fn end(&self, phase: Phase) {
-        let mut clock = lock(&self.clock);
-        clock.1 = Some(clock.0.map_or(0.0, |t0| t0.elapsed().as_secs_f64()));
-        *lock(&self.phase) = phase;
+/// The share of zoom `job`'s cells done, 0 to 1 (1 once done).
+pub(crate) fn share(job: &Job) -> f64 {
+    match (phase(job), job.progress()) {
+        (Phase::Done(_), _) => 1.0,
+        (_, (_, 0)) => 0.0,
+        (_, (done, total)) => (done as f64 / total as f64).min(1.0),
     }
 }
 
-impl engine::Observer for Job {
-    fn begin(&self, work: &engine::Begin<'_>) {
-        self.total.store(work.total, Ordering::Relaxed);
-        self.done.store(work.done, Ordering::Relaxed);
-    }
-    fn advance(&self, cells: u64) {
-        self.done.fetch_add(cells, Ordering::Relaxed);
-    }
-    fn cancelled(&self) -> bool {
-        self.cancel.load(Ordering::Relaxed)
-    }
+/// Asks zoom `job` to stop (it ends within a cell per worker, leaving
+/// nothing); whether it was running.
+pub(crate) fn stop(job: &Job) -> bool {
+    job.cancel();
+    phase(job) == Phase::Running
 }
 
 /// A request's long work (an attractor search), stopped when its client
@@ -366,7 +311,7 @@ impl State {
             j.cancel();
         });
         let until = Instant::now() + STOP_WAIT;
-        while jobs.iter().any(|j| j.phase() == Phase::Running) && Instant::now() < until {
+        while jobs.iter().any(|j| phase(j) == Phase::Running) && Instant::now() < until {
             std::thread::sleep(Duration::from_millis(20));
         }
     }

@@ -24,8 +24,7 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 use scene::Named;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Condvar, Mutex};
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 pyo3::create_exception!(
@@ -110,29 +109,8 @@ fn io_failure(e: &(dyn std::error::Error + 'static)) -> bool {
         .any(|c| c.is::<std::io::Error>() || matches!(c.downcast_ref(), Some(store::StoreError::Io { .. })))
 }
 
-/// What the run's thread and Python share.
-#[derive(Default)]
-struct Shared {
-    done: AtomicU64,
-    total: AtomicU64,
-    cancel: AtomicBool,
-    /// The outcome (the result or the failure), once the run has ended.
-    outcome: Mutex<Option<Result<Outcome, Failure>>>,
-    ended: Condvar,
-}
-
-impl engine::Observer for Shared {
-    fn begin(&self, w: &engine::Begin<'_>) {
-        self.total.store(w.total, Ordering::Relaxed);
-        self.done.store(w.done, Ordering::Relaxed);
-    }
-    fn advance(&self, cells: u64) {
-        self.done.fetch_add(cells, Ordering::Relaxed);
-    }
-    fn cancelled(&self) -> bool {
-        self.cancel.load(Ordering::Relaxed)
-    }
-}
+/// How a run ended, as Python gets it.
+type Ended = Result<Outcome, Failure>;
 
 /// What a run gives Python.
 #[derive(Clone)]
@@ -153,17 +131,17 @@ impl From<serde_json::Value> for Outcome {
 /// A run on a thread of its own.
 #[pyclass(module = "vibroatlas._native")]
 struct Job {
-    shared: Arc<Shared>,
+    job: Arc<engine::Job<Ended>>,
 }
 
 impl Job {
     /// Starts `work` on a new thread; its value or error becomes the outcome.
-    fn start<T: Into<Outcome>>(work: impl FnOnce(&Shared) -> engine::Result<T> + Send + 'static) -> Job {
-        let shared = Arc::new(Shared::default());
-        let theirs = Arc::clone(&shared);
+    fn start<T: Into<Outcome>>(work: impl FnOnce(&engine::Job<Ended>) -> engine::Result<T> + Send + 'static) -> Job {
+        let job = Arc::new(engine::Job::new());
+        let theirs = Arc::clone(&job);
         std::thread::spawn(move || {
             let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&theirs)));
-            let outcome = match ran {
+            theirs.end(match ran {
                 Ok(Ok(value)) => Ok(value.into()),
                 Ok(Err(e)) => Err(Failure::of(&e)),
                 Err(p) => Err(Failure::Panic(
@@ -172,21 +150,9 @@ impl Job {
                         .or_else(|| p.downcast_ref::<String>().cloned())
                         .unwrap_or_else(|| "panic".into()),
                 )),
-            };
-            *theirs.outcome.lock().unwrap_or_else(|p| p.into_inner()) = Some(outcome);
-            theirs.ended.notify_all();
+            });
         });
-        Job { shared }
-    }
-
-    /// Waits up to `timeout` (forever when `None`); whether the run has ended.
-    fn wait_for(&self, timeout: Option<Duration>) -> bool {
-        let guard = self.shared.outcome.lock().unwrap_or_else(|p| p.into_inner());
-        let ended = |o: &mut Option<_>| o.is_none();
-        match timeout {
-            Some(t) => self.shared.ended.wait_timeout_while(guard, t, ended).map_or(true, |(g, _)| g.is_some()),
-            None => self.shared.ended.wait_while(guard, ended).map_or(true, |g| g.is_some()),
-        }
+        Job { job }
     }
 }
 
@@ -198,25 +164,24 @@ impl Job {
         if !(timeout.is_finite() && timeout >= 0.0) {
             return Err(PyValueError::new_err(format!("timeout: expected seconds >= 0, got {timeout}")));
         }
-        Ok(py.detach(|| self.wait_for(Some(Duration::from_secs_f64(timeout.min(1e6))))))
+        Ok(py.detach(|| self.job.wait(Some(Duration::from_secs_f64(timeout.min(1e6))))))
     }
 
     /// `(done, total)` units of work (cells; 0 total when not known).
     fn progress(&self) -> (u64, u64) {
-        (self.shared.done.load(Ordering::Relaxed), self.shared.total.load(Ordering::Relaxed))
+        self.job.progress()
     }
 
     /// Asks the run to stop before its next cell; a cancelled atlas writes no file.
     fn cancel(&self) {
-        self.shared.cancel.store(true, Ordering::Relaxed);
+        self.job.cancel();
     }
 
     /// The run's result as Python objects (dicts, lists, numbers, text),
     /// waiting for it to end; raises its error.
     fn result<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        py.detach(|| self.wait_for(None));
-        let outcome = self.shared.outcome.lock().unwrap_or_else(|p| p.into_inner()).clone();
-        match outcome {
+        py.detach(|| self.job.wait(None));
+        match self.job.outcome() {
             Some(Ok(Outcome::Value(value))) => Ok(pythonize::pythonize(py, &value)?),
             Some(Ok(Outcome::Atlas { image, seconds })) => {
                 let d = PyDict::new(py);
