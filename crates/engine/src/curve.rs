@@ -216,14 +216,14 @@ pub struct Codim2 {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Sides {
     /// Below the curve.
-    pub below: Option<Side>,
+    pub below: Option<SideMotion>,
     /// Above it.
-    pub above: Option<Side>,
+    pub above: Option<SideMotion>,
 }
 
 /// The motion on one side of a curve: its labels by mass and its symmetry.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Side {
+pub struct SideMotion {
     /// Per labelled mass, its label.
     #[serde(flatten)]
     pub labels: BTreeMap<String, String>,
@@ -257,7 +257,7 @@ impl FollowedCurve {
 /// The labels either side of a curve point.
 fn sides_of(tracing: &Tracing, plane: &solver::curve::Plane2, p: &CurvePoint) -> Sides {
     let one = |side: Option<(Vec<solver::MassLabel>, Option<solver::Symmetry>)>| {
-        side.map(|(labels, symmetry)| Side { labels: labels_of(&labels), symmetry: symmetry.map(|s| s.name()) })
+        side.map(|(labels, symmetry)| SideMotion { labels: labels_of(&labels), symmetry: symmetry.map(|s| s.name()) })
     };
     let sides = tracing.sides(plane, p);
     Sides { below: one(sides.below), above: one(sides.above) }

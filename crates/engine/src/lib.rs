@@ -26,7 +26,7 @@
 //! both sweeps (here on a coarse grid, written to a file):
 //!
 //! ```no_run
-//! use engine::{atlas, AtlasRequest, Quiet, SceneSource, Sim};
+//! use engine::prelude::*;
 //! use grid::{Axis, SweepKind};
 //!
 //! let sim = Sim::new(SceneSource::File("configs/multi-stop.toml".into()));
@@ -61,7 +61,33 @@ mod sweep;
 mod trace;
 mod zoom;
 
+// What a run is asked to do, and the set-up every run shares.
+pub use sim::{check_period, labels_of, parameters_of, Origin, SceneSource, Setup, Sim, Source, Start};
+// One cell: its steady motion, its trace and sections, its pictures.
+pub use cell::{cell, friction_names, Cell, CellReport};
+pub use pictures::{draw_basins, portrait, section_panels};
+pub use record::CellRecord;
+pub use trace::{
+    check_trace_samples, halt_text, sections, trace, window, window_periods, Row, Sections, Window,
+    DEFAULT_SECTION_PERIODS, MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
+};
+// Orbits, their branches and the bifurcation curves of two parameters.
+pub use curve::{
+    curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
+    CurvesReport, CurvesRequest, FollowedCurve, MapCurves, SideMotion, Sides, DEFAULT_STEPS, DEFAULT_WINDOW,
+};
+pub use orbit::{
+    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, CellOrbit, ContinuationRequest, Critical,
+    FollowedOrbit, Multiplier, OrbitImpact, OrbitReport, OrbitRequest,
+};
+// Lines and planes of cells, and their files.
 pub use atlas::{atlas, AtlasRequest, AttractorCells};
+pub use merge::{merge, MergeRequest};
+pub use plan::{threads, Executed, Plan};
+pub use study::{sheet_panel, study, StudyAtlas, StudyPlan};
+pub use sweep::{sweep, Differing, Direction, Legs, Sweep, SweepPoint, SweepReport, SweepRequest};
+pub use zoom::{check_size as check_zoom_size, parse_assignment, zoom, ZoomRequest, MAX_ZOOM_CELLS};
+// Coexisting attractors of a point, and the basins of a grid of states.
 pub use attractors::{
     attractors, AttractorReport, Attractors, AttractorsReport, AttractorsRequest, SampleBox, MAX_SAMPLES,
 };
@@ -69,33 +95,25 @@ pub use basins::{
     basins, components, proposed_axes, report as basins_report, BasinAttractorReport, BasinsReport, BasinsRequest,
     BoundaryReport, MAX_STARTS,
 };
-pub use cell::{cell, friction_names, Cell, CellReport};
-pub use curve::{
-    curve, curves, stored, stored_setup, Codim2, CurveReport, CurveReportPoint, CurveRequest, CurveSummary,
-    CurvesReport, CurvesRequest, FollowedCurve, MapCurves, Side, Sides, DEFAULT_STEPS, DEFAULT_WINDOW,
+// What a stored file holds (`inspect`).
+pub use summary::{
+    reasons, AxisReport, ClassCounts, Extreme, HysteresisCounts, InspectReport, ParentReport, QuantityExtremes,
+    QuantityReport, ReasonCount, Summary, SummaryReport, SweepCounts, SweepSummary, CLASSES,
 };
+// Progress, stopping, and errors.
 pub use error::{
     causes, grid_error, in_words, unwritten_text, Error, Fields, Opt, RequestError, Result, SceneLoadError, Words,
 };
 pub use grid::{Begin, Observer, Quiet};
 pub use job::Job;
-pub use merge::{merge, MergeRequest};
-pub use orbit::{
-    continuation, orbit, BranchBifurcation, BranchPoint, BranchReport, CellOrbit, ContinuationRequest, Critical,
-    FollowedOrbit, Multiplier, OrbitImpact, OrbitReport, OrbitRequest,
-};
-pub use pictures::{draw_basins, portrait, section_panels};
-pub use plan::{threads, Executed, Plan};
-pub use record::CellRecord;
-pub use sim::{check_period, labels_of, parameters_of, Origin, SceneSource, Setup, Sim, Source, Start};
-pub use study::{sheet_panel, study, StudyAtlas, StudyPlan};
-pub use summary::{
-    reasons, AxisReport, ClassCounts, Extreme, HysteresisCounts, InspectReport, ParentReport, QuantityExtremes,
-    QuantityReport, ReasonCount, Summary, SummaryReport, SweepCounts, SweepSummary, CLASSES,
-};
-pub use sweep::{sweep, Differing, Direction, Legs, Sweep, SweepPoint, SweepReport, SweepRequest};
-pub use trace::{
-    check_trace_samples, halt_text, sections, trace, window, window_periods, Row, Sections, Window,
-    DEFAULT_SECTION_PERIODS, MAX_SECTION_PERIODS, MAX_TRACE_ROWS, MAX_TRACE_SAMPLES,
-};
-pub use zoom::{check_size as check_zoom_size, parse_assignment, zoom, ZoomRequest, MAX_ZOOM_CELLS};
+
+/// What most callers use: the options of a run and where it starts, the
+/// calls of the table above with their requests, and the observer, job and
+/// error of every run (`use engine::prelude::*;`).
+pub mod prelude {
+    pub use crate::{
+        atlas, attractors, basins, cell, curve, curves, merge, orbit, study, sweep, zoom, AtlasRequest,
+        AttractorsRequest, BasinsRequest, CurveRequest, CurvesRequest, Error, Job, MergeRequest, Observer,
+        OrbitRequest, Quiet, Result, SceneSource, Sim, Start, SweepRequest, ZoomRequest,
+    };
+}
