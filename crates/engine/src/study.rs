@@ -110,11 +110,30 @@ impl StudyPlan {
         }
         let created =
             store::create_folder(output).map_err(|cause| Error::Uncreatable { path: output.to_path_buf(), cause })?;
+        // Whether an atlas was written: from then on the folder is kept.
         let mut any = false;
-        let done = self.run_into(output, page, observer, &mut |atlas| {
-            any = true;
-            written(atlas);
-        });
+        let done = (|| -> Result<PathBuf> {
+            let StudyPlan { study, file, scene, sweeps, mut plans } = self;
+            for (v, plan) in &mut plans {
+                let out = output.join(format!("{}.h5", study.stem(*v)));
+                store::check_output(&out, &[&scene, &file])?;
+                plan.output = Some(store::canonical_output(&out)?);
+            }
+            let mut panels = Vec::new();
+            for (v, plan) in plans {
+                let stem = study.stem(v);
+                let run = plan.execute(observer(&stem).as_ref())?;
+                any = true;
+                let map = output.join(format!("{stem}.png"));
+                store::write_atomically(&map, |tmp| render::map(&run.atlas, View::Sweep(sweeps[0]), 0, &[], page, tmp))?;
+                let cells = plan.meta.plane.cells() * sweeps.len();
+                written(&StudyAtlas { stem: &stem, cells, secs: run.secs, map: &map });
+                panels.push((format!("{} = {v}", study.parameter), sheet_panel(run.atlas, sweeps[0])));
+            }
+            let sheet = output.join("contact-sheet.png");
+            store::write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, page, tmp))?;
+            Ok(sheet)
+        })();
         match (done, created) {
             (Err(cause), Some(folder)) if !any => match std::fs::remove_dir_all(&folder) {
                 Ok(()) => Err(Error::Unwritten { cause: Box::new(cause), folder }),
@@ -122,35 +141,6 @@ impl StudyPlan {
             },
             (done, _) => done,
         }
-    }
-
-    /// [`StudyPlan::run`] in the folder `output`, there.
-    fn run_into(
-        self,
-        output: &Path,
-        page: &render::Page,
-        observer: &dyn Fn(&str) -> Box<dyn Observer>,
-        written: &mut dyn FnMut(&StudyAtlas<'_>),
-    ) -> Result<PathBuf> {
-        let StudyPlan { study, file, scene, sweeps, mut plans } = self;
-        for (v, plan) in &mut plans {
-            let out = output.join(format!("{}.h5", study.stem(*v)));
-            store::check_output(&out, &[&scene, &file])?;
-            plan.output = Some(store::canonical_output(&out)?);
-        }
-        let mut panels = Vec::new();
-        for (v, plan) in plans {
-            let stem = study.stem(v);
-            let run = plan.execute(observer(&stem).as_ref())?;
-            let map = output.join(format!("{stem}.png"));
-            store::write_atomically(&map, |tmp| render::map(&run.atlas, View::Sweep(sweeps[0]), 0, &[], page, tmp))?;
-            let cells = plan.meta.plane.cells() * sweeps.len();
-            written(&StudyAtlas { stem: &stem, cells, secs: run.secs, map: &map });
-            panels.push((format!("{} = {v}", study.parameter), sheet_panel(run.atlas, sweeps[0])));
-        }
-        let sheet = output.join("contact-sheet.png");
-        store::write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, page, tmp))?;
-        Ok(sheet)
     }
 }
 
