@@ -125,7 +125,9 @@ impl StudyPlan {
                 let run = plan.execute(observer(&stem).as_ref())?;
                 any = true;
                 let map = output.join(format!("{stem}.png"));
-                store::write_atomically(&map, |tmp| render::map(&run.atlas, View::Sweep(sweeps[0]), 0, &[], page, tmp))?;
+                store::write_atomically(&map, |tmp| {
+                    render::map(&run.atlas, View::Sweep(sweeps[0]), 0, &[], page, tmp)
+                })?;
                 let cells = plan.meta.plane.cells() * sweeps.len();
                 written(&StudyAtlas { stem: &stem, cells, secs: run.secs, map: &map });
                 panels.push((format!("{} = {v}", study.parameter), sheet_panel(run.atlas, sweeps[0])));
