@@ -155,6 +155,8 @@ fn a_stored_cells_attractors_are_those_of_its_parameters() {
     let said = String::from_utf8_lossy(&state.stderr);
     assert_eq!(state.status.code(), Some(2), "{said}");
     assert!(said.contains("--state: the attractors sample their own start states"), "{said}");
+    let help = String::from_utf8_lossy(&run(&["attractors", "--help"]).stdout).to_string();
+    assert!(help.contains("--from") && !help.contains("--state"), "the help offers no --state: {help}");
 }
 
 #[test]

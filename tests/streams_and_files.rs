@@ -180,8 +180,9 @@ fn study_file(d: &Path, name: &str, values: &str, nx: usize, ny: usize) -> Strin
 }
 
 /// Item 6: a study checks its whole work before any: too many values, a
-/// value outside the scene's range and a study that would not fit in memory
-/// are refused at once, and no output folder is left behind.
+/// value outside the scene's range (named with its file and value), a
+/// parameter the scene does not have and a study that would not fit in
+/// memory are refused at once, and no output folder is left behind.
 #[test]
 fn a_study_is_checked_whole_before_any_work() {
     let d = scratch("f2-study");
@@ -194,7 +195,12 @@ fn a_study_is_checked_whole_before_any_work() {
     let s = study_file(&d, "many.toml", &many, 4, 3);
     refused(&run_within(&["study", &s, "-o", o, "--quiet"], 30), "at most 100 values");
     let s = study_file(&d, "range.toml", "[0.25, 0.5, 1.5]", 4, 3);
-    refused(&run_within(&["study", &s, "-o", o, "--quiet"], 30), "mu_m");
+    refused(&run_within(&["study", &s, "-o", o, "--quiet"], 30), "range.toml: values: mu_m = 1.5: parameters.mu_m:");
+    // A parameter the scene does not have is named in the study's own terms.
+    let bogus = d.join("bogus.toml");
+    std::fs::write(&bogus, std::fs::read_to_string(&s).unwrap().replace("\"mu_m\"", "\"bogus\"")).unwrap();
+    let said = run_within(&["study", bogus.to_str().unwrap(), "-o", o, "--quiet"], 30);
+    refused(&said, "bogus.toml: parameter: unknown parameter 'bogus' (known: R, delta");
     let s = study_file(&d, "twice.toml", "[0.25, 0.250]", 4, 3);
     refused(&run_within(&["study", &s, "-o", o, "--quiet"], 30), "given twice");
     let s = study_file(&d, "huge.toml", "[0.25, 0.5]", 1_000_000, 1_000_000);

@@ -46,12 +46,19 @@ use clap::{CommandFactory, FromArgMatches};
 fn grammar() -> clap::Command {
     args::Cli::command().mut_subcommands(|c| {
         let from = c.get_arguments().any(|a| a.get_id() == "from");
+        let attractors = c.get_name() == "attractors";
         c.mut_args(|a| match a.get_long().is_some() && a.get_action().takes_values() {
             true => a.allow_hyphen_values(true),
             false => a,
         })
         .mut_args(|a| match from && a.get_id() == "scene" {
             true => a.required(false).required_unless_present("from"),
+            false => a,
+        })
+        // The attractors sample their own start states: --state is refused
+        // there (naming it), and not offered.
+        .mut_args(|a| match attractors && a.get_id() == "state" {
+            true => a.hide(true),
             false => a,
         })
     })

@@ -54,17 +54,29 @@ pub fn study(
             format!("parameter '{}' is also an axis of the study's plane; vary another parameter", study.parameter);
         return Err(Error::file(file, why, None));
     }
+    // The parameters the study names are the scene's (its file and field named).
+    let base = Sim::new(SceneSource::File(scene.clone())).setup()?;
+    let named = study.set.keys().map(|k| (k, format!("set.{k}"))).chain([(&study.parameter, "parameter".into())]);
+    for (name, field) in named {
+        base.scene.check_parameter(name, &field).map_err(|e| Error::file(file, "", Some(e.into())))?;
+    }
     let plans = study
         .values
         .iter()
         .map(|&v| {
-            let mut sim = Sim::new(SceneSource::File(scene.clone()));
-            sim.set = study.set.iter().map(|(k, x)| (k.clone(), *x)).collect();
-            sim.set.push((study.parameter.clone(), v));
-            sim.preset = Some(preset);
-            let mut plan = Plan::new(&sim.setup()?, section_cap, plane.clone(), sweeps.clone(), threads)?;
-            plan.command = command.to_string();
-            plan.check()?;
+            let value = || -> Result<Plan> {
+                let mut sim = Sim::new(SceneSource::File(scene.clone()));
+                sim.set = study.set.iter().map(|(k, x)| (k.clone(), *x)).collect();
+                sim.set.push((study.parameter.clone(), v));
+                sim.preset = Some(preset);
+                let mut plan = Plan::new(&sim.setup()?, section_cap, plane.clone(), sweeps.clone(), threads)?;
+                plan.command = command.to_string();
+                plan.check()?;
+                Ok(plan)
+            };
+            // Which value of which file, where that value's scene or plan is refused.
+            let plan = value()
+                .map_err(|e| Error::file(file, format!("values: {} = {v}", study.parameter), Some(Box::new(e))))?;
             Ok((v, plan))
         })
         .collect::<Result<Vec<_>>>()?;
