@@ -499,10 +499,12 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     };
     let label_stops = stops_of(attr::P_STOPS)?.into_iter().zip(stops_of(attr::Q_STOPS)?).map(|(p, q)| [p, q]).collect();
     let scene_toml = attr(path, f, attr::SCENE)?;
-    let notation = notation(path, f, &scene_toml, [&x.name, &y.name])?;
+    // Parsed once: it fixes the normals, laws and notation read below.
+    let scene = scene::Scene::parse(&scene_toml);
+    let notation = notation(path, f, scene.as_ref().ok(), [&x.name, &y.name])?;
     let stops = list(&attr(path, f, attr::STOPS)?);
     let state_masses = state_masses(path, f, dim)?;
-    let stop_normals = stop_normals(path, f, &scene_toml, dim / 2)?;
+    let stop_normals = stop_normals(path, f, scene.as_ref(), dim / 2)?;
     if stop_normals.len() != stops.len() || stop_normals.iter().any(|n| n.len() != dim / 2) {
         return Err(fmt(format!(
             "attribute {}: {} normals for {} stops of {} masses",
@@ -512,7 +514,7 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             dim / 2
         )));
     }
-    let stop_laws = stop_laws(attr_opt(path, f, attr::STOP_LAWS)?.as_deref(), &scene_toml).map_err(fmt)?;
+    let stop_laws = laws_of(attr_opt(path, f, attr::STOP_LAWS)?.as_deref(), scene.as_ref()).map_err(fmt)?;
     if stop_laws.len() != stops.len() {
         return Err(fmt(format!("attribute {}: {} laws for {} stops", attr::STOP_LAWS, stop_laws.len(), stops.len())));
     }
@@ -839,7 +841,12 @@ fn read_attractors(
 
 /// The stops' normals of a file (stops × masses), or, in files written before
 /// they were stored, those of its scene.
-fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) -> Result<Vec<Vec<f64>>, StoreError> {
+fn stop_normals(
+    path: &Path,
+    f: &hdf5::File,
+    scene: Result<&scene::Scene, &scene::SceneError>,
+    masses: usize,
+) -> Result<Vec<Vec<f64>>, StoreError> {
     let fmt = |m: String| StoreError::format(path, m);
     if let Some(flat) = crate::attrs::values::<f64>(path, f, attr::STOP_NORMALS)? {
         if masses == 0 || flat.len() % masses != 0 {
@@ -851,7 +858,7 @@ fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) ->
         }
         let normals: Vec<Vec<f64>> = flat.chunks(masses).map(<[f64]>::to_vec).collect();
         // The stored scene (checksummed with the root's texts) fixes them.
-        if let Ok(scene) = scene::Scene::parse(scene_toml) {
+        if let Ok(scene) = scene {
             if scene.stop_normals() != normals {
                 return Err(fmt(format!(
                     "attribute {}: not the normals of the stored scene's stops: the file is damaged or was changed",
@@ -861,7 +868,7 @@ fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) ->
         }
         return Ok(normals);
     }
-    let scene = scene::Scene::parse(scene_toml).map_err(|e| fmt(format!("the stored scene: {e}")))?;
+    let scene = scene.map_err(|e| fmt(format!("the stored scene: {e}")))?;
     Ok(scene.stop_normals())
 }
 
@@ -870,7 +877,14 @@ fn stop_normals(path: &Path, f: &hdf5::File, scene_toml: &str, masses: usize) ->
 /// scene `scene_toml`; in files written before it was stored, those of the
 /// scene. The error names the attribute and what is wrong with it.
 pub fn stop_laws(stored: Option<&str>, scene_toml: &str) -> Result<Vec<scene::LawKind>, String> {
-    let scene = scene::Scene::parse(scene_toml);
+    laws_of(stored, scene::Scene::parse(scene_toml).as_ref())
+}
+
+/// [`stop_laws`] of the stored scene, parsed (or why it does not parse).
+fn laws_of(
+    stored: Option<&str>,
+    scene: Result<&scene::Scene, &scene::SceneError>,
+) -> Result<Vec<scene::LawKind>, String> {
     let Some(text) = stored else {
         return scene.map(|s| s.stop_laws()).map_err(|e| format!("the stored scene: {e}"));
     };
@@ -896,8 +910,13 @@ pub fn stop_laws(stored: Option<&str>, scene_toml: &str) -> Result<Vec<scene::La
 /// [`scene::symbol_of`]), and each axis as its root coordinate's `symbol` and
 /// `long_name` say, where it has them (files written before them do not; the
 /// `long_name` `parameter <name>` says nothing more than the name).
-fn notation(path: &Path, f: &hdf5::File, scene_toml: &str, axes: [&str; 2]) -> Result<Vec<maps::Notation>, StoreError> {
-    let mut notation = scene::Scene::parse(scene_toml).map(|s| maps::Notation::of_scene(&s)).unwrap_or_default();
+fn notation(
+    path: &Path,
+    f: &hdf5::File,
+    scene: Option<&scene::Scene>,
+    axes: [&str; 2],
+) -> Result<Vec<maps::Notation>, StoreError> {
+    let mut notation = scene.map(maps::Notation::of_scene).unwrap_or_default();
     for name in axes {
         let Ok(d) = f.dataset(name) else { continue };
         crate::attrs::verify(path, &d)?;
