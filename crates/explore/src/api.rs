@@ -1,10 +1,13 @@
-//! The explorer's HTTP API (docs/explore.md): JSON objects and, for a
-//! view's colours, bytes. Every answer comes from the libraries (engine,
-//! render, store); a bad request is a 4xx with `{"error": "…"}` naming what is
-//! wrong, never a crash of the server.
+//! The explorer's HTTP API (docs/explore.md): its routes, each reading its
+//! query as a type of `wire.rs` (`asked`), checking what depends on the
+//! atlas, calling the libraries (engine, render, store) and answering a type
+//! of `wire.rs` as JSON or, for a view's colours and the pictures, bytes. A
+//! bad request is a 4xx with `{"error": "…"}` naming what is wrong, never a
+//! crash of the server.
 
 use crate::guard::{self, short};
 use crate::state::{phase, share, stop, Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
+use crate::wire::*;
 use axum::extract::{Path, State as Shared};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
@@ -15,59 +18,15 @@ use engine::{CellRecord, SceneSource, Sim, Start};
 use grid::{Axis, Number, SweepKind};
 use render::{Show, View};
 use scene::Named;
-use serde_json::{json, Value};
-use std::collections::HashMap;
+use serde_json::Value;
 use std::sync::Arc;
 
 type St = Arc<State>;
 
-/// Most forcing periods of a cell's sections on the page (a few seconds).
-const MAX_PERIODS: usize = 100_000;
-/// Most start states of an attractor search on the page.
-const MAX_SAMPLES: usize = 4096;
 /// Most starts of a basin map the page computes (500 × 500).
 const MAX_BASIN_STARTS: usize = 250_000;
 /// Starts per side the page proposes for a basin map.
 const BASIN_SIDE: usize = 100;
-
-/// A request's query, each key once: a key given twice is refused rather
-/// than read as one of its values, and a query that does not decode is one
-/// JSON refusal like every other.
-pub(crate) struct Params(HashMap<String, String>);
-
-impl<S: Send + Sync> axum::extract::FromRequestParts<S> for Params {
-    type Rejection = Refusal;
-
-    async fn from_request_parts(parts: &mut axum::http::request::Parts, _: &S) -> Result<Params, Refusal> {
-        let pairs: Vec<(String, String)> = serde_urlencoded::from_str(parts.uri.query().unwrap_or(""))
-            .map_err(|e| bad(format!("query: cannot decode it ({e})")))?;
-        let mut q = HashMap::with_capacity(pairs.len());
-        for (key, value) in pairs {
-            if q.contains_key(&key) {
-                return Err(bad(format!("{}: given twice", short(&key))));
-            }
-            q.insert(key, value);
-        }
-        Ok(Params(q))
-    }
-}
-
-/// A refused or failed request: its status and message.
-pub(crate) struct Refusal(StatusCode, String);
-
-impl IntoResponse for Refusal {
-    fn into_response(self) -> Response {
-        guard::error(self.0, &self.1)
-    }
-}
-
-fn bad(message: impl Into<String>) -> Refusal {
-    Refusal(StatusCode::BAD_REQUEST, message.into())
-}
-
-fn not_found(message: impl Into<String>) -> Refusal {
-    Refusal(StatusCode::NOT_FOUND, message.into())
-}
 
 /// An engine error as one line (each cause of its chain, a refusal in the
 /// API's words: the request's fields).
@@ -141,29 +100,28 @@ async fn blocking<T: Send + 'static>(
     done
 }
 
-/// The atlas of the `atlas` parameter (0, the file given, by default).
-fn opened(state: &State, q: &HashMap<String, String>) -> Result<(usize, Arc<Opened>), Refusal> {
-    let id = match q.get("atlas") {
-        None => 0,
-        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("atlas: expected an atlas id, got '{t}'")))?,
-    };
-    state.atlas(id).map(|a| (id, a)).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))
+/// A route's request: its atlas, its query read as a `T`, and, where the
+/// route takes a cell of the plane, the plane's two parameters as given.
+struct Asked<T> {
+    id: usize,
+    o: Arc<Opened>,
+    q: T,
+    at: Vec<(String, String)>,
 }
 
-/// Refuses a parameter the route does not take, one that a misspelling
-/// (`veiw=up`) would otherwise leave unread: the route's `keys`, and with
-/// `plane` the parameters of that atlas's axes (a cell's `omega=…&delta=…`).
-fn only(q: &HashMap<String, String>, keys: &[&str], plane: Option<&Opened>) -> Result<(), Refusal> {
-    let axes = plane.map(|o| [o.atlas.meta.plane.x.name.as_str(), o.atlas.meta.plane.y.name.as_str()]);
-    let known = |k: &str| keys.contains(&k) || axes.is_some_and(|a| a.contains(&k));
-    match q.keys().filter(|k| !known(k)).min() {
-        None => Ok(()),
-        Some(k) => {
-            let mut takes: Vec<&str> = keys.to_vec();
-            takes.extend(axes.iter().flatten());
-            Err(bad(format!("{}: not a parameter of this request (it takes {})", short(k), takes.join(", "))))
-        }
-    }
+/// Reads a request: the atlas of its `atlas` parameter (0, the file given,
+/// by default), then the rest as a `T`; with `cell`, the atlas's two
+/// parameters are keys of the query as well (a cell's `omega=…&delta=…`).
+fn asked<T: for<'de> serde::Deserialize<'de>>(state: &State, p: &Params, cell: bool) -> Result<Asked<T>, Refusal> {
+    let id = match p.get("atlas") {
+        None => 0,
+        Some(t) => t.parse::<usize>().map_err(|_| bad(format!("atlas: expected an atlas id, got '{}'", short(t))))?,
+    };
+    let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
+    let plane = &o.atlas.meta.plane;
+    let axes = if cell { vec![plane.x.name.as_str(), plane.y.name.as_str()] } else { Vec::new() };
+    let (q, at) = p.read::<T>(&axes)?;
+    Ok(Asked { id, o: o.clone(), q, at })
 }
 
 /// Refuses an atlas whose file was replaced or removed since it was read:
@@ -186,47 +144,26 @@ fn changed(o: &Opened) -> Refusal {
     )
 }
 
-/// A whole number of the parameter `name` in `lo..=hi` (`default` when absent).
-fn count(q: &HashMap<String, String>, name: &str, default: usize, lo: usize, hi: usize) -> Result<usize, Refusal> {
-    match q.get(name) {
-        None => Ok(default),
-        Some(t) => t
-            .parse::<usize>()
-            .ok()
-            .filter(|n| (lo..=hi).contains(n))
-            .ok_or_else(|| bad(format!("{name}: expected a whole number from {lo} to {hi}, got '{}'", short(t)))),
-    }
-}
-
-/// A switch parameter: absent or `0` off, `1` on.
-fn switch(q: &HashMap<String, String>, name: &str) -> Result<bool, Refusal> {
-    match q.get(name).map(String::as_str) {
-        None | Some("0") => Ok(false),
-        Some("1") => Ok(true),
-        Some(t) => Err(bad(format!("{name}: expected 0 or 1, got '{}'", short(t)))),
-    }
-}
-
-/// The labelled mass of the `mass` parameter (the first by default).
-fn mass(o: &Opened, q: &HashMap<String, String>) -> Result<usize, Refusal> {
+/// The labelled mass named `name` (the first by default).
+fn mass(o: &Opened, name: Option<&str>) -> Result<usize, Refusal> {
     let masses = &o.atlas.meta.masses;
-    match q.get("mass") {
+    match name {
         None => Ok(0),
         Some(m) => masses
             .iter()
             .position(|n| n == m)
-            .ok_or_else(|| bad(format!("mass: no labelled mass {m}; the atlas labels {}", masses.join(", ")))),
+            .ok_or_else(|| bad(format!("mass: no labelled mass {}; the atlas labels {}", short(m), masses.join(", ")))),
     }
 }
 
-/// The sweep of the `sweep` parameter (the file's first by default).
-fn sweep(o: &Opened, q: &HashMap<String, String>) -> Result<SweepKind, Refusal> {
+/// The sweep named `name` (the file's first by default).
+fn sweep(o: &Opened, name: Option<&str>) -> Result<SweepKind, Refusal> {
     let sweeps = &o.atlas.meta.sweeps;
-    match q.get("sweep") {
+    match name {
         None => Ok(sweeps[0]),
         Some(s) => SweepKind::parse(s).filter(|k| sweeps.contains(k)).ok_or_else(|| {
             let have: Vec<&str> = sweeps.iter().map(|k| k.name()).collect();
-            bad(format!("sweep: '{s}' is not a sweep of the atlas ({})", have.join(", ")))
+            bad(format!("sweep: '{}' is not a sweep of the atlas ({})", short(s), have.join(", ")))
         }),
     }
 }
@@ -250,13 +187,13 @@ fn views(o: &Opened) -> Vec<String> {
     v
 }
 
-/// The view of the `view` parameter: a sweep, `hysteresis`, `NAME:SWEEP`
-/// of a number per cell (`multiplier`, `lyapunov`, a stored quantity), or
-/// `NAME:hysteresis` of a stored quantity.
-fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
+/// The view named `name`: a sweep, `hysteresis`, `NAME:SWEEP` of a number
+/// per cell (`multiplier`, `lyapunov`, a stored quantity), or
+/// `NAME:hysteresis` of a stored quantity (the file's first sweep by default).
+fn show(o: &Opened, name: Option<&str>) -> Result<Show, Refusal> {
     let m = &o.atlas.meta;
-    let name = q.get("view").cloned().unwrap_or_else(|| m.sweeps[0].name().to_string());
-    let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(&name), views(o).join(", ")));
+    let name = name.unwrap_or(m.sweeps[0].name());
+    let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(name), views(o).join(", ")));
     if let Some((number, "hysteresis")) = name.rsplit_once(':') {
         return match Number::named(m, number) {
             Some(quantity) if quantity.of_motion() && m.has_up_and_down() => Ok(Show::Difference(quantity)),
@@ -268,76 +205,65 @@ fn show(o: &Opened, q: &HashMap<String, String>) -> Result<Show, Refusal> {
         let quantity = Number::named(m, number).ok_or_else(refused)?;
         return Ok(Show::Scalar(sweep, quantity));
     }
-    match View::parse(&name) {
+    match View::parse(name) {
         Some(View::Sweep(s)) if m.sweeps.contains(&s) => Ok(Show::Map(View::Sweep(s))),
         Some(View::Hysteresis) if views(o).iter().any(|v| v == "hysteresis") => Ok(Show::Map(View::Hysteresis)),
         _ => Err(refused()),
     }
 }
 
-fn axis_json(a: &Axis, o: &Opened) -> Value {
+fn axis_answer<'a>(a: &'a Axis, o: &'a Opened) -> AxisAnswer<'a> {
     let m = &o.atlas.meta;
     let symbol = m.symbol(&a.name);
-    let runs: Vec<Value> = render::subscript_runs(&symbol).into_iter().map(|(t, sub)| json!([t, sub])).collect();
-    json!({
-        "name": a.name,
-        "symbol": symbol,
-        "symbol_runs": runs,
-        "long_name": m.long_name(&a.name),
-        "start": a.start,
-        "stop": a.stop,
-        "count": a.count,
-        "values": a.values(),
-    })
+    AxisAnswer {
+        name: &a.name,
+        symbol_runs: render::subscript_runs(&symbol).into_iter().map(|(t, sub)| (t.to_string(), sub)).collect(),
+        symbol,
+        long_name: m.long_name(&a.name),
+        start: a.start,
+        stop: a.stop,
+        count: a.count,
+        values: a.values(),
+    }
 }
 
-async fn atlas(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (id, o) = opened(&state, &q)?;
-    only(&q, &["atlas"], None)?;
+async fn atlas(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { id, o, q: Nothing {}, .. } = asked(&state, &p, false)?;
     let m = &o.atlas.meta;
-    let labels: serde_json::Map<String, Value> = m
+    let labels = m
         .sweeps
         .iter()
         .map(|&s| {
-            let per_mass: serde_json::Map<String, Value> = m
-                .masses
-                .iter()
-                .enumerate()
-                .map(|(mi, name)| {
-                    let rows: Vec<Value> = o
-                        .atlas
-                        .legend(s, mi)
-                        .into_iter()
-                        .map(|(l, n)| json!({"label": l.to_string(), "count": n, "colour": grid::palette::colour(l)}))
-                        .collect();
-                    (name.clone(), Value::from(rows))
-                })
-                .collect();
-            (s.name().to_string(), Value::from(per_mass))
+            let per_mass = m.masses.iter().enumerate().map(|(mi, name)| {
+                let rows = o.atlas.legend(s, mi).into_iter();
+                let rows =
+                    rows.map(|(l, n)| LabelRow { label: l.to_string(), count: n, colour: grid::palette::colour(l) });
+                (name.as_str(), rows.collect())
+            });
+            (s.name(), per_mass.collect())
         })
         .collect();
-    Ok(Json(json!({
-        "id": id,
-        "file": o.path.display().to_string(),
-        "parent": o.parent.as_ref().map(|(p, region)| json!({"id": p, "box": region})),
-        "boxes": o.boxes,
-        "scene": m.scene_name,
-        "preset": m.preset.name(),
-        "x": axis_json(&m.plane.x, &o),
-        "y": axis_json(&m.plane.y, &o),
-        "along": m.plane.along.name(),
-        "sweeps": m.sweeps.iter().map(|s| s.name()).collect::<Vec<_>>(),
-        "masses": m.masses,
-        "views": views(&o),
-        "labels": labels,
-        "settings": m.overrides.iter().map(|(k, v)| json!({"name": k, "symbol": m.symbol(k), "value": v})).collect::<Vec<_>>(),
-    })))
+    answer(&AtlasAnswer {
+        id,
+        file: o.path.display().to_string(),
+        parent: o.parent.as_ref().map(|(id, region)| Parent { id: *id, region }),
+        boxes: &o.boxes,
+        scene: &m.scene_name,
+        preset: m.preset.name(),
+        x: axis_answer(&m.plane.x, &o),
+        y: axis_answer(&m.plane.y, &o),
+        along: m.plane.along.name(),
+        sweeps: m.sweeps.iter().map(|s| s.name()).collect(),
+        masses: &m.masses,
+        views: views(&o),
+        labels,
+        settings: m.overrides.iter().map(|(k, v)| Setting { name: k, symbol: m.symbol(k), value: *v }).collect(),
+    })
 }
 
-async fn map(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "view", "mass"], None)?;
-    let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
+async fn map(Shared(state): Shared<St>, p: Params) -> Result<Response, Refusal> {
+    let Asked { o, q, .. } = asked::<ViewQuery>(&state, &p, false)?;
+    let (show, mass) = (show(&o, q.view.as_deref())?, mass(&o, q.mass.as_deref())?);
     let layer =
         blocking(&state, move || render::layer(&o.atlas, show, mass, &[]).map_err(|e| bad(e.to_string()))).await?;
     let mut bytes = layer.above;
@@ -345,64 +271,49 @@ async fn map(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, R
     Ok(([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response())
 }
 
-async fn legend(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "view", "mass", "curves"], None)?;
-    let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
-    let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
+async fn legend(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, .. } = asked::<LegendQuery>(&state, &p, false)?;
+    let (show, mass) = (show(&o, q.view.as_deref())?, mass(&o, q.mass.as_deref())?);
+    let curves = if q.curves.0 { overlays(&state, &o) } else { Vec::new() };
     let layer =
         blocking(&state, move || render::layer(&o.atlas, show, mass, &curves).map_err(|e| bad(e.to_string()))).await?;
-    let rows: Vec<Value> =
-        layer.legend.iter().map(|k| json!({"swatch": k.swatch, "colours": k.colours, "text": k.text})).collect();
-    let scale =
-        layer.scale.map(|(title, lo, hi, colours)| json!({"title": title, "lo": lo, "hi": hi, "colours": colours}));
-    Ok(Json(json!({"legend": rows, "scale": scale})))
+    let legend =
+        layer.legend.into_iter().map(|k| KeyRow { swatch: k.swatch, colours: k.colours, text: k.text }).collect();
+    let scale = layer.scale.map(|(title, lo, hi, colours)| ScaleAnswer { title, lo, hi, colours });
+    answer(&LegendAnswer { legend, scale })
 }
 
 /// The cell `(iy, ix)` of the `ix`, `iy` parameters.
-fn cell_index(o: &Opened, q: &HashMap<String, String>) -> Result<(usize, usize), Refusal> {
+fn cell_index(o: &Opened, q: &AtQuery) -> Result<(usize, usize), Refusal> {
     let p = &o.atlas.meta.plane;
-    let index = |name: &str, count: usize| -> Result<usize, Refusal> {
-        let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing")))?;
+    let index = |name: &str, t: Option<&str>, count: usize| -> Result<usize, Refusal> {
+        let t = t.ok_or_else(|| bad(format!("{name}: missing")))?;
         t.parse::<usize>()
             .ok()
             .filter(|&i| i < count)
-            .ok_or_else(|| bad(format!("{name}: expected 0 to {}, got '{t}'", count - 1)))
+            .ok_or_else(|| bad(format!("{name}: expected 0 to {}, got '{}'", count - 1, short(t))))
     };
-    Ok((index("iy", p.y.count)?, index("ix", p.x.count)?))
+    Ok((index("iy", q.iy.as_deref(), p.y.count)?, index("ix", q.ix.as_deref(), p.x.count)?))
 }
 
-async fn at(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "ix", "iy"], None)?;
+async fn at(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, .. } = asked::<AtQuery>(&state, &p, false)?;
     let (iy, ix) = cell_index(&o, &q)?;
     let m = &o.atlas.meta;
     let i = iy * m.plane.x.count + ix;
-    let sweeps: serde_json::Map<String, Value> = o
-        .atlas
-        .maps
-        .iter()
-        .map(|map| {
-            let v = match &map.cells[i] {
-                None => json!(null),
-                Some(c) => serde_json::to_value(CellRecord::in_atlas(m, c)).unwrap_or(Value::Null),
-            };
-            (map.sweep.name().to_string(), v)
-        })
-        .collect();
-    let parameters: serde_json::Map<String, Value> =
-        m.plane.params(iy, ix).into_iter().map(|(k, v)| (k, json!(v))).collect();
-    Ok(Json(json!({"ix": ix, "iy": iy, "parameters": parameters, "sweeps": sweeps})))
+    let sweeps =
+        o.atlas.maps.iter().map(|map| (map.sweep.name(), map.cells[i].as_ref().map(|c| CellRecord::in_atlas(m, c))));
+    answer(&AtAnswer { ix, iy, parameters: m.plane.params(iy, ix).into_iter().collect(), sweeps: sweeps.collect() })
 }
 
-/// The stored cell of the request: `sweep` and a value of each axis (the
+/// The stored cell of the request: its sweep and a value of each axis (the
 /// plane's own parameter names), as `cell --from FILE --sweep S --at …`.
-fn stored_cell(o: &Opened, q: &HashMap<String, String>) -> Result<(Sim, Start), Refusal> {
-    let sweep = sweep(o, q)?;
+fn stored_cell(o: &Opened, sweep_name: Option<&str>, given: &[(String, String)]) -> Result<(Sim, Start), Refusal> {
+    let sweep = sweep(o, sweep_name)?;
     let p = &o.atlas.meta.plane;
     let mut at = Vec::new();
     for a in [&p.x, &p.y] {
-        let Some(t) = q.get(&a.name) else {
+        let Some((_, t)) = given.iter().find(|(k, _)| *k == a.name) else {
             return Err(bad(format!(
                 "{}: missing (give the cell by the plane's parameters {} and {})",
                 a.name, p.x.name, p.y.name
@@ -412,32 +323,28 @@ fn stored_cell(o: &Opened, q: &HashMap<String, String>) -> Result<(Sim, Start), 
             .parse::<f64>()
             .ok()
             .filter(|v| v.is_finite())
-            .ok_or_else(|| bad(format!("{}: '{t}' is not a number", a.name)))?;
+            .ok_or_else(|| bad(format!("{}: '{}' is not a number", a.name, short(t))))?;
         at.push((a.name.clone(), v));
     }
     let sim = Sim::new(SceneSource::Stored(o.path.clone()));
     Ok((sim, Start::Cell { file: o.path.clone(), at, sweep: Some(sweep) }))
 }
 
-fn run_cell(o: &Opened, q: &HashMap<String, String>) -> Result<engine::Cell, Refusal> {
-    run_stored(o, q).map(|(c, _)| c)
-}
-
-/// [`run_cell`], with the start it ran from.
-fn run_stored(o: &Opened, q: &HashMap<String, String>) -> Result<(engine::Cell, Start), Refusal> {
+/// The stored cell run, as `cell --from FILE --sweep S --at …`, with the
+/// start it ran from.
+fn run_stored(o: &Opened, sweep: Option<&str>, at: &[(String, String)]) -> Result<(engine::Cell, Start), Refusal> {
     unchanged(o)?;
-    let (sim, start) = stored_cell(o, q)?;
+    let (sim, start) = stored_cell(o, sweep, at)?;
     Ok((engine::cell(&sim, &start).map_err(failed)?, start))
 }
 
 /// The cell clicked, as `cell --from FILE --sweep S --at … --json`; it is
 /// the page's selected cell from then on ([`crate::Server::selected`]).
-async fn cell(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep"], Some(&o))?;
+async fn cell(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, at, .. } = asked::<CellQuery>(&state, &p, true)?;
     let shared = state.clone();
     let c = blocking(&state, move || {
-        let (c, start) = run_stored(&o, &q)?;
+        let (c, start) = run_stored(&o, q.sweep.as_deref(), &at)?;
         if let Start::Cell { file, at, sweep: Some(sweep) } = start {
             shared.select(crate::Selected { file, sweep: sweep.name().to_string(), at });
         }
@@ -449,19 +356,15 @@ async fn cell(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value
 
 /// The cell's periodic orbit solved by Newton's method with its Floquet
 /// multipliers: the object of `orbit --from FILE --sweep S --at … --json`.
-async fn orbit(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep", "n"], Some(&o))?;
+async fn orbit(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, at, .. } = asked::<OrbitQuery>(&state, &p, true)?;
     let found = blocking(&state, move || {
         unchanged(&o)?;
-        let (sim, start) = stored_cell(&o, &q)?;
+        let (sim, start) = stored_cell(&o, q.sweep.as_deref(), &at)?;
         let mut r = engine::OrbitRequest::new(sim);
         r.start = start;
         // The period to solve for (the engine checks its range).
-        r.n = q
-            .get("n")
-            .map(|t| t.parse::<usize>().map_err(|_| bad(format!("n: expected a whole number, got '{}'", short(t)))))
-            .transpose()?;
+        r.n = q.n.map(|n| n.0);
         engine::orbit(&r, &engine::Quiet).map_err(failed)
     })
     .await?;
@@ -483,11 +386,10 @@ fn png(bytes: Vec<u8>) -> Response {
     ([(header::CONTENT_TYPE, "image/png")], bytes).into_response()
 }
 
-async fn portrait(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep"], Some(&o))?;
+async fn portrait(Shared(state): Shared<St>, p: Params) -> Result<Response, Refusal> {
+    let Asked { o, q, at, .. } = asked::<CellQuery>(&state, &p, true)?;
     let bytes = blocking(&state, move || {
-        let c = run_cell(&o, &q)?;
+        let (c, _) = run_stored(&o, q.sweep.as_deref(), &at)?;
         let p = engine::portrait(&c);
         drawn(render::Format::Png, |out| render::portrait(&p, &render::Page::screen(), out))
     })
@@ -495,12 +397,11 @@ async fn portrait(Shared(state): Shared<St>, Params(q): Params) -> Result<Respon
     Ok(png(bytes))
 }
 
-async fn sections(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep", "periods"], Some(&o))?;
-    let periods = count(&q, "periods", 1000, 1, MAX_PERIODS)?;
+async fn sections(Shared(state): Shared<St>, p: Params) -> Result<Response, Refusal> {
+    let Asked { o, q, at, .. } = asked::<SectionsQuery>(&state, &p, true)?;
+    let periods = q.periods.map_or(1000, |n| n.0);
     let bytes = blocking(&state, move || {
-        let c = run_cell(&o, &q)?;
+        let (c, _) = run_stored(&o, q.sweep.as_deref(), &at)?;
         let (panels, title) = engine::section_panels(&c, periods).map_err(failed)?;
         drawn(render::Format::Png, |out| render::sections(&panels, &title, &render::Page::screen(), out))
     })
@@ -508,27 +409,26 @@ async fn sections(Shared(state): Shared<St>, Params(q): Params) -> Result<Respon
     Ok(png(bytes))
 }
 
-async fn attractors(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep", "samples"], Some(&o))?;
-    let samples = count(&q, "samples", 64, 1, MAX_SAMPLES)?;
+async fn attractors(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, at, .. } = asked::<AttractorsQuery>(&state, &p, true)?;
+    let samples = q.samples.map_or(64, |n| n.0);
     let threads = state.threads;
     let (work, _guard) = Request::new(state.clone());
     let found = blocking(&state, move || {
         unchanged(&o)?;
-        let (sim, point) = stored_cell(&o, &q)?;
+        let (sim, point) = stored_cell(&o, q.sweep.as_deref(), &at)?;
         let sampling = grid::attractors::Sampling { samples, ..Default::default() };
         let r = engine::AttractorsRequest { sim, point, sampling, threads };
         let res = engine::attractors(&r, &work).map_err(failed)?;
         let picture = drawn(render::Format::Png, |out| engine::draw_basins(&res, &render::Page::screen(), out))?;
-        let mut out = res.to_json();
-        let colours: Vec<Value> = res.found.iter().map(|a| json!(grid::palette::colour(a.cell.labels[0]))).collect();
-        out["colours"] = Value::from(colours);
-        out["basins_png"] = Value::from(BASE64_STANDARD.encode(&picture));
-        Ok(out)
+        Ok(AttractorsAnswer {
+            found: res.to_json(),
+            colours: res.found.iter().map(|a| grid::palette::colour(a.cell.labels[0])).collect(),
+            basins_png: BASE64_STANDARD.encode(&picture),
+        })
     })
     .await?;
-    Ok(Json(found))
+    answer(&found)
 }
 
 /// The time from a run's start to its end, as its observer hears them
@@ -555,14 +455,13 @@ const PROBE_SIDE: usize = 8;
 /// A basin map to propose for the cell: its two axes (`engine::proposed_axes`,
 /// 100 × 100 starts) and the estimate of its time on the server's threads,
 /// from the cost per start of an 8 × 8 grid over the same axes on one thread.
-async fn basins_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep"], Some(&o))?;
+async fn basins_plan(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, at, .. } = asked::<CellQuery>(&state, &p, true)?;
     let threads = state.threads;
     let plan = blocking(&state, move || {
-        let c = run_cell(&o, &q)?;
+        let (c, start) = run_stored(&o, q.sweep.as_deref(), &at)?;
         let (x, y) = engine::proposed_axes(&c, BASIN_SIDE);
-        let (sim, start) = stored_cell(&o, &q)?;
+        let sim = Sim::new(SceneSource::Stored(o.path.clone()));
         let probe = |a: &Axis| Axis::new(a.name.clone(), a.start, a.stop, PROBE_SIDE);
         let r = engine::BasinsRequest {
             sim,
@@ -580,19 +479,19 @@ async fn basins_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Jso
         let per_start = watch.0.lock().map_or(0.0, |t| t.1) / (PROBE_SIDE * PROBE_SIDE) as f64;
         let starts = x.count * y.count;
         let text = |a: &Axis| format!("{}={}:{}:{}", a.name, a.start, a.stop, a.count);
-        Ok(json!({
-            "x": text(&x),
-            "y": text(&y),
-            "components": engine::components(&c.system),
-            "starts": starts,
-            "max_starts": MAX_BASIN_STARTS,
-            "threads": threads,
-            "seconds_per_start": per_start,
-            "seconds": per_start * starts as f64 / threads.max(1) as f64,
-        }))
+        Ok(BasinsPlan {
+            x: text(&x),
+            y: text(&y),
+            components: engine::components(&c.system),
+            starts,
+            max_starts: MAX_BASIN_STARTS,
+            threads,
+            seconds_per_start: per_start,
+            seconds: per_start * starts as f64 / threads.max(1) as f64,
+        })
     })
     .await?;
-    Ok(Json(plan))
+    answer(&plan)
 }
 
 /// The basins of the cell's point over the grid `basin_x`, `basin_y`
@@ -600,34 +499,25 @@ async fn basins_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Jso
 /// final state, at the forcing phase `phase` (default the scene's τ): the
 /// object of `basins --from FILE --at … --json`, with `colours`, `png`
 /// (base64) and `seconds`; it stops when its client goes away.
-async fn basins(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "sweep", "basin_x", "basin_y", "phase"], Some(&o))?;
-    let axis = |name: &str| -> Result<Axis, Refusal> {
-        let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (COMPONENT=START:STOP:COUNT)")))?;
+async fn basins(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, at, .. } = asked::<BasinsQuery>(&state, &p, true)?;
+    let axis = |name: &str, t: Option<&str>| -> Result<Axis, Refusal> {
+        let t = t.ok_or_else(|| bad(format!("{name}: missing (COMPONENT=START:STOP:COUNT)")))?;
         Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
     };
-    let (x, y) = (axis("basin_x")?, axis("basin_y")?);
+    let (x, y) = (axis("basin_x", q.basin_x.as_deref())?, axis("basin_y", q.basin_y.as_deref())?);
     if x.count.saturating_mul(y.count) > MAX_BASIN_STARTS {
         return Err(bad(format!(
             "basin_y: {} x {} starts, the page computes at most {MAX_BASIN_STARTS}",
             x.count, y.count
         )));
     }
-    let phase = match q.get("phase") {
-        None => None,
-        Some(t) => Some(
-            t.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| bad(format!("phase: '{}' is not a number", short(t))))?,
-        ),
-    };
+    let phase = q.phase.map(|p| p.0);
     let threads = state.threads;
     let (work, _guard) = Request::new(state.clone());
     let found = blocking(&state, move || {
         unchanged(&o)?;
-        let (sim, start) = stored_cell(&o, &q)?;
+        let (sim, start) = stored_cell(&o, q.sweep.as_deref(), &at)?;
         let r = engine::BasinsRequest {
             sim,
             start,
@@ -643,21 +533,42 @@ async fn basins(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Val
         let (map, _) = engine::basins(&r, &work).map_err(failed)?;
         let seconds = t0.elapsed().as_secs_f64();
         let picture = drawn(render::Format::Png, |out| render::basin_map(&map, &render::Page::screen(), out))?;
-        let mut out = engine::basins_report(&map).to_json();
-        out["colours"] = json!(map.colours());
-        out["png"] = Value::from(BASE64_STANDARD.encode(&picture));
-        out["seconds"] = json!(seconds);
-        Ok(out)
+        Ok(BasinsAnswer {
+            found: engine::basins_report(&map).to_json(),
+            colours: map.colours(),
+            png: BASE64_STANDARD.encode(&picture),
+            seconds,
+        })
     })
     .await?;
-    Ok(Json(found))
+    answer(&found)
 }
 
-/// The parameters a zoom sets beside its box (`set`: `NAME=VALUE,NAME=VALUE`;
-/// none when absent or blank; an empty item is refused, as the CLI refuses it).
-fn set_of(text: Option<&str>) -> Result<Vec<(String, f64)>, Refusal> {
-    let parts = text.filter(|t| !t.trim().is_empty()).into_iter().flat_map(|t| t.split(','));
-    parts.map(|t| engine::parse_assignment(t, "set").map_err(|e| bad(short(&e)))).collect()
+/// A zoom's box and its options, as `zoom` takes them: its axes `x`, `y`
+/// (`NAME=START:STOP:COUNT`, at most [`engine::check_zoom_size`]'s cells),
+/// its sweeps (`sweep`, default the parent's) and the parameters it sets
+/// beside the box (`set`: `NAME=VALUE,NAME=VALUE`; none when absent or blank;
+/// an empty item is refused, as the CLI refuses it).
+type ZoomBox = (Axis, Axis, Option<Vec<SweepKind>>, Vec<(String, f64)>);
+
+fn zoom_box(
+    x: &Option<String>,
+    y: &Option<String>,
+    sweep: &Option<String>,
+    set: &Option<String>,
+) -> Result<ZoomBox, Refusal> {
+    let axis = |name: &str, t: &Option<String>| -> Result<Axis, Refusal> {
+        let t = t.as_deref().ok_or_else(|| bad(format!("{name}: missing (NAME=START:STOP:COUNT)")))?;
+        Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
+    };
+    let (x, y) = (axis("x", x)?, axis("y", y)?);
+    engine::check_zoom_size(&x, &y).map_err(|e| bad(message(&e)))?;
+    let sweeps =
+        sweep.as_deref().map(|t| SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))).transpose()?;
+    let parts = set.as_deref().filter(|t| !t.trim().is_empty()).into_iter().flat_map(|t| t.split(','));
+    let set =
+        parts.map(|t| engine::parse_assignment(t, "set").map_err(|e| bad(short(&e)))).collect::<Result<_, _>>()?;
+    Ok((x, y, sweeps, set))
 }
 
 /// Cells per side of the box a zoom's estimate is timed on.
@@ -668,20 +579,9 @@ const ZOOM_PROBE_SIDE: usize = 3;
 /// of 3 × 3 cells over the same box on one thread: its cost per cell (the
 /// computation alone) times the box's cells over the server's threads, plus
 /// what the probe spent besides computing (reading the parent, the file).
-async fn zoom_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "x", "y", "sweep", "set"], None)?;
-    let axis = |name: &str| -> Result<Axis, Refusal> {
-        let t = q.get(name).ok_or_else(|| bad(format!("{name}: missing (NAME=START:STOP:COUNT)")))?;
-        Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
-    };
-    let (x, y) = (axis("x")?, axis("y")?);
-    engine::check_zoom_size(&x, &y).map_err(|e| bad(message(&e)))?;
-    let sweeps = match q.get("sweep") {
-        None => None,
-        Some(t) => Some(SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))?),
-    };
-    let set = set_of(q.get("set").map(String::as_str))?;
+async fn zoom_plan(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q, .. } = asked::<ZoomPlanQuery>(&state, &p, false)?;
+    let (x, y, sweeps, set) = zoom_box(&q.x, &q.y, &q.sweep, &q.set)?;
     let threads = state.threads;
     let plan = blocking(&state, move || {
         unchanged(&o)?;
@@ -699,56 +599,25 @@ async fn zoom_plan(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<
         let per_cell = computing / probed;
         let cells = x.count * y.count;
         let overhead = (all - computing).max(0.0);
-        Ok(json!({
-            "cells": cells,
-            "sweeps": sweeps,
-            "threads": threads,
-            "seconds_per_cell": per_cell,
-            "overhead_seconds": overhead,
-            "seconds": overhead + per_cell * (cells * sweeps) as f64 / threads.max(1) as f64,
-        }))
+        Ok(ZoomPlan {
+            cells,
+            sweeps,
+            threads,
+            seconds_per_cell: per_cell,
+            overhead_seconds: overhead,
+            seconds: overhead + per_cell * (cells * sweeps) as f64 / threads.max(1) as f64,
+        })
     })
     .await?;
-    Ok(Json(plan))
+    answer(&plan)
 }
 
 async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json<Value>, Refusal> {
-    let body: Value = serde_json::from_slice(&body).map_err(|e| bad(format!("the body is not JSON ({e})")))?;
-    let Some(fields) = body.as_object() else {
-        return Err(bad(r#"the body: expected an object {"atlas": ID, "x": "NAME=A:B:N", "y": "NAME=C:D:M"}"#));
-    };
-    if let Some(k) = fields.keys().find(|k| !["atlas", "x", "y", "sweep", "set"].contains(&k.as_str())) {
-        return Err(bad(format!("{}: not a field of a zoom (atlas, x, y, sweep, set)", short(k))));
-    }
-    let id = match fields.get("atlas") {
-        None => 0,
-        Some(v) => {
-            v.as_u64().ok_or_else(|| bad(format!("atlas: expected an atlas id, got {}", short(&v.to_string()))))?
-                as usize
-        }
-    };
+    let body = ZoomBody::read(&body)?;
+    let id = body.atlas.map_or(0, |id| id as usize);
     let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
     unchanged(&o)?;
-    let text = |k: &str| match fields.get(k) {
-        None => Err(bad(format!("{k}: missing (NAME=START:STOP:COUNT)"))),
-        Some(v) => v
-            .as_str()
-            .ok_or_else(|| bad(format!("{k}: expected a text NAME=START:STOP:COUNT, got {}", short(&v.to_string())))),
-    };
-    let axis = |k: &str| -> Result<Axis, Refusal> { Axis::parse(text(k)?, k).map_err(|e| bad(short(&e.to_string()))) };
-    let (x, y) = (axis("x")?, axis("y")?);
-    engine::check_zoom_size(&x, &y).map_err(|e| bad(message(&e)))?;
-    let sweeps = match fields.get("sweep") {
-        None => None,
-        Some(v) => {
-            let t = v.as_str().ok_or_else(|| bad("sweep: expected fresh, up, down or both"))?;
-            Some(SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))?)
-        }
-    };
-    let set = match fields.get("set") {
-        None => Vec::new(),
-        Some(v) => set_of(Some(v.as_str().ok_or_else(|| bad("set: expected a text NAME=VALUE,NAME=VALUE"))?))?,
-    };
+    let (x, y, sweeps, set) = zoom_box(&body.x, &body.y, &body.sweep, &body.set)?;
     std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
     let (job_id, job) = state.start_job();
     let mut r = engine::ZoomRequest::new(&o.path, x, y);
@@ -766,7 +635,7 @@ async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json
     let queued = job.clone();
     let task = Box::new(move || run_zoom(&worker, &queued, &r, (id, &o), region));
     match state.zooms.submit(task) {
-        Ok(()) => Ok(Json(json!({"job": job_id}))),
+        Ok(()) => answer(&Started { job: job_id }),
         Err(why) => {
             let (status, text) = match why {
                 NotQueued::Full => (
@@ -822,33 +691,30 @@ async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<V
         Phase::Failed(e) => (None, Some(e.clone())),
         _ => (None, None),
     };
-    Ok(Json(json!({
-        "state": phase.name(),
-        "progress": share(&job),
-        "seconds": job.seconds(),
-        "child": child,
-        "url": child.map(|c| format!("/?atlas={c}")),
-        "error": error,
-    })))
+    answer(&JobAnswer {
+        state: phase.name(),
+        progress: share(&job),
+        seconds: job.seconds(),
+        child,
+        url: child.map(|c| format!("/?atlas={c}")),
+        error,
+    })
 }
 
 async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
     let job = job_id(&state, &id)?;
     let was_running = stop(&job);
-    Ok(Json(json!({"cancelled": was_running, "state": phase(&job).name()})))
+    answer(&Cancelled { cancelled: was_running, state: phase(&job).name() })
 }
 
-async fn figure(Shared(state): Shared<St>, Params(q): Params) -> Result<Response, Refusal> {
-    let (id, o) = opened(&state, &q)?;
-    only(&q, &["atlas", "view", "mass", "format", "size", "curves"], None)?;
-    let (show, mass) = (show(&o, &q)?, mass(&o, &q)?);
-    let format = q.get("format").map_or("png", String::as_str);
-    let format =
-        render::Format::parse(format).ok_or_else(|| bad(format!("format: {}", render::Format::expected(format))))?;
-    let size = q.get("size").filter(|s| *s != "screen").cloned();
-    let page = render::Page::of(size.as_deref(), None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
-    let curves = if switch(&q, "curves")? { overlays(&state, &o) } else { Vec::new() };
-    let name = format!("atlas{id}-{}.{}", q.get("view").map_or("map", String::as_str).replace(':', "-"), format.name());
+async fn figure(Shared(state): Shared<St>, p: Params) -> Result<Response, Refusal> {
+    let Asked { id, o, q, .. } = asked::<FigureQuery>(&state, &p, false)?;
+    let (show, mass) = (show(&o, q.view.as_deref())?, mass(&o, q.mass.as_deref())?);
+    let format = q.format.map_or(render::Format::Png, |f| f.0);
+    let size = q.size.as_deref().filter(|s| *s != "screen");
+    let page = render::Page::of(size, None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
+    let curves = if q.curves.0 { overlays(&state, &o) } else { Vec::new() };
+    let name = format!("atlas{id}-{}.{}", q.view.as_deref().unwrap_or("map").replace(':', "-"), format.name());
     let bytes = blocking(&state, move || {
         drawn(format, |out| match show {
             Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, out),
@@ -876,20 +742,19 @@ fn overlays(state: &State, o: &Opened) -> Vec<render::Overlay> {
         .collect()
 }
 
-async fn curves(Shared(state): Shared<St>, Params(q): Params) -> Result<Json<Value>, Refusal> {
-    let (_, o) = opened(&state, &q)?;
-    only(&q, &["atlas"], None)?;
+async fn curves(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
+    let Asked { o, q: Nothing {}, .. } = asked(&state, &p, false)?;
     // The curves are the explored file's: it must still be the file read.
     unchanged(&state.atlas(0).unwrap_or_else(|| o.clone()))?;
-    let list: Vec<Value> = blocking(&state.clone(), move || Ok(overlays(&state, &o)))
-        .await?
+    let overlays = blocking(&state.clone(), move || Ok(overlays(&state, &o))).await?;
+    let curves = overlays
         .into_iter()
         .map(|c| {
-            let (colour, width, dash) = render::curve_style(&c.kind);
-            json!({"kind": c.kind, "colour": colour, "width_pt": width, "dash_pt": [dash.0, dash.1], "points": c.points, "marks": c.marks})
+            let (colour, width_pt, dash) = render::curve_style(&c.kind);
+            CurveAnswer { colour, width_pt, dash_pt: [dash.0, dash.1], kind: c.kind, points: c.points, marks: c.marks }
         })
         .collect();
-    Ok(Json(json!({"curves": list})))
+    answer(&CurvesAnswer { curves })
 }
 
 async fn file(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Response, Refusal> {

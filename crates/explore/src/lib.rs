@@ -1,7 +1,8 @@
 //! The interactive atlas (`vibroatlas explore`, `va.explore`): a local web
 //! page over an atlas file, on 127.0.0.1 only. The page is a thin client of
 //! the engine: every colour, legend, cell, zoom and figure comes from the
-//! libraries through its JSON API (`api.rs`, docs/explore.md), which a
+//! libraries through its JSON API (`api.rs`, its queries and answers in
+//! `wire.rs`; docs/explore.md), which a
 //! script may call as well.
 //!
 //! | route | what |
@@ -25,6 +26,7 @@ mod api;
 mod guard;
 mod head;
 mod state;
+mod wire;
 
 pub use state::Selected;
 use state::State;
