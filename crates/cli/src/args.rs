@@ -612,19 +612,6 @@ fn accuracy_help() -> String {
     format!("Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable). Knobs: {}", knobs.join(", "))
 }
 
-/// What `render --view` draws, besides a quantity of the steady motion.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum ViewArg {
-    /// The labels.
-    Labels,
-    /// The largest Lyapunov exponent.
-    Lyapunov,
-    /// The largest Floquet multiplier modulus.
-    Multiplier,
-    /// The number of coexisting attractors (atlas --attractors).
-    Attractors,
-}
-
 /// The default box of initial states, `X,V` (`--box`).
 fn default_box() -> String {
     let s = Sampling::default();

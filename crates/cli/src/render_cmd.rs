@@ -3,9 +3,9 @@
 //! map of the Lyapunov exponent or the Floquet multiplier, or a bifurcation
 //! diagram of a sweep file or of one row of an atlas (`--row`).
 
-use crate::args::{RenderArgs, ViewArg};
+use crate::args::RenderArgs;
 use anyhow::{anyhow, bail, Result};
-use render::View;
+use render::{NoSuchView, Show, View};
 use scene::Named;
 use store::write_atomically;
 
@@ -45,55 +45,28 @@ pub fn run(a: RenderArgs) -> Result<()> {
             .ok_or_else(|| anyhow!("--mass: no labelled mass '{name}' (the file has {})", m.masses.join(", ")))?,
         None => 0,
     };
-    let view = a.sweep.unwrap_or(View::Sweep(m.sweeps[0]));
-    match (a.sweep, view) {
-        (Some(_), View::Sweep(kind)) if !m.sweeps.contains(&kind) => {
-            let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
-            bail!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name());
-        }
-        // Hysteresis is up against down: a file without both has none to draw.
-        (_, View::Hysteresis) if !m.has_up_and_down() => {
-            let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
-            bail!("--sweep hysteresis: needs up and down sweeps; the file has {}", have.join(", "));
-        }
-        _ => {}
-    }
+    // The sweep, checked before any view: the labels' view of it.
+    Show::of(m, render::LABELS, a.sweep).map_err(|e| no_such_view(e, m, &a.view))?;
     if let Some(id) = a.view.strip_prefix("basin:") {
         let family = id.parse::<u32>().map_err(|_| anyhow!("--view: basin:ID takes a family's number, got '{id}'"))?;
         return Ok(write_atomically(&a.output, |tmp| render::family_map(&l.atlas, family, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
     }
-    let fixed = <ViewArg as clap::ValueEnum>::from_str(&a.view, false).ok();
-    if fixed == Some(ViewArg::Attractors) {
+    if a.view == "attractors" {
         return Ok(write_atomically(&a.output, |tmp| render::attractor_map(&l.atlas, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
     }
-    let quantity = match fixed {
-        Some(ViewArg::Labels | ViewArg::Attractors) => None,
-        Some(ViewArg::Lyapunov | ViewArg::Multiplier) | None => {
-            Some(grid::Number::named(m, &a.view).ok_or_else(|| {
-                let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
-                let quantities = match stored.is_empty() {
-                    true => "the file stores no quantities".to_string(),
-                    false => format!("a quantity the file stores ({})", stored.join(", ")),
-                };
-                anyhow!(
-                    "--view: '{}' is not labels, lyapunov, multiplier, attractors, basin:ID or {quantities}",
-                    a.view
-                )
-            })?)
-        }
-    };
+    let show = Show::of(m, &a.view, a.sweep).map_err(|e| no_such_view(e, m, &a.view))?;
     // A sweep file (one row), or one row of an atlas: a bifurcation diagram.
     let row = match &a.row {
         Some(text) => Some(nearest_row(&l.atlas, text)?),
-        None if m.plane.y.count == 1 && quantity.is_none() => Some(0),
+        None if m.plane.y.count == 1 && matches!(show, Show::Map(_)) => Some(0),
         None => None,
     };
     if let Some(row) = row {
-        if quantity.is_some() {
+        let Show::Map(view) = show else {
             bail!("--row: draws a bifurcation diagram; leave out --view {}", a.view);
-        }
+        };
         if let (Some(_), View::Sweep(s)) = (a.sweep, view) {
             l.atlas.maps.retain(|map| map.sweep == s);
         }
@@ -119,22 +92,33 @@ pub fn run(a: RenderArgs) -> Result<()> {
         }
     }
     let contours = usize::from(a.contours.unwrap_or(0));
-    match (quantity, view) {
-        (None, _) => write_atomically(&a.output, |tmp| render::map(&l.atlas, view, mass, &curves, &page, tmp))?,
-        (Some(q), View::Sweep(sweep)) => {
-            write_atomically(&a.output, |tmp| render::scalar_map(&l.atlas, sweep, q, contours, &page, tmp))?
-        }
-        (Some(q), View::Hysteresis) if q.of_motion() => {
-            write_atomically(&a.output, |tmp| render::difference_map(&l.atlas, q, contours, &page, tmp))?
-        }
-        (Some(_), View::Hysteresis) => {
-            bail!(
-                "--view {}: needs --sweep fresh, up or down (hysteresis draws a quantity of the motion's up less down)",
-                a.view
-            )
-        }
-    }
+    write_atomically(&a.output, |tmp| render::draw(&l.atlas, show, mass, &curves, contours, &page, tmp))?;
     wrote(&a.output, &page)
+}
+
+/// A view the file does not have (`--view VIEW`, `--sweep`), in the
+/// command's words.
+fn no_such_view(e: NoSuchView, m: &grid::Meta, view: &str) -> anyhow::Error {
+    let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+    match e {
+        NoSuchView::Sweep(kind) => {
+            anyhow!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name())
+        }
+        NoSuchView::Hysteresis => {
+            anyhow!("--sweep hysteresis: needs up and down sweeps; the file has {}", have.join(", "))
+        }
+        NoSuchView::Number(_) => {
+            let stored: Vec<&str> = m.quantities.iter().map(|q| q.name.as_str()).collect();
+            let quantities = match stored.is_empty() {
+                true => "the file stores no quantities".to_string(),
+                false => format!("a quantity the file stores ({})", stored.join(", ")),
+            };
+            anyhow!("--view: '{view}' is not labels, lyapunov, multiplier, attractors, basin:ID or {quantities}")
+        }
+        NoSuchView::Difference(_) => anyhow!(
+            "--view {view}: needs --sweep fresh, up or down (hysteresis draws a quantity of the motion's up less down)"
+        ),
+    }
 }
 
 /// The bifurcation diagram of row `row` (`sweep --png`, `render` of a sweep

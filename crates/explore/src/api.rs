@@ -15,7 +15,7 @@ use axum::routing::get;
 use axum::{Json, Router};
 use base64::prelude::{Engine as _, BASE64_STANDARD};
 use engine::{CellRecord, SceneSource, Sim, Start};
-use grid::{Axis, Number, SweepKind};
+use grid::{Axis, SweepKind};
 use render::{Show, View};
 use scene::Named;
 use serde_json::Value;
@@ -168,48 +168,20 @@ fn sweep(o: &Opened, name: Option<&str>) -> Result<SweepKind, Refusal> {
     }
 }
 
-/// The views of an atlas: its sweeps, hysteresis with up and down, and the
-/// numbers of each sweep: `multiplier`, `lyapunov` and every stored quantity
-/// of the steady motion, each as `NAME:SWEEP`; with up and down, every
-/// stored quantity's up less down, `NAME:hysteresis`.
+/// The views of an atlas, by name ([`Show::all`]).
 fn views(o: &Opened) -> Vec<String> {
     let m = &o.atlas.meta;
-    let mut v: Vec<String> = m.sweeps.iter().map(|s| s.name().to_string()).collect();
-    if m.has_up_and_down() {
-        v.push("hysteresis".into());
-    }
-    for q in Number::all(m) {
-        v.extend(m.sweeps.iter().map(|s| format!("{}:{}", q.name(m), s.name())));
-    }
-    if m.has_up_and_down() {
-        v.extend(Number::all(m).filter(|q| q.of_motion()).map(|q| format!("{}:hysteresis", q.name(m))));
-    }
-    v
+    Show::all(m).into_iter().map(|v| v.name(m)).collect()
 }
 
-/// The view named `name`: a sweep, `hysteresis`, `NAME:SWEEP` of a number
-/// per cell (`multiplier`, `lyapunov`, a stored quantity), or
-/// `NAME:hysteresis` of a stored quantity (the file's first sweep by default).
+/// The view named `name` ([`Show::named`]: a sweep, `hysteresis`,
+/// `NAME:SWEEP` of a number per cell, `NAME:hysteresis` of a quantity's up
+/// less down), the file's first sweep by default.
 fn show(o: &Opened, name: Option<&str>) -> Result<Show, Refusal> {
     let m = &o.atlas.meta;
-    let name = name.unwrap_or(m.sweeps[0].name());
-    let refused = || bad(format!("view: '{}' is not a view of the atlas ({})", short(name), views(o).join(", ")));
-    if let Some((number, "hysteresis")) = name.rsplit_once(':') {
-        return match Number::named(m, number) {
-            Some(quantity) if quantity.of_motion() && m.has_up_and_down() => Ok(Show::Difference(quantity)),
-            _ => Err(refused()),
-        };
-    }
-    if let Some((number, s)) = name.rsplit_once(':') {
-        let sweep = SweepKind::parse(s).filter(|k| m.sweeps.contains(k)).ok_or_else(refused)?;
-        let quantity = Number::named(m, number).ok_or_else(refused)?;
-        return Ok(Show::Scalar(sweep, quantity));
-    }
-    match View::parse(name) {
-        Some(View::Sweep(s)) if m.sweeps.contains(&s) => Ok(Show::Map(View::Sweep(s))),
-        Some(View::Hysteresis) if views(o).iter().any(|v| v == "hysteresis") => Ok(Show::Map(View::Hysteresis)),
-        _ => Err(refused()),
-    }
+    let Some(name) = name else { return Ok(Show::Map(View::Sweep(m.sweeps[0]))) };
+    Show::named(m, name)
+        .ok_or_else(|| bad(format!("view: '{}' is not a view of the atlas ({})", short(name), views(o).join(", "))))
 }
 
 fn axis_answer<'a>(a: &'a Axis, o: &'a Opened) -> AxisAnswer<'a> {
@@ -715,14 +687,9 @@ async fn figure(Shared(state): Shared<St>, p: Params) -> Result<Response, Refusa
     let page = render::Page::of(size, None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
     let curves = if q.curves.0 { overlays(&state, &o) } else { Vec::new() };
     let name = format!("atlas{id}-{}.{}", q.view.as_deref().unwrap_or("map").replace(':', "-"), format.name());
-    let bytes = blocking(&state, move || {
-        drawn(format, |out| match show {
-            Show::Map(view) => render::map(&o.atlas, view, mass, &curves, &page, out),
-            Show::Scalar(sweep, quantity) => render::scalar_map(&o.atlas, sweep, quantity, 0, &page, out),
-            Show::Difference(quantity) => render::difference_map(&o.atlas, quantity, 0, &page, out),
-        })
-    })
-    .await?;
+    let bytes =
+        blocking(&state, move || drawn(format, |out| render::draw(&o.atlas, show, mass, &curves, 0, &page, out)))
+            .await?;
     Ok((
         [(header::CONTENT_TYPE, format.media_type().to_string()), (header::CONTENT_DISPOSITION, attachment(&name))],
         bytes,

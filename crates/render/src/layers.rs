@@ -7,26 +7,13 @@ use crate::error::RenderError;
 use crate::legend::{Entry, Swatch};
 use crate::map::{count, label_paint, sweep_rows, Hysteresis, Overlay, Paint, View};
 use crate::scalar::{Drawn, Scaled, NONE};
-use maps::Number;
-use maps::{Atlas, SweepKind};
+use crate::show::Show;
+use maps::Atlas;
 use plotters::style::RGBColor;
 
 /// Rows of a legend on a screen, where it scrolls: every label up to the
 /// figures' limit, then their families.
 const SCREEN_ROWS: usize = 60;
-
-/// What a layer shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Show {
-    /// A map's view: one sweep's labels, or the hysteresis panel (cells
-    /// where up and down differ, split between their two labels).
-    Map(View),
-    /// One number of a sweep's cells, on its diverging scale.
-    Scalar(SweepKind, Number),
-    /// A quantity of the motion, the up sweep's less the down sweep's
-    /// ([`crate::difference_map`]).
-    Difference(Number),
-}
 
 /// A colour bar: its title, its ends, and colours evenly along it.
 pub type Scale = (String, f64, f64, Vec<[u8; 3]>);

@@ -22,13 +22,14 @@ mod portrait;
 mod rich;
 mod scalar;
 mod section;
+mod show;
 mod trade;
 
 pub use basins::{basin_map, basins};
 pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use error::{Missing, RenderError};
-pub use layers::{curve_style, label_legend, layer, Key, Layer, Show};
+pub use layers::{curve_style, label_legend, layer, Key, Layer};
 pub use map::{attractor_map, family_map, map, sheet, Overlay, View};
 /// A colour faded as the hysteresis view draws the cells where the sweeps agree.
 pub use maps::palette::faded;
@@ -38,6 +39,7 @@ pub use portrait::{portrait, Portrait};
 pub use rich::runs as subscript_runs;
 pub use scalar::{difference_map, scalar_map};
 pub use section::{sections, Panel};
+pub use show::{draw, NoSuchView, Show, LABELS};
 pub use trade::trade;
 
 #[cfg(test)]
