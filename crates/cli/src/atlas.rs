@@ -24,11 +24,7 @@ pub fn run(a: AtlasArgs) -> Result<()> {
     r.threads = engine::threads(a.run.threads)?;
     r.output = Some(a.output.clone());
     r.resume = a.resume;
-    r.quantities = match a.quantities.as_str() {
-        "all" => None,
-        "none" => Some(Vec::new()),
-        list => Some(list.split(',').map(|n| n.trim().to_string()).collect()),
-    };
+    r.keep(&a.quantities);
     r.command = command_line();
     let run = engine::atlas(&r, &Shown::new("atlas", a.run.quiet))?;
     // The file written: a symbolic link's target (the link stays).

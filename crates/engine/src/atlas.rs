@@ -51,7 +51,8 @@ pub struct AtlasRequest {
     /// What made the run (the file's `command` attribute).
     pub command: String,
     /// The quantities of the steady motion stored: `None` every one of the
-    /// scene ([`solver::quantity::all_names`]), else those named (none when empty).
+    /// scene ([`solver::quantity::all_names`]), else those named (none when
+    /// empty); [`AtlasRequest::keep`] sets them from their text.
     pub quantities: Option<Vec<String>>,
 }
 
@@ -75,6 +76,19 @@ impl AtlasRequest {
             command: String::new(),
             quantities: None,
         }
+    }
+}
+
+impl AtlasRequest {
+    /// Keeps the quantities `text` names, as `--quantities` and Python's
+    /// `quantities=` name them: `all`, `none`, or names separated by commas
+    /// (each checked against the scene's when the atlas runs).
+    pub fn keep(&mut self, text: &str) {
+        self.quantities = match text.trim() {
+            "all" => None,
+            "none" => Some(Vec::new()),
+            list => Some(list.split(',').map(|n| n.trim().to_string()).collect()),
+        };
     }
 }
 

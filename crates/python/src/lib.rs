@@ -360,7 +360,7 @@ fn sweep(
 /// `{"image": bytes, "seconds": s}`, its file written in memory.
 #[pyfunction]
 #[pyo3(signature = (sim, *, x, y, sweep=None, along=None, attractors=None, attractors_where=None, seed=None,
-    section_cap=None, threads=None, output=None, resume=false))]
+    section_cap=None, threads=None, output=None, resume=false, quantities=None))]
 #[allow(clippy::too_many_arguments)] // the keywords of va.atlas
 fn atlas(
     sim: SimArgs<'_>,
@@ -375,6 +375,7 @@ fn atlas(
     threads: Option<usize>,
     output: Option<String>,
     resume: bool,
+    quantities: Option<String>,
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
     let sweeps = sweeps(sweep)?.unwrap_or_else(|| vec![SweepKind::Fresh]);
@@ -391,6 +392,9 @@ fn atlas(
     r.threads = self::threads(threads)?;
     r.output = output.clone().map(Into::into);
     r.resume = resume;
+    if let Some(names) = quantities {
+        r.keep(&names);
+    }
     r.command = "vibroatlas.atlas (Python)".into();
     Ok(Job::start(move |shared| {
         let run = engine::atlas(&r, shared)?;

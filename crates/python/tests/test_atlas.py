@@ -172,3 +172,27 @@ def test_open_sweep_and_curve_files(tmp_path):
     with va.open(c) as t:
         assert_trees_equal(t.load(), open_tree(c), volatile=set())
         assert any(str(k).startswith("curve_") for k in t.children)
+
+
+def test_quantities_keep_those_named_as_the_cli_keeps_them(tmp_path):
+    """quantities= keeps the quantities named, as `--quantities` does: the
+    tree of `quantities=["power_in", "max_abs_x_M1"]` equals the CLI's file
+    of `--quantities power_in,max_abs_x_M1`; "none" and [] keep none; a name
+    the scene does not have is a ValueError naming the keyword."""
+    x, y = ("omega", 0.13, 0.53, 3), ("delta", 0.4, 0.8, 2)
+    kept = ["power_in", "max_abs_x_M1"]
+    ref = cli_atlas(tmp_path / "ref.h5", MULTI, x, y, args=["--quantities", ",".join(kept), "--threads", "1"])
+    t = va.atlas(str(MULTI), x=x, y=y, quantities=kept, threads=1, progress=False)
+    assert_trees_equal(t, ref)
+    every = va.atlas(str(MULTI), x=x, y=y, threads=1, progress=False)
+    for k in kept:
+        assert k in t["fresh"].data_vars and k in every["fresh"].data_vars
+    assert "rms_v_M1" in every["fresh"].data_vars and "rms_v_M1" not in t["fresh"].data_vars
+    for none in ("none", []):
+        bare = va.atlas(str(MULTI), x=x, y=y, quantities=none, threads=1, progress=False)
+        assert set(bare["fresh"].data_vars) < set(t["fresh"].data_vars)
+        assert not {"power_in", "max_abs_x_M1", "rms_v_M1"} & set(bare["fresh"].data_vars), none
+    with pytest.raises(ValueError, match=r"^quantities: 'bogus' is not a quantity of this scene"):
+        va.atlas(str(MULTI), x=x, y=y, quantities=["bogus"], threads=1, progress=False)
+    with pytest.raises(TypeError, match="quantities"):
+        va.atlas(str(MULTI), x=x, y=y, quantities=3, progress=False)

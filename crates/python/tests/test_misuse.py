@@ -88,6 +88,10 @@ def test_what_a_new_user_mistypes_is_named():
     with pytest.raises(TypeError) as e:
         va.cell(MULTI, presett="fast")
     assert "did you mean 'preset'" in str(e.value)
+    # Every keyword of the functions is matched, a new one as well (read from their signatures).
+    with pytest.raises(TypeError) as e:
+        va.atlas(MULTI, ("omega", 0.3, 0.4, 2), ("delta", 0.5, 0.6, 2), quantitis="none")
+    assert "did you mean 'quantities'" in str(e.value)
     with pytest.raises(ValueError) as e:
         va.sweep(MULTI, axis=("omega", 0.3, 0.4, 3), threads=-2, progress=False)
     assert str(e.value) == "threads: must be >= 0, got -2"

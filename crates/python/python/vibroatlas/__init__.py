@@ -23,7 +23,7 @@ from . import _native
 from ._native import SceneError
 from . import _run
 from ._run import axis as _axis, common as _common, number as _number, params_arg as _params
-from ._run import text as _text, whole as _whole
+from ._run import names as _names, text as _text, whole as _whole
 
 try:
     from importlib.metadata import version as _version
@@ -151,8 +151,8 @@ def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, output
 
 
 def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None, attractors=None,
-          attractors_where=None, seed=None, output=None, force=None, resume=None, preset=None, integrator=None,
-          accuracy=None, progress=True, params=None, **parameters):
+          attractors_where=None, seed=None, quantities=None, output=None, force=None, resume=None, preset=None,
+          integrator=None, accuracy=None, progress=True, params=None, **parameters):
     """Maps a plane of two parameters, like `vibroatlas atlas SCENE --x ... --y
     ... -o FILE`, and returns it as an xarray.DataTree with the file's groups
     (/up, /down or /fresh, /legend, /attractors; the root holds the axes and,
@@ -164,7 +164,9 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
     threads (default: all cores); section_cap: raw section points kept per
     cell (16); attractors: K initial states sampled per cell (the
     /attractors group), attractors_where: "all" or "hysteresis", seed: their
-    seed. output: also keep the file, written by the Rust writer at that path
+    seed. quantities: the quantities of the steady motion stored per cell,
+    "all" (default), "none", or a list of names (["max_abs_x_M1",
+    "power_in"]). output: also keep the file, written by the Rust writer at that path
     (force: accepted and ignored, as `--force` is: an output that is a device
     or a pipe is always refused; resume: continue a run
     killed from outside from its journal beside `output`, or do nothing when
@@ -183,6 +185,8 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
                        ("seed", seed)):
         if value is not None:
             options[key] = _whole(key, value)
+    if quantities is not None:
+        options["quantities"] = _names("quantities", quantities)
     for key, value in (("force", force), ("resume", resume)):
         if value is not None and not isinstance(value, bool):
             raise TypeError(f"{key}: expected True or False, got {value!r}")

@@ -64,6 +64,7 @@ def atlas(
     attractors: int | None = ...,
     attractors_where: Literal["all", "hysteresis"] | None = ...,
     seed: int | None = ...,
+    quantities: str | Sequence[str] | None = ...,
     output: Path | None = ...,
     force: bool | None = ...,
     resume: bool | None = ...,

@@ -130,6 +130,16 @@ def text(what, v):
     return v
 
 
+def names(what, v):
+    """A text the engine reads as a list of names: "all", "none", or names
+    separated by commas, given as that text or as a list of names."""
+    if isinstance(v, str):
+        return v
+    if isinstance(v, (list, tuple)) and all(isinstance(n, str) and n and "," not in n for n in v):
+        return ",".join(v) if v else "none"
+    raise TypeError(f"{what}: expected \"all\", \"none\" or a list of names, got {v!r}")
+
+
 def axis(what, v):
     """(name, start, stop, count) of an axis given as a 4-sequence."""
     try:
@@ -141,11 +151,21 @@ def axis(what, v):
             whole(f"{what} count", count))
 
 
-#: The keywords of the functions of the package: an extra keyword close to
-#: one of them is a misspelt keyword, not a scene parameter.
-KEYWORDS = ("preset", "integrator", "accuracy", "progress", "params", "direction", "threads", "section_cap",
-            "output", "sweep", "along", "attractors", "attractors_where", "seed", "force", "resume", "samples",
-            "box", "kind", "start", "free", "to", "steps", "window", "bounds", "n", "state")
+def keywords():
+    """The named parameters of the package's functions that take a scene's
+    parameters as extra keywords (`**parameters`): an extra keyword close to
+    one of them is a misspelt keyword, not a scene parameter."""
+    import inspect
+
+    import vibroatlas
+
+    names = set()
+    for f in vars(vibroatlas).values():
+        if inspect.isfunction(f):
+            params = inspect.signature(f).parameters.values()
+            if any(p.kind is p.VAR_KEYWORD and p.name == "parameters" for p in params):
+                names |= {p.name for p in params if p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)}
+    return sorted(names)
 
 
 def params_arg(params, extra):
@@ -156,7 +176,7 @@ def params_arg(params, extra):
     if params is not None and not hasattr(params, "items"):
         raise TypeError(f"params: expected a dict of parameter values, got {type(params).__name__}")
     for name, v in extra.items():
-        close = difflib.get_close_matches(name, KEYWORDS, n=1, cutoff=0.8)
+        close = difflib.get_close_matches(name, keywords(), n=1, cutoff=0.8)
         if close and (isinstance(v, (str, bool, dict, list, tuple)) or v is None):
             raise TypeError(f"unexpected keyword {name!r}: did you mean {close[0]!r}? (other keywords are "
                             f"scene parameters, which take numbers)")
