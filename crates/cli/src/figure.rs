@@ -27,8 +27,9 @@ pub fn page(f: &FigureArgs) -> Result<Page> {
 pub fn check(flag: &str, path: Option<&PathBuf>) -> Result<()> {
     match path {
         Some(p) => {
-            Format::of(p).map_err(|e| anyhow!("{flag}: {e}"))?;
-            output(flag, Some(p))
+            // Where first: a folder given as the picture is a folder, not a format.
+            output(flag, Some(p))?;
+            Format::of(p).map(|_| ()).map_err(|e| anyhow!("{flag}: {e}"))
         }
         None => Ok(()),
     }

@@ -145,9 +145,13 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
 pub fn parse_assignment(text: &str, field: &str) -> std::result::Result<(String, f64), String> {
     let (name, value) = text.split_once('=').ok_or_else(|| format!("{field} {text}: expected NAME=VALUE"))?;
     let name = name.trim().to_string();
-    let v: f64 = value.trim().parse().map_err(|_| format!("{field} {name}: '{}' is not a number", value.trim()))?;
+    let value = value.trim();
+    let v: f64 = value.parse().map_err(|_| format!("{field} {name}: '{value}' is not a number"))?;
     if !v.is_finite() {
-        return Err(format!("{field} {name}: not a finite number, got {v}"));
+        // `1e400` reads as infinity: say what was typed, and why.
+        let named = ["inf", "nan"].iter().any(|w| value.to_ascii_lowercase().contains(w));
+        let why = if named { "is not a finite number" } else { "is beyond the largest number, about 1.8e308" };
+        return Err(format!("{field} {name}: '{value}' {why}"));
     }
     Ok((name, v))
 }
@@ -257,4 +261,22 @@ fn entries(parent: &Atlas, plane: &Plane, sweeps: &[SweepKind]) -> Entries {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_assignment;
+
+    /// `NAME=VALUE` reads a finite value; a refusal names the option, the
+    /// name and the text as typed.
+    #[test]
+    fn an_assignment_says_what_was_typed() {
+        assert_eq!(parse_assignment(" omega = 2.5 ", "--set"), Ok(("omega".to_string(), 2.5)));
+        let refused = |t: &str| parse_assignment(t, "--at").unwrap_err();
+        assert_eq!(refused("omega"), "--at omega: expected NAME=VALUE");
+        assert_eq!(refused("omega=x"), "--at omega: 'x' is not a number");
+        assert_eq!(refused("omega=1e400"), "--at omega: '1e400' is beyond the largest number, about 1.8e308");
+        assert_eq!(refused("omega=-inf"), "--at omega: '-inf' is not a finite number");
+        assert_eq!(refused("omega=NaN"), "--at omega: 'NaN' is not a finite number");
+    }
 }

@@ -378,6 +378,13 @@ pub fn write_atomically<E: Into<Box<dyn std::error::Error + Send + Sync>>>(
     check_folder(path)?;
     let tmp = partial_path(path);
     check_own_file(&tmp, "temporary file")?;
+    // A folder no file can be made in (`/proc`, read-only) is named as the
+    // user's, not through the temporary file's name.
+    if let Err(e) = std::fs::File::create(&tmp) {
+        let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let cause = format!("cannot create a file in {}: {e}", folder.display());
+        return Err(StoreError::Write { path: path.display().to_string(), cause: cause.into() });
+    }
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);
         return Err(StoreError::Write { path: path.display().to_string(), cause: e.into() });
@@ -420,6 +427,24 @@ mod tests {
         assert!(dir.is_dir());
         assert_eq!(create_folder(&dir).unwrap(), None);
         std::fs::remove_dir_all(&base).unwrap();
+    }
+
+    /// A folder where no file can be made is named, not the temporary
+    /// file's name; the writer is not called.
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_folder_that_takes_no_file_is_named() {
+        use std::error::Error;
+        let out = Path::new("/proc/vibroatlas-figure.png");
+        let mut called = false;
+        let e = write_atomically(out, |_| -> Result<(), std::io::Error> {
+            called = true;
+            Ok(())
+        })
+        .unwrap_err();
+        let said = format!("{e}: {}", e.source().unwrap());
+        assert!(said.starts_with("/proc/vibroatlas-figure.png: cannot create a file in /proc: "), "{said}");
+        assert!(!called);
     }
 
     /// A writer's error is the source of the store's (typed, whole), and
