@@ -1,11 +1,9 @@
 //! Command-line arguments as clap structures (raw, before validation).
 
-use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand};
 use grid::attractors::Sampling;
+pub use scene::named_arg as named;
 use scene::Named;
-use std::ffi::OsStr;
-use std::marker::PhantomData;
 use std::path::PathBuf;
 
 /// Maps the dynamics of vibro-impact systems: n-p-q labels of periodic impact
@@ -329,37 +327,8 @@ pub struct AtlasArgs {
     /// Vertical axis, NAME=START:STOP:COUNT (ascending).
     #[arg(long, value_name = "NAME=START:STOP:COUNT")]
     pub y: String,
-    /// fresh (independent cells), up, down (continuation), or both (up and down).
-    #[arg(long, value_parser = named::<grid::Sweeps>(), default_value_t = grid::Sweeps::Fresh)]
-    pub sweep: grid::Sweeps,
-    /// Axis the continuation chains follow: x (rows) or y (columns).
-    #[arg(long, value_parser = named::<grid::Along>(), default_value_t = grid::Along::X)]
-    pub along: grid::Along,
-    /// Compute only shard K of N (whole lines); merge the parts with `vibroatlas merge`.
-    #[arg(long, value_name = "K/N")]
-    pub shard: Option<String>,
-    /// Also find the coexisting attractors of the cells from K sampled initial
-    /// states each (stored in the file's attractors group).
-    #[arg(long, value_name = "K")]
-    pub attractors: Option<usize>,
-    /// Cells whose attractors are sampled: all, or hysteresis (where up and
-    /// down differ; needs --sweep both).
-    #[arg(long, value_parser = named::<engine::AttractorCells>(), default_value_t = engine::AttractorCells::All)]
-    pub attractors_where: engine::AttractorCells,
-    /// Seed of the attractor sampling.
-    #[arg(long, default_value_t = Sampling::default().seed)]
-    pub seed: u64,
-    /// Continue an interrupted run from its journal.
-    #[arg(long)]
-    pub resume: bool,
-    /// The quantities of the steady motion stored per cell: all, none, or
-    /// names separated by commas (max_abs_x_M1,power_in; docs/models.md).
-    #[arg(long, default_value = "all", value_name = "all|none|NAME,…")]
-    pub quantities: String,
-    /// Accepted and ignored, for scripts that pass it: an output that exists
-    /// and is not a regular file (a device, a pipe) is always refused.
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub options: engine::AtlasOptions,
     /// Output HDF5 file.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub output: std::path::PathBuf,
@@ -618,45 +587,12 @@ fn default_box() -> String {
     format!("{},{}", s.x, s.v)
 }
 
-/// The clap value parser of a library enum, read through its [`Named`] table
-/// (the one spelling the files, Python and the explorer use too): `--help`
-/// lists every name with its help line, and a name that is none of them gets
-/// clap's own error, which lists the names and suggests the closest.
-#[derive(Clone)]
-pub struct NamedParser<T>(PhantomData<T>);
-
-/// [`NamedParser`] of `T`, for `#[arg(value_parser = named::<T>())]`.
-pub fn named<T: Named + Send + Sync>() -> NamedParser<T> {
-    NamedParser(PhantomData)
-}
-
-impl<T: Named + Send + Sync> NamedParser<T> {
-    fn values() -> impl Iterator<Item = PossibleValue> {
-        T::ALL.iter().map(|v| PossibleValue::new(v.name()).help(v.help()))
-    }
-}
-
-impl<T: Named + Clone + Send + Sync> TypedValueParser for NamedParser<T> {
-    type Value = T;
-
-    fn parse_ref(&self, cmd: &clap::Command, arg: Option<&clap::Arg>, value: &OsStr) -> Result<T, clap::Error> {
-        if let Some(v) = value.to_str().and_then(T::parse) {
-            return Ok(v);
-        }
-        // A name outside the table: clap's own message, by its own parser of the names.
-        let exact = PossibleValuesParser::new(Self::values()).parse_ref(cmd, arg, value)?;
-        T::parse(&exact).ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidValue).with_cmd(cmd))
-    }
-
-    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = PossibleValue> + '_>> {
-        Some(Box::new(Self::values()))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use clap::builder::TypedValueParser;
     use clap::CommandFactory;
+    use std::ffi::OsStr;
 
     /// Every name of `T` reads back as its value through the parser.
     fn reads_back<T: Named + Clone + Send + Sync + PartialEq + std::fmt::Debug>() {

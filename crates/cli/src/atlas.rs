@@ -7,24 +7,15 @@ use crate::progress::Shown;
 use crate::summary::print_summary;
 use anyhow::Result;
 use engine::AtlasRequest;
-use grid::{Axis, Shard};
+use grid::Axis;
 
 /// Runs the command.
 pub fn run(a: AtlasArgs) -> Result<()> {
-    let sweeps = a.sweep.kinds();
-    let flags = |e| engine::grid_error(e, &[("shard", engine::Opt::Shard)]);
-    let mut r = AtlasRequest::new(sim(&a.sim)?, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, sweeps);
-    r.along = a.along;
-    r.shard = a.shard.as_deref().map(Shard::parse).transpose().map_err(flags)?;
-    r.attractors = a.attractors.map(|samples| {
-        let sampling = grid::attractors::Sampling { samples, seed: a.seed, ..Default::default() };
-        (sampling, a.attractors_where)
-    });
+    let mut r = AtlasRequest::new(sim(&a.sim)?, Axis::parse(&a.x, "--x")?, Axis::parse(&a.y, "--y")?, Vec::new());
+    a.options.apply(&mut r)?;
     r.section_cap = a.run.section_cap;
     r.threads = engine::threads(a.run.threads)?;
     r.output = Some(a.output.clone());
-    r.resume = a.resume;
-    r.keep(&a.quantities);
     r.command = command_line();
     let run = engine::atlas(&r, &Shown::new("atlas", a.run.quiet))?;
     // The file written: a symbolic link's target (the link stays).

@@ -52,7 +52,7 @@ pub struct AtlasRequest {
     pub command: String,
     /// The quantities of the steady motion stored: `None` every one of the
     /// scene ([`solver::quantity::all_names`]), else those named (none when
-    /// empty); [`AtlasRequest::keep`] sets them from their text.
+    /// empty); [`AtlasOptions::apply`] sets them from their text.
     pub quantities: Option<Vec<String>>,
 }
 
@@ -79,16 +79,96 @@ impl AtlasRequest {
     }
 }
 
-impl AtlasRequest {
-    /// Keeps the quantities `text` names, as `--quantities` and Python's
-    /// `quantities=` name them: `all`, `none`, or names separated by commas
-    /// (each checked against the scene's when the atlas runs).
-    pub fn keep(&mut self, text: &str) {
-        self.quantities = match text.trim() {
+/// The options of an atlas that every front end gives by name: each field
+/// is the command line's flag (`--attractors-where`; its doc comment the
+/// flag's help) and the Python keyword (`attractors_where=`), read by clap
+/// (with the feature `clap`) and by serde, and set on the request by
+/// [`AtlasOptions::apply`]. A new option of an atlas is a field here and its
+/// line in `apply` (with its `Opt` if the engine refuses values of it).
+#[derive(Debug, Clone, serde::Deserialize)]
+#[cfg_attr(feature = "clap", derive(clap::Args))]
+#[serde(default, deny_unknown_fields)]
+pub struct AtlasOptions {
+    /// fresh (independent cells), up, down (continuation), or both (up and down).
+    #[cfg_attr(feature = "clap", arg(long, value_parser = scene::named_arg::<grid::Sweeps>(), default_value_t = grid::Sweeps::Fresh))]
+    #[serde(deserialize_with = "named")]
+    pub sweep: grid::Sweeps,
+    /// Axis the continuation chains follow: x (rows) or y (columns).
+    #[cfg_attr(feature = "clap", arg(long, value_parser = scene::named_arg::<Along>(), default_value_t = Along::X))]
+    #[serde(deserialize_with = "named")]
+    pub along: Along,
+    /// Compute only shard K of N (whole lines); merge the parts with `vibroatlas merge`.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "K/N"))]
+    pub shard: Option<String>,
+    /// Also find the coexisting attractors of the cells from K sampled initial
+    /// states each (stored in the file's attractors group).
+    #[cfg_attr(feature = "clap", arg(long, value_name = "K"))]
+    pub attractors: Option<usize>,
+    /// Cells whose attractors are sampled: all, or hysteresis (where up and
+    /// down differ; needs --sweep both).
+    #[cfg_attr(feature = "clap", arg(long, value_parser = scene::named_arg::<AttractorCells>(), default_value_t = AttractorCells::All))]
+    #[serde(deserialize_with = "named")]
+    pub attractors_where: AttractorCells,
+    /// Seed of the attractor sampling.
+    #[cfg_attr(feature = "clap", arg(long, default_value_t = Sampling::default().seed))]
+    pub seed: u64,
+    /// Continue an interrupted run from its journal.
+    #[cfg_attr(feature = "clap", arg(long))]
+    pub resume: bool,
+    /// The quantities of the steady motion stored per cell: all, none, or
+    /// names separated by commas (max_abs_x_M1,power_in; docs/models.md).
+    #[cfg_attr(feature = "clap", arg(long, default_value = "all", value_name = "all|none|NAME,…"))]
+    pub quantities: String,
+    /// Accepted and ignored, for scripts that pass it: an output that exists
+    /// and is not a regular file (a device, a pipe) is always refused.
+    #[cfg_attr(feature = "clap", arg(long))]
+    pub force: bool,
+}
+
+impl Default for AtlasOptions {
+    /// Fresh cells, chains along x, no shard, no attractors (seed 1 when
+    /// asked, of every cell), no resume, every quantity.
+    fn default() -> AtlasOptions {
+        AtlasOptions {
+            sweep: grid::Sweeps::Fresh,
+            along: Along::X,
+            shard: None,
+            attractors: None,
+            attractors_where: AttractorCells::All,
+            seed: Sampling::default().seed,
+            resume: false,
+            quantities: "all".into(),
+            force: false,
+        }
+    }
+}
+
+/// A value of a named enum read by serde: its name, or the refusal that
+/// lists the names (`expected fresh, up, down or both, got 'sideways'`).
+fn named<'de, D: serde::Deserializer<'de>, T: scene::Named>(d: D) -> std::result::Result<T, D::Error> {
+    let text = <String as serde::Deserialize>::deserialize(d)?;
+    T::parse(&text).ok_or_else(|| serde::de::Error::custom(T::expected(&text)))
+}
+
+impl AtlasOptions {
+    /// Sets the options on `r`: its sweeps, chains, shard (`K/N`, refused
+    /// naming [`Opt::Shard`]), attractor search, resume and quantities.
+    pub fn apply(&self, r: &mut AtlasRequest) -> Result<()> {
+        r.sweeps = self.sweep.kinds();
+        r.along = self.along;
+        let shard = self.shard.as_deref().map(Shard::parse).transpose();
+        r.shard = shard.map_err(|e| crate::grid_error(e, &[("shard", Opt::Shard)]))?;
+        r.attractors = self.attractors.map(|samples| {
+            let sampling = Sampling { samples, seed: self.seed, ..Default::default() };
+            (sampling, self.attractors_where)
+        });
+        r.resume = self.resume;
+        r.quantities = match self.quantities.trim() {
             "all" => None,
             "none" => Some(Vec::new()),
             list => Some(list.split(',').map(|n| n.trim().to_string()).collect()),
         };
+        Ok(())
     }
 }
 

@@ -81,7 +81,7 @@ pub use orbit::{
     FollowedOrbit, Multiplier, OrbitImpact, OrbitReport, OrbitRequest,
 };
 // Lines and planes of cells, and their files.
-pub use atlas::{atlas, AtlasRequest, AttractorCells};
+pub use atlas::{atlas, AtlasOptions, AtlasRequest, AttractorCells};
 pub use merge::{merge, MergeRequest};
 pub use plan::{threads, Executed, Plan};
 pub use study::{sheet_panel, study, StudyAtlas, StudyPlan};

@@ -17,7 +17,7 @@
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
-use engine::{AtlasRequest, AttractorCells, CurveRequest, Opt, SceneSource, Sim, Start, SweepRequest};
+use engine::{AtlasRequest, CurveRequest, Opt, SceneSource, Sim, Start, SweepRequest};
 use grid::attractors::Sampling;
 use grid::{Axis, SweepKind};
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
@@ -357,44 +357,31 @@ fn sweep(
 }
 
 /// An atlas: `{"output": path, "seconds": s}` written to `output`, else
-/// `{"image": bytes, "seconds": s}`, its file written in memory.
+/// `{"image": bytes, "seconds": s}`, its file written in memory. Its other
+/// keywords are the atlas's options ([`engine::AtlasOptions`], each named as
+/// its field), each refused naming it.
 #[pyfunction]
-#[pyo3(signature = (sim, *, x, y, sweep=None, along=None, attractors=None, attractors_where=None, seed=None,
-    section_cap=None, threads=None, output=None, resume=false, quantities=None))]
-#[allow(clippy::too_many_arguments)] // the keywords of va.atlas
+#[pyo3(signature = (sim, *, x, y, section_cap=None, threads=None, output=None, **options))]
 fn atlas(
     sim: SimArgs<'_>,
     x: (String, f64, f64, usize),
     y: (String, f64, f64, usize),
-    sweep: Option<String>,
-    along: Option<String>,
-    attractors: Option<usize>,
-    attractors_where: Option<String>,
-    seed: Option<u64>,
     section_cap: Option<usize>,
     threads: Option<usize>,
     output: Option<String>,
-    resume: bool,
-    quantities: Option<String>,
+    options: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
-    let sweeps = sweeps(sweep)?.unwrap_or_else(|| vec![SweepKind::Fresh]);
-    let mut r = AtlasRequest::new(sim, axis(x), axis(y), sweeps);
-    r.along = named("along", along)?.unwrap_or(r.along);
-    // As on the command line, the seed and the cells chosen matter only with attractors.
-    let cells = named("attractors_where", attractors_where)?;
-    if let Some(samples) = attractors {
-        let d = Sampling::default();
-        r.attractors =
-            Some((Sampling { samples, seed: seed.unwrap_or(d.seed), ..d }, cells.unwrap_or(AttractorCells::All)));
-    }
+    let options: engine::AtlasOptions = match options {
+        None => Default::default(),
+        Some(d) => serde_path_to_error::deserialize(&mut pythonize::Depythonizer::from_object(d.as_any()))
+            .map_err(|e| PyValueError::new_err(format!("{}: {}", e.path(), e.inner())))?,
+    };
+    let mut r = AtlasRequest::new(sim, axis(x), axis(y), Vec::new());
+    options.apply(&mut r).map_err(|e| Failure::of(&e).into_py())?;
     r.section_cap = section_cap.unwrap_or(r.section_cap);
     r.threads = self::threads(threads)?;
     r.output = output.clone().map(Into::into);
-    r.resume = resume;
-    if let Some(names) = quantities {
-        r.keep(&names);
-    }
     r.command = "vibroatlas.atlas (Python)".into();
     Ok(Job::start(move |shared| {
         let run = engine::atlas(&r, shared)?;

@@ -40,6 +40,8 @@ mod evaluate;
 mod expr;
 mod model;
 mod named;
+#[cfg(feature = "clap")]
+mod named_arg;
 mod scales;
 mod schema;
 mod symbol;
@@ -49,6 +51,8 @@ pub use error::SceneError;
 pub use expr::MAX_EXPRESSION_CHARS;
 pub use model::{Friction, Harmonic, LabelStops, LawKind, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
 pub use named::Named;
+#[cfg(feature = "clap")]
+pub use named_arg::{named_arg, NamedParser};
 pub use scales::{Scale, Scales};
 pub use symbol::{symbol_of, SYMBOL_MAX_CHARS};
 
