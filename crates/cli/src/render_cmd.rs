@@ -102,7 +102,8 @@ fn no_such_view(e: NoSuchView, m: &grid::Meta, view: &str) -> anyhow::Error {
     let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
     match e {
         NoSuchView::Sweep(kind) => {
-            anyhow!("--sweep: the file has {}, or hysteresis with up and down; not {}", have.join(", "), kind.name())
+            let hysteresis = if m.has_up_and_down() { ", or hysteresis with up and down" } else { "" };
+            anyhow!("--sweep: the file has {}{hysteresis}; not {}", have.join(", "), kind.name())
         }
         NoSuchView::Hysteresis => {
             anyhow!("--sweep hysteresis: needs up and down sweeps; the file has {}", have.join(", "))

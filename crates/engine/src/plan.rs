@@ -450,7 +450,13 @@ impl Plan {
     pub fn keep_quantities(&mut self, names: &[String]) -> Result<()> {
         if let Some(unknown) = names.iter().find(|n| !self.meta.quantities.iter().any(|q| &q.name == *n)) {
             let known: Vec<&str> = self.meta.quantities.iter().map(|q| q.name.as_str()).collect();
-            let why = format!("'{unknown}' is not a quantity of this scene (all, none, or of: {})", known.join(", "));
+            let why = match unknown.as_str() {
+                "all" | "none" => format!(
+                    "'{unknown}' stands alone, not among names (give all, none, or names of: {})",
+                    known.join(", ")
+                ),
+                _ => format!("'{unknown}' is not a quantity of this scene (all, none, or of: {})", known.join(", ")),
+            };
             return Err(RequestError::option(Opt::Quantities).text(why).into());
         }
         let keep: Vec<usize> =

@@ -5,7 +5,7 @@
 //! bad request is a 4xx with `{"error": "…"}` naming what is wrong, never a
 //! crash of the server.
 
-use crate::guard::{self, short};
+use crate::guard::{self, brief, short};
 use crate::state::{phase, share, stop, Job, NotQueued, Opened, Phase, Request, State, BUSY_LIMIT, ZOOM_QUEUE};
 use crate::wire::*;
 use axum::extract::{Path, State as Shared};
@@ -180,8 +180,19 @@ fn views(o: &Opened) -> Vec<String> {
 fn show(o: &Opened, name: Option<&str>) -> Result<Show, Refusal> {
     let m = &o.atlas.meta;
     let Some(name) = name else { return Ok(Show::Map(View::Sweep(m.sweeps[0]))) };
-    Show::named(m, name)
-        .ok_or_else(|| bad(format!("view: '{}' is not a view of the atlas ({})", short(name), views(o).join(", "))))
+    if let Some(show) = Show::named(m, name) {
+        return Ok(show);
+    }
+    // Why a number's view is none, where the view's parts say (as render says it).
+    let why = match name.rsplit_once(':').map(|(what, sweep)| Show::of(m, what, View::parse(sweep))) {
+        Some(Err(render::NoSuchView::Difference(number))) => {
+            format!(": {} has no up less down (the quantities of the motion have one)", number.name(m))
+        }
+        Some(Err(render::NoSuchView::Sweep(kind))) => format!(": the atlas has no {} sweep", kind.name()),
+        Some(Err(render::NoSuchView::Hysteresis)) => ": hysteresis needs up and down sweeps".to_string(),
+        _ => String::new(),
+    };
+    Err(bad(format!("view: '{}' is not a view of the atlas{why} ({})", short(name), views(o).join(", "))))
 }
 
 fn axis_answer<'a>(a: &'a Axis, o: &'a Opened) -> AxisAnswer<'a> {
@@ -296,6 +307,7 @@ fn stored_cell(o: &Opened, sweep_name: Option<&str>, given: &[(String, String)])
             .ok()
             .filter(|v| v.is_finite())
             .ok_or_else(|| bad(format!("{}: '{}' is not a number", a.name, short(t))))?;
+        a.nearest(v).map_err(|e| bad(format!("{}: {e}", a.name)))?;
         at.push((a.name.clone(), v));
     }
     let sim = Sim::new(SceneSource::Stored(o.path.clone()));
@@ -475,7 +487,7 @@ async fn basins(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Ref
     let Asked { o, q, at, .. } = asked::<BasinsQuery>(&state, &p, true)?;
     let axis = |name: &str, t: Option<&str>| -> Result<Axis, Refusal> {
         let t = t.ok_or_else(|| bad(format!("{name}: missing (COMPONENT=START:STOP:COUNT)")))?;
-        Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
+        Axis::parse(t, name).map_err(|e| bad(brief(&e.to_string())))
     };
     let (x, y) = (axis("basin_x", q.basin_x.as_deref())?, axis("basin_y", q.basin_y.as_deref())?);
     if x.count.saturating_mul(y.count) > MAX_BASIN_STARTS {
@@ -531,7 +543,7 @@ fn zoom_box(
 ) -> Result<ZoomBox, Refusal> {
     let axis = |name: &str, t: &Option<String>| -> Result<Axis, Refusal> {
         let t = t.as_deref().ok_or_else(|| bad(format!("{name}: missing (NAME=START:STOP:COUNT)")))?;
-        Axis::parse(t, name).map_err(|e| bad(short(&e.to_string())))
+        Axis::parse(t, name).map_err(|e| bad(brief(&e.to_string())))
     };
     let (x, y) = (axis("x", x)?, axis("y", y)?);
     engine::check_zoom_size(&x, &y).map_err(|e| bad(message(&e)))?;
@@ -539,7 +551,7 @@ fn zoom_box(
         sweep.as_deref().map(|t| SweepKind::parse_set(t, "sweep").map_err(|e| bad(e.to_string()))).transpose()?;
     let parts = set.as_deref().filter(|t| !t.trim().is_empty()).into_iter().flat_map(|t| t.split(','));
     let set =
-        parts.map(|t| engine::parse_assignment(t, "set").map_err(|e| bad(short(&e)))).collect::<Result<_, _>>()?;
+        parts.map(|t| engine::parse_assignment(t, "set").map_err(|e| bad(brief(&e)))).collect::<Result<_, _>>()?;
     Ok((x, y, sweeps, set))
 }
 
@@ -584,7 +596,8 @@ async fn zoom_plan(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, 
     answer(&plan)
 }
 
-async fn zoom(Shared(state): Shared<St>, body: axum::body::Bytes) -> Result<Json<Value>, Refusal> {
+async fn zoom(Shared(state): Shared<St>, p: Params, body: axum::body::Bytes) -> Result<Json<Value>, Refusal> {
+    p.none()?;
     let body = ZoomBody::read(&body)?;
     let id = body.atlas.map_or(0, |id| id as usize);
     let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
@@ -655,7 +668,8 @@ fn job_id(state: &State, id: &str) -> Result<Arc<Job>, Refusal> {
     id.parse::<usize>().ok().and_then(|i| state.job(i)).ok_or_else(|| not_found(format!("no job {}", short(id))))
 }
 
-async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
+async fn job(Shared(state): Shared<St>, Path(id): Path<String>, p: Params) -> Result<Json<Value>, Refusal> {
+    p.none()?;
     let job = job_id(&state, &id)?;
     let phase = phase(&job);
     let (child, error) = match &phase {
@@ -673,7 +687,8 @@ async fn job(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<V
     })
 }
 
-async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Json<Value>, Refusal> {
+async fn cancel(Shared(state): Shared<St>, Path(id): Path<String>, p: Params) -> Result<Json<Value>, Refusal> {
+    p.none()?;
     let job = job_id(&state, &id)?;
     let was_running = stop(&job);
     answer(&Cancelled { cancelled: was_running, state: phase(&job).name() })
@@ -684,7 +699,7 @@ async fn figure(Shared(state): Shared<St>, p: Params) -> Result<Response, Refusa
     let (show, mass) = (show(&o, q.view.as_deref())?, mass(&o, q.mass.as_deref())?);
     let format = q.format.map_or(render::Format::Png, |f| f.0);
     let size = q.size.as_deref().filter(|s| *s != "screen");
-    let page = render::Page::of(size, None, None).map_err(|e| bad(format!("size: screen, or {e}")))?;
+    let page = render::Page::of(size, None, None).map_err(|e| bad(format!("size: {e} (or screen)")))?;
     let curves = if q.curves.0 { overlays(&state, &o) } else { Vec::new() };
     let name = format!("atlas{id}-{}.{}", q.view.as_deref().unwrap_or("map").replace(':', "-"), format.name());
     let bytes =
@@ -724,7 +739,8 @@ async fn curves(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Ref
     answer(&CurvesAnswer { curves })
 }
 
-async fn file(Shared(state): Shared<St>, Path(id): Path<String>) -> Result<Response, Refusal> {
+async fn file(Shared(state): Shared<St>, Path(id): Path<String>, p: Params) -> Result<Response, Refusal> {
+    p.none()?;
     let o = id
         .parse::<usize>()
         .ok()

@@ -61,6 +61,15 @@ impl<S: Send + Sync> axum::extract::FromRequestParts<S> for Params {
 }
 
 impl Params {
+    /// Refuses every key: the route takes its one argument in its path (a
+    /// job, a file) or its body (a zoom).
+    pub fn none(&self) -> Result<(), Refusal> {
+        match self.0.first() {
+            None => Ok(()),
+            Some((k, _)) => Err(bad(format!("{}: not a parameter of this request (it takes none)", short(k)))),
+        }
+    }
+
     /// The value of `key`, if given.
     pub fn get(&self, key: &str) -> Option<&str> {
         self.0.iter().find(|(k, _)| k == key).map(|(_, v)| v.as_str())
@@ -339,9 +348,9 @@ pub(crate) struct ZoomBody {
 impl ZoomBody {
     /// The body read: an object of [`ZoomBody`]'s fields, each refused by
     /// its name.
-    pub fn read(body: &[u8]) -> Result<ZoomBody, Refusal> {
+    pub fn read(bytes: &[u8]) -> Result<ZoomBody, Refusal> {
         let body: serde_json::Value =
-            serde_json::from_slice(body).map_err(|e| bad(format!("the body is not JSON ({e})")))?;
+            serde_json::from_slice(bytes).map_err(|e| bad(format!("the body is not JSON ({e})")))?;
         let fields = keys::<ZoomBody>();
         let Some(object) = body.as_object() else {
             return Err(bad(r#"the body: expected an object {"atlas": ID, "x": "NAME=A:B:N", "y": "NAME=C:D:M"}"#));
@@ -349,8 +358,17 @@ impl ZoomBody {
         if let Some(k) = object.keys().find(|k| !fields.contains(&k.as_str())) {
             return Err(bad(format!("{}: not a field of a zoom ({})", short(k), fields.join(", "))));
         }
-        serde_path_to_error::deserialize(body)
-            .map_err(|e| bad(format!("{}: {}", e.path(), short(&e.inner().to_string()))))
+        // Read again from the bytes, where a field given twice is seen.
+        let mut fields = serde_json::Deserializer::from_slice(bytes);
+        serde_path_to_error::deserialize(&mut fields).map_err(|e| {
+            let inner = e.inner().to_string();
+            // serde_json's words, without its position in the body.
+            let inner = inner.rsplit_once(" at line ").map_or(inner.as_str(), |(text, _)| text);
+            match inner.strip_prefix("duplicate field `").and_then(|n| n.strip_suffix('`')) {
+                Some(name) => bad(format!("{}: given twice", short(name))),
+                None => bad(format!("{}: {}", e.path(), crate::guard::brief(inner))),
+            }
+        })
     }
 }
 
@@ -657,6 +675,7 @@ mod tests {
         assert_eq!(refused(r#"{"x": 5}"#), "x: invalid type: integer `5`, expected a string");
         assert_eq!(refused(r#"{"atlas": -1}"#), "atlas: invalid value: integer `-1`, expected u64");
         assert_eq!(refused(r#"{"bogus": 1}"#), "bogus: not a field of a zoom (atlas, x, y, sweep, set)");
+        assert_eq!(refused(r#"{"x": "omega=1:2:3", "x": "omega=1:2:3"}"#), "x: given twice");
         assert!(refused("[1]").starts_with("the body: expected an object"));
         let b = ZoomBody::read(br#"{"x": "omega=1:2:3", "atlas": 2}"#).ok().unwrap();
         assert_eq!((b.atlas, b.x.as_deref(), b.y), (Some(2), Some("omega=1:2:3"), None));

@@ -28,7 +28,8 @@ fn scene() -> String {
 fn atlas_file() -> &'static PathBuf {
     static FILE: OnceLock<PathBuf> = OnceLock::new();
     FILE.get_or_init(|| {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-explore-routes-{}", std::process::id()));
+        // Under the target folder (cargo's scratch for integration tests), not /tmp.
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("explore-routes-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("markup.h5");
         let sim = Sim::new(SceneSource::Text(scene()));
@@ -509,4 +510,47 @@ fn every_route_names_the_parameter_it_refuses() {
         assert!(a.error().contains(says), "{target}: '{}' does not name {says}", a.error());
     }
     assert_eq!(get(p, "/api/atlas").status, 200);
+}
+
+/// A refusal names what the user gave (found by an independent check): a
+/// cell's parameter out of the plane names that parameter; a key on a route
+/// that takes none is refused; a view of a number with no up less down says
+/// so; a print size is refused in its own words; a long input does not cut
+/// off the reason; a zoom's field given twice is refused.
+#[test]
+fn refusals_name_what_the_user_gave() {
+    let server = serve();
+    let p = port(&server);
+    let host = format!("127.0.0.1:{p}");
+    let cases: Vec<(String, &str)> = vec![
+        ("/api/cell?sweep=up&omega=-1&sigma=-0.5".into(), "omega: omega = -1 is outside the file's 1.5 to 3"),
+        ("/api/files/0?bogus=1".into(), "bogus: not a parameter of this request (it takes none)"),
+        ("/api/jobs/0?x=1".into(), "x: not a parameter of this request (it takes none)"),
+        ("/api/figure?view=up&size=10x10".into(), "size: 10 mm is outside 20..1000 mm (or screen)"),
+        (
+            "/api/zoom/plan?x=omega=1.5:3:1&y=sigma=-0.5:0:4".into(),
+            "a count of 1 is one value, but start 1.5 and stop 3 differ",
+        ),
+    ];
+    for (target, says) in cases {
+        let a = get(p, &target);
+        assert_eq!(a.status, 400, "{target}: {}", a.error());
+        assert!(a.error().contains(says), "{target}: '{}' does not say '{says}'", a.error());
+    }
+    let lyapunov = get(p, "/api/legend?view=lyapunov:hysteresis");
+    assert_eq!(lyapunov.status, 400);
+    // This atlas is the up sweep alone: no hysteresis of anything.
+    let said = lyapunov.error();
+    assert!(
+        said.starts_with(
+            "view: 'lyapunov:hysteresis' is not a view of the atlas: hysteresis needs up and down sweeps ("
+        ),
+        "{said}"
+    );
+    let json = [("Host", host.as_str()), ("Content-Type", "application/json")];
+    let twice = br#"{"atlas": 0, "x": "omega=1.5:3:3", "x": "omega=1.5:3:3", "y": "sigma=-0.5:0:3"}"#;
+    let a = send(p, "POST", "/api/zoom", &json, twice);
+    assert_eq!((a.status, a.error()), (400, "x: given twice".to_string()));
+    let a = send(p, "POST", "/api/zoom?atlas=0", &json, br#"{"x": "omega=1.5:3:3", "y": "sigma=-0.5:0:3"}"#);
+    assert_eq!((a.status, a.error()), (400, "atlas: not a parameter of this request (it takes none)".to_string()));
 }

@@ -196,3 +196,8 @@ def test_quantities_keep_those_named_as_the_cli_keeps_them(tmp_path):
         va.atlas(str(MULTI), x=x, y=y, quantities=["bogus"], threads=1, progress=False)
     with pytest.raises(TypeError, match="quantities"):
         va.atlas(str(MULTI), x=x, y=y, quantities=3, progress=False)
+    for odd in (["power_in", ""], ["power_in,max_abs_x_M1"], ["all", "power_in"]):
+        with pytest.raises(ValueError, match=r"^quantities: '.*' is not a name"):
+            va.atlas(str(MULTI), x=x, y=y, quantities=odd, progress=False)
+    with pytest.raises(ValueError, match=r"^quantities: 'all' stands alone"):
+        va.atlas(str(MULTI), x=x, y=y, quantities="all,power_in", progress=False)

@@ -135,9 +135,12 @@ def names(what, v):
     separated by commas, given as that text or as a list of names."""
     if isinstance(v, str):
         return v
-    if isinstance(v, (list, tuple)) and all(isinstance(n, str) and n and "," not in n for n in v):
+    if isinstance(v, (list, tuple)) and all(isinstance(n, str) for n in v):
+        bad = next((n for n in v if not n.strip() or "," in n or n.strip() in ("all", "none")), None)
+        if bad is not None:
+            raise ValueError(f"{what}: {bad[:80]!r} is not a name (give \"all\", \"none\" or a list of names)")
         return ",".join(v) if v else "none"
-    raise TypeError(f"{what}: expected \"all\", \"none\" or a list of names, got {v!r}")
+    raise TypeError(f"{what}: expected \"all\", \"none\" or a list of names, got {v!r:.80}")
 
 
 def axis(what, v):
