@@ -77,7 +77,8 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<(BasinMap, O
     };
     let (xi, yi) = (index(&r.x, Opt::X)?, index(&r.y, Opt::Y)?);
     if xi == yi {
-        return Err(RequestError::option(Opt::Y).text(format!("the same component as --x ({})", r.x.name)).into());
+        let same = RequestError::option(Opt::Y).text("the same component as ").opt(Opt::X);
+        return Err(same.text(format!(" ({})", r.x.name)).into());
     }
     let starts = r.x.count.saturating_mul(r.y.count);
     if starts > MAX_STARTS {

@@ -38,6 +38,20 @@ fn failed(e: engine::Error) -> Refusal {
     Refusal(StatusCode::UNPROCESSABLE_ENTITY, message(&e))
 }
 
+/// The basins' words: their grid's axes are the query's `basin_x` and
+/// `basin_y` (the request's `x` and `y`).
+struct BasinWords;
+
+impl engine::Words for BasinWords {
+    fn option(&self, o: engine::Opt) -> String {
+        match o {
+            engine::Opt::X => "basin_x".into(),
+            engine::Opt::Y => "basin_y".into(),
+            o => o.name().into(),
+        }
+    }
+}
+
 /// The page's routes, each behind [`guard::screen`] for a server on `port`.
 pub(crate) fn router(state: St, port: u16) -> Router {
     Router::new()
@@ -514,7 +528,8 @@ async fn basins(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Ref
             command: String::new(),
         };
         let t0 = std::time::Instant::now();
-        let (map, _) = engine::basins(&r, &work).map_err(failed)?;
+        let words = |e| Refusal(StatusCode::UNPROCESSABLE_ENTITY, engine::in_words(&e, &BasinWords));
+        let (map, _) = engine::basins(&r, &work).map_err(words)?;
         let seconds = t0.elapsed().as_secs_f64();
         let picture = drawn(render::Format::Png, |out| render::basin_map(&map, &render::Page::screen(), out))?;
         Ok(BasinsAnswer {

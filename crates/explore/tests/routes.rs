@@ -364,7 +364,11 @@ fn basins_of_a_cell_over_components_named_in_markup() {
     assert!((shares - 1.0).abs() < 1e-12 && b["png"].as_str().is_some_and(|s| s.len() > 100), "{b}");
     for (query, says) in [
         (format!("{cell}&basin_y=v=0:1:4"), "basin_x: missing"),
-        (format!("{cell}&basin_x={}&basin_y=v=0:1:4", encode("x_Q=0:1:4")), "no state component 'x_Q'"),
+        (format!("{cell}&basin_x={}&basin_y=v=0:1:4", encode("x_Q=0:1:4")), "basin_x: no state component 'x_Q'"),
+        (
+            format!("{cell}&basin_x={}&basin_y={}", encode(&format!("{x}=-1:1:3")), encode(&format!("{x}=-1:1:3"))),
+            "basin_y: the same component as basin_x",
+        ),
         (format!("{cell}&basin_x={}&basin_y={}", encode("a=0:1:1000"), encode("b=0:1:1000")), "at most 250000"),
         (format!("{cell}&{grid}&phase=nan"), "phase"),
     ] {

@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 /// The journal path of an output file: `.<name>.journal` beside it.
 pub fn journal_path(output: &Path) -> PathBuf {
     let name = output.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-    output.with_file_name(format!(".{name}.journal"))
+    hidden_beside(output, &name, ".journal")
 }
 
 /// The temporary path used while writing `path`: `.<stem>.partial.<ext>` beside
@@ -35,9 +35,26 @@ pub fn journal_path(output: &Path) -> PathBuf {
 pub fn partial_path(path: &Path) -> PathBuf {
     let stem = path.file_stem().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
     match path.extension() {
-        Some(ext) => path.with_file_name(format!(".{stem}.partial.{}", ext.to_string_lossy())),
-        None => path.with_file_name(format!(".{stem}.partial")),
+        Some(ext) => hidden_beside(path, &stem, &format!(".partial.{}", ext.to_string_lossy())),
+        None => hidden_beside(path, &stem, ".partial"),
     }
+}
+
+/// `.<name><suffix>` beside `path`; where that would be longer than a file
+/// name may be (255 bytes), `name` is cut and its CRC-32 added, so that an
+/// output whose own name is legal always has its temporary file and journal.
+fn hidden_beside(path: &Path, name: &str, suffix: &str) -> PathBuf {
+    const MAX_NAME: usize = 255;
+    let whole = format!(".{name}{suffix}");
+    if whole.len() <= MAX_NAME {
+        return path.with_file_name(whole);
+    }
+    let tag = format!("-{:08x}", crc32fast::hash(name.as_bytes()));
+    let mut keep = MAX_NAME.saturating_sub(1 + tag.len() + suffix.len()).min(name.len());
+    while !name.is_char_boundary(keep) {
+        keep -= 1;
+    }
+    path.with_file_name(format!(".{}{tag}{suffix}", &name[..keep]))
 }
 
 /// The file that writing `output` writes: `output` in its folder's canonical
@@ -180,7 +197,7 @@ const REFUSED_ERRNO: [i32; 2] = [40, 6];
 /// The lock path of an output file: `.<name>.lock` beside it.
 pub fn lock_path(output: &Path) -> PathBuf {
     let name = output.file_name().map(|n| n.to_string_lossy().to_string()).unwrap_or_default();
-    output.with_file_name(format!(".{name}.lock"))
+    hidden_beside(output, &name, ".lock")
 }
 
 /// An exclusive lock on an output file, released (and its lock file removed)
@@ -427,6 +444,23 @@ mod tests {
         assert!(dir.is_dir());
         assert_eq!(create_folder(&dir).unwrap(), None);
         std::fs::remove_dir_all(&base).unwrap();
+    }
+
+    /// An output whose name is as long as a file name may be is written: its
+    /// temporary file and journal take a name cut to fit, one per output.
+    #[test]
+    fn the_longest_legal_name_is_written() {
+        let dir = scratch("long-name");
+        let out = dir.join(format!("{}.png", "b".repeat(251)));
+        write_atomically(&out, |tmp| std::fs::write(tmp, b"figure")).unwrap();
+        assert_eq!(std::fs::read(&out).unwrap(), b"figure");
+        let other = dir.join(format!("{}c.png", "b".repeat(250)));
+        for p in [partial_path(&out), journal_path(&out), lock_path(&out)] {
+            assert!(p.file_name().unwrap().len() <= 255, "{}", p.display());
+        }
+        assert_ne!(partial_path(&out), partial_path(&other));
+        assert_eq!(partial_path(&dir.join("a.png")), dir.join(".a.partial.png"));
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// A folder where no file can be made is named, not the temporary
