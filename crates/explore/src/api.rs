@@ -135,7 +135,7 @@ fn asked<T: for<'de> serde::Deserialize<'de>>(state: &State, p: &Params, cell: b
     let plane = &o.atlas.meta.plane;
     let axes = if cell { vec![plane.x.name.as_str(), plane.y.name.as_str()] } else { Vec::new() };
     let (q, at) = p.read::<T>(&axes)?;
-    Ok(Asked { id, o: o.clone(), q, at })
+    Ok(Asked { id, o, q, at })
 }
 
 /// Refuses an atlas whose file was replaced or removed since it was read:

@@ -136,11 +136,13 @@ fn in_stable_order(pdf: Vec<u8>) -> Vec<u8> {
         let numbers = words.by_ref().take(2).filter(|w| !w.is_empty() && w.iter().all(u8::is_ascii_digit)).count() == 2;
         name && numbers && words.next() == Some(b"R") && words.next().is_none() && text.len() < line.len()
     };
+    // Where the line from `at` ends: past its newline, or at the file's end.
+    let line_end = |at: usize| pdf[at..].iter().position(|&c| c == b'\n').map_or(pdf.len(), |i| at + i + 1);
     let mut out = Vec::with_capacity(pdf.len());
     let mut length = None;
     let mut at = 0;
     while at < pdf.len() {
-        let end = pdf[at..].iter().position(|&c| c == b'\n').map_or(pdf.len(), |i| at + i + 1);
+        let end = line_end(at);
         let line = &pdf[at..end];
         out.extend_from_slice(line);
         let text = line.strip_suffix(b"\n").unwrap_or(line);
@@ -156,7 +158,7 @@ fn in_stable_order(pdf: Vec<u8>) -> Vec<u8> {
             let mut entries: Vec<&[u8]> = Vec::new();
             let mut next = at;
             loop {
-                let end = pdf[next..].iter().position(|&c| c == b'\n').map_or(pdf.len(), |i| next + i + 1);
+                let end = line_end(next);
                 let line = &pdf[next..end];
                 let text = line.strip_suffix(b"\n").unwrap_or(line);
                 if is_reference(text) && line.ends_with(b"\n") {
