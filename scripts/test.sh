@@ -3,26 +3,37 @@
 # integration, doc tests) in release mode, clippy and rustdoc with warnings as
 # errors, checks with h5py alone that an atlas
 # file has every dataset of the documented layout, installs the Python package
-# into a fresh virtual environment and runs its examples (scripts/test-python.sh),
-# builds the wheel (scripts/build-wheel.sh) and runs the Python tests on it,
-# and ends with one line "tests: N passed, M failed" summing every cargo test
-# result and the Python ones.
+# from source into a fresh virtual environment and runs its pytest suite and
+# examples (scripts/test-python.sh), and ends with one line
+# "tests: N passed, M failed" summing every cargo test result and the Python ones.
+#
+# scripts/test.sh --wheel does all that and then builds the wheel
+# (scripts/build-wheel.sh: HDF5 compiled from source, every crate again with
+# zig's linker; about 15 minutes on a fresh 2-core machine) and runs the Python
+# tests on it with cargo off the PATH: the check of a change to the packaging,
+# run before a stop that touches it; CI leaves it out to stay within its time.
 #
 # scripts/test.sh --quick is the contributor's loop (about two minutes once
 # built, docs/performance.md): the workspace's unit tests, the solver's physics
 # (crates/solver/tests), the explorer's in-process route tests and the
 # integration tests, leaving out those marked slow (#[ignore = "slow: …"]),
 # the doc tests, clippy, rustdoc, the reference readers, chromium, the
-# gallery and the wheel; it ends with the same closing line. CI runs the
-# whole suite, the slow tests included.
+# gallery and the Python package; it ends with the same closing line. CI runs
+# the whole suite (without --wheel), the slow tests included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+wheel=0
+case "${1:-}" in
+    ""|--quick) ;;
+    --wheel) wheel=1 ;;
+    *) echo "test.sh: unknown argument $1 (--quick, --wheel or none)" >&2; exit 2 ;;
+esac
 if [ "${1:-}" = "--quick" ]; then
     scripts/setup.sh
     export HDF5_USE_FILE_LOCKING=FALSE
     log=$(mktemp)
     trap 'rm -f "$log"' EXIT
-    cargo test --workspace --exclude vibroatlas-python --release --tests 2>&1 | tee "$log"
+    cargo test --workspace --release --tests 2>&1 | tee "$log"
     awk '/^test result:/ { p += $4; f += $6 } END { printf "tests: %d passed, %d failed\n", p, f }' "$log"
     exit 0
 fi
@@ -44,8 +55,10 @@ trap 'rm -rf "$tmp"' EXIT
 # (store::lock) is separate and stays on.
 export HDF5_USE_FILE_LOCKING=FALSE
 # The Python extension (crates/python) links into a Python process only: its
-# tests are the pytest suite that scripts/test-python.sh runs below.
-cargo test --workspace --exclude vibroatlas-python --release -- --include-ignored 2>&1 | tee "$tmp/test.log"
+# tests are the pytest suite that scripts/test-python.sh runs below (its crate has
+# no Rust test; it is in the workspace's selection so that the package's build
+# below reuses every dependency this one compiles: crates/python/Cargo.toml).
+cargo test --workspace --release -- --include-ignored 2>&1 | tee "$tmp/test.log"
 took "cargo test"
 # Lints and docs are part of the tests: no warning passes. Both in the dev profile, so that
 # they check the dependencies once between them (clippy in release would check them again).
@@ -79,18 +92,21 @@ took "check_readme"
 # so a change that moves a label moves a pixel).
 scripts/gallery.sh --check
 took "the gallery"
-# The Python package as a user installs it (README's "Python" section): from source (the
-# install, the README's and docs/python.md's examples, mypy on them),
-scripts/test-python.sh --examples-only 2>&1 | tee "$tmp/python.log"
-took "the Python package from source"
-# and as the wheel a user without Rust and libhdf5 installs: the same, and the whole pytest
-# suite (every function against the CLI), with cargo off the PATH. The two builds differ
-# only in how HDF5 is linked.
-scripts/build-wheel.sh --out "$tmp/dist"
-took "the wheel's build"
-VIBROATLAS_VENV=target/wheel-venv scripts/test-python.sh --wheel "$(ls "$tmp"/dist/vibroatlas-*.whl)" 2>&1 \
-    | tee "$tmp/wheel.log"
-took "the wheel's tests"
+# The Python package as a user installs it (README's "Python" section): from source, its
+# pytest suite (every function against the CLI), the README's and docs/python.md's
+# examples, mypy on them.
+scripts/test-python.sh 2>&1 | tee "$tmp/python.log"
+took "the Python package"
+: > "$tmp/wheel.log"
+if [ "$wheel" -eq 1 ]; then
+    # and as the wheel a user without Rust and libhdf5 installs: the same, with cargo off
+    # the PATH. The two builds differ only in how HDF5 is linked.
+    scripts/build-wheel.sh --out "$tmp/dist"
+    took "the wheel's build"
+    VIBROATLAS_VENV=target/wheel-venv scripts/test-python.sh --wheel "$(ls "$tmp"/dist/vibroatlas-*.whl)" 2>&1 \
+        | tee "$tmp/wheel.log"
+    took "the wheel's tests"
+fi
 awk '/^test result:/ { p += $4; f += $6 } /^python tests:/ { p += $3; f += $5 }
     /^explore tests:/ { p += $3; f += $5 }
     END { printf "tests: %d passed, %d failed\n", p + 4, f }' "$tmp/test.log" "$tmp/python.log" "$tmp/wheel.log" \
