@@ -47,6 +47,10 @@ pub fn run(a: RenderArgs) -> Result<()> {
     };
     // The sweep, checked before any view: the labels' view of it.
     Show::of(m, render::LABELS, a.sweep).map_err(|e| no_such_view(e, m, &a.view))?;
+    if (a.view == "attractors" || a.view.starts_with("basin:")) && l.atlas.attractors.is_none() {
+        let lacks = anyhow!(render::RenderError::lacks(render::Missing::Attractors));
+        bail!("--view {}: {}", a.view, crate::flags::message(&lacks));
+    }
     if let Some(id) = a.view.strip_prefix("basin:") {
         let family = id.parse::<u32>().map_err(|_| anyhow!("--view: basin:ID takes a family's number, got '{id}'"))?;
         return Ok(write_atomically(&a.output, |tmp| render::family_map(&l.atlas, family, &page, tmp))?)

@@ -153,6 +153,13 @@ pub fn parse_assignment(text: &str, field: &str) -> std::result::Result<(String,
         let why = if named { "is not a finite number" } else { "is beyond the largest number, about 1.8e308" };
         return Err(format!("{field} {name}: '{value}' {why}"));
     }
+    // `1e-400` reads as 0: a number typed nonzero that no f64 holds.
+    let mantissa = value.split(['e', 'E']).next().unwrap_or_default();
+    if v == 0.0 && mantissa.chars().any(|c| matches!(c, '1'..='9')) {
+        return Err(format!(
+            "{field} {name}: '{value}' is nonzero but below the smallest number, about 4.9e-324 (it would read as 0)"
+        ));
+    }
     Ok((name, v))
 }
 
@@ -278,5 +285,16 @@ mod tests {
         assert_eq!(refused("omega=1e400"), "--at omega: '1e400' is beyond the largest number, about 1.8e308");
         assert_eq!(refused("omega=-inf"), "--at omega: '-inf' is not a finite number");
         assert_eq!(refused("omega=NaN"), "--at omega: 'NaN' is not a finite number");
+        let small =
+            "--at omega: '1e-400' is nonzero but below the smallest number, about 4.9e-324 (it would read as 0)";
+        assert_eq!(refused("omega=1e-400"), small);
+        // Zero typed as zero, and the smallest subnormal, read as they are.
+        for (typed, value) in [("0", 0.0), ("-0.0e-400", 0.0), ("0e5", 0.0), ("5e-324", 5e-324)] {
+            assert_eq!(
+                parse_assignment(&format!("omega={typed}"), "--at"),
+                Ok(("omega".to_string(), value)),
+                "{typed}"
+            );
+        }
     }
 }

@@ -71,7 +71,7 @@ pub fn canonical_output(output: &Path) -> Result<PathBuf, StoreError> {
         let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
         let folder = match parent.canonicalize() {
             Ok(f) if f.is_dir() => f,
-            _ if path == output => return Err(StoreError::format(output, "its folder does not exist")),
+            _ if path == output => return Err(StoreError::format(output, no_folder(parent))),
             _ => {
                 return Err(StoreError::format(
                     output,
@@ -307,7 +307,7 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
     }
     let parent = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
-        return bad("its folder does not exist");
+        return bad(&no_folder(parent));
     }
     match std::fs::metadata(output) {
         Ok(m) if m.is_dir() => return bad("is a directory; give a file name"),
@@ -379,9 +379,19 @@ pub fn commit(tmp: &Path, path: &Path) -> Result<(), StoreError> {
 pub(crate) fn check_folder(path: &Path) -> Result<(), StoreError> {
     let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
     if !parent.is_dir() {
-        return Err(StoreError::format(path, "its folder does not exist"));
+        return Err(StoreError::format(path, no_folder(parent)));
     }
     Ok(())
+}
+
+/// Why `folder`, an output's folder, is none: the nearest part of its path
+/// that exists is a file (`/tmp/notes is a file, not a folder`), or it does
+/// not exist.
+fn no_folder(folder: &Path) -> String {
+    match folder.ancestors().find(|p| p.exists()) {
+        Some(p) if !p.is_dir() => format!("{} is a file, not a folder", p.display()),
+        _ => "its folder does not exist".to_string(),
+    }
 }
 
 /// Writes `path` through `write`, which fills a temporary file beside it (see
