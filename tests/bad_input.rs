@@ -50,14 +50,11 @@ fn missing_parameter_in_expression() {
 #[test]
 fn mass_ratio_outside_unit_interval() {
     expect_error(&["cell", "configs/multi-stop.toml", "--set", "mu_m=1.5"], "parameters.mu_m");
-    // The option that gave the value is named first, also beside a stored cell.
-    expect_error(&["cell", "configs/multi-stop.toml", "--set", "mu_m=1.5"], "--set mu_m: parameters.mu_m: must be in");
     expect_error(&["cell", "configs/multi-stop.toml", "--set", "mu_k=0"], "parameters.mu_k");
 }
 
-/// A value outside its parameter's range beside a stored cell names `--set`,
-/// not `--from` (whose parameters join it); a view the file cannot draw names
-/// `--view`; an output whose folder is a file says so.
+/// A view the file cannot draw names `--view`; an output whose folder is a
+/// file says so.
 #[test]
 fn the_option_that_gave_a_bad_value_is_named() {
     let d = crate::util::scratch("named-option");
@@ -65,8 +62,6 @@ fn the_option_that_gave_a_bad_value_is_named() {
     let a = a.to_str().unwrap();
     let atlas = ["atlas", "configs/multi-stop.toml", "--x", "omega=0.3:0.33:2", "--y", "delta=0.7:0.8:2"];
     crate::util::ok(&[&atlas[..], &["--sweep", "up", "--quiet", "-o", a]].concat());
-    let cell = ["cell", "--from", a, "--at", "omega=0.3,delta=0.7", "--set", "mu_m=1.5"];
-    expect_error(&cell, "--set mu_m: parameters.mu_m: must be in (0, 1), got 1.5");
     let png = d.join("x.png");
     let render = ["render", a, "--view", "attractors", "-o", png.to_str().unwrap()];
     expect_error(&render, "--view attractors: render: the file has no attractors: make it with atlas --attractors K");

@@ -136,20 +136,6 @@ impl Sim {
             check_finite(*value, || RequestError::keyed(Opt::Set, name))?;
             scene.check_parameter(name, "").map_err(|e| unknown(RequestError::keyed(Opt::Set, name), e))?;
         }
-        // A value outside its parameter's range is the option's that gave it
-        // (`--set zeta: parameters.zeta: must be in [0, inf), got -1`), before a
-        // stored cell's parameters join it (which would blame --from).
-        if let Err(e) = scene.evaluate(&self.set) {
-            let given = match &e {
-                scene::SceneError::Field { field, .. } => {
-                    self.set.iter().find(|(n, _)| field.strip_prefix("parameters.") == Some(n.as_str()))
-                }
-                scene::SceneError::Syntax { .. } => None,
-            };
-            if let Some((name, _)) = given {
-                return Err(RequestError::keyed(Opt::Set, name).because(e).into());
-            }
-        }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();
         for &(k, v) in knobs.iter().chain(&self.accuracy) {
