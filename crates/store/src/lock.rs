@@ -305,10 +305,7 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
     if output.file_name().is_none() {
         return bad("is not a file name");
     }
-    let parent = output.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    if !parent.is_dir() {
-        return bad(&no_folder(parent));
-    }
+    check_folder(output)?;
     match std::fs::metadata(output) {
         Ok(m) if m.is_dir() => return bad("is a directory; give a file name"),
         Ok(m) if !m.is_file() => {
