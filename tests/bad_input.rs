@@ -69,6 +69,11 @@ fn the_option_that_gave_a_bad_value_is_named() {
     let inside = f.join("x.png");
     let render = ["render", a, "-o", inside.to_str().unwrap()];
     expect_error(&render, &format!("-o: {}: {} is a file, not a folder", inside.display(), f.display()));
+    // A folder that takes no file, named before any work, with the option.
+    expect_error(&["render", a, "-o", "/proc/x.png"], "-o: /proc/x.png: cannot create a file in /proc: ");
+    // A value of --set the scene refuses is the scene's field, with --from as without.
+    let from = ["cell", "--from", a, "--at", "omega=0.3,delta=0.7", "--set", "zeta=-1"];
+    expect_error(&from, "error: parameters.zeta: must be in [0, inf), got -1");
 }
 
 #[test]

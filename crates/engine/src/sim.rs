@@ -401,12 +401,16 @@ impl Sim {
         }
         let mut overrides = m.overrides.clone();
         overrides.extend(params.iter().cloned());
-        overrides.extend(s.overrides.iter().filter(|(k, _)| !params.iter().any(|(p, _)| p == k)).cloned());
-        s.overrides = overrides;
-        let model = s.scene.evaluate(&s.overrides).map_err(|e| {
+        // The file's values alone first: a scene they do not fit is the
+        // file's fault; a value given with --set that the scene refuses is
+        // refused as it is without --from, naming the scene's field.
+        s.scene.evaluate(&overrides).map_err(|e| {
             let what = format!("{}: its cell's parameters do not fit this scene (made from another?)", file.display());
             RequestError::option(Opt::From).text(what).because(e)
         })?;
+        overrides.extend(s.overrides.iter().filter(|(k, _)| !params.iter().any(|(p, _)| p == k)).cloned());
+        s.overrides = overrides;
+        let model = s.scene.evaluate(&s.overrides)?;
         if 2 * model.masses.len() != m.dim {
             let what =
                 format!("{} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
