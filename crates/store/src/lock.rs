@@ -313,6 +313,7 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
         }
         _ => {}
     }
+    check_creatable(output)?;
     if let Ok(out) = output.canonicalize() {
         for input in inputs {
             if input.canonicalize().is_ok_and(|i| i == out) {
@@ -379,6 +380,20 @@ pub(crate) fn check_folder(path: &Path) -> Result<(), StoreError> {
         return Err(StoreError::format(path, no_folder(parent)));
     }
     Ok(())
+}
+
+/// Refuses an output whose folder takes no new file (`/proc`, a read-only
+/// mount), before any work: a probe file of this process is created beside
+/// it and removed at once (one left by another process means the folder
+/// takes files).
+fn check_creatable(path: &Path) -> Result<(), StoreError> {
+    let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let probe = folder.join(format!(".vibroatlas-probe-{}", std::process::id()));
+    match OpenOptions::new().write(true).create_new(true).open(&probe) {
+        Ok(_) => std::fs::remove_file(&probe).map_err(|e| StoreError::io(&probe, e)),
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(StoreError::format(path, format!("cannot create a file in {}: {e}", folder.display()))),
+    }
 }
 
 /// Why `folder`, an output's folder, is none: the nearest part of its path
@@ -486,6 +501,13 @@ mod tests {
         let said = format!("{e}: {}", e.source().unwrap());
         assert!(said.starts_with("/proc/vibroatlas-figure.png: cannot create a file in /proc: "), "{said}");
         assert!(!called);
+        // The check before any work says the same, and leaves no probe behind.
+        let said = check_output(out, &[]).unwrap_err().to_string();
+        assert!(said.starts_with("/proc/vibroatlas-figure.png: cannot create a file in /proc: "), "{said}");
+        let dir = scratch("probe");
+        check_output(&dir.join("a.h5"), &[]).unwrap();
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// A writer's error is the source of the store's (typed, whole), and
