@@ -492,6 +492,11 @@ try:
     body = json.dumps({"atlas": -1, "x": "omega=0.5:1:5", "y": "delta=0.3:0.6:4"}).encode()
     code, said = error_of(urllib.request.Request(url + "api/zoom", data=body, headers=as_json, method="POST"))
     check("a zoom of atlas -1 is refused", code == 400 and said.startswith("atlas:"), f"{code} {said}")
+    # A parameter set beside the box is checked before the zoom is queued.
+    for given, named in [("zeta=-1", "parameters.zeta: must be in [0, inf), got -1"), ("zetaa=1", "unknown parameter 'zetaa'")]:
+        body = json.dumps({"atlas": 0, "x": "omega=0.5:1:5", "y": "delta=0.3:0.6:4", "set": given}).encode()
+        code, said = error_of(urllib.request.Request(url + "api/zoom", data=body, headers=as_json, method="POST"))
+        check(f"a zoom setting {given} is refused at once", code == 400 and named in said, f"{code} {said}")
     with urllib.request.urlopen(urllib.request.Request(url + "api/jobs/0", method="DELETE")) as r:
         answer = json.loads(r.read())
     check("cancelling a finished zoom says it was not running", answer == {"cancelled": False, "state": "done"}, answer)

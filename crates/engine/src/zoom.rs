@@ -16,10 +16,11 @@
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
 use crate::plan::{Executed, Plan};
+use crate::sim::Setup;
 use grid::Observer;
 use grid::{Along, Atlas, Axis, Entries, Lattice, Plane, SweepKind};
 use scene::Named;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Largest number of cells of a zoom's box (per sweep): a box is looked at,
 /// not mapped at a cluster's scale.
@@ -112,16 +113,7 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
             m.sweeps.iter().copied().filter(|s| asked.contains(s)).collect()
         }
     };
-    let mut setup = crate::stored_setup(m, &r.parent)?;
-    setup.method = m.integrator;
-    for (k, (name, value)) in r.set.iter().enumerate() {
-        check_set(name, *value, &m.plane)?;
-        if r.set[..k].iter().any(|(n, _)| n == name) {
-            return Err(RequestError::keyed(Opt::Set, name).text("given twice").into());
-        }
-        setup.overrides.retain(|(k, _)| k != name);
-        setup.overrides.push((name.clone(), *value));
-    }
+    let setup = zoom_setup(m, &r.parent, &r.set)?;
     let plane = Plane { x, y, along: m.plane.along };
     let mut plan = Plan::new(&setup, m.section_cap, plane, sweeps, r.threads)?;
     // A zoom measures what its parent measured.
@@ -138,6 +130,27 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.check()
         .map_err(|e| crate::error::with_fields(e, &[("x", Opt::X), ("y", Opt::Y), ("threads", Opt::Threads)]))?;
     plan.execute(observer)
+}
+
+/// The setup of a zoom into the atlas of `m` (stored at `parent`): the
+/// parent's, with the parameters `set` beside the box, each checked (not an
+/// axis of the parent's plane, finite, given once) and the scene evaluated
+/// with them (a name the scene lacks, a value out of its range). The checks
+/// of a zoom's request that need no cell computed: the explorer makes them
+/// before it queues a zoom.
+pub fn zoom_setup(m: &grid::Meta, parent: &Path, set: &[(String, f64)]) -> Result<Setup> {
+    let mut setup = crate::stored_setup(m, parent)?;
+    setup.method = m.integrator;
+    for (k, (name, value)) in set.iter().enumerate() {
+        check_set(name, *value, &m.plane)?;
+        if set[..k].iter().any(|(n, _)| n == name) {
+            return Err(RequestError::keyed(Opt::Set, name).text("given twice").into());
+        }
+        setup.overrides.retain(|(k, _)| k != name);
+        setup.overrides.push((name.clone(), *value));
+    }
+    setup.scene.evaluate(&setup.overrides)?;
+    Ok(setup)
 }
 
 /// Parses `NAME=VALUE` with a finite value; `field` names the option or

@@ -618,6 +618,8 @@ async fn zoom(Shared(state): Shared<St>, p: Params, body: axum::body::Bytes) -> 
     let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
     unchanged(&o)?;
     let (x, y, sweeps, set) = zoom_box(&body.x, &body.y, &body.sweep, &body.set)?;
+    // A parameter set beside the box is refused now, not by the job later.
+    engine::zoom_setup(&o.atlas.meta, &o.path, &set).map_err(|e| bad(message(&e)))?;
     std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
     let (job_id, job) = state.start_job();
     let mut r = engine::ZoomRequest::new(&o.path, x, y);
