@@ -68,7 +68,7 @@ pub fn canonical_output(output: &Path) -> Result<PathBuf, StoreError> {
         let Some(name) = path.file_name() else {
             return Err(StoreError::format(output, "is not a file name"));
         };
-        let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        let parent = folder_of(&path);
         let folder = match parent.canonicalize() {
             Ok(f) if f.is_dir() => f,
             _ if path == output => return Err(StoreError::format(output, no_folder(parent))),
@@ -365,7 +365,7 @@ pub fn commit(tmp: &Path, path: &Path) -> Result<(), StoreError> {
     }
     File::open(tmp).and_then(|f| f.sync_all()).map_err(io)?;
     std::fs::rename(tmp, path).map_err(io)?;
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let parent = folder_of(path);
     // Syncing a folder is not possible everywhere; the rename has happened.
     if let Ok(dir) = File::open(parent) {
         let _ = dir.sync_all();
@@ -375,7 +375,7 @@ pub fn commit(tmp: &Path, path: &Path) -> Result<(), StoreError> {
 
 /// Refuses an output `path` whose folder does not exist.
 pub(crate) fn check_folder(path: &Path) -> Result<(), StoreError> {
-    let parent = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let parent = folder_of(path);
     if !parent.is_dir() {
         return Err(StoreError::format(path, no_folder(parent)));
     }
@@ -387,13 +387,23 @@ pub(crate) fn check_folder(path: &Path) -> Result<(), StoreError> {
 /// it and removed at once (one left by another process means the folder
 /// takes files).
 fn check_creatable(path: &Path) -> Result<(), StoreError> {
-    let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let folder = folder_of(path);
     let probe = folder.join(format!(".vibroatlas-probe-{}", std::process::id()));
     match OpenOptions::new().write(true).create_new(true).open(&probe) {
         Ok(_) => std::fs::remove_file(&probe).map_err(|e| StoreError::io(&probe, e)),
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
-        Err(e) => Err(StoreError::format(path, format!("cannot create a file in {}: {e}", folder.display()))),
+        Err(e) => Err(StoreError::format(path, cannot_create(folder, &e))),
     }
+}
+
+/// The folder of an output `path` (`.` for a bare file name).
+fn folder_of(path: &Path) -> &Path {
+    path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."))
+}
+
+/// Why no file can be made in `folder`, an output's folder.
+fn cannot_create(folder: &Path, e: &std::io::Error) -> String {
+    format!("cannot create a file in {}: {e}", folder.display())
 }
 
 /// Why `folder`, an output's folder, is none: the nearest part of its path
@@ -420,8 +430,8 @@ pub fn write_atomically<E: Into<Box<dyn std::error::Error + Send + Sync>>>(
     // A folder no file can be made in (`/proc`, read-only) is named as the
     // user's, not through the temporary file's name.
     if let Err(e) = std::fs::File::create(&tmp) {
-        let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-        let cause = format!("cannot create a file in {}: {e}", folder.display());
+        let folder = folder_of(path);
+        let cause = cannot_create(folder, &e);
         return Err(StoreError::Write { path: path.display().to_string(), cause: cause.into() });
     }
     if let Err(e) = write(&tmp) {
