@@ -158,6 +158,22 @@ fn bench_trade_json() {
     assert_eq!(precise["median_state_error"], 0.0);
     let rk4 = trade.iter().find(|t| t["setting"] == "rk4 h=0.01").unwrap();
     assert_eq!(rk4["speedup_vs_rk4"], 1.0);
+    assert_eq!(rk4["speedup_spread"], serde_json::json!([1.0, 1.0]));
+    // Each round's time, its best the one reported; the spread of the
+    // speed-up is each round's against RK4's of the same round.
+    let rounds = |t: &serde_json::Value| -> Vec<f64> {
+        t["round_seconds"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    for t in trade {
+        let secs = rounds(t);
+        assert_eq!(secs.len(), 2, "{t}");
+        let best = secs.iter().copied().fold(f64::INFINITY, f64::min);
+        assert!((t["cells_per_s"].as_f64().unwrap() * best - 16.0).abs() < 1e-9, "{t}");
+        let ratios: Vec<f64> = rounds(rk4).iter().zip(&secs).map(|(b, s)| b / s).collect();
+        let spread = t["speedup_spread"].as_array().unwrap();
+        assert_eq!(spread[0].as_f64().unwrap(), ratios.iter().copied().fold(f64::INFINITY, f64::min), "{t}");
+        assert_eq!(spread[1].as_f64().unwrap(), ratios.iter().copied().fold(0.0, f64::max), "{t}");
+    }
     let standard = trade.iter().find(|t| t["setting"] == "standard").unwrap();
     let ratio = standard["cells_per_s"].as_f64().unwrap() / rk4["cells_per_s"].as_f64().unwrap();
     assert!((standard["speedup_vs_rk4"].as_f64().unwrap() - ratio).abs() <= 1e-12 * ratio);

@@ -89,6 +89,13 @@ fn print_trade(n: usize, trade: &Trade) -> Result<()> {
         let ratios: Vec<String> =
             trade.rows.iter().map(|r| format!("{} {:.1}x", r.setting, r.cells_per_s / base)).collect();
         outln!("cells/s against {}: {}", RK4.name, ratios.join(", "));
+        if trade.rows.iter().any(|r| r.round_seconds.len() > 1) {
+            let spread = |r: &engine::bench::TradeRow| {
+                trade.spread(r).map(|[lo, hi]| format!("{} {lo:.1}-{hi:.1}x", r.setting)).unwrap_or_default()
+            };
+            let spreads: Vec<String> = trade.rows.iter().map(spread).collect();
+            outln!("each round against {} of the same round: {}", RK4.name, spreads.join(", "));
+        }
     }
     Ok(())
 }

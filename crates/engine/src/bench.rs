@@ -203,6 +203,9 @@ pub struct TradeRow {
     pub us_per_period: f64,
     /// Periods simulated in cells without a period.
     pub nonperiodic_periods: u64,
+    /// Seconds of each round of the trade, in order (the best gives
+    /// `cells_per_s`).
+    pub round_seconds: Vec<f64>,
 }
 
 impl TradeRow {
@@ -227,13 +230,27 @@ impl Trade {
         self.rows.iter().find(|r| r.setting == RK4.name).map(|r| r.cells_per_s)
     }
 
-    /// The rows as reported, each with its speed-up over RK4.
+    /// The rows as reported, each with its speed-up over RK4 and that
+    /// speed-up's spread over the rounds.
     pub fn report(&self) -> Vec<TradeReportRow> {
         let base = self.rk4_cells_per_s();
         self.rows
             .iter()
-            .map(|r| TradeReportRow { row: r.clone(), speedup_vs_rk4: base.map(|b| r.cells_per_s / b) })
+            .map(|r| TradeReportRow {
+                row: r.clone(),
+                speedup_vs_rk4: base.map(|b| r.cells_per_s / b),
+                speedup_spread: self.spread(r),
+            })
             .collect()
+    }
+
+    /// The least and the largest speed-up of `row` over RK4 among the
+    /// rounds, each round's against RK4's of the same round (the machine's
+    /// slow spells fall on both); `None` without RK4.
+    pub fn spread(&self, row: &TradeRow) -> Option<[f64; 2]> {
+        let rk4 = self.rows.iter().find(|r| r.setting == RK4.name)?;
+        let ratios = rk4.round_seconds.iter().zip(&row.round_seconds).map(|(b, s)| b / s);
+        ratios.fold(None, |acc: Option<[f64; 2]>, q| Some(acc.map_or([q, q], |[lo, hi]| [lo.min(q), hi.max(q)])))
     }
 }
 
@@ -247,6 +264,10 @@ pub struct TradeReportRow {
     /// Cells/s over RK4's, when RK4 was measured.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speedup_vs_rk4: Option<f64>,
+    /// The least and largest speed-up over RK4 among the rounds
+    /// ([`Trade::spread`]), when RK4 was measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speedup_spread: Option<[f64; 2]>,
 }
 
 /// The JSON of a bench (the contract of `bench --json`).
@@ -337,9 +358,12 @@ pub fn trade(request: &BenchRequest) -> Result<Option<Trade>> {
     let t = *request.threads.iter().max().unwrap_or(&1);
     let fresh = [SweepKind::Fresh];
     let mut runs: Vec<Option<Measured>> = SETTINGS.iter().map(|_| None).collect();
+    let mut seconds: Vec<Vec<f64>> = SETTINGS.iter().map(|_| Vec::with_capacity(rounds)).collect();
     for _ in 0..rounds {
-        for (best, &setting) in runs.iter_mut().zip(&SETTINGS) {
-            keep_faster(best, run_plane(&scene, &plane, &fresh, setting, t)?)?;
+        for ((best, secs), &setting) in runs.iter_mut().zip(&mut seconds).zip(&SETTINGS) {
+            let m = run_plane(&scene, &plane, &fresh, setting, t)?;
+            secs.push(m.secs);
+            keep_faster(best, m)?;
         }
     }
     let measured: Vec<Measured> =
@@ -350,12 +374,18 @@ pub fn trade(request: &BenchRequest) -> Result<Option<Trade>> {
         .find(|(s, _)| s.name == PRECISE.name)
         .map(|(_, m)| &m.atlas)
         .ok_or_else(|| Error::Internal("no reference setting".into()))?;
-    let rows = SETTINGS.iter().zip(&measured).map(|(setting, m)| trade_row(setting, m, reference, t)).collect();
+    let rows = SETTINGS
+        .iter()
+        .zip(&measured)
+        .zip(seconds)
+        .map(|((setting, m), secs)| trade_row(setting, m, reference, t, secs))
+        .collect();
     Ok(Some(Trade { threads: t, rows }))
 }
 
-/// The row of `setting`, measured as `m` on `threads` threads, against `reference`.
-fn trade_row(setting: &Setting, m: &Measured, reference: &Atlas, threads: usize) -> TradeRow {
+/// The row of `setting`, measured as `m` (the best of rounds that took
+/// `round_seconds`) on `threads` threads, against `reference`.
+fn trade_row(setting: &Setting, m: &Measured, reference: &Atlas, threads: usize, round_seconds: Vec<f64>) -> TradeRow {
     let (labels, classes, median) = compare(reference, &m.atlas);
     // Work per forcing period, in thread time: what the integrator costs.
     let total = periods(&m.atlas, |_| true);
@@ -369,6 +399,7 @@ fn trade_row(setting: &Setting, m: &Measured, reference: &Atlas, threads: usize)
         us_per_period: 1e6 * m.secs * threads as f64 / total.max(1) as f64,
         // Cells without a period: the records every method simulates in full.
         nonperiodic_periods: periods(&m.atlas, |c| c != Class::Periodic),
+        round_seconds,
     }
 }
 
@@ -511,6 +542,7 @@ mod tests {
                 periods: 10,
                 us_per_period: 1.0,
                 nonperiodic_periods: 2,
+                round_seconds: vec![2.0, 1.0],
             }],
         };
         let j = Bench { grid: 2, throughput: vec![row], trade: Some(trade) }.to_json();
@@ -520,6 +552,8 @@ mod tests {
         assert_eq!(keys, ["grid", "simulated", "throughput", "trade"]);
         assert_eq!(j["simulated"], json!([]));
         assert_eq!(j["trade"][0]["speedup_vs_rk4"], 1.0);
+        assert_eq!(j["trade"][0]["speedup_spread"], json!([1.0, 1.0]));
+        assert_eq!(j["trade"][0]["round_seconds"], json!([2.0, 1.0]));
         assert_eq!(j["throughput"][0]["cells"], 4);
         let none = Bench { grid: 2, throughput: Vec::new(), trade: None }.to_json();
         assert_eq!(none["trade"], json!([]));
