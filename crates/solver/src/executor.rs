@@ -30,7 +30,10 @@
 //!    alone has converged as only a torus's does (`turns_on_torus`: far
 //!    faster than over the last quarter of the points, and not locked at a
 //!    fraction), a transient (extended as above while extensions remain)
-//!    when contracting.
+//!    when contracting. A free mass drifting towards a stop without an
+//!    event is a transient too, and where it drifts through every extension
+//!    it is followed to the stop without a record
+//!    ([`Executor::follow_drift`]), the motion recorded afresh from there.
 //!    A record that still contracts but whose section has
 //!    settled on an orbit longer than `n_max` (up to 128 periods) is not
 //!    extended (no extension would find a period): Newton's method on that
@@ -43,7 +46,8 @@
 //!    near it, and the cell is `unresolved` ([`Unresolved::Unstable`]); so
 //!    is one whose multiplier says that the state is still far from it where
 //!    rounding hid the contraction from the record (unless the periods that
-//!    close the distance are left in the record, which then goes on:
+//!    close the distance are left in the record's whole budget,
+//!    `max_periods x (1 + extensions)`, which it then goes on into:
 //!    `periods_to_settle`), or that the map does not
 //!    contract at all ([`Executor::unsettled`]:
 //!    a conservative oscillation under fast forcing, a mass on a vanishing
@@ -180,6 +184,11 @@ const NEUTRAL: f64 = 1e-9;
 /// square root of the rounding, 1e-8), see [`without_drift`].
 const DRIFT: f64 = 1e-6;
 
+/// How far a free mass drifting without an event is followed beyond the
+/// record's budget, in units of `max_periods` (see
+/// [`Executor::follow_drift`]).
+const DRIFT_REACH: usize = 100;
+
 /// Fewest periods without an event over which growing gaps show a motion
 /// that escapes (see [`Executor::unbounded`]).
 const ESCAPE_PERIODS: usize = 20;
@@ -303,7 +312,8 @@ pub enum Unresolved {
     /// the system's slowest motion), and whose torus (an undamped
     /// oscillation beside the forcing) attracts nothing (issue 42). Where a
     /// free mass drifts towards a stop, the record was extended to meet it
-    /// while extensions remained; `closing` and `meets` say how far it was.
+    /// while extensions remained, and the drift followed past the budget as
+    /// far as [`DRIFT_REACH`] allows; `closing` and `meets` say how far it was.
     Linear {
         /// Periods of the record without an event.
         periods: usize,
@@ -396,7 +406,7 @@ impl std::fmt::Display for Unresolved {
             ),
             Unresolved::Linear { periods, closing: Some(closing), meets: Some(meets) } => write!(
                 f,
-                "no period, and no impact or other event in the last {periods} periods recorded: a free mass drifts towards a stop, its gap closing by {closing:.1e} per period, and would meet it in about {meets:.0} more periods, beyond the record's budget (max_periods x (1 + extensions))"
+                "no period, and no impact or other event in the last {periods} periods recorded: a free mass drifts towards a stop, its gap closing by {closing:.1e} per period, and would meet it in about {meets:.0} more periods, beyond the record's budget and how far a drift is followed past it (100 x max_periods periods)"
             ),
             Unresolved::Linear { periods, .. } => write!(
                 f,
@@ -649,13 +659,18 @@ impl<'s> Executor<'s> {
 
     /// Phase 1: simulates periods until the section repeats (the period n,
     /// returned) or `limit` periods in all are simulated (`None`), with Newton
-    /// acceleration of slowly contracting patterns on the way.
+    /// acceleration of slowly contracting patterns on the way. An orbit found
+    /// still too far, whose contraction closes the distance within the
+    /// record's whole budget (`max_periods x (1 + extensions)` periods, the
+    /// budget extensions of a transient draw on), is followed there even
+    /// beyond `limit`.
     fn record(&mut self, limit: usize) -> Result<Option<usize>, Halt> {
         let acc = self.acc;
+        let budget = limit.max(acc.max_periods.saturating_mul(1 + acc.extensions));
         // Periods simulated before the record is tested again, while it
         // closes in on an orbit found still too far (see `periods_to_settle`).
         let mut wait_until = 0;
-        while (self.sim.periods() as usize) < limit {
+        while (self.sim.periods() as usize) < limit.max(wait_until) {
             let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
             if self.hist.len() == history_len(acc) {
                 self.hist.pop_front();
@@ -674,11 +689,11 @@ impl<'s> Executor<'s> {
                     let asked = hidden || (self.acc.multipliers && !self.sys.has_rigid_mode());
                     let why = if asked { self.unsettled(n, hidden) } else { None };
                     // Still too far from an orbit it contracts onto, with the
-                    // periods to reach it left in the record: the record goes
+                    // periods to reach it left in the budget: the record goes
                     // on, and the multiplier is measured again at its next test.
                     let periods = self.sim.periods() as usize;
                     let more =
-                        why.as_ref().and_then(|w| periods_to_settle(w, n, acc)).filter(|&m| periods + m <= limit);
+                        why.as_ref().and_then(|w| periods_to_settle(w, n, acc)).filter(|&m| periods + m <= budget);
                     if let Some(more) = more {
                         self.measured = None;
                         wait_until = periods + more;
@@ -975,6 +990,7 @@ impl<'s> Executor<'s> {
         let mut early_look = acc.chaos_check > 0 && acc.chaos_check < acc.max_periods && acc.lyapunov_periods > 0;
         let mut limit = if early_look { acc.chaos_check } else { acc.max_periods };
         let mut extensions = 0;
+        let mut drift_followed = false;
         loop {
             if let Some(n) = self.record(limit).map_err(|h| Unresolved::of(h, acc))? {
                 return Ok(Steady::Periodic(n));
@@ -1014,6 +1030,14 @@ impl<'s> Executor<'s> {
                 self.newton.renew();
                 limit += acc.max_periods;
                 continue;
+            }
+            // Still drifting when the budget ends: followed to the wall, once.
+            if !drift_followed && self.drifting().is_some() {
+                drift_followed = true;
+                if self.follow_drift().map_err(|h| Unresolved::of(h, acc))? {
+                    (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
+                    continue;
+                }
             }
             let (tangent, e) = match exponent {
                 Ok(measured) => measured,
@@ -1114,6 +1138,40 @@ impl<'s> Executor<'s> {
         let (a, b) = (&recs[recs.len() - 2].end, &recs[recs.len() - 1].end);
         let drift = (0..m).map(|i| (b[i] - a[i]).abs()).fold(0.0, f64::max);
         Some(Unresolved::Unbounded { periods: recs.len(), drift })
+    }
+
+    /// A free mass that drifts towards a stop without an event through the
+    /// record's whole budget ([`Executor::drifting`]), followed there: period
+    /// after period of the same exact flow, without a record (an event-free
+    /// period costs a few steps of the flow and nothing else), until the first
+    /// period with an event, at most twice the periods that its closing rate
+    /// gives and at most [`DRIFT_REACH`] × `max_periods`. `true` when an event
+    /// came: the motion from there is recorded afresh (its history, trail and
+    /// Newton acceleration start again); `false` when the reach ended first
+    /// (the history then holds the last periods followed).
+    fn follow_drift(&mut self) -> Result<bool, Halt> {
+        let Some((_, meets)) = self.drifting() else { return Ok(false) };
+        let reach = (DRIFT_REACH * self.acc.max_periods) as f64;
+        if meets > reach {
+            return Ok(false);
+        }
+        let until = self.sim.periods() + (2.0 * meets).ceil().min(reach) as u64 + 1;
+        self.trail.clear();
+        while self.sim.periods() < until {
+            let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
+            if rec.events > 0 {
+                self.hist.clear();
+                self.newton.renew();
+                return Ok(true);
+            }
+            // The last periods stay in the history: a drift followed to the
+            // reach is said to be drifting where it is then.
+            if self.hist.len() == history_len(self.acc) {
+                self.hist.pop_front();
+            }
+            self.hist.push_back(rec);
+        }
+        Ok(false)
     }
 
     /// A free mass drifting towards a stop: the record has had no event, the
@@ -1456,25 +1514,75 @@ mod tests {
         }
     }
 
-    /// Issue 62: the impact damper's free mass drifting at 1e-5 inside its
+    /// Issue 62: the impact damper's free mass drifting at 5e-6 inside its
     /// cavity (δ = 2, the primary's steady amplitude 0.78) has no event in
-    /// its whole budget; the reason gives the closing of the gap per period,
-    /// v₂₀ T exactly (the primary's motion is periodic by then), and the
-    /// periods to close it at that rate.
+    /// its whole budget, and would need 84 000 more periods to meet a wall,
+    /// beyond the reach of a followed drift (60 000 at `standard`): the
+    /// reason gives the closing of the gap per period, v₂₀ T exactly (the
+    /// primary's motion is periodic by then), and the periods to close it at
+    /// that rate.
     #[test]
-    fn a_drifting_free_mass_is_followed_and_said_to_be_drifting() {
-        let sys = system("impact-damper.toml", &[("v20", 1e-5)]);
+    fn a_drift_beyond_reach_is_said_to_be_drifting() {
+        let sys = system("impact-damper.toml", &[("v20", 5e-6)]);
         let acc = Accuracy::default();
         let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
         let Some(Unresolved::Linear { closing: Some(closing), meets: Some(meets), .. }) = cell.reason else {
             panic!("{:?}", cell.reason)
         };
         let period = 2.0 * std::f64::consts::PI / 1.5;
-        assert!((closing / (1e-5 * period) - 1.0).abs() < 1e-8, "{closing}");
+        assert!((closing / (5e-6 * period) - 1.0).abs() < 1e-8, "{closing}");
+        assert!(meets > (DRIFT_REACH * acc.max_periods) as f64, "{meets}");
         // The record ran through every extension: 600 x (1 + 4) periods and more.
         assert!(cell.periods >= 3000, "{}", cell.periods);
         let gap = (0..2).map(|k| sys.gap(k, &DVector::from_column_slice(&cell.final_state))).fold(f64::MAX, f64::min);
         assert!((meets * closing - gap).abs() < 100.0 * closing, "{meets} x {closing} against {gap}");
+    }
+
+    /// Issue 62: drifting at 1e-5, the free mass meets a wall some 27 000
+    /// periods after the record's budget ends (it was `U`, "drifts towards a
+    /// stop … in about 40 412 more periods": the primary's swing meets it
+    /// before its section does): followed there, its motion from the first impact on is
+    /// recorded afresh and settles on 1-1-1, as one record long enough to
+    /// hold the whole drift finds without any following.
+    #[test]
+    fn a_drift_within_reach_is_followed_to_the_wall() {
+        let sys = system("impact-damper.toml", &[("v20", 1e-5)]);
+        let acc = Accuracy::default();
+        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "{:?}", cell.reason);
+        assert!(cell.periods > 20_000 && cell.events > 0, "{} periods, {} events", cell.periods, cell.events);
+        let long = Accuracy { max_periods: 60_000, extensions: 0, ..acc };
+        let oracle = run_cell(&sys, &long, Method::Exact, &sys.model.initial_state());
+        assert_eq!((oracle.class, oracle.n), (Class::Periodic, Some(1)), "{:?}", oracle.reason);
+        let labels = |c: &CellResult| c.labels.iter().map(|l| l.label.to_string()).collect::<Vec<_>>();
+        assert_eq!(labels(&cell), labels(&oracle));
+        assert_eq!(labels(&cell), ["1-1-1"]);
+        let far =
+            distance(&DVector::from_vec(cell.final_state.clone()), &DVector::from_vec(oracle.final_state.clone()));
+        assert!(far < 1e-6, "{far}");
+    }
+
+    /// Issue 62: a cell of the damper's `precise` up sweep (ω = 1.3304,
+    /// δ = 1.0339, from the state of the cell before) whose section repeats
+    /// after 2 868 periods, its orbit contracting at |μ| = 0.994 still
+    /// 1.6e-7 away: the 850 periods that close the distance were beyond the
+    /// record's limit (3 000), and the cell was `U` although its budget
+    /// (3 000 × 5 periods) held them. Followed into the budget, it settles on
+    /// the orbit that a record ten times longer ends on.
+    #[test]
+    fn an_orbit_contracting_slowly_is_followed_into_the_budget() {
+        let sys = system("impact-damper.toml", &[("omega", 1.330379746835443), ("delta", 1.0338983050847457)]);
+        let y0 = [-0.16738487890387366, -0.5772234079239855, -0.8298857514257706, -1.9226368537636056];
+        let acc = Accuracy::preset(crate::Preset::Precise);
+        let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        assert_eq!(cell.class, Class::Periodic, "{:?}", cell.reason);
+        assert!(cell.periods > 3000, "{}", cell.periods);
+        let long = Accuracy { max_periods: 30_000, extensions: 0, ..acc };
+        let oracle = run_cell(&sys, &long, Method::Exact, &y0);
+        assert_eq!((oracle.class, oracle.n), (cell.class, cell.n), "{:?}", oracle.reason);
+        let far =
+            distance(&DVector::from_vec(cell.final_state.clone()), &DVector::from_vec(oracle.final_state.clone()));
+        assert!(far < 1e-7, "{far}");
     }
 
     /// Issue 62: the damper's free mass at rest with its walls out of reach
