@@ -676,19 +676,31 @@ impl Mode {
     /// State-transition matrix `∂y(h)/∂y(0) = L e^{Â h} P` of a flow segment of
     /// duration `h` in full coordinates.
     pub fn transition(&self, h: f64) -> DMatrix<f64> {
+        let mut out = DMatrix::zeros(0, 0);
+        self.transition_into(h, &mut Vec::new(), &mut out);
+        out
+    }
+
+    /// [`Mode::transition`] into `out`, the flow's factors into `f` (both
+    /// resized as needed: no allocation once sized for the mode).
+    pub fn transition_into(&self, h: f64, f: &mut Vec<C64>, out: &mut DMatrix<f64>) {
         let terms = self.tangent_terms.get_or_init(|| {
             let (l, p) =
                 (self.lift_matrix().map(|v| C64::new(v, 0.0)), self.project_matrix().map(|v| C64::new(v, 0.0)));
             self.spectral.coefficients().iter().map(|c| &l * c * &p).collect()
         });
-        let mut f = vec![C64::new(0.0, 0.0); terms.len()];
-        self.spectral.factors(h, &mut f);
+        f.clear();
+        f.resize(terms.len(), C64::new(0.0, 0.0));
+        self.spectral.factors(h, f);
         let n = self.basis.nrows() * 2;
-        let mut out = DMatrix::zeros(n, n);
-        for (t, ft) in terms.iter().zip(&f) {
+        if out.shape() == (n, n) {
+            out.fill(0.0);
+        } else {
+            *out = DMatrix::zeros(n, n);
+        }
+        for (t, ft) in terms.iter().zip(f.iter()) {
             out.zip_apply(t, |o, z| *o += ft.re * z.re - ft.im * z.im);
         }
-        out
     }
 
     /// Full state `[x; v]` of an augmented state, into `y` (of length `2m`).

@@ -21,6 +21,7 @@ use crate::soft;
 use crate::stick::{candidates, settle, touching, ModeCache, RECURRING};
 use crate::system::System;
 use nalgebra::{DMatrix, DVector};
+use num_complex::Complex64 as C64;
 
 /// One event of a cell's work budget ([`crate::budget`]), in the units work
 /// is counted in (thousandths of an event).
@@ -268,6 +269,22 @@ struct Buffers {
     sample: (DVector<f64>, DVector<f64>),
     /// Augmented state of a segment's closed form ([`Segment::state`]).
     segment: DVector<f64>,
+    /// The tangent's update: the flow's factors, its transition over a
+    /// segment (lent to a [`Saltation`] across an event), and two products.
+    factors: Vec<C64>,
+    flow: DMatrix<f64>,
+    product: DMatrix<f64>,
+    next: DMatrix<f64>,
+}
+
+/// `out = a b` in `out`'s storage (sized as needed: no allocation once
+/// sized), bit for bit `a * b`: nalgebra's product is this same `gemm`
+/// with `α = 1`, `β = 0`.
+fn multiply(a: &DMatrix<f64>, b: &DMatrix<f64>, out: &mut DMatrix<f64>) {
+    if out.shape() != (a.nrows(), b.ncols()) {
+        *out = DMatrix::zeros(a.nrows(), b.ncols());
+    }
+    out.gemm(1.0, a, b, 0.0);
 }
 
 /// What the saltation matrix of an event needs from before it, in full
@@ -282,11 +299,20 @@ struct Saltation {
 
 impl Saltation {
     /// At the event of guard `g` of `mode`, reached at augmented state `state`
-    /// after `time`.
-    fn before(mode: &Mode, g: &Guard, state: &DVector<f64>, time: f64) -> Saltation {
+    /// after `time` (the transition written into `flow`, the buffer lent, its
+    /// factors into `f`).
+    fn before(
+        mode: &Mode,
+        g: &Guard,
+        state: &DVector<f64>,
+        time: f64,
+        mut flow: DMatrix<f64>,
+        f: &mut Vec<C64>,
+    ) -> Saltation {
         let rate = &mode.aug * state;
+        mode.transition_into(time, f, &mut flow);
         Saltation {
-            flow: mode.transition(time),
+            flow,
             f_before: mode.lift_matrix() * &rate,
             grad: mode.project_matrix().transpose() * &g.row,
             rate: g.row.dot(&rate),
@@ -646,7 +672,9 @@ impl<'s> Simulator<'s> {
             match advance {
                 Advance::Horizon => {
                     if let Some(t) = self.tangent.as_mut() {
-                        *t = mode.transition(target - self.clock) * &*t;
+                        mode.transition_into(target - self.clock, &mut b.factors, &mut b.flow);
+                        multiply(&b.flow, t, &mut b.product);
+                        std::mem::swap(t, &mut b.product);
                     }
                     mode.lift_into(&b.end, &mut self.y);
                     self.clock = target;
@@ -664,7 +692,10 @@ impl<'s> Simulator<'s> {
                     let g = &mode.guards[guard];
                     let (kind, stop) = (g.kind, g.target.index());
                     // Flow to the event, and what the saltation needs from before it.
-                    let before = self.tangent.is_some().then(|| Saltation::before(mode, g, &b.end, time));
+                    let before = self
+                        .tangent
+                        .is_some()
+                        .then(|| Saltation::before(mode, g, &b.end, time, std::mem::take(&mut b.flow), &mut b.factors));
                     mode.lift_into(&b.end, &mut self.y);
                     self.clock = (self.clock + time).min(target);
                     self.count_event(time)?;
@@ -869,8 +900,12 @@ impl<'s> Simulator<'s> {
             jump
         };
         if let Some(t) = self.tangent.as_mut() {
-            *t = salt * flow * &*t;
+            let b = &mut self.buffers;
+            multiply(&salt, &flow, &mut b.product);
+            multiply(&b.product, t, &mut b.next);
+            std::mem::swap(t, &mut b.next);
         }
+        self.buffers.flow = flow;
         Ok(())
     }
 }
