@@ -313,7 +313,7 @@ pub enum Unresolved {
     /// oscillation beside the forcing) attracts nothing (issue 42). Where a
     /// free mass drifts towards a stop, the record was extended to meet it
     /// while extensions remained, and the drift followed past the budget as
-    /// far as [`DRIFT_REACH`] allows; `closing` and `meets` say how far it was.
+    /// far as 100 `max_periods` allow; `closing` and `meets` say how far it was.
     Linear {
         /// Periods of the record without an event.
         periods: usize,
