@@ -406,7 +406,7 @@ impl std::fmt::Display for Unresolved {
             ),
             Unresolved::Linear { periods, closing: Some(closing), meets: Some(meets) } => write!(
                 f,
-                "no period, and no impact or other event in the last {periods} periods recorded: a free mass drifts towards a stop, its gap closing by {closing:.1e} per period, and would meet it in about {meets:.0} more periods, beyond the record's budget and how far a drift is followed past it (100 x max_periods periods)"
+                "no period, and no impact or other event in the last {periods} periods recorded: a free mass drifts towards a stop, its gap closing by {closing:.1e} per period, and would meet it in about {meets:.0} more periods, beyond the record's budget and how far a drift is followed past it ({DRIFT_REACH} x max_periods periods)"
             ),
             Unresolved::Linear { periods, .. } => write!(
                 f,
@@ -1032,12 +1032,10 @@ impl<'s> Executor<'s> {
                 continue;
             }
             // Still drifting when the budget ends: followed to the wall, once.
-            if !drift_followed && self.drifting().is_some() {
+            if !drift_followed && self.follow_drift().map_err(|h| Unresolved::of(h, acc))? {
                 drift_followed = true;
-                if self.follow_drift().map_err(|h| Unresolved::of(h, acc))? {
-                    (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
-                    continue;
-                }
+                (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
+                continue;
             }
             let (tangent, e) = match exponent {
                 Ok(measured) => measured,
@@ -1147,8 +1145,9 @@ impl<'s> Executor<'s> {
     /// period with an event, at most twice the periods that its closing rate
     /// gives and at most [`DRIFT_REACH`] × `max_periods`. `true` when an event
     /// came: the motion from there is recorded afresh (its history, trail and
-    /// Newton acceleration start again); `false` when the reach ended first
-    /// (the history then holds the last periods followed).
+    /// Newton acceleration start again); `false` where no free mass drifts,
+    /// or when the reach ended first (the history then holds the last
+    /// periods followed).
     fn follow_drift(&mut self) -> Result<bool, Halt> {
         let Some((_, meets)) = self.drifting() else { return Ok(false) };
         let reach = (DRIFT_REACH * self.acc.max_periods) as f64;
