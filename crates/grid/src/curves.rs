@@ -17,13 +17,14 @@
 //! skipped; a curve whose points mostly lie on one found before (same kind) is
 //! dropped, and one found before whose points mostly lie on a new one gives way
 //! to it; a curve of fewer than three points is dropped too (the fine structure of a map
-//! seeds many short ones). Seeds are decided in fixed batches and accepted
-//! in seed order, so the result is the same on any number of threads; the
-//! threads trace seeds of later batches while a batch's slowest curve
-//! finishes (speculatively: a seed that the batches before it turn out to
-//! cross is dropped), so that no core waits for it; a seed that a curve
-//! already traced before it crosses is put off until its batch is the next
-//! to commit, where it is most likely skipped, not traced in vain.
+//! seeds many short ones). Seeds are decided one by one in seed order, each on
+//! the curves of the seeds before it, so the result is that of one thread on
+//! any number of threads. The threads trace the seeds after the next to
+//! decide while its curve is traced (speculatively: a seed that the curve of
+//! one before it turns out to cross is dropped), so that no core waits for
+//! a slow curve; a seed that a curve already traced before it crosses is put
+//! off until it is the next to decide, where it is most likely skipped, not
+//! traced in vain.
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
@@ -31,10 +32,6 @@ use maps::Atlas;
 use maps::SweepKind;
 use solver::curve::{Curve, Plane2, Start, Tracing};
 use solver::{Bifurcation, Class};
-
-/// Seeds traced together; fixed, so that the curves kept do not depend on
-/// the number of threads.
-const BATCH: usize = 16;
 
 /// Fewest points of a curve kept.
 const MIN_POINTS: usize = 3;
@@ -180,10 +177,10 @@ pub fn find(
     Ok(state.found)
 }
 
-/// Batches a worker may trace ahead of the last one committed: seeds of
-/// later batches wait, so that speculative work on seeds a committed curve
-/// may yet cross stays bounded.
-const AHEAD: usize = 4;
+/// Seeds a worker may trace ahead of the next to decide: later seeds wait,
+/// so that speculative work on seeds a curve decided before them may yet
+/// cross stays bounded.
+const AHEAD: usize = 64;
 
 /// Where one seed stands.
 #[derive(Debug)]
@@ -192,27 +189,27 @@ enum SeedState {
     Pending,
     /// A curve committed before its batch crosses it: not traced.
     Skipped,
-    /// Traced (speculatively, if its batch was not yet decided).
+    /// Traced (speculatively, if the seeds before it are not all decided).
     Traced(Option<Curve>),
 }
 
-/// The curves committed so far and each seed's state: batches are committed
-/// in order, each as the batched scheme of [`BATCH`] would (its seeds that
-/// the curves before it cross are skipped, the others' curves accepted in
-/// seed order), so the result does not depend on how many threads traced
-/// them or in which order they finished.
+/// The curves committed so far and each seed's state: seeds are committed
+/// in order, each as one thread would decide it (skipped where a curve
+/// committed before it crosses it, else its curve accepted or dropped), so
+/// the result does not depend on how many threads traced them or in which
+/// order they finished.
 struct Schedule {
     found: Search,
     states: Vec<SeedState>,
-    /// Batches committed.
+    /// Seeds committed: the next to commit.
     committed: usize,
     /// Seeds decided (skipped or traced).
     decided: usize,
     /// The next seed not yet taken.
     next: usize,
-    /// Seeds of later batches put off because a curve traced before them
-    /// crosses them (their batch's commit will most likely skip them): taken
-    /// up once their batch is the next to commit.
+    /// Seeds put off because a curve traced before them crosses them (their
+    /// commit will most likely skip them): taken up once each is the next to
+    /// commit.
     deferred: Vec<usize>,
     /// `max` curves are kept: nothing more is traced.
     finished: bool,
@@ -231,10 +228,10 @@ impl Schedule {
         }
     }
 
-    /// Whether a curve committed, or traced from a seed before `i` of a
-    /// batch not yet committed, crosses `seed` (the `i`-th).
+    /// Whether a curve committed, or traced from a seed before `i` not yet
+    /// committed, crosses `seed` (the `i`-th).
     fn crossed(&self, i: usize, seed: &Seed) -> bool {
-        let traced = self.states[(self.committed * BATCH).min(i)..i].iter().filter_map(|s| match s {
+        let traced = self.states[self.committed.min(i)..i].iter().filter_map(|s| match s {
             SeedState::Traced(Some(c)) if c.points.len() >= MIN_POINTS => Some(c),
             _ => None,
         });
@@ -252,12 +249,11 @@ struct Run<'a> {
 
 impl Run<'_> {
     /// The next seed a worker traces, or `None` when none is left: a seed
-    /// put off whose batch is now the next to commit, else the next seed
-    /// in order, at most [`AHEAD`] batches ahead of the last committed
-    /// (waiting until the commits reach it). A seed of a later batch that a
-    /// curve traced before it crosses is put off (not traced now: its
-    /// batch's commit most likely skips it). A seed of the batch next to
-    /// commit that a committed curve crosses is skipped.
+    /// put off that is now the next to commit, else the next seed in order,
+    /// at most [`AHEAD`] seeds ahead of the next to commit (waiting until the
+    /// commits reach it). A later seed that a curve traced before it crosses
+    /// is put off (not traced now: its commit most likely skips it). The
+    /// seed next to commit is skipped where a committed curve crosses it.
     fn take(&self, state: &std::sync::Mutex<Schedule>, advanced: &std::sync::Condvar) -> Option<usize> {
         let mut st = state.lock().unwrap_or_else(|p| p.into_inner());
         loop {
@@ -265,24 +261,24 @@ impl Run<'_> {
                 return None;
             }
             let current = st.committed;
-            let i = match st.deferred.iter().position(|&j| j / BATCH <= current) {
+            let i = match st.deferred.iter().position(|&j| j <= current) {
                 Some(k) => st.deferred.swap_remove(k),
                 None if st.next >= self.all.len() && st.deferred.is_empty() => return None,
-                None if st.next >= self.all.len() || st.next / BATCH > current + AHEAD => {
+                None if st.next >= self.all.len() || st.next > current + AHEAD => {
                     st = advanced.wait(st).unwrap_or_else(|p| p.into_inner());
                     continue;
                 }
                 None => {
                     st.next += 1;
                     let i = st.next - 1;
-                    if i / BATCH > current && st.crossed(i, &self.all[i]) {
+                    if i > current && st.crossed(i, &self.all[i]) {
                         st.deferred.push(i);
                         continue;
                     }
                     i
                 }
             };
-            if i / BATCH == current && st.found.curves.iter().any(|c| crosses(c, &self.all[i])) {
+            if i == current && st.found.curves.iter().any(|c| crosses(c, &self.all[i])) {
                 st.states[i] = SeedState::Skipped;
                 st.decided += 1;
                 self.commit(&mut st);
@@ -293,10 +289,10 @@ impl Run<'_> {
         }
     }
 
-    /// Takes seeds ([`Run::take`]), traces them, and commits every batch
-    /// whose seeds are all decided. A seed of a batch after the next to
-    /// commit is traced speculatively (its batch's commit drops it if a
-    /// curve committed before crosses it).
+    /// Takes seeds ([`Run::take`]), traces them, and commits every seed
+    /// decided whose seeds before it are. A seed after the next to commit is
+    /// traced speculatively (its commit drops it if a curve committed before
+    /// crosses it).
     fn worker(
         &self,
         state: &std::sync::Mutex<Schedule>,
@@ -321,41 +317,41 @@ impl Run<'_> {
         }
     }
 
-    /// Commits every batch, in order, whose seeds are all decided; whether
-    /// one was.
+    /// Commits every seed, in order, that is decided; whether one was.
     fn commit(&self, st: &mut Schedule) -> bool {
         let total = self.all.len();
         let mut any = false;
-        while !st.finished && st.committed * BATCH < total {
-            let range = st.committed * BATCH..((st.committed + 1) * BATCH).min(total);
-            if st.states[range.clone()].iter().any(|s| matches!(s, SeedState::Pending)) {
+        while !st.finished && st.committed < total {
+            let i = st.committed;
+            if matches!(st.states[i], SeedState::Pending) {
                 break;
             }
             any = true;
-            // The seeds of the batch that no curve committed before it crosses.
-            let todo: Vec<usize> =
-                range.filter(|&i| !st.found.curves.iter().any(|c| crosses(c, &self.all[i]))).collect();
-            st.found.seeds += todo.len();
             st.committed += 1;
-            for i in todo {
-                let SeedState::Traced(curve) = std::mem::replace(&mut st.states[i], SeedState::Skipped) else {
-                    continue;
-                };
-                let Some(curve) = curve else { continue };
-                let duplicate = st.found.curves.iter().any(|c| same(c, &curve, self.cell));
-                if curve.points.len() >= MIN_POINTS && !duplicate {
-                    st.found.curves.retain(|c| !same(&curve, c, self.cell));
-                    st.found.curves.push(curve);
-                    if st.found.curves.len() >= self.max {
-                        st.finished = true;
-                        break;
-                    }
+            let state = std::mem::replace(&mut st.states[i], SeedState::Skipped);
+            // A seed that a curve committed before it crosses is skipped.
+            if let SeedState::Traced(curve) = state {
+                if !st.found.curves.iter().any(|c| crosses(c, &self.all[i])) {
+                    st.found.seeds += 1;
+                    self.accept(st, curve);
                 }
             }
-            let done = (st.committed * BATCH).min(total).max(st.decided);
+            let done = st.committed.max(st.decided);
             (self.progress)(Tally { done, total, traced: st.found.seeds, kept: st.found.curves.len() });
         }
         any
+    }
+
+    /// Keeps a committed seed's curve unless it is short or lies on one kept
+    /// before; kept curves that lie on it give way to it.
+    fn accept(&self, st: &mut Schedule, curve: Option<Curve>) {
+        let Some(curve) = curve else { return };
+        if curve.points.len() < MIN_POINTS || st.found.curves.iter().any(|c| same(c, &curve, self.cell)) {
+            return;
+        }
+        st.found.curves.retain(|c| !same(&curve, c, self.cell));
+        st.found.curves.push(curve);
+        st.finished = st.found.curves.len() >= self.max;
     }
 }
 
