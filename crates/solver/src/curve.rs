@@ -141,6 +141,12 @@ pub struct CurvePoint {
     /// method reached the orbit keeping its impact pattern (next to the
     /// grazing it does not reach it from a prediction).
     pub orbit_at: [f64; 2],
+    /// For a grazing, the orbit of its corrector's continuation nearest it
+    /// at least a thousandth of the corrector path before it, and where
+    /// that is: the next point's orbit is carried from there (from `orbit`,
+    /// within about 1e-9 of the grazing, Newton's first iterate touches the
+    /// stop and the carry fails at once). `None`: from `orbit`.
+    pub carry_start: Option<(Orbit, [f64; 2])>,
     /// Other bifurcations of the orbit located on the same line (before its
     /// impact pattern changes): kind and position `(a, b)`.
     pub others: Vec<(Bifurcation, f64, f64)>,

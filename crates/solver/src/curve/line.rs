@@ -29,9 +29,14 @@ const STEP_POINTS: usize = 24;
 /// next; a failed step is halved by [`follow`]).
 const CARRY_POINTS: usize = 5;
 
-/// The orbit of a point of a fold curve is that of the branch's last point
-/// at least this far (in the units of its corrector path) before the fold.
-const FOLD_INSIDE: f64 = 1e-3;
+/// The orbit of a point of a fold curve, and the orbit a grazing curve's
+/// next point is carried from, is that of the branch's point nearest the
+/// bifurcation at least this far from it (in the units of its corrector
+/// path): at a fold Newton's method is singular, and within about 1e-9 of a
+/// grazing its first iterate from the orbit already touches the stop, so that
+/// a carry from there changes the impact pattern at once (and the step is
+/// halved down to the smallest, for every point).
+const INSIDE: f64 = 1e-3;
 
 /// A bifurcation of the curve's kind met by a carried orbit this close to
 /// the segment's start (as a fraction of the segment) is the point it was
@@ -174,7 +179,7 @@ impl Tracing {
         let (orbit, inside) = match best.kind {
             // At a fold Newton's method is singular: its orbit is the branch's
             // last point before it.
-            Bifurcation::SaddleNode => self.before_fold(branch, best.value),
+            Bifurcation::SaddleNode => self.before(branch, best.value, INSIDE),
             // Next to a grazing Newton's method reaches the orbit from a
             // prediction only a little short of it: its orbit is the branch's
             // last, where the search for the grazing started.
@@ -191,13 +196,11 @@ impl Tracing {
         let d = path.direction(best.value);
         let side = [-sign * d[0], -sign * d[1]];
         let orbit_at = path.at(inside, self.scale);
-        CurvePoint { a, b, located: best.clone(), orbit, orbit_at, others, side, grazes }
-    }
-
-    /// The orbit of the last point of `branch` before its fold at `value`
-    /// (the fold's own point left out), and where it is.
-    fn before_fold(&self, branch: &Branch, value: f64) -> (Orbit, f64) {
-        self.before(branch, value, FOLD_INSIDE)
+        let carry_start = (best.kind == Bifurcation::Grazing).then(|| {
+            let (orbit, inside) = self.before(branch, best.value, INSIDE);
+            (orbit, path.at(inside, self.scale))
+        });
+        CurvePoint { a, b, located: best.clone(), orbit, orbit_at, carry_start, others, side, grazes }
     }
 
     /// The orbit of the point of `branch` nearest `value` at least `inside`
@@ -339,14 +342,17 @@ impl Tracing {
     /// other stops than the curve's own, or a fold, is returned as a
     /// bifurcation the curve may end at.
     fn carry(&self, plane: &Plane2, last: &CurvePoint, to: [f64; 2]) -> Result<Orbit, Missed> {
-        let [a0, b0] = last.orbit_at;
+        let (start, [a0, b0]) = match &last.carry_start {
+            Some((orbit, at)) => (orbit, *at),
+            None => (&last.orbit, last.orbit_at),
+        };
         let at = |t: f64| [a0 + t * (to[0] - a0), b0 + t * (to[1] - b0)];
         let family = |t: f64| {
             let [a, b] = at(t);
             plane(a, b)
         };
         let ts: Vec<f64> = (0..CARRY_POINTS).map(|i| i as f64 / (CARRY_POINTS - 1) as f64).collect();
-        let branch = follow_own(&family, &self.acc, &ts, last.orbit.clone(), Grazings::Edge);
+        let branch = follow_own(&family, &self.acc, &ts, start.clone(), Grazings::Edge);
         let lost = |why: String, others: Vec<(Bifurcation, f64, f64)>| {
             Err(Missed { why: format!("its orbit ({}) cannot be continued: {why}", labels(&last.orbit)), others })
         };
