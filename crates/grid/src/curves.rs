@@ -187,7 +187,7 @@ const AHEAD: usize = 64;
 enum SeedState {
     /// Not traced yet (or being traced).
     Pending,
-    /// A curve committed before its batch crosses it: not traced.
+    /// A curve committed before it crosses it: not traced.
     Skipped,
     /// Traced (speculatively, if the seeds before it are not all decided).
     Traced(Option<Curve>),
