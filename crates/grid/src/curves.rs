@@ -231,11 +231,16 @@ impl Schedule {
     /// Whether a curve committed, or traced from a seed before `i` not yet
     /// committed, crosses `seed` (the `i`-th).
     fn crossed(&self, i: usize, seed: &Seed) -> bool {
-        let traced = self.states[self.committed.min(i)..i].iter().filter_map(|s| match s {
+        let mut traced = self.states[self.committed.min(i)..i].iter().filter_map(|s| match s {
             SeedState::Traced(Some(c)) if c.points.len() >= MIN_POINTS => Some(c),
             _ => None,
         });
-        self.found.curves.iter().chain(traced).any(|c| crosses(c, seed))
+        self.committed_cross(seed) || traced.any(|c| crosses(c, seed))
+    }
+
+    /// Whether a curve committed crosses `seed`.
+    fn committed_cross(&self, seed: &Seed) -> bool {
+        self.found.curves.iter().any(|c| crosses(c, seed))
     }
 }
 
@@ -278,7 +283,7 @@ impl Run<'_> {
                     i
                 }
             };
-            if i == current && st.found.curves.iter().any(|c| crosses(c, &self.all[i])) {
+            if i == current && st.committed_cross(&self.all[i]) {
                 st.states[i] = SeedState::Skipped;
                 st.decided += 1;
                 self.commit(&mut st);
@@ -331,7 +336,7 @@ impl Run<'_> {
             let state = std::mem::replace(&mut st.states[i], SeedState::Skipped);
             // A seed that a curve committed before it crosses is skipped.
             if let SeedState::Traced(curve) = state {
-                if !st.found.curves.iter().any(|c| crosses(c, &self.all[i])) {
+                if !st.committed_cross(&self.all[i]) {
                     st.found.seeds += 1;
                     self.accept(st, curve);
                 }
