@@ -24,7 +24,9 @@
 //! one before it turns out to cross is dropped), so that no core waits for
 //! a slow curve; a seed that a curve already traced before it crosses is put
 //! off until it is the next to decide, where it is most likely skipped, not
-//! traced in vain.
+//! traced in vain, and a seed that a curve committed while it is traced
+//! crosses is abandoned (its trace ends at its next step: its commit skips
+//! it).
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
@@ -32,6 +34,7 @@ use maps::Atlas;
 use maps::SweepKind;
 use solver::curve::{Curve, Plane2, Start, Tracing};
 use solver::{Bifurcation, Class};
+use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
 
 /// Fewest points of a curve kept.
 const MIN_POINTS: usize = 3;
@@ -163,10 +166,15 @@ pub fn find(
     let all = seeds(atlas, &seeding.sweeps);
     let total = all.len();
     progress(Tally { done: 0, total, traced: 0, kept: 0 });
-    let run = Run { all: &all, max: seeding.max, cell: [dx, dy], progress };
+    let abandoned: Vec<AtomicBool> = (0..total).map(|_| AtomicBool::new(false)).collect();
+    let run = Run { all: &all, abandoned: &abandoned, max: seeding.max, cell: [dx, dy], progress };
     let state = std::sync::Mutex::new(Schedule::new(total));
     let advanced = std::sync::Condvar::new();
-    let trace_one = |s: &Seed| trace(&plane, s, &seeding.kinds, &tracing, [dx, dy], y);
+    let trace_one = |i: usize| {
+        // An abandoned seed's plane admits no system: its trace ends at its next step.
+        let seed_plane = |a: f64, b: f64| if abandoned[i].load(Relaxed) { None } else { plane(a, b) };
+        trace(&seed_plane, &all[i], &seeding.kinds, &tracing, [dx, dy], y)
+    };
     pool.scope(|scope| {
         for _ in 0..seeding.threads.max(1) {
             scope.spawn(|_| run.worker(&state, &advanced, &trace_one));
@@ -247,6 +255,10 @@ impl Schedule {
 /// What the workers of one search share.
 struct Run<'a> {
     all: &'a [Seed],
+    /// Per seed, whether a curve committed before it crosses it while it is
+    /// being traced (speculatively): its commit skips it, so its trace is
+    /// ended at once.
+    abandoned: &'a [AtomicBool],
     max: usize,
     cell: [f64; 2],
     progress: &'a (dyn Fn(Tally) + Sync),
@@ -290,6 +302,7 @@ impl Run<'_> {
                 advanced.notify_all();
                 continue;
             }
+            self.abandoned[i].store(false, Relaxed);
             return Some(i);
         }
     }
@@ -302,7 +315,7 @@ impl Run<'_> {
         &self,
         state: &std::sync::Mutex<Schedule>,
         advanced: &std::sync::Condvar,
-        trace_one: &(dyn Fn(&Seed) -> Option<Curve> + Sync),
+        trace_one: &(dyn Fn(usize) -> Option<Curve> + Sync),
     ) {
         let lock = || state.lock().unwrap_or_else(|p| p.into_inner());
         loop {
@@ -310,7 +323,7 @@ impl Run<'_> {
                 advanced.notify_all();
                 return;
             };
-            let curve = trace_one(&self.all[i]);
+            let curve = trace_one(i);
             let mut st = lock();
             st.states[i] = SeedState::Traced(curve);
             st.decided += 1;
@@ -322,7 +335,9 @@ impl Run<'_> {
         }
     }
 
-    /// Commits every seed, in order, that is decided; whether one was.
+    /// Commits every seed, in order, that is decided; whether one was. A
+    /// seed abandoned for a curve that has since given way to one that does
+    /// not cross it is traced again (it is put off, as the next to commit).
     fn commit(&self, st: &mut Schedule) -> bool {
         let total = self.all.len();
         let mut any = false;
@@ -331,12 +346,19 @@ impl Run<'_> {
             if matches!(st.states[i], SeedState::Pending) {
                 break;
             }
+            let crossed = st.committed_cross(&self.all[i]);
+            if !crossed && self.abandoned[i].load(Relaxed) && matches!(st.states[i], SeedState::Traced(_)) {
+                st.states[i] = SeedState::Pending;
+                st.decided -= 1;
+                st.deferred.push(i);
+                break;
+            }
             any = true;
             st.committed += 1;
             let state = std::mem::replace(&mut st.states[i], SeedState::Skipped);
             // A seed that a curve committed before it crosses is skipped.
             if let SeedState::Traced(curve) = state {
-                if !st.committed_cross(&self.all[i]) {
+                if !crossed {
                     st.found.seeds += 1;
                     self.accept(st, curve);
                 }
@@ -355,6 +377,12 @@ impl Run<'_> {
             return;
         }
         st.found.curves.retain(|c| !same(&curve, c, self.cell));
+        // Seeds after it being traced that it crosses will be skipped.
+        for j in st.committed..st.next {
+            if matches!(st.states[j], SeedState::Pending) && crosses(&curve, &self.all[j]) {
+                self.abandoned[j].store(true, Relaxed);
+            }
+        }
         st.found.curves.push(curve);
         st.finished = st.found.curves.len() >= self.max;
     }
