@@ -904,8 +904,8 @@ impl<'s> Executor<'s> {
                 // Locked without an orbit near, not on islands, and shown to
                 // expand (the exponent's interval above 0): chaos in q bands.
                 // An interval about 0 is measured on: a torus's rotation
-                // number may lie near a fraction of large q (within the
-                // error of fewer than 1/q² points) until more points tell.
+                // number may lie within its error of a fraction of large q
+                // (p/792 over 1 600 points) until more points tell.
                 if locked.is_some() && growth.low() > 0.0 {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
