@@ -26,7 +26,7 @@
 //! off until it is the next to decide, where it is most likely skipped, not
 //! traced in vain, and a seed that a curve committed while it is traced
 //! crosses is abandoned (its trace ends at its next step: its commit skips
-//! it).
+//! it), as are the traces still running once `max` curves are kept.
 
 use crate::cell::CellSetup;
 use crate::error::GridError;
@@ -256,8 +256,8 @@ impl Schedule {
 struct Run<'a> {
     all: &'a [Seed],
     /// Per seed, whether a curve committed before it crosses it while it is
-    /// being traced (speculatively): its commit skips it, so its trace is
-    /// ended at once.
+    /// being traced (speculatively), or `max` curves are kept: its commit
+    /// skips it or never comes, so its trace is ended at once.
     abandoned: &'a [AtomicBool],
     max: usize,
     cell: [f64; 2],
@@ -377,14 +377,15 @@ impl Run<'_> {
             return;
         }
         st.found.curves.retain(|c| !same(&curve, c, self.cell));
-        // Seeds after it being traced that it crosses will be skipped.
+        st.finished = st.found.curves.len() + 1 >= self.max;
+        // Seeds after it being traced that it crosses will be skipped; with
+        // `max` curves kept, none after it is committed.
         for j in st.committed..st.next {
-            if matches!(st.states[j], SeedState::Pending) && crosses(&curve, &self.all[j]) {
+            if matches!(st.states[j], SeedState::Pending) && (st.finished || crosses(&curve, &self.all[j])) {
                 self.abandoned[j].store(true, Relaxed);
             }
         }
         st.found.curves.push(curve);
-        st.finished = st.found.curves.len() >= self.max;
     }
 }
 
