@@ -343,11 +343,13 @@ impl Run<'_> {
         let mut any = false;
         while !st.finished && st.committed < total {
             let i = st.committed;
-            if matches!(st.states[i], SeedState::Pending) {
-                break;
-            }
-            let crossed = st.committed_cross(&self.all[i]);
-            if !crossed && self.abandoned[i].load(Relaxed) && matches!(st.states[i], SeedState::Traced(_)) {
+            // A skipped seed was crossed when it was skipped, under this lock.
+            let crossed = match st.states[i] {
+                SeedState::Pending => break,
+                SeedState::Skipped => true,
+                SeedState::Traced(_) => st.committed_cross(&self.all[i]),
+            };
+            if !crossed && self.abandoned[i].load(Relaxed) {
                 st.states[i] = SeedState::Pending;
                 st.decided -= 1;
                 st.deferred.push(i);
@@ -377,15 +379,16 @@ impl Run<'_> {
             return;
         }
         st.found.curves.retain(|c| !same(&curve, c, self.cell));
-        st.finished = st.found.curves.len() + 1 >= self.max;
+        st.found.curves.push(curve);
+        st.finished = st.found.curves.len() >= self.max;
         // Seeds after it being traced that it crosses will be skipped; with
         // `max` curves kept, none after it is committed.
+        let curve = st.found.curves.last().expect("just kept");
         for j in st.committed..st.next {
-            if matches!(st.states[j], SeedState::Pending) && (st.finished || crosses(&curve, &self.all[j])) {
+            if matches!(st.states[j], SeedState::Pending) && (st.finished || crosses(curve, &self.all[j])) {
                 self.abandoned[j].store(true, Relaxed);
             }
         }
-        st.found.curves.push(curve);
     }
 }
 
