@@ -28,6 +28,11 @@ const T_975_9: f64 = 2.262;
 /// can give.
 const POLYNOMIAL_DEGREE: f64 = 2.0;
 
+/// The growth of a period whose tangent map is zero (a stuck contact erased
+/// every perturbation, where the exponent is -∞): `ln` of the least positive
+/// double, about -708.
+const ERASED: f64 = -708.3964185322641;
+
 /// Smallest half-width of the interval of `λT`: the resolution of the
 /// estimate. A neutral motion whose tangent map is a rotation (an undamped
 /// oscillator away from its stops) grows by exactly 0 each period, up to
@@ -120,8 +125,15 @@ impl Exponent {
         sim.run_period(&[], false, &mut Ignore)?;
         let w: DVector<f64> = sim.tangent().ok_or(Halt::Stalled)? * &self.v;
         let norm = w.norm();
-        if !(norm.is_finite() && norm > 0.0) {
+        if !norm.is_finite() {
             return Err(Halt::Stalled);
+        }
+        if norm == 0.0 {
+            // Every perturbation erased: a mass stuck to its stop forgets how
+            // it came there, and its motion from the release on is the same
+            // whatever came before. λ is -∞: counted as the least growth a
+            // double shows, the vector kept for the next period.
+            return Ok(ERASED);
         }
         self.v = w / norm;
         Ok(norm.ln())
@@ -262,5 +274,29 @@ mod tests {
         let few = estimate(vec![0.1; 9]).interval();
         assert!(few.half_width.is_infinite() && (few.mean - 0.1).abs() < 1e-15);
         assert!((estimate(vec![0.1; 10]).per_time() - 0.05).abs() < 1e-15);
+    }
+
+    /// A mass stuck to its stop forgets how it came there: over a period
+    /// that holds it, the tangent map is zero (issue 62: the measurement
+    /// stopped there, "event location stalled", and 233 cells of the
+    /// undamped single stop's ω × σ plane were `unresolved`). The single stop
+    /// at ω = 1.45, σ = −0.45 settles on an orbit of 23 periods that sticks
+    /// (23-S-0, at `standard`, at `precise` and over ten times the record);
+    /// measured along it, every stuck period counts [`ERASED`], `ln` of the
+    /// least positive double, and the exponent is far below 0.
+    #[test]
+    fn a_stuck_mass_erases_its_tangent() {
+        use crate::{run_cell, Accuracy, Class, Method};
+        assert_eq!(ERASED.to_bits(), f64::MIN_POSITIVE.ln().to_bits());
+        let sys = crate::testing::system("single-stop.toml", &[("omega", 1.45), ("sigma", -0.45)]);
+        let acc = Accuracy::default();
+        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(23)), "{:?}", cell.reason);
+        assert_eq!(cell.labels[0].label.to_string(), "23-S-0");
+        let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+        let e = Exponent::measure(&mut sim, 0, 46).unwrap();
+        let erased = e.growth.iter().filter(|g| g.to_bits() == ERASED.to_bits()).count();
+        assert!(erased >= 2 && erased % 2 == 0, "{erased} periods erased of 46");
+        assert!(e.interval().mean < -30.0, "{:?}", e.interval());
     }
 }

@@ -326,6 +326,11 @@ fn full_budget(acc: &Accuracy) -> u64 {
     (acc.max_events as u64).saturating_mul(EVENT_WORK)
 }
 
+/// How far from a whole number of turns, and from no growth, a term of a
+/// flow may be over a span that [`Simulator::closes_after`] closes: rounding
+/// of the phases (1e-16 relative) over the spans of a long orbit.
+const CLOSURE: f64 = 1e-12;
+
 /// A running simulation of one cell.
 #[derive(Debug, Clone)]
 pub struct Simulator<'s> {
@@ -494,6 +499,69 @@ impl<'s> Simulator<'s> {
         let soft = Key { pressed, parting, ..Key::FREE };
         self.key = settle(self.sys, &self.acc, &mut self.cache, &self.y, phase, cand, 0, soft, false)?;
         self.snap()
+    }
+
+    /// The least margin by which every guard of the current mode stays off
+    /// zero along the mode's flow from the current state, for all later time
+    /// (the guards' own zero tolerances taken off): positive means no event
+    /// ever ends the flow, so that it is the motion forever. A guard is
+    /// `g(u) = Σ_t Re(w_t e^{λ_t u} β_t)` over the flow's terms (its
+    /// eigenvalues λ, the forcing harmonics' included); where no term grows
+    /// (no secular power, Re λ at most rounding of |λ|), `g(u)` is at least
+    /// its constant part less `Σ w_t |β_t|` of the others, the least it can
+    /// reach when their phases are independent. `None` where a term may grow
+    /// (a drifting rigid mode, a negative damping), or the mode could not be
+    /// built.
+    pub(crate) fn guard_margin(&mut self) -> Option<f64> {
+        let acc = self.acc;
+        let (mode, start, modal) = self.modal_start()?;
+        let terms = mode.spectral.terms();
+        let bounded =
+            |t: &crate::spectral::Term| t.constant || (t.power == 0 && t.lambda.re <= 1e-12 * t.lambda.norm());
+        if !terms.iter().all(bounded) {
+            return None;
+        }
+        let magnitudes = start.abs();
+        let mut beta = vec![C64::new(0.0, 0.0); terms.len()];
+        let margin = mode.guards.iter().map(|g| {
+            modal.functional_into(&g.entries, &mut beta);
+            let (constant, varying) = terms.iter().zip(&beta).fold((0.0, 0.0), |(c, v), (t, b)| match t.constant {
+                true => (c + t.weight * b.re, v),
+                false => (c, v + t.weight * b.norm()),
+            });
+            let tol = crate::flow::value_tol(&acc, g.kind.is_gap(), g.row_abs.dot(&magnitudes));
+            constant - varying - tol
+        });
+        Some(margin.fold(f64::INFINITY, f64::min))
+    }
+
+    /// Whether the current mode's flow from the current state comes back to
+    /// it after `span` exactly: every term the state excites neither grows
+    /// nor decays over it and turns by a whole number of turns, within
+    /// [`CLOSURE`] (the forcing harmonics' always do over whole periods; a
+    /// free oscillation's where its frequency is commensurate).
+    pub(crate) fn closes_after(&mut self, span: f64) -> bool {
+        let Some((mode, start, modal)) = self.modal_start() else {
+            return false;
+        };
+        let excited = 1e-12 * (1.0 + start.amax());
+        let closes = mode.spectral.terms().iter().zip(modal.magnitudes()).all(|(t, size)| {
+            let turns = t.lambda.im * span / std::f64::consts::TAU;
+            t.constant
+                || size <= excited
+                || (t.power == 0 && (t.lambda.re * span).abs() <= CLOSURE && (turns - turns.round()).abs() <= CLOSURE)
+        });
+        closes
+    }
+
+    /// The current mode, the augmented state it starts from here, and that
+    /// state's modal coefficients. `None` where the mode cannot be built.
+    fn modal_start(&mut self) -> Option<(&Mode, DVector<f64>, crate::spectral::Modal)> {
+        let phase = self.phase();
+        let mode = self.cache.get(self.sys, self.key).ok()??;
+        let start = mode.project(&self.y, phase);
+        let modal = mode.spectral.modal(&start);
+        Some((mode, start, modal))
     }
 
     fn phase(&self) -> f64 {
@@ -914,6 +982,53 @@ impl<'s> Simulator<'s> {
 mod tests {
     use super::*;
     use crate::testing::{forced_oscillator, system};
+
+    /// The least margin of a guard, against the closed form (issue 62): on
+    /// the undamped single stop `x'' + x = cos ωt`, `x ≤ σ`, the motion from
+    /// `(x₀, v₀)` at `t = 0` is `X cos ωt + A cos(t + θ)` with `X = 1/(1 − ω²)`
+    /// and `A = |(x₀ − X, v₀)|`, whose gap `σ − x` comes as near as
+    /// `σ − |X| − A` (ω irrational: the two phases independent); less the
+    /// contact tolerance. Damped, the free part decays and the bound holds
+    /// still. A mass held by no spring that drifts has no bound.
+    #[test]
+    fn the_guard_margin_is_the_closed_form_reach() {
+        let acc = Accuracy::default();
+        for (sigma, omega, x0, v0) in [(0.3, 6f64.sqrt(), -0.2, 0.05), (2.0, 0.7, 0.4, -0.3), (0.1, 2.5, 0.0, 0.0)] {
+            let sys = system("single-stop.toml", &[("sigma", sigma), ("omega", omega)]);
+            let mut sim = Simulator::new(&sys, acc, Method::Exact, &[x0, v0]).unwrap();
+            let big_x = 1.0 / (1.0 - omega * omega);
+            let reach = big_x.abs() + (x0 - big_x).hypot(v0);
+            let margin = sim.guard_margin().unwrap();
+            assert!((margin - (sigma - reach - acc.contact_tol)).abs() < 1e-12, "σ {sigma}: {margin} against {reach}");
+        }
+        let damped = system("single-stop.toml", &[("sigma", 4.0), ("omega", 0.7), ("zeta", 0.05)]);
+        let mut sim = Simulator::new(&damped, acc, Method::Exact, &[0.4, -0.3]).unwrap();
+        assert!(sim.guard_margin().is_some_and(|m| m > 0.0 && m < 4.0), "{:?}", sim.guard_margin());
+        let free = system("impact-damper.toml", &[]);
+        let mut sim = Simulator::new(&free, acc, Method::Exact, &[0.0, 0.0, 0.5, 0.1]).unwrap();
+        assert_eq!(sim.guard_margin(), None, "a free mass drifting at 0.1 meets its wall");
+    }
+
+    /// The closure of an undamped flow, against the closed form (issue 62):
+    /// on the single stop at ω = 3 the free oscillation (period 2π) turns a
+    /// third of a turn each forcing period (2π/3), so that the motion closes
+    /// after 3 periods, not 1 or 2; at ω = 3.0001 after none of them (its
+    /// free turns 1.0000333… in 3 periods); unexcited (the start on the forced orbit,
+    /// `x = X = −1/8` at rest) after one. Damped, never.
+    #[test]
+    fn an_undamped_flow_closes_after_commensurate_spans() {
+        let acc = Accuracy::default();
+        let closes = |omega: f64, zeta: f64, y0: [f64; 2], n: f64| {
+            let sys = system("single-stop.toml", &[("sigma", 1.0), ("omega", omega), ("zeta", zeta)]);
+            Simulator::new(&sys, acc, Method::Exact, &y0).unwrap().closes_after(n * sys.period)
+        };
+        let away = [-0.3, 0.1];
+        assert!(closes(3.0, 0.0, away, 3.0) && closes(3.0, 0.0, away, 6.0));
+        assert!(!closes(3.0, 0.0, away, 1.0) && !closes(3.0, 0.0, away, 2.0));
+        assert!(!closes(3.0001, 0.0, away, 3.0));
+        assert!(closes(3.0, 0.0, [-0.125, 0.0], 1.0));
+        assert!(!closes(3.0, 0.01, away, 3.0));
+    }
 
     /// Every event, named.
     #[derive(Default)]

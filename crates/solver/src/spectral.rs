@@ -435,6 +435,12 @@ impl Spectral {
 }
 
 impl Modal {
+    /// The size of each term's coefficient `Y_t` (its largest entry's
+    /// modulus): zero for a term the initial state does not excite.
+    pub fn magnitudes(&self) -> impl Iterator<Item = f64> + '_ {
+        self.y.chunks_exact(self.dim.max(1)).map(|y| y.iter().fold(0.0, |m: f64, c| m.max(c.norm())))
+    }
+
     /// The state at the time whose factors are `f`.
     pub fn state(&self, f: &[C64]) -> DVector<f64> {
         let mut s = DVector::zeros(self.dim);
