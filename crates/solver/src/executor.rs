@@ -565,23 +565,16 @@ pub fn run_cell_measured(
             // One linear flow is never chaotic (a positive exponent is the
             // transient growth of a record shorter than its slowest motion).
             // Undamped, and never ended by an event, it is the motion for all
-            // time: on a torus of its free oscillations beside the forcing,
-            // closed after n periods where their frequencies are commensurate
-            // (n up to the longest period sought beyond `n_max`).
+            // time: a torus of its free oscillations beside the forcing (one
+            // that closes after n periods within `n_max` was found by the
+            // record; beyond `n_max` a motion that does not contract keeps
+            // its `Q`, as any torus does).
             None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
                 || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
                 && cell.undamped_linear()
                 && cell.sim.guard_margin().is_some_and(|m| m > 0.0) =>
             {
-                let closed = cell
-                    .trail
-                    .long_period(acc)
-                    .filter(|&n| cell.closes_for_good(n))
-                    .and_then(|n| cell.settle_on(&cell.sim.state().clone(), n));
-                match closed {
-                    Some(n) => (Class::Periodic, Some(n), None, None),
-                    None => (Class::Quasiperiodic, None, Some(l), None),
-                }
+                (Class::Quasiperiodic, None, Some(l), None)
             }
             // Damped, or where an event may yet end it, its torus attracts
             // nothing, or not for long: said so, rather than undecided.
@@ -1715,17 +1708,22 @@ mod tests {
     /// Issue 62: an undamped oscillator that never meets its stop is one
     /// linear flow for all time, `x = X cos ωt + A cos(t + θ)` with
     /// `X = 1/(1 − ω²)` (single stop, σ = 0.3, from `x = −0.25` at rest: its
-    /// reach `|X| + A` 0.25). At ω = 33/13 its free period is 33 forcing
-    /// periods, beyond `n_max`: periodic with period 33 (its 33 section
-    /// points distinct, the first coming back after 33). At ω = √6 its free
-    /// oscillation beside the forcing fills a torus: quasi-periodic. Either
-    /// way every section point lies on the closed form's circle
-    /// `(x − X)² + v² = A²`. Both were `unresolved` ("its torus attracts
-    /// nothing", issue 42).
+    /// reach `|X| + A` at most 0.25). At ω = 7/3 its free oscillation closes
+    /// after 7 forcing periods (3 of its own): periodic with period 7, its 7
+    /// section points distinct. At ω = 33/13 it closes after 33, beyond
+    /// `n_max`: like any torus that does not contract, `Q`; at ω = √6 it
+    /// never closes: `Q`. Every section point lies on the closed form's
+    /// circle `(x − X)² + v² = A²`. All three were `unresolved` ("its torus
+    /// attracts nothing", issue 42).
     #[test]
     fn an_undamped_flow_that_never_meets_its_stop_is_regular() {
         let acc = Accuracy::default();
-        for (omega, class, n) in [(33.0 / 13.0, Class::Periodic, Some(33)), (6f64.sqrt(), Class::Quasiperiodic, None)] {
+        let cases = [
+            (7.0 / 3.0, Class::Periodic, Some(7)),
+            (33.0 / 13.0, Class::Quasiperiodic, None),
+            (6f64.sqrt(), Class::Quasiperiodic, None),
+        ];
+        for (omega, class, n) in cases {
             let sys = system("single-stop.toml", &[("sigma", 0.3), ("omega", omega)]);
             let y0 = [-0.25, 0.0];
             let cell = run_cell(&sys, &acc, Method::Exact, &y0);
@@ -1734,6 +1732,11 @@ mod tests {
             let amplitude = (y0[0] - big_x).abs();
             assert!(big_x.abs() + amplitude < 0.3);
             assert!(!cell.section.is_empty());
+            if let Some(n) = n {
+                assert_eq!(cell.section.len(), n);
+                let apart = |a: &[f64], b: &[f64]| (a[0] - b[0]).hypot(a[1] - b[1]) > 1e-3;
+                assert!((1..n).all(|k| apart(&cell.section[0], &cell.section[k])), "{:?}", cell.section);
+            }
             for p in &cell.section {
                 let radius = (p[0] - big_x).hypot(p[1]);
                 assert!((radius - amplitude).abs() < 1e-9, "ω {omega}: {radius} against {amplitude}");

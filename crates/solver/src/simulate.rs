@@ -331,6 +331,13 @@ fn full_budget(acc: &Accuracy) -> u64 {
 /// of the phases (1e-16 relative) over the spans of a long orbit.
 const CLOSURE: f64 = 1e-12;
 
+/// The size of a flow's term coefficient ([`crate::spectral::Modal::magnitudes`])
+/// up to which the state `start` does not excite the term: rounding of the
+/// state's largest entry (a free mass at rest leaves its drift unexcited).
+fn excited(start: &DVector<f64>) -> f64 {
+    1e-12 * (1.0 + start.amax())
+}
+
 /// A running simulation of one cell.
 #[derive(Debug, Clone)]
 pub struct Simulator<'s> {
@@ -509,16 +516,18 @@ impl<'s> Simulator<'s> {
     /// eigenvalues λ, the forcing harmonics' included); where no term grows
     /// (no secular power, Re λ at most rounding of |λ|), `g(u)` is at least
     /// its constant part less `Σ w_t |β_t|` of the others, the least it can
-    /// reach when their phases are independent. `None` where a term may grow
-    /// (a drifting rigid mode, a negative damping), or the mode could not be
-    /// built.
+    /// reach when their phases are independent. `None` where a term the
+    /// state excites may grow (a drifting rigid mode, a negative damping),
+    /// or the mode could not be built; a free mass at rest excites no drift.
     pub(crate) fn guard_margin(&mut self) -> Option<f64> {
         let acc = self.acc;
         let (mode, start, modal) = self.modal_start()?;
         let terms = mode.spectral.terms();
-        let bounded =
-            |t: &crate::spectral::Term| t.constant || (t.power == 0 && t.lambda.re <= 1e-12 * t.lambda.norm());
-        if !terms.iter().all(bounded) {
+        let excited = excited(&start);
+        let bounded = |(t, size): (&crate::spectral::Term, f64)| {
+            t.constant || size <= excited || (t.power == 0 && t.lambda.re <= 1e-12 * t.lambda.norm())
+        };
+        if !terms.iter().zip(modal.magnitudes()).all(bounded) {
             return None;
         }
         let magnitudes = start.abs();
@@ -544,7 +553,7 @@ impl<'s> Simulator<'s> {
         let Some((mode, start, modal)) = self.modal_start() else {
             return false;
         };
-        let excited = 1e-12 * (1.0 + start.amax());
+        let excited = excited(&start);
         let closes = mode.spectral.terms().iter().zip(modal.magnitudes()).all(|(t, size)| {
             let turns = t.lambda.im * span / std::f64::consts::TAU;
             t.constant
@@ -1007,6 +1016,18 @@ mod tests {
         let free = system("impact-damper.toml", &[]);
         let mut sim = Simulator::new(&free, acc, Method::Exact, &[0.0, 0.0, 0.5, 0.1]).unwrap();
         assert_eq!(sim.guard_margin(), None, "a free mass drifting at 0.1 meets its wall");
+        // The free mass at rest at x2 = 1 in a wide cavity (δ = 100) beside
+        // its undamped host `x1 = X sin ωt + A cos(t + θ)`, X = 1/(1 − ω²) = −1
+        // at ω = √2: the gaps `δ ∓ (x2 − x1)` come as near as
+        // `δ − |x2| − |X| − A`, no drift excited.
+        let omega = 2f64.sqrt();
+        let wide = system("impact-damper.toml", &[("delta", 100.0), ("zeta", 0.0), ("omega", omega)]);
+        let mut sim = Simulator::new(&wide, acc, Method::Exact, &[0.3, 1.0, 0.2, 0.0]).unwrap();
+        let big_x = 1.0 / (1.0 - omega * omega);
+        let amplitude = 0.3f64.hypot(0.2 - big_x * omega);
+        let margin = sim.guard_margin().unwrap();
+        let expected = 100.0 - 1.0 - big_x.abs() - amplitude - acc.contact_tol;
+        assert!((margin - expected).abs() < 1e-9, "{margin} against {expected}");
     }
 
     /// The closure of an undamped flow, against the closed form (issue 62):
