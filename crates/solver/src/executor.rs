@@ -1217,21 +1217,25 @@ impl<'s> Executor<'s> {
     }
 
     /// A free mass drifting towards a stop: the record has had no event, the
-    /// masses have a rigid mode, and a stop's gap closed over the last
-    /// period. Its rate (the gap's decrease per forcing period, the fastest
-    /// time to close) and the periods it needs to close at that rate.
-    /// `None` otherwise.
-    fn drifting(&self) -> Option<(f64, f64)> {
+    /// masses have a rigid mode, and a stop's gap closes by drift (the
+    /// secular part of the flow, [`Simulator::gap_drifts`]: a free mass's
+    /// velocity, not the oscillation of the mass it rattles in, which once
+    /// read as a drift where the free mass rested). Its rate (the gap's
+    /// decrease per forcing period, the fastest time to close) and the
+    /// periods it needs to close at that rate from the current gap. `None`
+    /// otherwise.
+    fn drifting(&mut self) -> Option<(f64, f64)> {
         let (sys, hist) = (self.sys, &self.hist);
-        let len = hist.len();
-        if len < 2 || !sys.has_rigid_mode() || hist.iter().any(|r| r.events > 0) {
+        if hist.len() < 2 || !sys.has_rigid_mode() || hist.iter().any(|r| r.events > 0) {
             return None;
         }
-        let (a, b) = (&hist[len - 2].end, &hist[len - 1].end);
-        (0..sys.stops.len())
-            .filter_map(|k| {
-                let closing = sys.gap(k, a) - sys.gap(k, b);
-                (closing > 0.0).then(|| (closing, sys.gap(k, b).max(0.0) / closing))
+        let y = self.sim.state().clone();
+        let drifts = self.sim.gap_drifts()?;
+        drifts
+            .into_iter()
+            .filter_map(|(k, rate)| {
+                let closing = -rate * sys.period;
+                (closing > 0.0).then(|| (closing, sys.gap(k, &y).max(0.0) / closing))
             })
             .min_by(|x, y| x.1.total_cmp(&y.1))
     }

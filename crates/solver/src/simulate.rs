@@ -563,6 +563,24 @@ impl<'s> Simulator<'s> {
         closes
     }
 
+    /// How fast each free stop's gap changes along the current mode's flow
+    /// from here by drift alone, per unit time: the secular part of its
+    /// guard, `Re(w ν β)` of a rigid mode's term `ν u` (a free mass's
+    /// velocity), by stop index; 0 where nothing drifts, whatever the
+    /// oscillations beside it do. `None` where the mode cannot be built.
+    pub(crate) fn gap_drifts(&mut self) -> Option<Vec<(usize, f64)>> {
+        let (mode, _, modal) = self.modal_start()?;
+        let terms = mode.spectral.terms();
+        let mut beta = vec![C64::new(0.0, 0.0); terms.len()];
+        let gaps = mode.guards.iter().filter(|g| g.kind == GuardKind::Gap);
+        let drifts = gaps.map(|g| {
+            modal.functional_into(&g.entries, &mut beta);
+            let rate = terms.iter().zip(&beta).filter_map(|(t, b)| t.drift().map(|w| w * b.re)).sum();
+            (g.target.index(), rate)
+        });
+        Some(drifts.collect())
+    }
+
     /// The current mode, the augmented state it starts from here, and that
     /// state's modal coefficients. `None` where the mode cannot be built.
     fn modal_start(&mut self) -> Option<(&Mode, DVector<f64>, crate::spectral::Modal)> {
@@ -1016,6 +1034,17 @@ mod tests {
         let free = system("impact-damper.toml", &[]);
         let mut sim = Simulator::new(&free, acc, Method::Exact, &[0.0, 0.0, 0.5, 0.1]).unwrap();
         assert_eq!(sim.guard_margin(), None, "a free mass drifting at 0.1 meets its wall");
+        // Its gaps `δ ∓ (x2 − x1)` drift at ∓0.1 per unit time (the gap's
+        // normal times the free mass's velocity), whatever the host (on its
+        // spring, at 0.5) does; at rest, not at all.
+        let drifts = sim.gap_drifts().unwrap();
+        assert_eq!(drifts.len(), 2);
+        for (k, rate) in drifts {
+            let expected = free.stops[k].normal[1] * 0.1;
+            assert!((expected.abs() - 0.1).abs() < 1e-15 && (rate - expected).abs() < 1e-12, "stop {k}: {rate}");
+        }
+        let mut rest = Simulator::new(&free, acc, Method::Exact, &[0.0, 0.0, 0.5, 0.0]).unwrap();
+        assert!(rest.gap_drifts().unwrap().iter().all(|(_, rate)| rate.abs() < 1e-12));
         // The free mass at rest at x2 = 1 in a wide cavity (δ = 100) beside
         // its undamped host `x1 = X sin ωt + A cos(t + θ)`, X = 1/(1 − ω²) = −1
         // at ω = √2: the gaps `δ ∓ (x2 − x1)` come as near as

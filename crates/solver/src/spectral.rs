@@ -66,6 +66,16 @@ pub struct Term {
     pub constant: bool,
 }
 
+impl Term {
+    /// Where the term is `w ν u` (eigenvalue 0, first power: a rigid mode's
+    /// drift), the factor `w ν` that turns a coefficient β into the rate
+    /// `Re(w ν β)` per unit time at which it moves a functional; `None` for
+    /// any other term.
+    pub fn drift(&self) -> Option<f64> {
+        (self.power == 1 && self.lambda == C64::new(0.0, 0.0)).then_some(self.weight * self.scale)
+    }
+}
+
 #[derive(Debug, Clone)]
 struct Cluster {
     v: DMatrix<C64>,
