@@ -547,9 +547,16 @@ pub fn run_cell_measured(
     };
     let (class, n, lyapunov, reason) = match steady {
         Steady::Periodic(n) => match cell.unsettled.take() {
-            // A neutral orbit of an undamped linear flow that no event ever
-            // ends: the motion is this orbit, exactly periodic.
-            Some(_) if cell.undamped_linear() && cell.closes_for_good(n) => (Class::Periodic, Some(n), None, None),
+            // A neutral orbit of an undamped linear flow: its n-period map
+            // does not contract, so a step within `periodic_tol` that
+            // rounding does not explain (a slow free oscillation under fast
+            // forcing, a frequency nearly commensurate) would add up period
+            // after period. Where the flow closes after n periods exactly,
+            // the motion is this orbit, and its repeat shows that no event
+            // ends it.
+            Some(_) if cell.undamped_linear() && cell.sim.closes_after(n as f64 * sys.period) => {
+                (Class::Periodic, Some(n), None, None)
+            }
             Some(why) => (Class::Unresolved, None, None, Some(why)),
             None => (Class::Periodic, Some(n), None, None),
         },
@@ -564,31 +571,24 @@ pub fn run_cell_measured(
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
             // One linear flow is never chaotic (a positive exponent is the
             // transient growth of a record shorter than its slowest motion).
-            // Undamped, and never ended by an event, it is the motion for all
-            // time: a torus of its free oscillations beside the forcing (one
-            // that closes after n periods within `n_max` was found by the
-            // record; beyond `n_max` a motion that does not contract keeps
-            // its `Q`, as any torus does).
-            None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
-                || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
-                && cell.undamped_linear()
-                && cell.sim.guard_margin().is_some_and(|m| m > 0.0) =>
-            {
-                (Class::Quasiperiodic, None, Some(l), None)
-            }
-            // Damped, or where an event may yet end it, its torus attracts
-            // nothing, or not for long: said so, rather than undecided.
             None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
                 || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
                 && cell.hist.iter().all(|r| r.events == 0) =>
             {
-                let (closing, meets) = cell.drifting().unzip();
-                (
-                    Class::Unresolved,
-                    None,
-                    Some(l),
-                    Some(Unresolved::Linear { periods: cell.hist.len(), closing, meets }),
-                )
+                // Undamped, and never ended by an event, it is the motion for
+                // all time: a torus of its free oscillations beside the
+                // forcing (one that closes within `n_max` periods was found
+                // by the record; beyond, a motion that does not contract keeps
+                // its `Q`, as any torus does). Damped, or where an event may
+                // yet end it, its torus attracts nothing, or not for long:
+                // said so, rather than undecided.
+                if cell.undamped_linear() && cell.sim.guard_margin().is_some_and(|m| m > 0.0) {
+                    (Class::Quasiperiodic, None, Some(l), None)
+                } else {
+                    let (closing, meets) = cell.drifting().unzip();
+                    let why = Unresolved::Linear { periods: cell.hist.len(), closing, meets };
+                    (Class::Unresolved, None, Some(l), Some(why))
+                }
             }
             None => (class, None, Some(l), reason),
         },
@@ -765,22 +765,13 @@ impl<'s> Executor<'s> {
     /// Whether the record kept is one undamped linear flow: no event over
     /// its periods and no damping in the scene, so that each free oscillation
     /// keeps its amplitude and the torus it lies on neither attracts nor
-    /// repels. Where its section repeats, the motion is that periodic orbit;
-    /// where no guard of its mode can ever reach zero
+    /// repels. Where its section repeats and the flow closes after that
+    /// period exactly ([`Simulator::closes_after`]), the motion is that
+    /// periodic orbit; where no guard of its mode can ever reach zero
     /// ([`Simulator::guard_margin`] positive), it is that flow for all time.
     /// Either is regular whatever a finite record's exponent says (issue 62).
     fn undamped_linear(&self) -> bool {
         self.hist.iter().all(|r| r.events == 0) && self.sys.damping.iter().all(|&c| c == 0.0)
-    }
-
-    /// Whether a period n that an undamped linear flow's record repeated
-    /// with is its motion's: its n-period map does not contract, so a step
-    /// within `periodic_tol` that rounding does not explain (a slow free
-    /// oscillation under fast forcing, a frequency nearly commensurate)
-    /// adds up period after period. The orbit is the motion's where the flow
-    /// closes after n periods exactly ([`Simulator::closes_after`]).
-    fn closes_for_good(&mut self, n: usize) -> bool {
-        self.sim.closes_after(n as f64 * self.sys.period)
     }
 
     /// Confirms an orbit of period `n` beyond `n_max` that the record
@@ -1229,13 +1220,13 @@ impl<'s> Executor<'s> {
         if hist.len() < 2 || !sys.has_rigid_mode() || hist.iter().any(|r| r.events > 0) {
             return None;
         }
-        let y = self.sim.state().clone();
         let drifts = self.sim.gap_drifts()?;
+        let y = self.sim.state();
         drifts
             .into_iter()
             .filter_map(|(k, rate)| {
                 let closing = -rate * sys.period;
-                (closing > 0.0).then(|| (closing, sys.gap(k, &y).max(0.0) / closing))
+                (closing > 0.0).then(|| (closing, sys.gap(k, y).max(0.0) / closing))
             })
             .min_by(|x, y| x.1.total_cmp(&y.1))
     }
@@ -1651,6 +1642,15 @@ mod tests {
         }
     }
 
+    /// The cell from `y0` at `standard` and with a record ten times longer
+    /// (`max_periods` 600 and 6 000), each beside its `max_periods`.
+    fn standard_and_ten_times(sys: &System, y0: &[f64]) -> [(f64, CellResult); 2] {
+        [600.0, 6000.0].map(|periods| {
+            let acc = Accuracy::default().with(crate::Knob::MaxPeriods, periods).unwrap();
+            (periods, run_cell(sys, &acc, Method::Exact, y0))
+        })
+    }
+
     /// Issue 62: points on a closed curve whose rotation number is locked at
     /// a fraction are no torus. On the damper (ω = 1.71519, δ = 1.84746,
     /// from the state its up sweep reached) the section points lie on 30
@@ -1663,9 +1663,7 @@ mod tests {
     fn chaos_in_bands_along_a_curve_is_no_torus() {
         let sys = system("impact-damper.toml", &[("omega", 1.7151898734177216), ("delta", 1.847457627118644)]);
         let y0 = [-0.169473633196541, 0.6638195955031558, -0.5134598148731837, -3.2778244430060326];
-        for periods in [600.0, 6000.0] {
-            let acc = Accuracy::default().with(crate::Knob::MaxPeriods, periods).unwrap();
-            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        for (periods, cell) in standard_and_ten_times(&sys, &y0) {
             assert_eq!(cell.class, Class::Chaotic, "{periods}: {:?}", cell.reason);
         }
     }
@@ -1682,9 +1680,7 @@ mod tests {
     fn a_near_fraction_without_expansion_is_no_chaos() {
         let sys = system("impact-damper.toml", &[("omega", 1.6341772151898735), ("delta", 2.830508474576271)]);
         let y0 = [-0.9934645021806503, 1.4826038368689947, 0.042912722897615496, -2.293374006010465];
-        for periods in [600.0, 6000.0] {
-            let acc = Accuracy::default().with(crate::Knob::MaxPeriods, periods).unwrap();
-            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        for (periods, cell) in standard_and_ten_times(&sys, &y0) {
             assert_eq!(cell.class, Class::Quasiperiodic, "{periods}: {:?}", cell.reason);
         }
     }
@@ -1701,9 +1697,7 @@ mod tests {
     fn a_torus_contracting_at_first_is_measured_on() {
         let sys = system("impact-damper.toml", &[("omega", 1.8873417721518988), ("delta", 1.4067796610169492)]);
         let y0 = [-0.2030999046718605, 0.45079866158549936, -0.10918751575773222, -1.5480444690662765];
-        for periods in [600.0, 6000.0] {
-            let acc = Accuracy::default().with(crate::Knob::MaxPeriods, periods).unwrap();
-            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        for (periods, cell) in standard_and_ten_times(&sys, &y0) {
             assert_eq!(cell.class, Class::Quasiperiodic, "{periods}: {:?}", cell.reason);
             assert!(cell.lyapunov.is_some_and(|l| l * sys.period > -2e-3), "{:?}", cell.lyapunov);
         }
