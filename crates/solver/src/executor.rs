@@ -554,7 +554,7 @@ pub fn run_cell_measured(
             // after period. Where the flow closes after n periods exactly,
             // the motion is this orbit, and its repeat shows that no event
             // ends it.
-            Some(_) if cell.undamped_linear() && cell.sim.closes_after(n as f64 * sys.period) => {
+            Some(_) if cell.undamped_linear(n) && cell.sim.closes_after(n as f64 * sys.period) => {
                 (Class::Periodic, Some(n), None, None)
             }
             Some(why) => (Class::Unresolved, None, None, Some(why)),
@@ -582,7 +582,7 @@ pub fn run_cell_measured(
                 // its `Q`, as any torus does). Damped, or where an event may
                 // yet end it, its torus attracts nothing, or not for long:
                 // said so, rather than undecided.
-                if cell.undamped_linear() && cell.sim.guard_margin().is_some_and(|m| m > 0.0) {
+                if cell.undamped_linear(cell.hist.len()) && cell.sim.guard_margin().is_some_and(|m| m > 0.0) {
                     (Class::Quasiperiodic, None, Some(l), None)
                 } else {
                     let (closing, meets) = cell.drifting().unzip();
@@ -762,16 +762,19 @@ impl<'s> Executor<'s> {
         (distance(&y, &sol.x) <= 10.0 * to_go).then_some(sol.x)
     }
 
-    /// Whether the record kept is one undamped linear flow: no event over
-    /// its periods and no damping in the scene, so that each free oscillation
-    /// keeps its amplitude and the torus it lies on neither attracts nor
-    /// repels. Where its section repeats and the flow closes after that
-    /// period exactly ([`Simulator::closes_after`]), the motion is that
-    /// periodic orbit; where no guard of its mode can ever reach zero
+    /// Whether the last `periods` periods of the record are one undamped
+    /// linear flow: no event over them and no damping in the scene, so that
+    /// each free oscillation keeps its amplitude and the torus it lies on
+    /// neither attracts nor repels. Where the section repeated after n
+    /// periods, none of them had an event and the flow closes after them
+    /// exactly ([`Simulator::closes_after`]), the motion is that periodic
+    /// orbit for all time, whatever impacts came before it (a last impact
+    /// that left the mass below its stop, issue 62); where the whole record
+    /// had no event and no guard of its mode can ever reach zero
     /// ([`Simulator::guard_margin`] positive), it is that flow for all time.
-    /// Either is regular whatever a finite record's exponent says (issue 62).
-    fn undamped_linear(&self) -> bool {
-        self.hist.iter().all(|r| r.events == 0) && self.sys.damping.iter().all(|&c| c == 0.0)
+    /// Either is regular whatever a finite record's exponent says.
+    fn undamped_linear(&self, periods: usize) -> bool {
+        self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.damping.iter().all(|&c| c == 0.0)
     }
 
     /// Confirms an orbit of period `n` beyond `n_max` that the record
@@ -1740,6 +1743,38 @@ mod tests {
                 assert!((radius - amplitude).abs() < 1e-9, "ω {omega}: {radius} against {amplitude}");
             }
         }
+    }
+
+    /// Issue 62: a last impact that leaves the mass below its stop. The
+    /// undamped single stop at ω = 1/2 exactly (its free oscillation turns
+    /// twice a forcing period), from where the down sweep of the σ plane
+    /// left it at σ = 1.2034: the mass impacts once a period, ever more
+    /// gently, for about 100 periods, until an impact leaves its free
+    /// oscillation too small to reach the stop. From there the section
+    /// repeats to rounding, but the map's multiplier is 1 (every free
+    /// oscillation closes after a period; none contracts), and the cell was
+    /// `unresolved` ("contracts too slowly to have reached it"). The last
+    /// period had no event and the flow closes after it: periodic, 1-0-0,
+    /// and the closed form of the flow from its section point,
+    /// `x = X cos ωt + a cos t + b sin t` with `X = 1/(1 − ω²)`, stays below
+    /// the stop over the whole period, grazing it (within 1e-9: the impacts
+    /// ended on the grazing orbit they converge to).
+    #[test]
+    fn a_last_impact_that_leaves_an_undamped_mass_free_is_periodic() {
+        let sigma = 1.2033898305084745;
+        let sys = system("single-stop.toml", &[("omega", 0.5), ("sigma", sigma)]);
+        let y0 = [1.2032944442945552, -0.25151660437405127];
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "{:?}", cell.reason);
+        assert_eq!(cell.labels[0].label.to_string(), "1-0-0");
+        assert!(cell.events > 50, "it came there by impacts: {}", cell.events);
+        let (big_x, p) = (4.0 / 3.0, &cell.section[0]);
+        let (a, b) = (p[0] - big_x, p[1]);
+        let highest = (0..=100_000)
+            .map(|k| 4.0 * std::f64::consts::PI * k as f64 / 1e5)
+            .map(|t| big_x * (0.5 * t).cos() + a * t.cos() + b * t.sin())
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(highest <= sigma && highest > sigma - 1e-9, "{highest} against the stop at {sigma}");
     }
 
     /// Issue 62: islands are a torus. The single stop without losses (r = 1,
