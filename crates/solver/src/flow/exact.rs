@@ -22,7 +22,7 @@
 //! bit for bit reproducible; a change that reorders one changes the last bits
 //! of every atlas (the snapshot test, `tests/data/snapshot.*`, will say so).
 
-use super::{classify_start, start_tolerances, value_tol, Advance, Start};
+use super::{classify_start, derivative_tol, start_tolerances, value_tol, Advance, Start};
 use crate::accuracy::Accuracy;
 use crate::mode::Mode;
 use crate::spectral::{bound, differentiate_into, evaluate, Modal, Term};
@@ -165,6 +165,31 @@ fn at_contact(
     masked: &mut f64,
 ) -> bool {
     let nt = terms.len();
+    // The usual case first, from the kept levels alone: a guard off zero
+    // after all (clear), or one whose rate decides (an approach, an event
+    // now; a departure, held for as long as its acceleration's bound allows
+    // and long enough not to creep). The values are those of the general
+    // case below, bit for bit, which decides everything else.
+    let level = |j: usize| &beta[j * nt..(j + 1) * nt];
+    if evaluate(f, level(0)) > value_tol(acc, is_gap, magnitude) {
+        return false;
+    }
+    for (m, b) in high_moduli[..LEVELS * nt].iter_mut().zip(beta) {
+        *m = b.l1_norm();
+    }
+    let rate = evaluate(f, level(1));
+    let next = evaluate(f, level(2));
+    if rate.abs() > derivative_tol(acc, is_gap, 1, bound(fb, &high_moduli[nt..2 * nt]), next) {
+        if rate < 0.0 {
+            return true;
+        }
+        let g_next = bound(fb, &high_moduli[2 * nt..3 * nt]);
+        let first = if g_next > 0.0 { 2.0 * rate / g_next } else { horizon };
+        if !creeps(1, rate, first, value_tol(acc, is_gap, magnitude)) {
+            *masked = u + 0.5 * first.max(acc.event_tol);
+            return false;
+        }
+    }
     // Coefficients of derivatives 0..=5: the kept levels, then two more here.
     high[..LEVELS * nt].copy_from_slice(beta);
     for j in LEVELS..6 {
@@ -215,13 +240,20 @@ const CREEP_STEPS: f64 = 1000.0;
 /// (they would exhaust the step budget: a stall); then the longer of it and
 /// [`departure`]'s.
 fn hold(order: usize, rate: f64, first: f64, d: &[f64; 5], tol: &[f64; 5], bounds: &[f64; 5]) -> f64 {
-    let factorial = (1..=order).product::<usize>() as f64;
-    let per_hold = rate * (0.5 * first).powi(order as i32) / factorial;
-    if per_hold * CREEP_STEPS < tol[0] {
+    if creeps(order, rate, first, tol[0]) {
         first.max(departure(order, rate, d, tol, bounds))
     } else {
         first
     }
+}
+
+/// Whether holds of half of `first` would take more than [`CREEP_STEPS`]
+/// steps to carry a guard departing at derivative `order` (value `rate`)
+/// out of its zero band `zero` (see [`hold`]).
+fn creeps(order: usize, rate: f64, first: f64, zero: f64) -> bool {
+    let factorial = (1..=order).product::<usize>() as f64;
+    let per_hold = rate * (0.5 * first).powi(order as i32) / factorial;
+    per_hold * CREEP_STEPS < zero
 }
 
 /// How long a guard departing from zero at derivative `order` (value

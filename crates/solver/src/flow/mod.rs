@@ -171,20 +171,26 @@ pub fn time_resolution(acc: &Accuracy) -> f64 {
 /// residual of an event located to that resolution counts as zero.
 pub fn start_tolerances(acc: &Accuracy, is_gap: bool, scale: &[f64; 5], d: &[f64; 5]) -> [f64; 5] {
     let mut tol = [value_tol(acc, is_gap, scale[0]), 0.0, 0.0, 0.0, 0.0];
-    let resolution = time_resolution(acc);
     for j in 1..5 {
-        let next = if j < 4 { 100.0 * resolution * d[j + 1].abs() } else { 0.0 };
-        tol[j] = (1e-11 * scale[j]).max(next).max(1e-300);
+        tol[j] = derivative_tol(acc, is_gap, j, scale[j], if j < 4 { d[j + 1] } else { 0.0 });
     }
-    if is_gap {
+    tol
+}
+
+/// The tolerance of [`start_tolerances`] for derivative `j` ≥ 1 of a guard,
+/// its bound `scale` and the next derivative's value `next` (0 for the last).
+pub fn derivative_tol(acc: &Accuracy, is_gap: bool, j: usize, scale: f64, next: f64) -> f64 {
+    let tol = (1e-11 * scale).max(100.0 * time_resolution(acc) * next.abs()).max(1e-300);
+    if is_gap && j == 1 {
         // An approach slower than the stick velocity is a landing, not a miss,
         // only while it cannot carry the gap past the contact tolerance before
         // the acceleration turns it: `d1² / (2 |d2|) <= contact_tol`. (Under
         // very slow forcing every velocity is below the stick velocity, and a
         // slow approach with a tiny acceleration would otherwise pass through
         // the stop.)
-        let landing = (2.0 * acc.contact_tol * d[2].abs()).sqrt();
-        tol[1] = tol[1].max(acc.stick_velocity.min(landing));
+        let landing = (2.0 * acc.contact_tol * next.abs()).sqrt();
+        tol.max(acc.stick_velocity.min(landing))
+    } else {
+        tol
     }
-    tol
 }
