@@ -23,8 +23,11 @@
 //!   spring energy they let go when a contact parts, friction `∫ f_k |w| dt`
 //!   while slipping, and every impact (or stick, which is a plastic impact)
 //!   the energy its jump removes. `energy_residual` is
-//!   `(input − ΔE − dissipated) / input`: zero to rounding where the
-//!   physics and its bookkeeping agree.
+//!   `input − ΔE − dissipated` relative to the largest energy at stake: what
+//!   the forcing moved in and out (`∫|F·v| dt`), what was dissipated, and
+//!   the mechanical energy at the window's ends (a lossless or unforced
+//!   motion puts in nothing net): zero to rounding where the physics and
+//!   its bookkeeping agree.
 //!
 //! Every quantity is per forcing period where it is a count or an integral.
 
@@ -210,7 +213,7 @@ table! {
     DissipatedContacts: "dissipated_contacts", Cell, "D contacts", "energy dissipated by soft contacts per forcing period", EnergyPerPeriod;
     DissipatedDamping: "dissipated_damping", Cell, "D damping", "energy dissipated by damping per forcing period", EnergyPerPeriod;
     DissipatedFriction: "dissipated_friction", Cell, "D friction", "energy dissipated by friction per forcing period", EnergyPerPeriod;
-    EnergyResidual: "energy_residual", Cell, "energy residual", "input minus change and dissipation, relative to the input", One;
+    EnergyResidual: "energy_residual", Cell, "energy residual", "input minus change and dissipation, relative to the energy at stake", One;
 }
 
 /// Forcing periods of a window without a period over which its quantities
@@ -426,6 +429,8 @@ pub(crate) struct Meter<'s> {
     slip: Vec<f64>,
     /// Energy: input, damping, soft contacts, friction, events.
     input: f64,
+    /// The energy the forcing moved in and out, `∫|F·v| dt`.
+    gross: f64,
     damping: f64,
     contacts: f64,
     friction: f64,
@@ -459,6 +464,7 @@ impl<'s> Meter<'s> {
             stuck_time: vec![0.0; f],
             slip: vec![0.0; f],
             input: 0.0,
+            gross: 0.0,
             damping: 0.0,
             contacts: 0.0,
             friction: 0.0,
@@ -530,7 +536,9 @@ impl<'s> Meter<'s> {
         }
         let v = y.rows(m, m);
         self.damping += w * quadratic(&sys.damping, v.as_slice());
-        self.input += w * self.forcing_power(phase, y);
+        let power = self.forcing_power(phase, y);
+        self.input += w * power;
+        self.gross += w * power.abs();
         let (stuck, pressed) = seg;
         for (k, row) in sys.stops.iter().enumerate().filter(|(k, _)| pressed & (1 << k) != 0) {
             if let Some(Spring { damping, .. }) = row.law.spring() {
@@ -609,10 +617,13 @@ impl<'s> Meter<'s> {
             Measure::DissipatedDamping => self.damping / periods,
             Measure::DissipatedFriction => self.friction / periods,
             Measure::EnergyResidual => {
-                let change = self.last.map_or(0.0, |l| l.0) - self.first.unwrap_or(0.0);
+                let (end, start) = (self.last.map_or(0.0, |l| l.0), self.first.unwrap_or(0.0));
                 let dissipated = self.damping + self.contacts + self.friction + self.events;
-                let scale = self.input.abs().max(dissipated).max(f64::MIN_POSITIVE);
-                (self.input - change - dissipated) / scale
+                // The largest energy at stake: a lossless or unforced motion
+                // puts in nothing net, and its balance is measured against
+                // what flows and what it holds.
+                let scale = self.gross.max(dissipated.abs()).max(end.abs()).max(start.abs()).max(f64::MIN_POSITIVE);
+                (self.input - (end - start) - dissipated) / scale
             }
         }
     }

@@ -198,3 +198,32 @@ fn energy_balances_on_every_shipped_scene() {
         assert!(q["power_in"] > 0.0, "{scene} {sets:?}: {q:?}");
     }
 }
+
+/// The balance of a motion that puts in nothing net is measured against
+/// the energy at stake, not the net input: the undamped single stop on a
+/// free orbit below its stop (ω = 1/2, every free oscillation closing after
+/// a period: the forcing's input over it is zero to rounding) and the gear
+/// pair unforced and undamped (no input at all, the energy it holds
+/// conserved through its tooth impacts, R = 1) are zero to rounding. They
+/// read 1.0 and 9.4e291, their rounding divided by a net input of 2.7e-16
+/// and by the least positive double.
+#[test]
+fn a_lossless_motion_balances_to_rounding() {
+    let cases: [(&str, &[(&str, f64)]); 2] = [
+        ("single-stop.toml", &[("omega", 0.5), ("sigma", 1.2)]),
+        ("gear-backlash.toml", &[("fm", 0.0), ("f1", 0.0), ("zeta", 0.0)]),
+    ];
+    for (scene, sets) in cases {
+        let sys = system(scene, sets);
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+        let periods = cell.n.unwrap_or(16);
+        let q: std::collections::BTreeMap<String, f64> = solver::quantity::named(
+            &sys,
+            &solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, periods).unwrap(),
+        )
+        .into_iter()
+        .collect();
+        assert!(q["power_in"].abs() < 1e-12, "{scene}: nothing net put in: {q:?}");
+        assert!(q["energy_residual"].abs() < 1e-12, "{scene} {sets:?}: residual {} ({q:?})", q["energy_residual"]);
+    }
+}
