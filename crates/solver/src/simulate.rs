@@ -20,7 +20,7 @@ use crate::mode::{Guard, GuardKind, Key, Mode};
 use crate::soft;
 use crate::stick::{candidates, settle, touching, ModeCache, RECURRING};
 use crate::system::System;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, RowDVector};
 use num_complex::Complex64 as C64;
 
 /// One event of a cell's work budget ([`crate::budget`]), in the units work
@@ -275,6 +275,29 @@ struct Buffers {
     flow: DMatrix<f64>,
     product: DMatrix<f64>,
     next: DMatrix<f64>,
+    /// The saltation matrix's parts, across events.
+    salt: SaltBuffers,
+}
+
+/// What [`Saltation`] and [`Simulator::saltate`] compute an event's saltation
+/// matrix in (no allocation per event once sized): the vector field before
+/// and after, the guard's gradient, the jump, its products and the impulse
+/// Jacobians of the scene's stops (each the same at every impact with the
+/// same restitution).
+#[derive(Debug, Clone, Default)]
+struct SaltBuffers {
+    projected: DVector<f64>,
+    field: DVector<f64>,
+    f_before: DVector<f64>,
+    f_after: DVector<f64>,
+    moved: DVector<f64>,
+    grad: DVector<f64>,
+    slope: RowDVector<f64>,
+    transposed: DMatrix<f64>,
+    jump: DMatrix<f64>,
+    joint: DMatrix<f64>,
+    spare: DMatrix<f64>,
+    impulses: Vec<(usize, u64, DMatrix<f64>)>,
 }
 
 /// `out = a b` in `out`'s storage (sized as needed: no allocation once
@@ -285,6 +308,14 @@ fn multiply(a: &DMatrix<f64>, b: &DMatrix<f64>, out: &mut DMatrix<f64>) {
         *out = DMatrix::zeros(a.nrows(), b.ncols());
     }
     out.gemm(1.0, a, b, 0.0);
+}
+
+/// `out = a v` in `out`'s storage, bit for bit `a * v` (the same `gemm`).
+fn apply(a: &DMatrix<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+    if out.len() != a.nrows() {
+        *out = DVector::zeros(a.nrows());
+    }
+    out.gemm(1.0, a, v, 0.0);
 }
 
 /// What the saltation matrix of an event needs from before it, in full
@@ -308,15 +339,19 @@ impl Saltation {
         time: f64,
         mut flow: DMatrix<f64>,
         f: &mut Vec<C64>,
+        b: &mut SaltBuffers,
     ) -> Saltation {
-        let rate = &mode.aug * state;
+        apply(&mode.aug, state, &mut b.field);
         mode.transition_into(time, f, &mut flow);
-        Saltation {
-            flow,
-            f_before: mode.lift_matrix() * &rate,
-            grad: mode.project_matrix().transpose() * &g.row,
-            rate: g.row.dot(&rate),
+        let (mut f_before, mut grad) = (std::mem::take(&mut b.f_before), std::mem::take(&mut b.grad));
+        apply(mode.lift_matrix(), &b.field, &mut f_before);
+        let p = mode.project_matrix();
+        if b.transposed.shape() != (p.ncols(), p.nrows()) {
+            b.transposed = DMatrix::zeros(p.ncols(), p.nrows());
         }
+        p.transpose_to(&mut b.transposed);
+        apply(&b.transposed, &g.row, &mut grad);
+        Saltation { flow, f_before, grad, rate: g.row.dot(&b.field) }
     }
 }
 
@@ -787,10 +822,17 @@ impl<'s> Simulator<'s> {
                     let g = &mode.guards[guard];
                     let (kind, stop) = (g.kind, g.target.index());
                     // Flow to the event, and what the saltation needs from before it.
-                    let before = self
-                        .tangent
-                        .is_some()
-                        .then(|| Saltation::before(mode, g, &b.end, time, std::mem::take(&mut b.flow), &mut b.factors));
+                    let before = self.tangent.is_some().then(|| {
+                        Saltation::before(
+                            mode,
+                            g,
+                            &b.end,
+                            time,
+                            std::mem::take(&mut b.flow),
+                            &mut b.factors,
+                            &mut b.salt,
+                        )
+                    });
                     mode.lift_into(&b.end, &mut self.y);
                     self.clock = (self.clock + time).min(target);
                     self.count_event(time)?;
@@ -963,44 +1005,75 @@ impl<'s> Simulator<'s> {
         self.snap()
     }
 
-    /// Jacobian `J` of the reset just handled: the impulses applied, then the
-    /// projection onto the new mode's constraints.
-    fn jump(&mut self) -> Result<DMatrix<f64>, Halt> {
+    /// Jacobian `J` of the reset just handled, into the saltation buffers'
+    /// `jump`: the impulses applied, then the projection onto the new mode's
+    /// constraints.
+    fn jump(&mut self) -> Result<(), Halt> {
         let dim = self.y.len();
-        let mut j = DMatrix::identity(dim, dim);
+        let b = &mut self.buffers.salt;
+        if b.jump.shape() != (dim, dim) {
+            b.jump = DMatrix::zeros(dim, dim);
+        }
+        b.jump.fill_with_identity();
         for &(k, r) in &self.applied {
-            j = impact::jacobian(self.sys, k, r) * j;
+            let at = match b.impulses.iter().position(|e| e.0 == k && e.1 == r.to_bits()) {
+                Some(at) => at,
+                None => {
+                    b.impulses.push((k, r.to_bits(), impact::jacobian(self.sys, k, r)));
+                    b.impulses.len() - 1
+                }
+            };
+            multiply(&b.impulses[at].2, &b.jump, &mut b.spare);
+            std::mem::swap(&mut b.jump, &mut b.spare);
         }
         if self.key.constrained() {
             let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
-            j = mode.lift_matrix() * mode.project_matrix() * j;
+            multiply(mode.lift_matrix(), mode.project_matrix(), &mut b.joint);
+            multiply(&b.joint, &b.jump, &mut b.spare);
+            std::mem::swap(&mut b.jump, &mut b.spare);
         }
-        Ok(j)
+        Ok(())
     }
 
     /// Composes the tracked tangent with the flow to the event just handled and
     /// its saltation matrix `S = J + (f⁺ - J f⁻) ∇hᵀ / ḣ`, from what was taken
-    /// before the event.
+    /// before the event (each product the one of nalgebra's operators, in
+    /// their order, into kept buffers: the same matrix bit for bit).
     fn saltate(&mut self, before: Saltation) -> Result<(), Halt> {
         let Saltation { flow, f_before, grad, rate } = before;
-        let jump = self.jump()?;
+        self.jump()?;
         // At grazing (ḣ = 0) the map is not differentiable: keep the jump.
-        let salt = if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
+        if rate.abs() > 1e-12 * (1.0 + grad.amax() * f_before.amax()) {
             let phase = self.phase();
             let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
-            let f_after = mode.lift_matrix() * (&mode.aug * mode.project(&self.y, phase));
-            let kick = (f_after - &jump * f_before) * (grad.transpose() / rate);
-            jump + kick
-        } else {
-            jump
-        };
+            let b = &mut self.buffers.salt;
+            mode.project_into(&self.y, phase, &mut b.projected);
+            apply(&mode.aug, &b.projected, &mut b.field);
+            apply(mode.lift_matrix(), &b.field, &mut b.f_after);
+            apply(&b.jump, &f_before, &mut b.moved);
+            b.f_after -= &b.moved;
+            if b.slope.len() != grad.len() {
+                b.slope = RowDVector::zeros(grad.len());
+            }
+            for (o, g) in b.slope.iter_mut().zip(grad.iter()) {
+                *o = g / rate;
+            }
+            // The kick (f⁺ − J f⁻) ∇hᵀ/ḣ, then S = J + kick in `jump`.
+            let n = b.f_after.len();
+            if b.spare.shape() != (n, n) {
+                b.spare = DMatrix::zeros(n, n);
+            }
+            b.spare.gemm(1.0, &b.f_after, &b.slope, 0.0);
+            b.spare += &b.jump;
+            std::mem::swap(&mut b.jump, &mut b.spare);
+        }
+        let b = &mut self.buffers;
         if let Some(t) = self.tangent.as_mut() {
-            let b = &mut self.buffers;
-            multiply(&salt, &flow, &mut b.product);
+            multiply(&b.salt.jump, &flow, &mut b.product);
             multiply(&b.product, t, &mut b.next);
             std::mem::swap(t, &mut b.next);
         }
-        self.buffers.flow = flow;
+        (b.flow, b.salt.f_before, b.salt.grad) = (flow, f_before, grad);
         Ok(())
     }
 }
