@@ -208,6 +208,17 @@ pub struct Mode {
     /// Per term of the spectral expansion, `L · V N^j W · P` (built on first use
     /// by tangent tracking).
     tangent_terms: OnceLock<Vec<DMatrix<C64>>>,
+    /// What a saltation matrix takes of the mode alone (built on first use
+    /// by tangent tracking): see [`Mode::guard_gradient`] and
+    /// [`Mode::constraint_projection`].
+    saltation: OnceLock<SaltationParts>,
+}
+
+/// Each guard's gradient `Pᵀ ℓ` in full coordinates, and `L P`.
+#[derive(Debug, Clone)]
+struct SaltationParts {
+    gradients: Vec<DVector<f64>>,
+    projection: DMatrix<f64>,
 }
 
 /// Whether `row` lies in the span of the rows of `g` (to [`SPAN_TOL`]).
@@ -616,6 +627,7 @@ impl Mode {
             project_matrix,
             lift_matrix,
             tangent_terms: OnceLock::new(),
+            saltation: OnceLock::new(),
         }))
     }
 
@@ -671,6 +683,28 @@ impl Mode {
     /// The linear map `s ↦ y` of [`Mode::lift_into`] (with `x_c` as the column of `1`).
     pub fn lift_matrix(&self) -> &DMatrix<f64> {
         &self.lift_matrix
+    }
+
+    /// The gradient `∇h = Pᵀ ℓ` of guard `g` in full coordinates (`Pᵀ * ℓ`,
+    /// the product of nalgebra's operators, built once per mode).
+    pub fn guard_gradient(&self, g: usize) -> &DVector<f64> {
+        &self.saltation_parts().gradients[g]
+    }
+
+    /// `L P` (`L * P`): a full state projected onto the mode's constraints,
+    /// in full coordinates (built once per mode).
+    pub fn constraint_projection(&self) -> &DMatrix<f64> {
+        &self.saltation_parts().projection
+    }
+
+    fn saltation_parts(&self) -> &SaltationParts {
+        self.saltation.get_or_init(|| {
+            let transposed = self.project_matrix().transpose();
+            SaltationParts {
+                gradients: self.guards.iter().map(|g| &transposed * &g.row).collect(),
+                projection: self.lift_matrix() * self.project_matrix(),
+            }
+        })
     }
 
     /// State-transition matrix `∂y(h)/∂y(0) = L e^{Â h} P` of a flow segment of

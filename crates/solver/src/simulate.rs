@@ -16,7 +16,7 @@ use crate::error::SolverError;
 use crate::flow::exact::Workspace;
 use crate::flow::{Advance, Method};
 use crate::impact;
-use crate::mode::{Guard, GuardKind, Key, Mode};
+use crate::mode::{GuardKind, Key, Mode};
 use crate::soft;
 use crate::stick::{candidates, settle, touching, ModeCache, RECURRING};
 use crate::system::System;
@@ -293,9 +293,7 @@ struct SaltBuffers {
     moved: DVector<f64>,
     grad: DVector<f64>,
     slope: RowDVector<f64>,
-    transposed: DMatrix<f64>,
     jump: DMatrix<f64>,
-    joint: DMatrix<f64>,
     spare: DMatrix<f64>,
     impulses: Vec<(usize, u64, DMatrix<f64>)>,
 }
@@ -334,7 +332,7 @@ impl Saltation {
     /// factors into `f`).
     fn before(
         mode: &Mode,
-        g: &Guard,
+        g: usize,
         state: &DVector<f64>,
         time: f64,
         mut flow: DMatrix<f64>,
@@ -345,13 +343,12 @@ impl Saltation {
         mode.transition_into(time, f, &mut flow);
         let (mut f_before, mut grad) = (std::mem::take(&mut b.f_before), std::mem::take(&mut b.grad));
         apply(mode.lift_matrix(), &b.field, &mut f_before);
-        let p = mode.project_matrix();
-        if b.transposed.shape() != (p.ncols(), p.nrows()) {
-            b.transposed = DMatrix::zeros(p.ncols(), p.nrows());
+        let gradient = mode.guard_gradient(g);
+        if grad.len() != gradient.len() {
+            grad = DVector::zeros(gradient.len());
         }
-        p.transpose_to(&mut b.transposed);
-        apply(&b.transposed, &g.row, &mut grad);
-        Saltation { flow, f_before, grad, rate: g.row.dot(&b.field) }
+        grad.copy_from(gradient);
+        Saltation { flow, f_before, grad, rate: mode.guards[g].row.dot(&b.field) }
     }
 }
 
@@ -589,6 +586,7 @@ impl<'s> Simulator<'s> {
             return false;
         };
         let excited = excited(&start);
+        // Bound before it is returned: the terms' iterator borrows `modal`.
         let closes = mode.spectral.terms().iter().zip(modal.magnitudes()).all(|(t, size)| {
             let turns = t.lambda.im * span / std::f64::consts::TAU;
             t.constant
@@ -825,7 +823,7 @@ impl<'s> Simulator<'s> {
                     let before = self.tangent.is_some().then(|| {
                         Saltation::before(
                             mode,
-                            g,
+                            guard,
                             &b.end,
                             time,
                             std::mem::take(&mut b.flow),
@@ -1028,8 +1026,7 @@ impl<'s> Simulator<'s> {
         }
         if self.key.constrained() {
             let mode = self.cache.get(self.sys, self.key)?.ok_or(Halt::Stalled)?;
-            multiply(mode.lift_matrix(), mode.project_matrix(), &mut b.joint);
-            multiply(&b.joint, &b.jump, &mut b.spare);
+            multiply(mode.constraint_projection(), &b.jump, &mut b.spare);
             std::mem::swap(&mut b.jump, &mut b.spare);
         }
         Ok(())
