@@ -156,7 +156,7 @@ impl Rotation {
 /// the same to 2e-8 … 1e-5) gained factors of 14 to 374; the two chaotic
 /// records not locked at a fraction whose errors came within 1e-4 (1e-5 and
 /// 2.5e-5), factors of 0.4 and 2.1.
-const TORUS_GAIN: f64 = 10.0;
+pub(crate) const TORUS_GAIN: f64 = 10.0;
 
 /// Fewest points of the last quarter for [`turns_on_torus`].
 const QUARTER: usize = 100;

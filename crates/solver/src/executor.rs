@@ -67,7 +67,7 @@
 use crate::acceleration::Newton;
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
-use crate::circle::{gain, on_loops, torus_loops, turns_on_torus, Rotation};
+use crate::circle::{gain, on_loops, torus_loops, turns_on_torus, Rotation, TORUS_GAIN};
 use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
@@ -247,6 +247,12 @@ pub enum Unresolved {
         /// converged than that of their last quarter (a torus's: 10 and more).
         #[serde(default, with = "crate::number::optional")]
         gain: Option<f64>,
+        /// Whether the scene dissipates nothing ([`System::lossless`]), where
+        /// a rotation number locked at p/q is told regular by its
+        /// convergence alone (no orbit on a torus attracts); absent when
+        /// false.
+        #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+        lossless: bool,
     },
     /// No period; the exponent's interval is above 0, but the tangent's
     /// growth is not shown to be exponential (see `Exponent::diverges`):
@@ -364,13 +370,13 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
             ),
-            Unresolved::Undecided { growth, rotation, gain } => {
+            Unresolved::Undecided { growth, rotation, gain, lossless } => {
                 write!(
                     f,
                     "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, no stable orbit was found near its section points, ",
                     growth.mean, growth.half_width, growth.periods
                 )?;
-                not_a_torus(f, rotation.as_ref(), *gain)
+                not_a_torus(f, rotation.as_ref(), *gain, *lossless)
             }
             Unresolved::Polynomial { growth, late, rotation, gain } => {
                 let (k, half) = (growth.periods, late.periods);
@@ -386,7 +392,7 @@ impl std::fmt::Display for Unresolved {
                     polynomial_growth(LYAPUNOV_WARMUP, 0, k),
                     polynomial_growth(LYAPUNOV_WARMUP, k - half, k),
                 )?;
-                not_a_torus(f, rotation.as_ref(), *gain)
+                not_a_torus(f, rotation.as_ref(), *gain, false)
             }
             Unresolved::LongPeriod { n, n_max } => write!(
                 f,
@@ -426,7 +432,12 @@ impl std::fmt::Display for Unresolved {
 
 /// Which test of a torus section points without a period failed, with its
 /// numbers (see [`on_torus`]), ending a reason.
-fn not_a_torus(f: &mut std::fmt::Formatter<'_>, rotation: Option<&Rotation>, gain: Option<f64>) -> std::fmt::Result {
+fn not_a_torus(
+    f: &mut std::fmt::Formatter<'_>,
+    rotation: Option<&Rotation>,
+    gain: Option<f64>,
+    lossless: bool,
+) -> std::fmt::Result {
     let Some(r) = rotation else {
         return write!(
             f,
@@ -439,10 +450,23 @@ fn not_a_torus(f: &mut std::fmt::Formatter<'_>, rotation: Option<&Rotation>, gai
             f,
             "and the rotation number of its section points ({turns}) has not converged within {ROTATION_TOL:.0e} (a torus's does in a few hundred periods)"
         ),
-        Some((p, q)) => write!(
-            f,
-            "and its section points turn by {turns}, locked at {p}/{q}: an orbit of period {q} (or a multiple) locked on a torus, but no stable orbit of such a period was found near them"
-        ),
+        Some((p, q)) => {
+            write!(f, "and its section points turn by {turns}, locked at {p}/{q}")?;
+            if !lossless {
+                return write!(
+                    f,
+                    ": an orbit of period {q} (or a multiple) locked on a torus, but no stable orbit of such a period was found near them"
+                );
+            }
+            write!(f, ", in a scene that dissipates nothing, where a regular motion — a torus, islands about an orbit of period {q}, or a closed curve that does not wind about the points' centroid — reaches no locked orbit; but ")?;
+            match gain {
+                Some(g) => write!(
+                    f,
+                    "their rotation number converged only {g:.1} times better than over their last quarter (a regular motion's, at least 10 times)"
+                ),
+                None => write!(f, "over too few points (fewer than 400) to tell a regular motion by the convergence of its rotation number"),
+            }
+        }
         None => {
             write!(f, "and the rotation number of its section points converged ({turns}), but they lie on no closed curve of up to 8 loops, and it converged ")?;
             match gain {
@@ -555,6 +579,11 @@ pub fn run_cell_measured(
             // the motion is this orbit, and its repeat shows that no event
             // ends it.
             Some(_) if cell.undamped_linear(n) && cell.sim.closes_after(n as f64 * sys.period) => {
+                (Class::Periodic, Some(n), None, None)
+            }
+            // A neutral orbit in a scene that dissipates nothing, where no
+            // orbit contracts: the orbit where the motion stays on it.
+            Some(Unresolved::Unsettled { distance, .. }) if distance.is_infinite() && cell.stays_periodic(n) => {
                 (Class::Periodic, Some(n), None, None)
             }
             Some(why) => (Class::Unresolved, None, None, Some(why)),
@@ -777,6 +806,35 @@ impl<'s> Executor<'s> {
         self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.damping.iter().all(|&c| c == 0.0)
     }
 
+    /// Whether the motion stays on the neutral orbit of period n that the
+    /// record found, in a scene that dissipates nothing
+    /// ([`System::lossless`]): simulated on, on a probe, for as many
+    /// periods as the exponent of an undecided record is measured over
+    /// (standard: 6 400), every section point within `periodic_tol` of the
+    /// point of its phase among the last n ([`periodic_throughout`]). Where
+    /// nothing contracts, a repeat within the tolerance may be a slow
+    /// oscillation moving less than it per period (issue 42), which so long
+    /// a record shows moving; a motion that stays put over it is the orbit,
+    /// as far as the tolerance tells. Not asked of a scene that dissipates,
+    /// whose neutral map is an orbit not yet reached.
+    fn stays_periodic(&mut self, n: usize) -> bool {
+        if !self.sys.lossless() {
+            return false;
+        }
+        let doublings = EXPONENT_DOUBLINGS + self.acc.extensions / 2 + UNDECIDED_DOUBLINGS;
+        let periods = self.acc.lyapunov_periods.saturating_mul(1 << doublings).max(3 * n);
+        let symmetric = self.sys.model.symmetric;
+        let mut probe = self.sim.probe();
+        let points = self.budget.spend(&mut self.sim, &mut probe, |p| {
+            let mut points = vec![p.state().clone()];
+            for _ in 0..periods {
+                points.push(p.run_period(&[], symmetric, &mut Ignore).ok()?.end);
+            }
+            Some(points)
+        });
+        points.is_some_and(|points| periodic_throughout(&points, n, self.acc.periodic_tol))
+    }
+
     /// Confirms an orbit of period `n` beyond `n_max` that the record
     /// contracts onto ([`Trail::long_period`]): Newton's method on the
     /// n-period map from the main state converges, on a probe, to a stable
@@ -895,7 +953,11 @@ impl<'s> Executor<'s> {
                 return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
             }
             let last = doublings == limit;
-            if growth.high() < 0.0 || last {
+            // Below 0 beyond its uncertainty: contracting, except in a scene
+            // that dissipates nothing, whose map preserves volume (its
+            // finite-time exponent, biased low, is about 0 there).
+            let contracts = growth.high() < 0.0 && !self.sys.lossless();
+            if contracts || last {
                 if let Some(n) = self.orbit_among(&e.points) {
                     return Steady::Periodic(n);
                 }
@@ -907,7 +969,7 @@ impl<'s> Executor<'s> {
             // a while, and its points tell a torus only once they are many
             // (issue 62: damper cells called transients over 100 points lay
             // on one closed curve).
-            if growth.high() < 0.0 && last && on_torus(Rotation::of(&e.points).as_ref(), &e.points).is_none() {
+            if contracts && last && on_torus(Rotation::of(&e.points).as_ref(), &e.points).is_none() {
                 let why = Unresolved::Contracting { growth: growth.mean };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
@@ -935,23 +997,46 @@ impl<'s> Executor<'s> {
                     }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
+                let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
+                let lossless = self.sys.lossless();
+                // Locked in a scene that dissipates nothing, on no islands
+                // the test of q loops can see (each an arc of its loop over
+                // n/q points), and not shown to diverge: no attractor to
+                // reach (the map preserves volume), so a regular motion
+                // where its rotation number converged as a torus's does,
+                // faster than any power of the points (chaos in q bands
+                // converges like 1/K at best), whatever the sign of a
+                // finite-time exponent that a sheared torus's bias keeps
+                // above 0. Islands about an orbit of period q, a
+                // torus turning by p/q to within its error, or one whose
+                // curve does not wind about the points' centroid (a
+                // rotation of 0/1 about it). In a scene that dissipates, a
+                // locked number is an orbit on the torus that the motion
+                // should reach.
+                // Told once measured as long as an undecided record is (the
+                // first measurement's 1 600 points at standard do not tell
+                // a thin chaotic layer from a torus beside it).
+                let regular = lossless && locked.is_some() && gain.is_some_and(|g| g >= TORUS_GAIN);
+                if regular && limit != first {
+                    return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
+                }
                 // Locked without an orbit near, not on islands, and shown to
-                // expand (the exponent's interval above 0): chaos in q bands.
+                // expand (the exponent's interval above 0): chaos in q bands,
+                // unless regular so far in a scene that dissipates nothing.
                 // An interval about 0 is measured on: a torus's rotation
                 // number may lie within its error of a fraction of large q
                 // (p/792 over 1 600 points) until more points tell.
-                if locked.is_some() && growth.low() > 0.0 {
+                if locked.is_some() && growth.low() > 0.0 && !regular {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
                 if limit == first {
                     // Still undecided: a torus still being reached, most often.
                     limit += UNDECIDED_DOUBLINGS;
                 } else {
-                    let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
                     let why = if growth.low() > 0.0 {
                         Unresolved::Polynomial { growth, late: e.late(), rotation, gain }
                     } else {
-                        Unresolved::Undecided { growth, rotation, gain }
+                        Unresolved::Undecided { growth, rotation, gain, lossless }
                     };
                     return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
                 }
@@ -1051,13 +1136,22 @@ impl<'s> Executor<'s> {
                 }
                 continue;
             }
-            // A contracting record settled on an orbit longer than n_max: no extension finds a period.
+            // A contracting record settled on an orbit longer than n_max: no
+            // extension finds a period. Unconfirmed, it is the cell's result
+            // where the contraction is shown: the exponent's interval below
+            // 0, in a scene that dissipates. One below 0 on average only, or
+            // in a scene that dissipates nothing (where nothing contracts:
+            // a motion turning by nearly p/n on a torus, its map neutral,
+            // which Newton's stable fixed point refuses), is measured on
+            // like any record without a period.
             if let (true, Ok((_, e))) = (contracting, &exponent) {
                 if let Some(n) = self.trail.long_period(acc) {
                     if let Some(m) = self.confirm(n) {
                         return Ok(Steady::Periodic(m));
                     }
-                    return Ok(Steady::LongPeriod(n, e.per_time()));
+                    if e.interval().high() < 0.0 && !self.sys.lossless() {
+                        return Ok(Steady::LongPeriod(n, e.per_time()));
+                    }
                 }
             }
             // A free mass drifting towards a stop without an event: follow it there.
@@ -1378,6 +1472,16 @@ fn extent<'a>(mut points: impl Iterator<Item = &'a DVector<f64>>) -> f64 {
     let (lo, hi) =
         points.fold((first.clone(), first.clone()), |(lo, hi), p| (lo.zip_map(p, f64::min), hi.zip_map(p, f64::max)));
     distance(&hi, &lo)
+}
+
+/// Whether section points (consecutive) stay on one orbit of period n
+/// within `tol` (relative, [`distance`]) throughout: each within `tol` of
+/// the point of its phase among the last n (a whole number of n periods
+/// after it). A step within `tol` that adds up period after period leaves
+/// it; rounding does not.
+fn periodic_throughout(points: &[DVector<f64>], n: usize, tol: f64) -> bool {
+    let len = points.len();
+    len > n && (0..len - n).all(|k| distance(&points[k], &points[k + (len - 1 - k) / n * n]) <= tol)
 }
 
 /// The periods Newton's method tries among `returns` (periods with what the
@@ -1797,6 +1901,136 @@ mod tests {
         assert_eq!(torus_loops(&e.points, ROTATION_TOL), Some(q));
     }
 
+    /// Section points `[x, v]` at `t = kT`, k = 1 … `periods`, of the
+    /// lossless single stop (`x'' + x = cos ωt`, `x ≤ 0`, restitution 1)
+    /// from `y0` at t = 0, independent of the solver: between impacts the
+    /// closed form `x = X cos ωt + a cos t + b sin t` (`X = 1/(1 − ω²)`),
+    /// each impact found where x, sampled `samples` times a period, crosses
+    /// 0, bisected to rounding, and its velocity reversed.
+    fn elastic_stop_sections(omega: f64, y0: [f64; 2], periods: usize, samples: usize) -> Vec<DVector<f64>> {
+        let (big_x, period) = (1.0 / (1.0 - omega * omega), std::f64::consts::TAU / omega);
+        // The free oscillation's coefficients through the state (x, v) at t.
+        let through = |t: f64, x: f64, v: f64| {
+            let (px, pv) = (x - big_x * (omega * t).cos(), v + big_x * omega * (omega * t).sin());
+            (px * t.cos() - pv * t.sin(), px * t.sin() + pv * t.cos())
+        };
+        let at = |t: f64, (a, b): (f64, f64)| {
+            let x = big_x * (omega * t).cos() + a * t.cos() + b * t.sin();
+            let v = -big_x * omega * (omega * t).sin() - a * t.sin() + b * t.cos();
+            (x, v)
+        };
+        let (mut lo, mut ab) = (0.0, through(0.0, y0[0], y0[1]));
+        let mut points = Vec::with_capacity(periods);
+        for k in 1..=periods {
+            let end = k as f64 * period;
+            let h = period / samples as f64;
+            while lo < end {
+                let hi = (lo + h).min(end);
+                // A crossing from below (an impact just made starts at 0, going down).
+                if at(lo, ab).0 <= 0.0 && at(hi, ab).0 > 0.0 {
+                    let (mut l, mut r) = (lo, hi);
+                    for _ in 0..80 {
+                        let m = 0.5 * (l + r);
+                        if at(m, ab).0 > 0.0 {
+                            r = m;
+                        } else {
+                            l = m;
+                        }
+                    }
+                    let (_, v) = at(l, ab);
+                    ab = through(l, 0.0, -v);
+                    lo = l + 1e-12;
+                    continue;
+                }
+                lo = hi;
+            }
+            lo = end;
+            let (x, v) = at(end, ab);
+            points.push(DVector::from_vec(vec![x, v]));
+        }
+        points
+    }
+
+    /// Issue 62: in a scene that dissipates nothing, a rotation number
+    /// locked at p/q on no islands the test of loops can see is a regular
+    /// motion. The lossless single stop (r = 1) on the r plane's top row
+    /// (from the states its sweeps reached): at ω = 162/79 the section points
+    /// turned by −2/81 ± 7.9e-14 and at ω = 1.25949 by 82/199 ± 5.1e-11
+    /// with λT about 0, and at ω = 1.98734 they lie on a closed curve that
+    /// does not wind about their centroid (two arcs joined at the stop),
+    /// about which they turn by 0/1 (`U`, "locked … an orbit locked on a
+    /// torus", before). Each is `Q`. By the closed form from the same
+    /// states, the rotation number over 6 400 periods converges as a
+    /// torus's (at least 10 times better than over the last quarter), locked
+    /// at the same p/q at the first two (at 1.98734 it turns by −5.7e-8 ±
+    /// 4.2e-9: a slow rotation), and at 1.25949 the points leave the period-199 orbit by more
+    /// than `periodic_tol` (no orbit of that period; at 162/79 they stay
+    /// within it, an orbit of period 81 beyond `n_max` that does not
+    /// contract: a torus's label, as a free oscillation's).
+    #[test]
+    fn a_locked_rotation_without_losses_is_regular() {
+        let acc = Accuracy::default();
+        let cells = [
+            (2.0506329113924053, [-73.53267546258877, -8.762585666764377], 81),
+            (1.259493670886076, [-39.24347196097693, 38.199757817114275], 199),
+            (1.9873417721518987, [-15.402838347223378, -32.13473451995623], 1),
+        ];
+        for (omega, y0, q) in cells {
+            let sys = system("single-stop.toml", &[("r", 1.0), ("omega", omega)]);
+            assert!(sys.lossless());
+            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+            assert_eq!(cell.class, Class::Quasiperiodic, "ω {omega}: {:?}", cell.reason);
+            let points = elastic_stop_sections(omega, y0, 6400, 256);
+            let rotation = Rotation::of(&points).unwrap();
+            let converged = gain(&rotation, &points).unwrap();
+            assert!(converged >= TORUS_GAIN, "ω {omega}: {rotation:?} gained {converged}");
+            if q > 1 {
+                assert_eq!(rotation.locked().map(|(_, d)| d), Some(q), "ω {omega}: {rotation:?}");
+            }
+        }
+        let points = elastic_stop_sections(1.259493670886076, cells[1].1, 6400, 256);
+        assert!(!periodic_throughout(&points, 199, acc.periodic_tol));
+    }
+
+    /// Issue 62: a neutral orbit of a scene that dissipates nothing is
+    /// periodic where the motion stays on it. The lossless single stop at
+    /// ω = 0.531646 (from the state the r plane's down sweep reached) repeats
+    /// every 21 periods with a multiplier of 1 (`U`, "does not contract … a
+    /// free oscillation that never settles", before), and at ω = 3 every 3;
+    /// by the closed form, the points stay within `periodic_tol` of the
+    /// orbit over 6 400 periods (2 000 at ω = 0.53, sampled finer for its
+    /// grazing impacts).
+    #[test]
+    fn a_neutral_orbit_that_the_motion_stays_on_is_periodic() {
+        let acc = Accuracy::default();
+        let cells = [
+            (0.5316455696202531, [-19.275925822482552, -57.96049716736474], "21-79-0", 2000, 2048),
+            (3.0, [-70.60631444914135, 18.76867154331365], "3-2-0", 6400, 256),
+        ];
+        for (omega, y0, label, periods, samples) in cells {
+            let sys = system("single-stop.toml", &[("r", 1.0), ("omega", omega)]);
+            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+            assert_eq!(cell.labels[0].label.to_string(), label, "ω {omega}: {:?}", cell.reason);
+            assert!((cell.multiplier.unwrap() - 1.0).abs() < 1e-6, "{:?}", cell.multiplier);
+            let n = cell.n.unwrap();
+            assert!(periodic_throughout(&elastic_stop_sections(omega, y0, periods, samples), n, acc.periodic_tol));
+        }
+    }
+
+    /// Issue 62: an orbit longer than `n_max` that the record seems to
+    /// contract onto, in a scene that dissipates nothing (where nothing
+    /// contracts), is measured on rather than left unresolved. The lossless
+    /// single stop at ω = 0.689873 (from the state the r plane's down sweep
+    /// reached) was `U`: "contracts onto an orbit of period 109, which
+    /// Newton's method … did not confirm"; measured on, its rotation number
+    /// is locked at p/109 and the points keep their distance: `Q`.
+    #[test]
+    fn a_long_orbit_without_losses_is_measured_on() {
+        let sys = system("single-stop.toml", &[("r", 1.0), ("omega", 0.689873417721519)]);
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &[-46.035461142373805, 29.801014428774568]);
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+    }
+
     /// Issue 62: a motion spiralling slowly onto a stable focus (largest
     /// |μ| 0.99913 of the damper's 1-1-1 orbit at ω = 1.87722, δ = 1.47458,
     /// from the state its up sweep reached) turns like a torus's points; it
@@ -1936,27 +2170,37 @@ mod tests {
             .starts_with("no period within the record, and the motion still contracts (λT = -5.000e-1)"));
         let growth = Interval { mean: 5.2e-3, half_width: 9.0e-3, periods: 1600 };
         let rotation = Some(Rotation { turns: 0.25, error: 3e-4, points: 1600 });
-        let why = Unresolved::Undecided { growth, rotation, gain: Some(0.5) }.to_string();
+        let why = Unresolved::Undecided { growth, rotation, gain: Some(0.5), lossless: false }.to_string();
         assert!(why.contains("(λT = 5.200e-3 ± 9.0e-3, 95 % over 1600 periods)"), "{why}");
         // Each reason names the test of a torus that failed, with its numbers.
         assert!(
             why.ends_with("rotation number of its section points (0.250000000 ± 3.0e-4 turns per period over 1600 points) has not converged within 1e-4 (a torus's does in a few hundred periods)"),
             "{why}"
         );
-        let turns = |turns: f64, gain| Unresolved::Undecided {
+        let turns = |turns: f64, gain, lossless| Unresolved::Undecided {
             growth,
             rotation: Some(Rotation { turns, error: 2e-6, points: 1600 }),
             gain,
+            lossless,
         };
-        let why = turns(0.381_966_011, Some(2.5)).to_string();
+        let why = turns(0.381_966_011, Some(2.5), false).to_string();
         assert!(why.contains("lie on no closed curve of up to 8 loops"), "{why}");
         assert!(
             why.ends_with("only 2.5 times better than over their last quarter (a torus's, at least 10 times)"),
             "{why}"
         );
-        let why = turns(0.25, Some(2.5)).to_string();
+        let why = turns(0.25, Some(2.5), false).to_string();
         assert!(why.contains("locked at 1/4: an orbit of period 4"), "{why}");
-        let why = Unresolved::Undecided { growth, rotation: None, gain: None }.to_string();
+        // Locked in a scene that dissipates nothing: the test of a regular motion that failed.
+        let why = turns(0.25, Some(2.5), true).to_string();
+        assert!(why.contains("locked at 1/4, in a scene that dissipates nothing"), "{why}");
+        assert!(
+            why.ends_with(
+                "converged only 2.5 times better than over their last quarter (a regular motion's, at least 10 times)"
+            ),
+            "{why}"
+        );
+        let why = Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false }.to_string();
         assert!(why.ends_with("have no rotation number (too few, or on a line): not on one closed curve"), "{why}");
         // A positive exponent not shown to be chaos: its growth against a polynomial's.
         let late = Interval { mean: 1e-3, half_width: 5e-4, periods: 800 };
