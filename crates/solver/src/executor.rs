@@ -455,7 +455,7 @@ fn not_a_torus(
             if !lossless {
                 return write!(
                     f,
-                    ": an orbit of period {q} (or a multiple) locked on a torus, but no stable orbit of such a period was found near them"
+                    ", as an orbit of period {q} (or a multiple) locked on a torus turns, but no stable orbit of such a period was found near them"
                 );
             }
             write!(f, ", in a scene that dissipates nothing, where a regular motion — a torus, islands about an orbit of period {q}, or a closed curve that does not wind about the points' centroid — reaches no locked orbit; but ")?;
@@ -1012,10 +1012,10 @@ impl<'s> Executor<'s> {
                 // curve does not wind about the points' centroid (a
                 // rotation of 0/1 about it). In a scene that dissipates, a
                 // locked number is an orbit on the torus that the motion
-                // should reach.
-                // Told once measured as long as an undecided record is (the
-                // first measurement's 1 600 points at standard do not tell
-                // a thin chaotic layer from a torus beside it).
+                // should reach. Told once measured as long as an undecided
+                // record is (the first measurement's 1 600 points at
+                // standard do not tell a thin chaotic layer from a torus
+                // beside it).
                 let regular = lossless && locked.is_some() && gain.is_some_and(|g| g >= TORUS_GAIN);
                 if regular && limit != first {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
@@ -2022,8 +2022,7 @@ mod tests {
     /// contracts), is measured on rather than left unresolved. The lossless
     /// single stop at ω = 0.689873 (from the state the r plane's down sweep
     /// reached) was `U`: "contracts onto an orbit of period 109, which
-    /// Newton's method … did not confirm"; measured on, its rotation number
-    /// is locked at p/109 and the points keep their distance: `Q`.
+    /// Newton's method … did not confirm"; measured on, it is `Q`.
     #[test]
     fn a_long_orbit_without_losses_is_measured_on() {
         let sys = system("single-stop.toml", &[("r", 1.0), ("omega", 0.689873417721519)]);
@@ -2190,7 +2189,12 @@ mod tests {
             "{why}"
         );
         let why = turns(0.25, Some(2.5), false).to_string();
-        assert!(why.contains("locked at 1/4: an orbit of period 4"), "{why}");
+        assert!(
+            why.contains(
+                "locked at 1/4, as an orbit of period 4 (or a multiple) locked on a torus turns, but no stable"
+            ),
+            "{why}"
+        );
         // Locked in a scene that dissipates nothing: the test of a regular motion that failed.
         let why = turns(0.25, Some(2.5), true).to_string();
         assert!(why.contains("locked at 1/4, in a scene that dissipates nothing"), "{why}");
