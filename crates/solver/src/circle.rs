@@ -186,7 +186,7 @@ pub(crate) fn gain(all: &Rotation, points: &[DVector<f64>]) -> Option<f64> {
 }
 
 /// Most loops of a torus's section that [`torus_loops`] looks for.
-const MOST_LOOPS: usize = 8;
+pub(crate) const MOST_LOOPS: usize = 8;
 
 /// The loops of the closed curve that the points of a quasi-periodic motion
 /// lie on: the fewest k ≤ 8 such that every k-th point, from the first, lies

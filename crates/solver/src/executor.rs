@@ -67,7 +67,7 @@
 use crate::acceleration::Newton;
 use crate::accuracy::Accuracy;
 use crate::budget::Budget;
-use crate::circle::{gain, on_loops, torus_loops, turns_on_torus, Rotation, TORUS_GAIN};
+use crate::circle::{gain, on_loops, torus_loops, turns_on_torus, Rotation, MOST_LOOPS, TORUS_GAIN};
 use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
@@ -978,7 +978,11 @@ impl<'s> Executor<'s> {
                 // Locked at p/q (over all the points, the fraction's q
                 // clearest): no torus of one loop, whose rotation number is
                 // irrational; a torus of q loops (islands about an orbit of
-                // period q) where every q-th point lies on one.
+                // period q) where every q-th point lies on one, or of a
+                // multiple of q up to 8 where those points are locked again
+                // (on the damper at ω = 1.03846, μ = 0.29828: locked at 1/2,
+                // every second point at 1/2 too, every fourth on a loop that
+                // its principal plane folds, every eighth on a closed curve).
                 let locked = rotation.filter(|r| r.error <= ROTATION_TOL).and_then(|r| r.locked()).map(|(_, q)| q);
                 // The motion may have reached its torus only after the first
                 // points: the last half, or the last quarter, on one.
@@ -989,7 +993,16 @@ impl<'s> Executor<'s> {
                 };
                 let loops = match locked {
                     None => on_torus(rotation.as_ref(), &e.points).or_else(|| (settled(2) || settled(4)).then_some(1)),
-                    Some(q) => (n / q >= ISLAND_POINTS && on_loops(&e.points, q, ROTATION_TOL)).then_some(q),
+                    Some(q) => {
+                        // The multiples once the measurement is as long as an
+                        // undecided record's, after the search for an orbit
+                        // there (on the main job's plane, ω = 1.07, δ = 1.94:
+                        // an orbit of 968 periods locked on the torus).
+                        let most = if limit == first { q } else { MOST_LOOPS };
+                        std::iter::once(q)
+                            .chain((2 * q..=most).step_by(q))
+                            .find(|&k| n / k >= ISLAND_POINTS && on_loops(&e.points, k, ROTATION_TOL))
+                    }
                 };
                 if let Some(k) = loops {
                     if let Some(n) = self.focus_of(&e.points, k) {
@@ -1899,6 +1912,30 @@ mod tests {
         assert!(q > 1 && on_loops(&e.points, q, ROTATION_TOL), "q = {q}");
         // Three islands: the loops that the test of up to 8 finds too.
         assert_eq!(torus_loops(&e.points, ROTATION_TOL), Some(q));
+    }
+
+    /// Issue 62: a torus whose loops are visited in an order locked at p/q
+    /// twice over. On the damper at ω = 1.03846, μ = 0.29828 (from the state
+    /// the up sweep of the held-out ω × μ plane reached) the section points
+    /// turn by 1/2, every second point by 1/2 again, every fourth lies on a
+    /// loop that its principal plane folds, and every eighth on a closed
+    /// curve with a converged rotation (looked at: two loops in (x₂, v₂),
+    /// four in each impact section). It was `U` ("locked at −1/2 … no stable
+    /// orbit"); a record ten times longer is `Q` too.
+    #[test]
+    fn loops_visited_in_a_twice_locked_order_are_a_torus() {
+        let sys = system("impact-damper.toml", &[("omega", 1.0384615384615385), ("mu", 0.2982758620689655)]);
+        let y0 = [-1.1339216762890758, 0.4184274588852757, -1.333661473225713, -2.595287071636882];
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        let mut sim = crate::Simulator::new(&sys, Accuracy::default(), Method::Exact, &cell.final_state).unwrap();
+        let e = Exponent::measure(&mut sim, LYAPUNOV_WARMUP, 6400).unwrap();
+        let locked = |k: usize| {
+            let every: Vec<DVector<f64>> = e.points.iter().step_by(k).cloned().collect();
+            Rotation::of(&every).and_then(|r| r.locked()).map(|(_, q)| q)
+        };
+        assert_eq!((locked(1), locked(2)), (Some(2), Some(2)));
+        assert!(!on_loops(&e.points, 2, ROTATION_TOL) && on_loops(&e.points, 8, ROTATION_TOL));
     }
 
     /// Section points `[x, v]` at `t = kT`, k = 1 … `periods`, of the
