@@ -291,7 +291,9 @@ pub enum Unresolved {
     /// does not contract (|μ| within 1e-9 of 1: a conservative oscillation
     /// that moved too little per period to tell from a fixed point): a
     /// contraction too slow for the record, not a converged orbit
-    /// (issue 42).
+    /// (issue 42). In a scene that dissipates nothing, a neutral orbit that
+    /// the motion stays on over a long record is that orbit instead (see
+    /// `Executor::stays_periodic`).
     Unsettled {
         /// Periods of the record.
         periods: usize,
