@@ -805,7 +805,7 @@ impl<'s> Executor<'s> {
     /// ([`Simulator::guard_margin`] positive), it is that flow for all time.
     /// Either is regular whatever a finite record's exponent says.
     fn undamped_linear(&self, periods: usize) -> bool {
-        self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.damping.iter().all(|&c| c == 0.0)
+        self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.undamped()
     }
 
     /// Whether the motion stays on the neutral orbit of period n that the
@@ -949,6 +949,7 @@ impl<'s> Executor<'s> {
         let mut doublings = 0;
         let first = EXPONENT_DOUBLINGS + self.acc.extensions / 2;
         let mut limit = first;
+        let lossless = self.sys.lossless();
         loop {
             let growth = e.interval();
             if growth.low() > 0.0 && e.diverges() {
@@ -958,7 +959,7 @@ impl<'s> Executor<'s> {
             // Below 0 beyond its uncertainty: contracting, except in a scene
             // that dissipates nothing, whose map preserves volume (its
             // finite-time exponent, biased low, is about 0 there).
-            let contracts = growth.high() < 0.0 && !self.sys.lossless();
+            let contracts = growth.high() < 0.0 && !lossless;
             if contracts || last {
                 if let Some(n) = self.orbit_among(&e.points) {
                     return Steady::Periodic(n);
@@ -1013,7 +1014,6 @@ impl<'s> Executor<'s> {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
                 let gain = rotation.as_ref().and_then(|r| gain(r, &e.points));
-                let lossless = self.sys.lossless();
                 // Locked in a scene that dissipates nothing, on no islands
                 // the test of q loops can see (each an arc of its loop over
                 // n/q points), and not shown to diverge: no attractor to

@@ -272,13 +272,19 @@ impl System {
         self.rigid
     }
 
+    /// Whether no damper links the masses (every entry of the damping
+    /// matrix zero): each free oscillation keeps its amplitude.
+    pub fn undamped(&self) -> bool {
+        self.damping.iter().all(|&c| c == 0.0)
+    }
+
     /// Whether the scene dissipates no energy: no damper, every rigid stop
     /// elastic (restitution 1), no dashpot in a soft stop and no friction
     /// contact. Its period map then preserves volume in the state space: it
     /// has no attractor, and a motion on a torus neither reaches nor leaves
     /// the orbits locked on it.
     pub fn lossless(&self) -> bool {
-        self.damping.iter().all(|&c| c == 0.0)
+        self.undamped()
             && self.frictions.is_empty()
             && self.stops.iter().all(|s| match s.law {
                 StopLaw::Rigid { restitution } => restitution >= 1.0,
