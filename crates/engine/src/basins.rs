@@ -118,7 +118,7 @@ pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<(BasinMap, O
                 lyapunov: c.lyapunov,
                 count: a.count as u64,
                 start: a.start,
-                section: c.period_section,
+                section: c.period_section.to_rows(),
             }
         })
         .collect();

@@ -587,7 +587,7 @@ impl Plan {
                     .map(|a| grid::CellAttractor {
                         labels: a.cell.labels[..masses].to_vec(),
                         fraction: a.count as f64 / sampling.samples as f64,
-                        section: a.cell.period_section.iter().take(grid::FAMILY_POINTS).cloned().collect(),
+                        section: a.cell.period_section.iter().take(grid::FAMILY_POINTS).map(<[f64]>::to_vec).collect(),
                     })
                     .collect(),
             );

@@ -56,7 +56,7 @@ impl CellRecord {
             reason: c.reason.as_ref().map(ToString::to_string),
             reason_detail: c.reason.clone(),
             final_state: c.final_state.clone(),
-            period_section: c.period_section.clone(),
+            period_section: c.period_section.to_rows(),
             quantities: measured.then(|| quantities.iter().map(|q| q.name.clone()).zip(c.quantities.clone()).collect()),
         }
     }

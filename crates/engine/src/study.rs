@@ -176,7 +176,7 @@ pub fn sheet_panel(atlas: Atlas, sweep: SweepKind) -> Atlas {
                 .map(|c| {
                     c.map(|c| CellData {
                         final_state: Vec::new(),
-                        period_section: Vec::new(),
+                        period_section: solver::Points::default(),
                         impact_sections: Vec::new(),
                         reason: None,
                         ..c

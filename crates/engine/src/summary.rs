@@ -378,7 +378,7 @@ mod tests {
             final_state: Vec::new(),
             periods: 0,
             events: 0,
-            period_section: Vec::new(),
+            period_section: solver::Points::default(),
             impact_sections: Vec::new(),
             reason: Some(reason),
             quantities: Vec::new(),

@@ -87,7 +87,7 @@ pub fn sample(sys: &solver::System, s: &Sampling, i: usize) -> Vec<f64> {
 }
 
 /// Whether two period sections are the same set of points.
-fn same_orbit(a: &[Vec<f64>], b: &[Vec<f64>]) -> bool {
+fn same_orbit(a: &solver::Points, b: &solver::Points) -> bool {
     let near = |p: &[f64], q: &[f64]| p.iter().zip(q).all(|(x, y)| (x - y).abs() <= 1e-5 * (1.0 + x.abs()));
     a.len() == b.len() && a.iter().all(|p| b.iter().any(|q| near(p, q)))
 }
@@ -190,7 +190,8 @@ mod tests {
         let u: Vec<u64> = (0..1000).map(|k| splitmix(s.seed, k)).collect();
         let mean = u.iter().map(|&x| (x >> 11) as f64 / (1u64 << 53) as f64).sum::<f64>() / 1000.0;
         assert!((mean - 0.5).abs() < 0.05, "{mean}");
-        assert!(same_orbit(&[vec![1.0, 2.0], vec![3.0, 4.0]], &[vec![3.0, 4.0], vec![1.0, 2.0 + 1e-9]]));
-        assert!(!same_orbit(&[vec![1.0, 2.0]], &[vec![-1.0, 2.0]]));
+        let points = |rows: &[[f64; 2]]| solver::Points::from_rows(rows).unwrap();
+        assert!(same_orbit(&points(&[[1.0, 2.0], [3.0, 4.0]]), &points(&[[3.0, 4.0], [1.0, 2.0 + 1e-9]])));
+        assert!(!same_orbit(&points(&[[1.0, 2.0]]), &points(&[[-1.0, 2.0]])));
     }
 }

@@ -114,7 +114,7 @@ impl Early {
             .iter()
             .enumerate()
             .filter(|(_, a)| stable(a))
-            .map(|(k, a)| (k, a.cell.period_section.clone()))
+            .map(|(k, a)| (k, a.cell.period_section.to_rows()))
             .unzip();
         if orbits.is_empty() {
             return None;

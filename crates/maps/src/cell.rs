@@ -2,7 +2,7 @@
 //! final state and capped raw sections.
 
 use solver::contact::Contact;
-use solver::{CellResult, Class, ImpactSections, Label, Mask, Symmetry, Unresolved};
+use solver::{CellResult, Class, ImpactSections, Label, Mask, Points, Symmetry, Unresolved};
 use std::collections::HashMap;
 
 /// What is kept of a classified cell.
@@ -29,9 +29,9 @@ pub struct CellData {
     /// Events handled.
     pub events: u64,
     /// Period-section points (states at `t = kT`).
-    pub period_section: Vec<Vec<f64>>,
+    pub period_section: Points,
     /// Per stop: `[phase, x…, v…]` before each impact of the window.
-    pub impact_sections: Vec<Vec<Vec<f64>>>,
+    pub impact_sections: ImpactSections,
     /// Why the cell is unresolved (the solver's reason, with its numbers),
     /// if it is.
     pub reason: Option<Unresolved>,
@@ -62,7 +62,8 @@ impl CellData {
             final_state: cell.final_state,
             periods: cell.periods,
             events: cell.events as u64,
-            period_section: cell.section.into_iter().take(section_cap).collect(),
+            // States of one length: never refused.
+            period_section: Points::from_rows(cell.section.iter().take(section_cap)).unwrap_or_default(),
             impact_sections,
             reason: cell.reason,
             quantities,

@@ -6,7 +6,7 @@
 
 use crate::CellData;
 use serde::{de::Error as _, Deserialize, Deserializer, Serialize, Serializer};
-use solver::{Class, Count, Label, Mask, Symmetry, Unresolved};
+use solver::{Class, Count, Label, Mask, Points, Symmetry, Unresolved};
 use std::borrow::Cow;
 
 /// Code of an `S` count in labels.
@@ -87,8 +87,8 @@ struct Coded<'a> {
     final_state: Cow<'a, [f64]>,
     periods: u64,
     events: u64,
-    period_section: Cow<'a, [Vec<f64>]>,
-    impact_sections: Cow<'a, [Vec<Vec<f64>>]>,
+    period_section: Cow<'a, Points>,
+    impact_sections: Cow<'a, [Points]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     reason: Option<Cow<'a, Unresolved>>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -170,8 +170,8 @@ mod tests {
                 final_state: vec![0.1, -1e-300],
                 periods: 7,
                 events: 40,
-                period_section: vec![vec![0.1, 0.2]],
-                impact_sections: vec![vec![vec![0.5, 0.1, 0.2]], vec![]],
+                period_section: Points::from_rows([[0.1, 0.2]]).unwrap(),
+                impact_sections: vec![Points::from_rows([[0.5, 0.1, 0.2]]).unwrap(), Points::default()],
                 reason: None,
                 quantities: vec![1.5, f64::NAN],
             };

@@ -520,7 +520,7 @@ pub struct CellResult {
 }
 
 /// Impact sections per stop: `[phase, x…, v…]` before each impact.
-pub type ImpactSections = Vec<Vec<Vec<f64>>>;
+pub type ImpactSections = Vec<crate::section::Points>;
 
 /// Simulates a cell from full state `y0` and classifies its steady motion.
 pub fn run_cell(sys: &System, acc: &Accuracy, method: Method, y0: &[f64]) -> CellResult {
@@ -556,7 +556,7 @@ pub fn run_cell_measured(
     section_cap: usize,
     measure: bool,
 ) -> (CellResult, ImpactSections, Option<crate::quantity::Quantities>) {
-    let no_sections = || vec![Vec::new(); sys.stops.len()];
+    let no_sections = || vec![crate::section::Points::default(); sys.stops.len()];
     if let Err(e) = sys.check_range(y0) {
         return (unresolved(sys, Unresolved::Failed(e), 0, 0, y0.to_vec()), no_sections(), None);
     }

@@ -100,5 +100,6 @@ pub use newton::{solve, Limits, MapKind, Solution};
 /// Complex numbers of Floquet multipliers.
 pub use num_complex::Complex64;
 pub use orbit::{orbit_of_cell, Orbit, OrbitError};
+pub use section::Points;
 pub use simulate::{EventKind, EventObserver, Halt, Ignore, PeriodRecord, Segment, Simulator};
 pub use system::{System, ADMISSIBLE_PENETRATION, FASTEST_FORCING, LARGEST_MAGNITUDE};

@@ -429,7 +429,7 @@ mod tests {
             final_state: Vec::new(),
             periods: i as u64,
             events: 0,
-            period_section: Vec::new(),
+            period_section: solver::Points::default(),
             impact_sections: Vec::new(),
             reason: None,
             quantities: Vec::new(),

@@ -276,7 +276,9 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     }
     // A cell never keeps more section points than the run's cap.
     for map in &maps {
-        let kept = |c: &maps::CellData| c.impact_sections.iter().map(Vec::len).fold(c.period_section.len(), usize::max);
+        let kept = |c: &maps::CellData| {
+            c.impact_sections.iter().map(solver::Points::len).fold(c.period_section.len(), usize::max)
+        };
         if let Some(most) = map.cells.iter().flatten().map(kept).max().filter(|&k| k > meta.section_cap) {
             return Err(fmt(format!(
                 "attribute {}: {}, but sweep {} keeps {most} section points in a cell: the file is damaged or was changed",
@@ -692,9 +694,10 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
         data(ck, &sec.values, crate::checksum::bytes_of(&values))?;
         Ok((values, offsets.into_iter().map(|o| o as usize).collect(), sec.cols))
     };
-    let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> Vec<Vec<f64>> {
+    // Rows of the section's width: never refused.
+    let rows = |sec: &(Vec<f64>, Vec<usize>, usize), i: usize| -> solver::Points {
         let (v, o, cols) = sec;
-        (o[i]..o[i + 1]).map(|r| v[r * cols..(r + 1) * cols].to_vec()).collect()
+        solver::Points::from_rows((o[i]..o[i + 1]).map(|r| &v[r * cols..(r + 1) * cols])).unwrap_or_default()
     };
     let period = section(&s.period)?;
     let impacts = s.impacts.iter().map(section).collect::<Result<Vec<_>, _>>()?;

@@ -514,7 +514,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflate
         &sections,
         PERIOD_SECTION,
         &g.dataset(COMPONENT)?,
-        cells.iter().map(|c| c.as_ref().map(|c| c.period_section.as_slice())),
+        cells.iter().map(|c| c.as_ref().map(|c| &c.period_section)),
         "state at t = kT (period section)",
     )?;
     let impact_column = g.dataset(IMPACT_COLUMN)?;
@@ -524,7 +524,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflate
             &sections,
             stop,
             &impact_column,
-            cells.iter().map(|c| c.as_ref().map(|c| c.impact_sections[k].as_slice())),
+            cells.iter().map(|c| c.as_ref().map(|c| &c.impact_sections[k])),
             &format!("time within the forcing period (t mod T) and state just before each impact at {stop}"),
         )?;
     }
@@ -762,18 +762,21 @@ fn write_section<'a>(
     g: &Group,
     name: &str,
     columns: &hdf5::Dataset,
-    cells: impl Iterator<Item = Option<&'a [Vec<f64>]>>,
+    cells: impl Iterator<Item = Option<&'a solver::Points>>,
     long_name: &str,
 ) -> hdf5::Result<()> {
     let cols = columns.size();
     let s = g.create_group(name)?;
-    let cells: Vec<&[Vec<f64>]> = cells.map(Option::unwrap_or_default).collect();
+    let cells: Vec<Option<&solver::Points>> = cells.collect();
     let mut offsets = Vec::with_capacity(cells.len() + 1);
     offsets.push(0u64);
-    let mut values: Vec<f64> = Vec::with_capacity(cells.iter().map(|rows| rows.len()).sum::<usize>() * cols);
-    for rows in cells {
-        for r in rows {
-            values.extend_from_slice(r);
+    let mut values: Vec<f64> = Vec::with_capacity(cells.iter().flatten().map(|p| p.values().len()).sum());
+    for points in cells {
+        if let Some(p) = points.filter(|p| !p.is_empty()) {
+            if p.width() != cols {
+                return Err(format!("{name}: points of {} values, {cols} expected", p.width()).as_str().into());
+            }
+            values.extend_from_slice(p.values());
         }
         offsets.push((values.len() / cols) as u64);
     }
@@ -878,8 +881,8 @@ mod tests {
             final_state: vec![i as f64, -(i as f64)],
             periods: 1000 + i as u64,
             events: 2000 + i as u64,
-            period_section: vec![vec![i as f64, 0.5]; i % 3],
-            impact_sections: vec![vec![vec![0.25, i as f64, 1.0]; i % 2]],
+            period_section: solver::Points::from_rows(vec![[i as f64, 0.5]; i % 3]).unwrap(),
+            impact_sections: vec![solver::Points::from_rows(vec![[0.25, i as f64, 1.0]; i % 2]).unwrap()],
             reason: i.is_multiple_of(5).then(|| reason(i)),
             // A quantity a motion could not give (NaN) in every seventh cell.
             quantities: vec![if i.is_multiple_of(7) { f64::NAN } else { i as f64 * 0.25 }, -(i as f64)],
