@@ -718,14 +718,21 @@ impl Mode {
     /// [`Mode::transition`] into `out`, the flow's factors into `f` (both
     /// resized as needed: no allocation once sized for the mode).
     pub fn transition_into(&self, h: f64, f: &mut Vec<C64>, out: &mut DMatrix<f64>) {
+        f.clear();
+        f.resize(self.spectral.terms().len(), C64::new(0.0, 0.0));
+        self.spectral.factors(h, f);
+        self.transition_of(f, out);
+    }
+
+    /// [`Mode::transition`] into `out` from the flow's factors `f` at its
+    /// duration ([`crate::spectral::Spectral::factors`]; those an exact
+    /// advance ended with are the same, bit for bit).
+    pub fn transition_of(&self, f: &[C64], out: &mut DMatrix<f64>) {
         let terms = self.tangent_terms.get_or_init(|| {
             let (l, p) =
                 (self.lift_matrix().map(|v| C64::new(v, 0.0)), self.project_matrix().map(|v| C64::new(v, 0.0)));
             self.spectral.coefficients().iter().map(|c| &l * c * &p).collect()
         });
-        f.clear();
-        f.resize(terms.len(), C64::new(0.0, 0.0));
-        self.spectral.factors(h, f);
         let n = self.basis.nrows() * 2;
         if out.shape() == (n, n) {
             out.fill(0.0);

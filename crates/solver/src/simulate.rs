@@ -328,19 +328,25 @@ struct Saltation {
 
 impl Saltation {
     /// At the event of guard `g` of `mode`, reached at augmented state `state`
-    /// after `time` (the transition written into `flow`, the buffer lent, its
-    /// factors into `f`).
+    /// after `time` (the transition written into `flow`, the buffer lent,
+    /// from the flow's factors at `time`: those `known` from the advance, or
+    /// computed into `f`).
+    #[allow(clippy::too_many_arguments)]
     fn before(
         mode: &Mode,
         g: usize,
         state: &DVector<f64>,
         time: f64,
         mut flow: DMatrix<f64>,
+        known: Option<&[C64]>,
         f: &mut Vec<C64>,
         b: &mut SaltBuffers,
     ) -> Saltation {
         apply(&mode.aug, state, &mut b.field);
-        mode.transition_into(time, f, &mut flow);
+        match known {
+            Some(known) => mode.transition_of(known, &mut flow),
+            None => mode.transition_into(time, f, &mut flow),
+        }
         let (mut f_before, mut grad) = (std::mem::take(&mut b.f_before), std::mem::take(&mut b.grad));
         apply(mode.lift_matrix(), &b.field, &mut f_before);
         let gradient = mode.guard_gradient(g);
@@ -800,7 +806,10 @@ impl<'s> Simulator<'s> {
             match advance {
                 Advance::Horizon => {
                     if let Some(t) = self.tangent.as_mut() {
-                        mode.transition_into(target - self.clock, &mut b.factors, &mut b.flow);
+                        match self.work.factors_at(target - self.clock).filter(|_| self.method == Method::Exact) {
+                            Some(f) => mode.transition_of(f, &mut b.flow),
+                            None => mode.transition_into(target - self.clock, &mut b.factors, &mut b.flow),
+                        }
                         multiply(&b.flow, t, &mut b.product);
                         std::mem::swap(t, &mut b.product);
                     }
@@ -820,6 +829,7 @@ impl<'s> Simulator<'s> {
                     let g = &mode.guards[guard];
                     let (kind, stop) = (g.kind, g.target.index());
                     // Flow to the event, and what the saltation needs from before it.
+                    let known = self.work.factors_at(time).filter(|_| self.method == Method::Exact);
                     let before = self.tangent.is_some().then(|| {
                         Saltation::before(
                             mode,
@@ -827,6 +837,7 @@ impl<'s> Simulator<'s> {
                             &b.end,
                             time,
                             std::mem::take(&mut b.flow),
+                            known,
                             &mut b.factors,
                             &mut b.salt,
                         )

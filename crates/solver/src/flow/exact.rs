@@ -79,6 +79,9 @@ pub struct Workspace {
     start_abs: DVector<f64>,
     high: Vec<C64>,
     high_moduli: Vec<f64>,
+    /// The time (since the start of the last advance) of the factors in `f`:
+    /// where that advance stopped, or the last sample taken ([`Workspace::state_at`]).
+    at: Option<f64>,
 }
 
 impl Workspace {
@@ -91,7 +94,8 @@ impl Workspace {
         let terms = sp.terms();
         let nt = terms.len();
         let ng = mode.guards.len();
-        let Workspace { modal, f, fb, beta, coef, watch, start_abs, high, high_moduli } = self;
+        let Workspace { modal, f, fb, beta, coef, watch, start_abs, high, high_moduli, at } = self;
+        *at = None;
         sp.modal_into(s0.as_slice(), modal);
         f.resize(nt, C64::new(0.0, 0.0));
         fb.resize(nt, 0.0);
@@ -140,7 +144,17 @@ impl Workspace {
     pub fn state_at(&mut self, mode: &Mode, u: f64, out: &mut DVector<f64>) {
         debug_assert_eq!(self.f.len(), mode.spectral.terms().len(), "the last advance was not one of this mode");
         mode.spectral.factors(u, &mut self.f);
+        self.at = Some(u);
         self.modal.state_into(&self.f, out.as_mut_slice());
+    }
+
+    /// The flow's factors at time `u` of the last advance where they are at
+    /// hand: where it stopped (its event's time, or its horizon), unless a
+    /// sample was taken since. Those [`crate::spectral::Spectral::factors`]
+    /// computes, bit for bit (the same exponentials, sines and cosines, in
+    /// the same products).
+    pub fn factors_at(&self, u: f64) -> Option<&[C64]> {
+        (self.at.map(f64::to_bits) == Some(u.to_bits())).then_some(self.f.as_slice())
     }
 }
 
@@ -337,13 +351,14 @@ pub fn advance(
     let terms = sp.terms();
     let nt = terms.len();
     w.prepare(mode, s0, acc);
-    let Workspace { modal, f, fb, beta, coef, watch, high, high_moduli, .. } = w;
-    let event = |modal: &Modal, f: &[C64], out: &mut DVector<f64>, guard: usize, time: f64| {
+    let Workspace { modal, f, fb, beta, coef, watch, high, high_moduli, at, .. } = w;
+    let event = |modal: &Modal, f: &[C64], out: &mut DVector<f64>, at: &mut Option<f64>, guard: usize, time: f64| {
         if time > 0.0 {
             modal.state_into(f, out.as_mut_slice());
         } else {
             out.copy_from(s0);
         }
+        *at = Some(time);
         Advance::Event { guard, time }
     };
 
@@ -385,7 +400,7 @@ pub fn advance(
                         horizon,
                         &mut watch.masked,
                     ) {
-                        return event(modal, f, out, gi, u);
+                        return event(modal, f, out, at, gi, u);
                     }
                     watch.masked - u
                 } else {
@@ -405,7 +420,7 @@ pub fn advance(
                         // Converged onto the root: the event is within event_tol.
                         let t = u + root;
                         sp.factors_and_bounds(t, horizon, f, fb);
-                        return event(modal, f, out, gi, t);
+                        return event(modal, f, out, at, gi, t);
                     }
                     root
                 }
@@ -418,6 +433,7 @@ pub fn advance(
         if !bounded {
             sp.factors_and_bounds(horizon, horizon, f, fb);
             modal.state_into(f, out.as_mut_slice());
+            *at = Some(horizon);
             return Advance::Horizon;
         }
         u += h;
