@@ -59,11 +59,23 @@ pub fn threads(opt: Option<usize>) -> Result<usize> {
 
 /// Bytes one stored cell can take at most.
 fn cell_bytes(meta: &Meta) -> u64 {
-    let (dim, cap, stops, masses) =
-        (meta.dim as u64, meta.section_cap as u64, meta.stops.len() as u64, meta.masses.len() as u64);
-    // struct + labels + final state + sections (period: dim, impacts: 1 + dim per row) + vector headers,
-    // twice over for the journal line and the file being written.
-    2 * (160 + 8 * masses + 8 * dim + cap * 8 * dim + stops * cap * 8 * (dim + 1) + 24 * (cap + stops * cap))
+    let (dim, cap, stops, masses, quantities) = (
+        meta.dim as u64,
+        meta.section_cap as u64,
+        meta.stops.len() as u64,
+        meta.masses.len() as u64,
+        meta.quantities.len() as u64,
+    );
+    let (record, label, points) = (
+        std::mem::size_of::<grid::CellData>() as u64,
+        std::mem::size_of::<solver::Label>() as u64,
+        std::mem::size_of::<solver::Points>() as u64,
+    );
+    // The record + labels + final state + quantities + sections (period: dim
+    // values a point, impacts: 1 + dim; one vector each), twice over for the
+    // journal line and the file being written.
+    let sections = cap * 8 * dim + stops * (points + cap * 8 * (dim + 1));
+    2 * (record + label * masses + 8 * dim + 8 * quantities + sections)
 }
 
 impl Executed {
