@@ -54,7 +54,7 @@ impl CellRecord {
             lyapunov: c.lyapunov,
             max_multiplier: c.multiplier,
             reason: c.reason.as_ref().map(ToString::to_string),
-            reason_detail: c.reason.clone(),
+            reason_detail: c.reason.as_deref().cloned(),
             final_state: c.final_state.clone(),
             period_section: c.period_section.to_rows(),
             quantities: measured.then(|| quantities.iter().map(|q| q.name.clone()).zip(c.quantities.clone()).collect()),

@@ -380,7 +380,7 @@ mod tests {
             events: 0,
             period_section: solver::Points::default(),
             impact_sections: Vec::new(),
-            reason: Some(reason),
+            reason: Some(Box::new(reason)),
             quantities: Vec::new(),
         })
     }

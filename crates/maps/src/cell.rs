@@ -33,8 +33,9 @@ pub struct CellData {
     /// Per stop: `[phase, x…, v…]` before each impact of the window.
     pub impact_sections: ImpactSections,
     /// Why the cell is unresolved (the solver's reason, with its numbers),
-    /// if it is.
-    pub reason: Option<Unresolved>,
+    /// if it is (boxed: few cells have one, and the record of every cell is
+    /// held until its file is written).
+    pub reason: Option<Box<Unresolved>>,
     /// The quantities of its steady motion, one per [`crate::Meta::quantities`]
     /// (NaN where its motion could not be followed); empty when the atlas
     /// measures none.
@@ -65,7 +66,7 @@ impl CellData {
             // States of one length: never refused.
             period_section: Points::from_rows(cell.section.iter().take(section_cap)).unwrap_or_default(),
             impact_sections,
-            reason: cell.reason,
+            reason: cell.reason.map(Box::new),
             quantities,
         }
     }

@@ -110,7 +110,7 @@ impl Serialize for CellData {
             events: self.events,
             period_section: Cow::Borrowed(&self.period_section),
             impact_sections: Cow::Borrowed(&self.impact_sections),
-            reason: self.reason.as_ref().map(Cow::Borrowed),
+            reason: self.reason.as_deref().map(Cow::Borrowed),
             quantities: self.quantities.iter().map(|&v| (!v.is_nan()).then_some(v)).collect(),
         }
         .serialize(s)
@@ -137,7 +137,7 @@ impl<'de> Deserialize<'de> for CellData {
             events: c.events,
             period_section: c.period_section.into_owned(),
             impact_sections: c.impact_sections.into_owned(),
-            reason: c.reason.map(Cow::into_owned),
+            reason: c.reason.map(|r| Box::new(r.into_owned())),
             quantities: c.quantities.iter().map(|v| v.unwrap_or(f64::NAN)).collect(),
         })
     }

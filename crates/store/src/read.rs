@@ -720,7 +720,7 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
             events: events[i],
             period_section: rows(&period, i),
             impact_sections: impacts.iter().map(|s| rows(s, i)).collect(),
-            reason: reason(i),
+            reason: reason(i).map(Box::new),
             quantities: quantities.iter().map(|q| q[i]).collect(),
         })
     }));

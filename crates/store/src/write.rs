@@ -552,7 +552,7 @@ fn write_reasons(g: &Group, cells: &[Option<maps::CellData>], grid: &Grid, z: &D
     let mut table = std::collections::BTreeSet::new();
     let mut numbers = false;
     for (r, e) in reasons {
-        numbers |= !matches!(r, solver::Unresolved::Described { .. });
+        numbers |= !matches!(**r, solver::Unresolved::Described { .. });
         table.insert((r.to_string(), e));
     }
     let index: HashMap<&str, i32> = table.iter().enumerate().map(|(i, (_, e))| (*e, i as i32)).collect();
@@ -883,7 +883,7 @@ mod tests {
             events: 2000 + i as u64,
             period_section: solver::Points::from_rows(vec![[i as f64, 0.5]; i % 3]).unwrap(),
             impact_sections: vec![solver::Points::from_rows(vec![[0.25, i as f64, 1.0]; i % 2]).unwrap()],
-            reason: i.is_multiple_of(5).then(|| reason(i)),
+            reason: i.is_multiple_of(5).then(|| Box::new(reason(i))),
             // A quantity a motion could not give (NaN) in every seventh cell.
             quantities: vec![if i.is_multiple_of(7) { f64::NAN } else { i as f64 * 0.25 }, -(i as f64)],
         }
@@ -1044,8 +1044,8 @@ mod tests {
             let mut atlas = Atlas::new(m.clone());
             let cells = (0..4).map(|i| maps::CellData {
                 reason: match i {
-                    0 => Some(described("an older file's reason (λT = 1.0e-3)")),
-                    2 if numbers => Some(reason(2)),
+                    0 => Some(Box::new(described("an older file's reason (λT = 1.0e-3)"))),
+                    2 if numbers => Some(Box::new(reason(2))),
                     _ => None,
                 },
                 ..cell(i)
