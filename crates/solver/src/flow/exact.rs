@@ -501,6 +501,38 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
 
+        /// The factors an advance ends with, which the tangent's transition
+        /// takes ([`Workspace::factors_at`]), are those
+        /// [`crate::spectral::Spectral::factors`] computes at its end, bit for
+        /// bit, whether it ends at an event (the stop within reach) or at its
+        /// horizon; at any other time, and after a sample, there are none.
+        #[test]
+        fn an_advance_ends_with_the_factors_of_its_end(omega in 0.05f64..5.0, zeta in 0.0f64..0.5,
+                                                       sigma in 0.1f64..3.0, x0 in -1.0f64..1.0, v0 in -1.0f64..1.0,
+                                                       horizon in 0.1f64..20.0) {
+            let mode = free_mode(omega, zeta, sigma);
+            let acc = Accuracy::default();
+            let s0 = mode.project(&DVector::from_vec(vec![x0.min(0.9 * sigma), v0]), 0.3);
+            let (mut w, mut out) = (Workspace::default(), s0.clone());
+            let end = match advance(&mode, &s0, horizon, &acc, &mut w, &mut out) {
+                Advance::Horizon => horizon,
+                Advance::Event { time, .. } => time,
+                other => return Err(TestCaseError::fail(format!("{other:?}"))),
+            };
+            let mut f = vec![C64::new(0.0, 0.0); mode.spectral.terms().len()];
+            mode.spectral.factors(end, &mut f);
+            let kept = w.factors_at(end).expect("the factors of the advance's end");
+            let bits = |f: &[C64]| f.iter().flat_map(|c| [c.re.to_bits(), c.im.to_bits()]).collect::<Vec<_>>();
+            prop_assert_eq!(bits(kept), bits(&f));
+            prop_assert!(w.factors_at(0.5 * end).is_none() || end == 0.0);
+            w.state_at(&mode, 0.5 * end, &mut out);
+            prop_assert!(w.factors_at(end).is_none() || end == 0.0);
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
         /// Grazing: the stop is put a hair `ε` (1e-10 to 1e-3) below the
         /// highest point the free motion reaches within the horizon, found by
         /// dense sampling of the closed form (1e-5 apart) refined by golden
