@@ -116,10 +116,13 @@ pub struct ImpactRecorder {
 }
 
 impl ImpactRecorder {
-    /// A recorder for `stops` stops of a system with forcing period `period`
-    /// and full states of `dim` values.
-    pub fn new(stops: usize, period: f64, cap: usize, dim: usize) -> Self {
-        ImpactRecorder { period, cap, rows: vec![Points::new(dim + 1); stops] }
+    /// A recorder for a system with forcing period `period` and full states
+    /// of `dim` values, whose stops will see `impacts` impacts each: room for
+    /// as many points as each will keep, so that the sections are kept as
+    /// they are.
+    pub fn new(period: f64, cap: usize, dim: usize, impacts: &[u32]) -> Self {
+        let room = |n: u32| Points { width: dim + 1, values: Vec::with_capacity(cap.min(n as usize) * (dim + 1)) };
+        ImpactRecorder { period, cap, rows: impacts.iter().map(|&n| room(n)).collect() }
     }
 }
 
@@ -149,11 +152,7 @@ pub(crate) fn record_window(
     also: &mut dyn EventObserver,
 ) -> (Vec<Points>, Option<usize>) {
     let sys = sim.system();
-    let mut rec = ImpactRecorder::new(sys.stops.len(), sys.period, cap, start.len());
-    // As many points as each stop will get: the sections are kept as they are.
-    for (r, &n) in rec.rows.iter_mut().zip(impacts) {
-        r.values.reserve_exact(cap.min(n as usize) * r.width);
-    }
+    let mut rec = ImpactRecorder::new(sys.period, cap, start.len(), impacts);
     if periods == 0 || sim.restart(start).is_err() {
         return (rec.rows, None);
     }

@@ -327,26 +327,10 @@ struct Saltation {
 }
 
 impl Saltation {
-    /// At the event of guard `g` of `mode`, reached at augmented state `state`
-    /// after `time` (the transition written into `flow`, the buffer lent,
-    /// from the flow's factors at `time`: those `known` from the advance, or
-    /// computed into `f`).
-    #[allow(clippy::too_many_arguments)]
-    fn before(
-        mode: &Mode,
-        g: usize,
-        state: &DVector<f64>,
-        time: f64,
-        mut flow: DMatrix<f64>,
-        known: Option<&[C64]>,
-        f: &mut Vec<C64>,
-        b: &mut SaltBuffers,
-    ) -> Saltation {
+    /// At the event of guard `g` of `mode`, reached at augmented state
+    /// `state`, with the flow's transition to it in `flow` (the buffer lent).
+    fn before(mode: &Mode, g: usize, state: &DVector<f64>, flow: DMatrix<f64>, b: &mut SaltBuffers) -> Saltation {
         apply(&mode.aug, state, &mut b.field);
-        match known {
-            Some(known) => mode.transition_of(known, &mut flow),
-            None => mode.transition_into(time, f, &mut flow),
-        }
         let (mut f_before, mut grad) = (std::mem::take(&mut b.f_before), std::mem::take(&mut b.grad));
         apply(mode.lift_matrix(), &b.field, &mut f_before);
         let gradient = mode.guard_gradient(g);
@@ -355,6 +339,16 @@ impl Saltation {
         }
         grad.copy_from(gradient);
         Saltation { flow, f_before, grad, rate: mode.guards[g].row.dot(&b.field) }
+    }
+}
+
+/// The transition of `mode`'s flow over a segment of duration `h` just
+/// flown, into `flow`: from the factors its exact advance ended with, kept
+/// in `work`, else computed into `f` (the same numbers, bit for bit).
+fn transition(mode: &Mode, work: &Workspace, h: f64, f: &mut Vec<C64>, flow: &mut DMatrix<f64>) {
+    match work.factors_at(h) {
+        Some(kept) => mode.transition_of(kept, flow),
+        None => mode.transition_into(h, f, flow),
     }
 }
 
@@ -806,10 +800,7 @@ impl<'s> Simulator<'s> {
             match advance {
                 Advance::Horizon => {
                     if let Some(t) = self.tangent.as_mut() {
-                        match self.work.factors_at(target - self.clock).filter(|_| self.method == Method::Exact) {
-                            Some(f) => mode.transition_of(f, &mut b.flow),
-                            None => mode.transition_into(target - self.clock, &mut b.factors, &mut b.flow),
-                        }
+                        transition(mode, &self.work, target - self.clock, &mut b.factors, &mut b.flow);
                         multiply(&b.flow, t, &mut b.product);
                         std::mem::swap(t, &mut b.product);
                     }
@@ -829,18 +820,10 @@ impl<'s> Simulator<'s> {
                     let g = &mode.guards[guard];
                     let (kind, stop) = (g.kind, g.target.index());
                     // Flow to the event, and what the saltation needs from before it.
-                    let known = self.work.factors_at(time).filter(|_| self.method == Method::Exact);
                     let before = self.tangent.is_some().then(|| {
-                        Saltation::before(
-                            mode,
-                            guard,
-                            &b.end,
-                            time,
-                            std::mem::take(&mut b.flow),
-                            known,
-                            &mut b.factors,
-                            &mut b.salt,
-                        )
+                        let mut flow = std::mem::take(&mut b.flow);
+                        transition(mode, &self.work, time, &mut b.factors, &mut flow);
+                        Saltation::before(mode, guard, &b.end, flow, &mut b.salt)
                     });
                     mode.lift_into(&b.end, &mut self.y);
                     self.clock = (self.clock + time).min(target);

@@ -150,7 +150,8 @@ impl Workspace {
 
     /// The flow's factors at time `u` of the last advance where they are at
     /// hand: where it stopped (its event's time, or its horizon), unless a
-    /// sample was taken since. Those [`crate::spectral::Spectral::factors`]
+    /// sample was taken since (none for a simulation by RK4, which never
+    /// advances here). Those [`crate::spectral::Spectral::factors`]
     /// computes, bit for bit (the same exponentials, sines and cosines, in
     /// the same products).
     pub fn factors_at(&self, u: f64) -> Option<&[C64]> {
