@@ -7,7 +7,7 @@
 # layout, inlining and branches change (`--check` compares atlases of every
 # shipped scene written by both). About 10 % faster on the README's main job;
 # the cost is two more builds (12 min from scratch on two cores, with
-# the training run), done again when the sources change
+# the training run), done again when the sources or the commit change
 # (docs/performance.md, "A faster build").
 #
 #   scripts/build-pgo.sh           build if needed; prints the binary's path
@@ -49,7 +49,7 @@ fi
 
 dir=$ROOT/target/pgo
 mkdir -p "$dir"
-# One build at a time (two scripts/run.sh-like callers would train into one folder).
+# One build at a time: two at once would train into one folder.
 exec 9>"$dir/.lock"
 flock 9
 
@@ -88,7 +88,11 @@ profile=$dir/profile-$sum.profdata
 say "building the optimised binary (target/pgo/use, profile pgo)"
 CARGO_TARGET_DIR=$dir/use RUSTFLAGS="-Cprofile-use=$profile" \
     cargo build --profile pgo --bin vibroatlas --quiet
-cmp -s "$dir/use/pgo/vibroatlas" "$dir/vibroatlas" || cp "$dir/use/pgo/vibroatlas" "$dir/vibroatlas"
+# Replaced by a rename, so that a run of the previous binary goes on undisturbed.
+if ! cmp -s "$dir/use/pgo/vibroatlas" "$dir/vibroatlas"; then
+    cp "$dir/use/pgo/vibroatlas" "$dir/vibroatlas.new"
+    mv "$dir/vibroatlas.new" "$dir/vibroatlas"
+fi
 
 if [ $check -eq 1 ]; then
     # The same files as the release binary's, dataset by dataset, on every shipped scene.
