@@ -14,7 +14,7 @@
 #   scripts/build-pgo.sh --check   also build target/release/vibroatlas and compare
 #
 # Needs rustc's own llvm-profdata (rustup's llvm-tools component, added here
-# when missing). The training run is small planes of every shipped scene,
+# when missing; exit status 3 when it cannot be had). The training run is small planes of every shipped scene,
 # not the main job whose time is reported.
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -39,12 +39,14 @@ profdata() {
     host=$(rustc -vV | sed -n 's/^host: //p')
     echo "$(rustc --print sysroot)/lib/rustlib/$host/bin/llvm-profdata"
 }
+# Without it: exit status 3, so that a caller can tell a missing tool from a failure.
+no_tool() { echo "$NAME: FAIL: $*" >&2; exit 3; }
 tool=$(profdata)
 if [ ! -x "$tool" ]; then
-    command -v rustup >/dev/null 2>&1 || die "llvm-profdata not found at $tool and no rustup to add the llvm-tools component"
+    command -v rustup >/dev/null 2>&1 || no_tool "llvm-profdata not found at $tool and no rustup to add the llvm-tools component"
     say "adding rustup's llvm-tools component (llvm-profdata)"
-    rustup component add llvm-tools >&2
-    [ -x "$tool" ] || die "llvm-profdata still not found at $tool"
+    rustup component add llvm-tools >&2 || no_tool "rustup could not add the llvm-tools component"
+    [ -x "$tool" ] || no_tool "llvm-profdata still not found at $tool"
 fi
 
 dir=$ROOT/target/pgo
