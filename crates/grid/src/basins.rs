@@ -91,7 +91,7 @@ struct Early {
     /// Per orbit, the index of its attractor among those found.
     attractor: Vec<usize>,
     /// Per orbit, its period-section points.
-    orbits: Vec<Vec<Vec<f64>>>,
+    orbits: Vec<solver::Points>,
     /// Relative distance of [`solver::proximity::reaches`].
     tol: f64,
     /// Periods followed before the start runs its full record instead.
@@ -110,11 +110,11 @@ impl Early {
     fn of(found: &[Attractor], setup: &CellSetup, mean: u64) -> Option<Early> {
         let stable =
             |a: &&Attractor| a.cell.class == solver::Class::Periodic && a.cell.multiplier.is_some_and(|m| m < 1.0);
-        let (attractor, orbits): (Vec<usize>, Vec<Vec<Vec<f64>>>) = found
+        let (attractor, orbits): (Vec<usize>, Vec<solver::Points>) = found
             .iter()
             .enumerate()
             .filter(|(_, a)| stable(a))
-            .map(|(k, a)| (k, a.cell.period_section.to_rows()))
+            .map(|(k, a)| (k, a.cell.period_section.clone()))
             .unzip();
         if orbits.is_empty() {
             return None;

@@ -10,7 +10,7 @@
 //! within `tol (1 + |y|)` (max norm) of one of that orbit's points. Only
 //! stable orbits are given: a motion that close to one stays with it.
 
-use crate::{Accuracy, Ignore, Method, Simulator, System};
+use crate::{Accuracy, Ignore, Method, Points, Simulator, System};
 
 /// What following a motion toward known orbits found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,7 +35,7 @@ pub fn reaches(
     acc: &Accuracy,
     method: Method,
     y0: &[f64],
-    orbits: &[Vec<Vec<f64>>],
+    orbits: &[Points],
     tol: f64,
     budget: u64,
 ) -> Proximity {
@@ -92,7 +92,8 @@ mod tests {
                 on.push(sim.state().as_slice().to_vec());
             }
         }
-        let far = vec![vec![50.0, 50.0]];
+        let far = Points::from_rows([[50.0, 50.0]]).unwrap();
+        let on = Points::from_rows(on).unwrap();
         let found = reaches(&sys, &acc, Method::Exact, &[0.3, 0.0], &[far.clone(), on], 1e-6, 600);
         let Proximity::Reached { orbit, periods } = found else { panic!("{found:?}") };
         assert_eq!(orbit, 1);
