@@ -37,11 +37,22 @@ fn principal_plane<'a>(points: impl Iterator<Item = &'a DVector<f64>> + Clone) -
     if n < 2 {
         return None;
     }
-    let mean = points.clone().fold(DVector::zeros(dim), |a, p| a + p) / n as f64;
+    // In place, the same sums term by term as `a + p` and `cov += d dᵀ`.
+    let mut mean = points.clone().fold(DVector::zeros(dim), |mut a, p| {
+        a += p;
+        a
+    });
+    mean /= n as f64;
     let mut cov = DMatrix::zeros(dim, dim);
+    let mut d = DVector::zeros(dim);
     for p in points.clone() {
-        let d = p - &mean;
-        cov += &d * d.transpose();
+        d.copy_from(p);
+        d -= &mean;
+        for j in 0..dim {
+            for i in 0..dim {
+                cov[(i, j)] += d[i] * d[j];
+            }
+        }
     }
     let eig = nalgebra::SymmetricEigen::new(cov / n as f64);
     let mut order: Vec<usize> = (0..dim).collect();
@@ -54,7 +65,8 @@ fn principal_plane<'a>(points: impl Iterator<Item = &'a DVector<f64>> + Clone) -
     Some(
         points
             .map(|p| {
-                let d = p - &mean;
+                d.copy_from(p);
+                d -= &mean;
                 (d.dot(&e1) / s1, d.dot(&e2) / s2)
             })
             .collect(),

@@ -719,7 +719,9 @@ impl<'s> Executor<'s> {
         while (self.sim.periods() as usize) < limit.max(wait_until) {
             let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
             if self.hist.len() == history_len(acc) {
-                self.hist.pop_front();
+                if let Some(old) = self.hist.pop_front() {
+                    self.sim.recycle(old);
+                }
             }
             self.trail.push(&rec.end);
             self.hist.push_back(rec);
@@ -1455,7 +1457,9 @@ impl<'s> Executor<'s> {
             if ran == 0 && probe.restart(&cell.window_start).is_err() {
                 return None;
             }
-            (ran..measured).try_for_each(|_| probe.run_period(&[], false, &mut meter).map(drop)).ok()?;
+            (ran..measured)
+                .try_for_each(|_| probe.run_period(&[], false, &mut meter).map(|r| probe.recycle(r)))
+                .ok()?;
             Some(meter.finish(measured))
         });
         (sections, quantities)

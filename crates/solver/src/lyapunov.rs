@@ -9,7 +9,7 @@
 //! own uncertainty ([`Exponent::interval`]), so that a motion is called chaotic
 //! only when its exponent is positive beyond it.
 
-use crate::simulate::{Halt, Ignore, Simulator};
+use crate::simulate::{apply, Halt, Ignore, Simulator};
 use nalgebra::DVector;
 
 /// Blocks the measured periods are split into for the exponent's uncertainty.
@@ -52,6 +52,8 @@ pub struct Exponent {
     growth: Vec<f64>,
     /// The tangent vector after the last period (unit length).
     v: DVector<f64>,
+    /// The tangent vector's image over the period being measured (its buffer).
+    w: DVector<f64>,
     /// The forcing period `T`.
     period: f64,
     /// Periods of alignment before the measured ones (counted in the time
@@ -97,6 +99,7 @@ impl Exponent {
         let mut e = Exponent {
             growth: Vec::with_capacity(periods),
             v: DVector::from_element(dim, 1.0 / (dim as f64).sqrt()),
+            w: DVector::zeros(dim),
             period: sim.period(),
             warmup,
             points: Vec::with_capacity(periods),
@@ -122,9 +125,10 @@ impl Exponent {
     /// One forcing period of the tangent: its growth.
     fn step(&mut self, sim: &mut Simulator<'_>) -> Result<f64, Halt> {
         sim.reset_tangent();
-        sim.run_period(&[], false, &mut Ignore)?;
-        let w: DVector<f64> = sim.tangent().ok_or(Halt::Stalled)? * &self.v;
-        let norm = w.norm();
+        let rec = sim.run_period(&[], false, &mut Ignore)?;
+        sim.recycle(rec);
+        apply(sim.tangent().ok_or(Halt::Stalled)?, &self.v, &mut self.w);
+        let norm = self.w.norm();
         if !norm.is_finite() {
             return Err(Halt::Stalled);
         }
@@ -135,7 +139,8 @@ impl Exponent {
             // double shows, the vector kept for the next period.
             return Ok(ERASED);
         }
-        self.v = w / norm;
+        std::mem::swap(&mut self.v, &mut self.w);
+        self.v /= norm;
         Ok(norm.ln())
     }
 
@@ -211,7 +216,7 @@ mod tests {
     use super::*;
 
     fn estimate(growth: Vec<f64>) -> Exponent {
-        Exponent { points: Vec::new(), v: DVector::zeros(2), period: 2.0, warmup: 10, growth }
+        Exponent { points: Vec::new(), v: DVector::zeros(2), w: DVector::zeros(2), period: 2.0, warmup: 10, growth }
     }
 
     /// A reproducible noise, uniform in [-1, 1) (SplitMix64 of `k`).

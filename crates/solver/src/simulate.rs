@@ -309,7 +309,7 @@ fn multiply(a: &DMatrix<f64>, b: &DMatrix<f64>, out: &mut DMatrix<f64>) {
 }
 
 /// `out = a v` in `out`'s storage, bit for bit `a * v` (the same `gemm`).
-fn apply(a: &DMatrix<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+pub(crate) fn apply(a: &DMatrix<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
     if out.len() != a.nrows() {
         *out = DVector::zeros(a.nrows());
     }
@@ -403,6 +403,9 @@ pub struct Simulator<'s> {
     buffers: Buffers,
     /// Tangent map `∂y(t)/∂y(0)` since the last restart, when tracked.
     tangent: Option<DMatrix<f64>>,
+    /// A record its owner is done with ([`Simulator::recycle`]), whose
+    /// buffers the next period's record reuses.
+    spare: Option<PeriodRecord>,
 }
 
 impl<'s> Simulator<'s> {
@@ -426,6 +429,7 @@ impl<'s> Simulator<'s> {
             applied: Vec::new(),
             buffers: Buffers::default(),
             tangent: None,
+            spare: None,
         };
         sim.restart(y0)?;
         Ok(sim)
@@ -448,12 +452,35 @@ impl<'s> Simulator<'s> {
 
     /// A copy sharing nothing but the built modes, with zeroed counters (for
     /// Newton probes; their budget is set with [`Simulator::set_budget`]).
+    /// Its scratch buffers start empty, as a new simulation's do: each is
+    /// sized where it is used and holds nothing from one event to the next.
     pub(crate) fn probe(&self) -> Self {
-        let mut p = self.clone();
-        p.periods = 0;
-        p.events = 0;
-        p.step_work = 0;
-        p
+        Simulator {
+            sys: self.sys,
+            acc: self.acc,
+            method: self.method,
+            cache: self.cache.clone(),
+            work: Workspace::default(),
+            chatter: self.chatter.clone(),
+            y: self.y.clone(),
+            key: self.key,
+            clock: self.clock,
+            periods: 0,
+            events: 0,
+            step_work: 0,
+            budget: self.budget,
+            zero_steps: self.zero_steps,
+            applied: Vec::new(),
+            buffers: Buffers::default(),
+            tangent: self.tangent.clone(),
+            spare: None,
+        }
+    }
+
+    /// Takes back a period's record that its owner is done with: the next
+    /// period's record reuses its buffers (no allocation per period).
+    pub(crate) fn recycle(&mut self, rec: PeriodRecord) {
+        self.spare = Some(rec);
     }
 
     /// Sets the budget, in thousandths of an event: the simulation halts once
@@ -695,13 +722,20 @@ impl<'s> Simulator<'s> {
         self.end_period(rec, obs)
     }
 
-    /// The record of a period starting now.
-    fn new_record(&self) -> PeriodRecord {
+    /// The record of a period starting now (in a recycled record's buffers
+    /// where there is one; its end state is written by `end_period`).
+    fn new_record(&mut self) -> PeriodRecord {
+        let (mut impacts, end) = match self.spare.take() {
+            Some(spare) => (spare.impacts, spare.end),
+            None => (Vec::new(), DVector::zeros(0)),
+        };
+        impacts.clear();
+        impacts.resize(self.sys.stops.len(), 0);
         PeriodRecord {
-            impacts: vec![0; self.sys.stops.len()],
+            impacts,
             held: self.key.held | self.key.pressed | self.key.parting,
             stuck: self.key.stuck,
-            end: DVector::zeros(0),
+            end,
             end_key: Key::FREE,
             // The count at the period's start, made the period's own by `end_period`.
             events: self.events,
@@ -721,7 +755,11 @@ impl<'s> Simulator<'s> {
         }
         self.clock = 0.0;
         self.periods += 1;
-        rec.end = self.y.clone();
+        if rec.end.len() == self.y.len() {
+            rec.end.copy_from(&self.y);
+        } else {
+            rec.end = self.y.clone();
+        }
         rec.end_key = self.key;
         rec.events = self.events - rec.events;
         obs.sample(self.time(), &self.y);
@@ -936,7 +974,12 @@ impl<'s> Simulator<'s> {
                     .extend((0..sys.stops.len()).filter(|&k| {
                         k == stop || (sys.stops[k].law.impacts() && touching(sys, &self.acc, k, &self.y))
                     }));
-                b.before.clone_from(&self.y);
+                // In place (nalgebra's `clone_from` is a new clone).
+                if b.before.len() == self.y.len() {
+                    b.before.copy_from(&self.y);
+                } else {
+                    b.before = self.y.clone();
+                }
                 // The event judged this stop's normal rate zero or closing: a rate
                 // below the stick velocity, of either sign, is a plastic contact.
                 if sys.gap_rate(stop, &self.y) >= -self.acc.stick_velocity {

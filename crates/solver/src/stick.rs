@@ -21,11 +21,14 @@ use crate::flow::{classify_start, derivatives, guard_start, start_tolerances, ti
 use crate::mode::{Guard, GuardKind, Key, Mode};
 use crate::system::System;
 use nalgebra::DVector;
+use std::sync::Arc;
 
 /// Lazily built modes of one system, keyed by held stops and friction states.
+/// A mode never changes once built: a copy of the cache (a probe's) shares
+/// them.
 #[derive(Debug, Clone, Default)]
 pub struct ModeCache {
-    modes: Vec<(Key, Option<Mode>)>,
+    modes: Vec<(Key, Option<Arc<Mode>>)>,
 }
 
 impl ModeCache {
@@ -34,11 +37,11 @@ impl ModeCache {
         let i = match self.modes.iter().position(|(k, _)| *k == key) {
             Some(i) => i,
             None => {
-                self.modes.push((key, Mode::new(sys, key)?));
+                self.modes.push((key, Mode::new(sys, key)?.map(Arc::new)));
                 self.modes.len() - 1
             }
         };
-        Ok(self.modes[i].1.as_ref())
+        Ok(self.modes[i].1.as_deref())
     }
 }
 
