@@ -21,7 +21,14 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 cd "$ROOT"
 NAME=build-pgo
 say() { echo "$NAME: $*" >&2; }
-die() { echo "$NAME: FAIL: $*" >&2; exit 1; }
+# fail STATUS MESSAGE: the message, and the exit status (3: a missing tool, 1: any other failure).
+fail() {
+    local status=$1
+    shift
+    echo "$NAME: FAIL: $*" >&2
+    exit "$status"
+}
+die() { fail 1 "$@"; }
 
 check=0
 case "${1:-}" in
@@ -40,7 +47,7 @@ profdata() {
     echo "$(rustc --print sysroot)/lib/rustlib/$host/bin/llvm-profdata"
 }
 # Without it: exit status 3, so that a caller can tell a missing tool from a failure.
-no_tool() { echo "$NAME: FAIL: $*" >&2; exit 3; }
+no_tool() { fail 3 "$@"; }
 tool=$(profdata)
 if [ ! -x "$tool" ]; then
     command -v rustup >/dev/null 2>&1 || no_tool "llvm-profdata not found at $tool and no rustup to add the llvm-tools component"
