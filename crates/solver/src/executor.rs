@@ -72,7 +72,7 @@ use crate::error::SolverError;
 use crate::floquet::{multipliers, spectral_radius};
 use crate::flow::Method;
 use crate::label::{label_masses, Class, Label, Mask, MassLabel, Symmetry};
-use crate::lyapunov::{polynomial_growth, Exponent, Interval};
+use crate::lyapunov::{polynomial_growth, Exponent, Interval, Stretch};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
 use crate::section::record_window;
@@ -253,6 +253,11 @@ pub enum Unresolved {
         /// false.
         #[serde(default, skip_serializing_if = "std::ops::Not::not")]
         lossless: bool,
+        /// In a scene that dissipates nothing, the stretch of the
+        /// measurement over which the tangent grew faster than a regular
+        /// motion's may (see `Exponent::excess`); absent elsewhere.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        excess: Option<Box<Stretch>>,
     },
     /// No period; the exponent's interval is above 0, but the tangent's
     /// growth is not shown to be exponential (see `Exponent::diverges`):
@@ -269,6 +274,9 @@ pub enum Unresolved {
         /// As for [`Unresolved::Undecided`].
         #[serde(default, with = "crate::number::optional")]
         gain: Option<f64>,
+        /// As for [`Unresolved::Undecided`].
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        excess: Option<Box<Stretch>>,
     },
     /// No period, and the run that measures the exponent halted.
     NoExponent {
@@ -372,15 +380,16 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
             ),
-            Unresolved::Undecided { growth, rotation, gain, lossless } => {
+            Unresolved::Undecided { growth, rotation, gain, lossless, excess } => {
                 write!(
                     f,
                     "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, no stable orbit was found near its section points, ",
                     growth.mean, growth.half_width, growth.periods
                 )?;
-                not_a_torus(f, rotation.as_ref(), *gain, *lossless)
+                not_a_torus(f, rotation.as_ref(), *gain, *lossless)?;
+                faster_than_regular(f, excess.as_deref())
             }
-            Unresolved::Polynomial { growth, late, rotation, gain } => {
+            Unresolved::Polynomial { growth, late, rotation, gain, excess } => {
                 let (k, half) = (growth.periods, late.periods);
                 write!(
                     f,
@@ -394,7 +403,8 @@ impl std::fmt::Display for Unresolved {
                     polynomial_growth(LYAPUNOV_WARMUP, 0, k),
                     polynomial_growth(LYAPUNOV_WARMUP, k - half, k),
                 )?;
-                not_a_torus(f, rotation.as_ref(), *gain, false)
+                not_a_torus(f, rotation.as_ref(), *gain, false)?;
+                faster_than_regular(f, excess.as_deref())
             }
             Unresolved::LongPeriod { n, n_max } => write!(
                 f,
@@ -429,6 +439,19 @@ impl std::fmt::Display for Unresolved {
             }
             Unresolved::Described { text } => f.write_str(text),
         }
+    }
+}
+
+/// In a scene that dissipates nothing, the test of a regular motion that
+/// failed, with its numbers (see [`Exponent::excess`]), ending a reason.
+fn faster_than_regular(f: &mut std::fmt::Formatter<'_>, excess: Option<&Stretch>) -> std::fmt::Result {
+    match excess {
+        Some(s) => write!(
+            f,
+            "; nor is it regular, as a motion of a scene that dissipates nothing is where its tangent grows no faster than a polynomial: the tangent grew by {:.2} over the last {} periods, more than such growth gives ({:.2})",
+            s.growth, s.periods, s.bound
+        ),
+        None => Ok(()),
     }
 }
 
@@ -945,7 +968,9 @@ impl<'s> Executor<'s> {
     /// record is a transient longer than the record, unless its points lie
     /// on a torus (then measured on); the other is
     /// quasi-periodic when its section points lie on a torus
-    /// ([`on_torus`]), whatever the sign of its finite-time exponent, and
+    /// ([`on_torus`]), whatever the sign of its finite-time exponent, or, in
+    /// a scene that dissipates nothing, when its tangent grew no faster than
+    /// a polynomial ([`Exponent::polynomial`]: a torus of any dimension), and
     /// unresolved otherwise, with the test that failed.
     fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
         let mut doublings = 0;
@@ -1039,21 +1064,37 @@ impl<'s> Executor<'s> {
                 }
                 // Locked without an orbit near, not on islands, and shown to
                 // expand (the exponent's interval above 0): chaos in q bands,
-                // unless regular so far in a scene that dissipates nothing.
-                // An interval about 0 is measured on: a torus's rotation
-                // number may lie within its error of a fraction of large q
-                // (p/792 over 1 600 points) until more points tell.
-                if locked.is_some() && growth.low() > 0.0 && !regular {
+                // unless regular so far in a scene that dissipates nothing
+                // (its rotation number converged as a torus's does, or its
+                // tangent grew no faster than a polynomial: measured on, see
+                // below). An interval about 0 is measured on: a torus's
+                // rotation number may lie within its error of a fraction of
+                // large q (p/792 over 1 600 points) until more points tell.
+                if locked.is_some() && growth.low() > 0.0 && !regular && !(lossless && e.polynomial()) {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
                 if limit == first {
                     // Still undecided: a torus still being reached, most often.
                     limit += UNDECIDED_DOUBLINGS;
+                } else if lossless && e.polynomial() {
+                    // In a scene that dissipates nothing, a motion whose
+                    // tangent grew no faster than a polynomial over the
+                    // whole measurement, its last half and its last quarter
+                    // is regular, on a torus whatever its dimension: two
+                    // oscillators without losses cross the period section
+                    // on surfaces, which no closed curve or rotation number
+                    // about a centroid tells (the multi-stop with ζ = 0,
+                    // R = 1: over 6 400 periods the tangent gains 0.57 to
+                    // 0.89 over the last half, a linear growth's ln 2, and
+                    // over 64 000 periods 2 ln 2 / 64 000 per period in the
+                    // last half still).
+                    return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 } else {
+                    let excess = if lossless { e.excess().map(Box::new) } else { None };
                     let why = if growth.low() > 0.0 {
-                        Unresolved::Polynomial { growth, late: e.late(), rotation, gain }
+                        Unresolved::Polynomial { growth, late: e.late(), rotation, gain, excess }
                     } else {
-                        Unresolved::Undecided { growth, rotation, gain, lossless }
+                        Unresolved::Undecided { growth, rotation, gain, lossless, excess }
                     };
                     return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
                 }
@@ -1677,6 +1718,43 @@ mod tests {
         }
     }
 
+    /// Issue 62: two oscillators without losses (the multi-stop with ζ = 0,
+    /// R = 1) cross the period section on a surface, not a closed curve: at
+    /// ω = 2.21795, δ = 0.31897 (the state its plane's up sweep reached) the
+    /// rotation number about the points' centroid does not converge, and the
+    /// cell was `U`. Its tangent grows like `t`, as on a torus, over ten
+    /// times the record too (64 000 periods: the last half gains within the
+    /// bound a polynomial growth may, not the λT K / 2 of chaos), so it is
+    /// regular, `Q`. At ω = 2.06667 the tangent grew by 5.3 over the last
+    /// half of 6 400 periods, more than a polynomial's 1.38: still `U`, and
+    /// its reason says so.
+    #[test]
+    fn oscillators_without_losses_on_a_surface_are_regular() {
+        let acc = Accuracy::default();
+        let lossless = |omega: f64| {
+            system(
+                "multi-stop.toml",
+                &[("omega", omega), ("delta", 0.318_965_517_241_379_3), ("zeta", 0.0), ("R", 1.0)],
+            )
+        };
+        let sys = lossless(2.217_948_717_948_718);
+        let y0 = [4.133_800_177_859_529, 8.068_707_706_313_148, -2.995_704_784_160_984, 4.237_476_540_288_178];
+        let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        let mut sim = crate::Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+        let e = Exponent::measure(&mut sim, LYAPUNOV_WARMUP, 64_000).unwrap();
+        assert!(e.polynomial() && !e.diverges(), "{:?} {:?}", e.excess(), e.late());
+        let sys = lossless(2.066_666_666_666_666_4);
+        let y0 = [5.002_929_431_748_071, 7.959_924_521_233_127, -0.968_416_140_485_369_7, -5.158_590_540_020_946];
+        let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        let why = cell.reason.map(|r| r.to_string()).unwrap_or_default();
+        assert_eq!(cell.class, Class::Unresolved, "{why}");
+        assert!(
+            why.contains("the tangent grew by 5.28 over the last 3200 periods, more than such growth gives (1.38)"),
+            "{why}"
+        );
+    }
+
     /// Issue 62: the impact damper's free mass drifting at 5e-6 inside its
     /// cavity (δ = 2, the primary's steady amplitude 0.78) has no event in
     /// its whole budget, and would need 84 000 more periods to meet a wall,
@@ -2212,7 +2290,8 @@ mod tests {
             .starts_with("no period within the record, and the motion still contracts (λT = -5.000e-1)"));
         let growth = Interval { mean: 5.2e-3, half_width: 9.0e-3, periods: 1600 };
         let rotation = Some(Rotation { turns: 0.25, error: 3e-4, points: 1600 });
-        let why = Unresolved::Undecided { growth, rotation, gain: Some(0.5), lossless: false }.to_string();
+        let why =
+            Unresolved::Undecided { growth, rotation, gain: Some(0.5), lossless: false, excess: None }.to_string();
         assert!(why.contains("(λT = 5.200e-3 ± 9.0e-3, 95 % over 1600 periods)"), "{why}");
         // Each reason names the test of a torus that failed, with its numbers.
         assert!(
@@ -2224,6 +2303,7 @@ mod tests {
             rotation: Some(Rotation { turns, error: 2e-6, points: 1600 }),
             gain,
             lossless,
+            excess: None,
         };
         let why = turns(0.381_966_011, Some(2.5), false).to_string();
         assert!(why.contains("lie on no closed curve of up to 8 loops"), "{why}");
@@ -2247,11 +2327,20 @@ mod tests {
             ),
             "{why}"
         );
-        let why = Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false }.to_string();
+        let why =
+            Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false, excess: None }.to_string();
         assert!(why.ends_with("have no rotation number (too few, or on a line): not on one closed curve"), "{why}");
+        // In a scene that dissipates nothing, the tangent's growth against a regular motion's too.
+        let excess = Some(Box::new(Stretch { periods: 3200, growth: 2.5, bound: 1.3841 }));
+        let why = Unresolved::Undecided { growth, rotation: None, gain: None, lossless: true, excess }.to_string();
+        assert!(why.contains("not on one closed curve; nor is it regular"), "{why}");
+        assert!(
+            why.ends_with("the tangent grew by 2.50 over the last 3200 periods, more than such growth gives (1.38)"),
+            "{why}"
+        );
         // A positive exponent not shown to be chaos: its growth against a polynomial's.
         let late = Interval { mean: 1e-3, half_width: 5e-4, periods: 800 };
-        let why = Unresolved::Polynomial { growth, late, rotation: None, gain: None }.to_string();
+        let why = Unresolved::Polynomial { growth, late, rotation: None, gain: None, excess: None }.to_string();
         assert!(why.contains("is above 0, but its growth is not shown to be exponential"), "{why}");
         // At least 0.40 = 800 × 5e-4 over the last half, against 2 ln(1610/810) = 1.37.
         assert!(why.contains("-6.08 over the 1600 periods and 0.40 over the last 800"), "{why}");

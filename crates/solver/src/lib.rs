@@ -91,7 +91,7 @@ pub use executor::{run_cell, run_cell_measured, run_cell_with_sections, CellResu
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
 pub use label::{Class, Count, Label, Mask, MassLabel, Symmetry};
-pub use lyapunov::{Exponent, Interval};
+pub use lyapunov::{Exponent, Interval, Stretch};
 /// Matrix type of Jacobians and monodromy matrices.
 pub use nalgebra::DMatrix;
 /// Column vector type of states passed to observers.

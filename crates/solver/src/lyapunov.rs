@@ -186,6 +186,48 @@ impl Exponent {
     pub fn late(&self) -> Interval {
         interval_of(&self.growth[self.growth.len() / 2..])
     }
+
+    /// Whether the tangent grew no faster than a polynomial `t^d` could
+    /// over the whole measurement, its last half and its last quarter (at
+    /// least 20 periods; see [`Exponent::excess`]): a regular motion's
+    /// growth, however long it is measured.
+    pub fn polynomial(&self) -> bool {
+        self.growth.len() >= 2 * BLOCKS && self.excess().is_none()
+    }
+
+    /// The first of the whole measurement, its last half and its last
+    /// quarter over which the tangent grew (the sum of the measured growths,
+    /// the estimate itself rather than its interval's lower end as in
+    /// [`Exponent::diverges`]) by more than a polynomial growth `t^d` could
+    /// (`d ln(t₁/t₀)`, d = 2, as there); `None` where it did over none. A
+    /// sheared torus's tangent grows like `t`: over the last half of any
+    /// measurement it gains `ln 2`, over the last quarter `ln 4/3`, and a
+    /// bounded swing about that; chaos of `λT` gains `λT K/2` and
+    /// `λT K/4`, beyond those bounds (`2 ln 2`, `2 ln 4/3`) once `λT K` is
+    /// above about 2.3 (`λT` above 4e-4 over 6 400 periods). Weaker chaos
+    /// is not told from a torus by `K` periods.
+    pub fn excess(&self) -> Option<Stretch> {
+        let k = self.growth.len();
+        [0, k / 2, k - k / 4].into_iter().find_map(|from| {
+            let growth: f64 = self.growth[from..].iter().sum();
+            let bound = polynomial_growth(self.warmup, from, k);
+            (growth > bound).then_some(Stretch { periods: k - from, growth, bound })
+        })
+    }
+}
+
+/// The tangent's growth over the last periods of a measurement, beside the
+/// most that a polynomial growth could give over them ([`Exponent::excess`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Stretch {
+    /// Forcing periods of the stretch (the measurement's last).
+    pub periods: usize,
+    /// The tangent's growth over them, in `ln` (`λT` times the periods).
+    #[serde(with = "crate::number")]
+    pub growth: f64,
+    /// The most a polynomial growth `t^d` gains over them, in `ln`.
+    #[serde(with = "crate::number")]
+    pub bound: f64,
 }
 
 /// The most a polynomial growth `t^d` (`d` = [`POLYNOMIAL_DEGREE`]) gains,
@@ -261,6 +303,41 @@ mod tests {
         assert!(chaos(6400).diverges(), "{:?} {:?}", chaos(6400).interval(), chaos(6400).late());
         // Strong chaos is shown at once.
         assert!(estimate((0..100).map(|i| 0.5 + 0.3 * noise(i)).collect()).diverges());
+    }
+
+    /// Issue 62: a regular motion's tangent, growing like `t` with a bounded
+    /// swing (of 0.1 in `ln`, as on the multi-stop without losses, whose
+    /// tangents gain 0.21 to 0.39 over the last quarter of 6 400 periods
+    /// against `ln 4/3` = 0.29), grows no faster than a polynomial over the
+    /// whole, the last half and the last quarter of the measurement; a
+    /// swing of 0.5 may exceed the bound over the last quarter (2 ln 4/3 =
+    /// 0.57 however long the measurement: it does over 1 600 periods); chaos
+    /// of `λT` = 2e-3 (spread 0.05 a period) does over 6 400 periods (its
+    /// last half gains about 6.4 against 2 ln 2: `excess` names the first
+    /// stretch that exceeds); over 400 periods it is not told from a torus.
+    /// A tangent whose growth rounds to 0 is within.
+    #[test]
+    fn a_regular_motion_grows_no_faster_than_a_polynomial() {
+        let sheared = |swing: f64, k: usize| {
+            let level = |k: usize| ((10 + k) as f64).ln() + swing * (0.7 * k as f64).sin();
+            estimate((1..=k).map(|i| level(i) - level(i - 1)).collect())
+        };
+        for k in [400, 1600, 6400, 64_000] {
+            assert!(sheared(0.1, k).polynomial(), "over {k}: {:?}", sheared(0.1, k).excess());
+        }
+        assert!(!sheared(0.5, 1600).polynomial());
+        let chaos = |k: usize| estimate((0..k).map(|i| 2e-3 + 0.05 * noise(i)).collect());
+        let excess = chaos(6400).excess().expect("chaos grows faster than a polynomial");
+        let from = 6400 - excess.periods;
+        assert!([0, 3200, 4800].contains(&from), "{excess:?}");
+        let growth: f64 = chaos(6400).growth[from..].iter().sum();
+        assert_eq!(excess.growth.to_bits(), growth.to_bits());
+        assert!((excess.bound - 2.0 * (6410.0 / (10 + from) as f64).ln()).abs() < 1e-12, "{excess:?}");
+        assert!(excess.growth > excess.bound && !chaos(6400).polynomial());
+        assert!(chaos(400).polynomial(), "{:?}", chaos(400).excess());
+        assert!(estimate(vec![1e-17; 100]).polynomial());
+        // Fewer than 20 periods tell nothing.
+        assert!(!estimate(vec![0.0; 19]).polynomial());
     }
 
     /// A torus: the growths telescope (`ln|v_k| - ln|v_{k-1}|` of a bounded

@@ -64,7 +64,7 @@ pub mod optional {
 
 #[cfg(test)]
 mod tests {
-    use crate::{Interval, Rotation, SolverError, Unresolved};
+    use crate::{Interval, Rotation, SolverError, Stretch, Unresolved};
 
     fn round_trip(u: &Unresolved) -> Unresolved {
         let text = serde_json::to_string(u).unwrap();
@@ -80,9 +80,15 @@ mod tests {
             Unresolved::Stalled,
             Unresolved::Failed(SolverError::OutOfRange { message: "x = 1e300".into() }),
             Unresolved::Contracting { growth: -0.1 },
-            Unresolved::Undecided { growth, rotation: Some(rotation), gain: Some(f64::INFINITY), lossless: true },
-            Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false },
-            Unresolved::Polynomial { growth, late: growth, rotation: Some(rotation), gain: Some(3.5) },
+            Unresolved::Undecided {
+                growth,
+                rotation: Some(rotation),
+                gain: Some(f64::INFINITY),
+                lossless: true,
+                excess: Some(Box::new(Stretch { periods: 1600, growth: 2.25, bound: 0.575_364_144_903_562_1 })),
+            },
+            Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false, excess: None },
+            Unresolved::Polynomial { growth, late: growth, rotation: Some(rotation), gain: Some(3.5), excess: None },
             Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: 7 }) },
             Unresolved::LongPeriod { n: 140, n_max: 128 },
             Unresolved::Unsettled { periods: 2251, multiplier: 0.992_227_769_430_1, distance: 1.3e-7 },
