@@ -204,7 +204,7 @@ impl Exponent {
     /// measurement it gains `ln 2`, over the last quarter `ln 4/3`, and a
     /// bounded swing about that; chaos of `λT` gains `λT K/2` and
     /// `λT K/4`, beyond those bounds (`2 ln 2`, `2 ln 4/3`) once `λT K` is
-    /// above about 2.3 (`λT` above 4e-4 over 6 400 periods). Weaker chaos
+    /// above about 2.3 (`λT` above about 4e-4 over 6 400 periods). Weaker chaos
     /// is not told from a torus by `K` periods.
     pub fn excess(&self) -> Option<Stretch> {
         let k = self.growth.len();
