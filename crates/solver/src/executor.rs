@@ -1059,6 +1059,9 @@ impl<'s> Executor<'s> {
                 // standard do not tell a thin chaotic layer from a torus
                 // beside it).
                 let regular = lossless && locked.is_some() && gain.is_some_and(|g| g >= TORUS_GAIN);
+                // In a scene that dissipates nothing, a tangent that grew no
+                // faster than a polynomial (regular at the last doubling, below).
+                let polynomial = lossless && e.polynomial();
                 if regular && limit != first {
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 }
@@ -1070,13 +1073,13 @@ impl<'s> Executor<'s> {
                 // below). An interval about 0 is measured on: a torus's
                 // rotation number may lie within its error of a fraction of
                 // large q (p/792 over 1 600 points) until more points tell.
-                if locked.is_some() && growth.low() > 0.0 && !regular && !(lossless && e.polynomial()) {
+                if locked.is_some() && growth.low() > 0.0 && !regular && !polynomial {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
                 if limit == first {
                     // Still undecided: a torus still being reached, most often.
                     limit += UNDECIDED_DOUBLINGS;
-                } else if lossless && e.polynomial() {
+                } else if polynomial {
                     // In a scene that dissipates nothing, a motion whose
                     // tangent grew no faster than a polynomial over the
                     // whole measurement, its last half and its last quarter
