@@ -13,7 +13,8 @@ fn expect_error(args: &[&str], field: &str) {
 }
 
 fn scene_file(name: &str, text: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("vibroatlas-bad-{}", std::process::id()));
+    // Shared by tests running at once: made, never emptied (each file's name is its test's).
+    let dir = crate::util::scratch_root().join("vibroatlas-bad");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
@@ -204,8 +205,7 @@ fn picture_formats_are_checked_before_the_work() {
 /// with nothing left under the final name.
 #[test]
 fn atlas_bad_input() {
-    let dir = std::env::temp_dir().join(format!("vibroatlas-atlas-bad-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::util::scratch("atlas-bad");
     let out = dir.join("a.h5");
     let o = out.to_str().unwrap();
     let base = ["atlas", "configs/multi-stop.toml"];

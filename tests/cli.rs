@@ -86,8 +86,7 @@ fn rk4_reaches_the_published_labels() {
 /// every coordinate and velocity.
 #[test]
 fn trace_csv() {
-    let dir = std::env::temp_dir().join(format!("vibroatlas-trace-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::util::scratch("trace-csv");
     let path = dir.join("trace.csv");
     let out = run(&["cell", "configs/multi-stop.toml", "--trace", path.to_str().unwrap(), "--trace-samples", "50"]);
     assert!(out.status.success());
@@ -116,7 +115,7 @@ fn trace_csv() {
 /// sweeps on each thread count, and draws the Pareto front.
 #[test]
 fn bench_trade_json() {
-    let dir = std::env::temp_dir().join(format!("vibroatlas-bench-{}", std::process::id()));
+    let dir = crate::util::scratch("bench");
     let out = run(&[
         "bench",
         "--grid",

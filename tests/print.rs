@@ -193,8 +193,7 @@ fn bad_print_options_are_refused_naming_the_option() {
 #[test]
 #[ignore = "slow: the full suite runs it"]
 fn tiny_split_cells_print_in_blocks_that_say_so() {
-    let d = std::env::temp_dir().join(format!("vibroatlas-print-blocks-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
+    let d = crate::util::scratch("print-blocks");
     let atlas = d.join("a.h5");
     let (x, y) = ("omega=1.2:2.4:150", "delta=0.2:1.6:100");
     ok(&["atlas", "configs/multi-stop.toml", "--x", x, "--y", y, "--sweep", "both", "--quiet", "-o", p(&atlas)]);

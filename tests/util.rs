@@ -25,9 +25,17 @@ pub fn cell_json(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
-/// A fresh scratch folder for one test (`vibroatlas-NAME-PID` in the temp dir).
+/// The folder of the tests' scratch files: Cargo's `target/tmp` (which
+/// `cargo clean` empties), not the system's temp dir, which runs would fill.
+pub fn scratch_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+}
+
+/// A fresh scratch folder for one test (`vibroatlas-NAME` in
+/// [`scratch_root`]), emptied when the test starts: a run leaves at most one
+/// of each, to look at after a failure.
 pub fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
+    let d = scratch_root().join(format!("vibroatlas-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

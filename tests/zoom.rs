@@ -12,10 +12,7 @@ use std::path::{Path, PathBuf};
 
 /// A fresh folder for one test.
 fn folder(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("vibroatlas-zoom-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::util::scratch(&format!("zoom-{name}"))
 }
 
 /// Writes the atlas of `scene` over `x` by `y` with `sweeps` to `out`.

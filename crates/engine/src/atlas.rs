@@ -225,7 +225,9 @@ mod tests {
     /// journal; the same request not cancelled writes its file.
     #[test]
     fn a_cancelled_atlas_stops_and_leaves_nothing() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-engine-cancel-{}", std::process::id()));
+        // One folder however often the tests run (emptied first), not one a run.
+        let dir = std::env::temp_dir().join("vibroatlas-engine-cancel");
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let out = dir.join("a.h5");
         let sim = Sim::new(SceneSource::File("../../configs/multi-stop.toml".into()));

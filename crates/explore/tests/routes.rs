@@ -28,8 +28,10 @@ fn scene() -> String {
 fn atlas_file() -> &'static PathBuf {
     static FILE: OnceLock<PathBuf> = OnceLock::new();
     FILE.get_or_init(|| {
-        // Under the target folder (cargo's scratch for integration tests), not /tmp.
-        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("explore-routes-{}", std::process::id()));
+        // Under the target folder (cargo's scratch for integration tests), not
+        // /tmp; emptied first, so that runs leave one copy.
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("explore-routes");
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("markup.h5");
         let sim = Sim::new(SceneSource::Text(scene()));

@@ -268,7 +268,9 @@ mod tests {
     /// every format; the format of a path is its extension's.
     #[test]
     fn bytes_are_the_file() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-render-out-{}", std::process::id()));
+        // One folder however often the tests run (emptied first), not one a run.
+        let dir = std::env::temp_dir().join("vibroatlas-render-out");
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let points = [("fast".to_string(), 2000.0, 0.98), ("precise".to_string(), 300.0, 1.0)];
         for &format in Format::ALL {

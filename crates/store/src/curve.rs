@@ -235,7 +235,9 @@ mod tests {
     /// checksum deleted (issue 61, F1).
     #[test]
     fn changed_curves_are_refused() {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-curves-crc-{}", std::process::id()));
+        // One folder however often the tests run (emptied first), not one a run.
+        let dir = std::env::temp_dir().join("vibroatlas-curves-crc");
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("c.h5");
         type Change = fn(&hdf5::File);

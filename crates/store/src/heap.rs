@@ -212,7 +212,8 @@ mod tests {
     /// A file with one dataset of texts, its references' offset in the file,
     /// and the file's bytes.
     fn written(name: &str) -> (std::path::PathBuf, u64, Vec<u8>) {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-heap-{}", std::process::id()));
+        // Shared by tests running at once, its files named for them: one folder however often the tests run.
+        let dir = std::env::temp_dir().join("vibroatlas-heap");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join(name);
         let texts = ["no period within the record".to_string(), "1-3-3".to_string(), String::new()];

@@ -461,9 +461,11 @@ pub fn create_folder(dir: &Path) -> std::io::Result<Option<PathBuf>> {
 mod tests {
     use super::*;
 
-    /// A new folder of this process for test `name`.
+    /// A fresh scratch folder of a test (`vibroatlas-NAME` in the temp dir,
+    /// emptied first: one folder however often the tests run).
     fn scratch(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}"));
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         dir
     }

@@ -849,9 +849,11 @@ mod tests {
         }
     }
 
-    /// A fresh scratch folder of a test (`vibroatlas-NAME-PID`).
+    /// A fresh scratch folder of a test (`vibroatlas-NAME` in the temp dir,
+    /// emptied first: one folder however often the tests run).
     fn scratch(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}"));
+        let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         dir
     }
