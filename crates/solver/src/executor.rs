@@ -608,10 +608,6 @@ pub fn run_cell_measured(
             return (unresolved(sys, why, periods, events, cell.sim.state().as_slice().to_vec()), no_sections(), None);
         }
     };
-    let steady = match steady {
-        Steady::Periodic(n) if cell.neutral_repeat(n) => cell.off_neutral_orbit(n),
-        steady => steady,
-    };
     let (class, n, lyapunov, reason) = match steady {
         Steady::Periodic(n) => match cell.unsettled.take() {
             // A neutral orbit of an undamped linear flow: its n-period map
@@ -621,7 +617,14 @@ pub fn run_cell_measured(
             // after period. Where the flow closes after n periods exactly,
             // the motion is this orbit, and its repeat shows that no event
             // ends it.
-            Some(_) if cell.closes(n) => (Class::Periodic, Some(n), None, None),
+            Some(_) if cell.undamped_linear(n) && cell.sim.closes_after(n as f64 * sys.period) => {
+                (Class::Periodic, Some(n), None, None)
+            }
+            // A neutral orbit in a scene that dissipates nothing, where no
+            // orbit contracts: the orbit where the motion stays on it.
+            Some(Unresolved::Unsettled { distance, .. }) if distance.is_infinite() && cell.stays_periodic(n) => {
+                (Class::Periodic, Some(n), None, None)
+            }
             Some(why) => (Class::Unresolved, None, None, Some(why)),
             None => (Class::Periodic, Some(n), None, None),
         },
@@ -844,45 +847,9 @@ impl<'s> Executor<'s> {
         self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.undamped()
     }
 
-    /// Whether the n periods the record found end an undamped linear flow
-    /// that closes after them ([`Executor::undamped_linear`],
-    /// [`Simulator::closes_after`]): that orbit for all time.
-    fn closes(&mut self, n: usize) -> bool {
-        self.undamped_linear(n) && self.sim.closes_after(n as f64 * self.sys.period)
-    }
-
-    /// Whether the period n the record found repeats near a neutral orbit
-    /// of a scene that dissipates nothing ([`System::lossless`]), where no
-    /// orbit contracts: its map does not ([`Unresolved::Unsettled`] at an
-    /// infinite distance), and no flow closes after those periods
-    /// ([`Executor::closes`]).
-    fn neutral_repeat(&mut self, n: usize) -> bool {
-        self.sys.lossless()
-            && matches!(self.unsettled, Some(Unresolved::Unsettled { distance, .. }) if distance.is_infinite())
-            && !self.closes(n)
-    }
-
-    /// The motion near a neutral orbit of period n ([`Executor::neutral_repeat`]):
-    /// that orbit where it stays on it ([`Executor::stays_periodic`]).
-    /// Otherwise it reaches no orbit, none attracting where nothing
-    /// dissipates, and is decided as a record without a period
-    /// ([`Executor::decide`]): a torus about the orbit, turning by nearly a
-    /// fraction with denominator n (the lossless single stop at σ = 1.41379,
-    /// ω = 0.5, and the gear without damping at ω = 0.38718, f1 = 0.07069,
-    /// `U` before), or chaos.
-    fn off_neutral_orbit(&mut self, n: usize) -> Steady {
-        self.unsettled = None;
-        if self.stays_periodic(n) {
-            return Steady::Periodic(n);
-        }
-        match self.exponent() {
-            Ok((tangent, e)) => self.decide(tangent, e),
-            Err(halt) => Steady::Failed(halt),
-        }
-    }
-
     /// Whether the motion stays on the neutral orbit of period n that the
-    /// record found ([`Executor::neutral_repeat`]): simulated on, on a probe, for as many
+    /// record found, in a scene that dissipates nothing
+    /// ([`System::lossless`]): simulated on, on a probe, for as many
     /// periods as the exponent of an undecided record is measured over
     /// (standard: 6 400), every section point within `periodic_tol` of the
     /// point of its phase among the last n ([`periodic_throughout`]). Where
@@ -892,6 +859,9 @@ impl<'s> Executor<'s> {
     /// as far as the tolerance tells. Not asked of a scene that dissipates,
     /// whose neutral map is an orbit not yet reached.
     fn stays_periodic(&mut self, n: usize) -> bool {
+        if !self.sys.lossless() {
+            return false;
+        }
         let doublings = EXPONENT_DOUBLINGS + self.acc.extensions / 2 + UNDECIDED_DOUBLINGS;
         let periods = self.acc.lyapunov_periods.saturating_mul(1 << doublings).max(3 * n);
         let symmetric = self.sys.model.symmetric;
@@ -1349,7 +1319,8 @@ impl<'s> Executor<'s> {
             0.0
         } else if multiplier >= 1.0 || self.sys.lossless() && multiplier >= 1.0 - NEUTRAL {
             // Where nothing dissipates no orbit contracts (the map preserves
-            // volume): a modulus below 1 within NEUTRAL is 1 rounded.
+            // volume): a modulus below 1 within NEUTRAL is 1 rounded, and
+            // the orbit is the motion's where it stays on it.
             f64::INFINITY
         } else {
             step / (1.0 - multiplier)
@@ -2092,13 +2063,7 @@ mod tests {
     /// closed form `x = X cos ωt + a cos t + b sin t` (`X = 1/(1 − ω²)`),
     /// each impact found where x, sampled `samples` times a period, crosses
     /// 0, bisected to rounding, and its velocity reversed.
-    fn elastic_stop_sections(
-        omega: f64,
-        sigma: f64,
-        y0: [f64; 2],
-        periods: usize,
-        samples: usize,
-    ) -> Vec<DVector<f64>> {
+    fn elastic_stop_sections(omega: f64, y0: [f64; 2], periods: usize, samples: usize) -> Vec<DVector<f64>> {
         let (big_x, period) = (1.0 / (1.0 - omega * omega), std::f64::consts::TAU / omega);
         // The free oscillation's coefficients through the state (x, v) at t.
         let through = |t: f64, x: f64, v: f64| {
@@ -2117,19 +2082,19 @@ mod tests {
             let h = period / samples as f64;
             while lo < end {
                 let hi = (lo + h).min(end);
-                // A crossing from below (an impact just made starts at σ, going down).
-                if at(lo, ab).0 <= sigma && at(hi, ab).0 > sigma {
+                // A crossing from below (an impact just made starts at 0, going down).
+                if at(lo, ab).0 <= 0.0 && at(hi, ab).0 > 0.0 {
                     let (mut l, mut r) = (lo, hi);
                     for _ in 0..80 {
                         let m = 0.5 * (l + r);
-                        if at(m, ab).0 > sigma {
+                        if at(m, ab).0 > 0.0 {
                             r = m;
                         } else {
                             l = m;
                         }
                     }
                     let (_, v) = at(l, ab);
-                    ab = through(l, sigma, -v);
+                    ab = through(l, 0.0, -v);
                     lo = l + 1e-12;
                     continue;
                 }
@@ -2171,7 +2136,7 @@ mod tests {
             assert!(sys.lossless());
             let cell = run_cell(&sys, &acc, Method::Exact, &y0);
             assert_eq!(cell.class, Class::Quasiperiodic, "ω {omega}: {:?}", cell.reason);
-            let points = elastic_stop_sections(omega, 0.0, y0, 6400, 256);
+            let points = elastic_stop_sections(omega, y0, 6400, 256);
             let rotation = Rotation::of(&points).unwrap();
             let converged = gain(&rotation, &points).unwrap();
             assert!(converged >= TORUS_GAIN, "ω {omega}: {rotation:?} gained {converged}");
@@ -2179,7 +2144,7 @@ mod tests {
                 assert_eq!(rotation.locked().map(|(_, d)| d), Some(q), "ω {omega}: {rotation:?}");
             }
         }
-        let points = elastic_stop_sections(1.259493670886076, 0.0, cells[1].1, 6400, 256);
+        let points = elastic_stop_sections(1.259493670886076, cells[1].1, 6400, 256);
         assert!(!periodic_throughout(&points, 199, acc.periodic_tol));
     }
 
@@ -2204,36 +2169,31 @@ mod tests {
             assert_eq!(cell.labels[0].label.to_string(), label, "ω {omega}: {:?}", cell.reason);
             assert!((cell.multiplier.unwrap() - 1.0).abs() < 1e-6, "{:?}", cell.multiplier);
             let n = cell.n.unwrap();
-            assert!(periodic_throughout(&elastic_stop_sections(omega, 0.0, y0, periods, samples), n, acc.periodic_tol));
+            assert!(periodic_throughout(&elastic_stop_sections(omega, y0, periods, samples), n, acc.periodic_tol));
         }
     }
 
-    /// Issue 62: a repeat near a neutral orbit that the motion does not stay
-    /// on, in a scene that dissipates nothing, is decided as a record
-    /// without a period. The lossless single stop at σ = 1.41379 (from the
-    /// states its σ plane's down sweep reached) repeated within
-    /// `periodic_tol` at ω = 0.5 and 4/3 with a multiplier of 1 but left
-    /// the orbit within 6 400 periods (`U`, "a free oscillation that never
-    /// settles", before): by the closed form the points stay near no orbit
-    /// of period up to `n_max` over 6 400 periods, and their rotation
-    /// number converges as a torus's. Each is `Q`.
+    /// Issue 62: in a scene that dissipates nothing a multiplier modulus
+    /// below 1 within 1e-9 is 1 rounded, not a slow contraction. The gear
+    /// without damping at ω = 1.25897, f1 = 0.14310 (from the state its
+    /// plane's up sweep reached) repeated every 30 periods with a modulus
+    /// of 1 − 1.6e-15, and was `U` ("contracts too slowly to have reached
+    /// it … 6.2e4 from it"); as a neutral orbit the motion stays on over
+    /// 6 400 periods, it is 30-23-23 (an independent simulator finds the
+    /// orbit of period 30, parabolic, the motion within 2e-8 of it over
+    /// 6 400 periods).
     #[test]
-    fn a_repeat_off_a_neutral_orbit_is_measured_as_a_torus() {
-        let acc = Accuracy::default();
-        let sigma = 1.413_793_103_448_275_8;
-        for (omega, y0) in [
-            (0.5, [0.421_549_211_650_687_8, 5.457_728_847_847_625]),
-            (4.0 / 3.0, [-7.014_910_559_694_067_5, -3.320_572_398_363_042]),
-        ] {
-            let sys = system("single-stop.toml", &[("r", 1.0), ("sigma", sigma), ("omega", omega)]);
-            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
-            assert_eq!(cell.class, Class::Quasiperiodic, "ω {omega}: {:?}", cell.reason);
-            let points = elastic_stop_sections(omega, sigma, y0, 6400, 256);
-            assert!((1..=acc.n_max).all(|n| !periodic_throughout(&points, n, acc.periodic_tol)), "ω {omega}");
-            let rotation = Rotation::of(&points).unwrap();
-            let converged = gain(&rotation, &points).unwrap();
-            assert!(converged >= TORUS_GAIN, "ω {omega}: {rotation:?} gained {converged}");
-        }
+    fn a_multiplier_of_one_rounded_down_is_no_slow_contraction() {
+        let sys = system(
+            "gear-backlash.toml",
+            &[("zeta", 0.0), ("omega", 1.258_974_358_974_359), ("f1", 0.143_103_448_275_862_08)],
+        );
+        assert!(sys.lossless());
+        let cell =
+            run_cell(&sys, &Accuracy::default(), Method::Exact, &[-17.834_230_113_240_448, -5.629_279_919_351_187_5]);
+        assert_eq!(cell.class, Class::Periodic, "{:?}", cell.reason);
+        assert_eq!((cell.n, cell.labels[0].label.to_string().as_str()), (Some(30), "30-23-23"));
+        assert!((cell.multiplier.unwrap() - 1.0).abs() < 1e-9, "{:?}", cell.multiplier);
     }
 
     /// Issue 62: an orbit longer than `n_max` that the record seems to
