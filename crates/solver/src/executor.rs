@@ -315,7 +315,7 @@ pub enum Unresolved {
     /// contraction too slow for the record, not a converged orbit
     /// (issue 42). In a scene that dissipates nothing, a neutral orbit that
     /// the motion stays on over a long record is that orbit instead (see
-    /// `Executor::stays_periodic`).
+    /// `Executor::left_orbit`), and one it leaves says by how much (`left`).
     Unsettled {
         /// Periods of the record.
         periods: usize,
@@ -325,6 +325,12 @@ pub enum Unresolved {
         /// The estimated distance to the orbit, relative (infinite when |μ| ≥ 1).
         #[serde(with = "crate::number")]
         distance: f64,
+        /// In a scene that dissipates nothing, where the map does not
+        /// contract: how far the motion left the orbit's points when
+        /// simulated on to check it (absent elsewhere, and from files
+        /// written before 2026-12-05).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        left: Option<Departure>,
     },
     /// The section repeated, but the orbit is unstable (its largest Floquet
     /// multiplier modulus beyond 1.01): the record only passed near it
@@ -384,6 +390,19 @@ impl Unresolved {
     }
 }
 
+/// How far a motion left the points of a neutral orbit of period n over
+/// `periods` periods simulated on from the record's end: the largest
+/// distance of a section point from the point of its phase among the last
+/// n, relative to 1 + the point's size (max norm), as `periodic_tol` is.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Departure {
+    /// Periods simulated on.
+    pub periods: usize,
+    /// The largest distance, relative.
+    #[serde(with = "crate::number")]
+    pub distance: f64,
+}
+
 impl std::fmt::Display for Unresolved {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
@@ -428,11 +447,16 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "the section repeated after {periods} periods, but near an unstable orbit (largest |multiplier| {multiplier:.6}): a transient passing it, not its motion"
             ),
-            Unresolved::Unsettled { periods, multiplier, distance } if distance.is_infinite() => write!(
+            Unresolved::Unsettled { periods, multiplier, left: Some(left), .. } => write!(
+                f,
+                "the section repeated after {periods} periods, but the motion does not contract (largest |multiplier| {multiplier:.9}), and simulated on for {} periods it left the orbit's points by {:.1e} (relative), more than periodic_tol: a slow oscillation about the orbit, or the event tolerance's error moving the simulated motion along a neutral orbit",
+                left.periods, left.distance
+            ),
+            Unresolved::Unsettled { periods, multiplier, distance, .. } if distance.is_infinite() => write!(
                 f,
                 "the section repeated after {periods} periods, but the motion does not contract (largest |multiplier| {multiplier:.9}): a free oscillation that never settles, not a converged orbit"
             ),
-            Unresolved::Unsettled { periods, multiplier, distance } => write!(
+            Unresolved::Unsettled { periods, multiplier, distance, .. } => write!(
                 f,
                 "the section repeated after {periods} periods, but its orbit contracts too slowly to have reached it (largest |multiplier| {multiplier:.12}; still about {distance:.1e} from it, relative)"
             ),
@@ -621,9 +645,20 @@ pub fn run_cell_measured(
                 (Class::Periodic, Some(n), None, None)
             }
             // A neutral orbit in a scene that dissipates nothing, where no
-            // orbit contracts: the orbit where the motion stays on it.
-            Some(Unresolved::Unsettled { distance, .. }) if distance.is_infinite() && cell.stays_periodic(n) => {
-                (Class::Periodic, Some(n), None, None)
+            // orbit contracts: the orbit where the motion stays on it, and
+            // otherwise said how far it left it.
+            Some(Unresolved::Unsettled { periods, multiplier, distance, .. })
+                if distance.is_infinite() && sys.lossless() =>
+            {
+                match cell.left_orbit(n) {
+                    Some(left) if left.distance <= acc.periodic_tol => (Class::Periodic, Some(n), None, None),
+                    left => (
+                        Class::Unresolved,
+                        None,
+                        None,
+                        Some(Unresolved::Unsettled { periods, multiplier, distance, left }),
+                    ),
+                }
             }
             Some(why) => (Class::Unresolved, None, None, Some(why)),
             None => (Class::Periodic, Some(n), None, None),
@@ -847,21 +882,20 @@ impl<'s> Executor<'s> {
         self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.undamped()
     }
 
-    /// Whether the motion stays on the neutral orbit of period n that the
+    /// How far the motion leaves the neutral orbit of period n that the
     /// record found, in a scene that dissipates nothing
     /// ([`System::lossless`]): simulated on, on a probe, for as many
     /// periods as the exponent of an undecided record is measured over
-    /// (standard: 6 400), every section point within `periodic_tol` of the
-    /// point of its phase among the last n ([`periodic_throughout`]). Where
+    /// (standard: 6 400), the largest distance of a section point from the
+    /// point of its phase among the last n ([`departure`]); `None` where the
+    /// probe halted. It stays on the orbit where that is within
+    /// `periodic_tol`. Where
     /// nothing contracts, a repeat within the tolerance may be a slow
     /// oscillation moving less than it per period (issue 42), which so long
     /// a record shows moving; a motion that stays put over it is the orbit,
     /// as far as the tolerance tells. Not asked of a scene that dissipates,
     /// whose neutral map is an orbit not yet reached.
-    fn stays_periodic(&mut self, n: usize) -> bool {
-        if !self.sys.lossless() {
-            return false;
-        }
+    fn left_orbit(&mut self, n: usize) -> Option<Departure> {
         let doublings = EXPONENT_DOUBLINGS + self.acc.extensions / 2 + UNDECIDED_DOUBLINGS;
         let periods = self.acc.lyapunov_periods.saturating_mul(1 << doublings).max(3 * n);
         let symmetric = self.sys.model.symmetric;
@@ -873,7 +907,7 @@ impl<'s> Executor<'s> {
             }
             Some(points)
         });
-        points.is_some_and(|points| periodic_throughout(&points, n, self.acc.periodic_tol))
+        Some(Departure { periods, distance: departure(&points?, n)? })
     }
 
     /// Confirms an orbit of period `n` beyond `n_max` that the record
@@ -1303,6 +1337,7 @@ impl<'s> Executor<'s> {
                 periods: self.sim.periods() as usize,
                 multiplier,
                 distance: f64::INFINITY,
+                left: None,
             });
         }
         let len = self.hist.len();
@@ -1329,6 +1364,7 @@ impl<'s> Executor<'s> {
             periods: self.sim.periods() as usize,
             multiplier,
             distance,
+            left: None,
         })
     }
 
@@ -1561,14 +1597,29 @@ fn extent<'a>(mut points: impl Iterator<Item = &'a DVector<f64>>) -> f64 {
     distance(&hi, &lo)
 }
 
-/// Whether section points (consecutive) stay on one orbit of period n
-/// within `tol` (relative, [`distance`]) throughout: each within `tol` of
-/// the point of its phase among the last n (a whole number of n periods
-/// after it). A step within `tol` that adds up period after period leaves
-/// it; rounding does not.
-fn periodic_throughout(points: &[DVector<f64>], n: usize, tol: f64) -> bool {
+/// How far section points (consecutive) stray from one orbit of period n:
+/// the largest distance (relative, [`distance`]) of a point from the point
+/// of its phase among the last n (a whole number of n periods after it);
+/// NaN where a distance is. A step that adds up period after period
+/// strays; rounding does not. `None` for no more than n points.
+fn departure(points: &[DVector<f64>], n: usize) -> Option<f64> {
     let len = points.len();
-    len > n && (0..len - n).all(|k| distance(&points[k], &points[k + (len - 1 - k) / n * n]) <= tol)
+    (len > n).then(|| {
+        (0..len - n).map(|k| distance(&points[k], &points[k + (len - 1 - k) / n * n])).fold(0.0, |most, d| {
+            if d > most || d.is_nan() {
+                d
+            } else {
+                most
+            }
+        })
+    })
+}
+
+/// Whether section points stay on one orbit of period n within `tol`
+/// throughout ([`departure`]).
+#[cfg(test)]
+fn periodic_throughout(points: &[DVector<f64>], n: usize, tol: f64) -> bool {
+    departure(points, n).is_some_and(|d| d <= tol)
 }
 
 /// The periods Newton's method tries among `returns` (periods with what the
@@ -2063,7 +2114,13 @@ mod tests {
     /// closed form `x = X cos ωt + a cos t + b sin t` (`X = 1/(1 − ω²)`),
     /// each impact found where x, sampled `samples` times a period, crosses
     /// 0, bisected to rounding, and its velocity reversed.
-    fn elastic_stop_sections(omega: f64, y0: [f64; 2], periods: usize, samples: usize) -> Vec<DVector<f64>> {
+    fn elastic_stop_sections(
+        omega: f64,
+        sigma: f64,
+        y0: [f64; 2],
+        periods: usize,
+        samples: usize,
+    ) -> Vec<DVector<f64>> {
         let (big_x, period) = (1.0 / (1.0 - omega * omega), std::f64::consts::TAU / omega);
         // The free oscillation's coefficients through the state (x, v) at t.
         let through = |t: f64, x: f64, v: f64| {
@@ -2082,19 +2139,19 @@ mod tests {
             let h = period / samples as f64;
             while lo < end {
                 let hi = (lo + h).min(end);
-                // A crossing from below (an impact just made starts at 0, going down).
-                if at(lo, ab).0 <= 0.0 && at(hi, ab).0 > 0.0 {
+                // A crossing from below (an impact just made starts at σ, going down).
+                if at(lo, ab).0 <= sigma && at(hi, ab).0 > sigma {
                     let (mut l, mut r) = (lo, hi);
                     for _ in 0..80 {
                         let m = 0.5 * (l + r);
-                        if at(m, ab).0 > 0.0 {
+                        if at(m, ab).0 > sigma {
                             r = m;
                         } else {
                             l = m;
                         }
                     }
                     let (_, v) = at(l, ab);
-                    ab = through(l, 0.0, -v);
+                    ab = through(l, sigma, -v);
                     lo = l + 1e-12;
                     continue;
                 }
@@ -2136,7 +2193,7 @@ mod tests {
             assert!(sys.lossless());
             let cell = run_cell(&sys, &acc, Method::Exact, &y0);
             assert_eq!(cell.class, Class::Quasiperiodic, "ω {omega}: {:?}", cell.reason);
-            let points = elastic_stop_sections(omega, y0, 6400, 256);
+            let points = elastic_stop_sections(omega, 0.0, y0, 6400, 256);
             let rotation = Rotation::of(&points).unwrap();
             let converged = gain(&rotation, &points).unwrap();
             assert!(converged >= TORUS_GAIN, "ω {omega}: {rotation:?} gained {converged}");
@@ -2144,7 +2201,7 @@ mod tests {
                 assert_eq!(rotation.locked().map(|(_, d)| d), Some(q), "ω {omega}: {rotation:?}");
             }
         }
-        let points = elastic_stop_sections(1.259493670886076, cells[1].1, 6400, 256);
+        let points = elastic_stop_sections(1.259493670886076, 0.0, cells[1].1, 6400, 256);
         assert!(!periodic_throughout(&points, 199, acc.periodic_tol));
     }
 
@@ -2169,7 +2226,7 @@ mod tests {
             assert_eq!(cell.labels[0].label.to_string(), label, "ω {omega}: {:?}", cell.reason);
             assert!((cell.multiplier.unwrap() - 1.0).abs() < 1e-6, "{:?}", cell.multiplier);
             let n = cell.n.unwrap();
-            assert!(periodic_throughout(&elastic_stop_sections(omega, y0, periods, samples), n, acc.periodic_tol));
+            assert!(periodic_throughout(&elastic_stop_sections(omega, 0.0, y0, periods, samples), n, acc.periodic_tol));
         }
     }
 
@@ -2194,6 +2251,35 @@ mod tests {
         assert_eq!(cell.class, Class::Periodic, "{:?}", cell.reason);
         assert_eq!((cell.n, cell.labels[0].label.to_string().as_str()), (Some(30), "30-23-23"));
         assert!((cell.multiplier.unwrap() - 1.0).abs() < 1e-9, "{:?}", cell.multiplier);
+    }
+
+    /// Issue 62: a neutral orbit of a scene that dissipates nothing that
+    /// the simulated motion leaves is `U`, and the reason says by how much.
+    /// The lossless single stop at σ = 1.41379, ω = 0.5 (from the state its
+    /// σ plane's down sweep reached) repeats within `periodic_tol`; simulated
+    /// on for 6 400 periods it leaves the orbit's points by more than the
+    /// tolerance (an independent simulator, placing impacts to rounding,
+    /// finds an orbit of period 19 whose n-period map is a shear, along
+    /// which the event tolerance's error moves our motion: 2.4e-10 a cycle
+    /// at first, 1.4e-8 after 6 400 periods). By the closed form from the
+    /// same state, the points do stray from every orbit of period up to
+    /// `n_max` by more than the tolerance over 6 400 periods.
+    #[test]
+    fn a_neutral_orbit_the_motion_leaves_says_by_how_much() {
+        let acc = Accuracy::default();
+        let sigma = 1.413_793_103_448_275_8;
+        let y0 = [0.421_549_211_650_687_8, 5.457_728_847_847_625];
+        let sys = system("single-stop.toml", &[("r", 1.0), ("sigma", sigma), ("omega", 0.5)]);
+        let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+        let Some(Unresolved::Unsettled { left: Some(left), .. }) = cell.reason.as_ref() else {
+            panic!("{:?}", cell.reason);
+        };
+        assert_eq!(left.periods, 6400);
+        assert!(left.distance > acc.periodic_tol, "{left:?}");
+        let why = cell.reason.as_ref().unwrap().to_string();
+        assert!(why.contains("simulated on for 6400 periods it left the orbit's points by"), "{why}");
+        let points = elastic_stop_sections(0.5, sigma, y0, 6400, 1024);
+        assert!((1..=acc.n_max).all(|n| !periodic_throughout(&points, n, acc.periodic_tol)));
     }
 
     /// Issue 62: an orbit longer than `n_max` that the record seems to

@@ -87,7 +87,9 @@ mod testing;
 pub use accuracy::{Accuracy, Knob, KnobKind, Preset};
 pub use circle::Rotation;
 pub use error::SolverError;
-pub use executor::{run_cell, run_cell_measured, run_cell_with_sections, CellResult, ImpactSections, Unresolved};
+pub use executor::{
+    run_cell, run_cell_measured, run_cell_with_sections, CellResult, Departure, ImpactSections, Unresolved,
+};
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
 pub use label::{Class, Count, Label, Mask, MassLabel, Symmetry};
