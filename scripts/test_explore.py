@@ -14,6 +14,7 @@ Prints one line per check and "explore tests: N passed, 0 failed".
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -560,4 +561,6 @@ finally:
     server.send_signal(signal.SIGINT)
     code = server.wait(timeout=60)
 check("Ctrl-C stops the server cleanly", code == 0, str(code))
+# Passed: the scratch folder goes (a failure above exits and keeps it to look at).
+shutil.rmtree(tmp)
 print(f"explore tests: {passed} passed, 0 failed")
