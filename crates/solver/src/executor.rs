@@ -2109,11 +2109,11 @@ mod tests {
     }
 
     /// Section points `[x, v]` at `t = kT`, k = 1 … `periods`, of the
-    /// lossless single stop (`x'' + x = cos ωt`, `x ≤ 0`, restitution 1)
+    /// lossless single stop (`x'' + x = cos ωt`, `x ≤ σ`, restitution 1)
     /// from `y0` at t = 0, independent of the solver: between impacts the
     /// closed form `x = X cos ωt + a cos t + b sin t` (`X = 1/(1 − ω²)`),
     /// each impact found where x, sampled `samples` times a period, crosses
-    /// 0, bisected to rounding, and its velocity reversed.
+    /// σ, bisected to rounding, and its velocity reversed.
     fn elastic_stop_sections(
         omega: f64,
         sigma: f64,

@@ -271,10 +271,7 @@ mod tests {
     /// chunk, integer and float types, one to three dimensions, and no rows.
     #[test]
     fn parallel_chunks_read_back_through_the_library() {
-        // One folder however often the tests run (emptied first), not one a run.
-        let dir = std::env::temp_dir().join("vibroatlas-chunked");
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::testing::scratch("chunked");
         let path = dir.join("chunks.h5");
         let f = hdf5::File::create(&path).unwrap();
         let z = Deflater { threads: 3, ..Default::default() };

@@ -235,10 +235,7 @@ mod tests {
     /// checksum deleted (issue 61, F1).
     #[test]
     fn changed_curves_are_refused() {
-        // One folder however often the tests run (emptied first), not one a run.
-        let dir = std::env::temp_dir().join("vibroatlas-curves-crc");
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::testing::scratch("curves-crc");
         let path = dir.join("c.h5");
         type Change = fn(&hdf5::File);
         let changes: [(&str, Change); 6] = [

@@ -35,6 +35,8 @@ mod lock;
 mod merge;
 mod netcdf;
 mod read;
+#[cfg(test)]
+mod testing;
 mod verify;
 mod write;
 

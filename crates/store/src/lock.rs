@@ -460,15 +460,7 @@ pub fn create_folder(dir: &Path) -> std::io::Result<Option<PathBuf>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A fresh scratch folder of a test (`vibroatlas-NAME` in the temp dir,
-    /// emptied first: one folder however often the tests run).
-    fn scratch(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}"));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
-    }
+    use crate::testing::scratch;
 
     #[test]
     fn a_folder_is_created_and_its_outermost_new_parent_named() {

@@ -982,10 +982,7 @@ mod tests {
     /// <name>"`) reads by its scene, or by the names' Greek rule.
     #[test]
     fn axes_carry_symbols_and_long_names_and_older_files_still_read() {
-        // One folder however often the tests run (emptied first), not one a run.
-        let dir = std::env::temp_dir().join("vibroatlas-notation");
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = crate::testing::scratch("notation");
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs/dry-friction.toml");
         let toml = std::fs::read_to_string(path).unwrap();
         let info = RunInfo { command: "test".into(), run_time_s: 0.0, shard: None, history: Vec::new(), parent: None };

@@ -815,6 +815,7 @@ pub fn pairs<K: std::fmt::Display>(p: &[(K, f64)]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::scratch;
     use maps::{Along, Axis, Plane, SweepKind};
 
     fn meta() -> maps::Meta {
@@ -847,15 +848,6 @@ mod tests {
                 })
                 .into(),
         }
-    }
-
-    /// A fresh scratch folder of a test (`vibroatlas-NAME` in the temp dir,
-    /// emptied first: one folder however often the tests run).
-    fn scratch(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("vibroatlas-{name}"));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
     }
 
     /// The run of a test's files.
