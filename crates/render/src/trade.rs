@@ -33,10 +33,17 @@ fn draw<DB: Backend>(root: &DrawingArea<DB, Shift>, points: &[(String, f64, f64)
         .y_label_area_size(70)
         .build_cartesian_2d((lo..hi).log_scale(), bottom..top)
         .map_err(err)?;
+    // A few round speeds (1-2-5 in each decade) and agreements in per cent:
+    // a log axis's every key point as a decimal overlaps its neighbours.
     chart
         .configure_mesh()
         .x_desc("cells per second")
-        .y_desc("label agreement")
+        .y_desc("label agreement (%)")
+        .x_labels(8)
+        .y_labels(8)
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{:.2}", 100.0 * v))
+        .light_line_style(RGBColor(238, 238, 238))
         .label_style((crate::font::FAMILY, 15))
         .axis_desc_style((crate::font::FAMILY, 17))
         .draw()
