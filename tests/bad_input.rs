@@ -313,6 +313,9 @@ fn bench_bad_input() {
     expect_error(&["bench", "--threads", "two"], "--threads");
     expect_error(&["bench", "--repeat", "0"], "--repeat");
     expect_error(&["bench", "--trade", "--trade-repeat", "0"], "--trade-repeat");
+    expect_error(&["bench", "--paper", "--trade-repeat", "0"], "--trade-repeat");
+    expect_error(&["bench", "--paper", "--grid", "1"], "--grid");
+    expect_error(&["bench", "--paper", "--trade"], "'--paper' cannot be used with '--trade'");
     // The dry-friction scene has no clearance delta: bench's plane is omega-delta.
     expect_error(&["bench", "--grid", "2", "--scene", "configs/dry-friction.toml"], "--scene");
 }

@@ -110,6 +110,58 @@ fn trace_csv() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Issue 67: `bench --paper --json` times `standard` and `standard
+/// chaos_check=0` against the literature's method in rounds on one thread,
+/// the reference `precise` once, and reports each one's median speed-up over
+/// the rounds (each round's against RK4's of the same round) and its spread;
+/// no throughput.
+#[test]
+fn bench_paper_json() {
+    let out = run(&["bench", "--paper", "--grid", "3", "--trade-repeat", "3", "--json"]);
+    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["grid"], 3);
+    assert_eq!(j["throughput"], serde_json::json!([]));
+    let trade = j["trade"].as_array().unwrap();
+    let names: Vec<&str> = trade.iter().map(|t| t["setting"].as_str().unwrap()).collect();
+    assert_eq!(names, ["standard", "standard chaos_check=0", "precise", "rk4 h=0.01"]);
+    let rounds = |t: &serde_json::Value| -> Vec<f64> {
+        t["round_seconds"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+    };
+    let rk4 = rounds(&trade[3]);
+    for t in trade {
+        let secs = rounds(t);
+        assert_eq!(secs.len(), if t["setting"] == "precise" { 1 } else { 3 }, "{t}");
+        let mut ratios: Vec<f64> = rk4.iter().zip(&secs).map(|(b, s)| b / s).collect();
+        ratios.sort_by(f64::total_cmp);
+        let median = ratios[(ratios.len() - 1) / 2] / 2.0 + ratios[ratios.len() / 2] / 2.0;
+        let got = t["speedup_median"].as_f64().unwrap();
+        assert!((got - median).abs() <= 1e-12 * median, "{t}: median {median}");
+        let spread = t["speedup_spread"].as_array().unwrap();
+        assert_eq!(spread[0].as_f64().unwrap(), ratios[0], "{t}");
+        assert_eq!(spread[1].as_f64().unwrap(), *ratios.last().unwrap(), "{t}");
+        // One thread: the per-period time is the best round's over the periods.
+        let best = secs.iter().copied().fold(f64::INFINITY, f64::min);
+        let per_period = 1e6 * best / t["periods"].as_f64().unwrap();
+        assert!((t["us_per_period"].as_f64().unwrap() - per_period).abs() <= 1e-9 * per_period, "{t}");
+    }
+    assert_eq!(trade[2]["label_agreement"], 1.0);
+    // In words: each setting's median and spread, and the note that so
+    // small a plane does not steady the ratio.
+    let text = run(&["bench", "--paper", "--grid", "2", "--trade-repeat", "1"]);
+    assert!(text.status.success(), "stderr: {}", String::from_utf8_lossy(&text.stderr));
+    let text = String::from_utf8_lossy(&text.stdout);
+    for line in [
+        "standard against rk4 h=0.01 on 1 thread(s): ",
+        "standard chaos_check=0 against rk4 h=0.01 on 1 thread(s): ",
+        "median of 1 round(s)",
+        "note: a round of standard took less than 5 s",
+    ] {
+        assert!(text.contains(line), "{line:?} missing from:\n{text}");
+    }
+    assert!(!text.contains("throughput"), "{text}");
+}
+
 /// Issue 5: `bench --trade --json` prints one object with every setting of the
 /// trade (each against the `precise` reference) and the throughput of both
 /// sweeps on each thread count, and draws the Pareto front.

@@ -548,12 +548,13 @@ pub struct StudyArgs {
 
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Thread counts to measure, comma-separated.
-    #[arg(long, default_value = "1,2")]
-    pub threads: String,
-    /// Grid size N (N x N cells of the reference plane ω ∈ [0.1, 3.05], δ ∈ [0.05, 2]).
-    #[arg(long, default_value_t = 48)]
-    pub grid: usize,
+    /// Thread counts to measure, comma-separated [default: 1,2; with --paper: 1].
+    #[arg(long)]
+    pub threads: Option<String>,
+    /// Grid size N (N x N cells of the reference plane ω ∈ [0.1, 3.05], δ ∈ [0.05, 2])
+    /// [default: 48; with --paper: 128].
+    #[arg(long)]
+    pub grid: Option<usize>,
     /// Scene (default: the shipped multi-stop scene).
     #[arg(long)]
     pub scene: Option<std::path::PathBuf>,
@@ -564,9 +565,16 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
     /// Rounds of the trade: each times every setting once, in table order (the
-    /// best of each setting is reported).
-    #[arg(long, default_value_t = 1)]
-    pub trade_repeat: usize,
+    /// best of each setting is reported) [default: 1; with --paper: 4].
+    #[arg(long)]
+    pub trade_repeat: Option<usize>,
+    /// Only the lead over the literature's method, per thread: `standard` and
+    /// `standard chaos_check=0` against RK4 h = 0.01 in rounds (`precise`, the
+    /// reference of the agreement, timed once), on a grid where each side runs
+    /// for seconds; prints each one's median speed-up and its spread. No
+    /// throughput.
+    #[arg(long, conflicts_with = "trade")]
+    pub paper: bool,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,

@@ -5,45 +5,57 @@
 use crate::args::BenchArgs;
 use crate::out::outln;
 use anyhow::{anyhow, bail, Context, Result};
-use engine::bench::{Bench, BenchRequest, Throughput, Trade, RK4};
+use engine::bench::{
+    Bench, BenchRequest, Throughput, Trade, EQUAL, PAPER_GRID, PAPER_ROUNDS, RK4, STANDARD, STEADY_SECONDS,
+};
 use engine::SceneSource;
 use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: BenchArgs) -> Result<()> {
-    let threads: Vec<usize> = a
-        .threads
+    let threads_text = a.threads.clone().unwrap_or_else(|| if a.paper { "1" } else { "1,2" }.to_string());
+    let threads: Vec<usize> = threads_text
         .split(',')
         .map(|t| t.trim().parse::<usize>().ok().filter(|&n| (1..=1024).contains(&n)))
         .collect::<Option<Vec<_>>>()
-        .ok_or_else(|| anyhow!("--threads: expected a comma-separated list of counts 1..1024, got '{}'", a.threads))?;
-    let mut request = BenchRequest::new(a.grid);
+        .ok_or_else(|| anyhow!("--threads: expected a comma-separated list of counts 1..1024, got '{threads_text}'"))?;
+    let grid = a.grid.unwrap_or(if a.paper { PAPER_GRID } else { 48 });
+    let rounds = a.trade_repeat.unwrap_or(if a.paper { PAPER_ROUNDS } else { 1 });
+    if rounds == 0 {
+        bail!("--trade-repeat: must be >= 1");
+    }
+    let mut request = BenchRequest::new(grid);
     request.threads = threads;
     request.repeat = a.repeat;
-    request.trade_rounds = a.trade.then_some(a.trade_repeat);
+    request.trade_rounds = (a.trade || a.paper).then_some(rounds);
+    request.paper = a.paper;
     if let Some(p) = &a.scene {
         request.scene = SceneSource::File(p.clone());
     }
     request.check()?;
-    if a.trade_repeat == 0 {
-        bail!("--trade-repeat: must be >= 1");
-    }
-    let throughput =
-        engine::bench::throughput(&request, &mut |row| if a.json { Ok(()) } else { print_throughput(row) })?;
-    if !a.json {
-        outln!("every run on {} thread(s) gave the same atlas, bit for bit", a.threads);
-    }
+    let throughput = if a.paper {
+        Vec::new()
+    } else {
+        let rows = engine::bench::throughput(&request, &mut |row| if a.json { Ok(()) } else { print_throughput(row) })?;
+        if !a.json {
+            outln!("every run on {threads_text} thread(s) gave the same atlas, bit for bit");
+        }
+        rows
+    };
     let trade = engine::bench::trade(&request)?;
     if let Some(trade) = &trade {
         if !a.json {
-            print_trade(a.grid, trade)?;
+            print_trade(grid, trade)?;
+            if a.paper {
+                print_paper(trade)?;
+            }
         }
         if let Some(dir) = &a.output {
             draw_trade(dir, trade, a.json)?;
         }
     }
     if a.json {
-        outln!("{}", serde_json::to_string(&Bench { grid: a.grid, throughput, trade }.to_json())?);
+        outln!("{}", serde_json::to_string(&Bench { grid, throughput, trade }.to_json())?);
     }
     Ok(())
 }
@@ -96,6 +108,36 @@ fn print_trade(n: usize, trade: &Trade) -> Result<()> {
             let spreads: Vec<String> = trade.rows.iter().map(spread).collect();
             outln!("each round against {} of the same round: {}", RK4.name, spreads.join(", "));
         }
+    }
+    Ok(())
+}
+
+/// The paper's comparison in words: each setting's median speed-up over the
+/// literature's method and its spread, with the agreement each has with
+/// `precise`, and a note where `standard`'s rounds were too short for a
+/// steady ratio.
+fn print_paper(trade: &Trade) -> Result<()> {
+    let agreement = |name: &str| trade.rows.iter().find(|r| r.setting == name).map(|r| 100.0 * r.label_agreement);
+    let rk4 = agreement(RK4.name).unwrap_or(f64::NAN);
+    for row in trade.rows.iter().filter(|r| r.setting == STANDARD.name || r.setting == EQUAL.name) {
+        let (Some(median), Some([lo, hi])) = (trade.median(row), trade.spread(row)) else { continue };
+        outln!(
+            "{} against {} on {} thread(s): {median:.1}x (median of {} round(s), {lo:.1}-{hi:.1}x), label agreement with precise {:.2} % against {rk4:.2} %",
+            row.setting,
+            RK4.name,
+            trade.threads,
+            row.round_seconds.len(),
+            100.0 * row.label_agreement
+        );
+    }
+    let short = trade
+        .rows
+        .iter()
+        .filter(|r| r.setting == STANDARD.name)
+        .flat_map(|r| r.round_seconds.iter())
+        .any(|&s| s < STEADY_SECONDS);
+    if short {
+        outln!("note: a round of standard took less than {STEADY_SECONDS} s: a larger --grid steadies the ratio");
     }
     Ok(())
 }

@@ -65,6 +65,10 @@ pub const PRECISE: Setting = exact("precise", Preset::Precise, &[]);
 /// The literature's method, the setting all others are compared with for speed.
 pub const RK4: Setting = rk4("rk4 h=0.01", &[(Knob::Rk4Step, 0.01), (Knob::Newton, 0.0)]);
 
+/// `standard` without the early end of chaotic records: the setting that
+/// agrees with `precise` at least as well as [`RK4`] does.
+pub const EQUAL: Setting = exact("standard chaos_check=0", Preset::Standard, &[(Knob::ChaosCheck, 0.0)]);
+
 /// Settings of the trade, in table order. The RK4 rows are the literature's
 /// method: RK4 with step-back refinement and a plainly simulated transient
 /// (standard tolerances, no Newton); the last row shows what Newton adds to RK4.
@@ -74,12 +78,30 @@ pub const RK4: Setting = rk4("rk4 h=0.01", &[(Knob::Rk4Step, 0.01), (Knob::Newto
 pub const SETTINGS: [Setting; 7] = [
     exact("fast", Preset::Fast, &[]),
     STANDARD,
-    exact("standard chaos_check=0", Preset::Standard, &[(Knob::ChaosCheck, 0.0)]),
+    EQUAL,
     PRECISE,
     RK4,
     rk4("rk4 h=0.001", &[(Knob::Rk4Step, 0.001), (Knob::Newton, 0.0)]),
     rk4("rk4 h=0.01 newton", &[(Knob::Rk4Step, 0.01)]),
 ];
+
+/// Settings of the paper's comparison ([`BenchRequest::paper`]), in table
+/// order: `standard`, [`EQUAL`], the reference (timed in the first round only)
+/// and the literature's method.
+pub const PAPER: [Setting; 4] = [STANDARD, EQUAL, PRECISE, RK4];
+
+/// Grid size of the paper's comparison unless one is given: 128 x 128 = 16 384
+/// fresh cells, about 6 s of `standard` on one thread of the 2-core VM of
+/// docs/performance.md (about 2 700 cells/s a thread: 4.6 s on 112 x 112) and
+/// two and a half minutes of [`RK4`] (about 110).
+pub const PAPER_GRID: usize = 128;
+
+/// Rounds of the paper's comparison unless others are asked for.
+pub const PAPER_ROUNDS: usize = 4;
+
+/// Seconds a round of each side should take at least for a steady ratio:
+/// a shorter run's time is swayed by the machine's slow spells.
+pub const STEADY_SECONDS: f64 = 5.0;
 
 /// The sweeps of the throughput, by name: fresh cells, and both continuations.
 pub fn sweeps() -> [(&'static str, Vec<SweepKind>); 2] {
@@ -100,6 +122,10 @@ pub struct BenchRequest {
     /// Rounds of the trade, each timing every setting once in table order
     /// (the best of each is kept); `None`: no trade.
     pub trade_rounds: Option<usize>,
+    /// The trade is the paper's comparison ([`PAPER`]): `standard` and
+    /// [`EQUAL`] against the literature's method only, the reference timed
+    /// once, instead of every setting of [`SETTINGS`] in every round.
+    pub paper: bool,
 }
 
 impl BenchRequest {
@@ -112,6 +138,7 @@ impl BenchRequest {
             threads: vec![1, 2],
             repeat: 3,
             trade_rounds: None,
+            paper: false,
         }
     }
 
@@ -215,7 +242,7 @@ impl TradeRow {
     }
 }
 
-/// The trade: every setting of [`SETTINGS`], in table order.
+/// The trade: every setting of [`SETTINGS`] (or of [`PAPER`]), in table order.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Trade {
     /// Worker threads of every run.
@@ -240,6 +267,7 @@ impl Trade {
                 row: r.clone(),
                 speedup_vs_rk4: base.map(|b| r.cells_per_s / b),
                 speedup_spread: self.spread(r),
+                speedup_median: self.median(r),
             })
             .collect()
     }
@@ -248,9 +276,26 @@ impl Trade {
     /// rounds, each round's against RK4's of the same round (the machine's
     /// slow spells fall on both); `None` without RK4.
     pub fn spread(&self, row: &TradeRow) -> Option<[f64; 2]> {
+        let ratios = self.round_ratios(row)?;
+        ratios
+            .into_iter()
+            .fold(None, |acc: Option<[f64; 2]>, q| Some(acc.map_or([q, q], |[lo, hi]| [lo.min(q), hi.max(q)])))
+    }
+
+    /// The median of `row`'s speed-ups over RK4, each round's against RK4's
+    /// of the same round (the mean of the middle two of an even count);
+    /// `None` without RK4.
+    pub fn median(&self, row: &TradeRow) -> Option<f64> {
+        let mut ratios = self.round_ratios(row)?;
+        ratios.sort_by(f64::total_cmp);
+        let k = ratios.len();
+        (k > 0).then(|| (ratios[(k - 1) / 2] + ratios[k / 2]) / 2.0)
+    }
+
+    /// `row`'s speed-up over RK4 in each round it was timed in.
+    fn round_ratios(&self, row: &TradeRow) -> Option<Vec<f64>> {
         let rk4 = self.rows.iter().find(|r| r.setting == RK4.name)?;
-        let ratios = rk4.round_seconds.iter().zip(&row.round_seconds).map(|(b, s)| b / s);
-        ratios.fold(None, |acc: Option<[f64; 2]>, q| Some(acc.map_or([q, q], |[lo, hi]| [lo.min(q), hi.max(q)])))
+        Some(rk4.round_seconds.iter().zip(&row.round_seconds).map(|(b, s)| b / s).collect())
     }
 }
 
@@ -268,6 +313,10 @@ pub struct TradeReportRow {
     /// ([`Trade::spread`]), when RK4 was measured.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub speedup_spread: Option<[f64; 2]>,
+    /// The median speed-up over RK4 among the rounds ([`Trade::median`]),
+    /// when RK4 was measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub speedup_median: Option<f64>,
 }
 
 /// The JSON of a bench (the contract of `bench --json`).
@@ -351,16 +400,22 @@ pub fn throughput<E: From<Error>>(
 /// The trade on the largest thread count, fresh cells, in
 /// [`BenchRequest::trade_rounds`] rounds of every setting once (a slow spell
 /// of a shared machine falls on all settings alike, not on every run of
-/// one), the best of each setting kept; `None` without rounds.
+/// one), the best of each setting kept; `None` without rounds. The paper's
+/// comparison ([`BenchRequest::paper`]) times the settings of [`PAPER`], the
+/// reference in the first round only.
 pub fn trade(request: &BenchRequest) -> Result<Option<Trade>> {
     let Some(rounds) = request.trade_rounds else { return Ok(None) };
     let (scene, plane) = request.prepare()?;
     let t = *request.threads.iter().max().unwrap_or(&1);
     let fresh = [SweepKind::Fresh];
-    let mut runs: Vec<Option<Measured>> = SETTINGS.iter().map(|_| None).collect();
-    let mut seconds: Vec<Vec<f64>> = SETTINGS.iter().map(|_| Vec::with_capacity(rounds)).collect();
-    for _ in 0..rounds {
-        for ((best, secs), &setting) in runs.iter_mut().zip(&mut seconds).zip(&SETTINGS) {
+    let settings: &[Setting] = if request.paper { &PAPER } else { &SETTINGS };
+    let mut runs: Vec<Option<Measured>> = settings.iter().map(|_| None).collect();
+    let mut seconds: Vec<Vec<f64>> = settings.iter().map(|_| Vec::with_capacity(rounds)).collect();
+    for round in 0..rounds {
+        for ((best, secs), &setting) in runs.iter_mut().zip(&mut seconds).zip(settings) {
+            if request.paper && round > 0 && setting == PRECISE {
+                continue;
+            }
             let m = run_plane(&scene, &plane, &fresh, setting, t)?;
             secs.push(m.secs);
             keep_faster(best, m)?;
@@ -368,13 +423,13 @@ pub fn trade(request: &BenchRequest) -> Result<Option<Trade>> {
     }
     let measured: Vec<Measured> =
         runs.into_iter().map(|best| best.ok_or_else(|| Error::Internal("no run".into()))).collect::<Result<_>>()?;
-    let reference = SETTINGS
+    let reference = settings
         .iter()
         .zip(&measured)
         .find(|(s, _)| s.name == PRECISE.name)
         .map(|(_, m)| &m.atlas)
         .ok_or_else(|| Error::Internal("no reference setting".into()))?;
-    let rows = SETTINGS
+    let rows = settings
         .iter()
         .zip(&measured)
         .zip(seconds)
@@ -531,6 +586,37 @@ mod tests {
         }
     }
 
+    /// The median of the rounds' speed-ups: the middle one of an odd count,
+    /// the mean of the middle two of an even one, each round's RK4 time over
+    /// the setting's of the same round.
+    #[test]
+    fn the_median_speedup_pairs_each_round_with_rk4s() {
+        let row = |setting, round_seconds: Vec<f64>| TradeRow {
+            setting,
+            cells_per_s: 1.0,
+            label_agreement: 1.0,
+            class_agreement: 1.0,
+            median_state_error: 0.0,
+            periods: 1,
+            us_per_period: 1.0,
+            nonperiodic_periods: 0,
+            round_seconds,
+        };
+        let trade = |rk4: Vec<f64>, standard: Vec<f64>| Trade {
+            threads: 1,
+            rows: vec![row(STANDARD.name, standard), row(RK4.name, rk4)],
+        };
+        // Ratios 10, 30, 20: median 20 (not the ratio of the medians' times).
+        let odd = trade(vec![10.0, 60.0, 20.0], vec![1.0, 2.0, 1.0]);
+        assert_eq!(odd.median(&odd.rows[0]), Some(20.0));
+        assert_eq!(odd.spread(&odd.rows[0]), Some([10.0, 30.0]));
+        let even = trade(vec![10.0, 60.0, 20.0, 40.0], vec![1.0, 2.0, 1.0, 1.0]);
+        assert_eq!(even.median(&even.rows[0]), Some(25.0));
+        assert_eq!(even.median(&even.rows[1]), Some(1.0));
+        let without = Trade { threads: 1, rows: vec![row(STANDARD.name, vec![1.0])] };
+        assert_eq!(without.median(&without.rows[0]), None);
+    }
+
     /// Two runs are the same where every bit is, a NaN quantity included
     /// (which `==` takes for a difference even from itself: rounds of the
     /// trade on 112 x 112 cells stopped so at RK4's second, two of its cells
@@ -591,6 +677,7 @@ mod tests {
         assert_eq!(j["simulated"], json!([]));
         assert_eq!(j["trade"][0]["speedup_vs_rk4"], 1.0);
         assert_eq!(j["trade"][0]["speedup_spread"], json!([1.0, 1.0]));
+        assert_eq!(j["trade"][0]["speedup_median"], 1.0);
         assert_eq!(j["trade"][0]["round_seconds"], json!([2.0, 1.0]));
         assert_eq!(j["throughput"][0]["cells"], 4);
         let none = Bench { grid: 2, throughput: Vec::new(), trade: None }.to_json();
