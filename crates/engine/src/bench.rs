@@ -509,8 +509,8 @@ fn same_atlas(a: &Atlas, b: &Atlas) -> Result<()> {
     };
     let nx = a.meta.plane.x.count;
     for (ma, mb) in a.maps.iter().zip(&b.maps) {
-        let cells = ma.cells.iter().zip(&mb.cells).enumerate();
-        if let Some((k, _)) = cells.clone().find(|(_, (ca, cb))| !same(ca, cb)) {
+        let mut cells = ma.cells.iter().zip(&mb.cells).enumerate();
+        if let Some((k, _)) = cells.find(|(_, (ca, cb))| !same(ca, cb)) {
             return differ(format!("the {} sweep's cell at row {}, column {}", ma.sweep, k / nx, k % nx));
         }
     }
