@@ -117,8 +117,7 @@ fn print_trade(n: usize, trade: &Trade) -> Result<()> {
 /// `precise`, and a note where `standard`'s rounds were too short for a
 /// steady ratio.
 fn print_paper(trade: &Trade) -> Result<()> {
-    let agreement = |name: &str| trade.rows.iter().find(|r| r.setting == name).map(|r| 100.0 * r.label_agreement);
-    let rk4 = agreement(RK4.name).unwrap_or(f64::NAN);
+    let rk4 = trade.rows.iter().find(|r| r.setting == RK4.name).map_or(f64::NAN, |r| 100.0 * r.label_agreement);
     for row in trade.rows.iter().filter(|r| r.setting == STANDARD.name || r.setting == EQUAL.name) {
         let (Some(median), Some([lo, hi])) = (trade.median(row), trade.spread(row)) else { continue };
         outln!(

@@ -496,12 +496,15 @@ fn keep_faster(best: &mut Option<Measured>, m: Measured) -> Result<()> {
 }
 
 /// An error unless two runs of the same grid gave the same atlas, bit for
-/// bit, naming the first cell that differs. Compared in their `Debug` form,
-/// which writes every number as the shortest decimal that reads back to its
-/// bits: `==` on the atlases is false wherever a cell holds a NaN (a quantity
-/// of a motion that could not be followed), however alike the runs.
+/// bit, naming the first cell that differs. Where `==` says they differ,
+/// compared again in their `Debug` form, which writes every number as the
+/// shortest decimal that reads back to its bits: `==` is false wherever a
+/// cell holds a NaN (a quantity of a motion that could not be followed),
+/// however alike the runs.
 fn same_atlas(a: &Atlas, b: &Atlas) -> Result<()> {
-    let same = |x: &dyn std::fmt::Debug, y: &dyn std::fmt::Debug| format!("{x:?}") == format!("{y:?}");
+    fn same<T: PartialEq + std::fmt::Debug>(x: &T, y: &T) -> bool {
+        x == y || format!("{x:?}") == format!("{y:?}")
+    }
     let differ = |what: String| {
         Err(Error::Internal(format!(
             "results differ between runs of the same grid ({what}): the solver is not deterministic"
@@ -514,10 +517,12 @@ fn same_atlas(a: &Atlas, b: &Atlas) -> Result<()> {
             return differ(format!("the {} sweep's cell at row {}, column {}", ma.sweep, k / nx, k % nx));
         }
     }
-    fn rest(x: &Atlas) -> impl std::fmt::Debug + '_ {
-        (x.maps.iter().map(|m| (m.sweep, m.cells.len())).collect::<Vec<_>>(), &x.meta, &x.attractors, &x.entries)
-    }
-    if !same(&rest(a), &rest(b)) {
+    let sweeps = |x: &Atlas| x.maps.iter().map(|m| (m.sweep, m.cells.len())).collect::<Vec<_>>();
+    let rest = same(&sweeps(a), &sweeps(b))
+        && same(&a.meta, &b.meta)
+        && same(&a.attractors, &b.attractors)
+        && same(&a.entries, &b.entries);
+    if !rest {
         return differ("their sweeps, description, attractors or entries".into());
     }
     Ok(())

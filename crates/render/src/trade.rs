@@ -33,8 +33,8 @@ fn draw<DB: Backend>(root: &DrawingArea<DB, Shift>, points: &[(String, f64, f64)
         .y_label_area_size(70)
         .build_cartesian_2d((lo..hi).log_scale(), bottom..top)
         .map_err(err)?;
-    // A few round speeds (1-2-5 in each decade) and agreements in per cent:
-    // a log axis's every key point as a decimal overlaps its neighbours.
+    // A few round speeds and agreements in per cent: a log axis's every key
+    // point written as a decimal overlaps its neighbours.
     chart
         .configure_mesh()
         .x_desc("cells per second")
