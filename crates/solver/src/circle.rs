@@ -76,6 +76,12 @@ fn principal_plane<'a>(points: impl Iterator<Item = &'a DVector<f64>> + Clone) -
 /// Fewest points either measure looks at.
 const FEWEST: usize = 16;
 
+/// Largest denominator of a fraction that a rotation number is locked at by
+/// the length of its record alone ([`Rotation::locked`]): the fewest loops
+/// the closed-curve test looks for beyond which q arcs leave no gap wider
+/// than its π/4 (a turn over 8).
+const STILL_DENOMINATOR: usize = 7;
+
 /// Whether points in the plane of their two principal directions
 /// ([`principal_plane`]) lie on one closed curve: sorted by angle about
 /// their centroid, they cover every direction (no angular gap above π/4) and
@@ -146,13 +152,30 @@ impl Rotation {
     /// error)`, at most 1000; every number lies within `1/q²` of fractions
     /// of larger `q`). An orbit of period q (or a multiple) locked on a
     /// torus turns by p/q per period; a torus by an irrational number.
+    ///
+    /// Also locked, whatever its error, at a fraction `p/q` (p ≠ 0, q up to
+    /// [`STILL_DENOMINATOR`]) that the points' rotation number is so near that
+    /// over all of them it drifted by less than a tenth of the `1/q` between
+    /// the fraction's q places (`K |ρ − p/q| < 1/(10 q)`, K points): a torus
+    /// of that rotation number would have shown its points in q short arcs
+    /// over the record, not around a closed curve, so the record does not
+    /// tell it from a motion locked there. Points in q bands that do not
+    /// turn about their own centroids turn by p/q on average to within the
+    /// bounded wobble of their angles, which the weighted average smooths
+    /// below its error's reach (issue 62: the single stop's 2-band chaos at
+    /// ω = 3.282, r = 0.457, `λT` = 0.010 over 25 600 periods, turned by
+    /// 1/2 + 5.2e-8 ± 6.9e-10 over 1 600 points, its bands side by side
+    /// across the centroid, and was taken for a torus). A p of 0 is no such
+    /// case: a curve that does not wind about its centroid turns by 0.
     pub(crate) fn locked(&self) -> Option<(i64, usize)> {
         // Ten times its error, and the rounding of an average that repeats exactly.
         let reach = 10.0 * self.error + 1e-12;
         let most = if self.error > 0.0 { (0.1 / self.error.sqrt()).min(1000.0) as usize } else { 1000 };
         (1..=most).find_map(|q| {
             let p = (self.turns * q as f64).round();
-            ((self.turns - p / q as f64).abs() <= reach).then_some((p as i64, q))
+            let off = (self.turns - p / q as f64).abs();
+            let still = p != 0.0 && q <= STILL_DENOMINATOR && off * ((self.points * 10 * q) as f64) < 1.0;
+            (off <= reach || still).then_some((p as i64, q))
         })
     }
 }
@@ -387,6 +410,25 @@ mod tests {
         assert_eq!(at(0.381_966_011, 1e-9), None);
         // With an error of 1e-5 only denominators up to 31 count: 0.4645 is none's.
         assert_eq!(at(0.464_565, 6.6e-6), None);
+    }
+
+    /// A rotation number that drifted from p/q (p ≠ 0, q ≤ 7) by less than
+    /// a tenth of 1/q over all its points is locked there whatever its
+    /// error: a torus turning so would have shown q short arcs. One that
+    /// drifted further, or from 0/1, or from p/q of larger q, is not.
+    #[test]
+    fn a_rotation_number_that_drifted_less_than_its_record_tells_is_locked() {
+        let at = |turns: f64, error: f64, points: usize| Rotation { turns, error, points }.locked();
+        // The single stop's two bands (issue 62): 1 600 points, 8e-5 of 1/2.
+        assert_eq!(at(0.500_000_052, 6.9e-10, 1600), Some((1, 2)));
+        assert_eq!(at(-0.333_34, 1e-9, 1600), Some((-1, 3)));
+        // 1600 × 1e-5 × 10 × 2 = 0.32 < 1; 1e-4: 3.2, not locked.
+        assert_eq!(at(0.500_01, 1e-9, 1600), Some((1, 2)));
+        assert_eq!(at(0.500_1, 1e-9, 1600), None);
+        // The same drift over ten times the points tells a turning torus.
+        assert_eq!(at(0.500_01, 1e-9, 16_000), None);
+        assert_eq!(at(2e-8, 1e-10, 1600), None);
+        assert_eq!(at(0.125_000_01, 1e-10, 1600), None);
     }
 
     /// The closed-curve test: a torus's points pass; the Hénon attractor's (a
