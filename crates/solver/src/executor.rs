@@ -1016,7 +1016,10 @@ impl<'s> Executor<'s> {
     /// period up to [`LONGEST_ORBIT`] that its section points contract onto
     /// ([`Executor::orbit_among`]: periodic). Without one, the contracting
     /// record is a transient longer than the record, unless its points lie
-    /// on a torus (then measured on); the other is
+    /// on a torus (then measured on) or, with `final_say` (no extension of
+    /// the record left, which a transient would draw on), it approaches a
+    /// stable orbit from farther ([`Executor::approached_orbit`]:
+    /// periodic); the other is
     /// quasi-periodic when its section points lie on a torus
     /// ([`on_torus`]), whatever the sign of its finite-time exponent, or, in
     /// a scene that dissipates nothing, when its tangent grew no faster than
@@ -1024,7 +1027,7 @@ impl<'s> Executor<'s> {
     /// there measured [`LOSSLESS_DOUBLINGS`] more where it grew faster but
     /// is not shown to diverge, and unresolved otherwise, with the test that
     /// failed.
-    fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent) -> Steady {
+    fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent, final_say: bool) -> Steady {
         let mut doublings = 0;
         let first = EXPONENT_DOUBLINGS + self.acc.extensions / 2;
         let mut limit = first;
@@ -1052,6 +1055,13 @@ impl<'s> Executor<'s> {
             // (issue 62: damper cells called transients over 100 points lay
             // on one closed curve).
             if contracts && last && on_torus(Rotation::of(&e.points).as_ref(), &e.points).is_none() {
+                // Approaching, from farther than the search above reaches, a
+                // stable orbit whose multiplier is near 1, with no extension
+                // of the record left to reach it: the orbit (a node's points
+                // creep along its weakest direction).
+                if let Some(n) = final_say.then(|| self.approached_orbit(&e.points)).flatten() {
+                    return Steady::Periodic(n);
+                }
                 let why = Unresolved::Contracting { growth: growth.mean };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
@@ -1190,27 +1200,34 @@ impl<'s> Executor<'s> {
     /// [`LONG_REACH`] of it is settled on and checked by period detection
     /// ([`Executor::settle_on`]); the cell is periodic with that period.
     fn orbit_among(&mut self, points: &[DVector<f64>]) -> Option<usize> {
-        let len = points.len();
         let last = points.last()?;
-        let within = ORBIT_RETURN * extent(points.iter());
-        // How far the last n points are from the n before them, at most;
-        // `None` as soon as one is not within reach (the lags are many).
-        let away = |n: usize| {
-            (len - n..len).try_fold(0.0, |most: f64, k| {
-                let d = distance(&points[k], &points[k - n]);
-                (d < within || d.is_nan()).then_some(most.max(d))
-            })
-        };
-        let mut returns: Vec<(f64, usize)> =
-            (1..=LONGEST_ORBIT.min(len / 2)).filter_map(|n| away(n).map(|a| (a, n))).collect();
-        returns.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (n, ()) in candidates(returns.into_iter().map(|(_, n)| (n, ()))) {
+        for n in return_lags(points) {
             let x = self.stable_fixed_point(last, n).filter(|x| distance(last, x) <= LONG_REACH);
             if let Some(x) = x {
                 return self.settle_on(&x, n);
             }
         }
         None
+    }
+
+    /// A stable orbit that a contracting record approaches from farther
+    /// than [`LONG_REACH`]: Newton's method on the n-period map from the
+    /// last point, for the lags at which the points came back near
+    /// themselves ([`return_lags`]), a stable fixed point whose distance to
+    /// every n-th point fell by [`SPIRAL`] from the first quarter of them to
+    /// the last ([`approaches`]; a slow node's points creep along its
+    /// weakest direction, each near the last), or a focus that every k-th
+    /// point spirals onto ([`Executor::focus_of`], k ≤ 8). Settled on, its
+    /// period ([`Executor::settle_on`]).
+    fn approached_orbit(&mut self, points: &[DVector<f64>]) -> Option<usize> {
+        let last = points.last()?;
+        for n in return_lags(points) {
+            let x = self.stable_fixed_point(last, n).filter(|x| approaches(points, x, n));
+            if let Some(m) = x.and_then(|x| self.settle_on(&x, n)) {
+                return Some(m);
+            }
+        }
+        (1..=MOST_LOOPS).find_map(|k| self.focus_of(points, k))
     }
 
     /// A stable orbit that section points on a closed curve spiral onto: a
@@ -1223,14 +1240,10 @@ impl<'s> Executor<'s> {
     /// them to the last: settled on ([`Executor::settle_on`]), its period.
     /// `None` for a torus, whose points keep their distance.
     fn focus_of(&mut self, points: &[DVector<f64>], k: usize) -> Option<usize> {
-        let loop_points: Vec<&DVector<f64>> = points.iter().rev().step_by(k).collect();
-        let count = loop_points.len();
-        let centre = loop_points.iter().fold(DVector::zeros(points[0].len()), |a, p| a + *p) / count as f64;
+        let count = points.len().div_ceil(k);
+        let centre = points.iter().rev().step_by(k).fold(DVector::zeros(points[0].len()), |a, p| a + p) / count as f64;
         let x = self.stable_fixed_point(&centre, k)?;
-        let mean = |part: &[&DVector<f64>]| part.iter().map(|p| distance(p, &x)).sum::<f64>() / part.len() as f64;
-        // Newest first: the last quarter, then the first.
-        let (late, early) = (mean(&loop_points[..count / 4]), mean(&loop_points[count - count / 4..]));
-        (late < SPIRAL * early).then(|| self.settle_on(&x, k)).flatten()
+        approaches(points, &x, k).then(|| self.settle_on(&x, k)).flatten()
     }
 
     /// Phases 1 and 2: records until a period is found or the exponent ends
@@ -1262,7 +1275,7 @@ impl<'s> Executor<'s> {
                 early_look = false;
                 limit = acc.max_periods;
                 if let (true, Ok((tangent, e))) = (chaotic, exponent) {
-                    return Ok(self.decide(tangent, e));
+                    return Ok(self.decide(tangent, e, true));
                 }
                 continue;
             }
@@ -1302,7 +1315,7 @@ impl<'s> Executor<'s> {
                 Ok(measured) => measured,
                 Err(halt) => return Ok(Steady::Failed(halt)),
             };
-            let decided = self.decide(tangent, e);
+            let decided = self.decide(tangent, e, extensions >= acc.extensions);
             // Contracting once its measurement was doubled: a transient
             // like any other, extended while extensions remain (within the
             // same budget of max_periods x (1 + extensions) periods, which
@@ -1634,6 +1647,43 @@ fn departure(points: &[DVector<f64>], n: usize) -> Option<f64> {
 #[cfg(test)]
 fn periodic_throughout(points: &[DVector<f64>], n: usize, tol: f64) -> bool {
     departure(points, n).is_some_and(|d| d <= tol)
+}
+
+/// The lags n ≤ [`LONGEST_ORBIT`] (and half the points) at which the last
+/// n section points all came back within [`ORBIT_RETURN`] of the points'
+/// extent of the n before them, nearest first, at most [`CANDIDATES`] and
+/// none a multiple of one taken ([`candidates`]).
+fn return_lags(points: &[DVector<f64>]) -> Vec<usize> {
+    let len = points.len();
+    let within = ORBIT_RETURN * extent(points.iter());
+    // How far the last n points are from the n before them, at most;
+    // `None` as soon as one is not within reach (the lags are many).
+    let away = |n: usize| {
+        (len - n..len).try_fold(0.0, |most: f64, k| {
+            let d = distance(&points[k], &points[k - n]);
+            (d < within || d.is_nan()).then_some(most.max(d))
+        })
+    };
+    let mut returns: Vec<(f64, usize)> =
+        (1..=LONGEST_ORBIT.min(len / 2)).filter_map(|n| away(n).map(|a| (a, n))).collect();
+    returns.sort_by(|a, b| a.0.total_cmp(&b.0));
+    candidates(returns.into_iter().map(|(_, n)| (n, ()))).into_iter().map(|(n, ())| n).collect()
+}
+
+/// Whether section points (consecutive, the last nearest the motion's end)
+/// approach `x`, a point of an orbit of period n: the mean distance of
+/// every n-th point, counted back from the last, to `x` fell by [`SPIRAL`]
+/// from the first quarter of them to the last. A torus's or a chaotic
+/// motion's points keep their distance.
+fn approaches(points: &[DVector<f64>], x: &DVector<f64>, n: usize) -> bool {
+    let every: Vec<&DVector<f64>> = points.iter().rev().step_by(n).collect();
+    let count = every.len();
+    if count < 4 {
+        return false;
+    }
+    let mean = |part: &[&DVector<f64>]| part.iter().map(|p| distance(p, x)).sum::<f64>() / part.len() as f64;
+    // Newest first: the last quarter, then the first.
+    mean(&every[..count / 4]) < SPIRAL * mean(&every[count - count / 4..])
 }
 
 /// The periods Newton's method tries among `returns` (periods with what the
@@ -2122,12 +2172,61 @@ mod tests {
         assert!(!on_loops(&e.points, 2, ROTATION_TOL) && on_loops(&e.points, 8, ROTATION_TOL));
     }
 
-    /// Section points `[x, v]` at `t = kT`, k = 1 … `periods`, of the
-    /// undamped single stop (`x'' + x = cos ωt`, `x ≤ σ`, a restitution r)
-    /// from `y0` at t = 0, independent of the solver: between impacts the
-    /// closed form `x = X cos ωt + a cos t + b sin t` (`X = 1/(1 − ω²)`),
-    /// each impact found where x, sampled `samples` times a period, crosses
-    /// σ, bisected to rounding, and its velocity reversed and scaled by r.
+    /// Section points `[x, v]` at `t = kT`, k = 1 … `periods`, of a
+    /// closed-form flow between rigid stops, independent of the solver:
+    /// `at(t, c)` is the state at t of the free motion of coefficients c,
+    /// `through(t, x, v)` the coefficients of the one through (x, v) at t.
+    /// Each impact is found where x, sampled `samples` times a period,
+    /// crosses a stop `(position, side, restitution)` outwards (side +1: a
+    /// stop above, −1: below; an impact just made starts at the stop,
+    /// going back), bisected to rounding, and its velocity reversed and
+    /// scaled by the restitution.
+    fn sampled_sections<C: Copy>(
+        period: f64,
+        periods: usize,
+        samples: usize,
+        start: C,
+        at: impl Fn(f64, C) -> (f64, f64),
+        through: impl Fn(f64, f64, f64) -> C,
+        stops: &[(f64, f64, f64)],
+    ) -> Vec<DVector<f64>> {
+        let (mut lo, mut c) = (0.0, start);
+        let mut points = Vec::with_capacity(periods);
+        for k in 1..=periods {
+            let end = k as f64 * period;
+            let h = period / samples as f64;
+            while lo < end {
+                let hi = (lo + h).min(end);
+                let crossed = stops.iter().find(|&&(position, side, _)| {
+                    side * (at(lo, c).0 - position) <= 0.0 && side * (at(hi, c).0 - position) > 0.0
+                });
+                if let Some(&(position, side, restitution)) = crossed {
+                    let (mut l, mut r) = (lo, hi);
+                    for _ in 0..80 {
+                        let m = 0.5 * (l + r);
+                        if side * (at(m, c).0 - position) > 0.0 {
+                            r = m;
+                        } else {
+                            l = m;
+                        }
+                    }
+                    let (_, v) = at(l, c);
+                    c = through(l, position, -restitution * v);
+                    lo = l + 1e-12;
+                    continue;
+                }
+                lo = hi;
+            }
+            lo = end;
+            let (x, v) = at(end, c);
+            points.push(DVector::from_vec(vec![x, v]));
+        }
+        points
+    }
+
+    /// [`sampled_sections`] of the undamped single stop (`x'' + x = cos ωt`,
+    /// `x ≤ σ`, a restitution r) from `y0` at t = 0: between impacts
+    /// `x = X cos ωt + a cos t + b sin t` (`X = 1/(1 − ω²)`).
     fn stop_sections(
         omega: f64,
         sigma: f64,
@@ -2136,7 +2235,7 @@ mod tests {
         periods: usize,
         samples: usize,
     ) -> Vec<DVector<f64>> {
-        let (big_x, period) = (1.0 / (1.0 - omega * omega), std::f64::consts::TAU / omega);
+        let big_x = 1.0 / (1.0 - omega * omega);
         // The free oscillation's coefficients through the state (x, v) at t.
         let through = |t: f64, x: f64, v: f64| {
             let (px, pv) = (x - big_x * (omega * t).cos(), v + big_x * omega * (omega * t).sin());
@@ -2147,36 +2246,43 @@ mod tests {
             let v = -big_x * omega * (omega * t).sin() - a * t.sin() + b * t.cos();
             (x, v)
         };
-        let (mut lo, mut ab) = (0.0, through(0.0, y0[0], y0[1]));
-        let mut points = Vec::with_capacity(periods);
-        for k in 1..=periods {
-            let end = k as f64 * period;
-            let h = period / samples as f64;
-            while lo < end {
-                let hi = (lo + h).min(end);
-                // A crossing from below (an impact just made starts at σ, going down).
-                if at(lo, ab).0 <= sigma && at(hi, ab).0 > sigma {
-                    let (mut l, mut r) = (lo, hi);
-                    for _ in 0..80 {
-                        let m = 0.5 * (l + r);
-                        if at(m, ab).0 > sigma {
-                            r = m;
-                        } else {
-                            l = m;
-                        }
-                    }
-                    let (_, v) = at(l, ab);
-                    ab = through(l, sigma, -restitution * v);
-                    lo = l + 1e-12;
-                    continue;
-                }
-                lo = hi;
-            }
-            lo = end;
-            let (x, v) = at(end, ab);
-            points.push(DVector::from_vec(vec![x, v]));
-        }
-        points
+        let period = std::f64::consts::TAU / omega;
+        sampled_sections(
+            period,
+            periods,
+            samples,
+            through(0.0, y0[0], y0[1]),
+            at,
+            through,
+            &[(sigma, 1.0, restitution)],
+        )
+    }
+
+    /// [`sampled_sections`] of a damped oscillator between two stops
+    /// (`x'' + 2ζx' + x = sin ωt`, `−d ≤ x ≤ d`, a restitution r) from `y0`
+    /// at t = 0: between impacts `x = P sin ωt + Q cos ωt + e^{−ζs}(a cos ω_d s
+    /// + b sin ω_d s)`, s the time since the last impact, `ω_d = √(1 − ζ²)`,
+    /// `P = (1 − ω²)/D`, `Q = −2ζω/D`, `D = (1 − ω²)² + (2ζω)²`.
+    fn rattle_sections(omega: f64, zeta: f64, d: f64, r: f64, y0: [f64; 2], periods: usize) -> Vec<DVector<f64>> {
+        let big_d = (1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2);
+        let (p, q, wd) = ((1.0 - omega * omega) / big_d, -2.0 * zeta * omega / big_d, (1.0 - zeta * zeta).sqrt());
+        let forced = |t: f64| {
+            let (sn, cs) = (omega * t).sin_cos();
+            (p * sn + q * cs, omega * (p * cs - q * sn))
+        };
+        let through = |t: f64, x: f64, v: f64| {
+            let (xp, vp) = forced(t);
+            let a = x - xp;
+            (t, a, (v - vp + zeta * a) / wd)
+        };
+        let at = |t: f64, (t0, a, b): (f64, f64, f64)| {
+            let (xp, vp) = forced(t);
+            let s = t - t0;
+            let (e, (sn, cs)) = ((-zeta * s).exp(), (wd * s).sin_cos());
+            (xp + e * (a * cs + b * sn), vp + e * ((wd * b - zeta * a) * cs - (zeta * b + wd * a) * sn))
+        };
+        let period = std::f64::consts::TAU / omega;
+        sampled_sections(period, periods, 256, through(0.0, y0[0], y0[1]), at, through, &[(d, 1.0, r), (-d, -1.0, r)])
     }
 
     /// Issue 62: in a scene that dissipates nothing, a rotation number
@@ -2402,6 +2508,62 @@ p = "A"
         ];
         let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
         assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+    }
+
+    /// Issue 62: a record that approaches a stable orbit from farther than
+    /// the search reaches is that orbit. A damped mass between two stops
+    /// (x'' + 0.04 x' + x = sin ωt, |x| ≤ d, r = 0.85; a scene not shipped)
+    /// at ω = 1.06154, d = 0.82069, from the state its ω × d plane's up
+    /// sweep handed on, creeps along the weakest direction of the 1-1-1
+    /// orbit's node (multiplier 0.99958): still 5e-3 away when its record
+    /// ends, it was `U` ("the motion still contracts … a transient longer
+    /// than max_periods x (1 + extensions)"). By the closed form from the
+    /// same state, the motion is still more than 1e-4 from the orbit the
+    /// cell reports after 5 000 periods and within 1e-6 of it after 30 000.
+    #[test]
+    fn a_slow_node_approached_from_afar_is_its_orbit() {
+        let (omega, d) = (1.061_538_461_538_461_5, 0.820_689_655_172_413_8);
+        let scene = r#"
+name = "rattle"
+[parameters]
+omega = { value = 1.0 }
+d = { value = 0.5 }
+[forcing]
+omega = "omega"
+phase = "0"
+[[masses]]
+name = "M"
+mass = 1
+force = 1
+[[links]]
+masses = ["M"]
+stiffness = 1
+damping = 0.04
+[[stops]]
+name = "U"
+mass = "M"
+side = "above"
+position = "d"
+restitution = 0.85
+[[stops]]
+name = "L"
+mass = "M"
+side = "below"
+position = "-d"
+restitution = 0.85
+[labels.M]
+p = "U"
+q = "L"
+"#;
+        let sys = crate::testing::system_of(scene, &[("omega", omega), ("d", d)]);
+        let y0 = [-0.083_216_809_829_391_28, 0.314_024_518_779_849_16];
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+        assert_eq!(cell.labels[0].label.to_string(), "1-1-1", "{:?}", cell.reason);
+        assert!((cell.multiplier.unwrap() - 0.99958).abs() < 1e-5, "{:?}", cell.multiplier);
+        let orbit = DVector::from_column_slice(&cell.final_state);
+        let points = rattle_sections(omega, 0.02, d, 0.85, y0, 30_000);
+        assert!(distance(&points[4_999], &orbit) > 1e-4, "{}", distance(&points[4_999], &orbit));
+        assert!(distance(&points[29_999], &orbit) < 1e-6, "{}", distance(&points[29_999], &orbit));
     }
 
     /// Issue 62: an orbit longer than `n_max` that the record seems to
