@@ -82,10 +82,10 @@ const FEWEST: usize = 16;
 /// polygon.
 const ORDERED_POINTS: usize = 100;
 
-/// Largest denominator of a fraction that a rotation number is locked at by
-/// the length of its record alone ([`Rotation::locked`]): the fewest loops
-/// the closed-curve test looks for beyond which q arcs leave no gap wider
-/// than its π/4 (a turn over 8).
+/// Largest denominator q of a fraction that a rotation number is locked at
+/// by the length of its record alone ([`Rotation::locked`]): from q = 8 on,
+/// q short arcs 1/q apart leave no gap wider than the closed-curve test's
+/// π/4 (a turn over 8), and such a record could pass for a closed curve.
 const STILL_DENOMINATOR: usize = 7;
 
 /// Whether points in the plane of their two principal directions
@@ -279,7 +279,7 @@ pub(crate) fn folded_torus_loops(points: &[DVector<f64>], tol: f64) -> Option<us
 /// scattered cloud taken in that order zig-zags. Where the curve folds in
 /// the principal plane its angle about the centroid turns back, and the
 /// order of [`closed`] zig-zags on a curve (a three-mass chain's torus of two
-/// loops: 90 against the limit of 17.8 over 800 points, 10.0 in the order
+/// loops: 50 against the limit of 17.8 over 3 200 points, 10.0 in the order
 /// of phases). Only the first M points are taken, `M ≤ 0.2/√error`, so
 /// that the phases' error over them, `M × error`, stays a small part of
 /// their spacing `1/M`; fewer than [`ORDERED_POINTS`] tell no curve from a
