@@ -248,8 +248,16 @@ pub(crate) fn torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
 /// (each circled on its own closed curve: a torus of q loops) from chaos in
 /// q bands (each a cloud).
 pub(crate) fn on_loops(points: &[DVector<f64>], k: usize, tol: f64) -> bool {
+    loop_of(points, k, tol, |plane, _| closed(plane))
+}
+
+/// Whether every k-th point, from the first, has a rotation number
+/// converged within `tol` turns and not locked at a fraction, and lies on
+/// one closed curve by `curve` (given the points in their principal plane
+/// and that rotation number).
+fn loop_of(points: &[DVector<f64>], k: usize, tol: f64, curve: impl Fn(&[(f64, f64)], &Rotation) -> bool) -> bool {
     principal_plane(points.iter().step_by(k)).is_some_and(|plane| {
-        closed(&plane) && Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol && r.locked().is_none())
+        Rotation::in_plane(&plane).is_some_and(|r| r.error <= tol && r.locked().is_none() && curve(&plane, &r))
     })
 }
 
@@ -261,12 +269,7 @@ pub(crate) fn on_loops(points: &[DVector<f64>], k: usize, tol: f64) -> bool {
 /// within `tol` turns and not locked at a fraction, lies on one closed
 /// curve in that order; `None` when no k does.
 pub(crate) fn folded_torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
-    (1..=MOST_LOOPS).find(|&k| {
-        principal_plane(points.iter().step_by(k)).is_some_and(|plane| {
-            Rotation::in_plane(&plane)
-                .is_some_and(|r| r.error <= tol && r.locked().is_none() && closed_in_turn_order(&plane, &r))
-        })
-    })
+    (1..=MOST_LOOPS).find(|&k| loop_of(points, k, tol, closed_in_turn_order))
 }
 
 /// Whether points in their principal plane, turning by `rotation`, lie on
