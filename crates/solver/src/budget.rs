@@ -50,8 +50,20 @@ impl Budget {
         probe: &mut Simulator<'s>,
         phase: impl FnOnce(&mut Simulator<'s>) -> T,
     ) -> T {
+        self.spend_keeping(main, probe, 0, phase)
+    }
+
+    /// As [`Budget::spend`], but lent the work the cell has left less
+    /// `keep` (thousandths of an event), which stays for a later phase.
+    pub(crate) fn spend_keeping<'s, T>(
+        &mut self,
+        main: &mut Simulator<'s>,
+        probe: &mut Simulator<'s>,
+        keep: u64,
+        phase: impl FnOnce(&mut Simulator<'s>) -> T,
+    ) -> T {
         let (periods, events, work) = (probe.periods(), probe.events(), probe.work());
-        probe.set_budget(work.saturating_add(self.left(main)));
+        probe.set_budget(work.saturating_add(self.left(main).saturating_sub(keep)));
         let out = phase(probe);
         self.periods += probe.periods() - periods;
         self.events += probe.events() - events;

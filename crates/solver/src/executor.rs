@@ -78,7 +78,7 @@ use crate::lyapunov::{polynomial_growth, Exponent, Interval, Stretch};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
 use crate::section::record_window;
-use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator};
+use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator, EVENT_WORK};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
@@ -298,6 +298,11 @@ pub enum Unresolved {
     NoExponent {
         /// Why it halted.
         halt: Box<Unresolved>,
+        /// The estimate of `λT` and its interval over the periods measured
+        /// before a doubling of the measurement halted (not shown to
+        /// diverge); absent where the first measurement halted.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        measured: Option<Interval>,
     },
     /// No period up to `n_max`, and the motion contracts onto an orbit of a
     /// longer period (see `n_max`), which no extension of the record would
@@ -474,9 +479,14 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "the motion is unbounded: no event in the last {periods} periods, every gap growing, a position drifting by {drift:.3e} per forcing period"
             ),
-            Unresolved::NoExponent { halt } => {
+            Unresolved::NoExponent { halt, measured: None } => {
                 write!(f, "no period within the record, and its largest Lyapunov exponent could not be measured: {halt}")
             }
+            Unresolved::NoExponent { halt, measured: Some(growth) } => write!(
+                f,
+                "no period within the record, and the measurement of its largest Lyapunov exponent was cut short (λT = {:.3e} ± {:.1e}, 95 % over {} periods, not shown to diverge): {halt}",
+                growth.mean, growth.half_width, growth.periods
+            ),
             Unresolved::Described { text } => f.write_str(text),
         }
     }
@@ -669,9 +679,12 @@ pub fn run_cell_measured(
             (Class::Unresolved, None, Some(l), Some(Unresolved::LongPeriod { n, n_max: acc.n_max }))
         }
         Steady::Unmeasured => (Class::Chaotic, None, None, None),
-        Steady::Failed(halt) => {
-            (Class::Unresolved, None, None, Some(Unresolved::NoExponent { halt: Box::new(Unresolved::of(halt, acc)) }))
-        }
+        Steady::Failed(halt) => (
+            Class::Unresolved,
+            None,
+            None,
+            Some(Unresolved::NoExponent { halt: Box::new(Unresolved::of(halt, acc)), measured: None }),
+        ),
         Steady::Aperiodic(class, l, reason) => match cell.unbounded() {
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
             // One linear flow is never chaotic (a positive exponent is the
@@ -882,6 +895,15 @@ impl<'s> Executor<'s> {
     /// Either is regular whatever a finite record's exponent says.
     fn undamped_linear(&self, periods: usize) -> bool {
         self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.undamped()
+    }
+
+    /// The work (thousandths of an event) of simulating again the window
+    /// of a record without a period, its last `n_max` periods, for their
+    /// impact sections (phase 5): the events those periods handled, and the
+    /// one by which a run that meets its limit crosses it.
+    fn window_work(&self) -> u64 {
+        let events: usize = self.hist.iter().rev().take(self.acc.n_max).map(|r| r.events).sum();
+        (events as u64 + 1).saturating_mul(EVENT_WORK)
     }
 
     /// How far the motion leaves the neutral orbit of period n that the
@@ -1183,8 +1205,20 @@ impl<'s> Executor<'s> {
             }
             doublings += 1;
             let more = e.periods();
-            if let Err(halt) = self.budget.spend(&mut self.sim, &mut tangent, |t| e.extend(t, more)) {
-                let why = Unresolved::NoExponent { halt: Box::new(Unresolved::of(halt, self.acc)) };
+            // The window's sections are simulated after the decision: their
+            // events are kept from the measurement.
+            let keep = self.window_work();
+            if let Err(halt) = self.budget.spend_keeping(&mut self.sim, &mut tangent, keep, |t| e.extend(t, more)) {
+                // Cut short by the event budget (a lossless motion at slow
+                // forcing: 80 events a period), judged on the periods it
+                // measured by the test of every doubling: chaos where it
+                // is shown to diverge.
+                let growth = e.interval();
+                if halt == Halt::Budget && growth.low() > 0.0 && e.diverges() {
+                    return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
+                }
+                let halt = Box::new(Unresolved::of(halt, self.acc));
+                let why = Unresolved::NoExponent { halt, measured: Some(growth) };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }
@@ -2699,11 +2733,44 @@ q = "L"
                 if cell.class == Class::Unresolved {
                     // The record ran out, or the exponent's run did.
                     let budget = Unresolved::Budget { max_events: max as usize };
-                    let exponent = Unresolved::NoExponent { halt: Box::new(budget.clone()) };
-                    assert!(cell.reason == Some(budget) || cell.reason == Some(exponent), "{:?}", cell.reason);
+                    let exponent =
+                        matches!(&cell.reason, Some(Unresolved::NoExponent { halt, .. }) if **halt == budget);
+                    assert!(cell.reason == Some(budget) || exponent, "{:?}", cell.reason);
                 }
                 // Without a period, never chaotic without an exponent.
                 assert!(cell.class != Class::Chaotic || cell.lyapunov.is_some(), "ω {omega}, {max}: {cell:?}");
+            }
+        }
+    }
+
+    /// A measurement of the exponent cut short by the event budget is
+    /// judged on the periods it measured: weak chaos on the multi-stop
+    /// (λT ≈ 0.006 from the initial state, chaotic over 6 400 periods and
+    /// 13 900 events) is chaotic with 12 000 events, unresolved with 10 000
+    /// (its interval over 4 176 periods above 0 but its divergence not
+    /// shown), and either way the window's impact sections are simulated
+    /// within the budget, whose events the measurement left for them.
+    #[test]
+    fn a_measurement_cut_short_by_the_budget_is_judged_on_what_it_measured() {
+        let sys = multi_stop(1.4183673469387754, 1.3948275862068966);
+        let y0 = sys.model.initial_state();
+        let full = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+        assert_eq!(full.class, Class::Chaotic);
+        assert!(full.events > 12_000, "{} events", full.events);
+        for (max, class) in [(400_000, Class::Chaotic), (12_000, Class::Chaotic), (10_000, Class::Unresolved)] {
+            let acc = Accuracy::default().with(crate::Knob::MaxEvents, max as f64).unwrap();
+            let (cell, sections) = run_cell_with_sections(&sys, &acc, Method::Exact, &y0, 1000);
+            assert_eq!(cell.class, class, "{max}: {:?}", cell.reason);
+            assert!(cell.events <= max + 2, "{max}: {} events", cell.events);
+            let impacts: u32 = cell.impacts.iter().sum();
+            let points: usize = sections.iter().map(|s| s.len()).sum();
+            assert!(impacts > 0 && points == impacts as usize, "{max}: {points} points of {impacts} impacts");
+            if class == Class::Unresolved {
+                let Some(Unresolved::NoExponent { halt, measured: Some(growth) }) = &cell.reason else {
+                    panic!("{:?}", cell.reason)
+                };
+                assert_eq!(**halt, Unresolved::Budget { max_events: max });
+                assert!(growth.low() > 0.0 && growth.periods > 1600 && growth.periods < 6400, "{growth:?}");
             }
         }
     }

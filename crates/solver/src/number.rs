@@ -89,7 +89,7 @@ mod tests {
             },
             Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false, excess: None },
             Unresolved::Polynomial { growth, late: growth, rotation: Some(rotation), gain: Some(3.5), excess: None },
-            Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: 7 }) },
+            Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: 7 }), measured: None },
             Unresolved::LongPeriod { n: 140, n_max: 128 },
             Unresolved::Unsettled { periods: 2251, multiplier: 0.992_227_769_430_1, distance: 1.3e-7, left: None },
             Unresolved::Unsettled { periods: 3, multiplier: 1.0, distance: f64::INFINITY, left: None },
@@ -104,6 +104,7 @@ mod tests {
             Unresolved::Linear { periods: 50, closing: Some(3e-5), meets: Some(f64::INFINITY) },
             Unresolved::Unbounded { periods: 20, drift: 5e-324 },
             Unresolved::Described { text: "an older atlas's words, 1.5e-3".into() },
+            Unresolved::NoExponent { halt: Box::new(Unresolved::Stalled), measured: Some(growth) },
         ];
         for u in &reasons {
             let back = round_trip(u);

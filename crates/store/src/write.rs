@@ -905,7 +905,7 @@ mod tests {
         let distance = if i.is_multiple_of(2) { f64::INFINITY } else { 1e-7 * (1.0 + (i % 7) as f64 * 1e-9) };
         match i % 3 {
             0 => Unresolved::Unsettled { periods: 2251, multiplier: 0.99, distance, left: None },
-            1 => Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: i }) },
+            1 => Unresolved::NoExponent { halt: Box::new(Unresolved::Budget { max_events: i }), measured: None },
             _ => Unresolved::Failed(solver::SolverError::OutOfRange { message: format!("x = {i}e300") }),
         }
     }
