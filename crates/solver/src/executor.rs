@@ -308,8 +308,9 @@ pub enum Unresolved {
         /// Why it halted.
         halt: Box<Unresolved>,
         /// The estimate of `λT` and its interval over the periods measured
-        /// before a doubling of the measurement halted (not shown to
-        /// diverge); absent where the first measurement halted.
+        /// before a doubling of the measurement ran out of the event budget
+        /// (not shown to diverge); absent where the first measurement
+        /// halted, or a doubling for another reason.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         measured: Option<Interval>,
     },
@@ -1243,12 +1244,13 @@ impl<'s> Executor<'s> {
                 // forcing: 80 events a period), judged on the periods it
                 // measured by the test of every doubling: chaos where it
                 // is shown to diverge.
+                let budget = halt == Halt::Budget;
                 let growth = e.interval();
-                if halt == Halt::Budget && growth.low() > 0.0 && e.diverges() {
+                if budget && growth.low() > 0.0 && e.diverges() {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
                 let halt = Box::new(Unresolved::of(halt, self.acc));
-                let why = Unresolved::NoExponent { halt, measured: Some(growth) };
+                let why = Unresolved::NoExponent { halt, measured: budget.then_some(growth) };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }
