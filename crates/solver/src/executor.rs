@@ -1070,7 +1070,7 @@ impl<'s> Executor<'s> {
         let lossless = self.sys.lossless();
         loop {
             let growth = e.interval();
-            if growth.low() > 0.0 && e.diverges() {
+            if e.chaotic() {
                 return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
             }
             let last = doublings == limit;
@@ -1245,12 +1245,11 @@ impl<'s> Executor<'s> {
                 // measured by the test of every doubling: chaos where it
                 // is shown to diverge.
                 let budget = halt == Halt::Budget;
-                let growth = e.interval();
-                if budget && growth.low() > 0.0 && e.diverges() {
+                if budget && e.chaotic() {
                     return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
                 }
                 let halt = Box::new(Unresolved::of(halt, self.acc));
-                let why = Unresolved::NoExponent { halt, measured: budget.then_some(growth) };
+                let why = Unresolved::NoExponent { halt, measured: budget.then(|| e.interval()) };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }

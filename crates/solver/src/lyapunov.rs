@@ -181,6 +181,12 @@ impl Exponent {
         k >= 2 * BLOCKS && (shown(0) || shown(k / 2))
     }
 
+    /// Whether the measurement shows chaos: its interval above 0 and the
+    /// tangent shown to grow exponentially ([`Exponent::diverges`]).
+    pub fn chaotic(&self) -> bool {
+        self.interval().low() > 0.0 && self.diverges()
+    }
+
     /// The exponent over the last half of the measured periods (`λT` and its
     /// interval): near the whole's in chaos, falling like `1/K` on a torus.
     pub fn late(&self) -> Interval {
