@@ -197,8 +197,12 @@ knobs! {
     NMax n_max: usize, Count, max 1e4, "memory of the period history";
     /// Impacts at one stop in n periods from which a motion is flagged chattering (6).
     ChatterImpacts chatter_impacts: usize, Count, max 1e6, "no motion chatters beyond it";
-    /// Event budget of one cell; past it the cell is `unresolved` (standard 400 000).
-    /// RK4's steps count against it, a fraction of an event each (`flow::rk4`).
+    /// Event budget of one cell; past it the cell is `unresolved` (standard
+    /// 1 600 000: the 102 400 periods a record is measured for at most in a
+    /// scene that dissipates nothing, at 16 events a period). It bounds the
+    /// time of a cell; the periods of a record, not the budget, limit every
+    /// ordinary one. RK4's steps count against it, a fraction of an event
+    /// each (`flow::rk4`).
     MaxEvents max_events: usize, Count, max 1e10, "time per cell";
     /// Accelerate slowly contracting transients by Newton's method on the period
     /// map once the impact pattern repeats (standard and fast: on; precise: off,
@@ -249,7 +253,7 @@ impl Accuracy {
             periodic_tol: 1e-7,
             n_max: 32,
             chatter_impacts: 6,
-            max_events: 400_000,
+            max_events: 1_600_000,
             newton: true,
             lyapunov_periods: 100,
             chaos_check: 100,

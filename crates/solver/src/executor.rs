@@ -2804,6 +2804,45 @@ q = "L"
         }
     }
 
+    /// Issue 62: `standard`'s event budget (1 600 000) lets a record of a
+    /// scene that dissipates nothing be measured as long as its rules ask
+    /// at slow forcing. The lossless multi-stop (ζ = 0, R = 1) handles 20
+    /// events a period at ω = 0.40256 and 80 at ω = 0.1, where 400 000
+    /// events (the budget before) ran out before the measurement decided:
+    /// both were `U`. An independent simulator (the closed form of the two
+    /// undamped oscillators, impacts bisected), 200 000 periods from their
+    /// final states and from states 1e-9 away: the first chaotic (the
+    /// starts 1e-2 apart after 20 292 periods, λT 1.2e-3 to 1.6e-3 in every
+    /// quarter), the second regular (1.8e-9, 1.0e-8, 1.0e-7 and 1.4e-6
+    /// apart after 100, 1 000, 10 000 and 100 000 periods: a torus's growth
+    /// like t).
+    #[test]
+    fn a_lossless_record_at_slow_forcing_is_decided_within_the_budget() {
+        let lossless = |omega: f64, delta: f64| {
+            system("multi-stop.toml", &[("omega", omega), ("delta", delta), ("zeta", 0.0), ("R", 1.0)])
+        };
+        // Each with the state its down sweep handed on (the 40 × 30 plane's).
+        let cells = [
+            (
+                lossless(0.402_564_102_564_102_6, 0.117_241_379_310_344_83),
+                [18.207_426_343_431_873, 61.884_195_169_601_99, 3.199_203_821_735_711, 34.497_688_037_457_25],
+                Class::Chaotic,
+            ),
+            (
+                lossless(0.1, 0.05),
+                [1.823_438_147_172_829_8, 13.555_287_126_010_501, 15.550_849_250_988_891, 0.515_511_185_107_235_3],
+                Class::Quasiperiodic,
+            ),
+        ];
+        let before = Accuracy::default().with(crate::Knob::MaxEvents, 400_000.0).unwrap();
+        for (sys, y0, class) in &cells {
+            let cell = run_cell(sys, &Accuracy::default(), Method::Exact, y0);
+            assert_eq!(cell.class, *class, "{:?}", cell.reason);
+            assert!(cell.events > 400_000, "{} events", cell.events);
+            assert_eq!(run_cell(sys, &before, Method::Exact, y0).class, Class::Unresolved);
+        }
+    }
+
     /// Issue 62: points on one closed curve are no torus where the tangent
     /// grows faster than a polynomial over the last half, in a scene that
     /// dissipates (a torus's tangent stays bounded there). The main job's
