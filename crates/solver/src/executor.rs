@@ -43,7 +43,9 @@
 //! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
 //!    Floquet multiplier modulus of the n-period map at the final state. An
 //!    orbit whose multiplier exceeds 1.01 is unstable: the record only passed
-//!    near it, and the cell is `unresolved` ([`Unresolved::Unstable`]); so
+//!    near it, and the motion is measured on from there as a record without
+//!    a period's (`C` or `Q` where that decides it), else the cell is
+//!    `unresolved` ([`Unresolved::Unstable`]); so
 //!    is one whose multiplier says that the state is still far from it where
 //!    rounding hid the contraction from the record (unless the periods that
 //!    close the distance are left in the record's whole budget,
@@ -725,13 +727,18 @@ pub fn run_cell_measured(
         Some(n) if acc.multipliers => cell.measured.or_else(|| cell.multiplier(n).map(|(all, _)| all)),
         _ => None,
     };
-    // An unstable orbit is not where the motion stays: the record only passed near it.
-    let (class, n, reason, multiplier) = match multiplier {
+    // An unstable orbit is not where the motion stays: the record only
+    // passed near it. The motion is measured on as a record without a
+    // period's, and is `U` naming the orbit where that does not decide it.
+    let (class, n, lyapunov, reason, multiplier) = match multiplier {
         Some(mu) if mu > 1.0 + UNSTABLE => {
             let periods = cell.sim.periods() as usize;
-            (Class::Unresolved, None, Some(Unresolved::Unstable { periods, multiplier: mu }), None)
+            match cell.beyond_unstable() {
+                Some((class, l)) => (class, None, Some(l), None, None),
+                None => (Class::Unresolved, None, None, Some(Unresolved::Unstable { periods, multiplier: mu }), None),
+            }
         }
-        _ => (class, n, reason, multiplier),
+        _ => (class, n, lyapunov, reason, multiplier),
     };
     let mut result = cell.window(class, n, y0);
     let (sections, quantities) = cell.window_pass(&result, section_cap, measure);
@@ -1033,6 +1040,23 @@ impl<'s> Executor<'s> {
         let periods = self.acc.lyapunov_periods;
         let e = self.budget.spend(&mut self.sim, &mut tangent, |t| Exponent::measure(t, LYAPUNOV_WARMUP, periods))?;
         Ok((tangent, e))
+    }
+
+    /// The class of a record whose section repeated near an unstable orbit,
+    /// measured on from there as a record without a period
+    /// ([`Executor::decide`], with its final say): `C` or `Q` with its
+    /// exponent (per unit time) where the exponent's and the torus's tests
+    /// decide it; `None` where they do not, or the measurement halted (the
+    /// cell is then [`Unresolved::Unstable`]). A chaotic motion passes near
+    /// the unstable orbits embedded in it, and one of a scene that
+    /// dissipates nothing can stay near a weakly unstable one for longer
+    /// than a record.
+    fn beyond_unstable(&mut self) -> Option<(Class, f64)> {
+        let (tangent, e) = self.exponent().ok()?;
+        match self.decide(tangent, e, true) {
+            Steady::Aperiodic(class @ (Class::Chaotic | Class::Quasiperiodic), l, None) => Some((class, l)),
+            _ => None,
+        }
     }
 
     /// The class of a record without a period from its exponent (measured on
@@ -2802,6 +2826,31 @@ q = "L"
                 assert!(growth.low() > 0.0 && growth.periods > 1600 && growth.periods < 6400, "{growth:?}");
             }
         }
+    }
+
+    /// Issue 62: a record whose section repeats near an unstable orbit is
+    /// measured on as one without a period. The lossless single stop
+    /// (r = 1) at ω = 0.11739, σ = −0.66667, from the state its down sweep
+    /// handed on, repeated after 882 periods near an orbit of largest
+    /// multiplier 1.022 and was `U` ("a transient passing it"). Measured
+    /// on, its tangent grows no faster than a regular motion's: `Q`. An
+    /// independent simulator (the closed form of the forced undamped
+    /// oscillator, impacts located by sampling and bisection) from the state
+    /// it ended in: its section points over 20 000 periods lie on one smooth
+    /// arc that ends on the stop (where the impact joins its two ends),
+    /// those of the second 10 000 on those of the first, and two starts
+    /// 1e-9 apart drift apart along it (3e-5 after 3 000 periods, 0.86,
+    /// the arc's size, after 100 000), as the phases of neighbouring tori do.
+    #[test]
+    fn a_record_near_an_unstable_orbit_is_measured_on() {
+        let sys = system(
+            "single-stop.toml",
+            &[("omega", 0.117_391_304_347_826_09), ("sigma", -0.666_666_666_666_666_7), ("r", 1.0)],
+        );
+        let y0 = [-1.175_171_448_788_217_4, -0.383_700_115_396_978_7];
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        assert!(cell.periods > 6_400, "{}", cell.periods);
     }
 
     /// Issue 62: `standard`'s event budget (1 600 000) lets a record of a
