@@ -43,9 +43,9 @@
 //! 3. **multiplier** ([`Executor::multiplier`]): with a period, the largest
 //!    Floquet multiplier modulus of the n-period map at the final state. An
 //!    orbit whose multiplier exceeds 1.01 is unstable: the record only passed
-//!    near it, and the motion is measured on from there as a record without
-//!    a period's (`C` or `Q` where that decides it), else the cell is
-//!    `unresolved` ([`Unresolved::Unstable`]); so
+//!    near it; in a scene that dissipates nothing the motion is measured on
+//!    from there as a record without a period's (`C` or `Q` where that
+//!    decides it), else the cell is `unresolved` ([`Unresolved::Unstable`]); so
 //!    is one whose multiplier says that the state is still far from it where
 //!    rounding hid the contraction from the record (unless the periods that
 //!    close the distance are left in the record's whole budget,
@@ -728,8 +728,9 @@ pub fn run_cell_measured(
         _ => None,
     };
     // An unstable orbit is not where the motion stays: the record only
-    // passed near it. The motion is measured on as a record without a
-    // period's, and is `U` naming the orbit where that does not decide it.
+    // passed near it. Where nothing dissipates the motion is measured on
+    // as a record without a period's; `U` naming the orbit where that does
+    // not decide it, and wherever something dissipates.
     let (class, n, lyapunov, reason, multiplier) = match multiplier {
         Some(mu) if mu > 1.0 + UNSTABLE => {
             let periods = cell.sim.periods() as usize;
@@ -1042,16 +1043,23 @@ impl<'s> Executor<'s> {
         Ok((tangent, e))
     }
 
-    /// The class of a record whose section repeated near an unstable orbit,
-    /// measured on from there as a record without a period
-    /// ([`Executor::decide`], with its final say): `C` or `Q` with its
-    /// exponent (per unit time) where the exponent's and the torus's tests
-    /// decide it; `None` where they do not, or the measurement halted (the
-    /// cell is then [`Unresolved::Unstable`]). A chaotic motion passes near
-    /// the unstable orbits embedded in it, and one of a scene that
-    /// dissipates nothing can stay near a weakly unstable one for longer
-    /// than a record.
+    /// The class of a record whose section repeated near an unstable orbit
+    /// in a scene that dissipates nothing, measured on from there as a
+    /// record without a period ([`Executor::decide`], with its final say):
+    /// `C` or `Q` with its exponent (per unit time) where the exponent's and
+    /// the torus's tests decide it; `None` where they do not, where the
+    /// measurement halted, and in a scene that dissipates (the cell is then
+    /// [`Unresolved::Unstable`]). Where nothing dissipates nothing attracts:
+    /// a motion can stay near a weakly unstable orbit for longer than a
+    /// record, and a chaotic one passes near those embedded in it. Where
+    /// something does, a motion leaving an unstable orbit is a transient
+    /// towards an attractor (the damper's 2-2-2 at |μ| = 1.057, beside
+    /// which its cell's other samples reach 4-4-4), and a measurement
+    /// started there takes the orbit's own instability for divergence.
     fn beyond_unstable(&mut self) -> Option<(Class, f64)> {
+        if !self.sys.lossless() {
+            return None;
+        }
         let (tangent, e) = self.exponent().ok()?;
         match self.decide(tangent, e, true) {
             Steady::Aperiodic(class @ (Class::Chaotic | Class::Quasiperiodic), l, None) => Some((class, l)),
