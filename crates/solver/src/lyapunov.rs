@@ -61,6 +61,8 @@ pub struct Exponent {
     warmup: usize,
     /// Period-section points visited, one per measured period.
     pub points: Vec<DVector<f64>>,
+    /// Events (impacts, contacts, sticks, releases) of each measured period.
+    events: Vec<u32>,
 }
 
 /// A 95 % confidence interval of `λT`, the growth per forcing period.
@@ -103,6 +105,7 @@ impl Exponent {
             period: sim.period(),
             warmup,
             points: Vec::with_capacity(periods),
+            events: Vec::with_capacity(periods),
         };
         for _ in 0..warmup {
             e.step(sim)?;
@@ -115,17 +118,19 @@ impl Exponent {
     /// simulator it was measured with, where it stopped.
     pub fn extend(&mut self, sim: &mut Simulator<'_>, periods: usize) -> Result<(), Halt> {
         for _ in 0..periods {
-            let growth = self.step(sim)?;
+            let (growth, events) = self.step(sim)?;
             self.growth.push(growth);
+            self.events.push(events);
             self.points.push(sim.state().clone());
         }
         Ok(())
     }
 
-    /// One forcing period of the tangent: its growth.
-    fn step(&mut self, sim: &mut Simulator<'_>) -> Result<f64, Halt> {
+    /// One forcing period of the tangent: its growth and its events.
+    fn step(&mut self, sim: &mut Simulator<'_>) -> Result<(f64, u32), Halt> {
         sim.reset_tangent();
         let rec = sim.run_period(&[], false, &mut Ignore)?;
+        let events = u32::try_from(rec.events).unwrap_or(u32::MAX);
         sim.recycle(rec);
         apply(sim.tangent().ok_or(Halt::Stalled)?, &self.v, &mut self.w);
         let norm = self.w.norm();
@@ -137,11 +142,11 @@ impl Exponent {
             // it came there, and its motion from the release on is the same
             // whatever came before. λ is -∞: counted as the least growth a
             // double shows, the vector kept for the next period.
-            return Ok(ERASED);
+            return Ok((ERASED, events));
         }
         std::mem::swap(&mut self.v, &mut self.w);
         self.v /= norm;
-        Ok(norm.ln())
+        Ok((norm.ln(), events))
     }
 
     /// The largest Lyapunov exponent, per unit time:
@@ -185,6 +190,13 @@ impl Exponent {
     /// tangent shown to grow exponentially ([`Exponent::diverges`]).
     pub fn chaotic(&self) -> bool {
         self.interval().low() > 0.0 && self.diverges()
+    }
+
+    /// Events (impacts, contacts, sticks, releases) over the last half of
+    /// the measured periods: the tangent of a piecewise-linear flow grows
+    /// beyond a linear flow's bounded swing only at them.
+    pub fn late_events(&self) -> u64 {
+        self.events[self.events.len() / 2..].iter().map(|&n| u64::from(n)).sum()
     }
 
     /// The exponent over the last half of the measured periods (`λT` and its
@@ -280,7 +292,16 @@ mod tests {
     use super::*;
 
     fn estimate(growth: Vec<f64>) -> Exponent {
-        Exponent { points: Vec::new(), v: DVector::zeros(2), w: DVector::zeros(2), period: 2.0, warmup: 10, growth }
+        let events = vec![1; growth.len()];
+        Exponent {
+            points: Vec::new(),
+            v: DVector::zeros(2),
+            w: DVector::zeros(2),
+            period: 2.0,
+            warmup: 10,
+            growth,
+            events,
+        }
     }
 
     /// A reproducible noise, uniform in [-1, 1) (SplitMix64 of `k`).

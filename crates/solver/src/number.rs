@@ -105,6 +105,7 @@ mod tests {
             Unresolved::Unbounded { periods: 20, drift: 5e-324 },
             Unresolved::Described { text: "an older atlas's words, 1.5e-3".into() },
             Unresolved::NoExponent { halt: Box::new(Unresolved::Stalled), measured: Some(growth) },
+            Unresolved::Sparse { growth, late: growth, events: 7 },
         ];
         for u in &reasons {
             let back = round_trip(u);
