@@ -105,7 +105,13 @@ mod tests {
             Unresolved::Unbounded { periods: 20, drift: 5e-324 },
             Unresolved::Described { text: "an older atlas's words, 1.5e-3".into() },
             Unresolved::NoExponent { halt: Box::new(Unresolved::Stalled), measured: Some(growth) },
-            Unresolved::Sparse { growth, late: growth, events: 7 },
+            Unresolved::TorusUntold { growth, late: growth, events: 7, grew: None },
+            Unresolved::TorusUntold {
+                growth,
+                late: growth,
+                events: 6400,
+                grew: Some(Box::new(Stretch { periods: 3200, growth: 3.697, bound: 1.383_176_667_581_308_4 })),
+            },
         ];
         for u in &reasons {
             let back = round_trip(u);
