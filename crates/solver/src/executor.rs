@@ -318,7 +318,7 @@ pub enum Unresolved {
     /// faster than a polynomial could, and over the first half too (`grew`,
     /// the last half's stretch: a thin chaotic band about a torus, or a
     /// chaotic transient before an orbit), or the half held too
-    /// few events to tell (`events` fewer than [`TOLD_EVENTS`], at least
+    /// few events to tell (`events` fewer than 20, at least
     /// one: chaos whose tangent is stretched only at its rare impacts may
     /// grow no faster by chance).
     TorusUntold {
