@@ -1351,6 +1351,22 @@ impl<'s> Executor<'s> {
                     }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 } else {
+                    // Locked at p/q, as an orbit of period q turns, in a
+                    // scene that dissipates: an orbit still being reached
+                    // from farther than the searches above look, its
+                    // exponent about 0 while it creeps in (the soft stop at
+                    // ω = 0.98354, clearance 0.27119, up: locked at −1/2,
+                    // λT −4.6e-4 ± 4.9e-4 over 6 400 periods, reaches its
+                    // orbit `2-2-0`, largest multiplier 0.9975, some 2 700
+                    // periods after the record; the down sweep's cell is
+                    // on it). Sought as for a contracting record, where the
+                    // last half had events: without, it is one linear flow,
+                    // whose undamped oscillation no orbit attracts.
+                    if locked.is_some() && !lossless && late_events > 0 {
+                        if let Some(n) = self.approached_orbit(&e.points) {
+                            return Steady::Periodic(n);
+                        }
+                    }
                     let excess = if lossless { e.excess().map(Box::new) } else { None };
                     let why = if growth.low() > 0.0 {
                         Unresolved::Polynomial { growth, late: e.late(), rotation, gain, excess }
@@ -2992,6 +3008,24 @@ q = "L"
         let sys = multi_stop(1.23, 0.169_999_999_999_999_98);
         let y0 =
             [0.029_929_094_076_808_105, 0.230_269_435_464_835_8, 0.489_409_284_641_259_66, 0.181_822_527_594_237_42];
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+        assert_eq!(cell.class, Class::Periodic, "{:?}", cell.reason);
+        assert_eq!(cell.n, Some(2));
+    }
+
+    /// Issue 62: a record locked at p/q whose exponent is about 0, in a
+    /// scene that dissipates, is sought as an orbit being reached. The soft
+    /// stop at ω = 0.98354, clearance 0.27119 (the up sweep of its documented
+    /// plane, from the state its sweep handed on): locked at −1/2 over 6 400
+    /// periods with λT = −4.6e-4 ± 4.9e-4, it was `U` ("no stable orbit of
+    /// such a period was found near them"). Its orbit `2-2-0` (largest
+    /// multiplier 0.9975), which ten times the record reaches and the down
+    /// sweep's cell is on, is found from the record's last point.
+    #[test]
+    fn a_locked_record_creeping_onto_its_orbit_is_that_orbit() {
+        let sys =
+            system("soft-stop.toml", &[("omega", 0.983_544_303_797_468_3), ("clearance", 0.271_186_440_677_966_1)]);
+        let y0 = [0.553_464_077_523_184_7, 0.239_956_346_127_207_37];
         let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
         assert_eq!(cell.class, Class::Periodic, "{:?}", cell.reason);
         assert_eq!(cell.n, Some(2));
