@@ -1247,7 +1247,7 @@ impl<'s> Executor<'s> {
                 // 3 200 and 19.4 over the first; chaotic for an independent
                 // simulator over 30 000 periods, it reaches an orbit of 705
                 // periods after 17 384 over ten times the record).
-                let kept_growing = if lossless { None } else { e.grew_throughout() };
+                let kept_growing = grew.filter(|late| e.grew_before(late));
                 let untold = sparse || kept_growing.is_some();
                 let loops = loops.or(deferred.filter(|_| grew.is_none()));
                 if let Some(k) = loops {
@@ -1338,7 +1338,7 @@ impl<'s> Executor<'s> {
                         grew: kept_growing.map(Box::new),
                     };
                     return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
-                } else if let Some(k) = folded_torus_loops(&e.points, ROTATION_TOL).filter(|_| !untold) {
+                } else if let Some(k) = (!untold).then(|| folded_torus_loops(&e.points, ROTATION_TOL)).flatten() {
                     // Otherwise undecided, on a curve that folds in its
                     // principal plane: the order of angles that the tests
                     // above follow zig-zags along it, the order of the

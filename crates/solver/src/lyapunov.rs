@@ -240,19 +240,18 @@ impl Exponent {
         (k >= 2 * BLOCKS).then(|| self.beyond_polynomial(k / 2)).flatten()
     }
 
-    /// The last half of the measurement where the tangent grew over it by
-    /// more than a polynomial growth could ([`Exponent::grew_late`]) and
-    /// over the first half too by more than that same bound: growth kept up
+    /// Whether the tangent, having grown over the `late` stretch by more than
+    /// a polynomial growth could ([`Exponent::grew_late`]'s), grew over the
+    /// periods before it by more than that same bound too: growth kept up
     /// throughout. An attracting torus's tangent stays bounded, so it may
     /// swing past the bound over one half (the main job's plane, down, at
     /// ω = 1.66, δ = 0.1: 2.09 over the last 3 200 of 6 400 periods against
     /// 1.38, after −1.07 over the first; a torus for an independent
     /// simulator, its tangent within e^±3 over 100 000 periods) but not
     /// keep growing over both.
-    pub fn grew_throughout(&self) -> Option<Stretch> {
-        let late = self.grew_late()?;
+    pub fn grew_before(&self, late: &Stretch) -> bool {
         let first: f64 = self.growth[..self.growth.len() - late.periods].iter().sum();
-        (first > late.bound).then_some(late)
+        first > late.bound
     }
 
     /// The stretch from measured period `from` to the end where the tangent
