@@ -33,7 +33,7 @@
 //!    when contracting. A free mass drifting towards a stop without an
 //!    event is a transient too, and where it drifts through every extension
 //!    it is followed to the stop without a record
-//!    ([`Executor::follow_drift`]), the motion recorded afresh from there.
+//!    ([`Executor::follow_quiet`]), the motion recorded afresh from there.
 //!    A record that still contracts but whose section has
 //!    settled on an orbit longer than `n_max` (up to 128 periods) is not
 //!    extended (no extension would find a period): Newton's method on that
@@ -220,7 +220,7 @@ const DRIFT: f64 = 1e-6;
 
 /// How far a free mass drifting without an event is followed beyond the
 /// record's budget, in units of `max_periods` (see
-/// [`Executor::follow_drift`]).
+/// [`Executor::follow_quiet`]).
 const DRIFT_REACH: usize = 100;
 
 /// Fewest periods without an event over which growing gaps show a motion
@@ -398,6 +398,11 @@ pub enum Unresolved {
     /// free mass drifts towards a stop, the record was extended to meet it
     /// while extensions remained, and the drift followed past the budget as
     /// far as 100 `max_periods` allow; `closing` and `meets` say how far it was.
+    /// Where an undamped oscillation's torus reaches past a stop, the motion
+    /// meets it again once the phases of its free oscillation and of the
+    /// forcing come near alignment: followed there once (the motion recorded
+    /// afresh after the event); `overlap` and `followed` say how far it
+    /// reaches and how long it was followed without meeting the stop.
     Linear {
         /// Periods of the record without an event.
         periods: usize,
@@ -408,6 +413,15 @@ pub enum Unresolved {
         /// Forcing periods until that gap closes at that rate.
         #[serde(default, with = "crate::number::optional")]
         meets: Option<f64>,
+        /// How far the torus of an undamped oscillation beside the forcing
+        /// reaches past a stop (the bound of its terms beyond the gap, in
+        /// the stop's length units), where it does.
+        #[serde(default, skip_serializing_if = "Option::is_none", with = "crate::number::optional")]
+        overlap: Option<f64>,
+        /// Forcing periods that motion was followed past the record without
+        /// meeting the stop, where the follow reached its end.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        followed: Option<u64>,
     },
     /// No period, and the motion leaves every stop behind without bound: no
     /// event over the last periods of the record, a rigid mode (a mass held
@@ -529,7 +543,15 @@ impl std::fmt::Display for Unresolved {
                 f,
                 "the section repeated after {periods} periods, but its orbit contracts too slowly to have reached it (largest |multiplier| {multiplier:.12}; still about {distance:.1e} from it, relative)"
             ),
-            Unresolved::Linear { periods, closing: Some(closing), meets: Some(meets) } => write!(
+            Unresolved::Linear { periods, overlap: Some(overlap), followed: Some(followed), .. } => write!(
+                f,
+                "no period, and no impact or other event in the last {periods} periods recorded: an undamped oscillation beside the forcing whose torus reaches {overlap:.1e} past a stop, so it meets the stop again where the phases of its free oscillation and of the forcing align, but not within the {followed} periods it was followed past the record"
+            ),
+            Unresolved::Linear { periods, overlap: Some(overlap), .. } => write!(
+                f,
+                "no period, and no impact or other event in the last {periods} periods recorded: an undamped oscillation beside the forcing whose torus reaches {overlap:.1e} past a stop, so it meets the stop again where the phases of its free oscillation and of the forcing align; the motion was followed to such an impact once already and recorded afresh, and went quiet again before its budget ended"
+            ),
+            Unresolved::Linear { periods, closing: Some(closing), meets: Some(meets), .. } => write!(
                 f,
                 "no period, and no impact or other event in the last {periods} periods recorded: a free mass drifts towards a stop, its gap closing by {closing:.1e} per period, and would meet it in about {meets:.0} more periods, beyond the record's budget and how far a drift is followed past it ({DRIFT_REACH} x max_periods periods)"
             ),
@@ -766,7 +788,9 @@ pub fn run_cell_measured(
                     (Class::Quasiperiodic, None, Some(l), None)
                 } else {
                     let (closing, meets) = cell.drifting().unzip();
-                    let why = Unresolved::Linear { periods: cell.hist.len(), closing, meets };
+                    let overlap = cell.quiet_overlap();
+                    let followed = cell.followed.filter(|_| overlap.is_some());
+                    let why = Unresolved::Linear { periods: cell.hist.len(), closing, meets, overlap, followed };
                     (Class::Unresolved, None, Some(l), Some(why))
                 }
             }
@@ -838,6 +862,9 @@ struct Executor<'s> {
     measured: Option<f64>,
     /// Why the accepted period is not a result, where it is not.
     unsettled: Option<Unresolved>,
+    /// The periods an undamped oscillation bound for a stop was followed
+    /// without meeting it, where [`Executor::follow_quiet`] reached its end.
+    followed: Option<u64>,
 }
 
 impl<'s> Executor<'s> {
@@ -855,6 +882,7 @@ impl<'s> Executor<'s> {
             budget: Budget::new(acc.max_events),
             measured: None,
             unsettled: None,
+            followed: None,
         })
     }
 
@@ -1482,7 +1510,13 @@ impl<'s> Executor<'s> {
                 early_look = false;
                 limit = acc.max_periods;
                 if let (true, Ok((tangent, e))) = (chaotic, exponent) {
-                    return Ok(self.decide(tangent, e, true));
+                    let decided = self.decide(tangent, e, true);
+                    if !drift_followed && self.bound_for_stop(&decided).map_err(|h| Unresolved::of(h, acc))? {
+                        drift_followed = true;
+                        limit = self.sim.periods() as usize + acc.max_periods;
+                        continue;
+                    }
+                    return Ok(decided);
                 }
                 continue;
             }
@@ -1513,7 +1547,7 @@ impl<'s> Executor<'s> {
                 continue;
             }
             // Still drifting when the budget ends: followed to the wall, once.
-            if !drift_followed && self.follow_drift().map_err(|h| Unresolved::of(h, acc))? {
+            if !drift_followed && self.follow_quiet().map_err(|h| Unresolved::of(h, acc))? {
                 drift_followed = true;
                 (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
                 continue;
@@ -1523,6 +1557,11 @@ impl<'s> Executor<'s> {
                 Err(halt) => return Ok(Steady::Failed(halt)),
             };
             let decided = self.decide(tangent, e, extensions >= acc.extensions);
+            if !drift_followed && self.bound_for_stop(&decided).map_err(|h| Unresolved::of(h, acc))? {
+                drift_followed = true;
+                (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
+                continue;
+            }
             // Contracting once its measurement was doubled: a transient
             // like any other, extended while extensions remain (within the
             // same budget of max_periods x (1 + extensions) periods, which
@@ -1624,23 +1663,30 @@ impl<'s> Executor<'s> {
         Some(Unresolved::Unbounded { periods: recs.len(), drift })
     }
 
-    /// A free mass that drifts towards a stop without an event through the
-    /// record's whole budget ([`Executor::drifting`]), followed there: period
-    /// after period of the same exact flow, without a record (an event-free
-    /// period costs a few steps of the flow and nothing else), until the first
-    /// period with an event, at most twice the periods that its closing rate
-    /// gives and at most [`DRIFT_REACH`] × `max_periods`. `true` when an event
-    /// came: the motion from there is recorded afresh (its history, trail and
-    /// Newton acceleration start again); `false` where no free mass drifts,
-    /// or when the reach ended first (the history then holds the last
-    /// periods followed).
-    fn follow_drift(&mut self) -> Result<bool, Halt> {
-        let Some((_, meets)) = self.drifting() else { return Ok(false) };
-        let reach = (DRIFT_REACH * self.acc.max_periods) as f64;
-        if meets > reach {
-            return Ok(false);
-        }
-        let until = self.sim.periods() + (2.0 * meets).ceil().min(reach) as u64 + 1;
+    /// A motion without an event that will meet a stop, followed there:
+    /// period after period of the same exact flow, without a record (an
+    /// event-free period costs a few steps of the flow and nothing else),
+    /// until the first period with an event. A free mass drifting towards a
+    /// stop through the record's whole budget ([`Executor::drifting`]) is
+    /// followed for at most twice the periods that its closing rate gives;
+    /// an undamped oscillation beside the forcing whose torus reaches past a
+    /// stop ([`Executor::quiet_overlap`]: it meets the stop where the phases
+    /// of its free oscillation and of the forcing next come near alignment,
+    /// which no closing rate foretells) until the reach. Either for at most
+    /// [`DRIFT_REACH`] × `max_periods`. `true` when an event came: the motion
+    /// from there is recorded afresh (its history, trail and Newton
+    /// acceleration start again); `false` where no motion is bound for a
+    /// stop, or when the reach ended first (the history then holds the last
+    /// periods followed, and [`Executor::followed`] how many there were).
+    fn follow_quiet(&mut self) -> Result<bool, Halt> {
+        let reach = (DRIFT_REACH * self.acc.max_periods) as u64;
+        let span = match self.drifting() {
+            Some((_, meets)) if meets <= reach as f64 => (2.0 * meets).ceil().min(reach as f64) as u64 + 1,
+            Some(_) => return Ok(false),
+            None if self.quiet_overlap().is_some() => reach,
+            None => return Ok(false),
+        };
+        let until = self.sim.periods() + span;
         self.trail.clear();
         while self.sim.periods() < until {
             let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
@@ -1649,14 +1695,42 @@ impl<'s> Executor<'s> {
                 self.newton.renew();
                 return Ok(true);
             }
-            // The last periods stay in the history: a drift followed to the
-            // reach is said to be drifting where it is then.
+            // The last periods stay in the history: a motion followed to the
+            // reach is said to be where it is then.
             if self.hist.len() == history_len(self.acc) {
                 self.hist.pop_front();
             }
             self.hist.push_back(rec);
         }
+        self.followed = Some(span);
         Ok(false)
+    }
+
+    /// A record without a period that went quiet while its exponent was
+    /// measured, an undamped oscillation whose torus reaches a stop
+    /// ([`Executor::quiet_overlap`]): followed to its next event as a drift
+    /// is ([`Executor::follow_quiet`]), `true` where the event came.
+    fn bound_for_stop(&mut self, decided: &Steady) -> Result<bool, Halt> {
+        if !matches!(decided, Steady::Aperiodic(..)) || self.quiet_overlap().is_none() {
+            return Ok(false);
+        }
+        self.follow_quiet()
+    }
+
+    /// How far the torus of an undamped oscillation beside the forcing,
+    /// without an event over the record's history, reaches past a stop: the
+    /// bound of its flow's terms (the forcing's response and each free
+    /// oscillation's amplitude added, as where their phases align,
+    /// [`Simulator::guard_margin`]) beyond the gap, in the stop's units.
+    /// `Some` where it reaches the stop (within the event tolerance): the
+    /// motion meets it again once their phases come near that alignment.
+    /// `None` where the history had an event, a damper acts, a term grows,
+    /// or the torus clears every stop (it is then the motion for all time).
+    fn quiet_overlap(&mut self) -> Option<f64> {
+        if self.hist.is_empty() || !self.undamped_linear(self.hist.len()) {
+            return None;
+        }
+        self.sim.guard_margin().filter(|&m| m <= 0.0).map(|m| -m)
     }
 
     /// A free mass drifting towards a stop: the record has had no event, the
@@ -2156,6 +2230,41 @@ mod tests {
         let far =
             distance(&DVector::from_vec(cell.final_state.clone()), &DVector::from_vec(oracle.final_state.clone()));
         assert!(far < 1e-6, "{far}");
+    }
+
+    /// Issue 62: an undamped oscillator (ω = 1.999, σ = 0.5, r = 0.5) whose
+    /// free oscillation beside the forcing reaches 0.034 past the stop, but
+    /// whose phases align with the forcing's only after 1 098 periods, far
+    /// beyond a record of 200 periods and its measurement: it was `U`, "one
+    /// linear flow … attracts nothing". Followed to that impact, its motion
+    /// is recorded afresh: four impacts take from its free oscillation, and it
+    /// goes on, `Q`, on a torus that reaches past the stop by a hundredth of
+    /// what it did (a torus that later impacts take ever more gently towards
+    /// grazing). Checked against the closed form: the first impact's period
+    /// sampled along x(t), and the free amplitude beside the forced
+    /// response's 1 / (ω² − 1) at the start and at the end.
+    #[test]
+    fn an_undamped_torus_reaching_its_stop_is_followed_to_the_impact() {
+        let (omega, sigma) = (1.999, 0.5);
+        let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+        let acc = Accuracy { max_periods: 200, lyapunov_periods: 25, ..Accuracy::default() };
+        let (x0, v0) = (-0.4752, -0.141421);
+        let period = std::f64::consts::TAU / omega;
+        let first = (0..1_500 * 200)
+            .map(|i| i as f64 * period / 200.0)
+            .find(|&t| crate::testing::forced_oscillator(0.0, omega, x0, v0, t) >= sigma)
+            .map(|t| t / period)
+            .unwrap();
+        assert!(first > 1_000.0, "{first}");
+        let cell = run_cell(&sys, &acc, Method::Exact, &[x0, v0]);
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        assert!(cell.events > 0 && cell.periods as f64 > first, "{} events, {} periods", cell.events, cell.periods);
+        let forced = 1.0 / (omega * omega - 1.0);
+        let overlap = |x: f64, v: f64| (x + forced).hypot(v) + forced - sigma;
+        let before = overlap(x0, v0);
+        assert!((before - 0.0335).abs() < 1e-3, "{before}");
+        let after = overlap(cell.final_state[0], cell.final_state[1]);
+        assert!(after < 0.02 * before, "{after} against {before}");
     }
 
     /// Issue 62: a cell of the damper's `precise` up sweep (ω = 1.3304,
@@ -3201,12 +3310,15 @@ q = "L"
         assert!(why.contains("-6.08 over the 1600 periods and 0.40 over the last 800"), "{why}");
         assert!(why.contains("may give (10.16 and 1.37)"), "{why}");
         // A free mass drifting towards a stop says how far it had to go.
-        let why = Unresolved::Linear { periods: 32, closing: Some(3e-5), meets: Some(2.5e4) }.to_string();
+        let why =
+            Unresolved::Linear { periods: 32, closing: Some(3e-5), meets: Some(2.5e4), overlap: None, followed: None }
+                .to_string();
         assert!(
             why.contains("its gap closing by 3.0e-5 per period, and would meet it in about 25000 more periods"),
             "{why}"
         );
-        let why = Unresolved::Linear { periods: 32, closing: None, meets: None }.to_string();
+        let why =
+            Unresolved::Linear { periods: 32, closing: None, meets: None, overlap: None, followed: None }.to_string();
         assert!(why.contains("one linear flow, never chaotic"), "{why}");
     }
 }
