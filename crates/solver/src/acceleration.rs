@@ -50,6 +50,13 @@ impl<'s> Newton<'s> {
         self.tries < TRIES && sim.periods() >= self.next
     }
 
+    /// Whether a try due now would have a contracting pattern of `hist` to
+    /// work on: without one, [`Newton::step`] returns at once and touches
+    /// nothing.
+    pub(crate) fn has_pattern(hist: &History, acc: &Accuracy) -> bool {
+        contracting_pattern(hist, acc).is_some()
+    }
+
     /// A new record (an extension) gets its tries again.
     pub(crate) fn renew(&mut self) {
         self.tries = 0;

@@ -80,11 +80,12 @@ use crate::lyapunov::{polynomial_growth, Exponent, Interval, Stretch};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
 use crate::section::record_window;
-use crate::simulate::{Halt, Ignore, PeriodRecord, Simulator, EVENT_WORK};
+use crate::simulate::{Halt, Ignore, Moment, PeriodRecord, Simulator, EVENT_WORK};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
 use serde::{Deserialize, Serialize};
+use std::collections::VecDeque;
 
 /// Periods of tangent alignment before the Lyapunov exponent is averaged.
 const LYAPUNOV_WARMUP: usize = 10;
@@ -865,6 +866,24 @@ struct Executor<'s> {
     /// The periods an undamped oscillation bound for a stop was followed
     /// without meeting it, where [`Executor::follow_quiet`] reached its end.
     followed: Option<u64>,
+    /// The periods the exponent's probe simulated from the main state, for
+    /// the record going on from there to take instead of simulating them
+    /// again ([`Executor::next_period`]).
+    ahead: Option<Ahead<'s>>,
+}
+
+/// The periods a probe of the main simulation simulated on from its state
+/// (the exponent's measurement, its warm-up included), which the record
+/// takes one by one as its own ([`Executor::next_period`]) until it must
+/// act on the main simulation itself ([`Executor::catch_up`]).
+struct Ahead<'s> {
+    /// The probe, where it stopped (the modes it built).
+    sim: Simulator<'s>,
+    /// Its periods' records not taken yet, in order, each with where the
+    /// probe was at its end.
+    recs: VecDeque<(PeriodRecord, Moment)>,
+    /// Where the probe was at the end of the last period taken.
+    last: Option<Moment>,
 }
 
 impl<'s> Executor<'s> {
@@ -883,6 +902,7 @@ impl<'s> Executor<'s> {
             measured: None,
             unsettled: None,
             followed: None,
+            ahead: None,
         })
     }
 
@@ -900,7 +920,7 @@ impl<'s> Executor<'s> {
         // closes in on an orbit found still too far (see `periods_to_settle`).
         let mut wait_until = 0;
         while (self.sim.periods() as usize) < limit.max(wait_until) {
-            let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
+            let rec = self.next_period()?;
             if self.hist.len() == history_len(acc) {
                 if let Some(old) = self.hist.pop_front() {
                     self.sim.recycle(old);
@@ -912,6 +932,7 @@ impl<'s> Executor<'s> {
                 continue;
             }
             if let Some(n) = detect(&self.hist, acc) {
+                self.catch_up();
                 // Accepted once converged, so that its symmetry and final state are the orbit's.
                 if converged(&self.hist, n, acc) {
                     // Where rounding hid the contraction, the orbit's multiplier tells;
@@ -941,7 +962,11 @@ impl<'s> Executor<'s> {
                 }
                 continue;
             }
-            if acc.newton && self.newton.due(&self.sim) {
+            if acc.newton
+                && self.newton.due(&self.sim)
+                && (self.ahead.is_none() || Newton::has_pattern(&self.hist, acc))
+            {
+                self.catch_up();
                 if let Some(x) = self.newton.step(&mut self.sim, &self.hist, acc, &mut self.budget) {
                     if self.sim.restart(x.as_slice()).is_ok() {
                         self.hist.clear();
@@ -950,7 +975,46 @@ impl<'s> Executor<'s> {
                 }
             }
         }
+        self.catch_up();
         Ok(None)
+    }
+
+    /// The record's next period: the next one [`Ahead`] holds, counted as
+    /// the main simulation's own, where the budget would not have halted
+    /// the main simulation on it; else the main simulation's, once it has
+    /// caught up ([`Executor::catch_up`]).
+    fn next_period(&mut self) -> Result<PeriodRecord, Halt> {
+        let fits = self.ahead.as_ref().map(|a| a.recs.front().is_some_and(|(rec, _)| self.sim.fits(rec.events)));
+        match (fits, self.ahead.as_mut()) {
+            (Some(true), Some(ahead)) => {
+                let (rec, moment) = ahead.recs.pop_front().expect("a period ahead");
+                ahead.last = Some(moment);
+                self.sim.count_period(&rec);
+                Ok(rec)
+            }
+            _ => {
+                self.catch_up();
+                self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)
+            }
+        }
+    }
+
+    /// Brings the main simulation to the end of the periods the record took
+    /// from [`Ahead`], and lets the rest go.
+    fn catch_up(&mut self) {
+        if let Some(mut ahead) = self.ahead.take() {
+            if let Some(moment) = ahead.last.take() {
+                self.sim.resume(moment, &mut ahead.sim);
+            }
+        }
+    }
+
+    /// Hands the periods the exponent's probe simulated from the main state
+    /// on to the record that goes on from there ([`Ahead`]).
+    fn look_ahead(&mut self, probe: Simulator<'s>, recs: Vec<(PeriodRecord, Moment)>) {
+        if !recs.is_empty() {
+            self.ahead = Some(Ahead { sim: probe, recs: recs.into(), last: None });
+        }
     }
 
     /// A found orbit of period n that repeats within `periodic_tol` but is
@@ -1113,11 +1177,25 @@ impl<'s> Executor<'s> {
 
     /// Phase 2: the largest Lyapunov exponent of the motion from the main
     /// simulator's state, measured on a probe that is returned to extend it;
-    /// why not when its run halts.
-    fn exponent(&mut self) -> Result<(Simulator<'s>, Exponent), Halt> {
-        let mut tangent = self.sim.probe();
+    /// why not when its run halts. With `keep`, the probe keeps its periods'
+    /// records ([`Exponent::take_kept`]) where they are the ones the record
+    /// would simulate, for a record that goes on from the same state to take
+    /// ([`Executor::look_ahead`]).
+    fn exponent(&mut self, keep: bool) -> Result<(Simulator<'s>, Exponent), Halt> {
         let periods = self.acc.lyapunov_periods;
-        let e = self.budget.spend(&mut self.sim, &mut tangent, |t| Exponent::measure(t, LYAPUNOV_WARMUP, periods))?;
+        // The records of the probe's periods are the record's own where it
+        // simulates as the record does: the exact flow, no half periods, at
+        // the main simulation's time (which a chattering stop's impacts are
+        // timed by).
+        let keep = keep && !self.sys.model.symmetric && self.sim.method() == Method::Exact;
+        let mut tangent = match keep {
+            true => self.sim.probe_in_time(),
+            false => self.sim.probe(),
+        };
+        let e = self.budget.spend(&mut self.sim, &mut tangent, |t| match keep {
+            true => Exponent::measure_keeping(t, LYAPUNOV_WARMUP, periods),
+            false => Exponent::measure(t, LYAPUNOV_WARMUP, periods),
+        })?;
         Ok((tangent, e))
     }
 
@@ -1138,7 +1216,7 @@ impl<'s> Executor<'s> {
         if !self.sys.lossless() {
             return None;
         }
-        let (tangent, e) = self.exponent().ok()?;
+        let (tangent, e) = self.exponent(false).ok()?;
         match self.decide(tangent, e, true) {
             Steady::Aperiodic(class @ (Class::Chaotic | Class::Quasiperiodic), l, None) => Some((class, l)),
             _ => None,
@@ -1498,7 +1576,8 @@ impl<'s> Executor<'s> {
             if acc.lyapunov_periods == 0 {
                 return Ok(Steady::Unmeasured);
             }
-            let exponent = self.exponent();
+            let mut exponent = self.exponent(true);
+            let kept = exponent.as_mut().map(|(_, e)| e.take_kept()).unwrap_or_default();
             let growth = exponent.as_ref().ok().map(|(_, e)| e.interval());
             // Still contracting: below 0 beyond its uncertainty, or on average (a slow transient).
             let contracting = growth.is_some_and(|g| g.high() < 0.0 || g.mean < -CONTRACTING_EXPONENT);
@@ -1509,14 +1588,18 @@ impl<'s> Executor<'s> {
             if early_look {
                 early_look = false;
                 limit = acc.max_periods;
-                if let (true, Ok((tangent, e))) = (chaotic, exponent) {
-                    let decided = self.decide(tangent, e, true);
-                    if !drift_followed && self.bound_for_stop(&decided).map_err(|h| Unresolved::of(h, acc))? {
-                        drift_followed = true;
-                        limit = self.sim.periods() as usize + acc.max_periods;
-                        continue;
+                match (chaotic, exponent) {
+                    (true, Ok((tangent, e))) => {
+                        let decided = self.decide(tangent, e, true);
+                        if !drift_followed && self.bound_for_stop(&decided).map_err(|h| Unresolved::of(h, acc))? {
+                            drift_followed = true;
+                            limit = self.sim.periods() as usize + acc.max_periods;
+                            continue;
+                        }
+                        return Ok(decided);
                     }
-                    return Ok(decided);
+                    (false, Ok((tangent, _))) => self.look_ahead(tangent, kept),
+                    (_, Err(_)) => {}
                 }
                 continue;
             }
@@ -1544,6 +1627,9 @@ impl<'s> Executor<'s> {
                 extensions += 1;
                 self.newton.renew();
                 limit += acc.max_periods;
+                if let Ok((tangent, _)) = exponent {
+                    self.look_ahead(tangent, kept);
+                }
                 continue;
             }
             // Still drifting when the budget ends: followed to the wall, once.
@@ -2071,7 +2157,7 @@ mod tests {
         let mut cell = executor(&sys, &acc);
         assert_eq!(cell.record(600).unwrap(), Some(1));
         let (mu, _) = cell.multiplier(1).unwrap();
-        let (_, e) = cell.exponent().unwrap();
+        let (_, e) = cell.exponent(false).unwrap();
         assert_eq!(e.points.len(), acc.lyapunov_periods);
         let growth = e.interval();
         assert!((growth.mean - mu.ln()).abs() < 0.02 * mu.ln().abs(), "λT {growth:?} against ln μ {}", mu.ln());
@@ -2230,6 +2316,55 @@ mod tests {
         let far =
             distance(&DVector::from_vec(cell.final_state.clone()), &DVector::from_vec(oracle.final_state.clone()));
         assert!(far < 1e-6, "{far}");
+    }
+
+    /// Issue 67: a record going on from where the exponent was measured
+    /// takes the periods its probe simulated rather than simulating them
+    /// again. The premise, bit for bit, on every kind of asymmetric scene
+    /// (whose records take them): a chattering and sticking multi-stop
+    /// cell, the gear, the soft stop, and the single stop near ω = 2.
+    /// The probe, at the main simulation's time and tracking its tangent,
+    /// gives the records the main simulation gives (impacts, held stops,
+    /// events, end state and mode); the main simulation resumed where the
+    /// probe got to goes on as the one that simulated those periods.
+    #[test]
+    fn the_exponents_periods_are_the_records_own() {
+        let cases: [(&str, &[(&str, f64)]); 4] = [
+            ("multi-stop.toml", &[("omega", 0.3), ("delta", 0.1)]),
+            ("gear-backlash.toml", &[]),
+            ("soft-stop.toml", &[]),
+            ("single-stop.toml", &[("omega", 1.9968), ("sigma", 0.3), ("r", 0.5)]),
+        ];
+        let acc = Accuracy::default();
+        for (scene, sets) in cases {
+            let sys = system(scene, sets);
+            let y0 = sys.model.initial_state();
+            let mut main = crate::Simulator::new(&sys, acc, Method::Exact, &y0).unwrap();
+            let mut resumed = crate::Simulator::new(&sys, acc, Method::Exact, &y0).unwrap();
+            // Both some periods in, so that the probe's clock starts late.
+            for _ in 0..7 {
+                main.run_period(&[], false, &mut Ignore).unwrap();
+                resumed.run_period(&[], false, &mut Ignore).unwrap();
+            }
+            let mut probe = resumed.probe_in_time();
+            let mut e = Exponent::measure_keeping(&mut probe, LYAPUNOV_WARMUP, 50).unwrap();
+            let kept = e.take_kept();
+            assert_eq!(kept.len(), LYAPUNOV_WARMUP + 50);
+            let mut last = None;
+            for (rec, moment) in kept {
+                assert_eq!(main.run_period(&[], false, &mut Ignore).unwrap(), rec, "{scene}");
+                resumed.count_period(&rec);
+                last = Some(moment);
+            }
+            resumed.resume(last.unwrap(), &mut probe);
+            assert!(main.events() > 0, "{scene}");
+            assert_eq!((main.periods(), main.events()), (resumed.periods(), resumed.events()), "{scene}");
+            for _ in 0..20 {
+                let (a, b) = (main.run_period(&[], false, &mut Ignore), resumed.run_period(&[], false, &mut Ignore));
+                assert_eq!(a.unwrap(), b.unwrap(), "{scene}");
+            }
+            assert_eq!(format!("{:?}", main.state()), format!("{:?}", resumed.state()), "{scene}");
+        }
     }
 
     /// Issue 62: an undamped oscillator (ω = 1.999, σ = 0.5, r = 0.5) whose

@@ -9,7 +9,7 @@
 //! own uncertainty ([`Exponent::interval`]), so that a motion is called chaotic
 //! only when its exponent is positive beyond it.
 
-use crate::simulate::{apply, Halt, Ignore, Simulator};
+use crate::simulate::{apply, Halt, Ignore, Moment, PeriodRecord, Simulator};
 use nalgebra::DVector;
 
 /// Blocks the measured periods are split into for the exponent's uncertainty.
@@ -63,6 +63,9 @@ pub struct Exponent {
     pub points: Vec<DVector<f64>>,
     /// Events (impacts, contacts, sticks, releases) of each measured period.
     events: Vec<u32>,
+    /// The records of the periods simulated so far, warm-up included, where
+    /// they are kept ([`Exponent::measure_keeping`]).
+    kept: Option<Vec<(PeriodRecord, Moment)>>,
 }
 
 /// A 95 % confidence interval of `λT`, the growth per forcing period.
@@ -96,6 +99,29 @@ impl Exponent {
     /// after `warmup` periods that only align the tangent vector with the
     /// most expanding direction. The simulator goes on from where it is.
     pub fn measure(sim: &mut Simulator<'_>, warmup: usize, periods: usize) -> Result<Exponent, Halt> {
+        Exponent::measured(sim, warmup, periods, None)
+    }
+
+    /// As [`Exponent::measure`], keeping the record of every period it
+    /// simulated, warm-up included ([`Exponent::take_kept`]): the motion's
+    /// next periods from where `sim` started, which a record going on from
+    /// there need not simulate again.
+    pub(crate) fn measure_keeping(sim: &mut Simulator<'_>, warmup: usize, periods: usize) -> Result<Exponent, Halt> {
+        Exponent::measured(sim, warmup, periods, Some(Vec::with_capacity(warmup + periods)))
+    }
+
+    /// The records [`Exponent::measure_keeping`] kept, in order, each with
+    /// where the simulation was at its end; none are kept after this.
+    pub(crate) fn take_kept(&mut self) -> Vec<(PeriodRecord, Moment)> {
+        self.kept.take().unwrap_or_default()
+    }
+
+    fn measured(
+        sim: &mut Simulator<'_>,
+        warmup: usize,
+        periods: usize,
+        kept: Option<Vec<(PeriodRecord, Moment)>>,
+    ) -> Result<Exponent, Halt> {
         let dim = sim.state().len();
         sim.track_tangent();
         let mut e = Exponent {
@@ -106,6 +132,7 @@ impl Exponent {
             warmup,
             points: Vec::with_capacity(periods),
             events: Vec::with_capacity(periods),
+            kept,
         };
         for _ in 0..warmup {
             e.step(sim)?;
@@ -131,7 +158,10 @@ impl Exponent {
         sim.reset_tangent();
         let rec = sim.run_period(&[], false, &mut Ignore)?;
         let events = u32::try_from(rec.events).unwrap_or(u32::MAX);
-        sim.recycle(rec);
+        match self.kept.as_mut() {
+            Some(kept) => kept.push((rec, sim.moment())),
+            None => sim.recycle(rec),
+        }
         apply(sim.tangent().ok_or(Halt::Stalled)?, &self.v, &mut self.w);
         let norm = self.w.norm();
         if !norm.is_finite() {
@@ -315,6 +345,7 @@ mod tests {
             warmup: 10,
             growth,
             events,
+            kept: None,
         }
     }
 

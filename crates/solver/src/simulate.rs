@@ -220,6 +220,22 @@ pub struct PeriodRecord {
     pub(crate) half_tangent: Option<DMatrix<f64>>,
 }
 
+/// Where a simulation is at the end of a period: all that its next periods
+/// depend on ([`Simulator::moment`], [`Simulator::resume`]).
+#[derive(Debug, Clone)]
+pub(crate) struct Moment {
+    /// Full state `[x; v]`.
+    y: DVector<f64>,
+    /// The mode: held stops and friction states.
+    key: Key,
+    /// Time within the current period.
+    clock: f64,
+    /// The last impacts at each stop, by which chatter is told.
+    chatter: ChatterTracker,
+    /// Events in a row without time passing.
+    zero_steps: usize,
+}
+
 /// Why a simulation stopped before its end.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Halt {
@@ -487,6 +503,14 @@ impl<'s> Simulator<'s> {
         }
     }
 
+    /// A [`Simulator::probe`] whose clock goes on from this simulation's
+    /// periods rather than from 0: its absolute times, which time a
+    /// chattering stop's impacts, are this simulation's, so that the periods
+    /// it simulates are those this simulation would.
+    pub(crate) fn probe_in_time(&self) -> Self {
+        Simulator { periods: self.periods, ..self.probe() }
+    }
+
     /// Takes back a period's record that its owner is done with: the next
     /// period's record reuses its buffers (no allocation per period).
     pub(crate) fn recycle(&mut self, rec: PeriodRecord) {
@@ -501,6 +525,42 @@ impl<'s> Simulator<'s> {
 
     /// What the simulation has cost of its budget, in thousandths of an event:
     /// its events and the integrator's steps (RK4's, `flow::rk4`).
+    /// Whether a period that handles `events` more events stays within the
+    /// budget: the simulation would not halt on it.
+    pub(crate) fn fits(&self, events: usize) -> bool {
+        self.work().saturating_add((events as u64).saturating_mul(EVENT_WORK)) <= self.budget
+    }
+
+    /// Counts as this simulation's own a period that a probe simulated from
+    /// its state ([`Simulator::resume`]): one period, and its events.
+    pub(crate) fn count_period(&mut self, rec: &PeriodRecord) {
+        self.periods += 1;
+        self.events += rec.events;
+    }
+
+    /// Where this simulation is, all that its next periods depend on.
+    pub(crate) fn moment(&self) -> Moment {
+        Moment {
+            y: self.y.clone(),
+            key: self.key,
+            clock: self.clock,
+            chatter: self.chatter.clone(),
+            zero_steps: self.zero_steps,
+        }
+    }
+
+    /// Goes on from `moment`, where a probe of this simulation (exact flow,
+    /// at this simulation's time: [`Simulator::probe_in_time`]) got to over
+    /// the periods since counted here ([`Simulator::count_period`]), as
+    /// simulating them here would have left it: the flow's steps depend on
+    /// the state, the mode and the clock alone. The modes the probe built
+    /// (`ahead`'s) are this simulation's too.
+    pub(crate) fn resume(&mut self, moment: Moment, ahead: &mut Simulator<'s>) {
+        let Moment { y, key, clock, chatter, zero_steps } = moment;
+        (self.y, self.key, self.clock, self.chatter, self.zero_steps) = (y, key, clock, chatter, zero_steps);
+        std::mem::swap(&mut self.cache, &mut ahead.cache);
+    }
+
     pub(crate) fn work(&self) -> u64 {
         (self.events as u64).saturating_mul(EVENT_WORK).saturating_add(self.step_work)
     }
