@@ -8,7 +8,7 @@
 //! chattering ends.
 
 /// Tracks the last impacts at each stop.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ChatterTracker {
     last: Vec<[(f64, f64); 3]>,
     count: Vec<usize>,

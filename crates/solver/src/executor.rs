@@ -1010,9 +1010,13 @@ impl<'s> Executor<'s> {
     }
 
     /// Hands the periods the exponent's probe simulated from the main state
-    /// on to the record that goes on from there ([`Ahead`]).
-    fn look_ahead(&mut self, probe: Simulator<'s>, recs: Vec<(PeriodRecord, Moment)>) {
-        if !recs.is_empty() {
+    /// on to the record that goes on from there ([`Ahead`]), where the main
+    /// simulation is still `at` the probe's start (its periods, events and
+    /// [`Moment`]): a search for a long orbit between them
+    /// ([`Executor::confirm`]) may have moved it.
+    fn look_ahead(&mut self, probe: Simulator<'s>, recs: Vec<(PeriodRecord, Moment)>, at: &(u64, usize, Moment)) {
+        let here = (self.sim.periods(), self.sim.events(), self.sim.moment());
+        if !recs.is_empty() && here == *at {
             self.ahead = Some(Ahead { sim: probe, recs: recs.into(), last: None });
         }
     }
@@ -1183,15 +1187,12 @@ impl<'s> Executor<'s> {
     /// ([`Executor::look_ahead`]).
     fn exponent(&mut self, keep: bool) -> Result<(Simulator<'s>, Exponent), Halt> {
         let periods = self.acc.lyapunov_periods;
-        // The records of the probe's periods are the record's own where it
-        // simulates as the record does: the exact flow, no half periods, at
-        // the main simulation's time (which a chattering stop's impacts are
-        // timed by).
+        // The probe goes on at the main simulation's time (which a
+        // chattering stop's impacts are timed by); the records of its
+        // periods are the record's own where it simulates as the record
+        // does: the exact flow, no half periods.
         let keep = keep && !self.sys.model.symmetric && self.sim.method() == Method::Exact;
-        let mut tangent = match keep {
-            true => self.sim.probe_in_time(),
-            false => self.sim.probe(),
-        };
+        let mut tangent = self.sim.probe_in_time();
         let e = self.budget.spend(&mut self.sim, &mut tangent, |t| match keep {
             true => Exponent::measure_keeping(t, LYAPUNOV_WARMUP, periods),
             false => Exponent::measure(t, LYAPUNOV_WARMUP, periods),
@@ -1568,7 +1569,7 @@ impl<'s> Executor<'s> {
         let mut early_look = acc.chaos_check > 0 && acc.chaos_check < acc.max_periods && acc.lyapunov_periods > 0;
         let mut limit = if early_look { acc.chaos_check } else { acc.max_periods };
         let mut extensions = 0;
-        let mut drift_followed = false;
+        let mut followed = false;
         loop {
             if let Some(n) = self.record(limit).map_err(|h| Unresolved::of(h, acc))? {
                 return Ok(Steady::Periodic(n));
@@ -1576,6 +1577,9 @@ impl<'s> Executor<'s> {
             if acc.lyapunov_periods == 0 {
                 return Ok(Steady::Unmeasured);
             }
+            // Where the exponent's probe starts: the record takes its periods
+            // only if it goes on from there.
+            let at = (self.sim.periods(), self.sim.events(), self.sim.moment());
             let mut exponent = self.exponent(true);
             let kept = exponent.as_mut().map(|(_, e)| e.take_kept()).unwrap_or_default();
             let growth = exponent.as_ref().ok().map(|(_, e)| e.interval());
@@ -1591,14 +1595,13 @@ impl<'s> Executor<'s> {
                 match (chaotic, exponent) {
                     (true, Ok((tangent, e))) => {
                         let decided = self.decide(tangent, e, true);
-                        if !drift_followed && self.bound_for_stop(&decided).map_err(|h| Unresolved::of(h, acc))? {
-                            drift_followed = true;
+                        if self.follow_once(&mut followed, Some(&decided))? {
                             limit = self.sim.periods() as usize + acc.max_periods;
                             continue;
                         }
                         return Ok(decided);
                     }
-                    (false, Ok((tangent, _))) => self.look_ahead(tangent, kept),
+                    (false, Ok((tangent, _))) => self.look_ahead(tangent, kept, &at),
                     (_, Err(_)) => {}
                 }
                 continue;
@@ -1628,13 +1631,12 @@ impl<'s> Executor<'s> {
                 self.newton.renew();
                 limit += acc.max_periods;
                 if let Ok((tangent, _)) = exponent {
-                    self.look_ahead(tangent, kept);
+                    self.look_ahead(tangent, kept, &at);
                 }
                 continue;
             }
             // Still drifting when the budget ends: followed to the wall, once.
-            if !drift_followed && self.follow_quiet().map_err(|h| Unresolved::of(h, acc))? {
-                drift_followed = true;
+            if self.follow_once(&mut followed, None)? {
                 (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
                 continue;
             }
@@ -1643,8 +1645,7 @@ impl<'s> Executor<'s> {
                 Err(halt) => return Ok(Steady::Failed(halt)),
             };
             let decided = self.decide(tangent, e, extensions >= acc.extensions);
-            if !drift_followed && self.bound_for_stop(&decided).map_err(|h| Unresolved::of(h, acc))? {
-                drift_followed = true;
+            if self.follow_once(&mut followed, Some(&decided))? {
                 (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
                 continue;
             }
@@ -1790,6 +1791,25 @@ impl<'s> Executor<'s> {
         }
         self.followed = Some(span);
         Ok(false)
+    }
+
+    /// Follows a motion without events that is bound for a stop to its next
+    /// event, once a cell (`done` tells, and is set once a follow ran, met or
+    /// not): a drift or an undamped torus reaching a stop
+    /// ([`Executor::follow_quiet`]) where nothing is `decided` yet, an
+    /// undamped torus where the exponent decided a record without a period
+    /// ([`Executor::bound_for_stop`]). `true` when an event came.
+    fn follow_once(&mut self, done: &mut bool, decided: Option<&Steady>) -> Result<bool, Unresolved> {
+        if *done {
+            return Ok(false);
+        }
+        let met = match decided {
+            None => self.follow_quiet(),
+            Some(decided) => self.bound_for_stop(decided),
+        }
+        .map_err(|h| Unresolved::of(h, self.acc))?;
+        *done = met || self.followed.is_some();
+        Ok(met)
     }
 
     /// A record without a period that went quiet while its exponent was
@@ -2316,6 +2336,37 @@ mod tests {
         let far =
             distance(&DVector::from_vec(cell.final_state.clone()), &DVector::from_vec(oracle.final_state.clone()));
         assert!(far < 1e-6, "{far}");
+    }
+
+    /// Issue 62: a quiet undamped torus (ω = 1.9996, σ = 0.5, r = 0.5) whose
+    /// phases align with the forcing's, and the motion meets the stop, only
+    /// after 2 751 periods (the closed form's x(t), sampled): beyond the
+    /// reach of a follow (100 `max_periods`, here 1 000). It is followed
+    /// once, not again once its exponent is measured (it was, to 2 668
+    /// periods, and the reason named the second follow's periods alone),
+    /// and the reason says for how long.
+    #[test]
+    fn a_quiet_torus_is_followed_once() {
+        let (omega, sigma) = (1.9996, 0.5);
+        let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+        let acc = Accuracy { max_periods: 10, lyapunov_periods: 10, ..Accuracy::default() };
+        let (x0, v0) = (-0.19209, 0.141421);
+        let period = std::f64::consts::TAU / omega;
+        let first = (0..3_000 * 200)
+            .map(|i| i as f64 * period / 200.0)
+            .find(|&t| crate::testing::forced_oscillator(0.0, omega, x0, v0, t) >= sigma)
+            .map(|t| t / period)
+            .unwrap();
+        assert!(first > 2_700.0, "{first}");
+        let cell = run_cell(&sys, &acc, Method::Exact, &[x0, v0]);
+        let reach = (DRIFT_REACH * acc.max_periods) as u64;
+        let Some(Unresolved::Linear { overlap: Some(overlap), followed: Some(followed), .. }) = cell.reason else {
+            panic!("{:?}", cell.reason)
+        };
+        assert_eq!(followed, reach);
+        assert!((overlap - 0.0335).abs() < 1e-3, "{overlap}");
+        assert_eq!(cell.events, 0);
+        assert!(cell.periods > reach && cell.periods < 2 * reach, "{}", cell.periods);
     }
 
     /// Issue 67: a record going on from where the exponent was measured

@@ -220,9 +220,10 @@ pub struct PeriodRecord {
     pub(crate) half_tangent: Option<DMatrix<f64>>,
 }
 
-/// Where a simulation is at the end of a period: all that its next periods
-/// depend on ([`Simulator::moment`], [`Simulator::resume`]).
-#[derive(Debug, Clone)]
+/// Where a simulation is at the end of a period: with its count of periods
+/// (the absolute time a chattering stop's impacts are timed by), all that
+/// its next periods depend on ([`Simulator::moment`], [`Simulator::resume`]).
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Moment {
     /// Full state `[x; v]`.
     y: DVector<f64>,
@@ -523,8 +524,6 @@ impl<'s> Simulator<'s> {
         self.budget = budget;
     }
 
-    /// What the simulation has cost of its budget, in thousandths of an event:
-    /// its events and the integrator's steps (RK4's, `flow::rk4`).
     /// Whether a period that handles `events` more events stays within the
     /// budget: the simulation would not halt on it.
     pub(crate) fn fits(&self, events: usize) -> bool {
@@ -538,7 +537,8 @@ impl<'s> Simulator<'s> {
         self.events += rec.events;
     }
 
-    /// Where this simulation is, all that its next periods depend on.
+    /// Where this simulation is: with its count of periods, all that its
+    /// next periods depend on.
     pub(crate) fn moment(&self) -> Moment {
         Moment {
             y: self.y.clone(),
@@ -561,6 +561,8 @@ impl<'s> Simulator<'s> {
         std::mem::swap(&mut self.cache, &mut ahead.cache);
     }
 
+    /// What the simulation has cost of its budget, in thousandths of an event:
+    /// its events and the integrator's steps (RK4's, `flow::rk4`).
     pub(crate) fn work(&self) -> u64 {
         (self.events as u64).saturating_mul(EVENT_WORK).saturating_add(self.step_work)
     }
