@@ -2338,6 +2338,17 @@ mod tests {
         assert!(far < 1e-6, "{far}");
     }
 
+    /// The forcing periods until the undamped single stop's free flow from
+    /// `(x0, v0)` first reaches the stop at `sigma`, by the textbook closed
+    /// form sampled 200 times a period, within `periods` of them.
+    fn first_reach(omega: f64, sigma: f64, x0: f64, v0: f64, periods: usize) -> f64 {
+        let period = std::f64::consts::TAU / omega;
+        let t = (0..periods * 200)
+            .map(|i| i as f64 * period / 200.0)
+            .find(|&t| crate::testing::forced_oscillator(0.0, omega, x0, v0, t) >= sigma);
+        t.expect("the stop reached") / period
+    }
+
     /// Issue 62: a quiet undamped torus (ω = 1.9996, σ = 0.5, r = 0.5) whose
     /// phases align with the forcing's, and the motion meets the stop, only
     /// after 2 751 periods (the closed form's x(t), sampled): beyond the
@@ -2351,12 +2362,7 @@ mod tests {
         let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
         let acc = Accuracy { max_periods: 10, lyapunov_periods: 10, ..Accuracy::default() };
         let (x0, v0) = (-0.19209, 0.141421);
-        let period = std::f64::consts::TAU / omega;
-        let first = (0..3_000 * 200)
-            .map(|i| i as f64 * period / 200.0)
-            .find(|&t| crate::testing::forced_oscillator(0.0, omega, x0, v0, t) >= sigma)
-            .map(|t| t / period)
-            .unwrap();
+        let first = first_reach(omega, sigma, x0, v0, 3_000);
         assert!(first > 2_700.0, "{first}");
         let cell = run_cell(&sys, &acc, Method::Exact, &[x0, v0]);
         let reach = (DRIFT_REACH * acc.max_periods) as u64;
@@ -2435,12 +2441,7 @@ mod tests {
         let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
         let acc = Accuracy { max_periods: 200, lyapunov_periods: 25, ..Accuracy::default() };
         let (x0, v0) = (-0.4752, -0.141421);
-        let period = std::f64::consts::TAU / omega;
-        let first = (0..1_500 * 200)
-            .map(|i| i as f64 * period / 200.0)
-            .find(|&t| crate::testing::forced_oscillator(0.0, omega, x0, v0, t) >= sigma)
-            .map(|t| t / period)
-            .unwrap();
+        let first = first_reach(omega, sigma, x0, v0, 1_500);
         assert!(first > 1_000.0, "{first}");
         let cell = run_cell(&sys, &acc, Method::Exact, &[x0, v0]);
         assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
