@@ -790,7 +790,10 @@ pub fn run_cell_measured(
                 } else {
                     let (closing, meets) = cell.drifting().unzip();
                     let overlap = cell.quiet_overlap();
-                    let followed = cell.followed.filter(|_| overlap.is_some());
+                    let followed = match cell.follow {
+                        Follow::Reached(periods) if overlap.is_some() => Some(periods),
+                        _ => None,
+                    };
                     let why = Unresolved::Linear { periods: cell.hist.len(), closing, meets, overlap, followed };
                     (Class::Unresolved, None, Some(l), Some(why))
                 }
@@ -863,13 +866,25 @@ struct Executor<'s> {
     measured: Option<f64>,
     /// Why the accepted period is not a result, where it is not.
     unsettled: Option<Unresolved>,
-    /// The periods an undamped oscillation bound for a stop was followed
-    /// without meeting it, where [`Executor::follow_quiet`] reached its end.
-    followed: Option<u64>,
+    /// Whether a motion bound for a stop was followed to it, once a cell
+    /// ([`Executor::follow_quiet`]).
+    follow: Follow,
     /// The periods the exponent's probe simulated from the main state, for
     /// the record going on from there to take instead of simulating them
     /// again ([`Executor::next_period`]).
     ahead: Option<Ahead<'s>>,
+}
+
+/// Whether a motion without events bound for a stop was followed towards it
+/// ([`Executor::follow_quiet`]): at most once a cell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Follow {
+    /// Not followed.
+    Not,
+    /// Followed to an event, and recorded afresh from there.
+    Met,
+    /// Followed for these periods, to the reach, without an event.
+    Reached(u64),
 }
 
 /// The periods a probe of the main simulation simulated on from its state
@@ -901,7 +916,7 @@ impl<'s> Executor<'s> {
             budget: Budget::new(acc.max_events),
             measured: None,
             unsettled: None,
-            followed: None,
+            follow: Follow::Not,
             ahead: None,
         })
     }
@@ -1569,7 +1584,6 @@ impl<'s> Executor<'s> {
         let mut early_look = acc.chaos_check > 0 && acc.chaos_check < acc.max_periods && acc.lyapunov_periods > 0;
         let mut limit = if early_look { acc.chaos_check } else { acc.max_periods };
         let mut extensions = 0;
-        let mut followed = false;
         loop {
             if let Some(n) = self.record(limit).map_err(|h| Unresolved::of(h, acc))? {
                 return Ok(Steady::Periodic(n));
@@ -1595,7 +1609,7 @@ impl<'s> Executor<'s> {
                 match (chaotic, exponent) {
                     (true, Ok((tangent, e))) => {
                         let decided = self.decide(tangent, e, true);
-                        if self.follow_once(&mut followed, Some(&decided))? {
+                        if self.follow_once(Some(&decided))? {
                             limit = self.sim.periods() as usize + acc.max_periods;
                             continue;
                         }
@@ -1636,7 +1650,7 @@ impl<'s> Executor<'s> {
                 continue;
             }
             // Still drifting when the budget ends: followed to the wall, once.
-            if self.follow_once(&mut followed, None)? {
+            if self.follow_once(None)? {
                 (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
                 continue;
             }
@@ -1645,7 +1659,7 @@ impl<'s> Executor<'s> {
                 Err(halt) => return Ok(Steady::Failed(halt)),
             };
             let decided = self.decide(tangent, e, extensions >= acc.extensions);
-            if self.follow_once(&mut followed, Some(&decided))? {
+            if self.follow_once(Some(&decided))? {
                 (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
                 continue;
             }
@@ -1764,7 +1778,7 @@ impl<'s> Executor<'s> {
     /// from there is recorded afresh (its history, trail and Newton
     /// acceleration start again); `false` where no motion is bound for a
     /// stop, or when the reach ended first (the history then holds the last
-    /// periods followed, and [`Executor::followed`] how many there were).
+    /// periods followed, and [`Executor::follow`] how many there were).
     fn follow_quiet(&mut self) -> Result<bool, Halt> {
         let reach = (DRIFT_REACH * self.acc.max_periods) as u64;
         let span = match self.drifting() {
@@ -1780,6 +1794,7 @@ impl<'s> Executor<'s> {
             if rec.events > 0 {
                 self.hist.clear();
                 self.newton.renew();
+                self.follow = Follow::Met;
                 return Ok(true);
             }
             // The last periods stay in the history: a motion followed to the
@@ -1789,38 +1804,23 @@ impl<'s> Executor<'s> {
             }
             self.hist.push_back(rec);
         }
-        self.followed = Some(span);
+        self.follow = Follow::Reached(span);
         Ok(false)
     }
 
     /// Follows a motion without events that is bound for a stop to its next
-    /// event, once a cell (`done` tells, and is set once a follow ran, met or
-    /// not): a drift or an undamped torus reaching a stop
-    /// ([`Executor::follow_quiet`]) where nothing is `decided` yet, an
-    /// undamped torus where the exponent decided a record without a period
-    /// ([`Executor::bound_for_stop`]). `true` when an event came.
-    fn follow_once(&mut self, done: &mut bool, decided: Option<&Steady>) -> Result<bool, Unresolved> {
-        if *done {
-            return Ok(false);
+    /// event ([`Executor::follow_quiet`]), once a cell: a drift or an
+    /// undamped torus reaching a stop where nothing is `decided` yet; an
+    /// undamped torus alone ([`Executor::quiet_overlap`]) where the exponent
+    /// decided a record without a period, which went quiet while it was
+    /// measured. `true` when an event came.
+    fn follow_once(&mut self, decided: Option<&Steady>) -> Result<bool, Unresolved> {
+        let bound = self.follow == Follow::Not
+            && decided.is_none_or(|d| matches!(d, Steady::Aperiodic(..)) && self.quiet_overlap().is_some());
+        match bound {
+            true => self.follow_quiet().map_err(|h| Unresolved::of(h, self.acc)),
+            false => Ok(false),
         }
-        let met = match decided {
-            None => self.follow_quiet(),
-            Some(decided) => self.bound_for_stop(decided),
-        }
-        .map_err(|h| Unresolved::of(h, self.acc))?;
-        *done = met || self.followed.is_some();
-        Ok(met)
-    }
-
-    /// A record without a period that went quiet while its exponent was
-    /// measured, an undamped oscillation whose torus reaches a stop
-    /// ([`Executor::quiet_overlap`]): followed to its next event as a drift
-    /// is ([`Executor::follow_quiet`]), `true` where the event came.
-    fn bound_for_stop(&mut self, decided: &Steady) -> Result<bool, Halt> {
-        if !matches!(decided, Steady::Aperiodic(..)) || self.quiet_overlap().is_none() {
-            return Ok(false);
-        }
-        self.follow_quiet()
     }
 
     /// How far the torus of an undamped oscillation beside the forcing,
