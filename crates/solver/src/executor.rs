@@ -780,9 +780,13 @@ pub fn run_cell_measured(
             Some(why) => (Class::Unresolved, None, Some(l), Some(why)),
             // One linear flow is never chaotic (a positive exponent is the
             // transient growth of a record shorter than its slowest motion).
+            // A record whose last periods were quiet but whose exponent's
+            // measurement met a stop is no one linear flow: its measurement
+            // decides.
             None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
                 || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
-                && cell.hist.iter().all(|r| r.events == 0) =>
+                && cell.hist.iter().all(|r| r.events == 0)
+                && cell.decided_events.is_none_or(|n| n == 0) =>
             {
                 // Undamped, and never ended by an event, it is the motion for
                 // all time: a torus of its free oscillations beside the
@@ -875,6 +879,9 @@ struct Executor<'s> {
     /// Whether a motion bound for a stop was followed to it, once a cell
     /// ([`Executor::follow_quiet`]).
     follow: Follow,
+    /// The events of the periods over which [`Executor::decide`] last
+    /// measured the exponent, where it did.
+    decided_events: Option<u64>,
     /// The periods the exponent's probe simulated from the main state, for
     /// the record going on from there to take instead of simulating them
     /// again ([`Executor::next_period`]).
@@ -923,6 +930,7 @@ impl<'s> Executor<'s> {
             measured: None,
             unsettled: None,
             follow: Follow::Not,
+            decided_events: None,
             ahead: None,
         })
     }
@@ -1281,6 +1289,7 @@ impl<'s> Executor<'s> {
         let mut deferred = None;
         let lossless = self.sys.lossless();
         loop {
+            self.decided_events = Some(e.events());
             let growth = e.interval();
             if e.chaotic() {
                 return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
@@ -2499,6 +2508,63 @@ mod tests {
             }
         }
         assert!(low > 0.0 && high < 1e-6, "the torus reaches {low:e} to {high:e} past the stop");
+    }
+
+    /// Issue 62: records that go quiet between rare impacts. The single
+    /// stop with ζ = 0, r = 0.5, at ω = 1.99677 (its free oscillation turns
+    /// beside half the forcing frequency) meets its stop about every 620
+    /// periods. Followed to an impact, its record went quiet again for its
+    /// 385 periods, and the cell was `U`, "one linear flow", although the
+    /// exponent's measurement of the next periods met the stop: it now
+    /// decides. At σ = 1.08261 the measurement's tangent stays bounded,
+    /// `Q`: from the cell's end the impacts come ever more gently, ten in
+    /// a row each at half the speed of the one before (the restitution's
+    /// factor: the free oscillation brings the mass back as it left), below
+    /// 1e-6 within 20 000 periods and none in their last 4 000: the torus
+    /// that grazes the stop. At σ = 0.66522 it diverges, `C`:
+    /// the impacts go on at speeds that wander between 1e-3 and 1e-2, and
+    /// two starts 1e-9 apart part by more than 1e-3 within 20 000 periods.
+    #[test]
+    fn a_quiet_record_whose_measurement_met_the_stop_is_no_linear_flow() {
+        /// Each impact's speed, and the period it came in.
+        #[derive(Default)]
+        struct Speeds(Vec<f64>, Vec<usize>, usize);
+        impl crate::simulate::EventObserver for Speeds {
+            fn impact(&mut self, _: f64, _: usize, before: &DVector<f64>, _: &DVector<f64>) {
+                self.0.push(before[1].abs());
+                self.1.push(self.2);
+            }
+        }
+        let omega = 1.9967741935483871;
+        let acc = Accuracy::default();
+        for (sigma, class) in [(1.0826086956521739, Class::Quasiperiodic), (0.6652173913043478, Class::Chaotic)] {
+            let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+            let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+            assert_eq!(cell.class, class, "σ {sigma}: {:?}", cell.reason);
+            let start = DVector::from_vec(cell.final_state.clone());
+            let mut sim = Simulator::new(&sys, acc, Method::Exact, start.as_slice()).unwrap();
+            let mut near = start.clone();
+            near[0] -= 1e-9;
+            let mut neighbour = Simulator::new(&sys, acc, Method::Exact, near.as_slice()).unwrap();
+            let mut speeds = Speeds::default();
+            for k in 0..20_000 {
+                speeds.2 = k;
+                sim.run_period(&[], false, &mut speeds).unwrap();
+                neighbour.run_period(&[], false, &mut Ignore).unwrap();
+            }
+            let apart = distance(sim.state(), neighbour.state());
+            let v = &speeds.0;
+            assert!(v.len() >= 20, "σ {sigma}: {} impacts", v.len());
+            if class == Class::Quasiperiodic {
+                let gentler = v.windows(2).rev().take(15).all(|w| w[1] < w[0]);
+                let halved = v.windows(2).filter(|w| (0.4..0.6).contains(&(w[1] / w[0]))).count();
+                let quiet = speeds.1.last().is_some_and(|&k| k < 16_000);
+                assert!(gentler && halved >= 10 && v[v.len() - 1] < 1e-6 && quiet, "σ {sigma}: {v:?}");
+            } else {
+                let hard = v[v.len() / 2..].iter().filter(|&&s| s > 1e-3).count();
+                assert!(hard >= 5 && apart > 1e-3, "σ {sigma}: {hard} hard impacts, {apart:e} apart: {v:?}");
+            }
+        }
     }
 
     /// Issue 62: a cell of the damper's `precise` up sweep (ω = 1.3304,

@@ -222,6 +222,11 @@ impl Exponent {
         self.interval().low() > 0.0 && self.diverges()
     }
 
+    /// Events (impacts, contacts, sticks, releases) over the measured periods.
+    pub fn events(&self) -> u64 {
+        self.events.iter().map(|&n| u64::from(n)).sum()
+    }
+
     /// Events (impacts, contacts, sticks, releases) over the last half of
     /// the measured periods: the tangent of a piecewise-linear flow grows
     /// beyond a linear flow's bounded swing only at them.
