@@ -123,23 +123,25 @@ const UNDECIDED_DOUBLINGS: usize = 2;
 /// chaotic and 14 regular over 64 000 periods. Four times longer, 19 of
 /// them are shown to diverge and 15 grow no faster than a polynomial: an
 /// independent simulator finds the 19 chaotic and 14 of the 15 regular,
-/// the last undecided. Scenes with losses are not measured on: their
-/// undecided records are tori still being reached. Taken
-/// [`LOSSLESS_STEP`] at a time, each time the measurement is still
+/// the last undecided. Scenes with losses are not measured on so (their
+/// undecided records are tori still being reached), but for points on a
+/// torus with too few events to tell ([`SPARSE_DOUBLINGS`]). Taken
+/// [`LONGER_STEP`] at a time, each time the measurement is still
 /// undecided (standard: to 25 600 periods, then to 102 400): of the
 /// lossless multi-stop's 8 records still undecided at 25 600 periods,
 /// 5 are shown to diverge by 102 400, 2 grow no faster than a polynomial
 /// and 1 is cut short by the event budget.
 const LOSSLESS_DOUBLINGS: usize = 4;
 
-/// Doublings of the lossless measurement taken at a time (see
-/// [`LOSSLESS_DOUBLINGS`]): four times longer.
-const LOSSLESS_STEP: usize = 2;
+/// Doublings taken at a time where a measurement is measured on past
+/// [`UNDECIDED_DOUBLINGS`] ([`LOSSLESS_DOUBLINGS`], [`SPARSE_DOUBLINGS`]):
+/// four times longer.
+const LONGER_STEP: usize = 2;
 
 /// Times more the exponent's measurement is doubled, in a scene that
 /// dissipates, where its points lie on a torus but its last half held too
 /// few events ([`TOLD_EVENTS`]) for the tangent to tell a torus from chaos
-/// (standard: to 102 400 periods, [`LOSSLESS_STEP`] at a time).
+/// (standard: to 102 400 periods, [`LONGER_STEP`] at a time).
 const SPARSE_DOUBLINGS: usize = 4;
 
 /// How much nearer a stable fixed point the last quarter of a record's
@@ -327,7 +329,8 @@ pub enum Unresolved {
     /// chaotic transient before an orbit), or the half held too
     /// few events to tell (`events` fewer than 20, at least
     /// one: chaos whose tangent is stretched only at its rare impacts may
-    /// grow no faster by chance).
+    /// grow no faster by chance) although measured four times longer at a
+    /// time, up to 1 024 times `lyapunov_periods`.
     TorusUntold {
         /// The estimate of `λT` over the whole measurement and its interval.
         growth: Interval,
@@ -398,7 +401,8 @@ pub enum Unresolved {
         multiplier: f64,
     },
     /// No period, chaotic or quasi-periodic by its exponent, but not one
-    /// event over the record: one linear flow, which is never chaotic (a
+    /// event over the record, nor over the exponent's measurement of the
+    /// periods after it: one linear flow, which is never chaotic (a
     /// positive exponent is the transient growth of a record shorter than
     /// the system's slowest motion), and whose torus (an undamped
     /// oscillation beside the forcing) attracts nothing (issue 42). Where a
@@ -786,7 +790,7 @@ pub fn run_cell_measured(
             None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
                 || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
                 && cell.hist.iter().all(|r| r.events == 0)
-                && cell.decided_events.is_none_or(|n| n == 0) =>
+                && cell.exponent_events.is_none_or(|n| n == 0) =>
             {
                 // Undamped, and never ended by an event, it is the motion for
                 // all time: a torus of its free oscillations beside the
@@ -880,8 +884,8 @@ struct Executor<'s> {
     /// ([`Executor::follow_quiet`]).
     follow: Follow,
     /// The events of the periods over which [`Executor::decide`] last
-    /// measured the exponent, where it did.
-    decided_events: Option<u64>,
+    /// measured the exponent (its probe's, after the record), where it did.
+    exponent_events: Option<u64>,
     /// The periods the exponent's probe simulated from the main state, for
     /// the record going on from there to take instead of simulating them
     /// again ([`Executor::next_period`]).
@@ -930,7 +934,7 @@ impl<'s> Executor<'s> {
             measured: None,
             unsettled: None,
             follow: Follow::Not,
-            decided_events: None,
+            exponent_events: None,
             ahead: None,
         })
     }
@@ -1276,7 +1280,7 @@ impl<'s> Executor<'s> {
     /// a polynomial ([`Exponent::polynomial`]: a torus of any dimension),
     /// there measured four times longer at a time, up to
     /// [`LOSSLESS_DOUBLINGS`] doublings more, where it grew faster but is
-    /// not shown to diverge (and so, in a scene that dissipates, up to
+    /// not shown to diverge (likewise, in a scene that dissipates, up to
     /// [`SPARSE_DOUBLINGS`] more, points on a torus whose last half held
     /// too few events to tell, [`TOLD_EVENTS`]), and unresolved otherwise,
     /// with the test that failed.
@@ -1289,7 +1293,7 @@ impl<'s> Executor<'s> {
         let mut deferred = None;
         let lossless = self.sys.lossless();
         loop {
-            self.decided_events = Some(e.events());
+            self.exponent_events = Some(e.events());
             let growth = e.interval();
             if e.chaotic() {
                 return Steady::Aperiodic(Class::Chaotic, e.per_time(), None);
@@ -1372,7 +1376,9 @@ impl<'s> Executor<'s> {
                 // 1 600 periods, a growth of 1.27 there against 14 over the
                 // whole; chaotic for an independent simulator, λT 1.2e-2 in
                 // every quarter of 100 000 periods). Such a record is
-                // measured on as an undecided one, and `U` at the end.
+                // measured on as an undecided one, and past that four times
+                // longer at a time ([`SPARSE_DOUBLINGS`]); `U` if still so
+                // at the end.
                 let late_events = e.late_events();
                 let sparse = !lossless && late_events > 0 && late_events < TOLD_EVENTS;
                 let defer = limit == first && (grew.is_some() || sparse);
@@ -1463,17 +1469,20 @@ impl<'s> Executor<'s> {
                     // over 64 000 periods 2 ln 2 / 64 000 per period in the
                     // last half still).
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
-                } else if lossless && limit < first + UNDECIDED_DOUBLINGS + LOSSLESS_DOUBLINGS {
+                } else if lossless && limit + LONGER_STEP <= first + UNDECIDED_DOUBLINGS + LOSSLESS_DOUBLINGS {
                     // Grew faster than a polynomial, not yet shown to
                     // diverge: weak chaos or a torus's swing, which a
                     // longer measurement tells apart (one four times as
                     // long at a time).
-                    limit += LOSSLESS_STEP;
-                } else if sparse && loops.is_some() && limit < first + UNDECIDED_DOUBLINGS + SPARSE_DOUBLINGS {
+                    limit += LONGER_STEP;
+                } else if sparse
+                    && loops.is_some()
+                    && limit + LONGER_STEP <= first + UNDECIDED_DOUBLINGS + SPARSE_DOUBLINGS
+                {
                     // On a torus's points with too few events in the last
                     // half to tell a torus's tangent from chaos's: measured
                     // on, four times longer at a time, until they are told.
-                    limit += LOSSLESS_STEP;
+                    limit += LONGER_STEP;
                 } else if untold && loops.is_some() {
                     let why = Unresolved::TorusUntold {
                         growth,
@@ -1526,6 +1535,7 @@ impl<'s> Executor<'s> {
             // events are kept from the measurement.
             let keep = self.window_work();
             if let Err(halt) = self.budget.spend_keeping(&mut self.sim, &mut tangent, keep, |t| e.extend(t, more)) {
+                self.exponent_events = Some(e.events());
                 // Cut short by the event budget (a lossless motion at slow
                 // forcing: 80 events a period), judged on the periods it
                 // measured by the test of every doubling: chaos where it
@@ -2478,10 +2488,11 @@ mod tests {
 
     /// Issue 62: an undamped oscillator with a lossy stop (ω = 1.94516,
     /// σ = 1.18696, r = 0.5) whose impacts come ever rarer and gentler: its
-    /// exponent's measurement of 6 400 periods lay on a closed curve with 1
-    /// to 19 events in its last half, too few to tell a torus's tangent from
-    /// chaos's, and it was `U` ("torus untold"). Measured on, four times
-    /// longer at a time, it is `Q`. The closed form agrees that the motion is
+    /// exponent's measurement of 6 400 periods lay on a closed curve with 6
+    /// events in its last half, too few to tell a torus's tangent from
+    /// chaos's, and it was `U` ("torus untold"). Measured four times longer,
+    /// its last half holds 21 and the tangent did not grow over them: `Q`.
+    /// The closed form agrees that the motion is
     /// a torus: from the cell's end, over the last 25 000 of 50 000 periods,
     /// the free oscillation beside the forced response `1/(1 − ω²)` (its
     /// amplitude from the state at each period's start) reaches past the stop
@@ -2496,7 +2507,7 @@ mod tests {
         let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
         assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
         let untold = acc.lyapunov_periods << (EXPONENT_DOUBLINGS + acc.extensions / 2 + UNDECIDED_DOUBLINGS);
-        assert!(cell.periods > untold as u64, "{} periods", cell.periods);
+        assert!(cell.periods > 4 * untold as u64, "{} periods", cell.periods);
         let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
         let forced = 1.0 / (omega * omega - 1.0);
         let overlap = |y: &DVector<f64>| (y[0] + forced).hypot(y[1]) + forced - sigma;
@@ -2517,8 +2528,8 @@ mod tests {
     /// 385 periods, and the cell was `U`, "one linear flow", although the
     /// exponent's measurement of the next periods met the stop: it now
     /// decides. At σ = 1.08261 the measurement's tangent stays bounded,
-    /// `Q`: from the cell's end the impacts come ever more gently, ten in
-    /// a row each at half the speed of the one before (the restitution's
+    /// `Q`: from the cell's end the impacts come ever more gently, ten of
+    /// them each at half the speed of the one before (the restitution's
     /// factor: the free oscillation brings the mass back as it left), below
     /// 1e-6 within 20 000 periods and none in their last 4 000: the torus
     /// that grazes the stop. At σ = 0.66522 it diverges, `C`:
