@@ -883,6 +883,13 @@ struct Executor<'s> {
     /// Whether a motion bound for a stop was followed to it, once a cell
     /// ([`Executor::follow_quiet`]).
     follow: Follow,
+    /// An exponent's probe whose measurement ended quiet on a torus that
+    /// clears every stop, in a scene without damping, where
+    /// [`Executor::decide`] left it undecided: the record goes on from
+    /// where it ended ([`Executor::go_on_quiet`]).
+    quiet_end: Option<Simulator<'s>>,
+    /// Whether the record went on from such a probe's end: once a cell.
+    quieted: bool,
     /// The events of the periods over which [`Executor::decide`] last
     /// measured the exponent (its probe's, after the record), where it did.
     exponent_events: Option<u64>,
@@ -934,6 +941,8 @@ impl<'s> Executor<'s> {
             measured: None,
             unsettled: None,
             follow: Follow::Not,
+            quiet_end: None,
+            quieted: false,
             exponent_events: None,
             ahead: None,
         })
@@ -1251,7 +1260,10 @@ impl<'s> Executor<'s> {
             return None;
         }
         let (tangent, e) = self.exponent(false).ok()?;
-        match self.decide(tangent, e, true) {
+        let decided = self.decide(tangent, e, true);
+        // The record is over: it goes on from no measurement's end.
+        self.quiet_end = None;
+        match decided {
             Steady::Aperiodic(class @ (Class::Chaotic | Class::Quasiperiodic), l, None) => Some((class, l)),
             _ => None,
         }
@@ -1504,6 +1516,38 @@ impl<'s> Executor<'s> {
                     }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 } else {
+                    // Without damping, and quiet over the measurement's last
+                    // half: one linear flow from there on, for all time,
+                    // where its torus clears every stop, or where its flow
+                    // closes after the q periods its section points are
+                    // locked at (its last half, thousands of periods, then
+                    // repeats them without an event). No search for a
+                    // stable orbit finds its orbits, all neutral. It is `Q`,
+                    // as a quiet record's torus is, also where it closes
+                    // after more than `n_max` periods; where it closes
+                    // within them, the record goes on from the
+                    // measurement's end ([`Executor::go_on_quiet`]), where
+                    // its period is found (the single stop with r = 0.5 at
+                    // ω = 1.7, σ = 1.5: impacts for some 1 000 periods,
+                    // then its free oscillation turning 10 times in 17
+                    // forcing periods, clear of the stop: `17-0-0`; `U`
+                    // before, locked at −7/17 on no stable orbit).
+                    if self.sys.undamped() && late_events == 0 {
+                        let period = self.sys.period;
+                        let closes = locked.filter(|&q| tangent.closes_after(q as f64 * period));
+                        let quiet_record = self.hist.iter().all(|r| r.events == 0);
+                        match closes {
+                            Some(q) if q <= self.acc.n_max && !self.quieted && !quiet_record => {
+                                self.quiet_end = Some(tangent);
+                            }
+                            Some(q) if q <= self.acc.n_max => {}
+                            Some(_) => return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None),
+                            None if tangent.guard_margin().is_some_and(|m| m > 0.0) => {
+                                return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None)
+                            }
+                            None => {}
+                        }
+                    }
                     // Locked at p/q, as an orbit of period q turns, in a
                     // scene that dissipates: an orbit still being reached
                     // from farther than the searches above look, its
@@ -1641,7 +1685,7 @@ impl<'s> Executor<'s> {
                 match (chaotic, exponent) {
                     (true, Ok((tangent, e))) => {
                         let decided = self.decide(tangent, e, true);
-                        if self.follow_once(Some(&decided))? {
+                        if self.go_on_quiet() || self.follow_once(Some(&decided))? {
                             limit = self.sim.periods() as usize + acc.max_periods;
                             continue;
                         }
@@ -1691,7 +1735,7 @@ impl<'s> Executor<'s> {
                 Err(halt) => return Ok(Steady::Failed(halt)),
             };
             let decided = self.decide(tangent, e, extensions >= acc.extensions);
-            if self.follow_once(Some(&decided))? {
+            if self.go_on_quiet() || self.follow_once(Some(&decided))? {
                 (extensions, limit) = (0, self.sim.periods() as usize + acc.max_periods);
                 continue;
             }
@@ -1853,6 +1897,25 @@ impl<'s> Executor<'s> {
             true => self.follow_quiet().map_err(|h| Unresolved::of(h, self.acc)),
             false => Ok(false),
         }
+    }
+
+    /// Goes on from where an exponent's measurement ended quiet, on a torus
+    /// that clears every stop in a scene without damping, where
+    /// [`Executor::decide`] left it undecided (`quiet_end`): the main
+    /// simulation resumes where that probe stopped (its periods simulated
+    /// and counted as the measurement's), and the record starts again from
+    /// there, its history, trail and Newton acceleration anew. Once a cell;
+    /// `true` when it did.
+    fn go_on_quiet(&mut self) -> bool {
+        let Some(mut probe) = self.quiet_end.take() else { return false };
+        self.quieted = true;
+        self.ahead = None;
+        let moment = probe.moment();
+        self.sim.resume(moment, &mut probe);
+        self.hist.clear();
+        self.trail.clear();
+        self.newton.renew();
+        true
     }
 
     /// How far the torus of an undamped oscillation beside the forcing,
@@ -2575,6 +2638,48 @@ mod tests {
                 let hard = v[v.len() / 2..].iter().filter(|&&s| s > 1e-3).count();
                 assert!(hard >= 5 && apart > 1e-3, "σ {sigma}: {hard} hard impacts, {apart:e} apart: {v:?}");
             }
+        }
+    }
+
+    /// Issue 62: without damping, a motion whose impacts end, its
+    /// exponent's measurement quiet over its last half, in a flow that
+    /// closes after the q periods its section points are locked at: the
+    /// single stop with r = 0.5 from its initial state at ω = 1.7 = 17/10,
+    /// σ = 1.5 (q = 17, within `n_max`) and at ω = 115/62, σ = 1.29130
+    /// (q = 115, beyond). Both were `U`, locked on no stable orbit (all of
+    /// the flow's are neutral). The first is `17-0-0`, found by the record
+    /// gone on from the measurement's end; the second `Q`, as a quiet torus
+    /// closing after more than `n_max` periods is. The closed form agrees:
+    /// where the motion no longer meets the stop (from the cell's end,
+    /// after 2 000 periods without an event), x(t) returns to itself after
+    /// q periods and stays below the stop, sampled 400 times a period.
+    #[test]
+    fn a_measurement_ending_quiet_on_a_closing_flow_is_its_orbit() {
+        let acc = Accuracy::default();
+        for (omega, sigma, q) in [(1.7, 1.5, 17), (115.0 / 62.0, 1.291304347826087, 115)] {
+            let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+            let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+            if q <= acc.n_max {
+                assert_eq!((cell.class, cell.n), (Class::Periodic, Some(q)), "ω {omega}: {:?}", cell.reason);
+                assert_eq!(cell.labels[0].label.to_string(), "17-0-0");
+            } else {
+                assert_eq!(cell.class, Class::Quasiperiodic, "ω {omega}: {:?}", cell.reason);
+            }
+            let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+            let mut quiet = 0;
+            for _ in 0..20_000 {
+                quiet = if sim.run_period(&[], false, &mut Ignore).unwrap().events == 0 { quiet + 1 } else { 0 };
+                if quiet == 2_000 {
+                    break;
+                }
+            }
+            assert_eq!(quiet, 2_000, "ω {omega}");
+            let (x0, v0) = (sim.state()[0], sim.state()[1]);
+            let period = std::f64::consts::TAU / omega;
+            let x = |t: f64| crate::testing::forced_oscillator(0.0, omega, x0, v0, t);
+            let top = (0..q * 400).map(|i| x(i as f64 * period / 400.0)).fold(f64::NEG_INFINITY, f64::max);
+            assert!(top < sigma, "ω {omega}: reaches {top}");
+            assert!((x(q as f64 * period) - x0).abs() < 1e-9, "ω {omega}: {} against {x0}", x(q as f64 * period));
         }
     }
 
