@@ -72,6 +72,16 @@ impl Budget {
         out
     }
 
+    /// Hands `periods` periods with `events` events that a probe simulated
+    /// over to the main simulation, which went on from the probe's end and
+    /// counts them as its own ([`Simulator::count_periods`]): counted once,
+    /// and their events' work charged to the main simulation alone.
+    pub(crate) fn hand_over(&mut self, periods: u64, events: usize) {
+        self.periods = self.periods.saturating_sub(periods);
+        self.events = self.events.saturating_sub(events);
+        self.work = self.work.saturating_sub((events as u64).saturating_mul(EVENT_WORK));
+    }
+
     /// Forcing periods of the cell: `main`'s and the probes'.
     pub(crate) fn periods(&self, main: &Simulator<'_>) -> u64 {
         main.periods() + self.periods

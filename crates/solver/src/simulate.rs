@@ -533,8 +533,14 @@ impl<'s> Simulator<'s> {
     /// Counts as this simulation's own a period that a probe simulated from
     /// its state ([`Simulator::resume`]): one period, and its events.
     pub(crate) fn count_period(&mut self, rec: &PeriodRecord) {
-        self.periods += 1;
-        self.events += rec.events;
+        self.count_periods(1, rec.events);
+    }
+
+    /// Counts as this simulation's own `periods` periods with `events`
+    /// events that a probe simulated from its state ([`Simulator::resume`]).
+    pub(crate) fn count_periods(&mut self, periods: u64, events: usize) {
+        self.periods += periods;
+        self.events += events;
     }
 
     /// Where this simulation is: with its count of periods, all that its
