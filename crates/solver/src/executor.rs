@@ -1509,6 +1509,16 @@ impl<'s> Executor<'s> {
                     // on, four times longer at a time, until they are told.
                     limit += LONGER_STEP;
                 } else if untold && loops.is_some() {
+                    // Too few events to tell by their number, but events
+                    // that stretched nothing (the tangent's growth over the
+                    // last half within its resolution of 0): a torus
+                    // touching its stop at a grazing speed (the single stop
+                    // with r = 0.5 at ω = 1.94516, σ = 1.44783: 17 touches
+                    // in the last 51 200 of 102 400 periods, λT 4e-10 ±
+                    // 1e-9 there).
+                    if sparse && kept_growing.is_none() && e.unstretched_late() {
+                        return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
+                    }
                     let why = Unresolved::TorusUntold {
                         growth,
                         late: e.late(),
@@ -2573,33 +2583,39 @@ mod tests {
     /// events in its last half, too few to tell a torus's tangent from
     /// chaos's, and it was `U` ("torus untold"). Measured four times longer,
     /// its last half holds 21 and the tangent did not grow over them: `Q`.
-    /// The closed form agrees that the motion is
+    /// At σ = 1.44783 the last half of 102 400 periods still holds only
+    /// 17, but the tangent grew by nothing over them (λT 4e-10 ± 1e-9):
+    /// touches at a grazing speed, `Q` too (it was `U` still). For both,
+    /// the closed form agrees that the motion is
     /// a torus: from the cell's end, over the last 25 000 of 50 000 periods,
     /// the free oscillation beside the forced response `1/(1 − ω²)` (its
     /// amplitude from the state at each period's start) reaches past the stop
-    /// by 3.5e-7 to 3.9e-7 at every period, touched there now and then
+    /// by less than 1e-6 at every period (3.5e-7 to 3.9e-7 at σ = 1.18696),
+    /// touched there now and then
     /// without losing amplitude; chaos's impacts (at speeds near 1e-2 on
     /// this plane) would move it by a hundredth.
     #[test]
     fn a_torus_reached_by_rare_impacts_is_measured_until_told() {
-        let (omega, sigma) = (1.9451612903225808, 1.1869565217391305);
-        let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+        let omega = 1.9451612903225808;
         let acc = Accuracy::default();
-        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
-        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
         let untold = acc.lyapunov_periods << (EXPONENT_DOUBLINGS + acc.extensions / 2 + UNDECIDED_DOUBLINGS);
-        assert!(cell.periods > 4 * untold as u64, "{} periods", cell.periods);
-        let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
-        let forced = 1.0 / (omega * omega - 1.0);
-        let overlap = |y: &DVector<f64>| (y[0] + forced).hypot(y[1]) + forced - sigma;
-        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
-        for k in 0..50_000 {
-            sim.run_period(&[], false, &mut Ignore).unwrap();
-            if k >= 25_000 {
-                (low, high) = (low.min(overlap(sim.state())), high.max(overlap(sim.state())));
+        for sigma in [1.1869565217391305, 1.4478260869565218] {
+            let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+            let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+            assert_eq!(cell.class, Class::Quasiperiodic, "σ {sigma}: {:?}", cell.reason);
+            assert!(cell.periods > 4 * untold as u64, "σ {sigma}: {} periods", cell.periods);
+            let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+            let forced = 1.0 / (omega * omega - 1.0);
+            let overlap = |y: &DVector<f64>| (y[0] + forced).hypot(y[1]) + forced - sigma;
+            let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+            for k in 0..50_000 {
+                sim.run_period(&[], false, &mut Ignore).unwrap();
+                if k >= 25_000 {
+                    (low, high) = (low.min(overlap(sim.state())), high.max(overlap(sim.state())));
+                }
             }
+            assert!(low > 0.0 && high < 1e-6, "σ {sigma}: the torus reaches {low:e} to {high:e} past the stop");
         }
-        assert!(low > 0.0 && high < 1e-6, "the torus reaches {low:e} to {high:e} past the stop");
     }
 
     /// Issue 62: records that go quiet between rare impacts. The single

@@ -234,6 +234,17 @@ impl Exponent {
         self.events[self.events.len() / 2..].iter().map(|&n| u64::from(n)).sum()
     }
 
+    /// Whether the tangent did not grow at all over the last half of the
+    /// measured periods, to the estimate's resolution: its interval there
+    /// at its narrowest (1e-9) and its mean within it. Events there (a
+    /// stop touched at a grazing speed, where the map is the jump alone)
+    /// stretched nothing; chaos's impacts stretch its tangent by an amount
+    /// of order one each.
+    pub fn unstretched_late(&self) -> bool {
+        let late = self.late();
+        late.half_width <= RESOLUTION && late.mean.abs() <= RESOLUTION
+    }
+
     /// The exponent over the last half of the measured periods (`λT` and its
     /// interval): near the whole's in chaos, falling like `1/K` on a torus.
     pub fn late(&self) -> Interval {
