@@ -789,7 +789,7 @@ pub fn run_cell_measured(
             // decides.
             None if (matches!(class, Class::Chaotic | Class::Quasiperiodic)
                 || matches!(reason, Some(Unresolved::Undecided { .. } | Unresolved::Polynomial { .. })))
-                && cell.hist.iter().all(|r| r.events == 0)
+                && cell.quiet_history()
                 && cell.exponent_events.is_none_or(|n| n == 0) =>
             {
                 // Undamped, and never ended by an event, it is the motion for
@@ -800,7 +800,7 @@ pub fn run_cell_measured(
                 // yet end it, its torus attracts nothing, or not for long:
                 // said so, rather than undecided.
                 if cell.undamped_linear(cell.hist.len())
-                    && (cell.sim.guard_margin().is_some_and(|m| m > 0.0) || cell.closing_period.is_some())
+                    && (cell.sim.guard_margin().is_some_and(|m| m > 0.0) || cell.closes_late)
                 {
                     (Class::Quasiperiodic, None, Some(l), None)
                 } else {
@@ -893,11 +893,10 @@ struct Executor<'s> {
     quiet_end: Option<Simulator<'s>>,
     /// Whether the record went on from such a probe's end: once a cell.
     quieted: bool,
-    /// The periods after which the quiet linear flow that
-    /// [`Executor::decide`] last found closes, where they are more than
-    /// `n_max` (its torus a `Q` that may reach past a stop's bound, its
-    /// phases never aligning there).
-    closing_period: Option<usize>,
+    /// Whether [`Executor::decide`] found a quiet linear flow that closes
+    /// after more than `n_max` periods (its torus a `Q` that may reach past
+    /// a stop's bound, its phases never aligning there).
+    closes_late: bool,
     /// The events of the periods over which [`Executor::decide`] last
     /// measured the exponent (its probe's, after the record), where it did.
     exponent_events: Option<u64>,
@@ -951,7 +950,7 @@ impl<'s> Executor<'s> {
             follow: Follow::Not,
             quiet_end: None,
             quieted: false,
-            closing_period: None,
+            closes_late: false,
             exponent_events: None,
             ahead: None,
         })
@@ -1110,6 +1109,11 @@ impl<'s> Executor<'s> {
     /// Either is regular whatever a finite record's exponent says.
     fn undamped_linear(&self, periods: usize) -> bool {
         self.hist.iter().rev().take(periods).all(|r| r.events == 0) && self.sys.undamped()
+    }
+
+    /// Whether the record's history holds no event at all.
+    fn quiet_history(&self) -> bool {
+        self.hist.iter().all(|r| r.events == 0)
     }
 
     /// The work (thousandths of an event) of simulating again the window
@@ -1561,13 +1565,10 @@ impl<'s> Executor<'s> {
                         let quiet = e.periods() / 2;
                         let closes = locked.filter(|&q| 2 * q <= quiet && tangent.closes_after(q as f64 * period));
                         let linear = closes.is_some() || tangent.guard_margin().is_some_and(|m| m > 0.0);
-                        let quiet_record = self.hist.iter().all(|r| r.events == 0);
-                        if linear && !self.quieted && !quiet_record {
+                        if linear && !self.quieted && !self.quiet_history() {
                             self.quiet_end = Some(tangent);
-                        } else if let Some(q) = closes.filter(|&q| q > self.acc.n_max) {
-                            self.closing_period = Some(q);
-                            return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
-                        } else if linear && closes.is_none() {
+                        } else if linear && closes.is_none_or(|q| q > self.acc.n_max) {
+                            self.closes_late |= closes.is_some();
                             return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                         }
                     }
@@ -1891,8 +1892,7 @@ impl<'s> Executor<'s> {
         while self.sim.periods() < until {
             let rec = self.sim.run_period(&[], self.sys.model.symmetric, &mut Ignore)?;
             if rec.events > 0 {
-                self.hist.clear();
-                self.newton.renew();
+                self.record_afresh();
                 self.follow = Follow::Met;
                 return Ok(true);
             }
@@ -1940,10 +1940,16 @@ impl<'s> Executor<'s> {
         self.sim.resume(moment, &mut probe);
         self.sim.count_periods(periods, events);
         self.budget.hand_over(periods, events);
+        self.record_afresh();
+        true
+    }
+
+    /// Starts the record again from where the main simulation is: its
+    /// history, trail and Newton acceleration anew.
+    fn record_afresh(&mut self) {
         self.hist.clear();
         self.trail.clear();
         self.newton.renew();
-        true
     }
 
     /// How far the torus of an undamped oscillation beside the forcing,
