@@ -20,6 +20,7 @@ use std::borrow::Cow;
 use std::fs::{File, OpenOptions};
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 #[derive(Serialize, Deserialize)]
 struct Header {
@@ -50,18 +51,27 @@ pub struct SealedLine(Vec<u8>);
 
 /// Encodes and seals lines for one journal (the costly part of an append,
 /// done by the worker that computed the line).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Sealer {
     path: PathBuf,
     fingerprint: String,
+    /// The longest sealed line so far, in bytes: the next one's buffer is
+    /// that long from the start, so a line is written once, into memory
+    /// touched once (a buffer grown by doubling as serde writes into it, then
+    /// copied beside its checksum, touched three to four times as many fresh
+    /// pages, and zeroing them cost 1.5 % of the main job).
+    longest: AtomicUsize,
 }
 
 impl Sealer {
     /// The sealed text of `line`.
     pub fn seal(&self, line: &Line) -> Result<SealedLine, StoreError> {
-        let inner = serde_json::to_string(&encode(line))
-            .map_err(|e: serde_json::Error| StoreError::format(&self.path, e.to_string()))?;
-        Ok(SealedLine(sealed_text(&seal(&self.fingerprint, &inner), &inner)))
+        let text = sealed_text(&self.fingerprint, self.longest.load(Ordering::Relaxed), |out| {
+            serde_json::to_writer(out, &encode(line))
+        })
+        .map_err(|e: serde_json::Error| StoreError::format(&self.path, e.to_string()))?;
+        self.longest.fetch_max(text.len(), Ordering::Relaxed);
+        Ok(SealedLine(text))
     }
 }
 
@@ -73,12 +83,28 @@ pub struct Journal {
     fingerprint: String,
 }
 
-/// The text of [`Sealed`] `{ checksum, line }` as serde_json writes it
-/// (`line` the JSON text of a line), and the newline: written directly, not
-/// through [`serde_json::value::RawValue`], which would parse the line's text
-/// again.
-fn sealed_text(checksum: &str, line: &str) -> Vec<u8> {
-    [b"{\"checksum\":\"".as_slice(), checksum.as_bytes(), b"\",\"line\":", line.as_bytes(), b"}\n"].concat()
+/// The text of [`Sealed`] `{ checksum, line }` as serde_json writes it, and
+/// the newline, in one buffer of at least `capacity` bytes: `write` puts the
+/// line's JSON text in place, and its checksum within the run `fingerprint_`
+/// is filled in before it. Written directly, not through
+/// [`serde_json::value::RawValue`], which would parse the line's text again.
+fn sealed_text<E>(
+    fingerprint_: &str,
+    capacity: usize,
+    write: impl FnOnce(&mut Vec<u8>) -> Result<(), E>,
+) -> Result<Vec<u8>, E> {
+    const HEAD: &[u8] = b"{\"checksum\":\"";
+    const DIGITS: usize = 16;
+    let mut out = Vec::with_capacity(capacity);
+    out.extend_from_slice(HEAD);
+    out.extend_from_slice(&[b'0'; DIGITS]);
+    out.extend_from_slice(b"\",\"line\":");
+    let start = out.len();
+    write(&mut out)?;
+    let checksum = seal(fingerprint_, &out[start..]);
+    out[HEAD.len()..HEAD.len() + DIGITS].copy_from_slice(checksum.as_bytes());
+    out.extend_from_slice(b"}\n");
+    Ok(out)
 }
 
 /// The 64-bit FNV-1a hash `h` continued with `bytes`.
@@ -131,8 +157,8 @@ fn decode(j: JLine, meta: &Meta) -> Result<Line, String> {
 }
 
 /// Checksum of a line's JSON text within the run `fingerprint`.
-fn seal(fingerprint_: &str, text: &str) -> String {
-    let h = [fingerprint_.as_bytes(), b"\n", text.as_bytes()].into_iter().fold(FNV_OFFSET, fnv1a);
+fn seal(fingerprint_: &str, text: &[u8]) -> String {
+    let h = [fingerprint_.as_bytes(), b"\n", text].into_iter().fold(FNV_OFFSET, fnv1a);
     format!("{h:016x}")
 }
 
@@ -188,7 +214,7 @@ impl Journal {
             } else {
                 let sealed: Sealed =
                     serde_json::from_slice(text).map_err(|e| refuse(i + 1, format!("not a journal line ({e})")))?;
-                if seal(fingerprint, sealed.line.get()) != sealed.checksum {
+                if seal(fingerprint, sealed.line.get().as_bytes()) != sealed.checksum {
                     return Err(refuse(i + 1, "checksum mismatch (edited or corrupt)".into()));
                 }
                 let j: JLine =
@@ -209,7 +235,7 @@ impl Journal {
 
     /// What seals lines for this journal, on any thread.
     pub fn sealer(&self) -> Sealer {
-        Sealer { path: self.path.clone(), fingerprint: self.fingerprint.clone() }
+        Sealer { path: self.path.clone(), fingerprint: self.fingerprint.clone(), longest: AtomicUsize::new(0) }
     }
 
     /// Appends lines sealed by [`Journal::sealer`] (in any thread), all of
@@ -257,7 +283,7 @@ mod tests {
     #[test]
     fn a_sealed_line_is_what_serde_writes_with_the_same_checksum() {
         let line = r#"{"sweep":"up","index":3,"cells":[{"class":0,"final_state":[0.5,-1e-300]}]}"#;
-        let checksum = seal("0123456789abcdef", line);
+        let checksum = seal("0123456789abcdef", line.as_bytes());
         assert_eq!(checksum, fingerprint(&format!("0123456789abcdef\n{line}")));
         let sealed = Sealed {
             checksum: checksum.clone(),
@@ -265,7 +291,13 @@ mod tests {
         };
         let mut want = serde_json::to_vec(&sealed).unwrap();
         want.push(b'\n');
-        assert_eq!(String::from_utf8(sealed_text(&checksum, line)).unwrap(), String::from_utf8(want).unwrap());
+        for capacity in [0, 10, 4096] {
+            let text = sealed_text("0123456789abcdef", capacity, |out| {
+                out.extend_from_slice(line.as_bytes());
+                Ok::<(), ()>(())
+            });
+            assert_eq!(String::from_utf8(text.unwrap()).unwrap(), String::from_utf8(want.clone()).unwrap());
+        }
         // FNV-1a's published value of "a".
         assert_eq!(fingerprint("a"), "af63dc4c8601ec8c");
     }
