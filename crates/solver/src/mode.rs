@@ -651,7 +651,7 @@ impl Mode {
         }
         for k in 1..=lay.h {
             // `1.0 * φ` is φ exactly: the first harmonic is `phase.sin_cos()`.
-            (s[lay.sin(k)], s[lay.cos(k)]) = (k as f64 * phase).sin_cos();
+            (s[lay.sin(k)], s[lay.cos(k)]) = crate::spectral::sin_cos(k as f64 * phase);
         }
         s[lay.constant()] = 1.0;
         if !self.key.constrained() {

@@ -506,7 +506,7 @@ impl<'s> Meter<'s> {
         (1..)
             .zip(&self.sys.harmonics)
             .map(|(k, [p, q]): (i32, _)| {
-                let (s, c) = (f64::from(k) * phase).sin_cos();
+                let (s, c) = crate::spectral::sin_cos(f64::from(k) * phase);
                 s * p.dot(&v) + c * q.dot(&v)
             })
             .sum()

@@ -402,16 +402,18 @@ impl Spectral {
         out
     }
 
-    /// Fills `out[t] = weight_t e^{μ_t u} u^j / j!` for every term.
+    /// Fills `out[t] = weight_t e^{μ_t u} u^j / j!` for every term: the
+    /// numbers of [`Spectral::factors_and_bounds`], bit for bit.
     pub fn factors(&self, u: f64, out: &mut [C64]) {
-        let mut last = (C64::new(f64::NAN, f64::NAN), C64::new(0.0, 0.0));
-        for (t, term) in self.terms.iter().enumerate() {
-            if term.lambda != last.0 {
-                last = (term.lambda, (term.lambda * u).exp());
+        let (mut lambda, mut e) = (C64::new(f64::NAN, f64::NAN), C64::new(0.0, 0.0));
+        for (term, o) in self.terms.iter().zip(out.iter_mut()) {
+            if term.lambda != lambda {
+                lambda = term.lambda;
+                (_, e) = exponential(lambda, u);
             }
             let poly =
                 if term.power == 0 { 1.0 } else { (term.scale * u).powi(term.power as i32) * term.inv_factorial };
-            out[t] = last.1 * (term.weight * poly);
+            *o = e * (term.weight * poly);
         }
     }
 
@@ -419,16 +421,13 @@ impl Spectral {
     /// term), upper bounds of `|weight e^{μ s} s^j/j!|` over `s ∈ [u, b]`.
     pub fn factors_and_bounds(&self, u: f64, b: f64, out: &mut [C64], bounds: &mut [f64]) {
         // The exponential of the previous term's eigenvalue: the powers of one
-        // cluster share it (the NaN of the first never equals an eigenvalue). A
-        // zero real or imaginary part needs no libm call (`e^0 = 1`,
-        // `sin(±0) = ±0`, `cos 0 = 1`, all exact).
-        let (mut lambda, mut r, mut sn, mut cs) = (C64::new(f64::NAN, f64::NAN), 1.0, 0.0, 1.0);
+        // cluster share it (the NaN of the first never equals an eigenvalue).
+        let (mut lambda, mut r, mut e) = (C64::new(f64::NAN, f64::NAN), 1.0, C64::new(0.0, 0.0));
         for ((term, o), bound) in self.terms.iter().zip(out.iter_mut()).zip(bounds.iter_mut()) {
             let re = term.lambda.re;
             if term.lambda != lambda {
                 lambda = term.lambda;
-                r = if re == 0.0 { 1.0 } else { (re * u).exp() };
-                (sn, cs) = if lambda.im == 0.0 { (lambda.im * u, 1.0) } else { (lambda.im * u).sin_cos() };
+                (r, e) = exponential(lambda, u);
             }
             let grow = if re > 0.0 { (re * b).exp() } else { r };
             let (poly, poly_b) = if term.power == 0 {
@@ -438,10 +437,34 @@ impl Spectral {
                 let nu = term.scale;
                 ((nu * u).powi(p) * term.inv_factorial, (nu * b).powi(p) * term.inv_factorial)
             };
-            *o = C64::new(r * cs, r * sn) * (term.weight * poly);
+            *o = e * (term.weight * poly);
             *bound = term.weight * grow * poly_b;
         }
     }
+}
+
+/// `e^{λu}`, with its modulus `e^{Re λ u}`: one `exp` and one `sincos` of
+/// libm, none where their argument is zero (`e^0 = 1`, `sin(±0) = ±0`,
+/// `cos 0 = 1`, all exact: a constant term, an undamped mode, and every
+/// eigenvalue at the start of an advance, a tenth of the step loop's
+/// evaluations). libm's `sincos` is its `sin` and `cos`, bit for bit, so
+/// this is `λu`'s complex exponential as `num_complex` takes it.
+#[inline]
+fn exponential(lambda: C64, u: f64) -> (f64, C64) {
+    let (a, b) = (lambda.re * u, lambda.im * u);
+    let r = if a == 0.0 { 1.0 } else { a.exp() };
+    let (sn, cs) = if b == 0.0 { (b, 1.0) } else { sin_cos(b) };
+    (r, C64::new(r * cs, r * sn))
+}
+
+/// `(sin x, cos x)` in one libm `sincos`: the numbers of `sin` and `cos`,
+/// bit for bit, at about half the cost of the two (each of which saves and
+/// restores the rounding mode). Out of line so that the two stay in one
+/// block, where the compiler makes them one call; `f64::sin_cos` inlined
+/// into a caller that stores them apart is two.
+#[inline(never)]
+pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
+    x.sin_cos()
 }
 
 impl Modal {
