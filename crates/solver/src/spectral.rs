@@ -714,5 +714,44 @@ mod properties {
             let one = sp.modal(&s0).state(&f);
             prop_assert!((&one - &two).amax() <= 1e-11 * (1.0 + one.amax()), "{} vs {}", one, two);
         }
+
+        /// One `sincos` is libm's `sin` and `cos` bit for bit (the two
+        /// taken apart, each behind a `black_box` so that the compiler
+        /// cannot make them one call), and `e^{λu}` is `num_complex`'s:
+        /// the zero arguments it answers without libm included.
+        #[test]
+        fn one_sincos_is_sin_and_cos(x in prop_oneof![-1e7f64..1e7, -10.0f64..10.0, -1e-8f64..1e-8, Just(0.0), Just(-0.0)],
+                                     re in prop_oneof![-2.0f64..0.0, Just(0.0)], im in prop_oneof![-5.0f64..5.0, Just(0.0)],
+                                     u in prop_oneof![0.0f64..20.0, Just(0.0)]) {
+            let (s, c) = sin_cos(x);
+            let apart = (std::hint::black_box(x).sin(), std::hint::black_box(x).cos());
+            prop_assert_eq!((s.to_bits(), c.to_bits()), (apart.0.to_bits(), apart.1.to_bits()));
+            let lambda = C64::new(re, im);
+            let (r, e) = exponential(lambda, u);
+            let want = (lambda * u).exp();
+            prop_assert_eq!((e.re.to_bits(), e.im.to_bits()), (want.re.to_bits(), want.im.to_bits()));
+            prop_assert_eq!(r.to_bits(), std::hint::black_box(re * u).exp().to_bits());
+        }
+
+        /// [`Spectral::factors`] is [`Spectral::factors_and_bounds`]'s
+        /// factors bit for bit (what `Workspace::factors_at` relies on),
+        /// at an advance's start too.
+        #[test]
+        fn the_factors_are_those_with_the_bounds(omega in 0.05f64..5.0, c in 0.0f64..1.0, u in prop_oneof![0.0f64..6.0, Just(0.0)]) {
+            let mut m = DMatrix::zeros(5, 5);
+            m[(0, 1)] = 1.0;
+            m[(1, 0)] = -1.0;
+            m[(1, 1)] = -c;
+            m[(1, 2)] = 1.0;
+            m[(2, 3)] = omega;
+            m[(3, 2)] = -omega;
+            let sp = Spectral::new(&m, 6.0).unwrap();
+            let n = sp.terms().len();
+            let (mut f, mut g, mut b) = (vec![C64::new(0.0, 0.0); n], vec![C64::new(0.0, 0.0); n], vec![0.0; n]);
+            sp.factors(u, &mut f);
+            sp.factors_and_bounds(u, 6.0, &mut g, &mut b);
+            let bits = |v: &[C64]| v.iter().map(|z| (z.re.to_bits(), z.im.to_bits())).collect::<Vec<_>>();
+            prop_assert_eq!(bits(&f), bits(&g));
+        }
     }
 }
