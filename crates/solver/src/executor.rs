@@ -1559,6 +1559,26 @@ impl<'s> Executor<'s> {
                     // then its free oscillation turning 10 times in 17
                     // forcing periods, clear of the stop: `17-0-0`; `U`
                     // before, locked at −7/17 on no stable orbit).
+                    // Without damping, locked at p/q beyond `n_max` on a
+                    // flow that closes after those q periods, and not shown
+                    // to expand over the last half: an orbit of period q, or
+                    // the flow closing after q periods that touches the stop
+                    // ever more gently (impacts the only loss, each taking
+                    // off what it met), which no orbit of period up to
+                    // `n_max` is. `Q`, as that flow without an event is,
+                    // where no orbit is found below (the single stop with
+                    // r = 0.5 at ω = 43/26, σ = 1.41379, down: locked at
+                    // 17/43, 74 events in the last 3 200 of 6 400 periods,
+                    // one each 43 periods, λT −3.5e-5 ± 5.0e-5 there; an
+                    // independent simulator over 40 000 periods finds
+                    // touches that fade, at 4e-11 at most in the last
+                    // quarter).
+                    let touches_late = self.sys.undamped()
+                        && !lossless
+                        && late_events > 0
+                        && e.late().low() <= 0.0
+                        && locked
+                            .is_some_and(|q| q > self.acc.n_max && tangent.closes_after(q as f64 * self.sys.period));
                     if self.sys.undamped() && late_events == 0 {
                         let period = self.sys.period;
                         // Closing at least twice within the quiet half.
@@ -1587,6 +1607,9 @@ impl<'s> Executor<'s> {
                         if let Some(n) = self.approached_orbit(&e.points) {
                             return Steady::Periodic(n);
                         }
+                    }
+                    if touches_late {
+                        return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                     }
                     let excess = if lossless { e.excess().map(Box::new) } else { None };
                     let why = if growth.low() > 0.0 {
@@ -2716,6 +2739,33 @@ mod tests {
             let back = |k: usize| (x(k as f64 * period) - x0).abs();
             assert!(back(q) < 1e-9 && (1..q).all(|k| back(k) > 1e-6), "ω {omega}");
         }
+    }
+
+    /// Issue 62: the single stop with r = 0.5 and no damping at ω = 43/26,
+    /// σ = 1.41379, from the state its 40 × 30 plane's down sweep reached
+    /// at the ω before: locked at 17/43 on no orbit found, its exponent's
+    /// last 3 200 of 6 400 periods holding 74 events (one every 43 periods)
+    /// over which the tangent did not grow. It was `U`. It is `Q`: the flow
+    /// it settles on closes after 43 periods, beyond `n_max`. The closed form
+    /// from the cell's final state: x(t) comes back to its start after 43
+    /// periods and not before (the free oscillation turns 26 times in them),
+    /// and reaches to within 1e-4 of the stop and not past it (sampled 4 000
+    /// times a period): the flow the touches left.
+    #[test]
+    fn a_flow_closing_beyond_n_max_that_touches_its_stop_is_a_torus() {
+        let acc = Accuracy::default();
+        let (omega, sigma, q) = (43.0 / 26.0, 1.4137931034482758, 43);
+        let sys = system("single-stop.toml", &[("omega", omega), ("sigma", sigma), ("r", 0.5)]);
+        let cell = run_cell(&sys, &acc, Method::Exact, &[0.30283610789023263, -0.388628218275645]);
+        assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
+        assert!(q > acc.n_max);
+        let (x0, v0) = (cell.final_state[0], cell.final_state[1]);
+        let period = std::f64::consts::TAU / omega;
+        let x = |t: f64| crate::testing::forced_oscillator(0.0, omega, x0, v0, t);
+        let back = |k: usize| (x(k as f64 * period) - x0).abs();
+        assert!(back(q) < 1e-9 && (1..q).all(|k| back(k) > 1e-3), "{:?}", (1..=q).map(back).collect::<Vec<_>>());
+        let top = (0..q * 4000).map(|i| x(i as f64 * period / 4000.0)).fold(f64::NEG_INFINITY, f64::max);
+        assert!(top < sigma + 1e-9 && top > sigma - 1e-4, "reaches {top}");
     }
 
     /// Issue 62: a cell of the damper's `precise` up sweep (ω = 1.3304,
