@@ -650,7 +650,7 @@ impl Mode {
             *s = DVector::zeros(dim);
         }
         for k in 1..=lay.h {
-            // `1.0 * φ` is φ exactly: the first harmonic is `phase.sin_cos()`.
+            // `1.0 * φ` is φ exactly: the first harmonic is `sin_cos(phase)`.
             (s[lay.sin(k)], s[lay.cos(k)]) = crate::spectral::sin_cos(k as f64 * phase);
         }
         s[lay.constant()] = 1.0;

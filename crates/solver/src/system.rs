@@ -292,6 +292,16 @@ impl System {
             })
     }
 
+    /// Whether the scene loses energy at its rigid stops' impacts alone
+    /// (a restitution below 1): no damper, no friction contact, no dashpot
+    /// in a soft stop, and not [`System::lossless`].
+    pub fn loses_at_impacts_alone(&self) -> bool {
+        self.undamped()
+            && self.frictions.is_empty()
+            && self.stops.iter().all(|s| !matches!(s.law, StopLaw::Soft { damping, .. } if damping != 0.0))
+            && !self.lossless()
+    }
+
     /// Number of masses (degrees of freedom).
     pub fn dof(&self) -> usize {
         self.mass.len()
