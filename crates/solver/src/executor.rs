@@ -1547,22 +1547,6 @@ impl<'s> Executor<'s> {
                     }
                     return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                 } else {
-                    // Without damping, and quiet over the measurement's last
-                    // half: one linear flow from there on, for all time,
-                    // where its torus clears every stop, or where its flow
-                    // closes after the q periods its section points are
-                    // locked at (its last half, thousands of periods, then
-                    // repeats them without an event). No search for a
-                    // stable orbit finds its orbits, all neutral. It is `Q`,
-                    // as a quiet record's torus is, also where it closes
-                    // after more than `n_max` periods; where it closes
-                    // within them, the record goes on from the
-                    // measurement's end ([`Executor::go_on_quiet`]), where
-                    // its period is found (the single stop with r = 0.5 at
-                    // ω = 1.7, σ = 1.5: impacts for some 1 000 periods,
-                    // then its free oscillation turning 10 times in 17
-                    // forcing periods, clear of the stop: `17-0-0`; `U`
-                    // before, locked at −7/17 on no stable orbit).
                     // Lost at impacts alone (no damper, no friction, no
                     // dashpot), locked at p/q beyond `n_max` on a flow that
                     // closes after those q periods, touching its stop at
@@ -1589,6 +1573,22 @@ impl<'s> Executor<'s> {
                                 && late_events <= half.div_ceil(q) as u64
                                 && tangent.closes_after(q as f64 * period)
                         });
+                    // Without damping, and quiet over the measurement's last
+                    // half: one linear flow from there on, for all time,
+                    // where its torus clears every stop, or where its flow
+                    // closes after the q periods its section points are
+                    // locked at (its last half, thousands of periods, then
+                    // repeats them without an event). No search for a
+                    // stable orbit finds its orbits, all neutral. It is `Q`,
+                    // as a quiet record's torus is, also where it closes
+                    // after more than `n_max` periods; where it closes
+                    // within them, the record goes on from the
+                    // measurement's end ([`Executor::go_on_quiet`]), where
+                    // its period is found (the single stop with r = 0.5 at
+                    // ω = 1.7, σ = 1.5: impacts for some 1 000 periods,
+                    // then its free oscillation turning 10 times in 17
+                    // forcing periods, clear of the stop: `17-0-0`; `U`
+                    // before, locked at −7/17 on no stable orbit).
                     if self.sys.undamped() && late_events == 0 {
                         // Closing at least twice within the quiet half.
                         let closes = locked.filter(|&q| 2 * q <= half && tangent.closes_after(q as f64 * period));
@@ -2744,7 +2744,7 @@ mod tests {
             let (x0, v0) = (cell.final_state[0], cell.final_state[1]);
             let period = std::f64::consts::TAU / omega;
             let x = |t: f64| crate::testing::forced_oscillator(0.0, omega, x0, v0, t);
-            let top = (0..q * 400).map(|i| x(i as f64 * period / 400.0)).fold(f64::NEG_INFINITY, f64::max);
+            let top = crate::testing::undamped_top(omega, x0, v0, q, 400);
             assert!(top < sigma, "ω {omega}: reaches {top}");
             let back = |k: usize| (x(k as f64 * period) - x0).abs();
             assert!(back(q) < 1e-9 && (1..q).all(|k| back(k) > 1e-6), "ω {omega}");
@@ -2782,7 +2782,7 @@ mod tests {
             (x(t) - x0).abs().max((v(t) - v0).abs())
         };
         assert!(back(q) < 1e-8 && (1..q).all(|k| back(k) > 1e-3), "{:?}", (1..=q).map(back).collect::<Vec<_>>());
-        let top = (0..q * 4000).map(|i| x(i as f64 * period / 4000.0)).fold(f64::NEG_INFINITY, f64::max);
+        let top = crate::testing::undamped_top(omega, x0, v0, q, 4000);
         assert!(top < sigma + 1e-9 && top > sigma - 1e-4, "reaches {top}");
     }
 

@@ -74,6 +74,16 @@ impl Term {
     pub fn drift(&self) -> Option<f64> {
         (self.power == 1 && self.lambda == C64::new(0.0, 0.0)).then_some(self.weight * self.scale)
     }
+
+    /// The term's polynomial factor `(ν u)^j / j!` at time `u` (1 for
+    /// `j = 0`).
+    fn poly(&self, u: f64) -> f64 {
+        if self.power == 0 {
+            1.0
+        } else {
+            (self.scale * u).powi(self.power as i32) * self.inv_factorial
+        }
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -412,9 +422,7 @@ impl Spectral {
                 lambda = term.lambda;
                 (_, e) = exponential(lambda, u);
             }
-            let poly =
-                if term.power == 0 { 1.0 } else { (term.scale * u).powi(term.power as i32) * term.inv_factorial };
-            *o = e * (term.weight * poly);
+            *o = e * (term.weight * term.poly(u));
         }
     }
 
@@ -431,15 +439,8 @@ impl Spectral {
                 (r, e) = exponential(lambda, u);
             }
             let grow = if re > 0.0 { (re * b).exp() } else { r };
-            let (poly, poly_b) = if term.power == 0 {
-                (1.0, 1.0)
-            } else {
-                let p = term.power as i32;
-                let nu = term.scale;
-                ((nu * u).powi(p) * term.inv_factorial, (nu * b).powi(p) * term.inv_factorial)
-            };
-            *o = e * (term.weight * poly);
-            *bound = term.weight * grow * poly_b;
+            *o = e * (term.weight * term.poly(u));
+            *bound = term.weight * grow * term.poly(b);
         }
     }
 }

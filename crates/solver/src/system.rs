@@ -284,11 +284,10 @@ impl System {
     /// has no attractor, and a motion on a torus neither reaches nor leaves
     /// the orbits locked on it.
     pub fn lossless(&self) -> bool {
-        self.undamped()
-            && self.frictions.is_empty()
+        self.loses_at_most_at_impacts()
             && self.stops.iter().all(|s| match s.law {
                 StopLaw::Rigid { restitution } => restitution >= 1.0,
-                StopLaw::Soft { damping, .. } => damping == 0.0,
+                StopLaw::Soft { .. } => true,
             })
     }
 
@@ -296,10 +295,18 @@ impl System {
     /// (a restitution below 1): no damper, no friction contact, no dashpot
     /// in a soft stop, and not [`System::lossless`].
     pub fn loses_at_impacts_alone(&self) -> bool {
+        self.loses_at_most_at_impacts() && !self.lossless()
+    }
+
+    /// Whether nothing but the rigid stops' impacts can take energy: no
+    /// damper, no friction contact, no dashpot in a soft stop.
+    fn loses_at_most_at_impacts(&self) -> bool {
         self.undamped()
             && self.frictions.is_empty()
-            && self.stops.iter().all(|s| !matches!(s.law, StopLaw::Soft { damping, .. } if damping != 0.0))
-            && !self.lossless()
+            && self.stops.iter().all(|s| match s.law {
+                StopLaw::Soft { damping, .. } => damping == 0.0,
+                StopLaw::Rigid { .. } => true,
+            })
     }
 
     /// Number of masses (degrees of freedom).

@@ -27,3 +27,12 @@ pub(crate) fn forced_oscillator(zeta: f64, omega: f64, x0: f64, v0: f64, t: f64)
     let c2 = (v0 + zeta * c1 - b * omega) / wd;
     a * (omega * t).cos() + b * (omega * t).sin() + (-zeta * t).exp() * (c1 * (wd * t).cos() + c2 * (wd * t).sin())
 }
+
+/// The highest `x` of the undamped [`forced_oscillator`] from `x0`, `v0`
+/// over `periods` forcing periods, sampled `per_period` times a period.
+pub(crate) fn undamped_top(omega: f64, x0: f64, v0: f64, periods: usize, per_period: usize) -> f64 {
+    let step = std::f64::consts::TAU / omega / per_period as f64;
+    (0..periods * per_period)
+        .map(|i| forced_oscillator(0.0, omega, x0, v0, i as f64 * step))
+        .fold(f64::NEG_INFINITY, f64::max)
+}
