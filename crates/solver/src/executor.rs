@@ -1565,13 +1565,8 @@ impl<'s> Executor<'s> {
                     let period = self.sys.period;
                     let half = e.periods() / 2;
                     let touches_late = self.sys.loses_at_impacts_alone()
-                        && grew.is_none()
-                        && late_events > 0
-                        && e.late().low() <= 0.0
                         && locked.is_some_and(|q| {
-                            q > self.acc.n_max
-                                && late_events <= half.div_ceil(q) as u64
-                                && tangent.closes_after(q as f64 * period)
+                            q > self.acc.n_max && e.touches_sparsely(q) && tangent.closes_after(q as f64 * period)
                         });
                     // Without damping, and quiet over the measurement's last
                     // half: one linear flow from there on, for all time,

@@ -245,6 +245,21 @@ impl Exponent {
         late.half_width <= RESOLUTION && late.mean.abs() <= RESOLUTION
     }
 
+    /// Whether the last half of the measured periods met a stop at most
+    /// once in each `q` periods, at least once, with a tangent not shown to
+    /// grow there: neither its interval above 0 nor its growth past a
+    /// polynomial's ([`Exponent::grew_late`]). A flow that closes after `q`
+    /// periods touching its stop ever more gently does this; chaos in `q`
+    /// bands meets its stop more often, or stretches its tangent at the
+    /// touches.
+    pub fn touches_sparsely(&self, q: usize) -> bool {
+        let events = self.late_events();
+        events > 0
+            && events <= (self.periods() / 2).div_ceil(q) as u64
+            && self.late().low() <= 0.0
+            && self.grew_late().is_none()
+    }
+
     /// The exponent over the last half of the measured periods (`λT` and its
     /// interval): near the whole's in chaos, falling like `1/K` on a torus.
     pub fn late(&self) -> Interval {
@@ -353,6 +368,10 @@ mod tests {
 
     fn estimate(growth: Vec<f64>) -> Exponent {
         let events = vec![1; growth.len()];
+        with_events(growth, events)
+    }
+
+    fn with_events(growth: Vec<f64>, events: Vec<u32>) -> Exponent {
         Exponent {
             points: Vec::new(),
             v: DVector::zeros(2),
@@ -442,6 +461,42 @@ mod tests {
         assert!(estimate(vec![1e-17; 100]).polynomial());
         // Fewer than 20 periods tell nothing.
         assert!(!estimate(vec![0.0; 19]).polynomial());
+    }
+
+    /// Issue 62: a flow closing after q = 43 periods, touched once in each
+    /// 43 over the last half of 6 400 periods, its tangent level a bounded
+    /// swing (as on the single stop with r = 0.5 at ω = 43/26), touches its
+    /// stop sparsely. Not where the last half met no stop, met it once in
+    /// each 21 periods (chaos in bands meets its stop more often) or for a
+    /// q of 86; not where the tangent grew there: chaos of `λT` = 2e-3
+    /// (interval above 0, growth past a polynomial's), a steady growth of
+    /// 2e-4 a period (interval above 0 alone: a gain of 0.64 over the last
+    /// half, within `2 ln 2`), or a growth of 2e-3 a period beneath a
+    /// swing of 2 in `ln` (past a polynomial's, its interval still about 0).
+    #[test]
+    fn a_torus_touched_rarely_touches_sparsely_and_chaos_does_not() {
+        let every = |k: usize, gap: usize| (0..k).map(|i| u32::from(i >= k / 2 && i % gap == 0)).collect::<Vec<u32>>();
+        let swing = |k: usize| {
+            let level = |i: usize| 1e-5 * noise(i);
+            (1..=k).map(|i| level(i) - level(i - 1)).collect::<Vec<f64>>()
+        };
+        let torus = with_events(swing(6400), every(6400, 43));
+        assert_eq!(torus.late_events(), 74);
+        assert!(torus.touches_sparsely(43), "{:?}", torus.late());
+        assert!(!torus.touches_sparsely(86));
+        assert!(!with_events(swing(6400), vec![0; 6400]).touches_sparsely(43));
+        assert!(!with_events(swing(6400), every(6400, 21)).touches_sparsely(43));
+        let chaos = with_events((0..6400).map(|i| 2e-3 + 0.05 * noise(i)).collect(), every(6400, 43));
+        assert!(chaos.late().low() > 0.0 && chaos.grew_late().is_some());
+        assert!(!chaos.touches_sparsely(43));
+        let steady = with_events((0..6400).map(|i| 2e-4 + 1e-6 * noise(i)).collect(), every(6400, 43));
+        assert!(steady.late().low() > 0.0 && steady.grew_late().is_none(), "{:?}", steady.late());
+        assert!(!steady.touches_sparsely(43));
+        let level = |i: usize| 2e-3 * i as f64 + 2.0 * (0.37 * i as f64).sin();
+        let swinging = (1..=6400).map(|i| level(i) - level(i - 1)).collect();
+        let band = with_events(swinging, every(6400, 43));
+        assert!(band.late().low() <= 0.0 && band.grew_late().is_some(), "{:?}", band.late());
+        assert!(!band.touches_sparsely(43));
     }
 
     /// A dissipative torus's tangent stays bounded: its growths telescope
