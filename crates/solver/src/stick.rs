@@ -161,20 +161,21 @@ fn friction_combinations(sys: &System, acc: &Accuracy, y: &DVector<f64>, no_stic
 }
 
 /// The subsets of the (at most six) candidate stops, largest first (ties:
-/// smallest mask), without allocation.
-fn subsets(cand: u32) -> ([u32; 64], usize) {
+/// smallest mask), in the first entries of `out`, without allocation (and
+/// without copying the array: this runs at events with candidates).
+fn subsets(cand: u32, out: &mut [u32; 64]) -> &[u32] {
     let count = cand.count_ones() as usize;
     let mut stops = [0usize; 6];
     for (slot, k) in stops.iter_mut().zip((0..32).filter(|k| cand & (1 << k) != 0)) {
         *slot = k;
     }
-    let mut subsets = [0u32; 64];
-    for (bits, subset) in subsets.iter_mut().enumerate().take(1 << count) {
+    let subsets = &mut out[..1 << count];
+    for (bits, subset) in subsets.iter_mut().enumerate() {
         *subset =
             stops[..count].iter().enumerate().filter(|(i, _)| bits & (1 << i) != 0).fold(0, |m, (_, &k)| m | (1 << k));
     }
-    subsets[..1 << count].sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
-    (subsets, 1 << count)
+    subsets.sort_by_key(|m| (std::cmp::Reverse(m.count_ones()), *m));
+    subsets
 }
 
 impl At<'_> {
@@ -183,8 +184,16 @@ impl At<'_> {
     /// stuck contacts grip, and no released candidate or slip heads the wrong way.
     fn consistent(&self, cache: &mut ModeCache, cand: u32, frictions: &[Key]) -> Result<Option<Key>, SolverError> {
         let At { sys, acc, y, phase, recurring } = *self;
-        let (subsets, count) = subsets(cand);
-        for &mask in &subsets[..count] {
+        // No candidate (free flight after an impact, the most common case):
+        // the empty subset alone, without filling a buffer.
+        let mut buffer;
+        let masks: &[u32] = if cand == 0 {
+            &[0]
+        } else {
+            buffer = [0u32; 64];
+            subsets(cand, &mut buffer)
+        };
+        for &mask in masks {
             for f in frictions {
                 let key = Key { held: mask, ..*f };
                 let Some(mode) = cache.get(sys, key)? else { continue };
