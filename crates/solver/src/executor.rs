@@ -1584,16 +1584,31 @@ impl<'s> Executor<'s> {
                     // then its free oscillation turning 10 times in 17
                     // forcing periods, clear of the stop: `17-0-0`; `U`
                     // before, locked at −7/17 on no stable orbit).
-                    if self.sys.undamped() && late_events == 0 {
-                        // Closing at least twice within the quiet half.
-                        let closes = locked.filter(|&q| 2 * q <= half && tangent.closes_after(q as f64 * period));
-                        let linear = closes.is_some() || tangent.guard_margin().is_some_and(|m| m > 0.0);
-                        if linear && !self.quieted && !self.quiet_history() {
-                            self.quiet_end = Some(tangent);
-                        } else if linear && closes.is_none_or(|q| q > self.acc.n_max) {
-                            self.closes_late |= closes.is_some();
-                            return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
+                    // Quiet over the last half with a free mass drifting
+                    // towards a stop at its end, damped or not: a motion
+                    // crossing its cavity slowly, between impacts that will
+                    // come (the impact damper at `fast` with R = 0.3,
+                    // ω = 1.97692, up: no event in the 1 600 periods
+                    // measured, its tangent growing like t, as a drift's
+                    // does; chaotic once its mass meets the wall). The
+                    // record goes on from the measurement's end too, where
+                    // the drift is followed to the wall
+                    // ([`Executor::follow_quiet`]).
+                    let quiet = late_events == 0;
+                    let (closes, linear) = match self.sys.undamped() && quiet {
+                        true => {
+                            // Closing at least twice within the quiet half.
+                            let closes = locked.filter(|&q| 2 * q <= half && tangent.closes_after(q as f64 * period));
+                            (closes, closes.is_some() || tangent.guard_margin().is_some_and(|m| m > 0.0))
                         }
+                        false => (None, false),
+                    };
+                    let drifts = quiet && closing_drift(self.sys, &mut tangent).is_some();
+                    if (linear || drifts) && !self.quieted && !self.quiet_history() {
+                        self.quiet_end = Some(tangent);
+                    } else if linear && closes.is_none_or(|q| q > self.acc.n_max) {
+                        self.closes_late |= closes.is_some();
+                        return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                     }
                     // Locked at p/q, as an orbit of period q turns, in a
                     // scene that dissipates: an orbit still being reached
@@ -1950,14 +1965,16 @@ impl<'s> Executor<'s> {
         }
     }
 
-    /// Goes on from where an exponent's measurement ended quiet, in a
-    /// scene without damping, on one linear flow that is the motion for all
-    /// time (`quiet_end`, [`Executor::decide`]): the main simulation resumes
-    /// where that probe stopped, its periods and events handed over from
-    /// the probe's count to the main simulation's (counted once), and the
-    /// record starts again from there, its history, trail and Newton
-    /// acceleration anew: a period within `n_max` is found there, and the
-    /// cell's window is the flow's. Once a cell; `true` when it did.
+    /// Goes on from where an exponent's measurement ended quiet
+    /// (`quiet_end`, [`Executor::decide`]): in a scene without damping, on
+    /// one linear flow that is the motion for all time, or with a free mass
+    /// drifting towards a stop. The main simulation resumes where that probe
+    /// stopped, its periods and events handed over from the probe's count to
+    /// the main simulation's (counted once), and the record starts again
+    /// from there, its history, trail and Newton acceleration anew: a
+    /// period within `n_max` is found there, and the cell's window is the
+    /// flow's; or the drift is followed to the wall. Once a cell; `true`
+    /// when it did.
     fn go_on_quiet(&mut self) -> bool {
         let Some(mut probe) = self.quiet_end.take() else { return false };
         self.quieted = true;
@@ -2005,19 +2022,10 @@ impl<'s> Executor<'s> {
     /// periods it needs to close at that rate from the current gap. `None`
     /// otherwise.
     fn drifting(&mut self) -> Option<(f64, f64)> {
-        let (sys, hist) = (self.sys, &self.hist);
-        if hist.len() < 2 || !sys.has_rigid_mode() || hist.iter().any(|r| r.events > 0) {
+        if self.hist.len() < 2 || self.hist.iter().any(|r| r.events > 0) {
             return None;
         }
-        let drifts = self.sim.gap_drifts()?;
-        let y = self.sim.state();
-        drifts
-            .into_iter()
-            .filter_map(|(k, rate)| {
-                let closing = -rate * sys.period;
-                (closing > 0.0).then(|| (closing, sys.gap(k, y).max(0.0) / closing))
-            })
-            .min_by(|x, y| x.1.total_cmp(&y.1))
+        closing_drift(self.sys, &mut self.sim)
     }
 
     /// Phase 3: the largest Floquet multiplier modulus of the n-period map at
@@ -2157,6 +2165,26 @@ fn periods_to_settle(why: &Unresolved, n: usize, acc: &Accuracy) -> Option<usize
     let steps = ((goal / distance).ln() / multiplier.ln()).ceil().max(1.0);
     // A contraction so slow that its periods overflow a count never fits a record.
     (steps * n as f64 <= 1e15).then(|| steps as usize * n)
+}
+
+/// Where `sim`'s current flow carries a free mass towards a stop by drift
+/// (the masses have a rigid mode, and a stop's gap closes by the secular
+/// part of the flow, [`Simulator::gap_drifts`]): the gap's decrease per
+/// forcing period (the fastest to close) and the periods it needs to close
+/// at that rate from the current gap. `None` otherwise.
+fn closing_drift(sys: &System, sim: &mut Simulator<'_>) -> Option<(f64, f64)> {
+    if !sys.has_rigid_mode() {
+        return None;
+    }
+    let drifts = sim.gap_drifts()?;
+    let y = sim.state();
+    drifts
+        .into_iter()
+        .filter_map(|(k, rate)| {
+            let closing = -rate * sys.period;
+            (closing > 0.0).then(|| (closing, sys.gap(k, y).max(0.0) / closing))
+        })
+        .min_by(|x, y| x.1.total_cmp(&y.1))
 }
 
 /// The extent of section points: the distance (relative, max norm) across
@@ -2802,6 +2830,27 @@ mod tests {
         let far =
             distance(&DVector::from_vec(cell.final_state.clone()), &DVector::from_vec(oracle.final_state.clone()));
         assert!(far < 1e-7, "{far}");
+    }
+
+    /// Issue 62: a chaotic motion whose free mass drifts slowly across its
+    /// cavity through the whole of a measurement. The impact damper at
+    /// `fast` with R = 0.3, ω = 1.97692, from the state its up sweep
+    /// reached: no event in the 1 600 periods measured, the tangent growing
+    /// like t as a drift's does (λT 3.2e-3 ± 3.7e-3, undecided), and the
+    /// points on a line; it was `U` ("no rotation number"). The record goes
+    /// on from the measurement's end and follows the drift to the wall:
+    /// `C`, as a record ten times longer (3 000 periods) finds, and as
+    /// `standard` finds from the same state.
+    #[test]
+    fn a_measurement_ending_in_a_drift_goes_on_to_the_wall() {
+        let sys = system("impact-damper.toml", &[("omega", 1.976923076923077), ("R", 0.3)]);
+        let y0 = [-0.2724169978002354, -0.6522447672470251, -0.6765385561253352, 0.750123445945678];
+        let fast = Accuracy::preset(crate::Preset::Fast);
+        let longer = fast.with(crate::Knob::MaxPeriods, 3000.0).unwrap();
+        for acc in [fast, longer, Accuracy::default()] {
+            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+            assert_eq!(cell.class, Class::Chaotic, "{}: {:?}", acc.max_periods, cell.reason);
+        }
     }
 
     /// Issue 62: the damper's free mass at rest with its walls out of reach
