@@ -1973,14 +1973,21 @@ impl<'s> Executor<'s> {
     /// the main simulation's (counted once), and the record starts again
     /// from there, its history, trail and Newton acceleration anew: a
     /// period within `n_max` is found there, and the cell's window is the
-    /// flow's; or the drift is followed to the wall. Once a cell; `true`
-    /// when it did.
+    /// flow's; or the drift is followed to the wall. The probe simulated
+    /// whole periods: in a symmetric scene, whose record stops at each half
+    /// period too, its state is the motion's to rounding rather than bit
+    /// for bit the record's own (the same for the same cell, every run).
+    /// Once a cell; `true` when it did.
     fn go_on_quiet(&mut self) -> bool {
         let Some(mut probe) = self.quiet_end.take() else { return false };
+        // The main simulation ran on past the probe (a failed settling on
+        // an orbit simulates periods that it then takes back in state, not
+        // in count): it does not go on from there.
+        let Some(periods) = probe.periods().checked_sub(self.sim.periods()) else { return false };
         self.quieted = true;
         self.ahead = None;
         self.exponent_events = None;
-        let (periods, events) = (probe.periods() - self.sim.periods(), probe.events());
+        let events = probe.events();
         let moment = probe.moment();
         self.sim.resume(moment, &mut probe);
         self.sim.count_periods(periods, events);

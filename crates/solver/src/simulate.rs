@@ -558,9 +558,11 @@ impl<'s> Simulator<'s> {
     /// Goes on from `moment`, where a probe of this simulation (exact flow,
     /// at this simulation's time: [`Simulator::probe_in_time`]) got to over
     /// the periods since counted here ([`Simulator::count_period`]), as
-    /// simulating them here would have left it: the flow's steps depend on
-    /// the state, the mode and the clock alone. The modes the probe built
-    /// (`ahead`'s) are this simulation's too.
+    /// simulating them here would have left it where this simulation runs
+    /// whole periods as the probe did: the flow's steps depend on the state,
+    /// the mode and the clock alone (a record that stops at half periods
+    /// too, in a symmetric scene, would differ from it by rounding). The
+    /// modes the probe built (`ahead`'s) are this simulation's too.
     pub(crate) fn resume(&mut self, moment: Moment, ahead: &mut Simulator<'s>) {
         let Moment { y, key, clock, chatter, zero_steps } = moment;
         (self.y, self.key, self.clock, self.chatter, self.zero_steps) = (y, key, clock, chatter, zero_steps);
