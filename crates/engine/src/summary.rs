@@ -389,7 +389,7 @@ mod tests {
     /// the cells of its kind), not as templates.
     #[test]
     fn reasons_show_their_numbers() {
-        let contracting = |growth| unresolved(solver::Unresolved::Contracting { growth });
+        let contracting = |growth| unresolved(solver::Unresolved::Contracting { growth, stuck: None });
         let cells = vec![
             contracting(-1.5e-3),
             None,

@@ -275,6 +275,11 @@ pub enum Unresolved {
         /// The largest Lyapunov exponent per forcing period, `λT`.
         #[serde(with = "crate::number")]
         growth: f64,
+        /// The measured periods in which a mass stuck to its stop, each
+        /// erasing the tangent (counted as `ln` of the least double, −708,
+        /// in `λT`, which they then dominate); none where no period did.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        stuck: Option<usize>,
     },
     /// No period; the exponent's confidence interval contains 0 after every
     /// doubling of its measurement, and the period section is not one closed
@@ -482,9 +487,13 @@ impl std::fmt::Display for Unresolved {
             Unresolved::Budget { max_events } => write!(f, "event budget of {max_events} events exhausted"),
             Unresolved::Stalled => write!(f, "event location stalled at a degenerate contact"),
             Unresolved::Failed(e) => write!(f, "{e}"),
-            Unresolved::Contracting { growth } => write!(
+            Unresolved::Contracting { growth, stuck: None } => write!(
                 f,
                 "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
+            ),
+            Unresolved::Contracting { growth, stuck: Some(stuck) } => write!(
+                f,
+                "no period within the record, and the motion still contracts (λT = {growth:.3e}), but only where it stuck to a stop: in {stuck} of the periods measured, each erasing the tangent (counted as −708); its flights between the sticks came back to no orbit within max_periods x (1 + extensions)"
             ),
             Unresolved::Undecided { growth, rotation, gain, lossless, excess } => {
                 write!(
@@ -1356,7 +1365,8 @@ impl<'s> Executor<'s> {
                 if let Some(n) = final_say.then(|| self.approached_orbit(&e.points)).flatten() {
                     return Steady::Periodic(n);
                 }
-                let why = Unresolved::Contracting { growth: growth.mean };
+                let stuck = Some(e.erased()).filter(|&k| k > 0);
+                let why = Unresolved::Contracting { growth: growth.mean, stuck };
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
             if last {
@@ -3809,10 +3819,15 @@ q = "L"
     fn reasons_read_as_documented() {
         assert_eq!(Unresolved::Budget { max_events: 5 }.to_string(), "event budget of 5 events exhausted");
         assert_eq!(Unresolved::Stalled.to_string(), "event location stalled at a degenerate contact");
-        let why = Unresolved::Contracting { growth: -0.5 };
+        let why = Unresolved::Contracting { growth: -0.5, stuck: None };
         assert!(why
             .to_string()
             .starts_with("no period within the record, and the motion still contracts (λT = -5.000e-1)"));
+        let why = Unresolved::Contracting { growth: -6.5, stuck: Some(6) }.to_string();
+        assert!(
+            why.contains("(λT = -6.500e0), but only where it stuck to a stop: in 6 of the periods measured"),
+            "{why}"
+        );
         let growth = Interval { mean: 5.2e-3, half_width: 9.0e-3, periods: 1600 };
         let rotation = Some(Rotation { turns: 0.25, error: 3e-4, points: 1600 });
         let why =

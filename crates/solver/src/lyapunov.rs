@@ -234,6 +234,12 @@ impl Exponent {
         self.events[self.events.len() / 2..].iter().map(|&n| u64::from(n)).sum()
     }
 
+    /// Measured periods in which the tangent was erased (a mass held at its
+    /// stop: each counts `ln` of the least positive double, about −708).
+    pub fn erased(&self) -> usize {
+        self.growth.iter().filter(|g| g.to_bits() == ERASED.to_bits()).count()
+    }
+
     /// Whether the tangent did not grow at all over the last half of the
     /// measured periods, to the estimate's resolution: its interval there
     /// at its narrowest (1e-9) and its mean within it. Events there (a
@@ -565,8 +571,8 @@ mod tests {
         assert_eq!(cell.labels[0].label.to_string(), "23-S-0");
         let mut sim = Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
         let e = Exponent::measure(&mut sim, 0, 46).unwrap();
-        let erased = e.growth.iter().filter(|g| g.to_bits() == ERASED.to_bits()).count();
-        assert!(erased >= 2 && erased % 2 == 0, "{erased} periods erased of 46");
+        let erased = e.erased();
+        assert!(erased >= 2 && erased.is_multiple_of(2), "{erased} periods erased of 46");
         assert!(e.interval().mean < -30.0, "{:?}", e.interval());
     }
 }

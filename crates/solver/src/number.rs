@@ -79,7 +79,7 @@ mod tests {
             Unresolved::Budget { max_events: 400_000 },
             Unresolved::Stalled,
             Unresolved::Failed(SolverError::OutOfRange { message: "x = 1e300".into() }),
-            Unresolved::Contracting { growth: -0.1 },
+            Unresolved::Contracting { growth: -0.1, stuck: None },
             Unresolved::Undecided {
                 growth,
                 rotation: Some(rotation),
@@ -125,6 +125,7 @@ mod tests {
                 events: 6400,
                 grew: Some(Box::new(Stretch { periods: 3200, growth: 3.697, bound: 1.383_176_667_581_308_4 })),
             },
+            Unresolved::Contracting { growth: -6.5, stuck: Some(6) },
         ];
         for u in &reasons {
             let back = round_trip(u);
@@ -137,6 +138,11 @@ mod tests {
         let text = serde_json::to_string(&reasons[2]).unwrap();
         assert_eq!(text, r#"{"kind":"failed","error":"out_of_range","message":"x = 1e300"}"#);
         assert!(serde_json::to_string(&reasons[10]).unwrap().contains(r#""distance":"inf""#));
+        // A reason's new field where it has a value only: the old reason's
+        // text and JSON stay what they were.
+        assert_eq!(serde_json::to_string(&reasons[3]).unwrap(), r#"{"kind":"contracting","growth":-0.1}"#);
+        let stuck = serde_json::to_string(reasons.last().unwrap()).unwrap();
+        assert_eq!(stuck, r#"{"kind":"contracting","growth":-6.5,"stuck":6}"#);
         // A reason written before `gain` was stored reads back without it.
         let old = r#"{"kind":"undecided","growth":{"mean":0.001,"half_width":0.002,"periods":1600},"rotation":null}"#;
         assert!(matches!(serde_json::from_str::<Unresolved>(old).unwrap(), Unresolved::Undecided { gain: None, .. }));
