@@ -487,14 +487,17 @@ impl std::fmt::Display for Unresolved {
             Unresolved::Budget { max_events } => write!(f, "event budget of {max_events} events exhausted"),
             Unresolved::Stalled => write!(f, "event location stalled at a degenerate contact"),
             Unresolved::Failed(e) => write!(f, "{e}"),
-            Unresolved::Contracting { growth, stuck: None } => write!(
-                f,
-                "no period within the record, and the motion still contracts (λT = {growth:.3e}): a transient longer than max_periods x (1 + extensions)"
-            ),
-            Unresolved::Contracting { growth, stuck: Some(stuck) } => write!(
-                f,
-                "no period within the record, and the motion still contracts (λT = {growth:.3e}), but only where it stuck to a stop: in {stuck} of the periods measured, each erasing the tangent (counted as −708); its flights between the sticks came back to no orbit within max_periods x (1 + extensions)"
-            ),
+            Unresolved::Contracting { growth, stuck } => {
+                write!(f, "no period within the record, and the motion still contracts (λT = {growth:.3e})")?;
+                match stuck {
+                    None => write!(f, ": a transient longer than"),
+                    Some(stuck) => write!(
+                        f,
+                        ", but only where it stuck to a stop: in {stuck} of the periods measured, each erasing the tangent (counted as −708); its flights between the sticks came back to no orbit within"
+                    ),
+                }?;
+                write!(f, " max_periods x (1 + extensions)")
+            }
             Unresolved::Undecided { growth, rotation, gain, lossless, excess } => {
                 write!(
                     f,
@@ -1613,8 +1616,9 @@ impl<'s> Executor<'s> {
                         }
                         false => (None, false),
                     };
-                    let drifts = quiet && closing_drift(self.sys, &mut tangent).is_some();
-                    if (linear || drifts) && !self.quieted && !self.quiet_history() {
+                    let go_on = !self.quieted && !self.quiet_history();
+                    let drifts = go_on && quiet && closing_drift(self.sys, &mut tangent).is_some();
+                    if (linear || drifts) && go_on {
                         self.quiet_end = Some(tangent);
                     } else if linear && closes.is_none_or(|q| q > self.acc.n_max) {
                         self.closes_late |= closes.is_some();
