@@ -845,6 +845,19 @@ pub fn run_cell_measured(
                 None => (Class::Unresolved, None, None, Some(Unresolved::Unstable { periods, multiplier: mu }), None),
             }
         }
+        // An orbit that sticks, each stick erasing every perturbation (its
+        // multiplier 0): where its flight from the release expands the
+        // rounding past where its next stick is decided, its repeat is
+        // one computed flight's replay from the same release, not an orbit
+        // the motion keeps (the single stop at ω = 2.8718, ζ = 0.04828:
+        // `71-S-0` at `standard`, its flight's tangent growing by e^50, a
+        // start 1e-16 away sticking in another period): chaos, its flights'
+        // exponent. An orbit of one period sticks in every period: it has
+        // no flight to measure.
+        Some(0.0) => match n.filter(|&n| n > 1).and_then(|n| cell.unresolved_flights(n)) {
+            Some(l) => (Class::Chaotic, None, Some(l), None, None),
+            None => (class, n, lyapunov, reason, multiplier),
+        },
         _ => (class, n, lyapunov, reason, multiplier),
     };
     let mut result = cell.window(class, n, y0);
@@ -1367,6 +1380,13 @@ impl<'s> Executor<'s> {
                 // creep along its weakest direction).
                 if let Some(n) = final_say.then(|| self.approached_orbit(&e.points)).flatten() {
                     return Steady::Periodic(n);
+                }
+                // Contracting only where it stuck, each stick erasing the
+                // tangent, while its flights between the sticks expand the
+                // rounding past where the next stick is decided: chaos
+                // whose sticks rest on the rounding, its flights' exponent.
+                if let Some(flights) = e.flights().filter(|f| f.beyond_precision()) {
+                    return Steady::Aperiodic(Class::Chaotic, flights.per_time(), None);
                 }
                 let stuck = Some(e.erased()).filter(|&k| k > 0);
                 let why = Unresolved::Contracting { growth: growth.mean, stuck };
@@ -2068,6 +2088,16 @@ impl<'s> Executor<'s> {
             let mu = multipliers(&image.jacobian);
             (!mu.is_empty()).then(|| (spectral_radius(&mu), spectral_radius(&without_drift(mu, drift))))
         })
+    }
+
+    /// The flights' exponent (per unit time) of an orbit of period n that
+    /// sticks, where its flights are beyond the simulation's precision
+    /// ([`crate::Flights::beyond_precision`]): measured on a probe over 2n
+    /// periods from the main state, which hold at least one whole flight.
+    fn unresolved_flights(&mut self, n: usize) -> Option<f64> {
+        let mut probe = self.sim.probe();
+        let e = self.budget.spend(&mut self.sim, &mut probe, |p| Exponent::measure(p, 0, 2 * n).ok())?;
+        e.flights().filter(|f| f.beyond_precision()).map(|f| f.per_time())
     }
 
     /// Phase 4: the cell's labels and flags over its classified window (n
@@ -2871,6 +2901,77 @@ mod tests {
         for acc in [fast, longer, Accuracy::default()] {
             let cell = run_cell(&sys, &acc, Method::Exact, &y0);
             assert_eq!(cell.class, Class::Chaotic, "{}: {:?}", acc.max_periods, cell.reason);
+        }
+    }
+
+    /// The period in which a motion from `y` next sticks (a period that
+    /// held its mass at the stop), within `periods`.
+    fn next_stick(sys: &System, y: &[f64], periods: usize) -> Option<usize> {
+        let mut sim = crate::Simulator::new(sys, Accuracy::default(), Method::Exact, y).ok()?;
+        (0..periods).find(|_| sim.run_period(&[], false, &mut Ignore).is_ok_and(|r| r.held != 0))
+    }
+
+    /// Issue 62: a motion that sticks to its stop is released from rest at
+    /// the stop at one phase of the forcing, whatever came before, so it is
+    /// periodic if its flight from there sticks again; but where that
+    /// flight expands the last bit of its release past the margin by which
+    /// its next stick is decided, the repeat is one computed flight's
+    /// replay. The single stop at ω = 2.87179, ζ = 0.04828 was `71-S-0` at
+    /// `standard` (from the state its down sweep stored): its flight's
+    /// tangent grows by e^50, and releases moved by 1e-15 stick in other
+    /// periods (the oracle: the flights themselves, not their tangent). It
+    /// is `C`, its flights' exponent positive, at `standard` and, from the
+    /// state its fast down sweep started it at, at `fast`, where it was `U`
+    /// ("contracts only where it stuck"). At ζ = 0.05517 the flight of
+    /// `13-S-0` grows by e^12.7, and releases moved by 1e-10 stick in the
+    /// same period: periodic.
+    #[test]
+    fn a_sticking_motion_whose_flights_outgrow_the_rounding_is_chaos() {
+        let omega = 2.871794871794872;
+        let fast = Accuracy::preset(crate::Preset::Fast);
+        let runs = [
+            (0.048275862068965524, [-0.5941731892288273, 0.019580824143751216], Accuracy::default(), None, 1e-15),
+            (0.048275862068965524, [-0.3809864471948979, 0.01886012731825358], fast, None, 1e-15),
+            (
+                0.055172413793103454,
+                [-0.0001689237107093955, -0.025930756446427783],
+                Accuracy::default(),
+                Some(13),
+                1e-10,
+            ),
+        ];
+        for (zeta, y0, acc, n, moved) in runs {
+            let sys = system("single-stop.toml", &[("omega", omega), ("zeta", zeta)]);
+            let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+            match n {
+                None => {
+                    assert_eq!(cell.class, Class::Chaotic, "ζ {zeta}: {:?} {:?}", cell.n, cell.reason);
+                    assert!(cell.lyapunov.is_some_and(|l| l > 0.1), "{:?}", cell.lyapunov);
+                }
+                Some(n) => assert_eq!((cell.class, cell.n), (Class::Periodic, Some(n)), "ζ {zeta}"),
+            }
+            // The first period-section point after a release, and where its
+            // flight and those of releases moved by `moved` next stick.
+            let mut sim = crate::Simulator::new(&sys, Accuracy::default(), Method::Exact, &y0).unwrap();
+            let mut held = false;
+            let release = (0..2000)
+                .find_map(|_| {
+                    let rec = sim.run_period(&[], false, &mut Ignore).unwrap();
+                    let released = held && rec.held == 0;
+                    held = rec.held != 0;
+                    released.then(|| sim.state().as_slice().to_vec())
+                })
+                .expect("a release within 2000 periods");
+            let stick = next_stick(&sys, &release, 400).expect("the flight sticks again");
+            let moved_sticks: Vec<_> = [[moved, 0.0], [0.0, moved], [-moved, 0.0], [0.0, -moved]]
+                .iter()
+                .map(|d| next_stick(&sys, &[release[0] + d[0], release[1] + d[1]], 400))
+                .collect();
+            let same = moved_sticks.iter().filter(|&&s| s == Some(stick)).count();
+            match n {
+                None => assert!(same < 4, "ζ {zeta}: every release moved by {moved} sticks in period {stick}"),
+                Some(_) => assert_eq!(same, 4, "ζ {zeta}: {moved_sticks:?} against {stick}"),
+            }
         }
     }
 

@@ -93,7 +93,7 @@ pub use executor::{
 pub use floquet::{multipliers, Bifurcation};
 pub use flow::Method;
 pub use label::{Class, Count, Label, Mask, MassLabel, Symmetry};
-pub use lyapunov::{Exponent, Interval, Stretch};
+pub use lyapunov::{Exponent, Flights, Interval, Stretch};
 /// Matrix type of Jacobians and monodromy matrices.
 pub use nalgebra::DMatrix;
 /// Column vector type of states passed to observers.
