@@ -8,6 +8,7 @@
 #   python3-h5netcdf          xarray's h5netcdf engine (netCDF-4 through h5py)
 #   python3-netcdf4           xarray's netcdf4 engine (the netCDF-C library)
 #   python3-matplotlib        scripts/plot_atlas.py, and the rendering check of check_netcdf.py
+#   python3-mpmath            arbitrary precision for scripts/sticking_reference.py (and its test)
 #   poppler-utils             pdffonts and pdftotext, to check the text of PDF figures (tests)
 # With --tests (scripts/test.sh), also:
 #   chromium, chromium-driver, python3-selenium
@@ -15,7 +16,7 @@
 set -euo pipefail
 
 APT_PACKAGES=(pkg-config libhdf5-dev fonts-dejavu-core python3-h5py python3-xarray python3-h5netcdf
-    python3-netcdf4 python3-matplotlib poppler-utils)
+    python3-netcdf4 python3-matplotlib python3-mpmath poppler-utils)
 if [ "${1:-}" = "--tests" ]; then
     APT_PACKAGES+=(chromium chromium-driver python3-selenium)
 fi

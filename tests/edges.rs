@@ -255,3 +255,53 @@ fn an_orbit_found_too_far_is_reached_within_the_record() {
     let far = |d: f64| d.is_finite() && d > 100.0 * acc.periodic_tol();
     assert!(matches!(cut.reason, Some(Unresolved::Unsettled { distance, .. }) if far(distance)), "{:?}", cut.reason);
 }
+
+/// Issue 62: a motion that sticks is one flight from its release, so its
+/// period is where that flight sticks again. Checked against
+/// `scripts/sticking_reference.py`, the single stop in 30- and 36-digit
+/// arithmetic (mpmath), which does not go through the solver. At ω =
+/// 2.87179, ζ = 0.05517 the flight grows by about e^12.7, within
+/// `standard`'s precision: the program's `13-S-0` is the reference's, a
+/// flight sticking in the 13th period after the release's. At ζ = 0.04828
+/// it grows by about e^50: the program said `71-S-0` before, and is now
+/// `C` with a positive exponent; the reference's flight sticks elsewhere
+/// (in the 60th period, the same at 30 and at 36 digits), where no
+/// double-precision flight reaches.
+#[test]
+fn a_sticking_orbit_is_the_references_where_its_flight_is_within_the_precision() {
+    let omega = "2.871794871794872";
+    let reference = |zeta: &str, digits: &str| -> serde_json::Value {
+        let out = std::process::Command::new("/usr/bin/python3")
+            .args(["scripts/sticking_reference.py", "--zeta", zeta, "--omega", omega, "--digits", digits, "--json"])
+            .output()
+            .expect("python3");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let within = "0.055172413793103454";
+    let cell = crate::util::cell_json(&[
+        "configs/single-stop.toml",
+        "--set",
+        &format!("omega={omega}"),
+        "--set",
+        &format!("zeta={within}"),
+        "--state=-0.0001689237107093955,-0.025930756446427783",
+    ]);
+    assert_eq!((cell["class"].as_str(), cell["n"].as_u64()), (Some("periodic"), Some(13)), "{cell}");
+    assert_eq!(reference(within, "30")[0]["stick_period"].as_u64(), Some(13));
+
+    let beyond = "0.048275862068965524";
+    let cell = crate::util::cell_json(&[
+        "configs/single-stop.toml",
+        "--set",
+        &format!("omega={omega}"),
+        "--set",
+        &format!("zeta={beyond}"),
+        "--state=-0.5941731892288273,0.019580824143751216",
+    ]);
+    assert_eq!(cell["class"].as_str(), Some("chaotic"), "{cell}");
+    assert!(cell["lyapunov"].as_f64().is_some_and(|l| l > 0.1), "{cell}");
+    let (low, high) = (reference(beyond, "30"), reference(beyond, "36"));
+    assert_eq!(low[0]["stick_period"], high[0]["stick_period"], "{low} against {high}");
+    assert_ne!(high[0]["stick_period"].as_u64(), Some(71), "{high}");
+}

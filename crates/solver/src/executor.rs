@@ -846,8 +846,8 @@ pub fn run_cell_measured(
             }
         }
         // An orbit that sticks, each stick erasing every perturbation (its
-        // multiplier 0): where its flight from the release expands the
-        // rounding past where its next stick is decided, its repeat is
+        // multiplier 0): where its flight from the release expands the error
+        // of its impacts past where its next stick is decided, its repeat is
         // one computed flight's replay from the same release, not an orbit
         // the motion keeps (the single stop at ω = 2.8718, ζ = 0.04828:
         // `71-S-0` at `standard`, its flight's tangent growing by e^50, a
@@ -1383,9 +1383,10 @@ impl<'s> Executor<'s> {
                 }
                 // Contracting only where it stuck, each stick erasing the
                 // tangent, while its flights between the sticks expand the
-                // rounding past where the next stick is decided: chaos
-                // whose sticks rest on the rounding, its flights' exponent.
-                if let Some(flights) = e.flights().filter(|f| f.beyond_precision()) {
+                // error of their impacts past where the next stick is
+                // decided: chaos whose sticks rest on the computation's
+                // error, its flights' exponent.
+                if let Some(flights) = e.flights().filter(|f| f.beyond_precision(self.acc.contact_tol)) {
                     return Steady::Aperiodic(Class::Chaotic, flights.per_time(), None);
                 }
                 let stuck = Some(e.erased()).filter(|&k| k > 0);
@@ -2097,7 +2098,7 @@ impl<'s> Executor<'s> {
     fn unresolved_flights(&mut self, n: usize) -> Option<f64> {
         let mut probe = self.sim.probe();
         let e = self.budget.spend(&mut self.sim, &mut probe, |p| Exponent::measure(p, 0, 2 * n).ok())?;
-        e.flights().filter(|f| f.beyond_precision()).map(|f| f.per_time())
+        e.flights().filter(|f| f.beyond_precision(self.acc.contact_tol)).map(|f| f.per_time())
     }
 
     /// Phase 4: the cell's labels and flags over its classified window (n

@@ -35,16 +35,13 @@ const ERASED: f64 = -708.3964185322641;
 
 /// The error at the end of a flight between two sticks (a free mass's
 /// position and velocity, in the scene's units) beyond which the flight's
-/// next stick is not decided. Measured on the orbits that stick of the
-/// single stop's three planes at `standard` (ω × σ, ω × r, ω × ζ; 656
-/// flights of 1 to 229 periods): the largest error at a release that kept
-/// the next stick in its period, times the flight's growth, had a median
-/// of 0.03 (0.0007 to 0.5 from the 5th to the 95th percentile). With this
-/// margin a flight is beyond double precision where its tangent grows past
-/// e^33.74: there 211 of 212 flights stuck in another period after an
-/// error of 1e-15 at their release, below e^30 none of 420, and between
-/// the two 8 of 20.
-const FLIGHT_MARGIN: f64 = 0.1;
+/// next stick is not decided: the median over the 656 flights of the
+/// orbits that stick on the single stop's three planes at `standard`
+/// (ω × σ, ω × r, ω × ζ), each release moved by 1e-16 to 1e-2 four ways,
+/// of the largest move that kept the next stick in its period times the
+/// flight's tangent growth (0.0007 to 0.5 from the 5th to the 95th
+/// percentile).
+const FLIGHT_MARGIN: f64 = 0.03;
 
 /// Smallest half-width of the interval of `λT`: the resolution of the
 /// estimate. A neutral motion whose tangent map is a rotation (an undamped
@@ -365,10 +362,9 @@ impl Exponent {
 /// Each stick erases every perturbation, so the motion from each release on
 /// is one flight, the same whatever came before; where a flight's tangent
 /// grows, the error of the computed flight grows with it, and where it
-/// grows past the margin by which the next stick is decided (0.1 of the
-/// state's unit, measured on the single stop's orbits that stick) the
-/// flight's next stick, and so the period of the motion, is the rounding's
-/// rather than the motion's.
+/// grows past the margin by which the next stick is decided
+/// ([`Flights::MARGIN`]) the flight's next stick, and so the period of the
+/// motion, is the computation's rather than the motion's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Flights {
     /// The largest growth of the tangent over one whole flight, in `ln`.
@@ -381,13 +377,18 @@ pub struct Flights {
 }
 
 impl Flights {
-    /// Whether the flights expand, and the longest expands the rounding of
-    /// its release, the last bit of a double (`f64::EPSILON`, 2.2e-16 of
-    /// the state's unit), past that margin (a growth beyond e^33.74):
-    /// where the motion sticks again is then beyond double precision, in
-    /// every preset, and it sticks now and then after chaotic flights.
-    pub fn beyond_precision(&self) -> bool {
-        self.per_period > 0.0 && self.longest > (FLIGHT_MARGIN / f64::EPSILON).ln()
+    /// The margin by which a flight's next stick is decided.
+    pub const MARGIN: f64 = FLIGHT_MARGIN;
+
+    /// Whether the flights expand, and the longest expands the error of a
+    /// computed flight past [`Flights::MARGIN`]: each impact is taken
+    /// where the gap is within `contact_tol` of the stop (and at best to
+    /// the last bit of a double), an error that the flight's tangent grows
+    /// with it (at `standard`, 1e-11, past the margin beyond e^21.8).
+    /// Where the motion sticks again is then beyond the simulation's
+    /// precision, and it sticks now and then after chaotic flights.
+    pub fn beyond_precision(&self, contact_tol: f64) -> bool {
+        self.per_period > 0.0 && self.longest > (Flights::MARGIN / contact_tol.max(f64::EPSILON)).ln()
     }
 
     /// The flights' exponent per unit time: `λT` per period flown over `T`.
@@ -634,18 +635,25 @@ mod tests {
         assert_eq!(f.per_time().to_bits(), (57.0f64 / 7.0 / 2.0).to_bits());
     }
 
-    /// A flight is beyond double precision where its tangent grows past
-    /// e^33.74 (`0.1 / f64::EPSILON`): the last bit of its release grown
-    /// past the margin by which its next stick is decided.
+    /// A flight is beyond the simulation's precision where its tangent
+    /// grows the error of its impacts, `contact_tol` (at best the last bit
+    /// of a double), past the margin by which its next stick is decided:
+    /// at `standard` beyond e^21.8, at `fast` e^17.2, at `precise` e^24.1.
     #[test]
-    fn a_flight_is_beyond_precision_once_it_grows_the_last_bit_past_the_margin() {
+    fn a_flight_is_beyond_precision_once_it_grows_its_impacts_error_past_the_margin() {
         let flights = |longest: f64, per_period: f64| Flights { longest, per_period, period: 1.0 };
-        assert!((FLIGHT_MARGIN / f64::EPSILON).ln() > 33.7 && (FLIGHT_MARGIN / f64::EPSILON).ln() < 33.8);
-        assert!(!flights(33.7, 0.5).beyond_precision());
-        assert!(flights(33.8, 0.5).beyond_precision());
-        assert!(flights(50.0, 0.5).beyond_precision());
+        for (preset, threshold) in
+            [(crate::Preset::Fast, 17.2), (crate::Preset::Standard, 21.8), (crate::Preset::Precise, 24.1)]
+        {
+            let tol = crate::Accuracy::preset(preset).contact_tol;
+            assert!(!flights(threshold, 0.5).beyond_precision(tol), "{preset:?}");
+            assert!(flights(threshold + 0.1, 0.5).beyond_precision(tol), "{preset:?}");
+        }
+        // No finer than the last bit of a double: e^32.6.
+        assert!(!flights(32.5, 0.5).beyond_precision(1e-30));
+        assert!(flights(32.7, 0.5).beyond_precision(1e-30));
         // Flights that contract on the whole are no chaos, however long one grew.
-        assert!(!flights(50.0, -0.1).beyond_precision());
+        assert!(!flights(50.0, -0.1).beyond_precision(1e-11));
     }
 
     /// A mass stuck to its stop forgets how it came there: over a period
