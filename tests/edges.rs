@@ -278,29 +278,23 @@ fn a_sticking_orbit_is_the_references_where_its_flight_is_within_the_precision()
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
         serde_json::from_slice(&out.stdout).unwrap()
     };
+    let cell = |zeta: &str, state: &str| {
+        let (omega, zeta) = (format!("omega={omega}"), format!("zeta={zeta}"));
+        crate::util::cell_json(&["configs/single-stop.toml", "--set", &omega, "--set", &zeta, state])
+    };
     let within = "0.055172413793103454";
-    let cell = crate::util::cell_json(&[
-        "configs/single-stop.toml",
-        "--set",
-        &format!("omega={omega}"),
-        "--set",
-        &format!("zeta={within}"),
-        "--state=-0.0001689237107093955,-0.025930756446427783",
-    ]);
-    assert_eq!((cell["class"].as_str(), cell["n"].as_u64()), (Some("periodic"), Some(13)), "{cell}");
+    let cell_within = cell(within, "--state=-0.0001689237107093955,-0.025930756446427783");
+    assert_eq!(
+        (cell_within["class"].as_str(), cell_within["n"].as_u64()),
+        (Some("periodic"), Some(13)),
+        "{cell_within}"
+    );
     assert_eq!(reference(within, "30")[0]["stick_period"].as_u64(), Some(13));
 
     let beyond = "0.048275862068965524";
-    let cell = crate::util::cell_json(&[
-        "configs/single-stop.toml",
-        "--set",
-        &format!("omega={omega}"),
-        "--set",
-        &format!("zeta={beyond}"),
-        "--state=-0.5941731892288273,0.019580824143751216",
-    ]);
-    assert_eq!(cell["class"].as_str(), Some("chaotic"), "{cell}");
-    assert!(cell["lyapunov"].as_f64().is_some_and(|l| l > 0.1), "{cell}");
+    let cell_beyond = cell(beyond, "--state=-0.5941731892288273,0.019580824143751216");
+    assert_eq!(cell_beyond["class"].as_str(), Some("chaotic"), "{cell_beyond}");
+    assert!(cell_beyond["lyapunov"].as_f64().is_some_and(|l| l > 0.1), "{cell_beyond}");
     let (low, high) = (reference(beyond, "30"), reference(beyond, "36"));
     assert_eq!(low[0]["stick_period"], high[0]["stick_period"], "{low} against {high}");
     assert_ne!(high[0]["stick_period"].as_u64(), Some(71), "{high}");
