@@ -16,14 +16,19 @@ the mass reaches the stop, found by sampling (steps of T/64, finer just after
 an impact, growing back) and bisection to the working precision, a touch
 between two samples by the local maximum of x. A chatter's impacts are
 followed one by one until their speed falls below 10^-(digits/2) with the
-force into the stop: the stick. For each flight it prints how long it lasted
-in forcing periods T = 2 pi / omega, and in which period after the release's
-the stick began; a flight whose result changes between 40 and 60 digits is
-beyond what either resolves.
+force into the stop: the stick (the speeds of the last bounces are at the
+working precision, the time of the stick well within it). For each flight it
+prints how long it lasted in forcing periods T = 2 pi / omega, and in which
+period, counted from the release's (periods start at t = kT), the stick
+began: the index of the period that first holds the mass, not the orbit's
+period, which also counts the periods held until the next release. A flight
+whose result changes between 40 and 60 digits is beyond what either
+resolves.
 """
 
 import argparse
 import json
+import math
 import sys
 
 try:
@@ -33,9 +38,9 @@ except ImportError:
 
 
 def flights(zeta, omega, sigma, r, digits, count):
-    """The first `count` flights from the release: (periods flown, period
-    index of the stick after the release's, impacts), or None for a flight
-    that meets no stick within 400 periods."""
+    """The first `count` flights from the release: (periods flown, index of
+    the period the stick began in, counted from the release's, impacts), or
+    None for a flight that meets no stick within 400 periods."""
     mp.dps = digits
     zeta, omega, sigma, r = mpf(zeta), mpf(omega), mpf(sigma), mpf(r)
     period = 2 * pi / omega
@@ -76,8 +81,8 @@ def flights(zeta, omega, sigma, r, digits, count):
                 hi = mid
         return hi
 
-    def next_impact(f, t0, step):
-        t, end = t0, t0 + 400 * period
+    def next_impact(f, t0, step, end):
+        t = t0
         while t < end:
             u = t + step
             if gap(f, u) >= 0:
@@ -93,8 +98,9 @@ def flights(zeta, omega, sigma, r, digits, count):
     out = []
     for _ in range(count):
         f, t, step, impacts = free(release, sigma, mpf(0)), release, period / 64, 0
+        end = release + 400 * period
         while True:
-            hit = next_impact(f, t, step)
+            hit = next_impact(f, t, step, end)
             if hit is None:
                 out.append(None)
                 return out
@@ -121,8 +127,10 @@ def main():
     ap.add_argument("--flights", type=int, default=1)
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
+    if not all(math.isfinite(v) for v in (args.zeta, args.omega, args.sigma, args.r)):
+        sys.exit("error: --zeta, --omega, --sigma and --r must be finite numbers")
     if not -1.0 < args.sigma < 1.0:
-        sys.exit("error: --sigma must lie in (-1, 1): elsewhere the mass never sticks")
+        sys.exit("error: --sigma must lie in (-1, 1): at or above 1 the force never presses the mass into its stop, at or below -1 it never lets it go")
     if not 0.0 <= args.zeta < 1.0 or args.omega <= 0.0 or not 0.0 <= args.r <= 1.0:
         sys.exit("error: --zeta must lie in [0, 1), --omega above 0 and --r in [0, 1]")
     if args.zeta == 0.0 and args.omega == 1.0:

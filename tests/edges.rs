@@ -274,8 +274,12 @@ fn a_sticking_orbit_is_the_references_where_its_flight_is_within_the_precision()
         let out = std::process::Command::new("/usr/bin/python3")
             .args(["scripts/sticking_reference.py", "--zeta", zeta, "--omega", omega, "--digits", digits, "--json"])
             .output()
-            .expect("python3");
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            .expect("/usr/bin/python3 (scripts/setup.sh installs it with python3-mpmath)");
+        assert!(
+            out.status.success(),
+            "{} (scripts/setup.sh installs python3-mpmath)",
+            String::from_utf8_lossy(&out.stderr)
+        );
         serde_json::from_slice(&out.stdout).unwrap()
     };
     let cell = |zeta: &str, state: &str| {

@@ -53,7 +53,10 @@
 //!    `periods_to_settle`), or that the map does not
 //!    contract at all ([`Executor::unsettled`]:
 //!    a conservative oscillation under fast forcing, a mass on a vanishing
-//!    spring). Without a period, a motion that drifts away from every stop
+//!    spring). An orbit that sticks, its multiplier 0, whose flights between
+//!    the sticks grow the error of their impacts past where the next stick
+//!    is decided, is `C` ([`crate::Flights::beyond_precision`]). Without a
+//!    period, a motion that drifts away from every stop
 //!    with no event is unbounded ([`Executor::unbounded`]), not chaos;
 //!    numbers beyond what double precision answers for end a cell before it
 //!    starts ([`System::check_range`]);
@@ -853,7 +856,9 @@ pub fn run_cell_measured(
         // `71-S-0` at `standard`, its flight's tangent growing by e^50, a
         // start 1e-16 away sticking in another period): chaos, its flights'
         // exponent. An orbit of one period sticks in every period: it has
-        // no flight to measure.
+        // no flight to measure. The test rides on the multiplier: with
+        // `multipliers` off, or where its probe halts or the budget ends,
+        // the orbit keeps its label.
         Some(0.0) => match n.filter(|&n| n > 1).and_then(|n| cell.unresolved_flights(n)) {
             Some(l) => (Class::Chaotic, None, Some(l), None, None),
             None => (class, n, lyapunov, reason, multiplier),
@@ -1341,7 +1346,10 @@ impl<'s> Executor<'s> {
     /// Where the impacts are the only loss, a record locked at p/q beyond
     /// `n_max` on a flow that closes after q periods, touching its stop at
     /// most once in each q periods of the last half without its tangent
-    /// shown to grow, is that flow's too: `Q`, where no orbit is found.
+    /// shown to grow, is that flow's too: `Q`, where no orbit is found. A
+    /// record that contracts only where it stuck, its flights between the
+    /// sticks beyond the precision ([`crate::Flights::beyond_precision`]),
+    /// is `C`, its flights' exponent, rather than a transient.
     fn decide(&mut self, mut tangent: Simulator<'s>, mut e: Exponent, final_say: bool) -> Steady {
         let mut doublings = 0;
         let first = EXPONENT_DOUBLINGS + self.acc.extensions / 2;
@@ -2915,9 +2923,9 @@ mod tests {
     /// Issue 62: a motion that sticks to its stop is released from rest at
     /// the stop at one phase of the forcing, whatever came before, so it is
     /// periodic if its flight from there sticks again; but where that
-    /// flight expands the last bit of its release past the margin by which
-    /// its next stick is decided, the repeat is one computed flight's
-    /// replay. The single stop at ω = 2.87179, ζ = 0.04828 was `71-S-0` at
+    /// flight grows the error of its impacts (`contact_tol`) past the
+    /// margin by which its next stick is decided, the repeat is one
+    /// computed flight's replay. The single stop at ω = 2.87179, ζ = 0.04828 was `71-S-0` at
     /// `standard` (from the state its down sweep stored): its flight's
     /// tangent grows by e^50, and releases moved by 1e-15 stick in other
     /// periods (the oracle: the flights themselves, not their tangent). It
@@ -2927,7 +2935,7 @@ mod tests {
     /// `13-S-0` grows by e^12.7, and releases moved by 1e-10 stick in the
     /// same period: periodic.
     #[test]
-    fn a_sticking_motion_whose_flights_outgrow_the_rounding_is_chaos() {
+    fn a_sticking_motion_whose_flights_outgrow_the_contact_tolerance_is_chaos() {
         let omega = 2.871794871794872;
         let fast = Accuracy::preset(crate::Preset::Fast);
         let runs = [

@@ -33,16 +33,6 @@ const POLYNOMIAL_DEGREE: f64 = 2.0;
 /// double, about -708.
 const ERASED: f64 = -708.3964185322641;
 
-/// The error at the end of a flight between two sticks (a free mass's
-/// position and velocity, in the scene's units) beyond which the flight's
-/// next stick is not decided: the median over the 656 flights of the
-/// orbits that stick on the single stop's three planes at `standard`
-/// (ω × σ, ω × r, ω × ζ), each release moved by 1e-16 to 1e-2 four ways,
-/// of the largest move that kept the next stick in its period times the
-/// flight's tangent growth (0.0007 to 0.5 from the 5th to the 95th
-/// percentile).
-const FLIGHT_MARGIN: f64 = 0.03;
-
 /// Smallest half-width of the interval of `λT`: the resolution of the
 /// estimate. A neutral motion whose tangent map is a rotation (an undamped
 /// oscillator away from its stops) grows by exactly 0 each period, up to
@@ -251,10 +241,13 @@ impl Exponent {
     }
 
     /// The flights of a motion that sticks: the runs of measured periods
-    /// between two that erased the tangent ([`Exponent::erased`]), each a
-    /// flight from one release (from rest at the stop, at one phase of the
-    /// forcing) to the next stick. `None` where no flight lies wholly within
-    /// the measurement.
+    /// between two that erased the tangent ([`Exponent::erased`]), each the
+    /// whole periods of a flight from one release (from rest at the stop, at
+    /// one phase of the forcing) to the next stick; `longest` leaves out the
+    /// parts flown in the periods of the release and the stick, and starts
+    /// from the vector kept over the stick, so it errs low. `per_period`
+    /// counts every period flown, the runs cut by the measurement's ends
+    /// included. `None` where no flight lies wholly within the measurement.
     pub fn flights(&self) -> Option<Flights> {
         let erased = |g: &f64| g.to_bits() == ERASED.to_bits();
         let (first, last) = (self.growth.iter().position(erased)?, self.growth.iter().rposition(erased)?);
@@ -263,8 +256,9 @@ impl Exponent {
             .filter(|flight| !flight.is_empty())
             .map(|flight| flight.iter().sum::<f64>())
             .max_by(f64::total_cmp)?;
-        let (sum, free) = self.growth.iter().filter(|g| !erased(g)).fold((0.0, 0u32), |(s, k), g| (s + g, k + 1));
-        Some(Flights { longest, per_period: sum / f64::from(free), period: self.period })
+        let flown: f64 = self.growth.iter().filter(|g| !erased(g)).sum();
+        let per_period = flown / (self.growth.len() - self.erased()) as f64;
+        Some(Flights { longest, per_period, period: self.period })
     }
 
     /// Whether the tangent did not grow at all over the last half of the
@@ -367,7 +361,8 @@ impl Exponent {
 /// motion, is the computation's rather than the motion's.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Flights {
-    /// The largest growth of the tangent over one whole flight, in `ln`.
+    /// The largest growth of the tangent over the whole periods of one
+    /// flight, in `ln`.
     pub longest: f64,
     /// The mean growth of the tangent per period flown (the periods that
     /// did not erase it): the flights' `λT`.
@@ -377,8 +372,15 @@ pub struct Flights {
 }
 
 impl Flights {
-    /// The margin by which a flight's next stick is decided.
-    pub const MARGIN: f64 = FLIGHT_MARGIN;
+    /// The error at the end of a flight between two sticks (a free mass's
+    /// position and velocity, in the scene's units) beyond which the flight's
+    /// next stick is not decided: the median over the 656 flights of the
+    /// orbits that stick on the single stop's three planes at `standard`
+    /// (ω × σ, ω × r, ω × ζ), each release moved by 1e-16 to 1e-2 four ways,
+    /// of the largest move that kept the next stick in its period times the
+    /// flight's tangent growth (0.0007 to 0.5 from the 5th to the 95th
+    /// percentile).
+    pub const MARGIN: f64 = 0.03;
 
     /// Whether the flights expand, and the longest expands the error of a
     /// computed flight past [`Flights::MARGIN`]: each impact is taken
@@ -649,7 +651,7 @@ mod tests {
             assert!(!flights(threshold, 0.5).beyond_precision(tol), "{preset:?}");
             assert!(flights(threshold + 0.1, 0.5).beyond_precision(tol), "{preset:?}");
         }
-        // No finer than the last bit of a double: e^32.6.
+        // No finer than the last bit of a double: e^32.5.
         assert!(!flights(32.5, 0.5).beyond_precision(1e-30));
         assert!(flights(32.7, 0.5).beyond_precision(1e-30));
         // Flights that contract on the whole are no chaos, however long one grew.
