@@ -840,6 +840,8 @@ pub fn run_cell_measured(
     // passed near it. Where nothing dissipates the motion is measured on
     // as a record without a period's; `U` naming the orbit where that does
     // not decide it, and wherever something dissipates.
+    // The periods of the classified window, where not n's or the last `n_max`.
+    let mut span = None;
     let (class, n, lyapunov, reason, multiplier) = match multiplier {
         Some(mu) if mu > 1.0 + UNSTABLE => {
             let periods = cell.sim.periods() as usize;
@@ -858,14 +860,18 @@ pub fn run_cell_measured(
         // exponent. An orbit of one period sticks in every period: it has
         // no flight to measure. The test rides on the multiplier: with
         // `multipliers` off, or where its probe halts or the budget ends,
-        // the orbit keeps its label.
+        // the orbit keeps its label. Its window stays the n periods of the
+        // repeat found, which hold its sticks, rather than the last `n_max`.
         Some(0.0) => match n.filter(|&n| n > 1).and_then(|n| cell.unresolved_flights(n)) {
-            Some(l) => (Class::Chaotic, None, Some(l), None, None),
+            Some(l) => {
+                span = n;
+                (Class::Chaotic, None, Some(l), None, None)
+            }
             None => (class, n, lyapunov, reason, multiplier),
         },
         _ => (class, n, lyapunov, reason, multiplier),
     };
-    let mut result = cell.window(class, n, y0);
+    let mut result = cell.window(class, n, span, y0);
     let (sections, quantities) = cell.window_pass(&result, section_cap, measure);
     let sections = sections.unwrap_or_else(no_sections);
     result.lyapunov = lyapunov;
@@ -2110,13 +2116,14 @@ impl<'s> Executor<'s> {
     }
 
     /// Phase 4: the cell's labels and flags over its classified window (n
-    /// periods, or the last `n_max` recorded without a period); stability,
-    /// reason and work are filled in by the caller.
-    fn window(&self, class: Class, n: Option<usize>, y0: &[f64]) -> CellResult {
+    /// periods; `span` periods for a motion whose repeat was no orbit, its
+    /// flights beyond the precision; or the last `n_max` recorded without a
+    /// period); stability, reason and work are filled in by the caller.
+    fn window(&self, class: Class, n: Option<usize>, span: Option<usize>, y0: &[f64]) -> CellResult {
         let (sys, acc, hist) = (self.sys, self.acc, &self.hist);
         let stops = sys.stops.len();
         let len = hist.len();
-        let window = n.unwrap_or(acc.n_max.min(len));
+        let window = n.or(span).map_or(acc.n_max.min(len), |w| w.min(len));
         let recs: Vec<&PeriodRecord> = hist.iter().skip(len - window).collect();
         let mut impacts = vec![0u32; stops];
         let (mut held, mut stuck) = (0u32, 0u32);
@@ -2984,6 +2991,19 @@ mod tests {
         }
     }
 
+    /// A `C` found from a repeat that stuck keeps the n periods of the
+    /// repeat as its window, which hold its sticks: the undamped single stop
+    /// at ω = 2.05063, σ = −0.74576 (`122-S-0` before the flights rule) says
+    /// that it sticks; over the last `n_max` periods, as other `C`, it did
+    /// not (70 of the 239 such cells of the ω × σ plane).
+    #[test]
+    fn chaos_found_from_a_sticking_repeat_says_that_it_sticks() {
+        let sys = system("single-stop.toml", &[("omega", 2.0506329113924053), ("sigma", -0.7457627118644068)]);
+        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &[-0.8379612801500786, -0.41578267833297733]);
+        assert_eq!(cell.class, Class::Chaotic, "{:?} {:?}", cell.n, cell.reason);
+        assert!(cell.sticking.contains(0), "{} periods in the window", cell.section.len());
+    }
+
     /// Issue 62: the damper's free mass at rest with its walls out of reach
     /// (δ = 100, v₂₀ = 0) is a family of orbits: the primary settles on its
     /// linear forced response and the free mass stays put, `1-0-0` at every
@@ -3665,7 +3685,7 @@ q = "L"
         let acc = Accuracy::default();
         let mut cell = executor(&sys, &acc);
         let Steady::Periodic(n) = cell.steady().unwrap() else { panic!("not periodic") };
-        let result = cell.window(Class::Periodic, Some(n), &sys.model.initial_state());
+        let result = cell.window(Class::Periodic, Some(n), None, &sys.model.initial_state());
         assert_eq!(result.labels[0].to_string(), "1-S-S");
         assert!(result.sticking.contains(0) && result.sticking.contains(2), "{:?}", result.sticking);
         assert!(result.chatter.contains(0), "{:?}", result.chatter);
@@ -3680,7 +3700,7 @@ q = "L"
         let acc = Accuracy::default();
         let mut cell = executor(&sys, &acc);
         assert_eq!(cell.record(600).unwrap(), Some(1));
-        let result = cell.window(Class::Periodic, Some(1), &sys.model.initial_state());
+        let result = cell.window(Class::Periodic, Some(1), None, &sys.model.initial_state());
         let before = cell.budget.periods(&cell.sim);
         let sections = cell.window_pass(&result, 3, false).0.unwrap();
         assert_eq!(cell.budget.periods(&cell.sim), before + 1, "one period simulated again");
