@@ -94,7 +94,9 @@ def flights(zeta, omega, sigma, r, digits, count):
             t, step = u, min(step * 1.5, period / 64)
         return None
 
-    release = acos(sigma) / omega
+    # The phase of every release: cos(omega t) falls through sigma.
+    phase = acos(sigma)
+    release = phase / omega
     out = []
     for _ in range(count):
         f, t, step, impacts = free(release, sigma, mpf(0)), release, period / 64, 0
@@ -112,8 +114,8 @@ def flights(zeta, omega, sigma, r, digits, count):
             # Pressed back into the stop, the mass returns after about 2 r v / F.
             step = min(period / 64, r * speed / force / 8) if force > 0 else period / 64
         out.append(((hit - release) / period, int(floor(hit / period) - floor(release / period)), impacts))
-        turns = floor((omega * hit - acos(sigma)) / (2 * pi)) + 1
-        release = (acos(sigma) + 2 * pi * turns) / omega
+        turns = floor((omega * hit - phase) / (2 * pi)) + 1
+        release = (phase + 2 * pi * turns) / omega
     return out
 
 

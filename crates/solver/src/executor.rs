@@ -836,12 +836,12 @@ pub fn run_cell_measured(
         Some(n) if acc.multipliers => cell.measured.or_else(|| cell.multiplier(n).map(|(all, _)| all)),
         _ => None,
     };
+    // The periods of the classified window, where not n's or the last `n_max`.
+    let mut span = None;
     // An unstable orbit is not where the motion stays: the record only
     // passed near it. Where nothing dissipates the motion is measured on
     // as a record without a period's; `U` naming the orbit where that does
     // not decide it, and wherever something dissipates.
-    // The periods of the classified window, where not n's or the last `n_max`.
-    let mut span = None;
     let (class, n, lyapunov, reason, multiplier) = match multiplier {
         Some(mu) if mu > 1.0 + UNSTABLE => {
             let periods = cell.sim.periods() as usize;

@@ -33,6 +33,11 @@ const POLYNOMIAL_DEGREE: f64 = 2.0;
 /// double, about -708.
 const ERASED: f64 = -708.3964185322641;
 
+/// Whether a period's growth is [`ERASED`]'s: its tangent map was zero.
+fn is_erased(growth: &f64) -> bool {
+    growth.to_bits() == ERASED.to_bits()
+}
+
 /// Smallest half-width of the interval of `λT`: the resolution of the
 /// estimate. A neutral motion whose tangent map is a rotation (an undamped
 /// oscillator away from its stops) grows by exactly 0 each period, up to
@@ -237,7 +242,7 @@ impl Exponent {
     /// Measured periods in which the tangent was erased (a mass held at its
     /// stop: each counts `ln` of the least positive double, about −708).
     pub fn erased(&self) -> usize {
-        self.growth.iter().filter(|g| g.to_bits() == ERASED.to_bits()).count()
+        self.growth.iter().filter(|g| is_erased(g)).count()
     }
 
     /// The flights of a motion that sticks: the runs of measured periods
@@ -249,14 +254,13 @@ impl Exponent {
     /// counts every period flown, the runs cut by the measurement's ends
     /// included. `None` where no flight lies wholly within the measurement.
     pub fn flights(&self) -> Option<Flights> {
-        let erased = |g: &f64| g.to_bits() == ERASED.to_bits();
-        let (first, last) = (self.growth.iter().position(erased)?, self.growth.iter().rposition(erased)?);
+        let (first, last) = (self.growth.iter().position(is_erased)?, self.growth.iter().rposition(is_erased)?);
         let longest = self.growth[first..=last]
-            .split(erased)
+            .split(is_erased)
             .filter(|flight| !flight.is_empty())
             .map(|flight| flight.iter().sum::<f64>())
             .max_by(f64::total_cmp)?;
-        let flown: f64 = self.growth.iter().filter(|g| !erased(g)).sum();
+        let flown: f64 = self.growth.iter().filter(|g| !is_erased(g)).sum();
         let per_period = flown / (self.growth.len() - self.erased()) as f64;
         Some(Flights { longest, per_period, period: self.period })
     }
