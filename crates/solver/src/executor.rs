@@ -83,7 +83,7 @@ use crate::lyapunov::{polynomial_growth, Exponent, Interval, Stretch};
 use crate::newton::{evaluate, fixed_point, MapKind, Pattern};
 use crate::period::{converged, detect, distance, history_len, remaining, symmetry_of, History, Trail};
 use crate::section::record_window;
-use crate::simulate::{Halt, Ignore, Moment, PeriodRecord, Simulator, EVENT_WORK};
+use crate::simulate::{EventObserver, Halt, Ignore, Moment, PeriodRecord, Simulator, EVENT_WORK};
 use crate::system::System;
 use nalgebra::DVector;
 use num_complex::Complex64 as C64;
@@ -155,6 +155,16 @@ const SPIRAL: f64 = 0.9;
 /// Fewest section points per island for [`Executor::decide`] to test a
 /// record whose rotation number is locked at p/q for a torus of q loops.
 const ISLAND_POINTS: usize = 16;
+
+/// The phases of the period, as fractions of it, at which
+/// [`Executor::torus_off_the_section`] samples a motion whose period section
+/// lies on no torus: three, so that impacts at two phases half a period
+/// apart (a symmetric motion's at its two stops) leave one clear.
+const OFF_SECTION: [f64; 3] = [0.25, 0.5, 0.75];
+
+/// Periods of each sample of [`Executor::torus_off_the_section`]: twice
+/// [`SETTLED`], the fewest points a torus is told by on their own.
+const OFF_SECTION_PERIODS: usize = 2 * SETTLED;
 
 /// Fewest events (impacts, contacts, sticks, releases) in the last half of a
 /// measurement, where it holds any, for its tangent's growth to tell a torus
@@ -1677,6 +1687,9 @@ impl<'s> Executor<'s> {
                         }
                         false => (None, false),
                     };
+                    // Where a torus's section may be cut (below): from
+                    // where the measurement ended.
+                    let off_section = (!untold && !quiet).then(|| tangent.probe_in_time());
                     let go_on = !self.quieted && !self.quiet_history();
                     let drifts = go_on && quiet && closing_drift(self.sys, &mut tangent).is_some();
                     if (linear || drifts) && go_on {
@@ -1704,6 +1717,17 @@ impl<'s> Executor<'s> {
                     // The flow closing beyond `n_max` that its touches leave
                     // (above): `Q`, as that flow is without an event.
                     if touches_late {
+                        return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
+                    }
+                    // On no torus at the period section, where the motion
+                    // meets a stop at that phase on part of its torus: the
+                    // state jumps at an impact, and the section's closed
+                    // curve is cut into arcs (the impact damper with
+                    // τ = 1.86207 at ω = 1.73077, δ = 2, down: its points at
+                    // t = kT on three arcs, its impacts' phases and speeds on
+                    // one closed curve at each wall). A torus at another
+                    // phase of the period ([`Executor::torus_off_the_section`]).
+                    if off_section.is_some_and(|probe| self.torus_off_the_section(probe)) {
                         return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
                     }
                     let excess = if lossless { e.excess().map(Box::new) } else { None };
@@ -1735,6 +1759,44 @@ impl<'s> Executor<'s> {
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }
+    }
+
+    /// Whether the motion from where `probe` is, sampled at
+    /// [`OFF_SECTION`]'s phases of each period (tracking no tangent), lies on
+    /// a torus at one of them: its points there on one closed curve, or
+    /// turning as a torus does, with a converged rotation number not locked
+    /// at a fraction ([`on_torus`]). Sampled over [`OFF_SECTION_PERIODS`]
+    /// periods, and where none is told, as many more, all of them tested
+    /// (a torus's points may need the longer sample to close their curve,
+    /// a slow drift may spoil its number over it). The rotation number is
+    /// the torus's at every phase; its section curve is cut only at a phase
+    /// where impacts happen on part of the torus. False where the probe
+    /// halts.
+    fn torus_off_the_section(&mut self, mut probe: Simulator<'s>) -> bool {
+        /// The states at each of [`OFF_SECTION`]'s phases, in turn.
+        struct Phases {
+            period: f64,
+            points: [Vec<DVector<f64>>; OFF_SECTION.len()],
+        }
+        impl EventObserver for Phases {
+            fn sample(&mut self, time: f64, y: &DVector<f64>) {
+                let at = time.rem_euclid(self.period) / self.period;
+                if let Some(k) = OFF_SECTION.iter().position(|&f| (at - f).abs() < 0.125) {
+                    self.points[k].push(y.clone());
+                }
+            }
+        }
+        probe.untrack_tangent();
+        let period = self.sys.period;
+        let times = OFF_SECTION.map(|f| f * period);
+        let mut phases = Phases { period, points: Default::default() };
+        (0..2).any(|_| {
+            let ran = self.budget.spend(&mut self.sim, &mut probe, |p| {
+                (0..OFF_SECTION_PERIODS)
+                    .try_for_each(|_| p.run_period_sampled(&times, &mut phases).map(|rec| p.recycle(rec)))
+            });
+            ran.is_ok() && phases.points.iter().any(|points| on_torus(Rotation::of(points).as_ref(), points).is_some())
+        })
     }
 
     /// A stable periodic orbit that the section points (consecutive, the
@@ -3109,6 +3171,38 @@ mod tests {
         for (periods, cell) in standard_and_ten_times(&sys, &y0) {
             assert_eq!(cell.class, Class::Quasiperiodic, "{periods}: {:?}", cell.reason);
         }
+    }
+
+    /// Issue 62: a torus whose period section its impacts cut is told at
+    /// another phase of the period. On the impact damper with τ = 1.86207
+    /// (ω = 1.73077, δ = 2, from the state its down sweep reached) the free
+    /// mass meets a wall at t = kT on part of the torus, so that the points
+    /// there lie on three arcs (looked at) and their rotation number does
+    /// not converge (0.42297 ± 2.0e-4 over 6 400 points): the cell was `U`,
+    /// at ten times the record too. Over 1 600 periods from its final state
+    /// the points at t = kT lie on no torus and those a quarter of a period
+    /// later on one; the cell is `Q`.
+    #[test]
+    fn a_torus_whose_section_its_impacts_cut_is_told_at_another_phase() {
+        let sys = system("impact-damper.toml", &[("omega", 1.7307692307692308), ("tau", 1.8620689655172413)]);
+        let y0 = [-0.031959526801460636, -1.0334223888664487, 1.0831407567340943, -1.8298877342375024];
+        let [(_, standard), (_, ten)] = standard_and_ten_times(&sys, &y0);
+        assert_eq!(standard.class, Class::Quasiperiodic, "{:?}", standard.reason);
+        assert_eq!(ten.class, Class::Quasiperiodic, "ten times: {:?}", ten.reason);
+        struct Quarter(Vec<DVector<f64>>);
+        impl EventObserver for Quarter {
+            fn sample(&mut self, _time: f64, y: &DVector<f64>) {
+                self.0.push(y.clone());
+            }
+        }
+        let mut sim = Simulator::new(&sys, Accuracy::default(), Method::Exact, &standard.final_state).unwrap();
+        let (mut at_kt, mut quarter) = (Vec::new(), Quarter(Vec::new()));
+        for _ in 0..1600 {
+            sim.run_period_sampled(&[0.25 * sys.period], &mut quarter).unwrap();
+            at_kt.push(sim.state().clone());
+        }
+        assert_eq!(on_torus(Rotation::of(&at_kt).as_ref(), &at_kt), None);
+        assert!(on_torus(Rotation::of(&quarter.0).as_ref(), &quarter.0).is_some());
     }
 
     /// Issue 62: a record whose exponent lies below 0 over its first
