@@ -265,7 +265,7 @@ fn atlas_attractors_are_stored_per_cell_and_deterministic() {
 /// one, resolved cells have none, and `inspect --json` counts them.
 #[test]
 fn a_stored_unresolved_cell_keeps_its_reason() {
-    let f = up_atlas("reason", "omega=1.55:1.85:7", "delta=0.06:0.1:4");
+    let f = up_atlas("reason", "omega=0.86:0.92:7", "delta=0.07:0.08:2");
     let file = f.to_str().unwrap();
     let atlas = store::read(&f).unwrap().atlas;
     let p = &atlas.meta.plane;
