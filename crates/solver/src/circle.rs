@@ -203,8 +203,9 @@ impl Rotation {
 
     /// The fraction `p/q` that this rotation number of `points` (their
     /// [`Rotation::of`]) is locked at ([`Rotation::locked`], with its error
-    /// within `tol`), where their last
-    /// quarter turns by it too: a motion still reaching a torus whose number
+    /// within `tol`), where their last quarter turns by it too, in either
+    /// sense (the principal plane of a part of the points may be oriented
+    /// either way): a motion still reaching a torus whose number
     /// lies near a fraction has an error over all its points that the
     /// approach inflates, and may come within ten times that error of the
     /// fraction while the points that have reached the torus turn by its own
@@ -225,7 +226,9 @@ impl Rotation {
         let n = points.len();
         let quarter = &points[n - n / 4..];
         let kept = quarter.len() < SETTLED
-            || Rotation::of(quarter).filter(|r| r.error <= tol).is_none_or(|r| r.turns_by(p as f64, q));
+            || Rotation::of(quarter)
+                .filter(|r| r.error <= tol)
+                .is_none_or(|r| r.turns_by(p as f64, q) || r.turns_by(-p as f64, q));
         kept.then_some((p, q))
     }
 }
