@@ -3121,6 +3121,14 @@ mod tests {
         })
     }
 
+    /// The cell from `y0` is `class` at `standard` and with a record ten
+    /// times longer ([`standard_and_ten_times`]).
+    fn is_at_standard_and_ten_times(sys: &System, y0: &[f64], class: Class) {
+        for (periods, cell) in standard_and_ten_times(sys, y0) {
+            assert_eq!(cell.class, class, "{periods}: {:?}", cell.reason);
+        }
+    }
+
     /// Issue 62: points on a closed curve whose rotation number is locked at
     /// a fraction are no torus. On the damper (ω = 1.71519, δ = 1.84746,
     /// from the state its up sweep reached) the section points lie on 30
@@ -3133,9 +3141,7 @@ mod tests {
     fn chaos_in_bands_along_a_curve_is_no_torus() {
         let sys = system("impact-damper.toml", &[("omega", 1.7151898734177216), ("delta", 1.847457627118644)]);
         let y0 = [-0.169473633196541, 0.6638195955031558, -0.5134598148731837, -3.2778244430060326];
-        for (periods, cell) in standard_and_ten_times(&sys, &y0) {
-            assert_eq!(cell.class, Class::Chaotic, "{periods}: {:?}", cell.reason);
-        }
+        is_at_standard_and_ten_times(&sys, &y0, Class::Chaotic);
     }
 
     /// Issue 62: a rotation number near a fraction of large q with an
@@ -3150,9 +3156,7 @@ mod tests {
     fn a_near_fraction_without_expansion_is_no_chaos() {
         let sys = system("impact-damper.toml", &[("omega", 1.6341772151898735), ("delta", 2.830508474576271)]);
         let y0 = [-0.9934645021806503, 1.4826038368689947, 0.042912722897615496, -2.293374006010465];
-        for (periods, cell) in standard_and_ten_times(&sys, &y0) {
-            assert_eq!(cell.class, Class::Quasiperiodic, "{periods}: {:?}", cell.reason);
-        }
+        is_at_standard_and_ten_times(&sys, &y0, Class::Quasiperiodic);
     }
 
     /// Issue 62: a motion still reaching a torus whose rotation number lies
@@ -3168,9 +3172,7 @@ mod tests {
     fn a_torus_reached_near_a_fraction_is_no_chaos_in_bands() {
         let sys = system("impact-damper.toml", &[("omega", 1.5769230769230769), ("zeta", 0.12999999999999998)]);
         let y0 = [-0.14625620476174003, 0.27776924074829884, -0.3088975370877177, -1.974655424300513];
-        for (periods, cell) in standard_and_ten_times(&sys, &y0) {
-            assert_eq!(cell.class, Class::Quasiperiodic, "{periods}: {:?}", cell.reason);
-        }
+        is_at_standard_and_ten_times(&sys, &y0, Class::Quasiperiodic);
     }
 
     /// Issue 62: a torus whose period section its impacts cut is told at
