@@ -1790,13 +1790,19 @@ impl<'s> Executor<'s> {
         let period = self.sys.period;
         let times = OFF_SECTION.map(|f| f * period);
         let mut phases = Phases { period, points: Default::default() };
-        (0..2).any(|_| {
+        for _ in 0..2 {
             let ran = self.budget.spend(&mut self.sim, &mut probe, |p| {
                 (0..OFF_SECTION_PERIODS)
                     .try_for_each(|_| p.run_period_sampled(&times, &mut phases).map(|rec| p.recycle(rec)))
             });
-            ran.is_ok() && phases.points.iter().any(|points| on_torus(Rotation::of(points).as_ref(), points).is_some())
-        })
+            if ran.is_err() {
+                return false;
+            }
+            if phases.points.iter().any(|points| on_torus(Rotation::of(points).as_ref(), points).is_some()) {
+                return true;
+            }
+        }
+        false
     }
 
     /// A stable periodic orbit that the section points (consecutive, the
