@@ -166,6 +166,16 @@ const OFF_SECTION: [f64; 3] = [0.25, 0.5, 0.75];
 /// [`SETTLED`], the fewest points a torus is told by on their own.
 const OFF_SECTION_PERIODS: usize = 2 * SETTLED;
 
+/// What [`Executor::torus_off_the_section`] found.
+enum OffSection {
+    /// The motion lies on a torus at one of [`OFF_SECTION`]'s phases.
+    Torus,
+    /// At none of them, over this many periods sampled.
+    NoTorus { periods: usize },
+    /// The probe halted (the event budget, an error) before it was told.
+    Halted,
+}
+
 /// Fewest events (impacts, contacts, sticks, releases) in the last half of a
 /// measurement, where it holds any, for its tangent's growth to tell a torus
 /// in a scene that dissipates: two for each block of the exponent's
@@ -313,6 +323,14 @@ pub enum Unresolved {
         /// motion's may (see `Exponent::excess`); absent elsewhere.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         excess: Option<Box<Stretch>>,
+        /// The forcing periods over which the motion, simulated on from the
+        /// measurement's end, was sampled at a quarter, a half and three
+        /// quarters of the period and lay on no torus at any of them (a
+        /// torus whose period section impacts cut is told there); absent
+        /// where it was not sampled (a last half of fewer than 20 events,
+        /// or a probe that halted) and in files written before 2026-12-07.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        off_section: Option<usize>,
     },
     /// No period; the exponent's interval is above 0, but the tangent's
     /// growth is not shown to be exponential (see `Exponent::diverges`):
@@ -332,6 +350,9 @@ pub enum Unresolved {
         /// As for [`Unresolved::Undecided`].
         #[serde(default, skip_serializing_if = "Option::is_none")]
         excess: Option<Box<Stretch>>,
+        /// As for [`Unresolved::Undecided`].
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        off_section: Option<usize>,
     },
     /// No period; the section points lie on a torus, in a scene that
     /// dissipates, but the tangent over the last half of the measurement
@@ -505,16 +526,17 @@ impl std::fmt::Display for Unresolved {
                 }?;
                 write!(f, " max_periods x (1 + extensions)")
             }
-            Unresolved::Undecided { growth, rotation, gain, lossless, excess } => {
+            Unresolved::Undecided { growth, rotation, gain, lossless, excess, off_section } => {
                 write!(
                     f,
                     "no period within the record; the largest Lyapunov exponent (λT = {:.3e} ± {:.1e}, 95 % over {} periods) is neither above nor below 0 beyond its uncertainty, no stable orbit was found near its section points, ",
                     growth.mean, growth.half_width, growth.periods
                 )?;
                 not_a_torus(f, rotation.as_ref(), *gain, *lossless)?;
+                nor_off_the_section(f, *off_section)?;
                 faster_than_regular(f, excess.as_deref())
             }
-            Unresolved::Polynomial { growth, late, rotation, gain, excess } => {
+            Unresolved::Polynomial { growth, late, rotation, gain, excess, off_section } => {
                 let (k, half) = (growth.periods, late.periods);
                 write!(
                     f,
@@ -529,6 +551,7 @@ impl std::fmt::Display for Unresolved {
                     polynomial_growth(LYAPUNOV_WARMUP, k - half, k),
                 )?;
                 not_a_torus(f, rotation.as_ref(), *gain, false)?;
+                nor_off_the_section(f, *off_section)?;
                 faster_than_regular(f, excess.as_deref())
             }
             Unresolved::TorusUntold { growth, late, events, grew } => {
@@ -603,6 +626,19 @@ impl std::fmt::Display for Unresolved {
             ),
             Unresolved::Described { text } => f.write_str(text),
         }
+    }
+}
+
+/// Where the motion was sampled on at other phases of the period than the
+/// section's ([`Executor::torus_off_the_section`]) over `off_section`
+/// periods: that it lay on no torus there either, continuing a reason.
+fn nor_off_the_section(f: &mut std::fmt::Formatter<'_>, off_section: Option<usize>) -> std::fmt::Result {
+    match off_section {
+        Some(periods) => write!(
+            f,
+            "; nor do its states at a quarter, a half and three quarters of each period lie on a torus, sampled over {periods} periods simulated on from the measurement's end (a torus whose section at t = kT its impacts cut is told at those phases)"
+        ),
+        None => Ok(()),
     }
 }
 
@@ -1727,14 +1763,18 @@ impl<'s> Executor<'s> {
                     // t = kT on three arcs, its impacts' phases and speeds on
                     // one closed curve at each wall). A torus at another
                     // phase of the period ([`Executor::torus_off_the_section`]).
-                    if off_section.is_some_and(|probe| self.torus_off_the_section(probe)) {
-                        return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
-                    }
+                    let off_section = match off_section.map(|probe| self.torus_off_the_section(probe)) {
+                        Some(OffSection::Torus) => {
+                            return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
+                        }
+                        Some(OffSection::NoTorus { periods }) => Some(periods),
+                        Some(OffSection::Halted) | None => None,
+                    };
                     let excess = if lossless { e.excess().map(Box::new) } else { None };
                     let why = if growth.low() > 0.0 {
-                        Unresolved::Polynomial { growth, late: e.late(), rotation, gain, excess }
+                        Unresolved::Polynomial { growth, late: e.late(), rotation, gain, excess, off_section }
                     } else {
-                        Unresolved::Undecided { growth, rotation, gain, lossless, excess }
+                        Unresolved::Undecided { growth, rotation, gain, lossless, excess, off_section }
                     };
                     return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
                 }
@@ -1770,9 +1810,8 @@ impl<'s> Executor<'s> {
     /// (a torus's points may need the longer sample to close their curve,
     /// a slow drift may spoil its number over it). The rotation number is
     /// the torus's at every phase; its section curve is cut only at a phase
-    /// where impacts happen on part of the torus. False where the probe
-    /// halts.
-    fn torus_off_the_section(&mut self, mut probe: Simulator<'s>) -> bool {
+    /// where impacts happen on part of the torus.
+    fn torus_off_the_section(&mut self, mut probe: Simulator<'s>) -> OffSection {
         /// The states at each of [`OFF_SECTION`]'s phases, in turn.
         struct Phases {
             period: f64,
@@ -1796,13 +1835,13 @@ impl<'s> Executor<'s> {
                     .try_for_each(|_| p.run_period_sampled(&times, &mut phases).map(|rec| p.recycle(rec)))
             });
             if ran.is_err() {
-                return false;
+                return OffSection::Halted;
             }
             if phases.points.iter().any(|points| on_torus(Rotation::of(points).as_ref(), points).is_some()) {
-                return true;
+                return OffSection::Torus;
             }
         }
-        false
+        OffSection::NoTorus { periods: 2 * OFF_SECTION_PERIODS }
     }
 
     /// A stable periodic orbit that the section points (consecutive, the
@@ -4110,8 +4149,15 @@ q = "L"
         );
         let growth = Interval { mean: 5.2e-3, half_width: 9.0e-3, periods: 1600 };
         let rotation = Some(Rotation { turns: 0.25, error: 3e-4, points: 1600 });
-        let why =
-            Unresolved::Undecided { growth, rotation, gain: Some(0.5), lossless: false, excess: None }.to_string();
+        let why = Unresolved::Undecided {
+            growth,
+            rotation,
+            gain: Some(0.5),
+            lossless: false,
+            excess: None,
+            off_section: None,
+        }
+        .to_string();
         assert!(why.contains("(λT = 5.200e-3 ± 9.0e-3, 95 % over 1600 periods)"), "{why}");
         // Each reason names the test of a torus that failed, with its numbers.
         assert!(
@@ -4124,6 +4170,7 @@ q = "L"
             gain,
             lossless,
             excess: None,
+            off_section: None,
         };
         let why = turns(0.381_966_011, Some(2.5), false).to_string();
         assert!(why.contains("lie on no closed curve of up to 8 loops"), "{why}");
@@ -4147,12 +4194,32 @@ q = "L"
             ),
             "{why}"
         );
-        let why =
-            Unresolved::Undecided { growth, rotation: None, gain: None, lossless: false, excess: None }.to_string();
+        let why = Unresolved::Undecided {
+            growth,
+            rotation: None,
+            gain: None,
+            lossless: false,
+            excess: None,
+            off_section: None,
+        }
+        .to_string();
         assert!(why.ends_with("have no rotation number (too few, or on a line): not on one closed curve"), "{why}");
+        // Sampled on at other phases of the period too: that test, and over how many periods.
+        let why = Unresolved::Undecided {
+            growth,
+            rotation: None,
+            gain: None,
+            lossless: false,
+            excess: None,
+            off_section: Some(1600),
+        }
+        .to_string();
+        assert!(why.ends_with("not on one closed curve; nor do its states at a quarter, a half and three quarters of each period lie on a torus, sampled over 1600 periods simulated on from the measurement's end (a torus whose section at t = kT its impacts cut is told at those phases)"), "{why}");
         // In a scene that dissipates nothing, the tangent's growth against a regular motion's too.
         let excess = Some(Box::new(Stretch { periods: 3200, growth: 2.5, bound: 1.3841 }));
-        let why = Unresolved::Undecided { growth, rotation: None, gain: None, lossless: true, excess }.to_string();
+        let why =
+            Unresolved::Undecided { growth, rotation: None, gain: None, lossless: true, excess, off_section: None }
+                .to_string();
         assert!(why.contains("not on one closed curve; nor is it regular"), "{why}");
         assert!(
             why.ends_with("the tangent grew by 2.50 over the last 3200 periods, more than such growth gives (1.38)"),
@@ -4169,7 +4236,15 @@ q = "L"
         let grew = Some(Box::new(Stretch { periods: 3200, growth: 3.697, bound: 1.3832 }));
         let why = Unresolved::TorusUntold { growth, late, events: 6400, grew }.to_string();
         assert!(why.ends_with("it grew by 3.70 over them and by 7.52 over the 800 before, each more than a polynomial growth gives over the last half (1.38): growth kept up, no bounded swing (a thin chaotic band about a torus, or a chaotic transient before an orbit)"), "{why}");
-        let why = Unresolved::Polynomial { growth, late, rotation: None, gain: None, excess: None }.to_string();
+        let why =
+            Unresolved::Polynomial { growth, late, rotation: None, gain: None, excess: None, off_section: Some(1600) }
+                .to_string();
+        assert!(
+            why.contains(
+                "not on one closed curve; nor do its states at a quarter, a half and three quarters of each period"
+            ),
+            "{why}"
+        );
         assert!(why.contains("is above 0, but its growth is not shown to be exponential"), "{why}");
         // At least 0.40 = 800 × 5e-4 over the last half, against 2 ln(1610/810) = 1.37.
         assert!(why.contains("-6.08 over the 1600 periods and 0.40 over the last 800"), "{why}");
