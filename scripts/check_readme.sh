@@ -48,5 +48,8 @@ while IFS= read -r -d '' block; do
         run "/usr/bin/python3 py$n.py"
     fi
 done < "$work/python-blocks"
+# The README stays a page one reads through (issue 65): at most 400 lines.
+lines=$(wc -l < "$root/README.md")
+run "[ $lines -le 400 ] # README.md has $lines lines"
 echo "check_readme: $count commands, $failed failed"
 [ "$failed" -eq 0 ]

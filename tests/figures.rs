@@ -326,6 +326,39 @@ fn grazings_on_line(scene: &str, [x, y]: [&str; 2], extra: &[&str], line: impl F
     );
 }
 
+/// Issue 64: `curves --json` lists each curve's codimension-two points,
+/// typed and placed by the free parameters' names: the points of the file it
+/// writes, in order, and as many as it counts.
+#[test]
+fn curves_json_lists_the_typed_codimension_two_points() {
+    let d = scratch("curves-json-codim2");
+    let (a, c) = (d.join("atlas.h5"), d.join("curves.h5"));
+    let (a, c) = (a.to_str().unwrap(), c.to_str().unwrap());
+    let grid = ["--x", "omega=2:3.5:12", "--y", "sigma=-0.5:0.5:10", "--set", "zeta=0.05", "--quiet", "-o", a];
+    ok(&[&["atlas", "configs/single-stop.toml"][..], &grid].concat());
+    let out = run(&["curves", a, "--max", "3", "--json", "-o", c]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let listed = json["curves"].as_array().unwrap();
+    let stored = store::read_curves(std::path::Path::new(c)).unwrap();
+    assert_eq!(listed.len(), stored.len());
+    for (l, s) in listed.iter().zip(&stored) {
+        let points = l["codim2_points"].as_array().unwrap();
+        assert_eq!(l["codim2"].as_u64().unwrap() as usize, points.len(), "{l}");
+        let read: Vec<(String, f64, f64)> = points
+            .iter()
+            .map(|p| (p["kind"].as_str().unwrap().into(), p["omega"].as_f64().unwrap(), p["sigma"].as_f64().unwrap()))
+            .collect();
+        assert_eq!(read, s.codim2, "{l}");
+    }
+    let kinds: Vec<&str> = listed
+        .iter()
+        .flat_map(|l| l["codim2_points"].as_array().unwrap())
+        .map(|p| p["kind"].as_str().unwrap())
+        .collect();
+    assert!(kinds.contains(&"PD-grazing"), "{json}");
+}
+
 /// Issue 43: a legend writes a state variable as the axes do, `x` with the
 /// subscript `M1` drawn smaller (the portrait's time series named its lines
 /// `x_M1`, underscore and all).

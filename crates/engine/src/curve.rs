@@ -212,6 +212,13 @@ pub struct Codim2 {
     pub at: BTreeMap<String, f64>,
 }
 
+impl Codim2 {
+    /// A point of kind `kind` at `a`, `b` of the free parameters `free`.
+    fn at(kind: &str, free: &[String; 2], a: f64, b: f64) -> Codim2 {
+        Codim2 { kind: kind.to_string(), at: BTreeMap::from([(free[0].clone(), a), (free[1].clone(), b)]) }
+    }
+}
+
 /// The motions either side of a curve point (`None` where none was found).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Sides {
@@ -244,7 +251,7 @@ impl FollowedCurve {
             .zip(&self.sides)
             .map(|(p, l)| CurveReportPoint { at: at(p.a, p.b), labels: l.clone() })
             .collect();
-        let codim2 = self.curve.codim2.iter().map(|c| Codim2 { kind: c.kind.clone(), at: at(c.a, c.b) }).collect();
+        let codim2 = self.curve.codim2.iter().map(|c| Codim2::at(&c.kind, &self.free, c.a, c.b)).collect();
         CurveReport { kind: self.curve.kind.name(), free: self.free.clone(), points, codim2, ended: self.ended.clone() }
     }
 
@@ -389,8 +396,11 @@ pub struct CurveSummary {
     pub kind: String,
     /// Its points.
     pub points: usize,
-    /// Its codimension-two points.
+    /// How many codimension-two points it met.
     pub codim2: usize,
+    /// Those points, each typed and placed by the free parameters' names
+    /// (as [`CurveReport::codim2`]).
+    pub codim2_points: Vec<Codim2>,
     /// Why it ended.
     pub ended: String,
 }
@@ -405,6 +415,7 @@ impl MapCurves {
                 kind: c.kind.clone(),
                 points: c.points.len(),
                 codim2: c.codim2.len(),
+                codim2_points: c.codim2.iter().map(|(kind, a, b)| Codim2::at(kind, &c.free, *a, *b)).collect(),
                 ended: c.ended.clone(),
             })
             .collect();
