@@ -152,6 +152,12 @@ const SPARSE_DOUBLINGS: usize = 4;
 /// [`Executor::focus_of`] to take them as spiralling onto it.
 const SPIRAL: f64 = 0.9;
 
+/// The least fall of the distance to a stable orbit, from the first quarter
+/// of a record's section points to the last, that [`approaches`] takes
+/// where it agrees with the orbit's multiplier: more than the points'
+/// distances to it scatter by on a torus about it.
+const SLOW_FALL: f64 = 0.98;
+
 /// Fewest section points per island for [`Executor::decide`] to test a
 /// record whose rotation number is locked at p/q for a torus of q loops.
 const ISLAND_POINTS: usize = 16;
@@ -1238,7 +1244,7 @@ impl<'s> Executor<'s> {
     /// record; `n_max` stays the limit of the search in the record (issue 28).
     fn confirm(&mut self, n: usize) -> Option<usize> {
         let y = self.sim.state().clone();
-        let x = self.stable_fixed_point(&y, n).filter(|x| distance(&y, x) <= LONG_REACH)?;
+        let (x, _) = self.stable_fixed_point(&y, n).filter(|(x, _)| distance(&y, x) <= LONG_REACH)?;
         self.settle_on(&x, n)
     }
 
@@ -1272,15 +1278,17 @@ impl<'s> Executor<'s> {
     /// A stable fixed point of the n-period map found by Newton's method from
     /// `y`, on a probe: converged, with every multiplier inside the unit circle
     /// by more than [`NEUTRAL`] (a neutral family of orbits, such as an
-    /// undamped oscillation, attracts nothing).
-    fn stable_fixed_point(&mut self, y: &DVector<f64>, n: usize) -> Option<DVector<f64>> {
+    /// undamped oscillation, attracts nothing); with its largest multiplier
+    /// modulus.
+    fn stable_fixed_point(&mut self, y: &DVector<f64>, n: usize) -> Option<(DVector<f64>, f64)> {
         let tol = 1e-3 * self.acc.periodic_tol;
         let mut probe = self.sim.probe();
         self.budget.spend(&mut self.sim, &mut probe, |p| {
             let limits = crate::newton::Limits { tol, max_iter: 8, max_step: 0.1, stall: None };
             let sol = crate::newton::solve(p, y, MapKind::Periods(n), None, limits)?;
-            let mu = multipliers(&sol.jacobian);
-            (!mu.is_empty() && mu.iter().all(|m| m.norm() < 1.0 - NEUTRAL)).then_some(sol.x)
+            let moduli: Vec<f64> = multipliers(&sol.jacobian).iter().map(|m| m.norm()).collect();
+            let stable = !moduli.is_empty() && moduli.iter().all(|&m| m < 1.0 - NEUTRAL);
+            stable.then(|| (sol.x, moduli.into_iter().fold(0.0, f64::max)))
         })
     }
 
@@ -1856,8 +1864,8 @@ impl<'s> Executor<'s> {
     fn orbit_among(&mut self, points: &[DVector<f64>]) -> Option<usize> {
         let last = points.last()?;
         for n in return_lags(points) {
-            let x = self.stable_fixed_point(last, n).filter(|x| distance(last, x) <= LONG_REACH);
-            if let Some(x) = x {
+            let x = self.stable_fixed_point(last, n).filter(|(x, _)| distance(last, x) <= LONG_REACH);
+            if let Some((x, _)) = x {
                 return self.settle_on(&x, n);
             }
         }
@@ -1876,8 +1884,8 @@ impl<'s> Executor<'s> {
     fn approached_orbit(&mut self, points: &[DVector<f64>]) -> Option<usize> {
         let last = points.last()?;
         for n in return_lags(points) {
-            let x = self.stable_fixed_point(last, n).filter(|x| approaches(points, x, n));
-            if let Some(m) = x.and_then(|x| self.settle_on(&x, n)) {
+            let x = self.stable_fixed_point(last, n).filter(|(x, modulus)| approaches(points, x, n, *modulus));
+            if let Some(m) = x.and_then(|(x, _)| self.settle_on(&x, n)) {
                 return Some(m);
             }
         }
@@ -1896,8 +1904,8 @@ impl<'s> Executor<'s> {
     fn focus_of(&mut self, points: &[DVector<f64>], k: usize) -> Option<usize> {
         let count = points.len().div_ceil(k);
         let centre = points.iter().rev().step_by(k).fold(DVector::zeros(points[0].len()), |a, p| a + p) / count as f64;
-        let x = self.stable_fixed_point(&centre, k)?;
-        approaches(points, &x, k).then(|| self.settle_on(&x, k)).flatten()
+        let (x, modulus) = self.stable_fixed_point(&centre, k)?;
+        approaches(points, &x, k, modulus).then(|| self.settle_on(&x, k)).flatten()
     }
 
     /// Phases 1 and 2: records until a period is found or the exponent ends
@@ -2443,11 +2451,18 @@ fn return_lags(points: &[DVector<f64>]) -> Vec<usize> {
 }
 
 /// Whether section points (consecutive, the last nearest the motion's end)
-/// approach `x`, a point of an orbit of period n: the mean distance of
+/// approach `x`, a point of a stable orbit of period n whose n-period map's
+/// largest multiplier modulus is `modulus` (|μ| < 1): the mean distance of
 /// every n-th point, counted back from the last, to `x` fell by [`SPIRAL`]
-/// from the first quarter of them to the last. A torus's or a chaotic
-/// motion's points keep their distance.
-fn approaches(points: &[DVector<f64>], x: &DVector<f64>, n: usize) -> bool {
+/// from the first quarter of them to the last; or, for an orbit that
+/// contracts too slowly for that over the record (the impact damper at
+/// `fast` with μ = 0.17414, ω = 1.57692, up: a focus with |μ| = 0.99990,
+/// its points 7 % nearer over 990 periods), by at least [`SLOW_FALL`] and
+/// as |μ| says: the two quarters' centres lie `count − count/4` steps of
+/// the map apart, over which the distance falls by |μ| to that power, and
+/// the logarithm of the fall measured is within a factor of 2 of it. A
+/// torus's or a chaotic motion's points keep their distance.
+fn approaches(points: &[DVector<f64>], x: &DVector<f64>, n: usize, modulus: f64) -> bool {
     let every: Vec<&DVector<f64>> = points.iter().rev().step_by(n).collect();
     let count = every.len();
     if count < 4 {
@@ -2455,7 +2470,9 @@ fn approaches(points: &[DVector<f64>], x: &DVector<f64>, n: usize) -> bool {
     }
     let mean = |part: &[&DVector<f64>]| part.iter().map(|p| distance(p, x)).sum::<f64>() / part.len() as f64;
     // Newest first: the last quarter, then the first.
-    mean(&every[..count / 4]) < SPIRAL * mean(&every[count - count / 4..])
+    let fall = mean(&every[..count / 4]) / mean(&every[count - count / 4..]);
+    let expected = (count - count / 4) as f64 * modulus.ln();
+    fall < SPIRAL || fall < SLOW_FALL && (0.5..=2.0).contains(&(fall.ln() / expected))
 }
 
 /// The periods Newton's method tries among `returns` (periods with what the
@@ -3250,6 +3267,50 @@ mod tests {
         }
         assert_eq!(on_torus(Rotation::of(&at_kt).as_ref(), &at_kt), None);
         assert!(on_torus(Rotation::of(&quarter.0).as_ref(), &quarter.0).is_some());
+    }
+
+    /// Points that spiral onto a stable focus too slowly to come 10 % nearer
+    /// over the record approach it where they come nearer as its multiplier
+    /// says; a torus about it, at a steady distance, does not, nor do points
+    /// that come nearer much more slowly than its multiplier says.
+    #[test]
+    fn a_slow_focus_is_approached_as_its_multiplier_says() {
+        let x = DVector::from_vec(vec![0.5, -0.25]);
+        let spiral = |modulus: f64, count: usize| -> Vec<DVector<f64>> {
+            (0..count)
+                .map(|j| {
+                    let (r, phase) = (0.1 * modulus.powi(j as i32), 2.4 * j as f64);
+                    DVector::from_vec(vec![x[0] + r * phase.cos(), x[1] + r * phase.sin()])
+                })
+                .collect()
+        };
+        // |μ| = 0.9999 over 990 points: 7 % nearer, as |μ| says.
+        let slow = spiral(0.9999, 990);
+        assert!(approaches(&slow, &x, 1, 0.9999));
+        // A torus about the focus keeps its distance.
+        assert!(!approaches(&spiral(1.0, 990), &x, 1, 0.9999));
+        // A fall that |μ| = 0.999 would give tenfold over those points.
+        assert!(!approaches(&slow, &x, 1, 0.999));
+        // Too slow a fall to tell from a torus's scatter.
+        assert!(!approaches(&spiral(0.99999, 990), &x, 1, 0.99999));
+        // A fall beyond SPIRAL needs no multiplier.
+        assert!(approaches(&spiral(0.999, 990), &x, 1, 0.5));
+    }
+
+    /// Issue 62: a focus whose orbit contracts slowly (|μ| = 0.99990) is
+    /// that orbit at `fast` too. On the impact damper with μ = 0.17414 at
+    /// ω = 1.57692 (from the state its up sweep reached at `fast`), the
+    /// points spiral onto the focus of the orbit `1-1-1` but came only 7 %
+    /// nearer over the record of 990 periods, and the cell was `Q`; at
+    /// `standard` and `precise` it is `1-1-1`, |μ| = 0.9999039.
+    #[test]
+    fn a_slow_focus_is_its_orbit_at_fast() {
+        let sys = system("impact-damper.toml", &[("mu", 0.17413793103448277), ("omega", 1.5769230769230769)]);
+        let y0 = [-0.13480861113127796, 0.26846105705803147, -0.3998831599253183, -2.04999485425662];
+        let cell = run_cell(&sys, &Accuracy::preset(crate::Preset::Fast), Method::Exact, &y0);
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "{:?}", cell.reason);
+        let modulus = cell.multiplier.unwrap();
+        assert!((modulus - 0.9999039).abs() < 1e-7, "{modulus}");
     }
 
     /// Issue 62: a record whose exponent lies below 0 over its first
