@@ -53,6 +53,7 @@ pub fn run(a: RenderArgs) -> Result<()> {
     }
     if let Some(id) = a.view.strip_prefix("basin:") {
         let family = id.parse::<u32>().map_err(|_| anyhow!("--view: basin:ID takes a family's number, got '{id}'"))?;
+        render::family_of(&l.atlas, family).map_err(|e| anyhow!("--view {}", e.what()))?;
         return Ok(write_atomically(&a.output, |tmp| render::family_map(&l.atlas, family, &page, tmp))?)
             .and_then(|()| wrote(&a.output, &page));
     }

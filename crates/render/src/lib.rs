@@ -30,7 +30,7 @@ pub use bifurcation::{bifurcation, component_name, Diagram, Impact};
 pub use branch::branch;
 pub use error::{Missing, RenderError};
 pub use layers::{curve_style, label_legend, layer, Key, Layer};
-pub use map::{attractor_map, family_map, map, sheet, Overlay, View};
+pub use map::{attractor_map, family_map, family_of, map, sheet, Overlay, View};
 /// A colour faded as the hysteresis view draws the cells where the sweeps agree.
 pub use maps::palette::faded;
 pub use output::{Format, Out};

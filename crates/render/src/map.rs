@@ -823,19 +823,28 @@ const FRACTION_BANDS: [RGBColor; 5] = [
     RGBColor(8, 48, 107),
 ];
 
-/// Draws the basin fraction of attractor family `family` of `atlas`
-/// (`maps::families`) in each sampled cell, in bands of a quarter; cells
-/// not sampled grey (to `out`: [`Out`]).
-pub fn family_map<'o>(atlas: &Atlas, family: u32, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
+/// The attractors of `atlas` and their families (`maps::families`), where
+/// family `family` is one of them: what [`family_map`] draws, checked
+/// before a file is written for it.
+pub fn family_of(atlas: &Atlas, family: u32) -> Result<(&maps::AttractorMap, maps::Families), RenderError> {
     let a = atlas.attractors.as_ref().ok_or_else(|| RenderError::lacks(crate::error::Missing::Attractors))?;
     let f = maps::families(a, atlas.meta.plane.x.count);
-    let Some(labels) = f.labels.get(family as usize) else {
+    if family as usize >= f.labels.len() {
         return Err(RenderError::new(format!(
             "basin:{family}: the file's attractors form {} families (0 to {})",
             f.labels.len(),
             f.labels.len().saturating_sub(1)
         )));
-    };
+    }
+    Ok((a, f))
+}
+
+/// Draws the basin fraction of attractor family `family` of `atlas`
+/// (`maps::families`) in each sampled cell, in bands of a quarter; cells
+/// not sampled grey (to `out`: [`Out`]).
+pub fn family_map<'o>(atlas: &Atlas, family: u32, page: &Page, out: impl Into<Out<'o>>) -> Result<(), RenderError> {
+    let (a, f) = family_of(atlas, family)?;
+    let labels = &f.labels[family as usize];
     let named: Vec<String> = atlas.meta.masses.iter().zip(labels).map(|(m, l)| format!("{m} {l}")).collect();
     let fractions = f.fraction_map(a, family);
     let out = out.into();
