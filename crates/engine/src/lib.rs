@@ -86,7 +86,9 @@ pub use merge::{merge, MergeRequest};
 pub use plan::{threads, Executed, Plan};
 pub use study::{sheet_panel, study, StudyAtlas, StudyPlan};
 pub use sweep::{sweep, Differing, Direction, Legs, Sweep, SweepPoint, SweepReport, SweepRequest};
-pub use zoom::{check_size as check_zoom_size, parse_assignment, zoom, zoom_setup, ZoomRequest, MAX_ZOOM_CELLS};
+pub use zoom::{
+    check_size as check_zoom_size, parse_assignment, zoom, zoom_box, zoom_setup, ZoomRequest, MAX_ZOOM_CELLS,
+};
 // Coexisting attractors of a point, and the basins of a grid of states.
 pub use attractors::{
     attractors, AttractorReport, Attractors, AttractorsReport, AttractorsRequest, SampleBox, MAX_SAMPLES,

@@ -96,23 +96,7 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
         let why = format!("shard {shard} of an atlas, whose other lines are missing; zoom into the merged atlas");
         return Err(Error::file(&r.parent, why, None));
     }
-    let x = box_axis(&r.x, &m.plane.x, Opt::X)?;
-    let y = box_axis(&r.y, &m.plane.y, Opt::Y)?;
-    check_size(&x, &y)?;
-    let sweeps = match &r.sweeps {
-        None => m.sweeps.clone(),
-        Some(asked) => {
-            if asked.is_empty() {
-                return Err(RequestError::option(Opt::Sweep).text("no sweep given").into());
-            }
-            if let Some(s) = asked.iter().find(|s| !m.sweeps.contains(s)) {
-                let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
-                let why = format!("{} has {}, not {}", r.parent.display(), have.join(", "), s.name());
-                return Err(RequestError::option(Opt::Sweep).text(why).into());
-            }
-            m.sweeps.iter().copied().filter(|s| asked.contains(s)).collect()
-        }
-    };
+    let (x, y, sweeps) = zoom_box(m, &r.parent, (&r.x, &r.y), r.sweeps.as_deref())?;
     let setup = zoom_setup(m, &r.parent, &r.set)?;
     let plane = Plane { x, y, along: m.plane.along };
     let mut plan = Plan::new(&setup, m.section_cap, plane, sweeps, r.threads)?;
@@ -130,6 +114,38 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.check()
         .map_err(|e| crate::error::with_fields(e, &[("x", Opt::X), ("y", Opt::Y), ("threads", Opt::Threads)]))?;
     plan.execute(observer)
+}
+
+/// The box of a zoom into the atlas of `m` (stored at `parent`): its axes
+/// `x`, `y`, each the parent's parameter, ascending, within the parent's
+/// values and on its lattice ([`box_axis`]), at most [`MAX_ZOOM_CELLS`]
+/// cells in all, and its sweeps (`asked`, default the parent's), each one
+/// the parent has, in the parent's order. The checks of the box that need no
+/// cell computed: the explorer makes them before it queues a zoom.
+pub fn zoom_box(
+    m: &grid::Meta,
+    parent: &Path,
+    (x, y): (&Axis, &Axis),
+    asked: Option<&[SweepKind]>,
+) -> Result<(Axis, Axis, Vec<SweepKind>)> {
+    let x = box_axis(x, &m.plane.x, Opt::X)?;
+    let y = box_axis(y, &m.plane.y, Opt::Y)?;
+    check_size(&x, &y)?;
+    let sweeps = match asked {
+        None => m.sweeps.clone(),
+        Some(asked) => {
+            if asked.is_empty() {
+                return Err(RequestError::option(Opt::Sweep).text("no sweep given").into());
+            }
+            if let Some(s) = asked.iter().find(|s| !m.sweeps.contains(s)) {
+                let have: Vec<&str> = m.sweeps.iter().map(|k| k.name()).collect();
+                let why = format!("{} has {}, not {}", parent.display(), have.join(", "), s.name());
+                return Err(RequestError::option(Opt::Sweep).text(why).into());
+            }
+            m.sweeps.iter().copied().filter(|s| asked.contains(s)).collect()
+        }
+    };
+    Ok((x, y, sweeps))
 }
 
 /// The setup of a zoom into the atlas of `m` (stored at `parent`): the

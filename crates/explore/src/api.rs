@@ -550,7 +550,7 @@ async fn basins(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Ref
 /// an empty item is refused, as the CLI refuses it).
 type ZoomBox = (Axis, Axis, Option<Vec<SweepKind>>, Vec<(String, f64)>);
 
-fn zoom_box(
+fn parsed_box(
     x: &Option<String>,
     y: &Option<String>,
     sweep: &Option<String>,
@@ -580,7 +580,7 @@ const ZOOM_PROBE_SIDE: usize = 3;
 /// what the probe spent besides computing (reading the parent, the file).
 async fn zoom_plan(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, Refusal> {
     let Asked { o, q, .. } = asked::<ZoomPlanQuery>(&state, &p, false)?;
-    let (x, y, sweeps, set) = zoom_box(&q.x, &q.y, &q.sweep, &q.set)?;
+    let (x, y, sweeps, set) = parsed_box(&q.x, &q.y, &q.sweep, &q.set)?;
     let threads = state.threads;
     let plan = blocking(&state, move || {
         unchanged(&o)?;
@@ -617,8 +617,10 @@ async fn zoom(Shared(state): Shared<St>, p: Params, body: axum::body::Bytes) -> 
     let id = body.atlas.map_or(0, |id| id as usize);
     let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
     unchanged(&o)?;
-    let (x, y, sweeps, set) = zoom_box(&body.x, &body.y, &body.sweep, &body.set)?;
-    // A parameter set beside the box is refused now, not by the job later.
+    let (x, y, sweeps, set) = parsed_box(&body.x, &body.y, &body.sweep, &body.set)?;
+    // A box outside the parent's plane, a sweep it lacks and a parameter set
+    // beside the box are refused now, not by the job later.
+    engine::zoom_box(&o.atlas.meta, &o.path, (&x, &y), sweeps.as_deref()).map_err(|e| bad(message(&e)))?;
     engine::zoom_setup(&o.atlas.meta, &o.path, &set).map_err(|e| bad(message(&e)))?;
     std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
     let (job_id, job) = state.start_job();

@@ -398,6 +398,27 @@ fn a_zooms_set_is_refused_as_the_cli_refuses_it() {
     assert!(a.json()["error"].as_str().unwrap().contains("unknown parameter 'zeta'"), "{}", a.json());
 }
 
+/// A box outside the parent's plane, or a sweep the parent lacks, is refused
+/// when the zoom is asked, as `/api/zoom/plan` and `zoom` refuse it, with no
+/// job started (a check of the issues' contracts found `{"job": 0}` answered
+/// first and the job failing after).
+#[test]
+fn a_zoom_outside_the_plane_is_refused_when_asked() {
+    let server = serve();
+    let p = port(&server);
+    let host = format!("127.0.0.1:{p}");
+    let json = [("Host", host.as_str()), ("Content-Type", "application/json")];
+    let outside = br#"{"atlas": 0, "x": "omega=2.5:4:3", "y": "sigma=-0.5:0:3"}"#;
+    let a = send(p, "POST", "/api/zoom", &json, outside);
+    assert_eq!(a.status, 400);
+    assert_eq!(a.error(), "x: omega=2.5:4 is not within the parent's 1.5 to 3");
+    let down = br#"{"atlas": 0, "x": "omega=1.5:3:3", "y": "sigma=-0.5:0:3", "sweep": "down"}"#;
+    let a = send(p, "POST", "/api/zoom", &json, down);
+    assert_eq!(a.status, 400);
+    assert!(a.error().starts_with("sweep: ") && a.error().ends_with("has up, not down"), "{}", a.error());
+    assert_eq!(get(p, "/api/jobs/0").status, 404, "no job started");
+}
+
 /// The sixth audit: two Host (or Origin) headers, the explorer's first, and
 /// an address naming another host were served; each is refused now, with a
 /// JSON reason.
