@@ -124,7 +124,8 @@ struct Asked<T> {
 }
 
 /// Reads a request: the atlas of its `atlas` parameter (0, the file given,
-/// by default), then the rest as a `T`; with `cell`, the atlas's two
+/// by default; a 409 where its file was replaced or changed since it was
+/// read), then the rest as a `T`; with `cell`, the atlas's two
 /// parameters are keys of the query as well (a cell's `omega=…&delta=…`).
 fn asked<T: for<'de> serde::Deserialize<'de>>(state: &State, p: &Params, cell: bool) -> Result<Asked<T>, Refusal> {
     let id = match p.get("atlas") {
@@ -132,6 +133,8 @@ fn asked<T: for<'de> serde::Deserialize<'de>>(state: &State, p: &Params, cell: b
         Some(t) => t.parse::<usize>().map_err(|_| bad(format!("atlas: expected an atlas id, got '{}'", short(t))))?,
     };
     let o = state.atlas(id).ok_or_else(|| not_found(format!("atlas: no atlas {id}")))?;
+    // Every route answers for the file as read, while it is that file.
+    unchanged(&o)?;
     let plane = &o.atlas.meta.plane;
     let axes = if cell { vec![plane.x.name.as_str(), plane.y.name.as_str()] } else { Vec::new() };
     let (q, at) = p.read::<T>(&axes)?;

@@ -419,6 +419,32 @@ fn a_zoom_outside_the_plane_is_refused_when_asked() {
     assert_eq!(get(p, "/api/jobs/0").status, 404, "no job started");
 }
 
+/// Issue 61: a file replaced since the explorer read it gets a 409 from
+/// every route that answers for it (a check of the issues' contracts found
+/// `/api/at` and `/api/figure` still answering from what was read).
+#[test]
+fn every_route_refuses_a_file_replaced_since_it_was_read() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("explore-replaced");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("a.h5");
+    std::fs::copy(atlas_file(), &file).unwrap();
+    let server = explore::serve(&explore::ExploreRequest { file: file.clone(), port: 0, threads: 1 }).unwrap();
+    let p = port(&server);
+    let routes = ["/api/atlas", "/api/map", "/api/legend", "/api/at?ix=0&iy=0", "/api/figure", "/api/curves"];
+    for route in routes {
+        assert_eq!(get(p, route).status, 200, "{route}");
+    }
+    let copy = dir.join("copy.h5");
+    std::fs::copy(&file, &copy).unwrap();
+    std::fs::rename(&copy, &file).unwrap();
+    for route in routes {
+        let a = get(p, route);
+        assert_eq!(a.status, 409, "{route}");
+        assert!(a.error().contains("the file changed or was removed since the explorer read it"), "{route}");
+    }
+}
+
 /// The sixth audit: two Host (or Origin) headers, the explorer's first, and
 /// an address naming another host were served; each is refused now, with a
 /// JSON reason.
