@@ -507,6 +507,41 @@ print("ok")
     assert!(text.contains("verified  every value reads back") && text.contains("bifurcation curve"), "{text}");
 }
 
+/// Issue 61 (F1, F2): curves stored in an atlas (`curves --into`) are named
+/// by its root (`curves`, their checksum, under the root's own): their group
+/// deleted is refused by every reader, where it read as an atlas without
+/// curves (and the explorer served `{"curves": []}`); the root's attribute
+/// deleted too fails the root's checksum; a group that is not the one the
+/// root names (another atlas's, its own checksum intact) is refused.
+#[test]
+fn an_atlas_whose_stored_curves_were_deleted_or_replaced_is_refused() {
+    let d = scratch("integrity-atlas-curves");
+    let a = d.join("a.h5");
+    std::fs::copy(&originals().atlas, &a).unwrap();
+    let curves = store::read_curves(&originals().curve).unwrap();
+    store::add_curves(&a, &curves, "test").unwrap();
+    assert_eq!(store::read_curves(&a).unwrap(), curves);
+    assert!(store::read(&a).is_ok());
+    ok(&["inspect", a.to_str().unwrap(), "--verify"]);
+    let deleted = mutated(&a, &d.join("deleted.h5"), &["del|curves|"]);
+    let what = "its attribute curves says it holds bifurcation curves, but its curves group is missing";
+    every_command_refuses(&deleted, what);
+    refused(&["inspect", deleted.to_str().unwrap(), "--verify"], what);
+    let both = mutated(&a, &d.join("both.h5"), &["del|curves|", "del|@curves|"]);
+    every_command_refuses(&both, "attributes_crc32");
+    // The root resealed for other curves than its group holds.
+    let fewer = vec![curves[0].clone(); 2];
+    let b = d.join("b.h5");
+    std::fs::copy(&originals().atlas, &b).unwrap();
+    store::add_curves(&b, &fewer, "test").unwrap();
+    let named = python("import sys, h5py; print(h5py.File(sys.argv[1])['/'].attrs['curves'])", &[b.to_str().unwrap()]);
+    let spec = format!("attr|@curves|'{}'", named.trim());
+    let other = mutated(&a, &d.join("other.h5"), &[&spec]);
+    let e = store::read_curves(&other).unwrap_err().to_string();
+    assert!(e.contains("are not those the attribute curves of / names"), "{e}");
+    refused(&["inspect", other.to_str().unwrap(), "--verify"], "are not those the attribute curves of / names");
+}
+
 /// A section's values are stored without compression: a chunk of them
 /// zeroed together with its Fletcher-32 checksum (0 for zeros) passes the
 /// library's check, as a block a file system lost would; the dataset's own

@@ -56,6 +56,12 @@ pub fn add_curves(path: &Path, curves: &[Curve], command: &str) -> Result<(), St
                 f.unlink(GROUP)?;
             }
             write_all(&f.create_group(GROUP)?, curves, command)?;
+            // The root names them, under its own checksum.
+            if f.attr_names()?.iter().any(|n| n == attr::CURVES) {
+                f.delete_attr(attr::CURVES)?;
+            }
+            netcdf::attr_str(&f, attr::CURVES, &values_crc32(curves).to_string())?;
+            netcdf::seal(&f)?;
             f.flush()
         };
         Ok(add().map_err(Hdf5Error::from)?)
@@ -152,6 +158,7 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
     } else {
         match f.group(GROUP) {
             Ok(g) if content(&g)?.as_deref() == Some(CONTENT) => g,
+            _ if named_by_root(path, &f)?.is_some() => return Err(curves_missing(path)),
             _ => return Err(StoreError::Kind { path: path.display().to_string(), found: OtherKind::NoCurves }),
         }
     };
@@ -162,7 +169,16 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
         out.push(read_one(&ck, &g)?);
     }
     let holder_name = if holder.name() == "/" { "/".to_string() } else { holder.name() };
+    let named = if holder.name() == "/" { None } else { named_by_root(path, &f)? };
     match crate::attrs::optional::<u32>(path, &holder, CURVES_CRC32)? {
+        Some(crc) if named.is_some_and(|named| named != crc.to_string()) => Err(StoreError::format(
+            path,
+            format!(
+                "the curves of {holder_name} are not those the attribute {} of / names (their group was replaced \
+                 since vibroatlas stored them)",
+                attr::CURVES
+            ),
+        )),
         Some(crc) if crc == values_crc32(&out) => Ok(out),
         Some(_) => Err(StoreError::format(
             path,
@@ -179,6 +195,26 @@ pub fn read_curves(path: &Path) -> Result<Vec<Curve>, StoreError> {
             ),
         )),
     }
+}
+
+/// The checksum of the curves that the root of the atlas `f` says its
+/// `curves` group holds (attribute [`attr::CURVES`]); `None` where it says
+/// none (an atlas without curves, or whose curves were stored before the
+/// attribute).
+pub(crate) fn named_by_root(path: &Path, f: &hdf5::File) -> Result<Option<String>, StoreError> {
+    crate::attrs::text(path, f, attr::CURVES)
+}
+
+/// What an atlas whose root names its curves but holds no `curves` group says.
+pub(crate) fn curves_missing(path: &Path) -> StoreError {
+    StoreError::format(
+        path,
+        format!(
+            "its attribute {} says it holds bifurcation curves, but its {GROUP} group is missing: the file was \
+             changed since vibroatlas wrote it",
+            attr::CURVES
+        ),
+    )
 }
 
 /// One curve's group, its datasets checked before they are used: sizes

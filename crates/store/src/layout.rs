@@ -263,6 +263,12 @@ pub mod attr {
     /// `attributes_crc32`, it tells a detail deleted from a file from a
     /// file written before the details.
     pub const REASON_DETAILS: &str = "reason_details";
+    /// `curves`: in an atlas that holds bifurcation curves in its `curves`
+    /// group (`curves --into`), that group's `curves_crc32`, as decimal
+    /// text. Covered by the root's `attributes_crc32`, it tells a deleted or
+    /// replaced group from an atlas without curves (absent: none, or an
+    /// atlas whose curves were stored before 2026-12-07).
+    pub const CURVES: &str = "curves";
     /// `layout_version`.
     pub const LAYOUT_VERSION: &str = "layout_version";
     /// `integrator`.
@@ -338,6 +344,7 @@ pub mod attr {
         "command",
         "content",
         "created",
+        "curves",
         "ended",
         "free",
         "git_commit",

@@ -230,6 +230,10 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     if f.attr(attr::X).is_err() {
         return Err(fmt("not an atlas".into()));
     }
+    // Curves the root names are there (their values: `read_curves`).
+    if !f.link_exists(curves::GROUP) && crate::curve::named_by_root(path, &f)?.is_some() {
+        return Err(crate::curve::curves_missing(path));
+    }
     // A file another program wrote from an atlas (xarray's to_netcdf keeps
     // the attributes, not the layout): said so, not as a missing dataset.
     let x = attr(path, &f, attr::X)?;
