@@ -118,7 +118,7 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
 
 /// The box of a zoom into the atlas of `m` (stored at `parent`): its axes
 /// `x`, `y`, each the parent's parameter, ascending, within the parent's
-/// values and on its lattice ([`box_axis`]), at most [`MAX_ZOOM_CELLS`]
+/// values and on its lattice, at most [`MAX_ZOOM_CELLS`]
 /// cells in all, and its sweeps (`asked`, default the parent's), each one
 /// the parent has, in the parent's order. The checks of the box that need no
 /// cell computed: the explorer makes them before it queues a zoom.
