@@ -9,7 +9,10 @@
 //! the same way (`vibroatlas curves ATLAS --into`); [`read_curves`] reads
 //! either. The holder's attribute `curves_crc32` covers every number and
 //! text of its curves, their number and their order: an edited point, a curve
-//! scaled, deleted or swapped is an error on read, never another curve.
+//! scaled, deleted or swapped is an error on read, never another curve. An
+//! atlas's root names the curves it holds (text attribute `curves`, their
+//! `curves_crc32`, under the root's own checksum): their group deleted, or
+//! replaced by another atlas's, is an error too.
 
 use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
