@@ -58,6 +58,29 @@ fn a_stored_cell_opens_again_bit_for_bit() {
     ]);
     let up = atlas.map(grid::SweepKind::Up).unwrap().cells[i].as_ref().unwrap().labels[0].to_string();
     assert_eq!(o["labels"]["M1"], up);
+    // orbit and continue say which stored cell they took, as cell does.
+    let c = |sweep: &str| {
+        cell_json(&["configs/multi-stop.toml", "--from", f.to_str().unwrap(), "--at", &at, "--sweep", sweep])
+    };
+    assert_eq!(o["from"], c("up")["from"], "{o}");
+    let axis = format!("omega={}:{}:2", atlas.meta.plane.x.value(ix), atlas.meta.plane.x.value(ix) + 0.01);
+    let b = json_of(&[
+        "continue",
+        "configs/multi-stop.toml",
+        "--from",
+        f.to_str().unwrap(),
+        "--at",
+        &at,
+        "--sweep",
+        "up",
+        "--axis",
+        &axis,
+        "--json",
+    ]);
+    assert_eq!(b["from"], o["from"], "{b}");
+    assert_eq!(b["from"]["cell"]["omega"].as_f64(), Some(atlas.meta.plane.x.value(ix)));
+    let fresh = json_of(&["orbit", "configs/multi-stop.toml", "--json"]);
+    assert!(fresh.get("from").is_none(), "{fresh}");
     // A state given directly, and one that penetrates a stop.
     let c = cell_json(&["configs/multi-stop.toml", "--state", "0,0,0,0"]);
     assert_eq!(c["class"], "periodic");

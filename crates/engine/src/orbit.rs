@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::sim::{check_period, labels_of, unknown, Sim, Start};
+use crate::sim::{check_period, labels_of, unknown, Sim, Source, Start};
 use grid::Axis;
 use grid::Observer;
 use scene::Named;
@@ -27,6 +27,8 @@ pub struct CellOrbit {
     /// Which stored cell `--at` took, where it is off the values given
     /// ([`crate::Origin::note`]).
     pub note: Option<String>,
+    /// Where the cell started, when not from the scene's initial state.
+    pub source: Option<Source>,
 }
 
 /// What [`orbit`] solves: the orbit a cell settles on.
@@ -58,11 +60,17 @@ pub fn orbit(r: &OrbitRequest, observer: &dyn Observer) -> Result<CellOrbit> {
         return Err(Error::Cancelled);
     }
     let model = s.scene.evaluate(&s.overrides)?;
-    let (warning, note) = origin.as_ref().map_or((None, None), |o| (o.warning.clone(), o.note.clone()));
+    let (warning, note, source) = said_of(origin.as_ref());
     let y0 = origin.map_or_else(|| model.initial_state(), |o| o.state);
     let system = System::new(model)?;
     let orbit = orbit_of_cell(&system, &s.accuracy, &y0, n).map_err(|e| no_orbit(None, e))?;
-    Ok(CellOrbit { system, orbit, warning, note })
+    Ok(CellOrbit { system, orbit, warning, note, source })
+}
+
+/// What a result says of where it started: the warning and the note of its
+/// origin, and its source (the results' `from`).
+fn said_of(origin: Option<&crate::Origin>) -> (Option<String>, Option<String>, Option<Source>) {
+    origin.map_or((None, None, None), |o| (o.warning.clone(), o.note.clone(), Some(o.source.clone())))
 }
 
 /// No orbit found (`at`: where, or empty): a motion that is not periodic
@@ -120,6 +128,10 @@ pub struct OrbitReport {
     pub symmetry: Option<&'static str>,
     /// The impacts of one period, in time order.
     pub impacts: Vec<OrbitImpact>,
+    /// Where the cell started, when not from the scene's initial state (the
+    /// stored cell `--from … --at` took, or the state `--state` gave).
+    #[serde(rename = "from", skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Source>,
 }
 
 /// An impact of a periodic orbit.
@@ -165,6 +177,7 @@ impl CellOrbit {
             stable: o.stable,
             symmetry: o.symmetry.map(|x| x.name()),
             impacts,
+            origin: self.source.clone(),
         }
     }
 
@@ -190,6 +203,9 @@ pub struct FollowedOrbit {
     /// Which stored cell `--at` took, where it is off the values given
     /// ([`crate::Origin::note`]).
     pub note: Option<String>,
+    /// Where the cell at the first value started, when not from the scene's
+    /// initial state.
+    pub source: Option<Source>,
 }
 
 /// What [`continuation`] follows: the orbit of a cell along one parameter.
@@ -237,7 +253,7 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
         s.system_with(&[(&axis.name, v)]).ok()
     };
     let system = s.system_with(&[(&axis.name, values[0])])?;
-    let (warning, note) = origin.as_ref().map_or((None, None), |o| (o.warning.clone(), o.note.clone()));
+    let (warning, note, source) = said_of(origin.as_ref());
     let y0 = origin.map_or_else(|| system.model.initial_state(), |o| o.state);
     let start = orbit_of_cell(&system, &s.accuracy, &y0, n)
         .map_err(|e| no_orbit(Some(format!("at {} = {}: ", axis.name, values[0])), e))?;
@@ -249,7 +265,8 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
     if observer.cancelled() {
         return Err(Error::Cancelled);
     }
-    Ok(FollowedOrbit { system, axis: axis.clone(), symbol: s.scene.symbol(&axis.name), branch, warning, note })
+    let symbol = s.scene.symbol(&axis.name);
+    Ok(FollowedOrbit { system, axis: axis.clone(), symbol, branch, warning, note, source })
 }
 
 impl FollowedOrbit {
@@ -296,7 +313,7 @@ impl FollowedOrbit {
                 },
             })
             .collect();
-        BranchReport { branch, bifurcations, ended: b.ended.clone() }
+        BranchReport { branch, bifurcations, ended: b.ended.clone(), origin: self.source.clone() }
     }
 
     /// The JSON object of the branch (the contract of `continue --json`).
@@ -314,6 +331,10 @@ pub struct BranchReport {
     pub bifurcations: Vec<BranchBifurcation>,
     /// Why the branch ended before the last value, if it did.
     pub ended: Option<String>,
+    /// Where the cell at the first value started, when not from the scene's
+    /// initial state (as [`OrbitReport`]'s).
+    #[serde(rename = "from", skip_serializing_if = "Option::is_none")]
+    pub origin: Option<Source>,
 }
 
 /// A point of a followed orbit.
