@@ -45,17 +45,11 @@ fn a_stored_cell_opens_again_bit_for_bit() {
         assert_eq!(c["from"]["sweep"], sweep);
     }
     // The up-sweep branch there is a periodic orbit that orbit --from finds.
-    let o = json_of(&[
-        "orbit",
-        "configs/multi-stop.toml",
-        "--from",
-        f.to_str().unwrap(),
-        "--at",
-        &at,
-        "--sweep",
-        "up",
-        "--json",
-    ]);
+    let from_up = |command: &str, extra: &[&str]| {
+        let args = [command, "configs/multi-stop.toml", "--from", f.to_str().unwrap(), "--at", &at, "--sweep", "up"];
+        json_of(&[&args[..], extra, &["--json"]].concat())
+    };
+    let o = from_up("orbit", &[]);
     let up = atlas.map(grid::SweepKind::Up).unwrap().cells[i].as_ref().unwrap().labels[0].to_string();
     assert_eq!(o["labels"]["M1"], up);
     // orbit and continue say which stored cell they took, as cell does.
@@ -64,19 +58,7 @@ fn a_stored_cell_opens_again_bit_for_bit() {
     };
     assert_eq!(o["from"], c("up")["from"], "{o}");
     let axis = format!("omega={}:{}:2", atlas.meta.plane.x.value(ix), atlas.meta.plane.x.value(ix) + 0.01);
-    let b = json_of(&[
-        "continue",
-        "configs/multi-stop.toml",
-        "--from",
-        f.to_str().unwrap(),
-        "--at",
-        &at,
-        "--sweep",
-        "up",
-        "--axis",
-        &axis,
-        "--json",
-    ]);
+    let b = from_up("continue", &["--axis", &axis]);
     assert_eq!(b["from"], o["from"], "{b}");
     assert_eq!(b["from"]["cell"]["omega"].as_f64(), Some(atlas.meta.plane.x.value(ix)));
     let fresh = json_of(&["orbit", "configs/multi-stop.toml", "--json"]);

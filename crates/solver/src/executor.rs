@@ -4255,26 +4255,14 @@ q = "L"
             ),
             "{why}"
         );
-        let why = Unresolved::Undecided {
-            growth,
-            rotation: None,
-            gain: None,
-            lossless: false,
-            excess: None,
-            off_section: None,
-        }
-        .to_string();
+        let no_curve = |off_section| {
+            let (rotation, gain, excess) = (None, None, None);
+            Unresolved::Undecided { growth, rotation, gain, lossless: false, excess, off_section }.to_string()
+        };
+        let why = no_curve(None);
         assert!(why.ends_with("have no rotation number (too few, or on a line): not on one closed curve"), "{why}");
         // Sampled on at other phases of the period too: that test, and over how many periods.
-        let why = Unresolved::Undecided {
-            growth,
-            rotation: None,
-            gain: None,
-            lossless: false,
-            excess: None,
-            off_section: Some(1600),
-        }
-        .to_string();
+        let why = no_curve(Some(1600));
         assert!(why.ends_with("not on one closed curve; nor do its states at a quarter, a half and three quarters of each period lie on a torus, sampled over 1600 periods simulated on from the measurement's end (a torus whose section at t = kT its impacts cut is told at those phases)"), "{why}");
         // In a scene that dissipates nothing, the tangent's growth against a regular motion's too.
         let excess = Some(Box::new(Stretch { periods: 3200, growth: 2.5, bound: 1.3841 }));
