@@ -846,7 +846,9 @@ fn numbers_a_reader_builds_on_are_checked() {
 /// dataset, the multipliers) changed or deleted: `inspect --verify`, `merge`
 /// and `atlas --resume` (which would keep the file as complete) compare the
 /// whole file with what vibroatlas writes for its content and refuse it,
-/// naming the object. An attribute a user adds is allowed.
+/// naming the object; a sweep coordinate's unit and a label code's
+/// `flag_meanings` every reader refuses too. An attribute a user adds is
+/// allowed.
 #[test]
 fn the_whole_file_check_sees_what_readers_skip() {
     let o = originals();
@@ -869,8 +871,14 @@ fn the_whole_file_check_sees_what_readers_skip() {
         ("legend", "del|legend/up/M2/entry|", "legend/up/M2/entry: the dataset is missing"),
         ("multiplier", "del|up/multiplier|", "up/multiplier: missing"),
     ] {
-        let f = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
-        let f = f.to_str().unwrap();
+        let file = mutated(&o.atlas, &d.join(format!("{name}.h5")), &[spec]);
+        // What xarray and h5py read the coordinates and codes by, every
+        // reader checks as well (issue 42's R5 names inspect, render and
+        // cell --from).
+        if ["units", "flags"].contains(&name) {
+            every_command_refuses(&file, what);
+        }
+        let f = file.to_str().unwrap();
         refused(&["inspect", f, "--verify"], what);
         let merged = d.join("merged.h5");
         refused(&["merge", f, "-o", merged.to_str().unwrap()], what);

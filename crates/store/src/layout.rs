@@ -292,6 +292,12 @@ pub mod attr {
     /// `long_name` (CF) of a variable; of an axis coordinate, what its
     /// parameter is (`forcing frequency`, or `parameter <name>`).
     pub const LONG_NAME: &str = "long_name";
+    /// `units` (CF) of a variable.
+    pub const UNITS: &str = "units";
+    /// `flag_meanings` (CF) of a variable of codes: the meaning of each code
+    /// of `flag_values`, separated by spaces (of a label code, its sweep's
+    /// label table).
+    pub const FLAG_MEANINGS: &str = "flag_meanings";
     /// `attractor_sampling` of the root (layout 3): `K samples per cell,
     /// seed S` when the atlas has an `/attractors` group, which a reader then
     /// requires (a text covered by the root's checksum, so the group cannot

@@ -69,8 +69,8 @@ pub fn attr_array<T: H5Type + Copy>(loc: &Location, name: &str, values: &[T]) ->
 
 /// CF `long_name` and `units` of a variable.
 pub fn describe(ds: &Dataset, long_name: &str, units: &str) -> hdf5::Result<()> {
-    attr_str(ds, "long_name", long_name)?;
-    attr_str(ds, "units", units)
+    attr_str(ds, crate::layout::attr::LONG_NAME, long_name)?;
+    attr_str(ds, crate::layout::attr::UNITS, units)
 }
 
 /// A numeric coordinate variable: a dimension scale named `name` holding `values`.

@@ -267,6 +267,7 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
                 texts(&ck, &ck.open(&g, table)?)?;
             }
         }
+        described_as_written(&ck, &f, &g, &meta)?;
         for mass in &meta.masses {
             let at = format!("{LEGEND}/{}/{mass}/label", sweep.name());
             if f.link_exists(&at) {
@@ -371,6 +372,52 @@ fn entries(ck: &Checker, f: &hdf5::File, meta: &Meta, zoom: bool) -> Result<maps
         }
     }
     Ok(entries)
+}
+
+/// What xarray and h5py read a sweep group `g` of the atlas `f` (of `meta`)
+/// by, as vibroatlas wrote it (issue 42, R5): its coordinates' `units`,
+/// `long_name` and `symbol`, those of the root's coordinate of the same
+/// axis (checked by its `attributes_crc32`), and then their own checksum;
+/// each label code's CF `flag_meanings`, its sweep's label table. A
+/// difference is the error `inspect --verify` gives for it, naming the
+/// attribute.
+fn described_as_written(ck: &Checker, f: &hdf5::File, g: &hdf5::Group, meta: &Meta) -> Result<(), StoreError> {
+    let differs = |object: &str, attribute: &str| {
+        StoreError::Dataset {
+        path: ck.path.display().to_string(),
+        dataset: object.trim_start_matches('/').to_string(),
+        message: format!(
+            "its attribute {attribute} differs from what vibroatlas writes for this content: the file is damaged or was changed"
+        ),
+    }
+    };
+    for axis in [&meta.plane.x.name, &meta.plane.y.name] {
+        if !g.link_exists(axis) || !f.link_exists(axis) {
+            continue;
+        }
+        let (own, root) = (ck.open(g, axis)?, ck.open(f, axis)?);
+        for name in [attr::UNITS, attr::LONG_NAME, attr::SYMBOL] {
+            if attr_opt(ck.path, &own, name)? != attr_opt(ck.path, &root, name)? {
+                return Err(differs(&own.name(), name));
+            }
+        }
+        crate::attrs::verify(ck.path, &own)?;
+    }
+    if !g.link_exists(LABEL) {
+        return Ok(());
+    }
+    let table = texts(ck, &ck.open(g, LABEL)?)?.join(" ");
+    for mass in &meta.masses {
+        let name = label_code(mass);
+        if !g.link_exists(&name) {
+            continue;
+        }
+        let d = ck.open(g, &name)?;
+        if attr_opt(ck.path, &d, attr::FLAG_MEANINGS)?.is_some_and(|m| m != table) {
+            return Err(differs(&d.name(), attr::FLAG_MEANINGS));
+        }
+    }
+    Ok(())
 }
 
 /// The axis `name` of the `/axes` group: 1 to `MAX_COUNT` values, finite ends.

@@ -488,7 +488,7 @@ fn fill_sweep(g: &Group, atlas: &Atlas, map: &maps::Map, zoom: bool, z: &Deflate
         netcdf::dims(&d, &[&grid.y, &grid.x])?;
         netcdf::describe(&d, &format!("label of {mass}: index into the label coordinate"), "1")?;
         netcdf::attr_array(&d, "flag_values", &codes)?;
-        netcdf::attr_str(&d, "flag_meanings", &table.join(" "))?;
+        netcdf::attr_str(&d, attr::FLAG_MEANINGS, &table.join(" "))?;
     }
     let detailed = write_reasons(g, cells, &grid, z)?;
     let done: Vec<u8> = atlas.lines_done(map.sweep).into_iter().map(u8::from).collect();
