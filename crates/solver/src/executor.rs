@@ -172,6 +172,10 @@ const OFF_SECTION: [f64; 3] = [0.25, 0.5, 0.75];
 /// [`SETTLED`], the fewest points a torus is told by on their own.
 const OFF_SECTION_PERIODS: usize = 2 * SETTLED;
 
+/// Samples of [`OFF_SECTION_PERIODS`] that [`Executor::torus_off_the_section`]
+/// takes at most, each tested with those before it.
+const OFF_SECTION_ROUNDS: usize = 2;
+
 /// What [`Executor::torus_off_the_section`] found.
 enum OffSection {
     /// The motion lies on a torus at one of [`OFF_SECTION`]'s phases.
@@ -1837,7 +1841,7 @@ impl<'s> Executor<'s> {
         let period = self.sys.period;
         let times = OFF_SECTION.map(|f| f * period);
         let mut phases = Phases { period, points: Default::default() };
-        for _ in 0..2 {
+        for _ in 0..OFF_SECTION_ROUNDS {
             let ran = self.budget.spend(&mut self.sim, &mut probe, |p| {
                 (0..OFF_SECTION_PERIODS)
                     .try_for_each(|_| p.run_period_sampled(&times, &mut phases).map(|rec| p.recycle(rec)))
@@ -1849,7 +1853,7 @@ impl<'s> Executor<'s> {
                 return OffSection::Torus;
             }
         }
-        OffSection::NoTorus { periods: 2 * OFF_SECTION_PERIODS }
+        OffSection::NoTorus { periods: OFF_SECTION_ROUNDS * OFF_SECTION_PERIODS }
     }
 
     /// A stable periodic orbit that the section points (consecutive, the
@@ -2472,7 +2476,7 @@ fn approaches(points: &[DVector<f64>], x: &DVector<f64>, n: usize, modulus: f64)
     // Newest first: the last quarter, then the first.
     let fall = mean(&every[..count / 4]) / mean(&every[count - count / 4..]);
     let expected = (count - count / 4) as f64 * modulus.ln();
-    fall < SPIRAL || fall < SLOW_FALL && (0.5..=2.0).contains(&(fall.ln() / expected))
+    fall < SPIRAL || (fall < SLOW_FALL && (0.5..=2.0).contains(&(fall.ln() / expected)))
 }
 
 /// The periods Newton's method tries among `returns` (periods with what the

@@ -60,10 +60,7 @@ pub fn add_curves(path: &Path, curves: &[Curve], command: &str) -> Result<(), St
             }
             write_all(&f.create_group(GROUP)?, curves, command)?;
             // The root names them, under its own checksum.
-            if f.attr_names()?.iter().any(|n| n == attr::CURVES) {
-                f.delete_attr(attr::CURVES)?;
-            }
-            netcdf::attr_str(&f, attr::CURVES, &values_crc32(curves).to_string())?;
+            netcdf::replace_str(&f, attr::CURVES, &values_crc32(curves).to_string())?;
             netcdf::seal(&f)?;
             f.flush()
         };

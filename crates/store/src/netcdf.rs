@@ -160,20 +160,27 @@ pub fn numbers_crc32(loc: &Location) -> hdf5::Result<Option<String>> {
 /// where it has any), then of its text ones (attribute
 /// [`ATTRIBUTES_CRC32`](crate::layout::attr::ATTRIBUTES_CRC32)).
 pub fn seal(loc: &Location) -> hdf5::Result<()> {
-    let replace = |name: &str| -> hdf5::Result<()> {
-        if loc.attr_names()?.iter().any(|n| n == name) {
-            loc.delete_attr(name)?;
-        }
-        Ok(())
-    };
     if let Some(numbers) = numbers_crc32(loc)? {
-        replace(crate::layout::attr::NUMBERS_CRC32)?;
-        attr_str(loc, crate::layout::attr::NUMBERS_CRC32, &numbers)?;
+        replace_str(loc, crate::layout::attr::NUMBERS_CRC32, &numbers)?;
     }
     let name = crate::layout::attr::ATTRIBUTES_CRC32;
     let crc = attributes_crc32(&text_attributes(loc)?);
-    replace(name)?;
+    unlink_attr(loc, name)?;
     attr_num(loc, name, crc)
+}
+
+/// The text attribute `name` of `loc` written as `value`, replacing one there.
+pub fn replace_str(loc: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+    unlink_attr(loc, name)?;
+    attr_str(loc, name, value)
+}
+
+/// Deletes the attribute `name` of `loc`, where it has one.
+fn unlink_attr(loc: &Location, name: &str) -> hdf5::Result<()> {
+    if loc.attr_names()?.iter().any(|n| n == name) {
+        loc.delete_attr(name)?;
+    }
+    Ok(())
 }
 
 /// The dataset `name` of `values` shaped `shape`, one chunk deflated and

@@ -262,12 +262,16 @@ pub fn read(path: &Path) -> Result<Loaded, StoreError> {
     // The text tables that the file's readers (xarray, h5py) decode its codes by.
     for &sweep in &meta.sweeps {
         let g = f.group(sweep.name()).map_err(h)?;
+        let mut labels = None;
         for table in [LABEL, NPQ, COMPONENT, IMPACT_COLUMN, MASS] {
             if g.link_exists(table) {
-                texts(&ck, &ck.open(&g, table)?)?;
+                let read = texts(&ck, &ck.open(&g, table)?)?;
+                if table == LABEL {
+                    labels = Some(read);
+                }
             }
         }
-        described_as_written(&ck, &f, &g, &meta)?;
+        described_as_written(&ck, &f, &g, &meta, labels.as_deref())?;
         for mass in &meta.masses {
             let at = format!("{LEGEND}/{}/{mass}/label", sweep.name());
             if f.link_exists(&at) {
@@ -378,19 +382,17 @@ fn entries(ck: &Checker, f: &hdf5::File, meta: &Meta, zoom: bool) -> Result<maps
 /// by, as vibroatlas wrote it (issue 42, R5): its coordinates' `units`,
 /// `long_name` and `symbol`, those of the root's coordinate of the same
 /// axis (checked by its `attributes_crc32`), and then their own checksum;
-/// each label code's CF `flag_meanings`, its sweep's label table. A
-/// difference is the error `inspect --verify` gives for it, naming the
-/// attribute.
-fn described_as_written(ck: &Checker, f: &hdf5::File, g: &hdf5::Group, meta: &Meta) -> Result<(), StoreError> {
-    let differs = |object: &str, attribute: &str| {
-        StoreError::Dataset {
-        path: ck.path.display().to_string(),
-        dataset: object.trim_start_matches('/').to_string(),
-        message: format!(
-            "its attribute {attribute} differs from what vibroatlas writes for this content: the file is damaged or was changed"
-        ),
-    }
-    };
+/// each label code's CF `flag_meanings`, its sweep's label table (`labels`,
+/// where the sweep has one). A difference is the error `inspect --verify`
+/// gives for it, naming the attribute.
+fn described_as_written(
+    ck: &Checker,
+    f: &hdf5::File,
+    g: &hdf5::Group,
+    meta: &Meta,
+    labels: Option<&[String]>,
+) -> Result<(), StoreError> {
+    let differs = |object: &str, attribute: &str| crate::verify::differs(ck.path, object, attribute);
     for axis in [&meta.plane.x.name, &meta.plane.y.name] {
         if !g.link_exists(axis) || !f.link_exists(axis) {
             continue;
@@ -403,10 +405,8 @@ fn described_as_written(ck: &Checker, f: &hdf5::File, g: &hdf5::Group, meta: &Me
         }
         crate::attrs::verify(ck.path, &own)?;
     }
-    if !g.link_exists(LABEL) {
-        return Ok(());
-    }
-    let table = texts(ck, &ck.open(g, LABEL)?)?.join(" ");
+    let Some(labels) = labels else { return Ok(()) };
+    let table = labels.join(" ");
     for mass in &meta.masses {
         let name = label_code(mass);
         if !g.link_exists(&name) {

@@ -100,6 +100,27 @@ const MADE: &[&str] = &["created", "history", "source", "git_commit", "attribute
 /// differ between two files however equal).
 const SCALES: &[&str] = &["DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "_Netcdf4Dimid", "_Netcdf4Coordinates"];
 
+/// The error of attribute `attribute` of `object` (a path in the file `path`)
+/// whose value is not what vibroatlas writes for the file's content.
+pub(crate) fn differs(path: &Path, object: &str, attribute: &str) -> StoreError {
+    object_error(
+        path,
+        object,
+        format!(
+            "its attribute {attribute} differs from what vibroatlas writes for this content: the file is damaged or was changed"
+        ),
+    )
+}
+
+/// The error `message` of `object` (a path in the file `path`; `/` the root).
+fn object_error(path: &Path, object: &str, message: String) -> StoreError {
+    StoreError::Dataset {
+        path: path.display().to_string(),
+        dataset: if object == "/" { "/".into() } else { object.trim_start_matches('/').to_string() },
+        message,
+    }
+}
+
 /// Checks that every group, dataset and attribute of `expected` (a file
 /// written afresh from what `actual` read back as) is in `actual` with the
 /// same value: an attribute that a reader does not use (a unit, the CF
@@ -108,11 +129,7 @@ const SCALES: &[&str] = &["DIMENSION_LIST", "REFERENCE_LIST", "CLASS", "NAME", "
 /// `actual` are allowed; so are those of [`MADE`] and [`SCALES`], and a
 /// file without the root's `reason_details` (one written before it).
 pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path) -> Result<(), StoreError> {
-    let fail = |object: &str, message: String| StoreError::Dataset {
-        path: path.display().to_string(),
-        dataset: if object == "/" { "/".into() } else { object.trim_start_matches('/').to_string() },
-        message,
-    };
+    let fail = |object: &str, message: String| object_error(path, object, message);
     let mut pending = vec!["/".to_string()];
     while let Some(name) = pending.pop() {
         let (want, have): (hdf5::Location, hdf5::Location) = match expected.group(&name) {
@@ -154,7 +171,7 @@ pub(crate) fn attributes(expected: &hdf5::File, actual: &hdf5::File, path: &Path
                 },
             )?;
             if h.as_ref() != Some(&w) {
-                return Err(fail(&name, format!("its attribute {attr} differs from what vibroatlas writes for this content: the file is damaged or was changed")));
+                return Err(differs(path, &name, &attr));
             }
         }
     }
