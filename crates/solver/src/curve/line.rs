@@ -26,7 +26,7 @@ use scene::Named;
 const STEP_POINTS: usize = 24;
 
 /// Points of the segment an orbit is carried along (Newton from each to the
-/// next; a failed step is halved by [`follow`]).
+/// next; a failed step is halved by [`Tracing::follow`](crate::curve::Tracing::follow)).
 const CARRY_POINTS: usize = 5;
 
 /// The orbit of a point of a fold curve, and the orbit a grazing curve's

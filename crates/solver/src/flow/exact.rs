@@ -1,7 +1,7 @@
 //! Exact flow with guaranteed event location (conservative advancement).
 //!
 //! Between events each guard is `g(u) = Σ_t Re(f_t(u) β_t)` (see
-//! [`super::spectral`]). From the current time, the guard cannot vanish before
+//! [`crate::spectral`]). From the current time, the guard cannot vanish before
 //! the first positive root of the lower bound `g + g' h - G₂ h²/2`, where `G₂`
 //! bounds `|g''|` over the rest of the horizon from the modal amplitudes. Stepping
 //! by that root never jumps over a root, including a grazing one (a gap dipping
