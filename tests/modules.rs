@@ -13,9 +13,11 @@ use std::path::Path;
 /// declares), so that a bad expression is refused when the system is built.
 const ALLOWED: [(&str, &str, &str); 1] = [("solver", "system", "quantity")];
 
-/// The code of a file: its lines that are not comments, up to its tests.
+/// The code of a file: its lines that are not comments, up to its inline
+/// test module (`#[cfg(test)] mod tests { … }`, last in the file; a test
+/// module of its own file, `tests.rs`, is skipped by [`sources`]).
 fn code(text: &str) -> String {
-    let text = text.split("#[cfg(test)]").next().unwrap_or_default();
+    let text = text.split("#[cfg(test)]\nmod tests {").next().unwrap_or_default();
     text.lines().filter(|l| !l.trim_start().starts_with("//")).collect::<Vec<_>>().join("\n")
 }
 
@@ -26,7 +28,7 @@ fn sources(dir: &Path, into: &mut String) {
     for p in entries {
         if p.is_dir() {
             sources(&p, into);
-        } else if p.extension().is_some_and(|e| e == "rs") {
+        } else if p.extension().is_some_and(|e| e == "rs") && !p.ends_with("tests.rs") {
             into.push_str(&code(&std::fs::read_to_string(&p).unwrap()));
         }
     }
@@ -112,5 +114,9 @@ fn a_circle_is_seen() {
     g.entry("sim".into()).or_default();
     assert_eq!(circle(&g, "error"), Some(vec!["error".into(), "sim".into(), "error".into()]));
     assert_eq!(circle(&g, "lib2"), None);
-    assert_eq!(code("use crate::a;\n// crate::b\n#[cfg(test)]\nuse crate::c;"), "use crate::a;");
+    // The code after a `mod tests;` line counts; an inline test module does not.
+    assert_eq!(
+        code("use crate::a;\n// crate::b\n#[cfg(test)]\nmod tests;\nuse crate::d;\n#[cfg(test)]\nmod tests {\nuse crate::c;\n}"),
+        "use crate::a;\n#[cfg(test)]\nmod tests;\nuse crate::d;"
+    );
 }
