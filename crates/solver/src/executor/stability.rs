@@ -27,9 +27,10 @@ pub(super) const UNSTABLE: f64 = 1e-2;
 /// [`Executor::unsettled`]).
 pub(super) const NEUTRAL: f64 = 1e-9;
 
-/// How far from 1 a rigid mode's multiplier may lie over a flow without
-/// events (exactly 1 there; a Jordan block's pair is split by about the
-/// square root of the rounding, 1e-8), see [`without_drift`].
+/// How far from 1 a family's multiplier may lie over a flow without events
+/// (exactly 1 there: a rigid mode's, whose Jordan block's pair is split by
+/// about the square root of the rounding, 1e-8; a stuck friction
+/// contact's), see [`without_drift`].
 const DRIFT: f64 = 1e-6;
 
 /// Periods of simulation after which the motion is near enough to an orbit
@@ -51,9 +52,9 @@ pub(super) fn periods_to_settle(why: &Unresolved, n: usize, acc: &Accuracy) -> O
 }
 
 /// `mu` without the (at most) `drift` multipliers nearest 1 that lie within
-/// [`DRIFT`] of it: a rigid mode's, exactly 1 over a flow without events (a
+/// [`DRIFT`] of it, exactly 1 over a flow without events: a rigid mode's (a
 /// Jordan block of position and velocity, which rounding splits by about
-/// the square root of the rounding).
+/// the square root of the rounding), a stuck friction contact's.
 fn without_drift(mut mu: Vec<C64>, drift: usize) -> Vec<C64> {
     for _ in 0..drift {
         let nearest = (0..mu.len()).min_by(|&a, &b| (mu[a] - 1.0).norm().total_cmp(&(mu[b] - 1.0).norm()));
@@ -84,8 +85,9 @@ impl<'s> Executor<'s> {
     /// here only where it is measured anyway (`multipliers`), or where the
     /// record had no event (one linear flow). Over n periods without an
     /// event, a rigid mode's multipliers (1: the free mass's drift, a family
-    /// of orbits rather than a direction to contract along) are left out of
-    /// the test, not out of the multiplier the cell reports. `None` for a
+    /// of orbits rather than a direction to contract along) and a stuck
+    /// friction contact's (1: its masses' frozen offset) are left out of the
+    /// test, not out of the multiplier the cell reports. `None` for a
     /// settled orbit.
     pub(super) fn unsettled(&mut self, n: usize, hidden: bool) -> Option<Unresolved> {
         if !self.acc.multipliers && self.hist.iter().any(|r| r.events > 0) {
@@ -133,16 +135,22 @@ impl<'s> Executor<'s> {
 
     /// Phase 3: the largest Floquet multiplier modulus of the n-period map at
     /// the main simulator's state, on a probe tracking its tangent; and the
-    /// same without a rigid mode's over an event-free orbit ([`without_drift`]).
+    /// same without the multipliers of a family of orbits over an event-free
+    /// orbit ([`without_drift`]): a rigid mode's, and a friction contact's
+    /// that stayed stuck.
     pub(super) fn multiplier(&mut self, n: usize) -> Option<(f64, f64)> {
         let mut tangent = self.sim.probe();
         tangent.track_tangent();
         let x = self.sim.state().clone();
         // Over n periods without an event, a rigid mode's drift is a family
-        // of orbits, not a direction the orbit must contract along.
+        // of orbits, not a direction the orbit must contract along; so is
+        // the offset of the masses of a friction contact stuck throughout
+        // (frozen, whatever it is, while the friction holds: one multiplier
+        // 1, its relative velocity's 0).
         let len = self.hist.len();
-        let drift = match self.hist.range(len.saturating_sub(n)..).all(|r| r.events == 0) {
-            true => 2 * self.sys.rigid_modes(),
+        let window = self.hist.range(len.saturating_sub(n)..);
+        let drift = match window.clone().all(|r| r.events == 0) {
+            true => 2 * self.sys.rigid_modes() + window.last().map_or(0, |r| r.end_key.stuck.count_ones() as usize),
             false => 0,
         };
         self.budget.spend(&mut self.sim, &mut tangent, |t| {

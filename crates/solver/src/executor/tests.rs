@@ -9,6 +9,7 @@ use crate::period::distance;
 use crate::simulate::EventObserver;
 use crate::testing::system;
 use nalgebra::DVector;
+use num_complex::Complex64 as C64;
 
 fn multi_stop(omega: f64, delta: f64) -> System {
     system("multi-stop.toml", &[("omega", omega), ("delta", delta)])
@@ -629,6 +630,38 @@ fn a_resting_free_mass_is_no_unsettled_orbit() {
         let cell = run_cell(&sys, &acc, Method::Exact, &y0);
         assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "ω {omega}: {:?}", cell.reason);
         y0 = cell.final_state;
+    }
+}
+
+/// A friction contact stuck for good holds its masses' offset wherever the
+/// transient left it: a family of orbits, whose period map has the
+/// multiplier 1 (the offset) beside 0 (its rate) and the stuck body's own.
+/// On the dry-friction scene at f_k = 1 (stuck from the start, no event)
+/// the test of a settled orbit took that 1 for a map that does not
+/// contract: `U`, "a free oscillation that never settles", as were 838 of
+/// the 1 200 cells of the up sweep of ω 0.5–6 × f_k 0.05–2. The orbit is
+/// the linear forced response of the stuck body, `(1 + μ_m) x'' + 2 ζ μ_c
+/// x' + μ_k x = sin ωt`: amplitude `A = 1 / |μ_k − (1 + μ_m) ω² + 2iζμ_c ω|`,
+/// lagging the force by φ, so that at `t = kT` M2 is at `x = −A sin φ`
+/// and both masses move at `v = A ω cos φ`.
+#[test]
+fn a_contact_stuck_for_good_is_a_periodic_family() {
+    let acc = Accuracy::default();
+    for (fk, omega) in [(1.0, 5.0), (2.0, 3.0), (1.0, 1.0)] {
+        let sys = system("dry-friction.toml", &[("fk", fk), ("omega", omega)]);
+        let cell = run_cell(&sys, &acc, Method::Exact, &sys.model.initial_state());
+        assert_eq!((cell.class, cell.n), (Class::Periodic, Some(1)), "f_k {fk}, ω {omega}: {:?}", cell.reason);
+        assert!(cell.friction_stick.contains(0));
+        assert_eq!(cell.impacts, vec![0, 0]);
+        let (mass, stiffness, damping) = (11.0, 5.0, 2.0 * 0.1 * 5.0);
+        let response = C64::new(stiffness - mass * omega * omega, damping * omega);
+        let (amplitude, lag) = (1.0 / response.norm(), response.arg());
+        // x2 moves as the body; x1 is x2 plus the offset the transient left.
+        let [_, x2, v1, v2] = cell.final_state[..] else { panic!("four states") };
+        let (x, v) = (-amplitude * lag.sin(), amplitude * omega * lag.cos());
+        for (got, want) in [(x2, x), (v1, v), (v2, v)] {
+            assert!((got - want).abs() <= 1e-4 * amplitude * omega, "f_k {fk}, ω {omega}: {got} against {want}");
+        }
     }
 }
 
