@@ -35,7 +35,6 @@ impl Scene {
         let mass_names: Vec<String> = file.masses.iter().map(|m| m.name.clone()).collect();
         unique(&mass_names, "masses")?;
         let masses = compile_masses(&file, &index)?;
-        let mass = |name: &str, field: String| index_of(&mass_names, name, || field, "mass");
         let links = compile_links(&file, &index, &mass_names)?;
         let stop_names: Vec<String> = file.stops.iter().map(|s| s.name.clone()).collect();
         unique(&stop_names, "stops")?;
@@ -48,15 +47,7 @@ impl Scene {
         check_combination(&file, &stops.iter().map(|(_, l)| l.clone()).collect::<Vec<_>>())?;
         let friction = compile_friction(&file, &index, &mass_names)?;
 
-        let mut labels = Vec::new();
-        for (name, spec) in &file.labels {
-            let m = mass(name, format!("labels.{name}"))?;
-            let stop = |s: &Option<String>, k: &str| {
-                s.as_deref().map(|s| index_of(&stop_names, s, || format!("labels.{name}.{k}"), "stop")).transpose()
-            };
-            labels.push((m, stop(&spec.p, "p")?, stop(&spec.q, "q")?));
-        }
-        labels.sort_by_key(|l| l.0);
+        let labels = compile_labels(&file, &mass_names, &stop_names)?;
 
         let quantities = file
             .quantities
@@ -122,6 +113,56 @@ fn evaluation_order(params: &[(Compiled, Option<Range>)]) -> Vec<usize> {
         }
     }
     order
+}
+
+/// The `[labels]` tables: per labelled mass (by index, in order) the
+/// stops counted as its p and q. Each names a stop that the mass strikes
+/// (a frame stop on it, or a pair stop of it and another mass); `p` is
+/// required, `q` may be left out (always 0) but is not `p` again, whose
+/// impacts it would count twice.
+fn compile_labels(
+    file: &SceneFile,
+    mass_names: &[String],
+    stop_names: &[String],
+) -> Result<Vec<(usize, Option<usize>, Option<usize>)>, SceneError> {
+    let mut labels = Vec::new();
+    for (name, spec) in &file.labels {
+        let m = index_of(mass_names, name, || format!("labels.{name}"), "mass")?;
+        let stop = |s: &str, k: &str| {
+            let field = format!("labels.{name}.{k}");
+            let i = index_of(stop_names, s, || field.clone(), "stop")?;
+            let st = &file.stops[i];
+            let strikes = st.mass.as_deref() == Some(name.as_str())
+                || st.masses.as_ref().is_some_and(|ms| ms.iter().any(|x| x == name));
+            match strikes {
+                true => Ok(i),
+                false => Err(SceneError::field(
+                    field,
+                    format!("stop '{s}' does not act on mass '{name}': a label counts the mass's own impacts"),
+                )),
+            }
+        };
+        let Some(p) = spec.p.as_deref() else {
+            return Err(SceneError::field(
+                format!("labels.{name}.p"),
+                "missing: the stop counted as p in the mass's n-p-q label",
+            ));
+        };
+        let p = stop(p, "p")?;
+        let q = spec.q.as_deref().map(|q| stop(q, "q")).transpose()?;
+        if q == Some(p) {
+            return Err(SceneError::field(
+                format!("labels.{name}.q"),
+                format!(
+                    "'{}' is p's stop too: each of its impacts would count twice; leave q out for a mass with one stop",
+                    stop_names[p]
+                ),
+            ));
+        }
+        labels.push((m, Some(p), q));
+    }
+    labels.sort_by_key(|l| l.0);
+    Ok(labels)
 }
 
 pub(crate) fn index_of(
@@ -406,7 +447,76 @@ fn compile_friction(file: &SceneFile, index: &Names, mass_names: &[String]) -> R
 #[cfg(test)]
 mod tests {
     use super::name_problem;
-    use crate::MAX_NAME_CHARS;
+    use crate::{Scene, MAX_NAME_CHARS};
+
+    /// Two masses on springs, each with a frame stop, and a pair stop
+    /// between them; `labels` is the scene's `[labels]` part.
+    fn with_labels(labels: &str) -> Result<Scene, String> {
+        let scene = format!(
+            r#"name = "t"
+[parameters]
+[forcing]
+omega = 1
+[[masses]]
+name = "X"
+mass = 1
+force = 1
+[[masses]]
+name = "Y"
+mass = 1
+[[links]]
+masses = ["X"]
+stiffness = 1
+[[links]]
+masses = ["Y"]
+stiffness = 1
+[[stops]]
+name = "up"
+mass = "X"
+side = "above"
+position = 1
+restitution = 0.8
+[[stops]]
+name = "low"
+mass = "Y"
+side = "below"
+position = -1
+restitution = 0.8
+[[stops]]
+name = "XY"
+masses = ["X", "Y"]
+gap = 1
+restitution = 0.8
+{labels}"#
+        );
+        Scene::parse(&scene).map_err(|e| e.to_string())
+    }
+
+    /// A label counts its mass's own impacts: p is given, names a stop the
+    /// mass strikes (its frame stop or a pair stop of it), and q is not p's
+    /// stop again (each impact would count twice). An empty `[labels.X]`
+    /// labelled every motion `n-0-0`; `q = p` counted one impact as `1-1-1`;
+    /// another mass's stop gave X that mass's count.
+    #[test]
+    fn a_label_counts_its_own_masses_impacts_once() {
+        for good in
+            ["[labels.X]\np = \"up\"", "[labels.X]\np = \"XY\"\nq = \"up\"", "[labels.Y]\np = \"XY\"\nq = \"low\""]
+        {
+            assert!(with_labels(good).is_ok(), "{good}: {:?}", with_labels(good).err());
+        }
+        for (bad, said) in [
+            ("[labels.X]", "labels.X.p: missing"),
+            ("[labels.X]\nq = \"up\"", "labels.X.p: missing"),
+            ("[labels.X]\np = \"up\"\nq = \"up\"", "labels.X.q: 'up' is p's stop too"),
+            ("[labels.Y]\np = \"up\"", "labels.Y.p: stop 'up' does not act on mass 'Y'"),
+            ("[labels.X]\np = \"up\"\nq = \"low\"", "labels.X.q: stop 'low' does not act on mass 'X'"),
+            ("[labels.X]\np = \"side\"", "labels.X.p: unknown stop 'side'"),
+            ("[labels.Z]\np = \"up\"", "labels.Z: unknown mass 'Z'"),
+        ] {
+            let err = with_labels(bad).expect_err(bad);
+            assert!(err.contains(said), "{bad}: {err}");
+        }
+    }
 
     #[test]
     fn names_follow_hdf5_group_rules() {
