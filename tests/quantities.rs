@@ -295,6 +295,38 @@ print(int(np.sum(np.abs(diff) > 1e-6)))
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// A built-in quantity whose name holds a '-' (a friction contact's,
+/// `slip_M1-M2`, or a stop's with a '-' in its name) is written in braces
+/// in a scene's own quantity, which is then that expression of the cell's
+/// values; bare, the '-' reads as a subtraction, and the error says to
+/// brace the name.
+#[test]
+fn a_quantity_may_name_a_hyphenated_one_in_braces() {
+    let d = scratch("quantities-braces");
+    let scene = std::fs::read_to_string("configs/dry-friction.toml").unwrap();
+    let with = |value: &str| {
+        let path = d.join("friction.toml");
+        std::fs::write(&path, format!("{scene}\n[quantities]\nslip_share = {{ value = \"{value}\" }}\n")).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let v = json_of(&["cell", &with("{slip_M1-M2} / (1 + max_abs_x_M1)"), "--json"]);
+    let q = &v["quantities"];
+    let (slip, x, share) =
+        (q["slip_M1-M2"].as_f64().unwrap(), q["max_abs_x_M1"].as_f64().unwrap(), q["slip_share"].as_f64().unwrap());
+    assert!(slip > 0.0, "the scene's default motion slips: {slip}");
+    assert_eq!(share, slip / (1.0 + x));
+    let out = run(&["cell", &with("slip_M1-M2 / (1 + max_abs_x_M1)")]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("quantities.slip_share.value: unknown parameter or quantity 'M2'")
+            && err.contains("write 'slip_M1-M2' in braces: {slip_M1-M2}")
+            && err.trim().lines().count() == 1,
+        "{err}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// `[scales]`: with the soft-stop scene's units given as 2 mm, 10 ms and
 /// 40 N, every quantity of `cell --json` is the dimensionless scene's value
 /// times its dimension's factor (lengths 0.002, speeds 0.2, forces 40,

@@ -212,6 +212,27 @@ fn check(source: &str, names: &Names<'_>) -> Result<String, String> {
             }
             operand = !call;
             last_op = None;
+        } else if c == '{' {
+            // A name written in braces, which may hold characters that a bare
+            // name may not: a built-in quantity of a stop or friction contact
+            // whose name has a '-' (`{slip_M1-M2}`).
+            let Some(len) = chars[i + 1..].iter().position(|&d| d == '}') else {
+                return Err("'{' without '}': a name in braces ends with '}'".into());
+            };
+            let name: String = chars[i + 1..i + 1 + len].iter().collect();
+            if name.trim().is_empty() || name.contains('{') {
+                return Err(format!("'{{{name}}}' is not a name in braces"));
+            }
+            if operand {
+                return Err(format!("expected an operator before '{{{name}}}'"));
+            }
+            if !names.admits(&name) {
+                return Err(format!("unknown parameter '{name}'"));
+            }
+            out.push_str(&format!("{{{name}}}"));
+            i += len + 2;
+            operand = true;
+            last_op = None;
         } else if "+-*/^".contains(c) {
             let unary = c == '+' || c == '-';
             if !operand && !unary {
@@ -409,6 +430,24 @@ mod tests {
         let c = Compiled::new(&Num::Expr("2*max_gap + min - e2 + e".into()), &Names::new(&names), "f").unwrap();
         let v = c.eval(&[3.0, 0.5, 1.0], String::new).unwrap();
         assert!((v - (6.0 + 0.5 - 1.0 + std::f64::consts::E)).abs() < 1e-15, "{v}");
+    }
+
+    /// A name in braces may hold a '-' (a built-in quantity of a stop or
+    /// contact whose name has one, `{slip_M1-M2}`), which bare reads as a
+    /// subtraction.
+    #[test]
+    fn a_name_in_braces_may_hold_a_hyphen() {
+        let names = ["a-b".to_string(), "c".to_string()];
+        let c = Compiled::new(&Num::Expr("2*{a-b} - {c} + c".into()), &Names::new(&names), "f").unwrap();
+        assert_eq!(c.eval(&[3.0, 0.5], String::new).unwrap(), 6.0);
+        let err = |t: &str| Compiled::new(&Num::Expr(t.into()), &Names::new(&names), "f").unwrap_err().to_string();
+        assert_eq!(err("2*{a-c}"), "f: unknown parameter 'a-c' in expression '2*{a-c}'");
+        assert_eq!(err("{a-b"), "f: '{' without '}': a name in braces ends with '}' in expression '{a-b'");
+        assert_eq!(err("1 + {}"), "f: '{}' is not a name in braces in expression '1 + {}'");
+        assert_eq!(err("c {c}"), "f: expected an operator before '{c}' in expression 'c {c}'");
+        // Where any name is admitted (a quantity's operands, resolved later).
+        let expr = parse("{slip_M1-M2} / 2", &Names::open(&[]), "f").unwrap();
+        assert_eq!(expr.var_names(), ["slip_M1-M2"]);
     }
 
     #[test]

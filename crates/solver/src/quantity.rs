@@ -294,10 +294,13 @@ pub(crate) fn resolve(sys: &System) -> Result<Vec<Vec<usize>>, SolverError> {
                     Operand::Parameter(k) => Ok(*k),
                     Operand::Quantity(name) => {
                         built_in.iter().position(|b| b == name).map(|k| params + k).ok_or_else(|| {
+                            // A name with a '-' reads as a subtraction unless it is in braces.
+                            let braced = built_in.iter().find(|b| b.contains('-') && d.source.contains(b.as_str()));
+                            let hint = braced.map_or(String::new(), |b| format!("; write '{b}' in braces: {{{b}}}"));
                             refuse(
                                 format!("quantities.{}.value", d.name),
                                 format!(
-                                    "unknown parameter or quantity '{name}' in expression '{}' (its quantities: {})",
+                                    "unknown parameter or quantity '{name}' in expression '{}'{hint} (its quantities: {})",
                                     d.source,
                                     built_in.join(", ")
                                 ),
