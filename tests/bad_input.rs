@@ -41,6 +41,48 @@ fn unknown_key() {
     expect_error(&["cell", p.to_str().unwrap()], "elasticity");
 }
 
+/// A value of the wrong type says what was expected, and a parameter's
+/// table its own mistake: the parser's words were "data did not match any
+/// variant of untagged enum Num" (or `ParamSpec`), whatever the mistake.
+#[test]
+fn a_value_of_the_wrong_type_says_what_was_expected() {
+    for (name, from, to, says) in [
+        (
+            "bool-number.toml",
+            "stiffness = 1",
+            "stiffness = true",
+            "invalid type: boolean `true`, expected a number or an expression in quotes",
+        ),
+        (
+            "list-number.toml",
+            "stiffness = 1",
+            "stiffness = [1]",
+            "invalid type: sequence, expected a number or an expression in quotes",
+        ),
+        (
+            "bool-parameter.toml",
+            "tau = { value = 0.0, doc = \"forcing phase\", symbol = \"τ\" }",
+            "tau = false",
+            "expected a number, an expression in quotes, or a table",
+        ),
+        (
+            "typo-parameter.toml",
+            "mu_m = { value",
+            "mu_m = { rnage = \"(0, 1)\", value",
+            "unknown field `rnage`, expected one of `value`",
+        ),
+        (
+            "bool-value.toml",
+            "mu_m = { value = 0.5",
+            "mu_m = { value = true",
+            "invalid type: boolean `true`, expected a number or an expression",
+        ),
+    ] {
+        let p = scene_file(name, &multi_stop_with(from, to));
+        expect_error(&["cell", p.to_str().unwrap()], says);
+    }
+}
+
 #[test]
 fn missing_parameter_in_expression() {
     let p = scene_file("missing.toml", &multi_stop_with("position = \"-delta1\"", "position = \"-delta9\""));

@@ -8,13 +8,40 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 
 /// A number or an expression of the parameters.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub enum Num {
     /// A literal number.
     Value(f64),
     /// An expression of parameters, evaluated per cell.
     Expr(String),
+}
+
+/// A TOML number (integer or float) is a [`Num::Value`], a string a
+/// [`Num::Expr`]; anything else is refused with what was expected, which
+/// the parse error prints beside the key's line and column.
+impl<'de> Deserialize<'de> for Num {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Num, D::Error> {
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Num;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number or an expression in quotes (\"2*zeta\")")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<Num, E> {
+                Ok(Num::Value(v))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<Num, E> {
+                Ok(Num::Value(v as f64))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<Num, E> {
+                Ok(Num::Value(v as f64))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Num, E> {
+                Ok(Num::Expr(v.to_string()))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 impl Default for Num {
@@ -24,13 +51,44 @@ impl Default for Num {
 }
 
 /// A parameter: a plain number/expression, or a table with an allowed range.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(untagged)]
+#[derive(Debug, Clone)]
 pub enum ParamSpec {
     /// `delta = 0.6` or `delta1 = "delta"`.
     Plain(Num),
     /// `mu_m = { value = 0.5, range = "(0, 1)", doc = "…", symbol = "μ_m" }`.
     Ranged(RangedParam),
+}
+
+/// A number or a string is a [`ParamSpec::Plain`], a table a
+/// [`ParamSpec::Ranged`] whose own errors (an unknown key, a `value` of
+/// the wrong type) are the parse error's; anything else is refused with
+/// what was expected.
+impl<'de> Deserialize<'de> for ParamSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<ParamSpec, D::Error> {
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = ParamSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number, an expression in quotes, or a table { value = …, range = … }")
+            }
+            fn visit_f64<E>(self, v: f64) -> Result<ParamSpec, E> {
+                Ok(ParamSpec::Plain(Num::Value(v)))
+            }
+            fn visit_i64<E>(self, v: i64) -> Result<ParamSpec, E> {
+                Ok(ParamSpec::Plain(Num::Value(v as f64)))
+            }
+            fn visit_u64<E>(self, v: u64) -> Result<ParamSpec, E> {
+                Ok(ParamSpec::Plain(Num::Value(v as f64)))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<ParamSpec, E> {
+                Ok(ParamSpec::Plain(Num::Expr(v.to_string())))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<ParamSpec, A::Error> {
+                RangedParam::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(ParamSpec::Ranged)
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 /// A parameter with the interval its values must lie in.
