@@ -92,7 +92,9 @@ impl Scene {
             return Err(SceneError::field(
                 "forcing.omega",
                 format!(
-                    "must be at least {OMEGA_MIN:e} (under slower forcing every velocity is below the solver's stick velocity and contacts cannot be told from rest), got {omega:e}"
+                    "must be at least {OMEGA_MIN:e} (under slower forcing every velocity is below the solver's stick velocity and contacts cannot be told from rest), got {}",
+                    // 1e-7 as such, 0 and -2 plainly (`{:e}` writes 0e0 and -2e0).
+                    if omega == 0.0 || omega.abs() >= 1e-3 { format!("{omega}") } else { format!("{omega:e}") }
                 ),
             ));
         }
