@@ -197,6 +197,34 @@ fn the_architecture_pages_dependencies_are_the_cargo_files() {
     assert_eq!(seen, all, "crates the sentence names");
 }
 
+/// docs/models.md's chaotic transient longer than the record: the single
+/// stop it names is `C` at `standard` and with `chaos_check = 0`, and the
+/// orbit it reaches at `precise`, each over the periods the page gives.
+/// Where a change tells it at `standard`, the page must say so.
+#[test]
+fn models_chaotic_transient_is_what_cell_prints() {
+    let page = read("docs/models.md");
+    let said = "single stop with ζ = 1e-4, σ = 0.2 and r = 0.377368 at ω = 2.672414";
+    let at = page.find(said).expect("the example");
+    let text = page[at..at + 400].split_whitespace().collect::<Vec<_>>().join(" ");
+    let scene = ["cell", "configs/single-stop.toml", "--json", "--set", "zeta=1e-4", "--set", "sigma=0.2"];
+    let scene = [&scene[..], &["--set", "r=0.377368", "--set", "omega=2.672414"]].concat();
+    for (extra, label, periods) in [
+        (&[][..], "C", 321),
+        (&["--accuracy", "chaos_check=0"][..], "C", 721),
+        (&["--preset", "precise"][..], "40-28-0", 3310),
+    ] {
+        let v = json_of(&[&scene[..], extra].concat());
+        assert_eq!(
+            (v["labels"]["M"].as_str(), v["periods_simulated"].as_u64()),
+            (Some(label), Some(periods)),
+            "{extra:?}"
+        );
+        let shown = format!("{}", periods).replace("3310", "3 310");
+        assert!(text.contains(&format!("`{label}`")) && text.contains(&shown), "{label} over {shown}: {text}");
+    }
+}
+
 /// Issue 60: docs/models.md section 13 runs its command and quotes what it
 /// prints: every `"name": value` the section quotes is the value of
 /// `quantities` (bit for bit, as JSON prints it), and its attenuation in dB is
