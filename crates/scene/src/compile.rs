@@ -9,8 +9,8 @@ use crate::expr::{self, Compiled, Names, Range};
 use crate::schema::{self, Num, ParamSpec, SceneFile};
 use crate::symbol;
 use crate::{
-    CompiledLaw, CompiledMass, Derived, Scales, Scene, SceneError, StopPlace, MAX_FRICTION, MAX_HARMONIC, MAX_MASSES,
-    MAX_NAME_CHARS, MAX_STOPS,
+    CompiledLaw, CompiledMass, Derived, LabelStops, Scales, Scene, SceneError, StopPlace, MAX_FRICTION, MAX_HARMONIC,
+    MAX_MASSES, MAX_NAME_CHARS, MAX_STOPS,
 };
 
 impl Scene {
@@ -124,7 +124,7 @@ fn compile_labels(
     file: &SceneFile,
     mass_names: &[String],
     stop_names: &[String],
-) -> Result<Vec<(usize, Option<usize>, Option<usize>)>, SceneError> {
+) -> Result<Vec<LabelStops>, SceneError> {
     let mut labels = Vec::new();
     for (name, spec) in &file.labels {
         let m = index_of(mass_names, name, || format!("labels.{name}"), "mass")?;
@@ -159,9 +159,9 @@ fn compile_labels(
                 ),
             ));
         }
-        labels.push((m, Some(p), q));
+        labels.push(LabelStops { mass: m, p: Some(p), q });
     }
-    labels.sort_by_key(|l| l.0);
+    labels.sort_by_key(|l| l.mass);
     Ok(labels)
 }
 

@@ -6,8 +6,8 @@
 use crate::compile::index_of;
 use crate::expr::Compiled;
 use crate::{
-    CompiledLaw, Friction, Harmonic, LabelStops, Link, Mass, Model, Scene, SceneError, Stop, StopGeometry, StopLaw,
-    StopPlace, INITIAL_PENETRATION, MASS_RATIO_MIN, OMEGA_MIN,
+    CompiledLaw, Friction, Harmonic, Link, Mass, Model, Scene, SceneError, Stop, StopGeometry, StopLaw, StopPlace,
+    INITIAL_PENETRATION, MASS_RATIO_MIN, OMEGA_MIN,
 };
 
 /// A phase (radians) as the solver takes it: the value itself where
@@ -158,7 +158,7 @@ impl Scene {
             links,
             stops,
             friction,
-            labels: self.labels.iter().map(|&(mass, p, q)| LabelStops { mass, p, q }).collect(),
+            labels: self.labels.clone(),
             parameters: self.names.iter().cloned().zip(values.iter().copied()).collect(),
             quantities: self.quantities.clone(),
             scales: self.scales.clone(),

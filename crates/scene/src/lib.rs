@@ -137,7 +137,7 @@ pub struct Scene {
     links: Vec<(usize, Option<usize>, Compiled, Compiled)>,
     stops: Vec<(StopPlace, CompiledLaw)>,
     friction: Vec<(usize, usize, Compiled, Compiled)>,
-    labels: Vec<(usize, Option<usize>, Option<usize>)>,
+    labels: Vec<LabelStops>,
     /// The quantities it defines (`[quantities]`).
     quantities: std::sync::Arc<[Derived]>,
     /// Its physical scales (`[scales]`).
