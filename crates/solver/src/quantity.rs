@@ -757,7 +757,7 @@ impl Meter<'_> {
                 }
             }
             let v_abs = |y: &DVector<f64>| y[m + i].abs();
-            if let (_, Some(bracket)) = inner_peak(nodes, v_abs, self.v_abs_max[i]) {
+            if let (_, Some(bracket)) = node_peak(seg, nodes, v_abs, self.v_abs_max[i], y) {
                 let best = peak(seg, bracket, y, v_abs);
                 self.v_abs_max[i] = self.v_abs_max[i].max(best);
             }
@@ -767,7 +767,7 @@ impl Meter<'_> {
                 continue;
             }
             let force = |y: &DVector<f64>| self.sys.contact_force(k, y);
-            let (mut best, bracket) = inner_peak(nodes, force, self.stops[k].force_max);
+            let (mut best, bracket) = node_peak(seg, nodes, force, self.stops[k].force_max, y);
             if let Some(bracket) = bracket {
                 best = best.max(peak(seg, bracket, y, force));
             }
@@ -781,15 +781,23 @@ fn quadratic(a: &nalgebra::DMatrix<f64>, z: &[f64]) -> f64 {
     (0..z.len()).map(|i| z[i] * (0..z.len()).map(|j| a[(i, j)] * z[j]).sum::<f64>()).sum()
 }
 
-/// The largest value of `f` at the points of `nodes`, and the bracket
-/// `(left, right)` around it if it is at an inner point and may pass `known`
-/// (the peak of a smooth function between points no farther apart than a
-/// sixth of its oscillation exceeds the largest of them by less than a
-/// quarter).
-fn inner_peak(
+/// The largest value of `f` at the points of `nodes` (a piece of `seg`,
+/// ascending in time), and the bracket that holds a larger one, if it may
+/// pass `known` (the peak of a smooth function between points no farther
+/// apart than a sixth of its oscillation exceeds the largest of them by
+/// less than a quarter): around an inner point; and between an end and its
+/// neighbour where `f` still rises into the piece from that end, a peak
+/// just before an impact or across a piece's boundary (the symmetric
+/// stops' `max_abs_v_M1` at their default read 1.1715001 at the impact
+/// that ends the segment, 1.1715112 at its peak 3e-3 before it). That rise
+/// is told `1e-6` of the bracket inside the end: a peak nearer the end
+/// than half of that exceeds it by less than `1e-13` of its value.
+fn node_peak(
+    seg: &mut Segment<'_>,
     nodes: &[(f64, DVector<f64>)],
     f: impl Fn(&DVector<f64>) -> f64,
     known: f64,
+    y: &mut DVector<f64>,
 ) -> (f64, Option<(f64, f64)>) {
     let (mut best, mut value) = (0, f64::NEG_INFINITY);
     for (k, (_, y)) in nodes.iter().enumerate() {
@@ -798,8 +806,16 @@ fn inner_peak(
             (best, value) = (k, v);
         }
     }
-    let inner = best > 0 && best + 1 < nodes.len();
-    (value, (inner && 1.25 * value >= known).then(|| (nodes[best - 1].0, nodes[best + 1].0)))
+    let last = nodes.len() - 1;
+    if 1.25 * value < known || last == 0 {
+        return (value, None);
+    }
+    if best > 0 && best < last {
+        return (value, Some((nodes[best - 1].0, nodes[best + 1].0)));
+    }
+    let (end, next) = if best == 0 { (nodes[0].0, nodes[1].0) } else { (nodes[last].0, nodes[last - 1].0) };
+    seg.state(end + 1e-6 * (next - end), y);
+    (value, (f(y) > value).then_some((end.min(next), end.max(next))))
 }
 
 /// Position `i` where velocity component `k` of the state vanishes between
