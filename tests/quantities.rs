@@ -295,6 +295,38 @@ print(int(np.sum(np.abs(diff) > 1e-6)))
     std::fs::remove_dir_all(&d).unwrap();
 }
 
+/// A quantity whose values take both signs (the damper's attenuation,
+/// −11.7 to 8.0 dB on this plane, 0 dB the bare primary's amplitude) is
+/// drawn on the diverging scale centred at 0: its value farthest from 0 in
+/// full blue (below) or red, every cell no viridis colour; one that keeps
+/// its sign (an amplitude) on viridis from its least value, whose colour
+/// its least cell has.
+#[test]
+fn a_quantity_of_both_signs_is_drawn_about_zero() {
+    let d = scratch("quantities-signed");
+    let f = damper(&d, &[]);
+    let fills = |view: &str| {
+        let svg = d.join(format!("{view}.svg"));
+        ok(&["render", &f, "--view", view, "--sweep", "up", "-o", svg.to_str().unwrap()]);
+        let text = std::fs::read_to_string(&svg).unwrap();
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        doc.descendants()
+            .filter(|n| n.has_tag_name("rect"))
+            .filter_map(|n| n.attribute("fill").map(str::to_string))
+            .collect::<std::collections::BTreeSet<String>>()
+    };
+    let (blue, red, viridis_least) = ("#2166AC", "#B2182B", "#440154");
+    let signed = fills("attenuation");
+    assert!(signed.contains(blue) || signed.contains(red), "{signed:?}");
+    assert!(!signed.contains(viridis_least), "{signed:?}");
+    let amplitude = fills("max_abs_x_M1");
+    assert!(
+        amplitude.contains(viridis_least) && !amplitude.contains(blue) && !amplitude.contains(red),
+        "{amplitude:?}"
+    );
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
 /// A built-in quantity whose name holds a '-' (a friction contact's,
 /// `slip_M1-M2`, or a stop's with a '-' in its name) is written in braces
 /// in a scene's own quantity, which is then that expression of the cell's

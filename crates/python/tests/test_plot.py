@@ -141,7 +141,7 @@ def test_hysteresis_default_figure(tree):
 
 
 @pytest.mark.parametrize("quantity", ["multiplier", "lyapunov", "max_abs_x_M1", "impact_speed_max_A1",
-                                      "max_abs_x_M1:hysteresis"])
+                                      "mean_x_M1", "max_abs_x_M1:hysteresis"])
 def test_scalar_views_paint_the_colours_render_paints(tmp_path, quantity):
     """va.plot.scalar (and va.plot.quantity, for a quantity of the steady
     motion or a number of the classification, here lyapunov, and

@@ -25,7 +25,9 @@ pub(crate) trait Drawn {
     fn unit(self, m: &Meta) -> String;
     /// The neutral value a diverging scale is centred on; none for a
     /// quantity of the steady motion, drawn on a sequential scale from its
-    /// smallest value to its largest.
+    /// smallest value to its largest, or, where its values take both signs
+    /// (an attenuation in dB, a mean position), on the diverging scale
+    /// centred at 0 ([`Scaled::of`]).
     fn centre(self) -> Option<f64>;
 }
 
@@ -110,6 +112,12 @@ impl Scaled {
                     (true, false) => (lo - 0.5, lo + 0.5),
                     (false, _) => (0.0, 1.0),
                 };
+                // Values of both signs: their sign is read at a glance
+                // (white at 0, blue below, red above).
+                if lo < 0.0 && hi > 0.0 {
+                    let reach = hi.max(-lo);
+                    return Ok(Scaled { values, lo: -reach, hi: reach, diverging: Some((0.0, reach)) });
+                }
                 Scaled { values, lo, hi, diverging: None }
             }
         })

@@ -379,12 +379,14 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     """Draws a quantity of the steady motion of a sweep group (`max_abs_x_M1`,
     `impact_speed_max_A1`, `power_in`: docs/models.md, section 13), as
     `vibroatlas render --view NAME` does, and returns the Axes: a sequential
-    scale (viridis) from the smallest value to the largest, cells without a
-    value grey, each cell in exactly the colour render gives it. As with
+    scale (viridis) from the smallest value to the largest, or, where the
+    values take both signs, the diverging scale centred at 0 (blue below,
+    white at 0, red above, full colour at the value farthest from 0); cells
+    without a value grey, each cell in exactly the colour render gives it. As with
     `--view`, `multiplier` and `lyapunov`, the numbers of the classification,
     are drawn as `scalar` draws them."""
     import matplotlib.pyplot as plt
-    from matplotlib.colors import ListedColormap, Normalize
+    from matplotlib.colors import LinearSegmentedColormap, ListedColormap, Normalize
 
     if name in _CENTRE:
         return scalar(ds, name, ax, colorbar=colorbar, title=title)
@@ -398,11 +400,21 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     lo, hi = (float(v[finite].min()), float(v[finite].max())) if finite.any() else (0.0, 1.0)
     if hi <= lo:
         lo, hi = lo - 0.5, lo + 0.5
-    rgb = np.where(finite[..., None], _sequential((np.where(finite, v, lo) - lo) / (hi - lo)), np.array(_NONE))
+    signed = lo < 0.0 < hi
+    if signed:
+        reach = max(hi, -lo)
+        lo, hi = -reach, reach
+        rgb = np.where(finite[..., None], _diverging(np.where(finite, v, 0.0) / reach), np.array(_NONE))
+    else:
+        rgb = np.where(finite[..., None], _sequential((np.where(finite, v, lo) - lo) / (hi - lo)), np.array(_NONE))
     sweep = f"{node} sweep: " if node else ""
     ax = _paint(ds, name, rgb, ax, title if title is not None else sweep + ds[name].attrs.get("long_name", name))
     if colorbar:
-        cmap = ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
+        if signed:
+            cmap = LinearSegmentedColormap.from_list(
+                "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
+        else:
+            cmap = ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
         units = ds[name].attrs.get("units", "1")
         bar.set_label(name if units == "1" else f"{name} ({units})")
