@@ -507,7 +507,7 @@ impl Plan {
             label_stops: model
                 .labels
                 .iter()
-                .map(|l| [l.p, l.q].map(|k| k.map_or(String::new(), |k| model.stops[k].name.clone())))
+                .map(|l| [Some(l.p), l.q].map(|k| k.map_or(String::new(), |k| model.stops[k].name.clone())))
                 .collect(),
             stops: model.stops.iter().map(|st| st.name.clone()).collect(),
             stop_normals: setup.scene.stop_normals(),

@@ -98,29 +98,22 @@ impl Scaled {
     pub fn of(atlas: &Atlas, sweep: SweepKind, quantity: Number) -> Result<Scaled, RenderError> {
         let cells = sweep_cells(atlas, sweep)?;
         let values: Vec<Option<f64>> = cells.iter().map(|c| c.as_ref().and_then(|c| quantity.value(c))).collect();
-        Ok(match quantity.centre() {
-            Some(centre) => {
-                let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
-                let reach = if reach > 0.0 { reach } else { 1.0 };
-                Scaled { values, lo: centre - reach, hi: centre + reach, diverging: Some((centre, reach)) }
-            }
-            None => {
-                let lo = values.iter().flatten().copied().fold(f64::INFINITY, f64::min);
-                let hi = values.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
-                let (lo, hi) = match (lo.is_finite(), hi > lo) {
-                    (true, true) => (lo, hi),
-                    (true, false) => (lo - 0.5, lo + 0.5),
-                    (false, _) => (0.0, 1.0),
-                };
-                // Values of both signs: their sign is read at a glance
-                // (white at 0, blue below, red above).
-                if lo < 0.0 && hi > 0.0 {
-                    let reach = hi.max(-lo);
-                    return Ok(Scaled { values, lo: -reach, hi: reach, diverging: Some((0.0, reach)) });
-                }
-                Scaled { values, lo, hi, diverging: None }
-            }
-        })
+        if let Some(centre) = quantity.centre() {
+            return Ok(Scaled::about(values, centre));
+        }
+        let lo = values.iter().flatten().copied().fold(f64::INFINITY, f64::min);
+        let hi = values.iter().flatten().copied().fold(f64::NEG_INFINITY, f64::max);
+        // Values of both signs: their sign is read at a glance (white at 0,
+        // blue below, red above).
+        if lo < 0.0 && hi > 0.0 {
+            return Ok(Scaled::about(values, 0.0));
+        }
+        let (lo, hi) = match (lo.is_finite(), hi > lo) {
+            (true, true) => (lo, hi),
+            (true, false) => (lo - 0.5, lo + 0.5),
+            (false, _) => (0.0, 1.0),
+        };
+        Ok(Scaled { values, lo, hi, diverging: None })
     }
 
     /// Quantity `quantity` of the up sweep's cells less that of the down
@@ -130,9 +123,15 @@ impl Scaled {
         let (up, down) = (sweep_cells(atlas, SweepKind::Up)?, sweep_cells(atlas, SweepKind::Down)?);
         let value = |c: &Option<CellData>| c.as_ref().and_then(|c| quantity.value(c));
         let values: Vec<Option<f64>> = up.iter().zip(down.iter()).map(|(u, d)| Some(value(u)? - value(d)?)).collect();
-        let reach = values.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
+        Ok(Scaled::about(values, 0.0))
+    }
+
+    /// `values` on the diverging scale centred at `centre`, full colour at
+    /// the value farthest from it (at 1 from it where all are at it).
+    fn about(values: Vec<Option<f64>>, centre: f64) -> Scaled {
+        let reach = values.iter().flatten().map(|v| (v - centre).abs()).fold(0.0, f64::max);
         let reach = if reach > 0.0 { reach } else { 1.0 };
-        Ok(Scaled { values, lo: -reach, hi: reach, diverging: Some((0.0, reach)) })
+        Scaled { values, lo: centre - reach, hi: centre + reach, diverging: Some((centre, reach)) }
     }
 
     /// The colour of cell `i`.

@@ -47,7 +47,7 @@ impl Scene {
         check_combination(&file, &stops.iter().map(|(_, l)| l.clone()).collect::<Vec<_>>())?;
         let friction = compile_friction(&file, &index, &mass_names)?;
 
-        let labels = compile_labels(&file, &mass_names, &stop_names)?;
+        let labels = compile_labels(&file, &mass_names, &stop_names, &stops)?;
 
         let quantities = file
             .quantities
@@ -124,6 +124,7 @@ fn compile_labels(
     file: &SceneFile,
     mass_names: &[String],
     stop_names: &[String],
+    stops: &[(StopPlace, CompiledLaw)],
 ) -> Result<Vec<LabelStops>, SceneError> {
     let mut labels = Vec::new();
     for (name, spec) in &file.labels {
@@ -131,9 +132,10 @@ fn compile_labels(
         let stop = |s: &str, k: &str| {
             let field = format!("labels.{name}.{k}");
             let i = index_of(stop_names, s, || field.clone(), "stop")?;
-            let st = &file.stops[i];
-            let strikes = st.mass.as_deref() == Some(name.as_str())
-                || st.masses.as_ref().is_some_and(|ms| ms.iter().any(|x| x == name));
+            let strikes = match &stops[i].0 {
+                StopPlace::Frame { mass, .. } => *mass == m,
+                StopPlace::Pair { first, second, .. } => *first == m || *second == m,
+            };
             match strikes {
                 true => Ok(i),
                 false => Err(SceneError::field(
@@ -159,7 +161,7 @@ fn compile_labels(
                 ),
             ));
         }
-        labels.push(LabelStops { mass: m, p: Some(p), q });
+        labels.push(LabelStops { mass: m, p, q });
     }
     labels.sort_by_key(|l| l.mass);
     Ok(labels)

@@ -173,8 +173,8 @@ pub struct Friction {
 pub struct LabelStops {
     /// The labelled mass.
     pub mass: usize,
-    /// Stop counted as p, if any.
-    pub p: Option<usize>,
+    /// Stop counted as p.
+    pub p: usize,
     /// Stop counted as q, if any.
     pub q: Option<usize>,
 }

@@ -21,26 +21,30 @@ pub enum Num {
 /// the parse error prints beside the key's line and column.
 impl<'de> Deserialize<'de> for Num {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Num, D::Error> {
-        struct Visitor;
-        impl serde::de::Visitor<'_> for Visitor {
-            type Value = Num;
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("a number or an expression in quotes (\"2*zeta\")")
-            }
-            fn visit_f64<E>(self, v: f64) -> Result<Num, E> {
-                Ok(Num::Value(v))
-            }
-            fn visit_i64<E>(self, v: i64) -> Result<Num, E> {
-                Ok(Num::Value(v as f64))
-            }
-            fn visit_u64<E>(self, v: u64) -> Result<Num, E> {
-                Ok(Num::Value(v as f64))
-            }
-            fn visit_str<E>(self, v: &str) -> Result<Num, E> {
-                Ok(Num::Expr(v.to_string()))
-            }
-        }
-        d.deserialize_any(Visitor)
+        d.deserialize_any(NumVisitor)
+    }
+}
+
+/// Reads a [`Num`] from a TOML number or string ([`ParamSpec`]'s visitor
+/// hands it those).
+struct NumVisitor;
+
+impl serde::de::Visitor<'_> for NumVisitor {
+    type Value = Num;
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a number or an expression in quotes (\"2*zeta\")")
+    }
+    fn visit_f64<E>(self, v: f64) -> Result<Num, E> {
+        Ok(Num::Value(v))
+    }
+    fn visit_i64<E>(self, v: i64) -> Result<Num, E> {
+        Ok(Num::Value(v as f64))
+    }
+    fn visit_u64<E>(self, v: u64) -> Result<Num, E> {
+        Ok(Num::Value(v as f64))
+    }
+    fn visit_str<E>(self, v: &str) -> Result<Num, E> {
+        Ok(Num::Expr(v.to_string()))
     }
 }
 
@@ -71,17 +75,17 @@ impl<'de> Deserialize<'de> for ParamSpec {
             fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
                 f.write_str("a number, an expression in quotes, or a table { value = …, range = … }")
             }
-            fn visit_f64<E>(self, v: f64) -> Result<ParamSpec, E> {
-                Ok(ParamSpec::Plain(Num::Value(v)))
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<ParamSpec, E> {
+                NumVisitor.visit_f64(v).map(ParamSpec::Plain)
             }
-            fn visit_i64<E>(self, v: i64) -> Result<ParamSpec, E> {
-                Ok(ParamSpec::Plain(Num::Value(v as f64)))
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<ParamSpec, E> {
+                NumVisitor.visit_i64(v).map(ParamSpec::Plain)
             }
-            fn visit_u64<E>(self, v: u64) -> Result<ParamSpec, E> {
-                Ok(ParamSpec::Plain(Num::Value(v as f64)))
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<ParamSpec, E> {
+                NumVisitor.visit_u64(v).map(ParamSpec::Plain)
             }
-            fn visit_str<E>(self, v: &str) -> Result<ParamSpec, E> {
-                Ok(ParamSpec::Plain(Num::Expr(v.to_string())))
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<ParamSpec, E> {
+                NumVisitor.visit_str(v).map(ParamSpec::Plain)
             }
             fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<ParamSpec, A::Error> {
                 RangedParam::deserialize(serde::de::value::MapAccessDeserializer::new(map)).map(ParamSpec::Ranged)

@@ -225,7 +225,7 @@ pub fn label_masses(sys: &System, n: Option<usize>, class: Class, impacts: &[u32
             };
             MassLabel {
                 mass: sys.model.masses[l.mass].name.clone(),
-                label: Label::new(class, n.map(|n| (n as u32, count(l.p), count(l.q)))),
+                label: Label::new(class, n.map(|n| (n as u32, count(Some(l.p)), count(l.q)))),
             }
         })
         .collect()

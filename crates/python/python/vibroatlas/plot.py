@@ -311,6 +311,25 @@ def _diverging(t):
     return np.round(255.0 + w * (end - 255.0)).astype(int)
 
 
+def _about(v, centre):
+    """RGB (0-255) of the values `v` on the diverging scale centred at
+    `centre`, full colour at the value farthest from it (at 1 from it where
+    all are at it), grey where a value is not finite; and that reach."""
+    finite = np.isfinite(v)
+    reach = float(np.max(np.abs(v[finite] - centre))) if finite.any() else 0.0
+    reach = reach if reach > 0 else 1.0
+    rgb = np.where(finite[..., None], _diverging((np.where(finite, v, centre) - centre) / reach), np.array(_NONE))
+    return rgb, reach
+
+
+def _diverging_cmap():
+    """The diverging scale as a matplotlib colour map, for colour bars."""
+    from matplotlib.colors import LinearSegmentedColormap
+
+    return LinearSegmentedColormap.from_list(
+        "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
+
+
 def _paint(ds, name, rgb, ax, title):
     """Draws variable `name`'s cells of `ds` in the colours `rgb` (0-255, one
     per cell) on `ax` (a new figure's when None), with the axes' labels and
@@ -338,7 +357,7 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     farthest from it; cells without the number grey. Each cell is drawn in
     exactly the colour render gives it."""
     import matplotlib.pyplot as plt
-    from matplotlib.colors import LinearSegmentedColormap, Normalize
+    from matplotlib.colors import Normalize
 
     if quantity not in _CENTRE:
         raise ValueError(f"quantity: expected multiplier or lyapunov, got {quantity!r}")
@@ -346,19 +365,14 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     ds = _dataset(ds)
     if quantity not in ds:
         raise ValueError(f"{quantity}: this group has no such variable")
-    v = np.asarray(ds[quantity].values, float)
     centre = _CENTRE[quantity]
-    finite = np.isfinite(v)
-    reach = float(np.max(np.abs(v[finite] - centre))) if finite.any() else 0.0
-    reach = reach if reach > 0 else 1.0
-    rgb = np.where(finite[..., None], _diverging((np.where(finite, v, centre) - centre) / reach), np.array(_NONE))
+    rgb, reach = _about(np.asarray(ds[quantity].values, float), centre)
     sweep = f"{node} sweep: " if node else ""
     attrs = ds[quantity].attrs
     ax = _paint(ds, quantity, rgb, ax, title if title is not None else sweep + attrs.get("long_name", quantity))
     if colorbar:
-        cmap = LinearSegmentedColormap.from_list(
-            "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
-        bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(centre - reach, centre + reach), cmap), ax=ax)
+        scale = plt.cm.ScalarMappable(Normalize(centre - reach, centre + reach), _diverging_cmap())
+        bar = ax.figure.colorbar(scale, ax=ax)
         bar.set_label(attrs.get("symbol", quantity))
     return ax
 
@@ -386,7 +400,7 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     `--view`, `multiplier` and `lyapunov`, the numbers of the classification,
     are drawn as `scalar` draws them."""
     import matplotlib.pyplot as plt
-    from matplotlib.colors import LinearSegmentedColormap, ListedColormap, Normalize
+    from matplotlib.colors import ListedColormap, Normalize
 
     if name in _CENTRE:
         return scalar(ds, name, ax, colorbar=colorbar, title=title)
@@ -402,19 +416,14 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
         lo, hi = lo - 0.5, lo + 0.5
     signed = lo < 0.0 < hi
     if signed:
-        reach = max(hi, -lo)
+        rgb, reach = _about(v, 0.0)
         lo, hi = -reach, reach
-        rgb = np.where(finite[..., None], _diverging(np.where(finite, v, 0.0) / reach), np.array(_NONE))
     else:
         rgb = np.where(finite[..., None], _sequential((np.where(finite, v, lo) - lo) / (hi - lo)), np.array(_NONE))
     sweep = f"{node} sweep: " if node else ""
     ax = _paint(ds, name, rgb, ax, title if title is not None else sweep + ds[name].attrs.get("long_name", name))
     if colorbar:
-        if signed:
-            cmap = LinearSegmentedColormap.from_list(
-                "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
-        else:
-            cmap = ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
+        cmap = _diverging_cmap() if signed else ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
         units = ds[name].attrs.get("units", "1")
         bar.set_label(name if units == "1" else f"{name} ({units})")
@@ -429,24 +438,18 @@ def difference(tree, name, ax=None, *, colorbar=True, title=None):
     value in either sweep grey, each cell in render's colour. tree: a
     DataTree with /up and /down, or a path."""
     import matplotlib.pyplot as plt
-    from matplotlib.colors import LinearSegmentedColormap, Normalize
+    from matplotlib.colors import Normalize
 
     tree = _both(tree, "difference")
     up, down = _dataset(tree["up"]), _dataset(tree["down"])
     if name not in up:
         stored = [n for n in up.data_vars if "symbol" in up[n].attrs and up[n].dims == up["class"].dims]
         raise ValueError(f"{name}: not a quantity of this atlas ({', '.join(stored) or 'it stores none'})")
-    d = np.asarray(up[name].values, float) - np.asarray(down[name].values, float)
-    finite = np.isfinite(d)
-    reach = float(np.max(np.abs(d[finite]))) if finite.any() else 0.0
-    reach = reach if reach > 0 else 1.0
-    rgb = np.where(finite[..., None], _diverging(np.where(finite, d, 0.0) / reach), np.array(_NONE))
+    rgb, reach = _about(np.asarray(up[name].values, float) - np.asarray(down[name].values, float), 0.0)
     long_name = up[name].attrs.get("long_name", name)
     ax = _paint(up, name, rgb, ax, title if title is not None else f"up sweep less down sweep: {long_name}")
     if colorbar:
-        cmap = LinearSegmentedColormap.from_list(
-            "vibroatlas-diverging", [np.array(_LOW) / 255, (1, 1, 1), np.array(_HIGH) / 255])
-        bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(-reach, reach), cmap), ax=ax)
+        bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(-reach, reach), _diverging_cmap()), ax=ax)
         units = up[name].attrs.get("units", "1")
         bar.set_label(f"Δ {name}" if units == "1" else f"Δ {name} ({units})")
     return ax
