@@ -413,6 +413,17 @@ struct StopSums {
     force_max: f64,
 }
 
+/// A flow segment's end, as the next segment's start is weighed against it.
+#[derive(Clone, Copy)]
+struct SegmentEnd {
+    /// Mechanical energy, and its pressed soft springs' part.
+    energy: f64,
+    soft: f64,
+    /// Pressed and parting soft stops (bit k).
+    pressed: u32,
+    parting: u32,
+}
+
 /// The observer that adds the window up.
 pub(crate) struct Meter<'s> {
     sys: &'s System,
@@ -438,9 +449,9 @@ pub(crate) struct Meter<'s> {
     contacts: f64,
     friction: f64,
     events: f64,
-    /// Mechanical energy (total, soft springs' part) at the end of the last
-    /// segment, and at the window's start.
-    last: Option<(f64, f64)>,
+    /// Where the last segment ended, and the mechanical energy at the
+    /// window's start.
+    last: Option<SegmentEnd>,
     first: Option<f64>,
     time: f64,
     /// The window's length: segments and impacts after it are not counted.
@@ -620,7 +631,7 @@ impl<'s> Meter<'s> {
             Measure::DissipatedDamping => self.damping / periods,
             Measure::DissipatedFriction => self.friction / periods,
             Measure::EnergyResidual => {
-                let (end, start) = (self.last.map_or(0.0, |l| l.0), self.first.unwrap_or(0.0));
+                let (end, start) = (self.last.map_or(0.0, |l| l.energy), self.first.unwrap_or(0.0));
                 let dissipated = self.damping + self.contacts + self.friction + self.events;
                 // The largest energy at stake: a lossless or unforced motion
                 // puts in nothing net, and its balance is measured against
@@ -664,14 +675,23 @@ impl EventObserver for Meter<'_> {
         if self.x_ref.is_none() {
             self.x_ref = Some(y.rows(0, m).iter().copied().collect());
         }
-        // The energy an event removed: the last segment's end against this start.
+        // The energy an event removed: the last segment's end against this
+        // start. A soft stop that stopped pressing with its gap closed (it
+        // parts) let its spring's energy go, and one that presses again from
+        // parting takes it back; an impulse at a rigid stop took the rest.
+        // Elsewhere the two states are one state evaluated twice, and their
+        // difference is rounding, left to the residual: without rigid stops
+        // no event dissipates, and `dissipated_impacts` is exactly 0.
         let (e, soft) = self.energy(&y, seg.pressed);
         match self.last {
             None => self.first = Some(e),
-            Some((e_end, soft_end)) => {
-                let soft_jump = soft_end - soft;
+            Some(end) => {
+                let parted = (end.pressed ^ seg.pressed) & (end.parting | seg.parting) != 0;
+                let soft_jump = if parted { end.soft - soft } else { 0.0 };
                 self.contacts += soft_jump;
-                self.events += e_end - e - soft_jump;
+                if sys.has_rigid_stops() {
+                    self.events += end.energy - e - soft_jump;
+                }
             }
         }
         self.extremes_at(&y);
@@ -724,7 +744,8 @@ impl EventObserver for Meter<'_> {
         }
         self.time += seg.span;
         // The segment's end: the last piece's (now first of the points).
-        self.last = Some(self.energy(&nodes[0].1, seg.pressed));
+        let (energy, soft) = self.energy(&nodes[0].1, seg.pressed);
+        self.last = Some(SegmentEnd { energy, soft, pressed: seg.pressed, parting: seg.parting });
         self.nodes = nodes;
         self.y = y;
     }

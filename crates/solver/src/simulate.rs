@@ -65,6 +65,9 @@ pub struct Segment<'a> {
     pub stuck: u32,
     /// Pressed soft stops (bit k: its force pushes).
     pub pressed: u32,
+    /// Parting soft stops (bit k: its gap closed, its force none, as damping
+    /// makes a contact end before its gap reopens).
+    pub parting: u32,
     mode: &'a Mode,
     work: &'a mut Workspace,
     scratch: &'a mut DVector<f64>,
@@ -894,6 +897,7 @@ impl<'s> Simulator<'s> {
                     held: self.key.held,
                     stuck: self.key.stuck,
                     pressed: self.key.pressed,
+                    parting: self.key.parting,
                     mode,
                     work: &mut self.work,
                     scratch: &mut b.segment,
