@@ -5,19 +5,20 @@
 use crate::simulate::Segment;
 use nalgebra::DVector;
 
-/// The largest value of `f` on `[a, b]` by Brent's method (parabolic steps,
+/// The largest value of `f` (of the segment, as it stands at a time, and
+/// the state there) on `[a, b]` by Brent's method (parabolic steps,
 /// golden-section ones where they stall): the value's error is quadratic in
 /// the time's, so at rounding once the time is known to `√ε`.
 pub(crate) fn peak(
     seg: &mut Segment<'_>,
     (a, b): (f64, f64),
     y: &mut DVector<f64>,
-    f: impl Fn(&DVector<f64>) -> f64,
+    f: impl Fn(&Segment<'_>, &DVector<f64>) -> f64,
 ) -> f64 {
     const C: f64 = 0.381_966_011_250_105_1;
     let mut g = |u: f64, y: &mut DVector<f64>| {
         seg.state(u, y);
-        -f(y)
+        -f(seg, y)
     };
     let (mut a, mut b) = (a, b);
     let mut x = a + C * (b - a);

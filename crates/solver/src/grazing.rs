@@ -222,7 +222,7 @@ impl EventObserver for Margins<'_> {
                     for j in 1..count {
                         let (prev, here, next) = (samples[j - 1].1, samples[j].1, samples[j + 1].1);
                         if here > 0.0 && here <= prev && here <= next && here < self.least {
-                            let low = -peak(seg, (samples[j - 1].0, samples[j + 1].0), &mut y, |y| -f(y));
+                            let low = -peak(seg, (samples[j - 1].0, samples[j + 1].0), &mut y, |_, y| -f(y));
                             self.least = self.least.min(low);
                         }
                     }
@@ -240,7 +240,7 @@ impl EventObserver for Margins<'_> {
                     let j = (0..=count).max_by(|&a, &b| samples[a].1.total_cmp(&samples[b].1)).unwrap_or(0);
                     let mut high = samples[j].1;
                     if j > 0 && j < count {
-                        high = high.max(peak(seg, (samples[j - 1].0, samples[j + 1].0), &mut y, f));
+                        high = high.max(peak(seg, (samples[j - 1].0, samples[j + 1].0), &mut y, |_, y| f(y)));
                     }
                     // Kept only if an event of the stop ends the segment and one began it.
                     self.pending[i] = (self.began[i] && high > 0.0).then_some(high);

@@ -163,6 +163,8 @@ enum Measure {
     ImpactSpeedMean,
     Impulse,
     HeldFraction,
+    HoldImpulse,
+    HoldForceMax,
     ContactForceMax,
     ContactFraction,
     StuckFraction,
@@ -204,6 +206,8 @@ table! {
     ImpactSpeedMean: "impact_speed_mean", Stop, "mean impact speed", "mean normal speed before an impact at", Velocity;
     Impulse: "impulse", RigidStop, "impulse per period", "impulse per forcing period of", ImpulsePerPeriod;
     HeldFraction: "stick_fraction", RigidStop, "share held", "share of time holding its mass of", Fraction;
+    HoldImpulse: "hold_impulse", RigidStop, "holding impulse per period", "impulse of the holding reaction per forcing period of", ImpulsePerPeriod;
+    HoldForceMax: "hold_force_max", RigidStop, "max holding force", "largest holding reaction of", Force;
     ContactForceMax: "contact_force_max", SoftStop, "max contact force", "largest contact force of", Force;
     ContactFraction: "contact_fraction", SoftStop, "share in contact", "share of time in contact of", Fraction;
     StuckFraction: "stick_fraction", Contact, "share stuck", "share of time stuck of friction contact", Fraction;
@@ -409,6 +413,9 @@ struct StopSums {
     speed_sum: f64,
     impulse: f64,
     held_time: f64,
+    /// `∫λ dt` of the holding reaction, and its largest value.
+    hold_impulse: f64,
+    hold_force_max: f64,
     pressed_time: f64,
     force_max: f64,
 }
@@ -458,6 +465,11 @@ pub(crate) struct Meter<'s> {
     limit: f64,
     y: DVector<f64>,
     nodes: Vec<(f64, DVector<f64>)>,
+    /// A held stop's reactions at a piece's points (buffer).
+    reactions: Vec<f64>,
+    /// The rigid stop of the impact being handled, and its normal rate
+    /// before it.
+    struck: Option<(usize, f64)>,
 }
 
 impl<'s> Meter<'s> {
@@ -489,6 +501,8 @@ impl<'s> Meter<'s> {
             limit: periods as f64 * sys.period * (1.0 - 1e-12),
             y: DVector::zeros(2 * m),
             nodes: Vec::new(),
+            reactions: Vec::new(),
+            struck: None,
         }
     }
 
@@ -621,6 +635,8 @@ impl<'s> Meter<'s> {
             Measure::ImpactSpeedMean => stop(|s| if s.impacts == 0 { 0.0 } else { s.speed_sum / s.impacts as f64 }),
             Measure::Impulse => stop(|s| s.impulse) / periods,
             Measure::HeldFraction => stop(|s| s.held_time) / t,
+            Measure::HoldImpulse => stop(|s| s.hold_impulse) / periods,
+            Measure::HoldForceMax => stop(|s| s.hold_force_max),
             Measure::ContactForceMax => stop(|s| s.force_max),
             Measure::ContactFraction => stop(|s| s.pressed_time) / t,
             Measure::StuckFraction => self.stuck_time[k] / t,
@@ -644,7 +660,7 @@ impl<'s> Meter<'s> {
 }
 
 impl EventObserver for Meter<'_> {
-    fn impact(&mut self, _time: f64, stop: usize, before: &DVector<f64>, after: &DVector<f64>) {
+    fn impact(&mut self, _time: f64, stop: usize, before: &DVector<f64>, _after: &DVector<f64>) {
         if self.time >= self.limit {
             return;
         }
@@ -655,8 +671,19 @@ impl EventObserver for Meter<'_> {
         s.speed_max = s.speed_max.max(speed);
         s.speed_sum += speed;
         if sys.stops[stop].law.impacts() {
-            let row = &sys.stops[stop];
-            s.impulse += (sys.gap_rate(stop, after) - sys.gap_rate(stop, before)).abs() / row.inv_effective_mass;
+            self.struck = Some((stop, sys.gap_rate(stop, before)));
+        }
+    }
+
+    /// An impact's impulse, from the normal rate before it to the rate once
+    /// the event is handled: the rest of a chatter sequence that ends in it
+    /// (its rebound taken out, the mass held) is that stop's impulse too,
+    /// and with it the impulses and the holding reactions balance the mean
+    /// forces on the masses over an orbit.
+    fn event(&mut self, _time: f64, y: &DVector<f64>) {
+        if let Some((stop, before)) = self.struck.take() {
+            let sys = self.sys;
+            self.stops[stop].impulse += (sys.gap_rate(stop, y) - before).abs() / sys.stops[stop].inv_effective_mass;
         }
     }
 
@@ -726,6 +753,9 @@ impl EventObserver for Meter<'_> {
             seg.state(b, end);
             self.extremes_at(end);
             self.refine(seg, &nodes[..count + 2], &mut y);
+            if seg.held != 0 {
+                self.hold(seg, &nodes[..count + 2], &rule.points, 0.5 * (b - a), &mut y);
+            }
             // The next piece starts where this one ends.
             nodes.swap(0, count + 1);
         }
@@ -777,8 +807,9 @@ impl Meter<'_> {
                     self.x_max[i] = self.x_max[i].max(x);
                 }
             }
-            let v_abs = |y: &DVector<f64>| y[m + i].abs();
-            if let (_, Some(bracket)) = node_peak(seg, nodes, v_abs, self.v_abs_max[i], y) {
+            let v_abs = |_: &Segment<'_>, y: &DVector<f64>| y[m + i].abs();
+            let at_node = |j: usize| nodes[j].1[m + i].abs();
+            if let (_, Some(bracket)) = node_peak(seg, nodes, at_node, v_abs, self.v_abs_max[i], y) {
                 let best = peak(seg, bracket, y, v_abs);
                 self.v_abs_max[i] = self.v_abs_max[i].max(best);
             }
@@ -787,13 +818,49 @@ impl Meter<'_> {
             if seg.pressed & (1 << k) == 0 {
                 continue;
             }
-            let force = |y: &DVector<f64>| self.sys.contact_force(k, y);
-            let (mut best, bracket) = node_peak(seg, nodes, force, self.stops[k].force_max, y);
+            let force = |_: &Segment<'_>, y: &DVector<f64>| self.sys.contact_force(k, y);
+            let at_node = |j: usize| self.sys.contact_force(k, &nodes[j].1);
+            let (mut best, bracket) = node_peak(seg, nodes, at_node, force, self.stops[k].force_max, y);
             if let Some(bracket) = bracket {
                 best = best.max(peak(seg, bracket, y, force));
             }
             self.stops[k].force_max = self.stops[k].force_max.max(best);
         }
+    }
+
+    /// The reactions of the stops that hold their masses over a piece of
+    /// `seg` (its points `nodes`, ascending in time: its start, `points`'
+    /// nodes with their weights, its end; `half` its half length): their
+    /// impulse `∫λ dt` by the rule, exact to rounding as the flow's other
+    /// integrals, and their largest value, refined as a contact force is.
+    /// The reaction is an affine function of the mode's state, so the
+    /// closed form gives it anywhere.
+    fn hold(
+        &mut self,
+        seg: &mut Segment<'_>,
+        nodes: &[(f64, DVector<f64>)],
+        points: &[(f64, f64)],
+        half: f64,
+        y: &mut DVector<f64>,
+    ) {
+        let mut values = std::mem::take(&mut self.reactions);
+        let held = seg.held;
+        for k in (0..self.sys.stops.len()).filter(|k| held & (1 << k) != 0) {
+            values.clear();
+            for (u, _) in nodes {
+                seg.state(*u, y);
+                values.push(seg.reaction(k).unwrap_or(0.0));
+            }
+            let sums = &mut self.stops[k];
+            sums.hold_impulse += half * points.iter().zip(&values[1..]).map(|(&(_, w), v)| w * v).sum::<f64>();
+            let reaction = |seg: &Segment<'_>, _: &DVector<f64>| seg.reaction(k).unwrap_or(0.0);
+            let (mut best, bracket) = node_peak(seg, nodes, |j| values[j], reaction, sums.hold_force_max, y);
+            if let Some(bracket) = bracket {
+                best = best.max(peak(seg, bracket, y, reaction));
+            }
+            self.stops[k].hold_force_max = self.stops[k].hold_force_max.max(best);
+        }
+        self.reactions = values;
     }
 }
 
@@ -816,13 +883,14 @@ fn quadratic(a: &nalgebra::DMatrix<f64>, z: &[f64]) -> f64 {
 fn node_peak(
     seg: &mut Segment<'_>,
     nodes: &[(f64, DVector<f64>)],
-    f: impl Fn(&DVector<f64>) -> f64,
+    at_node: impl Fn(usize) -> f64,
+    f: impl Fn(&Segment<'_>, &DVector<f64>) -> f64,
     known: f64,
     y: &mut DVector<f64>,
 ) -> (f64, Option<(f64, f64)>) {
     let (mut best, mut value) = (0, f64::NEG_INFINITY);
-    for (k, (_, y)) in nodes.iter().enumerate() {
-        let v = f(y);
+    for k in 0..nodes.len() {
+        let v = at_node(k);
         if v > value {
             (best, value) = (k, v);
         }
@@ -836,7 +904,7 @@ fn node_peak(
     }
     let (end, next) = if best == 0 { (nodes[0].0, nodes[1].0) } else { (nodes[last].0, nodes[last - 1].0) };
     seg.state(end + 1e-6 * (next - end), y);
-    (value, (f(y) > value).then_some((end.min(next), end.max(next))))
+    (value, (f(seg, y) > value).then_some((end.min(next), end.max(next))))
 }
 
 /// Position `i` where velocity component `k` of the state vanishes between

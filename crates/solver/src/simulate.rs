@@ -90,6 +90,20 @@ impl Segment<'_> {
     pub fn fastest(&self) -> f64 {
         self.mode.spectral.fastest()
     }
+
+    /// The reaction of stop `stop`, which holds its mass in this segment, at
+    /// the time of the last [`Segment::state`]: the constraint force along
+    /// the stop's normal by which it holds (force units of the scene, at
+    /// least 0 while it holds; between two masses, the force each takes).
+    /// `None` for a stop that does not hold.
+    pub fn reaction(&self, stop: usize) -> Option<f64> {
+        let guard = self
+            .mode
+            .guards
+            .iter()
+            .find(|g| g.kind == GuardKind::Reaction && g.target == crate::mode::Target::Stop(stop))?;
+        Some(guard.entries.iter().map(|&(i, c)| c * self.scratch[i]).sum())
+    }
 }
 
 /// What an event was. Stops and friction contacts are indices into the
