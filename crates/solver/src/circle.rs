@@ -316,7 +316,14 @@ fn loop_of(points: &[DVector<f64>], k: usize, tol: f64, curve: impl Fn(&[(f64, f
 /// within `tol` turns and not locked at a fraction, lies on one closed
 /// curve in that order; `None` when no k does.
 pub(crate) fn folded_torus_loops(points: &[DVector<f64>], tol: f64) -> Option<usize> {
-    (1..=MOST_LOOPS).find(|&k| loop_of(points, k, tol, closed_in_turn_order))
+    (1..=MOST_LOOPS).find(|&k| on_folded_loops(points, k, tol))
+}
+
+/// [`on_loops`] in the order of the points' phases
+/// ([`closed_in_turn_order`]): the k loops of a torus, each of which may
+/// fold in its principal plane.
+pub(crate) fn on_folded_loops(points: &[DVector<f64>], k: usize, tol: f64) -> bool {
+    loop_of(points, k, tol, closed_in_turn_order)
 }
 
 /// Whether points in their principal plane, turning by `rotation`, lie on

@@ -5,7 +5,8 @@
 use super::quiet::closing_drift;
 use super::{Executor, Steady, Unresolved};
 use crate::circle::{
-    folded_torus_loops, gain, on_loops, torus_loops, turns_on_torus, Rotation, MOST_LOOPS, SETTLED, TORUS_GAIN,
+    folded_torus_loops, gain, on_folded_loops, on_loops, torus_loops, turns_on_torus, Rotation, MOST_LOOPS, SETTLED,
+    TORUS_GAIN,
 };
 use crate::flow::Method;
 use crate::label::Class;
@@ -278,10 +279,27 @@ impl<'s> Executor<'s> {
                         // undecided record's, after the search for an orbit
                         // there (on the main job's plane, ω = 1.07, δ = 1.94:
                         // an orbit of 968 periods locked on the torus).
+                        // Loops that fold in their principal plane, where no
+                        // multiple's loops are closed curves in it (the
+                        // held-out chain with 2nd and 3rd harmonics at
+                        // ω = 1.73846, h3 = 0.89655, up: locked at 1/2, each
+                        // island's 3 200 points turning by 0.4624005770 ±
+                        // 4.8e-11, their polygon 11.9 times the limit in the
+                        // order of angles and 0.59 of it in the order of
+                        // phases; `C` as chaos in 2 bands before, λT 3.3e-4
+                        // ± 2.8e-4 over 6 400 periods, a torus for an
+                        // independent simulator).
                         let most = if limit == first { q } else { MOST_LOOPS };
-                        std::iter::once(q)
-                            .chain((2 * q..=most).step_by(q))
-                            .find(|&k| n / k >= ISLAND_POINTS && on_loops(&e.points, k, ROTATION_TOL))
+                        let multiples = || std::iter::once(q).chain((2 * q..=most).step_by(q));
+                        let islands = |on: fn(&[DVector<f64>], usize, f64) -> bool| {
+                            multiples().find(|&k| n / k >= ISLAND_POINTS && on(&e.points, k, ROTATION_TOL))
+                        };
+                        // Those once measured as long as an undecided
+                        // record, as the multiples; in a scene that
+                        // dissipates nothing, its tangent and its rotation
+                        // number decide (below).
+                        let folded = limit != first && !lossless;
+                        islands(on_loops).or_else(|| folded.then(|| islands(on_folded_loops)).flatten())
                     }
                 };
                 // In a scene that dissipates, a torus's tangent stays

@@ -1267,6 +1267,71 @@ fn a_torus_whose_loops_fold_is_quasiperiodic() {
     assert_eq!(cell.class, Class::Quasiperiodic, "{:?}", cell.reason);
 }
 
+/// Two masses in a chain, forced at their 1st, 2nd and 3rd harmonics with
+/// phases, a stop below the first and one above the second: a scene not
+/// shipped (held out on 2026-12-07).
+const HARMONIC_CHAIN: &str = r#"
+name = "harm-chain"
+[parameters]
+omega = { value = 0.8 }
+h3 = { value = 0.4 }
+[forcing]
+omega = "omega"
+phase = 0.3
+[[masses]]
+name = "M1"
+mass = 1
+force = 1
+harmonics = [{ order = 2, amplitude = 0.3, phase = 1.1 }, { order = 3, amplitude = "h3", phase = -0.7 }]
+[[masses]]
+name = "M2"
+mass = 0.7
+force = 0.2
+harmonics = [{ order = 3, amplitude = "0.5*h3", phase = 2.0 }]
+[[links]]
+masses = ["M1"]
+stiffness = 1
+damping = 0.08
+[[links]]
+masses = ["M1", "M2"]
+stiffness = 1.5
+damping = 0.04
+[[stops]]
+name = "L1"
+mass = "M1"
+side = "below"
+position = -0.4
+restitution = 0.75
+[[stops]]
+name = "U2"
+mass = "M2"
+side = "above"
+position = 0.4
+restitution = 0.75
+"#;
+
+/// Issue 62: islands about an orbit whose loops fold in their principal
+/// plane are a torus, not chaos in bands. The chain above at ω = 1.73846,
+/// h3 = 0.89655 (from the state its ω × h3 plane's up sweep handed on) is
+/// locked at 1/2; over 6 400 periods every second point turns by
+/// 0.4624005770 ± 4.8e-11, a torus's convergence, but their polygon in the
+/// order of angles is 11.9 times the limit of a closed curve (0.59 of it in
+/// the order of phases). It was `C`, chaos in 2 bands, λT 3.3e-4 ± 2.8e-4. An independent simulation (scipy, from the cell's end state
+/// over 6 500 periods): no period up to 32, every point back within
+/// 6.8e-4 after 1 250 periods, twice that after 2 500 and three times
+/// after 3 750 (a drift along the torus, not divergence), the rotation
+/// number 0.10800000097 over the second quarter and 0.10800000108 over
+/// the fourth, and two starts 1e-8 apart 3e-8 to 1e-7 apart over 200
+/// periods.
+#[test]
+fn islands_whose_loops_fold_are_a_torus() {
+    let sys =
+        crate::testing::system_of(HARMONIC_CHAIN, &[("omega", 1.738_461_538_461_538_5), ("h3", 0.896_551_724_137_931)]);
+    let y0 = [0.148_655_458_852_263, -0.133_566_085_863_668_14, 0.516_993_490_217_7, -0.529_718_788_017_422_8];
+    let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &y0);
+    assert_eq!(cell.class, Class::Quasiperiodic, "{:?} {:?}", cell.lyapunov, cell.reason);
+}
+
 /// Issue 62: a record that approaches a stable orbit from farther than
 /// the search reaches is that orbit. A damped mass between two stops
 /// (x'' + 0.04 x' + x = sin ωt, |x| ≤ d, r = 0.85; a scene not shipped)
