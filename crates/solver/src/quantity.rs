@@ -465,7 +465,7 @@ pub(crate) struct Meter<'s> {
     limit: f64,
     y: DVector<f64>,
     nodes: Vec<(f64, DVector<f64>)>,
-    /// A held stop's reactions at a piece's points (buffer).
+    /// The held stops' reactions at a piece's points, stop by stop (buffer).
     reactions: Vec<f64>,
     /// The rigid stop of the impact being handled, and its normal rate
     /// before it.
@@ -737,6 +737,13 @@ impl EventObserver for Meter<'_> {
         nodes.resize_with(count + 2, || (0.0, DVector::zeros(2 * m)));
         nodes[0].0 = 0.0;
         nodes[0].1.copy_from(&y);
+        // The held stops' reactions at the points, stop by stop: read where
+        // each point's state was just evaluated (the segment's start above).
+        let stride = count + 2;
+        if seg.held != 0 {
+            self.reactions.resize(seg.held.count_ones() as usize * stride, 0.0);
+            self.note_reactions(seg, 0, stride);
+        }
         for p in 0..pieces {
             let (a, b) = (p as f64 * h, if p + 1 == pieces { seg.span } else { (p + 1) as f64 * h });
             for (k, &(node, weight)) in rule.points.iter().enumerate() {
@@ -744,6 +751,9 @@ impl EventObserver for Meter<'_> {
                 let (at, state) = &mut nodes[k + 1];
                 *at = u;
                 seg.state(u, state);
+                if seg.held != 0 {
+                    self.note_reactions(seg, k + 1, stride);
+                }
                 let phase = sys.omega * (seg.clock + u) + sys.tau;
                 self.integrate(state, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
                 self.extremes_at(state);
@@ -751,6 +761,9 @@ impl EventObserver for Meter<'_> {
             let (at, end) = &mut nodes[count + 1];
             *at = b;
             seg.state(b, end);
+            if seg.held != 0 {
+                self.note_reactions(seg, count + 1, stride);
+            }
             self.extremes_at(end);
             self.refine(seg, &nodes[..count + 2], &mut y);
             if seg.held != 0 {
@@ -758,6 +771,11 @@ impl EventObserver for Meter<'_> {
             }
             // The next piece starts where this one ends.
             nodes.swap(0, count + 1);
+            if seg.held != 0 {
+                for values in self.reactions.chunks_mut(stride) {
+                    values[0] = values[count + 1];
+                }
+            }
         }
         for (k, s) in self.stops.iter_mut().enumerate() {
             if seg.held & (1 << k) != 0 {
@@ -828,13 +846,24 @@ impl Meter<'_> {
         }
     }
 
+    /// The reactions of the stops that `seg` holds, at the state it last
+    /// evaluated, as point `at` of a piece (of `stride` points) in
+    /// [`Meter::hold`]'s buffer.
+    fn note_reactions(&mut self, seg: &Segment<'_>, at: usize, stride: usize) {
+        let held = (0..self.sys.stops.len()).filter(|k| seg.held & (1 << k) != 0);
+        for (j, k) in held.enumerate() {
+            self.reactions[j * stride + at] = seg.reaction(k).unwrap_or(0.0);
+        }
+    }
+
     /// The reactions of the stops that hold their masses over a piece of
     /// `seg` (its points `nodes`, ascending in time: its start, `points`'
-    /// nodes with their weights, its end; `half` its half length): their
-    /// impulse `∫λ dt` by the rule, exact to rounding as the flow's other
-    /// integrals, and their largest value, refined as a contact force is.
-    /// The reaction is an affine function of the mode's state, so the
-    /// closed form gives it anywhere.
+    /// nodes with their weights, its end, where [`Meter::note_reactions`]
+    /// read them; `half` its half length): their impulse `∫λ dt` by the
+    /// rule, exact to rounding as the flow's other integrals, and their
+    /// largest value, refined as a contact force is. The reaction is an
+    /// affine function of the mode's state, so the closed form gives it
+    /// anywhere.
     fn hold(
         &mut self,
         seg: &mut Segment<'_>,
@@ -843,14 +872,10 @@ impl Meter<'_> {
         half: f64,
         y: &mut DVector<f64>,
     ) {
-        let mut values = std::mem::take(&mut self.reactions);
+        let all = std::mem::take(&mut self.reactions);
         let held = seg.held;
-        for k in (0..self.sys.stops.len()).filter(|k| held & (1 << k) != 0) {
-            values.clear();
-            for (u, _) in nodes {
-                seg.state(*u, y);
-                values.push(seg.reaction(k).unwrap_or(0.0));
-            }
+        let stops = (0..self.sys.stops.len()).filter(|k| held & (1 << k) != 0);
+        for (k, values) in stops.zip(all.chunks(nodes.len())) {
             let sums = &mut self.stops[k];
             sums.hold_impulse += half * points.iter().zip(&values[1..]).map(|(&(_, w), v)| w * v).sum::<f64>();
             let reaction = |seg: &Segment<'_>, _: &DVector<f64>| seg.reaction(k).unwrap_or(0.0);
@@ -860,7 +885,7 @@ impl Meter<'_> {
             }
             self.stops[k].hold_force_max = self.stops[k].hold_force_max.max(best);
         }
-        self.reactions = values;
+        self.reactions = all;
     }
 }
 
