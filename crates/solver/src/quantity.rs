@@ -27,7 +27,13 @@
 //!   the forcing moved in and out (`∫|F·v| dt`), what was dissipated, and
 //!   the mechanical energy at the window's ends (a lossless or unforced
 //!   motion puts in nothing net): zero to rounding where the physics and
-//!   its bookkeeping agree.
+//!   its bookkeeping agree;
+//! - a rigid stop's holding reaction `λ` (the constraint force of Newton's
+//!   law on the held motion, affine in the mode's state) is integrated and
+//!   peaked as a contact force is, and an impact's impulse is taken to the
+//!   state once its event is handled (the end of a chatter sequence it
+//!   ends included): over an orbit the mean force on every mass vanishes,
+//!   so the stops' impulses and holding impulses make `T (K x̄ − L)`.
 //!
 //! Every quantity is per forcing period where it is a count or an integral.
 
@@ -894,8 +900,10 @@ fn quadratic(a: &nalgebra::DMatrix<f64>, z: &[f64]) -> f64 {
     (0..z.len()).map(|i| z[i] * (0..z.len()).map(|j| a[(i, j)] * z[j]).sum::<f64>()).sum()
 }
 
-/// The largest value of `f` at the points of `nodes` (a piece of `seg`,
-/// ascending in time), and the bracket that holds a larger one, if it may
+/// The largest value of a function at the points of `nodes` (a piece of
+/// `seg`, ascending in time; `at_node(j)` its value at point j, `f` its
+/// value at the state `seg` last evaluated), and the bracket that holds a
+/// larger one, if it may
 /// pass `known` (the peak of a smooth function between points no farther
 /// apart than a sixth of its oscillation exceeds the largest of them by
 /// less than a quarter): around an inner point; and between an end and its

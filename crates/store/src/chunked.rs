@@ -22,8 +22,8 @@
 use crate::checksum::{bytes_of, Expected};
 use flate2::{Compress, Compression, FlushCompress, Status};
 use hdf5::{Dataset, Group, H5Type};
-use std::cell::RefCell;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, PoisonError};
 
 /// Deflate level of every chunked dataset.
 const LEVEL: u32 = 4;
@@ -182,25 +182,26 @@ pub(crate) fn deflate<T: Copy>(values: &[T]) -> Vec<u8> {
     deflate_padded(values, values.len())
 }
 
-thread_local! {
-    /// This thread's zlib compressor, reset for each chunk: a new one
-    /// allocates and zeroes its window and hash tables (some 400 KB), more
-    /// than most chunks hold (a plane's datasets are cut into about 32
-    /// chunks each: 1.4 G of the 36.5 G instructions of a 74 × 49 atlas went
-    /// to that zeroing).
-    static COMPRESSOR: RefCell<Compress> = RefCell::new(Compress::new(Compression::new(LEVEL), true));
-}
+/// zlib compressors done with, for the next chunk to reset and use: a new
+/// one allocates and zeroes its window and hash tables (some 400 KB), more
+/// than most chunks hold (a plane's datasets are cut into about 32 chunks
+/// each: 1.4 G of the 36.5 G instructions of a 74 × 49 atlas went to that
+/// zeroing). As many as chunks were deflated at once. Shared, not one per
+/// thread: the Python module, loaded by `dlopen`, has no room left for more
+/// thread-local storage.
+static COMPRESSORS: Mutex<Vec<Compress>> = Mutex::new(Vec::new());
 
 /// [`deflate`] of `values` padded with zeros to `len` values.
 fn deflate_padded<T: Copy>(values: &[T], len: usize) -> Vec<u8> {
     let size = std::mem::size_of::<T>();
     let bytes = bytes_of(values);
     let mut out = Vec::with_capacity(bytes.len() / 2 + 64);
-    COMPRESSOR.with_borrow_mut(|z| {
-        z.reset();
-        pour(z, bytes, &mut out, FlushCompress::None);
-        pour(z, &vec![0u8; (len - values.len()) * size], &mut out, FlushCompress::Finish);
-    });
+    let kept = COMPRESSORS.lock().unwrap_or_else(PoisonError::into_inner).pop();
+    let mut z = kept.unwrap_or_else(|| Compress::new(Compression::new(LEVEL), true));
+    z.reset();
+    pour(&mut z, bytes, &mut out, FlushCompress::None);
+    pour(&mut z, &vec![0u8; (len - values.len()) * size], &mut out, FlushCompress::Finish);
+    COMPRESSORS.lock().unwrap_or_else(PoisonError::into_inner).push(z);
     checksummed(out)
 }
 

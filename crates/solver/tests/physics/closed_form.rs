@@ -94,6 +94,14 @@ fn free_mass_flight_is_exact() {
 }
 
 /// The quantities of a cell's steady motion over its orbit's n periods.
+/// The quantities of the window of a cell from `sys`'s initial state: its
+/// orbit's n periods, else 16.
+fn window_quantities(sys: &solver::System) -> std::collections::BTreeMap<String, f64> {
+    let cell = run_cell(sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
+    let q = solver::quantity::measure(sys, &Accuracy::default(), &cell.final_state, cell.n.unwrap_or(16)).unwrap();
+    solver::quantity::named(sys, &q).into_iter().collect()
+}
+
 fn quantities(sys: &solver::System, acc: &Accuracy) -> (solver::CellResult, std::collections::BTreeMap<String, f64>) {
     let cell = run_cell(sys, acc, Method::Exact, &sys.model.initial_state());
     let n = cell.n.unwrap_or_else(|| panic!("{}: not periodic ({:?})", sys.model.name, cell.class));
@@ -263,15 +271,7 @@ fn without_rigid_stops_nothing_is_dissipated_by_impacts() {
         ("gear-backlash.toml", &[("f1", 0.3), ("omega", 0.8)], true),
     ];
     for (scene, sets, lossless_contacts) in cases {
-        let sys = system(scene, sets);
-        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
-        let periods = cell.n.unwrap_or(16);
-        let q: std::collections::BTreeMap<String, f64> = solver::quantity::named(
-            &sys,
-            &solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, periods).unwrap(),
-        )
-        .into_iter()
-        .collect();
+        let q = window_quantities(&system(scene, sets));
         assert_eq!(q["dissipated_impacts"], 0.0, "{scene} {sets:?}: {q:?}");
         if lossless_contacts {
             assert_eq!(q["dissipated_contacts"], 0.0, "{scene} {sets:?}: {q:?}");
@@ -297,15 +297,7 @@ fn a_lossless_motion_balances_to_rounding() {
         ("gear-backlash.toml", &[("fm", 0.0), ("f1", 0.0), ("zeta", 0.0)]),
     ];
     for (scene, sets) in cases {
-        let sys = system(scene, sets);
-        let cell = run_cell(&sys, &Accuracy::default(), Method::Exact, &sys.model.initial_state());
-        let periods = cell.n.unwrap_or(16);
-        let q: std::collections::BTreeMap<String, f64> = solver::quantity::named(
-            &sys,
-            &solver::quantity::measure(&sys, &Accuracy::default(), &cell.final_state, periods).unwrap(),
-        )
-        .into_iter()
-        .collect();
+        let q = window_quantities(&system(scene, sets));
         assert!(q["power_in"].abs() < 1e-12, "{scene}: nothing net put in: {q:?}");
         assert!(q["energy_residual"].abs() < 1e-12, "{scene} {sets:?}: residual {} ({q:?})", q["energy_residual"]);
     }
