@@ -203,6 +203,18 @@ impl Mask {
         k < 32 && self.0 & (1 << k) != 0
     }
 
+    /// The indices in the set, ascending.
+    pub fn indices(self) -> impl Iterator<Item = usize> {
+        let mut bits = self.0;
+        std::iter::from_fn(move || {
+            (bits != 0).then(|| {
+                let k = bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                k
+            })
+        })
+    }
+
     /// The set of the indices `k < len` for which `f(k)` holds.
     pub fn of(len: usize, f: impl Fn(usize) -> bool) -> Mask {
         Mask((0..len.min(32)).filter(|&k| f(k)).fold(0, |m, k| m | (1 << k)))
@@ -285,5 +297,8 @@ mod tests {
         assert!(!m.contains(40));
         assert_eq!(Mask::from_bits(m.bits()), m);
         assert_eq!(Mask::of(3, |_| false), Mask::EMPTY);
+        assert_eq!(m.indices().collect::<Vec<_>>(), vec![0, 2, 4]);
+        assert_eq!(Mask::from_bits(1 << 31).indices().collect::<Vec<_>>(), vec![31]);
+        assert_eq!(Mask::EMPTY.indices().count(), 0);
     }
 }

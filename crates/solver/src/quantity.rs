@@ -42,6 +42,7 @@ use crate::contact::{Contact, Spring};
 use crate::error::SolverError;
 use crate::extremum::peak;
 use crate::flow::Method;
+use crate::label::Mask;
 use crate::simulate::{EventObserver, Halt, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
@@ -746,10 +747,8 @@ impl EventObserver for Meter<'_> {
         // The held stops' reactions at the points, stop by stop: read where
         // each point's state was just evaluated (the segment's start above).
         let stride = count + 2;
-        if seg.held != 0 {
-            self.reactions.resize(seg.held.count_ones() as usize * stride, 0.0);
-            self.note_reactions(seg, 0, stride);
-        }
+        self.reactions.resize(seg.held.count_ones() as usize * stride, 0.0);
+        self.note_reactions(seg, 0, stride);
         for p in 0..pieces {
             let (a, b) = (p as f64 * h, if p + 1 == pieces { seg.span } else { (p + 1) as f64 * h });
             for (k, &(node, weight)) in rule.points.iter().enumerate() {
@@ -757,9 +756,7 @@ impl EventObserver for Meter<'_> {
                 let (at, state) = &mut nodes[k + 1];
                 *at = u;
                 seg.state(u, state);
-                if seg.held != 0 {
-                    self.note_reactions(seg, k + 1, stride);
-                }
+                self.note_reactions(seg, k + 1, stride);
                 let phase = sys.omega * (seg.clock + u) + sys.tau;
                 self.integrate(state, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
                 self.extremes_at(state);
@@ -767,20 +764,14 @@ impl EventObserver for Meter<'_> {
             let (at, end) = &mut nodes[count + 1];
             *at = b;
             seg.state(b, end);
-            if seg.held != 0 {
-                self.note_reactions(seg, count + 1, stride);
-            }
+            self.note_reactions(seg, count + 1, stride);
             self.extremes_at(end);
             self.refine(seg, &nodes[..count + 2], &mut y);
-            if seg.held != 0 {
-                self.hold(seg, &nodes[..count + 2], &rule.points, 0.5 * (b - a), &mut y);
-            }
+            self.hold(seg, &nodes[..count + 2], &rule.points, 0.5 * (b - a), &mut y);
             // The next piece starts where this one ends.
             nodes.swap(0, count + 1);
-            if seg.held != 0 {
-                for values in self.reactions.chunks_mut(stride) {
-                    values[0] = values[count + 1];
-                }
+            for values in self.reactions.chunks_mut(stride) {
+                values[0] = values[count + 1];
             }
         }
         for (k, s) in self.stops.iter_mut().enumerate() {
@@ -856,8 +847,7 @@ impl Meter<'_> {
     /// evaluated, as point `at` of a piece (of `stride` points) in
     /// [`Meter::hold`]'s buffer.
     fn note_reactions(&mut self, seg: &Segment<'_>, at: usize, stride: usize) {
-        let held = (0..self.sys.stops.len()).filter(|k| seg.held & (1 << k) != 0);
-        for (j, k) in held.enumerate() {
+        for (j, k) in Mask::from_bits(seg.held).indices().enumerate() {
             self.reactions[j * stride + at] = seg.reaction(k).unwrap_or(0.0);
         }
     }
@@ -879,9 +869,7 @@ impl Meter<'_> {
         y: &mut DVector<f64>,
     ) {
         let all = std::mem::take(&mut self.reactions);
-        let held = seg.held;
-        let stops = (0..self.sys.stops.len()).filter(|k| held & (1 << k) != 0);
-        for (k, values) in stops.zip(all.chunks(nodes.len())) {
+        for (k, values) in Mask::from_bits(seg.held).indices().zip(all.chunks(nodes.len())) {
             let sums = &mut self.stops[k];
             sums.hold_impulse += half * points.iter().zip(&values[1..]).map(|(&(_, w), v)| w * v).sum::<f64>();
             let reaction = |seg: &Segment<'_>, _: &DVector<f64>| seg.reaction(k).unwrap_or(0.0);
