@@ -11,6 +11,7 @@
 
 use crate::simulate::{apply, Halt, Ignore, Moment, PeriodRecord, Simulator};
 use nalgebra::DVector;
+use std::collections::VecDeque;
 
 /// Blocks the measured periods are split into for the exponent's uncertainty.
 const BLOCKS: usize = 10;
@@ -71,6 +72,12 @@ pub struct Exponent {
     /// The records of the periods simulated so far, warm-up included, where
     /// they are kept ([`Exponent::measure_keeping`]).
     kept: Option<Vec<(PeriodRecord, Moment)>>,
+    /// The records of the last periods simulated that `kept` did not take,
+    /// at most `last_len` ([`Exponent::measure_keeping`],
+    /// [`Exponent::take_last`]).
+    last: VecDeque<PeriodRecord>,
+    /// How many of the last periods' records are kept in `last` (0: none).
+    last_len: usize,
 }
 
 /// A 95 % confidence interval of `λT`, the growth per forcing period.
@@ -104,15 +111,25 @@ impl Exponent {
     /// after `warmup` periods that only align the tangent vector with the
     /// most expanding direction. The simulator goes on from where it is.
     pub fn measure(sim: &mut Simulator<'_>, warmup: usize, periods: usize) -> Result<Exponent, Halt> {
-        Exponent::measured(sim, warmup, periods, None)
+        Exponent::measured(sim, warmup, periods, None, 0)
     }
 
-    /// As [`Exponent::measure`], keeping the record of every period it
-    /// simulated, warm-up included ([`Exponent::take_kept`]): the motion's
+    /// As [`Exponent::measure`], keeping records of the periods it
+    /// simulates. With `all`, the record of every period of this
+    /// measurement, warm-up included ([`Exponent::take_kept`]): the motion's
     /// next periods from where `sim` started, which a record going on from
-    /// there need not simulate again.
-    pub(crate) fn measure_keeping(sim: &mut Simulator<'_>, warmup: usize, periods: usize) -> Result<Exponent, Halt> {
-        Exponent::measured(sim, warmup, periods, Some(Vec::with_capacity(warmup + periods)))
+    /// there need not simulate again. Of the other periods, this
+    /// measurement's and its extensions', the records of the last `last`
+    /// ([`Exponent::take_last`]): the motion the measurement ends on.
+    pub(crate) fn measure_keeping(
+        sim: &mut Simulator<'_>,
+        warmup: usize,
+        periods: usize,
+        all: bool,
+        last: usize,
+    ) -> Result<Exponent, Halt> {
+        let kept = all.then(|| Vec::with_capacity(warmup + periods));
+        Exponent::measured(sim, warmup, periods, kept, last)
     }
 
     /// The records [`Exponent::measure_keeping`] kept, in order, each with
@@ -121,11 +138,21 @@ impl Exponent {
         self.kept.take().unwrap_or_default()
     }
 
+    /// The records of the last periods simulated that
+    /// [`Exponent::take_kept`] did not take, in order, at most the `last`
+    /// that [`Exponent::measure_keeping`] was asked for; none are kept after
+    /// this.
+    pub(crate) fn take_last(&mut self) -> VecDeque<PeriodRecord> {
+        self.last_len = 0;
+        std::mem::take(&mut self.last)
+    }
+
     fn measured(
         sim: &mut Simulator<'_>,
         warmup: usize,
         periods: usize,
         kept: Option<Vec<(PeriodRecord, Moment)>>,
+        last_len: usize,
     ) -> Result<Exponent, Halt> {
         let dim = sim.state().len();
         sim.track_tangent();
@@ -138,6 +165,8 @@ impl Exponent {
             points: Vec::with_capacity(periods),
             events: Vec::with_capacity(periods),
             kept,
+            last: VecDeque::with_capacity(last_len),
+            last_len,
         };
         for _ in 0..warmup {
             e.step(sim)?;
@@ -165,6 +194,14 @@ impl Exponent {
         let events = u32::try_from(rec.events).unwrap_or(u32::MAX);
         match self.kept.as_mut() {
             Some(kept) => kept.push((rec, sim.moment())),
+            None if self.last_len > 0 => {
+                if self.last.len() == self.last_len {
+                    if let Some(old) = self.last.pop_front() {
+                        sim.recycle(old);
+                    }
+                }
+                self.last.push_back(rec);
+            }
             None => sim.recycle(rec),
         }
         apply(sim.tangent().ok_or(Halt::Stalled)?, &self.v, &mut self.w);
@@ -459,6 +496,8 @@ mod tests {
             growth,
             events,
             kept: None,
+            last: VecDeque::new(),
+            last_len: 0,
         }
     }
 

@@ -3,7 +3,7 @@
 //! and off-section tests that tell a torus from chaos ([`Executor::decide`]).
 
 use super::quiet::closing_drift;
-use super::{Executor, Steady, Unresolved};
+use super::{Executor, Reached, Steady, Unresolved};
 use crate::circle::{
     folded_torus_loops, gain, on_folded_loops, on_loops, torus_loops, turns_on_torus, Rotation, MOST_LOOPS, SETTLED,
     TORUS_GAIN,
@@ -130,10 +130,13 @@ impl<'s> Executor<'s> {
         // periods are the record's own where it simulates as the record
         // does: the exact flow, no half periods.
         let keep = keep && !self.sys.model.symmetric && self.sim.method() == Method::Exact;
+        // The records of its last periods, a window's and the period before
+        // it, for a record to go on to where the motion reached a torus
+        // within the measurement ([`Executor::go_on_to_torus`]).
+        let last = self.acc.n_max + 1;
         let mut tangent = self.sim.probe_in_time();
-        let e = self.budget.spend(&mut self.sim, &mut tangent, |t| match keep {
-            true => Exponent::measure_keeping(t, LYAPUNOV_WARMUP, periods),
-            false => Exponent::measure(t, LYAPUNOV_WARMUP, periods),
+        let e = self.budget.spend(&mut self.sim, &mut tangent, |t| {
+            Exponent::measure_keeping(t, LYAPUNOV_WARMUP, periods, keep, last)
         })?;
         Ok((tangent, e))
     }
@@ -272,8 +275,18 @@ impl<'s> Executor<'s> {
                     let points = &e.points[n - n / part..];
                     points.len() >= SETTLED && on_torus(Rotation::of(points).as_ref(), points).is_some()
                 };
+                // Whether the motion reached its torus within the
+                // measurement: its points on one over the last half or
+                // quarter only, in a scene that dissipates (where nothing
+                // does, nothing attracts: a motion stays on the invariant
+                // set it starts on).
+                let mut within = false;
                 let loops = match locked {
-                    None => on_torus(rotation.as_ref(), &e.points).or_else(|| (settled(2) || settled(4)).then_some(1)),
+                    None => on_torus(rotation.as_ref(), &e.points).or_else(|| {
+                        let late = settled(2) || settled(4);
+                        within = late && !lossless;
+                        late.then_some(1)
+                    }),
                     Some(q) => {
                         // The multiples once the measurement is as long as an
                         // undecided record's, after the search for an orbit
@@ -358,6 +371,7 @@ impl<'s> Executor<'s> {
                     }
                 }
                 let loops = loops.or(reached.then_some(1));
+                within |= reached;
                 let defer = limit == first && (grew.is_some() || sparse);
                 if defer {
                     deferred = loops;
@@ -375,6 +389,9 @@ impl<'s> Executor<'s> {
                 if let Some(k) = loops {
                     if let Some(n) = self.focus_of(&e.points, k) {
                         return Steady::Periodic(n);
+                    }
+                    if !defer && !untold && within {
+                        return self.torus_reached_within(tangent, &mut e);
                     }
                     if !defer && !untold {
                         return Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None);
@@ -623,6 +640,15 @@ impl<'s> Executor<'s> {
                 return Steady::Aperiodic(Class::Unresolved, e.per_time(), Some(why));
             }
         }
+    }
+
+    /// `Q`, with its exponent (per unit time), for a motion that reached its
+    /// torus within the measurement `e` on `probe`: where the measurement
+    /// ended, and the records of its last periods, are kept for the record
+    /// to go on to ([`Executor::go_on_to_torus`]).
+    fn torus_reached_within(&mut self, probe: Simulator<'s>, e: &mut Exponent) -> Steady {
+        self.torus_reached = Some(Reached { probe, last: e.take_last() });
+        Steady::Aperiodic(Class::Quasiperiodic, e.per_time(), None)
     }
 
     /// Whether the motion from where `probe` is, sampled at

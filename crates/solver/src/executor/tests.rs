@@ -272,7 +272,7 @@ fn the_exponents_periods_are_the_records_own() {
             resumed.run_period(&[], false, &mut Ignore).unwrap();
         }
         let mut probe = resumed.probe_in_time();
-        let mut e = Exponent::measure_keeping(&mut probe, LYAPUNOV_WARMUP, 50).unwrap();
+        let mut e = Exponent::measure_keeping(&mut probe, LYAPUNOV_WARMUP, 50, true, 0).unwrap();
         let kept = e.take_kept();
         assert_eq!(kept.len(), LYAPUNOV_WARMUP + 50);
         let mut last = None;
@@ -1838,4 +1838,77 @@ fn reasons_read_as_documented() {
     );
     let why = Unresolved::Linear { periods: 32, closing: None, meets: None, overlap: None, followed: None }.to_string();
     assert!(why.contains("one linear flow, never chaotic"), "{why}");
+}
+
+/// Issue 62: the window and the final state of a record whose motion
+/// reached its torus within the exponent's measurement are the torus, at
+/// the end of that measurement. An impact damper with a heavy free mass
+/// (μ = 0.5, ζ = 0.05, R = 0.6; a scene not shipped) at ω = 1.846154, δ = 0.344828, from the state its
+/// ω × δ plane's down sweep handed on, wanders chaotically for some 1 000
+/// periods, then settles on a torus of 13 loops: its measurement's tangent
+/// grows by 28 over the first 800 of 1 600 periods and by −0.4 over the
+/// last 800, and the cell is `Q`. Its window and final state were those of
+/// the record before the measurement, in the chaotic transient: two starts
+/// 1e-8 apart from that state were 1e-2 apart 200 periods on, and its
+/// points 0.025 from those 13 periods on. An independent simulation (scipy,
+/// events to 1e-12) from the final state the cell now reports: two starts
+/// 1e-8 apart within 4e-9 over 400 periods, every point 1.05e-3 (median)
+/// from the one 13 periods on, a drift along its loop.
+#[test]
+fn a_torus_reached_within_the_measurement_is_the_window() {
+    let scene = r#"
+name = "heavy-damper"
+symmetric = true
+[parameters]
+omega = { value = 1.0 }
+delta = { value = 0.3 }
+[forcing]
+omega = "omega"
+[[masses]]
+name = "M1"
+mass = 1
+force = 1
+[[masses]]
+name = "M2"
+mass = 0.5
+[[links]]
+masses = ["M1"]
+stiffness = 1
+damping = 0.1
+[[stops]]
+name = "right"
+masses = ["M2", "M1"]
+gap = "delta"
+restitution = 0.6
+[[stops]]
+name = "left"
+masses = ["M1", "M2"]
+gap = "delta"
+restitution = 0.6
+[labels.M2]
+p = "right"
+q = "left"
+"#;
+    let sys =
+        crate::testing::system_of(scene, &[("omega", 1.846_153_846_153_846_3), ("delta", 0.344_827_586_206_896_5)]);
+    let y0 = [-0.120_831_789_759_189_04, 0.086_689_342_358_632_4, -0.188_755_364_229_328_37, -0.790_802_001_775_023];
+    let acc = Accuracy::default();
+    let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+    assert_eq!(cell.class, Class::Quasiperiodic, "{:?} {:?}", cell.lyapunov, cell.reason);
+    let window = &cell.section;
+    assert_eq!(window.len(), acc.n_max);
+    let drift = (13..window.len())
+        .map(|k| distance(&DVector::from_column_slice(&window[k]), &DVector::from_column_slice(&window[k - 13])))
+        .fold(0.0, f64::max);
+    assert!(drift < 3e-3, "{drift}");
+    let mut twin = cell.final_state.clone();
+    twin[0] += 1e-8;
+    let mut a = crate::Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+    let mut b = crate::Simulator::new(&sys, acc, Method::Exact, &twin).unwrap();
+    for period in 0..400 {
+        a.run_period(&[], false, &mut Ignore).unwrap();
+        b.run_period(&[], false, &mut Ignore).unwrap();
+        let apart = distance(a.state(), b.state());
+        assert!(apart < 1e-7, "{apart} apart after {period} periods");
+    }
 }
