@@ -612,9 +612,7 @@ impl<'s> Executor<'s> {
         self.sim.resume(moment, &mut probe);
         self.sim.count_periods(periods, events);
         self.budget.hand_over(periods, events);
-        for old in self.hist.drain(..) {
-            self.sim.recycle(old);
-        }
+        self.hist.clear();
         self.hist.extend(last);
         Some(window)
     }
