@@ -1842,9 +1842,10 @@ fn reasons_read_as_documented() {
 
 /// Issue 62: the window and the final state of a record whose motion
 /// reached its torus within the exponent's measurement are the torus, at
-/// the end of that measurement. An impact damper with a heavy free mass
-/// (μ = 0.5, ζ = 0.05, R = 0.6; a scene not shipped) at ω = 1.846154, δ = 0.344828, from the state its
-/// ω × δ plane's down sweep handed on, wanders chaotically for some 1 000
+/// the end of that measurement. The impact damper with a heavy free mass
+/// (μ = 0.5, ζ = 0.05, R = 0.6; a held-out plane's scene) at
+/// ω = 1.846154, δ = 0.344828, from the state its ω × δ plane's down
+/// sweep handed on, wanders chaotically for some 1 000
 /// periods, then settles on a torus of 13 loops: its measurement's tangent
 /// grows by 28 over the first 800 of 1 600 periods and by −0.4 over the
 /// last 800, and the cell is `Q`. Its window and final state were those of
@@ -1856,41 +1857,16 @@ fn reasons_read_as_documented() {
 /// from the one 13 periods on, a drift along its loop.
 #[test]
 fn a_torus_reached_within_the_measurement_is_the_window() {
-    let scene = r#"
-name = "heavy-damper"
-symmetric = true
-[parameters]
-omega = { value = 1.0 }
-delta = { value = 0.3 }
-[forcing]
-omega = "omega"
-[[masses]]
-name = "M1"
-mass = 1
-force = 1
-[[masses]]
-name = "M2"
-mass = 0.5
-[[links]]
-masses = ["M1"]
-stiffness = 1
-damping = 0.1
-[[stops]]
-name = "right"
-masses = ["M2", "M1"]
-gap = "delta"
-restitution = 0.6
-[[stops]]
-name = "left"
-masses = ["M1", "M2"]
-gap = "delta"
-restitution = 0.6
-[labels.M2]
-p = "right"
-q = "left"
-"#;
-    let sys =
-        crate::testing::system_of(scene, &[("omega", 1.846_153_846_153_846_3), ("delta", 0.344_827_586_206_896_5)]);
+    let sys = system(
+        "impact-damper.toml",
+        &[
+            ("mu", 0.5),
+            ("zeta", 0.05),
+            ("R", 0.6),
+            ("omega", 1.846_153_846_153_846_3),
+            ("delta", 0.344_827_586_206_896_5),
+        ],
+    );
     let y0 = [-0.120_831_789_759_189_04, 0.086_689_342_358_632_4, -0.188_755_364_229_328_37, -0.790_802_001_775_023];
     let acc = Accuracy::default();
     let cell = run_cell(&sys, &acc, Method::Exact, &y0);
