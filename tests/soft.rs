@@ -619,7 +619,9 @@ fn cell_says_contacts_for_soft_stops() {
 }
 
 /// Issue 60: a soft stop's quantities are named in the words of contacts in
-/// the file (`long_name`, `symbol`), a rigid stop's in those of impacts.
+/// the file (`long_name`, `symbol`), a rigid stop's in those of impacts;
+/// both name their owner, the symbol too (since 2026-12-07: two masses'
+/// `max |x|` had the same symbol).
 #[test]
 fn soft_stop_quantities_say_contacts() {
     let sys = |scene: &str| {
@@ -631,12 +633,17 @@ fn soft_stop_quantities_say_contacts() {
     let b = named(&gear, "impact_rate_B");
     assert_eq!(
         (b.symbol.as_str(), b.long_name.as_str()),
-        ("contacts per period", "contacts begun per forcing period at B")
+        ("contacts per period B", "contacts begun per forcing period at B")
     );
     let v = named(&gear, "impact_speed_max_D");
     assert_eq!(v.long_name, "largest normal speed at the start of a contact at D");
     let a = named(&rigid, "impact_rate_A");
-    assert_eq!((a.symbol.as_str(), a.long_name.as_str()), ("impacts per period", "impacts per forcing period at A"));
+    assert_eq!((a.symbol.as_str(), a.long_name.as_str()), ("impacts per period A", "impacts per forcing period at A"));
+    // The symbols of two masses' quantities differ, as their names do.
+    let multi = grid::Quantity::of(&sys("multi-stop.toml"));
+    let [x1, x2] = ["max_abs_x_M1", "max_abs_x_M2"].map(|n| named(&multi, n).symbol);
+    assert_eq!((x1.as_str(), x2.as_str()), ("max |x| M1", "max |x| M2"));
+    assert_eq!(named(&multi, "power_in").symbol, "P in");
     let v = named(&rigid, "impact_speed_mean_A");
     assert_eq!(v.long_name, "mean normal speed before an impact at A");
 }

@@ -420,7 +420,7 @@ mod tests {
 pub struct QuantityReport {
     /// The number's name (`max_abs_x_M1`, `multiplier`).
     pub name: String,
-    /// Its symbol (`max |x|`).
+    /// Its symbol (`max |x| M1`).
     pub symbol: String,
     /// Its long name.
     pub long_name: String,

@@ -112,7 +112,7 @@ impl Number {
         }
     }
 
-    /// Its symbol (`max |μ|`, `λ`, a quantity's `max |x|`).
+    /// Its symbol (`max |μ|`, `λ`, a quantity's `max |x| M1`).
     pub fn symbol(self, m: &crate::Meta) -> &str {
         match self {
             Number::Lyapunov => "λ",
@@ -167,7 +167,7 @@ impl Number {
 pub struct Quantity {
     /// Its name: `<stem>_<owner>` or a cell quantity's stem.
     pub name: String,
-    /// Its symbol (`max |x|`).
+    /// Its symbol, with its owner (`max |x| M1`).
     pub symbol: String,
     /// Its long name, with its owner (`largest |position| of M1`).
     pub long_name: String,
@@ -193,8 +193,14 @@ impl Quantity {
         let built_in = solver::quantity::names(sys).into_iter().map(|(name, spec)| {
             let owner = name.strip_prefix(spec.stem).and_then(|o| o.strip_prefix('_')).unwrap_or("");
             let (symbol, long) = spec.words(soft(owner));
-            let long_name = if owner.is_empty() { long.to_string() } else { format!("{long} {owner}") };
-            Quantity { symbol: symbol.to_string(), long_name, units: spec.dimension.units(&sys.model.scales), name }
+            // Both name the owner, so that two masses' `max |x|` are told
+            // apart by their symbols too (`max |x| M1`, as a scene's own
+            // `att M1`).
+            let (symbol, long_name) = match owner {
+                "" => (symbol.to_string(), long.to_string()),
+                owner => (format!("{symbol} {owner}"), format!("{long} {owner}")),
+            };
+            Quantity { symbol, long_name, units: spec.dimension.units(&sys.model.scales), name }
         });
         let defined = sys.model.quantities.iter().map(|d| Quantity {
             name: d.name.clone(),
