@@ -603,18 +603,32 @@ impl<'s> Executor<'s> {
     /// periods on). The periods of the window; `None` where there is no
     /// such end (the main simulation went on past it).
     fn go_on_to_torus(&mut self) -> Option<usize> {
-        let Reached { mut probe, last } = self.torus_reached.take()?;
-        let periods = probe.periods().checked_sub(self.sim.periods())?;
+        let Reached { probe, last } = self.torus_reached.take()?;
         let window = last.len().checked_sub(1).filter(|&w| w > 0)?;
-        self.catch_up();
+        if !self.take_over(probe) {
+            return None;
+        }
+        self.hist.clear();
+        self.hist.extend(last);
+        Some(window)
+    }
+
+    /// The main simulation resumes where `probe`, a probe of it in time,
+    /// stopped: its periods and events handed over from the probe's count
+    /// to the main simulation's (counted once), and the periods taken ahead
+    /// let go. `false`, and nothing done, where the main simulation ran on
+    /// past the probe (a failed settling on an orbit simulates periods that
+    /// it then takes back in state, not in count): it does not go on from
+    /// there.
+    pub(super) fn take_over(&mut self, mut probe: Simulator<'s>) -> bool {
+        let Some(periods) = probe.periods().checked_sub(self.sim.periods()) else { return false };
+        self.ahead = None;
         let events = probe.events();
         let moment = probe.moment();
         self.sim.resume(moment, &mut probe);
         self.sim.count_periods(periods, events);
         self.budget.hand_over(periods, events);
-        self.hist.clear();
-        self.hist.extend(last);
-        Some(window)
+        true
     }
 
     /// Whether the last `periods` periods of the record are one undamped

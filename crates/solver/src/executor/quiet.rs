@@ -143,19 +143,12 @@ impl<'s> Executor<'s> {
     /// for bit the record's own (the same for the same cell, every run).
     /// Once a cell; `true` when it did.
     pub(super) fn go_on_quiet(&mut self) -> bool {
-        let Some(mut probe) = self.quiet_end.take() else { return false };
-        // The main simulation ran on past the probe (a failed settling on
-        // an orbit simulates periods that it then takes back in state, not
-        // in count): it does not go on from there.
-        let Some(periods) = probe.periods().checked_sub(self.sim.periods()) else { return false };
+        let Some(probe) = self.quiet_end.take() else { return false };
+        if !self.take_over(probe) {
+            return false;
+        }
         self.quieted = true;
-        self.ahead = None;
         self.exponent_events = None;
-        let events = probe.events();
-        let moment = probe.moment();
-        self.sim.resume(moment, &mut probe);
-        self.sim.count_periods(periods, events);
-        self.budget.hand_over(periods, events);
         self.record_afresh();
         true
     }

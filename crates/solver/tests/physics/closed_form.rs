@@ -93,7 +93,6 @@ fn free_mass_flight_is_exact() {
     }
 }
 
-/// The quantities of a cell's steady motion over its orbit's n periods.
 /// The quantities of the window of a cell from `sys`'s initial state: its
 /// orbit's n periods, else 16.
 fn window_quantities(sys: &solver::System) -> std::collections::BTreeMap<String, f64> {
@@ -102,6 +101,7 @@ fn window_quantities(sys: &solver::System) -> std::collections::BTreeMap<String,
     solver::quantity::named(sys, &q).into_iter().collect()
 }
 
+/// The quantities of a cell's steady motion over its orbit's n periods.
 fn quantities(sys: &solver::System, acc: &Accuracy) -> (solver::CellResult, std::collections::BTreeMap<String, f64>) {
     let cell = run_cell(sys, acc, Method::Exact, &sys.model.initial_state());
     let n = cell.n.unwrap_or_else(|| panic!("{}: not periodic ({:?})", sys.model.name, cell.class));
