@@ -147,10 +147,14 @@ impl Deflater {
     }
 
     /// `f(0), …, f(n - 1)` computed on the threads (each takes the next index
-    /// as it frees), in order.
+    /// as it frees), in order; on the calling thread where one would take
+    /// them all (one thread, or one chunk: most datasets of a plane).
     pub(crate) fn map<R: Send + Default>(&self, n: usize, f: impl Fn(usize) -> R + Sync) -> Vec<R> {
-        let next = AtomicUsize::new(0);
         let workers = self.threads.clamp(1, n.max(1));
+        if workers == 1 {
+            return (0..n).map(f).collect();
+        }
+        let next = AtomicUsize::new(0);
         let done: Vec<Vec<(usize, R)>> = std::thread::scope(|scope| {
             let handles: Vec<_> = (0..workers)
                 .map(|_| {
