@@ -383,6 +383,19 @@ impl Exponent {
         first > late.bound
     }
 
+    /// Whether the tangent grew by more than `bound` (in `ln`) over both
+    /// halves of the measured periods from `from` on, as
+    /// [`Exponent::grew_late`] and [`Exponent::grew_before`] ask of the two
+    /// halves of the whole measurement: over the stretch where the motion lay
+    /// on a torus that it reached within the measurement, the chaotic
+    /// transient before it left out (an attracting torus's tangent stays
+    /// bounded there, and gains no more than its swing over the stretch).
+    pub fn kept_growing_from(&self, from: usize, bound: f64) -> bool {
+        let mid = from + (self.growth.len() - from) / 2;
+        let over = |part: &[f64]| part.iter().sum::<f64>() > bound;
+        over(&self.growth[from..mid]) && over(&self.growth[mid..])
+    }
+
     /// The stretch from measured period `from` to the end where the tangent
     /// grew by more than a polynomial growth could over it.
     fn beyond_polynomial(&self, from: usize) -> Option<Stretch> {

@@ -1888,3 +1888,87 @@ fn a_torus_reached_within_the_measurement_is_the_window() {
         assert!(apart < 1e-7, "{apart} apart after {period} periods");
     }
 }
+
+/// Two masses in a chain, the outer one between rigid stops at +δ and
+/// −1.6 δ, the inner one under a stop at 1.2 (a scene held out from the
+/// shipped ones), at ω = 1.01379, δ = 1.14211 from the state its up sweep
+/// handed on: past the Neimark–Sacker bifurcation of its orbit `2-2-2`
+/// (multipliers 1.0443 at ±85°), the motion reaches a torus of 2 loops about
+/// it some 1 000 periods into the 6 400 that the exponent measures. Its
+/// section points are locked at 1/2 throughout, and every second one lies on
+/// a closed curve over the last half only; the tangent grew by 6.38 over the
+/// first half (the transient) and 1.89 over the last. It was `U` ("locked
+/// at 1/2 … no stable orbit"). An independent simulation (the closed form
+/// between impacts, a referee's own) from its stored state: no return within
+/// 1e-6 for any period up to 1 000, every second point 0.057–0.187 from the
+/// orbit's point after 1 000 periods, and two starts 1e-8 apart on the torus
+/// within 1.5e-7 over 4 000 periods.
+#[test]
+fn islands_reached_within_the_measurement_are_a_torus() {
+    let sys = crate::testing::system_of(
+        r#"
+name = "chain-unequal"
+[parameters]
+omega = 1.0
+delta = 0.5
+[forcing]
+omega = "omega"
+[[masses]]
+name = "M1"
+mass = 1
+force = 0.5
+[[masses]]
+name = "M2"
+mass = 0.7
+force = 0.5
+[[links]]
+masses = ["M1"]
+stiffness = 1
+damping = 0.1
+[[links]]
+masses = ["M2", "M1"]
+stiffness = 1.5
+damping = 0.05
+[[stops]]
+name = "up2"
+mass = "M2"
+side = "above"
+position = "delta"
+restitution = 0.75
+[[stops]]
+name = "lo2"
+mass = "M2"
+side = "below"
+position = "-1.6*delta"
+restitution = 0.75
+[[stops]]
+name = "up1"
+mass = "M1"
+side = "above"
+position = 1.2
+restitution = 0.75
+"#,
+        &[("omega", 1.013_793_103_448_276), ("delta", 1.142_105_263_157_894_7)],
+    );
+    let y0 = [-0.186_301_521_803_066_42, -0.825_544_588_034_082_8, 1.126_811_655_912_434, 0.534_363_260_643_124_8];
+    let acc = Accuracy::default();
+    let cell = run_cell(&sys, &acc, Method::Exact, &y0);
+    assert_eq!(cell.class, Class::Quasiperiodic, "{:?} {:?}", cell.lyapunov, cell.reason);
+    // The orbit `2-2-2` the torus winds about: its point at the section.
+    let orbit = DVector::from_vec(vec![-1.376_929_745, -1.295_464_777, 0.669_811_266, 0.204_740_200]);
+    let mut a = crate::Simulator::new(&sys, acc, Method::Exact, &cell.final_state).unwrap();
+    let mut twin = cell.final_state.clone();
+    twin[0] += 1e-8;
+    let mut b = crate::Simulator::new(&sys, acc, Method::Exact, &twin).unwrap();
+    let mut near = f64::INFINITY;
+    for period in 0..400 {
+        a.run_period(&[], false, &mut Ignore).unwrap();
+        b.run_period(&[], false, &mut Ignore).unwrap();
+        let apart = distance(a.state(), b.state());
+        assert!(apart < 1e-6, "{apart} apart after {period} periods");
+        near = near.min((a.state() - &orbit).norm());
+    }
+    // On the loop about the orbit's point (0.0572 at its nearest for the
+    // referee), not on the point: from the stored state on.
+    assert!((0.05..0.07).contains(&near), "{near}");
+}
