@@ -271,10 +271,15 @@ impl<'s> Executor<'s> {
                 // The motion may have reached its torus only after the first
                 // points: the last half, or the last quarter, on one.
                 let n = e.points.len();
-                let settled = |part: usize| {
-                    let points = &e.points[n - n / part..];
-                    points.len() >= SETTLED && on_torus(Rotation::of(points).as_ref(), points).is_some()
+                // The last `1/part` of the points, from the first of them,
+                // where they are enough to tell a torus by ([`SETTLED`]).
+                let tail = |part: usize| {
+                    let from = n - n / part;
+                    let points = &e.points[from..];
+                    (points.len() >= SETTLED).then_some((from, points))
                 };
+                let settled =
+                    |part: usize| tail(part).is_some_and(|(_, p)| on_torus(Rotation::of(p).as_ref(), p).is_some());
                 // Whether the motion reached its torus within the
                 // measurement: its points on one over the last half or
                 // quarter only, in a scene that dissipates (where nothing
@@ -325,11 +330,7 @@ impl<'s> Executor<'s> {
                         // `U` before, "locked at 1/2 … no stable orbit").
                         let late = || {
                             [2, 4].into_iter().find_map(|part| {
-                                let from = n - n / part;
-                                let points = &e.points[from..];
-                                (points.len() >= SETTLED)
-                                    .then(|| islands(on_loops, points).map(|k| (k, from)))
-                                    .flatten()
+                                tail(part).and_then(|(from, points)| islands(on_loops, points).map(|k| (k, from)))
                             })
                         };
                         islands(on_loops, &e.points)
