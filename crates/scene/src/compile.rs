@@ -21,6 +21,16 @@ impl Scene {
         at_most("masses", "masses", file.masses.len(), MAX_MASSES)?;
         at_most("stops", "stops", file.stops.len(), MAX_STOPS)?;
         at_most("friction", "friction contacts", file.friction.len(), MAX_FRICTION)?;
+        // Printed as they are by every front end (a terminal takes an escape
+        // sequence as a command): the name one line, the description lines
+        // of text.
+        if let Some(c) = file.name.chars().find(|c| c.is_control()) {
+            let why = format!("must be one line, without newlines or control characters, got {c:?}");
+            return Err(SceneError::field("name", why));
+        }
+        if let Some(c) = file.description.chars().find(|&c| c.is_control() && !matches!(c, '\n' | '\r' | '\t')) {
+            return Err(SceneError::field("description", format!("must not hold control characters, got {c:?}")));
+        }
         let names: Vec<String> = file.parameters.keys().cloned().collect();
         let index = Names::new(&names);
         for n in &names {
@@ -492,6 +502,29 @@ restitution = 0.8
 {labels}"#
         );
         Scene::parse(&scene).map_err(|e| e.to_string())
+    }
+
+    /// The scene's name and description are printed as they are: an escape
+    /// or a NUL in them is refused (a terminal would take an escape sequence
+    /// as a command), a description's lines kept.
+    #[test]
+    fn a_scene_s_name_and_description_hold_no_control_characters() {
+        let base = with_labels("").unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(base.name(), "t");
+        let scene = |head: &str| {
+            let text = format!("{head}\n[parameters]\n[forcing]\nomega = 1\n[[masses]]\nname = \"X\"\nmass = 1\nforce = 1\n[[links]]\nmasses = [\"X\"]\nstiffness = 1\n");
+            Scene::parse(&text).map_err(|e| e.to_string())
+        };
+        assert!(scene("name = \"t\"\ndescription = \"two lines,\\r\\nand a\\ttab\"").is_ok());
+        for (head, said) in [
+            ("name = \"a\\u001b[31mb\"", "name: must be one line"),
+            ("name = \"a\\u0000b\"", "name: must be one line"),
+            ("name = \"two\\nlines\"", "name: must be one line"),
+            ("name = \"t\"\ndescription = \"a\\u001b[2Jb\"", "description: must not hold control characters"),
+        ] {
+            let err = scene(head).expect_err(head);
+            assert!(err.contains(said), "{head}: {err}");
+        }
     }
 
     /// A label counts its mass's own impacts: p is given, names a stop the
