@@ -60,7 +60,15 @@ pub(crate) fn levels(lo: f64, hi: f64, count: usize) -> Vec<f64> {
         e => k as f64 * mantissa / 10f64.powi(-e),
     };
     let first = (lo / (mantissa * power)).floor() as i64 + 1;
-    (first..).map(at).take_while(|&l| l < hi).filter(|&l| l > lo).take(count).collect()
+    // A step at least `raw` leaves at most `count + 1` levels below `hi`;
+    // bounded so, values whose steps round to nothing (subnormal numbers,
+    // whose power of ten is 0) give no level rather than no end.
+    (first..first.saturating_add(count as i64 + 1))
+        .map(at)
+        .take_while(|&l| l < hi)
+        .filter(|&l| l > lo)
+        .take(count)
+        .collect()
 }
 
 #[cfg(test)]
@@ -98,6 +106,13 @@ mod tests {
         let near = |p: &(f64, f64)| (p.0 - 30.0).abs() < 1.0 && (p.1 - 22.0).abs() < 1.0;
         assert!(!broken.iter().flatten().any(near), "no line in the four squares of the cell without a value");
         assert!(s.iter().flatten().any(near));
+    }
+
+    #[test]
+    fn levels_of_subnormal_values_end() {
+        // 1e-320 to 5e-320: the step's power of ten is 0 in doubles.
+        let l = levels(1e-320, 5e-320, 3);
+        assert!(l.len() <= 3 && l.iter().all(|&v| v > 1e-320 && v < 5e-320), "{l:?}");
     }
 
     #[test]
