@@ -94,6 +94,10 @@ impl Study {
         if let Some((k, _)) = s.set.iter().find(|(_, v)| !v.is_finite()) {
             return Err(GridError::field(format!("set.{k}"), "not a finite number"));
         }
+        if s.set.contains_key(&s.parameter) {
+            let why = format!("{} is the study's parameter, given by values; set it there", s.parameter);
+            return Err(GridError::field(format!("set.{}", s.parameter), why));
+        }
         Ok(s)
     }
 
@@ -129,5 +133,14 @@ mod tests {
         assert!(values("[0.5, 0.50]").unwrap_err().contains("given twice"));
         assert!(values("[1e300]").unwrap_err().contains("file name"));
         assert!(values("[0.25, 0.5]").is_ok());
+        // The studied parameter's values are `values`; a `[set]` of it is refused.
+        let set = |name: &str| {
+            let text = format!(
+                "scene = \"a.toml\"\nparameter = \"mu_m\"\nvalues = [0.25]\nx = \"\"\ny = \"\"\n[set]\n{name} = 0.3\n"
+            );
+            Study::parse(&text).map_err(|e| e.to_string())
+        };
+        assert!(set("zeta").is_ok(), "{:?}", set("zeta"));
+        assert!(set("mu_m").unwrap_err().contains("set.mu_m: mu_m is the study's parameter"), "{:?}", set("mu_m"));
     }
 }
