@@ -77,6 +77,66 @@ fn outputs_that_are_folders_scenes_or_devices_are_refused_before_work() {
     refused(&["sweep", "configs/multi-stop.toml", "--axis", "omega=0.2:2:3", "--quiet", "-o", ds], "is a directory");
 }
 
+/// The seventh audit (2026-12-07): every output a command writes beside its
+/// file (a trace, a figure) is checked against its inputs (the scene, the
+/// `--from` file) before any work, as `-o` is; a sweep's `-o` against its
+/// `--from` file; a sweep's `--variable` before its file replaces one; a
+/// repeated `--set` or `--accuracy` is refused as a repeated `--at` is; a
+/// PNG too large to draw is refused, never a panic. Each left its input
+/// lost, or the old file replaced, with exit 0 (or 101).
+#[test]
+fn side_outputs_never_replace_an_input_and_late_checks_come_first() {
+    let d = scratch("side-outputs");
+    let at = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let (scene, atlas_h5) = (at("v.toml"), at("v.h5"));
+    std::fs::copy("configs/multi-stop.toml", &scene).unwrap();
+    let made = run(&["atlas", &scene, "--x", "omega=0.5:1.5:4", "--y", "delta=0.1:1:3", "--quiet", "-o", &atlas_h5]);
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let kept = |path: &str| std::fs::read(path).unwrap();
+    let (scene_bytes, atlas_bytes) = (kept(&scene), kept(&atlas_h5));
+    let from = ["--from", atlas_h5.as_str(), "--at", "omega=1,delta=0.5"];
+    refused(&["cell", &scene, "--trace", &scene], "--trace: ");
+    refused(&[&["cell"][..], &from, &["--trace", &atlas_h5]].concat(), "is also an input");
+    refused(
+        &[&["sweep", "--axis", "omega=0.6:0.8:3"][..], &from, &["--quiet", "-o", &atlas_h5]].concat(),
+        "is also an input",
+    );
+    // A figure named like an input (its extension the figure's).
+    let (svg, png) = (at("s.svg"), at("a.png"));
+    std::fs::copy(&scene, &svg).unwrap();
+    std::fs::copy(&atlas_h5, &png).unwrap();
+    refused(&["cell", &svg, "--portrait", &svg], "--portrait: ");
+    refused(&["sweep", &svg, "--axis", "omega=0.2:0.4:3", "--png", &svg], "--png: ");
+    let png_from = ["--from", png.as_str(), "--at", "omega=1,delta=0.5"];
+    refused(&[&["attractors"][..], &png_from, &["--samples", "3", "--png", &png]].concat(), "is also an input");
+    refused(&[&["cell"][..], &png_from, &["--section-png", &png]].concat(), "is also an input");
+    assert_eq!((kept(&scene), kept(&atlas_h5), kept(&svg)), (scene_bytes.clone(), atlas_bytes.clone(), scene_bytes));
+    // --variable checked before the sweep's file replaces one.
+    let other = at("keep.h5");
+    std::fs::copy(&atlas_h5, &other).unwrap();
+    let sweep = ["sweep", "configs/multi-stop.toml", "--axis", "omega=0.2:0.4:3", "--quiet"];
+    refused(
+        &[&sweep[..], &["--variable", "x_M9", "--png", &at("s.png"), "-o", &other]].concat(),
+        "--variable: expected one of x_M1",
+    );
+    refused(&[&sweep[..], &["--variable", "v_M9"]].concat(), "--variable: ");
+    assert_eq!(kept(&other), atlas_bytes);
+    // Given twice, as --at is.
+    refused(&["cell", "configs/multi-stop.toml", "--set", "zeta=0.1", "--set", "zeta=0.9"], "--set zeta: given twice");
+    refused(
+        &["cell", "configs/multi-stop.toml", "--accuracy", "n_max=4", "--accuracy", "n_max=8"],
+        "--accuracy n_max: given twice",
+    );
+    // 1000 mm at 1200 dpi: 47 244 pixels a side (a 6.7 GB bitmap).
+    refused(&["render", &atlas_h5, "-o", &at("r.png"), "--size", "1000x1000", "--dpi", "1200"], "--dpi: ");
+    refused(
+        &["cell", "configs/multi-stop.toml", "--portrait", &at("p.png"), "--size", "900x900", "--dpi", "1200"],
+        "--dpi: ",
+    );
+    let pdf = run(&["render", &atlas_h5, "-o", &at("r.pdf"), "--size", "1000x1000", "--dpi", "1200"]);
+    assert!(pdf.status.success(), "a vector figure has no pixels: {}", String::from_utf8_lossy(&pdf.stderr));
+}
+
 #[test]
 fn an_edited_or_malformed_journal_is_refused_and_an_intact_one_resumes_bit_for_bit() {
     let d = scratch("journal");

@@ -18,10 +18,11 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         .split_once(',')
         .and_then(|(x, v)| Some((x.trim().parse::<f64>().ok()?, v.trim().parse::<f64>().ok()?)))
         .ok_or_else(|| anyhow!("--box: expected X,V (two numbers >= 0), got '{}'", a.sample_box))?;
-    crate::figure::check("--png", a.png.as_ref())?;
+    let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
+    crate::figure::check("--png", a.png.as_ref(), &sim.inputs(&from), &page)?;
     let r = AttractorsRequest {
-        sim: sim_from(&a.sim, &a.start)?,
-        point: start(&a.start)?,
+        sim,
+        point: from,
         sampling: Sampling { samples: a.samples, seed: a.seed, x, v },
         threads: engine::threads(a.threads)?,
     };
@@ -38,18 +39,19 @@ pub fn run(a: AttractorsArgs) -> Result<()> {
         outln!("{} samples (seed {}, box |x| <= {x}, |v| <= {v}): {} attractors", a.samples, a.seed, found.len());
         for at in found {
             let c = &at.cell;
-            let stability = match (c.multiplier, c.lyapunov) {
-                (Some(mu), _) => format!("max |multiplier| {mu:.6}"),
-                (_, Some(l)) => format!("lyapunov {l:.6}"),
+            // Its stability, else why it is unresolved, else nothing.
+            let stability = match (c.multiplier, c.lyapunov, &c.reason) {
+                (Some(mu), _, _) => format!("  (max |multiplier| {mu:.6})"),
+                (_, Some(l), _) => format!("  (lyapunov {l:.6})"),
+                (_, _, Some(why)) => format!("  ({why})"),
                 _ => String::new(),
             };
             let sym = c.symmetry.map_or(String::new(), |x| format!(" {}", x.name()));
             outln!(
-                "{:>6.1} %  {}{sym}  {}  ({})",
+                "{:>6.1} %  {}{sym}  {}{stability}",
                 100.0 * at.count as f64 / a.samples as f64,
                 label(at).join(" "),
                 c.class.name(),
-                stability
             );
         }
     }

@@ -9,19 +9,20 @@ use crate::progress::Shown;
 use anyhow::Result;
 use engine::BasinsRequest;
 use grid::Axis;
+use std::path::Path;
 use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: BasinsArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
-    crate::figure::check("--png", a.png.as_ref())?;
-    // The figure's path checked before the work, as the file's.
-    if let Some(png) = &a.png {
-        store::check_output(png, &[a.output.as_path()])?;
-    }
+    let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
+    // The figure's path checked before the work, as the file's (which it
+    // must not replace either).
+    let inputs: Vec<&Path> = sim.inputs(&from).into_iter().chain([a.output.as_path()]).collect();
+    crate::figure::check("--png", a.png.as_ref(), &inputs, &page)?;
     let r = BasinsRequest {
-        sim: sim_from(&a.sim, &a.start)?,
-        start: start(&a.start)?,
+        sim,
+        start: from,
         x: Axis::parse(&a.x, "--x")?,
         y: Axis::parse(&a.y, "--y")?,
         phase: a.phase,

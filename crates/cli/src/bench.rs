@@ -33,6 +33,13 @@ pub fn run(a: BenchArgs) -> Result<()> {
         request.scene = SceneSource::File(p.clone());
     }
     request.check()?;
+    // The trade's figure's folder, made before any work.
+    if let Some(dir) = &a.output {
+        if !(a.trade || a.paper) {
+            bail!("-o: the folder of the trade's figure (trade.png); give --trade or --paper too");
+        }
+        std::fs::create_dir_all(dir).with_context(|| format!("-o: cannot create {}", dir.display()))?;
+    }
     let throughput = if a.paper {
         Vec::new()
     } else {
@@ -143,7 +150,6 @@ fn print_paper(trade: &Trade) -> Result<()> {
 
 /// Draws `trade.png` in `dir` (agreement against cells/s); says so unless `quiet`.
 fn draw_trade(dir: &std::path::Path, trade: &Trade, quiet: bool) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let points: Vec<(String, f64, f64)> =
         trade.rows.iter().map(|r| (r.setting.to_string(), r.cells_per_s, r.label_agreement)).collect();
     let png = dir.join("trade.png");

@@ -3,7 +3,7 @@
 use crate::args::CellArgs;
 use crate::common::{sim_from, start};
 use crate::out::{errln, outln, outp};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use engine::{friction_names, Setup};
 use scene::Named;
 use solver::contact::Contact;
@@ -15,10 +15,12 @@ use store::write_atomically;
 pub fn run(a: CellArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     engine::check_trace_samples(a.trace_samples)?;
-    crate::figure::check("--portrait", a.portrait.as_ref())?;
-    crate::figure::check("--section-png", a.section_png.as_ref())?;
-    crate::figure::output("--trace", a.trace.as_ref())?;
-    let c = engine::cell(&sim_from(&a.sim, &a.start)?, &start(&a.start)?)?;
+    let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
+    let inputs = sim.inputs(&from);
+    crate::figure::check("--portrait", a.portrait.as_ref(), &inputs, &page)?;
+    crate::figure::check("--section-png", a.section_png.as_ref(), &inputs, &page)?;
+    crate::figure::output("--trace", a.trace.as_ref(), &inputs)?;
+    let c = engine::cell(&sim, &from)?;
     crate::common::tell(
         c.origin.as_ref().and_then(|o| o.warning.as_ref()),
         c.origin.as_ref().and_then(|o| o.note.as_ref()),
@@ -26,18 +28,18 @@ pub fn run(a: CellArgs) -> Result<()> {
     let (sys, s, cell) = (&c.system, &c.setup, &c.result);
     if let Some(path) = &a.trace {
         let w = engine::trace(sys, s, cell, a.trace_samples)?;
-        write_atomically(path, |tmp| std::fs::write(tmp, trace_csv(sys, &w.rows)))?;
+        write_atomically(path, |tmp| std::fs::write(tmp, trace_csv(sys, &w.rows))).context("--trace")?;
         if let Some(note) = w.note(engine::window_periods(cell)) {
             errln!("warning: trace {}: {note}", path.display());
         }
     }
     if let Some(path) = &a.portrait {
         let p = engine::portrait(&c);
-        write_atomically(path, |tmp| render::portrait(&p, &page, tmp))?;
+        write_atomically(path, |tmp| render::portrait(&p, &page, tmp)).context("--portrait")?;
     }
     if let Some(path) = &a.section_png {
         let (panels, title) = engine::section_panels(&c, a.section_periods)?;
-        write_atomically(path, |tmp| render::sections(&panels, &title, &page, tmp))?;
+        write_atomically(path, |tmp| render::sections(&panels, &title, &page, tmp)).context("--section-png")?;
     }
     if a.json {
         outln!("{}", serde_json::to_string(&c.to_json())?);

@@ -15,9 +15,10 @@ use store::write_atomically;
 pub fn run(a: ContinueArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     let axis = Axis::parse(&a.axis, "--axis")?;
-    crate::figure::check("--png", a.png.as_ref())?;
-    let mut r = engine::ContinuationRequest::new(sim_from(&a.sim, &a.start)?, axis.clone());
-    (r.start, r.n, r.arclength) = (start(&a.start)?, a.n, a.arclength);
+    let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
+    crate::figure::check("--png", a.png.as_ref(), &sim.inputs(&from), &page)?;
+    let mut r = engine::ContinuationRequest::new(sim, axis.clone());
+    (r.start, r.n, r.arclength) = (from, a.n, a.arclength);
     let c = engine::continuation(&r, &engine::Quiet)?;
     crate::common::tell(c.warning.as_ref(), c.note.as_ref());
     let (sys, branch) = (&c.system, &c.branch);

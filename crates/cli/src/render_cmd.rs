@@ -11,9 +11,8 @@ use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
-    crate::figure::check("-o", Some(&a.output))?;
     let page = crate::figure::page(&a.figure)?;
-    store::check_output(&a.output, &[&a.file])?;
+    crate::figure::check("-o", Some(&a.output), &[&a.file], &page)?;
     if store::is_basins(&a.file) {
         let given = [
             ("--contours", a.contours.is_some()),

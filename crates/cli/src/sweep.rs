@@ -16,16 +16,21 @@ use store::write_atomically;
 pub fn run(a: SweepArgs) -> Result<()> {
     let axis = Axis::parse(&a.axis, "--axis")?;
     let page = crate::figure::page(&a.figure)?;
-    crate::figure::check("--png", a.png.as_ref())?;
+    if let Some(points) = a.points.filter(|&p| p > grid::MAX_SECTION_CAP) {
+        anyhow::bail!("--points: at most {}, got {points}", grid::MAX_SECTION_CAP);
+    }
+    let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
+    crate::figure::check("--png", a.png.as_ref(), &sim.inputs(&from), &page)?;
     let r = SweepRequest {
-        sim: sim_from(&a.sim, &a.start)?,
-        start: start(&a.start)?,
+        sim,
+        start: from,
         axis,
         direction: a.direction,
         section_cap: a.points.unwrap_or(a.run.section_cap),
         threads: engine::threads(a.run.threads)?,
         output: a.output.clone(),
         command: command_line(),
+        variable: a.variable.clone(),
     };
     let swept = engine::sweep(&r, &Shown::new("sweep", a.run.quiet || a.json))?;
     crate::common::tell(

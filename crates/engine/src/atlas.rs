@@ -5,11 +5,11 @@
 use crate::error::Result;
 use crate::error::{with_fields, Opt, RequestError};
 use crate::plan::{Executed, Plan};
-use crate::sim::Sim;
+use crate::sim::{Sim, Start};
 use grid::attractors::Sampling;
 use grid::Observer;
 use grid::{Along, Axis, Plane, Shard, SweepKind};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 scene::named_enum! {
     /// Which cells get their coexisting attractors.
@@ -184,7 +184,7 @@ pub fn atlas(r: &AtlasRequest, observer: &dyn Observer) -> Result<Executed> {
     plan.shard = r.shard;
     plan.output = r.output.as_deref().map(store::canonical_output).transpose()?;
     plan.resume = r.resume;
-    plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
+    plan.inputs = r.sim.inputs(&Start::Initial).into_iter().map(Path::to_path_buf).collect();
     plan.command = r.command.clone();
     if let Some(names) = &r.quantities {
         plan.keep_quantities(names)?;

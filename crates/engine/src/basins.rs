@@ -60,11 +60,7 @@ pub fn components(sys: &solver::System) -> Vec<String> {
 pub fn basins(r: &BasinsRequest, observer: &dyn Observer) -> Result<(BasinMap, Option<Origin>)> {
     let (s, origin) = r.sim.setup_from(&r.start)?;
     if let Some(out) = &r.output {
-        let mut inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
-        if let Start::Cell { file, .. } = &r.start {
-            inputs.push(file);
-        }
-        store::check_output(out, &inputs)?;
+        store::check_output(out, &r.sim.inputs(&r.start))?;
     }
     let cs = s.cell_setup(0)?;
     let sys = cs.system(&[])?;

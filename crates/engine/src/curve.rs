@@ -4,7 +4,7 @@
 
 use crate::error::{Error, Result};
 use crate::error::{Opt, RequestError};
-use crate::sim::{check_period, labels_of, unknown, Setup, Sim};
+use crate::sim::{check_period, labels_of, unknown, Setup, Sim, Start};
 use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
@@ -152,8 +152,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Followe
         return Err(crate::Error::Cancelled);
     }
     if let Some(out) = &r.output {
-        let inputs: Vec<&std::path::Path> = r.sim.scene.file().into_iter().collect();
-        store::check_output(out, &inputs)?;
+        store::check_output(out, &r.sim.inputs(&Start::Initial))?;
         let stored = stored(&curve, [pa, pb], &ended);
         store::write_curves(out, std::slice::from_ref(&stored), &r.command, s.scene.source())?;
     }

@@ -129,6 +129,8 @@ pub enum Opt {
     Quantity,
     /// The forcing phase at the start (`basins --phase`).
     Phase,
+    /// The variable a sweep's diagram shows ([`crate::SweepRequest::variable`]).
+    Variable,
 }
 
 impl Opt {
@@ -173,6 +175,7 @@ impl Opt {
             Opt::Quantities => "quantities",
             Opt::Quantity => "quantity",
             Opt::Phase => "phase",
+            Opt::Variable => "variable",
         }
     }
 

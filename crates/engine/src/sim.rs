@@ -92,14 +92,6 @@ impl SceneSource {
         check_structure(&scene).map_err(|cause| SceneLoadError::Invalid { origin, cause })?;
         Ok(scene)
     }
-
-    /// The file, if the scene is one (never to be overwritten by an output).
-    pub fn file(&self) -> Option<&std::path::Path> {
-        match self {
-            SceneSource::File(path) => Some(path),
-            SceneSource::Text(_) | SceneSource::Stored(_) => None,
-        }
-    }
 }
 
 /// The simulation options of every run, as given (not yet validated).
@@ -118,6 +110,21 @@ pub struct Sim {
 }
 
 impl Sim {
+    /// The files a run of these options from `start` reads, which no output
+    /// of it may replace: the scene's file, or the file whose stored scene it
+    /// takes, and the file of a stored cell it starts from.
+    pub fn inputs<'a>(&'a self, start: &'a Start) -> Vec<&'a std::path::Path> {
+        let scene = match &self.scene {
+            SceneSource::File(path) | SceneSource::Stored(path) => Some(path.as_path()),
+            SceneSource::Text(_) => None,
+        };
+        let cell = match start {
+            Start::Cell { file, .. } => Some(file.as_path()),
+            Start::Initial | Start::State(_) => None,
+        };
+        scene.into_iter().chain(cell).collect()
+    }
+
     /// Options with the scene's own values, the `standard` preset and the exact flow.
     pub fn new(scene: SceneSource) -> Sim {
         Sim { scene, set: Vec::new(), preset: None, accuracy: Vec::new(), integrator: None }
@@ -132,9 +139,19 @@ impl Sim {
     /// before the options' own.
     fn setup_with(&self, preset: Preset, method: Method, knobs: &[(Knob, f64)]) -> Result<Setup> {
         let scene = self.scene.load()?;
-        for (name, value) in &self.set {
+        for (k, (name, value)) in self.set.iter().enumerate() {
             check_finite(*value, || RequestError::keyed(Opt::Set, name))?;
             scene.check_parameter(name, "").map_err(|e| unknown(RequestError::keyed(Opt::Set, name), e))?;
+            if let Some((_, first)) = self.set[..k].iter().find(|(n, _)| n == name) {
+                let why = format!("given twice ({first} and {value}); give each parameter once");
+                return Err(RequestError::keyed(Opt::Set, name).text(why).into());
+            }
+        }
+        for (k, (knob, value)) in self.accuracy.iter().enumerate() {
+            if let Some((_, first)) = self.accuracy[..k].iter().find(|(n, _)| n == knob) {
+                let why = format!("given twice ({first} and {value}); give each knob once");
+                return Err(RequestError::keyed(Opt::Accuracy, knob.name()).text(why).into());
+            }
         }
         let mut accuracy = Accuracy::preset(preset);
         let mut accuracy_overrides = Vec::new();

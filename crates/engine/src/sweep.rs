@@ -14,7 +14,7 @@ use scene::Named;
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 scene::named_enum! {
     /// The directions of a sweep.
@@ -63,6 +63,10 @@ pub struct SweepRequest {
     pub output: Option<PathBuf>,
     /// What made the run (the file's `command` attribute).
     pub command: String,
+    /// The variable its diagram is to show (a state component `x_M1`,
+    /// `v_M2`, or a stored quantity's name; [`render::Diagram::of`]), if the
+    /// front end draws one: checked before any work.
+    pub variable: Option<String>,
 }
 
 impl SweepRequest {
@@ -79,6 +83,7 @@ impl SweepRequest {
             threads: crate::threads(None).unwrap_or(1),
             output: None,
             command: String::new(),
+            variable: None,
         }
     }
 }
@@ -125,8 +130,11 @@ pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Sweep> {
         Plane::new(x, Axis::new(held, value, value, 1), Along::X).map_err(|e| grid_error(e, &[("x", Opt::Axis)]))?;
     let mut plan = Plan::new(&s, r.section_cap, plane, sweeps.clone(), r.threads)?;
     plan.output = r.output.clone();
-    plan.inputs = r.sim.scene.file().map(|f| vec![f.to_path_buf()]).unwrap_or_default();
+    plan.inputs = r.sim.inputs(&r.start).into_iter().map(Path::to_path_buf).collect();
     plan.command = r.command.clone();
+    if let Some(v) = &r.variable {
+        render::variable_of(&plan.meta, Some(v)).map_err(|e| RequestError::option(Opt::Variable).text(e.what()))?;
+    }
     plan.check().map_err(|e| with_fields(e, &[("x", Opt::Axis), ("threads", Opt::Threads)]))?;
     let atlas = match (legs, &origin) {
         (Legs::Separate, None) => plan.execute(observer)?.atlas,

@@ -56,21 +56,29 @@ impl Diagram {
     /// or, for the name of a stored quantity (`max_abs_x_M1`), that quantity;
     /// an error, whose [`RenderError::what`] lists the names, for another name.
     pub fn of(atlas: &Atlas, row: usize, variable: Option<&str>, impact: Impact) -> Result<Diagram, RenderError> {
-        let m = &atlas.meta;
-        let first = m.masses.first().and_then(|first| m.state_masses.iter().position(|n| n == first)).unwrap_or(0);
-        let quantity = variable.and_then(|v| m.quantities.iter().position(|q| q.name == v));
-        let component = match variable {
-            Some(_) if quantity.is_some() => first,
-            Some(v) => {
-                let mut names: Vec<String> = (0..m.dim).map(|k| component_name(atlas, k)).collect();
-                names.extend(m.quantities.iter().map(|q| q.name.clone()));
-                let unknown = || RenderError::new(format!("expected one of {}, got '{v}'", names.join(", ")));
-                names.iter().position(|n| n == v).ok_or_else(unknown)?
-            }
-            None => first,
-        };
+        let (component, quantity) = variable_of(&atlas.meta, variable)?;
         Ok(Diagram { row, component, impact, first: None, quantity })
     }
+}
+
+/// The period section's state component and the stored quantity (if it is
+/// one) that a diagram of a file described by `m` shows for `variable`
+/// ([`Diagram::of`]); checked on the description alone, so that a run can
+/// refuse a wrong name before it computes the file.
+pub fn variable_of(m: &maps::Meta, variable: Option<&str>) -> Result<(usize, Option<usize>), RenderError> {
+    let first = m.masses.first().and_then(|first| m.state_masses.iter().position(|n| n == first)).unwrap_or(0);
+    let quantity = variable.and_then(|v| m.quantities.iter().position(|q| q.name == v));
+    let component = match variable {
+        Some(_) if quantity.is_some() => first,
+        Some(v) => {
+            let mut names: Vec<String> = (0..m.dim).map(|k| component_of(m, k)).collect();
+            names.extend(m.quantities.iter().map(|q| q.name.clone()));
+            let unknown = || RenderError::new(format!("expected one of {}, got '{v}'", names.join(", ")));
+            names.iter().position(|n| n == v).ok_or_else(unknown)?
+        }
+        None => first,
+    };
+    Ok((component, quantity))
 }
 
 /// Radius (pt) of a down sweep's ring and of an up sweep's dot.
@@ -88,7 +96,12 @@ fn sweep_colour(s: SweepKind) -> RGBColor {
 
 /// Name of a state component (`x_M1`, `v_M2`).
 pub fn component_name(atlas: &Atlas, k: usize) -> String {
-    let names = &atlas.meta.state_masses;
+    component_of(&atlas.meta, k)
+}
+
+/// [`component_name`] from a file's description.
+fn component_of(m: &maps::Meta, k: usize) -> String {
+    let names = &m.state_masses;
     let n = names.len().max(1);
     format!("{}_{}", if k < n { "x" } else { "v" }, names.get(k % n).map_or("?", String::as_str))
 }

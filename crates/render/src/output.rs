@@ -5,6 +5,7 @@
 //! plotters drawing area, whatever the format ([`save!`]).
 
 use crate::error::RenderError;
+use crate::page::MAX_PNG_SIDE;
 use scene::Named;
 use std::path::{Path, PathBuf};
 
@@ -220,6 +221,20 @@ pub(crate) fn png(name: &str, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Resul
     Ok(bytes)
 }
 
+/// Refuses a PNG canvas with a side beyond [`MAX_PNG_SIDE`] (a figure whose
+/// height follows from its width at a print size the page did not check).
+pub(crate) fn check_bitmap(size: (u32, u32)) -> Result<(), RenderError> {
+    let side = size.0.max(size.1);
+    if side > MAX_PNG_SIDE {
+        let why = format!(
+            "--dpi: the figure is {} x {} pixels, more than a PNG may have ({MAX_PNG_SIDE} a side); lower --dpi or --size",
+            size.0, size.1
+        );
+        return Err(RenderError::new(why));
+    }
+    Ok(())
+}
+
 /// Draws a figure to `$out` (an [`Out`], or what converts into one: a path)
 /// on `$canvas` (a [`crate::page::Canvas`]), `$draw` a call of a generic
 /// drawing function with the drawing area bound to `$root`.
@@ -232,6 +247,7 @@ macro_rules! save {
         let size = $canvas.size();
         let bytes = match out.format()? {
             crate::output::Format::Png => {
+                crate::output::check_bitmap(size)?;
                 let mut rgb = vec![0u8; 3 * size.0 as usize * size.1 as usize];
                 {
                     let $root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();

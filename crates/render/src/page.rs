@@ -27,6 +27,9 @@ pub const DOUBLE_MM: f64 = 178.0;
 pub const MIN_TEXT_PT: f64 = 6.0;
 /// Millimetres per point.
 const MM_PER_PT: f64 = 25.4 / 72.0;
+/// The most pixels a side of a PNG may have: a bitmap of 3 bytes a pixel
+/// then takes at most 1.2 GB while it is drawn.
+pub const MAX_PNG_SIDE: u32 = 20_000;
 /// Units of a printed vector figure per point: plotters writes whole units,
 /// so a unit of 0.1 pt keeps cells and curves where they belong.
 const VECTOR_UNITS_PER_PT: f64 = 10.0;
@@ -137,6 +140,23 @@ impl Page {
             return Err(PageError::Value(PageOption::Dpi, format!("must be in [72, 1200], got {dpi}")));
         }
         Ok(Page { print: Some(size), font_pt, dpi: dpi as f64 })
+    }
+
+    /// Refuses a printed page too large for a PNG at its resolution (a side
+    /// beyond [`MAX_PNG_SIDE`] pixels), before any work; a height that
+    /// follows from the figure's proportion is checked as it is drawn.
+    pub fn check_png(&self) -> Result<(), PageError> {
+        let Some(size) = self.print else { return Ok(()) };
+        let side = size.width_mm.max(size.height_mm.unwrap_or(0.0));
+        let px = (side / 25.4 * self.dpi).round();
+        if px > MAX_PNG_SIDE as f64 {
+            let why = format!(
+                "{side} mm at {} dpi is {px} pixels a side, more than a PNG may have ({MAX_PNG_SIDE}); lower it or --size",
+                self.dpi
+            );
+            return Err(PageError::Value(PageOption::Dpi, why));
+        }
+        Ok(())
     }
 
     /// The page of a figure's options: a printed page of `size` (`single`,
