@@ -197,7 +197,7 @@ pub struct SimArgs {
     /// Scene file (TOML). With --from, the scene stored in that file when not given.
     #[arg(required = true)]
     pub scene: Option<PathBuf>,
-    /// Override a scene parameter, e.g. `--set omega=0.33` (repeatable).
+    /// Override a scene parameter, e.g. `--set omega=0.33` (repeatable, each parameter once).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Accuracy preset (default: standard).
@@ -586,7 +586,10 @@ pub struct BenchArgs {
 /// The help of `--accuracy`: every knob of [`solver::Knob::ALL`], in order.
 fn accuracy_help() -> String {
     let knobs: Vec<&str> = solver::Knob::ALL.iter().map(|k| k.name()).collect();
-    format!("Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable). Knobs: {}", knobs.join(", "))
+    format!(
+        "Override one accuracy knob, e.g. `--accuracy max_periods=2000` (repeatable, each knob once). Knobs: {}",
+        knobs.join(", ")
+    )
 }
 
 /// The default box of initial states, `X,V` (`--box`).
