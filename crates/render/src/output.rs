@@ -5,7 +5,6 @@
 //! plotters drawing area, whatever the format ([`save!`]).
 
 use crate::error::RenderError;
-use crate::page::MAX_PNG_SIDE;
 use scene::Named;
 use std::path::{Path, PathBuf};
 
@@ -220,6 +219,10 @@ pub(crate) fn png(name: &str, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Resul
     writer.finish().map_err(|e| fail(Box::new(e)))?;
     Ok(bytes)
 }
+
+/// The most pixels a side of a PNG may have: a bitmap of 3 bytes a pixel
+/// then takes at most 1.2 GB while it is drawn.
+pub const MAX_PNG_SIDE: u32 = 20_000;
 
 /// Refuses a PNG canvas with a side beyond [`MAX_PNG_SIDE`] (a figure whose
 /// height follows from its width at a print size the page did not check).

@@ -12,7 +12,7 @@
 //! text at any size.
 
 use crate::error::RenderError;
-use crate::output::Format;
+use crate::output::{Format, MAX_PNG_SIDE};
 use plotters::style::{FontDesc, IntoFont};
 
 /// A plotters backend whose errors can be kept as a [`RenderError`]'s source.
@@ -27,9 +27,6 @@ pub const DOUBLE_MM: f64 = 178.0;
 pub const MIN_TEXT_PT: f64 = 6.0;
 /// Millimetres per point.
 const MM_PER_PT: f64 = 25.4 / 72.0;
-/// The most pixels a side of a PNG may have: a bitmap of 3 bytes a pixel
-/// then takes at most 1.2 GB while it is drawn.
-pub const MAX_PNG_SIDE: u32 = 20_000;
 /// Units of a printed vector figure per point: plotters writes whole units,
 /// so a unit of 0.1 pt keeps cells and curves where they belong.
 const VECTOR_UNITS_PER_PT: f64 = 10.0;
