@@ -516,14 +516,22 @@ restitution = 0.8
             Scene::parse(&text).map_err(|e| e.to_string())
         };
         assert!(scene("name = \"t\"\ndescription = \"two lines,\\r\\nand a\\ttab\"").is_ok());
-        for (head, said) in [
-            ("name = \"a\\u001b[31mb\"", "name: must be one line"),
-            ("name = \"a\\u0000b\"", "name: must be one line"),
-            ("name = \"two\\nlines\"", "name: must be one line"),
-            ("name = \"t\"\ndescription = \"a\\u001b[2Jb\"", "description: must not hold control characters"),
-        ] {
-            let err = scene(head).expect_err(head);
-            assert!(err.contains(said), "{head}: {err}");
+        refused(
+            scene,
+            &[
+                ("name = \"a\\u001b[31mb\"", "name: must be one line"),
+                ("name = \"a\\u0000b\"", "name: must be one line"),
+                ("name = \"two\\nlines\"", "name: must be one line"),
+                ("name = \"t\"\ndescription = \"a\\u001b[2Jb\"", "description: must not hold control characters"),
+            ],
+        );
+    }
+
+    /// Each text of `cases` refused by `parse` with an error containing its message.
+    fn refused(parse: impl Fn(&str) -> Result<Scene, String>, cases: &[(&str, &str)]) {
+        for (text, said) in cases {
+            let err = parse(text).expect_err(text);
+            assert!(err.contains(said), "{text}: {err}");
         }
     }
 
@@ -539,18 +547,18 @@ restitution = 0.8
         {
             assert!(with_labels(good).is_ok(), "{good}: {:?}", with_labels(good).err());
         }
-        for (bad, said) in [
-            ("[labels.X]", "labels.X.p: missing"),
-            ("[labels.X]\nq = \"up\"", "labels.X.p: missing"),
-            ("[labels.X]\np = \"up\"\nq = \"up\"", "labels.X.q: 'up' is p's stop too"),
-            ("[labels.Y]\np = \"up\"", "labels.Y.p: stop 'up' does not act on mass 'Y'"),
-            ("[labels.X]\np = \"up\"\nq = \"low\"", "labels.X.q: stop 'low' does not act on mass 'X'"),
-            ("[labels.X]\np = \"side\"", "labels.X.p: unknown stop 'side'"),
-            ("[labels.Z]\np = \"up\"", "labels.Z: unknown mass 'Z'"),
-        ] {
-            let err = with_labels(bad).expect_err(bad);
-            assert!(err.contains(said), "{bad}: {err}");
-        }
+        refused(
+            with_labels,
+            &[
+                ("[labels.X]", "labels.X.p: missing"),
+                ("[labels.X]\nq = \"up\"", "labels.X.p: missing"),
+                ("[labels.X]\np = \"up\"\nq = \"up\"", "labels.X.q: 'up' is p's stop too"),
+                ("[labels.Y]\np = \"up\"", "labels.Y.p: stop 'up' does not act on mass 'Y'"),
+                ("[labels.X]\np = \"up\"\nq = \"low\"", "labels.X.q: stop 'low' does not act on mass 'X'"),
+                ("[labels.X]\np = \"side\"", "labels.X.p: unknown stop 'side'"),
+                ("[labels.Z]\np = \"up\"", "labels.Z: unknown mass 'Z'"),
+            ],
+        );
     }
 
     #[test]
