@@ -88,6 +88,10 @@ pub struct FollowedCurve {
 pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<FollowedCurve> {
     let s = r.sim.setup()?;
     check_period(r.n)?;
+    // Where it goes, before any work (not over its scene).
+    if let Some(out) = &r.output {
+        store::check_output(out, &r.sim.inputs(&Start::Initial))?;
+    }
     let [pa, pb] = &r.free;
     let refuse = RequestError::option;
     if pa == pb {
@@ -152,7 +156,6 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Followe
         return Err(crate::Error::Cancelled);
     }
     if let Some(out) = &r.output {
-        store::check_output(out, &r.sim.inputs(&Start::Initial))?;
         let stored = stored(&curve, [pa, pb], &ended);
         store::write_curves(out, std::slice::from_ref(&stored), &r.command, s.scene.source())?;
     }

@@ -33,7 +33,7 @@ pub use layers::{curve_style, label_legend, layer, Key, Layer};
 pub use map::{attractor_map, family_map, family_of, map, sheet, Overlay, View};
 /// A colour faded as the hysteresis view draws the cells where the sweeps agree.
 pub use maps::palette::faded;
-pub use output::{Format, Out, MAX_PNG_SIDE};
+pub use output::{Format, Out};
 pub use page::{Page, PageError, PageOption, PrintSize, DOUBLE_MM, MIN_TEXT_PT, SINGLE_MM};
 pub use portrait::{portrait, Portrait};
 pub use rich::runs as subscript_runs;

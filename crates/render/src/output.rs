@@ -222,7 +222,7 @@ pub(crate) fn png(name: &str, (w, h): (u32, u32), rgb: &[u8], dpi: f64) -> Resul
 
 /// The most pixels a side of a PNG may have: a bitmap of 3 bytes a pixel
 /// then takes at most 1.2 GB while it is drawn.
-pub const MAX_PNG_SIDE: u32 = 20_000;
+pub(crate) const MAX_PNG_SIDE: u32 = 20_000;
 
 /// Refuses a PNG canvas with a side beyond [`MAX_PNG_SIDE`] (a figure whose
 /// height follows from its width at a print size the page did not check).
@@ -230,7 +230,7 @@ pub(crate) fn check_bitmap(size: (u32, u32)) -> Result<(), RenderError> {
     let side = size.0.max(size.1);
     if side > MAX_PNG_SIDE {
         let why = format!(
-            "--dpi: the figure is {} x {} pixels, more than a PNG may have ({MAX_PNG_SIDE} a side); lower --dpi or --size",
+            "the figure is {} x {} pixels, more than a PNG may have ({MAX_PNG_SIDE} a side); lower its resolution or its size",
             size.0, size.1
         );
         return Err(RenderError::new(why));

@@ -148,7 +148,7 @@ impl Page {
         let px = (side / 25.4 * self.dpi).round();
         if px > MAX_PNG_SIDE as f64 {
             let why = format!(
-                "{side} mm at {} dpi is {px} pixels a side, more than a PNG may have ({MAX_PNG_SIDE}); lower it or --size",
+                "{side} mm at {} dpi is {px} pixels a side, more than a PNG may have ({MAX_PNG_SIDE}); lower it or the size",
                 self.dpi
             );
             return Err(PageError::Value(PageOption::Dpi, why));
