@@ -37,7 +37,9 @@ def test_label_codes_that_are_not_whole_numbers_are_refused():
 
 def test_a_bar_that_cannot_draw_cancels_the_run(tmp_path, monkeypatch):
     out = tmp_path / "a.h5"
-    monkeypatch.setattr(sys, "stderr", None)
+    closed = open(os.devnull, "w")  # noqa: SIM115 (closed at once: a stream that takes no line)
+    closed.close()
+    monkeypatch.setattr(sys, "stderr", closed)
     with pytest.raises(Exception):
         va.atlas(MULTI, x=("omega", 0.1, 3.05, 30), y=("delta", 0.05, 2, 20), sweep="both", threads=1,
                  output=str(out), progress=True)
@@ -46,6 +48,33 @@ def test_a_bar_that_cannot_draw_cancels_the_run(tmp_path, monkeypatch):
     time.sleep(3)
     assert not out.exists()
     assert not [p for p in os.listdir(tmp_path) if p != "a.h5" and not p.startswith(".")], os.listdir(tmp_path)
+
+
+def test_without_standard_error_the_run_has_no_bar(monkeypatch):
+    # pythonw, or a process whose sys.stderr is None: the run goes on, unseen
+    monkeypatch.setattr(sys, "stderr", None)
+    tree = va.atlas(MULTI, x=("omega", 0.1, 3.05, 30), y=("delta", 0.05, 2, 20), sweep="up", threads=1)
+    monkeypatch.undo()
+    assert tree["up"]["class"].shape == (20, 30)
+
+
+def test_what_is_no_file_or_no_quantity_is_refused(tmp_path):
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    with pytest.raises(OSError) as e:
+        va.open(fifo)  # a pipe would block the reader for ever
+    assert "not a regular file" in str(e.value)
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"].to_dataset()
+    for name in ("class", "label_code_M1"):
+        with pytest.raises(ValueError) as e:
+            va.plot.quantity(up, name)
+        assert f"{name}: not a quantity of this group (" in str(e.value) and "max_abs_x_M1" in str(e.value), e.value
+    with pytest.raises(ValueError) as e:
+        va.sweep(MULTI, ("omega", 0.5, 1, 3), threads=10**30)
+    assert "threads: must be at most" in str(e.value)
+    with pytest.raises((ValueError, OSError)) as e:
+        va.atlas(MULTI, output=str(tmp_path / ("k" * 253 + ".h5")), **SMALL)
+    assert "its name is 256 bytes" in str(e.value)
 
 
 def test_a_scene_dict_that_contains_itself_is_a_scene_error():

@@ -40,11 +40,13 @@ pub fn partial_path(path: &Path) -> PathBuf {
     }
 }
 
+/// The longest file name (bytes) of the file systems an output goes to.
+const MAX_NAME: usize = 255;
+
 /// `.<name><suffix>` beside `path`; where that would be longer than a file
 /// name may be (255 bytes), `name` is cut and its CRC-32 added, so that an
 /// output whose own name is legal always has its temporary file and journal.
 fn hidden_beside(path: &Path, name: &str, suffix: &str) -> PathBuf {
-    const MAX_NAME: usize = 255;
     let whole = format!(".{name}{suffix}");
     if whole.len() <= MAX_NAME {
         return path.with_file_name(whole);
@@ -302,8 +304,10 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
     if output.as_os_str().is_empty() {
         return Err(StoreError::format(Path::new("output"), "empty path"));
     }
-    if output.file_name().is_none() {
-        return bad("is not a file name");
+    let Some(name) = output.file_name() else { return bad("is not a file name") };
+    // Found only as the finished file is renamed into place, after the work.
+    if name.len() > MAX_NAME {
+        return bad(&format!("its name is {} bytes, more than a file name may have ({MAX_NAME})", name.len()));
     }
     check_folder(output)?;
     match std::fs::metadata(output) {
@@ -602,6 +606,11 @@ mod tests {
         assert!(!std::fs::metadata("/dev/null").unwrap().is_file() && !tmp.exists());
         assert!(check_output(&dir.join("nope/a.h5"), &[]).is_err());
         assert!(check_output(&dir.join("a.h5"), &[&scene]).is_ok());
+        // A name longer than a file system takes, refused before the work
+        // (the finished file's rename found it only after); 255 bytes taken.
+        let long = dir.join(format!("{}.h5", "k".repeat(253)));
+        assert!(check_output(&long, &[]).unwrap_err().to_string().contains("its name is 256 bytes"));
+        assert!(check_output(&dir.join(format!("{}.h5", "k".repeat(252))), &[]).is_ok());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

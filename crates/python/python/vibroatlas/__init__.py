@@ -469,12 +469,16 @@ def open(path, **kwargs):  # noqa: A001 (va.open, as the issue names it)
         raise IsADirectoryError(f"{path}: is a folder, not a vibroatlas file")
     if not os.path.exists(path):
         raise FileNotFoundError(f"{path}: no such file")
+    if not os.path.isfile(path):
+        # a pipe would block the reader for ever, a device has no file in it
+        raise OSError(f"{path}: not a regular file (a pipe, a device, ...)")
     kwargs.setdefault("engine", _READING["engine"])
     if kwargs["engine"] == _READING["engine"]:
         kwargs.setdefault("phony_dims", _READING["phony_dims"])
     try:
         return xr.open_datatree(path, **kwargs)
-    except OSError as e:
+    except (OSError, KeyError) as e:
+        # h5py says a damaged object's metadata with a KeyError
         # h5py's message runs over several lines; its first says why
         first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
         raise OSError(f"{path}: not a file that HDF5 reads ({first})") from e

@@ -11,6 +11,7 @@ import json
 import math
 import numbers
 import os
+import sys
 import time
 
 from . import _native
@@ -91,6 +92,11 @@ def number(what, v):
         raise ValueError(f"{what}: not a finite number, got {v!r}") from None
 
 
+# The largest count the library takes (a 64-bit one); each is bounded far
+# below it, with its own message, once it gets there.
+WHOLE_MAX = 2**63 - 1
+
+
 def whole(what, v, least=0):
     """v as an int (a whole number; an integral float too), at least `least`
     (no count, seed or cap is negative)."""
@@ -105,6 +111,8 @@ def whole(what, v, least=0):
         n = int(f)
     if least is not None and n < least:
         raise ValueError(f"{what}: must be >= {least}, got {n}")
+    if n > WHOLE_MAX:
+        raise ValueError(f"{what}: must be at most {WHOLE_MAX}, got {n}")
     return n
 
 
@@ -239,6 +247,8 @@ def wait(start, progress, unit, desc):
     `_job`); returns its result as Python objects."""
     job = start()
     bar = None
+    # no standard error (pythonw, a closed stream set to None): no bar to draw
+    progress = progress and sys.stderr is not None
     t0 = time.monotonic()
     try:
         while not job.wait(SLICE):

@@ -406,8 +406,10 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
         return scalar(ds, name, ax, colorbar=colorbar, title=title)
     node = _node_name(ds)
     ds = _dataset(ds)
-    if name not in ds:
-        stored = [n for n in ds.data_vars if "symbol" in ds[n].attrs and ds[n].dims == ds["class"].dims]
+    # A quantity is a per-cell variable with its symbol (`class`, a label's
+    # code or a state are variables of the group, not quantities).
+    stored = [n for n in ds.data_vars if "symbol" in ds[n].attrs and ds[n].dims == ds["class"].dims]
+    if name not in stored:
         raise ValueError(f"{name}: not a quantity of this group ({', '.join(stored) or 'it stores none'})")
     v = np.asarray(ds[name].values, float)
     finite = np.isfinite(v)
