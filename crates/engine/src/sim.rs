@@ -82,6 +82,14 @@ impl SceneSource {
                 read_text(path).map_err(|cause| SceneLoadError::Read { path: path.clone(), cause })?,
                 path.display().to_string(),
             ),
+            // As long as a file may be: a text's errors quote it.
+            SceneSource::Text(text) if text.len() as u64 > MAX_SCENE_BYTES => {
+                let message = format!("{} bytes, more than a scene may be ({MAX_SCENE_BYTES})", text.len());
+                return Err(SceneLoadError::Invalid {
+                    origin: TEXT.to_string(),
+                    cause: scene::SceneError::Syntax { message },
+                });
+            }
             SceneSource::Text(text) => (text.clone(), TEXT.to_string()),
             SceneSource::Stored(path) => (
                 store::stored_scene(path).map_err(SceneLoadError::Stored)?,

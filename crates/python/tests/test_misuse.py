@@ -77,6 +77,22 @@ def test_what_is_no_file_or_no_quantity_is_refused(tmp_path):
     assert "its name is 256 bytes" in str(e.value)
 
 
+def test_label_codes_are_checked_before_a_map_is_drawn():
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"].to_dataset()
+    for bad in (2**40, -5):
+        code = np.asarray(up["label_code_M1"].values).astype(np.int64)
+        code[1, 2] = bad
+        with pytest.raises(ValueError) as e:
+            va.plot.map(up.assign(label_code_M1=(up.label_code_M1.dims, code)), "M1")
+        assert f"code {bad} at" in str(e.value) and "outside the label table" in str(e.value), e.value
+    with pytest.raises(ValueError) as e:
+        va.atlas(MULTI, resume=True, **SMALL)
+    assert "resume: " in str(e.value)
+    with pytest.raises(va.SceneError) as e:
+        va.cell("# " + "x" * (16 << 20) + "\n")
+    assert "more than a scene may be" in str(e.value) and len(str(e.value)) < 300
+
+
 def test_a_scene_dict_that_contains_itself_is_a_scene_error():
     d = {"name": "loop"}
     d["self"] = d

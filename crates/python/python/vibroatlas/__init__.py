@@ -190,6 +190,8 @@ def atlas(scene, x, y, *, sweep=None, along=None, threads=None, section_cap=None
     for key, value in (("force", force), ("resume", resume)):
         if value is not None and not isinstance(value, bool):
             raise TypeError(f"{key}: expected True or False, got {value!r}")
+    if resume and output is None:
+        raise ValueError("resume: continues the run of an output file; give output too")
     if resume is not None:
         options["resume"] = resume  # force is accepted and ignored, as `--force` is
     return _tree_of(lambda: _run.run(_native.atlas, scene, _params(params, parameters), options, progress,
@@ -497,13 +499,28 @@ def labels(ds, mass=None):
 
     ds = _dataset(ds)
     mass = mass or _first_mass(ds)
+    code, c, table = _codes(ds, mass)
+    out = np.where(c >= 0, table[np.clip(c, 0, len(table) - 1)], "")
+    return xr.DataArray(out, dims=code.dims, coords=code.coords, name=f"label_text_{mass}",
+                        attrs={"long_name": f"{mass} label n-p-q", "mass": mass})
+
+
+def _codes(ds, mass):
+    """The label codes of `mass` in the Dataset `ds`: its variable, its codes
+    as int64 (-1 for none) and the label table, every code checked to lie in
+    the table (a damaged or changed file is refused, never indexed out of
+    range or drawn in another label's colour)."""
+    import numpy as np
+
     name = f"label_code_{mass}"
     if name not in ds:
-        have = sorted(v[len("label_code_"):] for v in ds.data_vars if str(v).startswith("label_code_"))
+        have = sorted(str(v)[len("label_code_"):] for v in ds.data_vars if str(v).startswith("label_code_"))
         raise ValueError(f"mass {mass!r}: this group labels {', '.join(have) or 'no mass'}")
     code = ds[name]
     table = label_table(ds, code)
     c = np.asarray(code.values)
+    if c.dtype.kind not in "iuf":
+        raise ValueError(f"{name}: codes of type {c.dtype}, not numbers: the file is damaged or was changed")
     if c.dtype.kind == "f":  # a masked fill decoded as NaN
         c = np.where(np.isnan(c), -1, c)
         if (c != np.floor(c)).any():
@@ -514,9 +531,7 @@ def labels(ds, mass=None):
         at = tuple(int(i) for i in np.argwhere(outside)[0])
         raise ValueError(f"{name}: code {int(c[at])} at {dict(zip(code.dims, at))} is outside the label table "
                          f"(0 to {len(table) - 1}, -1 for none): the file is damaged or was changed")
-    out = np.where(c >= 0, table[np.clip(c, 0, len(table) - 1)], "")
-    return xr.DataArray(out, dims=code.dims, coords=code.coords, name=f"label_text_{mass}",
-                        attrs={"long_name": f"{mass} label n-p-q", "mass": mass})
+    return code, c, table
 
 
 def label_table(ds, code=None):

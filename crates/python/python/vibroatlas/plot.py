@@ -13,7 +13,7 @@ from collections import Counter
 
 import numpy as np
 
-from . import _dataset, _first_mass, label_table
+from . import _codes, _dataset, _first_mass, _run, label_table
 
 __all__ = ["map", "hysteresis", "scalar", "quantity", "difference", "row", "portrait", "sections", "colours", "basins"]
 
@@ -75,18 +75,11 @@ def axis_label(coord):
 
 def _grid(ds, mass):
     """(code [y, x] as ints, x coordinate, y coordinate, table, rgb [label, 3])."""
-    if f"label_code_{mass}" not in ds:
-        have = sorted(str(v)[len("label_code_"):] for v in ds.data_vars if str(v).startswith("label_code_"))
-        raise ValueError(f"mass {mass!r}: this group labels {', '.join(have) or 'no mass'}")
-    code = ds[f"label_code_{mass}"]
+    code, c, table = _codes(ds, mass)
     if code.ndim != 2:
         raise ValueError(f"label_code_{mass} has dims {code.dims}: map draws a sweep group's [y, x] plane")
     ydim, xdim = code.dims
-    c = np.asarray(code.values)
-    if c.dtype.kind == "f":
-        c = np.where(np.isnan(c), -1, c)
-    return (c.astype(np.int64), ds[xdim], ds[ydim], label_table(ds, code),
-            np.asarray(ds["label_colour"].values).astype(float) / 255)
+    return c, ds[xdim], ds[ydim], table, np.asarray(ds["label_colour"].values).astype(float) / 255
 
 
 def _mesh(ax, xs, ys, codes, rgb):
@@ -146,6 +139,7 @@ def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12, view=
             raise ValueError(f"view {view!r}: expected labels, multiplier or lyapunov")
         return scalar(ds, view, ax, title=title)
 
+    max_legend = _run.whole("max_legend", max_legend, least=1)
     node = _node_name(ds)
     ds = _dataset(ds)
     mass = mass or _first_mass(ds)
@@ -255,6 +249,7 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     import matplotlib.pyplot as plt
     from matplotlib.collections import PolyCollection
 
+    max_legend = _run.whole("max_legend", max_legend, least=1)
     tree = _both(tree, "hysteresis")
     up, down = _dataset(tree["up"]), _dataset(tree["down"])
     mass = mass or _first_mass(up)
