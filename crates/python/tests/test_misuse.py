@@ -50,6 +50,12 @@ def test_a_bar_that_cannot_draw_cancels_the_run(tmp_path, monkeypatch):
     assert not [p for p in os.listdir(tmp_path) if p != "a.h5" and not p.startswith(".")], os.listdir(tmp_path)
 
 
+def test_an_output_path_may_be_bytes(tmp_path):
+    out = os.fsencode(tmp_path / "b.h5")
+    va.atlas(MULTI, sweep="up", output=out, **SMALL)
+    assert os.path.isfile(out)
+
+
 def test_without_standard_error_the_run_has_no_bar(monkeypatch):
     # pythonw, or a process whose sys.stderr is None: the run goes on, unseen
     monkeypatch.setattr(sys, "stderr", None)
@@ -88,6 +94,9 @@ def test_label_codes_are_checked_before_a_map_is_drawn():
     with pytest.raises(ValueError) as e:
         va.atlas(MULTI, resume=True, **SMALL)
     assert "resume: " in str(e.value)
+    with pytest.raises(TypeError) as e:
+        va.atlas(MULTI, output=3.5, **SMALL)
+    assert "output: expected a path" in str(e.value)
     with pytest.raises(va.SceneError) as e:
         va.cell("# " + "x" * (16 << 20) + "\n")
     assert "more than a scene may be" in str(e.value) and len(str(e.value)) < 300

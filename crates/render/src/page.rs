@@ -140,7 +140,7 @@ impl Page {
     }
 
     /// Refuses a printed page too large for a PNG at its resolution (a side
-    /// beyond [`MAX_PNG_SIDE`] pixels), before any work; a height that
+    /// beyond 20 000 pixels), before any work; a height that
     /// follows from the figure's proportion is checked as it is drawn.
     pub fn check_png(&self) -> Result<(), PageError> {
         let Some(size) = self.print else { return Ok(()) };

@@ -145,7 +145,7 @@ def sweep(scene, axis, *, direction=None, threads=None, section_cap=None, output
     if section_cap is not None:
         options["section_cap"] = _whole("section_cap", section_cap)
     if output is not None:
-        options["output"] = os.fspath(output)
+        options["output"] = _run.path("output", output)
     return _run.run(_native.sweep, scene, _params(params, parameters), options, progress, unit="cell",
                     desc="sweep")
 
@@ -203,7 +203,7 @@ def _tree_of(run, options, output):
     the file written at `output` (options["output"]), or, without one, from
     the file's bytes that the run wrote in memory (no file on disk)."""
     if output is not None:
-        options["output"] = os.fspath(output)
+        options["output"] = _run.path("output", output)
         result = run()
         return _loaded(result.get("output", options["output"]))
     return _loaded(io.BytesIO(run()["image"]))
@@ -397,7 +397,7 @@ def basins(scene, x, y, *, state=None, phase=None, early_stop=None, threads=None
     if early_stop is not None:
         options["early_stop"] = early_stop
     with tempfile.TemporaryDirectory(prefix="vibroatlas-basins-") as scratch:
-        path = os.fspath(output) if output is not None else os.path.join(scratch, "basins.h5")
+        path = _run.path("output", output) if output is not None else os.path.join(scratch, "basins.h5")
         options["output"] = path
         _run.run(_native.basins, scene, _params(params, parameters), options, progress, unit="start",
                  desc="basins")
@@ -448,7 +448,7 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=
     if n is not None:
         options["n"] = _whole("n", n)
     if output is not None:
-        options["output"] = os.fspath(output)
+        options["output"] = _run.path("output", output)
     _run.flag("progress", progress)
     return _run.run(_native.curve, scene, _params(params, parameters), options)
 

@@ -132,6 +132,14 @@ def floats(what, v, length=None):
     return out
 
 
+def path(what, v):
+    """v, a path (str, bytes or os.PathLike), as the str the library takes."""
+    try:
+        return os.fsdecode(os.fspath(v))
+    except TypeError:
+        raise TypeError(f"{what}: expected a path (str or pathlib.Path), got {type(v).__name__}") from None
+
+
 def text(what, v):
     if not isinstance(v, str):
         raise TypeError(f"{what}: expected a str, got {v!r}")
