@@ -50,6 +50,31 @@ def test_a_bar_that_cannot_draw_cancels_the_run(tmp_path, monkeypatch):
     assert not [p for p in os.listdir(tmp_path) if p != "a.h5" and not p.startswith(".")], os.listdir(tmp_path)
 
 
+def test_numbers_and_text_beyond_what_a_scene_holds_are_named():
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"].to_dataset()
+    wide = np.asarray(up["max_abs_x_M1"].values).copy()
+    wide[0, 0], wide[0, 1] = -1e308, 1e308
+    with pytest.raises(ValueError) as e:
+        va.plot.quantity(up.assign(max_abs_x_M1=(up.max_abs_x_M1.dims, wide, up.max_abs_x_M1.attrs)), "max_abs_x_M1")
+    assert "max_abs_x_M1: its values, -1e+308 to 1e+308, span more than a float holds" in str(e.value), e.value
+    with open(MULTI) as f:
+        text = f.read()
+    with pytest.raises(va.SceneError) as e:
+        va.cell(text + "# \ud800\n")
+    assert "scene: not text that UTF-8 can hold" in str(e.value), e.value
+    import tomllib
+    with open(MULTI, "rb") as f:
+        table = tomllib.load(f)
+    table["masses"][0]["mass"] = 10**400
+    with pytest.raises(va.SceneError) as e:
+        va.cell(table)
+    assert "masses[0].mass: not a finite number, got an integer of 401 digits" in str(e.value), e.value
+    table["masses"][0]["mass"] = 2**63  # a float holds it: a mass, far too heavy for the scene's range
+    with pytest.raises(va.SceneError) as e:
+        va.cell(table)
+    assert "u64" not in str(e.value), e.value
+
+
 def test_an_output_path_may_be_bytes(tmp_path):
     out = os.fsencode(tmp_path / "b.h5")
     va.atlas(MULTI, sweep="up", output=out, **SMALL)

@@ -49,7 +49,13 @@ def scene_arg(scene):
     if isinstance(scene, os.PathLike):
         return ("path", os.fspath(scene))
     if isinstance(scene, str):
-        return ("toml", scene) if "\n" in scene else ("path", scene)
+        if "\n" not in scene:
+            return ("path", scene)
+        try:
+            scene.encode("utf-8")
+        except UnicodeEncodeError as e:
+            raise _native.SceneError(f"scene: not text that UTF-8 can hold ({e.reason} at character {e.start})") from None
+        return ("toml", scene)
     if isinstance(scene, bytes):
         raise TypeError("scene: give a path (str or pathlib.Path), a TOML text (str) or a dict, not bytes")
     raise TypeError(f"scene: give a path (str or pathlib.Path), a TOML text (str) or a dict, "
@@ -73,7 +79,14 @@ def _table(value, field):
     if isinstance(value, (str, bool)):
         return value
     if isinstance(value, numbers.Integral):
-        return int(value)
+        # a TOML integer is 64 bits; beyond, the number as a float, if one holds it
+        n = int(value)
+        if -2**63 <= n < 2**63:
+            return n
+        try:
+            return float(n)
+        except OverflowError:
+            raise _native.SceneError(f"{where}: not a finite number, got an integer of {len(str(abs(n)))} digits") from None
     if isinstance(value, numbers.Real):
         v = float(value)
         if not math.isfinite(v):

@@ -409,6 +409,8 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     v = np.asarray(ds[name].values, float)
     finite = np.isfinite(v)
     lo, hi = (float(v[finite].min()), float(v[finite].max())) if finite.any() else (0.0, 1.0)
+    if not math.isfinite(hi - lo):
+        raise ValueError(f"{name}: its values, {lo:g} to {hi:g}, span more than a float holds; draw a scaled copy")
     if hi <= lo:
         lo, hi = lo - 0.5, lo + 0.5
     signed = lo < 0.0 < hi
