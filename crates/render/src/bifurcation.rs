@@ -71,7 +71,7 @@ pub fn variable_of(m: &maps::Meta, variable: Option<&str>) -> Result<(usize, Opt
     let component = match variable {
         Some(_) if quantity.is_some() => first,
         Some(v) => {
-            let mut names: Vec<String> = (0..m.dim).map(|k| component_of(m, k)).collect();
+            let mut names: Vec<String> = (0..m.dim).map(|k| component_name(m, k)).collect();
             names.extend(m.quantities.iter().map(|q| q.name.clone()));
             let unknown = || RenderError::new(format!("expected one of {}, got '{v}'", names.join(", ")));
             names.iter().position(|n| n == v).ok_or_else(unknown)?
@@ -94,13 +94,8 @@ fn sweep_colour(s: SweepKind) -> RGBColor {
     }
 }
 
-/// Name of a state component (`x_M1`, `v_M2`).
-pub fn component_name(atlas: &Atlas, k: usize) -> String {
-    component_of(&atlas.meta, k)
-}
-
-/// [`component_name`] from a file's description.
-fn component_of(m: &maps::Meta, k: usize) -> String {
+/// Name of state component `k` (`x_M1`, `v_M2`) of a file described by `m`.
+pub fn component_name(m: &maps::Meta, k: usize) -> String {
     let names = &m.state_masses;
     let n = names.len().max(1);
     format!("{}_{}", if k < n { "x" } else { "v" }, names.get(k % n).map_or("?", String::as_str))
@@ -257,7 +252,7 @@ fn draw<DB: Backend>(
         let desc = if let (0, Some(k)) = (pi, d.quantity) {
             m.quantities[k].with_units(&m.quantities[k].long_name)
         } else if pi == 0 {
-            format!("{} at t = kT", component_name(atlas, d.component))
+            format!("{} at t = kT", component_name(&atlas.meta, d.component))
         } else {
             match d.impact {
                 Impact::Speed if stop_events[pi - 1] == "contacts" => format!("contact speed at {}", m.stops[pi - 1]),

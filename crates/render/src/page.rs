@@ -145,8 +145,8 @@ impl Page {
     pub fn check_png(&self) -> Result<(), PageError> {
         let Some(size) = self.print else { return Ok(()) };
         let side = size.width_mm.max(size.height_mm.unwrap_or(0.0));
-        let px = (side / 25.4 * self.dpi).round();
-        if px > MAX_PNG_SIDE as f64 {
+        let px = pixels(side, self.dpi / 72.0);
+        if px > MAX_PNG_SIDE {
             let why = format!(
                 "{side} mm at {} dpi is {px} pixels a side, more than a PNG may have ({MAX_PNG_SIDE}); lower it or the size",
                 self.dpi
@@ -190,12 +190,17 @@ impl Page {
             Some(s) => {
                 let pt = if format == Format::Png { self.dpi / 72.0 } else { VECTOR_UNITS_PER_PT };
                 let h = s.height_mm.unwrap_or_else(|| height_mm(s.width_mm));
-                let px = |mm: f64| (mm / MM_PER_PT * pt).round().max(1.0) as u32;
-                let (width, height) = (px(s.width_mm), px(h));
+                let (width, height) = (pixels(s.width_mm, pt), pixels(h, pt));
                 Canvas { width, height, pt, font_pt: self.font_pt, glyph, mm: Some((s.width_mm, h)), dpi: pt * 72.0 }
             }
         }
     }
+}
+
+/// The canvas units (pixels of a PNG) of `mm` on the page at `pt` units a
+/// point, at least one.
+fn pixels(mm: f64, pt: f64) -> u32 {
+    (mm / MM_PER_PT * pt).round().max(1.0) as u32
 }
 
 /// plotters' font size is the glyph box, not the em: SVG text is written at
