@@ -510,10 +510,13 @@ impl Explorer {
     fn new(path: String, port: u16, threads: Option<usize>) -> PyResult<Explorer> {
         let threads = engine::threads(threads).map_err(|e| Failure::of(&e).into_py())?;
         let r = explore::ExploreRequest { file: path.into(), port, threads };
-        let server = explore::serve(&r).map_err(|e| match &e {
-            explore::ExploreError::Port { source, .. } => PyOSError::new_err(format!("{e}: {source}")),
-            explore::ExploreError::Atlas(_) => PyOSError::new_err(e.to_string()),
-            _ => PyValueError::new_err(e.to_string()),
+        let server = explore::serve(&r).map_err(|e| {
+            // The error and each of its causes, as the command line says it.
+            let text = engine::causes(&e).map(ToString::to_string).collect::<Vec<_>>().join(": ");
+            match &e {
+                explore::ExploreError::Port { .. } | explore::ExploreError::Atlas(_) => PyOSError::new_err(text),
+                _ => PyValueError::new_err(text),
+            }
         })?;
         let url = server.url().to_string();
         Ok(Explorer { server: Mutex::new(Some(server)), url })

@@ -81,6 +81,24 @@ def test_an_output_path_may_be_bytes(tmp_path):
     assert os.path.isfile(out)
 
 
+def test_a_damaged_file_a_nul_in_a_path_and_a_start_that_is_no_pair_are_named(tmp_path):
+    whole = tmp_path / "a.h5"
+    va.atlas(MULTI, sweep="up", output=whole, **SMALL)
+    cut = tmp_path / "cut.h5"
+    cut.write_bytes(whole.read_bytes()[:20000])
+    with pytest.raises(OSError) as e:
+        va.explore(cut)  # the explorer says why, not only which file
+    assert str(e.value).startswith(str(cut)) and "truncated" in str(e.value), e.value
+    for call in (lambda p: va.atlas(MULTI, sweep="up", output=p, **SMALL), va.open, va.explore):
+        with pytest.raises(ValueError) as e:
+            call(str(tmp_path / "a\0b.h5"))
+        assert "a path cannot hold a NUL character" in str(e.value) and ".lock" not in str(e.value), e.value
+    assert sorted(os.listdir(tmp_path)) == ["a.h5", "cut.h5"]
+    with pytest.raises(TypeError) as e:
+        va.curve(MULTI, "pd", 5, ("omega", "delta"))
+    assert str(e.value).startswith("start: expected two parameters"), e.value
+
+
 def test_without_standard_error_the_run_has_no_bar(monkeypatch):
     # pythonw, or a process whose sys.stderr is None: the run goes on, unseen
     monkeypatch.setattr(sys, "stderr", None)

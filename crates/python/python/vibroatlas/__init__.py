@@ -89,7 +89,7 @@ def cell(scene=None, *, state=None, from_file=None, at=None, sweep=None, portrai
         if at is None or not hasattr(at, "items"):
             raise TypeError(f"at: expected {{parameter: value}} with from_file, got {at!r}")
         values = [(_text("at", k), _number(f"at {k}", v)) for k, v in at.items()]
-        options["stored"] = (os.fspath(from_file), values, None if sweep is None else _text("sweep", sweep))
+        options["stored"] = (_run.path("from_file", from_file), values, None if sweep is None else _text("sweep", sweep))
         if scene is None:
             scene = _run.Stored(from_file)
     elif at is not None or sweep is not None:
@@ -256,8 +256,8 @@ def zoom(parent, x, y, *, sweep=None, threads=None, output=None, progress=True, 
 
 def _file_of(source, what):
     """The path of an atlas given as a path or as a DataTree read from a file."""
-    if isinstance(source, (str, os.PathLike)):
-        return os.fspath(source)
+    if isinstance(source, (str, bytes, os.PathLike)):
+        return _run.path(what, source)
     encoding = getattr(source, "encoding", None) or {}
     path = encoding.get("source")
     if path is None:
@@ -423,7 +423,10 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=
     Returns the dict `curve --json` prints: the points, the codimension-two
     points and why the curve ended.
     """
-    pairs = list(start.items()) if isinstance(start, dict) else list(start)
+    try:
+        pairs = list(start.items()) if isinstance(start, dict) else list(start)
+    except TypeError:
+        raise TypeError(f"start: expected two parameters, e.g. {{'omega': 6.845, 'fk': 0.01}}, got {start!r}") from None
     if len(pairs) != 2:
         raise ValueError(f"start: expected two parameters, e.g. {{'omega': 6.845, 'fk': 0.01}}, got {start!r}")
     if not all(isinstance(p, (tuple, list)) and len(p) == 2 for p in pairs):
@@ -466,7 +469,7 @@ def open(path, **kwargs):  # noqa: A001 (va.open, as the issue names it)
     xarray.open_datatree (e.g. mask_and_scale=False keeps `class` as u8)."""
     import xarray as xr
 
-    path = os.fspath(path)
+    path = _run.path("path", path)
     if os.path.isdir(path):
         raise IsADirectoryError(f"{path}: is a folder, not a vibroatlas file")
     if not os.path.exists(path):

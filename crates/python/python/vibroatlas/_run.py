@@ -148,9 +148,12 @@ def floats(what, v, length=None):
 def path(what, v):
     """v, a path (str, bytes or os.PathLike), as the str the library takes."""
     try:
-        return os.fsdecode(os.fspath(v))
+        p = os.fsdecode(os.fspath(v))
     except TypeError:
         raise TypeError(f"{what}: expected a path (str or pathlib.Path), got {type(v).__name__}") from None
+    if "\0" in p:
+        raise ValueError(f"{what}: a path cannot hold a NUL character, got {p!r}")
+    return p
 
 
 def text(what, v):
