@@ -698,24 +698,37 @@ impl Tracing {
 
     /// A second multiplier crossing the unit circle between points `p` and `q`.
     fn crossing(&self, p: &CurvePoint, q: &CurvePoint) -> Option<Codim2> {
-        let (mp, mq) = (others(&p.located), others(&q.located));
-        let outside = |m: &[C64]| m.iter().filter(|z| z.norm() > 1.0).count();
-        if mp.len() != mq.len() || outside(&mp) == outside(&mq) {
-            return None;
-        }
-        // The multiplier nearest the unit circle at q crossed; where, by |μ| - 1.
-        let near =
-            |m: &[C64]| m.iter().copied().min_by(|x, y| (x.norm() - 1.0).abs().total_cmp(&(y.norm() - 1.0).abs()));
-        let (zp, zq) = (near(&mp)?, near(&mq)?);
-        let (fp, fq) = (zp.norm() - 1.0, zq.norm() - 1.0);
-        let t = if (fp - fq).abs() > 0.0 { (fp / (fp - fq)).clamp(0.0, 1.0) } else { 0.5 };
-        let other = crate::floquet::kind(zq, false);
+        let (t, other) = crossed(&others(&p.located), &others(&q.located))?;
         Some(Codim2 {
             kind: format!("{}-{}", self.kind.name(), other.name()),
             a: p.a + t * (q.a - p.a),
             b: p.b + t * (q.b - p.b),
         })
     }
+}
+
+/// Where between two points (0 at the first, 1 at the second) one of the
+/// multipliers `mp` of the first became one of `mq` of the second by
+/// crossing the unit circle, and the kind of that crossing; `None` where as
+/// many lie outside the circle at both. The kind is the multiplier's outside
+/// the circle, on the side with more outside (the nearest the circle of
+/// those): inside, a real multiplier that crossed −1 may already have met
+/// another and left the real line as a complex pair (a 3-2-0 orbit of the
+/// single stop on a grazing curve: −1.008 and −0.202 on one side, −0.428 ±
+/// 0.146i on the other; a doubling, which a pair inside the circle alone
+/// would call Neimark–Sacker). Where, by |μ| − 1 of the nearest the circle
+/// on either side, linearly.
+fn crossed(mp: &[C64], mq: &[C64]) -> Option<(f64, Bifurcation)> {
+    let outside = |m: &[C64]| m.iter().filter(|z| z.norm() > 1.0).count();
+    if mp.len() != mq.len() || outside(mp) == outside(mq) {
+        return None;
+    }
+    let more = if outside(mp) > outside(mq) { mp } else { mq };
+    let out = more.iter().copied().filter(|z| z.norm() > 1.0).min_by(|x, y| x.norm().total_cmp(&y.norm()))?;
+    let near = |m: &[C64]| m.iter().copied().min_by(|x, y| (x.norm() - 1.0).abs().total_cmp(&(y.norm() - 1.0).abs()));
+    let (fp, fq) = (near(mp)?.norm() - 1.0, near(mq)?.norm() - 1.0);
+    let t = if (fp - fq).abs() > 0.0 { (fp / (fp - fq)).clamp(0.0, 1.0) } else { 0.5 };
+    Some((t, crate::floquet::kind(out, false)))
 }
 
 /// The angle θ in (0, π) of the critical pair `e^{±iθ}` of the period map

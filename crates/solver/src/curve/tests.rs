@@ -230,3 +230,29 @@ fn a_resonance_on_a_neimark_sacker_curve_is_where_its_multipliers_are_cube_roots
     let third = std::f64::consts::TAU / 3.0;
     assert!((pair.arg() - third).abs() < 1e-4 && (pair.norm() - 1.0).abs() < 1e-4, "μ = {pair} at {r:?}");
 }
+
+/// A second multiplier that crossed the unit circle between two points is
+/// named by its kind where it lay outside: a real one past −1 on one side
+/// that met another inside and left the real line as a pair is a doubling
+/// (an independent simulator's multipliers of the single stop's 3-2-0 orbit
+/// on its grazing curve, ζ = 0.05, at ω = 2.6991 and 2.7207), a pair
+/// outside on either side a Neimark–Sacker, a real one past +1 a fold; and
+/// as many outside at both points is no crossing.
+#[test]
+fn a_crossing_is_named_by_the_multiplier_outside_the_circle() {
+    let z = C64::new;
+    let doubling = [z(-1.008, 0.0), z(-0.202, 0.0)];
+    let pair = [z(-0.428, 0.146), z(-0.428, -0.146)];
+    let (t, kind) = crossed(&doubling, &pair).expect("a crossing");
+    assert_eq!(kind, Bifurcation::PeriodDoubling);
+    assert!((0.0..0.05).contains(&t), "{t}");
+    assert_eq!(crossed(&pair, &doubling).map(|c| c.1), Some(Bifurcation::PeriodDoubling));
+    let torus = [z(0.6, 0.85), z(0.6, -0.85)];
+    assert_eq!(crossed(&pair, &torus).map(|c| c.1), Some(Bifurcation::NeimarkSacker));
+    assert_eq!(
+        crossed(&[z(1.02, 0.0), z(0.3, 0.0)], &[z(0.98, 0.0), z(0.3, 0.0)]).map(|c| c.1),
+        Some(Bifurcation::SaddleNode)
+    );
+    assert_eq!(crossed(&doubling, &[z(-1.2, 0.0), z(-0.1, 0.0)]), None);
+    assert_eq!(crossed(&doubling, &pair[..1]), None);
+}
