@@ -367,6 +367,43 @@ fn grazing_curve_passes_through_the_published_point() {
     assert!(omegas.windows(2).all(|w| w[1] < w[0] && w[0] - w[1] < 0.02), "{omegas:?}");
 }
 
+/// A curve of an orbit that coexists with the one a cell from the scene's
+/// initial state reaches starts from `--state`: the damped single stop's
+/// flight without impacts (1-0-0) grazes where its amplitude
+/// 1/√((1 − ω²)² + (2ζω)²) reaches the stop, σ; at ζ = 0.05, σ = 0.5 a 1-1-0
+/// wins from the scene's start on both ends of the first line, so no grazing
+/// is found there, while from a state on the flight (its closed form at
+/// t = 0, ω = 1.73) every point lies on the closed-form grazing to 1e-10. A
+/// state of the wrong length is refused naming `--state`.
+#[test]
+fn a_curve_starts_from_a_given_state_on_a_coexisting_orbit() {
+    let (zeta, omega) = (0.05f64, 1.73f64);
+    let d = (1.0 - omega * omega).powi(2) + (2.0 * zeta * omega).powi(2);
+    let state = format!("--state={},{}", (1.0 - omega * omega) / d, 2.0 * zeta * omega * omega / d);
+    let args = |extra: &[&str]| {
+        let mut a = vec!["curve", "configs/single-stop.toml", "--set", "zeta=0.05", "--kind", "grazing"];
+        a.extend(["--start", "omega=1.73,sigma=0.5", "--free", "omega,sigma", "--to", "0.6", "--steps", "4", "--json"]);
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    let fresh = json_of(&args(&[]).iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(fresh["points"].as_array().map(Vec::len), Some(0), "{fresh}");
+    let given = args(&[state.as_str()]);
+    let j = json_of(&given.iter().map(String::as_str).collect::<Vec<_>>());
+    let points = j["points"].as_array().unwrap();
+    assert_eq!(points.len(), 5, "{j}");
+    for p in points {
+        let (w, sigma) = (p["omega"].as_f64().unwrap(), p["sigma"].as_f64().unwrap());
+        let amplitude = 1.0 / ((1.0 - w * w).powi(2) + (2.0 * zeta * w).powi(2)).sqrt();
+        assert!((amplitude - sigma).abs() < 1e-10, "ω = {w}: amplitude {amplitude}, σ = {sigma}");
+    }
+    let short = args(&["--state=0.1"]);
+    let out = crate::util::run(&short.iter().map(String::as_str).collect::<Vec<_>>());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.starts_with("error: --state: the scene's state has 2 numbers") && err.lines().count() == 1, "{err}");
+}
+
 /// Issue 28: without `--to` a curve is followed both ways from its start,
 /// within the scene's range of B: the dry-friction pitchfork down to fk = 0,
 /// where fk's range ends, and up until its 10 × 2 + 1 points run out; one

@@ -113,6 +113,11 @@ pub struct CurveArgs {
     /// Period of the orbit in forcing periods (default: the cell's).
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub n: Option<usize>,
+    /// Start the first cell, at --start, from this state `x1,x2,…,v1,v2,…`
+    /// (default: the scene's initial state): where orbits coexist, the curve
+    /// of the one it reaches.
+    #[arg(long, value_name = "X…,V…", allow_hyphen_values = true)]
+    pub state: Option<String>,
     /// Print one JSON object.
     #[arg(long)]
     pub json: bool,

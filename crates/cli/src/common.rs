@@ -42,12 +42,15 @@ pub fn start(f: &FromArgs) -> Result<Start> {
         return Ok(Start::Cell { file: file.clone(), at, sweep: f.from_sweep });
     }
     let Some(text) = &f.state else { return Ok(Start::Initial) };
-    let state: Vec<f64> = text
-        .split(',')
+    Ok(Start::State(parse_state(text)?))
+}
+
+/// The numbers of `--state X…,V…`.
+pub fn parse_state(text: &str) -> Result<Vec<f64>> {
+    text.split(',')
         .map(|v| v.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
         .collect::<Option<_>>()
-        .ok_or_else(|| anyhow!("--state: expected comma-separated finite numbers, got '{text}'"))?;
-    Ok(Start::State(state))
+        .ok_or_else(|| anyhow!("--state: expected comma-separated finite numbers, got '{text}'"))
 }
 
 /// Says on standard error what a start from a stored cell took: its

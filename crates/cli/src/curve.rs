@@ -3,8 +3,8 @@
 //! map, [`grid::curves`]): parsing, and the JSON, text and files they write.
 
 use crate::args::{CurveArgs, CurvesArgs};
-use crate::common::parse_assignment;
 use crate::common::{command_line, sim};
+use crate::common::{parse_assignment, parse_state};
 use crate::out::outln;
 use anyhow::{anyhow, bail, Result};
 use engine::CurveRequest;
@@ -28,6 +28,7 @@ pub fn run(a: CurveArgs) -> Result<()> {
         window: a.window,
         bounds,
         n: a.n,
+        state: a.state.as_deref().map(parse_state).transpose()?,
         output: a.output.clone(),
         command: command_line(),
     };

@@ -51,9 +51,11 @@ fn grammar() -> clap::Command {
             true => a.allow_hyphen_values(true),
             false => a,
         })
-        .mut_args(|a| match from && a.get_id() == "scene" {
-            true => a.required(false).required_unless_present("from"),
-            false => a,
+        .mut_args(|a| match (a.get_id() == "scene", from) {
+            (true, true) => a.required(false).required_unless_present("from"),
+            // Without --from the file is the scene's only source.
+            (true, false) => a.help("Scene file (TOML)"),
+            _ => a,
         })
         // The attractors sample their own start states: --state is refused
         // there (naming it), and not offered.

@@ -35,6 +35,11 @@ pub struct CurveRequest {
     pub bounds: Option<[f64; 2]>,
     /// The orbit's period in forcing periods (found from the start when `None`).
     pub n: Option<usize>,
+    /// The state (x of every mass, then v) that the first cell, at the
+    /// start's parameters, is simulated from (`--state`), where orbits
+    /// coexist: the curve of the orbit it reaches; `None`: the scene's
+    /// initial state.
+    pub state: Option<Vec<f64>>,
     /// The curve file to write, if any.
     pub output: Option<PathBuf>,
     /// What made the curve (the file's `command` attribute).
@@ -64,6 +69,7 @@ impl CurveRequest {
             window: DEFAULT_WINDOW,
             bounds: None,
             n: None,
+            state: None,
             output: None,
             command: String::new(),
         }
@@ -119,7 +125,9 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Followe
         return Err(refuse(Opt::To).text(format!("expected a finite number, got {to}")).into());
     }
     // The start and the end in B must make valid scenes (ranges of the parameters).
-    s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| refuse(Opt::Start).because(e))?;
+    let at_start = s.system_with(&[(pa.as_str(), a0), (pb.as_str(), b0)]).map_err(|e| refuse(Opt::Start).because(e))?;
+    // A given state fits the scene at the start (a stop's gap there).
+    let state = r.state.as_deref().map(|x| crate::sim::given_state(&at_start.model, x)).transpose()?;
     if let Some(to) = r.to {
         s.system_with(&[(pa.as_str(), a0), (pb.as_str(), to)]).map_err(|e| refuse(Opt::To).because(e))?;
     }
@@ -142,7 +150,8 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Followe
         max_points: 10 * r.steps + 1,
     };
     let plane = |va: f64, vb: f64| s.system_with(&[(pa.as_str(), va), (pb.as_str(), vb)]).ok();
-    let curve = match tracing.locate(&plane, a0, b0, solver::curve::Start::Fresh) {
+    let from = state.as_ref().map_or(solver::curve::Start::Fresh, |o| solver::curve::Start::State(&o.state));
+    let curve = match tracing.locate(&plane, a0, b0, from) {
         Ok(first) => follow(&tracing, &plane, first, r.to.map_or(b_bounds, |to| [to, to]), pb),
         Err(why) => Curve {
             kind: r.kind,
@@ -200,7 +209,9 @@ pub struct CurveReportPoint {
     /// The free parameters' values by name.
     #[serde(flatten)]
     pub at: BTreeMap<String, f64>,
-    /// The labels either side.
+    /// The labels either side: of the cells simulated from the scene's
+    /// initial state a quarter window below and above in A (where orbits
+    /// coexist, not necessarily the curve's orbit).
     pub labels: Sides,
 }
 

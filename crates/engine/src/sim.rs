@@ -369,7 +369,7 @@ impl Sim {
             Start::Initial => Ok((self.setup()?, None)),
             Start::State(state) => {
                 let s = self.setup()?;
-                let origin = given_state(&s, state)?;
+                let origin = given_state(&s.scene.evaluate(&s.overrides)?, state)?;
                 Ok((s, Some(origin)))
             }
             Start::Cell { file, at, sweep } => self.stored_cell(file, at, *sweep),
@@ -467,11 +467,10 @@ impl Sim {
 
 /// A given start state, checked against the scene: one number per mass for x
 /// and for v, no stop penetrated.
-fn given_state(s: &Setup, state: &[f64]) -> Result<Origin> {
+pub(crate) fn given_state(model: &scene::Model, state: &[f64]) -> Result<Origin> {
     if state.iter().any(|v| !v.is_finite()) {
         return Err(RequestError::option(Opt::State).text("expected finite numbers").into());
     }
-    let model = s.scene.evaluate(&s.overrides)?;
     let dim = 2 * model.masses.len();
     if state.len() != dim {
         let what = format!("the scene's state has {dim} numbers (x of every mass, then v), got {}", state.len());

@@ -440,7 +440,7 @@ fn basins(
 /// A bifurcation curve: the value of `curve --json`.
 #[pyfunction]
 #[pyo3(signature = (sim, *, kind, free, start, to=None, steps=None, window=None, bounds=None, n=None,
-    output=None))]
+    state=None, output=None))]
 #[allow(clippy::too_many_arguments)] // the keywords of va.curve
 fn curve(
     sim: SimArgs<'_>,
@@ -452,6 +452,7 @@ fn curve(
     window: Option<f64>,
     bounds: Option<(f64, f64)>,
     n: Option<usize>,
+    state: Option<Vec<f64>>,
     output: Option<String>,
 ) -> PyResult<Job> {
     let sim = self::sim(sim)?;
@@ -463,6 +464,7 @@ fn curve(
     r.window = window.unwrap_or(r.window);
     r.bounds = bounds.map(|(lo, hi)| [lo, hi]);
     r.n = n;
+    r.state = state;
     r.output = output.map(Into::into);
     r.command = "vibroatlas.curve (Python)".into();
     Ok(Job::start(move |shared| Ok(engine::curve(&r, shared)?.to_json())))

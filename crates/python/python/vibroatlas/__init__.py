@@ -405,7 +405,7 @@ def basins(scene, x, y, *, state=None, phase=None, early_stop=None, threads=None
             return ds.load()
 
 
-def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=None, n=None, output=None,
+def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=None, n=None, state=None, output=None,
           preset=None, integrator=None, accuracy=None, progress=None, params=None, **parameters):
     """Follows a bifurcation in a plane of two parameters, like `vibroatlas
     curve SCENE --kind ... --json`.
@@ -416,7 +416,10 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=
     last value of B (None: the curve is followed both ways from the start,
     within the scene's range of B, until it ends); steps (20), window (0.05): the search half-width in A;
     bounds: (lo, hi), the range of A the curve may take (default: the
-    scene's range of A; `--bounds A=LO:HI`); n: the orbit's period (default: the cell's); output: also write the curve
+    scene's range of A; `--bounds A=LO:HI`); n: the orbit's period (default: the cell's); state: the
+    state (x of every mass, then v) the first cell, at start, is simulated from
+    (default: the scene's initial state; where orbits coexist, the curve of
+    the one it reaches); output: also write the curve
     file (for `vibroatlas render --curves`). progress: accepted and ignored
     (no bar).
 
@@ -450,6 +453,8 @@ def curve(scene, kind, start, free, to=None, *, steps=None, window=None, bounds=
         options["bounds"] = tuple(_run.floats("bounds", bounds, length=2))
     if n is not None:
         options["n"] = _whole("n", n)
+    if state is not None:
+        options["state"] = _run.floats("state", state)
     if output is not None:
         options["output"] = _run.path("output", output)
     _run.flag("progress", progress)

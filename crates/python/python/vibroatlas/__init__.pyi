@@ -146,6 +146,7 @@ def curve(
     window: float | None = ...,
     bounds: tuple[float, float] | None = ...,
     n: int | None = ...,
+    state: Sequence[float] | None = ...,
     output: Path | None = ...,
     preset: Preset | None = ...,
     integrator: Integrator | None = ...,
