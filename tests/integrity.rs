@@ -841,6 +841,67 @@ fn numbers_a_reader_builds_on_are_checked() {
     }
 }
 
+/// The eighth audit's crafted files (their checksums forged, so that the
+/// readers' own checks are what refuse them): an axis whose span is beyond
+/// the largest number (render looped for ever on its NaN coordinates), a
+/// stored scene that does not parse (merge took it, `inspect --verify`
+/// called it verified), a stored final state that is not finite (`cell
+/// --from` simulated from NaN), and curves whose points are not numbers or
+/// whose kinds and parameters are no curve's; and a complete `--shard 1/1`
+/// file, which zoom refused as a part, is zoomed into.
+#[test]
+fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas() {
+    let o = originals();
+    let d = scratch("crafted");
+    let span = mutated(&o.atlas, &d.join("span.h5"), &["attr|axes/omega@start|-1e308", "attr|axes/omega@stop|1e308"]);
+    every_command_refuses(&span, "axes/omega: the span from -1e308 to 1e308 is beyond the largest number");
+    let scene = mutated(&o.atlas, &d.join("scene.h5"), &["attr|@scene|'x' * 100"]);
+    let (f, merged) = (scene.to_str().unwrap(), d.join("merged.h5"));
+    refused(&["merge", f, "-o", merged.to_str().unwrap()], "attribute scene: not the scene of a run");
+    refused(&["inspect", "--verify", f], "attribute scene: not the scene of a run");
+    assert!(!merged.exists());
+    let nan = mutated(&o.atlas, &d.join("nan.h5"), &["data|up/final_state|np.full(a.shape, np.nan)"]);
+    refused(
+        &[
+            "cell",
+            "configs/multi-stop.toml",
+            "--from",
+            nan.to_str().unwrap(),
+            "--at",
+            "omega=0.33,delta=0.6",
+            "--sweep",
+            "up",
+        ],
+        "the cell's final_state holds numbers that are not finite",
+    );
+    for (name, spec, what) in [
+        ("points", "data|curve_0/omega|np.where(np.arange(a.size) == 1, np.nan, a)", "curve_0/omega: holds NaN"),
+        ("kind", "attr|curve_0@kind|'XX'", "curve_0: attribute kind is 'XX', not a kind of bifurcation"),
+        ("free", "attr|curve_0@free|'fk,fk'", "curve_0: attribute free is 'fk,fk', not two parameters"),
+    ] {
+        let f = mutated(&o.curve, &d.join(format!("curve-{name}.h5")), &[spec]);
+        let text = store::read_curves(&f).unwrap_err().to_string();
+        assert!(text.contains(what), "{name}: {text}");
+    }
+    let whole = d.join("whole.h5");
+    let w = whole.to_str().unwrap();
+    ok(&[
+        "atlas",
+        "configs/single-stop.toml",
+        "--x",
+        "omega=1:3:6",
+        "--y",
+        "r=0.5:0.9:4",
+        "--shard",
+        "1/1",
+        "--quiet",
+        "-o",
+        w,
+    ]);
+    let zoomed = d.join("zoom.h5");
+    ok(&["zoom", w, "--x", "omega=1:1.4:3", "--y", "r=0.5:0.6:3", "--quiet", "-o", zoomed.to_str().unwrap()]);
+}
+
 /// Issue 42, R5 and R7: what no reader of vibroatlas uses to draw its cells
 /// (a unit, the CF `flag_meanings` that xarray decodes codes with, a legend
 /// dataset, the multipliers) changed or deleted: `inspect --verify`, `merge`

@@ -40,8 +40,10 @@ pub fn run(a: InspectArgs) -> Result<()> {
         outln!("verified  every group, dataset and attribute reads as vibroatlas writes this content");
     }
     outln!("created   {} by: {}", l.created, l.info.command);
-    if let Some(s) = l.info.shard {
-        outln!("shard     {s} (merge the parts with `vibroatlas merge`)");
+    match l.info.shard {
+        Some(s) if s.is_whole() => outln!("shard     {s} (the whole plane)"),
+        Some(s) => outln!("shard     {s} (merge the parts with `vibroatlas merge`)"),
+        None => {}
     }
     if let Some(p) = &l.info.parent {
         outln!("zoom of   {} (labels crc32 {:08x}), box {}", p.path, p.labels_crc32, p.region);

@@ -92,7 +92,7 @@ pub fn zoom(r: &ZoomRequest, observer: &dyn Observer) -> Result<Executed> {
         let why = "the file changed since it was opened (its labels differ); open it again";
         return Err(Error::file(&r.parent, why, None));
     }
-    if let Some(shard) = loaded.info.shard {
+    if let Some(shard) = loaded.info.shard.filter(|s| !s.is_whole()) {
         let why = format!("shard {shard} of an atlas, whose other lines are missing; zoom into the merged atlas");
         return Err(Error::file(&r.parent, why, None));
     }

@@ -173,19 +173,12 @@ async fn as_json(answer: Response) -> Response {
 
 /// A text the user gave as an error message shows it: at most 80 characters.
 pub(crate) fn short(t: &str) -> String {
-    cut(t, 80)
+    scene::excerpt(t, 80)
 }
 
 /// A library's whole message, which may quote what the user gave: at most
 /// 400 characters, so that a reason is kept whole where the input was of a
 /// usual length, and a page-long input is not sent back in full.
 pub(crate) fn brief(message: &str) -> String {
-    cut(message, 400)
-}
-
-fn cut(t: &str, chars: usize) -> String {
-    match t.char_indices().nth(chars) {
-        Some((at, _)) => format!("{}…", &t[..at]),
-        None => t.to_string(),
-    }
+    scene::excerpt(message, 400)
 }

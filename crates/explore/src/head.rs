@@ -183,10 +183,7 @@ fn head(read: &[u8]) -> Head {
 
 /// At most 40 characters of `text`.
 fn short(text: &str) -> String {
-    match text.char_indices().nth(40) {
-        Some((i, _)) => format!("{}…", &text[..i]),
-        None => text.to_string(),
-    }
+    scene::excerpt(text, 40)
 }
 
 /// The whole answer to a refused head: the status, the security headers

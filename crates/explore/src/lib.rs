@@ -126,7 +126,7 @@ const BLOCKING: usize = 8;
 pub fn serve(r: &ExploreRequest) -> Result<Server, ExploreError> {
     let loaded = store::read(&r.file)?;
     store::check_finished(&r.file, &loaded)?;
-    if let Some(shard) = loaded.info.shard {
+    if let Some(shard) = loaded.info.shard.filter(|s| !s.is_whole()) {
         return Err(ExploreError::Shard { file: r.file.display().to_string(), shard });
     }
     let listener = TcpListener::bind(SocketAddr::from((Ipv4Addr::LOCALHOST, r.port)))

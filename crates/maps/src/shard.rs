@@ -32,6 +32,11 @@ impl Shard {
         }
         Ok(Shard { k, n })
     }
+
+    /// Whether the shard holds every line of its plane (`1/1`).
+    pub fn is_whole(self) -> bool {
+        self.n == 1
+    }
 }
 
 impl std::fmt::Display for Shard {

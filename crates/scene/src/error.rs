@@ -30,3 +30,12 @@ impl SceneError {
         SceneError::Field { field: field.into(), message: message.into() }
     }
 }
+
+/// At most `chars` characters of `text`, an ellipsis after a cut: a text
+/// read from someone else's file, quoted in an error or a page.
+pub fn excerpt(text: &str, chars: usize) -> String {
+    match text.char_indices().nth(chars) {
+        Some((at, _)) => format!("{}…", &text[..at]),
+        None => text.to_string(),
+    }
+}

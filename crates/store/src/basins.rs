@@ -237,7 +237,10 @@ pub fn read_basins(path: &Path) -> Result<BasinMap, StoreError> {
         if v.len() != count || count == 0 {
             return Err(ck.bad(name, format!("{} values for {count} starts", v.len())));
         }
-        Ok(Axis::new(name, v[0], v[count - 1], count))
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(ck.bad(name, "values that are not finite numbers".to_string()));
+        }
+        Axis::new(name, v[0], v[count - 1], count).checked(name).map_err(|e| ck.bad(name, e.message))
     };
     let name = |a: &str| crate::attrs::required_text(path, &f, a);
     let (y, x) = (axis(&name(Y_AXIS)?, ny)?, axis(&name(X_AXIS)?, nx)?);

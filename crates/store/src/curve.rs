@@ -18,6 +18,7 @@ use crate::error::{Hdf5Error, OtherKind, StoreError};
 use crate::layout::attr;
 use crate::layout::curves::*;
 use crate::netcdf;
+use scene::Named;
 use std::path::Path;
 
 /// A bifurcation curve in the plane of two parameters.
@@ -240,13 +241,46 @@ fn read_one(ck: &crate::checked::Checker, g: &hdf5::Group) -> Result<Curve, Stor
             ck.bad(&kinds_set.name(), format!("{} kinds for {} codimension-two points", kinds.len(), ca.0.len()))
         );
     }
+    // What a curve of vibroatlas holds: two parameters, points that are
+    // numbers, kinds of bifurcation by their names.
+    if a.is_empty() || b.is_empty() || a == b {
+        return Err(ck.bad(&g.name(), format!("attribute {FREE} is '{}', not two parameters", free.join(","))));
+    }
+    for (values, name) in [&va, &vb, &ca, &cb] {
+        if let Some(x) = values.iter().find(|x| !x.is_finite()) {
+            return Err(ck.bad(name, format!("holds {x}, not a finite number")));
+        }
+    }
+    let kind = attr(KIND)?;
+    if !is_kind(&kind) {
+        return Err(ck.bad(&g.name(), format!("attribute {KIND} is '{}', not a kind of bifurcation", shown(&kind))));
+    }
+    if let Some(k) = kinds.iter().find(|k| !is_meeting(k)) {
+        return Err(ck.bad(&kinds_set.name(), format!("'{}' is no kind of codimension-two point", shown(k))));
+    }
     Ok(Curve {
-        kind: attr(KIND)?,
+        kind,
         free: [a, b],
         points: va.0.into_iter().zip(vb.0).collect(),
         codim2: kinds.into_iter().zip(ca.0).zip(cb.0).map(|((k, x), y)| (k, x, y)).collect(),
         ended: crate::attrs::text(ck.path, g, ENDED)?.unwrap_or_default(),
     })
+}
+
+/// Whether `k` names a kind of bifurcation as curves store it (`PD`, `grazing`).
+fn is_kind(k: &str) -> bool {
+    solver::Bifurcation::ALL.iter().any(|b| b.name() == k)
+}
+
+/// Whether `k` names a codimension-two point as curves store it: the curve's
+/// kind and the one it meets (`PD-SN`), or a strong resonance (`1:3`, `1:4`).
+fn is_meeting(k: &str) -> bool {
+    matches!(k, "1:3" | "1:4") || k.split_once('-').is_some_and(|(x, y)| is_kind(x) && is_kind(y))
+}
+
+/// A text from a file as an error shows it: its first 40 characters.
+fn shown(text: &str) -> String {
+    scene::excerpt(text, 40)
 }
 
 #[cfg(test)]

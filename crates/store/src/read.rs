@@ -436,7 +436,10 @@ fn read_axis(ck: &Checker, axes: &hdf5::Group, name: &str) -> Result<Axis, Store
         }
         Ok(v)
     };
-    let mut axis = Axis::new(name, end(attr::START)?, end(attr::STOP)?, count);
+    // Values that are numbers (a span beyond the largest number makes them
+    // NaN and infinite, which no drawing or search can place).
+    let mut axis =
+        Axis::new(name, end(attr::START)?, end(attr::STOP)?, count).checked(&at).map_err(|e| ck.bad(&at, e.message))?;
     if let Some(counts) = crate::attrs::values::<u64>(ck.path, &d, attr::LATTICE_COUNT)? {
         let ends = |which: &str| -> Result<Vec<f64>, StoreError> {
             let v = crate::attrs::values::<f64>(ck.path, &d, which)?.unwrap_or_default();

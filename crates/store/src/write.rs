@@ -255,14 +255,20 @@ fn in_memory(atlas: &Atlas, info: &RunInfo, chunks: &Chunks, z: &Deflater) -> hd
 /// Checks a finished atlas file as [`Draft::finish`] checks the file it
 /// wrote before renaming it: the file `path`, `loaded` from it, is written
 /// again into memory (nothing on disk) to learn what each of its datasets
-/// must hold, then every dataset of the file is read through the library's
-/// filters and compared (the per-cell datasets with the cells, every other
+/// must hold (its stored scene must parse and take its overrides), then
+/// every dataset of the file is read through the library's filters and
+/// compared (the per-cell datasets with the cells, every other
 /// one with a hash of what the writer would write). A dataset that does not
 /// read (a damaged object header, chunk index or checksum) or reads other
 /// values is one [`StoreError::Dataset`] naming it. Curves stored in the
 /// file are read, their checksum compared.
 pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreError> {
     let atlas = &loaded.atlas;
+    // The scene it was computed with, as the run evaluated it.
+    let m = &atlas.meta;
+    scene::Scene::parse(&m.scene_toml).and_then(|s| s.evaluate(&m.overrides)).map_err(|e| {
+        StoreError::format(path, format!("attribute {}: not the scene of a run ({e})", crate::layout::attr::SCENE))
+    })?;
     let z = Deflater { threads: 1, ..Default::default() };
     let chunks = Chunks::new(&atlas.meta.plane, Field::most_cell_bytes(&atlas.meta));
     let (written, _) = in_memory(atlas, &loaded.info, &chunks, &z).map_err(|e| StoreError::hdf5(path, e))?;
