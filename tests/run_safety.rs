@@ -137,6 +137,64 @@ fn side_outputs_never_replace_an_input_and_late_checks_come_first() {
     assert!(pdf.status.success(), "a vector figure has no pixels: {}", String::from_utf8_lossy(&pdf.stderr));
 }
 
+/// The eighth audit's finds: two outputs of one run named alike (a basin
+/// file and its figure, a cell's two figures, a sweep's file and its
+/// figure) are refused before any work, as is a study whose map or contact
+/// sheet would replace its scene or itself; a `--set` of what a
+/// continuation or a curve varies is refused, not ignored; a
+/// continuation's axis is checked against the parameter's range at both
+/// ends; and `bench` takes each thread count once and a bounded repeat.
+#[test]
+fn outputs_of_one_run_and_what_a_run_varies_are_checked_before_work() {
+    let d = scratch("one-run");
+    let at = |name: &str| d.join(name).to_str().unwrap().to_string();
+    let same = at("same.png");
+    refused(
+        &[
+            "basins",
+            "configs/single-stop.toml",
+            "--x",
+            "x_M=-1:-0.5:3",
+            "--y",
+            "v_M=-1:1:3",
+            "-o",
+            &same,
+            "--png",
+            &same,
+        ],
+        "is also another of the run's outputs",
+    );
+    refused(&["cell", "configs/single-stop.toml", "--portrait", &same, "--section-png", &same], "--section-png: ");
+    refused(&["sweep", "configs/single-stop.toml", "--axis", "omega=2:2.2:3", "-o", &same, "--png", &same], "--png: ");
+    assert!(!d.join("same.png").exists());
+    // A study's scene named as its contact sheet, and a study file named as a map.
+    let study = |file: &str, scene: &str| {
+        std::fs::copy("configs/single-stop.toml", d.join(scene)).unwrap();
+        let text = format!(
+            "scene = \"{scene}\"\nparameter = \"zeta\"\nvalues = [0.0]\nx = \"omega=1:3:4\"\ny = \"r=0.5:0.9:3\"\n"
+        );
+        std::fs::write(d.join(file), text).unwrap();
+        let bytes = (std::fs::read(d.join(file)).unwrap(), std::fs::read(d.join(scene)).unwrap());
+        refused(&["study", &at(file), "-o", d.to_str().unwrap(), "--quiet"], "is also an input");
+        assert_eq!((std::fs::read(d.join(file)).unwrap(), std::fs::read(d.join(scene)).unwrap()), bytes);
+    };
+    study("study.toml", "contact-sheet.png");
+    study("zeta=0.png", "scene.toml");
+    let single = "configs/single-stop.toml";
+    refused(
+        &["continue", single, "--axis", "omega=2.5:2.6:3", "--set", "omega=2"],
+        "--set omega: omega is the parameter",
+    );
+    refused(
+        &["curve", single, "--kind", "pd", "--start", "omega=1.26,zeta=0", "--free", "omega,zeta", "--set", "zeta=0.1"],
+        "--set zeta: zeta is a free parameter of the curve",
+    );
+    refused(&["continue", single, "--axis", "r=0.8:1.5:5"], "parameters.r: must be in [0, 1], got 1.5");
+    refused(&["continue", single, "--axis", "omega=2.5:0:10"], "parameters.omega: must be in (0, inf), got 0");
+    refused(&["bench", "--grid", "4", "--threads", "1,1"], "--threads: 1 given twice");
+    refused(&["bench", "--grid", "4", "--repeat", "1000000000"], "--repeat: must be 1 to 100");
+}
+
 #[test]
 fn an_edited_or_malformed_journal_is_refused_and_an_intact_one_resumes_bit_for_bit() {
     let d = scratch("journal");

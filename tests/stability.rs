@@ -302,6 +302,26 @@ fn arclength_goes_around_the_fold() {
     assert!(values[turn + 5] > values[turn + 1], "the parameter grows again on the unstable branch");
 }
 
+/// A pseudo-arclength branch ends on the edge of its range, not a step past
+/// it (the audit: `omega=2.5:2.6:2` ended at 2.6178): its last point is at
+/// 2.6, its orbit the one natural continuation solves there.
+#[test]
+fn arclength_ends_on_the_edge_of_its_range() {
+    let branch = |extra: &[&str]| {
+        let mut args = vec!["continue", "configs/single-stop.toml", "--axis", "omega=2.5:2.6:2", "--json"];
+        args.extend_from_slice(extra);
+        json_of(&args)["branch"].as_array().unwrap().last().unwrap().clone()
+    };
+    let (arc, natural) = (branch(&["--arclength"]), branch(&[]));
+    assert_eq!(arc["value"].as_f64(), Some(2.6), "{arc}");
+    let state = |p: &serde_json::Value| -> Vec<f64> {
+        p["fixed_point"].as_array().unwrap_or_else(|| panic!("{p}")).iter().map(|v| v.as_f64().unwrap()).collect()
+    };
+    for (a, b) in state(&arc).iter().zip(state(&natural)) {
+        assert!((a - b).abs() < 1e-9, "{arc} against {natural}");
+    }
+}
+
 /// Issue 20: `curve` follows the fold of the undamped single-stop (1,1) orbit
 /// in the (σ, ω) plane; at every ω it passes through the closed-form fold.
 #[test]

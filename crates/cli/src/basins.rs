@@ -71,14 +71,18 @@ pub fn run(a: BasinsArgs) -> Result<()> {
     }
     let b = &report.boundary;
     let alpha = b.uncertainty_exponent.map_or("none".to_string(), |u| format!("{u:.3}"));
-    outln!(
+    if report.admissible == 0 {
+        outln!("basin entropy none: no start is admissible");
+    } else {
+        outln!(
         "basin entropy {:.4}, boundary basin entropy {:.4} (boxes of {} x {}; fractal by ln 2: {}); uncertainty exponent {alpha}",
         b.basin_entropy,
         b.boundary_basin_entropy,
         b.entropy_box,
         b.entropy_box,
-        if b.fractal { "yes" } else { "no" }
-    );
+            if b.fractal { "yes" } else { "no" }
+        );
+    }
     outln!("mean periods per start {:.1}", report.mean_periods);
     outln!("wrote {}", a.output.display());
     if let Some(png) = &a.png {

@@ -16,10 +16,13 @@ pub fn run(a: CellArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
     engine::check_trace_samples(a.trace_samples)?;
     let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
-    let inputs = sim.inputs(&from);
-    crate::figure::check("--portrait", a.portrait.as_ref(), &inputs, &page)?;
-    crate::figure::check("--section-png", a.section_png.as_ref(), &inputs, &page)?;
-    crate::figure::output("--trace", a.trace.as_ref(), &inputs)?;
+    // Each output checked against the inputs and the outputs before it.
+    let mut taken = sim.inputs(&from);
+    crate::figure::check("--portrait", a.portrait.as_ref(), &taken, &page)?;
+    taken.extend(a.portrait.as_deref());
+    crate::figure::check("--section-png", a.section_png.as_ref(), &taken, &page)?;
+    taken.extend(a.section_png.as_deref());
+    crate::figure::output("--trace", a.trace.as_ref(), &taken)?;
     let c = engine::cell(&sim, &from)?;
     crate::common::tell(
         c.origin.as_ref().and_then(|o| o.warning.as_ref()),

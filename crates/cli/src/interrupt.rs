@@ -1,5 +1,5 @@
 //! Ctrl-C (SIGINT), SIGTERM and SIGHUP (the terminal closed) for the
-//! commands that end cleanly on them (`explore`, `zoom`): the signal only
+//! commands that end cleanly on them (`explore`, `zoom`, `study`): the signal only
 //! sets a flag, which the command polls or its observer reports as a cancel.
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -27,9 +27,9 @@ pub fn requested() -> bool {
 }
 
 /// An observer that also stops when a signal came.
-pub struct Stoppable<'a>(pub &'a dyn engine::Observer);
+pub struct Stoppable<O>(pub O);
 
-impl engine::Observer for Stoppable<'_> {
+impl<O: engine::Observer> engine::Observer for Stoppable<O> {
     fn begin(&self, work: &engine::Begin<'_>) {
         self.0.begin(work);
     }

@@ -7,12 +7,14 @@ use crate::args::RenderArgs;
 use anyhow::{anyhow, bail, Result};
 use render::{NoSuchView, Show, View};
 use scene::Named;
+use std::path::{Path, PathBuf};
 use store::write_atomically;
 
 /// Runs the command.
 pub fn run(a: RenderArgs) -> Result<()> {
     let page = crate::figure::page(&a.figure)?;
-    crate::figure::check("-o", Some(&a.output), &[&a.file], &page)?;
+    let inputs: Vec<&Path> = std::iter::once(a.file.as_path()).chain(a.curves.iter().map(PathBuf::as_path)).collect();
+    crate::figure::check("-o", Some(&a.output), &inputs, &page)?;
     if store::is_basins(&a.file) {
         let given = [
             ("--contours", a.contours.is_some()),

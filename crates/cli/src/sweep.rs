@@ -10,6 +10,7 @@ use anyhow::Result;
 use engine::{Legs, SweepRequest};
 use grid::{Atlas, Axis, SweepKind};
 use scene::Named;
+use std::path::Path;
 use store::write_atomically;
 
 /// Runs the command.
@@ -20,7 +21,9 @@ pub fn run(a: SweepArgs) -> Result<()> {
         anyhow::bail!("--points: at most {}, got {points}", grid::MAX_SECTION_CAP);
     }
     let (sim, from) = (sim_from(&a.sim, &a.start)?, start(&a.start)?);
-    crate::figure::check("--png", a.png.as_ref(), &sim.inputs(&from), &page)?;
+    // Not the inputs, nor the sweep's file.
+    let taken: Vec<&Path> = sim.inputs(&from).into_iter().chain(a.output.as_deref()).collect();
+    crate::figure::check("--png", a.png.as_ref(), &taken, &page)?;
     let r = SweepRequest {
         sim,
         start: from,

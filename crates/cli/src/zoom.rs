@@ -20,7 +20,7 @@ pub fn run(a: ZoomArgs) -> Result<()> {
     // A zoom has no journal to resume from: Ctrl-C cancels it, leaving nothing.
     crate::interrupt::install();
     let shown = Shown::new("zoom", a.quiet);
-    let run = match engine::zoom(&r, &crate::interrupt::Stoppable(&shown)) {
+    let run = match engine::zoom(&r, &crate::interrupt::Stoppable(shown)) {
         Err(_) if crate::interrupt::requested() => {
             crate::out::errln!("zoom: interrupted; nothing was written");
             std::process::exit(130);

@@ -96,6 +96,9 @@ pub const PAPER: [Setting; 4] = [STANDARD, EQUAL, PRECISE, RK4];
 /// two and a half minutes of [`RK4`] (about 110).
 pub const PAPER_GRID: usize = 128;
 
+/// Most runs of each measurement a bench takes (`--repeat`, `--trade-repeat`).
+pub const MAX_REPEAT: usize = 100;
+
 /// Rounds of the paper's comparison unless others are asked for.
 pub const PAPER_ROUNDS: usize = 4;
 
@@ -149,14 +152,19 @@ impl BenchRequest {
             let why = format!("expected a comma-separated list of counts 1..1024, got {:?}", self.threads);
             return Err(refuse(Opt::Threads).text(why).into());
         }
+        if let Some(t) = self.threads.iter().enumerate().find_map(|(i, t)| self.threads[..i].contains(t).then_some(t)) {
+            let why = format!("{t} given twice; give each count once");
+            return Err(refuse(Opt::Threads).text(why).into());
+        }
         if !(2..=2000).contains(&self.grid) {
             return Err(refuse(Opt::Grid).text(format!("must be in 2..=2000, got {}", self.grid)).into());
         }
-        if self.repeat == 0 {
-            return Err(refuse(Opt::Repeat).text("must be >= 1").into());
+        if !(1..=MAX_REPEAT).contains(&self.repeat) {
+            return Err(refuse(Opt::Repeat).text(format!("must be 1 to {MAX_REPEAT}, got {}", self.repeat)).into());
         }
-        if self.trade_rounds == Some(0) {
-            return Err(refuse(Opt::TradeRepeat).text("must be >= 1").into());
+        if self.trade_rounds.is_some_and(|r| !(1..=MAX_REPEAT).contains(&r)) {
+            let why = format!("must be 1 to {MAX_REPEAT}, got {}", self.trade_rounds.unwrap_or(0));
+            return Err(refuse(Opt::TradeRepeat).text(why).into());
         }
         Ok(())
     }

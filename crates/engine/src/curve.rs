@@ -106,6 +106,7 @@ pub fn curve(r: &CurveRequest, observer: &dyn crate::Observer) -> Result<Followe
     for p in [pa, pb] {
         s.scene.check_parameter(p, "").map_err(|e| unknown(refuse(Opt::Free), e))?;
     }
+    r.sim.refuse_set_of(&[pa, pb], "a free parameter of the curve")?;
     if let Some((other, _)) = r.start.iter().find(|(n, _)| n != pa && n != pb) {
         let why = format!("gives the free parameters {pa} and {pb} only, got {other} (fix others with ");
         return Err(refuse(Opt::Start).text(why).opt(Opt::Set).text(")").into());

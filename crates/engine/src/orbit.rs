@@ -236,6 +236,7 @@ impl ContinuationRequest {
 /// may stop it between any two solves ([`Error::Cancelled`]).
 pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<FollowedOrbit> {
     let (axis, n) = (&r.axis, r.n);
+    r.sim.refuse_set_of(&[&axis.name], "the parameter the orbit is followed along")?;
     let (s, origin) = r.sim.setup_from(&r.start)?;
     s.scene.check_parameter(&axis.name, "").map_err(|e| unknown(RequestError::option(Opt::Axis), e))?;
     if axis.count < 2 {
@@ -253,6 +254,8 @@ pub fn continuation(r: &ContinuationRequest, observer: &dyn Observer) -> Result<
         s.system_with(&[(&axis.name, v)]).ok()
     };
     let system = s.system_with(&[(&axis.name, values[0])])?;
+    // Both ends within the parameter's range (and so every value between).
+    s.system_with(&[(&axis.name, values[values.len() - 1])])?;
     let (warning, note, source) = said_of(origin.as_ref());
     let y0 = origin.map_or_else(|| system.model.initial_state(), |o| o.state);
     let start = orbit_of_cell(&system, &s.accuracy, &y0, n)

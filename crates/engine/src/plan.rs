@@ -483,10 +483,7 @@ impl Plan {
     pub fn new(s: &Setup, section_cap: usize, plane: Plane, sweeps: Vec<SweepKind>, threads: usize) -> Result<Plan> {
         for axis in [&plane.x, &plane.y].into_iter().filter(|a| a.count > 1) {
             if s.overrides.iter().any(|(name, _)| *name == axis.name) {
-                return Err(RequestError::keyed(Opt::Set, &axis.name)
-                    .text(format!("{} is also an axis of the run, which would override it; remove the ", axis.name))
-                    .opt(Opt::Set)
-                    .into());
+                return Err(crate::sim::set_refused(&axis.name, "also an axis of the run"));
             }
         }
         let mut setup = s.cell_setup(section_cap)?;

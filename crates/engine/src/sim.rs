@@ -117,7 +117,25 @@ pub struct Sim {
     pub integrator: Option<Method>,
 }
 
+/// The refusal of a `--set` of `name`, a parameter that the run varies
+/// itself (`what`: how, e.g. "also an axis of the run").
+pub(crate) fn set_refused(name: &str, what: &str) -> crate::Error {
+    RequestError::keyed(Opt::Set, name)
+        .text(format!("{name} is {what}, which would override it; remove the "))
+        .opt(Opt::Set)
+        .into()
+}
+
 impl Sim {
+    /// Refuses a `--set` of a parameter of `varied`, which the run varies
+    /// itself (`what`: how), before any work: its value would be ignored.
+    pub(crate) fn refuse_set_of(&self, varied: &[&str], what: &str) -> Result<()> {
+        match self.set.iter().find(|(n, _)| varied.contains(&n.as_str())) {
+            Some((n, _)) => Err(set_refused(n, what)),
+            None => Ok(()),
+        }
+    }
+
     /// The files a run of these options from `start` reads, which no output
     /// of it may replace: the scene's file, or the file whose stored scene it
     /// takes, and the file of a stored cell it starts from.
@@ -441,6 +459,15 @@ impl Sim {
                 format!("{} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
             return Err(RequestError::option(Opt::From).text(what).into());
         }
+        let cell_start = atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec);
+        for (name, state) in
+            [("final_state", Some(&cell.final_state)), ("the state it started from", cell_start.as_ref())]
+        {
+            if state.is_some_and(|x| x.iter().any(|v| !v.is_finite())) {
+                let what = format!("{}: the cell's {name} holds numbers that are not finite", file.display());
+                return Err(RequestError::option(Opt::From).text(what).into());
+            }
+        }
         let warning = (s.scene.source() != m.scene_toml)
             .then(|| format!("the scene differs from the one stored in {}", file.display()));
         let source = Source::Stored {
@@ -454,7 +481,7 @@ impl Sim {
         let elsewhere = at.iter().any(|(n, x)| params.iter().any(|(p, y)| p == n && x != y));
         let note = elsewhere.then(|| format!("the stored cell nearest to {} is {}", named(at), named(&params)));
         let origin = Origin {
-            cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
+            cell_start,
             state: cell.final_state.clone(),
             source,
             section_cap: Some(m.section_cap),

@@ -102,6 +102,9 @@ pub struct StudyAtlas<'a> {
     pub map: &'a Path,
 }
 
+/// The contact sheet's file name in a study's folder.
+const SHEET: &str = "contact-sheet.png";
+
 impl StudyPlan {
     /// Runs the study into the folder `output` (made where missing): per
     /// value its atlas `STEM.h5` and the map of its first sweep `STEM.png`,
@@ -126,11 +129,16 @@ impl StudyPlan {
         let mut any = false;
         let done = (|| -> Result<PathBuf> {
             let StudyPlan { study, file, scene, sweeps, mut plans } = self;
+            // Every file the study writes, its maps and contact sheet too,
+            // checked before any work (none may replace the study or its scene).
             for (v, plan) in &mut plans {
-                let out = output.join(format!("{}.h5", study.stem(*v)));
+                let stem = study.stem(*v);
+                let out = output.join(format!("{stem}.h5"));
                 store::check_output(&out, &[&scene, &file])?;
+                store::check_output(&output.join(format!("{stem}.png")), &[&scene, &file])?;
                 plan.output = Some(store::canonical_output(&out)?);
             }
+            store::check_output(&output.join(SHEET), &[&scene, &file])?;
             let mut panels = Vec::new();
             for (v, plan) in plans {
                 let stem = study.stem(v);
@@ -144,7 +152,7 @@ impl StudyPlan {
                 written(&StudyAtlas { stem: &stem, cells, secs: run.secs, map: &map });
                 panels.push((format!("{} = {v}", study.parameter), sheet_panel(run.atlas, sweeps[0])));
             }
-            let sheet = output.join("contact-sheet.png");
+            let sheet = output.join(SHEET);
             store::write_atomically(&sheet, |tmp| render::sheet(&panels, sweeps[0], 0, page, tmp))?;
             Ok(sheet)
         })();

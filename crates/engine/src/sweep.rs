@@ -105,6 +105,7 @@ pub struct Sweep {
 
 /// Runs a sweep (and writes its file when asked).
 pub fn sweep(r: &SweepRequest, observer: &dyn Observer) -> Result<Sweep> {
+    r.sim.refuse_set_of(&[&r.axis.name], "also an axis of the run")?;
     let (mut s, origin) = r.sim.setup_from(&r.start)?;
     let axis = &r.axis;
     // From a stored cell, the swept parameter is the axis, not the cell's value.

@@ -118,6 +118,19 @@ fn correct(
     Err(Failure::Diverged)
 }
 
+/// The orbit of `like` (at the point `z`) solved at the parameter value
+/// `value` by Newton's method at that value from `z`'s state; `None` where it
+/// does not converge keeping `like`'s impact pattern.
+fn at_value(family: &Family, acc: &Accuracy, like: &Orbit, z: &DVector<f64>, value: f64) -> Option<Orbit> {
+    let d = z.len() - 1;
+    let mut anchor = z.clone();
+    anchor[d] = value;
+    let mut along = DVector::zeros(d + 1);
+    along[d] = 1.0;
+    let (z, lin, it) = correct(family, acc, like, &anchor, &along).ok()?;
+    orbit_at(family, acc, like, &z, &lin, it)
+}
+
 /// The orbit at a corrected point.
 fn orbit_at(family: &Family, acc: &Accuracy, like: &Orbit, z: &DVector<f64>, lin: &Linear, it: usize) -> Option<Orbit> {
     let (x, p) = split(z);
@@ -253,13 +266,21 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                         branch.bifurcations.push(Located::stability(v, &at));
                     }
                 }
+                if p < lo - 1e-12 * (1.0 + lo.abs()) || p > hi + 1e-12 * (1.0 + hi.abs()) {
+                    // Past the range: the branch ends on the edge it crossed,
+                    // its orbit solved there at that value (from the last
+                    // point's), and what was found beyond is not reported.
+                    let edge = if p > hi { hi } else { lo };
+                    branch.bifurcations.retain(|b| (lo..=hi).contains(&b.value));
+                    if let Some(o) = at_value(family, acc, &orbit, &z, edge) {
+                        branch.points.push(BranchPoint { value: edge, orbit: o });
+                    }
+                    return branch;
+                }
                 branch.points.push(BranchPoint { value: p, orbit: o.clone() });
                 (z, lin, t, orbit) = (z_new, lin_new, t_new, o);
                 if it <= 3 {
                     ds = (ds * 1.5).min(ds_max);
-                }
-                if p < lo - 1e-12 * (1.0 + lo.abs()) || p > hi + 1e-12 * (1.0 + hi.abs()) {
-                    return branch;
                 }
             }
             Err(why) if ds > ds_max / 1024.0 => {

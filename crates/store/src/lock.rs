@@ -296,7 +296,7 @@ impl Drop for OutputLock {
 
 /// Checks, before any work, that `output` can be written as a new or replaced
 /// regular file: not a directory, not one of `inputs` (the scene, the parts of
-/// a merge), not a device or other special file (an output is written beside
+/// a merge, or another output of the run that is yet to be written), not a device or other special file (an output is written beside
 /// its target and renamed over it, which such a file cannot take), and in a
 /// folder that exists.
 pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
@@ -318,14 +318,28 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
         _ => {}
     }
     check_creatable(output)?;
-    if let Ok(out) = output.canonicalize() {
+    if let Some(out) = resolved(output) {
         for input in inputs {
-            if input.canonicalize().is_ok_and(|i| i == out) {
-                return bad(&format!("is also an input ({}); write the output elsewhere", input.display()));
+            if resolved(input).is_some_and(|i| i == out) {
+                let what = if input.exists() { "an input" } else { "another of the run's outputs" };
+                return bad(&format!("is also {what} ({}); write the output elsewhere", input.display()));
             }
         }
     }
     Ok(())
+}
+
+/// The file `path` names, links followed: its canonical path, or, where it
+/// does not exist yet, its folder's joined with its name (two outputs of one
+/// run that are to be the same new file are the same path).
+fn resolved(path: &Path) -> Option<PathBuf> {
+    path.canonicalize().ok().or_else(|| {
+        let folder = match path.parent() {
+            Some(f) if !f.as_os_str().is_empty() => f,
+            _ => Path::new("."),
+        };
+        Some(folder.canonicalize().ok()?.join(path.file_name()?))
+    })
 }
 
 /// Checks, before any work, that the existing file `path` can be rewritten
