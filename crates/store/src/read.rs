@@ -545,6 +545,10 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             format!("attribute {} of /: names sweep {}, whose group the file lacks", attr::SWEEPS, missing.name());
         return Err(fmt(what));
     }
+    if let Some(extra) = SweepKind::ALL.iter().find(|s| !sweeps.contains(s) && f.link_exists(s.name())) {
+        let what = format!("holds sweep {}, which its attribute {} does not name", extra.name(), attr::SWEEPS);
+        return Err(fmt(what));
+    }
     let masses = list(&attr(path, f, attr::MASSES)?);
     // Layout 1 did not name the stops of each label.
     let n_masses = masses.len();
@@ -574,11 +578,26 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     if stop_laws.len() != stops.len() {
         return Err(fmt(format!("attribute {}: {} laws for {} stops", attr::STOP_LAWS, stop_laws.len(), stops.len())));
     }
+    for (what, names) in [(attr::MASSES, &masses), (attr::STOPS, &stops)] {
+        if let Some(twice) = names.iter().enumerate().find_map(|(i, n)| names[..i].contains(n).then_some(n)) {
+            return Err(fmt(format!("attribute {what}: {twice} is named twice")));
+        }
+    }
     let quantities = quantities(path, f, &sweeps)?;
+    // Each parameter set once, none that is an axis of the plane (a run
+    // refuses both).
+    let overrides = pairs(&attr(path, f, attr::OVERRIDES)?).map_err(fmt)?;
+    for (i, (name, _)) in overrides.iter().enumerate() {
+        let axis = [&x, &y].into_iter().any(|a| a.count > 1 && a.name == *name);
+        if axis || overrides[..i].iter().any(|(n, _)| n == name) {
+            let why = if axis { "an axis of the plane" } else { "set twice" };
+            return Err(fmt(format!("attribute {}: {name} is {why}", attr::OVERRIDES)));
+        }
+    }
     Ok(Meta {
         scene_name: attr(path, f, attr::SCENE_NAME)?,
         scene_toml: scene_toml.clone(),
-        overrides: pairs(&attr(path, f, attr::OVERRIDES)?).map_err(fmt)?,
+        overrides,
         preset: {
             let name = attr(path, f, attr::PRESET)?;
             solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
