@@ -900,6 +900,46 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
     ]);
     let zoomed = d.join("zoom.h5");
     ok(&["zoom", w, "--x", "omega=1:1.4:3", "--y", "r=0.5:0.6:3", "--quiet", "-o", zoomed.to_str().unwrap()]);
+    // A root's lists and overrides as no run writes them; a parameter set
+    // twice is one a run writes (a stored cell's value, then --set's).
+    for (name, spec, what) in [
+        ("axis", "attr|@overrides|'omega=5'", "attribute overrides: omega is an axis of the plane"),
+        ("masses", "attr|@masses|'M1,M1'", "attribute masses: M1 is named twice"),
+    ] {
+        let f = mutated(&o.atlas, &d.join(format!("root-{name}.h5")), &[spec]);
+        refused(&["inspect", f.to_str().unwrap()], what);
+    }
+    let (base, swept) = (d.join("base.h5"), d.join("swept.h5"));
+    let b = base.to_str().unwrap();
+    ok(&[
+        "atlas",
+        "configs/multi-stop.toml",
+        "--set",
+        "zeta=0.1",
+        "--x",
+        "omega=0.5:1.5:4",
+        "--y",
+        "delta=0.1:1:3",
+        "--quiet",
+        "-o",
+        b,
+    ]);
+    let s = swept.to_str().unwrap();
+    ok(&[
+        "sweep",
+        "--from",
+        b,
+        "--at",
+        "omega=1,delta=0.55",
+        "--set",
+        "zeta=0.2",
+        "--axis",
+        "omega=0.6:0.8:3",
+        "--quiet",
+        "-o",
+        s,
+    ]);
+    ok(&["inspect", "--verify", s]);
 }
 
 /// Issue 42, R5 and R7: what no reader of vibroatlas uses to draw its cells

@@ -584,15 +584,12 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         }
     }
     let quantities = quantities(path, f, &sweeps)?;
-    // Each parameter set once, none that is an axis of the plane (a run
-    // refuses both).
+    // None that is an axis of the plane (which a run refuses). A parameter
+    // may be set twice, the last value taken: a stored cell's file's value,
+    // then the one given to a run from it (`sweep --from … --set`).
     let overrides = pairs(&attr(path, f, attr::OVERRIDES)?).map_err(fmt)?;
-    for (i, (name, _)) in overrides.iter().enumerate() {
-        let axis = [&x, &y].into_iter().any(|a| a.count > 1 && a.name == *name);
-        if axis || overrides[..i].iter().any(|(n, _)| n == name) {
-            let why = if axis { "an axis of the plane" } else { "set twice" };
-            return Err(fmt(format!("attribute {}: {name} is {why}", attr::OVERRIDES)));
-        }
+    if let Some((name, _)) = overrides.iter().find(|(n, _)| [&x, &y].into_iter().any(|a| a.count > 1 && a.name == *n)) {
+        return Err(fmt(format!("attribute {}: {name} is an axis of the plane", attr::OVERRIDES)));
     }
     Ok(Meta {
         scene_name: attr(path, f, attr::SCENE_NAME)?,
