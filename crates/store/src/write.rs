@@ -825,12 +825,36 @@ mod tests {
     use crate::testing::scratch;
     use maps::{Along, Axis, Plane, SweepKind};
 
+    /// The scene of [`meta`]: one mass M1 above its stop A at δ.
+    const SCENE: &str = r#"
+name = "test"
+[parameters]
+omega = 1.0
+delta = 0.5
+[forcing]
+omega = "omega"
+[[masses]]
+name = "M1"
+mass = 1
+force = 1
+x0 = 1
+[[links]]
+masses = ["M1"]
+stiffness = 1
+[[stops]]
+name = "A"
+mass = "M1"
+side = "below"
+position = "delta"
+restitution = 0.8
+"#;
+
     fn meta() -> maps::Meta {
         let x = Axis::parse("omega=0.5:2:5", "x").unwrap();
         let y = Axis::parse("delta=0.1:1:3", "y").unwrap();
         maps::Meta {
             scene_name: "test".into(),
-            scene_toml: String::new(),
+            scene_toml: SCENE.into(),
             overrides: Vec::new(),
             preset: solver::Preset::Standard,
             accuracy: Vec::new(),
