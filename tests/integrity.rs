@@ -847,8 +847,9 @@ fn numbers_a_reader_builds_on_are_checked() {
 /// stored scene that does not parse (merge took it, `inspect --verify`
 /// called it verified), a stored final state that is not finite (`cell
 /// --from` simulated from NaN), and curves whose points are not numbers or
-/// whose kinds and parameters are no curve's; and a complete `--shard 1/1`
-/// file, which zoom refused as a part, is zoomed into.
+/// whose kinds and parameters are no curve's; a complete `--shard 1/1`
+/// file, which zoom refused as a part, is zoomed into; a zoom's file is
+/// not merged (it lost its parent).
 #[test]
 fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas() {
     let o = originals();
@@ -900,6 +901,8 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
     ]);
     let zoomed = d.join("zoom.h5");
     ok(&["zoom", w, "--x", "omega=1:1.4:3", "--y", "r=0.5:0.6:3", "--quiet", "-o", zoomed.to_str().unwrap()]);
+    // A zoom's file has no parts: merged, it lost its parent.
+    refused(&["merge", zoomed.to_str().unwrap(), "-o", merged.to_str().unwrap()], "a zoom's file");
     // A root's lists and overrides as no run writes them; a parameter set
     // twice is one a run writes (a stored cell's value, then --set's).
     for (name, spec, what) in [

@@ -83,6 +83,13 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
     let base = read(first)?;
     // Every part whole: a dataset or group missing, or an attribute changed, is refused.
     crate::write::check_finished(first, &base)?;
+    // A zoom's file is its whole box (a zoom has no shards): merged, it
+    // would lose its parent and keep the parent's lattice.
+    let no_zoom = |p: &Path, loaded: &crate::Loaded| match loaded.info.parent {
+        Some(_) => Err(StoreError::format(p, "a zoom's file, which holds its whole box: there are no parts to merge")),
+        None => Ok(()),
+    };
+    no_zoom(first, &base)?;
     let mut atlas = base.atlas;
     let mut run_time = base.info.run_time_s;
     let mut history = base.info.history;
@@ -98,6 +105,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
         }
         let part = read(p)?;
         crate::write::check_finished(p, &part)?;
+        no_zoom(p, &part)?;
         if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
             let (path, first) = (p.display().to_string(), first.display().to_string());
             let differences = differences(&atlas.meta, &part.atlas.meta);
