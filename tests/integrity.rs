@@ -856,6 +856,10 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
     let d = scratch("crafted");
     let span = mutated(&o.atlas, &d.join("span.h5"), &["attr|axes/omega@start|-1e308", "attr|axes/omega@stop|1e308"]);
     every_command_refuses(&span, "axes/omega: the span from -1e308 to 1e308 is beyond the largest number");
+    // A span that is a number whose values are not (the last 3 steps' product overflows).
+    let values =
+        mutated(&o.atlas, &d.join("values.h5"), &["attr|axes/omega@start|-8.5e307", "attr|axes/omega@stop|8.5e307"]);
+    every_command_refuses(&values, "axes/omega: the span from -8.5e307 to 8.5e307 times 3 steps is beyond");
     let scene = mutated(&o.atlas, &d.join("scene.h5"), &["attr|@scene|'x' * 100"]);
     let (f, merged) = (scene.to_str().unwrap(), d.join("merged.h5"));
     refused(&["merge", f, "-o", merged.to_str().unwrap()], "attribute scene: not the scene of a run");
@@ -873,7 +877,7 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
             "--sweep",
             "up",
         ],
-        "the cell's final_state holds numbers that are not finite",
+        "final_state: the state of cell (0, 0) holds numbers that are not finite",
     );
     for (name, spec, what) in [
         ("points", "data|curve_0/omega|np.where(np.arange(a.size) == 1, np.nan, a)", "curve_0/omega: holds NaN"),

@@ -144,6 +144,9 @@ fn side_outputs_never_replace_an_input_and_late_checks_come_first() {
 /// continuation or a curve varies is refused, not ignored; a
 /// continuation's axis is checked against the parameter's range at both
 /// ends; and `bench` takes each thread count once and a bounded repeat.
+/// The re-audit's: an output named through a link to another, an input
+/// named as its output's journal (the run removed it), and the map of an
+/// atlas that labels no mass.
 #[test]
 fn outputs_of_one_run_and_what_a_run_varies_are_checked_before_work() {
     let d = scratch("one-run");
@@ -166,7 +169,31 @@ fn outputs_of_one_run_and_what_a_run_varies_are_checked_before_work() {
     );
     refused(&["cell", "configs/single-stop.toml", "--portrait", &same, "--section-png", &same], "--section-png: ");
     refused(&["sweep", "configs/single-stop.toml", "--axis", "omega=2:2.2:3", "-o", &same, "--png", &same], "--png: ");
+    // The same new file named through a link to it.
+    let link = at("link.png");
+    std::os::unix::fs::symlink("same.png", &link).unwrap();
+    refused(
+        &[
+            "basins",
+            "configs/single-stop.toml",
+            "--x",
+            "x_M=-1:-0.5:3",
+            "--y",
+            "v_M=-1:1:3",
+            "-o",
+            &same,
+            "--png",
+            &link,
+        ],
+        "is also another of the run's outputs",
+    );
     assert!(!d.join("same.png").exists());
+    // An input named as a file the run writes beside its output and removes.
+    let journal = at(".o.h5.journal");
+    std::fs::copy("configs/single-stop.toml", &journal).unwrap();
+    let o = at("o.h5");
+    refused(&["atlas", &journal, "--x", "omega=1:3:4", "--y", "r=0.5:0.9:3", "--quiet", "-o", &o], "which is an input");
+    assert_eq!(std::fs::read(&journal).unwrap(), std::fs::read("configs/single-stop.toml").unwrap());
     // A study's scene named as its contact sheet, and a study file named as a map.
     let study = |file: &str, scene: &str| {
         std::fs::copy("configs/single-stop.toml", d.join(scene)).unwrap();
@@ -193,6 +220,18 @@ fn outputs_of_one_run_and_what_a_run_varies_are_checked_before_work() {
     refused(&["continue", single, "--axis", "omega=2.5:0:10"], "parameters.omega: must be in (0, inf), got 0");
     refused(&["bench", "--grid", "4", "--threads", "1,1"], "--threads: 1 given twice");
     refused(&["bench", "--grid", "4", "--repeat", "1000000000"], "--repeat: must be 1 to 100");
+    // An atlas of a scene that labels no mass has no labels' map to draw
+    // (it panicked), but its other views.
+    let scene = at("unlabelled.toml");
+    let text = std::fs::read_to_string("configs/single-stop.toml").unwrap();
+    std::fs::write(&scene, text.replace("[labels.M]\np = \"A\"\n", "")).unwrap();
+    let atlas = at("unlabelled.h5");
+    let made = run(&["atlas", &scene, "--x", "omega=1:3:4", "--y", "r=0.5:0.9:3", "--quiet", "-o", &atlas]);
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    refused(&["render", &atlas, "-o", &at("u.png")], "the atlas labels no mass");
+    assert!(!d.join("u.png").exists() && !d.join(".u.partial.png").exists());
+    let lyapunov = run(&["render", &atlas, "-o", &at("u.png"), "--view", "lyapunov"]);
+    assert!(lyapunov.status.success(), "{}", String::from_utf8_lossy(&lyapunov.stderr));
 }
 
 #[test]

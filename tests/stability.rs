@@ -320,6 +320,13 @@ fn arclength_ends_on_the_edge_of_its_range() {
     for (a, b) in state(&arc).iter().zip(state(&natural)) {
         assert!((a - b).abs() < 1e-9, "{arc} against {natural}");
     }
+    // One that turns back to where it started says so (the re-audit: a
+    // 4-4-0 branch of the damped single stop reversed on itself and ended
+    // silently at its start).
+    let args = ["continue", "configs/single-stop.toml", "--set", "zeta=0.05", "--set", "sigma=0.1", "--set", "r=0.66"];
+    let back = json_of(&[&args[..], &["--axis", "omega=2.5:2.4:11", "--arclength", "--json"]].concat());
+    let ended = back["ended"].as_str().unwrap_or_else(|| panic!("{back}"));
+    assert!(ended.starts_with("turned back to the start of the range, 2.5"), "{ended}");
 }
 
 /// Issue 20: `curve` follows the fold of the undamped single-stop (1,1) orbit

@@ -73,6 +73,8 @@ pub fn run(a: BasinsArgs) -> Result<()> {
     let alpha = b.uncertainty_exponent.map_or("none".to_string(), |u| format!("{u:.3}"));
     if report.admissible == 0 {
         outln!("basin entropy none: no start is admissible");
+    } else if !b.basin_entropy.is_finite() {
+        outln!("basin entropy none: the grid is smaller than one box of {} x {}", b.entropy_box, b.entropy_box);
     } else {
         outln!(
         "basin entropy {:.4}, boundary basin entropy {:.4} (boxes of {} x {}; fractal by ln 2: {}); uncertainty exponent {alpha}",

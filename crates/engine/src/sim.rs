@@ -459,15 +459,6 @@ impl Sim {
                 format!("{} has states of {} numbers, the scene {}", file.display(), m.dim, 2 * model.masses.len());
             return Err(RequestError::option(Opt::From).text(what).into());
         }
-        let cell_start = atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec);
-        for (name, state) in
-            [("final_state", Some(&cell.final_state)), ("the state it started from", cell_start.as_ref())]
-        {
-            if state.is_some_and(|x| x.iter().any(|v| !v.is_finite())) {
-                let what = format!("{}: the cell's {name} holds numbers that are not finite", file.display());
-                return Err(RequestError::option(Opt::From).text(what).into());
-            }
-        }
         let warning = (s.scene.source() != m.scene_toml)
             .then(|| format!("the scene differs from the one stored in {}", file.display()));
         let source = Source::Stored {
@@ -481,7 +472,7 @@ impl Sim {
         let elsewhere = at.iter().any(|(n, x)| params.iter().any(|(p, y)| p == n && x != y));
         let note = elsewhere.then(|| format!("the stored cell nearest to {} is {}", named(at), named(&params)));
         let origin = Origin {
-            cell_start,
+            cell_start: atlas.start_of(sweep, iy, ix).map(<[f64]>::to_vec),
             state: cell.final_state.clone(),
             source,
             section_cap: Some(m.section_cap),

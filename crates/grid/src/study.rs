@@ -79,8 +79,9 @@ impl Study {
             return Err(GridError::field("values", format!("not a finite number: {v}")));
         }
         for (i, v) in s.values.iter().enumerate() {
-            // Values that name the same file (0.5 and 0.50 are one number).
-            if s.values[..i].iter().any(|w| s.stem(*w) == s.stem(*v)) {
+            // Values that name the same file (0.5 and 0.50 are one number),
+            // or are the same number (-0 + 0 is 0).
+            if s.values[..i].iter().any(|w| s.stem(w + 0.0) == s.stem(v + 0.0)) {
                 return Err(GridError::field("values", format!("{v} is given twice")));
             }
             let stem = s.stem(*v);
@@ -131,6 +132,7 @@ mod tests {
         let many = format!("[{}]", (0..=MAX_VALUES).map(|i| i.to_string()).collect::<Vec<_>>().join(","));
         assert!(values(&many).unwrap_err().contains("at most 100 values"));
         assert!(values("[0.5, 0.50]").unwrap_err().contains("given twice"));
+        assert!(values("[0.0, -0.0]").unwrap_err().contains("-0 is given twice"));
         assert!(values("[1e300]").unwrap_err().contains("file name"));
         assert!(values("[0.25, 0.5]").is_ok());
         // The studied parameter's values are `values`; a `[set]` of it is refused.

@@ -120,6 +120,14 @@ impl Axis {
         if *count == 0 || *count > MAX_COUNT {
             return Err(FieldError::field(field, format!("the count must be 1 to {MAX_COUNT}, got {count}")));
         }
+        // Each value is start + span · i / (count − 1): the span times the
+        // last index must be a number too.
+        if !((stop - start) * count.saturating_sub(1) as f64).is_finite() {
+            return Err(FieldError::field(
+                field,
+                format!("the span from {start} to {stop} times {} steps is beyond the largest number; give a narrower range", count - 1),
+            ));
+        }
         if *count == 1 && (stop - start).abs() > 0.0 {
             return Err(FieldError::field(
                 field,

@@ -514,6 +514,12 @@ pub fn map<'o>(
     page: &Page,
     out: impl Into<Out<'o>>,
 ) -> Result<(), RenderError> {
+    if mass >= atlas.meta.masses.len() {
+        return Err(RenderError::new(match atlas.meta.masses.len() {
+            0 => "the atlas labels no mass (its scene has no [labels] table): draw its lyapunov or multiplier view, or a quantity".to_string(),
+            k => format!("mass {mass} of an atlas that labels {k}"),
+        }));
+    }
     let panels = if view == View::Hysteresis { 3 } else { 1 };
     let narrow = |w: f64| w < 120.0;
     let height = |w: f64| match (view, narrow(w)) {

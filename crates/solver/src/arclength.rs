@@ -118,12 +118,21 @@ fn correct(
     Err(Failure::Diverged)
 }
 
-/// The orbit of `like` (at the point `z`) solved at the parameter value
-/// `value` by Newton's method at that value from `z`'s state; `None` where it
-/// does not converge keeping `like`'s impact pattern.
-fn at_value(family: &Family, acc: &Accuracy, like: &Orbit, z: &DVector<f64>, value: f64) -> Option<Orbit> {
+/// The orbit of `like` (at the point `z`, the branch's unit tangent `t`
+/// there) solved at the parameter value `value` by Newton's method at that
+/// value, from the tangent's prediction there (from `z`'s state where the
+/// tangent does not move the parameter); `None` where it does not converge
+/// keeping `like`'s impact pattern.
+fn at_value(
+    family: &Family,
+    acc: &Accuracy,
+    like: &Orbit,
+    z: &DVector<f64>,
+    t: &DVector<f64>,
+    value: f64,
+) -> Option<Orbit> {
     let d = z.len() - 1;
-    let mut anchor = z.clone();
+    let mut anchor = if t[d].abs() > 1e-3 { z + t * ((value - z[d]) / t[d]) } else { z.clone() };
     anchor[d] = value;
     let mut along = DVector::zeros(d + 1);
     along[d] = 1.0;
@@ -243,8 +252,14 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
         let anchor = &z + &t * ds;
         match correct(family, acc, &orbit, &anchor, &t) {
             Ok((z_new, lin_new, it)) => {
-                let Some(o) = orbit_at(family, acc, &orbit, &z_new, &lin_new, it) else { break };
-                let Some(t_new) = tangent(&lin_new, &t) else { break };
+                let Some(o) = orbit_at(family, acc, &orbit, &z_new, &lin_new, it) else {
+                    branch.ended = Some(format!("the scene is not valid at {:.9}", z_new[d]));
+                    break;
+                };
+                let Some(t_new) = tangent(&lin_new, &t) else {
+                    branch.ended = Some(format!("no tangent at {:.9}", z_new[d]));
+                    break;
+                };
                 let p = z_new[d];
                 let fold = (fold_test(&lin) < 0.0) != (fold_test(&lin_new) < 0.0);
                 let stability = (psi(&orbit) < 0.0) != (psi(&o) < 0.0);
@@ -272,8 +287,25 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
                     // point's), and what was found beyond is not reported.
                     let edge = if p > hi { hi } else { lo };
                     branch.bifurcations.retain(|b| (lo..=hi).contains(&b.value));
-                    if let Some(o) = at_value(family, acc, &orbit, &z, edge) {
-                        branch.points.push(BranchPoint { value: edge, orbit: o });
+                    match at_value(family, acc, &orbit, &z, &t, edge) {
+                        Some(o) => branch.points.push(BranchPoint { value: edge, orbit: o }),
+                        None => {
+                            let why = format!(
+                                "the orbit was not solved at the edge of the range, {edge}, keeping its impacts"
+                            );
+                            branch.ended = Some(why);
+                            return branch;
+                        }
+                    }
+                    // Back where it started: past a fold, or turned round
+                    // without one (the continuation reversed on itself).
+                    if (p > hi) != (p_end > p0) {
+                        let fold = branch.bifurcations.iter().any(|b| b.kind == Bifurcation::SaddleNode);
+                        branch.ended = Some(if fold {
+                            format!("turned back at the fold and left the range at its start, {edge}")
+                        } else {
+                            format!("turned back to the start of the range, {edge}, without a fold located")
+                        });
                     }
                     return branch;
                 }
@@ -286,6 +318,7 @@ pub fn follow_arclength(family: &Family, acc: &Accuracy, values: &[f64], start: 
             Err(why) if ds > ds_max / 1024.0 => {
                 ds *= 0.5;
                 if why == Failure::Simulation && ds <= ds_max / 1024.0 {
+                    branch.ended = Some(format!("the simulation failed near {:.9}", z[d]));
                     break;
                 }
             }

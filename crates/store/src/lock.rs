@@ -326,20 +326,42 @@ pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
             }
         }
     }
+    // The files written beside it while it is made, which the run removes.
+    for side in [partial_path(output), journal_path(output), lock_path(output)] {
+        let Some(at) = resolved(&side) else { continue };
+        if let Some(input) = inputs.iter().find(|i| resolved(i).is_some_and(|i| i == at)) {
+            return bad(&format!(
+                "its run writes and removes {}, which is an input ({}); name the output otherwise",
+                side.display(),
+                input.display()
+            ));
+        }
+    }
     Ok(())
 }
 
 /// The file `path` names, links followed: its canonical path, or, where it
-/// does not exist yet, its folder's joined with its name (two outputs of one
-/// run that are to be the same new file are the same path).
+/// does not exist yet, the path its links lead to, in its folder's
+/// canonical path (two outputs of one run that are to be the same new file,
+/// one named through a link to the other, are the same path).
 fn resolved(path: &Path) -> Option<PathBuf> {
-    path.canonicalize().ok().or_else(|| {
-        let folder = match path.parent() {
-            Some(f) if !f.as_os_str().is_empty() => f,
-            _ => Path::new("."),
+    if let Ok(c) = path.canonicalize() {
+        return Some(c);
+    }
+    let mut p = path.to_path_buf();
+    // A link to a file not made yet, followed (at most as deep as the system follows).
+    for _ in 0..40 {
+        let Ok(target) = std::fs::read_link(&p) else { break };
+        p = match p.parent() {
+            Some(folder) if target.is_relative() => folder.join(target),
+            _ => target,
         };
-        Some(folder.canonicalize().ok()?.join(path.file_name()?))
-    })
+    }
+    let folder = match p.parent() {
+        Some(f) if !f.as_os_str().is_empty() => f,
+        _ => Path::new("."),
+    };
+    Some(folder.canonicalize().ok()?.join(p.file_name()?))
 }
 
 /// Checks, before any work, that the existing file `path` can be rewritten

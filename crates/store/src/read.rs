@@ -735,6 +735,16 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
     let sym = ck.raw::<u8>(&s.symmetry)?;
     let flags = ck.raw::<u32>(&s.flags)?;
     let fs = ck.raw::<f64>(&s.final_state)?;
+    // A computed cell's state is a number (the next cell of its chain, and
+    // any run from it, starts there).
+    if let Some(i) =
+        (0..n).find(|&i| class_of(class[i]).is_some() && fs[i * dim..(i + 1) * dim].iter().any(|v| !v.is_finite()))
+    {
+        return Err(ck.bad(
+            &s.final_state.name(),
+            format!("the state of cell ({}, {}) holds numbers that are not finite", i / nx, i % nx),
+        ));
+    }
     let scalar = |d: &Option<hdf5::Dataset>| d.as_ref().map_or_else(|| Ok(vec![f64::NAN; n]), |d| ck.raw::<f64>(d));
     let (lyapunov, multiplier) = (scalar(&s.lyapunov)?, scalar(&s.multiplier)?);
     let finite = |v: f64| v.is_finite().then_some(v);

@@ -264,11 +264,22 @@ fn in_memory(atlas: &Atlas, info: &RunInfo, chunks: &Chunks, z: &Deflater) -> hd
 /// file are read, their checksum compared.
 pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreError> {
     let atlas = &loaded.atlas;
-    // The scene it was computed with, as the run evaluated it.
+    // The scene it was computed with, as the run evaluated it: with its
+    // overrides, at the plane's four corners.
     let m = &atlas.meta;
-    scene::Scene::parse(&m.scene_toml).and_then(|s| s.evaluate(&m.overrides)).map_err(|e| {
-        StoreError::format(path, format!("attribute {}: not the scene of a run ({e})", crate::layout::attr::SCENE))
-    })?;
+    let (x, y) = (&m.plane.x, &m.plane.y);
+    let corners = [(x.start, y.start), (x.start, y.stop), (x.stop, y.start), (x.stop, y.stop)];
+    scene::Scene::parse(&m.scene_toml)
+        .and_then(|s| {
+            corners.iter().try_for_each(|&(a, b)| {
+                let mut at = m.overrides.clone();
+                at.extend([(x.name.clone(), a), (y.name.clone(), b)]);
+                s.evaluate(&at).map(drop)
+            })
+        })
+        .map_err(|e| {
+            StoreError::format(path, format!("attribute {}: not the scene of a run ({e})", crate::layout::attr::SCENE))
+        })?;
     let z = Deflater { threads: 1, ..Default::default() };
     let chunks = Chunks::new(&atlas.meta.plane, Field::most_cell_bytes(&atlas.meta));
     let (written, _) = in_memory(atlas, &loaded.info, &chunks, &z).map_err(|e| StoreError::hdf5(path, e))?;
