@@ -152,41 +152,18 @@ fn outputs_of_one_run_and_what_a_run_varies_are_checked_before_work() {
     let d = scratch("one-run");
     let at = |name: &str| d.join(name).to_str().unwrap().to_string();
     let same = at("same.png");
-    refused(
-        &[
-            "basins",
-            "configs/single-stop.toml",
-            "--x",
-            "x_M=-1:-0.5:3",
-            "--y",
-            "v_M=-1:1:3",
-            "-o",
-            &same,
-            "--png",
-            &same,
-        ],
-        "is also another of the run's outputs",
-    );
+    // A basin file and its figure, one new file.
+    let basins = |png: &str| {
+        let args = ["basins", "configs/single-stop.toml", "--x", "x_M=-1:-0.5:3", "--y", "v_M=-1:1:3"];
+        refused(&[&args[..], &["-o", &same, "--png", png]].concat(), "is also another of the run's outputs");
+    };
+    basins(&same);
     refused(&["cell", "configs/single-stop.toml", "--portrait", &same, "--section-png", &same], "--section-png: ");
     refused(&["sweep", "configs/single-stop.toml", "--axis", "omega=2:2.2:3", "-o", &same, "--png", &same], "--png: ");
     // The same new file named through a link to it.
     let link = at("link.png");
     std::os::unix::fs::symlink("same.png", &link).unwrap();
-    refused(
-        &[
-            "basins",
-            "configs/single-stop.toml",
-            "--x",
-            "x_M=-1:-0.5:3",
-            "--y",
-            "v_M=-1:1:3",
-            "-o",
-            &same,
-            "--png",
-            &link,
-        ],
-        "is also another of the run's outputs",
-    );
+    basins(&link);
     assert!(!d.join("same.png").exists());
     // An input named as a file the run writes beside its output and removes.
     let journal = at(".o.h5.journal");

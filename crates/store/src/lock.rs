@@ -295,10 +295,11 @@ impl Drop for OutputLock {
 }
 
 /// Checks, before any work, that `output` can be written as a new or replaced
-/// regular file: not a directory, not one of `inputs` (the scene, the parts of
-/// a merge, or another output of the run that is yet to be written), not a device or other special file (an output is written beside
-/// its target and renamed over it, which such a file cannot take), and in a
-/// folder that exists.
+/// regular file: not a directory, not one of `inputs` (the scene, the parts
+/// of a merge, or another output of the run, made or not), none of its
+/// temporary, journal and lock files one of them, not a device or other
+/// special file (an output is written beside its target and renamed over it,
+/// which such a file cannot take), and in a folder that exists.
 pub fn check_output(output: &Path, inputs: &[&Path]) -> Result<(), StoreError> {
     let bad = |m: &str| Err(StoreError::format(output, m.to_string()));
     if output.as_os_str().is_empty() {
