@@ -905,8 +905,14 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
     ]);
     let zoomed = d.join("zoom.h5");
     ok(&["zoom", w, "--x", "omega=1:1.4:3", "--y", "r=0.5:0.6:3", "--quiet", "-o", zoomed.to_str().unwrap()]);
-    // A zoom's file has no parts: merged, it lost its parent.
+    // A zoom's file has no parts: merged, it lost its parent; a part's
+    // stored curves were dropped unsaid.
     refused(&["merge", zoomed.to_str().unwrap(), "-o", merged.to_str().unwrap()], "a zoom's file");
+    ok(&["curves", w, "--into", "--max", "1"]);
+    refused(&["merge", w, "-o", merged.to_str().unwrap()], "holds bifurcation curves (curves --into)");
+    // A stored knob a run refuses (a NaN tolerance was named as --accuracy).
+    let knob = mutated(&o.atlas, &d.join("knob.h5"), &["attr|@accuracy|'event_tol=nan'"]);
+    every_command_refuses(&knob, "attribute accuracy: event_tol: must be a finite number, got NaN");
     // A root's lists and overrides as no run writes them; a parameter set
     // twice is one a run writes (a stored cell's value, then --set's).
     for (name, spec, what) in [

@@ -206,6 +206,12 @@ pub(crate) fn named_by_root(path: &Path, f: &hdf5::File) -> Result<Option<String
     crate::attrs::text(path, f, attr::CURVES)
 }
 
+/// Whether the atlas `f` holds curves (`curves --into`): its `curves`
+/// group, or its root naming them.
+pub(crate) fn held(path: &Path, f: &hdf5::File) -> Result<bool, StoreError> {
+    Ok(f.link_exists(GROUP) || named_by_root(path, f)?.is_some())
+}
+
 /// What an atlas whose root names its curves but holds no `curves` group says.
 pub(crate) fn curves_missing(path: &Path) -> StoreError {
     StoreError::format(

@@ -85,11 +85,17 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
     crate::write::check_finished(first, &base)?;
     // A zoom's file is its whole box (a zoom has no shards): merged, it
     // would lose its parent and keep the parent's lattice.
-    let no_zoom = |p: &Path, loaded: &crate::Loaded| match loaded.info.parent {
+    // Curves stored in a part (`curves --into`) are of that part alone: not
+    // carried, and not dropped unsaid.
+    let mergeable = |p: &Path, loaded: &crate::Loaded| match loaded.info.parent {
         Some(_) => Err(StoreError::format(p, "a zoom's file, which holds its whole box: there are no parts to merge")),
+        None if crate::curve::held(p, &crate::heap::open(p)?)? => Err(StoreError::format(
+            p,
+            "holds bifurcation curves (curves --into), which a merge does not carry; find them on the merged atlas",
+        )),
         None => Ok(()),
     };
-    no_zoom(first, &base)?;
+    mergeable(first, &base)?;
     let mut atlas = base.atlas;
     let mut run_time = base.info.run_time_s;
     let mut history = base.info.history;
@@ -105,7 +111,7 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
         }
         let part = read(p)?;
         crate::write::check_finished(p, &part)?;
-        no_zoom(p, &part)?;
+        mergeable(p, &part)?;
         if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
             let (path, first) = (p.display().to_string(), first.display().to_string());
             let differences = differences(&atlas.meta, &part.atlas.meta);

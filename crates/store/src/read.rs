@@ -588,6 +588,21 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     // may be set twice, the last value taken: a stored cell's file's value,
     // then the one given to a run from it (`sweep --from … --set`).
     let overrides = pairs(&attr(path, f, attr::OVERRIDES)?).map_err(fmt)?;
+    let preset = {
+        let name = attr(path, f, attr::PRESET)?;
+        solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
+    };
+    // Knobs a run takes (within their limits, on the preset's values).
+    let accuracy = knobs(&attr(path, f, attr::ACCURACY)?).map_err(fmt)?;
+    let mut run = solver::Accuracy::preset(preset);
+    for &(k, v) in &accuracy {
+        run.set(k, v).map_err(|e| match e {
+            solver::SolverError::Accuracy { field, message } => {
+                fmt(format!("attribute {}: {field}: {message}", attr::ACCURACY))
+            }
+            e => fmt(format!("attribute {}: {e}", attr::ACCURACY)),
+        })?;
+    }
     if let Some((name, _)) = overrides.iter().find(|(n, _)| [&x, &y].into_iter().any(|a| a.count > 1 && a.name == *n)) {
         return Err(fmt(format!("attribute {}: {name} is an axis of the plane", attr::OVERRIDES)));
     }
@@ -595,11 +610,8 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
         scene_name: attr(path, f, attr::SCENE_NAME)?,
         scene_toml: scene_toml.clone(),
         overrides,
-        preset: {
-            let name = attr(path, f, attr::PRESET)?;
-            solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
-        },
-        accuracy: knobs(&attr(path, f, attr::ACCURACY)?).map_err(fmt)?,
+        preset,
+        accuracy,
         integrator: {
             let name = attr(path, f, attr::INTEGRATOR)?;
             solver::Method::parse(&name).ok_or_else(|| fmt(format!("unknown integrator '{name}'")))?

@@ -285,8 +285,7 @@ pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreEr
     let (written, _) = in_memory(atlas, &loaded.info, &chunks, &z).map_err(|e| StoreError::hdf5(path, e))?;
     let actual = crate::heap::open(path)?;
     crate::verify::attributes(&written, &actual, path)?;
-    let curves =
-        actual.link_exists(crate::layout::curves::GROUP) || crate::curve::named_by_root(path, &actual)?.is_some();
+    let curves = crate::curve::held(path, &actual)?;
     drop((written, actual));
     crate::verify::file(path, path, atlas, &z.expected).map(drop).map_err(|e| match e {
         StoreError::Unverified { path, dataset, message } => StoreError::Dataset { path, dataset, message },
