@@ -71,20 +71,19 @@ pub fn run(a: BasinsArgs) -> Result<()> {
     }
     let b = &report.boundary;
     let alpha = b.uncertainty_exponent.map_or("none".to_string(), |u| format!("{u:.3}"));
-    if report.admissible == 0 {
-        outln!("basin entropy none: no start is admissible");
+    let boxes = format!("{} x {}", b.entropy_box, b.entropy_box);
+    let entropy = if report.admissible == 0 {
+        "none: no start is admissible".to_string()
     } else if !b.basin_entropy.is_finite() {
-        outln!("basin entropy none: the grid is smaller than one box of {} x {}", b.entropy_box, b.entropy_box);
+        format!("none: the grid is smaller than one box of {boxes}")
     } else {
-        outln!(
-        "basin entropy {:.4}, boundary basin entropy {:.4} (boxes of {} x {}; fractal by ln 2: {}); uncertainty exponent {alpha}",
-        b.basin_entropy,
-        b.boundary_basin_entropy,
-        b.entropy_box,
-        b.entropy_box,
-            if b.fractal { "yes" } else { "no" }
-        );
-    }
+        let fractal = if b.fractal { "yes" } else { "no" };
+        format!(
+            "{:.4}, boundary basin entropy {:.4} (boxes of {boxes}; fractal by ln 2: {fractal}); uncertainty exponent {alpha}",
+            b.basin_entropy, b.boundary_basin_entropy
+        )
+    };
+    outln!("basin entropy {entropy}");
     outln!("mean periods per start {:.1}", report.mean_periods);
     outln!("wrote {}", a.output.display());
     if let Some(png) = &a.png {

@@ -162,9 +162,8 @@ impl BenchRequest {
         if !(1..=MAX_REPEAT).contains(&self.repeat) {
             return Err(refuse(Opt::Repeat).text(format!("must be 1 to {MAX_REPEAT}, got {}", self.repeat)).into());
         }
-        if self.trade_rounds.is_some_and(|r| !(1..=MAX_REPEAT).contains(&r)) {
-            let why = format!("must be 1 to {MAX_REPEAT}, got {}", self.trade_rounds.unwrap_or(0));
-            return Err(refuse(Opt::TradeRepeat).text(why).into());
+        if let Some(r) = self.trade_rounds.filter(|r| !(1..=MAX_REPEAT).contains(r)) {
+            return Err(refuse(Opt::TradeRepeat).text(format!("must be 1 to {MAX_REPEAT}, got {r}")).into());
         }
         Ok(())
     }

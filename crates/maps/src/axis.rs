@@ -122,11 +122,10 @@ impl Axis {
         }
         // Each value is start + span · i / (count − 1): the span times the
         // last index must be a number too.
-        if !((stop - start) * count.saturating_sub(1) as f64).is_finite() {
-            return Err(FieldError::field(
-                field,
-                format!("the span from {start} to {stop} times {} steps is beyond the largest number; give a narrower range", count - 1),
-            ));
+        let steps = count - 1;
+        if !((stop - start) * steps as f64).is_finite() {
+            let why = format!("the span from {start} to {stop} times {steps} steps is beyond the largest number");
+            return Err(FieldError::field(field, format!("{why}; give a narrower range")));
         }
         if *count == 1 && (stop - start).abs() > 0.0 {
             return Err(FieldError::field(

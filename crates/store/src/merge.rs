@@ -81,19 +81,22 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
         return Err(StoreError::format(Path::new("merge"), "no input files"));
     };
     let base = read(first)?;
-    // Every part whole: a dataset or group missing, or an attribute changed, is refused.
-    crate::write::check_finished(first, &base)?;
-    // A zoom's file is its whole box (a zoom has no shards): merged, it
-    // would lose its parent and keep the parent's lattice.
-    // Curves stored in a part (`curves --into`) are of that part alone: not
-    // carried, and not dropped unsaid.
-    let mergeable = |p: &Path, loaded: &crate::Loaded| match loaded.info.parent {
-        Some(_) => Err(StoreError::format(p, "a zoom's file, which holds its whole box: there are no parts to merge")),
-        None if crate::curve::held(p, &crate::heap::open(p)?)? => Err(StoreError::format(
-            p,
-            "holds bifurcation curves (curves --into), which a merge does not carry; find them on the merged atlas",
-        )),
-        None => Ok(()),
+    // Every part whole (a dataset or group missing, or an attribute changed,
+    // is refused) and a part: not a zoom's file, which is its whole box (a
+    // zoom has no shards; merged, it would lose its parent and keep the
+    // parent's lattice), and without curves (`curves --into`), which are of
+    // that part alone: not carried, and not dropped unsaid.
+    let mergeable = |p: &Path, loaded: &crate::Loaded| {
+        let curves = crate::write::verified(p, loaded)?;
+        if loaded.info.parent.is_some() {
+            return Err(StoreError::format(p, "a zoom's file, which holds its whole box: there are no parts to merge"));
+        }
+        if curves {
+            let why =
+                "holds bifurcation curves (curves --into), which a merge does not carry; find them on the merged atlas";
+            return Err(StoreError::format(p, why));
+        }
+        Ok(())
     };
     mergeable(first, &base)?;
     let mut atlas = base.atlas;
@@ -110,7 +113,6 @@ pub fn merge(paths: &[PathBuf]) -> Result<Merged, StoreError> {
             return Err(StoreError::format(p, what));
         }
         let part = read(p)?;
-        crate::write::check_finished(p, &part)?;
         mergeable(p, &part)?;
         if let Some(setting) = difference(&atlas.meta, &part.atlas.meta) {
             let (path, first) = (p.display().to_string(), first.display().to_string());

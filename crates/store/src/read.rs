@@ -588,6 +588,9 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     // may be set twice, the last value taken: a stored cell's file's value,
     // then the one given to a run from it (`sweep --from … --set`).
     let overrides = pairs(&attr(path, f, attr::OVERRIDES)?).map_err(fmt)?;
+    if let Some((name, _)) = overrides.iter().find(|(n, _)| [&x, &y].into_iter().any(|a| a.count > 1 && a.name == *n)) {
+        return Err(fmt(format!("attribute {}: {name} is an axis of the plane", attr::OVERRIDES)));
+    }
     let preset = {
         let name = attr(path, f, attr::PRESET)?;
         solver::Preset::parse(&name).ok_or_else(|| fmt(format!("unknown preset '{name}'")))?
@@ -602,9 +605,6 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             }
             e => fmt(format!("attribute {}: {e}", attr::ACCURACY)),
         })?;
-    }
-    if let Some((name, _)) = overrides.iter().find(|(n, _)| [&x, &y].into_iter().any(|a| a.count > 1 && a.name == *n)) {
-        return Err(fmt(format!("attribute {}: {name} is an axis of the plane", attr::OVERRIDES)));
     }
     Ok(Meta {
         scene_name: attr(path, f, attr::SCENE_NAME)?,

@@ -255,14 +255,19 @@ fn in_memory(atlas: &Atlas, info: &RunInfo, chunks: &Chunks, z: &Deflater) -> hd
 /// Checks a finished atlas file as [`Draft::finish`] checks the file it
 /// wrote before renaming it: the file `path`, `loaded` from it, is written
 /// again into memory (nothing on disk) to learn what each of its datasets
-/// must hold (its stored scene must parse and take its overrides), then
-/// every dataset of the file is read through the library's filters and
-/// compared (the per-cell datasets with the cells, every other
-/// one with a hash of what the writer would write). A dataset that does not
-/// read (a damaged object header, chunk index or checksum) or reads other
-/// values is one [`StoreError::Dataset`] naming it. Curves stored in the
-/// file are read, their checksum compared.
+/// must hold (its stored scene must parse and take its overrides at the
+/// plane's four corners), then every dataset of the file is read through
+/// the library's filters and compared (the per-cell datasets with the cells,
+/// every other one with a hash of what the writer would write). A dataset
+/// that does not read (a damaged object header, chunk index or checksum) or
+/// reads other values is one [`StoreError::Dataset`] naming it. Curves
+/// stored in the file are read, their checksum compared.
 pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreError> {
+    verified(path, loaded).map(drop)
+}
+
+/// [`check_finished`], saying whether the file holds curves (`curves --into`).
+pub(crate) fn verified(path: &Path, loaded: &crate::Loaded) -> Result<bool, StoreError> {
     let atlas = &loaded.atlas;
     // The scene it was computed with, as the run evaluated it: with its
     // overrides, at the plane's four corners.
@@ -295,7 +300,7 @@ pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreEr
     if curves {
         crate::curve::read_curves(path)?;
     }
-    Ok(())
+    Ok(curves)
 }
 
 impl Drop for Draft {
