@@ -71,7 +71,7 @@ fn first_sentence(text: &str) -> String {
 
 fn to_text(sys: &System, s: &Setup, c: &CellResult) -> String {
     let mut o = String::new();
-    let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={}", scene::number(*v))).collect();
     let _ = writeln!(o, "scene     {} ({})", sys.model.name, params.join(" "));
     let about = first_sentence(s.scene.description());
     if !about.is_empty() {

@@ -87,18 +87,6 @@ fn counted(n: usize, what: &str) -> String {
     format!("{n} {what}{}", if n == 1 { "" } else { "s" })
 }
 
-/// `v` exactly (its shortest text that reads back as it): plainly from
-/// 1e-4 to 1e16 and at 0, else with an exponent (`1e-15`, not fifteen
-/// zeros).
-fn exact(v: f64) -> String {
-    let plain = v == 0.0 || (1e-4..1e16).contains(&v.abs()) || !v.is_finite();
-    if plain {
-        v.to_string()
-    } else {
-        format!("{v:e}")
-    }
-}
-
 /// `inspect --quantity NAME`: where the quantity is smallest and largest.
 fn quantity(atlas: &grid::Atlas, name: &str, sweep: Option<&str>, json: bool) -> Result<()> {
     let sweep = match sweep {
@@ -119,27 +107,11 @@ fn quantity(atlas: &grid::Atlas, name: &str, sweep: Option<&str>, json: bool) ->
     for (s, e) in &r.sweeps {
         match (&e.min, &e.max) {
             (Some(lo), Some(hi)) => {
-                let (lo_v, hi_v) = (exact(lo.value), exact(hi.value));
+                let (lo_v, hi_v) = (scene::number(lo.value), scene::number(hi.value));
                 outln!("{s:<9} min {lo_v} at {}; max {hi_v} at {} ({} cells)", at(lo), at(hi), e.cells)
             }
             _ => outln!("{s:<9} not measured in any cell"),
         }
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::exact;
-
-    /// Every value reads back as itself; tiny and huge ones take an exponent.
-    #[test]
-    fn values_are_printed_exactly_and_short() {
-        for v in [0.0, -0.0, 1.0, -8.402545495426143, 1e-4, 9.99e15, 1e-15, -2.5e-300, 1e16, 3.3e200, 5e-324] {
-            assert_eq!(exact(v).parse::<f64>().unwrap().to_bits(), v.to_bits(), "{v}");
-        }
-        assert_eq!(exact(1e-15), "1e-15");
-        assert_eq!(exact(-8.402545495426143), "-8.402545495426143");
-        assert_eq!(exact(2e20), "2e20");
-    }
 }

@@ -57,7 +57,8 @@ impl ZoomRequest {
     /// The box as its file's parent region records it: the two axes, then
     /// the parameters set, `omega=0.6:1.2:61 delta=0.05:2:196 at zeta=0.07,fm=0.1`.
     pub fn region(&self) -> String {
-        let set: Vec<String> = self.set.iter().map(|(name, value)| format!("{name}={value}")).collect();
+        let set: Vec<String> =
+            self.set.iter().map(|(name, value)| format!("{name}={}", scene::number(*value))).collect();
         match set.is_empty() {
             true => format!("{} {}", self.x, self.y),
             false => format!("{} {} at {}", self.x, self.y, set.join(",")),

@@ -37,7 +37,7 @@ pub struct CellSetup {
 }
 
 fn describe(params: &[(String, f64)]) -> String {
-    params.iter().map(|(k, v)| format!("{k}={v}")).collect::<Vec<_>>().join(" ")
+    params.iter().map(|(k, v)| format!("{k}={}", scene::number(*v))).collect::<Vec<_>>().join(" ")
 }
 
 impl CellSetup {

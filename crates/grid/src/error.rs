@@ -10,7 +10,7 @@ pub enum GridError {
     #[error(transparent)]
     Field(#[from] maps::FieldError),
     /// A cell's parameters do not make a valid scene.
-    #[error("cell {params}: {cause}")]
+    #[error("{}{cause}", cell_at(params))]
     Cell {
         /// The cell's parameter values.
         params: String,
@@ -29,5 +29,14 @@ impl GridError {
     /// Builds a [`GridError::Field`].
     pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
         GridError::Field(maps::FieldError::field(field, message))
+    }
+}
+
+/// `cell omega=1 delta=0.5: ` before a cell's complaint; nothing where no
+/// parameter varies (a basin map's starts share one scene).
+fn cell_at(params: &str) -> String {
+    match params.is_empty() {
+        true => String::new(),
+        false => format!("cell {params}: "),
     }
 }

@@ -208,7 +208,7 @@ impl Axis {
 
 impl std::fmt::Display for Axis {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}={}:{}:{}", self.name, self.start, self.stop, self.count)
+        write!(f, "{}={}:{}:{}", self.name, scene::number(self.start), scene::number(self.stop), self.count)
     }
 }
 

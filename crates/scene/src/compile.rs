@@ -274,7 +274,7 @@ fn harmonic_order(order: &Num, field: &str) -> Result<u32, SceneError> {
         format!("a whole number from 1 to {MAX_HARMONIC} (the multiple of omega; the forcing period stays 2 pi/omega)");
     match *order {
         Num::Value(v) if v.fract() == 0.0 && (1.0..=f64::from(MAX_HARMONIC)).contains(&v) => Ok(v as u32),
-        Num::Value(v) => Err(SceneError::field(field, format!("must be {range}, got {v}"))),
+        Num::Value(v) => Err(SceneError::field(field, format!("must be {range}, got {}", crate::number(v)))),
         Num::Expr(ref e) => Err(SceneError::field(field, format!("must be {range} written as a number, got '{e}'"))),
     }
 }

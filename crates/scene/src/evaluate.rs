@@ -77,7 +77,7 @@ impl Scene {
                 if !r.contains(values[i]) {
                     return Err(SceneError::field(
                         format!("parameters.{}", self.names[i]),
-                        format!("must be in {r}, got {}", values[i]),
+                        format!("must be in {r}, got {}", crate::number(values[i])),
                     ));
                 }
             }
@@ -200,7 +200,7 @@ impl Scene {
                         if !(0.0..=1.0).contains(&restitution) {
                             return Err(SceneError::field(
                                 f("restitution"),
-                                format!("must be in [0, 1], got {restitution}"),
+                                format!("must be in [0, 1], got {}", crate::number(restitution)),
                             ));
                         }
                         StopLaw::Rigid { restitution }
@@ -259,7 +259,7 @@ fn nonneg(c: &Compiled, values: &[f64], field: &dyn Fn() -> String) -> Result<f6
     if v >= 0.0 {
         Ok(v)
     } else {
-        Err(SceneError::field(field(), format!("must be >= 0, got {v}")))
+        Err(SceneError::field(field(), format!("must be >= 0, got {}", crate::number(v))))
     }
 }
 

@@ -47,7 +47,7 @@ mod schema;
 mod symbol;
 
 pub use derived::{Derived, Operand, TAKEN_NAMES};
-pub use error::{excerpt, SceneError};
+pub use error::{excerpt, number, SceneError};
 pub use expr::MAX_EXPRESSION_CHARS;
 pub use model::{Friction, Harmonic, LabelStops, LawKind, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
 pub use named::Named;
