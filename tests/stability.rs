@@ -546,3 +546,25 @@ fn single_stop_fold(start: &str, free: &str, to: &str, steps: &str, window: &str
         "--json",
     ])
 }
+
+/// An orbit solved on a multiple of its own period says so: the state after
+/// its least period is back at the fixed point (a 1-1-0 asked for with n = 3
+/// closes after 1 period, a 2-1-0 asked for with n = 4 after 2), and an orbit
+/// of its own period has `least_period == n`.
+#[test]
+fn an_orbit_solved_on_a_multiple_of_its_period_names_its_least_period() {
+    let acc = Accuracy::default();
+    let once = system("single-stop.toml", &[("omega", 2.5)]);
+    let y = once.model.initial_state();
+    let o = solver::orbit_of_cell(&once, &acc, &y, Some(3)).unwrap();
+    assert_eq!((o.n, o.least_period, o.labels[0].to_string()), (3, 1, "3-3-0".to_string()));
+    let twice = system("single-stop.toml", &[("omega", 3.2), ("sigma", 0.1), ("zeta", 0.05)]);
+    let y = twice.model.initial_state();
+    let own = solver::orbit_of_cell(&twice, &acc, &y, None).unwrap();
+    assert_eq!((own.n, own.least_period, own.labels[0].to_string()), (2, 2, "2-1-0".to_string()));
+    let four = solver::orbit_of_cell(&twice, &acc, &y, Some(4)).unwrap();
+    assert_eq!((four.n, four.least_period), (4, 2));
+    // Through the CLI: the JSON field and the text's note.
+    let j = json_of(&["orbit", "configs/single-stop.toml", "--set", "omega=2.5", "--n", "2", "--json"]);
+    assert_eq!((j["n"].as_u64(), j["least_period"].as_u64()), (Some(2), Some(1)), "{j}");
+}

@@ -24,13 +24,22 @@ pub fn run(a: OrbitArgs) -> Result<()> {
 
 fn to_text(sys: &System, o: &Orbit) -> String {
     let mut out = String::new();
-    let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    let params: Vec<String> = sys.model.parameters.iter().map(|(k, v)| format!("{k}={}", scene::number(*v))).collect();
     let _ = writeln!(out, "scene        {} ({})", sys.model.name, params.join(" "));
     for l in &o.labels {
         let _ = writeln!(out, "label        {:<6} {}", l.mass, l);
     }
     let sym = o.symmetry.map_or(String::new(), |x| format!(", symmetry {}", x.name()));
     let _ = writeln!(out, "orbit        n = {}, period {:.12}{sym}", o.n, sys.period * o.n as f64);
+    if o.least_period < o.n {
+        let (d, n) = (o.least_period, o.n);
+        let periods = if d == 1 { "period" } else { "periods" };
+        let _ = writeln!(
+            out,
+            "note         the orbit closes after {d} forcing {periods}: --n {n} goes round it {} times, and the labels count {n} periods (--n {d} gives its own)",
+            n / d
+        );
+    }
     let _ = writeln!(out, "fixed point  {:?}", o.solution.x.as_slice());
     let _ = writeln!(out, "newton       {} steps, residual {:.1e}", o.solution.iterations, o.solution.residual);
     let _ = writeln!(out, "impacts      stop      time            phase     v before      v after");

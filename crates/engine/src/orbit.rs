@@ -110,6 +110,10 @@ pub struct OrbitReport {
     pub labels: BTreeMap<String, String>,
     /// The period in forcing periods.
     pub n: usize,
+    /// The fewest forcing periods after which the orbit closes: less than `n`
+    /// where `--n` asked for a multiple of the orbit's own period (the
+    /// labels then count `n` periods).
+    pub least_period: usize,
     /// The period in time.
     pub period: f64,
     /// The fixed point of the `n`-period map, `[x…, v…]`.
@@ -168,6 +172,7 @@ impl CellOrbit {
             scene: sys.model.name.clone(),
             labels: labels_of(&o.labels),
             n: o.n,
+            least_period: o.least_period,
             period: sys.period * o.n as f64,
             fixed_point: o.solution.x.as_slice().to_vec(),
             residual: o.solution.residual,

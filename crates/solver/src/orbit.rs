@@ -41,6 +41,11 @@ pub struct OrbitImpact {
 pub struct Orbit {
     /// Period in forcing periods.
     pub n: usize,
+    /// The fewest forcing periods after which the orbit closes: a divisor of
+    /// `n`, less than `n` where the `n`-period map was solved on an orbit of a
+    /// shorter period (its state after `least_period` periods within
+    /// `periodic_tol` of the fixed point, relative to 1 + |state|).
+    pub least_period: usize,
     /// The map whose fixed point was solved.
     pub map: MapKind,
     /// The Newton solution (fixed point at `t = 0`, the map's Jacobian).
@@ -73,13 +78,14 @@ impl EventObserver for Impacts {
 /// Completes a Newton solution into an [`Orbit`] (multipliers, labels, impacts).
 pub fn describe(sys: &System, acc: &Accuracy, solution: Solution, map: MapKind, n: usize) -> Orbit {
     let sim = Simulator::new(sys, *acc, Method::Exact, solution.x.as_slice()).ok();
-    describe_in(sys, sim, solution, map, n, &mut Ignore)
+    describe_in(sys, acc, sim, solution, map, n, &mut Ignore)
 }
 
 /// [`describe`], its impacts simulated by `sim` (started at the solution;
 /// `None`: it could not be).
 fn describe_in(
     sys: &System,
+    acc: &Accuracy,
     mut sim: Option<Simulator<'_>>,
     solution: Solution,
     map: MapKind,
@@ -94,12 +100,17 @@ fn describe_in(
     full.sort_by(|a, b| b.norm().total_cmp(&a.norm()).then(b.re.total_cmp(&a.re)).then(b.im.total_cmp(&a.im)));
     let stable = !map_multipliers.is_empty() && map_multipliers.iter().all(|m| m.norm() < 1.0);
     let mut obs = Impacts::default();
-    let (mut impacts, mut held) = (vec![0u32; sys.stops.len()], 0u32);
+    let (mut impacts, mut held, mut least_period) = (vec![0u32; sys.stops.len()], 0u32, n);
+    let x0 = &solution.x;
+    let closes = |x: &DVector<f64>| (x - x0).amax() <= acc.periodic_tol() * (1.0 + x0.amax());
     if let Some(sim) = sim.as_mut() {
-        for _ in 0..n {
+        for k in 1..=n {
             if let Ok(rec) = sim.run_period(&[], false, &mut Both(&mut obs, watch)) {
                 impacts.iter_mut().zip(&rec.impacts).for_each(|(a, b)| *a += b);
                 held |= rec.held;
+            }
+            if k < least_period && n.is_multiple_of(k) && closes(sim.state()) {
+                least_period = k;
             }
         }
     }
@@ -116,7 +127,18 @@ fn describe_in(
         .collect();
     let symmetry =
         sys.model.symmetric.then_some(if map == MapKind::Half { Symmetry::Symmetric } else { Symmetry::Asymmetric });
-    Orbit { n, map, solution, map_multipliers, multipliers: full, stable, symmetry, labels, impacts: orbit_impacts }
+    Orbit {
+        n,
+        least_period,
+        map,
+        solution,
+        map_multipliers,
+        multipliers: full,
+        stable,
+        symmetry,
+        labels,
+        impacts: orbit_impacts,
+    }
 }
 
 /// Solves the orbit of `map` from `x0` (keeping `pattern` when given).
@@ -147,7 +169,7 @@ pub(crate) fn solve_orbit_watched(
     let solution = try_solve(&mut sim, x0, map, pattern, ORBIT_LIMITS)?;
     // The solver's simulator, started again, has the modes built.
     let sim = sim.reset(solution.x.as_slice()).is_ok().then_some(sim);
-    Ok(describe_in(sys, sim, solution, map, n, watch))
+    Ok(describe_in(sys, acc, sim, solution, map, n, watch))
 }
 
 /// The map to solve for a period-`n` orbit of `sys` near `x0`: the half map for a
