@@ -860,6 +860,11 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
     let values =
         mutated(&o.atlas, &d.join("values.h5"), &["attr|axes/omega@start|-8.5e307", "attr|axes/omega@stop|8.5e307"]);
     every_command_refuses(&values, "axes/omega: the span from -8.5e307 to 8.5e307 times 3 steps is beyond");
+    // Counts no label has: a periodic cell of period 0 ("0-0-0" was shown).
+    let zero = mutated(&o.atlas, &d.join("zero.h5"), &["data|up/label_M1|np.zeros_like(a)"]);
+    every_command_refuses(&zero, "is periodic with counts [0, 0, 0], which no label has");
+    let stop = mutated(&o.atlas, &d.join("stop.h5"), &["attr|@q_stops|'A1,B9'"]);
+    every_command_refuses(&stop, "attribute q_stops: the stop of mass M2 is B9, which is not among the stops");
     let scene = mutated(&o.atlas, &d.join("scene.h5"), &["attr|@scene|'x' * 100"]);
     let (f, merged) = (scene.to_str().unwrap(), d.join("merged.h5"));
     refused(&["merge", f, "-o", merged.to_str().unwrap()], "attribute scene: not the scene of a run");

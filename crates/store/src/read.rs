@@ -6,7 +6,7 @@ use crate::layout::*;
 use crate::write::RunInfo;
 use maps::{Along, Atlas, Axis, CellData, Map, Meta, Plane, Shard, SweepKind};
 use scene::Named;
-use solver::Unresolved;
+use solver::{Class, Unresolved};
 use std::path::Path;
 
 /// An atlas file's contents.
@@ -557,7 +557,8 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
             attr_opt(path, f, name)?.map(|s| s.split(',').map(str::to_string).collect()).unwrap_or_default();
         Ok((0..n_masses).map(move |i| v.get(i).cloned().unwrap_or_default()).collect())
     };
-    let label_stops = stops_of(attr::P_STOPS)?.into_iter().zip(stops_of(attr::Q_STOPS)?).map(|(p, q)| [p, q]).collect();
+    let label_stops: Vec<[String; 2]> =
+        stops_of(attr::P_STOPS)?.into_iter().zip(stops_of(attr::Q_STOPS)?).map(|(p, q)| [p, q]).collect();
     let scene_toml = attr(path, f, attr::SCENE)?;
     // Parsed once: it fixes the normals, laws and notation read below.
     let scene = scene::Scene::parse(&scene_toml);
@@ -577,6 +578,16 @@ fn read_meta(ck: &Checker, f: &hdf5::File) -> Result<Meta, StoreError> {
     let stop_laws = laws_of(attr_opt(path, f, attr::STOP_LAWS)?.as_deref(), scene.as_ref()).map_err(fmt)?;
     if stop_laws.len() != stops.len() {
         return Err(fmt(format!("attribute {}: {} laws for {} stops", attr::STOP_LAWS, stop_laws.len(), stops.len())));
+    }
+    for (mass, pq) in masses.iter().zip(&label_stops) {
+        for (what, name) in [attr::P_STOPS, attr::Q_STOPS].into_iter().zip(pq) {
+            if !name.is_empty() && !stops.contains(name) {
+                let name = scene::excerpt(name, 40);
+                return Err(fmt(format!(
+                    "attribute {what}: the stop of mass {mass} is {name}, which is not among the stops"
+                )));
+            }
+        }
     }
     for (what, names) in [(attr::MASSES, &masses), (attr::STOPS, &stops)] {
         if let Some(twice) = names.iter().enumerate().find_map(|(i, n)| names[..i].contains(n).then_some(n)) {
@@ -762,6 +773,21 @@ fn read_cells(ck: &Checker, s: &SweepSets, meta: &Meta) -> Result<Vec<Option<Cel
     let finite = |v: f64| v.is_finite().then_some(v);
     let (periods, events) = (ck.raw::<u64>(&s.periods)?, ck.raw::<u64>(&s.events)?);
     let labels = s.labels.iter().map(|d| ck.raw::<u16>(d)).collect::<Result<Vec<_>, _>>()?;
+    // A periodic cell's period is at least one; any other class stores no counts.
+    for (d, l) in s.labels.iter().zip(&labels) {
+        let wrong = (0..n).find(|&i| match class_of(class[i]) {
+            Some(Class::Periodic) => l[3 * i] == 0,
+            Some(_) => l[3 * i..3 * i + 3] != [0, 0, 0],
+            None => false,
+        });
+        if let Some(i) = wrong {
+            let (c, npq) = (class_of(class[i]).map_or("", Class::name), &l[3 * i..3 * i + 3]);
+            return Err(ck.bad(
+                &d.name(),
+                format!("cell ({}, {}) is {c} with counts {npq:?}, which no label has", i / nx, i % nx),
+            ));
+        }
+    }
     let quantities = s.quantities.iter().map(|d| ck.raw::<f64>(d)).collect::<Result<Vec<_>, _>>()?;
     let section = |sec: &Section| -> Result<(Vec<f64>, Vec<usize>, usize), StoreError> {
         let offsets = ck.raw::<u64>(&sec.offsets)?;
