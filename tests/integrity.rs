@@ -869,6 +869,15 @@ fn crafted_numbers_scenes_and_curves_are_refused_and_a_whole_shard_is_an_atlas()
     let (f, merged) = (scene.to_str().unwrap(), d.join("merged.h5"));
     refused(&["merge", f, "-o", merged.to_str().unwrap()], "attribute scene: not the scene of a run");
     refused(&["inspect", "--verify", f], "attribute scene: not the scene of a run");
+    // curves computes from the stored scene (it found 0 curves unsaid), also
+    // one whose range the plane leaves (delta 0.4 to 0.8 on a delta up to 0.7).
+    let curves = d.join("curves.h5");
+    refused(&["curves", f, "--max", "1", "-o", curves.to_str().unwrap()], "attribute scene: not the scene of a run");
+    let range = "f.attrs['scene'].replace('range = \"[0, inf)\", doc = \"clearance of every', 'range = \"[0, 0.7]\", doc = \"clearance of every')";
+    let range = mutated(&o.atlas, &d.join("range.h5"), &[&format!("attr|@scene|{range}")]);
+    let args = ["curves", range.to_str().unwrap(), "--max", "1", "-o", curves.to_str().unwrap()];
+    refused(&args, "parameters.delta: must be in [0, 0.7], got 0.8");
+    assert!(!curves.exists());
     assert!(!merged.exists());
     let nan = mutated(&o.atlas, &d.join("nan.h5"), &["data|up/final_state|np.full(a.shape, np.nan)"]);
     refused(

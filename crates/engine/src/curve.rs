@@ -297,7 +297,7 @@ pub fn stored(c: &Curve, free: [&str; 2], ended: &str) -> store::Curve {
 
 /// The simulation set-up a stored atlas was computed with.
 pub fn stored_setup(m: &grid::Meta, file: &std::path::Path) -> Result<Setup> {
-    let scene = scene::Scene::parse(&m.scene_toml).map_err(|e| Error::file(file, "stored scene", Some(e.into())))?;
+    let scene = store::scene_of_run(file, m)?;
     let preset = m.preset;
     let mut accuracy = solver::Accuracy::preset(preset);
     for &(k, v) in &m.accuracy {

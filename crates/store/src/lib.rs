@@ -51,4 +51,4 @@ pub use lock::{
 };
 pub use merge::{merge, Merged};
 pub use read::{available_memory, is_atlas, read, stop_laws, stored_scene, Loaded, MAX_DIM};
-pub use write::{check_finished, image, labels_crc32, pairs, write, Draft, Parent, RunInfo, GIT_COMMIT};
+pub use write::{check_finished, image, labels_crc32, pairs, scene_of_run, write, Draft, Parent, RunInfo, GIT_COMMIT};

@@ -266,12 +266,13 @@ pub fn check_finished(path: &Path, loaded: &crate::Loaded) -> Result<(), StoreEr
     verified(path, loaded).map(drop)
 }
 
-/// [`check_finished`], saying whether the file holds curves (`curves --into`).
-pub(crate) fn verified(path: &Path, loaded: &crate::Loaded) -> Result<bool, StoreError> {
-    let atlas = &loaded.atlas;
-    // The scene it was computed with, as the run evaluated it: with its
-    // overrides, at the plane's four corners.
-    let m = &atlas.meta;
+/// The scene an atlas `path` (its `meta` read) was computed with, parsed,
+/// and evaluated as the run evaluated it: with its overrides, at the plane's
+/// four corners. A scene no run could have computed the plane with (one that
+/// does not parse, or whose parameters leave their ranges on the plane) is
+/// one error naming the attribute: a run from the file would compute cells
+/// that are not the file's, or none.
+pub fn scene_of_run(path: &Path, m: &maps::Meta) -> Result<scene::Scene, StoreError> {
     let (x, y) = (&m.plane.x, &m.plane.y);
     let corners = [(x.start, y.start), (x.start, y.stop), (x.stop, y.start), (x.stop, y.stop)];
     scene::Scene::parse(&m.scene_toml)
@@ -280,11 +281,18 @@ pub(crate) fn verified(path: &Path, loaded: &crate::Loaded) -> Result<bool, Stor
                 let mut at = m.overrides.clone();
                 at.extend([(x.name.clone(), a), (y.name.clone(), b)]);
                 s.evaluate(&at).map(drop)
-            })
+            })?;
+            Ok(s)
         })
         .map_err(|e| {
             StoreError::format(path, format!("attribute {}: not the scene of a run ({e})", crate::layout::attr::SCENE))
-        })?;
+        })
+}
+
+/// [`check_finished`], saying whether the file holds curves (`curves --into`).
+pub(crate) fn verified(path: &Path, loaded: &crate::Loaded) -> Result<bool, StoreError> {
+    let atlas = &loaded.atlas;
+    scene_of_run(path, &atlas.meta)?;
     let z = Deflater { threads: 1, ..Default::default() };
     let chunks = Chunks::new(&atlas.meta.plane, Field::most_cell_bytes(&atlas.meta));
     let (written, _) = in_memory(atlas, &loaded.info, &chunks, &z).map_err(|e| StoreError::hdf5(path, e))?;
