@@ -100,7 +100,11 @@ run("atlas", "configs/multi-stop.toml", "--x", "omega=0.2:2.0:40", "--y", "delta
 # Bifurcation curves stored in the atlas, for the page to draw on demand.
 run("curves", atlas, "--into", "--max", "2", "--threads", "2")
 
-server = subprocess.Popen([BIN, "explore", atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True)
+# The server's temporary folder, to see where its zooms' files go.
+server_tmp = os.path.join(tmp, "server-tmp")
+os.mkdir(server_tmp)
+server = subprocess.Popen([BIN, "explore", atlas, "--port", "0", "--no-browser"], stdout=subprocess.PIPE, text=True,
+                          env={**os.environ, "TMPDIR": server_tmp})
 url = server.stdout.readline().split(" at ")[-1].strip()
 check("explore prints its URL on 127.0.0.1", url.startswith("http://127.0.0.1:"), url)
 
@@ -398,6 +402,14 @@ try:
           f"{counts} cells: {first:.4f} s, {coarse} cells: {guess:.4f} s")
     check("the zoom finishes", driver.find_element(By.ID, "progress").get_attribute("data-state") == "done",
           driver.find_element(By.ID, "message").text)
+    # Its file lies in a folder of the server's own, readable by its user alone,
+    # under a name no one could have planted a link at beforehand.
+    folders = os.listdir(server_tmp)
+    modes = [oct(os.stat(os.path.join(server_tmp, f)).st_mode & 0o777) for f in folders]
+    held = [os.listdir(os.path.join(server_tmp, f)) for f in folders]
+    check("the zoom's file is in a private folder of an unguessable name",
+          len(folders) == 1 and folders[0].startswith("vibroatlas-explore-") and len(folders[0]) >= 25
+          and modes == ["0o700"] and held[0] == ["zoom-0.h5"], f"{folders} {modes} {held}")
     child = os.path.join(tmp, "child.h5")
     run("zoom", atlas, "--x", xbox, "--y", ybox, "-o", child, "--quiet")
     wait.until(lambda d: "atlas=1" in d.current_url)
@@ -561,6 +573,7 @@ finally:
     server.send_signal(signal.SIGINT)
     code = server.wait(timeout=60)
 check("Ctrl-C stops the server cleanly", code == 0, str(code))
+check("the zooms' folder is removed when the server stops", os.listdir(server_tmp) == [], str(os.listdir(server_tmp)))
 # Passed: the scratch folder goes (a failure above exits and keeps it to look at).
 shutil.rmtree(tmp)
 print(f"explore tests: {passed} passed, 0 failed")

@@ -385,7 +385,8 @@ function parameters(values) {
 function describe(at) {
   const lines = [parameters(at.parameters)];
   // The quantity of the view, when it shows one (NAME:SWEEP).
-  const viewed = S.view.includes(':') ? S.view.split(':')[0] : null;
+  // Split at the last colon, as the server does: a mass may be named `M:down`.
+  const viewed = S.view.includes(':') ? S.view.slice(0, S.view.lastIndexOf(':')) : null;
   const names = [];
   for (const sweep of S.info.sweeps) {
     const c = at.sweeps[sweep];
@@ -396,7 +397,7 @@ function describe(at) {
     lines.push(`${sweep}: ${labels} (${c.class}${number ? '; ' + number : ''})`);
     // null where the cell's motion could not be followed or none is stored.
     const quantities = c.quantities || {};
-    if (viewed && viewed in quantities) {
+    if (viewed && Object.hasOwn(quantities, viewed)) {
       const v = quantities[viewed];
       lines.push(`  ${viewed} = ${v === null ? 'none' : short(v)}`);
     }
@@ -436,7 +437,7 @@ async function hover(e) {
 
 function sweepOfView() {
   const sweeps = S.info.sweeps;
-  const named = S.view.includes(':') ? S.view.split(':')[1] : S.view;
+  const named = S.view.includes(':') ? S.view.slice(S.view.lastIndexOf(':') + 1) : S.view;
   return sweeps.includes(named) ? named : sweeps.includes('up') ? 'up' : sweeps[0];
 }
 
@@ -449,7 +450,8 @@ async function showCell(ix, iy, sweep) {
   panel.replaceChildren(el('p', 'computing the cell…'));
   try {
     const at = await getJSON(`/api/at?atlas=${S.id}&ix=${ix}&iy=${iy}`);
-    const q = `atlas=${S.id}&sweep=${encodeURIComponent(sweep)}&` + Object.entries(at.parameters).map(([k, v]) => `${encodeURIComponent(k)}=${v}`).join('&');
+    // The plane's values under `at.`: a parameter may be named as a key of the route (`sweep`, `n`).
+    const q = `atlas=${S.id}&sweep=${encodeURIComponent(sweep)}&` + Object.entries(at.parameters).map(([k, v]) => `at.${encodeURIComponent(k)}=${v}`).join('&');
     const c = await getJSON('/api/cell?' + q);
     panel.dataset.json = JSON.stringify(c);
     panel.dataset.query = q;

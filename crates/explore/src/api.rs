@@ -587,8 +587,11 @@ async fn zoom_plan(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, 
     let threads = state.threads;
     let plan = blocking(&state, move || {
         unchanged(&o)?;
-        let probe = |a: &Axis| Axis::new(a.name.clone(), a.start, a.stop, ZOOM_PROBE_SIDE);
-        let mut r = engine::ZoomRequest::new(&o.path, probe(&x), probe(&y));
+        // A side of one value stays one (a line of the plane).
+        let probe = |a: &Axis| Axis::new(a.name.clone(), a.start, a.stop, ZOOM_PROBE_SIDE.min(a.count));
+        let (px, py) = (probe(&x), probe(&y));
+        let probed = (px.count * py.count) as f64;
+        let mut r = engine::ZoomRequest::new(&o.path, px, py);
         r.sweeps = sweeps.clone();
         r.set = set;
         r.threads = 1;
@@ -597,8 +600,7 @@ async fn zoom_plan(Shared(state): Shared<St>, p: Params) -> Result<Json<Value>, 
         engine::zoom(&r, &watch).map_err(failed)?;
         let (all, computing) = (t0.elapsed().as_secs_f64(), watch.0.lock().map_or(0.0, |t| t.1));
         let sweeps = sweeps.map_or(o.atlas.meta.sweeps.len(), |s| s.len());
-        let probed = (ZOOM_PROBE_SIDE * ZOOM_PROBE_SIDE * sweeps) as f64;
-        let per_cell = computing / probed;
+        let per_cell = computing / (probed * sweeps as f64);
         let cells = x.count * y.count;
         let overhead = (all - computing).max(0.0);
         Ok(ZoomPlan {
@@ -625,13 +627,13 @@ async fn zoom(Shared(state): Shared<St>, p: Params, body: axum::body::Bytes) -> 
     // beside the box are refused now, not by the job later.
     engine::zoom_box(&o.atlas.meta, &o.path, (&x, &y), sweeps.as_deref()).map_err(|e| bad(message(&e)))?;
     engine::zoom_setup(&o.atlas.meta, &o.path, &set).map_err(|e| bad(message(&e)))?;
-    std::fs::create_dir_all(&state.dir).map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
+    let dir = state.zoom_dir().map_err(|e| Refusal(StatusCode::INTERNAL_SERVER_ERROR, e.to_string()))?;
     let (job_id, job) = state.start_job();
     let mut r = engine::ZoomRequest::new(&o.path, x, y);
     r.sweeps = sweeps;
     r.set = set;
     r.threads = state.threads;
-    r.output = Some(state.dir.join(format!("zoom-{job_id}.h5")));
+    r.output = Some(dir.join(format!("zoom-{job_id}.h5")));
     r.command = format!("vibroatlas explore: zoom {} --x {} --y {}", o.path.display(), r.x, r.y);
     for (name, value) in &r.set {
         r.command.push_str(&format!(" --set {name}={value}"));

@@ -9,6 +9,9 @@
 //!   rebound name arrives with its own host name; an address that names its
 //!   own host must name one of these, and `Host`, `Origin` and
 //!   `Sec-Fetch-Site` come once each (else 400);
+//! - a `GET` that the browser says another site's page made (`Sec-Fetch-Site:
+//!   cross-site` or `same-site`), other than a navigation to it, is refused
+//!   (403): a page elsewhere could otherwise start the explorer's work;
 //! - a request that changes something (`POST`, `DELETE`) must come from the
 //!   page's own origin when the browser names one (`Origin`, `Sec-Fetch-Site`),
 //!   and a `POST` must carry `Content-Type: application/json`, which a
@@ -94,8 +97,20 @@ impl Allowed {
                 ));
             }
         }
+        let site = headers.get("sec-fetch-site").and_then(|v| v.to_str().ok());
         if method == Method::GET || method == Method::HEAD {
-            return None;
+            // Another site's page may send the user here (a link, an
+            // address typed or shared), not fetch from here: its images,
+            // scripts and fetches would start work (a figure, a zoom's
+            // plan) and record a cell as clicked.
+            let navigates = headers.get("sec-fetch-mode").is_some_and(|m| m == "navigate");
+            return match site {
+                Some(site @ ("cross-site" | "same-site")) if !navigates => Some((
+                    StatusCode::FORBIDDEN,
+                    format!("Sec-Fetch-Site: only the explorer's own page may ask for this, not a {site} request"),
+                )),
+                _ => None,
+            };
         }
         if let Some(o) = text(header::ORIGIN) {
             if !self.origins.iter().any(|a| a.eq_ignore_ascii_case(o)) {
@@ -105,7 +120,7 @@ impl Allowed {
                 ));
             }
         }
-        if let Some(site) = headers.get("sec-fetch-site").and_then(|v| v.to_str().ok()) {
+        if let Some(site) = site {
             if site != "same-origin" && site != "none" {
                 return Some((
                     StatusCode::FORBIDDEN,

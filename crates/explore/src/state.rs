@@ -5,7 +5,7 @@
 
 use grid::Atlas;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc::{sync_channel, SyncSender, TrySendError};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -232,8 +232,9 @@ pub(crate) struct State {
     /// The bifurcation curves stored in the explored file (checked when it
     /// was opened).
     curves: Vec<store::Curve>,
-    /// The folder of the zooms' files (removed when the server stops).
-    pub dir: PathBuf,
+    /// The private folder of the zooms' files, made at the first zoom
+    /// ([`State::zoom_dir`]) and removed when the server stops.
+    dir: Mutex<Option<tempfile::TempDir>>,
     /// Worker threads of a zoom or an attractor search.
     pub threads: usize,
     /// The cell last clicked.
@@ -244,9 +245,6 @@ impl State {
     /// The state of an explorer of `atlas` and its `curves`, read from
     /// `path` (an error when the zooms' thread cannot be had).
     pub fn new(path: PathBuf, atlas: Atlas, curves: Vec<store::Curve>, threads: usize) -> std::io::Result<State> {
-        static SERVERS: AtomicU64 = AtomicU64::new(0);
-        let n = SERVERS.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("vibroatlas-explore-{}-{n}", std::process::id()));
         Ok(State {
             atlases: Mutex::new(vec![Arc::new(Opened::new(path, atlas, None))]),
             jobs: Mutex::new(Vec::new()),
@@ -254,7 +252,7 @@ impl State {
             busy: AtomicUsize::new(0),
             stopping: AtomicBool::new(false),
             curves,
-            dir,
+            dir: Mutex::new(None),
             threads,
             selected: Mutex::new(None),
         })
@@ -316,8 +314,26 @@ impl State {
         }
     }
 
+    /// The folder of the zooms' files: made at the first call, under the
+    /// system's temporary folder with a name no one can guess, readable by
+    /// its user alone, and never one that was there before (a predictable
+    /// name let another user plant a link that led the zooms' files into a
+    /// folder the user never named).
+    pub fn zoom_dir(&self) -> std::io::Result<PathBuf> {
+        let mut dir = lock(&self.dir);
+        let made = match dir.take() {
+            Some(d) => d,
+            None => tempfile::Builder::new().prefix("vibroatlas-explore-").tempdir()?,
+        };
+        let path = made.path().to_path_buf();
+        *dir = Some(made);
+        Ok(path)
+    }
+
     /// Removes the zooms' files (the user saved what they keep).
     pub fn remove_files(&self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
+        if let Some(dir) = lock(&self.dir).take() {
+            let _ = dir.close();
+        }
     }
 }

@@ -77,24 +77,40 @@ impl Params {
 
     /// The query read as a `T`, besides the `atlas` key and, where the
     /// route takes a cell of the plane, the plane's two parameters (`axes`,
-    /// returned as given): a key that is none of these is refused, naming
-    /// what the route takes, and a value `T` does not take is refused,
-    /// naming its key.
+    /// returned by name with their values as given): a key that is none of
+    /// these is refused, naming what the route takes, and a value `T` does
+    /// not take is refused, naming its key. A plane parameter is given as
+    /// `at.NAME` (the page's form), or as `NAME` where that is not a key of
+    /// the route (a parameter named `sweep` or `n` is given as `at.sweep`,
+    /// `at.n`: the plain key is the route's own).
     pub fn read<T: for<'de> Deserialize<'de>>(&self, axes: &[&str]) -> Result<(T, Vec<(String, String)>), Refusal> {
         let keys = keys::<T>();
-        let known = |k: &str| k == "atlas" || keys.contains(&k) || axes.contains(&k);
-        if let Some((k, _)) = self.0.iter().filter(|(k, _)| !known(k)).min() {
-            let takes: Vec<&str> = ["atlas"].iter().chain(keys).chain(axes).copied().collect();
+        let own = |k: &str| k == "atlas" || keys.contains(&k);
+        let plane = |k: &str| match k.strip_prefix("at.") {
+            Some(name) if axes.contains(&name) => Some(name.to_string()),
+            _ => (!own(k) && axes.contains(&k)).then(|| k.to_string()),
+        };
+        if let Some((k, _)) = self.0.iter().filter(|(k, _)| !own(k) && plane(k).is_none()).min() {
+            let named = axes.iter().map(|a| if own(a) { format!("at.{a}") } else { a.to_string() });
+            let takes: Vec<String> = ["atlas"].iter().chain(keys).map(|k| k.to_string()).chain(named).collect();
             return Err(bad(format!("{}: not a parameter of this request (it takes {})", short(k), takes.join(", "))));
         }
-        let (at, rest): (Vec<_>, Vec<_>) =
-            self.0.iter().filter(|(k, _)| k != "atlas").partition(|(k, _)| axes.contains(&k.as_str()));
+        let mut at: Vec<(String, String)> = Vec::new();
+        for (k, v) in &self.0 {
+            if let Some(name) = (!own(k)).then(|| plane(k)).flatten() {
+                if at.iter().any(|(n, _)| *n == name) {
+                    return Err(bad(format!("{}: given twice (as {name} and at.{name})", short(&name))));
+                }
+                at.push((name, v.clone()));
+            }
+        }
+        let rest: Vec<_> = self.0.iter().filter(|(k, _)| k != "atlas" && own(k)).collect();
         let encoded = serde_urlencoded::to_string(&rest).map_err(|e| bad(format!("query: {e}")))?;
         let t = serde_path_to_error::deserialize(serde_urlencoded::Deserializer::new(form_urlencoded::parse(
             encoded.as_bytes(),
         )))
         .map_err(|e| bad(format!("{}: {}", e.path(), e.inner())))?;
-        Ok((t, at.into_iter().cloned().collect()))
+        Ok((t, at))
     }
 }
 
@@ -666,6 +682,26 @@ mod tests {
         assert_eq!(figure("curves=2"), "curves: expected 0 or 1, got '2'");
         let phase = query("phase=inf").read::<BasinsQuery>(&[]).err().unwrap().1;
         assert_eq!(phase, "phase: 'inf' is not a number");
+    }
+
+    /// A plane parameter named as a key of the route (`sweep`, `periods`) is
+    /// given as `at.NAME`, the plain key staying the route's; any plane
+    /// parameter may be (the page's form), once.
+    #[test]
+    fn a_plane_parameter_named_as_a_key_is_given_under_at() {
+        let axes = ["sweep", "periods"];
+        let (s, at) =
+            query("sweep=down&at.sweep=0.5&at.periods=2&periods=7").read::<SectionsQuery>(&axes).ok().unwrap();
+        assert_eq!((s.sweep.as_deref(), s.periods.map(|p| p.0)), (Some("down"), Some(7)));
+        assert_eq!(at, [("sweep".to_string(), "0.5".to_string()), ("periods".to_string(), "2".to_string())]);
+        let (_, at) = query("at.omega=1&sigma=2").read::<SectionsQuery>(&["omega", "sigma"]).ok().unwrap();
+        assert_eq!(at, [("omega".to_string(), "1".to_string()), ("sigma".to_string(), "2".to_string())]);
+        let refused = |q: &str, axes: &[&str]| query(q).read::<SectionsQuery>(axes).err().unwrap().1;
+        assert_eq!(refused("omega=1&at.omega=1", &["omega", "sigma"]), "omega: given twice (as omega and at.omega)");
+        assert_eq!(
+            refused("at.delta=1", &["sweep", "sigma"]),
+            "at.delta: not a parameter of this request (it takes atlas, sweep, periods, at.sweep, sigma)"
+        );
     }
 
     /// The zoom's body: each field refused by its name.

@@ -281,6 +281,23 @@ fn a_zoom_from_another_site_or_not_json_is_refused() {
     let job = own.json()["job"].as_u64().unwrap();
     let cancel = send(p, "DELETE", &format!("/api/jobs/{job}"), &[("Host", &host), ("Origin", &origin)], b"");
     assert_eq!(cancel.status, 200);
+    // Another site's image or fetch may not start work; a link to the page may.
+    let read = |site: &str, mode: &str| {
+        send(
+            p,
+            "GET",
+            "/api/figure?view=up",
+            &[("Host", &host), ("Sec-Fetch-Site", site), ("Sec-Fetch-Mode", mode)],
+            b"",
+        )
+    };
+    for site in ["cross-site", "same-site"] {
+        let a = read(site, "no-cors");
+        assert_eq!(a.status, 403, "{site}");
+        assert!(a.error().starts_with("Sec-Fetch-Site: only the explorer's own page"), "{}", a.error());
+    }
+    assert_eq!(read("cross-site", "navigate").status, 200);
+    assert_eq!(read("same-origin", "no-cors").status, 200);
 }
 
 #[test]
@@ -396,6 +413,11 @@ fn a_zooms_set_is_refused_as_the_cli_refuses_it() {
     // This scene has omega and sigma only: an unknown name is named.
     let a = plan("zeta=0.02");
     assert!(a.json()["error"].as_str().unwrap().contains("unknown parameter 'zeta'"), "{}", a.json());
+    // A box one value wide is planned as it is zoomed (its probe was 3 values
+    // wide, refused as "a count of 1 is one value…", a count never given).
+    let line = get(p, "/api/zoom/plan?atlas=0&x=omega=2:2:1&y=sigma=-0.5:0:3");
+    assert_eq!(line.status, 200, "{}", String::from_utf8_lossy(&line.body));
+    assert_eq!(line.json()["cells"], 3);
 }
 
 /// A box outside the parent's plane, or a sweep the parent lacks, is refused
