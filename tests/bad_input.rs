@@ -273,6 +273,10 @@ fn atlas_bad_input() {
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--shard", "3/2", "-o", o]), "--shard");
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--sweep", "sideways", "-o", o]), "--sweep");
     check(with(&["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "--threads", "0", "-o", o]), "--threads");
+    // The attractor search's own options without the search were ignored.
+    let plane = ["--x", "omega=0.1:1:5", "--y", "delta=0.1:1:3", "-o", o];
+    check(with(&[&plane[..], &["--seed", "5"]].concat()), "--seed: tunes the attractor search; give --attractors");
+    check(with(&[&plane[..], &["--attractors-where", "hysteresis"]].concat()), "--attractors-where: tunes");
     expect_error(
         &[
             "atlas",

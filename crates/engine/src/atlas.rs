@@ -104,14 +104,14 @@ pub struct AtlasOptions {
     /// states each (stored in the file's attractors group).
     #[cfg_attr(feature = "clap", arg(long, value_name = "K"))]
     pub attractors: Option<usize>,
-    /// Cells whose attractors are sampled: all, or hysteresis (where up and
-    /// down differ; needs --sweep both).
-    #[cfg_attr(feature = "clap", arg(long, value_parser = scene::named_arg::<AttractorCells>(), default_value_t = AttractorCells::All))]
-    #[serde(deserialize_with = "named")]
-    pub attractors_where: AttractorCells,
-    /// Seed of the attractor sampling.
-    #[cfg_attr(feature = "clap", arg(long, default_value_t = Sampling::default().seed))]
-    pub seed: u64,
+    /// Cells whose attractors are sampled: all (the default), or hysteresis
+    /// (where up and down differ; needs --sweep both). Only with --attractors.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "all|hysteresis", value_parser = scene::named_arg::<AttractorCells>()))]
+    #[serde(deserialize_with = "named_some")]
+    pub attractors_where: Option<AttractorCells>,
+    /// Seed of the attractor sampling (default 1). Only with --attractors.
+    #[cfg_attr(feature = "clap", arg(long, value_name = "S"))]
+    pub seed: Option<u64>,
     /// Continue an interrupted run from its journal.
     #[cfg_attr(feature = "clap", arg(long))]
     pub resume: bool,
@@ -134,8 +134,8 @@ impl Default for AtlasOptions {
             along: Along::X,
             shard: None,
             attractors: None,
-            attractors_where: AttractorCells::All,
-            seed: Sampling::default().seed,
+            attractors_where: None,
+            seed: None,
             resume: false,
             quantities: "all".into(),
             force: false,
@@ -150,6 +150,11 @@ fn named<'de, D: serde::Deserializer<'de>, T: scene::Named>(d: D) -> std::result
     T::parse(&text).ok_or_else(|| serde::de::Error::custom(T::expected(&text)))
 }
 
+/// [`named`], of an option that may be left out.
+fn named_some<'de, D: serde::Deserializer<'de>, T: scene::Named>(d: D) -> std::result::Result<Option<T>, D::Error> {
+    named(d).map(Some)
+}
+
 impl AtlasOptions {
     /// Sets the options on `r`: its sweeps, chains, shard (`K/N`, refused
     /// naming [`Opt::Shard`]), attractor search, resume and quantities.
@@ -158,9 +163,20 @@ impl AtlasOptions {
         r.along = self.along;
         let shard = self.shard.as_deref().map(Shard::parse).transpose();
         r.shard = shard.map_err(|e| crate::grid_error(e, &[("shard", Opt::Shard)]))?;
+        if self.attractors.is_none() {
+            // The search's own options, without the search, would be ignored.
+            let given = [(Opt::Seed, self.seed.is_some()), (Opt::AttractorsWhere, self.attractors_where.is_some())];
+            if let Some((o, _)) = given.into_iter().find(|(_, given)| *given) {
+                return Err(RequestError::option(o)
+                    .text("tunes the attractor search; give ")
+                    .opt(Opt::Attractors)
+                    .into());
+            }
+        }
         r.attractors = self.attractors.map(|samples| {
-            let sampling = Sampling { samples, seed: self.seed, ..Default::default() };
-            (sampling, self.attractors_where)
+            let seed = self.seed.unwrap_or(Sampling::default().seed);
+            let sampling = Sampling { samples, seed, ..Default::default() };
+            (sampling, self.attractors_where.unwrap_or(AttractorCells::All))
         });
         r.resume = self.resume;
         r.quantities = match self.quantities.trim() {

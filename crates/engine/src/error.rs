@@ -87,6 +87,8 @@ pub enum Opt {
     AttractorsWhere,
     /// The samples of an attractor search.
     Samples,
+    /// The seed of an attractor search's sampling.
+    Seed,
     /// The box of an attractor search's start states.
     Box,
     /// A curve's free parameters.
@@ -154,6 +156,7 @@ impl Opt {
             Opt::Attractors => "attractors",
             Opt::AttractorsWhere => "attractors_where",
             Opt::Samples => "samples",
+            Opt::Seed => "seed",
             Opt::Box => "box",
             Opt::Free => "free",
             Opt::Start => "start",
