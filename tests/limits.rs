@@ -192,3 +192,27 @@ fn a_long_chain_of_parameters_loads() {
     assert!((delta - 0.5).abs() < 1e-9, "{delta}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The ninth audit: each compiled expression takes about 20 KB (exmex's
+/// nodes kept inline), so a 9 MB scene of distinct expressions asked for
+/// 10 GB. Beyond [`scene::MAX_EXPRESSIONS`] among the parameters and links a
+/// scene is refused before any is compiled.
+#[test]
+fn a_scene_of_more_expressions_than_the_limit_is_refused_at_once() {
+    let dir = scratch("limits-expressions");
+    let n = scene::MAX_EXPRESSIONS;
+    let mut params = String::with_capacity(20 * n);
+    for i in 0..=n {
+        params += &format!("q{i} = \"delta + {i}\"\n");
+    }
+    let text = chain(1, "-delta").replace("delta = 0.5\n", &format!("delta = 0.5\n{params}"));
+    let path = dir.join("many.toml");
+    std::fs::write(&path, text).unwrap();
+    let out = run_within(&["cell", path.to_str().unwrap()], 60);
+    let said = format!(
+        "at most {n} expressions (parameters and links; each about 20 KB once compiled) are supported, got {}",
+        n + 1
+    );
+    refused(&out, "parameters", &said);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -5,7 +5,7 @@
 //! and the sizes bounded ([`crate::MAX_MASSES`], [`crate::MAX_STOPS`],
 //! [`crate::MAX_FRICTION`]).
 
-use crate::expr::{self, Compiled, Names, Range};
+use crate::expr::{self, Compiled, Names, Range, MAX_EXPRESSIONS};
 use crate::schema::{self, Num, ParamSpec, SceneFile};
 use crate::symbol;
 use crate::{
@@ -21,6 +21,26 @@ impl Scene {
         at_most("masses", "masses", file.masses.len(), MAX_MASSES)?;
         at_most("stops", "stops", file.stops.len(), MAX_STOPS)?;
         at_most("friction", "friction contacts", file.friction.len(), MAX_FRICTION)?;
+        // Counted before any is compiled (each takes time and memory): the
+        // parameters and links, whose number is not limited otherwise.
+        let is_expr = |n: &Num| matches!(n, Num::Expr(_));
+        let written = file
+            .parameters
+            .values()
+            .filter(|p| {
+                is_expr(match p {
+                    ParamSpec::Plain(n) => n,
+                    ParamSpec::Ranged(r) => &r.value,
+                })
+            })
+            .count()
+            + file.links.iter().flat_map(|l| [&l.stiffness, &l.damping]).filter(|n| is_expr(n)).count();
+        at_most(
+            "parameters",
+            "expressions (parameters and links; each about 20 KB once compiled)",
+            written,
+            MAX_EXPRESSIONS,
+        )?;
         // Printed as they are by every front end (a terminal takes an escape
         // sequence as a command): the name one line, the description lines
         // of text.

@@ -48,7 +48,7 @@ mod symbol;
 
 pub use derived::{Derived, Operand, TAKEN_NAMES};
 pub use error::{excerpt, number, SceneError};
-pub use expr::MAX_EXPRESSION_CHARS;
+pub use expr::{MAX_EXPRESSIONS, MAX_EXPRESSION_CHARS};
 pub use model::{Friction, Harmonic, LabelStops, LawKind, Link, Mass, Model, Side, Stop, StopGeometry, StopLaw};
 pub use named::Named;
 #[cfg(feature = "clap")]
