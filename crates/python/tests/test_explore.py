@@ -133,3 +133,19 @@ def test_explore_refuses_what_is_not_an_atlas(tmp_path):
         va.explore(MULTI)
     with pytest.raises(ValueError, match="port"):
         va.explore(MULTI, port=70000)
+
+
+def test_an_explorer_of_a_relative_path_serves_it_after_a_change_of_folder(parent, monkeypatch):
+    # The page reads the file on every request: a path kept relative named
+    # another file once the process changed its folder (a notebook's os.chdir).
+    monkeypatch.chdir(parent.parent)
+    ex = va.explore(parent.name)
+    try:
+        assert ex.path == str(parent)
+        monkeypatch.chdir("/")
+        assert get(ex.url + "api/at?ix=1&iy=1")["parameters"]
+    finally:
+        ex.stop()
+    for port in (-1, 65536, 1.5, True):
+        with pytest.raises(ValueError, match="port: expected 0 to 65535"):
+            va.Explorer(parent, port=port)

@@ -202,3 +202,29 @@ def test_what_a_new_user_mistypes_is_named():
     with pytest.raises(va.SceneError) as e:
         va.cell({"name": "x", "parameters": {"omega": {"value": 1.0}}})
     assert str(e.value).startswith("scene: ") and "scene text" not in str(e.value), e.value
+
+
+def test_mappings_masses_and_keywords_a_function_lacks_are_read_or_named(tmp_path):
+    import types
+
+    from conftest import CONFIGS
+
+    tomllib = pytest.importorskip("tomllib")
+    # Any Mapping is a scene or an accuracy (the hints say Mapping).
+    table = tomllib.loads((CONFIGS / "single-stop.toml").read_text())
+    frozen = types.MappingProxyType(table)
+    got = va.cell(frozen, accuracy=types.MappingProxyType({"n_max": 40}), omega=2.5)
+    assert got["labels"] == va.cell(table, accuracy={"n_max": 40}, omega=2.5)["labels"]
+    up = va.atlas(MULTI, sweep="up", **SMALL)["up"].to_dataset()
+    for mass, error in (("", ValueError), (0, TypeError)):
+        with pytest.raises(error, match="mass|label_code_"):
+            va.labels(up, mass)
+    # A keyword of the package that this function lacks is not a misspelling of itself.
+    path = tmp_path / "a.h5"
+    va.atlas(MULTI, sweep="up", output=path, **SMALL)
+    with pytest.raises(TypeError, match="'preset': this function does not take it"):
+        va.zoom(path, ("omega", 0.2, 0.4, 3), ("delta", 0.5, 0.7, 3), preset="fast", progress=False)
+    # The attractor search's options without the search were ignored.
+    for keyword in (dict(seed=5), dict(attractors_where="all")):
+        with pytest.raises(ValueError, match="tunes the attractor search; give attractors"):
+            va.atlas(MULTI, **SMALL, **keyword)

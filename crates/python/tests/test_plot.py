@@ -294,3 +294,47 @@ def test_row_refuses_what_render_refuses(tree, tmp_path):
         "-o", bare)
     with pytest.raises(ValueError, match="no section points"):
         va.plot.row(bare)
+
+
+DOLLARS = r"""
+name = 'dollar $\x$'
+[parameters]
+zeta = { value = 0.05, range = "[0, inf)", symbol = '$\zz$', long_name = 'long $\qq$' }
+omega = { value = 2.5, range = "(0, inf)", symbol = "ω$" }
+[forcing]
+omega = "omega"
+[[masses]]
+name = 'M$\y$'
+mass = 1
+force = 1
+[[links]]
+masses = ['M$\y$']
+stiffness = 1
+damping = "2*zeta"
+[[stops]]
+name = 'A$\w$'
+mass = 'M$\y$'
+side = "above"
+position = 0
+restitution = 0.8
+[labels.'M$\y$']
+p = 'A$\w$'
+[quantities]
+qq = { value = "2*zeta", units = '$\u$', symbol = '$\s$', long_name = '$\ln$' }
+"""
+
+
+def test_names_holding_dollars_are_drawn_letter_for_letter(tmp_path):
+    # A `$` pair in a scene's names, symbols and units was parsed as
+    # mathtext: every figure of such an (accepted) scene raised on drawing.
+    scene = tmp_path / "dollars.toml"
+    scene.write_text(DOLLARS)
+    path = tmp_path / "d.h5"
+    cli("atlas", scene, "--x", "omega=1:3:4", "--y", "zeta=0:0.5:3", "--sweep", "both", "--quiet", "-o", path)
+    t = open_tree(path)
+    drawn = [va.plot.map(t["up"]), va.plot.quantity(t["up"], "qq"), *va.plot.hysteresis(t)]
+    for ax in drawn:
+        ax.figure.canvas.draw()
+    assert drawn[0].get_title() == r"M\$\y\$, up sweep"
+    assert drawn[0].get_ylabel() == r"long \$\qq\$ \$\zz\$"
+    plt.close("all")

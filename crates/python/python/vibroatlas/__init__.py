@@ -272,6 +272,12 @@ class Explorer:
     shows the page inline."""
 
     def __init__(self, path, port=0, threads=None, height=900):
+        if not isinstance(port, int) or isinstance(port, bool) or not 0 <= port <= 65535:
+            raise ValueError(f"port: expected 0 to 65535, got {port!r}")
+        if threads is not None:
+            threads = _whole("threads", threads)
+        # Absolute: the page reads the file while the process's folder may change.
+        path = os.path.abspath(_run.path("path", path))
         self._native = _native.Explorer(path, port, threads)
         self.path = path
         self.height = height
@@ -324,10 +330,6 @@ def explore(source, *, port=0, threads=None):
     with a file behind it) in a background thread and returns an `Explorer`:
     its `.url` opens in a browser, `.stop()` ends it, and in Jupyter the
     object displays the page inline. port: on 127.0.0.1 (0: a free one)."""
-    if not isinstance(port, int) or isinstance(port, bool) or not 0 <= port <= 65535:
-        raise ValueError(f"port: expected 0 to 65535, got {port!r}")
-    if threads is not None:
-        threads = _whole("threads", threads)
     return Explorer(_file_of(source, "source"), port, threads)
 
 
@@ -506,7 +508,7 @@ def labels(ds, mass=None):
     import xarray as xr
 
     ds = _dataset(ds)
-    mass = mass or _first_mass(ds)
+    mass = _first_mass(ds) if mass is None else _text("mass", mass)
     code, c, table = _codes(ds, mass)
     out = np.where(c >= 0, table[np.clip(c, 0, len(table) - 1)], "")
     return xr.DataArray(out, dims=code.dims, coords=code.coords, name=f"label_text_{mass}",

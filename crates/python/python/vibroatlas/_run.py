@@ -8,6 +8,7 @@ cancels the job on KeyboardInterrupt.
 """
 import difflib
 import json
+from collections.abc import Mapping
 import math
 import numbers
 import os
@@ -39,7 +40,7 @@ def scene_arg(scene):
     text) for a dict (a parsed scene table)."""
     if isinstance(scene, Stored):
         return ("stored", scene.path)
-    if isinstance(scene, dict):
+    if isinstance(scene, Mapping):
         try:
             table = _table(scene, "")
         except RecursionError:
@@ -67,7 +68,7 @@ def _table(value, field):
     Python ones; a value TOML cannot hold (None, NaN, infinity, an object) is
     a SceneError naming its field (`masses[0].mass`)."""
     where = field or "scene"
-    if isinstance(value, dict):
+    if isinstance(value, Mapping):
         out = {}
         for k, v in value.items():
             if not isinstance(k, str):
@@ -157,6 +158,7 @@ def path(what, v):
 
 
 def text(what, v):
+    """v, a str, or a TypeError naming `what`."""
     if not isinstance(v, str):
         raise TypeError(f"{what}: expected a str, got {v!r}")
     return v
@@ -212,6 +214,9 @@ def params_arg(params, extra):
         raise TypeError(f"params: expected a dict of parameter values, got {type(params).__name__}")
     for name, v in extra.items():
         close = difflib.get_close_matches(name, keywords(), n=1, cutoff=0.8)
+        if close == [name] and not isinstance(v, numbers.Real):
+            raise TypeError(f"unexpected keyword {name!r}: this function does not take it (its other keywords "
+                            f"are scene parameters, which take numbers)")
         if close and (isinstance(v, (str, bool, dict, list, tuple)) or v is None):
             raise TypeError(f"unexpected keyword {name!r}: did you mean {close[0]!r}? (other keywords are "
                             f"scene parameters, which take numbers)")
@@ -234,7 +239,7 @@ def common(options, preset, integrator, accuracy):
     if integrator is not None:
         options["integrator"] = text("integrator", integrator)
     if accuracy is not None:
-        if not isinstance(accuracy, dict):
+        if not isinstance(accuracy, Mapping):
             raise TypeError(f"accuracy: expected a dict of knob -> value, got {accuracy!r}")
         options["accuracy"] = {text("accuracy knob", k): number(f"accuracy {k}", v) for k, v in accuracy.items()}
     return options
@@ -248,7 +253,7 @@ def run(start, scene, params, options, progress=False, unit="cell", desc=None):
         return _job(start, scene, params, options, progress, unit, desc)
     except _native.SceneError as e:
         said = str(e)
-        if isinstance(scene, dict) and said.startswith("scene text: "):
+        if isinstance(scene, Mapping) and said.startswith("scene text: "):
             raise _native.SceneError("scene: " + said[len("scene text: "):]) from None
         raise
 

@@ -48,12 +48,25 @@ def colours(ds):
     return {t: tuple(int(c) for c in rgb[i]) for i, t in enumerate(table)}
 
 
+def _escaped(text):
+    """text as matplotlib is to draw it, letter for letter: a `$` of a name,
+    unit or title from a file is not the start of mathtext (a pair of them
+    was parsed as markup, and a figure of an accepted scene failed)."""
+    return str(text).replace("$", "\\$")
+
+
 def _subscripts(text):
     """text with its subscripts (as vibroatlas's figures find them: f_k,
-    x_M1) written as mathtext subscripts."""
+    x_M1) written as mathtext subscripts, every other character drawn as
+    it is (`_escaped`); a subscript holding a character that mathtext reads
+    as markup is written plainly after an underscore."""
     from . import _native
 
-    return "".join(f"$_{{\\mathrm{{{t}}}}}$" if sub else t for t, sub in _native.subscript_runs(text))
+    def sub(t):
+        plain = any(c in t for c in "$\\{}_^%#&~")
+        return "_" + _escaped(t) if plain else f"$_{{\\mathrm{{{t}}}}}$"
+
+    return "".join(sub(t) if low else _escaped(t) for t, low in _native.subscript_runs(text))
 
 
 def axis_label(coord):
@@ -113,9 +126,9 @@ def _legend_handles(counts, max_rows):
     for swatch, colours, text in _native.legend(list(counts.items()), max_rows):
         c = tuple(v / 255 for v in colours[0])
         if swatch == "hatch":
-            handles.append(Patch(facecolor="white", edgecolor=c, hatch="///", linewidth=0.4, label=text))
+            handles.append(Patch(facecolor="white", edgecolor=c, hatch="///", linewidth=0.4, label=_escaped(text)))
         else:
-            handles.append(Patch(facecolor=c, edgecolor="0.5", linewidth=0.4, label=text))
+            handles.append(Patch(facecolor=c, edgecolor="0.5", linewidth=0.4, label=_escaped(text)))
     return handles
 
 
@@ -142,19 +155,19 @@ def map(ds, mass=None, ax=None, *, legend=True, title=None, max_legend=12, view=
     max_legend = _run.whole("max_legend", max_legend, least=1)
     node = _node_name(ds)
     ds = _dataset(ds)
-    mass = mass or _first_mass(ds)
+    mass = _first_mass(ds) if mass is None else _run.text("mass", mass)
     codes, xc, yc, table, rgb = _grid(ds, mass)
     if ax is None:
         _, ax = plt.subplots(figsize=(8, 5), layout="constrained")
     _mesh(ax, xc.values, yc.values, codes, rgb)
     ax.set_xlabel(axis_label(xc))
     ax.set_ylabel(axis_label(yc))
-    ax.set_title(title if title is not None else (f"{mass}, {node} sweep" if node else mass))
+    ax.set_title(title if title is not None else _escaped(f"{mass}, {node} sweep" if node else mass))
     if legend:
         counts = Counter(table[codes[codes >= 0]].tolist())
         ax.legend(handles=_legend_handles(counts, max_legend), loc="upper left",
                   bbox_to_anchor=(1.01, 1.0), borderaxespad=0, fontsize="small", frameon=False,
-                  title=f"{mass} n-p-q (cells)", title_fontsize="small")
+                  title=_escaped(f"{mass} n-p-q (cells)"), title_fontsize="small")
     return ax
 
 
@@ -184,7 +197,7 @@ def basins(ds, ax=None, *, legend=True, title=None):
     ax.plot(points[:, names.index(xdim)], points[:, names.index(ydim)], "o", markersize=4,
             markerfacecolor="white", markeredgecolor="black", markeredgewidth=0.6, linestyle="none")
     phase = float(ds.attrs["phase"])
-    ax.set_title(title if title is not None else f"{ds.attrs['scene']}: basins at phase {phase:.3f} rad")
+    ax.set_title(title if title is not None else _escaped(f"{ds.attrs['scene']}: basins at phase {phase:.3f} rad"))
     if legend:
         masses = [m for m in str(ds.attrs.get("masses", "")).split(",") if m]
         handles = []
@@ -192,7 +205,7 @@ def basins(ds, ax=None, *, legend=True, title=None):
             named = ", ".join(f"{m} {ds[f'labels_{m}'].values[k]}" for m in masses) or str(
                 ds["attractor_class"].values[k])
             text = f"{named} ({100 * float(ds['fraction'].values[k]):.1f} %)"
-            handles.append(Patch(facecolor=rgb[k], edgecolor="0.5", linewidth=0.4, label=text))
+            handles.append(Patch(facecolor=rgb[k], edgecolor="0.5", linewidth=0.4, label=_escaped(text)))
         if (ids < 0).any():
             handles.append(Patch(facecolor=grey, edgecolor="0.5", linewidth=0.4, label="penetrates a stop"))
         handles.append(Line2D([], [], marker="o", markerfacecolor="white", markeredgecolor="black",
@@ -252,7 +265,7 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     max_legend = _run.whole("max_legend", max_legend, least=1)
     tree = _both(tree, "hysteresis")
     up, down = _dataset(tree["up"]), _dataset(tree["down"])
-    mass = mass or _first_mass(up)
+    mass = _first_mass(up) if mass is None else _run.text("mass", mass)
     mask = np.asarray(hysteresis_mask(tree).values, bool)
     cu, xc, yc, tu, ru = _grid(up, mass)
     cd, _, _, td, rd = _grid(down, mass)
@@ -286,14 +299,14 @@ def hysteresis(tree, mass=None, fig=None, *, legend=True, max_legend=16):
     axes[2].set_ylim(ey[0], ey[-1])
     names = [f"{mass}, up sweep", f"{mass}, down sweep", f"coexisting motions: {int(mask.sum())} cells"]
     for i, (a, name) in enumerate(zip(axes, names)):
-        a.set_title(name)
+        a.set_title(_escaped(name))
         a.set_xlabel(axis_label(xc))
         if i == 0:
             a.set_ylabel(axis_label(yc))
     if legend:
         counts = Counter(tu[cu[cu >= 0]].tolist()) + Counter(td[cd[cd >= 0]].tolist())
         fig.legend(handles=_legend_handles(counts, max_legend), loc="outside right upper",
-                   fontsize="small", frameon=False, title=f"{mass} n-p-q (cells, up + down)",
+                   fontsize="small", frameon=False, title=_escaped(f"{mass} n-p-q (cells, up + down)"),
                    title_fontsize="small")
     return axes
 
@@ -364,11 +377,11 @@ def scalar(ds, quantity="multiplier", ax=None, *, colorbar=True, title=None):
     rgb, reach = _about(np.asarray(ds[quantity].values, float), centre)
     sweep = f"{node} sweep: " if node else ""
     attrs = ds[quantity].attrs
-    ax = _paint(ds, quantity, rgb, ax, title if title is not None else sweep + attrs.get("long_name", quantity))
+    ax = _paint(ds, quantity, rgb, ax, title if title is not None else _escaped(sweep + attrs.get("long_name", quantity)))
     if colorbar:
         scale = plt.cm.ScalarMappable(Normalize(centre - reach, centre + reach), _diverging_cmap())
         bar = ax.figure.colorbar(scale, ax=ax)
-        bar.set_label(attrs.get("symbol", quantity))
+        bar.set_label(_escaped(attrs.get("symbol", quantity)))
     return ax
 
 
@@ -420,12 +433,12 @@ def quantity(ds, name, ax=None, *, colorbar=True, title=None):
     else:
         rgb = np.where(finite[..., None], _sequential((np.where(finite, v, lo) - lo) / (hi - lo)), np.array(_NONE))
     sweep = f"{node} sweep: " if node else ""
-    ax = _paint(ds, name, rgb, ax, title if title is not None else sweep + ds[name].attrs.get("long_name", name))
+    ax = _paint(ds, name, rgb, ax, title if title is not None else _escaped(sweep + ds[name].attrs.get("long_name", name)))
     if colorbar:
         cmap = _diverging_cmap() if signed else ListedColormap(_sequential(np.linspace(0.0, 1.0, 256)) / 255.0)
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(lo, hi), cmap), ax=ax)
         units = ds[name].attrs.get("units", "1")
-        bar.set_label(name if units == "1" else f"{name} ({units})")
+        bar.set_label(_escaped(name if units == "1" else f"{name} ({units})"))
     return ax
 
 
@@ -446,11 +459,11 @@ def difference(tree, name, ax=None, *, colorbar=True, title=None):
         raise ValueError(f"{name}: not a quantity of this atlas ({', '.join(stored) or 'it stores none'})")
     rgb, reach = _about(np.asarray(up[name].values, float) - np.asarray(down[name].values, float), 0.0)
     long_name = up[name].attrs.get("long_name", name)
-    ax = _paint(up, name, rgb, ax, title if title is not None else f"up sweep less down sweep: {long_name}")
+    ax = _paint(up, name, rgb, ax, title if title is not None else _escaped(f"up sweep less down sweep: {long_name}"))
     if colorbar:
         bar = ax.figure.colorbar(plt.cm.ScalarMappable(Normalize(-reach, reach), _diverging_cmap()), ax=ax)
         units = up[name].attrs.get("units", "1")
-        bar.set_label(f"Δ {name}" if units == "1" else f"Δ {name} ({units})")
+        bar.set_label(_escaped(f"Δ {name}" if units == "1" else f"Δ {name} ({units})"))
     return ax
 
 
@@ -569,11 +582,11 @@ def row(tree, at=None, variable=None, fig=None):
             else:
                 ax.scatter(pts[:, 0], pts[:, 1], s=(2 * _DOT_PT) ** 2, color=colour, linewidths=0,
                            label=f"{sweep} sweep" if sweep == "up" else "fresh cells")
-        ax.set_ylabel(_subscripts(f"{variable} at t = kT") if p == 0 else f"{events[p - 1]} speed at {stops[p - 1]}")
+        ax.set_ylabel(_subscripts(f"{variable} at t = kT") if p == 0 else _escaped(f"{events[p - 1]} speed at {stops[p - 1]}"))
     axes[-1].set_xlabel(axis_label(xs))
     silent = [p for p in range(1, len(series)) if p not in shown]
     fixed = f", {axis_label(ys)} = {float(ys.values[iy]):.4g}" if len(ys) > 1 else ""
-    none = "; ".join(f"no {events[p - 1]}s at {stops[p - 1]}" for p in silent)
+    none = _escaped("; ".join(f"no {events[p - 1]}s at {stops[p - 1]}" for p in silent))
     axes[0].set_title(f"bifurcation diagram in {axis_label(xs)}{fixed}" + (f"; {none}" if none else ""), wrap=True)
     axes[0].legend(loc="lower center", bbox_to_anchor=(0.5, 1.12), ncols=len(sweeps), frameon=False,
                    fontsize="small")
@@ -622,12 +635,12 @@ def portrait(result, fig=None):
         for mass, position, stop in p["stops"]:
             if mass == k:
                 ax.axvline(position, color="black", linewidth=1.0)
-                ax.annotate(stop, (position, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10),
+                ax.annotate(_escaped(stop), (position, 1.0), xycoords=("data", "axes fraction"), xytext=(2, -10),
                             textcoords="offset points", fontsize="small")
         ax.plot(x[k][impacts], v[k][impacts], "o", color="black", markersize=2.6, linestyle="none")
         ax.set_xlabel(_subscripts(f"x_{name}"))
         ax.set_ylabel(_subscripts(f"v_{name}"))
-        ax.set_title(f"{name}: phase portrait", fontsize="medium")
+        ax.set_title(_escaped(f"{name}: phase portrait"), fontsize="medium")
         axes.append(ax)
     ax = fig.add_subplot(grid[1, :])
     for k, name in enumerate(masses):
@@ -640,7 +653,7 @@ def portrait(result, fig=None):
     ax.set_title("positions against time (events marked)", fontsize="medium")
     ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), frameon=False, fontsize="small")
     axes.append(ax)
-    fig.suptitle(p["title"], wrap=True)
+    fig.suptitle(_escaped(p["title"]), wrap=True)
     return axes
 
 
@@ -693,5 +706,5 @@ def sections(result, fig=None):
         ax.set_xlabel(_subscripts(panel["x"]))
         ax.set_ylabel(_subscripts(panel["y"]))
         axes.append(ax)
-    fig.suptitle(s["title"], wrap=True)
+    fig.suptitle(_escaped(s["title"]), wrap=True)
     return axes
