@@ -323,7 +323,12 @@ impl State {
         let mut dir = lock(&self.dir);
         let made = match dir.take() {
             Some(d) => d,
-            None => tempfile::Builder::new().prefix("vibroatlas-explore-").tempdir()?,
+            None => {
+                let mut b = tempfile::Builder::new();
+                #[cfg(unix)]
+                b.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o700));
+                b.prefix("vibroatlas-explore-").tempdir()?
+            }
         };
         let path = made.path().to_path_buf();
         *dir = Some(made);
