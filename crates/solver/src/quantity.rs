@@ -46,7 +46,7 @@ use crate::label::Mask;
 use crate::simulate::{EventObserver, Halt, Segment, Simulator};
 use crate::system::System;
 use nalgebra::DVector;
-use scene::{Operand, Scales};
+use scene::{Operand, Scales, MAX_STOPS};
 use std::f64::consts::TAU;
 
 /// What a quantity belongs to: one value per mass, per stop, per friction
@@ -477,6 +477,12 @@ pub(crate) struct Meter<'s> {
     /// The rigid stop of the impact being handled, and its normal rate
     /// before it.
     struck: Option<(usize, f64)>,
+    /// Per stop, the time left until a cut chatter sequence would have
+    /// accumulated ([`EventObserver::accumulates`]): the simulation holds the
+    /// mass from the cut, the true motion bounces on the stop until then, so
+    /// that span is counted as impacts' (their impulse), not as the hold's
+    /// (its time, impulse and largest reaction).
+    tails: Vec<f64>,
 }
 
 impl<'s> Meter<'s> {
@@ -510,6 +516,7 @@ impl<'s> Meter<'s> {
             nodes: Vec::new(),
             reactions: Vec::new(),
             struck: None,
+            tails: vec![0.0; s],
         }
     }
 
@@ -687,6 +694,12 @@ impl EventObserver for Meter<'_> {
     /// (its rebound taken out, the mass held) is that stop's impulse too,
     /// and with it the impulses and the holding reactions balance the mean
     /// forces on the masses over an orbit.
+    fn accumulates(&mut self, stop: usize, time: f64, until: f64) {
+        if self.time < self.limit {
+            self.tails[stop] = (until - time).max(0.0);
+        }
+    }
+
     fn event(&mut self, _time: f64, y: &DVector<f64>) {
         if let Some((stop, before)) = self.struck.take() {
             let sys = self.sys;
@@ -734,49 +747,71 @@ impl EventObserver for Meter<'_> {
         // with the fewest nodes that integrate it to rounding.
         let fastest = seg.fastest().max(sys.omega * sys.harmonics.len() as f64);
         let longest = (TAU / fastest).min(sys.period / 4.0);
-        let pieces = (seg.span / longest).ceil().max(1.0) as usize;
-        let h = seg.span / pieces as f64;
         let all = rules();
-        let rule = all.iter().find(|r| h * fastest <= r.reach).unwrap_or(&all[all.len() - 1]);
-        let count = rule.points.len();
-        // The piece's points, its start, the nodes and its end (buffers kept).
         let mut nodes = std::mem::take(&mut self.nodes);
-        nodes.resize_with(count + 2, || (0.0, DVector::zeros(2 * m)));
-        nodes[0].0 = 0.0;
-        nodes[0].1.copy_from(&y);
-        // The held stops' reactions at the points, stop by stop: read where
-        // each point's state was just evaluated (the segment's start above).
-        let stride = count + 2;
-        self.reactions.resize(seg.held.count_ones() as usize * stride, 0.0);
-        self.note_reactions(seg, 0, stride);
-        for p in 0..pieces {
-            let (a, b) = (p as f64 * h, if p + 1 == pieces { seg.span } else { (p + 1) as f64 * h });
-            for (k, &(node, weight)) in rule.points.iter().enumerate() {
-                let u = a + 0.5 * (b - a) * (1.0 + node);
-                let (at, state) = &mut nodes[k + 1];
-                *at = u;
-                seg.state(u, state);
-                self.note_reactions(seg, k + 1, stride);
-                let phase = sys.omega * (seg.clock + u) + sys.tau;
-                self.integrate(state, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
-                self.extremes_at(state);
+        // Parts of the segment: one, but where a held stop's chatter tail
+        // ends within it (the hold counted from there on).
+        let held = Mask::from_bits(seg.held);
+        let (mut ends, mut parts) = ([0.0; MAX_STOPS + 1], 0);
+        for t in held.indices().map(|k| self.tails[k]).filter(|&t| t > 0.0 && t < seg.span) {
+            ends[parts] = t;
+            parts += 1;
+        }
+        ends[parts] = seg.span;
+        ends[..=parts].sort_by(f64::total_cmp);
+        let mut from = 0.0;
+        for &to in &ends[..=parts] {
+            if to <= from {
+                continue;
             }
-            let (at, end) = &mut nodes[count + 1];
-            *at = b;
-            seg.state(b, end);
-            self.note_reactions(seg, count + 1, stride);
-            self.extremes_at(end);
-            self.refine(seg, &nodes[..count + 2], &mut y);
-            self.hold(seg, &nodes[..count + 2], &rule.points, 0.5 * (b - a), &mut y);
-            // The next piece starts where this one ends.
-            nodes.swap(0, count + 1);
-            for values in self.reactions.chunks_mut(stride) {
-                values[0] = values[count + 1];
+            let pieces = ((to - from) / longest).ceil().max(1.0) as usize;
+            let h = (to - from) / pieces as f64;
+            let rule = all.iter().find(|r| h * fastest <= r.reach).unwrap_or(&all[all.len() - 1]);
+            let count = rule.points.len();
+            // The piece's points, its start, the nodes and its end (buffers kept).
+            nodes.resize_with(count + 2, || (0.0, DVector::zeros(2 * m)));
+            nodes[0].0 = from;
+            if from > 0.0 {
+                seg.state(from, &mut y);
             }
+            nodes[0].1.copy_from(&y);
+            // The held stops' reactions at the points, stop by stop: read where
+            // each point's state was just evaluated (the part's start above).
+            let stride = count + 2;
+            self.reactions.resize(seg.held.count_ones() as usize * stride, 0.0);
+            self.note_reactions(seg, 0, stride);
+            // The held stops still in their chatter's tail over this part.
+            let tail = held.indices().filter(|&k| self.tails[k] >= to).fold(0u32, |t, k| t | 1 << k);
+            for p in 0..pieces {
+                let (a, b) = (from + p as f64 * h, if p + 1 == pieces { to } else { from + (p + 1) as f64 * h });
+                for (k, &(node, weight)) in rule.points.iter().enumerate() {
+                    let u = a + 0.5 * (b - a) * (1.0 + node);
+                    let (at, state) = &mut nodes[k + 1];
+                    *at = u;
+                    seg.state(u, state);
+                    self.note_reactions(seg, k + 1, stride);
+                    let phase = sys.omega * (seg.clock + u) + sys.tau;
+                    self.integrate(state, phase, (seg.stuck, seg.pressed), 0.5 * (b - a) * weight);
+                    self.extremes_at(state);
+                }
+                let (at, end) = &mut nodes[count + 1];
+                *at = b;
+                seg.state(b, end);
+                self.note_reactions(seg, count + 1, stride);
+                self.extremes_at(end);
+                self.refine(seg, &nodes[..count + 2], &mut y);
+                self.hold(seg, &nodes[..count + 2], &rule.points, 0.5 * (b - a), tail, &mut y);
+                // The next piece starts where this one ends.
+                nodes.swap(0, count + 1);
+                for values in self.reactions.chunks_mut(stride) {
+                    values[0] = values[count + 1];
+                }
+            }
+            from = to;
         }
         for (k, s) in self.stops.iter_mut().enumerate() {
             if seg.held & (1 << k) != 0 {
-                s.held_time += seg.span;
+                s.held_time += seg.span - self.tails[k].min(seg.span);
             }
             if seg.pressed & (1 << k) != 0 {
                 s.pressed_time += seg.span;
@@ -786,6 +821,9 @@ impl EventObserver for Meter<'_> {
             if seg.stuck & (1 << j) != 0 {
                 *t += seg.span;
             }
+        }
+        for t in &mut self.tails {
+            *t = (*t - seg.span).max(0.0);
         }
         self.time += seg.span;
         // The segment's end: the last piece's (now first of the points).
@@ -866,12 +904,19 @@ impl Meter<'_> {
         nodes: &[(f64, DVector<f64>)],
         points: &[(f64, f64)],
         half: f64,
+        tail: u32,
         y: &mut DVector<f64>,
     ) {
         let all = std::mem::take(&mut self.reactions);
         for (k, values) in Mask::from_bits(seg.held).indices().zip(all.chunks(nodes.len())) {
             let sums = &mut self.stops[k];
-            sums.hold_impulse += half * points.iter().zip(&values[1..]).map(|(&(_, w), v)| w * v).sum::<f64>();
+            let impulse = half * points.iter().zip(&values[1..]).map(|(&(_, w), v)| w * v).sum::<f64>();
+            if tail & (1 << k) != 0 {
+                // Within a cut chatter's tail, the bounces' impulse.
+                sums.impulse += impulse;
+                continue;
+            }
+            sums.hold_impulse += impulse;
             let reaction = |seg: &Segment<'_>, _: &DVector<f64>| seg.reaction(k).unwrap_or(0.0);
             let (mut best, bracket) = node_peak(seg, nodes, |j| values[j], reaction, sums.hold_force_max, y);
             if let Some(bracket) = bracket {

@@ -34,6 +34,12 @@ pub trait EventObserver {
     fn impact(&mut self, _time: f64, _stop: usize, _before: &DVector<f64>, _after: &DVector<f64>) {}
     /// Any event (impact, stick, release) after it was handled.
     fn event(&mut self, _time: f64, _y: &DVector<f64>) {}
+    /// A geometric chatter sequence at `stop` whose impacts would accumulate
+    /// at `until` was cut at `time` (its tail replaced by the hold that
+    /// follows it, [`crate::chatter`]): the mass rests on the stop from then,
+    /// but the true motion bounces on it until `until` (called before
+    /// [`EventObserver::event`]).
+    fn accumulates(&mut self, _stop: usize, _time: f64, _until: f64) {}
     /// The same event with what it was (after [`EventObserver::event`]).
     fn named_event(&mut self, _time: f64, _kind: EventKind, _y: &DVector<f64>) {}
     /// A requested sample time within a period was reached.
@@ -188,6 +194,11 @@ impl EventObserver for Both<'_> {
     fn event(&mut self, time: f64, y: &DVector<f64>) {
         self.0.event(time, y);
         self.1.event(time, y);
+    }
+
+    fn accumulates(&mut self, stop: usize, time: f64, until: f64) {
+        self.0.accumulates(stop, time, until);
+        self.1.accumulates(stop, time, until);
     }
 
     fn named_event(&mut self, time: f64, kind: EventKind, y: &DVector<f64>) {
@@ -1079,8 +1090,9 @@ impl<'s> Simulator<'s> {
                 let mut accumulate = 0u32;
                 for h in &b.hits {
                     rec.impacts[h.stop] += 1;
-                    if self.chatter.record(h.stop, t, h.speed, self.acc.chatter_velocity).is_some() {
+                    if let Some(until) = self.chatter.record(h.stop, t, h.speed, self.acc.chatter_velocity) {
                         accumulate |= 1 << h.stop;
+                        obs.accumulates(h.stop, t, until);
                     }
                 }
                 if let Some(h) = b.hits.first() {
