@@ -36,7 +36,7 @@ pub trait EventObserver {
     fn event(&mut self, _time: f64, _y: &DVector<f64>) {}
     /// A geometric chatter sequence at `stop` whose impacts would accumulate
     /// at `until` was cut at `time` (its tail replaced by the hold that
-    /// follows it, [`crate::chatter`]): the mass rests on the stop from then,
+    /// follows it, see the `chatter` module): the mass rests on the stop from then,
     /// but the true motion bounces on it until `until` (called before
     /// [`EventObserver::event`]).
     fn accumulates(&mut self, _stop: usize, _time: f64, _until: f64) {}
