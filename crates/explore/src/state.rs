@@ -321,18 +321,13 @@ impl State {
     /// folder the user never named).
     pub fn zoom_dir(&self) -> std::io::Result<PathBuf> {
         let mut dir = lock(&self.dir);
-        let made = match dir.take() {
-            Some(d) => d,
-            None => {
-                let mut b = tempfile::Builder::new();
-                #[cfg(unix)]
-                b.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o700));
-                b.prefix("vibroatlas-explore-").tempdir()?
-            }
-        };
-        let path = made.path().to_path_buf();
-        *dir = Some(made);
-        Ok(path)
+        if let Some(made) = dir.as_ref() {
+            return Ok(made.path().to_path_buf());
+        }
+        let mut b = tempfile::Builder::new();
+        #[cfg(unix)]
+        b.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o700));
+        Ok(dir.insert(b.prefix("vibroatlas-explore-").tempdir()?).path().to_path_buf())
     }
 
     /// Removes the zooms' files (the user saved what they keep).

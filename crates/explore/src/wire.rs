@@ -97,7 +97,7 @@ impl Params {
         }
         let mut at: Vec<(String, String)> = Vec::new();
         for (k, v) in &self.0 {
-            if let Some(name) = (!own(k)).then(|| plane(k)).flatten() {
+            if let Some(name) = plane(k) {
                 if at.iter().any(|(n, _)| *n == name) {
                     return Err(bad(format!("{}: given twice (as {name} and at.{name})", short(&name))));
                 }

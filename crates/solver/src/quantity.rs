@@ -689,17 +689,17 @@ impl EventObserver for Meter<'_> {
         }
     }
 
-    /// An impact's impulse, from the normal rate before it to the rate once
-    /// the event is handled: the rest of a chatter sequence that ends in it
-    /// (its rebound taken out, the mass held) is that stop's impulse too,
-    /// and with it the impulses and the holding reactions balance the mean
-    /// forces on the masses over an orbit.
     fn accumulates(&mut self, stop: usize, time: f64, until: f64) {
         if self.time < self.limit {
             self.tails[stop] = (until - time).max(0.0);
         }
     }
 
+    /// An impact's impulse, from the normal rate before it to the rate once
+    /// the event is handled: the rest of a chatter sequence that ends in it
+    /// (its rebound taken out, the mass held) is that stop's impulse too,
+    /// and with it the impulses and the holding reactions balance the mean
+    /// forces on the masses over an orbit.
     fn event(&mut self, _time: f64, y: &DVector<f64>) {
         if let Some((stop, before)) = self.struck.take() {
             let sys = self.sys;

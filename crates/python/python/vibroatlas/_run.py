@@ -8,12 +8,12 @@ cancels the job on KeyboardInterrupt.
 """
 import difflib
 import json
-from collections.abc import Mapping
 import math
 import numbers
 import os
 import sys
 import time
+from collections.abc import Mapping
 
 from . import _native
 
